@@ -1,0 +1,30 @@
+/// \file
+/// \brief `gyroflip earth`: the Earth-rate component along a sensitive axis.
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "gyroflip/earth/earth.hpp"
+
+namespace gyroflip::app {
+
+int run_earth(const earth_options& o) {
+  if (auto s = earth::check_latitude(o.lat_deg); !s) return report(s.err());
+  const auto axis = earth::parse_axis(o.axis);
+  if (!axis) return report(axis.err());
+  const double w_dps = earth::earth_rate_component_dps(o.lat_deg, *axis);
+  if (o.json) {
+    const nlohmann::json j = {{"lat_deg", o.lat_deg},
+                              {"axis_ned", {axis->north, axis->east, axis->down}},
+                              {"earth_rate_dps", w_dps},
+                              {"earth_rate_deg_h", w_dps * 3600.0}};
+    fmt::print("{}\n", j.dump());
+  } else {
+    fmt::print("{:.10e} deg/s  ({:.6f} deg/h) Earth rate along axis ({:.6f}, {:.6f}, {:.6f}) NED at {} deg\n",
+               w_dps, w_dps * 3600.0, axis->north, axis->east, axis->down, o.lat_deg);
+  }
+  return 0;
+}
+
+}  // namespace gyroflip::app

@@ -1,0 +1,34 @@
+/// \file
+/// \brief The one place where user-facing error messages are built (fmt's `report_error` idea).
+///
+/// Every message that names a position uses the compiler convention `FILE:LINE:COL: what`,
+/// so editors can jump to it. Line and column are 1-based; 0 means "not applicable".
+#pragma once
+
+#include <cstddef>
+#include <string_view>
+
+#include "gyroflip/core/result.hpp"
+
+namespace gyroflip {
+
+/// Where in an input the problem is. `line`/`column` are 1-based, 0 when unknown.
+struct source_location {
+  std::string_view file;
+  std::size_t line = 0;
+  std::size_t column = 0;
+};
+
+/// `FILE:LINE:COL: what` (or `FILE:LINE: what`, or `FILE: what`) as a bad-input error.
+[[nodiscard]] error input_error(const source_location& where, std::string_view what);
+
+/// `FILE: what` as an I/O error (cannot open, is a directory, cannot write, ...).
+[[nodiscard]] error io_error(std::string_view file, std::string_view what);
+
+/// A runtime error without a position (the data are valid but cannot be processed).
+[[nodiscard]] error runtime_error(std::string_view what);
+
+/// A bad argument (not tied to a file): `what`.
+[[nodiscard]] error usage_error(std::string_view what);
+
+}  // namespace gyroflip

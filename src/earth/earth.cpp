@@ -1,0 +1,87 @@
+/// \file
+/// \brief Earth rate and its projection on a sensitive axis (see earth.hpp).
+#include "gyroflip/earth/earth.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::earth {
+namespace {
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto lower = [](char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; };
+    if (lower(a[i]) != lower(b[i])) return false;
+  }
+  return true;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+result<ned_vector> parse_components(std::string_view text) {
+  std::array<double, 3> v{};
+  std::size_t count = 0;
+  std::string_view rest = text;
+  while (true) {
+    const auto comma = rest.find(',');
+    const std::string_view part = trim(rest.substr(0, comma));
+    if (count == 3) return usage_error(fmt::format("axis '{}': expected 3 components N,E,D", text));
+    double x = 0.0;
+    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), x);
+    if (ec != std::errc{} || end != part.data() + part.size() || !std::isfinite(x))
+      return usage_error(fmt::format("axis '{}': '{}' is not a finite number", text, part));
+    v[count++] = x;
+    if (comma == std::string_view::npos) break;
+    rest.remove_prefix(comma + 1);
+  }
+  if (count != 3) return usage_error(fmt::format("axis '{}': expected 3 components N,E,D", text));
+  const double norm = std::hypot(v[0], v[1], v[2]);
+  if (!(norm > 0.0)) return usage_error(fmt::format("axis '{}': zero vector has no direction", text));
+  return ned_vector{v[0] / norm, v[1] / norm, v[2] / norm};
+}
+
+}  // namespace
+
+result<ned_vector> parse_axis(std::string_view text) {
+  const std::string_view t = trim(text);
+  if (iequals(t, "north") || iequals(t, "n")) return ned_vector{1.0, 0.0, 0.0};
+  if (iequals(t, "east") || iequals(t, "e")) return ned_vector{0.0, 1.0, 0.0};
+  if (iequals(t, "down") || iequals(t, "d")) return ned_vector{0.0, 0.0, 1.0};
+  if (iequals(t, "up") || iequals(t, "u")) return ned_vector{0.0, 0.0, -1.0};
+  if (t.find(',') == std::string_view::npos)
+    return usage_error(fmt::format("axis '{}': expected north|east|down|up or N,E,D", text));
+  return parse_components(t);
+}
+
+ned_vector earth_rate_ned_dps(double lat_deg) {
+  const double lat_rad = lat_deg * std::numbers::pi / 180.0;
+  // Exact zeros at the poles/equator keep signed-zero noise out of printed results.
+  const double c = std::abs(lat_deg) == 90.0 ? 0.0 : std::cos(lat_rad);
+  const double s = lat_deg == 0.0 ? 0.0 : std::sin(lat_rad);
+  return {earth_rate_wgs84_dps * c, 0.0, -earth_rate_wgs84_dps * s};
+}
+
+double earth_rate_component_dps(double lat_deg, const ned_vector& axis) {
+  const ned_vector w = earth_rate_ned_dps(lat_deg);
+  return w.north * axis.north + w.east * axis.east + w.down * axis.down;
+}
+
+status check_latitude(double lat_deg) {
+  if (!std::isfinite(lat_deg) || lat_deg < -90.0 || lat_deg > 90.0)
+    return usage_error(fmt::format("latitude {} deg is outside [-90, 90]", lat_deg));
+  return ok();
+}
+
+}  // namespace gyroflip::earth

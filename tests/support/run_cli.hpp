@@ -1,0 +1,28 @@
+/// \file
+/// \brief Runs the `gyroflip` executable from a test and captures its exit code and output.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace gyroflip::test {
+
+struct cli_result {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+/// Runs GYROFLIP_EXE with `args` (no shell), stdin from /dev/null.
+cli_result run_cli(const std::vector<std::string>& args);
+
+/// Reads a whole file (empty string if missing).
+std::string read_text(const std::string& path);
+
+/// Writes a whole file.
+void write_text(const std::string& path, const std::string& text);
+
+/// True when a file or directory exists.
+bool exists(const std::string& path);
+
+}  // namespace gyroflip::test
