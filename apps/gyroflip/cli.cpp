@@ -31,6 +31,46 @@ void setup_earth(CLI::App& app, action& chosen) {
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
+void setup_calibrate(CLI::App& app, action& chosen) {
+  auto* sub = app.add_subcommand("calibrate", "dN from stationary recordings (paper eqns 8-11)");
+  auto o = bind<calibrate_options>(sub, chosen, run_calibrate);
+  sub->add_option("files", o->files, "recordings (CSV, docs/FORMATS.md)")->required();
+  sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms");
+  sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D");
+  sub->add_option("--pairing", o->pairing, "cycle estimator")
+      ->check(CLI::IsMember({"abba", "simple"}))
+      ->capture_default_str();
+  auto* degree =
+      sub->add_option("--degree", o->degree, "degree of the dN(T) polynomial (several files)")
+          ->check(CLI::Range(0, 6))
+          ->capture_default_str();
+  sub->add_option("-o,--output", o->output, "write the calibration JSON to this file");
+  sub->add_flag("--json", o->json, "print the calibration as one JSON object");
+  sub->parse_complete_callback([o, degree] { o->degree_given = degree->count() > 0; });
+}
+
+void setup_compensate(CLI::App& app, action& chosen) {
+  auto* sub =
+      app.add_subcommand("compensate", "Compensated rate per cycle, w = r - dN (paper eqn 12)");
+  auto o = bind<compensate_options>(sub, chosen, run_compensate);
+  sub->add_option("file", o->file, "recording (CSV, docs/FORMATS.md)")->required();
+  auto* dn = sub->add_option("--delta-n", o->delta_n_dps, "dN to subtract (deg/s)");
+  auto* cal = sub->add_option("--calibration", o->calibration,
+                              "calibration JSON from `gyroflip calibrate -o`");
+  dn->excludes(cal);
+  sub->add_option("--pairing", o->pairing,
+                  "cycle estimator (default: the calibration's, else abba)")
+      ->check(CLI::IsMember({"abba", "simple"}));
+  sub->add_option("-o,--output", o->output,
+                  "write the per-cycle CSV here (default: stdout unless --json)");
+  sub->add_option("--drift-window", o->drift_window_s, "moving-mean window for drift_dps (s)")
+      ->capture_default_str();
+  sub->add_flag("--json", o->json, "print a JSON summary");
+  sub->parse_complete_callback([dn, cal] {
+    if (dn->count() + cal->count() != 1) throw CLI::RequiredError("--delta-n or --calibration");
+  });
+}
+
 }  // namespace
 
 int run_cli(int argc, char** argv) {
@@ -40,6 +80,8 @@ int run_cli(int argc, char** argv) {
   app.require_subcommand(1);
   action chosen;
   setup_earth(app, chosen);
+  setup_calibrate(app, chosen);
+  setup_compensate(app, chosen);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
