@@ -1,8 +1,10 @@
 /// \file
 /// \brief Command-line parsing for all subcommands: the only translation unit that includes
 /// CLI11 (a 5-s header). Parsing only fills option structs; work runs after parsing.
+#include <cstdio>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -82,6 +84,18 @@ int run_cli(int argc, char** argv) {
   setup_earth(app, chosen);
   setup_calibrate(app, chosen);
   setup_compensate(app, chosen);
+  // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for
+  // subcommands that way.
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string name = argv[1];
+    const auto subs =
+        app.get_subcommands([&name](const CLI::App* s) { return s->get_name() == name; });
+    if (subs.empty()) {
+      std::fprintf(stderr, "gyroflip: error: unknown command '%s' (see gyroflip --help)\n",
+                   name.c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

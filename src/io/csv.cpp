@@ -110,7 +110,7 @@ void csv_reader::select(const std::vector<std::size_t>& columns) {
   selected_ = columns;
   std::fill(slot_of_column_.begin(), slot_of_column_.end(), -1);
   for (std::size_t i = 0; i < columns.size(); ++i)
-    slot_of_column_[columns[i]] = static_cast<int>(i);
+    if (columns[i] != absent_column) slot_of_column_[columns[i]] = static_cast<int>(i);
   cells_.assign(columns.size(), {});
 }
 
@@ -157,8 +157,9 @@ std::string_view csv_reader::cell(std::size_t i) const noexcept {
 
 error csv_reader::error_at(std::size_t i, std::string_view what) const {
   const std::size_t col = static_cast<std::size_t>(cells_[i].data() - current_.data()) + 1;
-  return input_error({path(), line_, col},
-                     fmt::format("{} (column '{}')", what, header_[selected_[i]]));
+  const std::string_view name =
+      selected_[i] == absent_column ? std::string_view("?") : header_[selected_[i]];
+  return input_error({path(), line_, col}, fmt::format("{} (column '{}')", what, name));
 }
 
 error csv_reader::error_at_line(std::string_view what) const {

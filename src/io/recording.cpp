@@ -36,9 +36,8 @@ result<recording_reader> recording_reader::open(const std::string& path) {
   if (!navg) return navg.err();
   r.has_temp_ = temp->has_value();
   r.has_n_avg_ = navg->has_value();
-  // Keep slot numbers fixed: an absent optional column re-selects time_s as a placeholder.
-  cols.push_back(r.has_temp_ ? **temp : cols[s_time]);
-  cols.push_back(r.has_n_avg_ ? **navg : cols[s_time]);
+  cols.push_back(r.has_temp_ ? **temp : csv_reader::absent_column);
+  cols.push_back(r.has_n_avg_ ? **navg : csv_reader::absent_column);
   r.csv_.select(cols);
   return r;
 }

@@ -34,8 +34,15 @@ estimate three_point(const dwell& prev, const dwell& k, const dwell& next) {
   return {0.5 * k.sign * (k.rate_dps - opposite), 0.5 * (k.rate_dps + opposite)};
 }
 
+// A cycle whose value comes from both dwells `a` and `b`: stamped at their mean time.
 cycle make_cycle(const dwell& a, const dwell& b, const estimate& e) {
   return {0.5 * (a.time_s + b.time_s), e.rate_dps, e.bias_dps, mean_temp(a.temp_c, b.temp_c)};
+}
+
+// An abba cycle at the record's edge whose value is the estimate at dwell `k` alone: stamped
+// at t_k, so that c = b(t) holds exactly for a linear bias there too.
+cycle make_edge_cycle(const dwell& k, const estimate& e) {
+  return {k.time_s, e.rate_dps, e.bias_dps, k.temp_c};
 }
 
 estimate average(const estimate& x, const estimate& y) {
@@ -60,8 +67,8 @@ std::optional<cycle> cycle_builder::push(const dwell& d) {
     return std::nullopt;
   }
   // k-1 is the second dwell of cycle (k-2, k-1); dwell k-2 has an estimate unless it is dwell 0.
-  const estimate both = k - 2 >= 1 ? average(pending_, e) : e;
-  return make_cycle(last_[0], last_[1], both);
+  if (k - 2 == 0) return make_edge_cycle(last_[1], e);
+  return make_cycle(last_[0], last_[1], average(pending_, e));
 }
 
 std::optional<cycle> cycle_builder::flush() {
@@ -69,7 +76,7 @@ std::optional<cycle> cycle_builder::flush() {
   // so only its first dwell's estimate (if that dwell is not dwell 0) is available.
   std::optional<cycle> out;
   if (pairing_ == pairing::abba && count_ >= 4 && count_ % 2 == 0)
-    out = make_cycle(last_[1], last_[2], pending_);
+    out = make_edge_cycle(last_[1], pending_);
   *this = cycle_builder{pairing_};
   return out;
 }
@@ -93,9 +100,9 @@ std::vector<cycle> pair_cycles(std::span<const dwell> dwells, pairing p) {
           a, b,
           average(three_point(dwells[2 * j - 1], a, b), three_point(a, b, dwells[2 * j + 2]))));
     } else if (has_b) {
-      out.push_back(make_cycle(a, b, three_point(a, b, dwells[2 * j + 2])));
+      out.push_back(make_edge_cycle(b, three_point(a, b, dwells[2 * j + 2])));
     } else if (has_a) {
-      out.push_back(make_cycle(a, b, three_point(dwells[2 * j - 1], a, b)));
+      out.push_back(make_edge_cycle(a, three_point(dwells[2 * j - 1], a, b)));
     }
   }
   return out;

@@ -1,6 +1,8 @@
 // Strict CSV reader: rules of docs/FORMATS.md, error positions, BOM/CRLF, atomic output.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/csv.hpp"
 #include "support/run_cli.hpp"
@@ -100,6 +102,33 @@ TEST(AtomicFile, NothingAppearsUntilCommit) {
   ASSERT_TRUE(f->commit());
   EXPECT_EQ(test::read_text(p), "done\n");
   EXPECT_FALSE(atomic_file::create(d.file("no-such-dir/x.csv")));
+}
+
+}  // namespace
+}  // namespace gyroflip::io
+
+#include "gyroflip/io/recording.hpp"
+
+namespace gyroflip::io {
+namespace {
+
+// Regression (2026-11-22): without temp_c and n_avg the absent columns' placeholder slots
+// stole time_s's slot and every row failed with a garbage column number.
+TEST(Recording, MinimalThreeColumnsAnyOrderExtraColumnsIgnored) {
+  test::temp_dir d;
+  std::string text = "rate_dps,note,angle_deg,time_s\n";
+  for (int k = 0; k < 10; ++k)
+    text += std::to_string(k % 2 == 0 ? 0.5 : -0.3) + ",x," + (k % 2 == 0 ? "0" : "180") + "," +
+            std::to_string(k) + "\n";
+  test::write_text(d.file("min.csv"), text);
+  const auto rc = read_cycles(d.file("min.csv"), method::pairing::simple);
+  ASSERT_TRUE(rc) << rc.err().message;
+  EXPECT_FALSE(rc->has_temp);
+  ASSERT_EQ(rc->cycles.size(), 5u);
+  EXPECT_DOUBLE_EQ(rc->cycles[0].rate_dps, 0.4);
+  EXPECT_DOUBLE_EQ(rc->cycles[0].bias_dps, 0.1);
+  EXPECT_TRUE(std::isnan(rc->cycles[0].temp_c));
+  EXPECT_DOUBLE_EQ(rc->cycles[4].time_s, 8.5);
 }
 
 }  // namespace

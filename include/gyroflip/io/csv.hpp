@@ -41,8 +41,11 @@ class csv_reader {
   /// Index of column `name`; error (naming the header line) if absent or duplicated.
   [[nodiscard]] result<std::size_t> require_column(std::string_view name) const;
 
+  /// Marks a slot in `select()` whose column the file does not have (its cell stays empty).
+  static constexpr std::size_t absent_column = static_cast<std::size_t>(-1);
+
   /// Chooses the columns that `cell(i)` returns after `next()`: `cell(i)` is column
-  /// `columns[i]`. Must be called before the first `next()`.
+  /// `columns[i]` (always empty for `absent_column`). Must be called before the first `next()`.
   void select(const std::vector<std::size_t>& columns);
 
   enum class step { row, end, failed };

@@ -8,7 +8,8 @@
 ///   linearly interpolated to t_k from dwells k-1 and k+1: yhat = y_{k-1} + (y_{k+1} -
 ///   y_{k-1}) (t_k - t_{k-1})/(t_{k+1} - t_{k-1}); then r_k = s_k (y_k - yhat)/2 and
 ///   c_k = (y_k + yhat)/2. A cycle's r and c are the mean of r_k, c_k over its dwells that
-///   have both neighbours (the first dwell of the record and the last have not). Any bias
+///   have both neighbours (the first dwell of the record and the last have not; such an
+///   edge cycle is stamped with the time and temperature of its one usable dwell). Any bias
 ///   linear in time cancels exactly, whatever the dwell spacing (METHOD.md section 4).
 #pragma once
 
