@@ -16,23 +16,12 @@ dwell dwell_builder::close() const {
   return d;
 }
 
-std::optional<dwell> dwell_builder::push(const row& r) {
-  if (std::isnan(r.angle_deg)) return std::nullopt;  // table turning: row skipped
-  const int s = sign_of_angle(r.angle_deg);
+std::optional<dwell> dwell_builder::start(const row& r, int s) {
   std::optional<dwell> done;
-  if (sign_ != 0 && s != sign_) {
-    done = close();
-    sum_w_ = sum_t_ = sum_y_ = sum_temp_ = sum_w_temp_ = 0.0;
-  }
+  if (sign_ != 0) done = close();
+  sum_w_ = sum_t_ = sum_y_ = sum_temp_ = sum_w_temp_ = 0.0;
   sign_ = s;
-  const double w = static_cast<double>(r.n_avg);
-  sum_w_ += w;
-  sum_t_ += w * r.time_s;
-  sum_y_ += w * r.rate_dps;
-  if (!std::isnan(r.temp_c)) {
-    sum_temp_ += w * r.temp_c;
-    sum_w_temp_ += w;
-  }
+  add(r);
   return done;
 }
 

@@ -20,6 +20,42 @@
 
 namespace gyroflip::io {
 
+namespace detail {
+
+/// Exact fast path for plain decimals such as "-1234.5670" (Clinger 1990): when the digits
+/// form an integer m <= 2^53 and there are k <= 22 fraction digits, m and 10^k are exact
+/// doubles and the one division m / 10^k is correctly rounded - the value `from_chars` gives.
+/// Returns false for anything else (blanks, '+', exponents, long mantissas, nan, inf).
+inline bool parse_plain_decimal(const char* b, const char* e, double& out) noexcept {
+  static constexpr double pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const bool negative = b != e && *b == '-';
+  b += negative ? 1 : 0;
+  // At most 19 characters: 18 digits and a point, so m < 10^18 cannot overflow.
+  if (b == e || e - b > 19) return false;
+  std::uint64_t m = 0;
+  const char* dot = nullptr;
+  for (const char* p = b; p != e; ++p) {
+    const auto d = static_cast<unsigned>(*p) - unsigned{'0'};
+    if (d < 10) {
+      m = m * 10 + d;
+    } else if (*p == '.' && dot == nullptr) {
+      dot = p;
+    } else {
+      return false;
+    }
+  }
+  if (e - b == 1 && dot != nullptr) return false;  // "." alone is not a number
+  if (m > (std::uint64_t{1} << 53)) return false;
+  const auto frac = dot != nullptr ? static_cast<std::size_t>(e - dot - 1) : 0;
+  const double v = static_cast<double>(m) / pow10[frac];
+  out = negative ? -v : v;
+  return true;
+}
+
+}  // namespace detail
+
 /// One `# key: value` comment line found before the header.
 struct csv_metadata {
   std::string key;
@@ -57,8 +93,12 @@ class csv_reader {
   /// Text of selected cell `i` in the current row, surrounding blanks removed.
   [[nodiscard]] std::string_view cell(std::size_t i) const noexcept;
   /// Parses selected cell `i` as a finite double. On failure returns false and sets
-  /// `last_error()` to `FILE:LINE:COL: ...` naming the column.
-  [[nodiscard]] bool parse(std::size_t i, double& out);
+  /// `last_error()` to `FILE:LINE:COL: ...` naming the column. Inline fast path for plain
+  /// decimals without blanks; everything else (and every error) goes through parse_slow.
+  [[nodiscard]] bool parse(std::size_t i, double& out) {
+    const std::string_view s = cells_[i];
+    return detail::parse_plain_decimal(s.data(), s.data() + s.size(), out) || parse_slow(i, out);
+  }
   /// Builds an error located at selected cell `i` of the current row.
   [[nodiscard]] error error_at(std::size_t i, std::string_view what) const;
   /// Builds an error located at the current line (no column).
@@ -76,6 +116,7 @@ class csv_reader {
   // Returns the next line (without end-of-line characters) or nullopt at end of file.
   std::optional<std::string_view> next_line();
   bool split(std::string_view line);
+  [[nodiscard]] bool parse_slow(std::size_t i, double& out);
 
   mapped_file file_;
   std::size_t pos_ = 0;
