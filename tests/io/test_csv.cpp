@@ -133,3 +133,48 @@ TEST(Recording, MinimalThreeColumnsAnyOrderExtraColumnsIgnored) {
 
 }  // namespace
 }  // namespace gyroflip::io
+
+#include <charconv>
+#include <cstring>
+#include <random>
+
+namespace gyroflip::io {
+namespace {
+
+TEST(PlainDecimal, AgreesWithFromCharsBitForBit) {
+  // The fast path must give the correctly rounded double that from_chars gives, for every
+  // plain decimal it accepts; 200k random ones with 1-19 characters and random point positions.
+  std::mt19937_64 rng(42);
+  std::size_t accepted = 0;
+  for (int n = 0; n < 200000; ++n) {
+    std::string s = (rng() % 2 == 0) ? "-" : "";
+    const std::size_t digits = 1 + rng() % 18;
+    const std::size_t point = rng() % (digits + 2);  // digits + 1: no point
+    for (std::size_t d = 0; d < digits; ++d) {
+      if (d == point) s += '.';
+      s += static_cast<char>('0' + rng() % 10);
+    }
+    double fast = 0.0;
+    if (!detail::parse_plain_decimal(s.data(), s.data() + s.size(), fast)) continue;
+    ++accepted;
+    double ref = 0.0;
+    std::from_chars(s.data(), s.data() + s.size(), ref);
+    ASSERT_EQ(std::memcmp(&fast, &ref, sizeof fast), 0) << s;
+  }
+  EXPECT_GT(accepted, 150000u);  // most short decimals take the fast path
+}
+
+TEST(PlainDecimal, RejectsWhatItCannotDoExactly) {
+  for (const char* s : {"", "-", ".", "1e5", "nan", "inf", "+1", " 1", "1 ", "1.2.3", "0x10",
+                        "12345678901234567890", "9007199254740993", "1.00000000000000000000001"}) {
+    double v = 0.0;
+    EXPECT_FALSE(detail::parse_plain_decimal(s, s + std::strlen(s), v)) << s;
+  }
+  double v = 0.0;
+  const char* edge = "9007199254740992";  // 2^53: still exact
+  ASSERT_TRUE(detail::parse_plain_decimal(edge, edge + 16, v));
+  EXPECT_EQ(v, 9007199254740992.0);
+}
+
+}  // namespace
+}  // namespace gyroflip::io
