@@ -43,7 +43,10 @@ void atomic_file::write(std::string_view text) const {
 
 status atomic_file::commit() {
   if (temp_.empty()) {
-    if (std::fflush(file_) != 0) return io_error("<stdout>", std::strerror(errno));
+    // EPIPE: the reader closed the pipe early (`| head`); that is the reader's choice, not a
+    // failure.
+    if (std::fflush(file_) != 0 && errno != EPIPE)
+      return io_error("<stdout>", std::strerror(errno));
     return ok();
   }
   std::FILE* f = std::exchange(file_, nullptr);
