@@ -14,6 +14,7 @@
 
 namespace gyroflip::io {
 
+// cppcheck-suppress passedByValue ; sink parameter, moved from
 atomic_file::atomic_file(std::string path, std::string temp, std::FILE* f) noexcept
     : path_(std::move(path)), temp_(std::move(temp)), file_(f) {}
 
