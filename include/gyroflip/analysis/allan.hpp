@@ -1,0 +1,98 @@
+/// \file
+/// \brief The Allan-deviation family of NIST SP1065 (Riley 2008): ADEV, OADEV, MDEV, TDEV,
+/// HDEV, OHDEV and TOTDEV, for rate data (gyro output in deg/s, "fractional frequency" in
+/// SP1065) or angle data (deg, "phase"). Results are in the unit of the rate (deg/s), TDEV in
+/// the unit of the angle (deg).
+///
+/// The input kind has no default: allantools' phase-by-default convention silently gives wrong
+/// answers for rate data (allantools issue #121). Used by `gyroflip adev`, `gyroflip noise` and
+/// the calibration's correlated standard error.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+
+namespace gyroflip::analysis {
+
+/// What the samples are: angular rate (deg/s; SP1065 "frequency") or angle (deg; "phase").
+enum class input_kind { rate, angle };
+
+enum class dev_kind { adev, oadev, mdev, tdev, hdev, ohdev, totdev };
+
+[[nodiscard]] std::string_view to_string(dev_kind k) noexcept;
+[[nodiscard]] std::optional<dev_kind> parse_dev_kind(std::string_view name) noexcept;
+
+/// Which averaging factors m (tau = m tau0) to evaluate.
+struct tau_spec {
+  enum class set { octave, decade, all, list };
+  set kind = set::octave;
+  std::vector<std::size_t> factors;  ///< for `list`: averaging factors (>= 1)
+};
+
+/// Parses `octave`, `decade`, `all` or a comma-separated list of averaging factors.
+[[nodiscard]] result<tau_spec> parse_tau_spec(std::string_view text);
+
+/// One point of a deviation curve. Confidence fields are NaN until confidence.hpp fills them.
+struct deviation_point {
+  std::size_t m = 0;   ///< averaging factor
+  double tau_s = 0.0;  ///< m * tau0
+  double dev = 0.0;    ///< the deviation (deg/s; TDEV in deg)
+  std::size_t n = 0;   ///< number of terms in the sum (Stable32's "#" column)
+  double edf = 0.0;    ///< equivalent degrees of freedom (0 = not computed)
+  double ci_lo = 0.0;  ///< lower confidence bound of dev
+  double ci_hi = 0.0;  ///< upper confidence bound of dev
+  int alpha = 0;       ///< identified power-law noise exponent (S_y ~ f^alpha)
+};
+
+/// The phase (angle) series of rate data: x_0 = 0, x_k = tau0 sum_{i<k} (y_i - ybar)
+/// (SP1065 eqn 1 with the mean removed, which no deviation here depends on, so that x stays
+/// small). Sums in long double. Returns N = M + 1 points for M rates.
+[[nodiscard]] std::vector<double> phase_from_rate(std::span<const double> rate, double tau0_s);
+
+/// Averaging factors of `spec` for a phase series of `n_phase` points and statistic `k`,
+/// limited as Stable32 does: m <= (N-1)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
+/// OHDEV, (N-1)/2 for TOTDEV (a `list` is limited to factors with at least one term).
+/// `decade` is 1, 2, 4, 10, 20, 40, 100, ... (Stable32).
+[[nodiscard]] std::vector<std::size_t> averaging_factors(const tau_spec& spec, dev_kind k,
+                                                         std::size_t n_phase);
+
+/// The deviation `k` of phase `x` (N points, spacing tau0_s) at averaging factor m, with its
+/// number of terms (0 when m is too large). Formulas (x_i, i = 0..N-1, tau = m tau0):
+/// - ADEV   (SP1065 eqn 7):  sum over non-overlapping k of (x_{(k+2)m} - 2x_{(k+1)m} + x_{km})^2 /
+/// (2 tau^2 n)
+/// - OADEV  (eqn 11): all i of (x_{i+2m} - 2x_{i+m} + x_i)^2 / (2 tau^2 (N - 2m))
+/// - MDEV   (eqn 14): [sum_{i=j}^{j+m-1} (x_{i+2m} - 2x_{i+m} + x_i)]^2 / (2 m^2 tau^2 (N - 3m +
+/// 1))
+/// - TDEV   (eqn 15): tau MDEV / sqrt(3)
+/// - HDEV   (eqn 17): non-overlapping third differences squared / (6 tau^2 n)
+/// - OHDEV  (eqn 18): all third differences (x_{i+3m} - 3x_{i+2m} + 3x_{i+m} - x_i)^2 / (6 tau^2 (N
+/// - 3m))
+/// - TOTDEV (eqn 25): OADEV terms centred on every interior point of x extended by reflection
+///   at both ends (x*_{-j} = 2x_0 - x_j, x*_{N-1+j} = 2x_{N-1} - x_{N-1-j}), over N - 2 terms.
+/// Sums are accumulated in long double.
+struct raw_deviation {
+  double dev = 0.0;
+  std::size_t n = 0;
+};
+[[nodiscard]] raw_deviation deviation_at(dev_kind k, std::span<const double> x, double tau0_s,
+                                         std::size_t m);
+
+/// The whole curve of statistic `k` on `data` (rate or angle samples spaced tau0_s apart).
+/// Confidence intervals are not filled here (see confidence.hpp). Errors: fewer than 3 phase
+/// points, tau0 not positive and finite, non-finite data, no averaging factor left.
+[[nodiscard]] result<std::vector<deviation_point>> deviation(dev_kind k,
+                                                             std::span<const double> data,
+                                                             input_kind in, double tau0_s,
+                                                             const tau_spec& taus);
+
+/// allantools-style shorthands (octave taus unless given).
+[[nodiscard]] result<std::vector<deviation_point>> oadev(std::span<const double> data,
+                                                         input_kind in, double tau0_s,
+                                                         const tau_spec& taus = {});
+
+}  // namespace gyroflip::analysis

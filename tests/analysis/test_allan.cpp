@@ -1,0 +1,223 @@
+// The Allan family against published values: NIST SP1065 NBS14 sets and every Stable32 table in
+// tests/vectors/stable32 (PROVENANCE.md); GPS from ../shared when present.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gyroflip/analysis/allan.hpp"
+
+namespace gyroflip::analysis {
+namespace {
+
+const std::string vectors = std::string(GYROFLIP_VECTORS_DIR) + "/stable32/";
+
+// Numbers of a data file, skipping '#' lines.
+std::vector<double> read_values(std::istream& in) {
+  std::vector<double> v;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    double x = 0.0;
+    if (s >> x) v.push_back(x);
+  }
+  return v;
+}
+
+std::vector<double> read_values(const std::string& path) {
+  std::ifstream f(path);
+  return read_values(f);
+}
+
+struct table_row {
+  std::size_t af = 0;
+  std::size_t n = 0;
+  int alpha = 0;
+  double lo = 0.0, sigma = 0.0, hi = 0.0;
+};
+
+std::vector<table_row> read_table(const std::string& path) {
+  std::ifstream f(path);
+  std::vector<table_row> rows;
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    table_row r;
+    double tau = 0.0;
+    if (s >> r.af >> tau >> r.n >> r.alpha >> r.lo >> r.sigma >> r.hi) rows.push_back(r);
+  }
+  return rows;
+}
+
+// Checks every row of a Stable32 table: the deviation to 1e-4 relative, the term count exactly.
+void check_table(const std::string& path, dev_kind k, const std::vector<double>& x, double tau0_s) {
+  const auto rows = read_table(path);
+  ASSERT_FALSE(rows.empty()) << path;
+  for (const auto& r : rows) {
+    const auto d = deviation_at(k, x, tau0_s, r.af);
+    EXPECT_NEAR(d.dev / r.sigma, 1.0, 1e-4) << path << " AF " << r.af;
+    EXPECT_EQ(d.n, r.n) << path << " AF " << r.af;
+  }
+}
+
+const std::vector<std::pair<std::string, dev_kind>> kinds = {
+    {"adev", dev_kind::adev},    {"oadev", dev_kind::oadev}, {"mdev", dev_kind::mdev},
+    {"tdev", dev_kind::tdev},    {"hdev", dev_kind::hdev},   {"ohdev", dev_kind::ohdev},
+    {"totdev", dev_kind::totdev}};
+
+TEST(AllanStable32, PhaseDatAllTauAndOctave) {
+  const auto x = read_values(vectors + "phasedat/PHASE.DAT");
+  ASSERT_EQ(x.size(), 1001u);
+  for (const auto& [name, k] : kinds) {
+    check_table(vectors + "phasedat/phase_dat_" + name + ".txt", k, x, 1.0);
+    check_table(vectors + "phasedat/phase_dat_" + name + "_octave.txt", k, x, 1.0);
+  }
+}
+
+TEST(AllanStable32, OcxoFrequencyAllTau) {
+  auto f = read_values(vectors + "ocxo/ocxo_frequency.txt");
+  ASSERT_EQ(f.size(), 19982u);
+  for (double& v : f) v = (v - 1e7) / 1e7;
+  const auto x = phase_from_rate(f, 1.0);
+  for (const auto& [name, k] : kinds)
+    check_table(vectors + "ocxo/stable32_" + name + "_alltau.txt", k, x, 1.0);
+}
+
+TEST(AllanStable32, PinkFrequencyWithTau0Of42Seconds) {
+  const auto y = read_values(vectors + "pink_frequency/pink_frequency.txt");
+  ASSERT_EQ(y.size(), 10000u);
+  const auto x42 = phase_from_rate(y, 42.0);
+  for (const auto& [name, k] : kinds) {
+    const std::string file = name == "totdev" ? "totdev_alpha0.txt" : name + ".txt";
+    check_table(vectors + "pink_frequency/" + file, k, x42, 42.0);
+  }
+  check_table(vectors + "pink_frequency/s32_oadev_octave.txt", dev_kind::oadev,
+              phase_from_rate(y, 1.0), 1.0);
+}
+
+TEST(AllanStable32, GpsPhaseFromSharedIfPresent) {
+  const std::string dir = std::string(GYROFLIP_SHARED_DIR) + "/reference/allan/gps/";
+  std::FILE* p =
+      ::popen(("gzip -dc '" + dir + "gps_1pps_phase_data.txt.gz' 2>/dev/null").c_str(), "r");
+  std::string text;
+  char buf[1 << 16];
+  for (std::size_t n; p != nullptr && (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
+    text.append(buf, n);
+  if (p != nullptr) ::pclose(p);
+  if (text.empty()) GTEST_SKIP() << "../shared/reference/allan/gps not available";
+  std::istringstream in(text);
+  const auto x = read_values(in);
+  ASSERT_EQ(x.size(), 241218u);
+  check_table(dir + "stable32_ADEV_decade.txt", dev_kind::adev, x, 1.0);
+  for (const char* name : {"OADEV", "MDEV", "TDEV", "HDEV", "OHDEV", "TOTDEV"}) {
+    std::string lower(name);
+    for (char& c : lower) c = static_cast<char>(std::tolower(c));
+    check_table(dir + "stable32_" + name + "_octave.txt", *parse_dev_kind(lower), x, 1.0);
+  }
+}
+
+// NIST SP1065 p. 107-108, NBS14 10-point set (frequency), tau = 1 and 2; 7 significant digits.
+TEST(AllanNbs14, TenPoint) {
+  const std::vector<double> y{892, 809, 823, 798, 671, 644, 883, 903, 677};
+  const std::vector<std::pair<dev_kind, std::pair<double, double>>> expect = {
+      {dev_kind::adev, {91.22945, 115.8082}}, {dev_kind::oadev, {91.22945, 85.95287}},
+      {dev_kind::mdev, {91.22945, 74.78849}}, {dev_kind::totdev, {91.22945, 93.90379}},
+      {dev_kind::hdev, {70.80608, 116.7980}}, {dev_kind::ohdev, {70.80607, 85.61487}},
+      {dev_kind::tdev, {52.67135, 86.35831}}};
+  const auto x = phase_from_rate(y, 1.0);
+  for (const auto& [k, v] : expect) {
+    EXPECT_NEAR(deviation_at(k, x, 1.0, 1).dev / v.first, 1.0, 1e-6) << to_string(k);
+    EXPECT_NEAR(deviation_at(k, x, 1.0, 2).dev / v.second, 1.0, 1e-6) << to_string(k);
+  }
+}
+
+std::vector<double> nbs14_1000() {
+  std::vector<double> y;
+  std::uint64_t n = 1234567890;
+  for (int i = 0; i < 1000; ++i) {
+    y.push_back(static_cast<double>(n) / 2147483647.0);
+    n = (16807 * n) % 2147483647;
+  }
+  return y;
+}
+
+// NIST SP1065 1000-point set (Lehmer generator), tau = 1, 10, 100 s.
+TEST(AllanNbs14, ThousandPoint) {
+  const auto y = nbs14_1000();
+  const std::vector<std::pair<dev_kind, std::vector<double>>> expect = {
+      {dev_kind::adev, {0.2922319, 0.09965736, 0.03897804}},
+      {dev_kind::oadev, {0.2922319, 0.09159953, 0.03241343}},
+      {dev_kind::mdev, {0.2922319, 0.06172376, 0.02170921}},
+      {dev_kind::totdev, {0.2922319, 0.09134743, 0.03406530}},
+      {dev_kind::hdev, {0.2943883, 0.1052754, 0.03910860}},
+      {dev_kind::ohdev, {0.2943883, 0.09581083, 0.03237638}},
+      {dev_kind::tdev, {0.1687202, 0.3563623, 1.253382}}};
+  for (const auto& [k, v] : expect) {
+    const auto curve = deviation(k, y, input_kind::rate, 1.0, *parse_tau_spec("1,10,100"));
+    ASSERT_TRUE(curve) << curve.err().message;
+    ASSERT_EQ(curve->size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i)
+      EXPECT_NEAR((*curve)[i].dev / v[i], 1.0, 1e-6) << to_string(k) << " " << i;
+  }
+}
+
+TEST(Allan, RateAndAngleInputAgree) {
+  // The same signal as rate samples and as the integrated angle (not mean-removed) gives the
+  // same deviations: the input kind is converted, never assumed.
+  const auto y = nbs14_1000();
+  std::vector<double> angle{100.0};
+  for (double v : y) angle.push_back(angle.back() + 0.01 * v);
+  for (const auto& [name, k] : kinds) {
+    const auto a = deviation(k, y, input_kind::rate, 0.01, {});
+    const auto b = deviation(k, angle, input_kind::angle, 0.01, {});
+    ASSERT_TRUE(a && b);
+    ASSERT_EQ(a->size(), b->size()) << name;
+    for (std::size_t i = 0; i < a->size(); ++i)
+      EXPECT_NEAR((*a)[i].dev / (*b)[i].dev, 1.0, 1e-9) << name;
+  }
+}
+
+TEST(Allan, TauSetsAndErrors) {
+  const auto f = averaging_factors(*parse_tau_spec("decade"), dev_kind::oadev, 100001);
+  EXPECT_EQ(f, (std::vector<std::size_t>{1, 2, 4, 10, 20, 40, 100, 200, 400, 1000, 2000, 4000,
+                                         10000, 20000}));
+  EXPECT_EQ(averaging_factors(*parse_tau_spec("octave"), dev_kind::totdev, 1001).back(), 256u);
+  EXPECT_EQ(averaging_factors(*parse_tau_spec("octave"), dev_kind::oadev, 1001).back(), 128u);
+  EXPECT_EQ(averaging_factors(*parse_tau_spec("all"), dev_kind::adev, 1001).size(), 200u);
+  EXPECT_FALSE(parse_tau_spec("1,x"));
+  EXPECT_FALSE(parse_tau_spec("0"));
+  EXPECT_FALSE(parse_tau_spec("fortnight"));
+  const std::vector<double> two{1.0, 2.0};
+  EXPECT_FALSE(deviation(dev_kind::oadev, std::vector<double>{1.0}, input_kind::rate, 1.0, {}));
+  EXPECT_FALSE(deviation(dev_kind::oadev, two, input_kind::rate, 0.0, {}));
+  EXPECT_FALSE(deviation(dev_kind::oadev, std::vector<double>{1.0, NAN, 2.0, 3.0}, input_kind::rate,
+                         1.0, {}));
+}
+
+TEST(Allan, WhiteRateNoiseHasSlopeMinusHalf) {
+  // White rate noise of std s per sample: ADEV(m) = s / sqrt(m) (ARW, SP1065 WFM). Fixed seed,
+  // 2^20 samples; tolerance 5 % at m <= 1024 (EDF > 1000 there).
+  std::uint64_t st = 99;
+  const auto uniform = [&st] {
+    st = st * 6364136223846793005ull + 1442695040888963407ull;
+    return (static_cast<double>(st >> 11) + 0.5) * 0x1.0p-53;
+  };
+  std::vector<double> y(1 << 20);
+  for (std::size_t i = 0; i < y.size(); i += 2) {  // Box-Muller
+    const double r = std::sqrt(-2.0 * std::log(uniform())), t = 6.283185307179586 * uniform();
+    y[i] = 0.3 * r * std::cos(t);
+    y[i + 1] = 0.3 * r * std::sin(t);
+  }
+  const auto c = *oadev(y, input_kind::rate, 0.01, *parse_tau_spec("1,4,16,64,256,1024"));
+  for (const auto& p : c)
+    EXPECT_NEAR(p.dev * std::sqrt(static_cast<double>(p.m)) / 0.3, 1.0, 0.05) << p.m;
+}
+
+}  // namespace
+}  // namespace gyroflip::analysis
