@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -205,7 +206,11 @@ double profile::eval(double t) noexcept {
       return value_ + amp_ * std::sin(2.0 * std::numbers::pi * freq_hz_ * t);
     case kind::triangle: {
       // Phase in [0, 1): falls from MEAN + A to MEAN - A in the first half, rises in the second.
-      const double ph = t * freq_hz_ - std::floor(t * freq_hz_);
+      const double cycles = t * freq_hz_;
+      // Truncation is floor for t >= 0 (the run) and is inlined, unlike std::floor.
+      const double ph =
+          cycles - (cycles >= 0.0 ? static_cast<double>(static_cast<std::int64_t>(cycles))
+                                  : std::floor(cycles));
       return value_ + amp_ * (ph < 0.5 ? 1.0 - 4.0 * ph : 4.0 * ph - 3.0);
     }
     case kind::hold:

@@ -91,6 +91,7 @@ double slow_bias::grid_value() noexcept {
 
 void slow_bias::advance() noexcept {
   if (n_ > 0) {
+    area_lo_ += 0.5 * (v_lo_ + v_hi_) * h_;
     t_lo_ = t_hi_;
     v_lo_ = v_hi_;
   }

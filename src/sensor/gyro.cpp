@@ -24,6 +24,7 @@ result<gyro> gyro::make(const sensor_params& p, double sample_period_s, double p
 gyro::gyro(const sensor_params& p, double dt, double power_on_before_s, std::uint64_t seed)
     : p_(p),
       dt_(dt),
+      half_dt_(0.5 * dt),
       temp_ref_c_(p.temp_ref_c),
       bias_tc_(p.bias_tc_dps_per_c),
       arw_on_(p.arw_dps_rthz > 0.0),
@@ -35,6 +36,8 @@ gyro::gyro(const sensor_params& p, double dt, double power_on_before_s, std::uin
       range_dps_(p.range_dps),
       quant_on_(p.quantisation_deg > 0.0),
       quant_deg_(p.quantisation_deg),
+      inv_quant_(p.quantisation_deg > 0.0 ? 1.0 / p.quantisation_deg : 0.0),
+      inv_dt_(1.0 / dt),
       sf_v_per_dps_(p.scale_factor_v_per_dps),
       g0_{p.g_sens_x_dps_per_g, p.g_sens_y_dps_per_g, p.g_sens_z_dps_per_g},
       g1_{p.g_sens_tc_x_dps_per_g_c, p.g_sens_tc_y_dps_per_g_c, p.g_sens_tc_z_dps_per_g_c},

@@ -43,7 +43,7 @@ result<preset> parse_toml_preset(std::string_view text, std::string_view file) {
     out = *b;
   }
   for (const auto& [key, node] : tbl) {
-    const auto loc = where(file, node.source());
+    const auto loc = where(file, key.source());
     const std::string_view k = key.str();
     if (k == "base") continue;
     if (k == "name" || k == "description") {

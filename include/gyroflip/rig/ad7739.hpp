@@ -20,6 +20,7 @@
 #include <cstdint>
 
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/sensor/det_math.hpp"
 #include "gyroflip/sensor/random.hpp"
 
 namespace gyroflip::rig {
@@ -48,7 +49,7 @@ class ad7739 {
   std::int32_t convert(double v_diff) noexcept {
     double v = v_diff + offset_v_;
     if (noise_on_) v += noise_v_ * noise_.next();
-    const double c = std::nearbyint(v * inv_lsb_) + code_zero;
+    const double c = sensor::round_even(v * inv_lsb_) + code_zero;
     return c <= 0.0 ? 0 : (c >= code_max ? code_max : static_cast<std::int32_t>(c));
   }
   /// The voltage (V) a code stands for: (code - 2^23) LSB.

@@ -55,4 +55,12 @@ namespace gyroflip::sensor {
   return 2.0 * s * sum + static_cast<double>(e) * ln2;
 }
 
+/// Rounds to the nearest integer, ties to even, for |x| < 2^51: (x + 1.5 2^52) - 1.5 2^52 in
+/// IEEE round-to-nearest. Same result as std::nearbyint in the default rounding mode, but
+/// inlined without SSE4.1 (nearbyint is a libm call on baseline x86-64).
+[[nodiscard]] inline double round_even(double x) noexcept {
+  constexpr double magic = 6755399441055744.0;  // 1.5 * 2^52
+  return (x + magic) - magic;                   // not folded: strict IEEE semantics forbid it
+}
+
 }  // namespace gyroflip::sensor

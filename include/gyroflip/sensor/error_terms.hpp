@@ -78,10 +78,28 @@ class slow_bias {
     while (t_s > t_hi_) advance();
     return v_lo_ + slope_ * (t_s - t_lo_);
   }
+  /// The mean of the slow bias (deg/s) over the window [t0_s, t1_s] (s, 0 <= t0 < t1, windows
+  /// non-decreasing): (I(t1) - I(t0)) / (t1 - t0) with I the exact integral of the piecewise-
+  /// linear process. This is what an integrating ADC sees, so the sampled process has the same
+  /// Allan deviation at any sample rate (no aliasing of the flicker bank's fast components).
+  double mean_over(double t0_s, double t1_s) noexcept {
+    const double i0 = t0_s == t_end_ ? i_end_ : integral_to(t0_s);
+    const double i1 = integral_to(t1_s);
+    t_end_ = t1_s;
+    i_end_ = i1;
+    return (i1 - i0) / (t1_s - t0_s);
+  }
   [[nodiscard]] double grid_step_s() const noexcept { return h_; }
 
  private:
   void advance() noexcept;
+  // Integral of the process from 0 to t_s (deg): area up to the grid point t_lo plus the
+  // trapezoid to t_s.
+  double integral_to(double t_s) noexcept {
+    while (t_s > t_hi_) advance();
+    const double d = t_s - t_lo_;
+    return area_lo_ + d * (v_lo_ + 0.5 * slope_ * d);
+  }
   double grid_value() noexcept;
   double h_;
   double t_on0_;
@@ -91,7 +109,8 @@ class slow_bias {
   flicker_bank flicker_;
   normal_stream rrw_noise_;
   std::uint64_t n_ = 0;
-  double t_lo_ = 0.0, t_hi_ = 0.0, v_lo_ = 0.0, v_hi_ = 0.0, slope_ = 0.0;
+  double t_lo_ = 0.0, t_hi_ = 0.0, v_lo_ = 0.0, v_hi_ = 0.0, slope_ = 0.0, area_lo_ = 0.0;
+  double t_end_ = -1.0, i_end_ = 0.0;  // the previous window's end and its integral
 };
 
 }  // namespace gyroflip::sensor

@@ -4,7 +4,8 @@
 ///
 /// Per conversion k of length dt (the sample is the mean over the window):
 ///
-///     b_k  = bias_dps + b_turn_on + slow_bias(t_k) + bias_tc (T_k - T_ref)     (no reversal)
+///     b_k  = bias_dps + b_turn_on + mean of slow_bias over the window + bias_tc (T_k - T_ref)
+///                                                                               (no reversal)
 ///     x_k  = w_k + b_k + N/sqrt(dt) n_k                  w_k = input + Earth + g-term (rig)
 ///     l_k  = a l_{k-1} + (1 - a) x_k,  a = e^{-2 pi f_c dt}    first-order low-pass, exact
 ///                                       for a piecewise-constant input (zero-order hold)
@@ -24,6 +25,7 @@
 #include <cstdint>
 
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/sensor/det_math.hpp"
 #include "gyroflip/sensor/error_terms.hpp"
 #include "gyroflip/sensor/params.hpp"
 #include "gyroflip/sensor/random.hpp"
@@ -51,11 +53,12 @@ class gyro {
   [[nodiscard]] static result<gyro> make(const sensor_params& p, double sample_period_s,
                                          double power_on_before_s, std::uint64_t seed);
 
-  /// One conversion window centred at `t_s` (s, non-decreasing), temperature `temp_c` (degC),
-  /// true sensed rate `rate_dps` = input + Earth + g-term (deg/s).
+  /// One conversion window [t_s - dt/2, t_s + dt/2] (t_s >= dt/2, non-decreasing), temperature
+  /// `temp_c` (degC), true sensed rate `rate_dps` = input + Earth + g-term (deg/s).
   gyro_sample sample(double t_s, double temp_c, double rate_dps) noexcept {
     const double dtemp = temp_c - temp_ref_c_;
-    const double bias = bias0_dps_ + slow_.at(t_s) + bias_tc_ * dtemp;
+    const double bias =
+        bias0_dps_ + slow_.mean_over(t_s - half_dt_, t_s + half_dt_) + bias_tc_ * dtemp;
     double x = rate_dps + bias;
     if (arw_on_) x += arw_sigma_ * arw_.next();
     if (lpf_on_) {
@@ -68,8 +71,8 @@ class gyro {
     x = x > range_dps_ ? range_dps_ : (x < -range_dps_ ? -range_dps_ : x);
     if (quant_on_) {
       theta_ += x * dt_;
-      const double q = quant_deg_ * std::nearbyint(theta_ / quant_deg_);
-      x = (q - theta_q_) / dt_;
+      const double q = quant_deg_ * round_even(theta_ * inv_quant_);
+      x = (q - theta_q_) * inv_dt_;
       theta_q_ = q;
     }
     return {x * sf_v_per_dps_, bias};
@@ -86,7 +89,7 @@ class gyro {
  private:
   gyro(const sensor_params& p, double dt, double power_on_before_s, std::uint64_t seed);
   sensor_params p_;
-  double dt_;
+  double dt_, half_dt_;
   double temp_ref_c_, bias0_dps_ = 0.0, turn_on_dps_ = 0.0, bias_tc_;
   bool arw_on_;
   double arw_sigma_;
@@ -95,7 +98,7 @@ class gyro {
   bool first_ = true;
   double nl_per_dps_, sf_ratio_, sf_tc_, range_dps_;
   bool quant_on_;
-  double quant_deg_, theta_ = 0.0, theta_q_ = 0.0;
+  double quant_deg_, inv_quant_, inv_dt_, theta_ = 0.0, theta_q_ = 0.0;
   double sf_v_per_dps_;
   sensor_vec g0_, g1_;
   normal_stream arw_;
