@@ -82,14 +82,24 @@ std::size_t simulator::fill(sample_block& b) noexcept {
   double* __restrict out_earth = b.earth_dps.data();
   double* __restrict out_input = b.input_dps.data();
   std::int64_t* __restrict out_dwell = b.dwell.data();
+  // Normal deviates in batches (tight loops run ~2x faster than interleaved draws); zeros when
+  // a term is off, so the per-sample code has no branch.
+  if (n_arw_.size() < n) {
+    n_arw_.assign(n, 0.0);
+    n_adc_.assign(n, 0.0);
+  }
+  if (gyro_.arw_on()) gyro_.arw_stream().fill(n_arw_.data(), n);
+  if (adc_.noise_on()) adc_.noise_stream().fill(n_adc_.data(), n);
+  const double* __restrict n_arw = n_arw_.data();
+  const double* __restrict n_adc = n_adc_.data();
   for (std::size_t i = 0; i < n; ++i, ++k) {
     const double t = (static_cast<double>(k) + 0.5) * t_conv_s_;
     const double temp = cfg_.temperature.at(t);
     const double w_in = cfg_.rate.at(t);
     const double g_term = gf0_[p] + gf1_[p] * (temp - t_ref);
     const double input = w_in * in_gain_[p] + table_[p];
-    const sensor::gyro_sample s = gyro_.sample(t, temp, input + earth_[p] + g_term);
-    const std::int32_t code = adc_.convert(s.v_rel);
+    const sensor::gyro_sample s = gyro_.sample(t, temp, input + earth_[p] + g_term, n_arw[i]);
+    const std::int32_t code = adc_.convert(s.v_rel, n_adc[i]);
     out_t[i] = t;
     out_angle[i] = angle_out_[p];
     out_rate[i] = adc_.volts(code) * inv_sf_;

@@ -41,6 +41,24 @@ double normal_tail(rng& g) noexcept {
   }
 }
 
+double normal_slow(rng& g, const ziggurat_tables& z, std::size_t i, double u) noexcept {
+  for (;;) {
+    if (i == 0) {
+      const double t = normal_tail(g);
+      return u < 0.0 ? -t : t;
+    }
+    // Wedge between layers i and i+1: accept x under the density (Doornik 2005).
+    const double xv = u * z.x[i];
+    const double f0 = ziggurat_density_ratio(z.x[i], xv);
+    const double f1 = ziggurat_density_ratio(z.x[i + 1], xv);
+    if (f1 + g.uniform_open() * (f0 - f1) < 1.0) return xv;
+    const std::uint64_t r = g.next();  // rejected: draw again
+    i = static_cast<std::size_t>(r & 0xffU);
+    u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
+    if (std::fabs(u) < z.ratio[i]) return u * z.x[i];
+  }
+}
+
 double ziggurat_density_ratio(double a, double x) noexcept {
   return det_exp(-0.5 * (a * a - x * x));
 }

@@ -47,8 +47,11 @@ class ad7739 {
 
   /// One conversion of the differential input `v_diff` (V).
   std::int32_t convert(double v_diff) noexcept {
-    double v = v_diff + offset_v_;
-    if (noise_on_) v += noise_v_ * noise_.next();
+    return convert(v_diff, noise_on_ ? noise_.next() : 0.0);
+  }
+  /// The same with the noise deviate `n` ~ N(0,1) drawn by the caller from noise_stream().
+  std::int32_t convert(double v_diff, double n) noexcept {
+    const double v = v_diff + offset_v_ + noise_v_ * n;
     const double c = sensor::round_even(v * inv_lsb_) + code_zero;
     return c <= 0.0 ? 0 : (c >= code_max ? code_max : static_cast<std::int32_t>(c));
   }
@@ -59,6 +62,8 @@ class ad7739 {
   [[nodiscard]] double conversion_time_s() const noexcept { return t_conv_s_; }
   [[nodiscard]] double lsb_v() const noexcept { return lsb_; }
   [[nodiscard]] double noise_v_rms() const noexcept { return noise_v_; }
+  [[nodiscard]] bool noise_on() const noexcept { return noise_on_; }
+  [[nodiscard]] sensor::normal_stream& noise_stream() noexcept { return noise_; }
 
  private:
   ad7739(const ad7739_config& c, std::uint64_t seed);

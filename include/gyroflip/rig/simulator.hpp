@@ -87,6 +87,7 @@ class simulator {
   std::size_t p_ = 0;
   std::vector<double> in_gain_, table_, earth_, gf0_, gf1_, angle_out_;
   std::vector<std::int8_t> slot_;
+  std::vector<double> n_arw_, n_adc_;  // per-block scratch for the normal deviates
 };
 
 /// One dwell average, as written to a recording (docs/FORMATS.md) plus its truth.

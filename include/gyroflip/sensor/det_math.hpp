@@ -15,6 +15,14 @@
 
 namespace gyroflip::sensor {
 
+/// Rounds to the nearest integer, ties to even, for |x| < 2^51: (x + 1.5 2^52) - 1.5 2^52 in
+/// IEEE round-to-nearest. Same result as std::nearbyint in the default rounding mode, but
+/// inlined without SSE4.1 (nearbyint is a libm call on baseline x86-64).
+[[nodiscard]] inline double round_even(double x) noexcept {
+  constexpr double magic = 6755399441055744.0;  // 1.5 * 2^52
+  return (x + magic) - magic;                   // not folded: strict IEEE semantics forbid it
+}
+
 /// e^x (dimensionless). Range reduction x = k ln2 + r, |r| <= ln2/2, with ln2 split in a
 /// 32-bit-exact high part and a low part (Cody & Waite), then the Taylor series of e^r to
 /// r^14/14! (truncation < 1e-17 for |r| <= 0.347) and an exact ldexp. Relative error ~2e-16.
@@ -26,7 +34,7 @@ namespace gyroflip::sensor {
   constexpr double log2e = 1.4426950408889634;
   constexpr double ln2_hi = 6.93147180369123816490e-01;  // 0x3fe62e42fee00000
   constexpr double ln2_lo = 1.90821492927058770002e-10;
-  const double kd = std::nearbyint(x * log2e);
+  const double kd = round_even(x * log2e);
   const double r = (x - kd * ln2_hi) - kd * ln2_lo;
   double p = 1.0;
   for (int n = 14; n >= 1; --n) p = 1.0 + p * r / static_cast<double>(n);
@@ -53,14 +61,6 @@ namespace gyroflip::sensor {
   for (int k = 13; k >= 0; --k) sum = 1.0 / static_cast<double>(2 * k + 1) + s2 * sum;
   constexpr double ln2 = 6.93147180559945309417e-01;
   return 2.0 * s * sum + static_cast<double>(e) * ln2;
-}
-
-/// Rounds to the nearest integer, ties to even, for |x| < 2^51: (x + 1.5 2^52) - 1.5 2^52 in
-/// IEEE round-to-nearest. Same result as std::nearbyint in the default rounding mode, but
-/// inlined without SSE4.1 (nearbyint is a libm call on baseline x86-64).
-[[nodiscard]] inline double round_even(double x) noexcept {
-  constexpr double magic = 6755399441055744.0;  // 1.5 * 2^52
-  return (x + magic) - magic;                   // not folded: strict IEEE semantics forbid it
 }
 
 }  // namespace gyroflip::sensor

@@ -56,11 +56,17 @@ class gyro {
   /// One conversion window [t_s - dt/2, t_s + dt/2] (t_s >= dt/2, non-decreasing), temperature
   /// `temp_c` (degC), true sensed rate `rate_dps` = input + Earth + g-term (deg/s).
   gyro_sample sample(double t_s, double temp_c, double rate_dps) noexcept {
+    return sample(t_s, temp_c, rate_dps, arw_on_ ? arw_.next() : 0.0);
+  }
+
+  /// The same with the ARW deviate `n_arw` ~ N(0,1) supplied by the caller, who drew it from
+  /// arw_stream() (batch generation in the simulator; identical results).
+  gyro_sample sample(double t_s, double temp_c, double rate_dps, double n_arw) noexcept {
     const double dtemp = temp_c - temp_ref_c_;
     const double bias =
         bias0_dps_ + slow_.mean_over(t_s - half_dt_, t_s + half_dt_) + bias_tc_ * dtemp;
     double x = rate_dps + bias;
-    if (arw_on_) x += arw_sigma_ * arw_.next();
+    x += arw_sigma_ * n_arw;
     if (lpf_on_) {
       if (first_) lpf_state_ = x;
       lpf_state_ += lpf_gain_ * (x - lpf_state_);
@@ -85,6 +91,9 @@ class gyro {
   /// The per-power-up bias drawn for this run (deg/s).
   [[nodiscard]] double turn_on_bias_dps() const noexcept { return turn_on_dps_; }
   [[nodiscard]] const sensor_params& params() const noexcept { return p_; }
+  /// The ARW stream (for batch generation) and whether ARW is on.
+  [[nodiscard]] normal_stream& arw_stream() noexcept { return arw_; }
+  [[nodiscard]] bool arw_on() const noexcept { return arw_on_; }
 
  private:
   gyro(const sensor_params& p, double dt, double power_on_before_s, std::uint64_t seed);

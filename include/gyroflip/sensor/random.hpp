@@ -9,6 +9,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace gyroflip::sensor {
@@ -79,25 +81,23 @@ struct ziggurat_tables {
 /// exp(-(a^2 - x^2)/2) with det_exp (the wedge test of `normal`).
 [[nodiscard]] double ziggurat_density_ratio(double a, double x) noexcept;
 
+/// The rare part of `normal`: the wedge test for (layer i, signed uniform u) already drawn,
+/// the tail for i = 0, and on rejection further draws until acceptance. Out of line so that
+/// the fast path stays small.
+[[nodiscard]] double normal_slow(rng& g, const ziggurat_tables& z, std::size_t i,
+                                 double u) noexcept;
+
 /// A standard normal N(0, 1) deviate. Fast path (98.8 %): one 64-bit number, one multiply,
 /// one compare; low 8 bits pick the layer, the top 53 bits the signed uniform (disjoint bits,
 /// so no layer/value correlation, Doornik 2005 section 4).
 [[nodiscard]] inline double normal(rng& g, const ziggurat_tables& z) noexcept {
-  for (;;) {
-    const std::uint64_t r = g.next();
-    const auto i = static_cast<std::size_t>(r & 0xffU);
-    const double u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
-    if (u < z.ratio[i] && u > -z.ratio[i]) return u * z.x[i];
-    if (i == 0) {
-      const double t = normal_tail(g);
-      return u < 0.0 ? -t : t;
-    }
-    // Wedge: accept x under the density between layers i and i+1.
-    const double xv = u * z.x[i];
-    const double f0 = ziggurat_density_ratio(z.x[i], xv);
-    const double f1 = ziggurat_density_ratio(z.x[i + 1], xv);
-    if (f1 + g.uniform_open() * (f0 - f1) < 1.0) return xv;
+  const std::uint64_t r = g.next();
+  const auto i = static_cast<std::size_t>(r & 0xffU);
+  const double u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
+  if (std::fabs(u) < z.ratio[i]) [[likely]] {
+    return u * z.x[i];
   }
+  return normal_slow(g, z, i, u);
 }
 
 /// A normal stream: an `rng` plus the shared ziggurat tables (a value type, cheap to copy).
@@ -106,6 +106,14 @@ class normal_stream {
   normal_stream(std::uint64_t seed, stream id) : g_(seed, id), z_(&ziggurat()) {}
   /// N(0, 1).
   double next() noexcept { return normal(g_, *z_); }
+  /// Fills `out[0..n)` with N(0, 1) (the same numbers as n calls of next(), but faster: a
+  /// tight loop keeps the generator state in registers).
+  void fill(double* out, std::size_t n) noexcept {
+    rng g = g_;
+    const ziggurat_tables& z = *z_;
+    for (std::size_t k = 0; k < n; ++k) out[k] = normal(g, z);
+    g_ = g;
+  }
   rng& uniform() noexcept { return g_; }
 
  private:
