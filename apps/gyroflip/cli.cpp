@@ -1,8 +1,10 @@
 /// \file
 /// \brief Command-line parsing for all subcommands: the only translation unit that includes
 /// CLI11 (a 5-s header). Parsing only fills option structs; work runs after parsing.
+#include <cstdio>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -78,6 +80,46 @@ void setup_sensors(CLI::App& app, action& chosen) {
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
+void setup_calibrate(CLI::App& app, action& chosen) {
+  auto* sub = app.add_subcommand("calibrate", "dN from stationary recordings (paper eqns 8-11)");
+  auto o = bind<calibrate_options>(sub, chosen, run_calibrate);
+  sub->add_option("files", o->files, "recordings (CSV, docs/FORMATS.md)")->required();
+  sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms");
+  sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D");
+  sub->add_option("--pairing", o->pairing, "cycle estimator")
+      ->check(CLI::IsMember({"abba", "simple"}))
+      ->capture_default_str();
+  auto* degree =
+      sub->add_option("--degree", o->degree, "degree of the dN(T) polynomial (several files)")
+          ->check(CLI::Range(0, 6))
+          ->capture_default_str();
+  sub->add_option("-o,--output", o->output, "write the calibration JSON to this file");
+  sub->add_flag("--json", o->json, "print the calibration as one JSON object");
+  sub->parse_complete_callback([o, degree] { o->degree_given = degree->count() > 0; });
+}
+
+void setup_compensate(CLI::App& app, action& chosen) {
+  auto* sub =
+      app.add_subcommand("compensate", "Compensated rate per cycle, w = r - dN (paper eqn 12)");
+  auto o = bind<compensate_options>(sub, chosen, run_compensate);
+  sub->add_option("file", o->file, "recording (CSV, docs/FORMATS.md)")->required();
+  auto* dn = sub->add_option("--delta-n", o->delta_n_dps, "dN to subtract (deg/s)");
+  auto* cal = sub->add_option("--calibration", o->calibration,
+                              "calibration JSON from `gyroflip calibrate -o`");
+  dn->excludes(cal);
+  sub->add_option("--pairing", o->pairing,
+                  "cycle estimator (default: the calibration's, else abba)")
+      ->check(CLI::IsMember({"abba", "simple"}));
+  sub->add_option("-o,--output", o->output,
+                  "write the per-cycle CSV here (default: stdout unless --json)");
+  sub->add_option("--drift-window", o->drift_window_s, "moving-mean window for drift_dps (s)")
+      ->capture_default_str();
+  sub->add_flag("--json", o->json, "print a JSON summary");
+  sub->parse_complete_callback([dn, cal] {
+    if (dn->count() + cal->count() != 1) throw CLI::RequiredError("--delta-n or --calibration");
+  });
+}
+
 }  // namespace
 
 int run_cli(int argc, char** argv) {
@@ -89,6 +131,20 @@ int run_cli(int argc, char** argv) {
   setup_earth(app, chosen);
   setup_simulate(app, chosen);
   setup_sensors(app, chosen);
+  setup_calibrate(app, chosen);
+  setup_compensate(app, chosen);
+  // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for
+  // subcommands that way.
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string name = argv[1];
+    const auto subs =
+        app.get_subcommands([&name](const CLI::App* s) { return s->get_name() == name; });
+    if (subs.empty()) {
+      std::fprintf(stderr, "gyroflip: error: unknown command '%s' (see gyroflip --help)\n",
+                   name.c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -21,8 +21,10 @@ int run_earth(const earth_options& o) {
                               {"earth_rate_deg_h", w_dps * 3600.0}};
     fmt::print("{}\n", j.dump());
   } else {
-    fmt::print("{:.10e} deg/s  ({:.6f} deg/h) Earth rate along axis ({:.6f}, {:.6f}, {:.6f}) NED at {} deg\n",
-               w_dps, w_dps * 3600.0, axis->north, axis->east, axis->down, o.lat_deg);
+    fmt::print(
+        "{:.10e} deg/s  ({:.6f} deg/h) Earth rate along axis ({:.6f}, {:.6f}, {:.6f}) NED at {} "
+        "deg\n",
+        w_dps, w_dps * 3600.0, axis->north, axis->east, axis->down, o.lat_deg);
   }
   return 0;
 }

@@ -6,8 +6,11 @@
 /// 0 ok, 1 runtime failure, 2 bad usage or input (docs/cli.md).
 #pragma once
 
+#include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "gyroflip/core/result.hpp"
 
@@ -22,5 +25,28 @@ struct earth_options {
   bool json = false;
 };
 int run_earth(const earth_options& o);
+
+struct calibrate_options {
+  std::vector<std::string> files;
+  double lat_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
+  std::string axis;                                           // empty: not given
+  std::string pairing = "abba";
+  std::size_t degree = 1;
+  bool degree_given = false;
+  std::string output;  // -o CAL.json
+  bool json = false;
+};
+int run_calibrate(const calibrate_options& o);
+
+struct compensate_options {
+  std::string file;
+  double delta_n_dps = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
+  std::string calibration;
+  std::string pairing;  // empty: from the calibration file, else abba
+  std::string output;   // -o OUT.csv; empty: stdout unless --json
+  bool json = false;
+  double drift_window_s = 100.0;
+};
+int run_compensate(const compensate_options& o);
 
 }  // namespace gyroflip::app

@@ -25,7 +25,9 @@ progress::progress(std::string label, std::uint64_t total, bool enabled)
       start_(std::chrono::steady_clock::now()),
       last_(start_) {}
 
-progress::~progress() { finish(); }
+progress::~progress() {
+  finish();
+}
 
 void progress::update(std::uint64_t done) {
   if (!enabled_ || (++calls_ % check_every != 0 && done < total_)) return;

@@ -18,7 +18,9 @@ namespace {
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const auto lower = [](char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; };
+    const auto lower = [](char c) {
+      return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+    };
     if (lower(a[i]) != lower(b[i])) return false;
   }
   return true;
@@ -48,7 +50,8 @@ result<ned_vector> parse_components(std::string_view text) {
   }
   if (count != 3) return usage_error(fmt::format("axis '{}': expected 3 components N,E,D", text));
   const double norm = std::hypot(v[0], v[1], v[2]);
-  if (!(norm > 0.0)) return usage_error(fmt::format("axis '{}': zero vector has no direction", text));
+  if (!(norm > 0.0))
+    return usage_error(fmt::format("axis '{}': zero vector has no direction", text));
   return ned_vector{v[0] / norm, v[1] / norm, v[2] / norm};
 }
 

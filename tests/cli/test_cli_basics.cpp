@@ -21,7 +21,8 @@ TEST(CliBasics, VersionAndHelp) {
 TEST(CliBasics, UsageErrorsExitTwo) {
   EXPECT_EQ(run_cli({}).exit_code, 2);
   EXPECT_EQ(run_cli({"no-such-command"}).exit_code, 2);
-  EXPECT_EQ(run_cli({"earth"}).exit_code, 2);  // --latitude is required
+  EXPECT_EQ(run_cli({"no-such-command", "--help"}).exit_code, 2);  // probes must not see success
+  EXPECT_EQ(run_cli({"earth"}).exit_code, 2);                      // --latitude is required
   const auto bad = run_cli({"earth", "--latitude", "95"});
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("latitude"), std::string::npos);

@@ -63,6 +63,8 @@ class [[nodiscard]] result {
 /// Success without a value.
 struct ok_t {};
 using status = result<ok_t>;
-inline status ok() { return ok_t{}; }
+inline status ok() {
+  return ok_t{};
+}
 
 }  // namespace gyroflip

@@ -1,0 +1,136 @@
+/// \file
+/// \brief `gyroflip calibrate`: dN from stationary recordings (paper eqns 8-11), its Earth and
+/// g terms, and a dN(T) model when recordings at several temperatures are given.
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "gyroflip/analysis/drift.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/io/recording.hpp"
+
+namespace gyroflip::app {
+namespace {
+
+// Files whose mean temperatures span less than this are repeats at one temperature
+// (paper Tab. 3): they are pooled, and no dN(T) model is fitted unless --degree is given.
+constexpr double min_model_span_c = 2.0;
+
+result<std::optional<io::calibration_geometry>> geometry_of(const calibrate_options& o) {
+  const bool has_lat = !std::isnan(o.lat_deg);
+  if (has_lat != !o.axis.empty())
+    return usage_error(
+        "--latitude and --axis go together: give both to split dN into Earth and g terms");
+  if (!has_lat) return std::optional<io::calibration_geometry>{};
+  if (auto s = earth::check_latitude(o.lat_deg); !s) return s.err();
+  auto axis = earth::parse_axis(o.axis);
+  if (!axis) return axis.err();
+  return std::optional<io::calibration_geometry>{io::calibration_geometry{o.lat_deg, *axis}};
+}
+
+// The pooled mean's correlated error from the files' own: se = sqrt(sum (n_i se_i)^2) / N.
+double pooled_correlated_stderr(const std::vector<io::calibration_entry>& files) {
+  double num = 0.0;
+  double n = 0.0;
+  for (const auto& f : files) {
+    const double ni = static_cast<double>(f.cal.cycles);
+    num += ni * ni * f.cal.stderr_correlated_dps * f.cal.stderr_correlated_dps;
+    n += ni;
+  }
+  return std::sqrt(num) / n;
+}
+
+result<std::optional<method::delta_n_model>> fit_model(
+    const calibrate_options& o, const std::vector<io::calibration_entry>& files) {
+  if (files.size() < 2) {
+    if (o.degree_given) return usage_error("--degree needs calibrations from several files");
+    return std::optional<method::delta_n_model>{};
+  }
+  std::vector<method::delta_n_point> pts;
+  for (const auto& f : files) {
+    if (std::isnan(f.cal.temp_c)) {
+      if (o.degree_given)
+        return input_error({f.file},
+                           "no temp_c column; a dN(T) model (--degree) needs temperatures");
+      return std::optional<method::delta_n_model>{};
+    }
+    pts.push_back({f.cal.temp_c, f.cal.delta_n_dps, f.cal.stderr_correlated_dps});
+  }
+  const auto [lo, hi] = std::minmax_element(pts.begin(), pts.end(),
+                                            [](auto& a, auto& b) { return a.temp_c < b.temp_c; });
+  if (!o.degree_given && hi->temp_c - lo->temp_c < min_model_span_c)
+    return std::optional<method::delta_n_model>{};
+  auto m = method::fit_delta_n_model(pts, o.degree);
+  if (!m) return m.err();
+  return std::optional<method::delta_n_model>{std::move(*m)};
+}
+
+void print_entry(const io::calibration_entry& e, const std::optional<io::calibration_geometry>& g) {
+  const auto& c = e.cal;
+  fmt::print("{}: {} cycles over {:.0f} s", e.file, c.cycles, c.duration_s);
+  if (!std::isnan(c.temp_c)) fmt::print(", {:.2f} degC", c.temp_c);
+  fmt::print("\n  dN = {:.6e} deg/s   std {:.3e}   stderr {:.3e} (naive) {:.3e} (correlated)\n",
+             c.delta_n_dps, c.std_dps, c.stderr_dps, c.stderr_correlated_dps);
+  fmt::print("  bias (half-sum) mean {:.6e} deg/s\n", c.bias_mean_dps);
+  if (g) {
+    const auto s = method::split_delta_n(c.delta_n_dps, g->lat_deg, g->axis);
+    fmt::print("  Earth term {:.6e} deg/s   g term {:.6e} deg/s\n", s.earth_rate_dps, s.g_term_dps);
+  }
+}
+
+void print_summary(const io::calibration_record& rec) {
+  fmt::print("pairing: {}\n", method::to_string(rec.pairing));
+  for (const auto& f : rec.files) print_entry(f, rec.geometry);
+  if (rec.files.size() > 1) print_entry({"all files", rec.pooled}, rec.geometry);
+  if (rec.model) {
+    const auto& m = *rec.model;
+    fmt::print(
+        "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.6e}], fitted over {:.1f}..{:.1f} degC, chi2/dof "
+        "{:.3g}\n",
+        m.t_ref_c, fmt::join(m.coeffs_dps, ", "), m.temp_min_c, m.temp_max_c, m.chi2_per_dof);
+  }
+}
+
+}  // namespace
+
+int run_calibrate(const calibrate_options& o) {
+  const auto pairing = method::parse_pairing(o.pairing);
+  if (!pairing) return report(usage_error("--pairing must be abba or simple"));
+  auto geometry = geometry_of(o);
+  if (!geometry) return report(geometry.err());
+  io::calibration_record rec;
+  rec.pairing = *pairing;
+  rec.geometry = *geometry;
+  std::vector<method::cycle> all;
+  for (const auto& file : o.files) {
+    auto rc = io::read_cycles(file, *pairing);
+    if (!rc) return report(rc.err());
+    auto cal = method::calibrate(rc->cycles);
+    if (!cal) return report(input_error({file}, cal.err().message));
+    rec.files.push_back({file, *cal});
+    all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
+  }
+  auto pooled = method::calibrate(all);
+  if (!pooled) return report(pooled.err());
+  rec.pooled = *pooled;
+  rec.pooled.stderr_correlated_dps = pooled_correlated_stderr(rec.files);
+  auto model = fit_model(o, rec.files);
+  if (!model) return report(model.err());
+  rec.model = *model;
+
+  const std::string text = io::to_json(rec, GYROFLIP_VERSION);
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, text + "\n"); !s) return report(s.err());
+  if (o.json) {
+    fmt::print("{}\n", text);
+  } else {
+    print_summary(rec);
+  }
+  return 0;
+}
+
+}  // namespace gyroflip::app

@@ -1,0 +1,127 @@
+/// \file
+/// \brief `gyroflip compensate`: paper eqn 12 per cycle, w_in = r - dN(T).
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/io/recording.hpp"
+#include "gyroflip/method/compensation.hpp"
+
+namespace gyroflip::app {
+namespace {
+
+struct delta_n_source {
+  method::delta_n_model model;
+  std::optional<method::pairing> pairing;  // the pairing the calibration used
+};
+
+result<delta_n_source> load_delta_n(const compensate_options& o) {
+  if (o.calibration.empty()) {
+    if (!std::isfinite(o.delta_n_dps))
+      return usage_error("--delta-n must be a finite number (deg/s)");
+    return delta_n_source{method::constant_model(o.delta_n_dps), std::nullopt};
+  }
+  auto rec = io::read_calibration_file(o.calibration);
+  if (!rec) return rec.err();
+  if (rec->model) return delta_n_source{*rec->model, rec->pairing};
+  return delta_n_source{
+      method::constant_model(rec->pooled.delta_n_dps, rec->pooled.stderr_correlated_dps),
+      rec->pairing};
+}
+
+std::string format_value(double v) {
+  return std::isnan(v) ? std::string() : fmt::format("{}", v);
+}
+
+status write_csv(const std::string& path, const std::vector<method::compensated_cycle>& out) {
+  auto f = io::atomic_file::create(path);
+  if (!f) return f.err();
+  fmt::memory_buffer buf;
+  fmt::format_to(std::back_inserter(buf), "time_s,rate_dps,bias_dps,temp_c,delta_n_dps\n");
+  for (const auto& c : out) {
+    fmt::format_to(std::back_inserter(buf), "{},{},{},{},{}\n", c.time_s, c.rate_dps, c.bias_dps,
+                   format_value(c.temp_c), c.delta_n_dps);
+    if (buf.size() > (1u << 16)) {
+      f->write({buf.data(), buf.size()});
+      buf.clear();
+    }
+  }
+  f->write({buf.data(), buf.size()});
+  return f->commit();
+}
+
+std::string summary_json(const method::compensation_summary& s, const compensate_options& o,
+                         method::pairing p) {
+  using nlohmann::json;
+  return json{{"file", o.file},
+              {"pairing", method::to_string(p)},
+              {"cycles", s.cycles},
+              {"duration_s", s.duration_s},
+              {"mean_dps", s.mean_dps},
+              {"std_dps", s.std_dps},
+              {"stderr_dps", s.stderr_dps},
+              {"stderr_correlated_dps", s.stderr_correlated_dps},
+              {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
+              {"drift_window_s", s.drift_window_s}}
+      .dump();
+}
+
+}  // namespace
+
+int run_compensate(const compensate_options& o) {
+  auto dn = load_delta_n(o);
+  if (!dn) return report(dn.err());
+  std::optional<method::pairing> chosen =
+      o.pairing.empty() ? dn->pairing : method::parse_pairing(o.pairing);
+  if (!o.pairing.empty() && !chosen) return report(usage_error("--pairing must be abba or simple"));
+  const method::pairing p = chosen.value_or(method::pairing::abba);
+  if (dn->pairing && *dn->pairing != p)
+    fmt::print(stderr, "gyroflip: warning: calibration used pairing '{}', compensating with '{}'\n",
+               method::to_string(*dn->pairing), method::to_string(p));
+  if (!(o.drift_window_s > 0.0)) return report(usage_error("--drift-window must be > 0 s"));
+
+  auto rc = io::read_cycles(o.file, p);
+  if (!rc) return report(rc.err());
+  const auto& model = dn->model;
+  if (model.degree() > 0 && !rc->has_temp)
+    return report(input_error(
+        {o.file}, "no temp_c column, but the calibration's dN(T) model needs temperatures"));
+
+  std::vector<method::compensated_cycle> out;
+  out.reserve(rc->cycles.size());
+  bool extrapolated = false;
+  for (const auto& c : rc->cycles) {
+    out.push_back(method::compensate(c, model));
+    if (model.degree() > 0 &&
+        (c.temp_c < model.temp_min_c - 1.0 || c.temp_c > model.temp_max_c + 1.0))
+      extrapolated = true;
+  }
+  if (extrapolated)
+    fmt::print(
+        stderr,
+        "gyroflip: warning: {}: some cycles lie outside the dN(T) model's {:.1f}..{:.1f} degC\n",
+        o.file, model.temp_min_c, model.temp_max_c);
+
+  const auto summary = method::summarize(out, o.drift_window_s);
+  if (!o.output.empty() || !o.json)
+    if (auto s = write_csv(o.output.empty() ? "-" : o.output, out); !s) return report(s.err());
+  if (o.json) {
+    fmt::print("{}\n", summary_json(summary, o, p));
+  } else if (!o.output.empty()) {
+    fmt::print(
+        "{}: {} cycles, mean {:.6e} deg/s, std {:.3e}, stderr {:.3e} (correlated), drift {} over "
+        "{} s\n",
+        o.file, summary.cycles, summary.mean_dps, summary.std_dps, summary.stderr_correlated_dps,
+        summary.drift_dps ? fmt::format("{:.3e} deg/s", *summary.drift_dps) : std::string("n/a"),
+        summary.drift_window_s);
+  }
+  return 0;
+}
+
+}  // namespace gyroflip::app

@@ -1,0 +1,139 @@
+/// \file
+/// \brief Fast, strict reader of numeric CSV files (docs/FORMATS.md, "CSV rules").
+///
+/// The file is memory-mapped and numbers are parsed with `std::from_chars`. Rules: UTF-8,
+/// comma-separated, a UTF-8 BOM and CRLF line ends accepted; lines starting with `#` are
+/// comments (`# key: value` lines before the header are kept as metadata); blank lines are
+/// skipped; the first other line is the header; every data row has exactly as many fields
+/// as the header. Every problem is reported as `FILE:LINE:COL: what` (1-based).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/io/mapped_file.hpp"
+
+namespace gyroflip::io {
+
+namespace detail {
+
+/// Exact fast path for plain decimals such as "-1234.5670" (Clinger 1990): when the digits
+/// form an integer m <= 2^53 and there are k <= 22 fraction digits, m and 10^k are exact
+/// doubles and the one division m / 10^k is correctly rounded - the value `from_chars` gives.
+/// Returns false for anything else (blanks, '+', exponents, long mantissas, nan, inf).
+inline bool parse_plain_decimal(const char* b, const char* e, double& out) noexcept {
+  static constexpr double pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const bool negative = b != e && *b == '-';
+  b += negative ? 1 : 0;
+  // At most 19 characters: 18 digits and a point, so m < 10^18 cannot overflow.
+  if (b == e || e - b > 19) return false;
+  std::uint64_t m = 0;
+  const char* dot = nullptr;
+  for (const char* p = b; p != e; ++p) {
+    const auto d = static_cast<unsigned>(*p) - unsigned{'0'};
+    if (d < 10) {
+      m = m * 10 + d;
+    } else if (*p == '.' && dot == nullptr) {
+      dot = p;
+    } else {
+      return false;
+    }
+  }
+  if (e - b == 1 && dot != nullptr) return false;  // "." alone is not a number
+  if (m > (std::uint64_t{1} << 53)) return false;
+  const auto frac = dot != nullptr ? static_cast<std::size_t>(e - dot - 1) : 0;
+  const double v = static_cast<double>(m) / pow10[frac];
+  out = negative ? -v : v;
+  return true;
+}
+
+}  // namespace detail
+
+/// One `# key: value` comment line found before the header.
+struct csv_metadata {
+  std::string key;
+  std::string value;
+};
+
+class csv_reader {
+ public:
+  /// Maps `path` and reads comments and header. Errors: missing file, directory, empty
+  /// file, binary data, no header.
+  [[nodiscard]] static result<csv_reader> open(const std::string& path);
+
+  [[nodiscard]] const std::string& path() const noexcept { return file_.path(); }
+  [[nodiscard]] const std::vector<std::string>& header() const noexcept { return header_; }
+  [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept { return metadata_; }
+
+  /// Index of column `name`; nullopt if absent. Error if the name appears more than once.
+  [[nodiscard]] result<std::optional<std::size_t>> find_column(std::string_view name) const;
+  /// Index of column `name`; error (naming the header line) if absent or duplicated.
+  [[nodiscard]] result<std::size_t> require_column(std::string_view name) const;
+
+  /// Marks a slot in `select()` whose column the file does not have (its cell stays empty).
+  static constexpr std::size_t absent_column = static_cast<std::size_t>(-1);
+
+  /// Chooses the columns that `cell(i)` returns after `next()`: `cell(i)` is column
+  /// `columns[i]` (always empty for `absent_column`). Must be called before the first `next()`.
+  void select(const std::vector<std::size_t>& columns);
+
+  enum class step { row, end, failed };
+  /// Advances to the next data row. On `failed`, `last_error()` says why (bad field count,
+  /// over-long line). Comment and blank lines are skipped.
+  [[nodiscard]] step next();
+  [[nodiscard]] const error& last_error() const noexcept { return error_; }
+
+  /// Text of selected cell `i` in the current row, surrounding blanks removed.
+  [[nodiscard]] std::string_view cell(std::size_t i) const noexcept;
+  /// Parses selected cell `i` as a finite double. On failure returns false and sets
+  /// `last_error()` to `FILE:LINE:COL: ...` naming the column. Inline fast path for plain
+  /// decimals without blanks; everything else (and every error) goes through parse_slow.
+  [[nodiscard]] bool parse(std::size_t i, double& out) {
+    const std::string_view s = cells_[i];
+    return detail::parse_plain_decimal(s.data(), s.data() + s.size(), out) || parse_slow(i, out);
+  }
+  /// Builds an error located at selected cell `i` of the current row.
+  [[nodiscard]] error error_at(std::size_t i, std::string_view what) const;
+  /// Builds an error located at the current line (no column).
+  [[nodiscard]] error error_at_line(std::string_view what) const;
+
+  /// 1-based line number of the current row (or of the header before the first row).
+  [[nodiscard]] std::size_t line() const noexcept { return line_; }
+  /// Bytes consumed and total, for progress display.
+  [[nodiscard]] std::uint64_t bytes_done() const noexcept { return pos_; }
+  [[nodiscard]] std::uint64_t bytes_total() const noexcept { return file_.data().size(); }
+
+ private:
+  explicit csv_reader(mapped_file f) noexcept : file_(std::move(f)) {}
+  status read_header();
+  // Returns the next line (without end-of-line characters) or nullopt at end of file.
+  std::optional<std::string_view> next_line();
+  bool split(std::string_view line);
+  [[nodiscard]] bool parse_slow(std::size_t i, double& out);
+
+  mapped_file file_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 0;
+  std::size_t header_line_ = 0;
+  std::vector<std::string> header_;
+  std::vector<csv_metadata> metadata_;
+  std::vector<std::size_t> selected_;
+  std::vector<int> slot_of_column_;  // column index -> selected slot, -1 when not selected
+  std::vector<std::string_view> cells_;
+  std::string_view current_;
+  error error_{errc::bad_input, {}};
+};
+
+/// Reads whole columns by name as doubles (every data row). For tools that need the full
+/// series in memory (`gyroflip adev` on CSV input). Errors as csv_reader.
+[[nodiscard]] result<std::vector<std::vector<double>>> read_numeric_columns(
+    const std::string& path, const std::vector<std::string>& names);
+
+}  // namespace gyroflip::io

@@ -1,0 +1,60 @@
+/// \file
+/// \brief Reader of recordings in the gyroflip CSV format (docs/FORMATS.md): validated rows,
+/// and the cycles of a whole file.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/io/csv.hpp"
+#include "gyroflip/method/types.hpp"
+
+namespace gyroflip::io {
+
+/// Streams the rows of a recording, checking each one: `time_s` finite and non-decreasing,
+/// `angle_deg` 0 or 180 (empty = table turning), `rate_dps` finite, `temp_c` finite when the
+/// column exists, `n_avg` a whole number >= 1 (default 1).
+class recording_reader {
+ public:
+  [[nodiscard]] static result<recording_reader> open(const std::string& path);
+
+  /// Reads the next row into `out`. `failed` -> `last_error()` has FILE:LINE:COL.
+  [[nodiscard]] csv_reader::step next(method::row& out);
+  [[nodiscard]] const error& last_error() const noexcept { return error_; }
+
+  [[nodiscard]] bool has_temp() const noexcept { return has_temp_; }
+  [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept {
+    return csv_.metadata();
+  }
+  [[nodiscard]] const std::string& path() const noexcept { return csv_.path(); }
+  [[nodiscard]] std::uint64_t bytes_done() const noexcept { return csv_.bytes_done(); }
+  [[nodiscard]] std::uint64_t bytes_total() const noexcept { return csv_.bytes_total(); }
+
+ private:
+  explicit recording_reader(csv_reader c) noexcept : csv_(std::move(c)) {}
+  csv_reader::step fail(const error& e);
+  csv_reader csv_;
+  bool has_temp_ = false;
+  bool has_n_avg_ = false;
+  double last_time_s_ = -1e300;
+  std::size_t last_time_line_ = 0;
+  error error_{errc::bad_input, {}};
+};
+
+/// The cycles of one recording plus what was seen while reading it.
+struct recording_cycles {
+  std::string path;
+  std::vector<method::cycle> cycles;
+  std::size_t rows = 0;
+  std::size_t dwells = 0;
+  bool has_temp = false;
+  std::vector<csv_metadata> metadata;
+};
+
+/// Reads a whole recording and forms its cycles with pairing `p` (a progress line shows on
+/// a TTY). Errors: any bad row, a single orientation, fewer than method::min_cycles cycles.
+[[nodiscard]] result<recording_cycles> read_cycles(const std::string& path, method::pairing p);
+
+}  // namespace gyroflip::io

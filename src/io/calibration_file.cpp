@@ -1,0 +1,127 @@
+/// \file
+/// \brief Calibration JSON writer and reader (see calibration_file.hpp).
+#include "gyroflip/io/calibration_file.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/io/mapped_file.hpp"
+
+namespace gyroflip::io {
+namespace {
+
+using nlohmann::json;
+
+constexpr std::string_view schema = "gyroflip.calibration/1";
+
+json number_or_null(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+
+json calibration_fields(const method::calibration& c,
+                        const std::optional<calibration_geometry>& g) {
+  json j = {{"delta_n_dps", c.delta_n_dps},
+            {"std_dps", c.std_dps},
+            {"stderr_dps", c.stderr_dps},
+            {"stderr_correlated_dps", c.stderr_correlated_dps},
+            {"correlated_m_cycles", c.correlated_m},
+            {"cycles", c.cycles},
+            {"temp_c", number_or_null(c.temp_c)},
+            {"duration_s", c.duration_s},
+            {"bias_mean_dps", c.bias_mean_dps},
+            {"earth_rate_dps", nullptr},
+            {"g_term_dps", nullptr}};
+  if (g) {
+    const auto s = method::split_delta_n(c.delta_n_dps, g->lat_deg, g->axis);
+    j["earth_rate_dps"] = s.earth_rate_dps;
+    j["g_term_dps"] = s.g_term_dps;
+  }
+  return j;
+}
+
+}  // namespace
+
+std::string to_json(const calibration_record& rec, std::string_view tool_version) {
+  json j = calibration_fields(rec.pooled, rec.geometry);
+  j["schema"] = schema;
+  j["version"] = tool_version;
+  j["pairing"] = method::to_string(rec.pairing);
+  j["lat_deg"] = rec.geometry ? json(rec.geometry->lat_deg) : json(nullptr);
+  j["axis_ned"] = rec.geometry ? json{rec.geometry->axis.north, rec.geometry->axis.east,
+                                      rec.geometry->axis.down}
+                               : json(nullptr);
+  json files = json::array();
+  for (const auto& f : rec.files) {
+    json e = calibration_fields(f.cal, rec.geometry);
+    e["file"] = f.file;
+    files.push_back(std::move(e));
+  }
+  j["files"] = std::move(files);
+  if (rec.model) {
+    const auto& m = *rec.model;
+    j["model"] = {{"kind", "poly"},
+                  {"degree", m.degree()},
+                  {"coeffs_dps", m.coeffs_dps},
+                  {"t_ref_c", m.t_ref_c},
+                  {"cov", m.cov},
+                  {"temp_range_c", {m.temp_min_c, m.temp_max_c}},
+                  {"chi2_per_dof", m.chi2_per_dof}};
+  }
+  return j.dump();
+}
+
+result<calibration_record> read_calibration_file(const std::string& path) {
+  auto f = mapped_file::open(path);
+  if (!f) return f.err();
+  json j;
+  try {
+    j = json::parse(f->data());
+  } catch (const json::parse_error& e) {
+    return input_error({path}, fmt::format("not valid JSON ({})", e.what()));
+  }
+  calibration_record rec;
+  try {
+    if (!j.is_object() || !j.contains("delta_n_dps"))
+      return input_error({path}, "not a gyroflip calibration (no 'delta_n_dps')");
+    rec.pooled.delta_n_dps = j.at("delta_n_dps").get<double>();
+    if (!std::isfinite(rec.pooled.delta_n_dps))
+      return input_error({path}, "'delta_n_dps' is not finite");
+    if (j.contains("stderr_correlated_dps") && j["stderr_correlated_dps"].is_number())
+      rec.pooled.stderr_correlated_dps = j["stderr_correlated_dps"].get<double>();
+    if (j.contains("pairing")) {
+      const auto p = method::parse_pairing(j.at("pairing").get<std::string>());
+      if (!p) return input_error({path}, "'pairing' must be \"abba\" or \"simple\"");
+      rec.pairing = *p;
+    }
+    if (j.contains("model") && !j["model"].is_null()) {
+      const json& m = j["model"];
+      if (m.value("kind", "") != "poly")
+        return input_error({path}, "model 'kind' must be \"poly\"");
+      method::delta_n_model model;
+      model.coeffs_dps = m.at("coeffs_dps").get<std::vector<double>>();
+      model.t_ref_c = m.at("t_ref_c").get<double>();
+      if (model.coeffs_dps.empty()) return input_error({path}, "model 'coeffs_dps' is empty");
+      if (m.contains("cov")) model.cov = m["cov"].get<std::vector<double>>();
+      if (m.contains("temp_range_c")) {
+        const auto r = m["temp_range_c"].get<std::vector<double>>();
+        if (r.size() == 2) {
+          model.temp_min_c = r[0];
+          model.temp_max_c = r[1];
+        }
+      }
+      for (double c : model.coeffs_dps)
+        if (!std::isfinite(c))
+          return input_error({path}, "model 'coeffs_dps' has a non-finite value");
+      rec.model = std::move(model);
+    }
+  } catch (const json::exception& e) {
+    return input_error({path}, fmt::format("malformed calibration ({})", e.what()));
+  }
+  return rec;
+}
+
+}  // namespace gyroflip::io

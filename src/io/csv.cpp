@@ -1,0 +1,235 @@
+/// \file
+/// \brief Strict memory-mapped CSV reader (see csv.hpp).
+#include "gyroflip/io/csv.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::io {
+namespace {
+
+// A single line longer than this is not a recording row; stop early instead of scanning on.
+constexpr std::size_t max_line_bytes = std::size_t{1} << 20;
+constexpr std::size_t binary_probe_bytes = std::size_t{64} << 10;
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+bool is_blank(std::string_view s) {
+  return trim(s).empty();
+}
+
+}  // namespace
+
+result<csv_reader> csv_reader::open(const std::string& path) {
+  auto f = mapped_file::open(path);
+  if (!f) return f.err();
+  csv_reader r(std::move(*f));
+  const std::string_view d = r.file_.data();
+  if (d.empty()) return input_error({path}, "empty file (expected a CSV header line)");
+  if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
+    return input_error({path}, "binary data (NUL byte), not a UTF-8 CSV text file");
+  if (d.substr(0, 3) == "\xEF\xBB\xBF") r.pos_ = 3;  // UTF-8 byte-order mark
+  if (auto s = r.read_header(); !s) return s.err();
+  return r;
+}
+
+std::optional<std::string_view> csv_reader::next_line() {
+  const std::string_view d = file_.data();
+  if (pos_ >= d.size()) return std::nullopt;
+  const char* begin = d.data() + pos_;
+  const std::size_t left = d.size() - pos_;
+  const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', left));
+  std::size_t len = nl != nullptr ? static_cast<std::size_t>(nl - begin) : left;
+  pos_ += nl != nullptr ? len + 1 : len;
+  ++line_;
+  if (len > 0 && begin[len - 1] == '\r') --len;
+  return std::string_view(begin, len);
+}
+
+status csv_reader::read_header() {
+  while (auto l = next_line()) {
+    if (l->size() > max_line_bytes)
+      return input_error({path(), line_}, "line longer than 1 MiB (not a CSV recording?)");
+    if (!l->empty() && l->front() == '#') {
+      const std::string_view body = trim(l->substr(1));
+      const auto colon = body.find(':');
+      if (colon != std::string_view::npos)
+        metadata_.push_back(
+            {std::string(trim(body.substr(0, colon))), std::string(trim(body.substr(colon + 1)))});
+      continue;
+    }
+    if (is_blank(*l)) continue;
+    header_line_ = line_;
+    std::string_view rest = *l;
+    while (true) {
+      const auto comma = rest.find(',');
+      header_.emplace_back(trim(rest.substr(0, comma)));
+      if (comma == std::string_view::npos) break;
+      rest.remove_prefix(comma + 1);
+    }
+    slot_of_column_.assign(header_.size(), -1);
+    return ok();
+  }
+  return input_error({path(), line_}, "no header line (file has only comments or blank lines)");
+}
+
+result<std::optional<std::size_t>> csv_reader::find_column(std::string_view name) const {
+  std::optional<std::size_t> found;
+  for (std::size_t i = 0; i < header_.size(); ++i) {
+    if (header_[i] != name) continue;
+    if (found)
+      return input_error(
+          {path(), header_line_, 0},
+          fmt::format("duplicated column '{}' (fields {} and {})", name, *found + 1, i + 1));
+    found = i;
+  }
+  return found;
+}
+
+result<std::size_t> csv_reader::require_column(std::string_view name) const {
+  auto f = find_column(name);
+  if (!f) return f.err();
+  if (!f.value())
+    return input_error(
+        {path(), header_line_},
+        fmt::format("missing required column '{}' (header: {})", name, fmt::join(header_, ",")));
+  return *f.value();
+}
+
+void csv_reader::select(const std::vector<std::size_t>& columns) {
+  selected_ = columns;
+  std::fill(slot_of_column_.begin(), slot_of_column_.end(), -1);
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] != absent_column) slot_of_column_[columns[i]] = static_cast<int>(i);
+  cells_.assign(columns.size(), {});
+}
+
+bool csv_reader::split(std::string_view line) {
+  const std::size_t n_cols = header_.size();
+  const char* const base = line.data();
+  const std::size_t size = line.size();
+  std::size_t col = 0;
+  std::size_t start = 0;
+  const auto field_end = [&](std::size_t end) {
+    if (col < n_cols) {
+      const int slot = slot_of_column_[col];
+      if (slot >= 0)
+        cells_[static_cast<std::size_t>(slot)] = std::string_view(base + start, end - start);
+    }
+    ++col;
+    start = end + 1;
+  };
+  // Eight bytes at a time: t has 0x80 exactly in the bytes equal to ',' (no false positives,
+  // unlike the shorter (x - 0x01..) & ~x form), then each set bit is one field end.
+  constexpr std::uint64_t low7 = 0x7F7F7F7F7F7F7F7Full;
+  constexpr std::uint64_t commas = 0x2C2C2C2C2C2C2C2Cull;
+  std::size_t i = 0;
+  for (; i + 8 <= size; i += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, base + i, 8);
+    const std::uint64_t x = w ^ commas;
+    std::uint64_t t = ~(((x & low7) + low7) | x | low7);
+    while (t != 0) {
+      field_end(i + static_cast<std::size_t>(std::countr_zero(t)) / 8);
+      t &= t - 1;
+    }
+  }
+  for (; i < size; ++i)
+    if (base[i] == ',') field_end(i);
+  field_end(size);
+  if (col == n_cols) return true;
+  error_ = input_error(
+      {path(), line_, std::min(line.size() + 1, max_line_bytes)},
+      fmt::format("row has {} field{}, header has {}", col, col == 1 ? "" : "s", n_cols));
+  return false;
+}
+
+csv_reader::step csv_reader::next() {
+  while (auto l = next_line()) {
+    if (l->size() > max_line_bytes) {
+      error_ = input_error({path(), line_}, "line longer than 1 MiB (missing newline?)");
+      return step::failed;
+    }
+    if (l->empty() || l->front() == '#' || is_blank(*l)) continue;
+    current_ = *l;
+    return split(*l) ? step::row : step::failed;
+  }
+  return step::end;
+}
+
+std::string_view csv_reader::cell(std::size_t i) const noexcept {
+  return trim(cells_[i]);
+}
+
+error csv_reader::error_at(std::size_t i, std::string_view what) const {
+  const std::size_t col = static_cast<std::size_t>(cells_[i].data() - current_.data()) + 1;
+  const std::string_view name =
+      selected_[i] == absent_column ? std::string_view("?") : header_[selected_[i]];
+  return input_error({path(), line_, col}, fmt::format("{} (column '{}')", what, name));
+}
+
+error csv_reader::error_at_line(std::string_view what) const {
+  return input_error({path(), line_}, what);
+}
+
+bool csv_reader::parse_slow(std::size_t i, double& out) {
+  const std::string_view s = cell(i);
+  const char* b = s.data();
+  const char* e = b + s.size();
+  if (b != e && *b == '+') ++b;  // from_chars rejects a leading '+'; people write it
+  if (detail::parse_plain_decimal(b, e, out)) return true;
+  const auto [p, ec] = std::from_chars(b, e, out);
+  if (ec == std::errc{} && p == e && std::isfinite(out)) return true;
+  if (s.empty()) {
+    error_ = error_at(i, "empty field, expected a number");
+  } else if (ec == std::errc{} && p == e) {
+    error_ = error_at(i, fmt::format("'{}' is not a finite number", s));
+  } else if (ec == std::errc::result_out_of_range) {
+    error_ = error_at(i, fmt::format("'{}' is out of the range of a double", s));
+  } else {
+    error_ = error_at(i, fmt::format("'{}' is not a number", s.substr(0, 40)));
+  }
+  return false;
+}
+
+result<std::vector<std::vector<double>>> read_numeric_columns(
+    const std::string& path, const std::vector<std::string>& names) {
+  auto r = csv_reader::open(path);
+  if (!r) return r.err();
+  std::vector<std::size_t> idx;
+  for (const auto& n : names) {
+    auto c = r->require_column(n);
+    if (!c) return c.err();
+    idx.push_back(*c);
+  }
+  r->select(idx);
+  std::vector<std::vector<double>> cols(names.size());
+  // Reserve from a size estimate so that large files do not reallocate repeatedly.
+  const std::size_t guess = static_cast<std::size_t>(
+      r->bytes_total() / (8 * std::max<std::size_t>(1, r->header().size())));
+  for (auto& c : cols) c.reserve(guess);
+  while (true) {
+    const auto s = r->next();
+    if (s == csv_reader::step::end) break;
+    if (s == csv_reader::step::failed) return r->last_error();
+    for (std::size_t i = 0; i < cols.size(); ++i) {
+      double v = 0.0;
+      if (!r->parse(i, v)) return r->last_error();
+      cols[i].push_back(v);
+    }
+  }
+  return cols;
+}
+
+}  // namespace gyroflip::io

@@ -1,0 +1,131 @@
+/// \file
+/// \brief Recording reader and whole-file cycle extraction (see recording.hpp).
+#include "gyroflip/io/recording.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/flip_stream.hpp"
+
+namespace gyroflip::io {
+namespace {
+
+// Slots of the selected columns in csv_reader.
+enum slot : std::size_t { s_time, s_angle, s_rate, s_temp, s_navg };
+
+}  // namespace
+
+result<recording_reader> recording_reader::open(const std::string& path) {
+  auto c = csv_reader::open(path);
+  if (!c) return c.err();
+  recording_reader r(std::move(*c));
+  std::vector<std::size_t> cols;
+  for (const char* name : {"time_s", "angle_deg", "rate_dps"}) {
+    auto i = r.csv_.require_column(name);
+    if (!i) return i.err();
+    cols.push_back(*i);
+  }
+  auto temp = r.csv_.find_column("temp_c");
+  if (!temp) return temp.err();
+  auto navg = r.csv_.find_column("n_avg");
+  if (!navg) return navg.err();
+  r.has_temp_ = temp->has_value();
+  r.has_n_avg_ = navg->has_value();
+  cols.push_back(r.has_temp_ ? **temp : csv_reader::absent_column);
+  cols.push_back(r.has_n_avg_ ? **navg : csv_reader::absent_column);
+  r.csv_.select(cols);
+  return r;
+}
+
+csv_reader::step recording_reader::fail(const error& e) {
+  error_ = e;
+  return csv_reader::step::failed;
+}
+
+csv_reader::step recording_reader::next(method::row& out) {
+  const auto s = csv_.next();
+  if (s != csv_reader::step::row) {
+    if (s == csv_reader::step::failed) error_ = csv_.last_error();
+    return s;
+  }
+  if (!csv_.parse(s_time, out.time_s)) return fail(csv_.last_error());
+  if (out.time_s < last_time_s_)
+    return fail(csv_.error_at(s_time, fmt::format("time goes backwards: {} after {} on line {}",
+                                                  out.time_s, last_time_s_, last_time_line_)));
+  last_time_s_ = out.time_s;
+  last_time_line_ = csv_.line();
+
+  const std::string_view a = csv_.cell(s_angle);
+  if (a.empty()) {
+    out.angle_deg = method::no_value;  // table turning
+  } else if (a == "0") {               // fast path for the common spellings
+    out.angle_deg = 0.0;
+  } else if (a == "180") {
+    out.angle_deg = 180.0;
+  } else {
+    if (!csv_.parse(s_angle, out.angle_deg)) return fail(csv_.last_error());
+    if (out.angle_deg != 0.0 && out.angle_deg != 180.0)
+      return fail(csv_.error_at(
+          s_angle, fmt::format("angle {} deg is not supported: only 0 and 180 (two-position "
+                               "flipping); leave it empty while the table turns",
+                               a)));
+  }
+  if (!csv_.parse(s_rate, out.rate_dps)) return fail(csv_.last_error());
+  if (has_temp_) {
+    if (!csv_.parse(s_temp, out.temp_c)) return fail(csv_.last_error());
+  } else {
+    out.temp_c = method::no_value;
+  }
+  out.n_avg = 1;
+  if (has_n_avg_) {
+    double n = 0.0;
+    if (!csv_.parse(s_navg, n)) return fail(csv_.last_error());
+    if (n < 1.0 || n != std::floor(n) || n > std::numeric_limits<std::uint32_t>::max())
+      return fail(csv_.error_at(
+          s_navg, fmt::format("n_avg {} is not a whole number >= 1", csv_.cell(s_navg))));
+    out.n_avg = static_cast<std::uint32_t>(n);
+  }
+  return csv_reader::step::row;
+}
+
+result<recording_cycles> read_cycles(const std::string& path, method::pairing p) {
+  auto reader = recording_reader::open(path);
+  if (!reader) return reader.err();
+  recording_cycles rc;
+  rc.path = path;
+  rc.has_temp = reader->has_temp();
+  rc.metadata = reader->metadata();
+  method::flip_stream stream(p);
+  const auto keep = [&rc](const method::cycle& c) { rc.cycles.push_back(c); };
+  progress bar("reading " + path, reader->bytes_total());
+  method::row r;
+  while (true) {
+    const auto s = reader->next(r);
+    if (s == csv_reader::step::end) break;
+    if (s == csv_reader::step::failed) return reader->last_error();
+    ++rc.rows;
+    stream.push(r, keep);
+    bar.update(reader->bytes_done());
+  }
+  stream.flush(keep);
+  bar.finish();
+  rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
+  if (rc.rows == 0) return input_error({path}, "no data rows after the header");
+  if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)
+    return input_error(
+        {path}, fmt::format("all {} dwells are at {} deg; the method needs both 0 and 180 deg",
+                            rc.dwells, stream.dwells_at_0() == 0 ? 180 : 0));
+  if (rc.cycles.size() < method::min_cycles)
+    return input_error(
+        {path}, fmt::format("only {} cycle{} ({} dwells) with pairing '{}'; at least {} are needed",
+                            rc.cycles.size(), rc.cycles.size() == 1 ? "" : "s", rc.dwells,
+                            method::to_string(p), method::min_cycles));
+  return rc;
+}
+
+}  // namespace gyroflip::io

@@ -1,0 +1,249 @@
+// `gyroflip calibrate` and `gyroflip compensate`: JSON contract, calibration files, dN(T), and
+// every bad-input case of issue 2 (message FILE:LINE:COL, exit 2, no output file).
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "gyroflip/earth/earth.hpp"
+#include "support/run_cli.hpp"
+#include "support/synth.hpp"
+#include "support/temp_dir.hpp"
+
+namespace gyroflip::test {
+namespace {
+
+using nlohmann::json;
+
+std::string recording(double delta_n, double bias_slope, double temp_c = 20.0, double input = 0.0) {
+  synth_spec s;
+  s.delta_n_dps = [delta_n](double) { return delta_n; };
+  s.bias_dps = [bias_slope](double t) { return 0.5 + bias_slope * t; };
+  s.temp_c = temp_c;
+  s.input_dps = input;
+  return to_csv(synth_rows(s), !std::isnan(temp_c));
+}
+
+TEST(CliCalibrate, JsonContractAndSplit) {
+  temp_dir d;
+  write_text(d.file("cal.csv"), recording(0.0123, 1e-4));
+  const auto r =
+      run_cli({"calibrate", d.file("cal.csv"), "--json", "--latitude", "42.6", "--axis", "north"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json::parse(r.out);
+  for (const char* k : {"delta_n_dps", "std_dps", "stderr_dps", "stderr_correlated_dps", "cycles",
+                        "pairing", "earth_rate_dps", "g_term_dps", "temp_c"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_NEAR(j["delta_n_dps"].get<double>(), 0.0123, 1e-15);  // abba: ramp cancelled
+  EXPECT_EQ(j["pairing"], "abba");
+  EXPECT_EQ(j["cycles"], 60);
+  EXPECT_NEAR(j["temp_c"].get<double>(), 20.0, 1e-12);
+  const double earth_dps = earth::earth_rate_component_dps(42.6, *earth::parse_axis("north"));
+  EXPECT_NEAR(j["earth_rate_dps"].get<double>(), earth_dps, 1e-15);
+  EXPECT_NEAR(j["g_term_dps"].get<double>(), 0.0123 - earth_dps, 1e-15);
+  EXPECT_FALSE(j.contains("model"));
+
+  const auto simple =
+      json::parse(run_cli({"calibrate", d.file("cal.csv"), "--json", "--pairing", "simple"}).out);
+  EXPECT_NEAR(simple["delta_n_dps"].get<double>(), 0.0123 - 1e-4 * 0.895 / 2, 1e-15);
+  EXPECT_TRUE(simple["earth_rate_dps"].is_null());
+  EXPECT_TRUE(simple["g_term_dps"].is_null());
+
+  const auto human = run_cli({"calibrate", d.file("cal.csv")});
+  EXPECT_EQ(human.exit_code, 0);
+  EXPECT_NE(human.out.find("dN = 1.230000e-02"), std::string::npos) << human.out;
+}
+
+TEST(CliCalibrate, LatitudeWithoutAxisIsUsageError) {
+  temp_dir d;
+  write_text(d.file("cal.csv"), recording(0.0123, 0.0));
+  EXPECT_EQ(run_cli({"calibrate", d.file("cal.csv"), "--latitude", "42.6"}).exit_code, 2);
+  EXPECT_EQ(
+      run_cli({"calibrate", d.file("cal.csv"), "--latitude", "142", "--axis", "up"}).exit_code, 2);
+  EXPECT_EQ(run_cli({"calibrate", d.file("cal.csv"), "--pairing", "fancy"}).exit_code, 2);
+}
+
+TEST(CliCalibrate, ThreeTemperaturesGiveModelAndCompensateUsesIt) {
+  temp_dir d;
+  const auto truth = [](double t) { return 0.0123 - 2e-4 * (t - 20.0); };
+  std::vector<std::string> args{"calibrate"};
+  for (double t : {4.0, 20.0, 30.0}) {
+    const auto f = d.file("cal" + std::to_string(static_cast<int>(t)) + ".csv");
+    write_text(f, recording(truth(t), 5e-5, t));
+    args.push_back(f);
+  }
+  args.insert(args.end(), {"--json", "-o", d.file("model.json")});
+  const auto r = run_cli(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json::parse(r.out);
+  ASSERT_TRUE(j.contains("model"));
+  EXPECT_EQ(j["model"]["kind"], "poly");
+  const double t_ref = j["model"]["t_ref_c"].get<double>();
+  const auto c = j["model"]["coeffs_dps"].get<std::vector<double>>();
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_NEAR(c[0] + c[1] * (4.0 - t_ref), truth(4.0), 1e-15);
+  EXPECT_NEAR(c[1], -2e-4, 1e-15);
+  EXPECT_EQ(j["files"].size(), 3u);
+  EXPECT_EQ(json::parse(read_text(d.file("model.json"))), j);  // -o writes the same object
+
+  // A run at 10 degC with a true input of 0.25 deg/s: dN(10) must be removed, not dN(20).
+  write_text(d.file("run.csv"), recording(truth(10.0), -3e-4, 10.0, 0.25));
+  const auto k =
+      run_cli({"compensate", d.file("run.csv"), "--calibration", d.file("model.json"), "--json"});
+  ASSERT_EQ(k.exit_code, 0) << k.err;
+  const auto kj = json::parse(k.out);
+  EXPECT_NEAR(kj["mean_dps"].get<double>(), 0.25, 1e-14);
+  for (const char* key : {"cycles", "mean_dps", "std_dps", "stderr_correlated_dps", "drift_dps"})
+    EXPECT_TRUE(kj.contains(key)) << key;
+
+  // Repeats at one temperature are pooled without a model (paper Tab. 3 style).
+  const auto same = run_cli({"calibrate", d.file("cal20.csv"), d.file("cal20.csv"), "--json"});
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_FALSE(json::parse(same.out).contains("model"));
+  EXPECT_EQ(
+      run_cli({"calibrate", d.file("cal20.csv"), d.file("cal20.csv"), "--degree", "1"}).exit_code,
+      2);
+
+  // A model needs temperatures in the run to compensate.
+  write_text(d.file("notemp.csv"), recording(truth(10.0), 0.0, std::nan("")));
+  const auto nt =
+      run_cli({"compensate", d.file("notemp.csv"), "--calibration", d.file("model.json")});
+  EXPECT_EQ(nt.exit_code, 2);
+  EXPECT_NE(nt.err.find("temp_c"), std::string::npos);
+}
+
+TEST(CliCompensate, CsvOutputAndStdout) {
+  temp_dir d;
+  write_text(d.file("run.csv"), recording(0.0123 + 0.25, -1e-4));
+  const auto r =
+      run_cli({"compensate", d.file("run.csv"), "--delta-n", "0.0123", "-o", d.file("out.csv")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = read_text(d.file("out.csv"));
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "time_s,rate_dps,bias_dps,temp_c,delta_n_dps");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 61);
+  const auto so = run_cli({"compensate", d.file("run.csv"), "--delta-n", "0.0123"});
+  EXPECT_EQ(so.exit_code, 0);
+  EXPECT_EQ(so.out, csv);
+  EXPECT_EQ(run_cli({"compensate", d.file("run.csv")}).exit_code, 2);  // needs a dN source
+  EXPECT_EQ(run_cli({"compensate", d.file("run.csv"), "--delta-n", "1", "--calibration", "x.json"})
+                .exit_code,
+            2);
+  const auto badcal =
+      run_cli({"compensate", d.file("run.csv"), "--calibration", d.file("run.csv")});
+  EXPECT_EQ(badcal.exit_code, 2);
+  EXPECT_NE(badcal.err.find("run.csv"), std::string::npos);
+}
+
+// --- bad input ---------------------------------------------------------------------------
+
+std::vector<std::string> good_rows(int n = 40) {
+  std::vector<std::string> rows;
+  for (int k = 0; k < n; ++k)
+    rows.push_back(std::to_string(k * 0.9) + "," + (k % 2 == 0 ? "0" : "180") + "," +
+                   (k % 2 == 0 ? "0.21" : "0.19") + ",20.0,256\n");
+  return rows;
+}
+
+std::string join(const std::vector<std::string>& rows) {
+  std::string s = "time_s,angle_deg,rate_dps,temp_c,n_avg\n";
+  for (const auto& r : rows) s += r;
+  return s;
+}
+
+struct bad_case {
+  std::string name;
+  std::string text;
+  std::string where;  // substring after the file name that the message must contain
+};
+
+std::vector<bad_case> bad_cases() {
+  std::vector<bad_case> c;
+  const auto with = [](std::size_t i, const std::string& row) {
+    auto g = good_rows();
+    g[i] = row;
+    return join(g);
+  };
+  c.push_back({"empty.csv", "", ": empty file"});
+  c.push_back({"header_only.csv", join({}), ": no data rows"});
+  c.push_back({"no_rate.csv", "time_s,angle_deg,temp_c\n1,0,20\n",
+               ":1: missing required column 'rate_dps'"});
+  c.push_back({"dup.csv", "time_s,angle_deg,rate_dps,rate_dps\n1,0,2,3\n",
+               ":1: duplicated column 'rate_dps'"});
+  c.push_back(
+      {"non_numeric.csv", with(3, "2.700,180,abc,20.0,256\n"), ":5:11: 'abc' is not a number"});
+  c.push_back(
+      {"nan.csv", with(5, "4.500,180,nan,20.0,256\n"), ":7:11: 'nan' is not a finite number"});
+  c.push_back(
+      {"inf.csv", with(4, "3.600,180,inf,20.0,256\n"), ":6:11: 'inf' is not a finite number"});
+  c.push_back({"backwards.csv", with(7, "1.000,180,0.19,20.0,256\n"), ":9:1: time goes backwards"});
+  c.push_back({"short.csv", with(10, "9.000,0\n"), ":12:8: row has 2 fields"});
+  c.push_back(
+      {"odd_angle.csv", with(2, "1.800,45,0.2,20.0,256\n"), ":4:7: angle 45 deg is not supported"});
+  c.push_back({"bad_navg.csv", with(2, "1.800,0,0.2,20.0,2.5\n"),
+               ":4:18: n_avg 2.5 is not a whole number"});
+  auto one = good_rows();
+  for (auto& r : one)
+    r.replace(r.find(",180,") == std::string::npos ? 0 : r.find(",180,"),
+              r.find(",180,") == std::string::npos ? 0 : 5,
+              r.find(",180,") == std::string::npos ? "" : ",0,");
+  c.push_back({"one_orientation.csv", join(one), ": all 1 dwells are at 0 deg"});
+  c.push_back(
+      {"too_few.csv", join({good_rows()[0], good_rows()[1]}), ": only 0 cycles (2 dwells)"});
+  std::string junk;
+  for (int k = 0; k < 64; ++k)
+    for (int i = 1; i < 256; ++i) junk.push_back(static_cast<char>(i == 10 ? 0 : i));
+  c.push_back({"junk.bin", junk, ": binary data"});
+  c.push_back({"huge.csv", join({}) + std::string(std::size_t{2} << 20, '1'),
+               ":2: line longer than 1 MiB"});
+  return c;
+}
+
+TEST(CliBadInput, EveryCaseNamesFileAndLineExitsTwoAndWritesNothing) {
+  temp_dir d;
+  for (const auto& c : bad_cases()) {
+    SCOPED_TRACE(c.name);
+    const auto path = d.file(c.name);
+    write_text(path, c.text);
+    const auto out = d.file("out.csv");
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"calibrate", path, "--json"},
+             {"calibrate", path, "-o", out},
+             {"compensate", path, "--delta-n", "0.001", "-o", out}}) {
+      const auto r = run_cli(args);
+      EXPECT_EQ(r.exit_code, 2) << args[0];
+      EXPECT_NE(r.err.find(c.name + c.where), std::string::npos) << args[0] << ": " << r.err;
+      EXPECT_TRUE(r.out.empty()) << args[0];
+      EXPECT_FALSE(exists(out)) << args[0];
+    }
+  }
+}
+
+TEST(CliBadInput, MissingFileAndDirectory) {
+  temp_dir d;
+  for (const auto& path : {d.file("does-not-exist.csv"), d.path()}) {
+    const auto r = run_cli({"compensate", path, "--delta-n", "0", "-o", d.file("o.csv")});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(path + ": "), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(d.file("o.csv")));
+  }
+}
+
+TEST(CliBadInput, BomAndCrlfAreAccepted) {
+  temp_dir d;
+  std::string text = "\xEF\xBB\xBF" + join(good_rows());
+  std::string crlf;
+  for (char ch : text) {
+    if (ch == '\n') crlf += '\r';
+    crlf += ch;
+  }
+  write_text(d.file("bom.csv"), crlf);
+  const auto r = run_cli({"calibrate", d.file("bom.csv"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NEAR(json::parse(r.out)["delta_n_dps"].get<double>(), 0.01, 1e-12);
+}
+
+}  // namespace
+}  // namespace gyroflip::test

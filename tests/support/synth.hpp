@@ -1,0 +1,50 @@
+/// \file
+/// \brief Synthetic flip recordings with known truth, for tests (not the simulator: no sensor
+/// physics, just y = s*(dN(t,T) + w_in) + b(t) + noise at dwell or conversion level).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gyroflip/method/types.hpp"
+
+namespace gyroflip::test {
+
+struct synth_spec {
+  std::size_t dwells = 120;
+  double t0_s = 0.256;
+  double dwell_spacing_s = 0.895;  ///< time between dwell centres (paper: 1.79 s per cycle)
+  std::function<double(double)> delta_n_dps = [](double) { return 0.0123; };  ///< dN(t)
+  std::function<double(double)> bias_dps = [](double) { return 0.5; };        ///< b(t)
+  double input_dps = 0.0;  ///< w_in (reverses with the flip)
+  double temp_c = 20.0;    ///< NaN: no temperature column
+  double noise_dps = 0.0;  ///< white noise per row
+  std::uint64_t seed = 1;
+  bool start_at_180 = false;
+  std::uint32_t conversions = 1;  ///< >1: raw rows (n_avg = 1) per dwell, with turning rows
+  double conversion_s = 0.002;
+};
+
+/// Rows of the synthetic recording.
+std::vector<method::row> synth_rows(const synth_spec& s);
+
+/// CSV text of rows (columns time_s,angle_deg,rate_dps[,temp_c],n_avg; `# ` metadata first).
+std::string to_csv(const std::vector<method::row>& rows, bool with_temp);
+
+/// A deterministic N(0,1) source (mt19937_64 + Box-Muller: same numbers on every platform,
+/// unlike std::normal_distribution).
+class normal_source {
+ public:
+  explicit normal_source(std::uint64_t seed);
+  double operator()();
+
+ private:
+  std::uint64_t state_[4];
+  double spare_ = 0.0;
+  bool has_spare_ = false;
+  std::uint64_t next();
+};
+
+}  // namespace gyroflip::test
