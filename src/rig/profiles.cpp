@@ -84,46 +84,52 @@ status parse_steps(std::string_view what, std::string_view spec, std::string_vie
 
 result<profile> profile::parse_rate(std::string_view spec) {
   constexpr std::string_view what = "rate profile";
-  double x = 0.0;
-  if (to_double(spec, x)) return constant(x);
   const auto parts = split(spec, ':');
-  profile p;
-  if (parts[0] == "const") {
-    auto n = numbers(what, spec, parts, 1, 1);
-    if (!n) return n.err();
-    return constant((*n)[0]);
-  }
   if (parts[0] == "sine") {
     auto n = numbers(what, spec, parts, 2, 3);
     if (!n) return n.err();
+    profile p;
     p.kind_ = kind::sine;
     p.amp_ = (*n)[0];
     p.freq_hz_ = (*n)[1];
     p.value_ = n->size() > 2 ? (*n)[2] : 0.0;
     return p;
   }
-  if (parts[0] == "steps") {
-    p.kind_ = kind::hold;
-    p.t_s_.push_back(-1e300);  // before the first step: at rest
-    p.v_.push_back(0.0);
-    if (auto s = parse_steps(what, spec, spec.substr(6), p.t_s_, p.v_); !s) return s.err();
-    return p;
-  }
+  if (auto shared = parse_shared(what, spec, 0.0)) return std::move(*shared);
   return bad_spec(what, spec,
                   "expected a number, const:V, steps:T:V,... or sine:AMP:FREQ[:OFFSET]");
 }
 
-result<profile> profile::parse_temperature(std::string_view spec) {
-  constexpr std::string_view what = "temperature profile";
+std::optional<result<profile>> profile::parse_shared(std::string_view what, std::string_view spec,
+                                                     std::optional<double> before_steps) {
   double x = 0.0;
   if (to_double(spec, x)) return constant(x);
   const auto parts = split(spec, ':');
-  profile p;
   if (parts[0] == "const") {
     auto n = numbers(what, spec, parts, 1, 1);
-    if (!n) return n.err();
+    if (!n) return result<profile>(n.err());
     return constant((*n)[0]);
   }
+  if (parts[0] == "steps") {
+    profile p;
+    p.kind_ = kind::hold;
+    if (before_steps) {  // a rate is 0 before the first step; a temperature starts at V0
+      p.t_s_.push_back(-1e300);
+      p.v_.push_back(*before_steps);
+    }
+    if (auto s = parse_steps(what, spec, spec.substr(6), p.t_s_, p.v_); !s) {
+      return result<profile>(s.err());
+    }
+    return p;
+  }
+  return std::nullopt;
+}
+
+result<profile> profile::parse_temperature(std::string_view spec) {
+  constexpr std::string_view what = "temperature profile";
+  if (auto shared = parse_shared(what, spec, std::nullopt)) return std::move(*shared);
+  const auto parts = split(spec, ':');
+  profile p;
   if (parts[0] == "ramp") {
     auto n = numbers(what, spec, parts, 3, 3);
     if (!n) return n.err();
@@ -141,11 +147,6 @@ result<profile> profile::parse_temperature(std::string_view spec) {
     p.value_ = (*n)[0];
     p.amp_ = (*n)[1] / 2.0;
     p.freq_hz_ = 1.0 / (*n)[2];
-    return p;
-  }
-  if (parts[0] == "steps") {
-    p.kind_ = kind::hold;
-    if (auto s = parse_steps(what, spec, spec.substr(6), p.t_s_, p.v_); !s) return s.err();
     return p;
   }
   const std::string path(spec);

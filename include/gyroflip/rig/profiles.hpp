@@ -14,6 +14,7 @@
 /// Evaluation is O(1) amortised for non-decreasing times (a cursor).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +46,9 @@ class profile {
 
  private:
   double eval(double t_s) noexcept;
+  // The syntax both kinds share: a number, const:V, steps:T:V,... (nullopt: none of these).
+  static std::optional<result<profile>> parse_shared(std::string_view what, std::string_view spec,
+                                                     std::optional<double> before_steps);
   kind kind_ = kind::constant;
   double value_ = 0.0;  // constant; sine/triangle offset (mean)
   double amp_ = 0.0, freq_hz_ = 0.0;
