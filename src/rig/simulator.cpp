@@ -92,22 +92,31 @@ std::size_t simulator::fill(sample_block& b) noexcept {
   if (adc_.noise_on()) adc_.noise_stream().fill(n_adc_.data(), n);
   const double* __restrict n_arw = n_arw_.data();
   const double* __restrict n_adc = n_adc_.data();
+  // Stage 1: time, environment and the true sensed rate (into out_rate for now).
+  std::size_t q = p;
   for (std::size_t i = 0; i < n; ++i, ++k) {
-    const double t = (static_cast<double>(k) + 0.5) * t_conv_s_;
+    // Signed conversion: uint64 -> double is a branchy sequence on x86-64.
+    const double t = (static_cast<double>(static_cast<std::int64_t>(k)) + 0.5) * t_conv_s_;
     const double temp = cfg_.temperature.at(t);
     const double w_in = cfg_.rate.at(t);
-    const double g_term = gf0_[p] + gf1_[p] * (temp - t_ref);
-    const double input = w_in * in_gain_[p] + table_[p];
-    const sensor::gyro_sample s = gyro_.sample(t, temp, input + earth_[p] + g_term, n_arw[i]);
-    const std::int32_t code = adc_.convert(s.v_rel, n_adc[i]);
+    const double g_term = gf0_[q] + gf1_[q] * (temp - t_ref);
+    const double input = w_in * in_gain_[q] + table_[q];
     out_t[i] = t;
-    out_angle[i] = angle_out_[p];
-    out_rate[i] = adc_.volts(code) * inv_sf_;
     out_temp[i] = temp;
-    out_bias[i] = s.bias_dps;
     out_g[i] = g_term;
-    out_earth[i] = earth_[p];
+    out_earth[i] = earth_[q];
     out_input[i] = input;
+    out_rate[i] = input + earth_[q] + g_term;
+    if (++q == period) q = 0;
+  }
+  // Stage 2: the gyro (voltages into out_angle as scratch), stage 3: the AD7739 and recorder.
+  gyro_.sample_block(out_t, out_temp, out_rate, n_arw, out_angle, out_bias, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out_rate[i] = adc_.volts(adc_.convert(out_angle[i], n_adc[i])) * inv_sf_;
+  }
+  // Stage 4: table angle and dwell index of each conversion.
+  for (std::size_t i = 0; i < n; ++i) {
+    out_angle[i] = angle_out_[p];
     out_dwell[i] = slot_[p] < 0 ? -1 : 2 * cycle + slot_[p];
     if (++p == period) {
       p = 0;

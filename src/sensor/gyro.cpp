@@ -52,4 +52,42 @@ gyro::gyro(const sensor_params& p, double dt, double power_on_before_s, std::uin
   bias0_dps_ = p.bias_dps + turn_on_dps_;
 }
 
+void gyro::sample_block(const double* __restrict t_s, const double* __restrict temp_c,
+                        const double* __restrict rate_dps, const double* __restrict n_arw,
+                        double* __restrict v_rel, double* __restrict bias_dps,
+                        std::size_t n) noexcept {
+  // Same operations in the same order as sample(); v_rel holds x between the stages.
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dtemp = temp_c[i] - temp_ref_c_;
+    bias_dps[i] = bias0_dps_ + slow_.mean_over(t_s[i] - half_dt_, t_s[i] + half_dt_, inv_dt_) +
+                  bias_tc_ * dtemp;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    v_rel[i] = (rate_dps[i] + bias_dps[i]) + arw_sigma_ * n_arw[i];
+  if (lpf_on_ && n > 0) {
+    double state = first_ ? v_rel[0] : lpf_state_;
+    for (std::size_t i = 0; i < n; ++i) {
+      state += lpf_gain_ * (v_rel[i] - state);
+      v_rel[i] = state;
+    }
+    lpf_state_ = state;
+  }
+  if (n > 0) first_ = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dtemp = temp_c[i] - temp_ref_c_;
+    double x = v_rel[i];
+    x = (x + nl_per_dps_ * x * x) * (sf_ratio_ + sf_tc_ * dtemp);
+    v_rel[i] = x > range_dps_ ? range_dps_ : (x < -range_dps_ ? -range_dps_ : x);
+  }
+  if (quant_on_) {
+    for (std::size_t i = 0; i < n; ++i) {
+      theta_ += v_rel[i] * dt_;
+      const double q = quant_deg_ * round_even(theta_ * inv_quant_);
+      v_rel[i] = (q - theta_q_) * inv_dt_;
+      theta_q_ = q;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) v_rel[i] *= sf_v_per_dps_;
+}
+
 }  // namespace gyroflip::sensor

@@ -199,6 +199,31 @@ TEST(ErrorTerms, LowPassSaturationNonlinearityScaleFactor) {
   EXPECT_EQ(g.sample(4.3, 20.0, 500.0).v_rel, 100.0);  // saturated at the range
 }
 
+TEST(Gyro, BlockIsBitIdenticalToPerSample) {
+  sensor_params p = find_builtin("adxrs150")->params;
+  p.quantisation_deg = 1e-5;
+  p.rate_ramp_dps_per_s = 1e-5;
+  auto one = gyro::make(p, 0.002, 10.0, 9).value();
+  auto blk = gyro::make(p, 0.002, 10.0, 9).value();
+  const std::size_t n = 3000;
+  std::vector<double> t(n), temp(n), rate(n), noise(n), v(n), bias(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    t[k] = (static_cast<double>(k) + 0.5) * 0.002;
+    temp[k] = 4.0 + 1e-3 * static_cast<double>(k);
+    rate[k] = 0.3 + (k % 700 < 150 ? 50.0 : 0.0);
+  }
+  blk.arw_stream().fill(noise.data(), 1000);  // in two blocks, as the simulator does
+  blk.sample_block(t.data(), temp.data(), rate.data(), noise.data(), v.data(), bias.data(), 1000);
+  blk.arw_stream().fill(noise.data() + 1000, n - 1000);
+  blk.sample_block(t.data() + 1000, temp.data() + 1000, rate.data() + 1000, noise.data() + 1000,
+                   v.data() + 1000, bias.data() + 1000, n - 1000);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto s = one.sample(t[k], temp[k], rate[k]);
+    ASSERT_EQ(s.v_rel, v[k]) << k;
+    ASSERT_EQ(s.bias_dps, bias[k]) << k;
+  }
+}
+
 TEST(Presets, SourcesAndPaperConsistency) {
   const double earth = 4.178074e-3 * std::cos(42.6 * 3.14159265358979 / 180.0);
   for (const auto& p : builtin_presets()) {

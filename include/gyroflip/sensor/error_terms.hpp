@@ -83,11 +83,15 @@ class slow_bias {
   /// linear process. This is what an integrating ADC sees, so the sampled process has the same
   /// Allan deviation at any sample rate (no aliasing of the flicker bank's fast components).
   double mean_over(double t0_s, double t1_s) noexcept {
+    return mean_over(t0_s, t1_s, 1.0 / (t1_s - t0_s));
+  }
+  /// The same with 1/(t1 - t0) precomputed by the caller (no division per sample).
+  double mean_over(double t0_s, double t1_s, double inv_width_per_s) noexcept {
     const double i0 = t0_s == t_end_ ? i_end_ : integral_to(t0_s);
     const double i1 = integral_to(t1_s);
     t_end_ = t1_s;
     i_end_ = i1;
-    return (i1 - i0) / (t1_s - t0_s);
+    return (i1 - i0) * inv_width_per_s;
   }
   [[nodiscard]] double grid_step_s() const noexcept { return h_; }
 

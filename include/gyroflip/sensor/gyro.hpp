@@ -64,7 +64,7 @@ class gyro {
   gyro_sample sample(double t_s, double temp_c, double rate_dps, double n_arw) noexcept {
     const double dtemp = temp_c - temp_ref_c_;
     const double bias =
-        bias0_dps_ + slow_.mean_over(t_s - half_dt_, t_s + half_dt_) + bias_tc_ * dtemp;
+        bias0_dps_ + slow_.mean_over(t_s - half_dt_, t_s + half_dt_, inv_dt_) + bias_tc_ * dtemp;
     double x = rate_dps + bias;
     x += arw_sigma_ * n_arw;
     if (lpf_on_) {
@@ -83,6 +83,13 @@ class gyro {
     }
     return {x * sf_v_per_dps_, bias};
   }
+
+  /// `n` conversions at once, bit-identical to n calls of sample(): `t_s`, `temp_c`, `rate_dps`
+  /// as above and the ARW deviates `n_arw` in; voltages (V - null) and true biases out. Each
+  /// stage runs as its own loop over the block so that consecutive conversions overlap in the
+  /// CPU (the per-sample chain is long; only the low-pass and quantiser states are sequential).
+  void sample_block(const double* t_s, const double* temp_c, const double* rate_dps,
+                    const double* n_arw, double* v_rel, double* bias_dps, std::size_t n) noexcept;
 
   /// g0 (deg/s/g) and g1 (deg/s/g/degC) in sensor axes.
   [[nodiscard]] sensor_vec g_sens_g0() const noexcept { return g0_; }
