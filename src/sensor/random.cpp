@@ -23,6 +23,7 @@ ziggurat_tables build() {
   }
   t.x[256] = 0.0;
   for (std::size_t i = 0; i < 256; ++i) t.ratio[i] = t.x[i + 1] / t.x[i];
+  for (std::size_t i = 0; i <= 256; ++i) t.f[i] = det_exp(-0.5 * t.x[i] * t.x[i]);
   return t;
 }
 
@@ -47,20 +48,15 @@ double normal_slow(rng& g, const ziggurat_tables& z, std::size_t i, double u) no
       const double t = normal_tail(g);
       return u < 0.0 ? -t : t;
     }
-    // Wedge between layers i and i+1: accept x under the density (Doornik 2005).
+    // Wedge between layers i and i+1: accept x when a uniform height between the layers' densities
+    // lies under the density (Marsaglia & Tsang 2000; one exp with the tabulated f[i]).
     const double xv = u * z.x[i];
-    const double f0 = ziggurat_density_ratio(z.x[i], xv);
-    const double f1 = ziggurat_density_ratio(z.x[i + 1], xv);
-    if (f1 + g.uniform_open() * (f0 - f1) < 1.0) return xv;
+    if (z.f[i + 1] + g.uniform_open() * (z.f[i] - z.f[i + 1]) < det_exp(-0.5 * xv * xv)) return xv;
     const std::uint64_t r = g.next();  // rejected: draw again
     i = static_cast<std::size_t>(r & 0xffU);
     u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
     if (std::fabs(u) < z.ratio[i]) return u * z.x[i];
   }
-}
-
-double ziggurat_density_ratio(double a, double x) noexcept {
-  return det_exp(-0.5 * (a * a - x * x));
 }
 
 }  // namespace gyroflip::sensor

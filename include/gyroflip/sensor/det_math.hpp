@@ -10,7 +10,9 @@
 /// extensions does not contract a*b+c into FMA on GCC).
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace gyroflip::sensor {
@@ -38,7 +40,15 @@ namespace gyroflip::sensor {
   const double r = (x - kd * ln2_hi) - kd * ln2_lo;
   double p = 1.0;
   for (int n = 14; n >= 1; --n) p = 1.0 + p * r / static_cast<double>(n);
-  return std::ldexp(p, static_cast<int>(kd));
+  // Scale by 2^k: one multiply by a power of two built from its bits (exact, no libm call);
+  // two steps keep 2^k representable near the ends of the range.
+  const auto k = static_cast<std::int64_t>(kd);
+  const std::int64_t k1 = k / 2;
+  const std::int64_t k2 = k - k1;
+  const auto pow2 = [](std::int64_t e) {
+    return std::bit_cast<double>(static_cast<std::uint64_t>(e + 1023) << 52);
+  };
+  return p * pow2(k1) * pow2(k2);
 }
 
 /// ln x (dimensionless), x > 0. x = m 2^e with m in [sqrt(1/2), sqrt(2)) (exact frexp), then

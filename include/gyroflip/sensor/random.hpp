@@ -68,18 +68,16 @@ class rng {
 /// Ziggurat tables (256 layers, Marsaglia & Tsang 2000, r = 3.6541528853610088,
 /// v = 4.92867323399e-3), built once with det_exp/det_log (Doornik 2005 "ZIGNOR" layout:
 /// x[0] = v/f(r), x[1] = r, x[i+1] = sqrt(-2 ln(v/x[i] + f(x[i]))), x[256] = 0,
-/// ratio[i] = x[i+1]/x[i]).
+/// ratio[i] = x[i+1]/x[i], f[i] = exp(-x[i]^2/2)).
 struct ziggurat_tables {
   std::array<double, 257> x{};
   std::array<double, 256> ratio{};
+  std::array<double, 257> f{};
 };
 [[nodiscard]] const ziggurat_tables& ziggurat();
 
 /// Tail beyond r (Marsaglia 1964): x = -ln(U1)/r, y = -ln(U2) until 2y > x^2; returns r + x.
 [[nodiscard]] double normal_tail(rng& g) noexcept;
-
-/// exp(-(a^2 - x^2)/2) with det_exp (the wedge test of `normal`).
-[[nodiscard]] double ziggurat_density_ratio(double a, double x) noexcept;
 
 /// The rare part of `normal`: the wedge test for (layer i, signed uniform u) already drawn,
 /// the tail for i = 0, and on rejection further draws until acceptance. Out of line so that
