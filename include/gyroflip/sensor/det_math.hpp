@@ -27,7 +27,7 @@ namespace gyroflip::sensor {
 
 /// e^x (dimensionless). Range reduction x = k ln2 + r, |r| <= ln2/2, with ln2 split in a
 /// 32-bit-exact high part and a low part (Cody & Waite), then the Taylor series of e^r to
-/// r^14/14! (truncation < 1e-17 for |r| <= 0.347) and an exact ldexp. Relative error ~2e-16.
+/// r^14/14! (truncation < 1e-17 for |r| <= 0.347) and an exact scaling by 2^k. Rel. error ~2e-16.
 /// x < -745 gives 0, x > 709 gives +inf, NaN gives NaN.
 [[nodiscard]] inline double det_exp(double x) noexcept {
   if (x != x) return x;  // NaN propagates
