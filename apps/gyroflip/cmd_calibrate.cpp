@@ -44,6 +44,9 @@ double pooled_correlated_stderr(const std::vector<io::calibration_entry>& files)
   return std::sqrt(num) / n;
 }
 
+// With several files there is always a model: degree K (default 1) when the files' temperatures
+// span min_model_span_c or more, else degree 0 - the weighted mean of the runs with the
+// run-to-run scatter in its error (paper Tab. 3: repeat runs at one temperature).
 result<std::optional<method::delta_n_model>> fit_model(
     const calibrate_options& o, const std::vector<io::calibration_entry>& files) {
   if (files.size() < 2) {
@@ -51,21 +54,25 @@ result<std::optional<method::delta_n_model>> fit_model(
     return std::optional<method::delta_n_model>{};
   }
   std::vector<method::delta_n_point> pts;
+  bool all_have_temp = true;
   for (const auto& f : files) {
-    if (std::isnan(f.cal.temp_c)) {
-      if (o.degree_given)
-        return input_error({f.file},
-                           "no temp_c column; a dN(T) model (--degree) needs temperatures");
-      return std::optional<method::delta_n_model>{};
-    }
+    if (std::isnan(f.cal.temp_c) && o.degree_given)
+      return input_error({f.file}, "no temp_c column; a dN(T) model (--degree) needs temperatures");
+    all_have_temp = all_have_temp && !std::isnan(f.cal.temp_c);
     pts.push_back({f.cal.temp_c, f.cal.delta_n_dps, f.cal.stderr_correlated_dps});
   }
-  const auto [lo, hi] = std::minmax_element(pts.begin(), pts.end(),
-                                            [](auto& a, auto& b) { return a.temp_c < b.temp_c; });
-  if (!o.degree_given && hi->temp_c - lo->temp_c < min_model_span_c)
-    return std::optional<method::delta_n_model>{};
-  auto m = method::fit_delta_n_model(pts, o.degree);
+  double span_c = 0.0;
+  if (all_have_temp) {
+    const auto [lo, hi] = std::minmax_element(pts.begin(), pts.end(),
+                                              [](auto& a, auto& b) { return a.temp_c < b.temp_c; });
+    span_c = hi->temp_c - lo->temp_c;
+  } else {
+    for (auto& p : pts) p.temp_c = 0.0;  // a constant needs no temperature
+  }
+  const std::size_t degree = o.degree_given ? o.degree : (span_c >= min_model_span_c ? 1 : 0);
+  auto m = method::fit_delta_n_model(pts, degree);
   if (!m) return m.err();
+  if (!all_have_temp) m->t_ref_c = m->temp_min_c = m->temp_max_c = method::no_value;
   return std::optional<method::delta_n_model>{std::move(*m)};
 }
 
@@ -88,10 +95,15 @@ void print_summary(const io::calibration_record& rec) {
   if (rec.files.size() > 1) print_entry({"all files", rec.pooled}, rec.geometry);
   if (rec.model) {
     const auto& m = *rec.model;
-    fmt::print(
-        "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.6e}], fitted over {:.1f}..{:.1f} degC, chi2/dof "
-        "{:.3g}\n",
-        m.t_ref_c, fmt::join(m.coeffs_dps, ", "), m.temp_min_c, m.temp_max_c, m.chi2_per_dof);
+    if (m.degree() == 0) {
+      fmt::print("dN over {} runs (weighted mean) = {:.6e} +- {:.3e} deg/s, chi2/dof {:.3g}\n",
+                 rec.files.size(), m.coeffs_dps[0], m.stderr_at(0.0), m.chi2_per_dof);
+    } else {
+      fmt::print(
+          "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.6e}], fitted over {:.1f}..{:.1f} degC, chi2/dof "
+          "{:.3g}\n",
+          m.t_ref_c, fmt::join(m.coeffs_dps, ", "), m.temp_min_c, m.temp_max_c, m.chi2_per_dof);
+    }
   }
 }
 

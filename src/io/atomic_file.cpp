@@ -14,6 +14,7 @@
 
 namespace gyroflip::io {
 
+// cppcheck-suppress passedByValue ; sink parameter, moved from
 atomic_file::atomic_file(std::string path, std::string temp, std::FILE* f) noexcept
     : path_(std::move(path)), temp_(std::move(temp)), file_(f) {}
 
@@ -43,7 +44,10 @@ void atomic_file::write(std::string_view text) const {
 
 status atomic_file::commit() {
   if (temp_.empty()) {
-    if (std::fflush(file_) != 0) return io_error("<stdout>", std::strerror(errno));
+    // EPIPE: the reader closed the pipe early (`| head`); that is the reader's choice, not a
+    // failure.
+    if (std::fflush(file_) != 0 && errno != EPIPE)
+      return io_error("<stdout>", std::strerror(errno));
     return ok();
   }
   std::FILE* f = std::exchange(file_, nullptr);

@@ -66,9 +66,9 @@ std::string to_json(const calibration_record& rec, std::string_view tool_version
     j["model"] = {{"kind", "poly"},
                   {"degree", m.degree()},
                   {"coeffs_dps", m.coeffs_dps},
-                  {"t_ref_c", m.t_ref_c},
+                  {"t_ref_c", number_or_null(m.t_ref_c)},
                   {"cov", m.cov},
-                  {"temp_range_c", {m.temp_min_c, m.temp_max_c}},
+                  {"temp_range_c", {number_or_null(m.temp_min_c), number_or_null(m.temp_max_c)}},
                   {"chi2_per_dof", m.chi2_per_dof}};
   }
   return j.dump();
@@ -103,16 +103,17 @@ result<calibration_record> read_calibration_file(const std::string& path) {
         return input_error({path}, "model 'kind' must be \"poly\"");
       method::delta_n_model model;
       model.coeffs_dps = m.at("coeffs_dps").get<std::vector<double>>();
-      model.t_ref_c = m.at("t_ref_c").get<double>();
+      model.t_ref_c = m.at("t_ref_c").is_null() ? method::no_value : m.at("t_ref_c").get<double>();
       if (model.coeffs_dps.empty()) return input_error({path}, "model 'coeffs_dps' is empty");
       if (m.contains("cov")) model.cov = m["cov"].get<std::vector<double>>();
-      if (m.contains("temp_range_c")) {
-        const auto r = m["temp_range_c"].get<std::vector<double>>();
-        if (r.size() == 2) {
-          model.temp_min_c = r[0];
-          model.temp_max_c = r[1];
-        }
+      if (m.contains("temp_range_c") && m["temp_range_c"].is_array() &&
+          m["temp_range_c"].size() == 2) {
+        const json& r = m["temp_range_c"];
+        model.temp_min_c = r[0].is_null() ? method::no_value : r[0].get<double>();
+        model.temp_max_c = r[1].is_null() ? method::no_value : r[1].get<double>();
       }
+      if (model.coeffs_dps.size() > 1 && !std::isfinite(model.t_ref_c))
+        return input_error({path}, "model of degree >= 1 needs a finite 't_ref_c'");
       for (double c : model.coeffs_dps)
         if (!std::isfinite(c))
           return input_error({path}, "model 'coeffs_dps' has a non-finite value");

@@ -15,6 +15,7 @@
 
 namespace gyroflip::io {
 
+// cppcheck-suppress passedByValue ; sink parameter, moved from
 mapped_file::mapped_file(std::string path, const char* p, std::size_t n) noexcept
     : path_(std::move(path)), ptr_(p), size_(n) {}
 

@@ -98,8 +98,12 @@ result<delta_n_model> fit_delta_n_model(std::span<const delta_n_point> points, s
                     "temperatures; got {}",
                     degree, degree + 1, temps.size()));
   const std::size_t n = degree + 1;
-  const bool weighted =
-      std::all_of(points.begin(), points.end(), [](const auto& p) { return p.stderr_dps > 0.0; });
+  // Errors at rounding level (noise-free data) carry no information about relative weight.
+  double scale_dps = 0.0;
+  for (const auto& p : points) scale_dps = std::max(scale_dps, std::abs(p.delta_n_dps));
+  const double meaningful_dps = 1e-12 * scale_dps;
+  const bool weighted = std::all_of(points.begin(), points.end(),
+                                    [&](const auto& p) { return p.stderr_dps > meaningful_dps; });
   delta_n_model m;
   double t_sum = 0.0;
   for (const auto& p : points) t_sum += p.temp_c;

@@ -41,3 +41,24 @@ TEST(CliBasics, EarthPrintsPaperValue) {
 
 }  // namespace
 }  // namespace gyroflip::test
+
+#include <cstdio>
+
+namespace gyroflip::test {
+namespace {
+
+TEST(CliBasics, BrokenPipeExitsZero) {
+  // `gyroflip compensate ... | head -1`: the writer must not die of SIGPIPE or report an error.
+  const std::string cmd = std::string(GYROFLIP_EXE) + " compensate " + GYROFLIP_VECTORS_DIR +
+                          "/demo/cal_stationary_20c.csv --delta-n 0.39 | head -c 10 >/dev/null; "
+                          "echo \"${PIPESTATUS[0]}\"";
+  std::FILE* p = ::popen(("bash -c '" + cmd + "'").c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  char buf[16] = {};
+  ASSERT_NE(std::fgets(buf, sizeof buf, p), nullptr);
+  ::pclose(p);
+  EXPECT_EQ(std::string(buf), "0\n");
+}
+
+}  // namespace
+}  // namespace gyroflip::test

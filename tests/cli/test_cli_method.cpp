@@ -99,10 +99,14 @@ TEST(CliCalibrate, ThreeTemperaturesGiveModelAndCompensateUsesIt) {
   for (const char* key : {"cycles", "mean_dps", "std_dps", "stderr_correlated_dps", "drift_dps"})
     EXPECT_TRUE(kj.contains(key)) << key;
 
-  // Repeats at one temperature are pooled without a model (paper Tab. 3 style).
-  const auto same = run_cli({"calibrate", d.file("cal20.csv"), d.file("cal20.csv"), "--json"});
+  // Repeats at one temperature (paper Tab. 3) give a degree-0 model: the runs' weighted mean.
+  write_text(d.file("cal20b.csv"), recording(truth(20.0) + 4e-4, 5e-5, 20.0));
+  const auto same = run_cli({"calibrate", d.file("cal20.csv"), d.file("cal20b.csv"), "--json"});
   ASSERT_EQ(same.exit_code, 0) << same.err;
-  EXPECT_FALSE(json::parse(same.out).contains("model"));
+  const auto sm = json::parse(same.out)["model"];
+  EXPECT_EQ(sm["degree"], 0);
+  EXPECT_NEAR(sm["coeffs_dps"][0].get<double>(), truth(20.0) + 2e-4, 1e-15);
+  EXPECT_NEAR(std::sqrt(sm["cov"][0].get<double>()), 2e-4, 1e-15);  // scatter of two runs / sqrt(2)
   EXPECT_EQ(
       run_cli({"calibrate", d.file("cal20.csv"), d.file("cal20.csv"), "--degree", "1"}).exit_code,
       2);

@@ -38,10 +38,10 @@ struct delta_n_model {
 [[nodiscard]] delta_n_model constant_model(double delta_n_dps, double stderr_dps = 0.0);
 
 /// Weighted least-squares polynomial fit of dN(T) of degree `degree`, weights 1/stderr^2
-/// (all equal if any stderr is zero). The coefficient covariance (X'WX)^-1 is scaled by
-/// max(1, chi^2/dof) (Birge ratio), because run-to-run scatter of dN is usually larger than
-/// each run's own error (paper Tab. 3). Errors: fewer distinct temperatures than
-/// degree + 1, non-finite input, degree > 6.
+/// (all equal if any stderr is zero or at rounding level, below 1e-12 |dN|). The coefficient
+/// covariance (X'WX)^-1 is scaled by max(1, chi^2/dof) (Birge ratio), because run-to-run scatter of
+/// dN is usually larger than each run's own error (paper Tab. 3). Errors: fewer distinct
+/// temperatures than degree + 1, non-finite input, degree > 6.
 [[nodiscard]] result<delta_n_model> fit_delta_n_model(std::span<const delta_n_point> points,
                                                       std::size_t degree);
 
