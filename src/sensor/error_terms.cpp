@@ -15,7 +15,7 @@ gauss_markov gauss_markov::make(double tau_s, double sigma, double h_s) {
 }
 
 flicker_bank::flicker_bank(double b_dps, double tau_min_s, double tau_max_s, double h_s,
-                           normal_stream noise)
+                           const normal_stream& noise)
     : noise_(noise) {
   if (b_dps <= 0.0) return;
   constexpr double pi = 3.14159265358979323846;

@@ -47,7 +47,8 @@ struct gauss_markov {
 class flicker_bank {
  public:
   /// `b_dps` = B (deg/s), time-constant range (s), grid step `h_s` (s). B = 0 gives zero.
-  flicker_bank(double b_dps, double tau_min_s, double tau_max_s, double h_s, normal_stream noise);
+  flicker_bank(double b_dps, double tau_min_s, double tau_max_s, double h_s,
+               const normal_stream& noise);
   /// Advances one grid step and returns the bank's value there (deg/s).
   double step() noexcept;
   /// Number of Gauss-Markov components.
