@@ -1,0 +1,55 @@
+/// \file
+/// \brief The acquisition schedule (paper section 4): dwell at A, turn to B, settle, dwell at
+/// B, turn on to A (one-way turns through a rotary joint), settle, repeat.
+///
+/// Everything runs on the ADC clock: the ADC converts continuously, so one cycle is
+///   [N acquisitions at A][M_AB turning][M_s settling][N at B][M_BA turning][M_s settling]
+/// conversions, M = ceil(duration / t_conv). Defaults (N = 256, FW = 94 -> t_conv = 1.99886 ms,
+/// 180-deg turn 0.300 s -> 151 conversions, settle 0.08 s -> 41 conversions): 896 conversions
+/// = 1.791 s per cycle, the paper's "about 1.79 s". A conversion is "moving" when the table
+/// turns during any part of it (its angle is then empty in raw recordings).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/rig/turntable.hpp"
+
+namespace gyroflip::rig {
+
+struct schedule_params {
+  int n_avg = 256;           ///< conversions averaged per dwell
+  double settle_s = 0.08;    ///< wait after a turn before acquiring (s)
+  double pos_a_deg = 0.0;    ///< first position (deg)
+  double pos_b_deg = 180.0;  ///< second position (deg)
+};
+
+/// One conversion slot of the cycle.
+struct phase {
+  double angle_deg = 0.0;       ///< table angle at mid-conversion (deg, unwrapped)
+  double table_rate_dps = 0.0;  ///< mean table rate over the conversion (deg/s)
+  bool moving = false;          ///< the table turns during this conversion
+  std::int8_t dwell = -1;       ///< 0 = acquiring at A, 1 = acquiring at B, -1 = not acquiring
+};
+
+class schedule {
+ public:
+  /// Errors: N < 1, settle < 0, positions not a whole number of steps apart or equal.
+  [[nodiscard]] static result<schedule> make(const schedule_params& s, const stepper_params& m,
+                                             double t_conv_s);
+  [[nodiscard]] const std::vector<phase>& phases() const noexcept { return phases_; }
+  [[nodiscard]] double cycle_s() const noexcept {
+    return t_conv_s_ * static_cast<double>(phases_.size());
+  }
+  [[nodiscard]] double turn_ab_s() const noexcept { return turn_ab_s_; }
+  [[nodiscard]] double turn_ba_s() const noexcept { return turn_ba_s_; }
+  [[nodiscard]] const schedule_params& params() const noexcept { return p_; }
+
+ private:
+  schedule_params p_;
+  double t_conv_s_ = 0.0, turn_ab_s_ = 0.0, turn_ba_s_ = 0.0;
+  std::vector<phase> phases_;
+};
+
+}  // namespace gyroflip::rig

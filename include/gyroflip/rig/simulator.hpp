@@ -1,0 +1,116 @@
+/// \file
+/// \brief The recording generator: sensor on the turntable, read by the AD7739 on the
+/// paper's schedule, with the truth of every term; and the per-dwell averaging of recordings.
+///
+/// Per conversion k (t_k = (k + 1/2) t_conv, the centre of the window) at cycle slot p:
+///   w_k = w_in(t_k) u_p + table_p + earth_p + (g0 + g1 (T_k - T_ref)) . f_p
+/// with u_p, table_p, earth_p, f_p the sensed input-axis gain, table rate, Earth rate and
+/// specific force of slot p (rig/geometry.hpp, precomputed once per cycle slot since the cycle
+/// repeats exactly). The gyro (sensor/gyro.hpp) turns w_k into a voltage, the AD7739 into a
+/// code, and the recorder back into deg/s with the NOMINAL scale factor:
+///   rate_k = (code_k - 2^23) LSB / SF_nominal.
+/// The rate-table input rotates about the 0-deg sensitive-axis direction without changing the
+/// rig's attitude to gravity and the Earth (its effect on the g- and Earth terms is neglected).
+/// Truth columns are signed as seen by the sensor at that moment: at 180 deg the Earth term,
+/// the g-term and the input have the opposite sign of 0 deg, the bias the same sign.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/rig/ad7739.hpp"
+#include "gyroflip/rig/geometry.hpp"
+#include "gyroflip/rig/profiles.hpp"
+#include "gyroflip/rig/schedule.hpp"
+#include "gyroflip/rig/turntable.hpp"
+#include "gyroflip/sensor/gyro.hpp"
+
+namespace gyroflip::rig {
+
+struct simulation_config {
+  sensor::sensor_params sensor;
+  double lat_deg = 42.6;                          ///< paper site, Sofia (deg)
+  std::string axis = "north";                     ///< sensitive axis at 0 deg (earth::parse_axis)
+  std::string table_axis;                         ///< empty = default (geometry.hpp)
+  profile rate = profile::constant(0.0);          ///< input rate w_in (deg/s)
+  profile temperature = profile::constant(20.0);  ///< sensor temperature (degC)
+  stepper_params stepper;
+  ad7739_config adc;
+  schedule_params sched;
+  double duration_s = 3600.0;      ///< run length (s)
+  double power_on_before_s = 0.0;  ///< sensor on this long before t = 0 (s)
+  std::uint64_t seed = 1;
+};
+
+/// A chunk of conversions, column-wise. `angle_deg` is NaN while the table turns; `dwell` is
+/// the global dwell index (0, 1, 2, ... alternating A, B) or -1 outside acquisitions.
+struct sample_block {
+  explicit sample_block(std::size_t capacity);
+  std::size_t size = 0;
+  std::vector<double> time_s, angle_deg, rate_dps, temp_c;
+  std::vector<double> bias_dps, g_term_dps, earth_dps, input_dps;
+  std::vector<std::int64_t> dwell;
+  [[nodiscard]] std::size_t capacity() const noexcept { return time_s.size(); }
+};
+
+class simulator {
+ public:
+  /// Errors: invalid sensor parameters, geometry, schedule, stepper, ADC or duration <= 0.
+  [[nodiscard]] static result<simulator> make(const simulation_config& c);
+
+  /// Fills `b` with the next conversions; returns how many (0 when the run is complete).
+  std::size_t fill(sample_block& b) noexcept;
+
+  [[nodiscard]] std::uint64_t total_samples() const noexcept { return total_; }
+  [[nodiscard]] std::uint64_t produced() const noexcept { return k_; }
+  [[nodiscard]] double conversion_time_s() const noexcept { return adc_.conversion_time_s(); }
+  [[nodiscard]] const schedule& sched() const noexcept { return sched_; }
+  [[nodiscard]] const sensor::gyro& sensor_model() const noexcept { return gyro_; }
+  [[nodiscard]] const ad7739& adc() const noexcept { return adc_; }
+  /// Earth term and g-term (deg/s) seen at position A at temperature `temp_c`: their sum is
+  /// the dN a calibration should find (paper eqn 11).
+  [[nodiscard]] double earth_at_a_dps() const noexcept { return earth_[0]; }
+  [[nodiscard]] double g_term_at_a_dps(double temp_c) const noexcept {
+    return gf0_[0] + gf1_[0] * (temp_c - gyro_.temp_ref_c());
+  }
+
+ private:
+  simulator(const simulation_config& c, schedule s, sensor::gyro g, ad7739 a);
+  simulation_config cfg_;
+  schedule sched_;
+  sensor::gyro gyro_;
+  ad7739 adc_;
+  double t_conv_s_, inv_sf_;
+  std::uint64_t total_ = 0, k_ = 0;
+  std::size_t p_ = 0;
+  std::vector<double> in_gain_, table_, earth_, gf0_, gf1_, angle_out_;
+  std::vector<std::int8_t> slot_;
+  std::vector<double> n_arw_, n_adc_;  // per-block scratch for the normal deviates
+};
+
+/// One dwell average, as written to a recording (docs/FORMATS.md) plus its truth.
+struct dwell_row {
+  double time_s = 0.0, angle_deg = 0.0, rate_dps = 0.0, temp_c = 0.0;
+  int n_avg = 0;
+  double bias_dps = 0.0, g_term_dps = 0.0, earth_dps = 0.0, input_dps = 0.0;
+};
+
+/// Averages the acquisition conversions of each dwell (plain means of every column).
+class dwell_averager {
+ public:
+  explicit dwell_averager(int n_avg) : n_avg_(n_avg) {}
+  /// Adds a block; complete dwells are appended to `out`.
+  void add(const sample_block& b, std::vector<dwell_row>& out);
+
+ private:
+  void emit(std::vector<dwell_row>& out);
+  int n_avg_;
+  std::int64_t current_ = -1;
+  int n_ = 0;
+  double angle_ = 0.0;
+  double sum_[8] = {};
+};
+
+}  // namespace gyroflip::rig

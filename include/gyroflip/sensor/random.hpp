@@ -1,0 +1,122 @@
+/// \file
+/// \brief The simulator's random numbers: xoshiro256** seeded through splitmix64, one
+/// independent stream per error term, and a ziggurat normal generator of our own.
+///
+/// `std::normal_distribution` is implementation-defined (libstdc++ and libc++ give different
+/// numbers), so it is never used: the same seed gives the same recording on any machine.
+/// Streams are derived from (seed, stream id), so turning one error term off leaves the random
+/// numbers of all other terms unchanged.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace gyroflip::sensor {
+
+/// splitmix64 step (Steele, Lea & Flood 2014; Vigna's reference code): returns the next output
+/// and advances `state`. Used only to expand seeds.
+[[nodiscard]] inline std::uint64_t splitmix64(std::uint64_t& state) noexcept {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+/// Stream ids: one per random error term (never renumber: recordings depend on them).
+enum class stream : std::uint64_t {
+  angle_random_walk = 1,
+  flicker = 2,
+  rate_random_walk = 3,
+  turn_on_bias = 4,
+  adc_noise = 5,
+  user = 16,  ///< first id free for callers (tests, Monte Carlo)
+};
+
+/// xoshiro256** 1.0 (Blackman & Vigna 2018): 256-bit state, period 2^256 - 1, ~1 ns/number.
+class rng {
+ public:
+  /// The generator of stream `id` for run `seed`: state = four splitmix64 outputs of
+  /// seed ^ (id * golden ratio constant) (never all zero).
+  rng(std::uint64_t seed, stream id) noexcept {
+    std::uint64_t sm = seed ^ (static_cast<std::uint64_t>(id) * 0xd1b54a32d192ed03ULL);
+    for (auto& w : s_) w = splitmix64(sm);
+  }
+
+  /// Next 64 random bits.
+  std::uint64_t next() noexcept {
+    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = rotl(s_[3], 45);
+    return result;
+  }
+
+  /// Uniform in (0, 1): (top 53 bits + 1/2) 2^-53, never 0 (safe for log).
+  double uniform_open() noexcept { return (static_cast<double>(next() >> 11) + 0.5) * 0x1.0p-53; }
+
+ private:
+  static std::uint64_t rotl(std::uint64_t x, int k) noexcept { return (x << k) | (x >> (64 - k)); }
+  std::array<std::uint64_t, 4> s_{};
+};
+
+/// Ziggurat tables (256 layers, Marsaglia & Tsang 2000, r = 3.6541528853610088,
+/// v = 4.92867323399e-3), built once with det_exp/det_log (Doornik 2005 "ZIGNOR" layout:
+/// x[0] = v/f(r), x[1] = r, x[i+1] = sqrt(-2 ln(v/x[i] + f(x[i]))), x[256] = 0,
+/// ratio[i] = x[i+1]/x[i], f[i] = exp(-x[i]^2/2)).
+struct ziggurat_tables {
+  std::array<double, 257> x{};
+  std::array<double, 256> ratio{};
+  std::array<double, 257> f{};
+};
+[[nodiscard]] const ziggurat_tables& ziggurat();
+
+/// Tail beyond r (Marsaglia 1964): x = -ln(U1)/r, y = -ln(U2) until 2y > x^2; returns r + x.
+[[nodiscard]] double normal_tail(rng& g) noexcept;
+
+/// The rare part of `normal`: the wedge test for (layer i, signed uniform u) already drawn,
+/// the tail for i = 0, and on rejection further draws until acceptance. Out of line so that
+/// the fast path stays small.
+[[nodiscard]] double normal_slow(rng& g, const ziggurat_tables& z, std::size_t i,
+                                 double u) noexcept;
+
+/// A standard normal N(0, 1) deviate. Fast path (98.8 %): one 64-bit number, one multiply,
+/// one compare; low 8 bits pick the layer, the top 53 bits the signed uniform (disjoint bits,
+/// so no layer/value correlation, Doornik 2005 section 4).
+[[nodiscard]] inline double normal(rng& g, const ziggurat_tables& z) noexcept {
+  const std::uint64_t r = g.next();
+  const auto i = static_cast<std::size_t>(r & 0xffU);
+  const double u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
+  if (std::fabs(u) < z.ratio[i]) [[likely]] {
+    return u * z.x[i];
+  }
+  return normal_slow(g, z, i, u);
+}
+
+/// A normal stream: an `rng` plus the shared ziggurat tables (a value type, cheap to copy).
+class normal_stream {
+ public:
+  normal_stream(std::uint64_t seed, stream id) : g_(seed, id), z_(&ziggurat()) {}
+  /// N(0, 1).
+  double next() noexcept { return normal(g_, *z_); }
+  /// Fills `out[0..n)` with N(0, 1) (the same numbers as n calls of next(), but faster: a
+  /// tight loop keeps the generator state in registers).
+  void fill(double* out, std::size_t n) noexcept {
+    rng g = g_;
+    const ziggurat_tables& z = *z_;
+    for (std::size_t k = 0; k < n; ++k) out[k] = normal(g, z);
+    g_ = g;
+  }
+  rng& uniform() noexcept { return g_; }
+
+ private:
+  rng g_;
+  const ziggurat_tables* z_;
+};
+
+}  // namespace gyroflip::sensor

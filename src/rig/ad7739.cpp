@@ -1,0 +1,35 @@
+/// \file
+/// \brief AD7739 conversion time and set-up (formulas in ad7739.hpp).
+#include "gyroflip/rig/ad7739.hpp"
+
+#include <cmath>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::rig {
+
+double conversion_time_s(const ad7739_config& c) noexcept {
+  const double fw = c.filter_word;
+  return c.chop ? (128.0 * fw + 249.0) / c.mclk_hz : (64.0 * fw + 206.0) / c.mclk_hz;
+}
+
+result<ad7739> ad7739::make(const ad7739_config& c, std::uint64_t seed) {
+  if (c.filter_word < 2 || c.filter_word > 127)
+    return usage_error("AD7739 filter word must be 2..127");
+  if (!(c.mclk_hz > 0.0) || !(c.range_v > 0.0) || !(c.noise_uv_rms_at_2ms >= 0.0) ||
+      !std::isfinite(c.mclk_hz + c.range_v + c.noise_uv_rms_at_2ms + c.offset_uv_chop_off)) {
+    return usage_error("AD7739: clock and range must be > 0, noise >= 0");
+  }
+  return ad7739(c, seed);
+}
+
+ad7739::ad7739(const ad7739_config& c, std::uint64_t seed)
+    : t_conv_s_(rig::conversion_time_s(c)),
+      lsb_(2.0 * c.range_v / 16777216.0),
+      inv_lsb_(16777216.0 / (2.0 * c.range_v)),
+      noise_v_(1e-6 * c.noise_uv_rms_at_2ms * std::sqrt(2e-3 / t_conv_s_)),
+      offset_v_(c.chop ? 0.0 : 1e-6 * c.offset_uv_chop_off),
+      noise_on_(noise_v_ > 0.0),
+      noise_(seed, sensor::stream::adc_noise) {}
+
+}  // namespace gyroflip::rig

@@ -1,0 +1,229 @@
+/// \file
+/// \brief Rate and temperature profiles (syntax in profiles.hpp).
+#include "gyroflip/rig/profiles.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::rig {
+namespace {
+
+std::vector<std::string_view> split(std::string_view s, char sep) {
+  std::vector<std::string_view> out;
+  while (true) {
+    const auto p = s.find(sep);
+    out.push_back(s.substr(0, p));
+    if (p == std::string_view::npos) return out;
+    s.remove_prefix(p + 1);
+  }
+}
+
+bool to_double(std::string_view s, double& x) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), x);
+  return ec == std::errc{} && end == s.data() + s.size() && !s.empty() && std::isfinite(x);
+}
+
+error bad_spec(std::string_view what, std::string_view spec, std::string_view why) {
+  return usage_error(fmt::format("{} '{}': {}", what, spec, why));
+}
+
+// Parses "a:b:c" numbers after the kind word; `count` numbers (optional extra allowed).
+result<std::vector<double>> numbers(std::string_view what, std::string_view spec,
+                                    const std::vector<std::string_view>& parts, std::size_t min_n,
+                                    std::size_t max_n) {
+  if (parts.size() - 1 < min_n || parts.size() - 1 > max_n) {
+    return bad_spec(what, spec, fmt::format("expected {} numbers after '{}:'", min_n, parts[0]));
+  }
+  std::vector<double> v(parts.size() - 1);
+  for (std::size_t i = 1; i < parts.size(); ++i) {
+    if (!to_double(parts[i], v[i - 1])) {
+      return bad_spec(what, spec, fmt::format("'{}' is not a finite number", parts[i]));
+    }
+  }
+  return v;
+}
+
+}  // namespace
+
+profile profile::constant(double value) {
+  profile p;
+  p.value_ = value;
+  return p;
+}
+
+namespace {
+// `steps:T0:V0,T1:V1,...` shared by both profile kinds.
+status parse_steps(std::string_view what, std::string_view spec, std::string_view body,
+                   std::vector<double>& t, std::vector<double>& v) {
+  for (auto item : split(body, ',')) {
+    const auto tv = split(item, ':');
+    double a = 0.0;
+    double b = 0.0;
+    if (tv.size() != 2 || !to_double(tv[0], a) || !to_double(tv[1], b)) {
+      return bad_spec(what, spec, fmt::format("'{}' is not TIME_S:VALUE", item));
+    }
+    if (!t.empty() && !(a > t.back())) return bad_spec(what, spec, "times must increase");
+    t.push_back(a);
+    v.push_back(b);
+  }
+  return ok();
+}
+}  // namespace
+
+result<profile> profile::parse_rate(std::string_view spec) {
+  constexpr std::string_view what = "rate profile";
+  const auto parts = split(spec, ':');
+  if (parts[0] == "sine") {
+    auto n = numbers(what, spec, parts, 2, 3);
+    if (!n) return n.err();
+    profile p;
+    p.kind_ = kind::sine;
+    p.amp_ = (*n)[0];
+    p.freq_hz_ = (*n)[1];
+    p.value_ = n->size() > 2 ? (*n)[2] : 0.0;
+    return p;
+  }
+  if (auto shared = parse_shared(what, spec, 0.0)) return std::move(*shared);
+  return bad_spec(what, spec,
+                  "expected a number, const:V, steps:T:V,... or sine:AMP:FREQ[:OFFSET]");
+}
+
+std::optional<result<profile>> profile::parse_shared(std::string_view what, std::string_view spec,
+                                                     std::optional<double> before_steps) {
+  double x = 0.0;
+  if (to_double(spec, x)) return constant(x);
+  const auto parts = split(spec, ':');
+  if (parts[0] == "const") {
+    auto n = numbers(what, spec, parts, 1, 1);
+    if (!n) return result<profile>(n.err());
+    return constant((*n)[0]);
+  }
+  if (parts[0] == "steps") {
+    profile p;
+    p.kind_ = kind::hold;
+    if (before_steps) {  // a rate is 0 before the first step; a temperature starts at V0
+      p.t_s_.push_back(-1e300);
+      p.v_.push_back(*before_steps);
+    }
+    if (auto s = parse_steps(what, spec, spec.substr(6), p.t_s_, p.v_); !s) {
+      return result<profile>(s.err());
+    }
+    return p;
+  }
+  return std::nullopt;
+}
+
+result<profile> profile::parse_temperature(std::string_view spec) {
+  constexpr std::string_view what = "temperature profile";
+  if (auto shared = parse_shared(what, spec, std::nullopt)) return std::move(*shared);
+  const auto parts = split(spec, ':');
+  profile p;
+  if (parts[0] == "ramp") {
+    auto n = numbers(what, spec, parts, 3, 3);
+    if (!n) return n.err();
+    if (!((*n)[2] > 0.0)) return bad_spec(what, spec, "duration must be > 0");
+    p.kind_ = kind::linear;
+    p.t_s_ = {0.0, (*n)[2]};
+    p.v_ = {(*n)[0], (*n)[1]};
+    return p;
+  }
+  if (parts[0] == "fridge") {
+    auto n = numbers(what, spec, parts, 3, 3);
+    if (!n) return n.err();
+    if (!((*n)[2] > 0.0)) return bad_spec(what, spec, "period must be > 0");
+    p.kind_ = kind::triangle;
+    p.value_ = (*n)[0];
+    p.amp_ = (*n)[1] / 2.0;
+    p.freq_hz_ = 1.0 / (*n)[2];
+    return p;
+  }
+  const std::string path(spec);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return io_error(path, "cannot open (expected a number, steps:, ramp:, fridge: or a CSV file)");
+  }
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_temperature_csv(ss.str(), path);
+}
+
+result<profile> profile::parse_temperature_csv(std::string_view text, std::string_view file) {
+  profile p;
+  p.kind_ = kind::linear;
+  std::size_t line_no = 0;
+  bool header = false;
+  for (auto line : split(text, '\n')) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.empty() || line.front() == '#') continue;
+    const auto cols = split(line, ',');
+    if (!header) {
+      if (cols.size() != 2 || cols[0] != "time_s" || cols[1] != "temp_c") {
+        return input_error({file, line_no, 1}, "expected the header 'time_s,temp_c'");
+      }
+      header = true;
+      continue;
+    }
+    if (cols.size() != 2) {
+      return input_error({file, line_no, 1},
+                         fmt::format("expected 2 columns (time_s,temp_c), found {}", cols.size()));
+    }
+    double t = 0.0;
+    double c = 0.0;
+    if (!to_double(cols[0], t))
+      return input_error({file, line_no, 1}, "time_s: not a finite number");
+    if (!to_double(cols[1], c)) {
+      return input_error({file, line_no, cols[0].size() + 2}, "temp_c: not a finite number");
+    }
+    if (!p.t_s_.empty() && !(t > p.t_s_.back())) {
+      return input_error({file, line_no, 1}, "time_s must increase from row to row");
+    }
+    if (c < -273.15) return input_error({file, line_no, cols[0].size() + 2}, "temp_c below 0 K");
+    p.t_s_.push_back(t);
+    p.v_.push_back(c);
+  }
+  if (!header) return input_error({file, 1, 1}, "empty file: expected the header 'time_s,temp_c'");
+  if (p.t_s_.empty()) return input_error({file, line_no, 1}, "no data rows");
+  return p;
+}
+
+double profile::eval(double t) noexcept {
+  switch (kind_) {
+    case kind::constant:
+      return value_;
+    case kind::sine:
+      return value_ + amp_ * std::sin(2.0 * std::numbers::pi * freq_hz_ * t);
+    case kind::triangle: {
+      // Phase in [0, 1): falls from MEAN + A to MEAN - A in the first half, rises in the second.
+      const double cycles = t * freq_hz_;
+      // Truncation is floor for t >= 0 (the run) and is inlined, unlike std::floor.
+      const double ph =
+          cycles - (cycles >= 0.0 ? static_cast<double>(static_cast<std::int64_t>(cycles))
+                                  : std::floor(cycles));
+      return value_ + amp_ * (ph < 0.5 ? 1.0 - 4.0 * ph : 4.0 * ph - 3.0);
+    }
+    case kind::hold:
+    case kind::linear:
+      break;
+  }
+  if (cursor_ >= t_s_.size() || t < t_s_[cursor_]) cursor_ = 0;  // time went back: rescan
+  while (cursor_ + 1 < t_s_.size() && t >= t_s_[cursor_ + 1]) ++cursor_;
+  if (t < t_s_[cursor_]) return v_[cursor_];  // before the first knot
+  if (kind_ == kind::hold || cursor_ + 1 == t_s_.size()) return v_[cursor_];
+  const double w = (t - t_s_[cursor_]) / (t_s_[cursor_ + 1] - t_s_[cursor_]);
+  return v_[cursor_] + w * (v_[cursor_ + 1] - v_[cursor_]);
+}
+
+}  // namespace gyroflip::rig

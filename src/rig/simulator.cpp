@@ -1,0 +1,158 @@
+/// \file
+/// \brief The recording generator's hot loop and the dwell averaging (see simulator.hpp).
+#include "gyroflip/rig/simulator.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::rig {
+
+sample_block::sample_block(std::size_t capacity)
+    : time_s(capacity),
+      angle_deg(capacity),
+      rate_dps(capacity),
+      temp_c(capacity),
+      bias_dps(capacity),
+      g_term_dps(capacity),
+      earth_dps(capacity),
+      input_dps(capacity),
+      dwell(capacity) {}
+
+result<simulator> simulator::make(const simulation_config& c) {
+  if (!(c.duration_s > 0.0) || !std::isfinite(c.duration_s))
+    return usage_error("--duration must be > 0 s");
+  auto adc = ad7739::make(c.adc, c.seed);
+  if (!adc) return adc.err();
+  const double t_conv = adc->conversion_time_s();
+  auto g = sensor::gyro::make(c.sensor, t_conv, c.power_on_before_s, c.seed);
+  if (!g) return g.err();
+  auto s = schedule::make(c.sched, c.stepper, t_conv);
+  if (!s) return s.err();
+  auto geo = rig_geometry::make(c.lat_deg, c.axis, c.table_axis);
+  if (!geo) return geo.err();
+  simulator sim(c, std::move(*s), std::move(*g), std::move(*adc));
+  const auto& ph = sim.sched_.phases();
+  const auto& sp = c.sensor;
+  const sensor::sensor_vec g0 = sim.gyro_.g_sens_g0();
+  const sensor::sensor_vec g1 = sim.gyro_.g_sens_g1();
+  const auto dot = [](const sensor::sensor_vec& a, const sensor::sensor_vec& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+  };
+  for (const auto& p : ph) {
+    const frame_terms f = terms_at(*geo, p.angle_deg);
+    sim.in_gain_.push_back(sensed(f.input_axis, sp));
+    sim.table_.push_back(p.table_rate_dps * sensed(f.table_axis, sp));
+    sim.earth_.push_back(sensed(f.earth_dps, sp));
+    sim.gf0_.push_back(dot(g0, f.specific_force_g));
+    sim.gf1_.push_back(dot(g1, f.specific_force_g));
+    sim.angle_out_.push_back(p.moving ? std::numeric_limits<double>::quiet_NaN()
+                                      : p.angle_deg - 360.0 * std::floor(p.angle_deg / 360.0));
+    sim.slot_.push_back(p.dwell);
+  }
+  sim.total_ = static_cast<std::uint64_t>(std::floor(c.duration_s / t_conv + 1e-9));
+  return sim;
+}
+
+simulator::simulator(const simulation_config& c, schedule s, sensor::gyro g, ad7739 a)
+    : cfg_(c),
+      sched_(std::move(s)),
+      gyro_(std::move(g)),
+      adc_(std::move(a)),
+      t_conv_s_(adc_.conversion_time_s()),
+      inv_sf_(1.0 / c.sensor.scale_factor_v_per_dps) {}
+
+std::size_t simulator::fill(sample_block& b) noexcept {
+  const std::size_t n =
+      static_cast<std::size_t>(std::min<std::uint64_t>(b.capacity(), total_ - k_));
+  const std::size_t period = in_gain_.size();
+  const double t_ref = gyro_.temp_ref_c();
+  std::size_t p = p_;
+  std::uint64_t k = k_;
+  auto cycle = static_cast<std::int64_t>(k / period);
+  // Restrict-qualified outputs: stores to the block cannot alias the model's state, so the
+  // compiler keeps that state in registers (GCC/Clang extension, 2.5x faster here).
+  double* __restrict out_t = b.time_s.data();
+  double* __restrict out_angle = b.angle_deg.data();
+  double* __restrict out_rate = b.rate_dps.data();
+  double* __restrict out_temp = b.temp_c.data();
+  double* __restrict out_bias = b.bias_dps.data();
+  double* __restrict out_g = b.g_term_dps.data();
+  double* __restrict out_earth = b.earth_dps.data();
+  double* __restrict out_input = b.input_dps.data();
+  std::int64_t* __restrict out_dwell = b.dwell.data();
+  // Normal deviates in batches (tight loops run ~2x faster than interleaved draws); zeros when
+  // a term is off, so the per-sample code has no branch.
+  if (n_arw_.size() < n) {
+    n_arw_.assign(n, 0.0);
+    n_adc_.assign(n, 0.0);
+  }
+  if (gyro_.arw_on()) gyro_.arw_stream().fill(n_arw_.data(), n);
+  if (adc_.noise_on()) adc_.noise_stream().fill(n_adc_.data(), n);
+  const double* __restrict n_arw = n_arw_.data();
+  const double* __restrict n_adc = n_adc_.data();
+  // Stage 1: time, environment and the true sensed rate (into out_rate for now).
+  std::size_t q = p;
+  for (std::size_t i = 0; i < n; ++i, ++k) {
+    // Signed conversion: uint64 -> double is a branchy sequence on x86-64.
+    const double t = (static_cast<double>(static_cast<std::int64_t>(k)) + 0.5) * t_conv_s_;
+    const double temp = cfg_.temperature.at(t);
+    const double w_in = cfg_.rate.at(t);
+    const double g_term = gf0_[q] + gf1_[q] * (temp - t_ref);
+    const double input = w_in * in_gain_[q] + table_[q];
+    out_t[i] = t;
+    out_temp[i] = temp;
+    out_g[i] = g_term;
+    out_earth[i] = earth_[q];
+    out_input[i] = input;
+    out_rate[i] = input + earth_[q] + g_term;
+    if (++q == period) q = 0;
+  }
+  // Stage 2: the gyro (voltages into out_angle as scratch), stage 3: the AD7739 and recorder.
+  gyro_.sample_block(out_t, out_temp, out_rate, n_arw, out_angle, out_bias, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out_rate[i] = adc_.volts(adc_.convert(out_angle[i], n_adc[i])) * inv_sf_;
+  }
+  // Stage 4: table angle and dwell index of each conversion.
+  for (std::size_t i = 0; i < n; ++i) {
+    out_angle[i] = angle_out_[p];
+    out_dwell[i] = slot_[p] < 0 ? -1 : 2 * cycle + slot_[p];
+    if (++p == period) {
+      p = 0;
+      ++cycle;
+    }
+  }
+  p_ = p;
+  k_ = k;
+  b.size = n;
+  return n;
+}
+
+void dwell_averager::add(const sample_block& b, std::vector<dwell_row>& out) {
+  for (std::size_t i = 0; i < b.size; ++i) {
+    if (b.dwell[i] != current_) {
+      emit(out);
+      current_ = b.dwell[i];
+    }
+    if (current_ < 0) continue;
+    angle_ = b.angle_deg[i];
+    const double v[8] = {b.time_s[i],     b.rate_dps[i],  b.temp_c[i],    b.bias_dps[i],
+                         b.g_term_dps[i], b.earth_dps[i], b.input_dps[i], 0.0};
+    for (int j = 0; j < 7; ++j) sum_[j] += v[j];
+    ++n_;
+    if (n_ == n_avg_) emit(out);
+  }
+}
+
+void dwell_averager::emit(std::vector<dwell_row>& out) {
+  if (n_ == n_avg_ && n_ > 0) {
+    const double inv = 1.0 / n_;
+    out.push_back({sum_[0] * inv, angle_, sum_[1] * inv, sum_[2] * inv, n_, sum_[3] * inv,
+                   sum_[4] * inv, sum_[5] * inv, sum_[6] * inv});
+  }
+  n_ = 0;
+  for (auto& s : sum_) s = 0.0;
+}
+
+}  // namespace gyroflip::rig

@@ -1,0 +1,100 @@
+/// \file
+/// \brief The field table of `sensor_params` and its validation.
+#include "gyroflip/sensor/params.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::sensor {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+using P = sensor_params;
+
+const std::array<field_info, 28> table{{
+    {"range_dps", "deg/s", "saturation of the sensed rate", &P::range_dps, 1e-6, inf},
+    {"scale_factor_v_per_dps", "V/(deg/s)", "nominal scale factor", &P::scale_factor_v_per_dps,
+     1e-9, inf},
+    {"null_v", "V", "nominal null output voltage", &P::null_v, -inf, inf},
+    {"bandwidth_hz", "Hz", "first-order low-pass corner (0 = none)", &P::bandwidth_hz, 0.0, inf},
+    {"scale_factor_error_ppm", "ppm", "actual/nominal scale factor - 1", &P::scale_factor_error_ppm,
+     -5e5, 5e5},
+    {"scale_factor_tc_ppm_per_c", "ppm/degC", "scale-factor temperature coefficient",
+     &P::scale_factor_tc_ppm_per_c, -1e4, 1e4},
+    {"nonlinearity_fs", "-", "quadratic bow at +-range, fraction of full scale",
+     &P::nonlinearity_fs, -0.5, 0.5},
+    {"quantisation_deg", "deg", "angle quantum of a digital output (0 = none)",
+     &P::quantisation_deg, 0.0, inf},
+    {"arw_dps_rthz", "deg/s/rtHz", "angle random walk N, ADEV(tau) = N/sqrt(tau)", &P::arw_dps_rthz,
+     0.0, inf},
+    {"bias_instability_dps", "deg/s", "flicker coefficient B, ADEV floor 0.6643 B",
+     &P::bias_instability_dps, 0.0, inf},
+    {"flicker_tau_min_s", "s", "shortest time constant of the flicker bank", &P::flicker_tau_min_s,
+     1e-6, inf},
+    {"flicker_tau_max_s", "s", "longest time constant of the flicker bank", &P::flicker_tau_max_s,
+     1e-6, inf},
+    {"rrw_dps_per_rts", "deg/s/rts", "rate random walk K, ADEV(tau) = K sqrt(tau/3)",
+     &P::rrw_dps_per_rts, 0.0, inf},
+    {"rate_ramp_dps_per_s", "deg/s/s", "rate ramp R", &P::rate_ramp_dps_per_s, -inf, inf},
+    {"bias_dps", "deg/s", "repeatable bias at temp_ref_c", &P::bias_dps, -inf, inf},
+    {"turn_on_bias_sigma_dps", "deg/s", "std of the per-power-up bias", &P::turn_on_bias_sigma_dps,
+     0.0, inf},
+    {"warmup_amplitude_dps", "deg/s", "warm-up transient amplitude at power-on",
+     &P::warmup_amplitude_dps, -inf, inf},
+    {"warmup_tau_s", "s", "warm-up time constant", &P::warmup_tau_s, 1e-3, inf},
+    {"bias_tc_dps_per_c", "deg/s/degC", "bias temperature coefficient", &P::bias_tc_dps_per_c, -inf,
+     inf},
+    {"temp_ref_c", "degC", "reference temperature of the coefficients", &P::temp_ref_c, -273.15,
+     1000.0},
+    {"g_sens_x_dps_per_g", "deg/s/g", "g-sensitivity along sensor x (sensitive axis)",
+     &P::g_sens_x_dps_per_g, -inf, inf},
+    {"g_sens_y_dps_per_g", "deg/s/g", "g-sensitivity along sensor y", &P::g_sens_y_dps_per_g, -inf,
+     inf},
+    {"g_sens_z_dps_per_g", "deg/s/g", "g-sensitivity along sensor z", &P::g_sens_z_dps_per_g, -inf,
+     inf},
+    {"g_sens_tc_x_dps_per_g_c", "deg/s/g/degC", "temperature coefficient of g_sens_x",
+     &P::g_sens_tc_x_dps_per_g_c, -inf, inf},
+    {"g_sens_tc_y_dps_per_g_c", "deg/s/g/degC", "temperature coefficient of g_sens_y",
+     &P::g_sens_tc_y_dps_per_g_c, -inf, inf},
+    {"g_sens_tc_z_dps_per_g_c", "deg/s/g/degC", "temperature coefficient of g_sens_z",
+     &P::g_sens_tc_z_dps_per_g_c, -inf, inf},
+    {"cross_axis_y", "-", "cross-axis sensitivity to rate about sensor y", &P::cross_axis_y, -1.0,
+     1.0},
+    {"cross_axis_z", "-", "cross-axis sensitivity to rate about sensor z", &P::cross_axis_z, -1.0,
+     1.0},
+}};
+
+}  // namespace
+
+std::span<const field_info> fields() {
+  return table;
+}
+
+const field_info* find_field(std::string_view key) {
+  for (const auto& f : fields()) {
+    if (f.key == key) return &f;
+  }
+  return nullptr;
+}
+
+status validate(const sensor_params& p) {
+  for (const auto& f : fields()) {
+    const double v = p.*f.member;
+    if (!std::isfinite(v)) return usage_error(fmt::format("{}: must be finite", f.key));
+    if (v < f.min_value || v > f.max_value) {
+      return usage_error(fmt::format("{} = {}: must be within [{}, {}] {}", f.key, v, f.min_value,
+                                     f.max_value, f.unit));
+    }
+  }
+  if (p.flicker_tau_min_s >= p.flicker_tau_max_s) {
+    return usage_error("flicker_tau_min_s must be smaller than flicker_tau_max_s");
+  }
+  return ok();
+}
+
+}  // namespace gyroflip::sensor

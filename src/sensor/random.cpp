@@ -1,0 +1,62 @@
+/// \file
+/// \brief Ziggurat tables and the rare branches of the normal generator.
+#include "gyroflip/sensor/random.hpp"
+
+#include <cmath>
+
+#include "gyroflip/sensor/det_math.hpp"
+
+namespace gyroflip::sensor {
+namespace {
+
+constexpr double zig_r = 3.6541528853610088;
+constexpr double zig_v = 4.92867323399e-3;
+
+ziggurat_tables build() {
+  ziggurat_tables t;
+  double f = det_exp(-0.5 * zig_r * zig_r);
+  t.x[0] = zig_v / f;
+  t.x[1] = zig_r;
+  for (std::size_t i = 2; i < 256; ++i) {
+    t.x[i] = std::sqrt(-2.0 * det_log(zig_v / t.x[i - 1] + f));
+    f = det_exp(-0.5 * t.x[i] * t.x[i]);
+  }
+  t.x[256] = 0.0;
+  for (std::size_t i = 0; i < 256; ++i) t.ratio[i] = t.x[i + 1] / t.x[i];
+  for (std::size_t i = 0; i <= 256; ++i) t.f[i] = det_exp(-0.5 * t.x[i] * t.x[i]);
+  return t;
+}
+
+}  // namespace
+
+const ziggurat_tables& ziggurat() {
+  static const ziggurat_tables tables = build();  // immutable constants, built once
+  return tables;
+}
+
+double normal_tail(rng& g) noexcept {
+  for (;;) {
+    const double x = -det_log(g.uniform_open()) / zig_r;
+    const double y = -det_log(g.uniform_open());
+    if (2.0 * y > x * x) return zig_r + x;
+  }
+}
+
+double normal_slow(rng& g, const ziggurat_tables& z, std::size_t i, double u) noexcept {
+  for (;;) {
+    if (i == 0) {
+      const double t = normal_tail(g);
+      return u < 0.0 ? -t : t;
+    }
+    // Wedge between layers i and i+1: accept x when a uniform height between the layers' densities
+    // lies under the density (Marsaglia & Tsang 2000; one exp with the tabulated f[i]).
+    const double xv = u * z.x[i];
+    if (z.f[i + 1] + g.uniform_open() * (z.f[i] - z.f[i + 1]) < det_exp(-0.5 * xv * xv)) return xv;
+    const std::uint64_t r = g.next();  // rejected: draw again
+    i = static_cast<std::size_t>(r & 0xffU);
+    u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
+    if (std::fabs(u) < z.ratio[i]) return u * z.x[i];
+  }
+}
+
+}  // namespace gyroflip::sensor

@@ -1,0 +1,112 @@
+// `gyroflip simulate` and `gyroflip sensors`: recording format, truth, determinism, errors.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+namespace gyroflip::test {
+namespace {
+
+std::vector<std::string> data_lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') out.push_back(line);
+  }
+  return out;
+}
+
+TEST(CliSimulate, SameSeedGivesByteIdenticalFiles) {
+  temp_dir d;
+  const auto sim = [&](const std::string& name, const std::string& seed) {
+    const auto r = run_cli({"simulate", "--sensor", "adxrs150", "--duration", "60", "--seed", seed,
+                            "--temp-profile", "fridge:4:2:30", "-o", d.file(name), "--truth",
+                            d.file(name + ".truth")});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_text(d.file(name)) + read_text(d.file(name + ".truth"));
+  };
+  const auto a = sim("a.csv", "5");
+  EXPECT_EQ(a, sim("b.csv", "5"));
+  EXPECT_NE(a, sim("c.csv", "6"));
+}
+
+TEST(CliSimulate, DwellRecordingAndTruth) {
+  temp_dir d;
+  const auto r = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "20", "-o",
+                          d.file("r.csv"), "--truth", d.file("t.csv")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string rec = read_text(d.file("r.csv"));
+  EXPECT_NE(rec.find("# sensor: hz1-90-100a\n"), std::string::npos);
+  EXPECT_NE(rec.find("# seed: 1\n"), std::string::npos);
+  const auto rows = data_lines(rec);
+  const auto truth = data_lines(read_text(d.file("t.csv")));
+  ASSERT_EQ(rows[0], "time_s,angle_deg,rate_dps,temp_c,n_avg");
+  ASSERT_EQ(truth[0], "time_s,bias_dps,g_term_dps,earth_dps,input_dps,temp_c");
+  ASSERT_EQ(rows.size(), truth.size());
+  EXPECT_EQ(rows.size(), 1U + 22U);  // 20 s / 1.791 s per cycle -> 11 cycles = 22 dwells
+  EXPECT_NE(rows[1].find(",0,"), std::string::npos);
+  EXPECT_NE(rows[2].find(",180,"), std::string::npos);
+  EXPECT_EQ(rows[1].substr(rows[1].size() - 4), ",256");
+}
+
+TEST(CliSimulate, RawHasEveryConversionAndEmptyAnglesWhileTurning) {
+  temp_dir d;
+  const auto r = run_cli({"simulate", "--sensor", "adxrs150", "--duration", "2", "--raw", "-o",
+                          d.file("r.csv"), "--n-avg", "100"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = data_lines(read_text(d.file("r.csv")));
+  EXPECT_EQ(rows.size(), 1U + 1000U);  // 2 s / 1.9989 ms
+  int empty = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) empty += rows[i].find(",,") != std::string::npos;
+  // Cycle slots: 100 acquire, 151 turning, 41 settling, ... -> turns at 100, 392, 684, 976.
+  EXPECT_EQ(empty, 3 * 151 + 24);
+}
+
+TEST(CliSimulate, BadInputExitsTwoWithPositionAndNoOutput) {
+  temp_dir d;
+  write_text(d.file("bad.toml"), "name = \"x\"\narw_dps_rthz = \"lots\"\n");
+  auto r = run_cli({"simulate", "--sensor", d.file("bad.toml"), "-o", d.file("o.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.toml:2:1: arw_dps_rthz: must be a number"), std::string::npos) << r.err;
+  EXPECT_FALSE(exists(d.file("o.csv")));
+  write_text(d.file("t.csv"), "time_s,temp_c\n0,20\n10,oops\n");
+  r = run_cli({"simulate", "--sensor", "adxrs150", "--temp-profile", d.file("t.csv"), "-o",
+               d.file("o.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("t.csv:3:4: temp_c"), std::string::npos) << r.err;
+  EXPECT_EQ(run_cli({"simulate", "--sensor", "nope"}).exit_code, 2);
+  EXPECT_EQ(run_cli({"simulate", "--sensor", "adxrs150", "--rate-profile", "x:1"}).exit_code, 2);
+  EXPECT_EQ(run_cli({"simulate", "--sensor", "adxrs150", "--positions", "0,1"}).exit_code, 2);
+  EXPECT_FALSE(exists(d.file("o.csv")));
+}
+
+TEST(CliSimulate, UserPresetFromToml) {
+  temp_dir d;
+  write_text(d.file("mine.toml"), "name = \"mine\"\nbase = \"hz1-90-100a\"\narw_dps_rthz = 0.01\n");
+  const auto r = run_cli({"simulate", "--sensor", d.file("mine.toml"), "--duration", "5"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("# sensor.arw_dps_rthz: 0.01\n"), std::string::npos);
+}
+
+TEST(CliSensors, ListsPresetsWithUnitsAndSources) {
+  const auto r = run_cli({"sensors", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.at("sensors").size(), 2U);
+  const auto& adx = j["sensors"][0];
+  EXPECT_EQ(adx.at("name"), "adxrs150");
+  EXPECT_EQ(adx["params"]["scale_factor_v_per_dps"]["value"].get<double>(), 0.0125);
+  EXPECT_EQ(adx["params"]["scale_factor_v_per_dps"]["unit"], "V/(deg/s)");
+  EXPECT_NE(adx["params"]["arw_dps_rthz"]["source"].get<std::string>().find("datasheet"),
+            std::string::npos);
+  EXPECT_EQ(run_cli({"sensors"}).exit_code, 0);
+}
+
+}  // namespace
+}  // namespace gyroflip::test

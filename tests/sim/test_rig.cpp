@@ -1,0 +1,223 @@
+// Rig module: geometry, profiles, stepper, AD7739, schedule and the recording generator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "gyroflip/rig/ad7739.hpp"
+#include "gyroflip/rig/geometry.hpp"
+#include "gyroflip/rig/profiles.hpp"
+#include "gyroflip/rig/schedule.hpp"
+#include "gyroflip/rig/simulator.hpp"
+#include "gyroflip/rig/turntable.hpp"
+#include "gyroflip/sensor/presets.hpp"
+
+namespace gyroflip::rig {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+const double w_e = earth::earth_rate_wgs84_dps;
+
+TEST(Geometry, DefaultRigFlipsEarthAndGravity) {
+  const auto g = rig_geometry::make(42.6, "north", "").value();
+  EXPECT_NEAR(g.table_axis.east, 1.0, 1e-15);  // horizontal, perpendicular to north
+  const auto a = terms_at(g, 0.0);
+  const auto b = terms_at(g, 180.0);
+  EXPECT_NEAR(a.earth_dps.x, w_e * std::cos(42.6 * pi / 180.0), 1e-12);  // paper eqn 9
+  EXPECT_EQ(b.earth_dps.x, -a.earth_dps.x);
+  EXPECT_EQ(a.specific_force_g.z, -1.0);  // 1 g up, sensor z points down at 0 deg
+  EXPECT_EQ(b.specific_force_g.z, 1.0);
+  EXPECT_EQ(a.table_axis.y, 1.0);
+  EXPECT_EQ(a.table_axis.x, 0.0);    // no table rate along the sensitive axis
+  const auto q = terms_at(g, 90.0);  // half-way: x points up (right-handed turn about east)
+  EXPECT_NEAR(q.earth_dps.x, w_e * std::sin(42.6 * pi / 180.0), 1e-12);
+}
+
+TEST(Geometry, VerticalAxisAndErrors) {
+  const auto g = rig_geometry::make(42.6, "up", "").value();
+  EXPECT_NEAR(terms_at(g, 0.0).earth_dps.x, w_e * std::sin(42.6 * pi / 180.0), 1e-12);
+  EXPECT_EQ(terms_at(g, 0.0).specific_force_g.x, 1.0);  // gravity along s: paper Fig. 1
+  EXPECT_EQ(terms_at(g, 180.0).specific_force_g.x, -1.0);
+  EXPECT_FALSE(rig_geometry::make(42.6, "north", "north").ok());
+  EXPECT_FALSE(rig_geometry::make(95.0, "north", "").ok());
+}
+
+TEST(Profiles, SpecsAndCsv) {
+  auto r = profile::parse_rate("steps:10:5,20:-5").value();
+  EXPECT_EQ(r.at(5.0), 0.0);
+  EXPECT_EQ(r.at(10.0), 5.0);
+  EXPECT_EQ(r.at(25.0), -5.0);
+  auto s = profile::parse_rate("sine:2:0.5").value();
+  EXPECT_NEAR(s.at(0.5), 2.0, 1e-12);
+  EXPECT_EQ(profile::parse_rate("7.5").value().at(3.0), 7.5);
+  EXPECT_FALSE(profile::parse_rate("wobble:1").ok());
+  EXPECT_FALSE(profile::parse_rate("steps:10:5,5:1").ok());
+  auto ramp = profile::parse_temperature("ramp:20:4:100").value();
+  EXPECT_NEAR(ramp.at(50.0), 12.0, 1e-12);
+  EXPECT_EQ(ramp.at(500.0), 4.0);
+  auto fridge = profile::parse_temperature("fridge:4:2:600").value();
+  EXPECT_NEAR(fridge.at(0.0), 5.0, 1e-12);
+  EXPECT_NEAR(fridge.at(300.0), 3.0, 1e-12);
+  auto csv =
+      profile::parse_temperature_csv("# fridge\ntime_s,temp_c\n0,20\n10,10\n", "t.csv").value();
+  EXPECT_NEAR(csv.at(5.0), 15.0, 1e-12);
+  EXPECT_EQ(csv.at(50.0), 10.0);
+  const auto err = [](std::string_view text) {
+    return profile::parse_temperature_csv(text, "t.csv").err().message;
+  };
+  EXPECT_EQ(err("time_s,temp_c\n0,20\n1,x\n"), "t.csv:3:3: temp_c: not a finite number");
+  EXPECT_EQ(err("time,temp\n"), "t.csv:1:1: expected the header 'time_s,temp_c'");
+  EXPECT_EQ(err("time_s,temp_c\n5,1\n5,2\n"), "t.csv:3:1: time_s must increase from row to row");
+  EXPECT_EQ(err("time_s,temp_c\n5\n"), "t.csv:2:1: expected 2 columns (time_s,temp_c), found 1");
+}
+
+TEST(Turntable, DefaultTurnAndTriangleProfile) {
+  const auto t = turn_profile::make(stepper_params{}, 180.0).value();
+  EXPECT_EQ(t.n_steps(), 100.0);
+  EXPECT_NEAR(t.duration_s(), 0.300, 1e-12);  // 0.1 s ramp up, 40 steps at 400/s, 0.1 s down
+  double prev = 0.0;
+  for (double s = 0.0; s <= 0.31; s += 0.001) {
+    const double a = t.angle_at(s);
+    EXPECT_GE(a, prev);
+    prev = a;
+  }
+  EXPECT_EQ(t.angle_at(1.0), 180.0);
+  const auto tri = turn_profile::make({200, 100.0, 10000.0, 1000.0}, 18.0).value();  // 10 steps
+  EXPECT_NEAR(tri.angle_at(tri.duration_s() / 2.0), 9.0, 1e-9);                      // symmetric
+  EXPECT_FALSE(turn_profile::make(stepper_params{}, 1.0).ok());  // not whole steps
+}
+
+TEST(Ad7739, ConversionTimeCodesAndClipping) {
+  ad7739_config c;
+  EXPECT_NEAR(conversion_time_s(c), (128.0 * 94 + 249) / 6.144e6, 1e-15);  // 1.99886 ms
+  c.filter_word = 127;
+  EXPECT_NEAR(conversion_time_s(c), 2.686e-3, 1e-6);  // FIELD-NOTES 3.3 [U]
+  c.chop = false;
+  c.filter_word = 3;
+  EXPECT_NEAR(conversion_time_s(c), 64.8e-6, 0.1e-6);
+  ad7739_config quiet;
+  quiet.noise_uv_rms_at_2ms = 0.0;
+  auto adc = ad7739::make(quiet, 1).value();
+  EXPECT_NEAR(adc.lsb_v(), 5.0 / 16777216.0, 1e-20);
+  EXPECT_EQ(adc.convert(3.0), ad7739::code_max);
+  EXPECT_EQ(adc.convert(-3.0), 0);
+  for (const double v : {0.0, 1e-6, -0.123456789, 2.4}) {
+    EXPECT_NEAR(adc.volts(adc.convert(v)), v, adc.lsb_v() / 2.0 + 1e-18);
+  }
+  auto noisy = ad7739::make(ad7739_config{}, 5).value();
+  double s2 = 0.0;
+  for (int i = 0; i < 100000; ++i) {
+    const double e = noisy.volts(noisy.convert(0.1)) - 0.1;
+    s2 += e * e;
+  }
+  EXPECT_NEAR(std::sqrt(s2 / 100000.0), 2e-6 * std::sqrt(2e-3 / noisy.conversion_time_s()),
+              0.05e-6);
+  EXPECT_FALSE(ad7739::make(ad7739_config{1}, 1).ok());
+}
+
+TEST(Schedule, PaperCycleOfAbout179Seconds) {
+  const double tc = conversion_time_s(ad7739_config{});
+  const auto s = schedule::make(schedule_params{}, stepper_params{}, tc).value();
+  EXPECT_EQ(s.phases().size(), 2U * (256 + 151 + 41));
+  EXPECT_NEAR(s.cycle_s(), 1.79, 0.005);  // paper section 4
+  int a = 0, b = 0, moving = 0;
+  for (const auto& p : s.phases()) {
+    a += p.dwell == 0;
+    b += p.dwell == 1;
+    moving += p.moving;
+    if (p.dwell >= 0) {
+      EXPECT_FALSE(p.moving);
+    }
+  }
+  EXPECT_EQ(a, 256);
+  EXPECT_EQ(b, 256);
+  EXPECT_EQ(moving, 2 * 151);
+  EXPECT_FALSE(schedule::make({256, 0.1, 0.0, 0.0}, stepper_params{}, tc).ok());
+}
+
+// A noiseless sensor so that the flip algebra can be checked to ADC precision.
+simulation_config noiseless(double duration_s) {
+  simulation_config c;
+  c.sensor = sensor::find_builtin("adxrs150")->params;
+  c.sensor.arw_dps_rthz = 0.0;
+  c.sensor.bias_instability_dps = 0.0;
+  c.sensor.rrw_dps_per_rts = 0.0;
+  c.sensor.turn_on_bias_sigma_dps = 0.0;
+  c.sensor.warmup_amplitude_dps = 0.0;
+  c.sensor.nonlinearity_fs = 0.0;
+  c.sensor.bias_dps = 0.25;
+  c.adc.noise_uv_rms_at_2ms = 0.0;
+  c.duration_s = duration_s;
+  return c;
+}
+
+std::vector<dwell_row> dwells(const simulation_config& c) {
+  auto sim = simulator::make(c).value();
+  sample_block b(5000);
+  dwell_averager avg(c.sched.n_avg);
+  std::vector<dwell_row> rows;
+  while (sim.fill(b) > 0) avg.add(b, rows);
+  return rows;
+}
+
+TEST(Simulator, EarthAndGTermsFlipBiasDoesNot) {
+  auto c = noiseless(30.0);
+  c.sensor.warmup_amplitude_dps = 0.3;  // a moving bias, which must not flip
+  const auto rows = dwells(c);
+  ASSERT_GE(rows.size(), 30U);
+  const double dn = 0.39522;
+  for (std::size_t i = 0; i + 1 < rows.size(); i += 2) {
+    EXPECT_EQ(rows[i].angle_deg, 0.0);
+    EXPECT_EQ(rows[i + 1].angle_deg, 180.0);
+    EXPECT_NEAR(rows[i].g_term_dps + rows[i].earth_dps, dn, 1e-5);
+    EXPECT_NEAR(rows[i + 1].g_term_dps, -rows[i].g_term_dps, 1e-12);
+    EXPECT_NEAR(rows[i + 1].earth_dps, -rows[i].earth_dps, 1e-12);
+    EXPECT_GT(rows[i].bias_dps, 0.25);
+    EXPECT_GT(rows[i + 1].bias_dps, 0.25);  // same sign at both positions
+    EXPECT_NEAR(rows[i + 1].bias_dps, rows[i].bias_dps, 0.01);
+  }
+}
+
+TEST(Simulator, FlipHalfDifferenceRecoversDeltaNAndHalfSumTheBias) {
+  const auto rows = dwells(noiseless(20.0));
+  const double sf_err = 0.0;  // preset is nominal
+  for (std::size_t i = 0; i + 1 < rows.size(); i += 2) {
+    const double r = (rows[i].rate_dps - rows[i + 1].rate_dps) / 2.0;
+    const double c = (rows[i].rate_dps + rows[i + 1].rate_dps) / 2.0;
+    // Cross-axis (2 %) sees no table rate while dwelling; ADC LSB = 2.4e-5 deg/s.
+    EXPECT_NEAR(r, 0.39522 * (1.0 + sf_err), 2e-5);
+    EXPECT_NEAR(c, 0.25, 2e-5);
+  }
+}
+
+TEST(Simulator, RateTableInputReversesAndTemperatureMovesG) {
+  auto c = noiseless(10.0);
+  c.rate = profile::constant(10.0);
+  c.sensor = sensor::find_builtin("hz1-90-100a")->params;
+  c.sensor.arw_dps_rthz = c.sensor.bias_instability_dps = c.sensor.rrw_dps_per_rts = 0.0;
+  c.sensor.turn_on_bias_sigma_dps = c.sensor.warmup_amplitude_dps = 0.0;
+  c.temperature = profile::constant(4.0);
+  const auto rows = dwells(c);
+  ASSERT_GE(rows.size(), 4U);
+  EXPECT_EQ(rows[0].input_dps, 10.0);
+  EXPECT_EQ(rows[1].input_dps, -10.0);
+  EXPECT_NEAR(rows[0].g_term_dps + rows[0].earth_dps, 0.00381, 2e-5);  // paper Tab. 3, ~4 C
+}
+
+TEST(Simulator, RawBlocksMarkTurnsAndDwells) {
+  auto c = noiseless(2.0);
+  auto sim = simulator::make(c).value();
+  sample_block b(1000);
+  ASSERT_EQ(sim.fill(b), 1000U);
+  EXPECT_EQ(b.dwell[0], 0);
+  EXPECT_EQ(b.dwell[255], 0);
+  EXPECT_EQ(b.dwell[256], -1);
+  EXPECT_TRUE(std::isnan(b.angle_deg[300]));     // turning
+  EXPECT_EQ(b.angle_deg[256 + 151 + 5], 180.0);  // settling: at the new position
+  EXPECT_EQ(b.dwell[448], 1);
+  EXPECT_NEAR(b.time_s[0], 0.5 * sim.conversion_time_s(), 1e-15);
+  EXPECT_EQ(sim.total_samples(), static_cast<std::uint64_t>(2.0 / sim.conversion_time_s()));
+}
+
+}  // namespace
+}  // namespace gyroflip::rig
