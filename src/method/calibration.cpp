@@ -8,38 +8,22 @@
 
 #include <fmt/format.h>
 
+#include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
 
 namespace gyroflip::method {
-namespace {
-
-// Overlapping Allan variance at averaging factor m of a rate-like series y (NIST SP1065
-// eqn 11, written on the phase x_k = sum_{i<k} (y_i - mean)). Long double keeps the phase
-// sums exact enough for the series lengths seen here (cycles, not raw samples).
-double oavar(std::span<const double> y, double mean, std::size_t m) {
-  const std::size_t n = y.size();
-  std::vector<long double> x(n + 1, 0.0L);
-  for (std::size_t i = 0; i < n; ++i) x[i + 1] = x[i] + static_cast<long double>(y[i] - mean);
-  long double sum = 0.0L;
-  const std::size_t terms = n + 1 - 2 * m;
-  for (std::size_t i = 0; i < terms; ++i) {
-    const long double d = x[i + 2 * m] - 2.0L * x[i + m] + x[i];
-    sum += d * d;
-  }
-  const auto mm = static_cast<long double>(m);
-  return static_cast<double>(sum / (2.0L * mm * mm * static_cast<long double>(terms)));
-}
-
-}  // namespace
 
 correlated_error correlated_stderr(std::span<const double> y, double naive_stderr) {
   constexpr std::size_t min_series = 16;  // m* = n/8 >= 2 cycles
   const std::size_t n = y.size();
   if (n < min_series) return {naive_stderr, 0, false};
   const std::size_t m = n / 8;
-  const double mean = analysis::mean_and_std(y).mean;
-  const double var_mean = oavar(y, mean, m) * static_cast<double>(m) / static_cast<double>(n);
+  // Overlapping Allan variance of the cycle series at m* (NIST SP1065 eqn 11), unit spacing.
+  const double adev =
+      analysis::deviation_at(analysis::dev_kind::oadev, analysis::phase_from_rate(y, 1.0), 1.0, m)
+          .dev;
+  const double var_mean = adev * adev * static_cast<double>(m) / static_cast<double>(n);
   return {std::sqrt(std::max(naive_stderr * naive_stderr, var_mean)), m, true};
 }
 

@@ -1,48 +1,10 @@
 #include "support/synth.hpp"
 
 #include <cmath>
-#include <numbers>
 
 #include <fmt/format.h>
 
 namespace gyroflip::test {
-
-normal_source::normal_source(std::uint64_t seed) {
-  // splitmix64 seeding of a xoshiro256** state.
-  for (auto& s : state_) {
-    seed += 0x9E3779B97F4A7C15ull;
-    std::uint64_t z = seed;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    s = z ^ (z >> 31);
-  }
-}
-
-std::uint64_t normal_source::next() {
-  const auto rotl = [](std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); };
-  const std::uint64_t result = rotl(state_[1] * 5, 7) * 9;
-  const std::uint64_t t = state_[1] << 17;
-  state_[2] ^= state_[0];
-  state_[3] ^= state_[1];
-  state_[1] ^= state_[2];
-  state_[0] ^= state_[3];
-  state_[2] ^= t;
-  state_[3] = rotl(state_[3], 45);
-  return result;
-}
-
-double normal_source::operator()() {
-  if (has_spare_) {
-    has_spare_ = false;
-    return spare_;
-  }
-  const double u1 = (static_cast<double>(next() >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
-  const double u2 = static_cast<double>(next() >> 11) * 0x1.0p-53;
-  const double r = std::sqrt(-2.0 * std::log(u1));
-  spare_ = r * std::sin(2.0 * std::numbers::pi * u2);
-  has_spare_ = true;
-  return r * std::cos(2.0 * std::numbers::pi * u2);
-}
 
 std::vector<method::row> synth_rows(const synth_spec& s) {
   normal_source noise(s.seed);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gyroflip/method/types.hpp"
+#include "gyroflip/sensor/random.hpp"
 
 namespace gyroflip::test {
 
@@ -33,18 +34,15 @@ std::vector<method::row> synth_rows(const synth_spec& s);
 /// CSV text of rows (columns time_s,angle_deg,rate_dps[,temp_c],n_avg; `# ` metadata first).
 std::string to_csv(const std::vector<method::row>& rows, bool with_temp);
 
-/// A deterministic N(0,1) source (mt19937_64 + Box-Muller: same numbers on every platform,
-/// unlike std::normal_distribution).
+/// A deterministic N(0,1) source: the simulator's generator on its first free stream
+/// (sensor/random.hpp; never std::normal_distribution, which differs between platforms).
 class normal_source {
  public:
-  explicit normal_source(std::uint64_t seed);
-  double operator()();
+  explicit normal_source(std::uint64_t seed) : s_(seed, sensor::stream::user) {}
+  double operator()() { return s_.next(); }
 
  private:
-  std::uint64_t state_[4];
-  double spare_ = 0.0;
-  bool has_spare_ = false;
-  std::uint64_t next();
+  sensor::normal_stream s_;
 };
 
 }  // namespace gyroflip::test
