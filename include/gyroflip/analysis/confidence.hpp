@@ -1,0 +1,42 @@
+/// \file
+/// \brief Confidence intervals of Allan-family deviations: power-law noise identification,
+/// equivalent degrees of freedom (EDF) and chi-squared bounds (NIST SP1065 sections 5.2-5.6).
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "gyroflip/analysis/allan.hpp"
+
+namespace gyroflip::analysis {
+
+/// Quantile of the chi-squared distribution with `dof` > 0 degrees of freedom at probability
+/// `p` in (0, 1): inverse of the regularised lower incomplete gamma P(dof/2, x/2), by Newton
+/// steps safeguarded by bisection (relative accuracy ~1e-12).
+[[nodiscard]] double chi2_quantile(double p, double dof);
+
+/// Power-law noise exponent alpha (S_y ~ f^alpha: 2 WPM, 1 FPM, 0 WFM, -1 FFM, -2 RWFM; for a
+/// gyro 0 is angle random walk, -1 bias instability, -2 rate random walk) at averaging factor m,
+/// by the lag-1 autocorrelation method (Riley & Greenhall 2004; SP1065 section 5.6): the phase
+/// decimated by m is differenced d times until rho = r1/(1 + r1) < 0.25 (d <= 2), then
+/// alpha = 2 - round(2 rho) - 2 d, clamped to [-2, 2]. Returns nullopt when fewer than 30
+/// decimated points remain (too few to tell).
+[[nodiscard]] std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m);
+
+/// EDF of statistic `k` at averaging factor m for N phase points and noise `alpha`:
+/// Greenhall & Riley's algorithm ("Uncertainty of stability variances based on finite
+/// differences", 2003) for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV, with its basic sum evaluated
+/// directly (no table shortcut) up to 200 000 terms; the SP1065 Table 11 fit
+/// b (T/tau) - c for TOTDEV with FM noise, and the OADEV EDF for TOTDEV with PM noise.
+[[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
+
+/// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau (the
+/// nearest identified alpha when a tau has too few points), bounds at confidence `level`
+/// (two-sided; 0.683 = 1 sigma) from SP1065 eqn 45:
+/// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
+/// level)/2, edf)).
+void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
+                    double level);
+
+}  // namespace gyroflip::analysis

@@ -1,0 +1,234 @@
+/// \file
+/// \brief Noise identification, EDF and chi-squared confidence bounds (see confidence.hpp).
+#include "gyroflip/analysis/confidence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace gyroflip::analysis {
+namespace {
+
+// Regularised lower incomplete gamma P(a, x): series for x < a + 1, else the continued
+// fraction for Q = 1 - P (modified Lentz).
+double gamma_p(double a, double x) {
+  if (x <= 0.0) return 0.0;
+  const double log_prefix = a * std::log(x) - x - std::lgamma(a);
+  if (x < a + 1.0) {
+    double term = 1.0 / a;
+    double sum = term;
+    for (int n = 1; n < 100000; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::abs(term) < std::abs(sum) * 1e-16) break;
+    }
+    return sum * std::exp(log_prefix);
+  }
+  constexpr double tiny = 1e-300;
+  double b = x + 1.0 - a;
+  double c = 1.0 / tiny;
+  double d = 1.0 / b;
+  double h = d;
+  for (int i = 1; i < 100000; ++i) {
+    const double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1.0 / d;
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1.0) < 1e-16) break;
+  }
+  return 1.0 - std::exp(log_prefix) * h;
+}
+
+// Greenhall's sw(t, alpha) (generalised autocovariance of the phase for noise alpha).
+double sw(double t, int alpha) {
+  const double at = std::abs(t);
+  const double lg = at > 0.0 ? std::log(at) : 0.0;
+  switch (alpha) {
+    case 2:
+      return -at;
+    case 1:
+      return t * t * lg;
+    case 0:
+      return at * at * at;
+    case -1:
+      return -(t * t) * (t * t) * lg;
+    case -2:
+      return -std::pow(at, 5.0);
+    case -3:
+      return std::pow(at, 6.0) * lg;
+    default:
+      return std::pow(at, 7.0);
+  }
+}
+
+// sx: the filter of averaging over tau/F (F = 0 means F = infinity, the continuous limit).
+double sx(double t, double f, int alpha) {
+  if (f == 0.0) return sw(t, alpha + 2);
+  return f * f * (2.0 * sw(t, alpha) - sw(t - 1.0 / f, alpha) - sw(t + 1.0 / f, alpha));
+}
+
+// sz: d-th difference of sx.
+double sz(double t, double f, int alpha, int d) {
+  const auto s = [&](double u) { return sx(u, f, alpha); };
+  switch (d) {
+    case 1:
+      return 2.0 * s(t) - s(t - 1) - s(t + 1);
+    case 2:
+      return 6.0 * s(t) - 4.0 * (s(t - 1) + s(t + 1)) + s(t - 2) + s(t + 2);
+    default:
+      return 20.0 * s(t) - 15.0 * (s(t - 1) + s(t + 1)) + 6.0 * (s(t - 2) + s(t + 2)) -
+             (s(t - 3) + s(t + 3));
+  }
+}
+
+// Greenhall's basic sum: sz(0)^2 + (1 - J/M) sz(J/S)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2.
+double basic_sum(double jj, double mm, double s, double f, int alpha, int d) {
+  const double z0 = sz(0.0, f, alpha, d);
+  double sum = z0 * z0;
+  const double zj = sz(jj / s, f, alpha, d);
+  sum += (1.0 - jj / mm) * zj * zj;
+  for (double j = 1.0; j < jj; j += 1.0) {
+    const double z = sz(j / s, f, alpha, d);
+    sum += 2.0 * (1.0 - j / mm) * z * z;
+  }
+  return sum;
+}
+
+constexpr double max_terms = 200000.0;  // beyond: Greenhall's m' approximation
+
+double edf_greenhall(int alpha, int d, std::size_t m_int, std::size_t n_phase, bool overlapping,
+                     bool modified) {
+  const auto m = static_cast<double>(m_int);
+  const auto n = static_cast<double>(n_phase);
+  // Unmodified variances of FM noise use the continuous limit once the filter gets long.
+  double f = modified ? 1.0 : m;
+  if (!modified && alpha <= 0 && m * (d + 1) > max_terms) f = 0.0;
+  const double s = overlapping ? m : 1.0;
+  const double l = (modified ? m : 1.0) + m * d;  // phase samples one term spans
+  const double big_m = 1.0 + std::floor(s * (n - l) / m);
+  if (big_m < 1.0) return 0.0;
+  const double j = std::min(big_m, (d + 1) * s);
+  const double z0 = sz(0.0, f == 0.0 ? 0.0 : f, alpha, d);
+  if (j <= max_terms) return 1.0 / (basic_sum(j, big_m, s, f, alpha, d) / (z0 * z0 * big_m));
+  const double r = big_m / s;
+  const double m_prime = max_terms / r;
+  return 1.0 / (basic_sum(max_terms, max_terms, m_prime, f, alpha, d) / (z0 * z0 * max_terms));
+}
+
+}  // namespace
+
+double chi2_quantile(double p, double dof) {
+  const double a = 0.5 * dof;
+  // Wilson-Hilferty start, then Newton on P(a, x/2) = p, kept inside a bracket.
+  const double z = std::sqrt(2.0) * [p] {
+    // inverse erf via a rational start + Newton on erf
+    double x = 0.0;
+    const double q = 2.0 * p - 1.0;
+    for (int i = 0; i < 60; ++i) {
+      const double e = std::erf(x) - q;
+      x -= e / (2.0 / std::sqrt(3.141592653589793) * std::exp(-x * x));
+      if (std::abs(e) < 1e-16) break;
+    }
+    return x;
+  }();
+  const double c = 2.0 / (9.0 * dof);
+  double x = std::max(1e-300, dof * std::pow(1.0 - c + z * std::sqrt(c), 3.0));
+  double lo = 0.0;
+  double hi = std::max(4.0 * dof, 100.0);
+  while (gamma_p(a, hi / 2.0) < p) hi *= 2.0;
+  for (int i = 0; i < 200; ++i) {
+    const double g = gamma_p(a, x / 2.0) - p;
+    if (g < 0.0)
+      lo = x;
+    else
+      hi = x;
+    // density of chi2 at x
+    const double logpdf = (a - 1.0) * std::log(x / 2.0) - x / 2.0 - std::lgamma(a) - std::log(2.0);
+    double next = x - g / std::exp(logpdf);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - x) <= 1e-13 * x) return next;
+    x = next;
+  }
+  return x;
+}
+
+std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m) {
+  std::vector<double> z;
+  for (std::size_t i = 0; i < phase.size(); i += m) z.push_back(phase[i]);
+  constexpr std::size_t min_points = 30;
+  for (int d = 0;; ++d) {
+    if (z.size() < min_points) return std::nullopt;
+    double mean = 0.0;
+    for (double v : z) mean += v;
+    mean /= static_cast<double>(z.size());
+    double num = 0.0;
+    double den = 0.0;
+    for (std::size_t i = 0; i < z.size(); ++i) {
+      den += (z[i] - mean) * (z[i] - mean);
+      if (i + 1 < z.size()) num += (z[i] - mean) * (z[i + 1] - mean);
+    }
+    const double r1 = den > 0.0 ? num / den : 0.0;
+    const double rho = r1 / (1.0 + r1);
+    if (rho < 0.25 || d >= 2) {
+      const int alpha = 2 - static_cast<int>(std::lround(2.0 * rho)) - 2 * d;
+      return std::clamp(alpha, -2, 2);
+    }
+    for (std::size_t i = 0; i + 1 < z.size(); ++i) z[i] = z[i + 1] - z[i];
+    z.pop_back();
+  }
+}
+
+double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
+  switch (k) {
+    case dev_kind::adev:
+      return edf_greenhall(alpha, 2, m, n_phase, false, false);
+    case dev_kind::oadev:
+      return edf_greenhall(alpha, 2, m, n_phase, true, false);
+    case dev_kind::mdev:
+    case dev_kind::tdev:
+      return edf_greenhall(alpha, 2, m, n_phase, true, true);
+    case dev_kind::hdev:
+      return edf_greenhall(alpha, 3, m, n_phase, false, false);
+    case dev_kind::ohdev:
+      return edf_greenhall(alpha, 3, m, n_phase, true, false);
+    case dev_kind::totdev: {
+      // SP1065 Table 11: edf = b (T/tau) - c, T = record length, for WFM, FFM, RWFM.
+      const double t_over_tau = static_cast<double>(n_phase - 1) / static_cast<double>(m);
+      if (alpha == 0) return 1.500 * t_over_tau;
+      if (alpha == -1) return 1.168 * t_over_tau - 0.222;
+      if (alpha <= -2) return 0.927 * t_over_tau - 0.358;
+      return edf_greenhall(alpha, 2, m, n_phase, true, false);
+    }
+  }
+  return 0.0;
+}
+
+void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
+                    double level) {
+  std::vector<std::optional<int>> ids;
+  for (const auto& p : points) ids.push_back(noise_alpha_lag1(phase, p.m));
+  std::optional<int> last;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (ids[i]) last = ids[i];
+    // Too few points at this tau: carry the identification of the nearest shorter tau.
+    const int alpha = ids[i] ? *ids[i] : last.value_or(0);
+    auto& p = points[i];
+    p.alpha = alpha;
+    p.edf = edf(k, alpha, p.m, phase.size());
+    if (!(p.edf > 0.0)) {
+      p.ci_lo = p.ci_hi = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    const double p_lo = 0.5 * (1.0 - level);
+    p.ci_lo = p.dev * std::sqrt(p.edf / chi2_quantile(1.0 - p_lo, p.edf));
+    p.ci_hi = p.dev * std::sqrt(p.edf / chi2_quantile(p_lo, p.edf));
+  }
+}
+
+}  // namespace gyroflip::analysis
