@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.hpp"
+#include "cmd_adev.hpp"
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
 
@@ -120,6 +121,40 @@ void setup_compensate(CLI::App& app, action& chosen) {
   });
 }
 
+void add_series_options(CLI::App* sub, series_input& in) {
+  sub->add_option("file", in.file,
+                  "CSV recording (column by name), NumPy .npy, or raw float64 (.f64/.bin/.raw)")
+      ->required();
+  sub->add_option("--column", in.column, "CSV column to analyse")->capture_default_str();
+  sub->add_option("--rate", in.rate_hz, "sample rate (Hz); default: from the CSV time_s column");
+  sub->add_option("--input", in.input, "what the samples are: rate (deg/s) or angle (deg)")
+      ->check(CLI::IsMember({"rate", "angle"}))
+      ->capture_default_str();
+}
+
+void setup_adev(CLI::App& app, action& chosen) {
+  auto* sub =
+      app.add_subcommand("adev", "Allan-family deviation with confidence intervals (NIST SP1065)");
+  auto o = bind<adev_options>(sub, chosen, run_adev);
+  add_series_options(sub, o->in);
+  sub->add_option("--kind", o->kind, "adev|oadev|mdev|tdev|hdev|ohdev|totdev")
+      ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"}))
+      ->capture_default_str();
+  sub->add_option("--taus", o->taus, "octave|decade|all or averaging factors like 1,2,10")
+      ->capture_default_str();
+  sub->add_option("--ci", o->ci, "two-sided confidence level of the bounds")->capture_default_str();
+  sub->add_flag("--json", o->json, "print one JSON object");
+  sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
+}
+
+void setup_noise(CLI::App& app, action& chosen) {
+  auto* sub =
+      app.add_subcommand("noise", "IEEE 952 noise terms (Q, N, B, K, R) from the Allan deviation");
+  auto o = bind<noise_options>(sub, chosen, run_noise);
+  add_series_options(sub, o->in);
+  sub->add_flag("--json", o->json, "print one JSON object");
+}
+
 }  // namespace
 
 int run_cli(int argc, char** argv) {
@@ -133,6 +168,8 @@ int run_cli(int argc, char** argv) {
   setup_sensors(app, chosen);
   setup_calibrate(app, chosen);
   setup_compensate(app, chosen);
+  setup_adev(app, chosen);
+  setup_noise(app, chosen);
   // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for
   // subcommands that way.
   if (argc > 1 && argv[1][0] != '-') {

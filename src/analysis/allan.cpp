@@ -273,20 +273,20 @@ raw_deviation deviation_at(dev_kind k, std::span<const double> x, double tau0_s,
   return {};
 }
 
-result<std::vector<deviation_point>> deviation(dev_kind k, std::span<const double> data,
-                                               input_kind in, double tau0_s, const tau_spec& taus) {
+result<std::vector<deviation_point>> deviation_of_phase(
+    dev_kind k, std::span<const double> x, double tau0_s, const tau_spec& taus,
+    const std::function<void(std::size_t, std::size_t)>& on_tau) {
   if (!(tau0_s > 0.0) || !std::isfinite(tau0_s))
     return usage_error(fmt::format("sample interval {} s must be positive and finite", tau0_s));
-  for (double v : data)
-    if (!std::isfinite(v)) return usage_error("data contain a non-finite value");
-  const std::vector<double> phase =
-      in == input_kind::rate ? phase_from_rate(data, tau0_s) : std::vector<double>{};
-  const std::span<const double> x = in == input_kind::rate ? std::span<const double>(phase) : data;
   if (x.size() < 3)
-    return runtime_error(fmt::format("{} samples are too few for an Allan deviation", data.size()));
+    return runtime_error(
+        fmt::format("{} phase points are too few for an Allan deviation", x.size()));
+  const auto factors = averaging_factors(taus, k, x.size());
   std::vector<deviation_point> out;
-  for (std::size_t m : averaging_factors(taus, k, x.size())) {
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    const std::size_t m = factors[i];
     const auto r = deviation_at(k, x, tau0_s, m);
+    if (on_tau) on_tau(i + 1, factors.size());
     if (r.n == 0) continue;
     deviation_point p;
     p.m = m;
@@ -298,6 +298,16 @@ result<std::vector<deviation_point>> deviation(dev_kind k, std::span<const doubl
   if (out.empty())
     return runtime_error("no averaging time fits the data (series too short for the taus asked)");
   return out;
+}
+
+result<std::vector<deviation_point>> deviation(dev_kind k, std::span<const double> data,
+                                               input_kind in, double tau0_s, const tau_spec& taus) {
+  if (!(tau0_s > 0.0) || !std::isfinite(tau0_s))
+    return usage_error(fmt::format("sample interval {} s must be positive and finite", tau0_s));
+  for (double v : data)
+    if (!std::isfinite(v)) return usage_error("data contain a non-finite value");
+  if (in == input_kind::angle) return deviation_of_phase(k, data, tau0_s, taus);
+  return deviation_of_phase(k, phase_from_rate(data, tau0_s), tau0_s, taus);
 }
 
 result<std::vector<deviation_point>> oadev(std::span<const double> data, input_kind in,

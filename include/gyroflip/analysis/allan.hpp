@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -89,6 +90,12 @@ struct raw_deviation {
                                                              std::span<const double> data,
                                                              input_kind in, double tau0_s,
                                                              const tau_spec& taus);
+
+/// As `deviation`, on a phase series already built (deg; from phase_from_rate for rate data).
+/// `on_tau(done, total)` is called after each averaging time (progress display); may be empty.
+[[nodiscard]] result<std::vector<deviation_point>> deviation_of_phase(
+    dev_kind k, std::span<const double> phase, double tau0_s, const tau_spec& taus,
+    const std::function<void(std::size_t, std::size_t)>& on_tau = {});
 
 /// allantools-style shorthands (octave taus unless given).
 [[nodiscard]] result<std::vector<deviation_point>> oadev(std::span<const double> data,

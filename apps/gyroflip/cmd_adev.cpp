@@ -1,0 +1,93 @@
+/// \file
+/// \brief `gyroflip adev`: an Allan-family deviation curve with confidence intervals.
+#include "cmd_adev.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/series.hpp"
+
+namespace gyroflip::app {
+namespace {
+
+std::string csv_text(const std::vector<analysis::deviation_point>& pts) {
+  std::string s = "tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n";
+  for (const auto& p : pts)
+    s += fmt::format("{},{},{},{},{},{},{}\n", p.tau_s, p.dev, p.ci_lo, p.ci_hi, p.edf, p.n,
+                     p.alpha);
+  return s;
+}
+
+std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
+                      const std::vector<analysis::deviation_point>& pts) {
+  using nlohmann::json;
+  json points = json::array();
+  for (const auto& p : pts)
+    points.push_back({{"tau_s", p.tau_s},
+                      {"m", p.m},
+                      {"dev", p.dev},
+                      {"ci_lo", p.ci_lo},
+                      {"ci_hi", p.ci_hi},
+                      {"edf", p.edf},
+                      {"n", p.n},
+                      {"alpha", p.alpha}});
+  return json{
+      {"kind", o.kind},     {"input", o.in.input}, {"file", o.in.file},          {"tau0_s", tau0_s},
+      {"samples", samples}, {"ci", o.ci},          {"points", std::move(points)}}
+      .dump();
+}
+
+}  // namespace
+
+result<analysis_input> load_series(const series_input& in) {
+  io::series_options so;
+  so.column = in.column;
+  if (!std::isnan(in.rate_hz)) so.sample_rate_hz = in.rate_hz;
+  auto s = io::read_series(in.file, so);
+  if (!s) return s.err();
+  analysis_input a;
+  a.tau0_s = s->tau0_s();
+  a.samples = s->values().size();
+  a.phase = in.input == "angle" ? std::vector<double>(s->values().begin(), s->values().end())
+                                : analysis::phase_from_rate(s->values(), s->tau0_s());
+  return a;
+}
+
+int run_adev(const adev_options& o) {
+  const auto kind = analysis::parse_dev_kind(o.kind);
+  if (!kind)
+    return report(
+        usage_error("--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev"));
+  const auto taus = analysis::parse_tau_spec(o.taus);
+  if (!taus) return report(taus.err());
+  if (!(o.ci > 0.0 && o.ci < 1.0))
+    return report(usage_error("--ci must be a probability in (0, 1), e.g. 0.683"));
+  auto in = load_series(o.in);
+  if (!in) return report(in.err());
+  progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1);
+  auto pts = analysis::deviation_of_phase(*kind, in->phase, in->tau0_s, *taus,
+                                          [&bar](std::size_t done, std::size_t total) {
+                                            bar.update(done == total ? std::uint64_t{1} : 0);
+                                          });
+  bar.finish();
+  if (!pts) return report(pts.err());
+  analysis::add_confidence(*pts, *kind, in->phase, o.ci);
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, csv_text(*pts)); !s) return report(s.err());
+  if (o.json) {
+    fmt::print("{}\n", json_text(o, in->tau0_s, in->samples, *pts));
+  } else if (o.output.empty()) {
+    fmt::print("{}", csv_text(*pts));
+  }
+  return 0;
+}
+
+}  // namespace gyroflip::app

@@ -1,0 +1,92 @@
+/// \file
+/// \brief `gyroflip noise`: IEEE 952 noise terms (Q, N, B, K, R) with intervals and units.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cmd_adev.hpp"
+#include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/core/progress.hpp"
+
+namespace gyroflip::app {
+namespace {
+
+using nlohmann::json;
+
+// Puts `key` (value in base units times `to_unit`) and, when resolved, key_lo/key_hi; an
+// unresolved term is null with key_upper (its 1-sigma upper limit).
+void put(json& j, const std::string& key, const analysis::noise_term& t, double to_unit) {
+  if (t.resolved) {
+    j[key] = t.value * to_unit;
+    j[key + "_lo"] = t.lo * to_unit;
+    j[key + "_hi"] = t.hi * to_unit;
+  } else {
+    j[key] = nullptr;
+    j[key + "_upper"] = t.hi * to_unit;
+  }
+}
+
+std::string show(const analysis::noise_term& t, double to_unit) {
+  if (!t.resolved) return fmt::format("not resolved (< {:.4g})", t.hi * to_unit);
+  return fmt::format("{:.4g}  [{:.4g}, {:.4g}]", t.value * to_unit, t.lo * to_unit, t.hi * to_unit);
+}
+
+}  // namespace
+
+int run_noise(const noise_options& o) {
+  auto in = load_series(o.in);
+  if (!in) return report(in.err());
+  progress bar("noise of " + o.in.file, 1);
+  auto pts = analysis::deviation_of_phase(
+      analysis::dev_kind::oadev, in->phase, in->tau0_s, {},
+      [&bar](std::size_t d, std::size_t n) { bar.update(d == n ? 1u : 0u); });
+  bar.finish();
+  if (!pts) return report(pts.err());
+  analysis::add_confidence(*pts, analysis::dev_kind::oadev, in->phase, 0.683);
+  const auto fit = analysis::fit_noise_terms(*pts);
+  if (!fit) return report(fit.err());
+  const auto& f = *fit;
+  if (o.json) {
+    json j = {{"file", o.in.file},
+              {"input", o.in.input},
+              {"tau0_s", in->tau0_s},
+              {"samples", in->samples},
+              {"bias_floor_tau_s", f.bias_floor_tau_s},
+              {"bias_floor_dps", f.bias_floor_dev},
+              {"chi2_per_dof", f.chi2_per_dof},
+              {"notes", f.notes}};
+    put(j, "arw_dps_rthz", f.arw, 1.0);
+    put(j, "arw_deg_rth", f.arw, 60.0);  // deg/sqrt(s) -> deg/sqrt(h)
+    put(j, "bias_instability_dps", f.bias_instability, 1.0);
+    put(j, "bias_instability_deg_h", f.bias_instability, 3600.0);
+    put(j, "rrw_deg_h_rth", f.rrw, 3600.0 * 60.0);  // deg/s/sqrt(s) -> deg/h/sqrt(h)
+    put(j, "quantization_deg", f.quantization, 1.0);
+    put(j, "rate_ramp_deg_h2", f.rate_ramp, 3600.0 * 3600.0);  // deg/s^2 -> deg/h^2
+    json points = json::array();
+    for (const auto& p : *pts)
+      points.push_back({{"tau_s", p.tau_s},
+                        {"dev", p.dev},
+                        {"ci_lo", p.ci_lo},
+                        {"ci_hi", p.ci_hi},
+                        {"edf", p.edf}});
+    j["oadev"] = std::move(points);
+    fmt::print("{}\n", j.dump());
+    return 0;
+  }
+  fmt::print("{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV (1-sigma intervals)\n",
+             o.in.file, in->samples, 1.0 / in->tau0_s);
+  fmt::print("  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz)\n", show(f.arw, 60.0),
+             show(f.arw, 1.0));
+  fmt::print("  bias instability  B    {} deg/h   (OADEV floor {:.4g} deg/s at tau {:g} s)\n",
+             show(f.bias_instability, 3600.0), f.bias_floor_dev, f.bias_floor_tau_s);
+  fmt::print("  rate random walk  K    {} deg/h/sqrt(h)\n", show(f.rrw, 216000.0));
+  fmt::print("  quantization      Q    {} deg\n", show(f.quantization, 1.0));
+  fmt::print("  rate ramp         R    {} deg/h^2\n", show(f.rate_ramp, 3600.0 * 3600.0));
+  fmt::print("  fit chi2/dof {:.3g}\n", f.chi2_per_dof);
+  return 0;
+}
+
+}  // namespace gyroflip::app

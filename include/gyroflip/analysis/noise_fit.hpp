@@ -1,0 +1,43 @@
+/// \file
+/// \brief IEEE Std 952-1997 Annex C noise terms of a gyro from its Allan variance: quantisation
+/// Q, angle random walk N, bias instability B, rate random walk K, rate ramp R.
+///
+/// Model (FIELD-NOTES 2.5): AVAR(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 +
+/// R^2 tau^2/2, linear in the squared coefficients. Fitted to OADEV points by weighted least
+/// squares with weights edf/(2 AVAR_model^2) (the chi-squared variance of each AVAR estimate),
+/// iterated three times; every subset of the five terms is solved and the best non-negative
+/// one kept, so a term the data cannot support is dropped rather than made negative.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gyroflip/analysis/allan.hpp"
+
+namespace gyroflip::analysis {
+
+/// One fitted term: its coefficient and 1-sigma interval (from the covariance of the squared
+/// coefficient), or unresolved with an upper limit.
+struct noise_term {
+  bool resolved = false;  ///< the squared coefficient exceeds twice its standard error
+  double value = 0.0;     ///< coefficient in the term's base unit (see noise_terms)
+  double lo = 0.0;        ///< 1-sigma interval (resolved terms)
+  double hi = 0.0;        ///< for unresolved terms: 1-sigma upper limit
+};
+
+/// Coefficients in base units: Q deg, N deg/s/sqrt(Hz) (= deg/sqrt(s)), B deg/s,
+/// K deg/s/sqrt(s), R deg/s^2.
+struct noise_terms {
+  noise_term quantization, arw, bias_instability, rrw, rate_ramp;
+  double bias_floor_tau_s = 0.0;   ///< tau of the smallest OADEV point
+  double bias_floor_dev = 0.0;     ///< that smallest OADEV (deg/s)
+  double chi2_per_dof = 0.0;       ///< weighted fit quality
+  std::vector<std::string> notes;  ///< terms not resolved, and why
+};
+
+/// Fits the IEEE 952 terms to OADEV points carrying EDF (add_confidence). Needs >= 3 points.
+[[nodiscard]] result<noise_terms> fit_noise_terms(std::span<const deviation_point> oadev_points);
+
+}  // namespace gyroflip::analysis

@@ -1,0 +1,118 @@
+// IEEE 952 noise terms: synthetic series with known N, B, K (fixed seeds), and the real static
+// ADIS16405 run in ../shared/reference/gyro (skipped when absent; NonCommercial data, not copied).
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/io/series.hpp"
+#include "gyroflip/sensor/error_terms.hpp"
+#include "gyroflip/sensor/random.hpp"
+#include "support/temp_dir.hpp"
+
+namespace gyroflip::analysis {
+namespace {
+
+noise_terms fit_rate(const std::vector<double>& y, double tau0_s) {
+  auto pts = *oadev(y, input_kind::rate, tau0_s);
+  add_confidence(pts, dev_kind::oadev, phase_from_rate(y, tau0_s), 0.683);
+  return *fit_noise_terms(pts);
+}
+
+// Truth within the reported 1-sigma interval widened to 3 sigma (the interval comes from the
+// least-squares covariance, which treats the octave points as independent: optimistic).
+bool within(const noise_term& t, double truth) {
+  const double half = 0.5 * (t.hi - t.lo);
+  return t.resolved && std::abs(t.value - truth) <= 3.0 * half;
+}
+
+TEST(NoiseFit, RecoversWhiteFlickerAndRandomWalk) {
+  // 2^18 samples at 1 Hz (73 h): N = 0.01 deg/sqrt(s), B = 0.001 deg/s (sensor::flicker_bank,
+  // itself within +-10 % of the ideal floor), K = 4e-5 deg/s/sqrt(s). 10 seeds; >= 9 must hold.
+  constexpr double n_true = 0.01, b_true = 0.001, k_true = 4e-5;
+  int ok_n = 0, ok_b = 0, ok_k = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    sensor::normal_stream white(seed, sensor::stream::user);
+    sensor::normal_stream walk(seed, static_cast<sensor::stream>(17));
+    sensor::flicker_bank flicker(b_true, 1.0, 1e5, 1.0,
+                                 sensor::normal_stream(seed, static_cast<sensor::stream>(18)));
+    std::vector<double> y(std::size_t{1} << 18);
+    double w = 0.0;
+    for (auto& v : y) {
+      w += k_true * walk.next();  // K sqrt(h) with h = 1 s
+      v = n_true * white.next() + flicker.step() + w;
+    }
+    const auto f = fit_rate(y, 1.0);
+    ok_n += within(f.arw, n_true) ? 1 : 0;
+    ok_b += within(f.bias_instability, b_true) ? 1 : 0;
+    ok_k += within(f.rrw, k_true) ? 1 : 0;
+  }
+  EXPECT_GE(ok_n, 9);
+  EXPECT_GE(ok_b, 9);
+  EXPECT_GE(ok_k, 9);
+}
+
+TEST(NoiseFit, WhiteNoiseAloneLeavesOtherTermsUnresolved) {
+  sensor::normal_stream white(7, sensor::stream::user);
+  std::vector<double> y(200000);
+  for (auto& v : y) v = 0.05 * white.next();
+  const auto f = fit_rate(y, 0.01);  // 100 Hz: N = 0.05 * sqrt(0.01) = 0.005 deg/sqrt(s)
+  EXPECT_TRUE(within(f.arw, 0.005));
+  EXPECT_FALSE(f.rrw.resolved);
+  EXPECT_FALSE(f.rate_ramp.resolved);
+  EXPECT_GE(f.notes.size(), 2u);
+}
+
+// The real ADIS16405 run: OADEV at octave taus equals the published table of the R package
+// avar (adis_av, ../shared/reference/gyro/README.md) to 1e-5 relative (avar sums one term
+// fewer); noise terms as the issue states them.
+TEST(NoiseFit, Adis16405FromSharedIfPresent) {
+  const std::string xz =
+      std::string(GYROFLIP_SHARED_DIR) + "/reference/gyro/adis16405_imu1_gyro.csv.xz";
+  test::temp_dir d;
+  const std::string csv = d.file("adis.csv");
+  if (std::system(("xz -dc '" + xz + "' > '" + csv + "' 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "../shared/reference/gyro not available";
+  const std::vector<std::size_t> m = {2,    4,    8,    16,   32,    64,    128,   256,    512,
+                                      1024, 2048, 4096, 8192, 16384, 32768, 65536, 131072, 262144};
+  const std::vector<std::vector<double>> published = {
+      {2.574697e-01, 1.927781e-01, 1.395352e-01, 1.000429e-01, 7.115400e-02, 5.106695e-02,
+       3.611840e-02, 2.588821e-02, 1.830377e-02, 1.320574e-02, 1.001929e-02, 8.274232e-03,
+       7.062839e-03, 7.641366e-03, 7.767978e-03, 6.133379e-03, 5.213027e-03, 5.723225e-03},
+      {2.718048e-01, 2.031400e-01, 1.467134e-01, 1.050669e-01, 7.510722e-02, 5.339459e-02,
+       3.809532e-02, 2.703881e-02, 1.982907e-02, 1.496944e-02, 1.154436e-02, 9.192334e-03,
+       8.412387e-03, 8.428860e-03, 9.158808e-03, 1.193476e-02, 1.362211e-02, 2.050517e-02},
+      {3.839717e-01, 1.901936e-01, 1.476251e-01, 9.646808e-02, 6.835891e-02, 4.780929e-02,
+       3.454447e-02, 2.442928e-02, 1.736121e-02, 1.277977e-02, 9.916377e-03, 8.459067e-03,
+       8.091776e-03, 8.715235e-03, 9.252822e-03, 1.329309e-02, 1.846856e-02, 2.081510e-02}};
+  const char* axes[] = {"gx_dps", "gy_dps", "gz_dps"};
+  for (std::size_t a = 0; a < 3; ++a) {
+    SCOPED_TRACE(axes[a]);
+    io::series_options so;
+    so.column = axes[a];
+    const auto s = io::read_series(csv, so);
+    ASSERT_TRUE(s) << s.err().message;
+    ASSERT_EQ(s->values().size(), 1000000u);
+    EXPECT_NEAR(s->tau0_s(), 0.01, 1e-12);
+    const auto x = phase_from_rate(s->values(), s->tau0_s());
+    for (std::size_t i = 0; i < m.size(); ++i)
+      EXPECT_NEAR(deviation_at(dev_kind::oadev, x, 0.01, m[i]).dev / published[a][i], 1.0, 1e-5)
+          << m[i];
+    const auto f = fit_rate(std::vector<double>(s->values().begin(), s->values().end()), 0.01);
+    const double arw_deg_rth = 60.0 * f.arw.value;
+    EXPECT_GE(arw_deg_rth, 2.3);
+    EXPECT_LE(arw_deg_rth, 2.6);
+    EXPECT_NEAR(f.bias_floor_tau_s, 81.92, 1e-9);  // the floor near 80 s
+    if (a == 0) {
+      EXPECT_FALSE(f.rrw.resolved);  // rate random walk is not resolved on X
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gyroflip::analysis
