@@ -1,0 +1,183 @@
+// `gyroflip adev` and `gyroflip noise`: output contract, input formats (CSV, .npy, raw float64),
+// rate vs angle input, and bad input (exit 2, file:line, no output file).
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_cli.hpp"
+#include "support/synth.hpp"
+#include "support/temp_dir.hpp"
+
+namespace gyroflip::test {
+namespace {
+
+using nlohmann::json;
+
+std::string fmt_double(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::vector<double> nbs14_1000() {
+  std::vector<double> y;
+  std::uint64_t n = 1234567890;
+  for (int i = 0; i < 1000; ++i) {
+    y.push_back(static_cast<double>(n) / 2147483647.0);
+    n = (16807 * n) % 2147483647;
+  }
+  return y;
+}
+
+std::string csv_of(const std::vector<double>& y, double dt) {
+  std::string s = "time_s,rate_dps\n";
+  for (std::size_t i = 0; i < y.size(); ++i)
+    s += std::to_string(static_cast<double>(i) * dt) + "," + fmt_double(y[i]) + "\n";
+  return s;
+}
+
+void write_npy(const std::string& path, const std::vector<double>& y,
+               const std::string& descr = "<f8") {
+  std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': (" +
+                       std::to_string(y.size()) + ",), }";
+  while ((10 + header.size() + 1) % 64 != 0) header += ' ';
+  header += '\n';
+  std::ofstream f(path, std::ios::binary);
+  f.write("\x93NUMPY\x01\x00", 8);
+  const auto len = static_cast<std::uint16_t>(header.size());
+  f.put(static_cast<char>(len & 0xFF));
+  f.put(static_cast<char>(len >> 8));
+  f << header;
+  f.write(reinterpret_cast<const char*>(y.data()),
+          static_cast<std::streamsize>(y.size() * sizeof(double)));
+}
+
+TEST(CliAdev, JsonCsvNpyAndRawAgree) {
+  temp_dir d;
+  const auto y = nbs14_1000();
+  write_text(d.file("y.csv"), csv_of(y, 1.0));
+  write_npy(d.file("y.npy"), y);
+  {
+    std::ofstream f(d.file("y.f64"), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(y.data()),
+            static_cast<std::streamsize>(y.size() * sizeof(double)));
+  }
+  const auto j = run_cli({"adev", d.file("y.csv"), "--kind", "oadev", "--json"});
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const auto doc = json::parse(j.out);
+  EXPECT_EQ(doc["kind"], "oadev");
+  EXPECT_EQ(doc["input"], "rate");
+  const auto& pts = doc["points"];
+  ASSERT_EQ(pts.size(), 8u);  // octave up to (N-1)/4 = 250: 1..128
+  for (const auto& p : pts)
+    for (const char* k : {"tau_s", "dev", "ci_lo", "ci_hi", "edf", "n"})
+      EXPECT_TRUE(p.contains(k)) << k;
+  EXPECT_NEAR(pts[0]["dev"].get<double>(), 0.2922319, 1e-6);  // NBS14 1000-point, tau = 1
+  EXPECT_LT(pts[3]["ci_lo"].get<double>(), pts[3]["dev"].get<double>());
+  EXPECT_GT(pts[3]["ci_hi"].get<double>(), pts[3]["dev"].get<double>());
+
+  for (const auto& file : {d.file("y.npy"), d.file("y.f64")}) {
+    const auto b = run_cli({"adev", file, "--rate", "1", "--json"});
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    const auto bp = json::parse(b.out)["points"];
+    ASSERT_EQ(bp.size(), pts.size());
+    for (std::size_t i = 0; i < bp.size(); ++i)
+      EXPECT_NEAR(bp[i]["dev"].get<double>() / pts[i]["dev"].get<double>(), 1.0, 1e-12) << file;
+  }
+
+  const auto o = run_cli(
+      {"adev", d.file("y.csv"), "--kind", "mdev", "--taus", "decade", "-o", d.file("out.csv")});
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  const std::string out = read_text(d.file("out.csv"));
+  EXPECT_EQ(out.substr(0, out.find('\n')), "tau_s,dev,ci_lo,ci_hi,edf,n,alpha");
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'),
+            1 + 8);  // 1, 2, 4, 10, 20, 40, 100, 200 (<= 250)
+}
+
+TEST(CliAdev, RateAndAngleColumnsGiveTheSameCurve) {
+  temp_dir d;
+  const auto y = nbs14_1000();
+  std::string s = "time_s,rate_dps,angle_int_deg\n";
+  double angle = 0.0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    s += std::to_string(i) + "," + fmt_double(y[i]) + "," + fmt_double(angle) + "\n";
+    angle += y[i];
+  }
+  write_text(d.file("both.csv"), s);
+  const auto r = json::parse(run_cli({"adev", d.file("both.csv"), "--json"}).out)["points"];
+  const auto a = run_cli(
+      {"adev", d.file("both.csv"), "--input", "angle", "--column", "angle_int_deg", "--json"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto ap = json::parse(a.out)["points"];
+  // The angle series has one point fewer than the rate series integrated, so compare the
+  // shared taus only; the deviations agree to the 1e-4 of a 999- vs 1000-term sum.
+  for (std::size_t i = 0; i + 1 < std::min(r.size(), ap.size()); ++i)
+    EXPECT_NEAR(ap[i]["dev"].get<double>() / r[i]["dev"].get<double>(), 1.0, 2e-3) << i;
+}
+
+TEST(CliAdev, BadInput) {
+  temp_dir d;
+  write_text(d.file("gap.csv"),
+             "time_s,rate_dps\n0,1\n1,2\n2,3\n7,4\n8,5\n9,6\n10,7\n11,1\n12,2\n");
+  write_text(d.file("nocol.csv"), "time_s,gx\n0,1\n1,2\n2,3\n");
+  write_text(d.file("bad.csv"), "time_s,rate_dps\n0,1\n1,x\n2,3\n");
+  write_npy(d.file("f4.npy"), {1.0, 2.0}, "<f4");
+  struct c {
+    std::vector<std::string> args;
+    std::string expect;
+  };
+  const std::vector<c> cases = {
+      {{"adev", d.file("gap.csv")}, "off the uniform grid"},
+      {{"adev", d.file("nocol.csv")}, "nocol.csv:1: missing required column 'rate_dps'"},
+      {{"adev", d.file("bad.csv")}, "bad.csv:3:3: 'x' is not a number"},
+      {{"adev", d.file("f4.npy"), "--rate", "1"},
+       "f4.npy: .npy dtype must be little-endian float64"},
+      {{"adev", d.file("f4.npy")}, "f4.npy: binary input has no time column: give --rate HZ"},
+      {{"adev", d.file("none.csv")}, "none.csv: No such file"},
+      {{"adev", d.file("bad.csv"), "--taus", "1,zz"}, "--taus '1,zz'"},
+      {{"noise", d.file("nocol.csv")}, "missing required column"},
+  };
+  for (const auto& k : cases) {
+    auto args = k.args;
+    args.insert(args.end(), {"-o", d.file("o.csv")});
+    if (args[0] == "noise") args.resize(args.size() - 2);
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << k.expect;
+    EXPECT_NE(r.err.find(k.expect), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(d.file("o.csv")));
+  }
+  EXPECT_EQ(run_cli({"adev", d.file("gap.csv"), "--kind", "pdev"}).exit_code, 2);
+}
+
+TEST(CliNoise, JsonKeysAndWhiteNoiseArw) {
+  temp_dir d;
+  normal_source n(5);
+  std::vector<double> y(100000);
+  for (auto& v : y) v = 0.05 * n();
+  write_npy(d.file("w.npy"), y);
+  const auto r = run_cli({"noise", d.file("w.npy"), "--rate", "100", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json::parse(r.out);
+  for (const char* k :
+       {"arw_dps_rthz", "arw_deg_rth", "bias_instability_dps", "bias_instability_deg_h",
+        "rrw_deg_h_rth", "quantization_deg", "rate_ramp_deg_h2"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_NEAR(j["arw_dps_rthz"].get<double>() / 0.005, 1.0, 0.03);
+  EXPECT_NEAR(j["arw_deg_rth"].get<double>() / 0.3, 1.0, 0.03);
+  EXPECT_TRUE(j.contains("arw_dps_rthz_lo"));
+  EXPECT_TRUE(j["rrw_deg_h_rth"].is_null());
+  EXPECT_TRUE(j.contains("rrw_deg_h_rth_upper"));
+  const auto text = run_cli({"noise", d.file("w.npy"), "--rate", "100"});
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.out.find("angle random walk"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gyroflip::test
