@@ -20,14 +20,14 @@ namespace gyroflip::analysis {
 /// gyro 0 is angle random walk, -1 bias instability, -2 rate random walk) at averaging factor m,
 /// by the lag-1 autocorrelation method (Riley & Greenhall 2004; SP1065 section 5.6): the phase
 /// decimated by m is differenced d times until rho = r1/(1 + r1) < 0.25 (d <= 2), then
-/// alpha = 2 - round(2 rho) - 2 d, clamped to [-2, 2]. Returns nullopt when fewer than 30
-/// decimated points remain (too few to tell).
+/// alpha = 2 - round(2 rho) - 2 d, clamped to [-2, 2]; at most the first 2^20 decimated points
+/// are used. Returns nullopt when fewer than 30 decimated points remain (too few to tell).
 [[nodiscard]] std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m);
 
 /// EDF of statistic `k` at averaging factor m for N phase points and noise `alpha`:
 /// Greenhall & Riley's algorithm ("Uncertainty of stability variances based on finite
 /// differences", 2003) for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV, with its basic sum evaluated
-/// directly (no table shortcut) up to 200 000 terms; the SP1065 Table 11 fit
+/// directly (no table shortcut) up to 20 000 terms; the SP1065 Table 11 fit
 /// b (T/tau) - c for TOTDEV with FM noise, and the OADEV EDF for TOTDEV with PM noise.
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
