@@ -123,10 +123,12 @@ void setup_compensate(CLI::App& app, action& chosen) {
 
 void add_series_options(CLI::App* sub, series_input& in) {
   sub->add_option("file", in.file,
-                  "CSV recording (column by name), NumPy .npy, or raw float64 (.f64/.bin/.raw)")
+                  "CSV (column by name), NumPy .npy, raw float64 (.f64/.bin/.raw) or HDF5 "
+                  "(FILE.h5:/dataset)")
       ->required();
   sub->add_option("--column", in.column, "CSV column to analyse")->capture_default_str();
   sub->add_option("--rate", in.rate_hz, "sample rate (Hz); default: from the CSV time_s column");
+  sub->add_option("--dataset", in.dataset, "HDF5 dataset path (or write FILE.h5:/path)");
   sub->add_option("--input", in.input, "what the samples are: rate (deg/s) or angle (deg)")
       ->check(CLI::IsMember({"rate", "angle"}))
       ->capture_default_str();

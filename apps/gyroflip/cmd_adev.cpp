@@ -50,6 +50,7 @@ std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
 result<analysis_input> load_series(const series_input& in) {
   io::series_options so;
   so.column = in.column;
+  so.dataset = in.dataset;
   if (!std::isnan(in.rate_hz)) so.sample_rate_hz = in.rate_hz;
   auto s = io::read_series(in.file, so);
   if (!s) return s.err();

@@ -16,6 +16,7 @@ struct series_input {
   std::string column = "rate_dps";
   double rate_hz = std::numeric_limits<double>::quiet_NaN();  // NaN: from time_s
   std::string input = "rate";                                 // rate | angle
+  std::string dataset;                                        // HDF5 dataset path
 };
 
 /// A series ready for analysis: its phase (angle, deg) and sample interval.

@@ -10,6 +10,7 @@
 
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/csv.hpp"
+#include "hdf5_series.hpp"
 
 namespace gyroflip::io {
 namespace {
@@ -72,9 +73,42 @@ result<std::size_t> npy_data_offset(const std::string& path, std::string_view d)
 
 }  // namespace
 
-result<series> read_series(const std::string& path, const series_options& opt) {
+result<series> read_series(const std::string& path_in, const series_options& opt) {
   series s;
-  s.source_ = path;
+  s.source_ = path_in;
+  // HDF5: `FILE.h5:/dataset` or FILE.h5 with `dataset` set in the options.
+  std::string path = path_in;
+  std::string dataset = opt.dataset;
+  for (const char* ext : {".h5:", ".hdf5:", ".hdf:"}) {
+    const auto at = path.find(ext);
+    if (at != std::string::npos) {
+      dataset = path.substr(at + std::string_view(ext).size() - 1 + 1);
+      path = path.substr(0, at + std::string_view(ext).size() - 1);
+    }
+  }
+  if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5")) {
+    if (dataset.empty())
+      return usage_error(
+          fmt::format("{}: name the dataset, as FILE.h5:/path or --dataset /path", path));
+    auto h = detail::read_hdf5_dataset(path, dataset);
+    if (!h) return h.err();
+    const auto rate = opt.sample_rate_hz ? opt.sample_rate_hz : h->sample_rate_hz;
+    if (!rate)
+      return input_error(
+          {path},
+          fmt::format("dataset '{}' has no sample_rate_hz attribute: give --rate HZ", dataset));
+    if (auto c = check_rate(path, rate); !c) return c.err();
+    for (std::size_t i = 0; i < h->values.size(); ++i)
+      if (!std::isfinite(h->values[i]))
+        return input_error({path}, fmt::format("{}[{}] is not finite", dataset, i));
+    if (h->values.size() < 3)
+      return input_error({path},
+                         fmt::format("{}: {} samples are too few", dataset, h->values.size()));
+    s.owned_ = std::move(h->values);
+    s.view_ = s.owned_;
+    s.tau0_s_ = 1.0 / *rate;
+    return s;
+  }
   const bool npy = ends_with(path, ".npy");
   if (npy || ends_with(path, ".f64") || ends_with(path, ".bin") || ends_with(path, ".raw")) {
     if (auto r = check_rate(path, opt.sample_rate_hz); !r) return r.err();
@@ -95,6 +129,7 @@ result<series> read_series(const std::string& path, const series_options& opt) {
     const char* p = f->data().data() + offset;
     if (reinterpret_cast<std::uintptr_t>(p) % alignof(double) != 0)  // NOLINT: checking alignment
       return input_error({path}, "float64 data are not 8-byte aligned in the file");
+    // cppcheck-suppress invalidPointerCast ; mapped little-endian float64, alignment checked above
     s.view_ = std::span<const double>(reinterpret_cast<const double*>(p),
                                       bytes / sizeof(double));  // NOLINT
     s.file_ = std::move(*f);

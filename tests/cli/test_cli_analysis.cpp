@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <nlohmann/json.hpp>
 
@@ -99,6 +100,54 @@ TEST(CliAdev, JsonCsvNpyAndRawAgree) {
   EXPECT_EQ(out.substr(0, out.find('\n')), "tau_s,dev,ci_lo,ci_hi,edf,n,alpha");
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'),
             1 + 8);  // 1, 2, 4, 10, 20, 40, 100, 200 (<= 250)
+}
+
+// An HDF5 file as a user's logger writes it: float32 samples in a group, the rate as an attribute.
+void write_h5(const std::string& path, const std::vector<double>& y) {
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t g = H5Gcreate2(f, "/gyro", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t n = y.size();
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t d =
+      H5Dcreate2(g, "rate_x", H5T_IEEE_F32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, y.data());
+  const hid_t scalar = H5Screate(H5S_SCALAR);
+  const hid_t a =
+      H5Acreate2(d, "sample_rate_hz", H5T_NATIVE_DOUBLE, scalar, H5P_DEFAULT, H5P_DEFAULT);
+  const double hz = 1.0;
+  H5Awrite(a, H5T_NATIVE_DOUBLE, &hz);
+  H5Aclose(a);
+  H5Sclose(scalar);
+  H5Dclose(d);
+  H5Sclose(space);
+  H5Gclose(g);
+  H5Fclose(f);
+}
+
+TEST(CliAdev, Hdf5DatasetInput) {
+  temp_dir d;
+  auto y = nbs14_1000();
+  for (auto& v : y) v = static_cast<double>(static_cast<float>(v));  // what float32 storage keeps
+  write_h5(d.file("log.h5"), y);
+  write_npy(d.file("y.npy"), y);
+  const auto h = run_cli({"adev", d.file("log.h5") + ":/gyro/rate_x", "--json"});
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  const auto hp = json::parse(h.out)["points"];
+  const auto np =
+      json::parse(run_cli({"adev", d.file("y.npy"), "--rate", "1", "--json"}).out)["points"];
+  ASSERT_EQ(hp.size(), np.size());
+  for (std::size_t i = 0; i < hp.size(); ++i) EXPECT_EQ(hp[i]["dev"], np[i]["dev"]);
+  const auto same = run_cli({"adev", d.file("log.h5"), "--dataset", "/gyro/rate_x", "--json"});
+  EXPECT_EQ(same.exit_code, 0) << same.err;
+  const auto missing = run_cli({"adev", d.file("log.h5") + ":/gyro/nope"});
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("log.h5: no dataset '/gyro/nope'"), std::string::npos) << missing.err;
+  const auto noset = run_cli({"adev", d.file("log.h5")});
+  EXPECT_EQ(noset.exit_code, 2);
+  write_text(d.file("fake.h5"), "not hdf5");
+  const auto fake = run_cli({"adev", d.file("fake.h5") + ":/x"});
+  EXPECT_EQ(fake.exit_code, 2);
+  EXPECT_NE(fake.err.find("fake.h5: not an HDF5 file"), std::string::npos) << fake.err;
 }
 
 TEST(CliAdev, RateAndAngleColumnsGiveTheSameCurve) {

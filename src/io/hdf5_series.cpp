@@ -1,0 +1,56 @@
+/// \file
+/// \brief HDF5 1-D dataset reader for `io::read_series` (the HDF5 C API stays in this file).
+#include "hdf5_series.hpp"
+
+#include <hdf5.h>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::io::detail {
+namespace {
+
+// Closes an HDF5 handle on scope exit.
+struct handle {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  handle(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
+  handle(const handle&) = delete;
+  handle& operator=(const handle&) = delete;
+  ~handle() {
+    if (id >= 0) close(id);
+  }
+};
+
+}  // namespace
+
+result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& dataset) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are returned, not printed
+  if (H5Fis_hdf5(file.c_str()) <= 0) return input_error({file}, "not an HDF5 file");
+  const handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (f.id < 0) return io_error(file, "cannot open as HDF5");
+  if (H5Lexists(f.id, dataset.c_str(), H5P_DEFAULT) <= 0)
+    return input_error({file}, fmt::format("no dataset '{}'", dataset));
+  const handle d(H5Dopen2(f.id, dataset.c_str(), H5P_DEFAULT), H5Dclose);
+  if (d.id < 0) return input_error({file}, fmt::format("'{}' is not a dataset", dataset));
+  const handle space(H5Dget_space(d.id), H5Sclose);
+  if (H5Sget_simple_extent_ndims(space.id) != 1)
+    return input_error({file}, fmt::format("dataset '{}' must be 1-D", dataset));
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space.id, &n, nullptr);
+  hdf5_data out;
+  out.values.resize(static_cast<std::size_t>(n));
+  // H5T_NATIVE_DOUBLE converts float32, integers and other byte orders on the fly.
+  if (n > 0 &&
+      H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.values.data()) < 0)
+    return input_error({file}, fmt::format("dataset '{}' cannot be read as numbers", dataset));
+  if (H5Aexists(d.id, "sample_rate_hz") > 0) {
+    const handle a(H5Aopen(d.id, "sample_rate_hz", H5P_DEFAULT), H5Aclose);
+    double hz = 0.0;
+    if (a.id >= 0 && H5Aread(a.id, H5T_NATIVE_DOUBLE, &hz) >= 0) out.sample_rate_hz = hz;
+  }
+  return out;
+}
+
+}  // namespace gyroflip::io::detail
