@@ -73,11 +73,11 @@ int run_adev(const adev_options& o) {
     return report(usage_error("--ci must be a probability in (0, 1), e.g. 0.683"));
   auto in = load_series(o.in);
   if (!in) return report(in.err());
-  progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1);
-  auto pts = analysis::deviation_of_phase(*kind, in->phase, in->tau0_s, *taus,
-                                          [&bar](std::size_t done, std::size_t total) {
-                                            bar.update(done == total ? std::uint64_t{1} : 0);
-                                          });
+  progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1000);
+  auto pts = analysis::deviation_of_phase(
+      *kind, in->phase, in->tau0_s, *taus, [&bar](std::size_t done, std::size_t total) {
+        bar.update(done * 1000 / std::max<std::size_t>(total, 1));
+      });
   bar.finish();
   if (!pts) return report(pts.err());
   analysis::add_confidence(*pts, *kind, in->phase, o.ci);

@@ -24,6 +24,8 @@ namespace {
 
 constexpr std::size_t block_terms = 4096;
 
+using progress_fn = std::function<void(std::size_t, std::size_t)>;
+
 // Sum of f(i)^2 for i in [begin, end), blockwise (see the file comment).
 template <class F>
 long double sum_squares(std::size_t begin, std::size_t end, F f) {
@@ -198,7 +200,7 @@ void parallel_for(std::size_t count, std::size_t threads, F f) {
 // about half a block. Only the largest octaves still stream from memory: ~4x less memory
 // traffic than one pass per factor (1e8, octave). Threads split the index range.
 std::vector<long double> oadev_sums(std::span<const double> x, const std::vector<std::size_t>& ms,
-                                    std::size_t threads) {
+                                    std::size_t threads, const progress_fn& on_tau) {
   const std::size_t big_n = x.size();
   const double* p = x.data();
   constexpr std::size_t block = std::size_t{1} << 15;  // 256 KB of phase
@@ -207,6 +209,9 @@ std::vector<long double> oadev_sums(std::span<const double> x, const std::vector
     const std::size_t lo = big_n * t / threads;
     const std::size_t hi = big_n * (t + 1) / threads;
     for (std::size_t b = lo; b < hi; b += block) {
+      // Thread 0 reports its share done as a fraction of the factors (for a progress line).
+      if (t == 0 && on_tau)
+        on_tau((b - lo) * ms.size() / std::max<std::size_t>(hi - lo, 1), ms.size());
       const std::size_t be = std::min(hi, b + block);
       for (std::size_t k = 0; k < ms.size(); ++k) {
         const std::size_t m = ms[k];
@@ -232,8 +237,9 @@ std::vector<long double> oadev_sums(std::span<const double> x, const std::vector
 // reflection, and their terms are exactly all OADEV terms; only the m - 1 reflected centres at
 // each end are added (totdev_edges).
 std::vector<raw_deviation> fused(dev_kind k, std::span<const double> x, double tau0_s,
-                                 const std::vector<std::size_t>& ms, std::size_t threads) {
-  const auto sums = oadev_sums(x, ms, threads);
+                                 const std::vector<std::size_t>& ms, std::size_t threads,
+                                 const progress_fn& on_tau) {
+  const auto sums = oadev_sums(x, ms, threads, on_tau);
   const std::size_t big_n = x.size();
   std::vector<raw_deviation> out(ms.size());
   parallel_for(ms.size(), threads, [&](std::size_t i) {
@@ -429,7 +435,7 @@ result<std::vector<deviation_point>> deviation_of_phase(
           ? 1
           : std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()), 8);
   if (k == dev_kind::oadev || k == dev_kind::totdev) {
-    const auto raw = fused(k, x, tau0_s, factors, threads);
+    const auto raw = fused(k, x, tau0_s, factors, threads, on_tau);
     if (on_tau) on_tau(factors.size(), factors.size());
     return collect(factors, raw, tau0_s);
   }
@@ -437,9 +443,11 @@ result<std::vector<deviation_point>> deviation_of_phase(
   // Each averaging time is an independent pass over the phase: spread them over the cores
   // (the passes are memory-bound, so two threads on two cores nearly halve the time).
   std::atomic<std::size_t> done{0};
+  const auto caller = std::this_thread::get_id();  // only the caller's thread reports progress
   parallel_for(factors.size(), threads, [&](std::size_t i) {
     raw[i] = deviation_at(k, x, tau0_s, factors[i]);
-    ++done;
+    const std::size_t d = ++done;
+    if (on_tau && std::this_thread::get_id() == caller) on_tau(d, factors.size());
   });
   if (on_tau) on_tau(done.load(), factors.size());
   return collect(factors, raw, tau0_s);

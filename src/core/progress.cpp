@@ -30,7 +30,10 @@ progress::~progress() {
 }
 
 void progress::update(std::uint64_t done) {
-  if (!enabled_ || (++calls_ % check_every != 0 && done < total_)) return;
+  // Read the clock every check_every calls (hot loops) or when 1 % more is done (coarse steps).
+  if (!enabled_) return;
+  if (++calls_ % check_every != 0 && done < total_ && (done - last_done_) * 100 < total_) return;
+  last_done_ = done;
   const auto now = std::chrono::steady_clock::now();
   if (now - last_ < redraw_period && done < total_) return;
   last_ = now;

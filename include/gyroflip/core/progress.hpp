@@ -34,6 +34,7 @@ class progress {
   bool enabled_;
   bool drawn_ = false;
   std::uint32_t calls_ = 0;
+  std::uint64_t last_done_ = 0;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_;
 };
