@@ -57,8 +57,10 @@ result<analysis_input> load_series(const series_input& in) {
   analysis_input a;
   a.tau0_s = s->tau0_s();
   a.samples = s->values().size();
+  // The mapped input is released as the phase is built: one copy resident, not two.
+  const auto release = [&s](std::size_t b, std::size_t e) { s->release(b, e); };
   a.phase = in.input == "angle" ? std::vector<double>(s->values().begin(), s->values().end())
-                                : analysis::phase_from_rate(s->values(), s->tau0_s());
+                                : analysis::phase_from_rate(s->values(), s->tau0_s(), release);
   return a;
 }
 

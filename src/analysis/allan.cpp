@@ -346,31 +346,43 @@ result<tau_spec> parse_tau_spec(std::string_view text) {
   return s;
 }
 
-std::vector<double> phase_from_rate(std::span<const double> rate, double tau0_s) {
+std::vector<double> phase_from_rate(std::span<const double> rate, double tau0_s,
+                                    const std::function<void(std::size_t, std::size_t)>& consumed) {
   // Sums in double within blocks of block_terms samples and carries the block totals in long
   // double: within a block the partial sum of (y - ybar) stays small, so double keeps it to
   // ~1e-16 relative, and the slow x87 arithmetic runs once per block instead of per sample.
+  constexpr std::size_t release_step = std::size_t{1} << 20;  // samples per `consumed` call
+  const std::size_t n = rate.size();
   long double total = 0.0L;
-  for (std::size_t b = 0; b < rate.size(); b += block_terms) {
+  for (std::size_t b = 0; b < n; b += block_terms) {
     double part = 0.0;
-    for (std::size_t i = b; i < std::min(rate.size(), b + block_terms); ++i) part += rate[i];
+    for (std::size_t i = b; i < std::min(n, b + block_terms); ++i) part += rate[i];
     total += part;
+    if (consumed && (b + block_terms) % release_step == 0)
+      consumed(b + block_terms - release_step, b + block_terms);
   }
+  if (consumed) consumed(n / release_step * release_step, n);
   const double mean =
-      static_cast<double>(total / static_cast<long double>(std::max<std::size_t>(rate.size(), 1)));
-  std::vector<double> x(rate.size() + 1, 0.0);  // x_0 = 0
-  long double carry = 0.0L;                     // sum of (y - mean) before the current block
-  for (std::size_t b = 0; b < rate.size(); b += block_terms) {
-    const std::size_t e = std::min(rate.size(), b + block_terms);
+      static_cast<double>(total / static_cast<long double>(std::max<std::size_t>(n, 1)));
+  // Filled by push_back, not zero-filled: pages become resident only as they are written, so
+  // with a caller that releases consumed input the two arrays are never resident together.
+  std::vector<double> x;
+  x.reserve(n + 1);
+  x.push_back(0.0);          // x_0 = 0
+  long double carry = 0.0L;  // sum of (y - mean) before the current block
+  for (std::size_t b = 0; b < n; b += block_terms) {
+    const std::size_t e = std::min(n, b + block_terms);
     const auto base = static_cast<double>(carry);
     const double base_err = static_cast<double>(carry - static_cast<long double>(base));
     double part = 0.0;
     for (std::size_t i = b; i < e; ++i) {
       part += rate[i] - mean;
-      x[i + 1] = (base + (part + base_err)) * tau0_s;
+      x.push_back((base + (part + base_err)) * tau0_s);
     }
     carry += static_cast<long double>(part);
+    if (consumed && e % release_step == 0) consumed(e - release_step, e);
   }
+  if (consumed) consumed(n / release_step * release_step, n);
   return x;
 }
 

@@ -7,7 +7,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <utility>
 
@@ -36,6 +38,15 @@ mapped_file& mapped_file::operator=(mapped_file&& other) noexcept {
 
 mapped_file::~mapped_file() {
   if (ptr_ != nullptr && size_ != 0) ::munmap(const_cast<char*>(ptr_), size_);
+}
+
+void mapped_file::release(std::size_t begin, std::size_t end) const noexcept {
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const auto base = reinterpret_cast<std::uintptr_t>(ptr_);  // NOLINT: page arithmetic
+  const std::uintptr_t lo = (base + begin + page - 1) / page * page;
+  const std::uintptr_t hi = (base + std::min(end, size_)) / page * page;
+  if (ptr_ != nullptr && hi > lo)
+    ::madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_DONTNEED);  // NOLINT: madvise takes void*
 }
 
 result<mapped_file> mapped_file::open(const std::string& path) {

@@ -73,6 +73,14 @@ result<std::size_t> npy_data_offset(const std::string& path, std::string_view d)
 
 }  // namespace
 
+void series::release(std::size_t begin, std::size_t end) const noexcept {
+  if (!file_ || view_.empty()) return;
+  const auto offset =
+      static_cast<std::size_t>(reinterpret_cast<const char*>(view_.data()) -  // NOLINT
+                               file_->data().data());
+  file_->release(offset + begin * sizeof(double), offset + end * sizeof(double));
+}
+
 result<series> read_series(const std::string& path_in, const series_options& opt) {
   series s;
   s.source_ = path_in;

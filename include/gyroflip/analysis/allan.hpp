@@ -53,7 +53,11 @@ struct deviation_point {
 /// The phase (angle) series of rate data: x_0 = 0, x_k = tau0 sum_{i<k} (y_i - ybar)
 /// (SP1065 eqn 1 with the mean removed, which no deviation here depends on, so that x stays
 /// small). Sums in long double. Returns N = M + 1 points for M rates.
-[[nodiscard]] std::vector<double> phase_from_rate(std::span<const double> rate, double tau0_s);
+/// `consumed(begin, end)`, if given, is called once samples [begin, end) will not be read again
+/// (each is read twice: for the mean, then for the sum), so a mapped input can be released.
+[[nodiscard]] std::vector<double> phase_from_rate(
+    std::span<const double> rate, double tau0_s,
+    const std::function<void(std::size_t, std::size_t)>& consumed = {});
 
 /// Averaging factors of `spec` for a phase series of `n_phase` points and statistic `k`,
 /// limited as Stable32 does: m <= (N-1)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and

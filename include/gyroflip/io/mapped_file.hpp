@@ -24,6 +24,10 @@ class mapped_file {
   [[nodiscard]] std::string_view data() const noexcept { return {ptr_, size_}; }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
 
+  /// Drops the resident pages of bytes [begin, end) (rounded inward to whole pages): they stop
+  /// counting in the process's memory and are read again from the page cache if touched.
+  void release(std::size_t begin, std::size_t end) const noexcept;
+
  private:
   mapped_file(std::string path, const char* p, std::size_t n) noexcept;
   std::string path_;

@@ -29,6 +29,9 @@ class series {
   [[nodiscard]] std::span<const double> values() const noexcept { return view_; }
   [[nodiscard]] double tau0_s() const noexcept { return tau0_s_; }
   [[nodiscard]] const std::string& source() const noexcept { return source_; }
+  /// Lets go of samples [begin, end) of a memory-mapped input once they are consumed (no-op
+  /// for inputs held in memory), so a long file is not resident twice.
+  void release(std::size_t begin, std::size_t end) const noexcept;
 
   series(series&&) noexcept = default;
   series& operator=(series&&) noexcept = default;
