@@ -60,7 +60,7 @@ raw_deviation adev_nonoverlapping(std::span<const double> x, double tau, std::si
   const std::size_t n = groups - 1;
   const auto s = sum_squares(
       0, n, [&](std::size_t k) { return x[(k + 2) * m] - 2.0 * x[(k + 1) * m] + x[k * m]; });
-  return {finish(s, 2.0L * tau * tau * static_cast<long double>(n)), n};
+  return {finish(s, 2.0L * static_cast<long double>(tau * tau) * static_cast<long double>(n)), n};
 }
 
 raw_deviation oadev_at(std::span<const double> x, double tau, std::size_t m) {
@@ -69,7 +69,7 @@ raw_deviation oadev_at(std::span<const double> x, double tau, std::size_t m) {
   const double* p = x.data();
   const auto s =
       sum_squares(0, n, [p, m](std::size_t i) { return p[i + 2 * m] - 2.0 * p[i + m] + p[i]; });
-  return {finish(s, 2.0L * tau * tau * static_cast<long double>(n)), n};
+  return {finish(s, 2.0L * static_cast<long double>(tau * tau) * static_cast<long double>(n)), n};
 }
 
 raw_deviation mdev_at(std::span<const double> x, double tau, std::size_t m) {
@@ -105,7 +105,9 @@ raw_deviation mdev_at(std::span<const double> x, double tau, std::size_t m) {
   }
   for (double a : acc) total += static_cast<long double>(a);
   const auto mm = static_cast<long double>(m);
-  return {finish(total, 2.0L * mm * mm * tau * tau * static_cast<long double>(n)), n};
+  return {finish(total, 2.0L * mm * mm * static_cast<long double>(tau * tau) *
+                            static_cast<long double>(n)),
+          n};
 }
 
 raw_deviation hdev_nonoverlapping(std::span<const double> x, double tau, std::size_t m) {
@@ -115,7 +117,7 @@ raw_deviation hdev_nonoverlapping(std::span<const double> x, double tau, std::si
   const auto s = sum_squares(0, n, [&](std::size_t k) {
     return x[(k + 3) * m] - 3.0 * x[(k + 2) * m] + 3.0 * x[(k + 1) * m] - x[k * m];
   });
-  return {finish(s, 6.0L * tau * tau * static_cast<long double>(n)), n};
+  return {finish(s, 6.0L * static_cast<long double>(tau * tau) * static_cast<long double>(n)), n};
 }
 
 raw_deviation ohdev_at(std::span<const double> x, double tau, std::size_t m) {
@@ -125,7 +127,7 @@ raw_deviation ohdev_at(std::span<const double> x, double tau, std::size_t m) {
   const auto s = sum_squares(0, n, [p, m](std::size_t i) {
     return p[i + 3 * m] - 3.0 * p[i + 2 * m] + 3.0 * p[i + m] - p[i];
   });
-  return {finish(s, 6.0L * tau * tau * static_cast<long double>(n)), n};
+  return {finish(s, 6.0L * static_cast<long double>(tau * tau) * static_cast<long double>(n)), n};
 }
 
 raw_deviation totdev_at(std::span<const double> x, double tau, std::size_t m) {
@@ -160,7 +162,7 @@ raw_deviation totdev_at(std::span<const double> x, double tau, std::size_t m) {
     s += sum_squares(1, big_n - 1, edge);
   }
   const std::size_t n = big_n - 2;
-  return {finish(s, 2.0L * tau * tau * static_cast<long double>(n)), n};
+  return {finish(s, 2.0L * static_cast<long double>(tau * tau) * static_cast<long double>(n)), n};
 }
 
 long double totdev_edges(std::span<const double> x, std::size_t m) {
@@ -248,11 +250,14 @@ std::vector<raw_deviation> fused(dev_kind k, std::span<const double> x, double t
     if (k == dev_kind::oadev) {
       if (big_n < 2 * m + 1) return;
       const std::size_t n = big_n - 2 * m;
-      out[i] = {finish(sums[i], 2.0L * tau * tau * static_cast<long double>(n)), n};
+      out[i] = {
+          finish(sums[i], 2.0L * static_cast<long double>(tau * tau) * static_cast<long double>(n)),
+          n};
     } else if (big_n >= 2 * m + 1) {  // totdev with at least one unreflected centre
       const std::size_t n = big_n - 2;
-      out[i] = {
-          finish(sums[i] + totdev_edges(x, m), 2.0L * tau * tau * static_cast<long double>(n)), n};
+      out[i] = {finish(sums[i] + totdev_edges(x, m),
+                       2.0L * static_cast<long double>(tau * tau) * static_cast<long double>(n)),
+                n};
     } else {
       out[i] = totdev_at(x, tau, m);
     }
@@ -357,7 +362,7 @@ std::vector<double> phase_from_rate(std::span<const double> rate, double tau0_s,
   for (std::size_t b = 0; b < n; b += block_terms) {
     double part = 0.0;
     for (std::size_t i = b; i < std::min(n, b + block_terms); ++i) part += rate[i];
-    total += part;
+    total += static_cast<long double>(part);
     if (consumed && (b + block_terms) % release_step == 0)
       consumed(b + block_terms - release_step, b + block_terms);
   }

@@ -93,7 +93,9 @@ double basic_sum(double jj, double mm, double s, double f, int alpha, int d) {
   double sum = z0 * z0;
   const double zj = sz(jj / s, f, alpha, d);
   sum += (1.0 - jj / mm) * zj * zj;
-  for (double j = 1.0; j < jj; j += 1.0) {
+  const auto count = static_cast<std::size_t>(jj);
+  for (std::size_t k = 1; k < count; ++k) {
+    const auto j = static_cast<double>(k);
     const double z = sz(j / s, f, alpha, d);
     sum += 2.0 * (1.0 - j / mm) * z * z;
   }
@@ -216,6 +218,7 @@ double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
                     double level) {
   std::vector<std::optional<int>> ids;
+  ids.reserve(points.size());
   for (const auto& p : points) ids.push_back(noise_alpha_lag1(phase, p.m));
   std::optional<int> last;
   for (std::size_t i = 0; i < points.size(); ++i) {

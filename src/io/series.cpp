@@ -91,7 +91,7 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     const auto at = path.find(ext);
     if (at != std::string::npos) {
       dataset = path.substr(at + std::string_view(ext).size() - 1 + 1);
-      path = path.substr(0, at + std::string_view(ext).size() - 1);
+      path.resize(at + std::string_view(ext).size() - 1);
     }
   }
   if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5")) {

@@ -98,7 +98,7 @@ struct raw_deviation {
 /// As `deviation`, on a phase series already built (deg; from phase_from_rate for rate data).
 /// `on_tau(done, total)` is called after each averaging time (progress display); may be empty.
 [[nodiscard]] result<std::vector<deviation_point>> deviation_of_phase(
-    dev_kind k, std::span<const double> phase, double tau0_s, const tau_spec& taus,
+    dev_kind k, std::span<const double> x, double tau0_s, const tau_spec& taus,
     const std::function<void(std::size_t, std::size_t)>& on_tau = {});
 
 /// allantools-style shorthands (octave taus unless given).

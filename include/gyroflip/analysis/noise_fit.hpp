@@ -38,6 +38,6 @@ struct noise_terms {
 };
 
 /// Fits the IEEE 952 terms to OADEV points carrying EDF (add_confidence). Needs >= 3 points.
-[[nodiscard]] result<noise_terms> fit_noise_terms(std::span<const deviation_point> oadev_points);
+[[nodiscard]] result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts);
 
 }  // namespace gyroflip::analysis
