@@ -10,54 +10,16 @@
 #include <gtest/gtest.h>
 
 #include "gyroflip/analysis/allan.hpp"
+#include "support/reference_data.hpp"
 
 namespace gyroflip::analysis {
 namespace {
 
 const std::string vectors = std::string(GYROFLIP_VECTORS_DIR) + "/stable32/";
 
-// Numbers of a data file, skipping '#' lines.
-std::vector<double> read_values(std::istream& in) {
-  std::vector<double> v;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    double x = 0.0;
-    if (s >> x) v.push_back(x);
-  }
-  return v;
-}
-
-std::vector<double> read_values(const std::string& path) {
-  std::ifstream f(path);
-  return read_values(f);
-}
-
-struct table_row {
-  std::size_t af = 0;
-  std::size_t n = 0;
-  int alpha = 0;
-  double lo = 0.0, sigma = 0.0, hi = 0.0;
-};
-
-std::vector<table_row> read_table(const std::string& path) {
-  std::ifstream f(path);
-  std::vector<table_row> rows;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    table_row r;
-    double tau = 0.0;
-    if (s >> r.af >> tau >> r.n >> r.alpha >> r.lo >> r.sigma >> r.hi) rows.push_back(r);
-  }
-  return rows;
-}
-
 // Checks every row of a Stable32 table: the deviation to 1e-4 relative, the term count exactly.
 void check_table(const std::string& path, dev_kind k, const std::vector<double>& x, double tau0_s) {
-  const auto rows = read_table(path);
+  const auto rows = test::read_stable32_table(path);
   ASSERT_FALSE(rows.empty()) << path;
   for (const auto& r : rows) {
     const auto d = deviation_at(k, x, tau0_s, r.af);
@@ -72,7 +34,7 @@ const std::vector<std::pair<std::string, dev_kind>> kinds = {
     {"totdev", dev_kind::totdev}};
 
 TEST(AllanStable32, PhaseDatAllTauAndOctave) {
-  const auto x = read_values(vectors + "phasedat/PHASE.DAT");
+  const auto x = test::read_values(vectors + "phasedat/PHASE.DAT");
   ASSERT_EQ(x.size(), 1001u);
   for (const auto& [name, k] : kinds) {
     check_table(vectors + "phasedat/phase_dat_" + name + ".txt", k, x, 1.0);
@@ -81,7 +43,7 @@ TEST(AllanStable32, PhaseDatAllTauAndOctave) {
 }
 
 TEST(AllanStable32, OcxoFrequencyAllTau) {
-  auto f = read_values(vectors + "ocxo/ocxo_frequency.txt");
+  auto f = test::read_values(vectors + "ocxo/ocxo_frequency.txt");
   ASSERT_EQ(f.size(), 19982u);
   for (double& v : f) v = (v - 1e7) / 1e7;
   const auto x = phase_from_rate(f, 1.0);
@@ -90,7 +52,7 @@ TEST(AllanStable32, OcxoFrequencyAllTau) {
 }
 
 TEST(AllanStable32, PinkFrequencyWithTau0Of42Seconds) {
-  const auto y = read_values(vectors + "pink_frequency/pink_frequency.txt");
+  const auto y = test::read_values(vectors + "pink_frequency/pink_frequency.txt");
   ASSERT_EQ(y.size(), 10000u);
   const auto x42 = phase_from_rate(y, 42.0);
   for (const auto& [name, k] : kinds) {
@@ -102,17 +64,10 @@ TEST(AllanStable32, PinkFrequencyWithTau0Of42Seconds) {
 }
 
 TEST(AllanStable32, GpsPhaseFromSharedIfPresent) {
-  const std::string dir = std::string(GYROFLIP_SHARED_DIR) + "/reference/allan/gps/";
-  std::FILE* p =
-      ::popen(("gzip -dc '" + dir + "gps_1pps_phase_data.txt.gz' 2>/dev/null").c_str(), "r");
-  std::string text;
-  char buf[1 << 16];
-  for (std::size_t n; p != nullptr && (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
-    text.append(buf, n);
-  if (p != nullptr) ::pclose(p);
-  if (text.empty()) GTEST_SKIP() << "../shared/reference/allan/gps not available";
-  std::istringstream in(text);
-  const auto x = read_values(in);
+  const auto gps = test::gps_phase();
+  if (!gps) GTEST_SKIP() << "../shared/reference/allan/gps not available";
+  const auto& x = *gps;
+  const std::string dir = test::gps_dir();
   ASSERT_EQ(x.size(), 241218u);
   check_table(dir + "stable32_ADEV_decade.txt", dev_kind::adev, x, 1.0);
   for (const char* name : {"OADEV", "MDEV", "TDEV", "HDEV", "OHDEV", "TOTDEV"}) {
@@ -137,19 +92,9 @@ TEST(AllanNbs14, TenPoint) {
   }
 }
 
-std::vector<double> nbs14_1000() {
-  std::vector<double> y;
-  std::uint64_t n = 1234567890;
-  for (int i = 0; i < 1000; ++i) {
-    y.push_back(static_cast<double>(n) / 2147483647.0);
-    n = (16807 * n) % 2147483647;
-  }
-  return y;
-}
-
 // NIST SP1065 1000-point set (Lehmer generator), tau = 1, 10, 100 s.
 TEST(AllanNbs14, ThousandPoint) {
-  const auto y = nbs14_1000();
+  const auto y = test::nbs14_1000();
   const std::vector<std::pair<dev_kind, std::vector<double>>> expect = {
       {dev_kind::adev, {0.2922319, 0.09965736, 0.03897804}},
       {dev_kind::oadev, {0.2922319, 0.09159953, 0.03241343}},
@@ -170,7 +115,7 @@ TEST(AllanNbs14, ThousandPoint) {
 TEST(Allan, RateAndAngleInputAgree) {
   // The same signal as rate samples and as the integrated angle (not mean-removed) gives the
   // same deviations: the input kind is converted, never assumed.
-  const auto y = nbs14_1000();
+  const auto y = test::nbs14_1000();
   std::vector<double> angle{100.0};
   for (double v : y) angle.push_back(angle.back() + 0.01 * v);
   for (const auto& [name, k] : kinds) {

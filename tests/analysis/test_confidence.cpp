@@ -11,46 +11,18 @@
 
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
+#include "support/reference_data.hpp"
 
 namespace gyroflip::analysis {
 namespace {
 
 const std::string vectors = std::string(GYROFLIP_VECTORS_DIR) + "/stable32/";
 
-std::vector<double> read_values(std::istream& in) {
-  std::vector<double> v;
-  std::string line;
-  while (std::getline(in, line))
-    if (!line.empty() && line[0] != '#') v.push_back(std::stod(line));
-  return v;
-}
-
-struct row {
-  std::size_t af;
-  int alpha;
-  double lo, sigma, hi;
-};
-
-std::vector<row> read_table(const std::string& path) {
-  std::ifstream f(path);
-  std::vector<row> rows;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    row r{};
-    double tau = 0.0;
-    std::size_t n = 0;
-    if (s >> r.af >> tau >> n >> r.alpha >> r.lo >> r.sigma >> r.hi) rows.push_back(r);
-  }
-  return rows;
-}
-
 // With Stable32's alpha, our bounds must agree to `tol` (Stable32 uses Greenhall's tables and its
 // own chi-squared approximation; we evaluate Greenhall's sum directly). Where our lag-1 noise
 // identification has enough points, it must give Stable32's alpha.
 void check_ci(const std::string& table, dev_kind k, const std::vector<double>& x, double tol) {
-  const auto rows = read_table(table);
+  const auto rows = test::read_stable32_table(table);
   ASSERT_FALSE(rows.empty()) << table;
   for (const auto& r : rows) {
     const double dev = deviation_at(k, x, 1.0, r.af).dev;
@@ -78,29 +50,22 @@ TEST(Confidence, Chi2Quantiles) {
 
 TEST(Confidence, PhaseDatAllKindsMatchStable32) {
   std::ifstream f(vectors + "phasedat/PHASE.DAT");
-  const auto x = read_values(f);
+  const auto x = test::read_values(f);
   for (const char* k : {"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"})
     check_ci(vectors + "phasedat/phase_dat_" + k + "_octave.txt", *parse_dev_kind(k), x, 3e-3);
 }
 
 TEST(Confidence, PinkFlickerFmMatchesStable32) {
   std::ifstream f(vectors + "pink_frequency/pink_frequency.txt");
-  const auto x = phase_from_rate(read_values(f), 1.0);
+  const auto x = phase_from_rate(test::read_values(f), 1.0);
   check_ci(vectors + "pink_frequency/s32_oadev_octave.txt", dev_kind::oadev, x, 1e-3);
 }
 
 TEST(Confidence, GpsWhiteAndFlickerPmFromSharedIfPresent) {
-  const std::string dir = std::string(GYROFLIP_SHARED_DIR) + "/reference/allan/gps/";
-  std::FILE* p =
-      ::popen(("gzip -dc '" + dir + "gps_1pps_phase_data.txt.gz' 2>/dev/null").c_str(), "r");
-  std::string text;
-  char buf[1 << 16];
-  for (std::size_t n; p != nullptr && (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
-    text.append(buf, n);
-  if (p != nullptr) ::pclose(p);
-  if (text.empty()) GTEST_SKIP() << "../shared/reference/allan/gps not available";
-  std::istringstream in(text);
-  const auto x = read_values(in);
+  const auto gps = test::gps_phase();
+  if (!gps) GTEST_SKIP() << "../shared/reference/allan/gps not available";
+  const auto& x = *gps;
+  const std::string dir = test::gps_dir();
   for (const char* k : {"OADEV", "MDEV", "TDEV", "HDEV", "OHDEV"}) {
     std::string lower(k);
     for (char& c : lower) c = static_cast<char>(std::tolower(c));
@@ -112,10 +77,10 @@ TEST(Confidence, GpsWhiteAndFlickerPmFromSharedIfPresent) {
 
 TEST(Confidence, AddConfidenceEndToEndOnPhaseDat) {
   std::ifstream f(vectors + "phasedat/PHASE.DAT");
-  const auto x = read_values(f);
+  const auto x = test::read_values(f);
   auto pts = *deviation(dev_kind::oadev, x, input_kind::angle, 1.0, {});
   add_confidence(pts, dev_kind::oadev, x, 0.683);
-  const auto rows = read_table(vectors + "phasedat/phase_dat_oadev_octave.txt");
+  const auto rows = test::read_stable32_table(vectors + "phasedat/phase_dat_oadev_octave.txt");
   ASSERT_EQ(pts.size(), rows.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     EXPECT_EQ(pts[i].alpha, rows[i].alpha);

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/reference_data.hpp"
 #include "support/run_cli.hpp"
 #include "support/synth.hpp"
 #include "support/temp_dir.hpp"
@@ -25,16 +26,6 @@ std::string fmt_double(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
-}
-
-std::vector<double> nbs14_1000() {
-  std::vector<double> y;
-  std::uint64_t n = 1234567890;
-  for (int i = 0; i < 1000; ++i) {
-    y.push_back(static_cast<double>(n) / 2147483647.0);
-    n = (16807 * n) % 2147483647;
-  }
-  return y;
 }
 
 std::string csv_of(const std::vector<double>& y, double dt) {
