@@ -154,6 +154,8 @@ void setup_noise(CLI::App& app, action& chosen) {
       app.add_subcommand("noise", "IEEE 952 noise terms (Q, N, B, K, R) from the Allan deviation");
   auto o = bind<noise_options>(sub, chosen, run_noise);
   add_series_options(sub, o->in);
+  sub->add_option("--ci", o->ci, "two-sided confidence level of the terms' intervals")
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 

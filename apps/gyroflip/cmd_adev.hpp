@@ -44,6 +44,7 @@ namespace gyroflip::app {
 
 struct noise_options {
   series_input in;
+  double ci = 0.683;  ///< two-sided confidence level of the terms' intervals
   bool json = false;
 };
 int run_noise(const noise_options& o);

@@ -9,6 +9,7 @@
 #include "cmd_adev.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/core/error.hpp"
 #include "gyroflip/core/progress.hpp"
 
 namespace gyroflip::app {
@@ -17,7 +18,7 @@ namespace {
 using nlohmann::json;
 
 // Puts `key` (value in base units times `to_unit`) and, when resolved, key_lo/key_hi; an
-// unresolved term is null with key_upper (its 1-sigma upper limit).
+// unresolved term is null with key_upper (its upper limit at the same level).
 void put(json& j, const std::string& key, const analysis::noise_term& t, double to_unit) {
   if (t.resolved) {
     j[key] = t.value * to_unit;
@@ -37,6 +38,8 @@ std::string show(const analysis::noise_term& t, double to_unit) {
 }  // namespace
 
 int run_noise(const noise_options& o) {
+  if (!(o.ci > 0.0 && o.ci < 1.0))
+    return report(usage_error("--ci must be a probability in (0, 1), e.g. 0.683"));
   auto in = load_series(o.in);
   if (!in) return report(in.err());
   progress bar("noise of " + o.in.file, 1);
@@ -46,7 +49,7 @@ int run_noise(const noise_options& o) {
   bar.finish();
   if (!pts) return report(pts.err());
   analysis::add_confidence(*pts, analysis::dev_kind::oadev, in->phase, 0.683);
-  const auto fit = analysis::fit_noise_terms(*pts);
+  const auto fit = analysis::fit_noise_terms(*pts, o.ci);
   if (!fit) return report(fit.err());
   const auto& f = *fit;
   if (o.json) {
@@ -57,6 +60,7 @@ int run_noise(const noise_options& o) {
               {"bias_floor_tau_s", f.bias_floor_tau_s},
               {"bias_floor_dps", f.bias_floor_dev},
               {"chi2_per_dof", f.chi2_per_dof},
+              {"ci", f.level},
               {"notes", f.notes}};
     put(j, "arw_dps_rthz", f.arw, 1.0);
     put(j, "arw_deg_rth", f.arw, 60.0);  // deg/sqrt(s) -> deg/sqrt(h)
@@ -76,8 +80,8 @@ int run_noise(const noise_options& o) {
     fmt::print("{}\n", j.dump());
     return 0;
   }
-  fmt::print("{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV (1-sigma intervals)\n",
-             o.in.file, in->samples, 1.0 / in->tau0_s);
+  fmt::print("{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV ({:g} % intervals)\n", o.in.file,
+             in->samples, 1.0 / in->tau0_s, 100.0 * f.level);
   fmt::print("  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz)\n", show(f.arw, 60.0),
              show(f.arw, 1.0));
   fmt::print("  bias instability  B    {} deg/h   (OADEV floor {:.4g} deg/s at tau {:g} s)\n",

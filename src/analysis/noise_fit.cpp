@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/core/error.hpp"
 
 namespace gyroflip::analysis {
@@ -37,7 +38,9 @@ double basis(std::size_t k, double tau) {
 
 struct subset_fit {
   std::array<double, terms> c{};
-  std::array<double, terms> sd{};
+  std::array<double, terms> sd{};  ///< standard error of c (sandwich, see covariance())
+  /// (A^T W A)^-1 of the terms in the subset, in the unscaled coefficients (row-major, terms^2)
+  std::array<double, terms * terms> inv{};
   double chi2 = std::numeric_limits<double>::infinity();
   bool ok = false;
 };
@@ -88,9 +91,11 @@ subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& 
   }
   for (std::size_t a = 0; a < n; ++a) {
     double v = 0.0;
-    for (std::size_t b = 0; b < n; ++b) v += m[a * cols + n + b] * rhs[b];
+    for (std::size_t b = 0; b < n; ++b) {
+      v += m[a * cols + n + b] * rhs[b];
+      out.inv[idx[a] * terms + idx[b]] = m[a * cols + n + b] * scale[a] * scale[b];
+    }
     out.c[idx[a]] = v * scale[a];
-    out.sd[idx[a]] = std::sqrt(std::max(m[a * cols + n + a], 0.0)) * scale[a];
     if (out.c[idx[a]] < 0.0 && !allow_negative) return out;  // not a non-negative solution
   }
   out.chi2 = 0.0;
@@ -121,43 +126,114 @@ subset_fit best_nonnegative(std::span<const deviation_point> p, const std::vecto
   return best;
 }
 
-noise_term make_term(double c, double sd, double unit_factor) {
-  // c is the squared coefficient; report the coefficient and a 1-sigma interval.
+noise_term make_term(double c, double sd, double z) {
+  // c is the squared coefficient, sd its standard error; the interval is c +- z sd, mapped
+  // through the square root (so it is asymmetric in the coefficient).
   noise_term t;
   t.resolved = c > 2.0 * sd && c > 0.0;
-  t.value = std::sqrt(std::max(c, 0.0)) * unit_factor;
-  t.lo = std::sqrt(std::max(c - sd, 0.0)) * unit_factor;
-  t.hi = std::sqrt(std::max(c, 0.0) + sd) * unit_factor;
+  t.value = std::sqrt(std::max(c, 0.0));
+  t.lo = std::sqrt(std::max(c - z * sd, 0.0));
+  t.hi = std::sqrt(std::max(c, 0.0) + z * sd);
   return t;
+}
+
+// Model discrepancy: 5 % of AVAR per point, independent between points. Without it the
+// short-tau points (EDF ~ 1e6) would force the five-term model onto features it does not have
+// (a real sensor's anti-alias filter), at the expense of every longer tau.
+constexpr double discrepancy = 0.05;
+
+// Variance of an AVAR estimate: chi-squared (2 model^2 / edf) plus the discrepancy.
+double weight(double edf, double model) {
+  return 1.0 / (model * model * (2.0 / edf + discrepancy * discrepancy));
+}
+
+// Large-N correlation of two overlapping AVAR estimates of one series at averaging factors
+// m and 2^d m, for noise exponent alpha (2 WPM, 1 FPM, 0 WFM, -1 FFM, -2 RWFM), d = 1..6.
+// White PM, white FM, random-walk FM: exact, from the estimators' kernels (Isserlis' theorem;
+// scripts/derive/allan_octave_correlation.py). Flicker FM: Monte Carlo of the project's flicker
+// generator (same script's notes; +-0.05). Flicker PM: mean of white PM and white FM.
+constexpr std::array<std::array<double, 6>, 5> octave_correlation = {{
+    {0.400, 0.514, 0.514, 0.514, 0.514, 0.514},  // alpha = 2
+    {0.465, 0.351, 0.290, 0.269, 0.261, 0.259},  // alpha = 1
+    {0.530, 0.187, 0.066, 0.023, 0.008, 0.003},  // alpha = 0
+    {0.680, 0.300, 0.120, 0.048, 0.019, 0.008},  // alpha = -1 (tail: x0.4 an octave)
+    {0.888, 0.676, 0.488, 0.347, 0.246, 0.174},  // alpha = -2
+}};
+
+// The table at a (possibly fractional) octave distance d >= 0: linear between octaves, 1 at
+// d = 0, and beyond d = 6 the last octave's ratio continued (white PM stays at 0.514).
+double correlation(int alpha, double d) {
+  const auto& row = octave_correlation[static_cast<std::size_t>(2 - std::clamp(alpha, -2, 2))];
+  if (d <= 1.0) return 1.0 + d * (row[0] - 1.0);
+  if (d >= 6.0) return row[5] * std::pow(row[5] / row[4], d - 6.0);
+  const auto i = static_cast<std::size_t>(d);  // 1..5
+  const double f = d - static_cast<double>(i);
+  return row[i - 1] + f * (row[i] - row[i - 1]);
+}
+
+// Standard errors of the coefficients of `f` (terms in `mask`) by the sandwich
+// inv (A^T W S W A) inv, where W are the fit's (diagonal) weights and S the covariance of the
+// AVAR estimates: chi-squared variances 2 model^2/edf correlated between taus as above (the
+// geometric mean of the two points' correlations), plus the independent discrepancy. Treating
+// the octave points as independent (W^-1 as covariance) gives intervals that cover a random
+// walk's K in only half of the cases at 1 sigma; this covers it near the nominal rate.
+std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
+                                      const std::vector<double>& w,
+                                      const std::vector<double>& model, const subset_fit& f,
+                                      unsigned mask) {
+  const std::size_t np = p.size();
+  std::vector<double> sampling_sd(np);
+  for (std::size_t i = 0; i < np; ++i) sampling_sd[i] = model[i] * std::sqrt(2.0 / p[i].edf);
+  // meat = A^T W S W A over the terms in mask
+  std::array<double, terms * terms> meat{};
+  for (std::size_t i = 0; i < np; ++i) {
+    for (std::size_t j = 0; j < np; ++j) {
+      const double d = std::abs(std::log2(p[j].tau_s / p[i].tau_s));
+      double s = std::sqrt(correlation(p[i].alpha, d) * correlation(p[j].alpha, d)) *
+                 sampling_sd[i] * sampling_sd[j];
+      if (i == j) s += discrepancy * discrepancy * model[i] * model[i];
+      const double wsw = w[i] * s * w[j];
+      for (std::size_t a = 0; a < terms; ++a) {
+        if (!(mask & (1u << a))) continue;
+        for (std::size_t b = 0; b < terms; ++b)
+          if (mask & (1u << b))
+            meat[a * terms + b] += basis(a, p[i].tau_s) * wsw * basis(b, p[j].tau_s);
+      }
+    }
+  }
+  std::array<double, terms> sd{};
+  for (std::size_t a = 0; a < terms; ++a) {
+    if (!(mask & (1u << a))) continue;
+    double v = 0.0;
+    for (std::size_t b = 0; b < terms; ++b)
+      for (std::size_t c = 0; c < terms; ++c)
+        v += f.inv[a * terms + b] * meat[b * terms + c] * f.inv[c * terms + a];
+    sd[a] = std::sqrt(std::max(v, 0.0));
+  }
+  return sd;
 }
 
 }  // namespace
 
-// Variance of an AVAR estimate: chi-squared (2 model^2 / edf) plus a 5 % model discrepancy.
-// Without the floor, the short-tau points (EDF ~ 1e6) would force the five-term model onto
-// features it does not have (a real sensor's anti-alias filter), at the expense of every
-// longer tau.
-double weight(double edf, double model) {
-  constexpr double discrepancy = 0.05;
-  return 1.0 / (model * model * (2.0 / edf + discrepancy * discrepancy));
-}
-
-result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts) {
+result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double level) {
+  if (!(level > 0.0 && level < 1.0))
+    return usage_error(fmt::format("confidence level {} must be in (0, 1)", level));
   std::vector<deviation_point> p;
   for (const auto& q : pts)
     if (q.edf >= 1.0 && q.dev > 0.0 && std::isfinite(q.dev)) p.push_back(q);
   if (p.size() < 3)
     return runtime_error("noise fit needs at least 3 Allan-deviation points with EDF >= 1");
   std::vector<double> w(p.size());
+  std::vector<double> model(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) w[i] = weight(p[i].edf, p[i].dev * p[i].dev);
   subset_fit f;
   for (int iter = 0; iter < 3; ++iter) {
     f = best_nonnegative(p, w);
     if (!f.ok) return runtime_error("noise fit found no non-negative solution");
     for (std::size_t i = 0; i < p.size(); ++i) {  // reweight with the model (IRLS)
-      double model = 0.0;
-      for (std::size_t k = 0; k < terms; ++k) model += f.c[k] * basis(k, p[i].tau_s);
-      w[i] = weight(p[i].edf, model);
+      model[i] = 0.0;
+      for (std::size_t k = 0; k < terms; ++k) model[i] += f.c[k] * basis(k, p[i].tau_s);
+      w[i] = weight(p[i].edf, model[i]);
     }
   }
   noise_terms out;
@@ -165,23 +241,27 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts) {
   for (std::size_t k = 0; k < terms; ++k) used += f.c[k] > 0.0 ? 1u : 0u;
   const double dof = static_cast<double>(p.size()) - static_cast<double>(used);
   out.chi2_per_dof = dof > 0 ? f.chi2 / dof : 0.0;
-  // A dropped term gets an upper limit from the fit that includes it (its value may be < 0).
   unsigned mask = 0;
   for (std::size_t k = 0; k < terms; ++k)
     if (f.c[k] > 0.0) mask |= 1u << k;
+  f.sd = sandwich_sd(p, w, model, f, mask);
+  // A dropped term gets an upper limit from the fit that includes it (its value may be < 0).
   for (std::size_t k = 0; k < terms; ++k) {
     if (mask & (1u << k)) continue;
     const auto with = solve(p, w, mask | (1u << k), true);
     if (with.ok) {
       f.c[k] = std::min(with.c[k], 0.0);  // still not part of the estimate
-      f.sd[k] = with.sd[k];
+      f.sd[k] = sandwich_sd(p, w, model, with, mask | (1u << k))[k];
     }
   }
-  out.quantization = make_term(f.c[0], f.sd[0], 1.0);
-  out.arw = make_term(f.c[1], f.sd[1], 1.0);
-  out.bias_instability = make_term(f.c[2], f.sd[2], 1.0);
-  out.rrw = make_term(f.c[3], f.sd[3], 1.0);
-  out.rate_ramp = make_term(f.c[4], f.sd[4], 1.0);
+  // Two-sided normal interval of the squared coefficient at `level`: z = sqrt(chi2_1(level)).
+  const double z = std::sqrt(chi2_quantile(level, 1.0));
+  out.level = level;
+  out.quantization = make_term(f.c[0], f.sd[0], z);
+  out.arw = make_term(f.c[1], f.sd[1], z);
+  out.bias_instability = make_term(f.c[2], f.sd[2], z);
+  out.rrw = make_term(f.c[3], f.sd[3], z);
+  out.rate_ramp = make_term(f.c[4], f.sd[4], z);
   // The bias-instability floor is the first local minimum of OADEV: later minima at long tau
   // rest on a handful of clusters (ADIS16405 X: 2 % lower at 1311 s than at 82 s, +-40 %).
   auto floor = p.begin();
@@ -196,8 +276,8 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts) {
       {"rate ramp", &out.rate_ramp}};
   for (const auto& [name, t] : named)
     if (!t->resolved)
-      out.notes.push_back(
-          fmt::format("{} not resolved by the data (1-sigma upper limit given)", name));
+      out.notes.push_back(fmt::format(
+          "{} not resolved by the data (upper limit at the interval's level given)", name));
   return out;
 }
 

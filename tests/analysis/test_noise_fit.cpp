@@ -18,25 +18,33 @@
 namespace gyroflip::analysis {
 namespace {
 
-noise_terms fit_rate(const std::vector<double>& y, double tau0_s) {
+std::vector<deviation_point> oadev_with_ci(const std::vector<double>& y, double tau0_s) {
   auto pts = *oadev(y, input_kind::rate, tau0_s);
   add_confidence(pts, dev_kind::oadev, phase_from_rate(y, tau0_s), 0.683);
-  return *fit_noise_terms(pts);
+  return pts;
 }
 
-// Truth within the reported 1-sigma interval widened to 3 sigma (the interval comes from the
-// least-squares covariance, which treats the octave points as independent: optimistic).
+noise_terms fit_rate(const std::vector<double>& y, double tau0_s, double level = 0.683) {
+  return *fit_noise_terms(oadev_with_ci(y, tau0_s), level);
+}
+
+// The truth lies inside the reported interval.
 bool within(const noise_term& t, double truth) {
-  const double half = 0.5 * (t.hi - t.lo);
-  return t.resolved && std::abs(t.value - truth) <= 3.0 * half;
+  return t.resolved && t.lo <= truth && truth <= t.hi;
 }
 
-TEST(NoiseFit, RecoversWhiteFlickerAndRandomWalk) {
-  // 2^18 samples at 1 Hz (73 h): N = 0.01 deg/sqrt(s), B = 0.001 deg/s (sensor::flicker_bank,
-  // itself within +-10 % of the ideal floor), K = 4e-5 deg/s/sqrt(s). 10 seeds; >= 9 must hold.
+// Issue 4: "noise-id recovers the generating N, B, K within their intervals for >= 90 % of
+// seeds". 2^18 samples at 1 Hz (73 h): N = 0.01 deg/sqrt(s), B = 0.001 deg/s
+// (sensor::flicker_bank, itself within +-10 % of the ideal floor), K = 4e-5 deg/s/sqrt(s).
+// 40 seeds. The 95 % intervals must hold for >= 36 (90 %); the 1-sigma intervals of B and K for
+// >= 24 (60 %; nominal 68 %). Measured 2026-11-22: 95 %: N 40, B 40, K 38; 1 sigma: B 29,
+// K 30. With the octave points treated as independent (the covariance before the sandwich)
+// K fails both: 31 and 17.
+TEST(NoiseFit, RecoversWhiteFlickerAndRandomWalkWithinTheirIntervals) {
   constexpr double n_true = 0.01, b_true = 0.001, k_true = 4e-5;
-  int ok_n = 0, ok_b = 0, ok_k = 0;
-  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+  constexpr int seeds = 40;
+  int n95 = 0, b95 = 0, k95 = 0, b68 = 0, k68 = 0;
+  for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
     sensor::normal_stream white(seed, sensor::stream::user);
     sensor::normal_stream walk(seed, static_cast<sensor::stream>(17));
     sensor::flicker_bank flicker(b_true, 1.0, 1e5, 1.0,
@@ -47,14 +55,34 @@ TEST(NoiseFit, RecoversWhiteFlickerAndRandomWalk) {
       w += k_true * walk.next();  // K sqrt(h) with h = 1 s
       v = n_true * white.next() + flicker.step() + w;
     }
-    const auto f = fit_rate(y, 1.0);
-    ok_n += within(f.arw, n_true) ? 1 : 0;
-    ok_b += within(f.bias_instability, b_true) ? 1 : 0;
-    ok_k += within(f.rrw, k_true) ? 1 : 0;
+    const auto pts = oadev_with_ci(y, 1.0);
+    const auto f95 = *fit_noise_terms(pts, 0.95);
+    const auto f68 = *fit_noise_terms(pts, 0.683);
+    n95 += within(f95.arw, n_true) ? 1 : 0;
+    b95 += within(f95.bias_instability, b_true) ? 1 : 0;
+    k95 += within(f95.rrw, k_true) ? 1 : 0;
+    b68 += within(f68.bias_instability, b_true) ? 1 : 0;
+    k68 += within(f68.rrw, k_true) ? 1 : 0;
+    // The same fit at both levels; only the width differs.
+    EXPECT_EQ(f95.rrw.value, f68.rrw.value);
+    EXPECT_LT(f95.rrw.hi - f95.rrw.lo, 2.2 * (f68.rrw.hi - f68.rrw.lo));
+    EXPECT_GT(f95.rrw.hi - f95.rrw.lo, 1.5 * (f68.rrw.hi - f68.rrw.lo));
   }
-  EXPECT_GE(ok_n, 9);
-  EXPECT_GE(ok_b, 9);
-  EXPECT_GE(ok_k, 9);
+  EXPECT_GE(n95, 36);
+  EXPECT_GE(b95, 36);
+  EXPECT_GE(k95, 36);
+  EXPECT_GE(b68, 24);
+  EXPECT_GE(k68, 24);
+}
+
+TEST(NoiseFit, LevelOutsideZeroOneIsAnError) {
+  sensor::normal_stream white(3, sensor::stream::user);
+  std::vector<double> y(4096);
+  for (auto& v : y) v = white.next();
+  const auto pts = oadev_with_ci(y, 1.0);
+  EXPECT_FALSE(fit_noise_terms(pts, 0.0));
+  EXPECT_FALSE(fit_noise_terms(pts, 1.0));
+  EXPECT_TRUE(fit_noise_terms(pts, 0.5));
 }
 
 TEST(NoiseFit, WhiteNoiseAloneLeavesOtherTermsUnresolved) {

@@ -214,9 +214,17 @@ TEST(CliNoise, JsonKeysAndWhiteNoiseArw) {
   EXPECT_TRUE(j.contains("arw_dps_rthz_lo"));
   EXPECT_TRUE(j["rrw_deg_h_rth"].is_null());
   EXPECT_TRUE(j.contains("rrw_deg_h_rth_upper"));
+  EXPECT_DOUBLE_EQ(j["ci"].get<double>(), 0.683);
   const auto text = run_cli({"noise", d.file("w.npy"), "--rate", "100"});
   EXPECT_EQ(text.exit_code, 0);
   EXPECT_NE(text.out.find("angle random walk"), std::string::npos);
+  // A wider level widens the interval around the same value; a level outside (0, 1) is usage.
+  const auto wide = json::parse(
+      run_cli({"noise", d.file("w.npy"), "--rate", "100", "--ci", "0.95", "--json"}).out);
+  EXPECT_EQ(wide["arw_dps_rthz"].get<double>(), j["arw_dps_rthz"].get<double>());
+  EXPECT_LT(wide["arw_dps_rthz_lo"].get<double>(), j["arw_dps_rthz_lo"].get<double>());
+  EXPECT_GT(wide["arw_dps_rthz_hi"].get<double>(), j["arw_dps_rthz_hi"].get<double>());
+  EXPECT_EQ(run_cli({"noise", d.file("w.npy"), "--rate", "100", "--ci", "1.5"}).exit_code, 2);
 }
 
 }  // namespace

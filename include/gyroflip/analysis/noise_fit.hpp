@@ -7,6 +7,9 @@
 /// squares with weights edf/(2 AVAR_model^2) (the chi-squared variance of each AVAR estimate),
 /// iterated three times; every subset of the five terms is solved and the best non-negative
 /// one kept, so a term the data cannot support is dropped rather than made negative.
+/// Intervals come from the sandwich covariance of the squared coefficients, with the AVAR
+/// estimates correlated between taus as overlapping estimates of one series are (noise-type
+/// dependent; docs/ANALYSIS.md), so that they cover the truth at about their nominal level.
 #pragma once
 
 #include <optional>
@@ -18,13 +21,13 @@
 
 namespace gyroflip::analysis {
 
-/// One fitted term: its coefficient and 1-sigma interval (from the covariance of the squared
-/// coefficient), or unresolved with an upper limit.
+/// One fitted term: its coefficient and interval (squared coefficient +- z standard errors,
+/// z for the fit's two-sided level), or unresolved with an upper limit.
 struct noise_term {
   bool resolved = false;  ///< the squared coefficient exceeds twice its standard error
   double value = 0.0;     ///< coefficient in the term's base unit (see noise_terms)
-  double lo = 0.0;        ///< 1-sigma interval (resolved terms)
-  double hi = 0.0;        ///< for unresolved terms: 1-sigma upper limit
+  double lo = 0.0;        ///< lower end of the interval (resolved terms)
+  double hi = 0.0;        ///< upper end; for unresolved terms the upper limit
 };
 
 /// Coefficients in base units: Q deg, N deg/s/sqrt(Hz) (= deg/sqrt(s)), B deg/s,
@@ -34,10 +37,13 @@ struct noise_terms {
   double bias_floor_tau_s = 0.0;   ///< tau of the smallest OADEV point
   double bias_floor_dev = 0.0;     ///< that smallest OADEV (deg/s)
   double chi2_per_dof = 0.0;       ///< weighted fit quality
+  double level = 0.683;            ///< two-sided confidence level of the intervals
   std::vector<std::string> notes;  ///< terms not resolved, and why
 };
 
-/// Fits the IEEE 952 terms to OADEV points carrying EDF (add_confidence). Needs >= 3 points.
-[[nodiscard]] result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts);
+/// Fits the IEEE 952 terms to OADEV points carrying EDF and alpha (add_confidence), with
+/// intervals at two-sided confidence `level` in (0, 1) (0.683 = 1 sigma). Needs >= 3 points.
+[[nodiscard]] result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts,
+                                                  double level = 0.683);
 
 }  // namespace gyroflip::analysis
