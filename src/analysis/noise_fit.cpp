@@ -40,7 +40,7 @@ struct subset_fit {
   std::array<double, terms> c{};
   std::array<double, terms> sd{};  ///< standard error of c (sandwich, see covariance())
   /// (A^T W A)^-1 of the terms in the subset, in the unscaled coefficients (row-major, terms^2)
-  std::array<double, terms * terms> inv{};
+  std::array<std::array<double, terms>, terms> inv{};
   double chi2 = std::numeric_limits<double>::infinity();
   bool ok = false;
 };
@@ -93,7 +93,7 @@ subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& 
     double v = 0.0;
     for (std::size_t b = 0; b < n; ++b) {
       v += m[a * cols + n + b] * rhs[b];
-      out.inv[idx[a] * terms + idx[b]] = m[a * cols + n + b] * scale[a] * scale[b];
+      out.inv[idx[a]][idx[b]] = m[a * cols + n + b] * scale[a] * scale[b];
     }
     out.c[idx[a]] = v * scale[a];
     if (out.c[idx[a]] < 0.0 && !allow_negative) return out;  // not a non-negative solution
@@ -185,7 +185,7 @@ std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
   std::vector<double> sampling_sd(np);
   for (std::size_t i = 0; i < np; ++i) sampling_sd[i] = model[i] * std::sqrt(2.0 / p[i].edf);
   // meat = A^T W S W A over the terms in mask
-  std::array<double, terms * terms> meat{};
+  std::array<std::array<double, terms>, terms> meat{};
   for (std::size_t i = 0; i < np; ++i) {
     for (std::size_t j = 0; j < np; ++j) {
       const double d = std::abs(std::log2(p[j].tau_s / p[i].tau_s));
@@ -196,8 +196,7 @@ std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
       for (std::size_t a = 0; a < terms; ++a) {
         if (!(mask & (1u << a))) continue;
         for (std::size_t b = 0; b < terms; ++b)
-          if (mask & (1u << b))
-            meat[a * terms + b] += basis(a, p[i].tau_s) * wsw * basis(b, p[j].tau_s);
+          if (mask & (1u << b)) meat[a][b] += basis(a, p[i].tau_s) * wsw * basis(b, p[j].tau_s);
       }
     }
   }
@@ -206,8 +205,7 @@ std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
     if (!(mask & (1u << a))) continue;
     double v = 0.0;
     for (std::size_t b = 0; b < terms; ++b)
-      for (std::size_t c = 0; c < terms; ++c)
-        v += f.inv[a * terms + b] * meat[b * terms + c] * f.inv[c * terms + a];
+      for (std::size_t c = 0; c < terms; ++c) v += f.inv[a][b] * meat[b][c] * f.inv[c][a];
     sd[a] = std::sqrt(std::max(v, 0.0));
   }
   return sd;

@@ -53,8 +53,9 @@ TEST(Earth, VectorAxisIsNormalisedAndMatchesNamedAxes) {
   EXPECT_DOUBLE_EQ(v->north, 0.6);
   EXPECT_DOUBLE_EQ(v->down, -0.8);
   const double w = earth_rate_component_dps(42.6, *v);
-  EXPECT_NEAR(w, 0.6 * earth_rate_component_dps(42.6, *parse_axis("N")) +
-                     0.8 * earth_rate_component_dps(42.6, *parse_axis("Up")),
+  EXPECT_NEAR(w,
+              0.6 * earth_rate_component_dps(42.6, *parse_axis("N")) +
+                  0.8 * earth_rate_component_dps(42.6, *parse_axis("Up")),
               1e-18);
 }
 

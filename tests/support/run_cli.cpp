@@ -58,6 +58,8 @@ void write_text(const std::string& path, const std::string& text) {
   f << text;
 }
 
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
+bool exists(const std::string& path) {
+  return std::filesystem::exists(path);
+}
 
 }  // namespace gyroflip::test
