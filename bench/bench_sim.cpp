@@ -1,10 +1,16 @@
 // Simulator throughput: the full chain (every error term on, ADC on) in raw conversions per
 // second on one core, and a multi-threaded Monte Carlo (independent seeds, all cores).
 // Figures and commands: docs/PERFORMANCE.md, section "Simulator"; script bench/sim_figures.sh.
+// `bench_sim --run DURATION_S [SEED]` runs the full chain once without the benchmark library and
+// prints the conversion count: the command that valgrind --tool=callgrind counts instructions of
+// (repeatable regardless of machine load, unlike wall time).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <thread>
 #include <vector>
 
@@ -81,3 +87,17 @@ void BM_MonteCarloAllCores(benchmark::State& state) {
 BENCHMARK(BM_MonteCarloAllCores)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 3 && std::strcmp(argv[1], "--run") == 0) {
+    double sink = 0.0;
+    const std::uint64_t seed = argc >= 4 ? std::strtoull(argv[3], nullptr, 10) : 1;
+    const std::uint64_t n = run_one(seed, std::strtod(argv[2], nullptr), sink);
+    std::printf("%llu conversions (last rate %.9g)\n", static_cast<unsigned long long>(n), sink);
+    return 0;
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
