@@ -7,6 +7,15 @@
 
 #include "gyroflip/core/error.hpp"
 
+// The iterations of the next loop touch distinct memory (vectorise without alias checks).
+#if defined(__clang__)
+#define GYROFLIP_INDEPENDENT_ITERATIONS _Pragma("clang loop vectorize(assume_safety)")
+#elif defined(__GNUC__)
+#define GYROFLIP_INDEPENDENT_ITERATIONS _Pragma("GCC ivdep")
+#else
+#define GYROFLIP_INDEPENDENT_ITERATIONS
+#endif
+
 namespace gyroflip::rig {
 
 sample_block::sample_block(std::size_t capacity)
@@ -32,7 +41,7 @@ result<simulator> simulator::make(const simulation_config& c) {
   if (!s) return s.err();
   auto geo = rig_geometry::make(c.lat_deg, c.axis, c.table_axis);
   if (!geo) return geo.err();
-  simulator sim(c, std::move(*s), std::move(*g), std::move(*adc));
+  simulator sim(c, std::move(*s), std::move(*g), *adc);
   const auto& ph = sim.sched_.phases();
   const auto& sp = c.sensor;
   const sensor::sensor_vec g0 = sim.gyro_.g_sens_g0();
@@ -49,7 +58,8 @@ result<simulator> simulator::make(const simulation_config& c) {
     sim.gf1_.push_back(dot(g1, f.specific_force_g));
     sim.angle_out_.push_back(p.moving ? std::numeric_limits<double>::quiet_NaN()
                                       : p.angle_deg - 360.0 * std::floor(p.angle_deg / 360.0));
-    sim.slot_.push_back(p.dwell);
+    sim.dwell_base_.push_back(p.dwell < 0 ? -1 : p.dwell);
+    sim.dwell_mask_.push_back(p.dwell < 0 ? 0 : -1);
   }
   sim.total_ = static_cast<std::uint64_t>(std::floor(c.duration_s / t_conv + 1e-9));
   return sim;
@@ -59,7 +69,7 @@ simulator::simulator(const simulation_config& c, schedule s, sensor::gyro g, ad7
     : cfg_(c),
       sched_(std::move(s)),
       gyro_(std::move(g)),
-      adc_(std::move(a)),
+      adc_(a),
       t_conv_s_(adc_.conversion_time_s()),
       inv_sf_(1.0 / c.sensor.scale_factor_v_per_dps) {}
 
@@ -68,9 +78,6 @@ std::size_t simulator::fill(sample_block& b) noexcept {
       static_cast<std::size_t>(std::min<std::uint64_t>(b.capacity(), total_ - k_));
   const std::size_t period = in_gain_.size();
   const double t_ref = gyro_.temp_ref_c();
-  std::size_t p = p_;
-  std::uint64_t k = k_;
-  auto cycle = static_cast<std::int64_t>(k / period);
   // Restrict-qualified outputs: stores to the block cannot alias the model's state, so the
   // compiler keeps that state in registers (GCC/Clang extension, 2.5x faster here).
   double* __restrict out_t = b.time_s.data();
@@ -87,44 +94,60 @@ std::size_t simulator::fill(sample_block& b) noexcept {
   if (n_arw_.size() < n) {
     n_arw_.assign(n, 0.0);
     n_adc_.assign(n, 0.0);
+    w_in_.assign(n, 0.0);
+    v_rel_.assign(n, 0.0);
   }
   if (gyro_.arw_on()) gyro_.arw_stream().fill(n_arw_.data(), n);
   if (adc_.noise_on()) adc_.noise_stream().fill(n_adc_.data(), n);
-  const double* __restrict n_arw = n_arw_.data();
-  const double* __restrict n_adc = n_adc_.data();
-  // Stage 1: time, environment and the true sensed rate (into out_rate for now).
-  std::size_t q = p;
-  for (std::size_t i = 0; i < n; ++i, ++k) {
-    // Signed conversion: uint64 -> double is a branchy sequence on x86-64.
-    const double t = (static_cast<double>(static_cast<std::int64_t>(k)) + 0.5) * t_conv_s_;
-    const double temp = cfg_.temperature.at(t);
-    const double w_in = cfg_.rate.at(t);
-    const double g_term = gf0_[q] + gf1_[q] * (temp - t_ref);
-    const double input = w_in * in_gain_[q] + table_[q];
-    out_t[i] = t;
-    out_temp[i] = temp;
-    out_g[i] = g_term;
-    out_earth[i] = earth_[q];
-    out_input[i] = input;
-    out_rate[i] = input + earth_[q] + g_term;
-    if (++q == period) q = 0;
-  }
-  // Stage 2: the gyro (voltages into out_angle as scratch), stage 3: the AD7739 and recorder.
-  gyro_.sample_block(out_t, out_temp, out_rate, n_arw, out_angle, out_bias, n);
-  for (std::size_t i = 0; i < n; ++i) {
-    out_rate[i] = adc_.volts(adc_.convert(out_angle[i], n_adc[i])) * inv_sf_;
-  }
-  // Stage 4: table angle and dwell index of each conversion.
-  for (std::size_t i = 0; i < n; ++i) {
-    out_angle[i] = angle_out_[p];
-    out_dwell[i] = slot_[p] < 0 ? -1 : 2 * cycle + slot_[p];
-    if (++p == period) {
+  // Stage 1: time (window centres; k < 2^52 so k + 1/2 is exact), then the profiles.
+  const double k0 = static_cast<double>(static_cast<std::int64_t>(k_));
+  for (int j = 0; j < static_cast<int>(n); ++j)
+    out_t[j] = (k0 + static_cast<double>(j) + 0.5) * t_conv_s_;
+  cfg_.temperature.fill(out_t, out_temp, n);
+  cfg_.rate.fill(out_t, w_in_.data(), n);
+  // Stage 2: the rig, one run of consecutive cycle slots at a time (contiguous slot tables).
+  const double* __restrict w_in = w_in_.data();
+  std::size_t p = p_;
+  auto cycle = static_cast<std::int64_t>(k_ / period);
+  for (std::size_t i = 0; i < n;) {
+    const std::size_t run = std::min(n - i, period - p);
+    const double* __restrict gain = in_gain_.data() + p;
+    const double* __restrict table = table_.data() + p;
+    const double* __restrict earth = earth_.data() + p;
+    const double* __restrict gf0 = gf0_.data() + p;
+    const double* __restrict gf1 = gf1_.data() + p;
+    const double* __restrict angle = angle_out_.data() + p;
+    const std::int64_t* __restrict dwell_base = dwell_base_.data() + p;
+    const std::int64_t* __restrict dwell_mask = dwell_mask_.data() + p;
+    const std::int64_t two_cycles = 2 * cycle;
+    // Columns and slot tables are distinct arrays (GCC does not apply restrict to pointers
+    // declared in a loop body, and would need more run-time alias checks than it tries).
+    GYROFLIP_INDEPENDENT_ITERATIONS
+    for (std::size_t j = 0; j < run; ++j) {
+      const std::size_t k = i + j;
+      const double g_term = gf0[j] + gf1[j] * (out_temp[k] - t_ref);
+      const double input = w_in[k] * gain[j] + table[j];
+      out_g[k] = g_term;
+      out_earth[k] = earth[j];
+      out_input[k] = input;
+      out_rate[k] = input + earth[j] + g_term;
+      out_angle[k] = angle[j];
+      out_dwell[k] = dwell_base[j] + (dwell_mask[j] & two_cycles);
+    }
+    i += run;
+    p += run;
+    if (p == period) {
       p = 0;
       ++cycle;
     }
   }
+  // Stage 3: the gyro (voltages), stage 4: the AD7739 and the recorder (nominal scale factor).
+  double* __restrict v_rel = v_rel_.data();
+  gyro_.sample_block(out_t, out_temp, out_rate, n_arw_.data(), v_rel, out_bias, n);
+  adc_.convert_block(v_rel, n_adc_.data(), out_rate, n);
+  for (std::size_t i = 0; i < n; ++i) out_rate[i] *= inv_sf_;
   p_ = p;
-  k_ = k;
+  k_ += n;
   b.size = n;
   return n;
 }

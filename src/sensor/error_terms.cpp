@@ -89,6 +89,28 @@ double slow_bias::grid_value() noexcept {
   return v;
 }
 
+void slow_bias::mean_block(const double* t_s, double half_s, double inv_width_per_s, double* out,
+                           std::size_t n) noexcept {
+  std::size_t i = 0;
+  while (i < n) {
+    if (t_s[i] - half_s >= t_lo_ && t_s[i] + half_s <= t_hi_) {
+      // Later windows start later (sorted), so the run ends at the first window past t_hi.
+      const double t_hi = t_hi_;
+      const double* end =
+          std::partition_point(t_s + i + 1, t_s + n, [&](double t) { return t + half_s <= t_hi; });
+      const auto m = static_cast<std::size_t>(end - t_s);
+      const double v_lo = v_lo_;
+      const double slope = slope_;
+      const double t_lo = t_lo_;
+      for (std::size_t k = i; k < m; ++k) out[k] = v_lo + slope * (t_s[k] - t_lo);
+      i = m;
+    } else {
+      out[i] = mean_over(t_s[i] - half_s, t_s[i] + half_s, inv_width_per_s);
+      ++i;
+    }
+  }
+}
+
 void slow_bias::advance() noexcept {
   if (n_ > 0) {
     area_lo_ += 0.5 * (v_lo_ + v_hi_) * h_;

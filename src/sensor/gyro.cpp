@@ -57,10 +57,10 @@ void gyro::sample_block(const double* __restrict t_s, const double* __restrict t
                         double* __restrict v_rel, double* __restrict bias_dps,
                         std::size_t n) noexcept {
   // Same operations in the same order as sample(); v_rel holds x between the stages.
+  slow_.mean_block(t_s, half_dt_, inv_dt_, bias_dps, n);
   for (std::size_t i = 0; i < n; ++i) {
     const double dtemp = temp_c[i] - temp_ref_c_;
-    bias_dps[i] = bias0_dps_ + slow_.mean_over(t_s[i] - half_dt_, t_s[i] + half_dt_, inv_dt_) +
-                  bias_tc_ * dtemp;
+    bias_dps[i] = bias0_dps_ + bias_dps[i] + bias_tc_ * dtemp;
   }
   for (std::size_t i = 0; i < n; ++i)
     v_rel[i] = (rate_dps[i] + bias_dps[i]) + arw_sigma_ * n_arw[i];

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "gyroflip/rig/ad7739.hpp"
@@ -71,6 +72,40 @@ TEST(Profiles, SpecsAndCsv) {
   EXPECT_EQ(err("time_s,temp_c\n5\n"), "t.csv:2:1: expected 2 columns (time_s,temp_c), found 1");
 }
 
+TEST(Profiles, FillIsBitIdenticalToAtForEveryKind) {
+  // The simulator evaluates profiles one block at a time (fill), tests and headers call at():
+  // both must give the same bits, across piece boundaries and across blocks.
+  const std::vector<std::string> rates = {"2.5", "steps:0.3:5,0.71:-5,2:1", "sine:2:3:0.5"};
+  const std::vector<std::string> temps = {"-0", "steps:0.5:4,1.5:30", "ramp:20:4:1.3",
+                                          "fridge:4:2:0.37"};
+  std::vector<profile> all;
+  for (const auto& r : rates) all.push_back(profile::parse_rate(r).value());
+  for (const auto& t : temps) all.push_back(profile::parse_temperature(t).value());
+  all.push_back(
+      profile::parse_temperature_csv("time_s,temp_c\n0.2,20\n0.9,10\n1.1,12\n", "t.csv").value());
+  const std::size_t n = 1500;  // 3 s at 500 Hz: many pieces of each kind
+  std::vector<double> t(n);
+  for (std::size_t k = 0; k < n; ++k) t[k] = (static_cast<double>(k) + 0.5) * 1.99886e-3;
+  for (auto& p : all) {
+    profile by_block = p;
+    std::vector<double> v(n);
+    by_block.fill(t.data(), v.data(), 700);  // two blocks, as the simulator fills them
+    by_block.fill(t.data() + 700, v.data() + 700, n - 700);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double want = p.at(t[k]);
+      ASSERT_EQ(std::signbit(v[k]), std::signbit(want)) << k;
+      ASSERT_EQ(v[k], want) << k;
+    }
+  }
+  // The triangle against its closed form MEAN + A (1 - 4 phase) / MEAN + A (4 phase - 3).
+  auto fridge = profile::parse_temperature("fridge:4:2:0.37").value();
+  for (std::size_t k = 0; k < n; ++k) {
+    const double ph = t[k] / 0.37 - std::floor(t[k] / 0.37);
+    const double want = 4.0 + (ph < 0.5 ? 1.0 - 4.0 * ph : 4.0 * ph - 3.0);
+    EXPECT_NEAR(fridge.at(t[k]), want, 1e-12) << t[k];
+  }
+}
+
 TEST(Turntable, DefaultTurnAndTriangleProfile) {
   const auto t = turn_profile::make(stepper_params{}, 180.0).value();
   EXPECT_EQ(t.n_steps(), 100.0);
@@ -113,6 +148,25 @@ TEST(Ad7739, ConversionTimeCodesAndClipping) {
   EXPECT_NEAR(std::sqrt(s2 / 100000.0), 2e-6 * std::sqrt(2e-3 / noisy.conversion_time_s()),
               0.05e-6);
   EXPECT_FALSE(ad7739::make(ad7739_config{1}, 1).ok());
+}
+
+TEST(Ad7739, BlockIsBitIdenticalToPerConversion) {
+  for (const bool chop : {true, false}) {  // without chop an offset is added
+    ad7739_config c;
+    c.chop = chop;
+    auto adc = ad7739::make(c, 3).value();
+    const std::size_t n = 20000;
+    std::vector<double> v(n), noise(n), out(n);
+    sensor::normal_stream g(8, sensor::stream::user);
+    for (std::size_t i = 0; i < n; ++i) {
+      v[i] = 3.0 * g.next();  // ~40 % beyond +-2.5 V: both end codes
+      noise[i] = g.next();
+    }
+    v[0] = 2.5;  // the edges exactly
+    v[1] = -2.5;
+    adc.convert_block(v.data(), noise.data(), out.data(), n);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(out[i], adc.volts(adc.convert(v[i], noise[i])));
+  }
 }
 
 TEST(Schedule, PaperCycleOfAbout179Seconds) {

@@ -231,6 +231,28 @@ TEST(Gyro, BlockIsBitIdenticalToPerSample) {
   }
 }
 
+TEST(SlowBias, BlockIsBitIdenticalToPerWindowAndMatchesTheExactMean) {
+  sensor_params p = find_builtin("adxrs150")->params;  // grid step h = 0.1 s
+  p.rrw_dps_per_rts = 1e-3;
+  p.rate_ramp_dps_per_s = 1e-4;
+  // Windows much shorter than h (the rig), about h/3, and longer than h (many grid points).
+  for (const double dt : {0.002, 0.037, 0.45}) {
+    slow_bias one(p, 5.0, 4), blk(p, 5.0, 4), ref(p, 5.0, 4);
+    const std::size_t n = 4000;
+    std::vector<double> t(n), mean(n);
+    for (std::size_t k = 0; k < n; ++k) t[k] = (static_cast<double>(k) + 0.5) * dt;
+    blk.mean_block(t.data(), dt / 2.0, 1.0 / dt, mean.data(), 1234);
+    blk.mean_block(t.data() + 1234, dt / 2.0, 1.0 / dt, mean.data() + 1234, n - 1234);
+    for (std::size_t k = 0; k < n; ++k) {
+      ASSERT_EQ(one.mean_at(t[k], dt / 2.0, 1.0 / dt), mean[k]) << dt << " " << k;
+      // The reference: the running integral's difference (mean_over). It carries the rounding
+      // of an integral of ~|b| t (~1 deg s), i.e. ~1e-16 / dt deg/s: far below 1e-12.
+      ASSERT_NEAR(ref.mean_over(t[k] - dt / 2.0, t[k] + dt / 2.0), mean[k], 1e-12)
+          << dt << " " << k;
+    }
+  }
+}
+
 TEST(Presets, SourcesAndPaperConsistency) {
   const double earth = 4.178074e-3 * std::cos(42.6 * 3.14159265358979 / 180.0);
   for (const auto& p : builtin_presets()) {

@@ -85,9 +85,12 @@ class simulator {
   double t_conv_s_, inv_sf_;
   std::uint64_t total_ = 0, k_ = 0;
   std::size_t p_ = 0;
+  // Per cycle slot: sensed input gain, table rate, Earth rate, g-term parts, output angle, and
+  // the dwell index as dwell_base + (dwell_mask & 2 cycle) (base -1 and mask 0 outside dwells).
   std::vector<double> in_gain_, table_, earth_, gf0_, gf1_, angle_out_;
-  std::vector<std::int8_t> slot_;
-  std::vector<double> n_arw_, n_adc_;  // per-block scratch for the normal deviates
+  std::vector<std::int64_t> dwell_base_, dwell_mask_;
+  // Per-block scratch: normal deviates, input rate, gyro output voltage.
+  std::vector<double> n_arw_, n_adc_, w_in_, v_rel_;
 };
 
 /// One dwell average, as written to a recording (docs/FORMATS.md) plus its truth.

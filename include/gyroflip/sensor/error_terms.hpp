@@ -86,6 +86,19 @@ class slow_bias {
   double mean_over(double t0_s, double t1_s) noexcept {
     return mean_over(t0_s, t1_s, 1.0 / (t1_s - t0_s));
   }
+  /// The mean over the window [t_s - half_s, t_s + half_s] (s) with 1/(2 half_s) precomputed.
+  /// A window inside one grid interval takes the value of the linear piece at its centre (the
+  /// exact mean of a linear function over a symmetric window; no difference of two large
+  /// integrals); a window across grid points takes mean_over().
+  double mean_at(double t_s, double half_s, double inv_width_per_s) noexcept {
+    if (t_s - half_s >= t_lo_ && t_s + half_s <= t_hi_) return v_lo_ + slope_ * (t_s - t_lo_);
+    return mean_over(t_s - half_s, t_s + half_s, inv_width_per_s);
+  }
+  /// mean_at() for the non-decreasing window centres `t_s[0..n)` into `out`, bit-identical to n
+  /// calls in order: the windows inside one grid interval form a run that is one tight
+  /// (vectorisable) loop.
+  void mean_block(const double* t_s, double half_s, double inv_width_per_s, double* out,
+                  std::size_t n) noexcept;
   /// The same with 1/(t1 - t0) precomputed by the caller (no division per sample).
   double mean_over(double t0_s, double t1_s, double inv_width_per_s) noexcept {
     const double i0 = t0_s == t_end_ ? i_end_ : integral_to(t0_s);

@@ -63,8 +63,7 @@ class gyro {
   /// arw_stream() (batch generation in the simulator; identical results).
   gyro_sample sample(double t_s, double temp_c, double rate_dps, double n_arw) noexcept {
     const double dtemp = temp_c - temp_ref_c_;
-    const double bias =
-        bias0_dps_ + slow_.mean_over(t_s - half_dt_, t_s + half_dt_, inv_dt_) + bias_tc_ * dtemp;
+    const double bias = bias0_dps_ + slow_.mean_at(t_s, half_dt_, inv_dt_) + bias_tc_ * dtemp;
     double x = rate_dps + bias;
     x += arw_sigma_ * n_arw;
     if (lpf_on_) {
