@@ -65,7 +65,7 @@ result<simulator> simulator::make(const simulation_config& c) {
   return sim;
 }
 
-simulator::simulator(const simulation_config& c, schedule s, sensor::gyro g, ad7739 a)
+simulator::simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a)
     : cfg_(c),
       sched_(std::move(s)),
       gyro_(std::move(g)),

@@ -42,20 +42,21 @@ double normal_tail(rng& g) noexcept {
   }
 }
 
-double normal_slow(rng& g, const ziggurat_tables& z, std::size_t i, double u) noexcept {
+slow_normal normal_slow(rng g, const ziggurat_tables& z, std::size_t i, double u) noexcept {
   for (;;) {
     if (i == 0) {
       const double t = normal_tail(g);
-      return u < 0.0 ? -t : t;
+      return {u < 0.0 ? -t : t, g};
     }
     // Wedge between layers i and i+1: accept x when a uniform height between the layers' densities
     // lies under the density (Marsaglia & Tsang 2000; one exp with the tabulated f[i]).
     const double xv = u * z.x[i];
-    if (z.f[i + 1] + g.uniform_open() * (z.f[i] - z.f[i + 1]) < det_exp(-0.5 * xv * xv)) return xv;
+    if (z.f[i + 1] + g.uniform_open() * (z.f[i] - z.f[i + 1]) < det_exp(-0.5 * xv * xv))
+      return {xv, g};
     const std::uint64_t r = g.next();  // rejected: draw again
     i = static_cast<std::size_t>(r & 0xffU);
     u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
-    if (std::fabs(u) < z.ratio[i]) return u * z.x[i];
+    if (std::fabs(u) < z.ratio[i]) return {u * z.x[i], g};
   }
 }
 

@@ -77,7 +77,7 @@ class simulator {
   }
 
  private:
-  simulator(const simulation_config& c, schedule s, sensor::gyro g, ad7739 a);
+  simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a);
   simulation_config cfg_;
   schedule sched_;
   sensor::gyro gyro_;

@@ -79,11 +79,18 @@ struct ziggurat_tables {
 /// Tail beyond r (Marsaglia 1964): x = -ln(U1)/r, y = -ln(U2) until 2y > x^2; returns r + x.
 [[nodiscard]] double normal_tail(rng& g) noexcept;
 
+/// The deviate and the generator state after the rare part of `normal`.
+struct slow_normal {
+  double value;
+  rng state;
+};
+
 /// The rare part of `normal`: the wedge test for (layer i, signed uniform u) already drawn,
 /// the tail for i = 0, and on rejection further draws until acceptance. Out of line so that
-/// the fast path stays small.
-[[nodiscard]] double normal_slow(rng& g, const ziggurat_tables& z, std::size_t i,
-                                 double u) noexcept;
+/// the fast path stays small; the generator goes in and comes back by value, so that in the
+/// caller's loop its state never has to live in memory (a reference would pin it there).
+[[nodiscard]] slow_normal normal_slow(rng g, const ziggurat_tables& z, std::size_t i,
+                                      double u) noexcept;
 
 /// A standard normal N(0, 1) deviate. Fast path (98.8 %): one 64-bit number, one multiply,
 /// one compare; low 8 bits pick the layer, the top 53 bits the signed uniform (disjoint bits,
@@ -95,7 +102,9 @@ struct ziggurat_tables {
   if (std::fabs(u) < z.ratio[i]) [[likely]] {
     return u * z.x[i];
   }
-  return normal_slow(g, z, i, u);
+  const slow_normal s = normal_slow(g, z, i, u);
+  g = s.state;
+  return s.value;
 }
 
 /// A normal stream: an `rng` plus the shared ziggurat tables (a value type, cheap to copy).
