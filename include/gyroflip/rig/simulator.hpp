@@ -78,6 +78,12 @@ class simulator {
 
  private:
   simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a);
+  // Conversions [first, first + n) of `b`, n <= chunk.
+  void fill_chunk(sample_block& b, std::size_t first, std::size_t n) noexcept;
+  // The rig terms of n conversions in consecutive cycle slots (from p_), into `b` from `first`
+  // (their input rates at w_in_[scratch]).
+  void rig_run(sample_block& b, std::size_t first, std::size_t scratch, std::size_t n) noexcept;
+  static constexpr std::size_t chunk = 512;  // conversions per pass through the stages
   simulation_config cfg_;
   schedule sched_;
   sensor::gyro gyro_;
