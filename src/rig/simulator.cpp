@@ -120,8 +120,7 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
   // Stage 3: the gyro (voltages), stage 4: the AD7739 and the recorder (nominal scale factor).
   double* __restrict v_rel = v_rel_.data();
   gyro_.sample_block(out_t, out_temp, out_rate, n_arw_.data(), v_rel, b.bias_dps.data() + first, n);
-  adc_.convert_block(v_rel, n_adc_.data(), out_rate, n);
-  for (std::size_t i = 0; i < n; ++i) out_rate[i] *= inv_sf_;
+  adc_.convert_block(v_rel, n_adc_.data(), out_rate, inv_sf_, n);
 }
 
 void simulator::rig_run(sample_block& b, std::size_t first, std::size_t scratch,

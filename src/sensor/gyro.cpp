@@ -38,6 +38,7 @@ gyro::gyro(const sensor_params& p, double dt, double power_on_before_s, std::uin
       quant_deg_(p.quantisation_deg),
       inv_quant_(p.quantisation_deg > 0.0 ? 1.0 / p.quantisation_deg : 0.0),
       inv_dt_(1.0 / dt),
+      quant_v_per_deg_(p.scale_factor_v_per_dps / dt),
       sf_v_per_dps_(p.scale_factor_v_per_dps),
       g0_{p.g_sens_x_dps_per_g, p.g_sens_y_dps_per_g, p.g_sens_z_dps_per_g},
       g1_{p.g_sens_tc_x_dps_per_g_c, p.g_sens_tc_y_dps_per_g_c, p.g_sens_tc_z_dps_per_g_c},
@@ -55,17 +56,28 @@ gyro::gyro(const sensor_params& p, double dt, double power_on_before_s, std::uin
   bias0_dps_ = p.bias_dps + turn_on_dps_;
 }
 
-void gyro::sample_block(const double* __restrict t_s, const double* __restrict temp_c,
-                        const double* __restrict rate_dps, const double* __restrict n_arw,
-                        double* __restrict v_rel, double* __restrict bias_dps,
+void gyro::sample_block(const double* t_s, const double* temp_c, const double* rate_dps,
+                        const double* n_arw, double* v_rel, double* bias_dps,
                         std::size_t n) noexcept {
   slow_.mean_block(t_s, half_dt_, inv_dt_, bias_dps, n);
+  if (lpf_on_) {
+    if (quant_on_) return chain_block<true, true>(temp_c, rate_dps, n_arw, v_rel, bias_dps, n);
+    return chain_block<true, false>(temp_c, rate_dps, n_arw, v_rel, bias_dps, n);
+  }
+  if (quant_on_) return chain_block<false, true>(temp_c, rate_dps, n_arw, v_rel, bias_dps, n);
+  return chain_block<false, false>(temp_c, rate_dps, n_arw, v_rel, bias_dps, n);
+}
+
+template <bool lpf, bool quant>
+void gyro::chain_block(const double* __restrict temp_c, const double* __restrict rate_dps,
+                       const double* __restrict n_arw, double* __restrict v_rel,
+                       double* __restrict bias_dps, std::size_t n) noexcept {
   chain_state s = state_;
   for (std::size_t i = 0; i < n; ++i) {  // the same operations in the same order as sample()
     const double dtemp = temp_c[i] - temp_ref_c_;
     const double bias = bias0_dps_ + bias_dps[i] + bias_tc_ * dtemp;
     bias_dps[i] = bias;
-    v_rel[i] = output(s, rate_dps[i] + bias + arw_sigma_ * n_arw[i], dtemp);
+    v_rel[i] = output<lpf, quant>(s, rate_dps[i] + bias + arw_sigma_ * n_arw[i], dtemp);
   }
   state_ = s;
 }

@@ -164,8 +164,10 @@ TEST(Ad7739, BlockIsBitIdenticalToPerConversion) {
     }
     v[0] = 2.5;  // the edges exactly
     v[1] = -2.5;
-    adc.convert_block(v.data(), noise.data(), out.data(), n);
-    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(out[i], adc.volts(adc.convert(v[i], noise[i])));
+    adc.convert_block(v.data(), noise.data(), out.data(), 80.0, n);  // 1 / (12.5 mV/(deg/s))
+    for (std::size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(out[i], adc.volts(adc.convert(v[i], noise[i])) * 80.0);
+    }
   }
 }
 

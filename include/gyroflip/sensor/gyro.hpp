@@ -64,7 +64,12 @@ class gyro {
   gyro_sample sample(double t_s, double temp_c, double rate_dps, double n_arw) noexcept {
     const double dtemp = temp_c - temp_ref_c_;
     const double bias = bias0_dps_ + slow_.mean_at(t_s, half_dt_, inv_dt_) + bias_tc_ * dtemp;
-    return {output(state_, rate_dps + bias + arw_sigma_ * n_arw, dtemp), bias};
+    const double x = rate_dps + bias + arw_sigma_ * n_arw;
+    const double v = lpf_on_ ? (quant_on_ ? output<true, true>(state_, x, dtemp)
+                                          : output<true, false>(state_, x, dtemp))
+                             : (quant_on_ ? output<false, true>(state_, x, dtemp)
+                                          : output<false, false>(state_, x, dtemp));
+    return {v, bias};
   }
 
   /// `n` conversions at once, bit-identical to n calls of sample(): `t_s`, `temp_c`, `rate_dps`
@@ -97,24 +102,34 @@ class gyro {
     bool first = true;     // the low-pass starts at its first input
   };
   // From x_k = input + bias + ARW (deg/s) to V - V_null (V): low-pass (l = a l + (1 - a) x),
-  // scale factor and bow, saturation, angle quantisation, nominal scale factor (header formulas).
+  // scale factor and bow, saturation, angle quantisation, nominal scale factor (header
+  // formulas). The two optional stages are template switches, so the block loop has no
+  // per-sample test for them.
+  template <bool lpf, bool quant>
   double output(chain_state& s, double x, double dtemp) const noexcept {
-    if (lpf_on_) {
-      if (s.first) s.lpf = x;
+    if constexpr (lpf) {
+      if (s.first) [[unlikely]] {  // the filter starts at its first input
+        s.lpf = x;
+        s.first = false;
+      }
       s.lpf = lpf_keep_ * s.lpf + lpf_gain_ * x;  // two dependent operations per conversion
       x = s.lpf;
     }
-    s.first = false;
     x = (x + nl_per_dps_ * x * x) * (sf_ratio_ + sf_tc_ * dtemp);
-    x = x > range_dps_ ? range_dps_ : (x < -range_dps_ ? -range_dps_ : x);
-    if (quant_on_) {
+    x = x < range_dps_ ? x : range_dps_;  // saturation as min and max (two instructions)
+    x = x > -range_dps_ ? x : -range_dps_;
+    if constexpr (quant) {
       s.theta += x * dt_;
       const double q = quant_deg_ * round_even(s.theta * inv_quant_);
-      x = (q - s.theta_q) * inv_dt_;
+      x = q - s.theta_q;
       s.theta_q = q;
+      return x * quant_v_per_deg_;  // (q_k - q_{k-1}) / dt * SF
     }
     return x * sf_v_per_dps_;
   }
+  template <bool lpf, bool quant>
+  void chain_block(const double* temp_c, const double* rate_dps, const double* n_arw, double* v_rel,
+                   double* bias_dps, std::size_t n) noexcept;
   sensor_params p_;
   double dt_, half_dt_;
   double temp_ref_c_, bias0_dps_ = 0.0, turn_on_dps_ = 0.0, bias_tc_;
@@ -124,7 +139,7 @@ class gyro {
   double lpf_keep_ = 0.0, lpf_gain_ = 1.0;  // a = e^{-2 pi f_c dt} and 1 - a
   double nl_per_dps_, sf_ratio_, sf_tc_, range_dps_;
   bool quant_on_;
-  double quant_deg_, inv_quant_, inv_dt_;
+  double quant_deg_, inv_quant_, inv_dt_, quant_v_per_deg_;
   chain_state state_;
   double sf_v_per_dps_;
   sensor_vec g0_, g1_;
