@@ -34,6 +34,7 @@ void ad7739::convert_block(const double* __restrict v_diff, const double* __rest
   constexpr double magic = 6755399441055744.0;  // round_even's 1.5 * 2^52
   std::size_t i = 0;
 #if defined(__SSE2__)
+  // NOLINTBEGIN(portability-simd-intrinsics): guarded, with the portable loop below as fallback
   // Two conversions per step with SSE2's min/max (GCC vectorises the scalar clamp below as a
   // compare-and-blend of 8 instructions); the same operations in the same order.
   const __m128d off = _mm_set1_pd(offset_v_), nv = _mm_set1_pd(noise_v_);
@@ -47,6 +48,7 @@ void ad7739::convert_block(const double* __restrict v_diff, const double* __rest
     c = _mm_max_pd(_mm_min_pd(c, hi2), lo2);  // per lane: c < hi ? c : hi, then c > lo ? c : lo
     _mm_storeu_pd(out + i, _mm_mul_pd(_mm_mul_pd(c, lsb), sc));
   }
+  // NOLINTEND(portability-simd-intrinsics)
 #endif
   // Zero noise deviates when the noise is off (noise_v_ = 0 then), so no branch per sample.
   for (; i < n; ++i) {
