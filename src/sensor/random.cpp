@@ -24,6 +24,12 @@ ziggurat_tables build() {
   t.x[256] = 0.0;
   for (std::size_t i = 0; i < 256; ++i) t.ratio[i] = t.x[i + 1] / t.x[i];
   for (std::size_t i = 0; i <= 256; ++i) t.f[i] = det_exp(-0.5 * t.x[i] * t.x[i]);
+  for (std::size_t i = 0; i < 256; ++i) {
+    const auto k = static_cast<std::uint64_t>(std::ceil(t.ratio[i] * 0x1.0p52));
+    t.shift[i] = k == 0 ? std::uint64_t{1} << 62 : k - 1;  // k = 0: s + 2^62 > 0 = span
+    t.span[i] = k == 0 ? 0 : 2 * k - 2;
+    t.x_scaled[i] = t.x[i] * 0x1.0p-52;
+  }
   return t;
 }
 

@@ -74,6 +74,37 @@ TEST(Random, NormalMomentsAndTails) {
   EXPECT_NEAR(beyond3 / double(n), 2.6998e-3, 5 * std::sqrt(2.7e-3 / n));  // P(|x|>3)
 }
 
+TEST(Random, IntegerFastPathGivesTheTextbookZigguratNumbers) {
+  // The fast path compares the integer behind u (ziggurat_tables); the textbook test compares
+  // |u| < ratio[i] in doubles and returns u x[i]. Same numbers, bit for bit, 2e6 draws.
+  const ziggurat_tables& z = ziggurat();
+  normal_stream fast(99, stream::user);
+  rng g(99, stream::user);
+  for (int k = 0; k < 2'000'000; ++k) {
+    const std::uint64_t r = g.next();
+    const auto i = static_cast<std::size_t>(r & 0xffU);
+    const double u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
+    double want = u * z.x[i];
+    if (!(std::fabs(u) < z.ratio[i])) {
+      const slow_normal s = normal_slow(g, z, i, u);
+      g = s.state;
+      want = s.value;
+    }
+    ASSERT_EQ(fast.next(), want) << k;
+  }
+  // The edges of the integer test: |s| = k - 1 accepted, |s| = k not (k = ceil(ratio 2^52)).
+  for (std::size_t i = 0; i < 256; ++i) {
+    const double k = std::ceil(z.ratio[i] * 0x1.0p52);
+    for (const double s : {k - 1.0, -(k - 1.0), k, -k}) {
+      if (std::fabs(s) > 0x1.0p52 || (k == 0.0 && std::fabs(s) > 0.0)) continue;
+      const bool textbook = std::fabs(s * 0x1.0p-52) < z.ratio[i];
+      const bool integer =
+          static_cast<std::uint64_t>(static_cast<std::int64_t>(s)) + z.shift[i] <= z.span[i];
+      EXPECT_EQ(integer, textbook) << i << " " << s;
+    }
+  }
+}
+
 TEST(Random, StreamsAreIndependentAndReproducible) {
   rng a(1, stream::angle_random_walk), b(1, stream::angle_random_walk), c(1, stream::flicker);
   for (int i = 0; i < 10; ++i) EXPECT_EQ(a.next(), b.next());

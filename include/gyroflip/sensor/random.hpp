@@ -68,11 +68,17 @@ class rng {
 /// Ziggurat tables (256 layers, Marsaglia & Tsang 2000, r = 3.6541528853610088,
 /// v = 4.92867323399e-3), built once with det_exp/det_log (Doornik 2005 "ZIGNOR" layout:
 /// x[0] = v/f(r), x[1] = r, x[i+1] = sqrt(-2 ln(v/x[i] + f(x[i]))), x[256] = 0,
-/// ratio[i] = x[i+1]/x[i], f[i] = exp(-x[i]^2/2)).
+/// ratio[i] = x[i+1]/x[i], f[i] = exp(-x[i]^2/2)). The fast path tests and scales the 53-bit
+/// integer s behind u = s 2^-52 directly: |u| < ratio[i] <=> |s| < k_i = ceil(ratio[i] 2^52)
+/// <=> (unsigned)(s + shift[i]) <= span[i] (shift = k - 1, span = 2k - 2; k = 0 never
+/// accepts), and u x[i] = s (x[i] 2^-52) exactly as rounded (scaling by 2^-52 is exact), so the
+/// numbers are those of the textbook test on doubles, with one compare on integers.
 struct ziggurat_tables {
   std::array<double, 257> x{};
   std::array<double, 256> ratio{};
   std::array<double, 257> f{};
+  std::array<std::uint64_t, 256> shift{}, span{};
+  std::array<double, 256> x_scaled{};  // x[i] 2^-52
 };
 [[nodiscard]] const ziggurat_tables& ziggurat();
 
@@ -98,10 +104,11 @@ struct slow_normal {
 [[nodiscard]] inline double normal(rng& g, const ziggurat_tables& z) noexcept {
   const std::uint64_t r = g.next();
   const auto i = static_cast<std::size_t>(r & 0xffU);
-  const double u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
-  if (std::fabs(u) < z.ratio[i]) [[likely]] {
-    return u * z.x[i];
+  const std::int64_t s53 = static_cast<std::int64_t>(r) >> 11;  // in [-2^52, 2^52)
+  if (static_cast<std::uint64_t>(s53) + z.shift[i] <= z.span[i]) [[likely]] {
+    return static_cast<double>(s53) * z.x_scaled[i];
   }
+  const double u = static_cast<double>(s53) * 0x1.0p-52;
   const slow_normal s = normal_slow(g, z, i, u);
   g = s.state;
   return s.value;
