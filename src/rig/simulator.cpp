@@ -2,6 +2,7 @@
 /// \brief The recording generator's hot loop and the dwell averaging (see simulator.hpp).
 #include "gyroflip/rig/simulator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -20,8 +21,9 @@
 
 namespace gyroflip::rig {
 
-sample_block::sample_block(std::size_t capacity)
-    : time_s(capacity),
+sample_block::sample_block(std::size_t capacity, bool with_truth)
+    : truth(with_truth),
+      time_s(capacity),
       angle_deg(capacity),
       rate_dps(capacity),
       temp_c(capacity),
@@ -85,6 +87,7 @@ std::size_t simulator::fill(sample_block& b) noexcept {
     n_adc_.assign(chunk, 0.0);
     w_in_.assign(chunk, 0.0);
     v_rel_.assign(chunk, 0.0);
+    bias_.assign(chunk, 0.0);
   }
   for (std::size_t i = 0; i < n; i += chunk) fill_chunk(b, i, std::min(chunk, n - i));
   b.size = n;
@@ -111,7 +114,11 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
   const std::size_t period = in_gain_.size();
   for (std::size_t i = 0; i < n;) {
     const std::size_t run = std::min(n - i, period - p_);
-    rig_run(b, first + i, i, run);
+    if (b.truth) {
+      rig_run<true>(b, first + i, i, run);
+    } else {
+      rig_run<false>(b, first + i, i, run);
+    }
     i += run;
     p_ += run;
     if (p_ == period) p_ = 0;
@@ -119,10 +126,12 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
   }
   // Stage 3: the gyro (voltages), stage 4: the AD7739 and the recorder (nominal scale factor).
   double* __restrict v_rel = v_rel_.data();
-  gyro_.sample_block(out_t, out_temp, out_rate, n_arw_.data(), v_rel, b.bias_dps.data() + first, n);
+  double* bias = b.truth ? b.bias_dps.data() + first : bias_.data();
+  gyro_.sample_block(out_t, out_temp, out_rate, n_arw_.data(), v_rel, bias, n);
   adc_.convert_block(v_rel, n_adc_.data(), out_rate, inv_sf_, n);
 }
 
+template <bool truth>
 void simulator::rig_run(sample_block& b, std::size_t first, std::size_t scratch,
                         std::size_t n) noexcept {
   // Conversions k_ .. k_ + n - 1 are cycle slots p_ .. p_ + n - 1 of cycle k_ / period.
@@ -148,9 +157,11 @@ void simulator::rig_run(sample_block& b, std::size_t first, std::size_t scratch,
   for (std::size_t j = 0; j < n; ++j) {
     const double g_term = gf0[j] + gf1[j] * (temp[j] - t_ref);
     const double input = w_in[j] * gain[j] + table[j];
-    out_g[j] = g_term;
-    out_earth[j] = earth[j];
-    out_input[j] = input;
+    if constexpr (truth) {
+      out_g[j] = g_term;
+      out_earth[j] = earth[j];
+      out_input[j] = input;
+    }
     out_rate[j] = input + earth[j] + g_term;
     out_angle[j] = angle[j];
     out_dwell[j] = dwell_base[j] + (dwell_mask[j] & two_cycles);
@@ -158,19 +169,59 @@ void simulator::rig_run(sample_block& b, std::size_t first, std::size_t scratch,
 }
 
 void dwell_averager::add(const sample_block& b, std::vector<dwell_row>& out) {
-  for (std::size_t i = 0; i < b.size; ++i) {
-    if (b.dwell[i] != current_) {
+  std::size_t i = 0;
+  while (i < b.size) {
+    const std::int64_t d = b.dwell[i];
+    if (d != current_) {
       emit(out);
-      current_ = b.dwell[i];
+      current_ = d;
     }
-    if (current_ < 0) continue;
-    angle_ = b.angle_deg[i];
-    const double v[8] = {b.time_s[i],     b.rate_dps[i],  b.temp_c[i],    b.bias_dps[i],
-                         b.g_term_dps[i], b.earth_dps[i], b.input_dps[i], 0.0};
-    for (int j = 0; j < 7; ++j) sum_[j] += v[j];
-    ++n_;
-    if (n_ == n_avg_) emit(out);
+    std::size_t j = i + 1;  // the run of conversions of this dwell (or outside dwells)
+    while (j < b.size && b.dwell[j] == d) ++j;
+    if (d < 0) {
+      i = j;
+      continue;
+    }
+    while (i < j) {  // a dwell is complete after n_avg conversions, even inside a run
+      const auto m = std::min(j - i, static_cast<std::size_t>(n_avg_ - n_));
+      if (b.truth) {
+        accumulate<true>(b, i, m);
+      } else {
+        accumulate<false>(b, i, m);
+      }
+      angle_ = b.angle_deg[i + m - 1];
+      n_ += static_cast<int>(m);
+      i += m;
+      if (n_ == n_avg_) emit(out);
+    }
   }
+}
+
+template <bool truth>
+void dwell_averager::accumulate(const sample_block& b, std::size_t first, std::size_t n) noexcept {
+  // One loop with an accumulator per column: independent add chains run side by side.
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  double s0 = sum_[0], s1 = sum_[1], s2 = sum_[2], s3 = sum_[3], s4 = sum_[4], s5 = sum_[5],
+         s6 = sum_[6];
+  for (std::size_t k = first; k < first + n; ++k) {
+    s0 += b.time_s[k];
+    s1 += b.rate_dps[k];
+    s2 += b.temp_c[k];
+    if constexpr (truth) {
+      s3 += b.bias_dps[k];
+      s4 += b.g_term_dps[k];
+      s5 += b.earth_dps[k];
+      s6 += b.input_dps[k];
+    }
+  }
+  if constexpr (!truth) s3 = s4 = s5 = s6 = nan;
+  sum_[0] = s0;
+  sum_[1] = s1;
+  sum_[2] = s2;
+  sum_[3] = s3;
+  sum_[4] = s4;
+  sum_[5] = s5;
+  sum_[6] = s6;
 }
 
 void dwell_averager::emit(std::vector<dwell_row>& out) {

@@ -260,6 +260,65 @@ TEST(Simulator, RateTableInputReversesAndTemperatureMovesG) {
   EXPECT_NEAR(rows[0].g_term_dps + rows[0].earth_dps, 0.00381, 2e-5);  // paper Tab. 3, ~4 C
 }
 
+TEST(Simulator, TruthOffKeepsTheRecordingAndDwellMeansAreSequentialSums) {
+  auto c = noiseless(40.0);
+  c.sensor = sensor::find_builtin("adxrs150")->params;  // every noise term on
+  c.temperature = profile::parse_temperature("fridge:4:2:7").value();
+  auto with = simulator::make(c).value();
+  auto without = simulator::make(c).value();
+  sample_block a(333);  // dwells split across blocks
+  sample_block b(333, false);
+  dwell_averager avg_a(c.sched.n_avg), avg_b(c.sched.n_avg);
+  std::vector<dwell_row> rows_a, rows_b;
+  // Reference means: plain sums in conversion order, then one division (the averager's own).
+  std::vector<double> sum(7, 0.0);
+  std::vector<dwell_row> want;
+  int count = 0;
+  std::int64_t current = -1;
+  while (with.fill(a) > 0) {
+    ASSERT_EQ(without.fill(b), a.size);
+    for (std::size_t i = 0; i < a.size; ++i) {
+      ASSERT_EQ(a.time_s[i], b.time_s[i]);
+      ASSERT_EQ(a.rate_dps[i], b.rate_dps[i]);
+      ASSERT_EQ(a.temp_c[i], b.temp_c[i]);
+      ASSERT_EQ(a.dwell[i], b.dwell[i]);
+      ASSERT_EQ(std::isnan(a.angle_deg[i]), std::isnan(b.angle_deg[i]));
+      if (a.dwell[i] != current) {
+        sum.assign(7, 0.0);
+        count = 0;
+        current = a.dwell[i];
+      }
+      if (current < 0) continue;
+      const double v[7] = {a.time_s[i],     a.rate_dps[i],  a.temp_c[i],   a.bias_dps[i],
+                           a.g_term_dps[i], a.earth_dps[i], a.input_dps[i]};
+      for (int j = 0; j < 7; ++j) sum[static_cast<std::size_t>(j)] += v[j];
+      if (++count == c.sched.n_avg) {
+        const double inv = 1.0 / count;
+        want.push_back({sum[0] * inv, a.angle_deg[i], sum[1] * inv, sum[2] * inv, count,
+                        sum[3] * inv, sum[4] * inv, sum[5] * inv, sum[6] * inv});
+      }
+    }
+    avg_a.add(a, rows_a);
+    avg_b.add(b, rows_b);
+  }
+  ASSERT_EQ(rows_a.size(), want.size());
+  ASSERT_EQ(rows_b.size(), want.size());
+  for (std::size_t r = 0; r < want.size(); ++r) {
+    for (const auto& got : {rows_a[r], rows_b[r]}) {
+      EXPECT_EQ(got.time_s, want[r].time_s);
+      EXPECT_EQ(got.rate_dps, want[r].rate_dps);
+      EXPECT_EQ(got.temp_c, want[r].temp_c);
+      EXPECT_EQ(got.angle_deg, want[r].angle_deg);
+      EXPECT_EQ(got.n_avg, c.sched.n_avg);
+    }
+    EXPECT_EQ(rows_a[r].bias_dps, want[r].bias_dps);
+    EXPECT_EQ(rows_a[r].g_term_dps, want[r].g_term_dps);
+    EXPECT_EQ(rows_a[r].earth_dps, want[r].earth_dps);
+    EXPECT_EQ(rows_a[r].input_dps, want[r].input_dps);
+    EXPECT_TRUE(std::isnan(rows_b[r].bias_dps));  // no truth, no truth means
+  }
+}
+
 TEST(Simulator, RawBlocksMarkTurnsAndDwells) {
   auto c = noiseless(2.0);
   auto sim = simulator::make(c).value();
