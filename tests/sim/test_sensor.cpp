@@ -2,7 +2,9 @@
 // Tolerances are stated per check; seeds are fixed so the checks are deterministic.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "gyroflip/analysis/allan.hpp"
@@ -74,6 +76,45 @@ TEST(Random, NormalMomentsAndTails) {
   EXPECT_NEAR(beyond3 / double(n), 2.6998e-3, 5 * std::sqrt(2.7e-3 / n));  // P(|x|>3)
 }
 
+TEST(Random, NormalPassesKolmogorovSmirnovAndChiSquared) {
+  // Goodness of fit of 2e6 deviates (seed fixed) to Phi(x) = erfc(-x/sqrt 2)/2 (libm erfc is
+  // fine here: the tolerances are statistical, ~1e-3, not bits).
+  normal_stream g(2024, stream::user);
+  const std::size_t n = 2'000'000;
+  std::vector<double> x(n);
+  g.fill(x.data(), n);
+  const auto phi = [](double v) { return 0.5 * std::erfc(-v / std::sqrt(2.0)); };
+  // Kolmogorov-Smirnov: sqrt(n) D_n < 1.95 (asymptotic 0.1 % critical value).
+  std::sort(x.begin(), x.end());
+  double d = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double f = phi(x[k]);
+    d = std::max({d, f - static_cast<double>(k) / n, static_cast<double>(k + 1) / n - f});
+  }
+  EXPECT_LT(std::sqrt(static_cast<double>(n)) * d, 1.95);
+  // Chi-squared on 100 bins of width 0.08 over [-4, 4] plus the two tails (101 degrees of
+  // freedom): the 0.1 % critical value is 149.4. The bins resolve the ziggurat's layers,
+  // wedges and the tail beyond r = 3.654.
+  std::vector<double> edges = {-std::numeric_limits<double>::infinity()};
+  for (int b = 0; b <= 100; ++b) edges.push_back(-4.0 + 0.08 * b);
+  edges.push_back(std::numeric_limits<double>::infinity());
+  double chi2 = 0.0;
+  for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+    const auto lo = std::lower_bound(x.begin(), x.end(), edges[b]);
+    const auto hi = std::lower_bound(x.begin(), x.end(), edges[b + 1]);
+    const double expected = n * (phi(edges[b + 1]) - phi(edges[b]));
+    const double diff = static_cast<double>(hi - lo) - expected;
+    chi2 += diff * diff / expected;
+  }
+  EXPECT_LT(chi2, 149.4);
+  // The tail beyond r: P(|x| > 3.6541528853610088) = 2.580e-4, count within 5 sigma.
+  const double r = 3.6541528853610088;
+  const auto beyond = static_cast<double>((std::lower_bound(x.begin(), x.end(), -r) - x.begin()) +
+                                          (x.end() - std::upper_bound(x.begin(), x.end(), r)));
+  const double p_tail = 2.0 * (1.0 - phi(r));
+  EXPECT_NEAR(beyond, n * p_tail, 5.0 * std::sqrt(n * p_tail));
+}
+
 TEST(Random, IntegerFastPathGivesTheTextbookZigguratNumbers) {
   // The fast path compares the integer behind u (ziggurat_tables); the textbook test compares
   // |u| < ratio[i] in doubles and returns u x[i]. Same numbers, bit for bit, 2e6 draws.
@@ -103,6 +144,23 @@ TEST(Random, IntegerFastPathGivesTheTextbookZigguratNumbers) {
       EXPECT_EQ(integer, textbook) << i << " " << s;
     }
   }
+}
+
+TEST(Random, WedgeBoundsDecideAsTheDensityDoes) {
+  // 4e6 wedge points, uniform over the wedges of random layers, and the points nearest the
+  // curve: the bounded test (chord and tangents first) and y < det_exp(-x^2/2) agree.
+  const ziggurat_tables& z = ziggurat();
+  rng g(5, stream::user);
+  int disagree = 0;
+  for (int k = 0; k < 4'000'000; ++k) {
+    const std::size_t i = 1 + static_cast<std::size_t>(g.next() % 255U);
+    const double ax = z.x[i + 1] + g.uniform_open() * (z.x[i] - z.x[i + 1]);
+    const double exact = det_exp(-0.5 * ax * ax);
+    const double y = k % 2 == 0 ? z.f[i + 1] + g.uniform_open() * (z.f[i] - z.f[i + 1])
+                                : exact * (1.0 + (g.uniform_open() - 0.5) * 1e-9);
+    disagree += wedge_accepts(z, i, ax, y) != (y < exact);
+  }
+  EXPECT_EQ(disagree, 0);
 }
 
 TEST(Random, StreamsAreIndependentAndReproducible) {

@@ -79,11 +79,25 @@ struct ziggurat_tables {
   std::array<double, 257> f{};
   std::array<std::uint64_t, 256> shift{}, span{};
   std::array<double, 256> x_scaled{};  // x[i] 2^-52
+  // Wedge i (x[i+1] <= |x| <= x[i]): +1 where the density is convex there (x[i+1] >= 1), -1
+  // where concave (x[i] <= 1), 0 across x = 1; and the slope of its chord.
+  std::array<int, 256> curvature{};
+  std::array<double, 256> chord_slope{};
 };
 [[nodiscard]] const ziggurat_tables& ziggurat();
 
 /// Tail beyond r (Marsaglia 1964): x = -ln(U1)/r, y = -ln(U2) until 2y > x^2; returns r + x.
 [[nodiscard]] double normal_tail(rng& g) noexcept;
+
+/// The wedge test of layer i >= 1: is the point (|x| = `ax`, height `y`) under the density
+/// e^{-x^2/2}? First without exp, from bounds that hold on the wedge (Marsaglia & Tsang 2000
+/// sec. 3 use the chord likewise): where the density is convex it lies under the chord and
+/// above both end tangents, where concave the other way round; a point outside the band
+/// between the bounds by more than 1e-12 (relative; the bounds' rounding is ~1e-15) is decided
+/// at once. Only points inside the band (and wedges across x = 1) take det_exp. The answer is
+/// that of det_exp except within its own rounding of the curve.
+[[nodiscard]] bool wedge_accepts(const ziggurat_tables& z, std::size_t i, double ax,
+                                 double y) noexcept;
 
 /// The deviate and the generator state after the rare part of `normal`.
 struct slow_normal {
