@@ -277,6 +277,26 @@ TEST(ErrorTerms, WarmupRampTurnOnAndTemperature) {
   EXPECT_NEAR(std::sqrt(s2 / 400.0), 0.1, 0.01);
 }
 
+TEST(ErrorTerms, WarmupRecurrenceStaysWithinItsBound) {
+  // The warm-up is stepped by e^{-h/tau} per grid point: absolute error <= 1.1e-16 A tau/(e h)
+  // (error_terms.hpp), here 2e-15 deg/s; far out it is exactly 0 (no subnormals).
+  sensor_params p = quiet();
+  p.warmup_amplitude_dps = 5.0;
+  p.warmup_tau_s = 10.0;  // grid step h = 0.1 s
+  slow_bias b(p, 3.0, 1);
+  double worst = 0.0;
+  for (int k = 0; k <= 200'000; k += 7) {  // 2e4 s = 2000 tau, on and between grid points
+    const double t = 0.1 * k + (k % 2 == 0 ? 0.0 : 0.05);
+    const double grid_lo = 0.1 * std::floor(t / 0.1 + 1e-9);
+    const double exact_lo = 5.0 * std::exp(-(grid_lo + 3.0) / 10.0);
+    const double exact_hi = 5.0 * std::exp(-(grid_lo + 0.1 + 3.0) / 10.0);
+    const double w = (t - grid_lo) / 0.1;
+    worst = std::max(worst, std::fabs(b.at(t) - (exact_lo + w * (exact_hi - exact_lo))));
+  }
+  EXPECT_LT(worst, 1e-14);
+  EXPECT_EQ(b.at(20'000.05), 0.0);
+}
+
 TEST(ErrorTerms, LowPassSaturationNonlinearityScaleFactor) {
   sensor_params p = quiet();
   p.bandwidth_hz = 10.0;
