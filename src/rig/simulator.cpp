@@ -102,8 +102,13 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
   double* __restrict out_temp = b.temp_c.data() + first;
   // Normal deviates in batches (tight loops run ~2x faster than interleaved draws); zeros when
   // a term is off, so the per-sample code has no branch.
-  if (gyro_.arw_on()) gyro_.arw_stream().fill(n_arw_.data(), n);
-  if (adc_.noise_on()) adc_.noise_stream().fill(n_adc_.data(), n);
+  if (gyro_.arw_on() && adc_.noise_on()) {
+    fill_both(gyro_.arw_stream(), n_arw_.data(), adc_.noise_stream(), n_adc_.data(), n);
+  } else if (gyro_.arw_on()) {
+    gyro_.arw_stream().fill(n_arw_.data(), n);
+  } else if (adc_.noise_on()) {
+    adc_.noise_stream().fill(n_adc_.data(), n);
+  }
   // Stage 1: time (window centres; k < 2^52 so k + 1/2 is exact), then the profiles.
   const double k0 = static_cast<double>(static_cast<std::int64_t>(k_));
   for (int j = 0; j < static_cast<int>(n); ++j)

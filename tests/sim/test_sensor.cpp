@@ -163,6 +163,22 @@ TEST(Random, WedgeBoundsDecideAsTheDensityDoes) {
   EXPECT_EQ(disagree, 0);
 }
 
+TEST(Random, FillBothGivesEachStreamsOwnNumbers) {
+  normal_stream a1(3, stream::angle_random_walk), b1(3, stream::adc_noise);
+  normal_stream a2 = a1, b2 = b1;
+  std::vector<double> a(5000), b(5000), a_ref(5000), b_ref(5000);
+  fill_both(a1, a.data(), b1, b.data(), 1234);  // in two calls, as the simulator's chunks
+  fill_both(a1, a.data() + 1234, b1, b.data() + 1234, 5000 - 1234);
+  a2.fill(a_ref.data(), 5000);
+  b2.fill(b_ref.data(), 5000);
+  for (std::size_t k = 0; k < 5000; ++k) {
+    ASSERT_EQ(a[k], a_ref[k]) << k;
+    ASSERT_EQ(b[k], b_ref[k]) << k;
+  }
+  EXPECT_EQ(a1.next(), a2.next());  // and the states end where they would
+  EXPECT_EQ(b1.next(), b2.next());
+}
+
 TEST(Random, StreamsAreIndependentAndReproducible) {
   rng a(1, stream::angle_random_walk), b(1, stream::angle_random_walk), c(1, stream::flicker);
   for (int i = 0; i < 10; ++i) EXPECT_EQ(a.next(), b.next());

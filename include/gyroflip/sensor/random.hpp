@@ -144,6 +144,22 @@ class normal_stream {
   }
   rng& uniform() noexcept { return g_; }
 
+  /// Fills a[0..n) from stream `sa` and b[0..n) from `sb` in one loop: the same numbers as
+  /// sa.fill(a, n) and sb.fill(b, n), but the two generators' dependency chains interleave
+  /// (the simulator's ARW and ADC-noise deviates of a chunk).
+  friend void fill_both(normal_stream& sa, double* a, normal_stream& sb, double* b,
+                        std::size_t n) noexcept {
+    rng ga = sa.g_;
+    rng gb = sb.g_;
+    const ziggurat_tables& z = *sa.z_;
+    for (std::size_t k = 0; k < n; ++k) {
+      a[k] = normal(ga, z);
+      b[k] = normal(gb, z);
+    }
+    sa.g_ = ga;
+    sb.g_ = gb;
+  }
+
  private:
   rng g_;
   const ziggurat_tables* z_;
