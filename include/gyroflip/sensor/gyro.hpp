@@ -97,8 +97,8 @@ class gyro {
   // stay in registers).
   struct chain_state {
     double lpf = 0.0;      // l_{k-1} (deg/s)
-    double theta = 0.0;    // accumulated angle (deg)
-    double theta_q = 0.0;  // its quantised value at the previous conversion (deg)
+    double theta = 0.0;    // accumulated angle (in quanta Q: rounding is then one step)
+    double theta_q = 0.0;  // its rounded value at the previous conversion (quanta)
     bool first = true;     // the low-pass starts at its first input
   };
   // From x_k = input + bias + ARW (deg/s) to V - V_null (V): low-pass (l = a l + (1 - a) x),
@@ -119,11 +119,11 @@ class gyro {
     x = x < range_dps_ ? x : range_dps_;  // saturation as min and max (two instructions)
     x = x > -range_dps_ ? x : -range_dps_;
     if constexpr (quant) {
-      s.theta += x * dt_;
-      const double q = quant_deg_ * round_even(s.theta * inv_quant_);
+      s.theta += x * dt_per_quantum_;  // theta_k / Q, exact below 2^51 quanta
+      const double q = round_even(s.theta);
       x = q - s.theta_q;
       s.theta_q = q;
-      return x * quant_v_per_deg_;  // (q_k - q_{k-1}) / dt * SF
+      return x * quantum_v_;  // (q_k - q_{k-1}) Q / dt * SF
     }
     return x * sf_v_per_dps_;
   }
@@ -139,7 +139,7 @@ class gyro {
   double lpf_keep_ = 0.0, lpf_gain_ = 1.0;  // a = e^{-2 pi f_c dt} and 1 - a
   double nl_per_dps_, sf_ratio_, sf_tc_, range_dps_;
   bool quant_on_;
-  double quant_deg_, inv_quant_, inv_dt_, quant_v_per_deg_;
+  double inv_dt_, dt_per_quantum_, quantum_v_;  // 1/dt, dt/Q (s/deg), Q SF/dt (V)
   chain_state state_;
   double sf_v_per_dps_;
   sensor_vec g0_, g1_;
