@@ -23,7 +23,6 @@ result<gyro> gyro::make(const sensor_params& p, double sample_period_s, double p
 
 gyro::gyro(const sensor_params& p, double dt, double power_on_before_s, std::uint64_t seed)
     : p_(p),
-      dt_(dt),
       half_dt_(0.5 * dt),
       temp_ref_c_(p.temp_ref_c),
       bias_tc_(p.bias_tc_dps_per_c),

@@ -131,7 +131,7 @@ class gyro {
   void chain_block(const double* temp_c, const double* rate_dps, const double* n_arw, double* v_rel,
                    double* bias_dps, std::size_t n) noexcept;
   sensor_params p_;
-  double dt_, half_dt_;
+  double half_dt_;
   double temp_ref_c_, bias0_dps_ = 0.0, turn_on_dps_ = 0.0, bias_tc_;
   bool arw_on_;
   double arw_sigma_;
