@@ -37,9 +37,9 @@ rig::simulation_config full_chain(std::uint64_t seed, double duration_s) {
   return c;
 }
 
-std::uint64_t run_one(std::uint64_t seed, double duration_s, double& sink) {
+std::uint64_t run_one(std::uint64_t seed, double duration_s, double& sink, bool truth = true) {
   auto sim = rig::simulator::make(full_chain(seed, duration_s)).value();
-  rig::sample_block b(4096);
+  rig::sample_block b(4096, truth);
   std::uint64_t n = 0;
   while (std::size_t m = sim.fill(b)) {
     n += m;
@@ -48,17 +48,28 @@ std::uint64_t run_one(std::uint64_t seed, double duration_s, double& sink) {
   return n;
 }
 
-void BM_SimulateFullChain(benchmark::State& state) {
+void full_chain_runs(benchmark::State& state, bool truth) {
   double sink = 0.0;
   std::uint64_t total = 0;
   std::uint64_t seed = 1;
-  for (auto _ : state) total += run_one(seed++, 2000.0, sink);  // 1.0 M conversions per run
+  for (auto _ : state) total += run_one(seed++, 2000.0, sink, truth);  // 1.0 M conversions
   benchmark::DoNotOptimize(sink);
   state.SetItemsProcessed(static_cast<std::int64_t>(total));
   state.counters["samples_per_s"] =
       benchmark::Counter(static_cast<double>(total), benchmark::Counter::kIsRate);
 }
+
+// The figure: every term, the ADC and the truth columns.
+void BM_SimulateFullChain(benchmark::State& state) {
+  full_chain_runs(state, true);
+}
 BENCHMARK(BM_SimulateFullChain)->Unit(benchmark::kMillisecond);
+
+// The same model without the truth columns (a recording as the CLI writes it without --truth).
+void BM_SimulateFullChainNoTruth(benchmark::State& state) {
+  full_chain_runs(state, false);
+}
+BENCHMARK(BM_SimulateFullChainNoTruth)->Unit(benchmark::kMillisecond);
 
 void BM_MonteCarloAllCores(benchmark::State& state) {
   const unsigned threads = std::max(1U, std::thread::hardware_concurrency());
