@@ -79,6 +79,7 @@ TEST(Profiles, FillIsBitIdenticalToAtForEveryKind) {
   const std::vector<std::string> temps = {"-0", "steps:0.5:4,1.5:30", "ramp:20:4:1.3",
                                           "fridge:4:2:0.37"};
   std::vector<profile> all;
+  all.reserve(rates.size() + temps.size() + 1);
   for (const auto& r : rates) all.push_back(profile::parse_rate(r).value());
   for (const auto& t : temps) all.push_back(profile::parse_temperature(t).value());
   all.push_back(
