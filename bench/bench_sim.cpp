@@ -1,10 +1,16 @@
 // Simulator throughput: the full chain (every error term on, ADC on) in raw conversions per
 // second on one core, and a multi-threaded Monte Carlo (independent seeds, all cores).
 // Figures and commands: docs/PERFORMANCE.md, section "Simulator"; script bench/sim_figures.sh.
+// `bench_sim --run DURATION_S [SEED]` runs the full chain once without the benchmark library and
+// prints the conversion count: the command that valgrind --tool=callgrind counts instructions of
+// (repeatable regardless of machine load, unlike wall time).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <thread>
 #include <vector>
 
@@ -31,9 +37,9 @@ rig::simulation_config full_chain(std::uint64_t seed, double duration_s) {
   return c;
 }
 
-std::uint64_t run_one(std::uint64_t seed, double duration_s, double& sink) {
+std::uint64_t run_one(std::uint64_t seed, double duration_s, double& sink, bool truth = true) {
   auto sim = rig::simulator::make(full_chain(seed, duration_s)).value();
-  rig::sample_block b(4096);
+  rig::sample_block b(4096, truth);
   std::uint64_t n = 0;
   while (std::size_t m = sim.fill(b)) {
     n += m;
@@ -42,17 +48,28 @@ std::uint64_t run_one(std::uint64_t seed, double duration_s, double& sink) {
   return n;
 }
 
-void BM_SimulateFullChain(benchmark::State& state) {
+void full_chain_runs(benchmark::State& state, bool truth) {
   double sink = 0.0;
   std::uint64_t total = 0;
   std::uint64_t seed = 1;
-  for (auto _ : state) total += run_one(seed++, 2000.0, sink);  // 1.0 M conversions per run
+  for (auto _ : state) total += run_one(seed++, 2000.0, sink, truth);  // 1.0 M conversions
   benchmark::DoNotOptimize(sink);
   state.SetItemsProcessed(static_cast<std::int64_t>(total));
   state.counters["samples_per_s"] =
       benchmark::Counter(static_cast<double>(total), benchmark::Counter::kIsRate);
 }
+
+// The figure: every term, the ADC and the truth columns.
+void BM_SimulateFullChain(benchmark::State& state) {
+  full_chain_runs(state, true);
+}
 BENCHMARK(BM_SimulateFullChain)->Unit(benchmark::kMillisecond);
+
+// The same model without the truth columns (a recording as the CLI writes it without --truth).
+void BM_SimulateFullChainNoTruth(benchmark::State& state) {
+  full_chain_runs(state, false);
+}
+BENCHMARK(BM_SimulateFullChainNoTruth)->Unit(benchmark::kMillisecond);
 
 void BM_MonteCarloAllCores(benchmark::State& state) {
   const unsigned threads = std::max(1U, std::thread::hardware_concurrency());
@@ -81,3 +98,17 @@ void BM_MonteCarloAllCores(benchmark::State& state) {
 BENCHMARK(BM_MonteCarloAllCores)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 3 && std::strcmp(argv[1], "--run") == 0) {
+    double sink = 0.0;
+    const std::uint64_t seed = argc >= 4 ? std::strtoull(argv[3], nullptr, 10) : 1;
+    const std::uint64_t n = run_one(seed, std::strtod(argv[2], nullptr), sink);
+    std::printf("%llu conversions (last rate %.9g)\n", static_cast<unsigned long long>(n), sink);
+    return 0;
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -130,7 +130,7 @@ int run_simulate(const simulate_options& o) {
     truth->write("time_s,bias_dps,g_term_dps,earth_dps,input_dps,temp_c\n");
   }
 
-  rig::sample_block block(1U << 14);
+  rig::sample_block block(1U << 14, truth.has_value());  // truth columns only when written
   rig::dwell_averager avg(o.n_avg);
   std::vector<rig::dwell_row> rows;
   fmt::memory_buffer rec;

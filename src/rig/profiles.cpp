@@ -2,10 +2,12 @@
 /// \brief Rate and temperature profiles (syntax in profiles.hpp).
 #include "gyroflip/rig/profiles.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -146,7 +148,7 @@ result<profile> profile::parse_temperature(std::string_view spec) {
     p.kind_ = kind::triangle;
     p.value_ = (*n)[0];
     p.amp_ = (*n)[1] / 2.0;
-    p.freq_hz_ = 1.0 / (*n)[2];
+    p.half_period_s_ = (*n)[2] / 2.0;
     return p;
   }
   const std::string path(spec);
@@ -200,19 +202,37 @@ result<profile> profile::parse_temperature_csv(std::string_view text, std::strin
 }
 
 double profile::eval(double t) noexcept {
+  if (kind_ == kind::sine) return value_ + amp_ * std::sin(2.0 * std::numbers::pi * freq_hz_ * t);
+  return piece_at(t).at(t);
+}
+
+profile::piece profile::triangle_piece(std::int64_t half) const noexcept {
+  // Even halves fall from MEAN + A to MEAN - A, odd halves rise back (2A per half period).
+  const double t0 = static_cast<double>(half) * half_period_s_;
+  const double slope = 2.0 * amp_ / half_period_s_;
+  const bool falling = half % 2 == 0;
+  return {t0, falling ? value_ + amp_ : value_ - amp_, falling ? -slope : slope,
+          static_cast<double>(half + 1) * half_period_s_};
+}
+
+profile::piece profile::piece_at(double t) noexcept {
+  constexpr double inf = std::numeric_limits<double>::infinity();
   switch (kind_) {
     case kind::constant:
-      return value_;
-    case kind::sine:
-      return value_ + amp_ * std::sin(2.0 * std::numbers::pi * freq_hz_ * t);
+    case kind::sine:  // not affine: eval() handles it; here only to keep the switch total
+      return {0.0, value_, 0.0, inf};
     case kind::triangle: {
-      // Phase in [0, 1): falls from MEAN + A to MEAN - A in the first half, rises in the second.
-      const double cycles = t * freq_hz_;
-      // Truncation is floor for t >= 0 (the run) and is inlined, unlike std::floor.
-      const double ph =
-          cycles - (cycles >= 0.0 ? static_cast<double>(static_cast<std::int64_t>(cycles))
-                                  : std::floor(cycles));
-      return value_ + amp_ * (ph < 0.5 ? 1.0 - 4.0 * ph : 4.0 * ph - 3.0);
+      piece p = triangle_piece(half_);
+      if (half_ >= 0 && t >= p.t0_s && t < p.t_end_s) return p;
+      // The next half when time moves on by less than a half period (the simulator's case),
+      // else from scratch. Rounding may leave t a hair outside the piece: the triangle is
+      // continuous, so the value is still right to the last bits.
+      if (half_ >= 0 && t >= p.t_end_s && t < p.t_end_s + half_period_s_) {
+        ++half_;
+      } else {
+        half_ = static_cast<std::int64_t>(std::floor(t / half_period_s_));
+      }
+      return triangle_piece(half_);
     }
     case kind::hold:
     case kind::linear:
@@ -220,10 +240,37 @@ double profile::eval(double t) noexcept {
   }
   if (cursor_ >= t_s_.size() || t < t_s_[cursor_]) cursor_ = 0;  // time went back: rescan
   while (cursor_ + 1 < t_s_.size() && t >= t_s_[cursor_ + 1]) ++cursor_;
-  if (t < t_s_[cursor_]) return v_[cursor_];  // before the first knot
-  if (kind_ == kind::hold || cursor_ + 1 == t_s_.size()) return v_[cursor_];
-  const double w = (t - t_s_[cursor_]) / (t_s_[cursor_ + 1] - t_s_[cursor_]);
-  return v_[cursor_] + w * (v_[cursor_ + 1] - v_[cursor_]);
+  const std::size_t c = cursor_;
+  if (t < t_s_[c]) return {t_s_[c], v_[c], 0.0, t_s_[c]};  // before the first knot: held
+  const bool last = c + 1 == t_s_.size();
+  const double t_end = last ? inf : t_s_[c + 1];
+  if (kind_ == kind::hold || last) return {t_s_[c], v_[c], 0.0, t_end};
+  return {t_s_[c], v_[c], (v_[c + 1] - v_[c]) / (t_s_[c + 1] - t_s_[c]), t_end};
+}
+
+void profile::fill(const double* t_s, double* out, std::size_t n) noexcept {
+  if (kind_ == kind::constant) {
+    std::fill(out, out + n, value_);
+    return;
+  }
+  if (kind_ == kind::sine) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = eval(t_s[i]);
+    return;
+  }
+  std::size_t i = 0;
+  while (i < n) {
+    const piece p = piece_at(t_s[i]);
+    // Times are sorted: the piece covers t_s[i] and every later time before its end.
+    const double* end =
+        std::partition_point(t_s + i + 1, t_s + n, [&](double t) { return t < p.t_end_s; });
+    const auto m = static_cast<std::size_t>(end - t_s);
+    if (p.slope_per_s == 0.0) {
+      std::fill(out + i, out + m, p.v0);
+    } else {
+      for (std::size_t k = i; k < m; ++k) out[k] = p.v0 + p.slope_per_s * (t_s[k] - p.t0_s);
+    }
+    i = m;
+  }
 }
 
 }  // namespace gyroflip::rig

@@ -28,6 +28,7 @@ flicker_bank::flicker_bank(double b_dps, double tau_min_s, double tau_max_s, dou
     const double tau = tau_min_s * det_exp(ln_r * static_cast<double>(j));
     part c;
     c.every = static_cast<std::uint32_t>(std::clamp(std::floor(tau / (10.0 * h_s)), 1.0, 1e9));
+    c.inv_every = 1.0 / c.every;
     c.gm = gauss_markov::make(tau, sigma, h_s * c.every);
     c.prev = sigma * noise_.next();  // start stationary
     c.next = c.gm.step(c.prev, noise_.next());
@@ -43,7 +44,7 @@ double flicker_bank::step() noexcept {
       c.prev = c.next;
       c.next = c.gm.step(c.prev, noise_.next());
     }
-    sum += c.prev + (c.next - c.prev) * (static_cast<double>(c.count) / c.every);
+    sum += c.prev + (c.next - c.prev) * (static_cast<double>(c.count) * c.inv_every);
   }
   return sum;
 }
@@ -60,8 +61,8 @@ double grid_step(const sensor_params& p) {
 slow_bias::slow_bias(const sensor_params& p, double power_on_before_s, std::uint64_t seed)
     : h_(grid_step(p)),
       t_on0_(power_on_before_s),
-      warm_a_(p.warmup_amplitude_dps),
-      warm_tau_(p.warmup_tau_s),
+      warm_(p.warmup_amplitude_dps * det_exp(-power_on_before_s / p.warmup_tau_s)),
+      warm_step_(det_exp(-h_ / p.warmup_tau_s)),
       ramp_(p.rate_ramp_dps_per_s),
       rrw_step_(p.rrw_dps_per_rts * std::sqrt(h_)),
       rrw_(0.0),
@@ -80,13 +81,36 @@ slow_bias::slow_bias(const sensor_params& p, double power_on_before_s, std::uint
 double slow_bias::grid_value() noexcept {
   const double t_on = t_on0_ + static_cast<double>(n_) * h_;
   double v = ramp_ * t_on;
-  if (warm_a_ != 0.0) v += warm_a_ * det_exp(-t_on / warm_tau_);
+  v += warm_;
+  warm_ = std::fabs(warm_) < 1e-300 ? 0.0 : warm_ * warm_step_;
   if (flicker_on_) v += flicker_.step();
   if (rrw_on_) {
     v += rrw_;
     rrw_ += rrw_step_ * rrw_noise_.next();
   }
   return v;
+}
+
+void slow_bias::mean_block(const double* t_s, double half_s, double inv_width_per_s, double* out,
+                           std::size_t n) noexcept {
+  std::size_t i = 0;
+  while (i < n) {
+    if (t_s[i] - half_s >= t_lo_ && t_s[i] + half_s <= t_hi_) {
+      // Later windows start later (sorted), so the run ends at the first window past t_hi.
+      const double t_hi = t_hi_;
+      const double* end =
+          std::partition_point(t_s + i + 1, t_s + n, [&](double t) { return t + half_s <= t_hi; });
+      const auto m = static_cast<std::size_t>(end - t_s);
+      const double v_lo = v_lo_;
+      const double slope = slope_;
+      const double t_lo = t_lo_;
+      for (std::size_t k = i; k < m; ++k) out[k] = v_lo + slope * (t_s[k] - t_lo);
+      i = m;
+    } else {
+      out[i] = mean_over(t_s[i] - half_s, t_s[i] + half_s, inv_width_per_s);
+      ++i;
+    }
+  }
 }
 
 void slow_bias::advance() noexcept {

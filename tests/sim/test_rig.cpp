@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "gyroflip/rig/ad7739.hpp"
@@ -71,6 +72,41 @@ TEST(Profiles, SpecsAndCsv) {
   EXPECT_EQ(err("time_s,temp_c\n5\n"), "t.csv:2:1: expected 2 columns (time_s,temp_c), found 1");
 }
 
+TEST(Profiles, FillIsBitIdenticalToAtForEveryKind) {
+  // The simulator evaluates profiles one block at a time (fill), tests and headers call at():
+  // both must give the same bits, across piece boundaries and across blocks.
+  const std::vector<std::string> rates = {"2.5", "steps:0.3:5,0.71:-5,2:1", "sine:2:3:0.5"};
+  const std::vector<std::string> temps = {"-0", "steps:0.5:4,1.5:30", "ramp:20:4:1.3",
+                                          "fridge:4:2:0.37"};
+  std::vector<profile> all;
+  all.reserve(rates.size() + temps.size() + 1);
+  for (const auto& r : rates) all.push_back(profile::parse_rate(r).value());
+  for (const auto& t : temps) all.push_back(profile::parse_temperature(t).value());
+  all.push_back(
+      profile::parse_temperature_csv("time_s,temp_c\n0.2,20\n0.9,10\n1.1,12\n", "t.csv").value());
+  const std::size_t n = 1500;  // 3 s at 500 Hz: many pieces of each kind
+  std::vector<double> t(n);
+  for (std::size_t k = 0; k < n; ++k) t[k] = (static_cast<double>(k) + 0.5) * 1.99886e-3;
+  for (auto& p : all) {
+    profile by_block = p;
+    std::vector<double> v(n);
+    by_block.fill(t.data(), v.data(), 700);  // two blocks, as the simulator fills them
+    by_block.fill(t.data() + 700, v.data() + 700, n - 700);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double want = p.at(t[k]);
+      ASSERT_EQ(std::signbit(v[k]), std::signbit(want)) << k;
+      ASSERT_EQ(v[k], want) << k;
+    }
+  }
+  // The triangle against its closed form MEAN + A (1 - 4 phase) / MEAN + A (4 phase - 3).
+  auto fridge = profile::parse_temperature("fridge:4:2:0.37").value();
+  for (std::size_t k = 0; k < n; ++k) {
+    const double ph = t[k] / 0.37 - std::floor(t[k] / 0.37);
+    const double want = 4.0 + (ph < 0.5 ? 1.0 - 4.0 * ph : 4.0 * ph - 3.0);
+    EXPECT_NEAR(fridge.at(t[k]), want, 1e-12) << t[k];
+  }
+}
+
 TEST(Turntable, DefaultTurnAndTriangleProfile) {
   const auto t = turn_profile::make(stepper_params{}, 180.0).value();
   EXPECT_EQ(t.n_steps(), 100.0);
@@ -113,6 +149,27 @@ TEST(Ad7739, ConversionTimeCodesAndClipping) {
   EXPECT_NEAR(std::sqrt(s2 / 100000.0), 2e-6 * std::sqrt(2e-3 / noisy.conversion_time_s()),
               0.05e-6);
   EXPECT_FALSE(ad7739::make(ad7739_config{1}, 1).ok());
+}
+
+TEST(Ad7739, BlockIsBitIdenticalToPerConversion) {
+  for (const bool chop : {true, false}) {  // without chop an offset is added
+    ad7739_config c;
+    c.chop = chop;
+    auto adc = ad7739::make(c, 3).value();
+    const std::size_t n = 20000;
+    std::vector<double> v(n), noise(n), out(n);
+    sensor::normal_stream g(8, sensor::stream::user);
+    for (std::size_t i = 0; i < n; ++i) {
+      v[i] = 3.0 * g.next();  // ~40 % beyond +-2.5 V: both end codes
+      noise[i] = g.next();
+    }
+    v[0] = 2.5;  // the edges exactly
+    v[1] = -2.5;
+    adc.convert_block(v.data(), noise.data(), out.data(), 80.0, n);  // 1 / (12.5 mV/(deg/s))
+    for (std::size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(out[i], adc.volts(adc.convert(v[i], noise[i])) * 80.0);
+    }
+  }
 }
 
 TEST(Schedule, PaperCycleOfAbout179Seconds) {
@@ -202,6 +259,65 @@ TEST(Simulator, RateTableInputReversesAndTemperatureMovesG) {
   EXPECT_EQ(rows[0].input_dps, 10.0);
   EXPECT_EQ(rows[1].input_dps, -10.0);
   EXPECT_NEAR(rows[0].g_term_dps + rows[0].earth_dps, 0.00381, 2e-5);  // paper Tab. 3, ~4 C
+}
+
+TEST(Simulator, TruthOffKeepsTheRecordingAndDwellMeansAreSequentialSums) {
+  auto c = noiseless(40.0);
+  c.sensor = sensor::find_builtin("adxrs150")->params;  // every noise term on
+  c.temperature = profile::parse_temperature("fridge:4:2:7").value();
+  auto with = simulator::make(c).value();
+  auto without = simulator::make(c).value();
+  sample_block a(333);  // dwells split across blocks
+  sample_block b(333, false);
+  dwell_averager avg_a(c.sched.n_avg), avg_b(c.sched.n_avg);
+  std::vector<dwell_row> rows_a, rows_b;
+  // Reference means: plain sums in conversion order, then one division (the averager's own).
+  std::vector<double> sum(7, 0.0);
+  std::vector<dwell_row> want;
+  int count = 0;
+  std::int64_t current = -1;
+  while (with.fill(a) > 0) {
+    ASSERT_EQ(without.fill(b), a.size);
+    for (std::size_t i = 0; i < a.size; ++i) {
+      ASSERT_EQ(a.time_s[i], b.time_s[i]);
+      ASSERT_EQ(a.rate_dps[i], b.rate_dps[i]);
+      ASSERT_EQ(a.temp_c[i], b.temp_c[i]);
+      ASSERT_EQ(a.dwell[i], b.dwell[i]);
+      ASSERT_EQ(std::isnan(a.angle_deg[i]), std::isnan(b.angle_deg[i]));
+      if (a.dwell[i] != current) {
+        sum.assign(7, 0.0);
+        count = 0;
+        current = a.dwell[i];
+      }
+      if (current < 0) continue;
+      const double v[7] = {a.time_s[i],     a.rate_dps[i],  a.temp_c[i],   a.bias_dps[i],
+                           a.g_term_dps[i], a.earth_dps[i], a.input_dps[i]};
+      for (int j = 0; j < 7; ++j) sum[static_cast<std::size_t>(j)] += v[j];
+      if (++count == c.sched.n_avg) {
+        const double inv = 1.0 / count;
+        want.push_back({sum[0] * inv, a.angle_deg[i], sum[1] * inv, sum[2] * inv, count,
+                        sum[3] * inv, sum[4] * inv, sum[5] * inv, sum[6] * inv});
+      }
+    }
+    avg_a.add(a, rows_a);
+    avg_b.add(b, rows_b);
+  }
+  ASSERT_EQ(rows_a.size(), want.size());
+  ASSERT_EQ(rows_b.size(), want.size());
+  for (std::size_t r = 0; r < want.size(); ++r) {
+    for (const auto& got : {rows_a[r], rows_b[r]}) {
+      EXPECT_EQ(got.time_s, want[r].time_s);
+      EXPECT_EQ(got.rate_dps, want[r].rate_dps);
+      EXPECT_EQ(got.temp_c, want[r].temp_c);
+      EXPECT_EQ(got.angle_deg, want[r].angle_deg);
+      EXPECT_EQ(got.n_avg, c.sched.n_avg);
+    }
+    EXPECT_EQ(rows_a[r].bias_dps, want[r].bias_dps);
+    EXPECT_EQ(rows_a[r].g_term_dps, want[r].g_term_dps);
+    EXPECT_EQ(rows_a[r].earth_dps, want[r].earth_dps);
+    EXPECT_EQ(rows_a[r].input_dps, want[r].input_dps);
+    EXPECT_TRUE(std::isnan(rows_b[r].bias_dps));  // no truth, no truth means
+  }
 }
 
 TEST(Simulator, RawBlocksMarkTurnsAndDwells) {

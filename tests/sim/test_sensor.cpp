@@ -2,7 +2,9 @@
 // Tolerances are stated per check; seeds are fixed so the checks are deterministic.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "gyroflip/analysis/allan.hpp"
@@ -72,6 +74,109 @@ TEST(Random, NormalMomentsAndTails) {
   EXPECT_NEAR(s2 / n, 1.0, 5 * std::sqrt(2.0 / n));   // 5 sigma of the variance
   EXPECT_NEAR(s4 / n, 3.0, 5 * std::sqrt(96.0 / n));  // 5 sigma of the 4th moment
   EXPECT_NEAR(beyond3 / double(n), 2.6998e-3, 5 * std::sqrt(2.7e-3 / n));  // P(|x|>3)
+}
+
+TEST(Random, NormalPassesKolmogorovSmirnovAndChiSquared) {
+  // Goodness of fit of 2e6 deviates (seed fixed) to Phi(x) = erfc(-x/sqrt 2)/2 (libm erfc is
+  // fine here: the tolerances are statistical, ~1e-3, not bits).
+  normal_stream g(2024, stream::user);
+  const std::size_t n = 2'000'000;
+  std::vector<double> x(n);
+  g.fill(x.data(), n);
+  const auto phi = [](double v) { return 0.5 * std::erfc(-v / std::sqrt(2.0)); };
+  // Kolmogorov-Smirnov: sqrt(n) D_n < 1.95 (asymptotic 0.1 % critical value).
+  std::sort(x.begin(), x.end());
+  double d = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double f = phi(x[k]);
+    d = std::max({d, f - static_cast<double>(k) / n, static_cast<double>(k + 1) / n - f});
+  }
+  EXPECT_LT(std::sqrt(static_cast<double>(n)) * d, 1.95);
+  // Chi-squared on 100 bins of width 0.08 over [-4, 4] plus the two tails (101 degrees of
+  // freedom): the 0.1 % critical value is 149.4. The bins resolve the ziggurat's layers,
+  // wedges and the tail beyond r = 3.654.
+  std::vector<double> edges = {-std::numeric_limits<double>::infinity()};
+  for (int b = 0; b <= 100; ++b) edges.push_back(-4.0 + 0.08 * b);
+  edges.push_back(std::numeric_limits<double>::infinity());
+  double chi2 = 0.0;
+  for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+    const auto lo = std::lower_bound(x.begin(), x.end(), edges[b]);
+    const auto hi = std::lower_bound(x.begin(), x.end(), edges[b + 1]);
+    const double expected = n * (phi(edges[b + 1]) - phi(edges[b]));
+    const double diff = static_cast<double>(hi - lo) - expected;
+    chi2 += diff * diff / expected;
+  }
+  EXPECT_LT(chi2, 149.4);
+  // The tail beyond r: P(|x| > 3.6541528853610088) = 2.580e-4, count within 5 sigma.
+  const double r = 3.6541528853610088;
+  const auto beyond = static_cast<double>((std::lower_bound(x.begin(), x.end(), -r) - x.begin()) +
+                                          (x.end() - std::upper_bound(x.begin(), x.end(), r)));
+  const double p_tail = 2.0 * (1.0 - phi(r));
+  EXPECT_NEAR(beyond, n * p_tail, 5.0 * std::sqrt(n * p_tail));
+}
+
+TEST(Random, IntegerFastPathGivesTheTextbookZigguratNumbers) {
+  // The fast path compares the integer behind u (ziggurat_tables); the textbook test compares
+  // |u| < ratio[i] in doubles and returns u x[i]. Same numbers, bit for bit, 2e6 draws.
+  const ziggurat_tables& z = ziggurat();
+  normal_stream fast(99, stream::user);
+  rng g(99, stream::user);
+  for (int k = 0; k < 2'000'000; ++k) {
+    const std::uint64_t r = g.next();
+    const auto i = static_cast<std::size_t>(r & 0xffU);
+    const double u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
+    double want = u * z.x[i];
+    if (!(std::fabs(u) < z.ratio[i])) {
+      const slow_normal s = normal_slow(g, z, i, u);
+      g = s.state;
+      want = s.value;
+    }
+    ASSERT_EQ(fast.next(), want) << k;
+  }
+  // The edges of the integer test: |s| = k - 1 accepted, |s| = k not (k = ceil(ratio 2^52)).
+  for (std::size_t i = 0; i < 256; ++i) {
+    const double k = std::ceil(z.ratio[i] * 0x1.0p52);
+    for (const double s : {k - 1.0, -(k - 1.0), k, -k}) {
+      if (std::fabs(s) > 0x1.0p52 || (k == 0.0 && std::fabs(s) > 0.0)) continue;
+      const bool textbook = std::fabs(s * 0x1.0p-52) < z.ratio[i];
+      const bool integer =
+          static_cast<std::uint64_t>(static_cast<std::int64_t>(s)) + z.shift[i] <= z.span[i];
+      EXPECT_EQ(integer, textbook) << i << " " << s;
+    }
+  }
+}
+
+TEST(Random, WedgeBoundsDecideAsTheDensityDoes) {
+  // 4e6 wedge points, uniform over the wedges of random layers, and the points nearest the
+  // curve: the bounded test (chord and tangents first) and y < det_exp(-x^2/2) agree.
+  const ziggurat_tables& z = ziggurat();
+  rng g(5, stream::user);
+  int disagree = 0;
+  for (int k = 0; k < 4'000'000; ++k) {
+    const std::size_t i = 1 + static_cast<std::size_t>(g.next() % 255U);
+    const double ax = z.x[i + 1] + g.uniform_open() * (z.x[i] - z.x[i + 1]);
+    const double exact = det_exp(-0.5 * ax * ax);
+    const double y = k % 2 == 0 ? z.f[i + 1] + g.uniform_open() * (z.f[i] - z.f[i + 1])
+                                : exact * (1.0 + (g.uniform_open() - 0.5) * 1e-9);
+    disagree += wedge_accepts(z, i, ax, y) != (y < exact);
+  }
+  EXPECT_EQ(disagree, 0);
+}
+
+TEST(Random, FillBothGivesEachStreamsOwnNumbers) {
+  normal_stream a1(3, stream::angle_random_walk), b1(3, stream::adc_noise);
+  normal_stream a2 = a1, b2 = b1;
+  std::vector<double> a(5000), b(5000), a_ref(5000), b_ref(5000);
+  fill_both(a1, a.data(), b1, b.data(), 1234);  // in two calls, as the simulator's chunks
+  fill_both(a1, a.data() + 1234, b1, b.data() + 1234, 5000 - 1234);
+  a2.fill(a_ref.data(), 5000);
+  b2.fill(b_ref.data(), 5000);
+  for (std::size_t k = 0; k < 5000; ++k) {
+    ASSERT_EQ(a[k], a_ref[k]) << k;
+    ASSERT_EQ(b[k], b_ref[k]) << k;
+  }
+  EXPECT_EQ(a1.next(), a2.next());  // and the states end where they would
+  EXPECT_EQ(b1.next(), b2.next());
 }
 
 TEST(Random, StreamsAreIndependentAndReproducible) {
@@ -188,6 +293,26 @@ TEST(ErrorTerms, WarmupRampTurnOnAndTemperature) {
   EXPECT_NEAR(std::sqrt(s2 / 400.0), 0.1, 0.01);
 }
 
+TEST(ErrorTerms, WarmupRecurrenceStaysWithinItsBound) {
+  // The warm-up is stepped by e^{-h/tau} per grid point: absolute error <= 1.1e-16 A tau/(e h)
+  // (error_terms.hpp), here 2e-15 deg/s; far out it is exactly 0 (no subnormals).
+  sensor_params p = quiet();
+  p.warmup_amplitude_dps = 5.0;
+  p.warmup_tau_s = 10.0;  // grid step h = 0.1 s
+  slow_bias b(p, 3.0, 1);
+  double worst = 0.0;
+  for (int k = 0; k <= 200'000; k += 7) {  // 2e4 s = 2000 tau, on and between grid points
+    const double t = 0.1 * k + (k % 2 == 0 ? 0.0 : 0.05);
+    const double grid_lo = 0.1 * std::floor(t / 0.1 + 1e-9);
+    const double exact_lo = 5.0 * std::exp(-(grid_lo + 3.0) / 10.0);
+    const double exact_hi = 5.0 * std::exp(-(grid_lo + 0.1 + 3.0) / 10.0);
+    const double w = (t - grid_lo) / 0.1;
+    worst = std::max(worst, std::fabs(b.at(t) - (exact_lo + w * (exact_hi - exact_lo))));
+  }
+  EXPECT_LT(worst, 1e-14);
+  EXPECT_EQ(b.at(20'000.05), 0.0);
+}
+
 TEST(ErrorTerms, LowPassSaturationNonlinearityScaleFactor) {
   sensor_params p = quiet();
   p.bandwidth_hz = 10.0;
@@ -228,6 +353,28 @@ TEST(Gyro, BlockIsBitIdenticalToPerSample) {
     const auto s = one.sample(t[k], temp[k], rate[k]);
     ASSERT_EQ(s.v_rel, v[k]) << k;
     ASSERT_EQ(s.bias_dps, bias[k]) << k;
+  }
+}
+
+TEST(SlowBias, BlockIsBitIdenticalToPerWindowAndMatchesTheExactMean) {
+  sensor_params p = find_builtin("adxrs150")->params;  // grid step h = 0.1 s
+  p.rrw_dps_per_rts = 1e-3;
+  p.rate_ramp_dps_per_s = 1e-4;
+  // Windows much shorter than h (the rig), about h/3, and longer than h (many grid points).
+  for (const double dt : {0.002, 0.037, 0.45}) {
+    slow_bias one(p, 5.0, 4), blk(p, 5.0, 4), ref(p, 5.0, 4);
+    const std::size_t n = 4000;
+    std::vector<double> t(n), mean(n);
+    for (std::size_t k = 0; k < n; ++k) t[k] = (static_cast<double>(k) + 0.5) * dt;
+    blk.mean_block(t.data(), dt / 2.0, 1.0 / dt, mean.data(), 1234);
+    blk.mean_block(t.data() + 1234, dt / 2.0, 1.0 / dt, mean.data() + 1234, n - 1234);
+    for (std::size_t k = 0; k < n; ++k) {
+      ASSERT_EQ(one.mean_at(t[k], dt / 2.0, 1.0 / dt), mean[k]) << dt << " " << k;
+      // The reference: the running integral's difference (mean_over). It carries the rounding
+      // of an integral of ~|b| t (~1 deg s), i.e. ~1e-16 / dt deg/s: far below 1e-12.
+      ASSERT_NEAR(ref.mean_over(t[k] - dt / 2.0, t[k] + dt / 2.0), mean[k], 1e-12)
+          << dt << " " << k;
+    }
   }
 }
 

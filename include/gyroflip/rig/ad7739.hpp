@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "gyroflip/core/result.hpp"
@@ -55,6 +56,12 @@ class ad7739 {
     const double c = sensor::round_even(v * inv_lsb_) + code_zero;
     return c <= 0.0 ? 0 : (c >= code_max ? code_max : static_cast<std::int32_t>(c));
   }
+  /// `n` conversions at once, as volts times `scale`: out[i] = volts(convert(v_diff[i],
+  /// noise[i])) * scale, bit for bit for finite input (the code offset 2^23 cancels, so the
+  /// clamp runs on round(v / LSB) in [-2^23, 2^23 - 1] and the loop stays in doubles, which
+  /// vectorises). The recorder passes 1 / SF_nominal and gets deg/s.
+  void convert_block(const double* v_diff, const double* noise, double* out, double scale,
+                     std::size_t n) const noexcept;
   /// The voltage (V) a code stands for: (code - 2^23) LSB.
   [[nodiscard]] double volts(std::int32_t code) const noexcept {
     return static_cast<double>(code - code_zero) * lsb_;

@@ -11,9 +11,13 @@
 ///                                    at MEAN + SWING/2                       (temperature)
 ///   FILE (temperature)               CSV with header `time_s,temp_c`, linear interpolation,
 ///                                    held constant outside the table
-/// Evaluation is O(1) amortised for non-decreasing times (a cursor).
+/// Evaluation is O(1) amortised for non-decreasing times (a cursor). Every kind but `sine` is
+/// piecewise affine, and is evaluated as v0 + slope (t - t0) on its current piece, one formula
+/// for `at` and for the simulator's block evaluation `fill` (so both give the same bits).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -42,18 +46,35 @@ class profile {
     if (kind_ == kind::constant) return value_;
     return eval(t_s);
   }
+  /// The values at the non-decreasing times `t_s[0..n)` (s) into `out`: the same numbers as n
+  /// calls of at() in order, but one piece at a time (a tight loop per piece, no per-sample
+  /// dispatch; the simulator's temperature and rate columns).
+  void fill(const double* t_s, double* out, std::size_t n) noexcept;
   [[nodiscard]] bool is_constant() const noexcept { return kind_ == kind::constant; }
 
  private:
+  // A piece on which the profile is affine: v0 + slope (t - t0) for times before t_end_s.
+  struct piece {
+    double t0_s, v0, slope_per_s, t_end_s;
+    // Slope 0 returns v0 itself (no rounding, and a constant -0 stays -0).
+    [[nodiscard]] double at(double t_s) const noexcept {
+      return slope_per_s == 0.0 ? v0 : v0 + slope_per_s * (t_s - t0_s);
+    }
+  };
   double eval(double t_s) noexcept;
+  // The piece that holds `t_s` (moves the cursor); not for `sine`.
+  piece piece_at(double t_s) noexcept;
+  piece triangle_piece(std::int64_t half) const noexcept;
   // The syntax both kinds share: a number, const:V, steps:T:V,... (nullopt: none of these).
   static std::optional<result<profile>> parse_shared(std::string_view what, std::string_view spec,
                                                      std::optional<double> before_steps);
   kind kind_ = kind::constant;
   double value_ = 0.0;  // constant; sine/triangle offset (mean)
   double amp_ = 0.0, freq_hz_ = 0.0;
+  double half_period_s_ = 0.0;  // triangle: one falling or rising half (s)
   std::vector<double> t_s_, v_;
-  std::size_t cursor_ = 0;
+  std::size_t cursor_ = 0;  // hold/linear: current knot
+  std::int64_t half_ = -1;  // triangle: current half-period index (-1: none yet)
 };
 
 }  // namespace gyroflip::rig

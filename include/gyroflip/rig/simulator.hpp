@@ -45,10 +45,13 @@ struct simulation_config {
 };
 
 /// A chunk of conversions, column-wise. `angle_deg` is NaN while the table turns; `dwell` is
-/// the global dwell index (0, 1, 2, ... alternating A, B) or -1 outside acquisitions.
+/// the global dwell index (0, 1, 2, ... alternating A, B) or -1 outside acquisitions. The truth
+/// columns (bias, g-term, Earth, input) are filled only when `truth` is set (the default);
+/// without them a conversion costs ~7 % less (four columns fewer to write and average).
 struct sample_block {
-  explicit sample_block(std::size_t capacity);
+  explicit sample_block(std::size_t capacity, bool with_truth = true);
   std::size_t size = 0;
+  bool truth = true;
   std::vector<double> time_s, angle_deg, rate_dps, temp_c;
   std::vector<double> bias_dps, g_term_dps, earth_dps, input_dps;
   std::vector<std::int64_t> dwell;
@@ -77,7 +80,14 @@ class simulator {
   }
 
  private:
-  simulator(const simulation_config& c, schedule s, sensor::gyro g, ad7739 a);
+  simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a);
+  // Conversions [first, first + n) of `b`, n <= chunk.
+  void fill_chunk(sample_block& b, std::size_t first, std::size_t n) noexcept;
+  // The rig terms of n conversions in consecutive cycle slots (from p_), into `b` from `first`
+  // (their input rates at w_in_[scratch]); the truth columns too if `truth`.
+  template <bool truth>
+  void rig_run(sample_block& b, std::size_t first, std::size_t scratch, std::size_t n) noexcept;
+  static constexpr std::size_t chunk = 512;  // conversions per pass through the stages
   simulation_config cfg_;
   schedule sched_;
   sensor::gyro gyro_;
@@ -85,9 +95,12 @@ class simulator {
   double t_conv_s_, inv_sf_;
   std::uint64_t total_ = 0, k_ = 0;
   std::size_t p_ = 0;
+  // Per cycle slot: sensed input gain, table rate, Earth rate, g-term parts, output angle, and
+  // the dwell index as dwell_base + (dwell_mask & 2 cycle) (base -1 and mask 0 outside dwells).
   std::vector<double> in_gain_, table_, earth_, gf0_, gf1_, angle_out_;
-  std::vector<std::int8_t> slot_;
-  std::vector<double> n_arw_, n_adc_;  // per-block scratch for the normal deviates
+  std::vector<std::int64_t> dwell_base_, dwell_mask_;
+  // Per-chunk scratch: normal deviates, input rate, gyro output voltage, bias without truth.
+  std::vector<double> n_arw_, n_adc_, w_in_, v_rel_, bias_;
 };
 
 /// One dwell average, as written to a recording (docs/FORMATS.md) plus its truth.
@@ -97,15 +110,20 @@ struct dwell_row {
   double bias_dps = 0.0, g_term_dps = 0.0, earth_dps = 0.0, input_dps = 0.0;
 };
 
-/// Averages the acquisition conversions of each dwell (plain means of every column).
+/// Averages the acquisition conversions of each dwell (plain means of every column; the truth
+/// means are NaN for blocks without truth).
 class dwell_averager {
  public:
   explicit dwell_averager(int n_avg) : n_avg_(n_avg) {}
-  /// Adds a block; complete dwells are appended to `out`.
+  /// Adds a block; complete dwells are appended to `out`. Runs of conversions with the same
+  /// dwell index are summed column by column in one branch-free loop (the same sums, in the
+  /// same order, as one conversion at a time).
   void add(const sample_block& b, std::vector<dwell_row>& out);
 
  private:
   void emit(std::vector<dwell_row>& out);
+  template <bool truth>
+  void accumulate(const sample_block& b, std::size_t first, std::size_t n) noexcept;
   int n_avg_;
   std::int64_t current_ = -1;
   int n_ = 0;

@@ -27,8 +27,10 @@ namespace gyroflip::sensor {
 
 /// e^x (dimensionless). Range reduction x = k ln2 + r, |r| <= ln2/2, with ln2 split in a
 /// 32-bit-exact high part and a low part (Cody & Waite), then the Taylor series of e^r to
-/// r^14/14! (truncation < 1e-17 for |r| <= 0.347) and an exact scaling by 2^k. Rel. error ~2e-16.
-/// x < -745 gives 0, x > 709 gives +inf, NaN gives NaN.
+/// r^14/14! (truncation < 1e-17 for |r| <= 0.347) in Horner form with the coefficients 1/n!
+/// rounded to nearest (multiplies and adds only: a division per term made the ziggurat's wedge
+/// test, which calls this, a ~300-cycle dependency chain), and an exact scaling by 2^k.
+/// Rel. error ~3e-16. x < -745 gives 0, x > 709 gives +inf, NaN gives NaN.
 [[nodiscard]] inline double det_exp(double x) noexcept {
   if (x != x) return x;  // NaN propagates
   if (x < -745.0) return 0.0;
@@ -38,8 +40,24 @@ namespace gyroflip::sensor {
   constexpr double ln2_lo = 1.90821492927058770002e-10;
   const double kd = round_even(x * log2e);
   const double r = (x - kd * ln2_hi) - kd * ln2_lo;
-  double p = 1.0;
-  for (int n = 14; n >= 1; --n) p = 1.0 + p * r / static_cast<double>(n);
+  // 1/n!, n = 0..14, correctly rounded (Python: float(Fraction(1, factorial(n))).hex()).
+  constexpr double inv_fact[15] = {0x1p+0,
+                                   0x1p+0,
+                                   0x1p-1,
+                                   0x1.5555555555555p-3,
+                                   0x1.5555555555555p-5,
+                                   0x1.1111111111111p-7,
+                                   0x1.6c16c16c16c17p-10,
+                                   0x1.a01a01a01a01ap-13,
+                                   0x1.a01a01a01a01ap-16,
+                                   0x1.71de3a556c734p-19,
+                                   0x1.27e4fb7789f5cp-22,
+                                   0x1.ae64567f544e4p-26,
+                                   0x1.1eed8eff8d898p-29,
+                                   0x1.6124613a86d09p-33,
+                                   0x1.93974a8c07c9dp-37};
+  double p = inv_fact[14];
+  for (int n = 13; n >= 0; --n) p = p * r + inv_fact[n];
   // Scale by 2^k: one multiply by a power of two built from its bits (exact, no libm call);
   // two steps keep 2^k representable near the ends of the range.
   const auto k = static_cast<std::int64_t>(kd);
