@@ -1,10 +1,14 @@
-# Project-wide warning and sanitizer flags, applied through one INTERFACE target so that
+# Project-wide warning, floating-point and sanitizer flags, applied through one INTERFACE target so that
 # third-party headers (included as SYSTEM) are not affected.
 add_library(gyroflip_flags INTERFACE)
 target_compile_options(gyroflip_flags INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wnon-virtual-dtor
   -Wold-style-cast -Wcast-align -Woverloaded-virtual -Wnull-dereference -Wdouble-promotion
   -Wformat=2 -Wimplicit-fallthrough)
+# No fused multiply-add contraction: a seed must give the same recording on every machine, and
+# GCC contracts a*b+c by default in C++ wherever the target has FMA (arm64, x86-64-v3), which
+# changes roundings (the simulator's round-to-even trick among them).
+target_compile_options(gyroflip_flags INTERFACE -ffp-contract=off)
 if(GYROFLIP_WERROR)
   target_compile_options(gyroflip_flags INTERFACE -Werror)
 endif()
