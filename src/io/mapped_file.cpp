@@ -43,8 +43,8 @@ mapped_file::~mapped_file() {
 void mapped_file::release(std::size_t begin, std::size_t end) const noexcept {
   const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
   const auto base = reinterpret_cast<std::uintptr_t>(ptr_);  // NOLINT: page arithmetic
-  const std::uintptr_t lo = (base + begin + page - 1) / page * page;
-  const std::uintptr_t hi = (base + std::min(end, size_)) / page * page;
+  const std::uintptr_t lo = (base + begin) / page * page;
+  const std::uintptr_t hi = (base + std::min(end, size_) + page - 1) / page * page;
   if (ptr_ != nullptr && hi > lo)
     ::madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_DONTNEED);  // NOLINT: madvise takes void*
 }

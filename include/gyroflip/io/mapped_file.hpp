@@ -24,8 +24,9 @@ class mapped_file {
   [[nodiscard]] std::string_view data() const noexcept { return {ptr_, size_}; }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
 
-  /// Drops the resident pages of bytes [begin, end) (rounded inward to whole pages): they stop
-  /// counting in the process's memory and are read again from the page cache if touched.
+  /// Drops the resident pages of bytes [begin, end) (rounded outward to whole pages): they stop
+  /// counting in the process's memory and are read again from the page cache if touched, so
+  /// dropping a page another reader still uses costs a page fault, not data.
   void release(std::size_t begin, std::size_t end) const noexcept;
 
  private:
