@@ -212,6 +212,7 @@ long double phase_source::offset_sum(std::size_t begin, std::size_t end,
 
 phase_reader::phase_reader(phase_reader&& other) noexcept
     : src_(other.src_),
+      hand_back_(other.hand_back_),
       buf_(std::move(other.buf_)),
       base_(other.base_),
       end_(other.end_),
@@ -270,18 +271,24 @@ void phase_reader::generate(std::size_t need) {
   }
 }
 
-// Samples [begin, end) are in use now and everything pending before `begin` is done with (reads
-// move forward); a jump elsewhere hands back all that is pending.
+// Samples [begin, end) are in use now; pending samples next to them are done with (reads move
+// forward, or backward for a reflection). Touching ranges collect until a release step, then
+// all but the current range go back; a range elsewhere hands back all that is pending.
 void phase_reader::consumed(std::size_t begin, std::size_t end) noexcept {
-  if (begin < pending_begin_ || begin > pending_end_) {
+  if (!hand_back_) return;
+  if (end < pending_begin_ || begin > pending_end_) {
     flush();
-    pending_begin_ = pending_end_ = begin;
-  }
-  pending_end_ = std::max(pending_end_, end);
-  if (begin - pending_begin_ >= src_->samples_->release_step()) {
-    src_->samples_->release(pending_begin_, begin);
     pending_begin_ = begin;
+    pending_end_ = end;
+    return;
   }
+  pending_begin_ = std::min(pending_begin_, begin);
+  pending_end_ = std::max(pending_end_, end);
+  if (pending_end_ - pending_begin_ < src_->samples_->release_step()) return;
+  if (pending_begin_ < begin) src_->samples_->release(pending_begin_, begin);
+  if (end < pending_end_) src_->samples_->release(end, pending_end_);
+  pending_begin_ = begin;
+  pending_end_ = end;
 }
 
 void phase_reader::flush() noexcept {

@@ -85,11 +85,14 @@ class phase_source {
 /// overlaps it moving forward rebuilds only the new blocks, four at a time so that their running
 /// sums overlap in the CPU; a read elsewhere restarts at its block (at most block_points - 1
 /// extra points). Consumed samples are handed back to the sample source (`release`) every
-/// `release_step()` samples, so a mapped file stays mostly non-resident. The buffer holds at
-/// most 2 (len + 2 block_points) doubles for reads of at most len points.
+/// `release_step()` samples, so a mapped file stays mostly non-resident, unless `hand_back` is
+/// false: then whoever drives several readers over the same samples releases them once all have
+/// passed (a released page that another reader maps again costs a page fault). The buffer holds
+/// at most 2 (len + 2 block_points) doubles for reads of at most len points.
 class phase_reader {
  public:
-  explicit phase_reader(const phase_source& source) noexcept : src_(&source) {}
+  explicit phase_reader(const phase_source& source, bool hand_back = true) noexcept
+      : src_(&source), hand_back_(hand_back) {}
   phase_reader(const phase_reader&) = delete;
   phase_reader& operator=(const phase_reader&) = delete;
   phase_reader(phase_reader&& other) noexcept;
@@ -108,6 +111,7 @@ class phase_reader {
   void flush() noexcept;
 
   const phase_source* src_;
+  bool hand_back_;
   std::vector<double> buf_;
   std::size_t base_ = 0;           ///< phase index of buf_[0]
   std::size_t end_ = 0;            ///< x[base_, end_) is in buf_ (end_ at a block boundary or N)
