@@ -26,10 +26,11 @@ constexpr index block_terms = 4096;
 constexpr index chunk_terms = index{1} << 20;
 constexpr std::size_t window_reach = std::size_t{1} << 17;  // order * m of a near factor
 constexpr std::size_t far_per_sweep = 32;  // far factors per sweep: bounds the streams (buffers)
-// Readers at offsets up to this keep the samples they map; the sweep releases them once every
-// chunk below is done. Nearby streams then share mapped pages instead of each faulting them in
-// again (a page fault costs ~4 us on the project's VM), for at most 64 MB more resident memory.
-constexpr index keep_reach = index{1} << 23;
+// Readers at offsets up to this many release steps of the sample source keep the samples they
+// map; the sweep releases them once every chunk below is done. Nearby streams then share mapped
+// pages instead of each faulting them in again (a page fault costs ~4 us on the project's VM),
+// for 32 steps (64 MB for a file) more resident memory.
+constexpr std::size_t keep_steps = 32;
 
 index floor_div(index a, index b) {
   return a >= 0 ? a / b : -((-a + b - 1) / b);
@@ -151,7 +152,9 @@ class stream_set {
         hi_(p.streams.size()),
         active_(p.factors.size()),
         spare_(x) {
-    for (const auto& s : p.streams) readers_.emplace_back(x, first, last, s.offset > keep_reach);
+    const std::size_t keep = keep_steps * x.samples().release_step();
+    for (const auto& s : p.streams)
+      readers_.emplace_back(x, first, last, static_cast<std::size_t>(s.offset) > keep);
   }
 
   // Reads, for each stream, the union of what the factors active in [b, b + block_terms) need.
