@@ -198,7 +198,8 @@ class tracking_samples final : public sample_source {
 TEST(PhaseSource, SweepsHandBackEverySampleTheyViewed) {
   // Bounded memory, tested through what a file source would keep resident: 2^23 samples (a
   // 64 MB file), each statistic's sweep and the noise identification. With a release step of
-  // 4096 samples the readers may keep a few chunks of 2^20 samples, never most of the record.
+  // 4096 samples the readers may keep the chunks of 2^20 samples in work (at most three past the
+  // lowest unfinished one, however the threads are scheduled), never most of the record.
   const std::size_t n = std::size_t{1} << 23;
   const tracking_samples s(white(n, 0.0, 1.0, 17));
   const auto src = phase_source::make(s, input_kind::rate, 0.01);
@@ -210,7 +211,7 @@ TEST(PhaseSource, SweepsHandBackEverySampleTheyViewed) {
     add_confidence(*pts, k, *src, 0.683);
     EXPECT_EQ(s.resident_samples(), 0u) << to_string(k);
   }
-  EXPECT_LE(s.peak_samples(), n / 4);
+  EXPECT_LE(s.peak_samples(), n / 2);
 }
 
 }  // namespace
