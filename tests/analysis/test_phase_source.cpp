@@ -32,7 +32,7 @@ TEST(PhaseSource, RateMatchesAnAllLongDoubleIntegration) {
   // ~1e-15 of its range (a double running sum without them would lose ~1e-9).
   const auto y = white(5 * block + 3, 1000.0, 3e-4, 11);
   long double mean = 0.0L;
-  for (double v : y) mean += v;
+  for (double v : y) mean += static_cast<long double>(v);
   mean /= static_cast<long double>(y.size());
   std::vector<long double> ref{0.0L};
   for (double v : y) ref.push_back(ref.back() + (static_cast<long double>(v) - mean));

@@ -187,7 +187,7 @@ TEST(StreamedDeviation, FileSourcesEqualTheSamplesInMemory) {
   // .npy and raw float64 files, read through io::series (mapped, released as consumed), give
   // bit-identical curves and intervals to the same samples in memory: 2^19 + 3 4096 + 1
   // samples, so that OADEV and MDEV have far factors too.
-  const std::size_t n = (std::size_t{1} << 19) + 3 * 4096 + 1;
+  const std::size_t n = (std::size_t{1} << 19) + 3u * 4096u + 1u;
   const auto y = white(n, 23);
   test::temp_dir d;
   test::write_npy(d.file("y.npy"), y);
