@@ -12,9 +12,9 @@
 namespace gyroflip::analysis::detail {
 namespace {
 
-constexpr std::size_t piece_terms = 4096;                   // ADEV/HDEV terms per work item
+constexpr std::size_t block_terms = 4096;  // ADEV/HDEV terms summed in double at a time
 constexpr std::size_t read_points = std::size_t{1} << 16;   // longest single read
-constexpr std::size_t chunk_points = std::size_t{1} << 20;  // phase points per prefix work item
+constexpr std::size_t chunk_points = std::size_t{1} << 20;  // phase points per work item
 
 // out[i] = x_{(k0 + i) m} for i < count.
 void read_decimated(phase_reader& r, std::size_t m, std::size_t k0, std::size_t count,
@@ -31,6 +31,12 @@ void read_decimated(phase_reader& r, std::size_t m, std::size_t k0, std::size_t 
   }
 }
 
+// Terms per work item of factor m: whole blocks spanning about chunk_points phase points, so
+// that the threads work on separate regions of the phase (and a reader continues within one).
+std::size_t item_terms(std::size_t m) {
+  return std::max<std::size_t>(1, chunk_points / m / block_terms) * block_terms;
+}
+
 }  // namespace
 
 std::vector<long double> decimated_sums(const phase_source& x, std::size_t order,
@@ -42,7 +48,8 @@ std::vector<long double> decimated_sums(const phase_source& x, std::size_t order
   for (std::size_t f = 0; f < nf; ++f) {
     const std::size_t groups = x.size() > 0 ? (x.size() - 1) / factors[f] : 0;
     terms[f] = groups >= order ? groups - order + 1 : 0;
-    first_item[f + 1] = first_item[f] + (terms[f] + piece_terms - 1) / piece_terms;
+    const std::size_t per_item = item_terms(factors[f]);
+    first_item[f + 1] = first_item[f] + (terms[f] + per_item - 1) / per_item;
   }
   const std::size_t items = first_item[nf];
   const std::size_t workers = worker_count(x.size());
@@ -57,14 +64,18 @@ std::vector<long double> decimated_sums(const phase_source& x, std::size_t order
             static_cast<std::size_t>(std::upper_bound(first_item.begin(), first_item.end(), item) -
                                      first_item.begin()) -
             1;
-        const std::size_t k0 = (item - first_item[f]) * piece_terms;
-        const std::size_t n = std::min(piece_terms, terms[f] - k0);
-        z[w].resize(n + order);
-        read_decimated(*readers[w], factors[f], k0, n + order, z[w].data());
+        const std::size_t per_item = item_terms(factors[f]);
+        const std::size_t k_begin = (item - first_item[f]) * per_item;
+        const std::size_t k_end = std::min(terms[f], k_begin + per_item);
+        z[w].resize(block_terms + order);
         const double* p = z[w].data();
-        partial[item] =
-            static_cast<long double>(order == 2 ? sum_second_differences(p, p + 1, p + 2, n)
-                                                : sum_third_differences(p, p + 1, p + 2, p + 3, n));
+        for (std::size_t k0 = k_begin; k0 < k_end; k0 += block_terms) {
+          const std::size_t n = std::min(block_terms, k_end - k0);
+          read_decimated(*readers[w], factors[f], k0, n + order, z[w].data());
+          partial[item] += static_cast<long double>(
+              order == 2 ? sum_second_differences(p, p + 1, p + 2, n)
+                         : sum_third_differences(p, p + 1, p + 2, p + 3, n));
+        }
       },
       on_progress);
   std::vector<long double> out(nf, 0.0L);

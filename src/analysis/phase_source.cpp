@@ -271,12 +271,15 @@ void phase_reader::generate(std::size_t need) {
   }
 }
 
-// Samples [begin, end) are in use now; pending samples next to them are done with (reads move
-// forward, or backward for a reflection). Touching ranges collect until a release step, then
-// all but the current range go back; a range elsewhere hands back all that is pending.
+// Samples [begin, end) are in use now; pending samples around them are done with (reads move
+// forward, or backward for a reflection). Ranges less than a release step apart collect, gaps
+// included (sparse reads of a decimated phase: releasing samples nobody viewed is harmless and
+// takes back the pages the kernel maps around each fault), until they span a release step; then
+// all but the current range go back. A range farther away hands back all that is pending.
 void phase_reader::consumed(std::size_t begin, std::size_t end) noexcept {
   if (!hand_back_) return;
-  if (end < pending_begin_ || begin > pending_end_) {
+  const std::size_t step = src_->samples_->release_step();
+  if (end + step < pending_begin_ || begin > pending_end_ + step) {
     flush();
     pending_begin_ = begin;
     pending_end_ = end;
@@ -284,7 +287,7 @@ void phase_reader::consumed(std::size_t begin, std::size_t end) noexcept {
   }
   pending_begin_ = std::min(pending_begin_, begin);
   pending_end_ = std::max(pending_end_, end);
-  if (pending_end_ - pending_begin_ < src_->samples_->release_step()) return;
+  if (pending_end_ - pending_begin_ < step) return;
   if (pending_begin_ < begin) src_->samples_->release(pending_begin_, begin);
   if (end < pending_end_) src_->samples_->release(end, pending_end_);
   pending_begin_ = begin;

@@ -86,8 +86,11 @@ class mapped_samples final : public analysis::sample_source {
     const auto* p = reinterpret_cast<const double*>(file_.data().data() + offset_);  // NOLINT
     return {p + begin, count};
   }
+  // Whole 64 KB windows of address: a page fault maps the aligned 64 KB around it (the kernel's
+  // default fault-around), which a release of only the pages read would leave resident.
   void release(std::size_t begin, std::size_t end) const noexcept override {
-    file_.release(offset_ + begin * sizeof(double), offset_ + end * sizeof(double));
+    file_.release(offset_ + begin * sizeof(double), offset_ + end * sizeof(double),
+                  std::size_t{1} << 16);
   }
   // 2 MB: one madvise per 2 MB consumed per reader (cheap), ~100 MB resident at most.
   [[nodiscard]] std::size_t release_step() const noexcept override { return std::size_t{1} << 18; }
