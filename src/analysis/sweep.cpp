@@ -4,7 +4,7 @@
 ///
 /// Memory traffic, not arithmetic, is what a sweep over 1e8 points per factor costs, so each
 /// phase point is built (or read) as few times as possible: once for the window that serves all
-/// factors up to m = 32768 / order, and once per distinct far offset j m.
+/// factors up to m = 2^17 / order, and once per distinct far offset j m.
 #include "sweep.hpp"
 
 #include <algorithm>

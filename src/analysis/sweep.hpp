@@ -4,7 +4,7 @@
 ///
 /// The term index range is cut into chunks of 2^20 (the work items of the threads) and blocks
 /// of 4096. Per block, every factor's terms are summed while the block's phase is in cache:
-/// factors with order * m <= 32768 read it from one sliding window x[b, b + 4096 + order m_max)
+/// factors with order * m <= 2^17 read it from one sliding window x[b, b + 4096 + order m_max)
 /// ("near" factors), each larger factor from streams at offsets j m, shared between factors
 /// (for octave taus the 2m stream of one factor is the m stream of the next). Results do not
 /// depend on the number of threads: block sums are fixed and added in chunk order.

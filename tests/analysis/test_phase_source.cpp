@@ -205,7 +205,8 @@ TEST(PhaseSource, SweepsHandBackEverySampleTheyViewed) {
   const auto src = phase_source::make(s, input_kind::rate, 0.01);
   ASSERT_TRUE(src);
   EXPECT_EQ(s.resident_samples(), 0u);
-  for (const dev_kind k : {dev_kind::oadev, dev_kind::mdev, dev_kind::totdev}) {
+  for (const dev_kind k : {dev_kind::oadev, dev_kind::mdev, dev_kind::totdev, dev_kind::ohdev,
+                           dev_kind::adev, dev_kind::hdev}) {
     auto pts = deviation(k, *src, {});
     ASSERT_TRUE(pts);
     add_confidence(*pts, k, *src, 0.683);

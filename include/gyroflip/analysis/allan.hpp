@@ -11,8 +11,9 @@
 /// Every statistic is computed on a `phase_source` (phase_source.hpp), which rebuilds the phase
 /// block by block, so memory does not grow with the length of a file-backed series; the
 /// span-based functions below wrap their span in a source. Memory beyond the source's tables:
-/// per thread a window of about 40 000 phase points and 4096 points per far stream (two or three
-/// streams per averaging factor above 16384 / 10922), a few MB in all.
+/// per thread a window of at most 4096 + 2^17 phase points and 4096 points per far stream (two
+/// or three streams per averaging factor above 65536 for OADEV/TOTDEV, 43690 for MDEV/OHDEV), a
+/// few MB in all (docs/ANALYSIS.md, "How the deviations are computed, and memory").
 #pragma once
 
 #include <cstddef>
@@ -88,7 +89,7 @@ struct raw_deviation {
 
 /// The whole curve of statistic `k` on the phase `x` (deg; tau0 from the source): one sweep over
 /// the phase for all averaging factors of OADEV, TOTDEV, OHDEV, MDEV and TDEV (factors above
-/// 16384 read their own streams, at most 32 of them per sweep); ADEV and HDEV read the phase
+/// 2^17 / order read their own streams, at most 32 of them per sweep); ADEV and HDEV read the phase
 /// decimated by each m. All on every core. `on_progress(done, total)` reports work items
 /// (progress line); may be empty. Confidence intervals are not filled here (confidence.hpp).
 /// Errors: fewer than 3 phase points, no averaging factor left.
