@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/phase_source.hpp"
 #include "gyroflip/sensor/random.hpp"
 
 namespace {
@@ -75,6 +76,23 @@ BENCHMARK_CAPTURE(BM_Deviation, mdev, gyroflip::analysis::dev_kind::mdev)
 BENCHMARK_CAPTURE(BM_Deviation, totdev, gyroflip::analysis::dev_kind::totdev)
     ->Arg(1 << 22)
     ->Unit(benchmark::kMillisecond);
+
+// Rebuilding the phase of rate samples from the carries, as a far stream of a sweep reads it
+// (4096 points a read, one reader, one thread): phase points per second.
+void BM_PhaseRebuild(benchmark::State& state) {
+  const auto y = white(static_cast<std::size_t>(state.range(0)));
+  const gyroflip::analysis::span_samples samples(y);
+  const auto src =
+      *gyroflip::analysis::phase_source::make(samples, gyroflip::analysis::input_kind::rate, 0.01);
+  for (auto _ : state) {
+    gyroflip::analysis::phase_reader r(src);
+    double s = 0.0;
+    for (std::size_t b = 0; b + 4096 <= src.size(); b += 4096) s += r.read(b, 4096)[4095];
+    benchmark::DoNotOptimize(s);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_PhaseRebuild)->Arg(1 << 22)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -47,6 +47,12 @@ std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
 
 }  // namespace
 
+analysis::progress_fn per_mille(progress& bar) {
+  return [&bar](std::size_t done, std::size_t total) {
+    bar.update(done * 1000 / std::max<std::size_t>(total, 1));
+  };
+}
+
 result<analysis_input> load_series(const series_input& in) {
   io::series_options so;
   so.column = in.column;
@@ -54,14 +60,14 @@ result<analysis_input> load_series(const series_input& in) {
   if (!std::isnan(in.rate_hz)) so.sample_rate_hz = in.rate_hz;
   auto s = io::read_series(in.file, so);
   if (!s) return s.err();
-  analysis_input a;
-  a.tau0_s = s->tau0_s();
-  a.samples = s->values().size();
-  // The mapped input is released as the phase is built: one copy resident, not two.
-  const auto release = [&s](std::size_t b, std::size_t e) { s->release(b, e); };
-  a.phase = in.input == "angle" ? std::vector<double>(s->values().begin(), s->values().end())
-                                : analysis::phase_from_rate(s->values(), s->tau0_s(), release);
-  return a;
+  const auto kind = in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
+  progress bar("reading " + in.file, 1000);
+  auto phase = analysis::phase_source::make(s->samples(), kind, s->tau0_s(), per_mille(bar));
+  bar.finish();
+  // The sample rate was checked when reading, so what fails here is the data: name the file.
+  if (!phase) return input_error({in.file}, phase.err().message);
+  // series keeps its samples on the heap: the source's reference survives the move.
+  return analysis_input{std::move(*s), std::move(*phase)};
 }
 
 int run_adev(const adev_options& o) {
@@ -76,17 +82,16 @@ int run_adev(const adev_options& o) {
   auto in = load_series(o.in);
   if (!in) return report(in.err());
   progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1000);
-  auto pts = analysis::deviation_of_phase(
-      *kind, in->phase, in->tau0_s, *taus, [&bar](std::size_t done, std::size_t total) {
-        bar.update(done * 1000 / std::max<std::size_t>(total, 1));
-      });
+  auto pts = analysis::deviation(*kind, in->phase, *taus, per_mille(bar));
   bar.finish();
   if (!pts) return report(pts.err());
-  analysis::add_confidence(*pts, *kind, in->phase, o.ci);
+  progress ci_bar("noise identification", 1000);
+  analysis::add_confidence(*pts, *kind, in->phase, o.ci, per_mille(ci_bar));
+  ci_bar.finish();
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, csv_text(*pts)); !s) return report(s.err());
   if (o.json) {
-    fmt::print("{}\n", json_text(o, in->tau0_s, in->samples, *pts));
+    fmt::print("{}\n", json_text(o, in->phase.tau0_s(), in->series.samples().size(), *pts));
   } else if (o.output.empty()) {
     fmt::print("{}", csv_text(*pts));
   }

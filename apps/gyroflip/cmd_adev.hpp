@@ -7,6 +7,9 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "gyroflip/analysis/phase_source.hpp"
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/io/series.hpp"
 
 namespace gyroflip::app {
 
@@ -19,14 +22,17 @@ struct series_input {
   std::string dataset;                                        // HDF5 dataset path
 };
 
-/// A series ready for analysis: its phase (angle, deg) and sample interval.
+/// A series ready for analysis: the samples and their phase source (which reads them).
 struct analysis_input {
-  std::vector<double> phase;
-  double tau0_s = 0.0;
-  std::size_t samples = 0;
+  io::series series;
+  analysis::phase_source phase;
 };
-/// Reads `in.file` (CSV column, .npy or raw float64) and builds the phase for `in.input`.
+/// Opens `in.file` (CSV column, .npy, raw float64 or HDF5) and prepares its phase for
+/// `in.input` (two passes over the samples for rate input, with a progress line on a terminal).
 result<analysis_input> load_series(const series_input& in);
+
+/// A progress line's update for analysis passes (done of total units -> per mille).
+analysis::progress_fn per_mille(progress& bar);
 
 struct adev_options {
   series_input in;

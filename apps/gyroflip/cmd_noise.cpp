@@ -42,21 +42,21 @@ int run_noise(const noise_options& o) {
     return report(usage_error("--ci must be a probability in (0, 1), e.g. 0.683"));
   auto in = load_series(o.in);
   if (!in) return report(in.err());
-  progress bar("noise of " + o.in.file, 1);
-  auto pts = analysis::deviation_of_phase(
-      analysis::dev_kind::oadev, in->phase, in->tau0_s, {},
-      [&bar](std::size_t d, std::size_t n) { bar.update(d == n ? 1u : 0u); });
+  progress bar("noise of " + o.in.file, 1000);
+  auto pts = analysis::deviation(analysis::dev_kind::oadev, in->phase, {}, per_mille(bar));
   bar.finish();
   if (!pts) return report(pts.err());
   analysis::add_confidence(*pts, analysis::dev_kind::oadev, in->phase, 0.683);
+  const double tau0_s = in->phase.tau0_s();
+  const std::size_t samples = in->series.samples().size();
   const auto fit = analysis::fit_noise_terms(*pts, o.ci);
   if (!fit) return report(fit.err());
   const auto& f = *fit;
   if (o.json) {
     json j = {{"file", o.in.file},
               {"input", o.in.input},
-              {"tau0_s", in->tau0_s},
-              {"samples", in->samples},
+              {"tau0_s", tau0_s},
+              {"samples", samples},
               {"bias_floor_tau_s", f.bias_floor_tau_s},
               {"bias_floor_dps", f.bias_floor_dev},
               {"chi2_per_dof", f.chi2_per_dof},
@@ -81,7 +81,7 @@ int run_noise(const noise_options& o) {
     return 0;
   }
   fmt::print("{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV ({:g} % intervals)\n", o.in.file,
-             in->samples, 1.0 / in->tau0_s, 100.0 * f.level);
+             samples, 1.0 / tau0_s, 100.0 * f.level);
   fmt::print("  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz)\n", show(f.arw, 60.0),
              show(f.arw, 1.0));
   fmt::print("  bias instability  B    {} deg/h   (OADEV floor {:.4g} deg/s at tau {:g} s)\n",

@@ -7,6 +7,9 @@
 #include <limits>
 #include <optional>
 
+#include "decimate.hpp"
+#include "parallel.hpp"
+
 namespace gyroflip::analysis {
 namespace {
 
@@ -123,6 +126,61 @@ double edf_greenhall(int alpha, int d, std::size_t m_int, std::size_t n_phase, b
   return 1.0 / (basic_sum(max_terms, max_terms, m_prime, f, alpha, d) / (z0 * z0 * max_terms));
 }
 
+// At most this many decimated points per factor: 2^20 pin r1 to ~1e-3, far finer than the 0.25
+// decision steps; more would only cost time on long records (a 1e8-sample run at m = 1).
+constexpr std::size_t max_points = std::size_t{1} << 20;
+// Decimated points held at once while collecting them (128 MB): more factors take more passes.
+constexpr std::size_t points_per_pass = std::size_t{1} << 24;
+
+// The lag-1 identification on z (the phase decimated by m), which it differences in place.
+std::optional<int> alpha_of_decimated(std::vector<double> z) {
+  constexpr std::size_t min_points = 30;
+  for (int d = 0;; ++d) {
+    if (z.size() < min_points) return std::nullopt;
+    double mean = 0.0;
+    for (double v : z) mean += v;
+    mean /= static_cast<double>(z.size());
+    double num = 0.0;
+    double den = 0.0;
+    for (std::size_t i = 0; i < z.size(); ++i) {
+      den += (z[i] - mean) * (z[i] - mean);
+      if (i + 1 < z.size()) num += (z[i] - mean) * (z[i + 1] - mean);
+    }
+    const double r1 = den > 0.0 ? num / den : 0.0;
+    const double rho = r1 / (1.0 + r1);
+    if (rho < 0.25 || d >= 2) {
+      const int alpha = 2 - static_cast<int>(std::lround(2.0 * rho)) - 2 * d;
+      return std::clamp(alpha, -2, 2);
+    }
+    for (std::size_t i = 0; i + 1 < z.size(); ++i) z[i] = z[i + 1] - z[i];
+    z.pop_back();
+  }
+}
+
+// Noise identification at every factor: the decimated series of as many factors as fit in
+// points_per_pass are collected in one pass over the phase, then identified one by one.
+std::vector<std::optional<int>> identify(const phase_source& x, const std::vector<std::size_t>& ms,
+                                         const progress_fn& on_progress) {
+  std::vector<std::vector<std::size_t>> passes(1);
+  std::size_t held = 0;
+  for (std::size_t m : ms) {
+    const std::size_t len = std::min(max_points, (x.size() - 1) / m + 1);
+    if (held + len > points_per_pass && !passes.back().empty()) {
+      passes.emplace_back();
+      held = 0;
+    }
+    passes.back().push_back(m);
+    held += len;
+  }
+  std::vector<std::optional<int>> ids;
+  for (std::size_t p = 0; p < passes.size(); ++p) {
+    auto z = detail::decimated_prefixes(x, passes[p], max_points,
+                                        detail::part_progress(on_progress, p, passes.size()));
+    for (auto& series : z) ids.push_back(alpha_of_decimated(std::move(series)));
+  }
+  return ids;
+}
+
 }  // namespace
 
 double chi2_quantile(double p, double dof) {
@@ -161,33 +219,10 @@ double chi2_quantile(double p, double dof) {
 }
 
 std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m) {
-  // 2^20 decimated points pin r1 to ~1e-3, far finer than the 0.25 decision steps; more would
-  // only cost time on long records (a 1e8-sample run at m = 1).
-  constexpr std::size_t max_points = std::size_t{1} << 20;
-  std::vector<double> z;
-  z.reserve(std::min(max_points, phase.size() / m + 1));
-  for (std::size_t i = 0; i < phase.size() && z.size() < max_points; i += m) z.push_back(phase[i]);
-  constexpr std::size_t min_points = 30;
-  for (int d = 0;; ++d) {
-    if (z.size() < min_points) return std::nullopt;
-    double mean = 0.0;
-    for (double v : z) mean += v;
-    mean /= static_cast<double>(z.size());
-    double num = 0.0;
-    double den = 0.0;
-    for (std::size_t i = 0; i < z.size(); ++i) {
-      den += (z[i] - mean) * (z[i] - mean);
-      if (i + 1 < z.size()) num += (z[i] - mean) * (z[i + 1] - mean);
-    }
-    const double r1 = den > 0.0 ? num / den : 0.0;
-    const double rho = r1 / (1.0 + r1);
-    if (rho < 0.25 || d >= 2) {
-      const int alpha = 2 - static_cast<int>(std::lround(2.0 * rho)) - 2 * d;
-      return std::clamp(alpha, -2, 2);
-    }
-    for (std::size_t i = 0; i + 1 < z.size(); ++i) z[i] = z[i + 1] - z[i];
-    z.pop_back();
-  }
+  const span_samples samples(phase);
+  const auto src = phase_source::make(samples, input_kind::angle, 1.0);
+  if (!src || src->size() == 0 || m == 0) return std::nullopt;
+  return identify(*src, {m}, {})[0];
 }
 
 double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
@@ -217,9 +252,19 @@ double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
 
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
                     double level) {
-  std::vector<std::optional<int>> ids;
-  ids.reserve(points.size());
-  for (const auto& p : points) ids.push_back(noise_alpha_lag1(phase, p.m));
+  // The phase as a source; tau0 matters for neither the noise type nor the EDF.
+  const span_samples samples(phase);
+  if (const auto src = phase_source::make(samples, input_kind::angle, 1.0))
+    add_confidence(points, k, *src, level);
+}
+
+void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
+                    double level, const progress_fn& on_progress) {
+  std::vector<std::size_t> ms;
+  ms.reserve(points.size());
+  for (const auto& p : points) ms.push_back(p.m);
+  const auto ids =
+      x.size() > 0 ? identify(x, ms, on_progress) : std::vector<std::optional<int>>(ms.size());
   std::optional<int> last;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (ids[i]) last = ids[i];
@@ -227,7 +272,7 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<
     const int alpha = ids[i] ? *ids[i] : last.value_or(0);
     auto& p = points[i];
     p.alpha = alpha;
-    p.edf = edf(k, alpha, p.m, phase.size());
+    p.edf = edf(k, alpha, p.m, x.size());
     if (!(p.edf > 0.0)) {
       p.ci_lo = p.ci_hi = std::numeric_limits<double>::quiet_NaN();
       continue;

@@ -40,11 +40,15 @@ mapped_file::~mapped_file() {
   if (ptr_ != nullptr && size_ != 0) ::munmap(const_cast<char*>(ptr_), size_);
 }
 
-void mapped_file::release(std::size_t begin, std::size_t end) const noexcept {
+void mapped_file::release(std::size_t begin, std::size_t end, std::size_t granule) const noexcept {
   const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const auto unit = std::max(granule, page);
   const auto base = reinterpret_cast<std::uintptr_t>(ptr_);  // NOLINT: page arithmetic
-  const std::uintptr_t lo = (base + begin + page - 1) / page * page;
-  const std::uintptr_t hi = (base + std::min(end, size_)) / page * page;
+  const std::uintptr_t map_end = (base + size_ + page - 1) / page * page;
+  // Widened to whole units, but never beyond this mapping (base is page-aligned).
+  const std::uintptr_t lo = std::max(base, (base + begin) / unit * unit);
+  const std::uintptr_t hi =
+      std::min(map_end, (base + std::min(end, size_) + unit - 1) / unit * unit);
   if (ptr_ != nullptr && hi > lo)
     ::madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_DONTNEED);  // NOLINT: madvise takes void*
 }

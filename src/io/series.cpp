@@ -10,6 +10,7 @@
 
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/csv.hpp"
+#include "gyroflip/io/mapped_file.hpp"
 #include "hdf5_series.hpp"
 
 namespace gyroflip::io {
@@ -71,14 +72,40 @@ result<std::size_t> npy_data_offset(const std::string& path, std::string_view d)
   return start + header_len;
 }
 
+// Little-endian float64 samples of a mapped file from byte `offset` (8-byte aligned, checked by
+// the caller). Released samples' pages leave the process; viewing them again re-reads them from
+// the page cache.
+class mapped_samples final : public analysis::sample_source {
+ public:
+  mapped_samples(mapped_file file, std::size_t offset, std::size_t count)
+      : file_(std::move(file)), offset_(offset), count_(count) {}
+  [[nodiscard]] std::size_t size() const noexcept override { return count_; }
+  [[nodiscard]] std::span<const double> view(std::size_t begin,
+                                             std::size_t count) const noexcept override {
+    // cppcheck-suppress invalidPointerCast ; mapped little-endian float64, alignment checked
+    const auto* p = reinterpret_cast<const double*>(file_.data().data() + offset_);  // NOLINT
+    return {p + begin, count};
+  }
+  // Whole 64 KB windows of address: a page fault maps the aligned 64 KB around it (the kernel's
+  // default fault-around), which a release of only the pages read would leave resident.
+  void release(std::size_t begin, std::size_t end) const noexcept override {
+    file_.release(offset_ + begin * sizeof(double), offset_ + end * sizeof(double),
+                  std::size_t{1} << 16);
+  }
+  // 2 MB: one madvise per 2 MB consumed per reader (cheap), ~100 MB resident at most.
+  [[nodiscard]] std::size_t release_step() const noexcept override { return std::size_t{1} << 18; }
+
+ private:
+  mapped_file file_;
+  std::size_t offset_;
+  std::size_t count_;
+};
+
 }  // namespace
 
-void series::release(std::size_t begin, std::size_t end) const noexcept {
-  if (!file_ || view_.empty()) return;
-  const auto offset =
-      static_cast<std::size_t>(reinterpret_cast<const char*>(view_.data()) -  // NOLINT
-                               file_->data().data());
-  file_->release(offset + begin * sizeof(double), offset + end * sizeof(double));
+void series::hold(std::vector<double> values) {
+  owned_ = std::move(values);
+  samples_ = std::make_unique<analysis::span_samples>(owned_);
 }
 
 result<series> read_series(const std::string& path_in, const series_options& opt) {
@@ -112,8 +139,7 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     if (h->values.size() < 3)
       return input_error({path},
                          fmt::format("{}: {} samples are too few", dataset, h->values.size()));
-    s.owned_ = std::move(h->values);
-    s.view_ = s.owned_;
+    s.hold(std::move(h->values));
     s.tau0_s_ = 1.0 / *rate;
     return s;
   }
@@ -137,13 +163,8 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     const char* p = f->data().data() + offset;
     if (reinterpret_cast<std::uintptr_t>(p) % alignof(double) != 0)  // NOLINT: checking alignment
       return input_error({path}, "float64 data are not 8-byte aligned in the file");
-    // cppcheck-suppress invalidPointerCast ; mapped little-endian float64, alignment checked above
-    s.view_ = std::span<const double>(reinterpret_cast<const double*>(p),
-                                      bytes / sizeof(double));  // NOLINT
-    s.file_ = std::move(*f);
-    for (std::size_t i = 0; i < s.view_.size(); ++i)
-      if (!std::isfinite(s.view_[i]))
-        return input_error({path}, fmt::format("sample {} (0-based) is not finite", i));
+    // Not read here: phase_source::make checks every sample (finite) as it passes over them.
+    s.samples_ = std::make_unique<mapped_samples>(std::move(*f), offset, bytes / sizeof(double));
     s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
     return s;
   }
@@ -159,13 +180,14 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     return input_error({path}, "no time_s column: give --rate HZ for the sample rate");
   r->select({*col, use_time ? **time : csv_reader::absent_column});
   std::vector<double> t;
+  std::vector<double> values;
   while (true) {
     const auto st = r->next();
     if (st == csv_reader::step::end) break;
     if (st == csv_reader::step::failed) return r->last_error();
     double v = 0.0;
     if (!r->parse(0, v)) return r->last_error();
-    s.owned_.push_back(v);
+    values.push_back(v);
     if (use_time) {
       double ts = 0.0;
       if (!r->parse(1, ts)) return r->last_error();
@@ -175,9 +197,9 @@ result<series> read_series(const std::string& path_in, const series_options& opt
       t.push_back(ts);
     }
   }
-  if (s.owned_.size() < 3)
-    return input_error({path}, fmt::format("{} samples: too few for an analysis", s.owned_.size()));
-  s.view_ = s.owned_;
+  if (values.size() < 3)
+    return input_error({path}, fmt::format("{} samples: too few for an analysis", values.size()));
+  s.hold(std::move(values));
   if (!use_time) {
     if (auto c = check_rate(path, opt.sample_rate_hz); !c) return c.err();
     s.tau0_s_ = 1.0 / *opt.sample_rate_hz;

@@ -14,6 +14,7 @@
 
 #include "support/reference_data.hpp"
 #include "support/run_cli.hpp"
+#include "support/series_files.hpp"
 #include "support/synth.hpp"
 #include "support/temp_dir.hpp"
 
@@ -35,32 +36,12 @@ std::string csv_of(const std::vector<double>& y, double dt) {
   return s;
 }
 
-void write_npy(const std::string& path, const std::vector<double>& y,
-               const std::string& descr = "<f8") {
-  std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': (" +
-                       std::to_string(y.size()) + ",), }";
-  while ((10 + header.size() + 1) % 64 != 0) header += ' ';
-  header += '\n';
-  std::ofstream f(path, std::ios::binary);
-  f.write("\x93NUMPY\x01\x00", 8);
-  const auto len = static_cast<std::uint16_t>(header.size());
-  f.put(static_cast<char>(len & 0xFF));
-  f.put(static_cast<char>(len >> 8));
-  f << header;
-  f.write(reinterpret_cast<const char*>(y.data()),
-          static_cast<std::streamsize>(y.size() * sizeof(double)));
-}
-
 TEST(CliAdev, JsonCsvNpyAndRawAgree) {
   temp_dir d;
   const auto y = nbs14_1000();
   write_text(d.file("y.csv"), csv_of(y, 1.0));
   write_npy(d.file("y.npy"), y);
-  {
-    std::ofstream f(d.file("y.f64"), std::ios::binary);
-    f.write(reinterpret_cast<const char*>(y.data()),
-            static_cast<std::streamsize>(y.size() * sizeof(double)));
-  }
+  write_f64(d.file("y.f64"), y);
   const auto j = run_cli({"adev", d.file("y.csv"), "--kind", "oadev", "--json"});
   ASSERT_EQ(j.exit_code, 0) << j.err;
   const auto doc = json::parse(j.out);
@@ -169,6 +150,7 @@ TEST(CliAdev, BadInput) {
   write_text(d.file("nocol.csv"), "time_s,gx\n0,1\n1,2\n2,3\n");
   write_text(d.file("bad.csv"), "time_s,rate_dps\n0,1\n1,x\n2,3\n");
   write_npy(d.file("f4.npy"), {1.0, 2.0}, "<f4");
+  write_npy(d.file("nan.npy"), {1.0, 2.0, std::nan(""), 3.0});
   struct c {
     std::vector<std::string> args;
     std::string expect;
@@ -180,6 +162,7 @@ TEST(CliAdev, BadInput) {
       {{"adev", d.file("f4.npy"), "--rate", "1"},
        "f4.npy: .npy dtype must be little-endian float64"},
       {{"adev", d.file("f4.npy")}, "f4.npy: binary input has no time column: give --rate HZ"},
+      {{"adev", d.file("nan.npy"), "--rate", "1"}, "nan.npy: sample 2 (0-based) is not finite"},
       {{"adev", d.file("none.csv")}, "none.csv: No such file"},
       {{"adev", d.file("bad.csv"), "--taus", "1,zz"}, "--taus '1,zz'"},
       {{"noise", d.file("nocol.csv")}, "missing required column"},

@@ -7,6 +7,13 @@
 /// The input kind has no default: allantools' phase-by-default convention silently gives wrong
 /// answers for rate data (allantools issue #121). Used by `gyroflip adev`, `gyroflip noise` and
 /// the calibration's correlated standard error.
+///
+/// Every statistic is computed on a `phase_source` (phase_source.hpp), which rebuilds the phase
+/// block by block, so memory does not grow with the length of a file-backed series; the
+/// span-based functions below wrap their span in a source. Memory beyond the source's tables:
+/// per thread a window of at most 4096 + 2^17 phase points and 4096 points per far stream (two
+/// or three streams per averaging factor above 65536 for OADEV/TOTDEV, 43690 for MDEV/OHDEV), a
+/// few MB in all (docs/ANALYSIS.md, "How the deviations are computed, and memory").
 #pragma once
 
 #include <cstddef>
@@ -16,12 +23,11 @@
 #include <string_view>
 #include <vector>
 
+#include "gyroflip/analysis/phase_source.hpp"
+#include "gyroflip/analysis/sample_source.hpp"
 #include "gyroflip/core/result.hpp"
 
 namespace gyroflip::analysis {
-
-/// What the samples are: angular rate (deg/s; SP1065 "frequency") or angle (deg; "phase").
-enum class input_kind { rate, angle };
 
 enum class dev_kind { adev, oadev, mdev, tdev, hdev, ohdev, totdev };
 
@@ -50,15 +56,6 @@ struct deviation_point {
   int alpha = 0;       ///< identified power-law noise exponent (S_y ~ f^alpha)
 };
 
-/// The phase (angle) series of rate data: x_0 = 0, x_k = tau0 sum_{i<k} (y_i - ybar)
-/// (SP1065 eqn 1 with the mean removed, which no deviation here depends on, so that x stays
-/// small). Sums in long double. Returns N = M + 1 points for M rates.
-/// `consumed(begin, end)`, if given, is called once samples [begin, end) will not be read again
-/// (each is read twice: for the mean, then for the sum), so a mapped input can be released.
-[[nodiscard]] std::vector<double> phase_from_rate(
-    std::span<const double> rate, double tau0_s,
-    const std::function<void(std::size_t, std::size_t)>& consumed = {});
-
 /// Averaging factors of `spec` for a phase series of `n_phase` points and statistic `k`,
 /// limited as Stable32 does: m <= (N-1)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
 /// OHDEV, (N-1)/2 for TOTDEV (a `list` is limited to factors with at least one term).
@@ -79,7 +76,10 @@ struct deviation_point {
 /// - 3m))
 /// - TOTDEV (eqn 25): OADEV terms centred on every interior point of x extended by reflection
 ///   at both ends (x*_{-j} = 2x_0 - x_j, x*_{N-1+j} = 2x_{N-1} - x_{N-1-j}), over N - 2 terms.
-/// Sums are accumulated in long double.
+/// Squared differences are summed in double over blocks of 4096 terms and the block sums in long
+/// double; MDEV's inner sum slides by one term per step and is recomputed exactly every 2^20
+/// steps (relative rounding ~1e-13, tested against all-long-double references).
+/// Returns n = 0 when m is too large, tau0 is not positive or x has a non-finite value.
 struct raw_deviation {
   double dev = 0.0;
   std::size_t n = 0;
@@ -87,19 +87,29 @@ struct raw_deviation {
 [[nodiscard]] raw_deviation deviation_at(dev_kind k, std::span<const double> x, double tau0_s,
                                          std::size_t m);
 
+/// The whole curve of statistic `k` on the phase `x` (deg; tau0 from the source): one sweep over
+/// the phase for all averaging factors of OADEV, TOTDEV, OHDEV, MDEV and TDEV (factors above
+/// 2^17 / order read their own streams, at most 32 of them per sweep); ADEV and HDEV read the phase
+/// decimated by each m. All on every core. `on_progress(done, total)` reports work items
+/// (progress line); may be empty. Confidence intervals are not filled here (confidence.hpp).
+/// Errors: fewer than 3 phase points, no averaging factor left.
+[[nodiscard]] result<std::vector<deviation_point>> deviation(dev_kind k, const phase_source& x,
+                                                             const tau_spec& taus,
+                                                             const progress_fn& on_progress = {});
+
 /// The whole curve of statistic `k` on `data` (rate or angle samples spaced tau0_s apart).
-/// Confidence intervals are not filled here (see confidence.hpp). Errors: fewer than 3 phase
-/// points, tau0 not positive and finite, non-finite data, no averaging factor left.
+/// Errors: fewer than 3 phase points, tau0 not positive and finite, non-finite data, no
+/// averaging factor left.
 [[nodiscard]] result<std::vector<deviation_point>> deviation(dev_kind k,
                                                              std::span<const double> data,
                                                              input_kind in, double tau0_s,
-                                                             const tau_spec& taus);
+                                                             const tau_spec& taus,
+                                                             const progress_fn& on_progress = {});
 
 /// As `deviation`, on a phase series already built (deg; from phase_from_rate for rate data).
-/// `on_tau(done, total)` is called after each averaging time (progress display); may be empty.
 [[nodiscard]] result<std::vector<deviation_point>> deviation_of_phase(
     dev_kind k, std::span<const double> x, double tau0_s, const tau_spec& taus,
-    const std::function<void(std::size_t, std::size_t)>& on_tau = {});
+    const progress_fn& on_progress = {});
 
 /// allantools-style shorthands (octave taus unless given).
 [[nodiscard]] result<std::vector<deviation_point>> oadev(std::span<const double> data,

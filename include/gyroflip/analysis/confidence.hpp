@@ -35,7 +35,12 @@ namespace gyroflip::analysis {
 /// nearest identified alpha when a tau has too few points), bounds at confidence `level`
 /// (two-sided; 0.683 = 1 sigma) from SP1065 eqn 45:
 /// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
-/// level)/2, edf)).
+/// level)/2, edf)). The decimated series of all points are collected in one pass over the phase
+/// (as many as fit in 128 MB; more factors take more passes). `on_progress` reports that pass.
+void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
+                    double level, const progress_fn& on_progress = {});
+
+/// As above, on a phase series in memory (deg).
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
                     double level);
 

@@ -24,9 +24,11 @@ class mapped_file {
   [[nodiscard]] std::string_view data() const noexcept { return {ptr_, size_}; }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
 
-  /// Drops the resident pages of bytes [begin, end) (rounded inward to whole pages): they stop
-  /// counting in the process's memory and are read again from the page cache if touched.
-  void release(std::size_t begin, std::size_t end) const noexcept;
+  /// Drops the resident pages of bytes [begin, end) (rounded outward to multiples of `granule`
+  /// bytes of address, at least whole pages): they stop counting in the process's memory and are
+  /// read again from the page cache if touched, so dropping a page another reader still uses
+  /// costs a page fault, not data.
+  void release(std::size_t begin, std::size_t end, std::size_t granule = 0) const noexcept;
 
  private:
   mapped_file(std::string path, const char* p, std::size_t n) noexcept;

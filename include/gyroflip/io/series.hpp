@@ -4,16 +4,19 @@
 /// "Series").
 ///
 /// `.npy` and raw files are memory-mapped and not copied, so a 1e9-sample file costs address
-/// space, not heap; CSV columns are parsed into memory (8 bytes a sample).
+/// space, not heap: read through `samples()`, consumed pages are handed back to the kernel as the
+/// analysis moves on, so resident memory stays a few hundred MB whatever the length. CSV columns
+/// and HDF5 datasets are read into memory (8 bytes a sample).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "gyroflip/analysis/sample_source.hpp"
 #include "gyroflip/core/result.hpp"
-#include "gyroflip/io/mapped_file.hpp"
 
 namespace gyroflip::io {
 
@@ -23,15 +26,19 @@ struct series_options {
   std::string dataset;                   ///< HDF5 dataset path (or give FILE.h5:/path)
 };
 
-/// Samples plus their spacing. `values()` views either the mapped file or `owned_`.
+/// Samples plus their spacing, from a mapped file or held in memory.
 class series {
  public:
-  [[nodiscard]] std::span<const double> values() const noexcept { return view_; }
+  /// The samples for analysis::phase_source: views of the mapped file whose pages are dropped
+  /// from the process as they are released (every 2^18 samples consumed), or of the samples in
+  /// memory.
+  [[nodiscard]] const analysis::sample_source& samples() const noexcept { return *samples_; }
+  /// All samples at once (for a mapped file every page read stays resident: short files only).
+  [[nodiscard]] std::span<const double> values() const noexcept {
+    return samples_->view(0, samples_->size());
+  }
   [[nodiscard]] double tau0_s() const noexcept { return tau0_s_; }
   [[nodiscard]] const std::string& source() const noexcept { return source_; }
-  /// Lets go of samples [begin, end) of a memory-mapped input once they are consumed (no-op
-  /// for inputs held in memory), so a long file is not resident twice.
-  void release(std::size_t begin, std::size_t end) const noexcept;
 
   series(series&&) noexcept = default;
   series& operator=(series&&) noexcept = default;
@@ -42,9 +49,9 @@ class series {
  private:
   friend result<series> read_series(const std::string& path, const series_options& opt);
   series() = default;
-  std::optional<mapped_file> file_;
+  void hold(std::vector<double> values);
   std::vector<double> owned_;
-  std::span<const double> view_;
+  std::unique_ptr<analysis::sample_source> samples_;
   double tau0_s_ = 0.0;
   std::string source_;
 };

@@ -1,0 +1,28 @@
+/// \file
+/// \brief Private to the analysis module: statistics of the phase decimated by m, z_k = x_{km}:
+/// the non-overlapping ADEV and HDEV sums and the decimated series of noise identification.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "gyroflip/analysis/phase_source.hpp"
+
+namespace gyroflip::analysis::detail {
+
+/// For each factor m: the sum over k of the squared `order`-th difference of z (order 2:
+/// z_{k+2} - 2z_{k+1} + z_k, ADEV, SP1065 eqn 7; order 3: HDEV, eqn 17), for the
+/// (N-1)/m - order + 1 terms that fit (none if fewer). Work items of 4096 terms per factor on
+/// all cores; z is picked from contiguous reads for m < phase_source::block_points and read
+/// point by point beyond (each point then rebuilds at most one block of the phase).
+[[nodiscard]] std::vector<long double> decimated_sums(const phase_source& x, std::size_t order,
+                                                      const std::vector<std::size_t>& factors,
+                                                      const progress_fn& on_progress);
+
+/// For every factor m: z_0, z_1, ... (the first min(cap, (N-1)/m + 1) points), all collected in
+/// one pass over the phase. Holds sum over factors of that many doubles.
+[[nodiscard]] std::vector<std::vector<double>> decimated_prefixes(
+    const phase_source& x, const std::vector<std::size_t>& factors, std::size_t cap,
+    const progress_fn& on_progress);
+
+}  // namespace gyroflip::analysis::detail
