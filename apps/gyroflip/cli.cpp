@@ -1,6 +1,7 @@
 /// \file
 /// \brief Command-line parsing for all subcommands: the only translation unit that includes
 /// CLI11 (a 5-s header). Parsing only fills option structs; work runs after parsing.
+#include <charconv>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -17,6 +18,18 @@ namespace gyroflip::app {
 namespace {
 
 using action = std::function<int()>;
+
+// A two-sided confidence level (`--ci` of adev and noise): a probability strictly inside (0, 1).
+CLI::Validator confidence_level() {
+  return CLI::Validator(
+      [](const std::string& text) -> std::string {
+        double v = 0.0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec == std::errc{} && end == text.data() + text.size() && v > 0.0 && v < 1.0) return {};
+        return "must be a probability in (0, 1), e.g. 0.683; got " + text;
+      },
+      "LEVEL in (0,1)");
+}
 
 // Binds options to a shared struct and, when the subcommand is chosen, selects its run_.
 template <class Options, class Run>
@@ -144,7 +157,9 @@ void setup_adev(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_option("--taus", o->taus, "octave|decade|all or averaging factors like 1,2,10")
       ->capture_default_str();
-  sub->add_option("--ci", o->ci, "two-sided confidence level of the bounds")->capture_default_str();
+  sub->add_option("--ci", o->ci, "two-sided confidence level of the bounds")
+      ->check(confidence_level())
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
 }
@@ -155,6 +170,7 @@ void setup_noise(CLI::App& app, action& chosen) {
   auto o = bind<noise_options>(sub, chosen, run_noise);
   add_series_options(sub, o->in);
   sub->add_option("--ci", o->ci, "two-sided confidence level of the terms' intervals")
+      ->check(confidence_level())
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }

@@ -77,8 +77,6 @@ int run_adev(const adev_options& o) {
         usage_error("--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev"));
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
-  if (!(o.ci > 0.0 && o.ci < 1.0))
-    return report(usage_error("--ci must be a probability in (0, 1), e.g. 0.683"));
   auto in = load_series(o.in);
   if (!in) return report(in.err());
   progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1000);

@@ -9,7 +9,6 @@
 #include "cmd_adev.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
-#include "gyroflip/core/error.hpp"
 #include "gyroflip/core/progress.hpp"
 
 namespace gyroflip::app {
@@ -38,8 +37,6 @@ std::string show(const analysis::noise_term& t, double to_unit) {
 }  // namespace
 
 int run_noise(const noise_options& o) {
-  if (!(o.ci > 0.0 && o.ci < 1.0))
-    return report(usage_error("--ci must be a probability in (0, 1), e.g. 0.683"));
   auto in = load_series(o.in);
   if (!in) return report(in.err());
   progress bar("noise of " + o.in.file, 1000);

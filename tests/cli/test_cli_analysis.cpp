@@ -177,6 +177,7 @@ TEST(CliAdev, BadInput) {
     EXPECT_FALSE(exists(d.file("o.csv")));
   }
   EXPECT_EQ(run_cli({"adev", d.file("gap.csv"), "--kind", "pdev"}).exit_code, 2);
+  EXPECT_EQ(run_cli({"adev", d.file("gap.csv"), "--ci", "1"}).exit_code, 2);
 }
 
 TEST(CliNoise, JsonKeysAndWhiteNoiseArw) {
