@@ -85,13 +85,12 @@ std::vector<long double> sums_of(dev_kind k, const phase_source& x,
 
 raw_deviation from_sum(dev_kind k, long double sum, std::size_t n, std::size_t m, double tau0_s) {
   const double tau = static_cast<double>(m) * tau0_s;
-  const std::size_t groups = n > 0 ? (n - 1) / m : 0;  // non-overlapping intervals
   const auto mm = static_cast<long double>(m);
   switch (k) {
     case dev_kind::adev:
-      return finish(sum, 2.0L, tau, groups >= 2 ? groups - 1 : 0);
+      return finish(sum, 2.0L, tau, detail::decimated_terms(n, m, 2));
     case dev_kind::hdev:
-      return finish(sum, 6.0L, tau, groups >= 3 ? groups - 2 : 0);
+      return finish(sum, 6.0L, tau, detail::decimated_terms(n, m, 3));
     case dev_kind::oadev:
       return finish(sum, 2.0L, tau, oadev_terms(n, m));
     case dev_kind::ohdev:

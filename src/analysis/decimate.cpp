@@ -46,8 +46,7 @@ std::vector<long double> decimated_sums(const phase_source& x, std::size_t order
   std::vector<std::size_t> terms(nf, 0);
   std::vector<std::size_t> first_item(nf + 1, 0);  // items of factor f: [first_item[f], ...[f+1])
   for (std::size_t f = 0; f < nf; ++f) {
-    const std::size_t groups = x.size() > 0 ? (x.size() - 1) / factors[f] : 0;
-    terms[f] = groups >= order ? groups - order + 1 : 0;
+    terms[f] = decimated_terms(x.size(), factors[f], order);
     const std::size_t per_item = item_terms(factors[f]);
     first_item[f + 1] = first_item[f] + (terms[f] + per_item - 1) / per_item;
   }

@@ -10,6 +10,13 @@
 
 namespace gyroflip::analysis::detail {
 
+/// Terms of the non-overlapping `order`-th differences of the phase decimated by m, for N phase
+/// points: (N-1)/m - order + 1 (ADEV, order 2: SP1065 eqn 7; HDEV, order 3: eqn 17), or 0.
+inline std::size_t decimated_terms(std::size_t n_phase, std::size_t m, std::size_t order) {
+  const std::size_t groups = n_phase > 0 ? (n_phase - 1) / m : 0;
+  return groups >= order ? groups - order + 1 : 0;
+}
+
 /// For each factor m: the sum over k of the squared `order`-th difference of z (order 2:
 /// z_{k+2} - 2z_{k+1} + z_k, ADEV, SP1065 eqn 7; order 3: HDEV, eqn 17), for the
 /// (N-1)/m - order + 1 terms that fit (none if fewer). Work items of 4096 terms per factor on
