@@ -43,7 +43,8 @@ int run_noise(const noise_options& o) {
   auto pts = analysis::deviation(analysis::dev_kind::oadev, in->phase, {}, per_mille(bar));
   bar.finish();
   if (!pts) return report(pts.err());
-  analysis::add_confidence(*pts, analysis::dev_kind::oadev, in->phase, 0.683);
+  // The OADEV points in the output carry bounds at the same level as the terms.
+  analysis::add_confidence(*pts, analysis::dev_kind::oadev, in->phase, o.ci);
   const double tau0_s = in->phase.tau0_s();
   const std::size_t samples = in->series.samples().size();
   const auto fit = analysis::fit_noise_terms(*pts, o.ci);

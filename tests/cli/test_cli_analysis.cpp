@@ -208,6 +208,8 @@ TEST(CliNoise, JsonKeysAndWhiteNoiseArw) {
   EXPECT_EQ(wide["arw_dps_rthz"].get<double>(), j["arw_dps_rthz"].get<double>());
   EXPECT_LT(wide["arw_dps_rthz_lo"].get<double>(), j["arw_dps_rthz_lo"].get<double>());
   EXPECT_GT(wide["arw_dps_rthz_hi"].get<double>(), j["arw_dps_rthz_hi"].get<double>());
+  // The OADEV points it prints carry bounds at the same level ("ci").
+  EXPECT_LT(wide["oadev"][0]["ci_lo"].get<double>(), j["oadev"][0]["ci_lo"].get<double>());
   EXPECT_EQ(run_cli({"noise", d.file("w.npy"), "--rate", "100", "--ci", "1.5"}).exit_code, 2);
 }
 
