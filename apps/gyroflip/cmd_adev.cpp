@@ -11,9 +11,9 @@
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/core/error.hpp"
-#include "gyroflip/core/progress.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/series.hpp"
+#include "progress_bar.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -46,12 +46,6 @@ std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
 }
 
 }  // namespace
-
-analysis::progress_fn per_mille(progress& bar) {
-  return [&bar](std::size_t done, std::size_t total) {
-    bar.update(done * 1000 / std::max<std::size_t>(total, 1));
-  };
-}
 
 result<analysis_input> load_series(const series_input& in) {
   io::series_options so;

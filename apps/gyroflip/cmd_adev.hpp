@@ -8,8 +8,8 @@
 
 #include "commands.hpp"
 #include "gyroflip/analysis/phase_source.hpp"
-#include "gyroflip/core/progress.hpp"
 #include "gyroflip/io/series.hpp"
+#include "progress_bar.hpp"
 
 namespace gyroflip::app {
 
@@ -30,9 +30,6 @@ struct analysis_input {
 /// Opens `in.file` (CSV column, .npy, raw float64 or HDF5) and prepares its phase for
 /// `in.input` (two passes over the samples for rate input, with a progress line on a terminal).
 result<analysis_input> load_series(const series_input& in);
-
-/// A progress line's update for analysis passes (done of total units -> per mille).
-analysis::progress_fn per_mille(progress& bar);
 
 struct adev_options {
   series_input in;

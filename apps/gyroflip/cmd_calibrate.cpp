@@ -12,6 +12,7 @@
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/io/recording.hpp"
+#include "progress_bar.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -119,7 +120,9 @@ int run_calibrate(const calibrate_options& o) {
   rec.geometry = *geometry;
   std::vector<method::cycle> all;
   for (const auto& file : o.files) {
-    auto rc = io::read_cycles(file, *pairing);
+    progress bar("reading " + file, 1000);
+    auto rc = io::read_cycles(file, *pairing, per_mille(bar));
+    bar.finish();
     if (!rc) return report(rc.err());
     auto cal = method::calibrate(rc->cycles);
     if (!cal) return report(input_error({file}, cal.err().message));

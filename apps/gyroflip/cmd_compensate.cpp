@@ -12,6 +12,7 @@
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/compensation.hpp"
+#include "progress_bar.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -86,7 +87,9 @@ int run_compensate(const compensate_options& o) {
                method::to_string(*dn->pairing), method::to_string(p));
   if (!(o.drift_window_s > 0.0)) return report(usage_error("--drift-window must be > 0 s"));
 
-  auto rc = io::read_cycles(o.file, p);
+  progress bar("reading " + o.file, 1000);
+  auto rc = io::read_cycles(o.file, p, per_mille(bar));
+  bar.finish();
   if (!rc) return report(rc.err());
   const auto& model = dn->model;
   if (model.degree() > 0 && !rc->has_temp)

@@ -9,7 +9,7 @@
 #include "cmd_adev.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
-#include "gyroflip/core/progress.hpp"
+#include "progress_bar.hpp"
 
 namespace gyroflip::app {
 namespace {

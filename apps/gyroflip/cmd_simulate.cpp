@@ -12,10 +12,10 @@
 
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
-#include "gyroflip/core/progress.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
+#include "progress_bar.hpp"
 
 namespace gyroflip::app {
 namespace {

@@ -8,7 +8,6 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
-#include "gyroflip/core/progress.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/flip_stream.hpp"
 
@@ -93,7 +92,8 @@ csv_reader::step recording_reader::next(method::row& out) {
   return csv_reader::step::row;
 }
 
-result<recording_cycles> read_cycles(const std::string& path, method::pairing p) {
+result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
+                                     const progress_fn& on_progress) {
   auto reader = recording_reader::open(path);
   if (!reader) return reader.err();
   recording_cycles rc;
@@ -102,7 +102,6 @@ result<recording_cycles> read_cycles(const std::string& path, method::pairing p)
   rc.metadata = reader->metadata();
   method::flip_stream stream(p);
   const auto keep = [&rc](const method::cycle& c) { rc.cycles.push_back(c); };
-  progress bar("reading " + path, reader->bytes_total());
   method::row r;
   while (true) {
     const auto s = reader->next(r);
@@ -110,10 +109,12 @@ result<recording_cycles> read_cycles(const std::string& path, method::pairing p)
     if (s == csv_reader::step::failed) return reader->last_error();
     ++rc.rows;
     stream.push(r, keep);
-    bar.update(reader->bytes_done());
+    // Every 4096 rows: a report costs a call through std::function.
+    if (on_progress && (rc.rows & 4095U) == 0)
+      on_progress(static_cast<std::size_t>(reader->bytes_done()),
+                  static_cast<std::size_t>(reader->bytes_total()));
   }
   stream.flush(keep);
-  bar.finish();
   rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
   if (rc.rows == 0) return input_error({path}, "no data rows after the header");
   if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)

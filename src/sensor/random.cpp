@@ -7,7 +7,7 @@
 
 #include "gyroflip/sensor/det_math.hpp"
 
-namespace gyroflip::sensor {
+namespace gyroflip::sensor::detail {
 namespace {
 
 constexpr double zig_r = 3.6541528853610088;
@@ -88,4 +88,4 @@ slow_normal normal_slow(rng g, const ziggurat_tables& z, std::size_t i, double u
   }
 }
 
-}  // namespace gyroflip::sensor
+}  // namespace gyroflip::sensor::detail

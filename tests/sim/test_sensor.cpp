@@ -118,7 +118,7 @@ TEST(Random, NormalPassesKolmogorovSmirnovAndChiSquared) {
 TEST(Random, IntegerFastPathGivesTheTextbookZigguratNumbers) {
   // The fast path compares the integer behind u (ziggurat_tables); the textbook test compares
   // |u| < ratio[i] in doubles and returns u x[i]. Same numbers, bit for bit, 2e6 draws.
-  const ziggurat_tables& z = ziggurat();
+  const detail::ziggurat_tables& z = detail::ziggurat();
   normal_stream fast(99, stream::user);
   rng g(99, stream::user);
   for (int k = 0; k < 2'000'000; ++k) {
@@ -127,7 +127,7 @@ TEST(Random, IntegerFastPathGivesTheTextbookZigguratNumbers) {
     const double u = static_cast<double>(static_cast<std::int64_t>(r) >> 11) * 0x1.0p-52;
     double want = u * z.x[i];
     if (!(std::fabs(u) < z.ratio[i])) {
-      const slow_normal s = normal_slow(g, z, i, u);
+      const detail::slow_normal s = detail::normal_slow(g, z, i, u);
       g = s.state;
       want = s.value;
     }
@@ -149,7 +149,7 @@ TEST(Random, IntegerFastPathGivesTheTextbookZigguratNumbers) {
 TEST(Random, WedgeBoundsDecideAsTheDensityDoes) {
   // 4e6 wedge points, uniform over the wedges of random layers, and the points nearest the
   // curve: the bounded test (chord and tangents first) and y < det_exp(-x^2/2) agree.
-  const ziggurat_tables& z = ziggurat();
+  const detail::ziggurat_tables& z = detail::ziggurat();
   rng g(5, stream::user);
   int disagree = 0;
   for (int k = 0; k < 4'000'000; ++k) {
@@ -158,7 +158,7 @@ TEST(Random, WedgeBoundsDecideAsTheDensityDoes) {
     const double exact = det_exp(-0.5 * ax * ax);
     const double y = k % 2 == 0 ? z.f[i + 1] + g.uniform_open() * (z.f[i] - z.f[i + 1])
                                 : exact * (1.0 + (g.uniform_open() - 0.5) * 1e-9);
-    disagree += wedge_accepts(z, i, ax, y) != (y < exact);
+    disagree += detail::wedge_accepts(z, i, ax, y) != (y < exact);
   }
   EXPECT_EQ(disagree, 0);
 }

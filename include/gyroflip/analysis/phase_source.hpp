@@ -22,12 +22,10 @@
 #include <vector>
 
 #include "gyroflip/analysis/sample_source.hpp"
+#include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
 
 namespace gyroflip::analysis {
-
-/// Progress of a long pass: `done` of `total` units (called from the caller's thread only).
-using progress_fn = std::function<void(std::size_t done, std::size_t total)>;
 
 class phase_reader;
 

@@ -1,42 +1,18 @@
 /// \file
-/// \brief A progress line on stderr for long work, shown only when stderr is a terminal.
+/// \brief How the library reports the progress of long work: a callback, never a drawing.
 ///
-/// Piped or redirected runs (CI, tests, scripts) stay silent. Redraws at most ~10 times a
-/// second, so calling `update()` in a hot loop costs one clock read every `check_every` calls.
+/// The library never prints. A long pass (reading a big file, an Allan sweep) calls
+/// `on_progress(done, total)` now and then from the caller's thread; the CLI turns that into
+/// its terminal line (apps/gyroflip/progress_bar.hpp), a script or a GUI into whatever it likes.
 #pragma once
 
-#include <chrono>
-#include <cstdint>
-#include <string>
+#include <cstddef>
+#include <functional>
 
 namespace gyroflip {
 
-class progress {
- public:
-  /// `label` is printed before the bar; `total` is the amount of work (any unit, > 0).
-  progress(std::string label, std::uint64_t total);
-  /// Forces the bar on or off (tests); by default it is on iff stderr is a TTY.
-  progress(std::string label, std::uint64_t total, bool enabled);
-  ~progress();
-  progress(const progress&) = delete;
-  progress& operator=(const progress&) = delete;
-
-  /// Reports that `done` units of `total` are complete.
-  void update(std::uint64_t done);
-  /// Clears the line (called by the destructor too).
-  void finish();
-  [[nodiscard]] bool enabled() const noexcept { return enabled_; }
-
- private:
-  void draw(std::uint64_t done);
-  std::string label_;
-  std::uint64_t total_;
-  bool enabled_;
-  bool drawn_ = false;
-  std::uint32_t calls_ = 0;
-  std::uint64_t last_done_ = 0;
-  std::chrono::steady_clock::time_point start_;
-  std::chrono::steady_clock::time_point last_;
-};
+/// Progress of a long pass: `done` of `total` units (any unit; total > 0). Called from the
+/// caller's thread only; may be empty (no report).
+using progress_fn = std::function<void(std::size_t done, std::size_t total)>;
 
 }  // namespace gyroflip

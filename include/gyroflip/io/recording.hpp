@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/method/types.hpp"
@@ -54,8 +55,10 @@ struct recording_cycles {
   std::vector<csv_metadata> metadata;
 };
 
-/// Reads a whole recording and forms its cycles with pairing `p` (a progress line shows on
-/// a TTY). Errors: any bad row, a single orientation, fewer than method::min_cycles cycles.
-[[nodiscard]] result<recording_cycles> read_cycles(const std::string& path, method::pairing p);
+/// Reads a whole recording and forms its cycles with pairing `p`; `on_progress(bytes read,
+/// bytes total)` now and then (may be empty). Errors: any bad row, a single orientation, fewer
+/// than method::min_cycles cycles.
+[[nodiscard]] result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
+                                                   const progress_fn& on_progress = {});
 
 }  // namespace gyroflip::io

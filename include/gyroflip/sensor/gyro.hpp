@@ -25,7 +25,7 @@
 #include <cstdint>
 
 #include "gyroflip/core/result.hpp"
-#include "gyroflip/sensor/det_math.hpp"
+#include "gyroflip/sensor/detail/output_chain.hpp"
 #include "gyroflip/sensor/error_terms.hpp"
 #include "gyroflip/sensor/params.hpp"
 #include "gyroflip/sensor/random.hpp"
@@ -65,10 +65,7 @@ class gyro {
     const double dtemp = temp_c - temp_ref_c_;
     const double bias = bias0_dps_ + slow_.mean_at(t_s, half_dt_, inv_dt_) + bias_tc_ * dtemp;
     const double x = rate_dps + bias + arw_sigma_ * n_arw;
-    const double v = lpf_on_ ? (quant_on_ ? output<true, true>(state_, x, dtemp)
-                                          : output<true, false>(state_, x, dtemp))
-                             : (quant_on_ ? output<false, true>(state_, x, dtemp)
-                                          : output<false, false>(state_, x, dtemp));
+    const double v = chain_.output(state_, x, dtemp);
     return {v, bias};
   }
 
@@ -93,40 +90,6 @@ class gyro {
 
  private:
   gyro(const sensor_params& p, double dt, double power_on_before_s, std::uint64_t seed);
-  // The states of the low-pass and the quantiser (copied to locals in sample_block, so that they
-  // stay in registers).
-  struct chain_state {
-    double lpf = 0.0;      // l_{k-1} (deg/s)
-    double theta = 0.0;    // accumulated angle (in quanta Q: rounding is then one step)
-    double theta_q = 0.0;  // its rounded value at the previous conversion (quanta)
-    bool first = true;     // the low-pass starts at its first input
-  };
-  // From x_k = input + bias + ARW (deg/s) to V - V_null (V): low-pass (l = a l + (1 - a) x),
-  // scale factor and bow, saturation, angle quantisation, nominal scale factor (header
-  // formulas). The two optional stages are template switches, so the block loop has no
-  // per-sample test for them.
-  template <bool lpf, bool quant>
-  double output(chain_state& s, double x, double dtemp) const noexcept {
-    if constexpr (lpf) {
-      if (s.first) [[unlikely]] {  // the filter starts at its first input
-        s.lpf = x;
-        s.first = false;
-      }
-      s.lpf = lpf_keep_ * s.lpf + lpf_gain_ * x;  // two dependent operations per conversion
-      x = s.lpf;
-    }
-    x = (x + nl_per_dps_ * x * x) * (sf_ratio_ + sf_tc_ * dtemp);
-    x = x < range_dps_ ? x : range_dps_;  // saturation as min and max (two instructions)
-    x = x > -range_dps_ ? x : -range_dps_;
-    if constexpr (quant) {
-      s.theta += x * dt_per_quantum_;  // theta_k / Q, exact below 2^51 quanta
-      const double q = round_even(s.theta);
-      x = q - s.theta_q;
-      s.theta_q = q;
-      return x * quantum_v_;  // (q_k - q_{k-1}) Q / dt * SF
-    }
-    return x * sf_v_per_dps_;
-  }
   template <bool lpf, bool quant>
   void chain_block(const double* temp_c, const double* rate_dps, const double* n_arw, double* v_rel,
                    double* bias_dps, std::size_t n) noexcept;
@@ -135,13 +98,9 @@ class gyro {
   double temp_ref_c_, bias0_dps_ = 0.0, turn_on_dps_ = 0.0, bias_tc_;
   bool arw_on_;
   double arw_sigma_;
-  bool lpf_on_;
-  double lpf_keep_ = 0.0, lpf_gain_ = 1.0;  // a = e^{-2 pi f_c dt} and 1 - a
-  double nl_per_dps_, sf_ratio_, sf_tc_, range_dps_;
-  bool quant_on_;
-  double inv_dt_, dt_per_quantum_, quantum_v_;  // 1/dt, dt/Q (s/deg), Q SF/dt (V)
-  chain_state state_;
-  double sf_v_per_dps_;
+  double inv_dt_;  // 1/dt
+  detail::output_chain chain_;
+  detail::output_chain::state state_;
   sensor_vec g0_, g1_;
   normal_stream arw_;
   slow_bias slow_;

@@ -1,6 +1,6 @@
 /// \file
 /// \brief Terminal progress line (see progress.hpp).
-#include "gyroflip/core/progress.hpp"
+#include "progress_bar.hpp"
 
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <utility>
 
-namespace gyroflip {
+namespace gyroflip::app {
 namespace {
 constexpr std::uint32_t check_every = 4096;  // clock reads are ~20 ns; keep them out of hot loops
 constexpr auto redraw_period = std::chrono::milliseconds(100);
@@ -58,4 +58,10 @@ void progress::finish() {
   drawn_ = false;
 }
 
-}  // namespace gyroflip
+progress_fn per_mille(progress& bar) {
+  return [&bar](std::size_t done, std::size_t total) {
+    bar.update(done * 1000 / std::max<std::size_t>(total, 1));
+  };
+}
+
+}  // namespace gyroflip::app
