@@ -1,9 +1,9 @@
 /// \file
 /// \brief THE PRESET FILE: built-in sensor figures with their source, one line per figure.
 ///
-/// Tags as in FIELD-NOTES.md: [V] seen in a public source, [U] recollection not verified,
+/// Tags as in docs/FACTS.md: [V] seen in a public source, [U] recollection not verified,
 /// [D] derived here, "assumption" = chosen by us (reason given), "paper" = fitted to the
-/// Arnaudov & Angelov measurements (METHOD.md section 7). Geometry of the fits: default rig of
+/// Arnaudov & Angelov measurements (FACTS §3). Geometry of the fits: default rig of
 /// `gyroflip simulate` (sensitive axis north, table axis east, latitude 42.6 deg N), where the
 /// specific force at 0 deg is f = (0, 0, -1) g in sensor axes, so a g-sensitivity g_z gives the
 /// 0-deg g-term -g_z and dN = -g_z + W_E cos(42.6 deg) = -g_z + 3.0755e-3 deg/s.
@@ -35,7 +35,7 @@ std::vector<preset> build() {
   v.push_back(make(
       "adxrs150", "Analog Devices ADXRS150 +-150 deg/s yaw-rate gyro (paper Tab. 4, Figs. 3-6)",
       {
-          {"range_dps", 150.0, "datasheet [V] (FIELD-NOTES 3.1)"},
+          {"range_dps", 150.0, "datasheet [V] (FACTS §4.1)"},
           {"scale_factor_v_per_dps", 0.0125, "datasheet [V] 12.5 mV/(deg/s)"},
           {"null_v", 2.5, "datasheet [U] 2.50 V"},
           {"bandwidth_hz", 40.0, "datasheet [U] ~40 Hz with the default capacitor"},
@@ -93,7 +93,7 @@ std::vector<preset> build() {
            "paper Tab. 3: dN(20 C) 0.00309 = Earth 0.0030755 + g-term 1.45e-5 (datasheet < 0.06 "
            "deg/s/g)"},
           {"g_sens_tc_z_dps_per_g_c", 4.5e-5,
-           "paper Tab. 3: dN(4 C) 0.00381 - dN(20 C) = 7.2e-4 over -16 degC (METHOD.md 7)"},
+           "paper Tab. 3: dN(4 C) 0.00381 - dN(20 C) = 7.2e-4 over -16 degC (FACTS §3)"},
           {"cross_axis_y", 0.01, "assumption"},
       }));
   return v;

@@ -73,7 +73,7 @@ TEST(SimulateEndToEnd, CompensateOfARateTableRunReturnsTheInputRate) {
 
 TEST(SimulateEndToEnd, SimplePairingShowsTheWarmupLeakThatAbbaRemoves) {
   // A quiet sensor with a strong warm-up (1 deg/s, 100 s) switched on at the start (Fig. 3):
-  // the simple pairing leaks b' dt / 2 (METHOD.md 4), ~1.4e-3 deg/s averaged over 300 s.
+  // the simple pairing leaks b' dt / 2 (METHOD-NOTES.md), ~1.4e-3 deg/s averaged over 300 s.
   temp_dir d;
   write_text(d.file("warm.toml"),
              "name = \"warm\"\nbase = \"hz1-90-100a\"\narw_dps_rthz = 0.001\n"

@@ -25,7 +25,7 @@ TEST(Earth, NorthAxisIsPaperEqn9) {
 }
 
 TEST(Earth, UpAxisIsSine) {
-  // METHOD.md section 3: vertical axis gives W_E sin(lat), 2.828e-3 deg/s at 42.6 deg N.
+  // FACTS §2: vertical axis gives W_E sin(lat), 2.828e-3 deg/s at 42.6 deg N.
   const double w = earth_rate_component_dps(42.6, *parse_axis("up"));
   EXPECT_NEAR(w, 2.828e-3, 0.5e-6);
   EXPECT_DOUBLE_EQ(earth_rate_component_dps(42.6, *parse_axis("down")), -w);

@@ -1,4 +1,4 @@
-// The sign-reversal method against closed forms (paper eqns 6-12, METHOD.md sections 2-4).
+// The sign-reversal method against closed forms (paper eqns 6-12, FACTS §1 and METHOD-NOTES.md).
 #include <cmath>
 #include <memory>
 #include <vector>

@@ -127,7 +127,7 @@ TEST(Ad7739, ConversionTimeCodesAndClipping) {
   ad7739_config c;
   EXPECT_NEAR(conversion_time_s(c), (128.0 * 94 + 249) / 6.144e6, 1e-15);  // 1.99886 ms
   c.filter_word = 127;
-  EXPECT_NEAR(conversion_time_s(c), 2.686e-3, 1e-6);  // FIELD-NOTES 3.3 [U]
+  EXPECT_NEAR(conversion_time_s(c), 2.686e-3, 1e-6);  // FACTS §5 [U]
   c.chop = false;
   c.filter_word = 3;
   EXPECT_NEAR(conversion_time_s(c), 64.8e-6, 0.1e-6);

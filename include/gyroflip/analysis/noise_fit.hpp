@@ -2,7 +2,7 @@
 /// \brief IEEE Std 952-1997 Annex C noise terms of a gyro from its Allan variance: quantisation
 /// Q, angle random walk N, bias instability B, rate random walk K, rate ramp R.
 ///
-/// Model (FIELD-NOTES 2.5): AVAR(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 +
+/// Model (FACTS §7): AVAR(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 +
 /// R^2 tau^2/2, linear in the squared coefficients. Fitted to OADEV points by weighted least
 /// squares with weights edf/(2 AVAR_model^2) (the chi-squared variance of each AVAR estimate),
 /// iterated three times; every subset of the five terms is solved and the best non-negative

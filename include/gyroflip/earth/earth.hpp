@@ -2,7 +2,7 @@
 /// \brief WGS84 Earth rotation rate and its component along a gyro's sensitive axis.
 ///
 /// Frame: local North-East-Down (NED). The Earth-rate vector there is
-/// W_E (cos(lat), 0, -sin(lat)) (METHOD.md section 3). A sensitive axis is given at the
+/// W_E (cos(lat), 0, -sin(lat)) (FACTS §2). A sensitive axis is given at the
 /// table's 0 deg position as a NED vector or by name. Used by `gyroflip earth`,
 /// `gyroflip calibrate` (split of dN into Earth and g terms) and the simulator.
 #pragma once
@@ -32,7 +32,7 @@ struct ned_vector {
 [[nodiscard]] result<ned_vector> parse_axis(std::string_view text);
 
 /// The Earth-rate vector in NED (deg/s) at geodetic latitude `lat_deg` (degrees, [-90, 90]):
-/// W_E (cos lat, 0, -sin lat). METHOD.md section 3.
+/// W_E (cos lat, 0, -sin lat). FACTS §2.
 [[nodiscard]] ned_vector earth_rate_ned_dps(double lat_deg);
 
 /// Earth-rate component along the unit sensitive axis `axis` (deg/s): W_E (u_E . s).

@@ -53,7 +53,7 @@ struct delta_n_split {
   double g_term_dps = 0.0;      ///< d_g = dN - W_E . s (eqn 10)
 };
 
-/// Splits dN into the Earth term and the g-sensitivity term (eqns 9-11, METHOD.md sec. 3).
+/// Splits dN into the Earth term and the g-sensitivity term (eqns 9-11, FACTS §2).
 [[nodiscard]] delta_n_split split_delta_n(double delta_n_dps, double lat_deg,
                                           const earth::ned_vector& axis);
 

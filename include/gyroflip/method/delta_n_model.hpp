@@ -1,6 +1,6 @@
 /// \file
 /// \brief Temperature-aware dN: a polynomial dN(T) fitted to calibrations at several
-/// temperatures, with the covariance of its coefficients (METHOD.md section 4).
+/// temperatures, with the covariance of its coefficients (METHOD-NOTES.md).
 #pragma once
 
 #include <cstddef>

@@ -10,7 +10,7 @@
 ///   c_k = (y_k + yhat)/2. A cycle's r and c are the mean of r_k, c_k over its dwells that
 ///   have both neighbours (the first dwell of the record and the last have not; such an
 ///   edge cycle is stamped with the time and temperature of its one usable dwell). Any bias
-///   linear in time cancels exactly, whatever the dwell spacing (METHOD.md section 4).
+///   linear in time cancels exactly, whatever the dwell spacing (METHOD-NOTES.md).
 #pragma once
 
 #include <array>

@@ -4,7 +4,7 @@
 /// A *row* is one line of a recording (one conversion, or an average of `n_avg`). A *dwell*
 /// is a maximal run of rows at the same table angle (rows taken while the table turns are
 /// skipped). A *cycle* is a 0 deg dwell and a 180 deg dwell reduced to the half-difference r
-/// (paper eqn 7) and the half-sum c (the bias). METHOD.md sections 1-2.
+/// (paper eqn 7) and the half-sum c (the bias). FACTS §1.
 #pragma once
 
 #include <cstdint>
@@ -39,7 +39,7 @@ struct dwell {
 struct cycle {
   double time_s = 0.0;       ///< mean time of its two dwells
   double rate_dps = 0.0;     ///< r = (y_0 - y_180)/2 = w_in + w_E.s + d_g   (paper eqn 7)
-  double bias_dps = 0.0;     ///< c = (y_0 + y_180)/2 = b                    (METHOD.md sec. 2)
+  double bias_dps = 0.0;     ///< c = (y_0 + y_180)/2 = b                    (FACTS §1)
   double temp_c = no_value;  ///< mean temperature of its dwells (NaN if none)
 };
 

@@ -3,9 +3,9 @@
 /// differential with chopping, single conversions of ~2 ms, ~2 uV rms noise.
 ///
 /// Conversion time from the channel conversion-time register (bit 7 CHOP, bits 6:0 filter word
-/// FW), f_MCLK = 6.144 MHz (AD7739 Rev. A family timing; FIELD-NOTES 3.3):
+/// FW), f_MCLK = 6.144 MHz (AD7739 Rev. A family timing; FACTS §5):
 ///   chop on:  t = (128 FW + 249) / f_MCLK     chop off:  t = (64 FW + 206) / f_MCLK
-/// These formulas are marked UNVERIFIED [U] in FIELD-NOTES 3.3 (a recollection of the
+/// These formulas are marked UNVERIFIED [U] in FACTS §5 (a recollection of the
 /// datasheet's Table; check before relying on exact timing). FW = 94 with chop gives
 /// 1.99886 ms (500.3 Hz), the paper's "2 ms"; FW = 127 gives 2.686 ms.
 ///

@@ -20,7 +20,7 @@ namespace gyroflip::sensor {
 /// Exact discretisation of a first-order Gauss-Markov process dx = -x/tau dt + q sqrt(2/tau) dW
 /// with stationary variance q^2, over a step h: x' = a x + q sqrt(1 - a^2) w, a = e^{-h/tau},
 /// w ~ N(0,1) (e.g. Maybeck vol. 1 section 4.9). Exact for any h, so the process statistics
-/// do not depend on the step (the bug fixed in gnss-ins-sim #19 and PX4 #73, FIELD-NOTES 1.3).
+/// do not depend on the step (the bug fixed in gnss-ins-sim #19 and PX4 #73, FACTS §8).
 struct gauss_markov {
   double decay = 0.0;  ///< a = e^{-h/tau} (-)
   double drive = 0.0;  ///< q sqrt(1 - a^2) (same unit as x)
