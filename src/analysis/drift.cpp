@@ -45,8 +45,12 @@ std::optional<moving_mean_range> moving_mean_extremes(std::span<const double> ti
     sum = t;
   };
   for (std::size_t j = 0; j < n; ++j) {
+    // A window below the resolution of the time stamps (t - w == t: Unix-epoch nanoseconds, or
+    // w = 1e-300) has no meaning there; without this test every sample would leave its own
+    // window and `lo` would run past j (and past the end).
+    if (time_s[j] - window_s == time_s[j]) return std::nullopt;
     add(values[j]);
-    while (time_s[lo] <= time_s[j] - window_s) add(-values[lo++]);
+    while (lo < j && time_s[lo] <= time_s[j] - window_s) add(-values[lo++]);
     if (time_s[j] - time_s[0] < window_s) continue;
     const double m = sum / static_cast<double>(j - lo + 1);
     if (out.windows == 0) out.min = out.max = m;

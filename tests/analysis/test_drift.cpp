@@ -47,5 +47,26 @@ TEST(Drift, ShortRecordHasNoWindowAndConstantHasNoRange) {
   EXPECT_EQ(r->range(), 0.0);
 }
 
+// Regression (issue 13 item 1, 2026-11-23): with t - window == t in floating point the window
+// start ran past the end of the arrays (heap-buffer-overflow under ASan, `drift -nan` in
+// Release). Unix-epoch nanosecond stamps and a 1e-300-s window both did it.
+TEST(Drift, WindowBelowTimeResolutionHasNoDrift) {
+  const std::vector<double> t(6, 1.7e18), y{1, -1, 1, -1, 1, -1};
+  EXPECT_FALSE(moving_mean_extremes(t, y, 100.0));
+  const std::vector<double> t2{0, 1, 2, 3}, y2{1, 2, 3, 4};
+  EXPECT_FALSE(moving_mean_extremes(t2, y2, 1e-300));
+  // Epoch seconds (1.7e9, resolution 2.4e-7 s) still resolve a 100-s window.
+  std::vector<double> t3, y3;
+  for (int i = 0; i < 300; ++i) {
+    t3.push_back(1.7e9 + i);
+    y3.push_back(i % 2);
+  }
+  const auto r = moving_mean_extremes(t3, y3, 100.0);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->windows, 200u);      // j = 100..299
+  EXPECT_NEAR(r->max, 0.5, 1e-12);  // (t_j - 100, t_j] holds 100 samples, 50 of them ones
+  EXPECT_NEAR(r->range(), 0.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace gyroflip::analysis

@@ -141,6 +141,24 @@ TEST(CliCompensate, CsvOutputAndStdout) {
   EXPECT_NE(badcal.err.find("run.csv"), std::string::npos);
 }
 
+// Regression (issue 13 item 1): epoch-nanosecond stamps or a 1e-300-s window overran the drift
+// window's arrays (ASan) and printed `drift -nan` with exit 0. Now: drift is "n/a" / null.
+TEST(CliCompensate, DriftWindowBelowTimeResolutionIsNotANumber) {
+  temp_dir d;
+  std::string rows = "time_s,angle_deg,rate_dps\n";
+  for (int k = 0; k < 6; ++k) rows += std::string("1.7e18,") + (k % 2 == 0 ? "0" : "180") + ",1\n";
+  write_text(d.file("ns.csv"), rows);
+  const auto r = run_cli({"compensate", d.file("ns.csv"), "--delta-n", "0", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(json::parse(r.out)["drift_dps"].is_null()) << r.out;
+  write_text(d.file("run.csv"), recording(0.0123, 0.0));
+  const auto w = run_cli(
+      {"compensate", d.file("run.csv"), "--delta-n", "0", "--drift-window", "1e-300", "--json"});
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_TRUE(json::parse(w.out)["drift_dps"].is_null()) << w.out;
+  EXPECT_EQ(w.out.find("nan"), std::string::npos);
+}
+
 // --- bad input ---------------------------------------------------------------------------
 
 std::vector<std::string> good_rows(int n = 40) {

@@ -35,7 +35,8 @@ struct moving_mean_range {
 
 /// Min and max of the trailing moving mean over `window_s` seconds: for every sample j with
 /// t_j - t_0 >= window_s, the mean of the values with t_j - window_s < t_i <= t_j.
-/// Only complete windows count; returns nullopt when the record is shorter than one window.
+/// Only complete windows count; returns nullopt when the record is shorter than one window, or
+/// when the window is below the resolution of the time stamps (t_j - window_s == t_j for some j).
 /// Preconditions: equal sizes, `time_s` non-decreasing, `window_s` > 0. O(n).
 [[nodiscard]] std::optional<moving_mean_range> moving_mean_extremes(std::span<const double> time_s,
                                                                     std::span<const double> values,
