@@ -2,6 +2,7 @@
 /// \brief `gyroflip adev`: an Allan-family deviation curve with confidence intervals.
 #include "cmd_adev.hpp"
 
+#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -71,6 +72,8 @@ int run_adev(const adev_options& o) {
         usage_error("--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev"));
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
+  if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.output}); !s)
+    return report(s.err());
   auto in = load_series(o.in);
   if (!in) return report(in.err());
   progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1000);

@@ -2,6 +2,7 @@
 /// \brief `gyroflip calibrate`: dN from stationary recordings (paper eqns 8-11), its Earth and
 /// g terms, and a dN(T) model when recordings at several temperatures are given.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -115,6 +116,7 @@ int run_calibrate(const calibrate_options& o) {
   if (!pairing) return report(usage_error("--pairing must be abba or simple"));
   auto geometry = geometry_of(o);
   if (!geometry) return report(geometry.err());
+  if (auto s = io::check_outputs(o.files, std::array{o.output}); !s) return report(s.err());
   io::calibration_record rec;
   rec.pairing = *pairing;
   rec.geometry = *geometry;

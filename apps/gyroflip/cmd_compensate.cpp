@@ -1,5 +1,6 @@
 /// \file
 /// \brief `gyroflip compensate`: paper eqn 12 per cycle, w_in = r - dN(T).
+#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -76,6 +77,8 @@ std::string summary_json(const method::compensation_summary& s, const compensate
 }  // namespace
 
 int run_compensate(const compensate_options& o) {
+  if (auto s = io::check_outputs(std::array{o.file, o.calibration}, std::array{o.output}); !s)
+    return report(s.err());
   auto dn = load_delta_n(o);
   if (!dn) return report(dn.err());
   std::optional<method::pairing> chosen =

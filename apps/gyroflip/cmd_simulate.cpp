@@ -2,6 +2,7 @@
 /// \brief `gyroflip simulate`: a recording (docs/FORMATS.md) from the simulator, with its truth.
 #include "cmd_simulate.hpp"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <iterator>
@@ -74,6 +75,11 @@ std::string metadata(const simulate_options& o, const sensor::preset& p, const r
 }  // namespace
 
 int run_simulate(const simulate_options& o) {
+  // Preset and temperature-profile files are inputs too (the names of built-in presets and
+  // profile specs are not files, and check_outputs skips what does not exist).
+  if (auto s = io::check_outputs(std::array{o.sensor, o.temp_profile}, std::array{o.out, o.truth});
+      !s)
+    return report(s.err());
   auto preset = sensor::load_preset(o.sensor);
   if (!preset) return report(preset.err());
   if (o.temp_c && !o.temp_profile.empty()) {
@@ -171,10 +177,8 @@ int run_simulate(const simulate_options& o) {
     bar.update(sim->produced());
   }
   bar.finish();
-  if (auto s = out->commit(); !s) return report(s.err());
-  if (truth) {
-    if (auto s = truth->commit(); !s) return report(s.err());
-  }
+  // Both files or neither: a full disk on --truth must not leave a recording without its truth.
+  if (auto s = io::commit_all({&*out, truth ? &*truth : nullptr}); !s) return report(s.err());
   return 0;
 }
 

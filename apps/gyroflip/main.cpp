@@ -7,8 +7,29 @@
 #include <system_error>
 
 #include "cli.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+
+namespace {
+
+// SIGINT, SIGTERM, SIGHUP: remove the outputs' temporary files, then die of the same signal
+// (the shell sees 128 + N, as for any killed program). Only async-signal-safe calls here.
+extern "C" void on_fatal_signal(int sig) {
+  gyroflip::io::remove_temporary_files();
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_fatal_signal;
+  sigemptyset(&sa.sa_mask);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  install_signal_handlers();
   // A reader that stops early (`gyroflip compensate big.csv | head`) is not an error: ignore
   // SIGPIPE and turn the resulting EPIPE write failure into a quiet exit 0.
   std::signal(SIGPIPE, SIG_IGN);

@@ -1,67 +1,246 @@
 /// \file
-/// \brief Temporary-file-and-rename output (see atomic_file.hpp).
+/// \brief Output files: temporary + fsync + rename for regular files, straight through for
+/// devices and pipes, symlinks followed, inputs protected (see atomic_file.hpp).
 #include "gyroflip/io/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
+#include <atomic>
 #include <cerrno>
+#include <climits>
+#include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
 
 namespace gyroflip::io {
+namespace {
 
-// cppcheck-suppress passedByValue ; sink parameter, moved from
-atomic_file::atomic_file(std::string path, std::string temp, std::FILE* f) noexcept
-    : path_(std::move(path)), temp_(std::move(temp)), file_(f) {}
+// The registry of live temporaries, for the signal handler. This is the library's one piece of
+// process-wide state: a handler can reach nothing else, and the temporaries are process-wide by
+// nature (a SIGTERM kills every output at once). Fixed slots of fixed buffers, claimed with
+// atomic flags, so that the handler reads only memory that is complete and never allocates.
+constexpr std::size_t max_temporaries = 16;
+struct temp_slot {
+  std::atomic<bool> used{false};
+  std::array<char, PATH_MAX> path{};
+};
+std::array<temp_slot, max_temporaries> registry;  // NOLINT: see above
+
+int register_temporary(const std::string& path) noexcept {
+  if (path.size() >= PATH_MAX) return -1;
+  for (std::size_t i = 0; i < registry.size(); ++i) {
+    bool expected = false;
+    // Claimed first, filled next, published last: the handler checks `path[0]`, so a slot
+    // claimed but not yet filled (still all zero) is skipped.
+    if (!registry[i].used.compare_exchange_strong(expected, true)) continue;
+    std::memcpy(registry[i].path.data() + 1, path.c_str() + 1, path.size());
+    std::atomic_signal_fence(std::memory_order_release);
+    registry[i].path[0] = path[0];
+    return static_cast<int>(i);
+  }
+  return -1;  // more than max_temporaries outputs at once: no signal clean-up for this one
+}
+
+void unregister_temporary(int slot) noexcept {
+  if (slot < 0) return;
+  auto& s = registry[static_cast<std::size_t>(slot)];
+  s.path[0] = '\0';
+  std::atomic_signal_fence(std::memory_order_release);
+  s.path.fill('\0');
+  s.used.store(false);
+}
+
+std::string errno_text(int e) {
+  return std::strerror(e);
+}
+
+std::string dir_of(const std::string& path) {
+  const auto slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+std::string base_of(const std::string& path) {
+  const auto slash = path.rfind('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// The file a write to `path` lands in: symlinks followed one by one (the target of a dangling
+// link is the file to create, as the shell's `>` does). Errors: a loop.
+result<std::string> real_target(const std::string& path) {
+  std::string p = path;
+  for (int hops = 0; hops < 40; ++hops) {
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+    std::array<char, PATH_MAX> buf{};
+    const ssize_t n = ::readlink(p.c_str(), buf.data(), buf.size() - 1);
+    if (n < 0) return io_error(path, fmt::format("cannot read symlink: {}", errno_text(errno)));
+    const std::string link(buf.data(), static_cast<std::size_t>(n));
+    p = link.front() == '/' ? link : dir_of(p) + "/" + link;
+  }
+  return io_error(path, "too many levels of symbolic links");
+}
+
+// An absolute spelling of the file `path` writes to, for comparing outputs that do not exist
+// yet: the real directory plus the last component.
+std::optional<std::string> resolved_path(const std::string& path) {
+  auto target = real_target(path);
+  if (!target) return std::nullopt;
+  char* dir = ::realpath(dir_of(*target).c_str(), nullptr);
+  if (dir == nullptr) return std::nullopt;
+  std::string out = std::string(dir) + "/" + base_of(*target);
+  std::free(dir);  // NOLINT: realpath's buffer
+  return out;
+}
+
+status fsync_directory(const std::string& dir, const std::string& path) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0)
+    return io_error(path, fmt::format("cannot open its directory: {}", errno_text(errno)));
+  const int rc = ::fsync(fd);
+  const int e = errno;
+  ::close(fd);
+  // Some file systems cannot sync a directory (EINVAL); the rename itself has happened.
+  if (rc != 0 && e != EINVAL)
+    return io_error(path, fmt::format("cannot sync its directory: {}", errno_text(e)));
+  return ok();
+}
+
+}  // namespace
+
+// cppcheck-suppress passedByValue ; sink parameters, moved from
+atomic_file::atomic_file(std::string path, std::string target, std::string temp, std::FILE* f,
+                         kind k, int slot) noexcept
+    : path_(std::move(path)),
+      target_(std::move(target)),
+      temp_(std::move(temp)),
+      file_(f),
+      kind_(k),
+      slot_(slot) {}
 
 atomic_file::atomic_file(atomic_file&& other) noexcept
     : path_(std::move(other.path_)),
+      target_(std::move(other.target_)),
       temp_(std::move(other.temp_)),
-      file_(std::exchange(other.file_, nullptr)) {}
+      file_(std::exchange(other.file_, nullptr)),
+      kind_(other.kind_),
+      slot_(std::exchange(other.slot_, -1)),
+      prepared_(std::exchange(other.prepared_, false)) {}
 
 result<atomic_file> atomic_file::create(std::string path) {
-  if (path == "-") return atomic_file(std::move(path), {}, stdout);
-  std::string temp = fmt::format("{}.tmp.{}", path, static_cast<long>(::getpid()));
-  std::FILE* f = std::fopen(temp.c_str(), "wb");
-  if (f == nullptr) return io_error(path, fmt::format("cannot write: {}", std::strerror(errno)));
-  return atomic_file(std::move(path), std::move(temp), f);
+  if (path == "-") return atomic_file(std::move(path), {}, {}, stdout, kind::standard_output, -1);
+  auto target = real_target(path);
+  if (!target) return target.err();
+  struct stat st {};
+  const bool exists = ::stat(target->c_str(), &st) == 0;
+  if (exists && S_ISDIR(st.st_mode)) return io_error(path, "is a directory");
+  if (exists && !S_ISREG(st.st_mode)) {
+    // Devices, FIFOs, sockets: the data go straight in (a rename would replace them by a file).
+    const int fd = ::open(target->c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) return io_error(path, fmt::format("cannot write: {}", errno_text(errno)));
+    std::FILE* f = ::fdopen(fd, "wb");
+    if (f == nullptr) {
+      ::close(fd);
+      return io_error(path, fmt::format("cannot write: {}", errno_text(errno)));
+    }
+    return atomic_file(std::move(path), std::move(*target), {}, f, kind::stream, -1);
+  }
+  // A hidden name in the target's directory (the rename must not cross file systems), unique
+  // per process and output.
+  static std::atomic<unsigned> counter{0};
+  std::string temp = fmt::format("{}/.{}.gyroflip-tmp.{}.{}", dir_of(*target), base_of(*target),
+                                 static_cast<long>(::getpid()), counter.fetch_add(1));
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) return io_error(path, fmt::format("cannot write: {}", errno_text(errno)));
+  const int slot = register_temporary(temp);
+  // An existing file keeps its permission bits (a user's 0600 recording stays private).
+  if (exists) (void)::fchmod(fd, st.st_mode & 07777);
+  std::FILE* f = ::fdopen(fd, "wb");
+  if (f == nullptr) {
+    const int e = errno;
+    ::close(fd);
+    ::unlink(temp.c_str());
+    unregister_temporary(slot);
+    return io_error(path, fmt::format("cannot write: {}", errno_text(e)));
+  }
+  return atomic_file(std::move(path), std::move(*target), std::move(temp), f, kind::regular, slot);
+}
+
+void atomic_file::discard() noexcept {
+  if (file_ != nullptr && kind_ != kind::standard_output) std::fclose(file_);
+  file_ = nullptr;
+  if (kind_ == kind::regular && !temp_.empty()) {
+    ::unlink(temp_.c_str());
+    unregister_temporary(std::exchange(slot_, -1));
+  }
 }
 
 atomic_file::~atomic_file() {
-  if (file_ != nullptr && !temp_.empty()) {
-    std::fclose(file_);
-    std::remove(temp_.c_str());
-  }
+  discard();
 }
 
 void atomic_file::write(std::string_view text) const {
-  std::fwrite(text.data(), 1, text.size(), file_);
+  if (file_ != nullptr) std::fwrite(text.data(), 1, text.size(), file_);
 }
 
-status atomic_file::commit() {
-  if (temp_.empty()) {
+status atomic_file::prepare() {
+  if (kind_ == kind::standard_output) {
     // EPIPE: the reader closed the pipe early (`| head`); that is the reader's choice, not a
     // failure.
-    if (std::fflush(file_) != 0 && errno != EPIPE)
-      return io_error("<stdout>", std::strerror(errno));
+    if (std::fflush(file_) != 0 && errno != EPIPE) return io_error("<stdout>", errno_text(errno));
+    prepared_ = true;
     return ok();
   }
   std::FILE* f = std::exchange(file_, nullptr);
-  const bool failed = std::ferror(f) != 0;
-  if (std::fclose(f) != 0 || failed) {
-    const int e = errno;
-    std::remove(temp_.c_str());
-    return io_error(path_, fmt::format("write failed: {}", std::strerror(e)));
+  int e = 0;
+  if (std::fflush(f) != 0 || std::ferror(f) != 0) e = errno != 0 ? errno : EIO;
+  // fsync: a regular file's data must be on disk before the rename makes it visible (else a
+  // crash can leave an empty file under the final name). Devices and pipes may not support it.
+  if (e == 0 && kind_ == kind::regular && ::fsync(::fileno(f)) != 0) e = errno;
+  if (std::fclose(f) != 0 && e == 0) e = errno;
+  if (e != 0) {
+    discard();
+    return io_error(path_, fmt::format("write failed: {}", errno_text(e)));
   }
-  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
+  prepared_ = true;
+  return ok();
+}
+
+status atomic_file::publish() {
+  if (!prepared_) return io_error(path_, "not prepared");
+  if (kind_ != kind::regular) return ok();
+  if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
     const int e = errno;
-    std::remove(temp_.c_str());
-    return io_error(path_, fmt::format("cannot rename into place: {}", std::strerror(e)));
+    discard();
+    return io_error(path_, fmt::format("cannot rename into place: {}", errno_text(e)));
   }
+  unregister_temporary(std::exchange(slot_, -1));
+  temp_.clear();
+  return fsync_directory(dir_of(target_), path_);
+}
+
+status atomic_file::commit() {
+  if (auto s = prepare(); !s) return s;
+  return publish();
+}
+
+status commit_all(std::initializer_list<atomic_file*> outputs) {
+  for (atomic_file* f : outputs)
+    if (f != nullptr)
+      if (auto s = f->prepare(); !s) return s;  // the others' destructors remove theirs
+  for (atomic_file* f : outputs)
+    if (f != nullptr)
+      if (auto s = f->publish(); !s) return s;
   return ok();
 }
 
@@ -70,6 +249,60 @@ status write_file_atomically(const std::string& path, std::string_view text) {
   if (!f) return f.err();
   f->write(text);
   return f->commit();
+}
+
+status check_outputs(std::span<const std::string> inputs, std::span<const std::string> outputs) {
+  struct seen {
+    const std::string* name;
+    dev_t dev;
+    ino_t ino;
+  };
+  std::vector<seen> ins;
+  for (const auto& in : inputs) {
+    struct stat st {};
+    if (!in.empty() && in != "-" && ::stat(in.c_str(), &st) == 0)
+      ins.push_back({&in, st.st_dev, st.st_ino});
+  }
+  std::vector<seen> outs;
+  std::vector<std::pair<const std::string*, std::string>> new_outs;  // not existing yet
+  bool stdout_taken = false;
+  for (const auto& out : outputs) {
+    if (out.empty()) continue;
+    if (out == "-") {
+      if (stdout_taken) return usage_error("standard output ('-') is named for two outputs");
+      stdout_taken = true;
+      continue;
+    }
+    struct stat st {};
+    if (::stat(out.c_str(), &st) == 0) {
+      if (!S_ISREG(st.st_mode)) continue;  // devices and pipes: written through, never replaced
+      for (const auto& in : ins)
+        if (in.dev == st.st_dev && in.ino == st.st_ino)
+          return input_error(
+              {out},
+              fmt::format("is an input of this run ({}); refusing to overwrite it", *in.name));
+      for (const auto& o : outs)
+        if (o.dev == st.st_dev && o.ino == st.st_ino)
+          return input_error({out}, fmt::format("is the same file as output {}", *o.name));
+      outs.push_back({&out, st.st_dev, st.st_ino});
+      continue;
+    }
+    if (auto r = resolved_path(out)) {
+      for (const auto& [name, path] : new_outs)
+        if (path == *r)
+          return input_error({out}, fmt::format("is the same file as output {}", *name));
+      new_outs.emplace_back(&out, std::move(*r));
+    }
+  }
+  return ok();
+}
+
+void remove_temporary_files() noexcept {
+  for (auto& s : registry) {
+    if (!s.used.load()) continue;
+    std::atomic_signal_fence(std::memory_order_acquire);
+    if (s.path[0] != '\0') ::unlink(s.path.data());
+  }
 }
 
 }  // namespace gyroflip::io

@@ -16,6 +16,11 @@ struct cli_result {
 /// Runs GYROFLIP_EXE with `args` (no shell), stdin from /dev/null.
 cli_result run_cli(const std::vector<std::string>& args);
 
+/// Starts GYROFLIP_EXE with `args` in the background (stdin, stdout and stderr to /dev/null) and
+/// returns its process id; `wait_cli` returns its exit status (128 + N when killed by signal N).
+int spawn_cli(const std::vector<std::string>& args);
+int wait_cli(int pid);
+
 /// Reads a whole file (empty string if missing).
 std::string read_text(const std::string& path);
 

@@ -1,0 +1,170 @@
+// The -o rules (issue 13 item 2): outputs write into devices, FIFOs and symlink targets without
+// replacing them, never overwrite an input of the run, commit all or none, and leave no
+// temporary file when the run fails or is killed. Each test failed on the main of 2026-11-22.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <future>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+namespace gyroflip::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> simulate(const std::string& out, double duration_s = 60.0) {
+  return {"simulate", "--sensor", "hz1-90-100a", "--duration", std::to_string(duration_s),
+          "-o",       out};
+}
+
+// Names in `dir` other than `keep` (temporaries left behind show here).
+std::vector<std::string> stray_files(const temp_dir& d, const std::vector<std::string>& keep) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(d.path())) {
+    const auto name = e.path().filename().string();
+    if (std::find(keep.begin(), keep.end(), name) == keep.end()) out.push_back(name);
+  }
+  return out;
+}
+
+TEST(CliOutput, DevNullStaysACharacterDevice) {
+  if (::geteuid() != 0) GTEST_SKIP() << "only root can replace /dev/null (the defect)";
+  const auto r = run_cli(simulate("/dev/null"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  struct stat st {};
+  ASSERT_EQ(::stat("/dev/null", &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode));
+}
+
+TEST(CliOutput, FifoGetsTheBytesAndStaysAFifo) {
+  temp_dir d;
+  const auto fifo = d.file("pipe");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto reader = std::async(std::launch::async, [&] { return read_text(fifo); });
+  const auto r = run_cli(simulate(fifo));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string got = reader.get();
+  EXPECT_NE(got.find("time_s,angle_deg,rate_dps"), std::string::npos);
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(stray_files(d, {"pipe"}), std::vector<std::string>{});
+}
+
+TEST(CliOutput, SymlinkStaysAndItsTargetIsWritten) {
+  temp_dir d;
+  write_text(d.file("target.csv"), "old\n");
+  fs::create_symlink("target.csv", d.file("link.csv"));
+  ASSERT_EQ(run_cli(simulate(d.file("link.csv"))).exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(d.file("link.csv")));
+  EXPECT_NE(read_text(d.file("target.csv")).find("time_s,angle_deg"), std::string::npos);
+  // A dangling link: the file it names is created (as the shell's `>` does).
+  fs::create_symlink("new.csv", d.file("dangling.csv"));
+  ASSERT_EQ(run_cli(simulate(d.file("dangling.csv"))).exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(d.file("dangling.csv")));
+  EXPECT_TRUE(fs::is_regular_file(d.file("new.csv")));
+}
+
+TEST(CliOutput, ExistingFileKeepsItsPermissions) {
+  temp_dir d;
+  write_text(d.file("private.csv"), "old\n");
+  ASSERT_EQ(::chmod(d.file("private.csv").c_str(), 0600), 0);
+  ASSERT_EQ(run_cli(simulate(d.file("private.csv"))).exit_code, 0);
+  struct stat st {};
+  ASSERT_EQ(::stat(d.file("private.csv").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+}
+
+TEST(CliOutput, AnInputIsNeverOverwritten) {
+  temp_dir d;
+  ASSERT_EQ(run_cli(simulate(d.file("rec.csv"), 600)).exit_code, 0);
+  const std::string before = read_text(d.file("rec.csv"));
+  fs::create_symlink("rec.csv", d.file("link.csv"));
+  fs::create_hard_link(d.file("rec.csv"), d.file("hard.csv"));
+  const std::string dotted = d.path() + "/./rec.csv";
+  for (const auto& out : {d.file("rec.csv"), dotted, d.file("link.csv"), d.file("hard.csv")}) {
+    const auto r = run_cli({"calibrate", d.file("rec.csv"), "-o", out});
+    EXPECT_EQ(r.exit_code, 2) << out;
+    EXPECT_NE(r.err.find("is an input of this run"), std::string::npos) << r.err;
+    EXPECT_EQ(read_text(d.file("rec.csv")), before) << out;
+  }
+  const auto c =
+      run_cli({"compensate", d.file("rec.csv"), "--delta-n", "0", "-o", d.file("hard.csv")});
+  EXPECT_EQ(c.exit_code, 2);
+  const auto a = run_cli({"adev", d.file("rec.csv"), "-o", d.file("link.csv")});
+  EXPECT_EQ(a.exit_code, 2);
+  EXPECT_EQ(read_text(d.file("rec.csv")), before);
+  EXPECT_EQ(stray_files(d, {"rec.csv", "link.csv", "hard.csv"}), std::vector<std::string>{});
+}
+
+TEST(CliOutput, TwoOutputsNamingOneFileAreRefused) {
+  temp_dir d;
+  const auto r = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "60", "-o",
+                          d.file("x.csv"), "--truth", d.file("x.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(exists(d.file("x.csv")));
+  // Devices may be named twice.
+  EXPECT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "60", "-o", "/dev/null",
+                     "--truth", "/dev/null"})
+                .exit_code,
+            0);
+}
+
+TEST(CliOutput, AFailingOutputCommitsNoneOfThem) {
+  temp_dir d;
+  const auto r = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "60", "-o",
+                          d.file("rec.csv"), "--truth", "/dev/full"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/dev/full"), std::string::npos) << r.err;
+  EXPECT_EQ(stray_files(d, {}), std::vector<std::string>{});  // no rec.csv, no temporary
+  // An existing target is left as it was.
+  write_text(d.file("rec.csv"), "keep\n");
+  EXPECT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "60", "-o",
+                     d.file("rec.csv"), "--truth", "/dev/full"})
+                .exit_code,
+            2);
+  EXPECT_EQ(read_text(d.file("rec.csv")), "keep\n");
+  EXPECT_EQ(stray_files(d, {"rec.csv"}), std::vector<std::string>{});
+}
+
+TEST(CliOutput, AKilledRunLeavesNoTemporaryAndNoTarget) {
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    temp_dir d;
+    const int pid = spawn_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "1e7", "--raw",
+                               "-o", d.file("big.csv")});
+    // Wait (at most 20 s) until the temporary exists: the run is then writing.
+    bool writing = false;
+    for (int i = 0; i < 2000 && !writing; ++i) {
+      writing = !stray_files(d, {}).empty();
+      if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    EXPECT_TRUE(writing);
+    ::kill(pid, sig);
+    EXPECT_EQ(wait_cli(pid), 128 + sig);
+    EXPECT_EQ(stray_files(d, {}), std::vector<std::string>{}) << "signal " << sig;
+  }
+}
+
+TEST(CliOutput, CommittedFileIsComplete) {
+  // fsync itself cannot be observed from a test (it matters only across a power cut); what can
+  // be checked is that the committed file is whole: the last row ends the run.
+  temp_dir d;
+  ASSERT_EQ(run_cli(simulate(d.file("rec.csv"), 120)).exit_code, 0);
+  const std::string text = read_text(d.file("rec.csv"));
+  ASSERT_FALSE(text.empty());
+  EXPECT_EQ(text.back(), '\n');
+  EXPECT_EQ(text, run_cli(simulate("-", 120)).out);
+}
+
+}  // namespace
+}  // namespace gyroflip::test
