@@ -49,8 +49,11 @@ std::optional<std::string_view> csv_reader::next_line() {
   if (pos_ >= d.size()) return std::nullopt;
   const char* begin = d.data() + pos_;
   const std::size_t left = d.size() - pos_;
-  const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', left));
-  std::size_t len = nl != nullptr ? static_cast<std::size_t>(nl - begin) : left;
+  // Look no further than one byte past the longest allowed line: a 2 GB file without a newline
+  // must fail after 1 MiB, not after the whole mapping has been paged in.
+  const std::size_t window = std::min(left, max_line_bytes + 1);
+  const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', window));
+  std::size_t len = nl != nullptr ? static_cast<std::size_t>(nl - begin) : window;
   pos_ += nl != nullptr ? len + 1 : len;
   ++line_;
   if (len > 0 && begin[len - 1] == '\r') --len;

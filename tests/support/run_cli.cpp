@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -38,8 +39,10 @@ cli_result run_cli(const std::vector<std::string>& args) {
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw std::runtime_error("posix_spawn failed");
   int st = 0;
-  waitpid(pid, &st, 0);
+  struct rusage ru {};
+  wait4(pid, &st, 0, &ru);
   cli_result r;
+  r.max_rss_kb = ru.ru_maxrss;
   r.exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
   r.out = read_text(out_path);
   r.err = read_text(err_path);

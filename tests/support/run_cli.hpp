@@ -11,6 +11,7 @@ struct cli_result {
   int exit_code = -1;
   std::string out;
   std::string err;
+  long max_rss_kb = 0;  ///< peak resident memory of the run (getrusage, KiB)
 };
 
 /// Runs GYROFLIP_EXE with `args` (no shell), stdin from /dev/null.
