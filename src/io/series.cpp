@@ -3,8 +3,11 @@
 #include "gyroflip/io/series.hpp"
 
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -28,48 +31,102 @@ status check_rate(const std::string& path, const std::optional<double>& rate_hz)
   return ok();
 }
 
-// NumPy format 1.0-3.0: magic "\x93NUMPY", major, minor, header length (2 or 4 bytes LE), a
-// Python dict literal padded with spaces; data follow. Only 1-D little-endian float64 in C order.
-result<std::size_t> npy_data_offset(const std::string& path, std::string_view d) {
+// Fewer samples than this give no deviation at all (two phase differences).
+constexpr std::size_t min_samples = 3;
+
+// The value of key `key` in a .npy header dict: the text after `'key':` up to the next top-level
+// comma or the closing brace (a shape tuple's commas are inside parentheses).
+std::optional<std::string_view> npy_value(std::string_view dict, std::string_view key) {
+  const std::string quoted = fmt::format("'{}'", key);
+  const auto at = dict.find(quoted);
+  if (at == std::string_view::npos || dict.find(quoted, at + 1) != std::string_view::npos)
+    return std::nullopt;  // absent or given twice
+  std::size_t p = at + quoted.size();
+  while (p < dict.size() && dict[p] == ' ') ++p;
+  if (p >= dict.size() || dict[p] != ':') return std::nullopt;
+  ++p;
+  while (p < dict.size() && dict[p] == ' ') ++p;
+  int depth = 0;
+  std::size_t end = p;
+  for (; end < dict.size(); ++end) {
+    const char c = dict[end];
+    if (c == '(') ++depth;
+    if (c == ')') --depth;
+    if (depth == 0 && (c == ',' || c == '}')) break;
+  }
+  std::string_view v = dict.substr(p, end - p);
+  while (!v.empty() && v.back() == ' ') v.remove_suffix(1);
+  return v;
+}
+
+// NumPy format 1.0-3.0 (numpy.lib.format): magic "\x93NUMPY", major, minor, header length (2
+// bytes LE for 1.0, 4 for 2.0/3.0), then a Python dict literal with exactly the keys 'descr',
+// 'fortran_order' and 'shape', padded with spaces and ended by '\n'; the data follow. Accepted:
+// 1-D little-endian float64 ('<f8'), shape (N,) with the file holding exactly the N values.
+// Returns the data offset and N.
+result<std::pair<std::size_t, std::size_t>> npy_layout(const std::string& path,
+                                                       std::string_view d) {
   if (d.size() < 10 || d.substr(0, 6) != "\x93NUMPY")
     return input_error({path}, "not a NumPy .npy file (bad magic)");
   const auto major = static_cast<unsigned char>(d[6]);
+  const auto minor = static_cast<unsigned char>(d[7]);
+  if (major < 1 || major > 3 || minor != 0)
+    return input_error({path}, fmt::format(".npy format version {}.{} is not supported (1.0, 2.0 "
+                                           "or 3.0)",
+                                           major, minor));
+  const std::size_t len_bytes = major == 1 ? 2 : 4;
+  if (d.size() < 8 + len_bytes) return input_error({path}, "truncated .npy header");
   std::size_t header_len = 0;
-  std::size_t start = 0;
-  if (major == 1) {
-    header_len = static_cast<unsigned char>(d[8]) |
-                 (static_cast<std::size_t>(static_cast<unsigned char>(d[9])) << 8);
-    start = 10;
-  } else if (major == 2 || major == 3) {
-    if (d.size() < 12) return input_error({path}, "truncated .npy header");
-    for (int i = 0; i < 4; ++i)
-      header_len |=
-          static_cast<std::size_t>(static_cast<unsigned char>(d[8 + static_cast<std::size_t>(i)]))
-          << (8 * i);
-    start = 12;
-  } else {
-    return input_error({path}, fmt::format(".npy format version {} is not supported", major));
-  }
-  if (start + header_len > d.size()) return input_error({path}, "truncated .npy header");
-  const std::string_view h = d.substr(start, header_len);
-  if (h.find("'descr': '<f8'") == std::string_view::npos &&
-      h.find("'descr':'<f8'") == std::string_view::npos)
+  for (std::size_t i = 0; i < len_bytes; ++i)
+    header_len |= static_cast<std::size_t>(static_cast<unsigned char>(d[8 + i])) << (8 * i);
+  const std::size_t start = 8 + len_bytes;
+  if (header_len > d.size() - start)
+    return input_error({path}, fmt::format("truncated .npy header ({} bytes announced, {} in the "
+                                           "file)",
+                                           header_len, d.size() - start));
+  std::string_view h = d.substr(start, header_len);
+  // The dict ends the header: '{', ..., '}', spaces, '\n'. A header length off by a few bytes
+  // shows here (the last byte is then a data byte or part of the dict).
+  if (h.empty() || h.back() != '\n')
+    return input_error({path},
+                       "malformed .npy header: it must end with a newline (wrong header "
+                       "length?)");
+  h.remove_suffix(1);
+  while (!h.empty() && h.back() == ' ') h.remove_suffix(1);
+  if (h.size() < 2 || h.front() != '{' || h.back() != '}')
+    return input_error({path}, "malformed .npy header: not a dict literal");
+  const auto descr = npy_value(h, "descr");
+  const auto fortran = npy_value(h, "fortran_order");
+  const auto shape = npy_value(h, "shape");
+  if (!descr || !fortran || !shape)
+    return input_error({path},
+                       "malformed .npy header: needs 'descr', 'fortran_order' and "
+                       "'shape', once each");
+  if (*descr != "'<f8'")
+    return input_error({path}, fmt::format(".npy dtype must be little-endian float64 '<f8', not "
+                                           "{}",
+                                           printable(*descr)));
+  // A 1-D array is laid out the same way in C and Fortran order.
+  if (*fortran != "False" && *fortran != "True")
+    return input_error({path}, "malformed .npy header: fortran_order must be True or False");
+  // (N,) with N a plain decimal integer.
+  std::string_view dims = *shape;
+  if (dims.size() < 4 || dims.front() != '(' || dims.back() != ')' ||
+      dims.substr(dims.size() - 2) != ",)")
     return input_error(
-        {path}, fmt::format(".npy dtype must be little-endian float64 ('<f8'); header: {}", h));
-  if (h.find("'fortran_order': True") != std::string_view::npos)
-    return input_error({path}, ".npy array must be in C order");
-  const auto shape = h.find("'shape':");
-  const auto open = h.find('(', shape);
-  const auto close = h.find(')', open);
-  if (shape == std::string_view::npos || open == std::string_view::npos ||
-      close == std::string_view::npos)
-    return input_error({path}, "no shape in the .npy header");
-  const std::string_view dims = h.substr(open + 1, close - open - 1);
-  const auto comma = dims.find(',');
-  if (comma != std::string_view::npos &&
-      dims.find_first_not_of(' ', comma + 1) != std::string_view::npos)
-    return input_error({path}, fmt::format(".npy array must be 1-D; shape ({})", dims));
-  return start + header_len;
+        {path}, fmt::format(".npy array must be 1-D, shape (N,); shape {}", printable(dims)));
+  dims = dims.substr(1, dims.size() - 3);
+  std::uint64_t n = 0;
+  const auto [end, ec] = std::from_chars(dims.data(), dims.data() + dims.size(), n);
+  if (ec != std::errc{} || end != dims.data() + dims.size())
+    return input_error({path},
+                       fmt::format(".npy shape ({},) is not a count of samples", printable(dims)));
+  const std::size_t data_bytes = d.size() - start - header_len;
+  if (n > data_bytes / sizeof(double) || n * sizeof(double) != data_bytes)
+    return input_error({path}, fmt::format(".npy header announces {} samples ({} bytes) but the "
+                                           "file holds {} data bytes (truncated or padded file)",
+                                           n, n * sizeof(double), data_bytes));
+  return std::pair{start + header_len, static_cast<std::size_t>(n)};
 }
 
 // Little-endian float64 samples of a mapped file from byte `offset` (8-byte aligned, checked by
@@ -149,22 +206,28 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     auto f = mapped_file::open(path);
     if (!f) return f.err();
     std::size_t offset = 0;
+    std::size_t count = 0;
     if (npy) {
-      auto o = npy_data_offset(path, f->data());
-      if (!o) return o.err();
-      offset = *o;
+      auto layout = npy_layout(path, f->data());
+      if (!layout) return layout.err();
+      std::tie(offset, count) = *layout;
+    } else {
+      const std::size_t bytes = f->data().size();
+      if (bytes % sizeof(double) != 0)
+        return input_error({path},
+                           fmt::format("{} bytes are not a whole number of float64 values", bytes));
+      count = bytes / sizeof(double);
     }
-    const std::size_t bytes = f->data().size() - offset;
-    if (bytes % sizeof(double) != 0)
-      return input_error(
-          {path}, fmt::format("{} data bytes are not a whole number of float64 values", bytes));
+    if (count < min_samples)
+      return input_error({path}, fmt::format("{} sample{}: too few for an analysis (at least {})",
+                                             count, count == 1 ? "" : "s", min_samples));
     static_assert(std::endian::native == std::endian::little,
                   "raw and .npy readers assume a little-endian host");
     const char* p = f->data().data() + offset;
     if (reinterpret_cast<std::uintptr_t>(p) % alignof(double) != 0)  // NOLINT: checking alignment
       return input_error({path}, "float64 data are not 8-byte aligned in the file");
     // Not read here: phase_source::make checks every sample (finite) as it passes over them.
-    s.samples_ = std::make_unique<mapped_samples>(std::move(*f), offset, bytes / sizeof(double));
+    s.samples_ = std::make_unique<mapped_samples>(std::move(*f), offset, count);
     s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
     return s;
   }
@@ -197,8 +260,10 @@ result<series> read_series(const std::string& path_in, const series_options& opt
       t.push_back(ts);
     }
   }
-  if (values.size() < 3)
-    return input_error({path}, fmt::format("{} samples: too few for an analysis", values.size()));
+  if (values.size() < min_samples)
+    return input_error(
+        {path}, fmt::format("{} sample{}: too few for an analysis (at least {})", values.size(),
+                            values.size() == 1 ? "" : "s", min_samples));
   s.hold(std::move(values));
   if (!use_time) {
     if (auto c = check_rate(path, opt.sample_rate_hz); !c) return c.err();

@@ -42,5 +42,86 @@ TEST(CliBadInput, HugeLineFailsWithinTheFirstMebibyte) {
   }
 }
 
+// A .npy file as numpy.save writes it (format 1.0): magic, version, header length, the dict
+// padded with spaces to a multiple of 64 bytes, '\n', then the data. `dict` is the dict text.
+std::string npy(const std::string& dict, std::size_t n_values, int header_len_delta = 0) {
+  std::string h = dict;
+  while ((10 + h.size() + 1) % 64 != 0) h += ' ';
+  h += '\n';
+  const auto len = static_cast<std::size_t>(static_cast<long>(h.size()) + header_len_delta);
+  std::string out = "\x93NUMPY";
+  out += '\x01';
+  out += '\x00';
+  out += static_cast<char>(len & 0xff);
+  out += static_cast<char>(len >> 8);
+  out += h;
+  for (std::size_t i = 0; i < n_values; ++i) {
+    const double v = 0.001 * static_cast<double>(i % 7);
+    char b[8];
+    std::memcpy(b, &v, 8);
+    out.append(b, 8);
+  }
+  return out;
+}
+
+std::string dict_of(const std::string& shape, const std::string& descr = "'<f8'",
+                    const std::string& fortran = "False") {
+  return "{'descr': " + descr + ", 'fortran_order': " + fortran + ", 'shape': " + shape + ", }";
+}
+
+// Item 5: the header's shape was ignored (a truncated file analysed as fewer samples, a
+// header-length field off by 8 read header bytes as a sample, shapes (0,), (-1,), (),
+// (10**12,) accepted); 0 or 1 samples failed with exit 1 and no file name.
+TEST(CliBadInput, NpyHeaderAndLengthAreCheckedExactly) {
+  temp_dir d;
+  struct npy_case {
+    std::string name;
+    std::string bytes;
+    std::string says;
+  };
+  const std::vector<npy_case> cases{
+      {"truncated", npy(dict_of("(100,)"), 99), "announces 100 samples"},
+      {"padded", npy(dict_of("(100,)"), 101), "announces 100 samples"},
+      {"len_plus_8", npy(dict_of("(100,)"), 100, 8), "newline"},
+      {"len_minus_8", npy(dict_of("(100,)"), 100, -8), "newline"},
+      {"shape_0", npy(dict_of("(0,)"), 0), "too few"},
+      {"shape_1", npy(dict_of("(1,)"), 1), "too few"},
+      {"shape_neg", npy(dict_of("(-1,)"), 4), "not a count"},
+      {"shape_scalar", npy(dict_of("()"), 1), "1-D"},
+      {"shape_huge", npy(dict_of("(1000000000000,)"), 4), "announces 1000000000000"},
+      {"shape_2d", npy(dict_of("(3, 2)"), 6), "1-D"},
+      {"f4", npy(dict_of("(8,)", "'<f4'"), 4), "'<f8'"},
+      {"big_endian", npy(dict_of("(8,)", "'>f8'"), 8), "'<f8'"},
+      {"no_shape", npy("{'descr': '<f8', 'fortran_order': False, }", 8), "once each"},
+      {"version",
+       [] {
+         std::string b = npy(dict_of("(8,)"), 8);
+         b[6] = '\x07';
+         return b;
+       }(),
+       "version 7.0"},
+  };
+  for (const auto& c : cases) {
+    const std::string path = d.file(c.name + ".npy");
+    write_text(path, c.bytes);
+    const auto r = run_cli({"adev", path, "--rate", "100", "-o", d.file("out.csv")});
+    EXPECT_EQ(r.exit_code, 2) << c.name << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("gyroflip: error: " + path + ": ", 0), 0u) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_FALSE(exists(d.file("out.csv"))) << c.name;
+  }
+  // The same array in Fortran order (identical for 1-D) and a good file are read.
+  write_text(d.file("good.npy"), npy(dict_of("(100,)"), 100));
+  write_text(d.file("fortran.npy"), npy(dict_of("(100,)", "'<f8'", "True"), 100));
+  const auto good = run_cli({"adev", d.file("good.npy"), "--rate", "100"});
+  EXPECT_EQ(good.exit_code, 0) << good.err;
+  EXPECT_EQ(run_cli({"adev", d.file("fortran.npy"), "--rate", "100"}).out, good.out);
+  // Raw float64 too: one sample is too few.
+  write_text(d.file("one.f64"), std::string(8, '\0'));
+  const auto raw = run_cli({"adev", d.file("one.f64"), "--rate", "100"});
+  EXPECT_EQ(raw.exit_code, 2);
+  EXPECT_NE(raw.err.find(d.file("one.f64") + ": 1 sample: too few"), std::string::npos) << raw.err;
+}
+
 }  // namespace
 }  // namespace gyroflip::test

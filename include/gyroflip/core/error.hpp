@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <string_view>
 
 #include "gyroflip/core/result.hpp"
@@ -18,6 +19,12 @@ struct source_location {
   std::size_t line = 0;
   std::size_t column = 0;
 };
+
+/// `text` as it may appear inside a message: bytes outside printable ASCII (control characters,
+/// invalid or any non-ASCII UTF-8) as `\xNN`, and at most `max_bytes` of it, followed by
+/// `... (N more bytes)`. User text (a header field, a cell, a file name) goes through this, so
+/// that no message echoes a 1 MiB line or raw control bytes to the terminal.
+[[nodiscard]] std::string printable(std::string_view text, std::size_t max_bytes = 80);
 
 /// `FILE:LINE:COL: what` (or `FILE:LINE: what`, or `FILE: what`) as a bad-input error.
 [[nodiscard]] error input_error(const source_location& where, std::string_view what);
