@@ -1,11 +1,17 @@
 /// \file
 /// \brief User sensor presets from TOML (toml++), with `FILE:LINE:COL` in every error.
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <toml++/toml.h>
 
 #include "gyroflip/core/error.hpp"
@@ -78,16 +84,36 @@ result<preset> parse_toml_preset(std::string_view text, std::string_view file) {
     return input_error(node != nullptr ? where(file, node->source()) : source_location{file},
                        s.err().message);
   }
+  // A preset names itself and says every figure, directly or through its base: a file that
+  // forgot them (an empty file, a wrong file) must not become a silent noise-free sensor.
+  if (tbl.get("name") == nullptr)
+    return input_error({file},
+                       "a preset needs name = \"...\" (and base = \"adxrs150\" or "
+                       "\"hz1-90-100a\", or every parameter)");
+  if (tbl.get("base") == nullptr) {
+    std::vector<std::string_view> missing;
+    for (const auto& f : fields())
+      if (tbl.get(f.key) == nullptr) missing.push_back(f.key);
+    if (!missing.empty())
+      return input_error(
+          {file}, fmt::format("no base preset, so every parameter must be given; missing: {} (or "
+                              "start from a built-in one: base = \"hz1-90-100a\")",
+                              fmt::join(missing, ", ")));
+  }
   return out;
 }
 
 result<preset> load_preset(std::string_view name_or_file) {
   if (const preset* p = find_builtin(name_or_file)) return *p;
   const std::string path(name_or_file);
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    return io_error(path, fmt::format("cannot open: {} (and not a built-in sensor: adxrs150, "
+                                      "hz1-90-100a)",
+                                      std::strerror(errno)));
+  if (!S_ISREG(st.st_mode)) return io_error(path, "not a regular file (expected a TOML preset)");
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return io_error(path, "cannot open (not a built-in sensor: adxrs150, hz1-90-100a)");
-  }
+  if (!in) return io_error(path, fmt::format("cannot open: {}", std::strerror(errno)));
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_toml_preset(ss.str(), path);

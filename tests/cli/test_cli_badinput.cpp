@@ -123,5 +123,30 @@ TEST(CliBadInput, NpyHeaderAndLengthAreCheckedExactly) {
   EXPECT_NE(raw.err.find(d.file("one.f64") + ": 1 sample: too few"), std::string::npos) << raw.err;
 }
 
+// Item 6: `simulate --sensor DIR` or an empty .toml simulated a noise-free default sensor, exit 0.
+TEST(CliBadInput, PresetFileMustNameItselfAndEveryFigure) {
+  temp_dir d;
+  write_text(d.file("empty.toml"), "");
+  write_text(d.file("noname.toml"), "base = \"hz1-90-100a\"\n");
+  write_text(d.file("partial.toml"), "name = \"x\"\narw_dps_rthz = 0.01\n");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {d.path(), "not a regular file"},
+      {d.file("empty.toml"), "needs name"},
+      {d.file("noname.toml"), "needs name"},
+      {d.file("partial.toml"), "every parameter must be given; missing: range_dps"},
+      {d.file("absent.toml"), "cannot open"},
+  };
+  for (const auto& [file, says] : cases) {
+    const auto r =
+        run_cli({"simulate", "--sensor", file, "--duration", "10", "-o", d.file("o.csv")});
+    EXPECT_EQ(r.exit_code, 2) << file;
+    EXPECT_EQ(r.err.rfind("gyroflip: error: " + file + ": ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(d.file("o.csv")));
+  }
+  write_text(d.file("ok.toml"), "name = \"x\"\nbase = \"hz1-90-100a\"\n");
+  EXPECT_EQ(run_cli({"simulate", "--sensor", d.file("ok.toml"), "--duration", "10"}).exit_code, 0);
+}
+
 }  // namespace
 }  // namespace gyroflip::test
