@@ -43,7 +43,7 @@ std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
   return json{
       {"kind", o.kind},     {"input", o.in.input}, {"file", o.in.file},          {"tau0_s", tau0_s},
       {"samples", samples}, {"ci", o.ci},          {"points", std::move(points)}}
-      .dump();
+      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace
@@ -74,6 +74,8 @@ int run_adev(const adev_options& o) {
   if (!taus) return report(taus.err());
   if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.output}); !s)
     return report(s.err());
+  if (o.json)
+    if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto in = load_series(o.in);
   if (!in) return report(in.err());
   progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1000);

@@ -71,7 +71,7 @@ std::string summary_json(const method::compensation_summary& s, const compensate
               {"stderr_correlated_dps", s.stderr_correlated_dps},
               {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
               {"drift_window_s", s.drift_window_s}}
-      .dump();
+      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace
@@ -79,6 +79,8 @@ std::string summary_json(const method::compensation_summary& s, const compensate
 int run_compensate(const compensate_options& o) {
   if (auto s = io::check_outputs(std::array{o.file, o.calibration}, std::array{o.output}); !s)
     return report(s.err());
+  if (o.json)
+    if (auto s = check_name_for_json(o.file); !s) return report(s.err());
   auto dn = load_delta_n(o);
   if (!dn) return report(dn.err());
   std::optional<method::pairing> chosen =

@@ -19,7 +19,7 @@ int run_earth(const earth_options& o) {
                               {"axis_ned", {axis->north, axis->east, axis->down}},
                               {"earth_rate_dps", w_dps},
                               {"earth_rate_deg_h", w_dps * 3600.0}};
-    fmt::print("{}\n", j.dump());
+    fmt::print("{}\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   } else {
     fmt::print(
         "{:.10e} deg/s  ({:.6f} deg/h) Earth rate along axis ({:.6f}, {:.6f}, {:.6f}) NED at {} "

@@ -9,6 +9,7 @@
 #include "cmd_adev.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/core/error.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
@@ -37,6 +38,8 @@ std::string show(const analysis::noise_term& t, double to_unit) {
 }  // namespace
 
 int run_noise(const noise_options& o) {
+  if (o.json)
+    if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto in = load_series(o.in);
   if (!in) return report(in.err());
   progress bar("noise of " + o.in.file, 1000);
@@ -75,7 +78,7 @@ int run_noise(const noise_options& o) {
                         {"ci_hi", p.ci_hi},
                         {"edf", p.edf}});
     j["oadev"] = std::move(points);
-    fmt::print("{}\n", j.dump());
+    fmt::print("{}\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     return 0;
   }
   fmt::print("{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV ({:g} % intervals)\n", o.in.file,

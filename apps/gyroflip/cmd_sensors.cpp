@@ -23,7 +23,8 @@ int run_sensors(const sensors_options& o) {
       }
       list.push_back({{"name", p.name}, {"description", p.description}, {"params", params}});
     }
-    fmt::print("{}\n", nlohmann::json{{"sensors", list}}.dump());
+    fmt::print("{}\n", nlohmann::json{{"sensors", list}}.dump(
+                           -1, ' ', false, nlohmann::json::error_handler_t::replace));
     return 0;
   }
   for (const auto& p : presets) {

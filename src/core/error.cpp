@@ -44,6 +44,26 @@ std::size_t utf8_sequence(std::string_view s, std::size_t i) {
 
 }  // namespace
 
+bool is_valid_utf8(std::string_view text) noexcept {
+  for (std::size_t i = 0; i < text.size();) {
+    if (static_cast<unsigned char>(text[i]) < 0x80) {
+      ++i;
+      continue;
+    }
+    const std::size_t len = utf8_sequence(text, i);
+    if (len == 0) return false;
+    i += len;
+  }
+  return true;
+}
+
+status check_name_for_json(std::string_view file) {
+  if (is_valid_utf8(file)) return ok();
+  return input_error({file},
+                     "the file name is not valid UTF-8, which JSON output cannot carry "
+                     "(rename the file, or leave out the JSON output)");
+}
+
 std::string printable(std::string_view text, std::size_t max_bytes) {
   std::string out;
   const std::size_t n = std::min(text.size(), max_bytes);

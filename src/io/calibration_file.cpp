@@ -2,6 +2,7 @@
 /// \brief Calibration JSON writer and reader (see calibration_file.hpp).
 #include "gyroflip/io/calibration_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -43,6 +44,49 @@ json calibration_fields(const method::calibration& c,
   return j;
 }
 
+// The DOM parser with exceptions off, keeping where parsing stopped: nlohmann's own exceptions
+// carry a byte offset at best and a number overflow (1e400, error 406) none at all.
+class located_parser : public nlohmann::detail::json_sax_dom_parser<json> {
+ public:
+  explicit located_parser(json& j) : json_sax_dom_parser(j, false) {}
+  template <class Exception>
+  bool parse_error(std::size_t position, const std::string& /*last_token*/, const Exception& ex) {
+    position_ = position;
+    what_ = ex.what();
+    return false;
+  }
+  [[nodiscard]] std::size_t position() const noexcept { return position_; }
+  [[nodiscard]] const std::string& what() const noexcept { return what_; }
+
+ private:
+  std::size_t position_ = 0;
+  std::string what_;
+};
+
+// Strips nlohmann's "[json.exception.parse_error.101] parse error at line 1, column 5: " prefix.
+std::string_view reason(std::string_view what) {
+  const auto colon = what.rfind(": ");
+  if (what.substr(0, 16) == "[json.exception." && colon != std::string_view::npos)
+    return what.substr(colon + 2);
+  const auto bracket = what.find("] ");
+  return bracket != std::string_view::npos ? what.substr(bracket + 2) : what;
+}
+
+result<json> parse_json(const std::string& path, std::string_view text) {
+  json j;
+  located_parser sax(j);
+  if (json::sax_parse(text.begin(), text.end(), &sax)) return j;
+  // Byte offset -> 1-based line and column (the offset counts the byte that failed).
+  const std::size_t at = std::min(sax.position(), text.size());
+  const std::size_t at0 = at > 0 ? at - 1 : 0;
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(
+                                   text.begin(), text.begin() + static_cast<long>(at0), '\n'));
+  const auto nl = text.rfind('\n', at0 == 0 ? 0 : at0 - 1);
+  const std::size_t col = at0 == 0 || nl == std::string_view::npos ? at0 + 1 : at0 - nl;
+  return input_error({path, line, col},
+                     fmt::format("not valid JSON: {}", printable(reason(sax.what()), 200)));
+}
+
 }  // namespace
 
 std::string to_json(const calibration_record& rec, std::string_view tool_version) {
@@ -71,17 +115,17 @@ std::string to_json(const calibration_record& rec, std::string_view tool_version
                   {"temp_range_c", {number_or_null(m.temp_min_c), number_or_null(m.temp_max_c)}},
                   {"chi2_per_dof", m.chi2_per_dof}};
   }
-  return j.dump();
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 result<calibration_record> read_calibration_file(const std::string& path) {
   auto f = mapped_file::open(path);
   if (!f) return f.err();
   json j;
-  try {
-    j = json::parse(f->data());
-  } catch (const json::parse_error& e) {
-    return input_error({path}, fmt::format("not valid JSON ({})", e.what()));
+  if (auto parsed = parse_json(path, f->data()); parsed) {
+    j = std::move(*parsed);
+  } else {
+    return parsed.err();
   }
   calibration_record rec;
   try {
@@ -120,7 +164,8 @@ result<calibration_record> read_calibration_file(const std::string& path) {
       rec.model = std::move(model);
     }
   } catch (const json::exception& e) {
-    return input_error({path}, fmt::format("malformed calibration ({})", e.what()));
+    return input_error({path},
+                       fmt::format("malformed calibration: {}", printable(reason(e.what()), 200)));
   }
   return rec;
 }

@@ -148,5 +148,56 @@ TEST(CliBadInput, PresetFileMustNameItselfAndEveryFigure) {
   EXPECT_EQ(run_cli({"simulate", "--sensor", d.file("ok.toml"), "--duration", "10"}).exit_code, 0);
 }
 
+// A stationary recording from the simulator (a few minutes), written to `path`.
+void simulated_recording(const std::string& path, int duration_s = 300) {
+  const auto r = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration",
+                          std::to_string(duration_s), "-o", path});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+}
+
+// Item 7: a calibration file with 1e400 ended in "internal error [json.exception...]", exit 1;
+// item 13: JSON errors carry FILE:LINE:COL and no raw control bytes.
+TEST(CliBadInput, CalibrationJsonErrorsNameFileLineAndColumn) {
+  temp_dir d;
+  simulated_recording(d.file("r.csv"));
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {R"({"delta_n_dps": 1e400})", "c.json:1:21: not valid JSON: number overflow"},
+      {"{\n  \"delta_n_dps\": 0.1,\n  x }", "c.json:3:3: not valid JSON"},
+      {"[1, 2", "c.json:1:5: not valid JSON"},
+      {"\x01\x02", "c.json:1:1: not valid JSON: '<U+0001>'"},
+      {R"({"delta_n_dps": "a"})", "c.json: malformed calibration: type must be number"},
+  };
+  for (const auto& [text, says] : cases) {
+    write_text(d.file("c.json"), text);
+    const auto r = run_cli({"compensate", d.file("r.csv"), "--calibration", d.file("c.json")});
+    EXPECT_EQ(r.exit_code, 2) << text;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    for (char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << r.err;
+  }
+}
+
+// Item 7: a recording named with invalid UTF-8 (`bad\xff.csv`) made --json throw
+// ("internal error", exit 1). JSON cannot carry the name: exit 2 naming the file (escaped);
+// text output works.
+TEST(CliBadInput, FileNameThatIsNotUtf8) {
+  temp_dir d;
+  const std::string bad = d.file("bad\xff.csv");
+  simulated_recording(bad);
+  for (const auto& cmd :
+       std::vector<std::vector<std::string>>{{"compensate", bad, "--delta-n", "0", "--json"},
+                                             {"calibrate", bad},
+                                             {"adev", bad, "--json"},
+                                             {"noise", bad, "--json"}}) {
+    const auto r = run_cli(cmd);
+    EXPECT_EQ(r.exit_code, 2) << cmd[0] << ": " << r.err;
+    EXPECT_NE(r.err.find(d.file("bad\\xff.csv") + ": the file name is not valid UTF-8"),
+              std::string::npos)
+        << r.err;
+  }
+  EXPECT_EQ(run_cli({"adev", bad}).exit_code, 0);
+  EXPECT_EQ(run_cli({"compensate", bad, "--delta-n", "0"}).exit_code, 0);
+}
+
 }  // namespace
 }  // namespace gyroflip::test

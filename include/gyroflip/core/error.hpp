@@ -26,6 +26,14 @@ struct source_location {
 /// that no message echoes a 1 MiB line or raw control bytes to the terminal.
 [[nodiscard]] std::string printable(std::string_view text, std::size_t max_bytes = 80);
 
+/// True when `text` is valid UTF-8 (RFC 3629: no overlong forms, surrogates or code points
+/// beyond U+10FFFF). JSON strings must be; a file name need not be.
+[[nodiscard]] bool is_valid_utf8(std::string_view text) noexcept;
+
+/// Error unless `file` is valid UTF-8: JSON output that names the file (`--json`, calibration
+/// files) could not carry it. Says to rename the file.
+[[nodiscard]] status check_name_for_json(std::string_view file);
+
 /// `FILE:LINE:COL: what` (or `FILE:LINE: what`, or `FILE: what`) as a bad-input error.
 [[nodiscard]] error input_error(const source_location& where, std::string_view what);
 
