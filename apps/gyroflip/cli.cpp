@@ -13,6 +13,7 @@
 #include "cmd_adev.hpp"
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
+#include "gyroflip/core/error.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -198,15 +199,26 @@ int run_cli(int argc, char** argv) {
         app.get_subcommands([&name](const CLI::App* s) { return s->get_name() == name; });
     if (subs.empty()) {
       std::fprintf(stderr, "gyroflip: error: unknown command '%s' (see gyroflip --help)\n",
-                   name.c_str());
+                   printable(name, 80).c_str());
       return 2;
     }
   }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);  // prints the help of the chosen (sub)command, exit 0
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;  // help/version -> 0, any parse error -> 2 (not CLI11's 100+)
+    // Usage errors in the documented form (docs/cli.md), exit 2 (not CLI11's 100+). The
+    // command's help names every option; the user's words are echoed only as printable text.
+    const auto* sub = app.get_subcommands().empty() ? nullptr : app.get_subcommands().front();
+    std::fprintf(stderr, "gyroflip: error: %s (see gyroflip%s%s --help)\n",
+                 printable(e.what(), 300).c_str(), sub != nullptr ? " " : "",
+                 sub != nullptr ? sub->get_name().c_str() : "");
+    return 2;
   }
   return chosen ? chosen() : 2;
 }

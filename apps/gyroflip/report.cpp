@@ -1,13 +1,35 @@
 /// \file
 /// \brief Maps library errors to the documented exit codes.
 #include <cstdio>
+#include <string_view>
+#include <utility>
 
 #include "commands.hpp"
 
 namespace gyroflip::app {
 
+namespace {
+
+// Library parameters (error::parameter) and the options that set them.
+constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = {
+    {"sample_rate_hz", "--rate"},   {"dataset", "--dataset"}, {"taus", "--taus"},
+    {"duration_s", "--duration"},   {"n_avg", "--n-avg"},     {"degree", "--degree"},
+    {"settle_s", "--settle"},       {"seed", "--seed"},       {"lat_deg", "--latitude"},
+    {"window_s", "--drift-window"}, {"level", "--ci"},
+};
+
+}  // namespace
+
 int report(const error& e) {
-  std::fprintf(stderr, "gyroflip: error: %s\n", e.message.c_str());
+  std::string_view option;
+  for (const auto& [param, opt] : option_of_parameter)
+    if (param == e.parameter) option = opt;
+  if (option.empty()) {
+    std::fprintf(stderr, "gyroflip: error: %s\n", e.message.c_str());
+  } else {
+    std::fprintf(stderr, "gyroflip: error: %s (option %.*s)\n", e.message.c_str(),
+                 static_cast<int>(option.size()), option.data());
+  }
   return e.code == errc::runtime ? 1 : 2;
 }
 

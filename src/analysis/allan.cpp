@@ -189,15 +189,15 @@ result<tau_spec> parse_tau_spec(std::string_view text) {
     std::size_t m = 0;
     const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), m);
     if (ec != std::errc{} || end != part.data() + part.size() || m == 0)
-      return usage_error(
-          fmt::format("--taus '{}': expected octave, decade, all or averaging factors "
-                      "like 1,2,10 (whole numbers >= 1); '{}' is not one",
-                      text, part));
+      return parameter_error("taus",
+                             fmt::format("'{}': expected octave, decade, all or averaging factors "
+                                         "like 1,2,10 (whole numbers >= 1); '{}' is not one",
+                                         printable(text, 80), printable(part, 40)));
     s.factors.push_back(m);
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);
   }
-  if (s.factors.empty()) return usage_error("--taus: empty list");
+  if (s.factors.empty()) return parameter_error("taus", "empty list of averaging factors");
   std::sort(s.factors.begin(), s.factors.end());
   s.factors.erase(std::unique(s.factors.begin(), s.factors.end()), s.factors.end());
   return s;

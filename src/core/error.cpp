@@ -112,4 +112,13 @@ error usage_error(std::string_view what) {
   return {errc::bad_input, std::string(what)};
 }
 
+error parameter_error(std::string_view parameter, std::string_view what) {
+  return {errc::bad_input, std::string(what), std::string(parameter)};
+}
+
+error about_parameter(error e, std::string_view parameter) {
+  e.parameter = parameter;
+  return e;
+}
+
 }  // namespace gyroflip

@@ -39,19 +39,23 @@ result<ned_vector> parse_components(std::string_view text) {
   while (true) {
     const auto comma = rest.find(',');
     const std::string_view part = trim(rest.substr(0, comma));
-    if (count == 3) return usage_error(fmt::format("axis '{}': expected 3 components N,E,D", text));
+    if (count == 3)
+      return usage_error(
+          fmt::format("axis '{}': expected 3 components N,E,D", printable(text, 60)));
     double x = 0.0;
     const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), x);
     if (ec != std::errc{} || end != part.data() + part.size() || !std::isfinite(x))
-      return usage_error(fmt::format("axis '{}': '{}' is not a finite number", text, part));
+      return usage_error(
+          fmt::format("axis '{}': '{}' is not a finite number", printable(text, 60), part));
     v[count++] = x;
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);
   }
-  if (count != 3) return usage_error(fmt::format("axis '{}': expected 3 components N,E,D", text));
+  if (count != 3)
+    return usage_error(fmt::format("axis '{}': expected 3 components N,E,D", printable(text, 60)));
   const double norm = std::hypot(v[0], v[1], v[2]);
   if (!(norm > 0.0))
-    return usage_error(fmt::format("axis '{}': zero vector has no direction", text));
+    return usage_error(fmt::format("axis '{}': zero vector has no direction", printable(text, 60)));
   return ned_vector{v[0] / norm, v[1] / norm, v[2] / norm};
 }
 
@@ -64,7 +68,8 @@ result<ned_vector> parse_axis(std::string_view text) {
   if (iequals(t, "down") || iequals(t, "d")) return ned_vector{0.0, 0.0, 1.0};
   if (iequals(t, "up") || iequals(t, "u")) return ned_vector{0.0, 0.0, -1.0};
   if (t.find(',') == std::string_view::npos)
-    return usage_error(fmt::format("axis '{}': expected north|east|down|up or N,E,D", text));
+    return usage_error(
+        fmt::format("axis '{}': expected north|east|down|up or N,E,D", printable(text, 60)));
   return parse_components(t);
 }
 

@@ -75,11 +75,14 @@ status csv_reader::read_header() {
     if (is_blank(*l)) continue;
     header_line_ = line_;
     std::string_view rest = *l;
+    std::size_t col = 1;
     while (true) {
       const auto comma = rest.find(',');
       header_.emplace_back(trim(rest.substr(0, comma)));
+      header_cols_.push_back(col);
       if (comma == std::string_view::npos) break;
       rest.remove_prefix(comma + 1);
+      col += comma + 1;
     }
     slot_of_column_.assign(header_.size(), -1);
     return ok();
@@ -92,9 +95,9 @@ result<std::optional<std::size_t>> csv_reader::find_column(std::string_view name
   for (std::size_t i = 0; i < header_.size(); ++i) {
     if (header_[i] != name) continue;
     if (found)
-      return input_error(
-          {path(), header_line_, 0},
-          fmt::format("duplicated column '{}' (fields {} and {})", name, *found + 1, i + 1));
+      return input_error({path(), header_line_, header_cols_[i]},
+                         fmt::format("duplicated column '{}' (fields {} and {})", printable(name),
+                                     *found + 1, i + 1));
     found = i;
   }
   return found;
@@ -104,9 +107,9 @@ result<std::size_t> csv_reader::require_column(std::string_view name) const {
   auto f = find_column(name);
   if (!f) return f.err();
   if (!f.value())
-    return input_error(
-        {path(), header_line_},
-        fmt::format("missing required column '{}' (header: {})", name, fmt::join(header_, ",")));
+    return input_error({path(), header_line_, 1},
+                       fmt::format("missing required column '{}' (header: {})", printable(name),
+                                   printable(fmt::format("{}", fmt::join(header_, ",")), 200)));
   return *f.value();
 }
 
@@ -179,7 +182,8 @@ error csv_reader::error_at(std::size_t i, std::string_view what) const {
   const std::size_t col = static_cast<std::size_t>(cells_[i].data() - current_.data()) + 1;
   const std::string_view name =
       selected_[i] == absent_column ? std::string_view("?") : header_[selected_[i]];
-  return input_error({path(), line_, col}, fmt::format("{} (column '{}')", what, name));
+  return input_error({path(), line_, col},
+                     fmt::format("{} (column '{}')", what, printable(name, 60)));
 }
 
 error csv_reader::error_at_line(std::string_view what) const {
@@ -197,11 +201,11 @@ bool csv_reader::parse_slow(std::size_t i, double& out) {
   if (s.empty()) {
     error_ = error_at(i, "empty field, expected a number");
   } else if (ec == std::errc{} && p == e) {
-    error_ = error_at(i, fmt::format("'{}' is not a finite number", s));
+    error_ = error_at(i, fmt::format("'{}' is not a finite number", printable(s, 40)));
   } else if (ec == std::errc::result_out_of_range) {
-    error_ = error_at(i, fmt::format("'{}' is out of the range of a double", s));
+    error_ = error_at(i, fmt::format("'{}' is out of the range of a double", printable(s, 40)));
   } else {
-    error_ = error_at(i, fmt::format("'{}' is not a number", s.substr(0, 40)));
+    error_ = error_at(i, fmt::format("'{}' is not a number", printable(s, 40)));
   }
   return false;
 }

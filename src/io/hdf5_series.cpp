@@ -31,12 +31,13 @@ result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& 
   const handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (f.id < 0) return io_error(file, "cannot open as HDF5");
   if (H5Lexists(f.id, dataset.c_str(), H5P_DEFAULT) <= 0)
-    return input_error({file}, fmt::format("no dataset '{}'", dataset));
+    return input_error({file}, fmt::format("no dataset '{}'", printable(dataset, 120)));
   const handle d(H5Dopen2(f.id, dataset.c_str(), H5P_DEFAULT), H5Dclose);
-  if (d.id < 0) return input_error({file}, fmt::format("'{}' is not a dataset", dataset));
+  if (d.id < 0)
+    return input_error({file}, fmt::format("'{}' is not a dataset", printable(dataset, 120)));
   const handle space(H5Dget_space(d.id), H5Sclose);
   if (H5Sget_simple_extent_ndims(space.id) != 1)
-    return input_error({file}, fmt::format("dataset '{}' must be 1-D", dataset));
+    return input_error({file}, fmt::format("dataset '{}' must be 1-D", printable(dataset, 120)));
   hsize_t n = 0;
   H5Sget_simple_extent_dims(space.id, &n, nullptr);
   hdf5_data out;
@@ -44,7 +45,8 @@ result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& 
   // H5T_NATIVE_DOUBLE converts float32, integers and other byte orders on the fly.
   if (n > 0 &&
       H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.values.data()) < 0)
-    return input_error({file}, fmt::format("dataset '{}' cannot be read as numbers", dataset));
+    return input_error(
+        {file}, fmt::format("dataset '{}' cannot be read as numbers", printable(dataset, 120)));
   if (H5Aexists(d.id, "sample_rate_hz") > 0) {
     const handle a(H5Aopen(d.id, "sample_rate_hz", H5P_DEFAULT), H5Aclose);
     double hz = 0.0;

@@ -24,10 +24,15 @@ bool ends_with(std::string_view s, std::string_view suffix) {
 }
 
 status check_rate(const std::string& path, const std::optional<double>& rate_hz) {
-  if (!rate_hz) return input_error({path}, "binary input has no time column: give --rate HZ");
+  if (!rate_hz)
+    return about_parameter(
+        input_error({path}, "binary input has no time column: the sample rate must be given"),
+        "sample_rate_hz");
   if (!(*rate_hz > 0.0) || !std::isfinite(*rate_hz))
-    return usage_error(
-        fmt::format("--rate {} must be a positive number of samples per second", *rate_hz));
+    return parameter_error(
+        "sample_rate_hz",
+        fmt::format("the sample rate {} must be a positive number of samples per second",
+                    *rate_hz));
   return ok();
 }
 
@@ -158,6 +163,17 @@ class mapped_samples final : public analysis::sample_source {
   std::size_t count_;
 };
 
+// An error at data row `row` (0-based) of CSV `path`, column `column`: reads the file again up to
+// that row (only on this error path) for its line and column.
+error at_row(const std::string& path, std::size_t column, std::size_t row, std::string_view what) {
+  auto r = csv_reader::open(path);
+  if (!r) return input_error({path}, what);
+  r->select({column});
+  for (std::size_t k = 0; k <= row; ++k)
+    if (r->next() != csv_reader::step::row) return input_error({path}, what);
+  return r->error_at(0, what);
+}
+
 }  // namespace
 
 void series::hold(std::vector<double> values) {
@@ -180,15 +196,18 @@ result<series> read_series(const std::string& path_in, const series_options& opt
   }
   if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5")) {
     if (dataset.empty())
-      return usage_error(
-          fmt::format("{}: name the dataset, as FILE.h5:/path or --dataset /path", path));
+      return about_parameter(
+          input_error({path}, "name the dataset, as FILE.h5:/path or as the dataset parameter"),
+          "dataset");
     auto h = detail::read_hdf5_dataset(path, dataset);
     if (!h) return h.err();
     const auto rate = opt.sample_rate_hz ? opt.sample_rate_hz : h->sample_rate_hz;
     if (!rate)
-      return input_error(
-          {path},
-          fmt::format("dataset '{}' has no sample_rate_hz attribute: give --rate HZ", dataset));
+      return about_parameter(
+          input_error({path}, fmt::format("dataset '{}' has no sample_rate_hz attribute: the "
+                                          "sample rate must be given",
+                                          printable(dataset, 120))),
+          "sample_rate_hz");
     if (auto c = check_rate(path, rate); !c) return c.err();
     for (std::size_t i = 0; i < h->values.size(); ++i)
       if (!std::isfinite(h->values[i]))
@@ -240,7 +259,8 @@ result<series> read_series(const std::string& path_in, const series_options& opt
   if (!time) return time.err();
   const bool use_time = !opt.sample_rate_hz;
   if (use_time && !*time)
-    return input_error({path}, "no time_s column: give --rate HZ for the sample rate");
+    return about_parameter(input_error({path}, "no time_s column: the sample rate must be given"),
+                           "sample_rate_hz");
   r->select({*col, use_time ? **time : csv_reader::absent_column});
   std::vector<double> t;
   std::vector<double> values;
@@ -276,11 +296,11 @@ result<series> read_series(const std::string& path_in, const series_options& opt
   for (std::size_t k = 0; k < t.size(); ++k) {
     const double off = t[k] - (t.front() + static_cast<double>(k) * step);
     if (std::abs(off) > 0.5 * step)
-      return input_error(
-          {path},
-          fmt::format("sample {} (time_s {}) is {:.3g} s off the uniform grid of {:.6g} s: "
-                      "the record has a gap or uneven sampling (resample, or give --rate HZ)",
-                      k + 1, t[k], off, step));
+      return at_row(path, **time, k,
+                    fmt::format("sample {} (time_s {}) is {:.3g} s off the uniform grid of {:.6g} "
+                                "s: the record has a gap or uneven sampling (resample, or give "
+                                "the sample rate)",
+                                k + 1, t[k], off, step));
   }
   s.tau0_s_ = step;
   return s;

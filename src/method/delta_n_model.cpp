@@ -84,7 +84,8 @@ delta_n_model constant_model(double delta_n_dps, double stderr_dps) {
 
 result<delta_n_model> fit_delta_n_model(std::span<const delta_n_point> points, std::size_t degree) {
   if (degree > max_degree)
-    return usage_error(fmt::format("--degree {} is above the maximum {}", degree, max_degree));
+    return parameter_error(
+        "degree", fmt::format("the dN(T) degree {} is above the maximum {}", degree, max_degree));
   std::set<double> temps;
   for (const auto& p : points) {
     if (!std::isfinite(p.temp_c) || !std::isfinite(p.delta_n_dps) || !std::isfinite(p.stderr_dps))

@@ -38,7 +38,7 @@ bool to_double(std::string_view s, double& x) {
 }
 
 error bad_spec(std::string_view what, std::string_view spec, std::string_view why) {
-  return usage_error(fmt::format("{} '{}': {}", what, spec, why));
+  return usage_error(fmt::format("{} '{}': {}", what, printable(spec, 80), why));
 }
 
 // Parses "a:b:c" numbers after the kind word; `count` numbers (optional extra allowed).
@@ -51,7 +51,8 @@ result<std::vector<double>> numbers(std::string_view what, std::string_view spec
   std::vector<double> v(parts.size() - 1);
   for (std::size_t i = 1; i < parts.size(); ++i) {
     if (!to_double(parts[i], v[i - 1])) {
-      return bad_spec(what, spec, fmt::format("'{}' is not a finite number", parts[i]));
+      return bad_spec(what, spec,
+                      fmt::format("'{}' is not a finite number", printable(parts[i], 40)));
     }
   }
   return v;
@@ -74,7 +75,7 @@ status parse_steps(std::string_view what, std::string_view spec, std::string_vie
     double a = 0.0;
     double b = 0.0;
     if (tv.size() != 2 || !to_double(tv[0], a) || !to_double(tv[1], b)) {
-      return bad_spec(what, spec, fmt::format("'{}' is not TIME_S:VALUE", item));
+      return bad_spec(what, spec, fmt::format("'{}' is not TIME_S:VALUE", printable(item, 40)));
     }
     if (!t.empty() && !(a > t.back())) return bad_spec(what, spec, "times must increase");
     t.push_back(a);

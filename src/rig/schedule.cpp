@@ -33,7 +33,7 @@ void add_turn(std::vector<phase>& out, double from_deg, const turn_profile& turn
 
 result<schedule> schedule::make(const schedule_params& s, const stepper_params& m,
                                 double t_conv_s) {
-  if (s.n_avg < 1) return usage_error("--n-avg must be >= 1");
+  if (s.n_avg < 1) return parameter_error("n_avg", "conversions per dwell (n_avg) must be >= 1");
   if (!(s.settle_s >= 0.0) || !std::isfinite(s.settle_s))
     return usage_error("settle time must be >= 0 s");
   if (!std::isfinite(s.pos_a_deg) || !std::isfinite(s.pos_b_deg)) {

@@ -35,7 +35,7 @@ sample_block::sample_block(std::size_t capacity, bool with_truth)
 
 result<simulator> simulator::make(const simulation_config& c) {
   if (!(c.duration_s > 0.0) || !std::isfinite(c.duration_s))
-    return usage_error("--duration must be > 0 s");
+    return parameter_error("duration_s", "the duration must be > 0 s");
   auto adc = ad7739::make(c.adc, c.seed);
   if (!adc) return adc.err();
   const double t_conv = adc->conversion_time_s();

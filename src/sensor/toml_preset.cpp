@@ -59,7 +59,7 @@ result<preset> parse_toml_preset(std::string_view text, std::string_view file) {
       continue;
     }
     const auto* f = find_field(k);
-    if (f == nullptr) return input_error(loc, fmt::format("unknown key '{}'", k));
+    if (f == nullptr) return input_error(loc, fmt::format("unknown key '{}'", printable(k, 60)));
     const auto v = node.value<double>();  // integers are accepted as numbers too
     if (!v || !(node.is_floating_point() || node.is_integer())) {
       return input_error(loc, fmt::format("{}: must be a number ({})", k, f->unit));

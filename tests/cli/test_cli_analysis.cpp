@@ -156,15 +156,18 @@ TEST(CliAdev, BadInput) {
     std::string expect;
   };
   const std::vector<c> cases = {
-      {{"adev", d.file("gap.csv")}, "off the uniform grid"},
-      {{"adev", d.file("nocol.csv")}, "nocol.csv:1: missing required column 'rate_dps'"},
+      {{"adev", d.file("gap.csv")},
+       "gap.csv:4:1: sample 3 (time_s 2) is -1 s off the uniform grid"},
+      {{"adev", d.file("nocol.csv")}, "nocol.csv:1:1: missing required column 'rate_dps'"},
       {{"adev", d.file("bad.csv")}, "bad.csv:3:3: 'x' is not a number"},
       {{"adev", d.file("f4.npy"), "--rate", "1"},
        "f4.npy: .npy dtype must be little-endian float64"},
-      {{"adev", d.file("f4.npy")}, "f4.npy: binary input has no time column: give --rate HZ"},
+      {{"adev", d.file("f4.npy")},
+       "f4.npy: binary input has no time column: the sample rate must be given (option --rate)"},
       {{"adev", d.file("nan.npy"), "--rate", "1"}, "nan.npy: sample 2 (0-based) is not finite"},
       {{"adev", d.file("none.csv")}, "none.csv: No such file"},
-      {{"adev", d.file("bad.csv"), "--taus", "1,zz"}, "--taus '1,zz'"},
+      {{"adev", d.file("bad.csv"), "--taus", "1,zz"},
+       "'1,zz': expected octave, decade, all or averaging factors"},
       {{"noise", d.file("nocol.csv")}, "missing required column"},
   };
   for (const auto& k : cases) {

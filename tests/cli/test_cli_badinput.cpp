@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -197,6 +198,35 @@ TEST(CliBadInput, FileNameThatIsNotUtf8) {
   }
   EXPECT_EQ(run_cli({"adev", bad}).exit_code, 0);
   EXPECT_EQ(run_cli({"compensate", bad, "--delta-n", "0"}).exit_code, 0);
+}
+
+// Item 13: CLI11's own usage errors ("file is required\nRun with --help ...") did not follow the
+// documented `gyroflip: error: ...` form; messages echoed whole headers and raw control bytes.
+TEST(CliBadInput, MessagesFollowOneFormAndStayShortAndPrintable) {
+  for (const auto& args :
+       std::vector<std::vector<std::string>>{{"adev"},
+                                             {"adev", "x.csv", "--bogus"},
+                                             {"simulate", "--sensor", "x", "--duration", "abc"},
+                                             {},
+                                             {"adev", "x.csv", "--kind", "foo"},
+                                             {"adev", "x.csv", "--ci", "1"}}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(r.err.rfind("gyroflip: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  temp_dir d;
+  // A 512 KiB header without the column, and a header with control bytes.
+  write_text(d.file("wide.csv"), std::string(512 * 1024, 'h') + "\n1\n2\n3\n");
+  write_text(d.file("ctrl.csv"), "time_s,\x1b[31mred\n1,2\n2,3\n3,4\n");
+  for (const auto& f : {d.file("wide.csv"), d.file("ctrl.csv")}) {
+    const auto r = run_cli({"adev", f});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(f + ":1:1: missing required column 'rate_dps'"), std::string::npos)
+        << r.err.substr(0, 300);
+    EXPECT_LT(r.err.size(), 600u);
+    for (char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << r.err;
+  }
 }
 
 }  // namespace

@@ -191,9 +191,9 @@ std::vector<bad_case> bad_cases() {
   c.push_back({"empty.csv", "", ": empty file"});
   c.push_back({"header_only.csv", join({}), ": no data rows"});
   c.push_back({"no_rate.csv", "time_s,angle_deg,temp_c\n1,0,20\n",
-               ":1: missing required column 'rate_dps'"});
+               ":1:1: missing required column 'rate_dps'"});
   c.push_back({"dup.csv", "time_s,angle_deg,rate_dps,rate_dps\n1,0,2,3\n",
-               ":1: duplicated column 'rate_dps'"});
+               ":1:27: duplicated column 'rate_dps'"});
   c.push_back(
       {"non_numeric.csv", with(3, "2.700,180,abc,20.0,256\n"), ":5:11: 'abc' is not a number"});
   c.push_back(

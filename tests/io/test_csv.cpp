@@ -48,8 +48,8 @@ TEST(Csv, BadInputNamesFileLineAndColumn) {
       {"a,b\n1,-inf\n", ":2:3: '-inf' is not a finite number", "column 'b'"},
       {"a,b\n1,\n", ":2:3: empty field", "column 'b'"},
       {"a,b\n1,1e999\n", ":2:3: '1e999' is out of the range", "column 'b'"},
-      {"a,a\n1,2\n", ":1: duplicated column 'a'", "fields 1 and 2"},
-      {"x,y\n1,2\n", ":1: missing required column 'a'", "header: x,y"},
+      {"a,a\n1,2\n", ":1:3: duplicated column 'a'", "fields 1 and 2"},
+      {"x,y\n1,2\n", ":1:1: missing required column 'a'", "header: x,y"},
   };
   temp_dir d;
   for (const auto& c : cases) {

@@ -46,4 +46,11 @@ struct source_location {
 /// A bad argument (not tied to a file): `what`.
 [[nodiscard]] error usage_error(std::string_view what);
 
+/// A bad or missing value of library parameter `parameter` (a field or argument name such as
+/// `duration_s`): `what`, with `error::parameter` set so that a front end can name its option.
+[[nodiscard]] error parameter_error(std::string_view parameter, std::string_view what);
+
+/// `e` with `error::parameter` set (a file error that a parameter would resolve).
+[[nodiscard]] error about_parameter(error e, std::string_view parameter);
+
 }  // namespace gyroflip

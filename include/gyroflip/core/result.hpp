@@ -23,6 +23,9 @@ enum class errc {
 struct error {
   errc code;
   std::string message;
+  /// The library parameter the error is about (`sample_rate_hz`, `duration_s`, ...), or empty.
+  /// The library never names a CLI flag; a front end maps this to its own option name.
+  std::string parameter{};
 };
 
 /// Either a `T` or an `error`. Accessing the wrong alternative is a programming error.

@@ -124,6 +124,7 @@ class csv_reader {
   std::size_t line_ = 0;
   std::size_t header_line_ = 0;
   std::vector<std::string> header_;
+  std::vector<std::size_t> header_cols_;  // 1-based column where each header field starts
   std::vector<csv_metadata> metadata_;
   std::vector<std::size_t> selected_;
   std::vector<int> slot_of_column_;  // column index -> selected slot, -1 when not selected
