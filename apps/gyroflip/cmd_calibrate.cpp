@@ -129,6 +129,7 @@ int run_calibrate(const calibrate_options& o) {
     auto rc = io::read_cycles(file, *pairing, per_mille(bar));
     bar.finish();
     if (!rc) return report(rc.err());
+    for (const auto& w : rc->warnings) warn(w);
     auto cal = method::calibrate(rc->cycles);
     if (!cal) return report(input_error({file}, cal.err().message));
     rec.files.push_back({file, *cal});

@@ -96,6 +96,7 @@ int run_compensate(const compensate_options& o) {
   auto rc = io::read_cycles(o.file, p, per_mille(bar));
   bar.finish();
   if (!rc) return report(rc.err());
+  for (const auto& w : rc->warnings) warn(w);
   const auto& model = dn->model;
   if (model.degree() > 0 && !rc->has_temp)
     return report(input_error(

@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gyroflip/core/result.hpp"
@@ -18,6 +19,9 @@ namespace gyroflip::app {
 
 /// Prints `gyroflip: error: <message>` on stderr and returns the exit code for `e`.
 int report(const error& e);
+
+/// Prints `gyroflip: warning: <message>` on stderr (the run goes on).
+void warn(std::string_view message);
 
 struct earth_options {
   double lat_deg = 0.0;

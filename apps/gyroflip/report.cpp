@@ -20,6 +20,11 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
 
 }  // namespace
 
+void warn(std::string_view message) {
+  std::fprintf(stderr, "gyroflip: warning: %.*s\n", static_cast<int>(message.size()),
+               message.data());
+}
+
 int report(const error& e) {
   std::string_view option;
   for (const auto& [param, opt] : option_of_parameter)

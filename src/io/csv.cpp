@@ -55,6 +55,7 @@ std::optional<std::string_view> csv_reader::next_line() {
   const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', window));
   std::size_t len = nl != nullptr ? static_cast<std::size_t>(nl - begin) : window;
   pos_ += nl != nullptr ? len + 1 : len;
+  unterminated_ = nl == nullptr;
   ++line_;
   if (len > 0 && begin[len - 1] == '\r') --len;
   return std::string_view(begin, len);

@@ -89,6 +89,20 @@ csv_reader::step recording_reader::next(method::row& out) {
           s_navg, fmt::format("n_avg {} is not a whole number >= 1", csv_.cell(s_navg))));
     out.n_avg = static_cast<std::uint32_t>(n);
   }
+  // The last line has no newline although earlier lines do: the writer may have stopped inside
+  // this row (`...,20.03,2` where n_avg was 256). A cut n_avg would weigh the dwell wrongly and
+  // cannot be told from a true one, so that row is refused; other columns get a warning.
+  if (csv_.unterminated()) {
+    if (has_n_avg_)
+      return fail(
+          csv_.error_at(s_navg,
+                        "the file ends inside this row (no newline after it): it may have been cut "
+                        "short, so its n_avg cannot be trusted; complete or delete the line"));
+    warnings_.push_back(
+        input_error({path(), csv_.line()},
+                    "the file ends without a newline after this row: it may have been cut short")
+            .message);
+  }
   return csv_reader::step::row;
 }
 
@@ -116,6 +130,7 @@ result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
   }
   stream.flush(keep);
   rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
+  rc.warnings = reader->warnings();
   if (rc.rows == 0) return input_error({path}, "no data rows after the header");
   if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)
     return input_error(

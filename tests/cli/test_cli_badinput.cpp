@@ -229,5 +229,38 @@ TEST(CliBadInput, MessagesFollowOneFormAndStayShortAndPrintable) {
   }
 }
 
+// Item 10: a CSV cut inside its last field (`...,20.03,2` where n_avg was 256) was read as valid.
+TEST(CliBadInput, RecordingCutInsideItsLastRow) {
+  temp_dir d;
+  simulated_recording(d.file("whole.csv"));
+  std::string text = read_text(d.file("whole.csv"));
+  ASSERT_EQ(text.substr(text.size() - 4), "256\n");
+  write_text(d.file("cut.csv"), text.substr(0, text.size() - 3));  // "...,2"
+  const auto lines = std::count(text.begin(), text.end(), '\n');
+  const auto r = run_cli({"calibrate", d.file("cut.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(d.file("cut.csv") + ":" + std::to_string(lines) + ":"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("n_avg cannot be trusted"), std::string::npos) << r.err;
+  // Without an n_avg column the row is kept, with a warning naming its line.
+  std::string no_navg;
+  for (std::size_t at = 0; at < text.size();) {
+    const auto nl = text.find('\n', at);
+    std::string line = text.substr(at, nl - at);
+    if (!line.empty() && line[0] != '#') line = line.substr(0, line.rfind(','));
+    no_navg += line + "\n";
+    at = nl + 1;
+  }
+  no_navg.pop_back();
+  write_text(d.file("open.csv"), no_navg);
+  const auto w = run_cli({"calibrate", d.file("open.csv")});
+  EXPECT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_NE(w.err.find("gyroflip: warning: " + d.file("open.csv") + ":" + std::to_string(lines) +
+                       ": the file ends without a newline"),
+            std::string::npos)
+      << w.err;
+  EXPECT_EQ(run_cli({"calibrate", d.file("whole.csv")}).err, "");
+}
+
 }  // namespace
 }  // namespace gyroflip::test

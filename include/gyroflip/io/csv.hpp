@@ -104,6 +104,9 @@ class csv_reader {
   /// Builds an error located at the current line (no column).
   [[nodiscard]] error error_at_line(std::string_view what) const;
 
+  /// True when the current row's line ends the file without a newline: the file may have been
+  /// cut inside this row (a writer killed mid-line, a disk that filled up).
+  [[nodiscard]] bool unterminated() const noexcept { return unterminated_; }
   /// 1-based line number of the current row (or of the header before the first row).
   [[nodiscard]] std::size_t line() const noexcept { return line_; }
   /// Bytes consumed and total, for progress display.
@@ -123,6 +126,7 @@ class csv_reader {
   std::size_t pos_ = 0;
   std::size_t line_ = 0;
   std::size_t header_line_ = 0;
+  bool unterminated_ = false;
   std::vector<std::string> header_;
   std::vector<std::size_t> header_cols_;  // 1-based column where each header field starts
   std::vector<csv_metadata> metadata_;

@@ -26,6 +26,8 @@ class recording_reader {
   [[nodiscard]] const error& last_error() const noexcept { return error_; }
 
   [[nodiscard]] bool has_temp() const noexcept { return has_temp_; }
+  /// Warnings about rows that were read (`FILE:LINE: what`), e.g. a last line without newline.
+  [[nodiscard]] const std::vector<std::string>& warnings() const noexcept { return warnings_; }
   [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept {
     return csv_.metadata();
   }
@@ -43,6 +45,7 @@ class recording_reader {
   double last_time_s_ = -1e300;
   std::size_t last_time_line_ = 0;
   error error_{errc::bad_input, {}};
+  std::vector<std::string> warnings_;
 };
 
 /// The cycles of one recording plus what was seen while reading it.
@@ -53,6 +56,7 @@ struct recording_cycles {
   std::size_t dwells = 0;
   bool has_temp = false;
   std::vector<csv_metadata> metadata;
+  std::vector<std::string> warnings;  ///< `FILE:LINE: what`, for the caller to show
 };
 
 /// Reads a whole recording and forms its cycles with pairing `p`; `on_progress(bytes read,
