@@ -28,8 +28,11 @@ std::string csv_text(const std::vector<analysis::deviation_point>& pts) {
 }
 
 std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
-                      const std::vector<analysis::deviation_point>& pts) {
+                      const std::vector<analysis::deviation_point>& pts,
+                      const std::vector<analysis::dropped_factor>& dropped) {
   using nlohmann::json;
+  json gone = json::array();
+  for (const auto& d : dropped) gone.push_back({{"m", d.m}, {"tau_s", d.tau_s}, {"why", d.why}});
   json points = json::array();
   for (const auto& p : pts)
     points.push_back({{"tau_s", p.tau_s},
@@ -40,9 +43,14 @@ std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
                       {"edf", p.edf},
                       {"n", p.n},
                       {"alpha", p.alpha}});
-  return json{
-      {"kind", o.kind},     {"input", o.in.input}, {"file", o.in.file},          {"tau0_s", tau0_s},
-      {"samples", samples}, {"ci", o.ci},          {"points", std::move(points)}}
+  return json{{"kind", o.kind},
+              {"input", o.in.input},
+              {"file", o.in.file},
+              {"tau0_s", tau0_s},
+              {"samples", samples},
+              {"ci", o.ci},
+              {"points", std::move(points)},
+              {"dropped", std::move(gone)}}
       .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
@@ -82,13 +90,19 @@ int run_adev(const adev_options& o) {
   auto pts = analysis::deviation(*kind, in->phase, *taus, per_mille(bar));
   bar.finish();
   if (!pts) return report(pts.err());
+  // Factors asked for by name but without a single term: say which and why (not silently).
+  const auto dropped =
+      analysis::dropped_factors(*taus, *pts, *kind, in->phase.size(), in->phase.tau0_s());
+  for (const auto& d : dropped)
+    warn(fmt::format("{}: averaging factor {} dropped: {}", o.in.file, d.m, d.why));
   progress ci_bar("noise identification", 1000);
   analysis::add_confidence(*pts, *kind, in->phase, o.ci, per_mille(ci_bar));
   ci_bar.finish();
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, csv_text(*pts)); !s) return report(s.err());
   if (o.json) {
-    fmt::print("{}\n", json_text(o, in->phase.tau0_s(), in->series.samples().size(), *pts));
+    fmt::print("{}\n",
+               json_text(o, in->phase.tau0_s(), in->series.samples().size(), *pts, dropped));
   } else if (o.output.empty()) {
     fmt::print("{}", csv_text(*pts));
   }

@@ -117,6 +117,7 @@ int run_calibrate(const calibrate_options& o) {
   auto geometry = geometry_of(o);
   if (!geometry) return report(geometry.err());
   if (auto s = io::check_outputs(o.files, std::array{o.output}); !s) return report(s.err());
+  if (auto s = io::check_distinct_inputs(o.files); !s) return report(s.err());
   // The calibration record names its files, and it is JSON (docs/FORMATS.md).
   for (const auto& file : o.files)
     if (auto s = check_name_for_json(file); !s) return report(s.err());

@@ -244,6 +244,28 @@ result<std::vector<deviation_point>> deviation(dev_kind k, const phase_source& x
   return collect(factors, raw_deviations(k, x, factors, on_progress), x.tau0_s());
 }
 
+std::vector<dropped_factor> dropped_factors(const tau_spec& spec,
+                                            std::span<const deviation_point> points, dev_kind k,
+                                            std::size_t n_phase, double tau0_s) {
+  std::vector<dropped_factor> out;
+  if (spec.kind != tau_spec::set::list) return out;
+  for (std::size_t m : spec.factors) {
+    const bool kept = std::any_of(points.begin(), points.end(),
+                                  [m](const deviation_point& p) { return p.m == m; });
+    if (kept || std::any_of(out.begin(), out.end(), [m](auto& d) { return d.m == m; })) continue;
+    std::size_t need = 2 * m + 1;  // ADEV, OADEV: x_i, x_{i+m}, x_{i+2m}
+    if (k == dev_kind::mdev || k == dev_kind::tdev) need = 3 * m;
+    if (k == dev_kind::hdev || k == dev_kind::ohdev) need = 3 * m + 1;
+    if (k == dev_kind::totdev) need = m + 1;
+    const double tau_s = static_cast<double>(m) * tau0_s;
+    out.push_back(
+        {m, tau_s,
+         fmt::format("{} at tau = {:g} s needs at least {} phase points; the series has {}",
+                     to_string(k), tau_s, need, n_phase)});
+  }
+  return out;
+}
+
 result<std::vector<deviation_point>> deviation_of_phase(dev_kind k, std::span<const double> x,
                                                         double tau0_s, const tau_spec& taus,
                                                         const progress_fn& on_progress) {

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <optional>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -293,6 +294,21 @@ status check_outputs(std::span<const std::string> inputs, std::span<const std::s
           return input_error({out}, fmt::format("is the same file as output {}", *name));
       new_outs.emplace_back(&out, std::move(*r));
     }
+  }
+  return ok();
+}
+
+status check_distinct_inputs(std::span<const std::string> inputs) {
+  std::vector<std::tuple<const std::string*, dev_t, ino_t>> seen;
+  for (const auto& in : inputs) {
+    struct stat st {};
+    if (in.empty() || ::stat(in.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+    for (const auto& [name, dev, ino] : seen)
+      if (dev == st.st_dev && ino == st.st_ino)
+        return input_error({in}, fmt::format("is given twice (also as {}); each recording may be "
+                                             "used once",
+                                             printable(*name, 200)));
+    seen.emplace_back(&in, st.st_dev, st.st_ino);
   }
   return ok();
 }

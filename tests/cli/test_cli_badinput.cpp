@@ -262,5 +262,26 @@ TEST(CliBadInput, RecordingCutInsideItsLastRow) {
   EXPECT_EQ(run_cli({"calibrate", d.file("whole.csv")}).err, "");
 }
 
+// Item 11: the same file given twice to calibrate was pooled twice (its standard error shrank by
+// sqrt(2)); `adev --taus 1,10,1000` silently dropped 1000.
+TEST(CliBadInput, SameRecordingTwiceAndDroppedFactorsAreSaid) {
+  temp_dir d;
+  simulated_recording(d.file("r.csv"));
+  ::link(d.file("r.csv").c_str(), d.file("again.csv").c_str());
+  for (const auto& second : {d.file("r.csv"), d.path() + "/./r.csv", d.file("again.csv")}) {
+    const auto r = run_cli({"calibrate", d.file("r.csv"), second});
+    EXPECT_EQ(r.exit_code, 2) << second;
+    EXPECT_NE(r.err.find("is given twice"), std::string::npos) << r.err;
+  }
+  // 300 s at ~1.79 s per dwell pair: about 330 rows, so m = 1000 has no term.
+  const auto a = run_cli({"adev", d.file("r.csv"), "--taus", "1,10,1000", "--json"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_NE(a.err.find("gyroflip: warning: " + d.file("r.csv") +
+                       ": averaging factor 1000 dropped: oadev at tau = "),
+            std::string::npos)
+      << a.err;
+  EXPECT_NE(a.out.find("\"dropped\":[{\"m\":1000,"), std::string::npos) << a.out;
+}
+
 }  // namespace
 }  // namespace gyroflip::test

@@ -20,6 +20,7 @@
 #include <functional>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -110,6 +111,22 @@ struct raw_deviation {
 [[nodiscard]] result<std::vector<deviation_point>> deviation_of_phase(
     dev_kind k, std::span<const double> x, double tau0_s, const tau_spec& taus,
     const progress_fn& on_progress = {});
+
+/// An averaging factor that was asked for (a `list` of factors) but has no point in the curve.
+struct dropped_factor {
+  std::size_t m = 0;
+  double tau_s = 0.0;
+  std::string why;
+};
+
+/// The factors of a `list` spec that `points` (the curve of statistic `k` on `n_phase` phase
+/// points spaced `tau0_s`) does not have, each with the reason: a statistic needs at least one
+/// difference of its order at m, i.e. ADEV and OADEV 2m + 1 phase points, MDEV and TDEV 3m,
+/// HDEV and OHDEV 3m + 1, TOTDEV (reflected) m + 1. Empty for octave, decade and all.
+[[nodiscard]] std::vector<dropped_factor> dropped_factors(const tau_spec& spec,
+                                                          std::span<const deviation_point> points,
+                                                          dev_kind k, std::size_t n_phase,
+                                                          double tau0_s);
 
 /// allantools-style shorthands (octave taus unless given).
 [[nodiscard]] result<std::vector<deviation_point>> oadev(std::span<const double> data,

@@ -84,6 +84,11 @@ class atomic_file {
 [[nodiscard]] status check_outputs(std::span<const std::string> inputs,
                                    std::span<const std::string> outputs);
 
+/// Checks that no file is among `inputs` twice, by any name (same device and inode): pooling a
+/// recording twice would shrink its standard error by sqrt(2) for nothing. Errors: `FILE: ...`
+/// naming both spellings (bad input).
+[[nodiscard]] status check_distinct_inputs(std::span<const std::string> inputs);
+
 /// Removes every temporary file not yet committed. Async-signal-safe (only unlink(2)): for
 /// SIGINT/SIGTERM/SIGHUP handlers, before the process dies.
 void remove_temporary_files() noexcept;
