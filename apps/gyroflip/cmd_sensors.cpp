@@ -1,5 +1,8 @@
 /// \file
 /// \brief `gyroflip sensors`: the built-in sensor presets with parameters, units and sources.
+#include <cmath>
+#include <string>
+
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -8,6 +11,20 @@
 #include "gyroflip/sensor/presets.hpp"
 
 namespace gyroflip::app {
+
+namespace {
+
+// An unbounded side of a parameter's range is null in JSON and empty in the text listing.
+nlohmann::json bound(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+std::string range_text(const sensor::field_info& f) {
+  const auto side = [](double v) { return std::isfinite(v) ? fmt::format("{:g}", v) : ""; };
+  return fmt::format("[{}, {}]", side(f.min_value), side(f.max_value));
+}
+
+}  // namespace
 
 int run_sensors(const sensors_options& o) {
   const auto& presets = sensor::builtin_presets();
@@ -19,7 +36,9 @@ int run_sensors(const sensors_options& o) {
         params[std::string(f.key)] = {{"value", p.params.*f.member},
                                       {"unit", f.unit},
                                       {"what", f.what},
-                                      {"source", p.source_of(f.key)}};
+                                      {"source", p.source_of(f.key)},
+                                      {"min", bound(f.min_value)},
+                                      {"max", bound(f.max_value)}};
       }
       list.push_back({{"name", p.name}, {"description", p.description}, {"params", params}});
     }
@@ -27,12 +46,16 @@ int run_sensors(const sensors_options& o) {
                            -1, ' ', false, nlohmann::json::error_handler_t::replace));
     return 0;
   }
+  fmt::print(
+      "Columns: parameter, value, unit, allowed range (a preset file may set values within it),\n"
+      "source. The ranges bound the simulator's work: a simulated hour takes about a second\n"
+      "whatever the preset (docs/SIMULATOR.md, \"Limits\").\n\n");
   for (const auto& p : presets) {
     fmt::print("{}: {}\n", p.name, p.description);
     for (const auto& f : sensor::fields()) {
       const auto src = p.source_of(f.key);
-      fmt::print("  {:<26} {:>12} {:<13} {}\n", f.key, fmt::format("{}", p.params.*f.member),
-                 f.unit, src.empty() ? "default (not applicable)" : src);
+      fmt::print("  {:<26} {:>12} {:<13} {:<14} {}\n", f.key, fmt::format("{}", p.params.*f.member),
+                 f.unit, range_text(f), src.empty() ? "default (not applicable)" : src);
     }
   }
   return 0;

@@ -423,4 +423,29 @@ TEST(TomlPreset, ParsesAndReportsPositions) {
 }
 
 }  // namespace
+// Regression (issue 13 item 3, 2026-11-23): a preset the validator accepted
+// (flicker_tau_min_s = 1e-6) made `simulate` take ~4 h for an hour. The bounds now keep the
+// slow-bias work per simulated second small for every accepted preset: checked on the extremes.
+TEST(SensorLimits, WorstAcceptedPresetHasBoundedWork) {
+  sensor_params p = find_builtin("hz1-90-100a")->params;
+  for (const auto& f : fields()) {
+    if (f.key == "flicker_tau_min_s" || f.key == "warmup_tau_s") p.*f.member = f.min_value;
+    if (f.key == "flicker_tau_max_s") p.*f.member = f.max_value;
+  }
+  p.warmup_amplitude_dps = 1.0;
+  ASSERT_TRUE(validate(p));
+  const slow_bias s(p, 0.0, 1);
+  EXPECT_GE(s.grid_step_s(), 1e-4);
+  EXPECT_LE(s.flicker_poles(), 25u);
+  // Grid points x (parts + 2) per simulated hour: below 1e9 operations.
+  EXPECT_LT(3600.0 / s.grid_step_s() * static_cast<double>(s.flicker_poles() + 2), 1e9);
+  // What used to hang is refused, with the parameter and its range named.
+  p.flicker_tau_min_s = 1e-6;
+  const auto r = validate(p);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.err().message.find("flicker_tau_min_s = 1e-06: must be within [0.001, 1000000000]"),
+            std::string::npos)
+      << r.err().message;
+}
+
 }  // namespace gyroflip::sensor

@@ -113,6 +113,9 @@ class slow_bias {
     return (i1 - i0) * inv_width_per_s;
   }
   [[nodiscard]] double grid_step_s() const noexcept { return h_; }
+  /// Gauss-Markov parts of the flicker bank (0 when off). The work per simulated second is
+  /// about (parts + 2) / grid_step_s(): sensor_params' bounds keep it below ~3e5.
+  [[nodiscard]] std::size_t flicker_poles() const noexcept { return flicker_.size(); }
 
  private:
   void advance() noexcept;
