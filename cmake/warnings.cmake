@@ -13,7 +13,8 @@ if(GYROFLIP_WERROR)
   target_compile_options(gyroflip_flags INTERFACE -Werror)
 endif()
 if(GYROFLIP_SANITIZE)
-  target_compile_options(gyroflip_flags INTERFACE -fsanitize=address,undefined -fno-sanitize-recover=all
+  target_compile_options(gyroflip_flags INTERFACE -fsanitize=address,undefined,float-cast-overflow
+                                                  -fno-sanitize-recover=all
                                                   -fno-omit-frame-pointer)
-  target_link_options(gyroflip_flags INTERFACE -fsanitize=address,undefined)
+  target_link_options(gyroflip_flags INTERFACE -fsanitize=address,undefined,float-cast-overflow)
 endif()

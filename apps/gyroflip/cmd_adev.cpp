@@ -2,6 +2,8 @@
 /// \brief `gyroflip adev`: an Allan-family deviation curve with confidence intervals.
 #include "cmd_adev.hpp"
 
+#include "finite_output.hpp"
+
 #include <array>
 #include <cmath>
 
@@ -27,9 +29,9 @@ std::string csv_text(const std::vector<analysis::deviation_point>& pts) {
   return s;
 }
 
-std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
-                      const std::vector<analysis::deviation_point>& pts,
-                      const std::vector<analysis::dropped_factor>& dropped) {
+nlohmann::json json_of(const adev_options& o, double tau0_s, std::size_t samples,
+                       const std::vector<analysis::deviation_point>& pts,
+                       const std::vector<analysis::dropped_factor>& dropped) {
   using nlohmann::json;
   json gone = json::array();
   for (const auto& d : dropped) gone.push_back({{"m", d.m}, {"tau_s", d.tau_s}, {"why", d.why}});
@@ -50,8 +52,7 @@ std::string json_text(const adev_options& o, double tau0_s, std::size_t samples,
               {"samples", samples},
               {"ci", o.ci},
               {"points", std::move(points)},
-              {"dropped", std::move(gone)}}
-      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+              {"dropped", std::move(gone)}};
 }
 
 }  // namespace
@@ -68,7 +69,8 @@ result<analysis_input> load_series(const series_input& in) {
   auto phase = analysis::phase_source::make(s->samples(), kind, s->tau0_s(), per_mille(bar));
   bar.finish();
   // The sample rate was checked when reading, so what fails here is the data: name the file.
-  if (!phase) return input_error({in.file}, phase.err().message);
+  if (!phase)
+    return about_parameter(input_error({in.file}, phase.err().message), phase.err().parameter);
   // series keeps its samples on the heap: the source's reference survives the move.
   return analysis_input{std::move(*s), std::move(*phase)};
 }
@@ -98,13 +100,23 @@ int run_adev(const adev_options& o) {
   progress ci_bar("noise identification", 1000);
   analysis::add_confidence(*pts, *kind, in->phase, o.ci, per_mille(ci_bar));
   ci_bar.finish();
-  if (!o.output.empty())
-    if (auto s = io::write_file_atomically(o.output, csv_text(*pts)); !s) return report(s.err());
+  // Everything is formatted and checked before anything is written (finite_output.hpp).
+  const std::string csv = csv_text(*pts);
+  if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
+    return report(s.err());
+  std::string json_line;
   if (o.json) {
-    fmt::print("{}\n",
-               json_text(o, in->phase.tau0_s(), in->series.samples().size(), *pts, dropped));
+    auto t = finite_dump(json_of(o, in->phase.tau0_s(), in->series.samples().size(), *pts, dropped),
+                         "<stdout>");
+    if (!t) return report(t.err());
+    json_line = *t + "\n";
+  }
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
+  if (o.json) {
+    fmt::print("{}", json_line);
   } else if (o.output.empty()) {
-    fmt::print("{}", csv_text(*pts));
+    fmt::print("{}", csv);
   }
   return 0;
 }

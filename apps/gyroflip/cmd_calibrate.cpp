@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "finite_output.hpp"
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
@@ -78,35 +80,43 @@ result<std::optional<method::delta_n_model>> fit_model(
   return std::optional<method::delta_n_model>{std::move(*m)};
 }
 
-void print_entry(const io::calibration_entry& e, const std::optional<io::calibration_geometry>& g) {
+void print_entry(std::string& out, const io::calibration_entry& e,
+                 const std::optional<io::calibration_geometry>& g) {
   const auto& c = e.cal;
-  fmt::print("{}: {} cycles over {:.0f} s", e.file, c.cycles, c.duration_s);
-  if (!std::isnan(c.temp_c)) fmt::print(", {:.2f} degC", c.temp_c);
-  fmt::print("\n  dN = {:.6e} deg/s   std {:.3e}   stderr {:.3e} (naive) {:.3e} (correlated)\n",
-             c.delta_n_dps, c.std_dps, c.stderr_dps, c.stderr_correlated_dps);
-  fmt::print("  bias (half-sum) mean {:.6e} deg/s\n", c.bias_mean_dps);
+  fmt::format_to(std::back_inserter(out), "{}: {} cycles over {:.0f} s", e.file, c.cycles,
+                 c.duration_s);
+  if (!std::isnan(c.temp_c)) fmt::format_to(std::back_inserter(out), ", {:.2f} degC", c.temp_c);
+  fmt::format_to(std::back_inserter(out),
+                 "\n  dN = {:.6e} deg/s   std {:.3e}   stderr {:.3e} (naive) {:.3e} (correlated)\n",
+                 c.delta_n_dps, c.std_dps, c.stderr_dps, c.stderr_correlated_dps);
+  fmt::format_to(std::back_inserter(out), "  bias (half-sum) mean {:.6e} deg/s\n", c.bias_mean_dps);
   if (g) {
     const auto s = method::split_delta_n(c.delta_n_dps, g->lat_deg, g->axis);
-    fmt::print("  Earth term {:.6e} deg/s   g term {:.6e} deg/s\n", s.earth_rate_dps, s.g_term_dps);
+    fmt::format_to(std::back_inserter(out), "  Earth term {:.6e} deg/s   g term {:.6e} deg/s\n",
+                   s.earth_rate_dps, s.g_term_dps);
   }
 }
 
-void print_summary(const io::calibration_record& rec) {
-  fmt::print("pairing: {}\n", method::to_string(rec.pairing));
-  for (const auto& f : rec.files) print_entry(f, rec.geometry);
-  if (rec.files.size() > 1) print_entry({"all files", rec.pooled}, rec.geometry);
+std::string summary_text(const io::calibration_record& rec) {
+  std::string out;
+  fmt::format_to(std::back_inserter(out), "pairing: {}\n", method::to_string(rec.pairing));
+  for (const auto& f : rec.files) print_entry(out, f, rec.geometry);
+  if (rec.files.size() > 1) print_entry(out, {"all files", rec.pooled}, rec.geometry);
   if (rec.model) {
     const auto& m = *rec.model;
     if (m.degree() == 0) {
-      fmt::print("dN over {} runs (weighted mean) = {:.6e} +- {:.3e} deg/s, chi2/dof {:.3g}\n",
-                 rec.files.size(), m.coeffs_dps[0], m.stderr_at(0.0), m.chi2_per_dof);
+      fmt::format_to(std::back_inserter(out),
+                     "dN over {} runs (weighted mean) = {:.6e} +- {:.3e} deg/s, chi2/dof {:.3g}\n",
+                     rec.files.size(), m.coeffs_dps[0], m.stderr_at(0.0), m.chi2_per_dof);
     } else {
-      fmt::print(
+      fmt::format_to(
+          std::back_inserter(out),
           "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.6e}], fitted over {:.1f}..{:.1f} degC, chi2/dof "
           "{:.3g}\n",
           m.t_ref_c, fmt::join(m.coeffs_dps, ", "), m.temp_min_c, m.temp_max_c, m.chi2_per_dof);
     }
   }
+  return out;
 }
 
 }  // namespace
@@ -144,14 +154,14 @@ int run_calibrate(const calibrate_options& o) {
   if (!model) return report(model.err());
   rec.model = *model;
 
-  const std::string text = io::to_json(rec, GYROFLIP_VERSION);
+  // Formatted and checked (every number finite) before anything is written.
+  const auto text = io::to_json(rec, GYROFLIP_VERSION);
+  if (!text) return report(text.err());
+  const std::string summary = o.json ? *text + "\n" : summary_text(rec);
+  if (auto s = check_finite(summary, "<stdout>"); !s) return report(s.err());
   if (!o.output.empty())
-    if (auto s = io::write_file_atomically(o.output, text + "\n"); !s) return report(s.err());
-  if (o.json) {
-    fmt::print("{}\n", text);
-  } else {
-    print_summary(rec);
-  }
+    if (auto s = io::write_file_atomically(o.output, *text + "\n"); !s) return report(s.err());
+  fmt::print("{}", summary);
   return 0;
 }
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
@@ -25,8 +26,8 @@ struct delta_n_source {
 
 result<delta_n_source> load_delta_n(const compensate_options& o) {
   if (o.calibration.empty()) {
-    if (!std::isfinite(o.delta_n_dps))
-      return usage_error("--delta-n must be a finite number (deg/s)");
+    if (!(std::abs(o.delta_n_dps) <= io::csv_reader::max_magnitude))
+      return usage_error("--delta-n must be a finite number within +-1e100 (deg/s)");
     return delta_n_source{method::constant_model(o.delta_n_dps), std::nullopt};
   }
   auto rec = io::read_calibration_file(o.calibration);
@@ -50,16 +51,18 @@ status write_csv(const std::string& path, const std::vector<method::compensated_
     fmt::format_to(std::back_inserter(buf), "{},{},{},{},{}\n", c.time_s, c.rate_dps, c.bias_dps,
                    format_value(c.temp_c), c.delta_n_dps);
     if (buf.size() > (1u << 16)) {
+      if (auto s = check_finite({buf.data(), buf.size()}, path); !s) return s;
       f->write({buf.data(), buf.size()});
       buf.clear();
     }
   }
+  if (auto s = check_finite({buf.data(), buf.size()}, path); !s) return s;
   f->write({buf.data(), buf.size()});
   return f->commit();
 }
 
-std::string summary_json(const method::compensation_summary& s, const compensate_options& o,
-                         method::pairing p) {
+nlohmann::json summary_json(const method::compensation_summary& s, const compensate_options& o,
+                            method::pairing p) {
   using nlohmann::json;
   return json{{"file", o.file},
               {"pairing", method::to_string(p)},
@@ -70,8 +73,7 @@ std::string summary_json(const method::compensation_summary& s, const compensate
               {"stderr_dps", s.stderr_dps},
               {"stderr_correlated_dps", s.stderr_correlated_dps},
               {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
-              {"drift_window_s", s.drift_window_s}}
-      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+              {"drift_window_s", s.drift_window_s}};
 }
 
 }  // namespace
@@ -117,19 +119,30 @@ int run_compensate(const compensate_options& o) {
         "gyroflip: warning: {}: some cycles lie outside the dN(T) model's {:.1f}..{:.1f} degC\n",
         o.file, model.temp_min_c, model.temp_max_c);
 
+  // Every number is checked before anything is written (finite_output.hpp): the rows, so that
+  // stdout gets no partial table, and the summary.
+  for (const auto& c : out)
+    if (!std::isfinite(c.time_s) || !std::isfinite(c.rate_dps) || !std::isfinite(c.bias_dps) ||
+        !std::isfinite(c.delta_n_dps))
+      return report(check_finite("nan", o.output.empty() ? "<stdout>" : o.output).err());
   const auto summary = method::summarize(out, o.drift_window_s);
-  if (!o.output.empty() || !o.json)
-    if (auto s = write_csv(o.output.empty() ? "-" : o.output, out); !s) return report(s.err());
+  std::string summary_text;
   if (o.json) {
-    fmt::print("{}\n", summary_json(summary, o, p));
+    auto t = finite_dump(summary_json(summary, o, p), "<stdout>");
+    if (!t) return report(t.err());
+    summary_text = *t + "\n";
   } else if (!o.output.empty()) {
-    fmt::print(
+    summary_text = fmt::format(
         "{}: {} cycles, mean {:.6e} deg/s, std {:.3e}, stderr {:.3e} (correlated), drift {} over "
         "{} s\n",
         o.file, summary.cycles, summary.mean_dps, summary.std_dps, summary.stderr_correlated_dps,
         summary.drift_dps ? fmt::format("{:.3e} deg/s", *summary.drift_dps) : std::string("n/a"),
         summary.drift_window_s);
+    if (auto s = check_finite(summary_text, "<stdout>"); !s) return report(s.err());
   }
+  if (!o.output.empty() || !o.json)
+    if (auto s = write_csv(o.output.empty() ? "-" : o.output, out); !s) return report(s.err());
+  fmt::print("{}", summary_text);
   return 0;
 }
 

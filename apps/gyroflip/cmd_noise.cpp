@@ -1,12 +1,15 @@
 /// \file
 /// \brief `gyroflip noise`: IEEE 952 noise terms (Q, N, B, K, R) with intervals and units.
 #include <cmath>
+#include <iterator>
+#include <string>
 
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 
 #include "cmd_adev.hpp"
+#include "finite_output.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
 #include "gyroflip/core/error.hpp"
@@ -51,7 +54,8 @@ int run_noise(const noise_options& o) {
   const double tau0_s = in->phase.tau0_s();
   const std::size_t samples = in->series.samples().size();
   const auto fit = analysis::fit_noise_terms(*pts, o.ci);
-  if (!fit) return report(fit.err());
+  // Too few points for the fit is a property of this input (too short a series): name it.
+  if (!fit) return report(input_error({o.in.file}, fit.err().message));
   const auto& f = *fit;
   if (o.json) {
     json j = {{"file", o.in.file},
@@ -78,19 +82,23 @@ int run_noise(const noise_options& o) {
                         {"ci_hi", p.ci_hi},
                         {"edf", p.edf}});
     j["oadev"] = std::move(points);
-    fmt::print("{}\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    if (auto s = print_json(j); !s) return report(s.err());
     return 0;
   }
-  fmt::print("{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV ({:g} % intervals)\n", o.in.file,
-             samples, 1.0 / tau0_s, 100.0 * f.level);
-  fmt::print("  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz)\n", show(f.arw, 60.0),
-             show(f.arw, 1.0));
-  fmt::print("  bias instability  B    {} deg/h   (OADEV floor {:.4g} deg/s at tau {:g} s)\n",
-             show(f.bias_instability, 3600.0), f.bias_floor_dev, f.bias_floor_tau_s);
-  fmt::print("  rate random walk  K    {} deg/h/sqrt(h)\n", show(f.rrw, 216000.0));
-  fmt::print("  quantization      Q    {} deg\n", show(f.quantization, 1.0));
-  fmt::print("  rate ramp         R    {} deg/h^2\n", show(f.rate_ramp, 3600.0 * 3600.0));
-  fmt::print("  fit chi2/dof {:.3g}\n", f.chi2_per_dof);
+  std::string text;
+  const auto out = std::back_inserter(text);
+  fmt::format_to(out, "{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV ({:g} % intervals)\n",
+                 o.in.file, samples, 1.0 / tau0_s, 100.0 * f.level);
+  fmt::format_to(out, "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz)\n",
+                 show(f.arw, 60.0), show(f.arw, 1.0));
+  fmt::format_to(out,
+                 "  bias instability  B    {} deg/h   (OADEV floor {:.4g} deg/s at tau {:g} s)\n",
+                 show(f.bias_instability, 3600.0), f.bias_floor_dev, f.bias_floor_tau_s);
+  fmt::format_to(out, "  rate random walk  K    {} deg/h/sqrt(h)\n", show(f.rrw, 216000.0));
+  fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, 1.0));
+  fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n", show(f.rate_ramp, 3600.0 * 3600.0));
+  fmt::format_to(out, "  fit chi2/dof {:.3g}\n", f.chi2_per_dof);
+  if (auto s = print_checked(text, "<stdout>"); !s) return report(s.err());
   return 0;
 }
 

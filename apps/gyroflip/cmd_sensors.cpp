@@ -1,6 +1,7 @@
 /// \file
 /// \brief `gyroflip sensors`: the built-in sensor presets with parameters, units and sources.
 #include <cmath>
+#include <iterator>
 #include <string>
 
 #include <fmt/format.h>
@@ -8,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cmd_simulate.hpp"
+#include "commands.hpp"
+#include "finite_output.hpp"
 #include "gyroflip/sensor/presets.hpp"
 
 namespace gyroflip::app {
@@ -42,22 +45,26 @@ int run_sensors(const sensors_options& o) {
       }
       list.push_back({{"name", p.name}, {"description", p.description}, {"params", params}});
     }
-    fmt::print("{}\n", nlohmann::json{{"sensors", list}}.dump(
-                           -1, ' ', false, nlohmann::json::error_handler_t::replace));
+    if (auto s = print_json(nlohmann::json{{"sensors", list}}); !s) return report(s.err());
     return 0;
   }
-  fmt::print(
+  std::string text;
+  const auto out = std::back_inserter(text);
+  fmt::format_to(
+      out,
       "Columns: parameter, value, unit, allowed range (a preset file may set values within it),\n"
       "source. The ranges bound the simulator's work: a simulated hour takes about a second\n"
       "whatever the preset (docs/SIMULATOR.md, \"Limits\").\n\n");
   for (const auto& p : presets) {
-    fmt::print("{}: {}\n", p.name, p.description);
+    fmt::format_to(out, "{}: {}\n", p.name, p.description);
     for (const auto& f : sensor::fields()) {
       const auto src = p.source_of(f.key);
-      fmt::print("  {:<26} {:>12} {:<13} {:<14} {}\n", f.key, fmt::format("{}", p.params.*f.member),
-                 f.unit, range_text(f), src.empty() ? "default (not applicable)" : src);
+      fmt::format_to(out, "  {:<26} {:>12} {:<13} {:<18} {}\n", f.key,
+                     fmt::format("{}", p.params.*f.member), f.unit, range_text(f),
+                     src.empty() ? "default (not applicable)" : src);
     }
   }
+  if (auto s = print_checked(text, "<stdout>"); !s) return report(s.err());
   return 0;
 }
 

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/rig/simulator.hpp"
@@ -172,6 +173,9 @@ int run_simulate(const simulate_options& o) {
         }
       }
     }
+    // The gate of every written number (finite_output.hpp); on failure the temporaries go.
+    if (auto s = check_finite({rec.data(), rec.size()}, o.out); !s) return report(s.err());
+    if (auto s = check_finite({tru.data(), tru.size()}, o.truth); !s) return report(s.err());
     out->write(std::string_view(rec.data(), rec.size()));
     if (truth) truth->write(std::string_view(tru.data(), tru.size()));
     bar.update(sim->produced());

@@ -64,13 +64,21 @@ void fold_all(const sample_source& s, State init, Step step, Out out, const prog
       p);
 }
 
-// Block b's sum is not finite: name the first non-finite sample, or say it overflowed.
+// Block b's sum is not finite or it holds a sample beyond max_sample_magnitude: name the first
+// such sample, or say the sum overflowed.
 error bad_block(const sample_source& s, std::size_t b) {
   const std::size_t first = b * block;
   const auto y = s.view(first, std::min(block, s.size() - first));
-  for (std::size_t i = 0; i < y.size(); ++i)
+  for (std::size_t i = 0; i < y.size(); ++i) {
     if (!std::isfinite(y[i]))
       return usage_error(fmt::format("sample {} (0-based) is not finite", first + i));
+    if (std::abs(y[i]) > phase_source::max_sample_magnitude)
+      return usage_error(
+          fmt::format("sample {} (0-based) is {:g}, beyond +-{:g}, the largest "
+                      "magnitude the analysis takes (squares of sums must not "
+                      "overflow)",
+                      first + i, y[i], phase_source::max_sample_magnitude));
+  }
   return usage_error(
       fmt::format("samples {}..{} are too large: their sum overflows", first, first + y.size()));
 }
@@ -96,8 +104,10 @@ phase_source::phase_source(const sample_source& samples, input_kind in, double t
 
 result<phase_source> phase_source::make(const sample_source& samples, input_kind in, double tau0_s,
                                         const progress_fn& on_progress) {
-  if (!(tau0_s > 0.0) || !std::isfinite(tau0_s))
-    return usage_error(fmt::format("sample interval {} s must be positive and finite", tau0_s));
+  if (!(tau0_s >= min_tau0_s && tau0_s <= max_tau0_s))
+    return parameter_error("sample_rate_hz",
+                           fmt::format("sample interval {:g} s is outside [{:g}, {:g}] s", tau0_s,
+                                       min_tau0_s, max_tau0_s));
   phase_source p(samples, in, tau0_s);
   const auto st =
       in == input_kind::rate ? p.prepare_rate(on_progress) : p.prepare_angle(on_progress);
@@ -116,12 +126,25 @@ status phase_source::prepare_angle(const progress_fn& on_progress) {
   x0_ = s.view(0, 1)[0];
   if (!std::isfinite(x0_)) return bad_block(s, 0);
   sum_.assign(blocks(), 0.0L);
+  std::vector<double> largest(blocks());
   const auto x0 = static_cast<long double>(x0_);
+  struct fold {
+    long double sum = 0.0L;
+    double largest = 0.0;  // max |v|: samples beyond max_sample_magnitude are refused
+  };
   fold_all(
-      s, 0.0L, [x0](long double& a, double v) { a += static_cast<long double>(v) - x0; },
-      [this](std::size_t b, long double a) { sum_[b] = a; }, on_progress);
+      s, fold{},
+      [x0](fold& a, double v) {
+        a.sum += static_cast<long double>(v) - x0;
+        a.largest = std::max(a.largest, std::abs(v));
+      },
+      [&](std::size_t b, const fold& a) {
+        sum_[b] = a.sum;
+        largest[b] = a.largest;
+      },
+      on_progress);
   for (std::size_t b = 0; b < sum_.size(); ++b)
-    if (!std::isfinite(sum_[b])) return bad_block(s, b);
+    if (!std::isfinite(sum_[b]) || !(largest[b] <= max_sample_magnitude)) return bad_block(s, b);
   return ok();
 }
 
@@ -132,12 +155,25 @@ status phase_source::prepare_rate(const progress_fn& on_progress) {
   const std::size_t sample_blocks = (m + block - 1) / block;
   // Pass 1: the mean, from block sums in double added in long double.
   std::vector<double> total(sample_blocks);
+  std::vector<double> largest(sample_blocks);
+  struct fold {
+    double sum = 0.0;
+    double largest = 0.0;  // max |v|: samples beyond max_sample_magnitude are refused
+  };
   fold_all(
-      s, 0.0, [](double& a, double v) { a += v; }, [&](std::size_t b, double a) { total[b] = a; },
+      s, fold{},
+      [](fold& a, double v) {
+        a.sum += v;
+        a.largest = std::max(a.largest, std::abs(v));
+      },
+      [&](std::size_t b, const fold& a) {
+        total[b] = a.sum;
+        largest[b] = a.largest;
+      },
       detail::part_progress(on_progress, 0, 2));
   long double sum = 0.0L;
   for (std::size_t b = 0; b < sample_blocks; ++b) {
-    if (!std::isfinite(total[b])) return bad_block(s, b);
+    if (!std::isfinite(total[b]) || !(largest[b] <= max_sample_magnitude)) return bad_block(s, b);
     sum += static_cast<long double>(total[b]);
   }
   mean_ = static_cast<double>(sum / static_cast<long double>(std::max<std::size_t>(m, 1)));

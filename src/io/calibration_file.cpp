@@ -10,7 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/mapped_file.hpp"
+#include "gyroflip/io/recording.hpp"
 
 namespace gyroflip::io {
 namespace {
@@ -87,9 +89,49 @@ result<json> parse_json(const std::string& path, std::string_view text) {
                      fmt::format("not valid JSON: {}", printable(reason(sax.what()), 200)));
 }
 
+// The largest magnitude of a number in a calibration (as for recordings, csv_reader): within it
+// compensation's arithmetic cannot overflow.
+constexpr double max_magnitude = csv_reader::max_magnitude;
+
+status check_magnitude(const std::string& path, std::string_view key, double v) {
+  if (std::isfinite(v) && std::abs(v) <= max_magnitude) return ok();
+  return input_error({path}, fmt::format("'{}' = {:g} is not a finite number within +-{:g}", key, v,
+                                         max_magnitude));
+}
+
+// A dN(T) model must give finite, sane values over every temperature a recording may hold:
+// ordered range within the recording limits, coefficients within the magnitude limit, and dN(T)
+// within it at both ends of the recording temperature range (a polynomial of degree <= 6 with
+// bounded coefficients is then bounded in between).
+status check_model(const std::string& path, const method::delta_n_model& m) {
+  for (double c : m.coeffs_dps)
+    if (auto s = check_magnitude(path, "coeffs_dps", c); !s) return s;
+  if (m.coeffs_dps.size() > method::max_model_degree + 1)
+    return input_error({path}, fmt::format("model of degree {} is above the maximum {}",
+                                           m.coeffs_dps.size() - 1, method::max_model_degree));
+  const double lo = recording_reader::min_temp_c;
+  const double hi = recording_reader::max_temp_c;
+  if (std::isfinite(m.t_ref_c) && (m.t_ref_c < lo || m.t_ref_c > hi))
+    return input_error(
+        {path}, fmt::format("'t_ref_c' = {:g} is outside [{:g}, {:g}] degC", m.t_ref_c, lo, hi));
+  const bool has_range = std::isfinite(m.temp_min_c) || std::isfinite(m.temp_max_c);
+  if (has_range && !(m.temp_min_c >= lo && m.temp_min_c <= m.temp_max_c && m.temp_max_c <= hi))
+    return input_error({path}, fmt::format("'temp_range_c' [{:g}, {:g}] must be ordered and "
+                                           "within [{:g}, {:g}] degC",
+                                           m.temp_min_c, m.temp_max_c, lo, hi));
+  for (const double t : {lo, hi})
+    if (m.coeffs_dps.size() > 1 && !(std::abs(m.eval(t)) <= max_magnitude))
+      return input_error({path}, fmt::format("the dN(T) model gives {:g} deg/s at {:g} degC: its "
+                                             "coefficients are not a calibration",
+                                             m.eval(t), t));
+  for (double c : m.cov)
+    if (!std::isfinite(c)) return input_error({path}, "model 'cov' has a non-finite value");
+  return ok();
+}
+
 }  // namespace
 
-std::string to_json(const calibration_record& rec, std::string_view tool_version) {
+result<std::string> to_json(const calibration_record& rec, std::string_view tool_version) {
   json j = calibration_fields(rec.pooled, rec.geometry);
   j["schema"] = schema;
   j["version"] = tool_version;
@@ -115,7 +157,8 @@ std::string to_json(const calibration_record& rec, std::string_view tool_version
                   {"temp_range_c", {number_or_null(m.temp_min_c), number_or_null(m.temp_max_c)}},
                   {"chi2_per_dof", m.chi2_per_dof}};
   }
-  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  // Every number finite, or no calibration file (finite_output.hpp).
+  return finite_dump(j, "calibration");
 }
 
 result<calibration_record> read_calibration_file(const std::string& path) {
@@ -161,8 +204,13 @@ result<calibration_record> read_calibration_file(const std::string& path) {
       for (double c : model.coeffs_dps)
         if (!std::isfinite(c))
           return input_error({path}, "model 'coeffs_dps' has a non-finite value");
+      if (auto s = check_model(path, model); !s) return s.err();
       rec.model = std::move(model);
     }
+    if (auto s = check_magnitude(path, "delta_n_dps", rec.pooled.delta_n_dps); !s) return s.err();
+    if (!(rec.pooled.stderr_correlated_dps >= 0.0) ||
+        !(rec.pooled.stderr_correlated_dps <= max_magnitude))
+      return input_error({path}, "'stderr_correlated_dps' must be a number >= 0");
   } catch (const json::exception& e) {
     return input_error({path},
                        fmt::format("malformed calibration: {}", printable(reason(e.what()), 200)));

@@ -198,9 +198,13 @@ bool csv_reader::parse_slow(std::size_t i, double& out) {
   if (b != e && *b == '+') ++b;  // from_chars rejects a leading '+'; people write it
   if (detail::parse_plain_decimal(b, e, out)) return true;
   const auto [p, ec] = std::from_chars(b, e, out);
-  if (ec == std::errc{} && p == e && std::isfinite(out)) return true;
+  if (ec == std::errc{} && p == e && std::abs(out) <= max_magnitude) return true;
   if (s.empty()) {
     error_ = error_at(i, "empty field, expected a number");
+  } else if (ec == std::errc{} && p == e && std::isfinite(out)) {
+    error_ = error_at(i, fmt::format("'{}' is beyond +-{:g}, the largest magnitude gyroflip reads "
+                                     "(not a measurement; results would overflow)",
+                                     printable(s, 40), max_magnitude));
   } else if (ec == std::errc{} && p == e) {
     error_ = error_at(i, fmt::format("'{}' is not a finite number", printable(s, 40)));
   } else if (ec == std::errc::result_out_of_range) {

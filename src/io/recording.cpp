@@ -77,6 +77,9 @@ csv_reader::step recording_reader::next(method::row& out) {
   if (!csv_.parse(s_rate, out.rate_dps)) return fail(csv_.last_error());
   if (has_temp_) {
     if (!csv_.parse(s_temp, out.temp_c)) return fail(csv_.last_error());
+    if (out.temp_c < min_temp_c || out.temp_c > max_temp_c)
+      return fail(csv_.error_at(s_temp, fmt::format("temperature {:g} degC is outside [{:g}, {:g}]",
+                                                    out.temp_c, min_temp_c, max_temp_c)));
   } else {
     out.temp_c = method::no_value;
   }

@@ -15,8 +15,6 @@
 namespace gyroflip::method {
 namespace {
 
-constexpr std::size_t max_degree = 6;
-
 // In-place inverse of a small symmetric positive-definite matrix (row-major, n x n) by
 // Gauss-Jordan elimination with partial pivoting. Returns false if it is singular.
 bool invert(std::vector<double>& a, std::size_t n) {
@@ -83,9 +81,9 @@ delta_n_model constant_model(double delta_n_dps, double stderr_dps) {
 }
 
 result<delta_n_model> fit_delta_n_model(std::span<const delta_n_point> points, std::size_t degree) {
-  if (degree > max_degree)
-    return parameter_error(
-        "degree", fmt::format("the dN(T) degree {} is above the maximum {}", degree, max_degree));
+  if (degree > max_model_degree)
+    return parameter_error("degree", fmt::format("the dN(T) degree {} is above the maximum {}",
+                                                 degree, max_model_degree));
   std::set<double> temps;
   for (const auto& p : points) {
     if (!std::isfinite(p.temp_c) || !std::isfinite(p.delta_n_dps) || !std::isfinite(p.stderr_dps))

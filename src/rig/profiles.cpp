@@ -85,6 +85,21 @@ status parse_steps(std::string_view what, std::string_view spec, std::string_vie
 }
 }  // namespace
 
+status profile::check_range(std::string_view what, double lo, double hi) const {
+  double a = value_;
+  double b = value_;
+  if (kind_ == kind::sine || kind_ == kind::triangle) {
+    a = value_ - std::abs(amp_);
+    b = value_ + std::abs(amp_);
+  } else if (kind_ != kind::constant) {
+    a = *std::min_element(v_.begin(), v_.end());
+    b = *std::max_element(v_.begin(), v_.end());
+  }
+  if (a >= lo && b <= hi) return ok();
+  return usage_error(
+      fmt::format("{} reaches {:g}..{:g}, outside [{:g}, {:g}]", what, a, b, lo, hi));
+}
+
 result<profile> profile::parse_rate(std::string_view spec) {
   constexpr std::string_view what = "rate profile";
   const auto parts = split(spec, ':');
@@ -92,6 +107,9 @@ result<profile> profile::parse_rate(std::string_view spec) {
     auto n = numbers(what, spec, parts, 2, 3);
     if (!n) return n.err();
     profile p;
+    if (!((*n)[1] >= 0.0 && (*n)[1] <= 1.0 / min_time_s))
+      return bad_spec(what, spec,
+                      fmt::format("frequency must be in [0, {:g}] Hz", 1.0 / min_time_s));
     p.kind_ = kind::sine;
     p.amp_ = (*n)[0];
     p.freq_hz_ = (*n)[1];
@@ -136,7 +154,8 @@ result<profile> profile::parse_temperature(std::string_view spec) {
   if (parts[0] == "ramp") {
     auto n = numbers(what, spec, parts, 3, 3);
     if (!n) return n.err();
-    if (!((*n)[2] > 0.0)) return bad_spec(what, spec, "duration must be > 0");
+    if (!((*n)[2] >= min_time_s))
+      return bad_spec(what, spec, fmt::format("duration must be >= {:g} s", min_time_s));
     p.kind_ = kind::linear;
     p.t_s_ = {0.0, (*n)[2]};
     p.v_ = {(*n)[0], (*n)[1]};
@@ -145,7 +164,8 @@ result<profile> profile::parse_temperature(std::string_view spec) {
   if (parts[0] == "fridge") {
     auto n = numbers(what, spec, parts, 3, 3);
     if (!n) return n.err();
-    if (!((*n)[2] > 0.0)) return bad_spec(what, spec, "period must be > 0");
+    if (!((*n)[2] >= min_time_s))
+      return bad_spec(what, spec, fmt::format("period must be >= {:g} s", min_time_s));
     p.kind_ = kind::triangle;
     p.value_ = (*n)[0];
     p.amp_ = (*n)[1] / 2.0;

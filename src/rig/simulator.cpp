@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
+
 #include "gyroflip/core/error.hpp"
 
 // The iterations of the next loop touch distinct memory, so it vectorises without run-time
@@ -33,9 +35,37 @@ sample_block::sample_block(std::size_t capacity, bool with_truth)
       input_dps(capacity),
       dwell(capacity) {}
 
+namespace {
+
+// The bounds of every value of a simulation (header constants), checked before any work.
+status check_ranges(const simulation_config& c) {
+  if (!(c.duration_s > 0.0 && c.duration_s <= max_duration_s))
+    return parameter_error("duration_s", fmt::format("the duration {:g} s is outside (0, {:g}] s",
+                                                     c.duration_s, max_duration_s));
+  if (auto s = c.temperature.check_range("the temperature (degC)", -273.15, 1000.0); !s) return s;
+  if (auto s = c.rate.check_range("the input rate (deg/s)", -max_rate_dps, max_rate_dps); !s)
+    return s;
+  if (!(c.power_on_before_s >= 0.0 && c.power_on_before_s <= 1e9))
+    return parameter_error("power_on_before_s",
+                           "the power-on time before the run must be in "
+                           "[0, 1e9] s");
+  if (c.sched.n_avg > max_n_avg)
+    return parameter_error("n_avg",
+                           fmt::format("conversions per dwell (n_avg) must be <= {}", max_n_avg));
+  if (!(c.sched.settle_s <= 1e4))
+    return parameter_error("settle_s", "the settling time must be <= 1e4 s");
+  if (!(std::abs(c.sched.pos_a_deg) <= 1e4 && std::abs(c.sched.pos_b_deg) <= 1e4))
+    return usage_error("table positions must be within +-1e4 deg");
+  const auto& m = c.stepper;
+  if (m.steps_per_rev > 1000000 || !(m.max_rate_sps <= 1e6) || !(m.accel_sps2 <= 1e9))
+    return usage_error("stepper: at most 1e6 steps/rev, 1e6 steps/s and 1e9 steps/s^2");
+  return ok();
+}
+
+}  // namespace
+
 result<simulator> simulator::make(const simulation_config& c) {
-  if (!(c.duration_s > 0.0) || !std::isfinite(c.duration_s))
-    return parameter_error("duration_s", "the duration must be > 0 s");
+  if (auto s = check_ranges(c); !s) return s.err();
   auto adc = ad7739::make(c.adc, c.seed);
   if (!adc) return adc.err();
   const double t_conv = adc->conversion_time_s();

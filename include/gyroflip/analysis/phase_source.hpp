@@ -33,6 +33,13 @@ class phase_source {
  public:
   /// Phase points per carry block.
   static constexpr std::size_t block_points = 1024;
+  /// Input range: samples of magnitude up to this, sample intervals within [min_tau0_s,
+  /// max_tau0_s]. Within it no sum, square or EDF of any deviation overflows (a phase point is at
+  /// most 1e100 x 1e9 s x 1e12 samples, its square 1e242), so every result is finite; beyond it
+  /// `make` refuses the series rather than compute inf (docs/FORMATS.md, "Series").
+  static constexpr double max_sample_magnitude = 1e100;
+  static constexpr double min_tau0_s = 1e-9;
+  static constexpr double max_tau0_s = 1e9;
 
   /// Prepares the phase of `samples` (which must outlive the source and every reader). Reads
   /// all samples once for angle input, twice for rate input, on all cores. Errors: tau0 not

@@ -36,7 +36,8 @@ struct calibration_record {
 };
 
 /// JSON text of a calibration (one line, keys as in docs/FORMATS.md).
-[[nodiscard]] std::string to_json(const calibration_record& rec, std::string_view tool_version);
+[[nodiscard]] result<std::string> to_json(const calibration_record& rec,
+                                          std::string_view tool_version);
 
 /// Reads a calibration file. Errors name the file (and the key that is wrong).
 [[nodiscard]] result<calibration_record> read_calibration_file(const std::string& path);

@@ -92,9 +92,12 @@ class csv_reader {
 
   /// Text of selected cell `i` in the current row, surrounding blanks removed.
   [[nodiscard]] std::string_view cell(std::size_t i) const noexcept;
-  /// Parses selected cell `i` as a finite double. On failure returns false and sets
-  /// `last_error()` to `FILE:LINE:COL: ...` naming the column. Inline fast path for plain
-  /// decimals without blanks; everything else (and every error) goes through parse_slow.
+  /// Largest magnitude a number may have (docs/FORMATS.md): within it the method's and the
+  /// analysis' sums and squares cannot overflow.
+  static constexpr double max_magnitude = 1e100;
+  /// Parses selected cell `i` as a finite double of magnitude <= max_magnitude. On failure returns
+  /// false and sets `last_error()` to `FILE:LINE:COL: ...` naming the column. Inline fast path for
+  /// plain decimals without blanks; everything else (and every error) goes through parse_slow.
   [[nodiscard]] bool parse(std::size_t i, double& out) {
     const std::string_view s = cells_[i];
     return detail::parse_plain_decimal(s.data(), s.data() + s.size(), out) || parse_slow(i, out);

@@ -19,6 +19,10 @@ namespace gyroflip::io {
 /// column exists, `n_avg` a whole number >= 1 (default 1).
 class recording_reader {
  public:
+  /// Temperatures a recording may hold (degC): absolute zero to 1000 degC.
+  static constexpr double min_temp_c = -273.15;
+  static constexpr double max_temp_c = 1000.0;
+
   [[nodiscard]] static result<recording_reader> open(const std::string& path);
 
   /// Reads the next row into `out`. `failed` -> `last_error()` has FILE:LINE:COL.

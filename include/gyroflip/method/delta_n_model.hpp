@@ -11,6 +11,9 @@
 
 namespace gyroflip::method {
 
+/// Highest degree of a dN(T) polynomial (the CLI's --degree; calibration files are checked).
+inline constexpr std::size_t max_model_degree = 6;
+
 /// One calibration: its mean temperature, dN and the standard error of dN.
 struct delta_n_point {
   double temp_c = 0.0;

@@ -51,6 +51,11 @@ class profile {
   /// dispatch; the simulator's temperature and rate columns).
   void fill(const double* t_s, double* out, std::size_t n) noexcept;
   [[nodiscard]] bool is_constant() const noexcept { return kind_ == kind::constant; }
+  /// Error unless every value the profile takes lies in [lo, hi] (`what` names it, e.g. "the
+  /// temperature (degC)"): the simulator's physics is only defined there.
+  [[nodiscard]] status check_range(std::string_view what, double lo, double hi) const;
+  /// Shortest time a profile may resolve (s): ramps, fridge periods; 1/highest sine frequency.
+  static constexpr double min_time_s = 1e-3;
 
  private:
   // A piece on which the profile is affine: v0 + slope (t - t0) for times before t_end_s.

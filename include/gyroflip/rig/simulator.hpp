@@ -29,6 +29,12 @@
 
 namespace gyroflip::rig {
 
+/// Limits of a simulation (docs/SIMULATOR.md, "Limits"): beyond them the output would be
+/// unbounded in size or not a physical rig.
+inline constexpr double max_duration_s = 1e7;  ///< 116 days
+inline constexpr double max_rate_dps = 1e6;    ///< input rate magnitude
+inline constexpr int max_n_avg = 10000000;     ///< conversions per dwell
+
 struct simulation_config {
   sensor::sensor_params sensor;
   double lat_deg = 42.6;                          ///< paper site, Sofia (deg)
