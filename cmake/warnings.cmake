@@ -12,6 +12,15 @@ target_compile_options(gyroflip_flags INTERFACE -ffp-contract=off)
 if(GYROFLIP_WERROR)
   target_compile_options(gyroflip_flags INTERFACE -Werror)
 endif()
+if(GYROFLIP_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "GYROFLIP_FUZZ needs clang (libFuzzer): CXX=clang++ (scripts/fuzz)")
+  endif()
+  # Every object instrumented for coverage and the sanitizers; the targets link libFuzzer.
+  target_compile_options(gyroflip_flags INTERFACE -fsanitize=fuzzer-no-link,address,undefined,float-cast-overflow
+                                                  -fno-sanitize-recover=all -fno-omit-frame-pointer -g)
+  target_link_options(gyroflip_flags INTERFACE -fsanitize=address,undefined,float-cast-overflow)
+endif()
 if(GYROFLIP_SANITIZE)
   target_compile_options(gyroflip_flags INTERFACE -fsanitize=address,undefined,float-cast-overflow
                                                   -fno-sanitize-recover=all

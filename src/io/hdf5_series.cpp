@@ -23,6 +23,9 @@ struct handle {
   }
 };
 
+// Samples an HDF5 series may hold in memory (8 GiB).
+constexpr hsize_t max_samples = hsize_t{1} << 30;
+
 }  // namespace
 
 result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& dataset) {
@@ -40,6 +43,12 @@ result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& 
     return input_error({file}, fmt::format("dataset '{}' must be 1-D", printable(dataset, 120)));
   hsize_t n = 0;
   H5Sget_simple_extent_dims(space.id, &n, nullptr);
+  // A dataset declares its size; a chunked one may hold fill values without storage, so a tiny
+  // file can announce 1e12 samples. Held in memory (8 bytes a sample), it must fit.
+  if (n > max_samples)
+    return input_error({file}, fmt::format("dataset '{}' has {} samples, more than the {} an HDF5 "
+                                           "series may hold in memory (use .npy or raw float64)",
+                                           printable(dataset, 120), n, max_samples));
   hdf5_data out;
   out.values.resize(static_cast<std::size_t>(n));
   // H5T_NATIVE_DOUBLE converts float32, integers and other byte orders on the fly.
@@ -49,8 +58,23 @@ result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& 
         {file}, fmt::format("dataset '{}' cannot be read as numbers", printable(dataset, 120)));
   if (H5Aexists(d.id, "sample_rate_hz") > 0) {
     const handle a(H5Aopen(d.id, "sample_rate_hz", H5P_DEFAULT), H5Aclose);
+    // One number only: H5Aread writes every element of the attribute, so an array or string
+    // attribute read into one double would overrun it.
+    const handle aspace(a.id >= 0 ? H5Aget_space(a.id) : -1, H5Sclose);
+    const handle atype(a.id >= 0 ? H5Aget_type(a.id) : -1, H5Tclose);
+    const H5T_class_t cls = atype.id >= 0 ? H5Tget_class(atype.id) : H5T_NO_CLASS;
+    if (aspace.id < 0 || H5Sget_simple_extent_npoints(aspace.id) != 1 ||
+        (cls != H5T_FLOAT && cls != H5T_INTEGER))
+      return input_error({file}, fmt::format("dataset '{}': attribute sample_rate_hz must be one "
+                                             "number",
+                                             printable(dataset, 120)));
     double hz = 0.0;
-    if (a.id >= 0 && H5Aread(a.id, H5T_NATIVE_DOUBLE, &hz) >= 0) out.sample_rate_hz = hz;
+    if (H5Aread(a.id, H5T_NATIVE_DOUBLE, &hz) < 0)
+      return input_error({file},
+                         fmt::format("dataset '{}': attribute sample_rate_hz cannot be read "
+                                     "as a number",
+                                     printable(dataset, 120)));
+    out.sample_rate_hz = hz;
   }
   return out;
 }
