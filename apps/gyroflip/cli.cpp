@@ -74,6 +74,8 @@ void setup_simulate(CLI::App& app, action& chosen) {
   sub->add_option("--settle", o->settle_s, "settling time after a turn (s)")->capture_default_str();
   sub->add_option("--positions", o->positions, "the two table positions A,B (deg)")
       ->capture_default_str();
+  sub->add_flag("--no-flip", o->no_flip,
+                "never turn: stay at position A (a stationary recording of the raw sensor)");
   sub->add_option("--power-on-before", o->power_on_before_s,
                   "sensor powered this long before the run (s; 0 = cold start)")
       ->capture_default_str();

@@ -55,8 +55,8 @@ std::string metadata(const simulate_options& o, const sensor::preset& p, const r
   fmt::format_to(out, "# latitude_deg: {}\n# axis: {}\n# table_axis: {}\n# rate_profile: {}\n",
                  o.lat_deg, o.axis, o.table_axis.empty() ? "default" : o.table_axis,
                  o.rate_profile);
-  fmt::format_to(out, "# n_avg: {}\n# raw: {}\n# settle_s: {}\n# positions_deg: {}\n", o.n_avg,
-                 o.raw ? "yes" : "no", o.settle_s, o.positions);
+  fmt::format_to(out, "# n_avg: {}\n# raw: {}\n# settle_s: {}\n# positions_deg: {}\n# flip: {}\n",
+                 o.n_avg, o.raw ? "yes" : "no", o.settle_s, o.positions, o.no_flip ? "no" : "yes");
   fmt::format_to(out, "# power_on_before_s: {}\n# filter_word: {}\n# chop: {}\n",
                  o.power_on_before_s, o.filter_word, o.no_chop ? "off" : "on");
   fmt::format_to(
@@ -107,6 +107,7 @@ int run_simulate(const simulate_options& o) {
   if (!pos) return report(pos.err());
   c.sched.pos_a_deg = pos->first;
   c.sched.pos_b_deg = pos->second;
+  c.sched.flip = !o.no_flip;
   c.adc.filter_word = o.filter_word;
   c.adc.chop = !o.no_chop;
   c.stepper = {o.steps_per_rev, o.start_rate_sps, o.step_rate_sps, o.accel_sps2};

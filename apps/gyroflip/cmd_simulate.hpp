@@ -24,6 +24,7 @@ struct simulate_options {
   std::string truth;
   double settle_s = 0.08;
   std::string positions = "0,180";
+  bool no_flip = false;  ///< stay at the first position (a stationary, unflipped recording)
   double power_on_before_s = 0.0;
   int filter_word = 94;
   bool no_chop = false;

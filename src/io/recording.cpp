@@ -137,8 +137,10 @@ result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
   if (rc.rows == 0) return input_error({path}, "no data rows after the header");
   if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)
     return input_error(
-        {path}, fmt::format("all {} dwells are at {} deg; the method needs both 0 and 180 deg",
-                            rc.dwells, stream.dwells_at_0() == 0 ? 180 : 0));
+        {path}, fmt::format("the table never turns (every row is at {} deg): the method needs "
+                            "dwells at both 0 and 180 deg (an unflipped recording is for adev and "
+                            "noise, not for calibrate or compensate)",
+                            stream.dwells_at_0() == 0 ? 180 : 0));
   if (rc.cycles.size() < method::min_cycles)
     return input_error(
         {path}, fmt::format("only {} cycle{} ({} dwells) with pairing '{}'; at least {} are needed",

@@ -39,9 +39,16 @@ result<schedule> schedule::make(const schedule_params& s, const stepper_params& 
   if (!std::isfinite(s.pos_a_deg) || !std::isfinite(s.pos_b_deg)) {
     return usage_error("positions must be finite");
   }
+  if (!s.flip) {  // one dwell at A after another: a cycle is one dwell
+    schedule out;
+    out.p_ = s;
+    out.t_conv_s_ = t_conv_s;
+    out.phases_.assign(static_cast<std::size_t>(s.n_avg), phase{s.pos_a_deg, 0.0, false, 0});
+    return out;
+  }
   const double ab =
       s.pos_b_deg - s.pos_a_deg - 360.0 * std::floor((s.pos_b_deg - s.pos_a_deg) / 360.0);
-  if (ab == 0.0) return usage_error("the two positions must differ");
+  if (ab == 0.0) return usage_error("the two positions must differ (or do not flip at all)");
   auto turn_ab = turn_profile::make(m, ab);
   if (!turn_ab) return turn_ab.err();
   auto turn_ba = turn_profile::make(m, 360.0 - ab);

@@ -211,7 +211,8 @@ std::vector<bad_case> bad_cases() {
     r.replace(r.find(",180,") == std::string::npos ? 0 : r.find(",180,"),
               r.find(",180,") == std::string::npos ? 0 : 5,
               r.find(",180,") == std::string::npos ? "" : ",0,");
-  c.push_back({"one_orientation.csv", join(one), ": all 1 dwells are at 0 deg"});
+  c.push_back(
+      {"one_orientation.csv", join(one), ": the table never turns (every row is at 0 deg)"});
   c.push_back(
       {"too_few.csv", join({good_rows()[0], good_rows()[1]}), ": only 0 cycles (2 dwells)"});
   std::string junk;

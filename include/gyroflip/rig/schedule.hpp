@@ -23,6 +23,9 @@ struct schedule_params {
   double settle_s = 0.08;    ///< wait after a turn before acquiring (s)
   double pos_a_deg = 0.0;    ///< first position (deg)
   double pos_b_deg = 180.0;  ///< second position (deg)
+  /// false: no flipping at all, the table stays at A and dwell follows dwell (a stationary
+  /// recording of the raw sensor, to compare its Allan curve with the compensated one).
+  bool flip = true;
 };
 
 /// One conversion slot of the cycle.
