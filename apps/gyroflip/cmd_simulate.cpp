@@ -15,6 +15,7 @@
 #include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/recording_writer.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "progress_bar.hpp"
@@ -39,37 +40,49 @@ result<std::pair<double, double>> parse_positions(std::string_view text) {
   return usage_error(fmt::format("--positions '{}': expected A,B in degrees", text));
 }
 
-// The `# key: value` header shared by the recording and the truth file.
-std::string metadata(const simulate_options& o, const sensor::preset& p, const rig::simulator& sim,
-                     std::string_view kind) {
-  std::string m;
-  auto out = std::back_inserter(m);
-  fmt::format_to(out, "# gyroflip simulate: {}\n# version: {}\n", kind, GYROFLIP_VERSION);
-  fmt::format_to(out, "# sensor: {}\n# seed: {}\n# duration_s: {}\n", o.sensor, o.seed,
-                 o.duration_s);
+// The `# key: value` metadata shared by the recording and the truth file: every input, so that
+// the file can be reproduced byte for byte.
+std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::preset& p,
+                                       const rig::simulator& sim, std::string_view kind) {
+  std::vector<io::csv_metadata> m;
+  const auto add = [&m](std::string key, std::string value) {
+    m.push_back({std::move(key), std::move(value)});
+  };
+  const auto num = [](auto v) { return fmt::format("{}", v); };
+  add("gyroflip simulate", std::string(kind));
+  add("version", GYROFLIP_VERSION);
+  add("sensor", o.sensor);
+  add("seed", num(o.seed));
+  add("duration_s", num(o.duration_s));
   if (o.temp_profile.empty()) {
-    fmt::format_to(out, "# temp_c: {}\n", o.temp_c.value_or(p.params.temp_ref_c));
+    add("temp_c", num(o.temp_c.value_or(p.params.temp_ref_c)));
   } else {
-    fmt::format_to(out, "# temp_profile: {}\n", o.temp_profile);
+    add("temp_profile", o.temp_profile);
   }
-  fmt::format_to(out, "# latitude_deg: {}\n# axis: {}\n# table_axis: {}\n# rate_profile: {}\n",
-                 o.lat_deg, o.axis, o.table_axis.empty() ? "default" : o.table_axis,
-                 o.rate_profile);
-  fmt::format_to(out, "# n_avg: {}\n# raw: {}\n# settle_s: {}\n# positions_deg: {}\n# flip: {}\n",
-                 o.n_avg, o.raw ? "yes" : "no", o.settle_s, o.positions, o.no_flip ? "no" : "yes");
-  fmt::format_to(out, "# power_on_before_s: {}\n# filter_word: {}\n# chop: {}\n",
-                 o.power_on_before_s, o.filter_word, o.no_chop ? "off" : "on");
-  fmt::format_to(
-      out, "# steps_per_rev: {}\n# start_rate_sps: {}\n# step_rate_sps: {}\n# accel_sps2: {}\n",
-      o.steps_per_rev, o.start_rate_sps, o.step_rate_sps, o.accel_sps2);
-  fmt::format_to(out, "# conversion_time_s: {}\n# cycle_s: {}\n# turn_s: {}\n",
-                 sim.conversion_time_s(), sim.sched().cycle_s(), sim.sched().turn_ab_s());
-  fmt::format_to(out, "# scale_factor_v_per_dps: {} (nominal; rate_dps = ADC volts / this)\n",
-                 p.params.scale_factor_v_per_dps);
-  fmt::format_to(out, "# sensor_name: {}\n", p.name);
-  for (const auto& f : sensor::fields()) {
-    fmt::format_to(out, "# sensor.{}: {}\n", f.key, p.params.*f.member);
-  }
+  add("latitude_deg", num(o.lat_deg));
+  add("axis", o.axis);
+  add("table_axis", o.table_axis.empty() ? "default" : o.table_axis);
+  add("rate_profile", o.rate_profile);
+  add("n_avg", num(o.n_avg));
+  add("raw", o.raw ? "yes" : "no");
+  add("settle_s", num(o.settle_s));
+  add("positions_deg", o.positions);
+  add("flip", o.no_flip ? "no" : "yes");
+  add("power_on_before_s", num(o.power_on_before_s));
+  add("filter_word", num(o.filter_word));
+  add("chop", o.no_chop ? "off" : "on");
+  add("steps_per_rev", num(o.steps_per_rev));
+  add("start_rate_sps", num(o.start_rate_sps));
+  add("step_rate_sps", num(o.step_rate_sps));
+  add("accel_sps2", num(o.accel_sps2));
+  add("conversion_time_s", num(sim.conversion_time_s()));
+  add("cycle_s", num(sim.sched().cycle_s()));
+  add("turn_s", num(sim.sched().turn_ab_s()));
+  add("scale_factor_v_per_dps",
+      fmt::format("{} (nominal; rate_dps = ADC volts / this)", p.params.scale_factor_v_per_dps));
+  add("sensor_name", p.name);
+  for (const auto& f : sensor::fields())
+    add(fmt::format("sensor.{}", f.key), num(p.params.*f.member));
   return m;
 }
 
@@ -125,10 +138,13 @@ int run_simulate(const simulate_options& o) {
     if (!t) return report(t.err());
     truth.emplace(std::move(*t));
   }
-  out->write(metadata(o, *preset, *sim, "recording"));
-  out->write("time_s,angle_deg,rate_dps,temp_c,n_avg\n");
+  std::string head;
+  io::append_recording_header(head, metadata(o, *preset, *sim, "recording"));
+  out->write(head);
   if (truth) {
-    truth->write(metadata(o, *preset, *sim, "truth"));
+    head.clear();
+    io::append_metadata(head, metadata(o, *preset, *sim, "truth"));
+    truth->write(head);
     truth->write(fmt::format(
         "# sign convention: each term as seen by the sensor at that row's orientation (Earth, "
         "g-term and input reverse at 180 deg, bias does not); rate_dps ~ bias + g_term + earth + "
@@ -141,7 +157,7 @@ int run_simulate(const simulate_options& o) {
   rig::sample_block block(1U << 14, truth.has_value());  // truth columns only when written
   rig::dwell_averager avg(o.n_avg);
   std::vector<rig::dwell_row> rows;
-  fmt::memory_buffer rec;
+  std::string rec;
   fmt::memory_buffer tru;
   progress bar("simulate", sim->total_samples());
   while (sim->fill(block) > 0) {
@@ -149,13 +165,8 @@ int run_simulate(const simulate_options& o) {
     tru.clear();
     if (o.raw) {
       for (std::size_t i = 0; i < block.size; ++i) {
-        if (std::isnan(block.angle_deg[i])) {
-          fmt::format_to(std::back_inserter(rec), "{},,{},{},1\n", block.time_s[i],
-                         block.rate_dps[i], block.temp_c[i]);
-        } else {
-          fmt::format_to(std::back_inserter(rec), "{},{},{},{},1\n", block.time_s[i],
-                         block.angle_deg[i], block.rate_dps[i], block.temp_c[i]);
-        }
+        io::append_recording_row(
+            rec, {block.time_s[i], block.angle_deg[i], block.rate_dps[i], block.temp_c[i], 1});
         if (truth) {
           fmt::format_to(std::back_inserter(tru), "{},{},{},{},{},{}\n", block.time_s[i],
                          block.bias_dps[i], block.g_term_dps[i], block.earth_dps[i],
@@ -166,8 +177,8 @@ int run_simulate(const simulate_options& o) {
       rows.clear();
       avg.add(block, rows);
       for (const auto& r : rows) {
-        fmt::format_to(std::back_inserter(rec), "{},{},{},{},{}\n", r.time_s, r.angle_deg,
-                       r.rate_dps, r.temp_c, r.n_avg);
+        io::append_recording_row(rec, {r.time_s, r.angle_deg, r.rate_dps, r.temp_c,
+                                       static_cast<std::uint32_t>(r.n_avg)});
         if (truth) {
           fmt::format_to(std::back_inserter(tru), "{},{},{},{},{},{}\n", r.time_s, r.bias_dps,
                          r.g_term_dps, r.earth_dps, r.input_dps, r.temp_c);
@@ -175,9 +186,9 @@ int run_simulate(const simulate_options& o) {
       }
     }
     // The gate of every written number (finite_output.hpp); on failure the temporaries go.
-    if (auto s = check_finite({rec.data(), rec.size()}, o.out); !s) return report(s.err());
+    if (auto s = check_finite(rec, o.out); !s) return report(s.err());
     if (auto s = check_finite({tru.data(), tru.size()}, o.truth); !s) return report(s.err());
-    out->write(std::string_view(rec.data(), rec.size()));
+    out->write(rec);
     if (truth) truth->write(std::string_view(tru.data(), tru.size()));
     bar.update(sim->produced());
   }
