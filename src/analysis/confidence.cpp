@@ -105,25 +105,93 @@ double basic_sum(double jj, double mm, double s, double f, int alpha, int d) {
   return sum;
 }
 
-constexpr double max_terms = 20000.0;  // beyond: Greenhall's m' approximation (his J_max is 100)
+// Greenhall & Riley, "Uncertainty of stability variances based on finite differences" (PTTI
+// 2003), as Stable32 uses it: the basic sum directly while it has at most J_max = 100 terms,
+// beyond that the large-r forms 1/edf = (a0 - a1/r)/r of their Tables 1-2 (Table 3 for flicker
+// PM), or the basic sum of a reduced problem (m' = J_max/r) when r <= d + 1. So an EDF costs at
+// most ~100 evaluations of sz whatever m and N (issue 13 item 16: the direct sums up to 20 000
+// terms made `adev --taus all` spend 64 % of its time in log). Table values: Greenhall & Riley
+// Tables 1-3 (docs/FACTS.md §6).
+constexpr double j_max = 100.0;
+
+struct table_ab {
+  double a0, a1;
+};
+// Rows alpha = 2, 1, 0, -1, -2; columns d = 1, 2, 3. (0, 0): not defined (alpha + 2d <= 1).
+constexpr table_ab table1[5][3] = {  // modified variances (case 1)
+    {{2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}, {22.0 / 25.0, 2.0 / 3.0}},
+    {{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}},
+    {{1.079, 0.368}, {1.033, 0.607}, {1.184, 0.848}},
+    {{0.0, 0.0}, {1.048, 0.534}, {1.180, 0.816}},
+    {{0.0, 0.0}, {1.302, 0.535}, {1.175, 0.777}}};
+constexpr table_ab table2[5][3] = {  // unmodified variances (cases 2 and 3)
+    {{3.0 / 2.0, 1.0 / 2.0}, {35.0 / 18.0, 1.0}, {231.0 / 100.0, 3.0 / 2.0}},
+    {{78.6, 25.2}, {790.0, 410.0}, {9950.0, 6520.0}},
+    {{2.0 / 3.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}},
+    {{0.0, 0.0}, {0.852, 0.375}, {0.997, 0.617}},
+    {{0.0, 0.0}, {1.079, 0.368}, {1.033, 0.607}}};
+constexpr table_ab table3[3] = {{6.0, 4.0}, {15.23, 12.0}, {47.8, 40.0}};  // flicker PM, b0 b1
+
+const table_ab& entry(const table_ab (&t)[5][3], int alpha, int d) {
+  return t[static_cast<std::size_t>(2 - alpha)][static_cast<std::size_t>(d - 1)];
+}
 
 double edf_greenhall(int alpha, int d, std::size_t m_int, std::size_t n_phase, bool overlapping,
                      bool modified) {
   const auto m = static_cast<double>(m_int);
   const auto n = static_cast<double>(n_phase);
-  // Unmodified variances of FM noise use the continuous limit once the filter gets long.
-  double f = modified ? 1.0 : m;
-  if (!modified && alpha <= 0 && m * (d + 1) > max_terms) f = 0.0;
-  const double s = overlapping ? m : 1.0;
-  const double l = (modified ? m : 1.0) + m * d;  // phase samples one term spans
+  const double f = modified ? 1.0 : m;     // filter factor F
+  const double s = overlapping ? m : 1.0;  // stride factor S
+  const double l = m / f + m * d;          // phase samples one term spans
   const double big_m = 1.0 + std::floor(s * (n - l) / m);
   if (big_m < 1.0) return 0.0;
   const double j = std::min(big_m, (d + 1) * s);
-  const double z0 = sz(0.0, f == 0.0 ? 0.0 : f, alpha, d);
-  if (j <= max_terms) return 1.0 / (basic_sum(j, big_m, s, f, alpha, d) / (z0 * z0 * big_m));
   const double r = big_m / s;
-  const double m_prime = max_terms / r;
-  return 1.0 / (basic_sum(max_terms, max_terms, m_prime, f, alpha, d) / (z0 * z0 * max_terms));
+  const auto from_sum = [&](double jj, double mm, double ss, double ff, double z0) {
+    return 1.0 / (basic_sum(jj, mm, ss, ff, alpha, d) / (z0 * z0 * mm));
+  };
+  constexpr double inf = 0.0;  // sx's F = 0: the continuous limit (F = infinity)
+  if (modified) {              // case 1
+    if (j <= j_max) return from_sum(j, big_m, s, 1.0, sz(0.0, 1.0, alpha, d));
+    if (r > d + 1) {
+      const auto& t = entry(table1, alpha, d);
+      return 1.0 / ((t.a0 - t.a1 / r) / r);
+    }
+    return from_sum(j_max, j_max, j_max / r, 1.0, sz(0.0, 1.0, alpha, d));
+  }
+  if (alpha <= 0) {  // case 2
+    if (j <= j_max) {
+      const double fm = m * (d + 1) <= j_max ? m : inf;
+      return from_sum(j, big_m, s, fm, sz(0.0, fm, alpha, d));
+    }
+    if (r > d + 1) {
+      const auto& t = entry(table2, alpha, d);
+      return 1.0 / ((t.a0 - t.a1 / r) / r);
+    }
+    return from_sum(j_max, j_max, j_max / r, inf, sz(0.0, inf, alpha, d));
+  }
+  if (alpha == 1) {  // case 3
+    if (j <= j_max) return from_sum(j, big_m, s, m, sz(0.0, m, alpha, d));
+    const auto& b = table3[static_cast<std::size_t>(d - 1)];
+    const double z0 = b.a0 + b.a1 * std::log(m);
+    if (r > d + 1) {
+      const auto& t = entry(table2, alpha, d);
+      return 1.0 / ((t.a0 - t.a1 / r) / (z0 * z0 * r));
+    }
+    return from_sum(j_max, j_max, j_max / r, j_max / r, z0);
+  }
+  // case 4, white PM: for r > d the closed form; else (a few terms) the basic sum.
+  if (std::ceil(r) > d) {
+    const double a0 = [d] {
+      // binom(4d, 2d) / binom(2d, d)^2
+      double num = 1.0, den = 1.0;
+      for (int k = 1; k <= 2 * d; ++k) num *= static_cast<double>(2 * d + k) / k;
+      for (int k = 1; k <= d; ++k) den *= static_cast<double>(d + k) / k;
+      return num / (den * den);
+    }();
+    return 1.0 / ((a0 - 0.5 * d / r) / big_m);
+  }
+  return from_sum(std::min(j, j_max), std::min(big_m, j_max), s, m, sz(0.0, m, alpha, d));
 }
 
 // At most this many decimated points per factor: 2^20 pin r1 to ~1e-3, far finer than the 0.25

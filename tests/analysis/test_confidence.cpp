@@ -18,8 +18,8 @@ namespace {
 
 const std::string vectors = std::string(GYROFLIP_VECTORS_DIR) + "/stable32/";
 
-// With Stable32's alpha, our bounds must agree to `tol` (Stable32 uses Greenhall's tables and its
-// own chi-squared approximation; we evaluate Greenhall's sum directly). Where our lag-1 noise
+// With Stable32's alpha, our bounds must agree to `tol` (both use Greenhall & Riley's algorithm
+// with its tables; Stable32 has its own chi-squared approximation). Where our lag-1 noise
 // identification has enough points, it must give Stable32's alpha.
 void check_ci(const std::string& table, dev_kind k, const std::vector<double>& x, double tol) {
   const auto rows = test::read_stable32_table(table);
@@ -94,6 +94,47 @@ TEST(Confidence, AddConfidenceEndToEndOnPhaseDat) {
   add_confidence(wide, dev_kind::oadev, x, 0.95);
   EXPECT_LT(wide[3].ci_lo, pts[3].ci_lo);
   EXPECT_GT(wide[3].ci_hi, pts[3].ci_hi);
+}
+
+// Regression (issue 13 item 16, 2026-11-23): EDF sums ran up to 20 000 terms, so `adev --taus all`
+// spent most of its time in log. Greenhall's large-r forms keep the cost bounded; their values
+// must agree with the simple formulas of SP1065 Table 5 (OADEV; white PM, white FM, random-walk
+// FM) away from the ends (m >= 40: below, Table 5's white-FM form is itself off by up to 17 %,
+// while Greenhall's sum is exact there), and stay positive, finite and non-increasing in m.
+TEST(Edf, LargeFactorsAgreeWithSimpleFormulasAndAreBounded) {
+  constexpr std::size_t n = 1000000;
+  const double nn = static_cast<double>(n);
+  double last[3] = {1e300, 1e300, 1e300};
+  for (std::size_t m = 1; m <= n / 8; m = m * 3 / 2 + 1) {
+    const double mm = static_cast<double>(m);
+    const double wfm =
+        (3.0 * (nn - 1) / (2 * mm) - 2.0 * (nn - 2) / nn) * 4 * mm * mm / (4 * mm * mm + 5);
+    const double rwfm = (nn - 2) / (mm * (nn - 3) * (nn - 3)) *
+                        ((nn - 1) * (nn - 1) - 3 * mm * (nn - 1) + 4 * mm * mm);
+    const double wpm = (nn + 1) * (nn - 2 * mm) / (2 * (nn - mm));
+    const double got[3] = {edf(dev_kind::oadev, 2, m, n), edf(dev_kind::oadev, 0, m, n),
+                           edf(dev_kind::oadev, -2, m, n)};
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(std::isfinite(got[k]) && got[k] > 0.0) << m;
+      EXPECT_LE(got[k], last[k] * (1 + 1e-9)) << "k " << k << " m " << m;
+      last[k] = got[k];
+    }
+    if (m >= 40 && m <= n / 20) {
+      EXPECT_NEAR(got[1] / wfm, 1.0, 0.05) << m;
+      EXPECT_NEAR(got[2] / rwfm, 1.0, 0.10) << m;
+    }
+    if (m >= 4) {
+      EXPECT_NEAR(got[0] / wpm, 1.0, 0.05) << m;
+    }
+    // Every kind and noise type, bounded work or not, gives a usable number.
+    for (const auto k :
+         {dev_kind::adev, dev_kind::mdev, dev_kind::hdev, dev_kind::ohdev, dev_kind::totdev})
+      for (int alpha = -2; alpha <= 2; ++alpha) {
+        if (alpha == -2 && k == dev_kind::mdev) continue;
+        const double e = edf(k, alpha, m, n);
+        EXPECT_TRUE(std::isfinite(e) && e >= 0.0) << to_string(k) << " " << alpha << " " << m;
+      }
+  }
 }
 
 }  // namespace

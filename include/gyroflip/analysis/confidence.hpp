@@ -26,9 +26,10 @@ namespace gyroflip::analysis {
 
 /// EDF of statistic `k` at averaging factor m for N phase points and noise `alpha`:
 /// Greenhall & Riley's algorithm ("Uncertainty of stability variances based on finite
-/// differences", 2003) for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV, with its basic sum evaluated
-/// directly (no table shortcut) up to 20 000 terms; the SP1065 Table 11 fit
-/// b (T/tau) - c for TOTDEV with FM noise, and the OADEV EDF for TOTDEV with PM noise.
+/// differences", 2003; as Stable32) for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV — the basic sum
+/// directly up to J_max = 100 terms, their Tables 1-3 beyond — so one EDF costs at most ~100
+/// evaluations whatever m and N; the SP1065 Table 11 fit b (T/tau) - c for TOTDEV with FM noise,
+/// and the OADEV EDF for TOTDEV with PM noise.
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
 /// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau (the
