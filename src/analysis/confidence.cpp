@@ -201,10 +201,11 @@ constexpr std::size_t max_points = std::size_t{1} << 20;
 constexpr std::size_t points_per_pass = std::size_t{1} << 24;
 
 // The lag-1 identification on z (the phase decimated by m), which it differences in place.
-std::optional<int> alpha_of_decimated(std::vector<double> z) {
-  constexpr std::size_t min_points = 30;
+constexpr std::size_t lag1_min_points = 30;  // Riley & Greenhall 2004: below, use B1 (SP1065 5.5)
+
+std::optional<int> alpha_lag1(std::vector<double> z) {
   for (int d = 0;; ++d) {
-    if (z.size() < min_points) return std::nullopt;
+    if (z.size() < lag1_min_points) return std::nullopt;
     double mean = 0.0;
     for (double v : z) mean += v;
     mean /= static_cast<double>(z.size());
@@ -225,8 +226,66 @@ std::optional<int> alpha_of_decimated(std::vector<double> z) {
   }
 }
 
+// B1(N, mu): expected ratio of the standard variance of N frequency averages to their Allan
+// variance for AVAR ~ tau^mu (Barnes; SP1065 eqn 67): N (1 - N^mu) / (2 (N - 1) (1 - 2^mu)),
+// N ln N / (2 (N - 1) ln 2) at mu = 0.
+double b1_theory(double n, int mu) {
+  if (mu == 0) return n * std::log(n) / (2.0 * (n - 1.0) * std::log(2.0));
+  const double m = mu;
+  return n * (1.0 - std::pow(n, m)) / (2.0 * (n - 1.0) * (1.0 - std::pow(2.0, m)));
+}
+
+// Fewer than 5 decimated phase points (4 frequency averages) say nothing about the noise type.
+constexpr std::size_t b1_min_points = 5;
+
+// The B1 identification (SP1065 section 5.5, as Stable32 below 30 points): mu from the observed
+// B1 = s^2 / AVAR of the N = z.size() - 1 averages at this tau, between the theoretical values
+// of mu = 1 (RWFM), 0 (FFM), -1 (WFM) and -2 (PM) with geometric-mean boundaries; alpha = -mu - 1,
+// and PM (mu = -2) is returned as 2 for the caller to split with R(n).
+std::optional<int> alpha_b1(const std::vector<double>& z) {
+  if (z.size() < b1_min_points) return std::nullopt;
+  const std::size_t n = z.size() - 1;
+  std::vector<double> y(n);
+  for (std::size_t i = 0; i < n; ++i) y[i] = z[i + 1] - z[i];
+  double mean = 0.0;
+  for (double v : y) mean += v;
+  mean /= static_cast<double>(n);
+  double ss = 0.0;
+  for (double v : y) ss += (v - mean) * (v - mean);
+  double as = 0.0;
+  for (std::size_t i = 0; i + 1 < n; ++i) as += (y[i + 1] - y[i]) * (y[i + 1] - y[i]);
+  const double var = ss / static_cast<double>(n - 1);
+  const double avar = 0.5 * as / static_cast<double>(n - 1);
+  if (!(avar > 0.0)) return std::nullopt;
+  const double b1 = var / avar;
+  const auto nn = static_cast<double>(n);
+  for (int mu = 1; mu > -2; --mu) {
+    const double boundary = std::sqrt(b1_theory(nn, mu) * b1_theory(nn, mu - 1));
+    if (b1 > boundary) return -mu - 1;
+  }
+  return 2;
+}
+
+// R(n) = MVAR/AVAR (SP1065 section 5.5; IEEE 1139) splits white PM (R = 1/m) from flicker PM
+// (R = [3 ln(256/27)/(8 pi^2)] / [(1.038 + 3 ln(pi m))/(4 pi^2)], f_h = 1/(2 tau0)) with a
+// geometric-mean boundary; MDEV and OADEV at m from the whole phase.
+int alpha_rn(const phase_source& x, std::size_t m) {
+  tau_spec one{tau_spec::set::list, {m}};
+  const auto a = deviation(dev_kind::oadev, x, one);
+  const auto mo = deviation(dev_kind::mdev, x, one);
+  if (!a || !mo || a->empty() || mo->empty() || !(a->front().dev > 0.0)) return 1;
+  const double rn = (mo->front().dev * mo->front().dev) / (a->front().dev * a->front().dev);
+  constexpr double pi = 3.14159265358979323846;
+  const double mm = static_cast<double>(m);
+  const double r_wpm = 1.0 / mm;
+  const double r_fpm = (3.0 * std::log(256.0 / 27.0) / (8.0 * pi * pi)) /
+                       ((1.038 + 3.0 * std::log(pi * mm)) / (4.0 * pi * pi));
+  return rn < std::sqrt(r_wpm * r_fpm) ? 2 : 1;
+}
+
 // Noise identification at every factor: the decimated series of as many factors as fit in
-// points_per_pass are collected in one pass over the phase, then identified one by one.
+// points_per_pass are collected in one pass over the phase, then identified one by one: lag-1
+// autocorrelation with 30 points or more, the B1 ratio (and R(n) for PM) with 5 to 29.
 std::vector<std::optional<int>> identify(const phase_source& x, const std::vector<std::size_t>& ms,
                                          const progress_fn& on_progress) {
   std::vector<std::vector<std::size_t>> passes(1);
@@ -244,7 +303,15 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
   for (std::size_t p = 0; p < passes.size(); ++p) {
     auto z = detail::decimated_prefixes(x, passes[p], max_points,
                                         detail::part_progress(on_progress, p, passes.size()));
-    for (auto& series : z) ids.push_back(alpha_of_decimated(std::move(series)));
+    for (std::size_t i = 0; i < z.size(); ++i) {
+      if (z[i].size() >= lag1_min_points) {
+        ids.push_back(alpha_lag1(std::move(z[i])));
+        continue;
+      }
+      auto a = alpha_b1(z[i]);
+      if (a && *a == 2) a = alpha_rn(x, passes[p][i]);
+      ids.push_back(a);
+    }
   }
   return ids;
 }
@@ -287,6 +354,13 @@ double chi2_quantile(double p, double dof) {
 }
 
 std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m) {
+  if (m == 0 || phase.empty()) return std::nullopt;
+  std::vector<double> z;
+  for (std::size_t i = 0; i < phase.size(); i += m) z.push_back(phase[i]);
+  return alpha_lag1(std::move(z));
+}
+
+std::optional<int> noise_alpha(std::span<const double> phase, std::size_t m) {
   const span_samples samples(phase);
   const auto src = phase_source::make(samples, input_kind::angle, 1.0);
   if (!src || src->size() == 0 || m == 0) return std::nullopt;
@@ -333,19 +407,36 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phas
   for (const auto& p : points) ms.push_back(p.m);
   const auto ids =
       x.size() > 0 ? identify(x, ms, on_progress) : std::vector<std::optional<int>>(ms.size());
+  // Too few points at a tau for any identification: the nearest shorter tau's type.
+  std::vector<int> alpha(points.size());
   std::optional<int> last;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (ids[i]) last = ids[i];
-    // Too few points at this tau: carry the identification of the nearest shorter tau.
-    const int alpha = ids[i] ? *ids[i] : last.value_or(0);
+    alpha[i] = ids[i] ? *ids[i] : last.value_or(0);
+  }
+  // Phase noise (alpha >= 1) dominates only at short taus (its AVAR falls as tau^-2): once a
+  // shorter tau showed frequency noise, a PM reading at a longer one is a misreading of a few
+  // points (lag-1 on 44 points, B1 on 10), and its EDF - ten times the white-FM one - must not
+  // be used. `plausible` carries the FM type on instead.
+  std::vector<int> plausible(alpha);
+  for (std::size_t i = 1; i < points.size(); ++i)
+    if (plausible[i] >= 1 && plausible[i - 1] <= 0) plausible[i] = plausible[i - 1];
+  const double p_lo = 0.5 * (1.0 - level);
+  for (std::size_t i = 0; i < points.size(); ++i) {
     auto& p = points[i];
-    p.alpha = alpha;
-    p.edf = edf(k, alpha, p.m, x.size());
+    p.alpha = alpha[i];
+    // A noise type read from a few points can be wrong (white FM read as PM at 44 points gave
+    // EDF 20 000 instead of 130: a +-0.5 % interval). The interval at a tau may therefore be no
+    // narrower than the noise types identified at the neighbouring taus would make it: the EDF is
+    // the smallest of the three (issue 13 item 14; docs/ANALYSIS.md).
+    p.edf = edf(k, alpha[i], p.m, x.size());
+    for (const int a : {plausible[i], i > 0 ? alpha[i - 1] : alpha[i],
+                        i + 1 < points.size() ? alpha[i + 1] : alpha[i]})
+      if (a != alpha[i]) p.edf = std::min(p.edf, edf(k, a, p.m, x.size()));
     if (!(p.edf > 0.0)) {
       p.ci_lo = p.ci_hi = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
-    const double p_lo = 0.5 * (1.0 - level);
     p.ci_lo = p.dev * std::sqrt(p.edf / chi2_quantile(1.0 - p_lo, p.edf));
     p.ci_hi = p.dev * std::sqrt(p.edf / chi2_quantile(p_lo, p.edf));
   }

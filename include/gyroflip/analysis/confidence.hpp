@@ -24,6 +24,13 @@ namespace gyroflip::analysis {
 /// are used. Returns nullopt when fewer than 30 decimated points remain (too few to tell).
 [[nodiscard]] std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m);
 
+/// The noise identification `add_confidence` uses at factor m: lag-1 autocorrelation with 30
+/// decimated points or more; with 5 to 29, the B1 ratio (SP1065 section 5.5: standard variance
+/// over Allan variance of the frequency averages at this tau, against Barnes' B1(N, mu) with
+/// geometric-mean boundaries), and for phase noise R(n) = MVAR/AVAR to tell white from flicker
+/// PM, as Stable32 does. nullopt below 5 points.
+[[nodiscard]] std::optional<int> noise_alpha(std::span<const double> phase, std::size_t m);
+
 /// EDF of statistic `k` at averaging factor m for N phase points and noise `alpha`:
 /// Greenhall & Riley's algorithm ("Uncertainty of stability variances based on finite
 /// differences", 2003; as Stable32) for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV — the basic sum
@@ -32,9 +39,11 @@ namespace gyroflip::analysis {
 /// and the OADEV EDF for TOTDEV with PM noise.
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
-/// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau (the
-/// nearest identified alpha when a tau has too few points), bounds at confidence `level`
-/// (two-sided; 0.683 = 1 sigma) from SP1065 eqn 45:
+/// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau
+/// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF at each
+/// tau the smallest of those that the types identified at it and at its two neighbours give (a
+/// type misread from few points must not make one interval narrower than its neighbours allow),
+/// bounds at confidence `level` (two-sided; 0.683 = 1 sigma) from SP1065 eqn 45:
 /// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
 /// level)/2, edf)). The decimated series of all points are collected in one pass over the phase
 /// (as many as fit in 128 MB; more factors take more passes). `on_progress` reports that pass.
