@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/least_squares.hpp"
 #include "gyroflip/core/error.hpp"
 
 namespace gyroflip::analysis {
@@ -44,8 +45,8 @@ struct subset_fit {
   bool ok = false;
 };
 
-// Weighted LS on the terms in `mask` (Gauss-Jordan on the normal equations, at most 5x5).
-// Columns are scaled to unit weighted norm first: the basis values span ~10 decades.
+// Weighted LS on the terms in `mask` (analysis/least_squares.hpp: column-scaled QR, the basis
+// values span ~10 decades).
 subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& w, unsigned mask,
                  bool allow_negative = false) {
   std::array<std::size_t, terms> idx{};
@@ -54,56 +55,21 @@ subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& 
     if (mask & (1u << k)) idx[n++] = k;
   subset_fit out;
   if (n == 0 || n > p.size()) return out;
-  std::array<double, terms> scale{};
-  for (std::size_t a = 0; a < n; ++a) {
-    double s = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      s += w[i] * basis(idx[a], p[i].tau_s) * basis(idx[a], p[i].tau_s);
-    scale[a] = 1.0 / std::sqrt(s);
+  std::vector<double> design;
+  std::vector<double> y;
+  design.reserve(p.size() * n);
+  for (const auto& q : p) {
+    for (std::size_t a = 0; a < n; ++a) design.push_back(basis(idx[a], q.tau_s));
+    y.push_back(q.dev * q.dev);
   }
-  std::array<double, terms * 2 * terms> m{};  // [A | I]
-  std::array<double, terms> rhs{};
-  const std::size_t cols = 2 * n;
+  const auto fit = weighted_least_squares(design, n, y, w);
+  if (!fit) return out;  // degenerate subset
   for (std::size_t a = 0; a < n; ++a) {
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const double ba = basis(idx[a], p[i].tau_s) * scale[a];
-      const double y = p[i].dev * p[i].dev;
-      rhs[a] += w[i] * ba * y;
-      for (std::size_t b = 0; b < n; ++b)
-        m[a * cols + b] += w[i] * ba * basis(idx[b], p[i].tau_s) * scale[b];
-    }
-    m[a * cols + n + a] = 1.0;
-  }
-  for (std::size_t c = 0; c < n; ++c) {
-    std::size_t piv = c;
-    for (std::size_t r = c + 1; r < n; ++r)
-      if (std::abs(m[r * cols + c]) > std::abs(m[piv * cols + c])) piv = r;
-    if (!(std::abs(m[piv * cols + c]) > 1e-12)) return out;  // degenerate subset
-    for (std::size_t k = 0; k < cols; ++k) std::swap(m[c * cols + k], m[piv * cols + k]);
-    const double d = m[c * cols + c];
-    for (std::size_t k = 0; k < cols; ++k) m[c * cols + k] /= d;
-    for (std::size_t r = 0; r < n; ++r) {
-      if (r == c) continue;
-      const double f = m[r * cols + c];
-      for (std::size_t k = 0; k < cols; ++k) m[r * cols + k] -= f * m[c * cols + k];
-    }
-  }
-  for (std::size_t a = 0; a < n; ++a) {
-    double v = 0.0;
-    for (std::size_t b = 0; b < n; ++b) {
-      v += m[a * cols + n + b] * rhs[b];
-      out.inv[idx[a]][idx[b]] = m[a * cols + n + b] * scale[a] * scale[b];
-    }
-    out.c[idx[a]] = v * scale[a];
+    out.c[idx[a]] = fit->coeffs[a];
+    for (std::size_t b = 0; b < n; ++b) out.inv[idx[a]][idx[b]] = fit->cov[a * n + b];
     if (out.c[idx[a]] < 0.0 && !allow_negative) return out;  // not a non-negative solution
   }
-  out.chi2 = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    double model = 0.0;
-    for (std::size_t k = 0; k < terms; ++k) model += out.c[k] * basis(k, p[i].tau_s);
-    const double r = p[i].dev * p[i].dev - model;
-    out.chi2 += w[i] * r * r;
-  }
+  out.chi2 = fit->chi2;
   out.ok = true;
   return out;
 }

@@ -1,7 +1,6 @@
 /// \file
-/// \brief Polynomial dN(T) fit (see delta_n_model.hpp). The systems are at most 7x7, so a
-/// Gauss-Jordan inverse of the normal matrix is enough; temperatures are centred on their
-/// mean to keep it well conditioned.
+/// \brief Polynomial dN(T) fit (see delta_n_model.hpp) by the library's weighted least squares
+/// (analysis/least_squares.hpp); temperatures are centred on their mean.
 #include "gyroflip/method/delta_n_model.hpp"
 
 #include <algorithm>
@@ -10,42 +9,11 @@
 
 #include <fmt/format.h>
 
+#include "gyroflip/analysis/least_squares.hpp"
 #include "gyroflip/core/error.hpp"
 
 namespace gyroflip::method {
 namespace {
-
-// In-place inverse of a small symmetric positive-definite matrix (row-major, n x n) by
-// Gauss-Jordan elimination with partial pivoting. Returns false if it is singular.
-bool invert(std::vector<double>& a, std::size_t n) {
-  std::vector<double> inv(n * n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) inv[i * n + i] = 1.0;
-  for (std::size_t col = 0; col < n; ++col) {
-    std::size_t piv = col;
-    for (std::size_t r = col + 1; r < n; ++r)
-      if (std::abs(a[r * n + col]) > std::abs(a[piv * n + col])) piv = r;
-    if (!(std::abs(a[piv * n + col]) > 1e-300)) return false;
-    for (std::size_t k = 0; k < n; ++k) {
-      std::swap(a[col * n + k], a[piv * n + k]);
-      std::swap(inv[col * n + k], inv[piv * n + k]);
-    }
-    const double d = a[col * n + col];
-    for (std::size_t k = 0; k < n; ++k) {
-      a[col * n + k] /= d;
-      inv[col * n + k] /= d;
-    }
-    for (std::size_t r = 0; r < n; ++r) {
-      if (r == col) continue;
-      const double f = a[r * n + col];
-      for (std::size_t k = 0; k < n; ++k) {
-        a[r * n + k] -= f * a[col * n + k];
-        inv[r * n + k] -= f * inv[col * n + k];
-      }
-    }
-  }
-  a = std::move(inv);
-  return true;
-}
 
 double power(double x, std::size_t k) {
   double p = 1.0;
@@ -109,31 +77,24 @@ result<delta_n_model> fit_delta_n_model(std::span<const delta_n_point> points, s
   m.t_ref_c = t_sum / static_cast<double>(points.size());
   m.temp_min_c = *temps.begin();
   m.temp_max_c = *temps.rbegin();
-  std::vector<double> ata(n * n, 0.0);
-  std::vector<double> atb(n, 0.0);
+  std::vector<double> design;
+  std::vector<double> y;
+  std::vector<double> w;
   for (const auto& p : points) {
-    const double w = weighted ? 1.0 / (p.stderr_dps * p.stderr_dps) : 1.0;
     const double x = p.temp_c - m.t_ref_c;
-    for (std::size_t i = 0; i < n; ++i) {
-      atb[i] += w * power(x, i) * p.delta_n_dps;
-      for (std::size_t j = 0; j < n; ++j) ata[i * n + j] += w * power(x, i + j);
-    }
+    for (std::size_t i = 0; i < n; ++i) design.push_back(power(x, i));
+    y.push_back(p.delta_n_dps);
+    w.push_back(weighted ? 1.0 / (p.stderr_dps * p.stderr_dps) : 1.0);
   }
-  if (!invert(ata, n))
-    return runtime_error("dN(T) fit is singular (temperatures too close together)");
-  m.coeffs_dps.assign(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j) m.coeffs_dps[i] += ata[i * n + j] * atb[j];
-  double chi2 = 0.0;
-  for (const auto& p : points) {
-    const double res = p.delta_n_dps - m.eval(p.temp_c);
-    chi2 += res * res * (weighted ? 1.0 / (p.stderr_dps * p.stderr_dps) : 1.0);
-  }
+  auto fit = analysis::weighted_least_squares(design, n, y, w);
+  if (!fit) return runtime_error("dN(T) fit is singular (temperatures too close together)");
+  m.coeffs_dps = fit->coeffs;
+  const double chi2 = fit->chi2;
   const std::size_t dof = points.size() - n;
   m.chi2_per_dof = dof > 0 ? chi2 / static_cast<double>(dof) : 0.0;
   // Unweighted: the residual variance is the only scale. Weighted: inflate by the Birge ratio.
   const double scale = weighted ? std::max(1.0, m.chi2_per_dof) : m.chi2_per_dof;
-  m.cov = ata;
+  m.cov = fit->cov;
   for (double& v : m.cov) v *= scale;
   return m;
 }
