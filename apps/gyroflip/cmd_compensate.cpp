@@ -13,6 +13,7 @@
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/io/recording.hpp"
+#include "gyroflip/io/recording_writer.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "progress_bar.hpp"
 
@@ -42,11 +43,22 @@ std::string format_value(double v) {
   return std::isnan(v) ? std::string() : fmt::format("{}", v);
 }
 
-status write_csv(const std::string& path, const std::vector<method::compensated_cycle>& out) {
+status write_csv(const std::string& path, const std::vector<method::compensated_cycle>& out,
+                 const compensate_options& o, method::pairing p) {
   auto f = io::atomic_file::create(path);
   if (!f) return f.err();
+  // The header first (scripts read line 1), then what made the series as metadata: `gyroflip
+  // noise` reads `pairing` to model the abba pairing's correlated cycles.
+  std::string head = "time_s,rate_dps,bias_dps,temp_c,delta_n_dps\n";
+  io::append_metadata(head, std::vector<io::csv_metadata>{
+                                {"gyroflip compensate", "one row per cycle (paper eqn 12)"},
+                                {"version", GYROFLIP_VERSION},
+                                {"source", o.file},
+                                {"pairing", std::string(method::to_string(p))},
+                                {"delta_n", o.calibration.empty() ? fmt::format("{}", o.delta_n_dps)
+                                                                  : o.calibration}});
+  f->write(head);
   fmt::memory_buffer buf;
-  fmt::format_to(std::back_inserter(buf), "time_s,rate_dps,bias_dps,temp_c,delta_n_dps\n");
   for (const auto& c : out) {
     fmt::format_to(std::back_inserter(buf), "{},{},{},{},{}\n", c.time_s, c.rate_dps, c.bias_dps,
                    format_value(c.temp_c), c.delta_n_dps);
@@ -141,7 +153,8 @@ int run_compensate(const compensate_options& o) {
     if (auto s = check_finite(summary_text, "<stdout>"); !s) return report(s.err());
   }
   if (!o.output.empty() || !o.json)
-    if (auto s = write_csv(o.output.empty() ? "-" : o.output, out); !s) return report(s.err());
+    if (auto s = write_csv(o.output.empty() ? "-" : o.output, out, o, p); !s)
+      return report(s.err());
   fmt::print("{}", summary_text);
   return 0;
 }

@@ -53,7 +53,12 @@ int run_noise(const noise_options& o) {
   analysis::add_confidence(*pts, analysis::dev_kind::oadev, in->phase, o.ci);
   const double tau0_s = in->phase.tau0_s();
   const std::size_t samples = in->series.samples().size();
-  const auto fit = analysis::fit_noise_terms(*pts, o.ci);
+  // The rate column of `gyroflip compensate` with the abba pairing: correlated cycles.
+  analysis::noise_series series;
+  for (const auto& m : in->series.metadata())
+    if (m.key == "pairing" && m.value == "abba" && o.in.input == "rate")
+      series.abba_cycle_s = tau0_s;
+  const auto fit = analysis::fit_noise_terms(*pts, o.ci, series);
   // Too few points for the fit is a property of this input (too short a series): name it.
   if (!fit) return report(input_error({o.in.file}, fit.err().message));
   const auto& f = *fit;
@@ -65,6 +70,8 @@ int run_noise(const noise_options& o) {
               {"bias_floor_tau_s", f.bias_floor_tau_s},
               {"bias_floor_dps", f.bias_floor_dev},
               {"chi2_per_dof", f.chi2_per_dof},
+              {"bias_floor_reached", f.bias_floor_reached},
+              {"abba_cycles", series.abba_cycle_s > 0.0},
               {"ci", f.level},
               {"notes", f.notes}};
     put(j, "arw_dps_rthz", f.arw, 1.0);
@@ -82,6 +89,14 @@ int run_noise(const noise_options& o) {
                         {"ci_hi", p.ci_hi},
                         {"edf", p.edf}});
     j["oadev"] = std::move(points);
+    json misfit = json::array();
+    for (const auto& m : f.misfit)
+      misfit.push_back({{"tau_s", m.tau_s},
+                        {"dev", m.dev},
+                        {"model_dev", m.model_dev},
+                        {"ci_lo", m.ci_lo},
+                        {"ci_hi", m.ci_hi}});
+    j["misfit"] = std::move(misfit);
     if (auto s = print_json(j); !s) return report(s.err());
     return 0;
   }
@@ -91,13 +106,17 @@ int run_noise(const noise_options& o) {
                  o.in.file, samples, 1.0 / tau0_s, 100.0 * f.level);
   fmt::format_to(out, "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz)\n",
                  show(f.arw, 60.0), show(f.arw, 1.0));
-  fmt::format_to(out,
-                 "  bias instability  B    {} deg/h   (OADEV floor {:.4g} deg/s at tau {:g} s)\n",
-                 show(f.bias_instability, 3600.0), f.bias_floor_dev, f.bias_floor_tau_s);
+  fmt::format_to(out, "  bias instability  B    {} deg/h   ({} {:.4g} deg/s at tau {:g} s)\n",
+                 show(f.bias_instability, 3600.0),
+                 f.bias_floor_reached ? "OADEV floor" : "no floor: OADEV still falls, last",
+                 f.bias_floor_dev, f.bias_floor_tau_s);
   fmt::format_to(out, "  rate random walk  K    {} deg/h/sqrt(h)\n", show(f.rrw, 216000.0));
   fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, 1.0));
   fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n", show(f.rate_ramp, 3600.0 * 3600.0));
   fmt::format_to(out, "  fit chi2/dof {:.3g}\n", f.chi2_per_dof);
+  for (const auto& n : f.notes)
+    if (n.find("not resolved by the data") == std::string::npos)
+      fmt::format_to(out, "  note: {}\n", n);
   if (auto s = print_checked(text, "<stdout>"); !s) return report(s.err());
   return 0;
 }

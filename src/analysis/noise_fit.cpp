@@ -21,13 +21,15 @@ namespace {
 constexpr std::size_t terms = 5;  // Q, N, B, K, R (squared coefficients c_k)
 const double b_factor = 2.0 * std::numbers::ln2 / std::numbers::pi;
 
-// AVAR contribution of term k with unit coefficient at tau.
-double basis(std::size_t k, double tau) {
+// AVAR contribution of term k with unit coefficient at tau. For the cycle values of the abba
+// pairing (cycle spacing T > 0) white dwell noise gives N^2 (1/tau - (9/16) T/tau^2), not N^2/tau
+// (docs/ANALYSIS.md, "Cycle series of the abba pairing").
+double basis(std::size_t k, double tau, double abba_t) {
   switch (k) {
     case 0:
       return 3.0 / (tau * tau);
     case 1:
-      return 1.0 / tau;
+      return (1.0 - 0.5625 * abba_t / tau) / tau;
     case 2:
       return b_factor;
     case 3:
@@ -48,7 +50,7 @@ struct subset_fit {
 // Weighted LS on the terms in `mask` (analysis/least_squares.hpp: column-scaled QR, the basis
 // values span ~10 decades).
 subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& w, unsigned mask,
-                 bool allow_negative = false) {
+                 double abba_t, bool allow_negative = false) {
   std::array<std::size_t, terms> idx{};
   std::size_t n = 0;
   for (std::size_t k = 0; k < terms; ++k)
@@ -59,7 +61,7 @@ subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& 
   std::vector<double> y;
   design.reserve(p.size() * n);
   for (const auto& q : p) {
-    for (std::size_t a = 0; a < n; ++a) design.push_back(basis(idx[a], q.tau_s));
+    for (std::size_t a = 0; a < n; ++a) design.push_back(basis(idx[a], q.tau_s, abba_t));
     y.push_back(q.dev * q.dev);
   }
   const auto fit = weighted_least_squares(design, n, y, w);
@@ -76,11 +78,12 @@ subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& 
 
 // The non-negative subset with the lowest chi^2 + 2 (number of terms) (Akaike): a term stays
 // only if it lowers chi^2 by more than 2.
-subset_fit best_nonnegative(std::span<const deviation_point> p, const std::vector<double>& w) {
+subset_fit best_nonnegative(std::span<const deviation_point> p, const std::vector<double>& w,
+                            double abba_t) {
   subset_fit best;
   double best_score = std::numeric_limits<double>::infinity();
   for (unsigned mask = 1; mask < (1u << terms); ++mask) {
-    const auto f = solve(p, w, mask);
+    const auto f = solve(p, w, mask, abba_t);
     if (!f.ok) continue;
     const double score = f.chi2 + 2.0 * static_cast<double>(std::popcount(mask));
     if (score < best_score) {
@@ -145,7 +148,7 @@ double correlation(int alpha, double d) {
 std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
                                       const std::vector<double>& w,
                                       const std::vector<double>& model, const subset_fit& f,
-                                      unsigned mask) {
+                                      unsigned mask, double abba_t) {
   const std::size_t np = p.size();
   std::vector<double> sampling_sd(np);
   for (std::size_t i = 0; i < np; ++i) sampling_sd[i] = model[i] * std::sqrt(2.0 / p[i].edf);
@@ -161,7 +164,8 @@ std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
       for (std::size_t a = 0; a < terms; ++a) {
         if (!(mask & (1u << a))) continue;
         for (std::size_t b = 0; b < terms; ++b)
-          if (mask & (1u << b)) meat[a][b] += basis(a, p[i].tau_s) * wsw * basis(b, p[j].tau_s);
+          if (mask & (1u << b))
+            meat[a][b] += basis(a, p[i].tau_s, abba_t) * wsw * basis(b, p[j].tau_s, abba_t);
       }
     }
   }
@@ -178,7 +182,9 @@ std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
 
 }  // namespace
 
-result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double level) {
+result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double level,
+                                    const noise_series& series) {
+  const double abba_t = series.abba_cycle_s;
   if (!(level > 0.0 && level < 1.0))
     return usage_error(fmt::format("confidence level {} must be in (0, 1)", level));
   std::vector<deviation_point> p;
@@ -191,11 +197,11 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   for (std::size_t i = 0; i < p.size(); ++i) w[i] = weight(p[i].edf, p[i].dev * p[i].dev);
   subset_fit f;
   for (int iter = 0; iter < 3; ++iter) {
-    f = best_nonnegative(p, w);
+    f = best_nonnegative(p, w, abba_t);
     if (!f.ok) return runtime_error("noise fit found no non-negative solution");
     for (std::size_t i = 0; i < p.size(); ++i) {  // reweight with the model (IRLS)
       model[i] = 0.0;
-      for (std::size_t k = 0; k < terms; ++k) model[i] += f.c[k] * basis(k, p[i].tau_s);
+      for (std::size_t k = 0; k < terms; ++k) model[i] += f.c[k] * basis(k, p[i].tau_s, abba_t);
       w[i] = weight(p[i].edf, model[i]);
     }
   }
@@ -207,14 +213,14 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   unsigned mask = 0;
   for (std::size_t k = 0; k < terms; ++k)
     if (f.c[k] > 0.0) mask |= 1u << k;
-  auto sd = sandwich_sd(p, w, model, f, mask);
+  auto sd = sandwich_sd(p, w, model, f, mask, abba_t);
   // A dropped term gets an upper limit from the fit that includes it (its value may be < 0).
   for (std::size_t k = 0; k < terms; ++k) {
     if (mask & (1u << k)) continue;
-    const auto with = solve(p, w, mask | (1u << k), true);
+    const auto with = solve(p, w, mask | (1u << k), abba_t, true);
     if (with.ok) {
       f.c[k] = std::min(with.c[k], 0.0);  // still not part of the estimate
-      sd[k] = sandwich_sd(p, w, model, with, mask | (1u << k))[k];
+      sd[k] = sandwich_sd(p, w, model, with, mask | (1u << k), abba_t)[k];
     }
   }
   // Two-sided normal interval of the squared coefficient at `level`: z = sqrt(chi2_1(level)).
@@ -231,6 +237,39 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   while (floor + 1 != p.end() && (floor + 1)->dev < floor->dev) ++floor;
   out.bias_floor_tau_s = floor->tau_s;
   out.bias_floor_dev = floor->dev;
+  out.bias_floor_reached = floor + 1 != p.end();
+  // A curve still falling at its longest tau has no floor: B is then only bounded, by the flicker
+  // floor 0.6643 B <= OADEV at every tau (FACTS §7), at the upper end of that last point's
+  // interval - however the fit shares the curve among its terms.
+  if (!out.bias_floor_reached) {
+    const double bound = floor->ci_hi / 0.6643;
+    auto& b = out.bias_instability;
+    b.hi = std::isfinite(bound) ? std::min(std::max(b.hi, b.value), bound) : b.hi;
+    b.resolved = false;
+    out.notes.push_back(fmt::format(
+        "bias instability: OADEV still falls at the longest tau ({:g} s), so there is no floor; "
+        "B is only bounded (< {:.4g} deg/s, from that point's upper bound / 0.6643)",
+        floor->tau_s, b.hi));
+  }
+  // Where the fitted curve leaves the measured points' intervals, say so (at `level` a fraction
+  // 1 - level of them is expected outside by chance).
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double model_dev = std::sqrt(std::max(model[i], 0.0));
+    if (model_dev < p[i].ci_lo || model_dev > p[i].ci_hi)
+      out.misfit.push_back({p[i].tau_s, p[i].dev, model_dev, p[i].ci_lo, p[i].ci_hi});
+  }
+  if (!out.misfit.empty())
+    out.notes.push_back(fmt::format(
+        "the fitted model lies outside the measured interval at {} of {} taus ({:.1f} expected by "
+        "chance at this level); chi2/dof {:.3g}",
+        out.misfit.size(), p.size(), (1.0 - level) * static_cast<double>(p.size()),
+        out.chi2_per_dof));
+  if (abba_t > 0.0)
+    out.notes.push_back(fmt::format(
+        "cycle values of the abba pairing (spacing {:g} s): neighbouring cycles share dwells "
+        "(lag-1 correlation 0.3 for white dwell noise), which the ARW term models as "
+        "N^2 (1/tau - (9/16) T/tau^2); without it that correlation reads as a false floor",
+        abba_t));
   const std::pair<const char*, const noise_term*> named[] = {
       {"quantization", &out.quantization},
       {"angle random walk", &out.arw},

@@ -66,11 +66,7 @@ status csv_reader::read_header() {
     if (l->size() > max_line_bytes)
       return input_error({path(), line_}, "line longer than 1 MiB (not a CSV recording?)");
     if (!l->empty() && l->front() == '#') {
-      const std::string_view body = trim(l->substr(1));
-      const auto colon = body.find(':');
-      if (colon != std::string_view::npos)
-        metadata_.push_back(
-            {std::string(trim(body.substr(0, colon))), std::string(trim(body.substr(colon + 1)))});
+      add_metadata(*l);
       continue;
     }
     if (is_blank(*l)) continue;
@@ -89,6 +85,14 @@ status csv_reader::read_header() {
     return ok();
   }
   return input_error({path(), line_}, "no header line (file has only comments or blank lines)");
+}
+
+void csv_reader::add_metadata(std::string_view line) {
+  const std::string_view body = trim(line.substr(1));
+  const auto colon = body.find(':');
+  if (colon != std::string_view::npos)
+    metadata_.push_back(
+        {std::string(trim(body.substr(0, colon))), std::string(trim(body.substr(colon + 1)))});
 }
 
 result<std::optional<std::size_t>> csv_reader::find_column(std::string_view name) const {
@@ -168,7 +172,12 @@ csv_reader::step csv_reader::next() {
       error_ = input_error({path(), line_}, "line longer than 1 MiB (missing newline?)");
       return step::failed;
     }
-    if (l->empty() || l->front() == '#' || is_blank(*l)) continue;
+    if (!l->empty() && l->front() == '#') {
+      if (!rows_seen_) add_metadata(*l);  // between the header and the first row: metadata too
+      continue;
+    }
+    if (is_blank(*l)) continue;
+    rows_seen_ = true;
     current_ = *l;
     return split(*l) ? step::row : step::failed;
   }

@@ -280,6 +280,7 @@ result<series> read_series(const std::string& path_in, const series_options& opt
       t.push_back(ts);
     }
   }
+  s.metadata_ = r->metadata();  // after the rows: metadata may follow the header
   if (values.size() < min_samples)
     return input_error(
         {path}, fmt::format("{} sample{}: too few for an analysis (at least {})", values.size(),

@@ -127,7 +127,8 @@ TEST(CliCompensate, CsvOutputAndStdout) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string csv = read_text(d.file("out.csv"));
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "time_s,rate_dps,bias_dps,temp_c,delta_n_dps");
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 61);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 61 + 5);  // header, 5 metadata lines, rows
+  EXPECT_NE(csv.find("\n# pairing: abba\n"), std::string::npos);
   const auto so = run_cli({"compensate", d.file("run.csv"), "--delta-n", "0.0123"});
   EXPECT_EQ(so.exit_code, 0);
   EXPECT_EQ(so.out, csv);

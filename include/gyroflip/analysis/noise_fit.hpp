@@ -30,20 +30,44 @@ struct noise_term {
   double hi = 0.0;        ///< upper end; for unresolved terms the upper limit
 };
 
+/// A point where the fitted model leaves the measured point's interval.
+struct misfit_point {
+  double tau_s = 0.0;
+  double dev = 0.0;        ///< measured OADEV
+  double model_dev = 0.0;  ///< the fitted model's ADEV there
+  double ci_lo = 0.0;
+  double ci_hi = 0.0;
+};
+
 /// Coefficients in base units: Q deg, N deg/s/sqrt(Hz) (= deg/sqrt(s)), B deg/s,
 /// K deg/s/sqrt(s), R deg/s^2.
 struct noise_terms {
   noise_term quantization, arw, bias_instability, rrw, rate_ramp;
-  double bias_floor_tau_s = 0.0;   ///< tau of the smallest OADEV point
-  double bias_floor_dev = 0.0;     ///< that smallest OADEV (deg/s)
-  double chi2_per_dof = 0.0;       ///< weighted fit quality
-  double level = 0.683;            ///< two-sided confidence level of the intervals
-  std::vector<std::string> notes;  ///< terms not resolved, and why
+  double bias_floor_tau_s = 0.0;  ///< tau of the first local minimum of OADEV (or the last point)
+  double bias_floor_dev = 0.0;    ///< OADEV there (deg/s)
+  bool bias_floor_reached =
+      false;  ///< false: OADEV still falls at the longest tau (B bounded only)
+  std::vector<misfit_point> misfit;  ///< points whose interval the fitted model misses
+  double chi2_per_dof = 0.0;         ///< weighted fit quality
+  double level = 0.683;              ///< two-sided confidence level of the intervals
+  std::vector<std::string> notes;    ///< terms not resolved, and why
+};
+
+/// What the analysed series is, where that changes the model.
+struct noise_series {
+  /// > 0: the series is the cycle values of the abba pairing (method/pairing.hpp) spaced this far
+  /// apart (s). Each value shares dwells with its neighbours, so white dwell noise gives the
+  /// cycle series AVAR N^2 (1/tau - (9/16) T/tau^2) (docs/ANALYSIS.md), which the ARW term then
+  /// uses; without it the 44 % deficit at tau = T reads as a bias-instability floor.
+  double abba_cycle_s = 0.0;
 };
 
 /// Fits the IEEE 952 terms to OADEV points carrying EDF and alpha (add_confidence), with
 /// intervals at two-sided confidence `level` in (0, 1) (0.683 = 1 sigma). Needs >= 3 points.
+/// B is reported as resolved only where OADEV has a floor (a local minimum before the last
+/// point); points whose interval the fitted model misses are listed in `misfit`.
 [[nodiscard]] result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts,
-                                                  double level = 0.683);
+                                                  double level = 0.683,
+                                                  const noise_series& series = {});
 
 }  // namespace gyroflip::analysis

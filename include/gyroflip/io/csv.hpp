@@ -3,7 +3,7 @@
 ///
 /// The file is memory-mapped and numbers are parsed with `std::from_chars`. Rules: UTF-8,
 /// comma-separated, a UTF-8 BOM and CRLF line ends accepted; lines starting with `#` are
-/// comments (`# key: value` lines before the header are kept as metadata); blank lines are
+/// comments (`# key: value` lines before the first data row are kept as metadata); blank lines are
 /// skipped; the first other line is the header; every data row has exactly as many fields
 /// as the header. Every problem is reported as `FILE:LINE:COL: what` (1-based).
 #pragma once
@@ -122,6 +122,7 @@ class csv_reader {
   status read_header();
   // Returns the next line (without end-of-line characters) or nullopt at end of file.
   std::optional<std::string_view> next_line();
+  void add_metadata(std::string_view comment_line);
   bool split(std::string_view line);
   [[nodiscard]] bool parse_slow(std::size_t i, double& out);
 
@@ -130,6 +131,7 @@ class csv_reader {
   std::size_t line_ = 0;
   std::size_t header_line_ = 0;
   bool unterminated_ = false;
+  bool rows_seen_ = false;
   std::vector<std::string> header_;
   std::vector<std::size_t> header_cols_;  // 1-based column where each header field starts
   std::vector<csv_metadata> metadata_;

@@ -17,6 +17,7 @@
 
 #include "gyroflip/analysis/sample_source.hpp"
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/io/csv.hpp"
 
 namespace gyroflip::io {
 
@@ -39,6 +40,8 @@ class series {
   }
   [[nodiscard]] double tau0_s() const noexcept { return tau0_s_; }
   [[nodiscard]] const std::string& source() const noexcept { return source_; }
+  /// The `# key: value` lines before a CSV's header (empty for other formats).
+  [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept { return metadata_; }
 
   series(series&&) noexcept = default;
   series& operator=(series&&) noexcept = default;
@@ -54,6 +57,7 @@ class series {
   std::unique_ptr<analysis::sample_source> samples_;
   double tau0_s_ = 0.0;
   std::string source_;
+  std::vector<csv_metadata> metadata_;
 };
 
 /// Reads `path` by its extension: `.npy` (1-D, '<f8', C order), `.f64`/`.bin`/`.raw` (raw
