@@ -4,6 +4,7 @@
 
 #include "finite_output.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -92,6 +93,11 @@ int run_adev(const adev_options& o) {
   auto pts = analysis::deviation(*kind, in->phase, *taus, per_mille(bar));
   bar.finish();
   if (!pts) return report(pts.err());
+  if (std::all_of(pts->begin(), pts->end(), [](const auto& p) { return p.dev == 0.0; }))
+    warn(
+        fmt::format("{}: every deviation is 0: the series is constant (a stuck sensor, a wrong "
+                    "column?)",
+                    o.in.file));
   // Factors asked for by name but without a single term: say which and why (not silently).
   const auto dropped =
       analysis::dropped_factors(*taus, *pts, *kind, in->phase.size(), in->phase.tau0_s());

@@ -190,8 +190,16 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   std::vector<deviation_point> p;
   for (const auto& q : pts)
     if (q.edf >= 1.0 && q.dev > 0.0 && std::isfinite(q.dev)) p.push_back(q);
+  if (std::all_of(pts.begin(), pts.end(), [](const deviation_point& q) { return q.dev == 0.0; }))
+    return runtime_error(
+        "every Allan deviation is 0: the series is constant (a stuck sensor, a wrong column?), so "
+        "there is no noise to fit");
   if (p.size() < 3)
-    return runtime_error("noise fit needs at least 3 Allan-deviation points with EDF >= 1");
+    return runtime_error(
+        fmt::format("the series gives {} Allan-deviation point{} with EDF >= 1; the noise fit "
+                    "needs 3 (a longer "
+                    "record: at least ~20 samples)",
+                    p.size(), p.size() == 1 ? "" : "s"));
   std::vector<double> w(p.size());
   std::vector<double> model(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) w[i] = weight(p[i].edf, p[i].dev * p[i].dev);

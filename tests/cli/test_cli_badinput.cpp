@@ -283,5 +283,22 @@ TEST(CliBadInput, SameRecordingTwiceAndDroppedFactorsAreSaid) {
   EXPECT_NE(a.out.find("\"dropped\":[{\"m\":1000,"), std::string::npos) << a.out;
 }
 
+// Issue 13 ("a user's first hour"): `noise` on a constant series said "noise fit needs at least 3
+// Allan-deviation points with EDF >= 1" - true, but not what is wrong.
+TEST(CliBadInput, ConstantSeriesSaysItIsConstant) {
+  temp_dir d;
+  std::string text = "time_s,rate_dps\n";
+  for (int i = 0; i < 500; ++i) text += std::to_string(i) + ",0.5\n";
+  write_text(d.file("c.csv"), text);
+  const auto r = run_cli({"noise", d.file("c.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(d.file("c.csv") + ": every Allan deviation is 0: the series is constant"),
+            std::string::npos)
+      << r.err;
+  const auto a = run_cli({"adev", d.file("c.csv")});
+  EXPECT_EQ(a.exit_code, 0);
+  EXPECT_NE(a.err.find("the series is constant"), std::string::npos) << a.err;
+}
+
 }  // namespace
 }  // namespace gyroflip::test
