@@ -145,6 +145,8 @@ void add_series_options(CLI::App* sub, series_input& in) {
   sub->add_option("--column", in.column, "CSV column to analyse")->capture_default_str();
   sub->add_option("--rate", in.rate_hz, "sample rate (Hz); default: from the CSV time_s column");
   sub->add_option("--dataset", in.dataset, "HDF5 dataset path (or write FILE.h5:/path)");
+  sub->add_flag("--ignore-flip", in.ignore_flip,
+                "analyse a column that switches with angle_deg (an uncompensated flip recording)");
   sub->add_option("--input", in.input, "what the samples are: rate (deg/s) or angle (deg)")
       ->check(CLI::IsMember({"rate", "angle"}))
       ->capture_default_str();

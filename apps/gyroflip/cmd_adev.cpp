@@ -17,6 +17,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/series.hpp"
+#include "gyroflip/method/flip_detect.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
@@ -65,6 +66,21 @@ result<analysis_input> load_series(const series_input& in) {
   if (!std::isnan(in.rate_hz)) so.sample_rate_hz = in.rate_hz;
   auto s = io::read_series(in.file, so);
   if (!s) return s.err();
+  // An uncompensated flip recording's rate switches with the angle: its Allan curve would show
+  // the flipping (a square wave), not the sensor (issue 13 item 12).
+  if (!s->angle_deg().empty() && !in.ignore_flip) {
+    const auto flip = method::detect_flip_modulation(s->values(), s->angle_deg());
+    if (flip.modulated)
+      return input_error(
+          {in.file},
+          fmt::format("column '{}' switches with angle_deg (mean {:.6g} at 0 deg, {:.6g} at 180 "
+                      "deg): this is an uncompensated flip recording, whose Allan curve shows the "
+                      "flipping, not the sensor. Compensate it first (gyroflip compensate {} "
+                      "--calibration CAL.json -o OUT.csv, then analyse OUT.csv), or analyse one "
+                      "position, or give --ignore-flip to analyse it as it is",
+                      printable(in.column, 60), flip.mean_0, flip.mean_180,
+                      printable(in.file, 200)));
+  }
   const auto kind = in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
   progress bar("reading " + in.file, 1000);
   auto phase = analysis::phase_source::make(s->samples(), kind, s->tau0_s(), per_mille(bar));

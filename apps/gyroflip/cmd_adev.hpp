@@ -20,6 +20,7 @@ struct series_input {
   double rate_hz = std::numeric_limits<double>::quiet_NaN();  // NaN: from time_s
   std::string input = "rate";                                 // rate | angle
   std::string dataset;                                        // HDF5 dataset path
+  bool ignore_flip = false;  // analyse a column that switches with angle_deg all the same
 };
 
 /// A series ready for analysis: the samples and their phase source (which reads them).

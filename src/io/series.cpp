@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <tuple>
 
@@ -261,7 +262,13 @@ result<series> read_series(const std::string& path_in, const series_options& opt
   if (use_time && !*time)
     return about_parameter(input_error({path}, "no time_s column: the sample rate must be given"),
                            "sample_rate_hz");
-  r->select({*col, use_time ? **time : csv_reader::absent_column});
+  // A recording's angle_deg (0, 180, empty while turning) goes along, so that the caller can tell
+  // an uncompensated flip recording (method/flip_detect.hpp).
+  auto angle = r->find_column("angle_deg");
+  if (!angle) return angle.err();
+  const bool with_angle = angle->has_value() && **angle != *col;
+  r->select({*col, use_time ? **time : csv_reader::absent_column,
+             with_angle ? **angle : csv_reader::absent_column});
   std::vector<double> t;
   std::vector<double> values;
   while (true) {
@@ -278,6 +285,11 @@ result<series> read_series(const std::string& path_in, const series_options& opt
         return r->error_at(1,
                            fmt::format("time_s {} does not increase (previous {})", ts, t.back()));
       t.push_back(ts);
+    }
+    if (with_angle) {
+      double a = std::numeric_limits<double>::quiet_NaN();  // empty: the table is turning
+      if (!r->cell(2).empty() && !r->parse(2, a)) return r->last_error();
+      s.angle_deg_.push_back(a);
     }
   }
   s.metadata_ = r->metadata();  // after the rows: metadata may follow the header

@@ -263,5 +263,37 @@ TEST(CliNoise, AbbaCompensatedRunHasNoFalseFloor) {
   EXPECT_LT(arw[1][1], arw[0][2]);
 }
 
+// Regression (issue 13 item 12, 2026-11-23): `noise`/`adev` on an uncompensated flip recording
+// printed a "resolved" K = 717 deg/h/sqrt(h) and Q = 0.16 deg - the flipping's square wave. Now
+// they refuse it and say what to do; a compensated or an unflipped recording is analysed.
+TEST(CliNoise, UncompensatedFlipRecordingIsRefusedWithAdvice) {
+  temp_dir d;
+  for (const char* sensor : {"adxrs150", "hz1-90-100a"}) {
+    const auto rec = d.file(std::string(sensor) + ".csv");
+    ASSERT_EQ(run_cli({"simulate", "--sensor", sensor, "--duration", "900", "-o", rec}).exit_code,
+              0);
+    for (const char* cmd : {"noise", "adev"}) {
+      const auto r = run_cli({cmd, rec});
+      EXPECT_EQ(r.exit_code, 2) << sensor << " " << cmd;
+      EXPECT_NE(r.err.find("switches with angle_deg"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("gyroflip compensate"), std::string::npos) << r.err;
+      EXPECT_EQ(run_cli({cmd, rec, "--ignore-flip"}).exit_code, 0) << sensor << " " << cmd;
+    }
+    ASSERT_EQ(run_cli({"calibrate", rec, "-o", d.file("cal.json")}).exit_code, 0);
+    ASSERT_EQ(
+        run_cli({"compensate", rec, "--calibration", d.file("cal.json"), "-o", d.file("comp.csv")})
+            .exit_code,
+        0);
+    EXPECT_EQ(run_cli({"noise", d.file("comp.csv")}).exit_code, 0) << sensor;
+  }
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--no-flip", "--duration", "900", "-o",
+                     d.file("still.csv")})
+                .exit_code,
+            0);
+  EXPECT_EQ(run_cli({"noise", d.file("still.csv")}).exit_code, 0);
+  // The temperature column of a flip recording does not switch with the angle.
+  EXPECT_EQ(run_cli({"adev", d.file("adxrs150.csv"), "--column", "temp_c"}).exit_code, 0);
+}
+
 }  // namespace
 }  // namespace gyroflip::test

@@ -18,6 +18,7 @@
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
 #include "gyroflip/method/dwells.hpp"
+#include "gyroflip/method/flip_detect.hpp"
 #include "gyroflip/method/flip_stream.hpp"
 #include "gyroflip/method/pairing.hpp"
 #include "support/synth.hpp"
@@ -348,6 +349,34 @@ TEST(AbbaCycles, AllanVarianceOfWhiteDwellNoiseHasTheClosedForm) {
   EXPECT_TRUE(f.arw.resolved && f.arw.lo <= n_true && n_true <= f.arw.hi)
       << f.arw.lo << " " << n_true << " " << f.arw.hi;
   EXPECT_LT(f.chi2_per_dof, 2.0);
+}
+
+// The flip-modulation test (issue 13 item 12): a square wave of half-amplitude d on white noise
+// of sigma is found when d^2 > 1 % of sigma^2 (and the means differ by > 10 standard errors),
+// not when d = 0; turning rows (NaN angle) are ignored.
+TEST(FlipDetect, SquareWaveOnNoise) {
+  sensor::normal_stream g(3, sensor::stream::user);
+  const auto series = [&](double d, std::vector<double>& v, std::vector<double>& a) {
+    v.clear();
+    a.clear();
+    for (int k = 0; k < 4000; ++k) {
+      const bool turning = k % 10 == 9;
+      a.push_back(turning ? std::nan("") : (k / 10 % 2 == 0 ? 0.0 : 180.0));
+      v.push_back((a.back() == 0.0 ? d : -d) + 0.01 * g.next());
+    }
+  };
+  std::vector<double> v, a;
+  series(0.0, v, a);
+  EXPECT_FALSE(detect_flip_modulation(v, a).modulated);
+  series(0.003, v, a);  // d^2 = 9 % of sigma^2
+  const auto f = detect_flip_modulation(v, a);
+  EXPECT_TRUE(f.modulated);
+  EXPECT_NEAR(f.mean_0 - f.mean_180, 0.006, 0.001);
+  EXPECT_EQ(f.n_0 + f.n_180, 3600u);
+  series(0.0005, v, a);  // d^2 = 0.25 % of sigma^2: too small to matter
+  EXPECT_FALSE(detect_flip_modulation(v, a).modulated);
+  EXPECT_FALSE(detect_flip_modulation(std::vector<double>{1, 2, 3}, std::vector<double>{0, 0, 0})
+                   .modulated);  // one position only
 }
 
 }  // namespace gyroflip::method

@@ -40,7 +40,10 @@ class series {
   }
   [[nodiscard]] double tau0_s() const noexcept { return tau0_s_; }
   [[nodiscard]] const std::string& source() const noexcept { return source_; }
-  /// The `# key: value` lines before a CSV's header (empty for other formats).
+  /// A CSV recording's `angle_deg` per sample (NaN while the table turns); empty when the file
+  /// has no such column (or is not CSV).
+  [[nodiscard]] const std::vector<double>& angle_deg() const noexcept { return angle_deg_; }
+  /// The `# key: value` lines before a CSV's first row (empty for other formats).
   [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept { return metadata_; }
 
   series(series&&) noexcept = default;
@@ -58,6 +61,7 @@ class series {
   double tau0_s_ = 0.0;
   std::string source_;
   std::vector<csv_metadata> metadata_;
+  std::vector<double> angle_deg_;
 };
 
 /// Reads `path` by its extension: `.npy` (1-D, '<f8', C order), `.f64`/`.bin`/`.raw` (raw
