@@ -20,16 +20,19 @@ namespace {
 
 using action = std::function<int()>;
 
-// A two-sided confidence level (`--ci` of adev and noise): a probability strictly inside (0, 1).
-CLI::Validator confidence_level() {
+// A two-sided confidence level (`--ci` of adev and noise): a probability strictly inside (0, 1);
+// for adev also `none` (no noise identification, no EDF, no bounds).
+CLI::Validator confidence_level(bool allow_none) {
   return CLI::Validator(
-      [](const std::string& text) -> std::string {
+      [allow_none](const std::string& text) -> std::string {
+        if (allow_none && text == "none") return {};
         double v = 0.0;
         const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
         if (ec == std::errc{} && end == text.data() + text.size() && v > 0.0 && v < 1.0) return {};
-        return "must be a probability in (0, 1), e.g. 0.683; got " + text;
+        return std::string("must be a probability in (0, 1), e.g. 0.683") +
+               (allow_none ? " or none" : "") + "; got " + text;
       },
-      "LEVEL in (0,1)");
+      allow_none ? "LEVEL in (0,1) or none" : "LEVEL in (0,1)");
 }
 
 // Binds options to a shared struct and, when the subcommand is chosen, selects its run_.
@@ -162,8 +165,10 @@ void setup_adev(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_option("--taus", o->taus, "octave|decade|all or averaging factors like 1,2,10")
       ->capture_default_str();
-  sub->add_option("--ci", o->ci, "two-sided confidence level of the bounds")
-      ->check(confidence_level())
+  sub->add_option("--ci", o->ci,
+                  "two-sided confidence level of the bounds, or none (no noise identification, "
+                  "no bounds: fastest)")
+      ->check(confidence_level(true))
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
@@ -175,7 +180,7 @@ void setup_noise(CLI::App& app, action& chosen) {
   auto o = bind<noise_options>(sub, chosen, run_noise);
   add_series_options(sub, o->in);
   sub->add_option("--ci", o->ci, "two-sided confidence level of the terms' intervals")
-      ->check(confidence_level())
+      ->check(confidence_level(false))
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -23,18 +25,26 @@
 namespace gyroflip::app {
 namespace {
 
-std::string csv_text(const std::vector<analysis::deviation_point>& pts) {
+// `--ci none`: the bound, EDF and noise-type fields are empty (CSV) or null (JSON).
+std::string csv_text(const std::vector<analysis::deviation_point>& pts, bool with_ci) {
   std::string s = "tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n";
-  for (const auto& p : pts)
-    s += fmt::format("{},{},{},{},{},{},{}\n", p.tau_s, p.dev, p.ci_lo, p.ci_hi, p.edf, p.n,
-                     p.alpha);
+  for (const auto& p : pts) {
+    if (with_ci) {
+      s += fmt::format("{},{},{},{},{},{},{}\n", p.tau_s, p.dev, p.ci_lo, p.ci_hi, p.edf, p.n,
+                       p.alpha);
+    } else {
+      s += fmt::format("{},{},,,,{},\n", p.tau_s, p.dev, p.n);
+    }
+  }
   return s;
 }
 
 nlohmann::json json_of(const adev_options& o, double tau0_s, std::size_t samples,
                        const std::vector<analysis::deviation_point>& pts,
-                       const std::vector<analysis::dropped_factor>& dropped) {
+                       const std::vector<analysis::dropped_factor>& dropped,
+                       std::optional<double> level) {
   using nlohmann::json;
+  const auto or_null = [&level](auto v) { return level ? json(v) : json(nullptr); };
   json gone = json::array();
   for (const auto& d : dropped) gone.push_back({{"m", d.m}, {"tau_s", d.tau_s}, {"why", d.why}});
   json points = json::array();
@@ -42,17 +52,17 @@ nlohmann::json json_of(const adev_options& o, double tau0_s, std::size_t samples
     points.push_back({{"tau_s", p.tau_s},
                       {"m", p.m},
                       {"dev", p.dev},
-                      {"ci_lo", p.ci_lo},
-                      {"ci_hi", p.ci_hi},
-                      {"edf", p.edf},
+                      {"ci_lo", or_null(p.ci_lo)},
+                      {"ci_hi", or_null(p.ci_hi)},
+                      {"edf", or_null(p.edf)},
                       {"n", p.n},
-                      {"alpha", p.alpha}});
+                      {"alpha", or_null(p.alpha)}});
   return json{{"kind", o.kind},
               {"input", o.in.input},
               {"file", o.in.file},
               {"tau0_s", tau0_s},
               {"samples", samples},
-              {"ci", o.ci},
+              {"ci", level ? json(*level) : json(nullptr)},
               {"points", std::move(points)},
               {"dropped", std::move(gone)}};
 }
@@ -99,6 +109,9 @@ int run_adev(const adev_options& o) {
         usage_error("--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev"));
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
+  // The validator (cli.cpp) let through only "none" or a number in (0, 1).
+  const std::optional<double> level =
+      o.ci == "none" ? std::nullopt : std::optional<double>(std::stod(o.ci));
   if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.output}); !s)
     return report(s.err());
   if (o.json)
@@ -119,17 +132,20 @@ int run_adev(const adev_options& o) {
       analysis::dropped_factors(*taus, *pts, *kind, in->phase.size(), in->phase.tau0_s());
   for (const auto& d : dropped)
     warn(fmt::format("{}: averaging factor {} dropped: {}", o.in.file, d.m, d.why));
-  progress ci_bar("noise identification", 1000);
-  analysis::add_confidence(*pts, *kind, in->phase, o.ci, per_mille(ci_bar));
-  ci_bar.finish();
+  if (level) {
+    progress ci_bar("noise identification", 1000);
+    analysis::add_confidence(*pts, *kind, in->phase, *level, per_mille(ci_bar));
+    ci_bar.finish();
+  }
   // Everything is formatted and checked before anything is written (finite_output.hpp).
-  const std::string csv = csv_text(*pts);
+  const std::string csv = csv_text(*pts, level.has_value());
   if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
     return report(s.err());
   std::string json_line;
   if (o.json) {
-    auto t = finite_dump(json_of(o, in->phase.tau0_s(), in->series.samples().size(), *pts, dropped),
-                         "<stdout>");
+    auto t = finite_dump(
+        json_of(o, in->phase.tau0_s(), in->series.samples().size(), *pts, dropped, level),
+        "<stdout>");
     if (!t) return report(t.err());
     json_line = *t + "\n";
   }

@@ -36,7 +36,7 @@ struct adev_options {
   series_input in;
   std::string kind = "oadev";
   std::string taus = "octave";
-  double ci = 0.683;
+  std::string ci = "0.683";  ///< two-sided level, or "none"
   bool json = false;
   std::string output;
 };

@@ -144,8 +144,26 @@ int run_calibrate(const calibrate_options& o) {
     auto cal = method::calibrate(rc->cycles);
     if (!cal) return report(input_error({file}, cal.err().message));
     rec.files.push_back({file, *cal});
+    // One sensor per calibration: its identity and rig come from the recordings' metadata.
+    const auto sr = io::sensor_of(rc->metadata);
+    if (!rec.sensor) {
+      rec.sensor = sr;
+    } else if (sr.sensor != rec.sensor->sensor) {
+      return report(input_error(
+          {file}, fmt::format("recorded with sensor '{}', but {} with '{}': calibrate one sensor "
+                              "at a time",
+                              printable(sr.sensor, 80), printable(o.files.front(), 200),
+                              printable(rec.sensor->sensor, 80))));
+    } else {
+      for (const auto& d : io::rig_differences(*rec.sensor, sr))
+        warn(fmt::format("{}: rig setting differs from {}: {}", file, o.files.front(), d));
+    }
     all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
   }
+  if (!rec.sensor->known())
+    warn(
+        "the recordings name no sensor (no `# sensor_name:` or `# serial:` line): compensate "
+        "cannot check that this calibration is applied to the same sensor");
   auto pooled = method::calibrate(all);
   if (!pooled) return report(pooled.err());
   rec.pooled = *pooled;

@@ -22,21 +22,69 @@ namespace {
 
 struct delta_n_source {
   method::delta_n_model model;
-  std::optional<method::pairing> pairing;  // the pairing the calibration used
+  std::optional<method::pairing> pairing;        // the pairing the calibration used
+  std::optional<io::calibration_record> record;  // the calibration file, when one was given
 };
+
+// A single-temperature dN applied more than this far from its calibration temperature: warn.
+// The paper's HZ1-90-100A moved its dN by 7e-4 deg/s (23 %) between 20 and 4 degC (FACTS §3).
+constexpr double far_from_calibration_c = 5.0;
+
+// The calibration must belong to the recording's sensor (refused otherwise), on the same rig
+// (warned), at about its temperature (warned) - docs/cli.md, "compensate".
+status check_calibration_fits(const compensate_options& o, const io::calibration_record& cal,
+                              const io::recording_cycles& rc) {
+  const auto here = io::sensor_of(rc.metadata);
+  if (!cal.sensor) {
+    warn(
+        fmt::format("{}: the calibration names no sensor (a file from before gyroflip recorded "
+                    "it): nothing checks that it belongs to this sensor",
+                    o.calibration));
+  } else if (cal.sensor->known() && here.known() && cal.sensor->sensor != here.sensor) {
+    return input_error({o.file},
+                       fmt::format("recorded with sensor '{}', but {} calibrates '{}': "
+                                   "a calibration applies to its own sensor only",
+                                   printable(here.sensor, 80), printable(o.calibration, 200),
+                                   printable(cal.sensor->sensor, 80)));
+  } else {
+    if (!cal.sensor->known() || !here.known())
+      warn(
+          fmt::format("{}: sensor unknown on one side ({} vs {}): nothing checks that the "
+                      "calibration belongs to this sensor",
+                      o.file, printable(here.sensor, 80), printable(cal.sensor->sensor, 80)));
+    for (const auto& d : io::rig_differences(*cal.sensor, here))
+      warn(fmt::format("{}: rig setting differs from the calibration's: {}", o.file, d));
+  }
+  if (cal.model && cal.model->degree() > 0) return ok();  // dN(T) covers temperature
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& c : rc.cycles)
+    if (std::isfinite(c.temp_c)) {
+      sum += c.temp_c;
+      ++n;
+    }
+  if (n > 0 && std::isfinite(cal.pooled.temp_c) &&
+      std::abs(sum / static_cast<double>(n) - cal.pooled.temp_c) > far_from_calibration_c)
+    warn(
+        fmt::format("{}: mean temperature {:.1f} degC, but the calibration was made at {:.1f} "
+                    "degC: dN depends on temperature (calibrate at several temperatures for a "
+                    "dN(T) model)",
+                    o.file, sum / static_cast<double>(n), cal.pooled.temp_c));
+  return ok();
+}
 
 result<delta_n_source> load_delta_n(const compensate_options& o) {
   if (o.calibration.empty()) {
     if (!(std::abs(o.delta_n_dps) <= io::csv_reader::max_magnitude))
       return usage_error("--delta-n must be a finite number within +-1e100 (deg/s)");
-    return delta_n_source{method::constant_model(o.delta_n_dps), std::nullopt};
+    return delta_n_source{method::constant_model(o.delta_n_dps), std::nullopt, std::nullopt};
   }
   auto rec = io::read_calibration_file(o.calibration);
   if (!rec) return rec.err();
-  if (rec->model) return delta_n_source{*rec->model, rec->pairing};
+  if (rec->model) return delta_n_source{*rec->model, rec->pairing, *rec};
   return delta_n_source{
       method::constant_model(rec->pooled.delta_n_dps, rec->pooled.stderr_correlated_dps),
-      rec->pairing};
+      rec->pairing, *rec};
 }
 
 std::string format_value(double v) {
@@ -111,6 +159,8 @@ int run_compensate(const compensate_options& o) {
   bar.finish();
   if (!rc) return report(rc.err());
   for (const auto& w : rc->warnings) warn(w);
+  if (dn->record)
+    if (auto s = check_calibration_fits(o, *dn->record, *rc); !s) return report(s.err());
   const auto& model = dn->model;
   if (model.degree() > 0 && !rc->has_temp)
     return report(input_error(

@@ -129,7 +129,39 @@ status check_model(const std::string& path, const method::delta_n_model& m) {
   return ok();
 }
 
+constexpr std::string_view rig_keys[] = {
+    "n_avg", "settle_s",      "positions_deg", "flip",         "filter_word",
+    "chop",  "steps_per_rev", "step_rate_sps", "latitude_deg", "axis"};
+
 }  // namespace
+
+sensor_record sensor_of(std::span<const csv_metadata> metadata) {
+  sensor_record r;
+  std::string name;
+  std::string serial;
+  std::string given;  // `sensor: ...` (simulate's --sensor argument, or a hand-written header)
+  for (const auto& m : metadata) {
+    if (m.key == "sensor_name") name = m.value;
+    if (m.key == "sensor") given = m.value;
+    if (m.key == "serial") serial = m.value;
+    for (const auto k : rig_keys)
+      if (m.key == k) r.rig.push_back(m);
+  }
+  if (name.empty()) name = given;
+  if (!name.empty() || !serial.empty())
+    r.sensor =
+        serial.empty() ? name : fmt::format("{} serial {}", name.empty() ? "?" : name, serial);
+  return r;
+}
+
+std::vector<std::string> rig_differences(const sensor_record& a, const sensor_record& b) {
+  std::vector<std::string> out;
+  for (const auto& x : a.rig)
+    for (const auto& y : b.rig)
+      if (x.key == y.key && x.value != y.value)
+        out.push_back(fmt::format("{} {} vs {}", x.key, x.value, y.value));
+  return out;
+}
 
 result<std::string> to_json(const calibration_record& rec, std::string_view tool_version) {
   json j = calibration_fields(rec.pooled, rec.geometry);
@@ -147,6 +179,12 @@ result<std::string> to_json(const calibration_record& rec, std::string_view tool
     files.push_back(std::move(e));
   }
   j["files"] = std::move(files);
+  if (rec.sensor) {
+    json rig = json::object();
+    for (const auto& m : rec.sensor->rig) rig[m.key] = m.value;
+    j["sensor"] = rec.sensor->sensor;
+    j["rig"] = std::move(rig);
+  }
   if (rec.model) {
     const auto& m = *rec.model;
     j["model"] = {{"kind", "poly"},
@@ -179,6 +217,15 @@ result<calibration_record> read_calibration_file(const std::string& path) {
       return input_error({path}, "'delta_n_dps' is not finite");
     if (j.contains("stderr_correlated_dps") && j["stderr_correlated_dps"].is_number())
       rec.pooled.stderr_correlated_dps = j["stderr_correlated_dps"].get<double>();
+    if (j.contains("temp_c") && j["temp_c"].is_number())
+      rec.pooled.temp_c = j["temp_c"].get<double>();
+    if (j.contains("sensor")) {
+      sensor_record sr;
+      sr.sensor = j.at("sensor").get<std::string>();
+      if (j.contains("rig"))
+        for (const auto& [k, v] : j.at("rig").items()) sr.rig.push_back({k, v.get<std::string>()});
+      rec.sensor = std::move(sr);
+    }
     if (j.contains("pairing")) {
       const auto p = method::parse_pairing(j.at("pairing").get<std::string>());
       if (!p) return input_error({path}, "'pairing' must be \"abba\" or \"simple\"");

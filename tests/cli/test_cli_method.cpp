@@ -160,6 +160,64 @@ TEST(CliCompensate, DriftWindowBelowTimeResolutionIsNotANumber) {
   EXPECT_EQ(w.out.find("nan"), std::string::npos);
 }
 
+// Issue 13 ("a user's first hour"): compensate applied any calibration silently. The calibration
+// now records its sensor and rig (from the recordings' metadata); compensate refuses another
+// sensor, warns on another rig setting, on a single-temperature dN far from its temperature,
+// and on a calibration file that names no sensor.
+TEST(CliCompensate, CalibrationBelongsToItsSensor) {
+  temp_dir d;
+  const auto sim = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> a{"simulate", "--duration", "300", "-o", d.file(out)};
+    a.insert(a.end(), extra.begin(), extra.end());
+    ASSERT_EQ(run_cli(a).exit_code, 0) << out;
+  };
+  sim("hz_cal.csv", {"--sensor", "hz1-90-100a", "--temp", "20"});
+  sim("hz_run.csv", {"--sensor", "hz1-90-100a", "--temp", "20", "--seed", "2"});
+  sim("hz_cold.csv", {"--sensor", "hz1-90-100a", "--temp", "4", "--seed", "3"});
+  sim("hz_128.csv", {"--sensor", "hz1-90-100a", "--temp", "20", "--seed", "4", "--n-avg", "128"});
+  sim("adx_run.csv", {"--sensor", "adxrs150", "--seed", "5"});
+  const auto cal = d.file("cal.json");
+  ASSERT_EQ(run_cli({"calibrate", d.file("hz_cal.csv"), "-o", cal}).exit_code, 0);
+  const auto j = json::parse(read_text(cal));
+  EXPECT_EQ(j["sensor"], "hz1-90-100a");
+  EXPECT_EQ(j["rig"]["n_avg"], "256");
+  // Same sensor, rig and temperature: silent.
+  const auto same =
+      run_cli({"compensate", d.file("hz_run.csv"), "--calibration", cal, "-o", d.file("o1.csv")});
+  EXPECT_EQ(same.exit_code, 0);
+  EXPECT_EQ(same.err, "");
+  // Another sensor: refused.
+  const auto other =
+      run_cli({"compensate", d.file("adx_run.csv"), "--calibration", cal, "-o", d.file("o2.csv")});
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_NE(other.err.find("recorded with sensor 'adxrs150'"), std::string::npos) << other.err;
+  EXPECT_FALSE(exists(d.file("o2.csv")));
+  // Another rig setting: warned.
+  const auto rig =
+      run_cli({"compensate", d.file("hz_128.csv"), "--calibration", cal, "-o", d.file("o3.csv")});
+  EXPECT_EQ(rig.exit_code, 0);
+  EXPECT_NE(rig.err.find("rig setting differs from the calibration's: n_avg 256 vs 128"),
+            std::string::npos)
+      << rig.err;
+  // 16 degC from a single-temperature calibration: warned.
+  const auto cold =
+      run_cli({"compensate", d.file("hz_cold.csv"), "--calibration", cal, "-o", d.file("o4.csv")});
+  EXPECT_EQ(cold.exit_code, 0);
+  EXPECT_NE(cold.err.find("mean temperature 4.0 degC, but the calibration was made at 20.0 degC"),
+            std::string::npos)
+      << cold.err;
+  // A calibration file from before (no sensor record): warned, still applied.
+  write_text(d.file("old.json"), R"({"delta_n_dps": 0.003, "pairing": "abba"})");
+  const auto old = run_cli({"compensate", d.file("hz_run.csv"), "--calibration", d.file("old.json"),
+                            "-o", d.file("o5.csv")});
+  EXPECT_EQ(old.exit_code, 0);
+  EXPECT_NE(old.err.find("names no sensor"), std::string::npos) << old.err;
+  // Two sensors in one calibration: refused.
+  const auto mixed = run_cli({"calibrate", d.file("hz_cal.csv"), d.file("adx_run.csv")});
+  EXPECT_EQ(mixed.exit_code, 2);
+  EXPECT_NE(mixed.err.find("calibrate one sensor at a time"), std::string::npos) << mixed.err;
+}
+
 // --- bad input ---------------------------------------------------------------------------
 
 std::vector<std::string> good_rows(int n = 40) {

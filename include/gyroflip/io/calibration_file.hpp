@@ -4,11 +4,13 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/earth/earth.hpp"
+#include "gyroflip/io/csv.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
 
@@ -26,8 +28,30 @@ struct calibration_entry {
   method::calibration cal;
 };
 
+/// Which sensor and rig a recording (or a calibration) belongs to, from the recordings' `# key:
+/// value` metadata (`gyroflip simulate` writes them; a recorder writes `serial`).
+struct sensor_record {
+  /// `sensor_name` (a preset or a TOML preset's name) and `serial` when given, else "unknown".
+  std::string sensor = "unknown";
+  /// The rig settings that change dN or its noise: n_avg, settle_s, positions_deg, flip,
+  /// filter_word, chop, steps_per_rev, step_rate_sps, latitude_deg, axis - those present.
+  std::vector<csv_metadata> rig;
+  [[nodiscard]] bool known() const noexcept { return sensor != "unknown"; }
+};
+
+/// The sensor record of a recording's metadata.
+[[nodiscard]] sensor_record sensor_of(std::span<const csv_metadata> metadata);
+
+/// The rig settings in which `b` differs from `a` ("n_avg 256 vs 128", ...; a setting one side
+/// lacks is not a difference).
+[[nodiscard]] std::vector<std::string> rig_differences(const sensor_record& a,
+                                                       const sensor_record& b);
+
 /// Everything a calibration run produced.
 struct calibration_record {
+  /// The sensor and rig of the calibration's recordings; nullopt for files written before
+  /// gyroflip recorded it.
+  std::optional<sensor_record> sensor;
   method::pairing pairing = method::pairing::abba;
   method::calibration pooled;  ///< all cycles of all files together
   std::optional<calibration_geometry> geometry;
