@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "finite_output.hpp"
+#include "gyroflip/core/units.hpp"
 #include "gyroflip/earth/earth.hpp"
 
 namespace gyroflip::app {
@@ -19,14 +20,14 @@ int run_earth(const earth_options& o) {
     const nlohmann::json j = {{"lat_deg", o.lat_deg},
                               {"axis_ned", {axis->north, axis->east, axis->down}},
                               {"earth_rate_dps", w_dps},
-                              {"earth_rate_deg_h", w_dps * 3600.0}};
+                              {"earth_rate_deg_h", w_dps * units::dph_per_dps}};
     if (auto s = print_json(j); !s) return report(s.err());
     return 0;
   }
   const auto text = fmt::format(
       "{:.10e} deg/s  ({:.6f} deg/h) Earth rate along axis ({:.6f}, {:.6f}, {:.6f}) NED at {} "
       "deg\n",
-      w_dps, w_dps * 3600.0, axis->north, axis->east, axis->down, o.lat_deg);
+      w_dps, w_dps * units::dph_per_dps, axis->north, axis->east, axis->down, o.lat_deg);
   if (auto s = print_checked(text, "<stdout>"); !s) return report(s.err());
   return 0;
 }

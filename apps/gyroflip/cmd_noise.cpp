@@ -13,6 +13,7 @@
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
@@ -75,12 +76,12 @@ int run_noise(const noise_options& o) {
               {"ci", f.level},
               {"notes", f.notes}};
     put(j, "arw_dps_rthz", f.arw, 1.0);
-    put(j, "arw_deg_rth", f.arw, 60.0);  // deg/sqrt(s) -> deg/sqrt(h)
+    put(j, "arw_deg_rth", f.arw, units::deg_rth_per_deg_rts);
     put(j, "bias_instability_dps", f.bias_instability, 1.0);
-    put(j, "bias_instability_deg_h", f.bias_instability, 3600.0);
-    put(j, "rrw_deg_h_rth", f.rrw, 3600.0 * 60.0);  // deg/s/sqrt(s) -> deg/h/sqrt(h)
+    put(j, "bias_instability_deg_h", f.bias_instability, units::dph_per_dps);
+    put(j, "rrw_deg_h_rth", f.rrw, units::dph_rth_per_dps_rts);
     put(j, "quantization_deg", f.quantization, 1.0);
-    put(j, "rate_ramp_deg_h2", f.rate_ramp, 3600.0 * 3600.0);  // deg/s^2 -> deg/h^2
+    put(j, "rate_ramp_deg_h2", f.rate_ramp, units::dph2_per_dps2);
     json points = json::array();
     for (const auto& p : *pts)
       points.push_back({{"tau_s", p.tau_s},
@@ -105,14 +106,16 @@ int run_noise(const noise_options& o) {
   fmt::format_to(out, "{}: {} samples at {:g} Hz, IEEE 952 terms from OADEV ({:g} % intervals)\n",
                  o.in.file, samples, 1.0 / tau0_s, 100.0 * f.level);
   fmt::format_to(out, "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz)\n",
-                 show(f.arw, 60.0), show(f.arw, 1.0));
+                 show(f.arw, units::deg_rth_per_deg_rts), show(f.arw, 1.0));
   fmt::format_to(out, "  bias instability  B    {} deg/h   ({} {:.4g} deg/s at tau {:g} s)\n",
-                 show(f.bias_instability, 3600.0),
+                 show(f.bias_instability, units::dph_per_dps),
                  f.bias_floor_reached ? "OADEV floor" : "no floor: OADEV still falls, last",
                  f.bias_floor_dev, f.bias_floor_tau_s);
-  fmt::format_to(out, "  rate random walk  K    {} deg/h/sqrt(h)\n", show(f.rrw, 216000.0));
+  fmt::format_to(out, "  rate random walk  K    {} deg/h/sqrt(h)\n",
+                 show(f.rrw, units::dph_rth_per_dps_rts));
   fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, 1.0));
-  fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n", show(f.rate_ramp, 3600.0 * 3600.0));
+  fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n",
+                 show(f.rate_ramp, units::dph2_per_dps2));
   fmt::format_to(out, "  fit chi2/dof {:.3g}\n", f.chi2_per_dof);
   for (const auto& n : f.notes)
     if (n.find("not resolved by the data") == std::string::npos)

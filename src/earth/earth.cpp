@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
 
 namespace gyroflip::earth {
 namespace {
@@ -74,7 +75,7 @@ result<ned_vector> parse_axis(std::string_view text) {
 }
 
 ned_vector earth_rate_ned_dps(double lat_deg) {
-  const double lat_rad = lat_deg * std::numbers::pi / 180.0;
+  const double lat_rad = lat_deg * units::rad_per_deg;
   // Exact zeros at the poles/equator keep signed-zero noise out of printed results.
   const double c = std::abs(lat_deg) == 90.0 ? 0.0 : std::cos(lat_rad);
   const double s = lat_deg == 0.0 ? 0.0 : std::sin(lat_rad);

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
 
 namespace gyroflip::rig {
 namespace {
@@ -76,8 +77,8 @@ frame_terms terms_at(const rig_geometry& g, double angle_deg) {
   } else if (r == -90.0) {
     s = -1.0;
   } else {
-    c = std::cos(r * std::numbers::pi / 180.0);
-    s = std::sin(r * std::numbers::pi / 180.0);
+    c = std::cos(r * units::rad_per_deg);
+    s = std::sin(r * units::rad_per_deg);
   }
   const ned_vector ex = rotate(g.sensitive_axis, g.table_axis, c, s);
   const ned_vector ey = rotate(g.y0, g.table_axis, c, s);

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/core/units.hpp"
 
 namespace gyroflip::earth {
 
@@ -17,7 +18,7 @@ namespace gyroflip::earth {
 inline constexpr double earth_rate_wgs84_rad_s = 7.2921150e-5;
 
 /// WGS84 angular velocity of the Earth (deg/s) = 4.178074e-3 (paper section 2).
-inline constexpr double earth_rate_wgs84_dps = earth_rate_wgs84_rad_s * 57.29577951308232;
+inline constexpr double earth_rate_wgs84_dps = earth_rate_wgs84_rad_s / units::rad_per_deg;
 
 /// A direction in the local NED frame (components dimensionless).
 struct ned_vector {

@@ -1,0 +1,26 @@
+/// \file
+/// \brief Unit factors of gyro specifications, named, with their definitions, so that no code
+/// multiplies by a bare 3600 or 60. IEEE Std 952-1997 Annex C units (FACTS §7): a rate in °/s or
+/// °/h, angle random walk N in °/√s (= °/s/√Hz, ADEV at 1 s) or °/√h, bias instability B in °/s or
+/// °/h, rate random walk K in °/s/√s or °/h/√h, rate ramp R in °/s² or °/h².
+#pragma once
+
+#include <numbers>
+
+namespace gyroflip::units {
+
+inline constexpr double s_per_h = 3600.0;
+/// A rate or B: x [°/h] = x [°/s] * 3600.
+inline constexpr double dph_per_dps = s_per_h;
+/// N: x [°/√h] = x [°/√s] * √3600 = 60 x.
+inline constexpr double deg_rth_per_deg_rts = 60.0;
+/// K: x [°/h/√h] = x [°/s/√s] * 3600 * 60.
+inline constexpr double dph_rth_per_dps_rts = s_per_h * deg_rth_per_deg_rts;
+/// R: x [°/h²] = x [°/s²] * 3600².
+inline constexpr double dph2_per_dps2 = s_per_h * s_per_h;
+/// Angles: x [rad] = x [°] * π/180.
+inline constexpr double rad_per_deg = std::numbers::pi / 180.0;
+
+static_assert(deg_rth_per_deg_rts * deg_rth_per_deg_rts == s_per_h, "sqrt(3600) = 60");
+
+}  // namespace gyroflip::units
