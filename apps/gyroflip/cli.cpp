@@ -1,7 +1,6 @@
 /// \file
 /// \brief Command-line parsing for all subcommands: the only translation unit that includes
 /// CLI11 (a 5-s header). Parsing only fills option structs; work runs after parsing.
-#include <charconv>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -14,6 +13,7 @@
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -26,9 +26,8 @@ CLI::Validator confidence_level(bool allow_none) {
   return CLI::Validator(
       [allow_none](const std::string& text) -> std::string {
         if (allow_none && text == "none") return {};
-        double v = 0.0;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (ec == std::errc{} && end == text.data() + text.size() && v > 0.0 && v < 1.0) return {};
+        const auto v = text::to_double(text);
+        if (v && *v > 0.0 && *v < 1.0) return {};
         return std::string("must be a probability in (0, 1), e.g. 0.683") +
                (allow_none ? " or none" : "") + "; got " + text;
       },

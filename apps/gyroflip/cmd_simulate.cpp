@@ -3,7 +3,6 @@
 #include "cmd_simulate.hpp"
 
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <iterator>
 #include <string_view>
@@ -14,7 +13,9 @@
 #include "commands.hpp"
 #include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/csv.hpp"
 #include "gyroflip/io/recording_writer.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
@@ -24,20 +25,9 @@ namespace gyroflip::app {
 namespace {
 
 result<std::pair<double, double>> parse_positions(std::string_view text) {
-  const auto comma = text.find(',');
-  double a = 0.0;
-  double b = 0.0;
-  if (comma != std::string_view::npos) {
-    const auto first = text.substr(0, comma);
-    const auto second = text.substr(comma + 1);
-    const auto r1 = std::from_chars(first.data(), first.data() + first.size(), a);
-    const auto r2 = std::from_chars(second.data(), second.data() + second.size(), b);
-    if (r1.ec == std::errc{} && r1.ptr == first.data() + first.size() && r2.ec == std::errc{} &&
-        r2.ptr == second.data() + second.size()) {
-      return std::pair{a, b};
-    }
-  }
-  return usage_error(fmt::format("--positions '{}': expected A,B in degrees", text));
+  const auto v = text::to_doubles(text, ',');
+  if (v && v->size() == 2) return std::pair{(*v)[0], (*v)[1]};
+  return usage_error(fmt::format("--positions '{}': expected A,B in degrees", printable(text, 60)));
 }
 
 // The `# key: value` metadata shared by the recording and the truth file: every input, so that
@@ -108,7 +98,13 @@ int run_simulate(const simulate_options& o) {
   if (!rate) return report(rate.err());
   c.rate = *rate;
   if (!o.temp_profile.empty()) {
-    auto temp = rig::profile::parse_temperature(o.temp_profile);
+    // A spec, or a table file read by io's CSV reader (FILE:LINE:COL in its errors).
+    result<rig::profile> temp = rig::profile::parse_temperature(o.temp_profile);
+    if (!rig::profile::is_temperature_spec(o.temp_profile)) {
+      auto tab = io::read_time_table(o.temp_profile, "temp_c");
+      if (!tab) return report(tab.err());
+      temp = rig::profile::table(std::move(tab->time_s), std::move(tab->value));
+    }
     if (!temp) return report(temp.err());
     c.temperature = *temp;
   } else {

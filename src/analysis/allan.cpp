@@ -4,13 +4,13 @@
 #include "gyroflip/analysis/allan.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "decimate.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 #include "sweep.hpp"
 
 namespace gyroflip::analysis {
@@ -182,20 +182,14 @@ result<tau_spec> parse_tau_spec(std::string_view text) {
   if (text == "decade") return tau_spec{tau_spec::set::decade, {}};
   if (text == "all") return tau_spec{tau_spec::set::all, {}};
   tau_spec s{tau_spec::set::list, {}};
-  std::string_view rest = text;
-  while (!rest.empty()) {
-    const auto comma = rest.find(',');
-    const std::string_view part = rest.substr(0, comma);
-    std::size_t m = 0;
-    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), m);
-    if (ec != std::errc{} || end != part.data() + part.size() || m == 0)
+  for (const auto& part : text::split(text, ',')) {
+    const auto m = text::to_unsigned(part.text);
+    if (!m || *m == 0)
       return parameter_error("taus",
                              fmt::format("'{}': expected octave, decade, all or averaging factors "
                                          "like 1,2,10 (whole numbers >= 1); '{}' is not one",
-                                         printable(text, 80), printable(part, 40)));
-    s.factors.push_back(m);
-    if (comma == std::string_view::npos) break;
-    rest.remove_prefix(comma + 1);
+                                         printable(text, 80), printable(part.text, 40)));
+    s.factors.push_back(static_cast<std::size_t>(*m));
   }
   if (s.factors.empty()) return parameter_error("taus", "empty list of averaging factors");
   std::sort(s.factors.begin(), s.factors.end());

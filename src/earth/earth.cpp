@@ -3,7 +3,6 @@
 #include "gyroflip/earth/earth.hpp"
 
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -11,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 #include "gyroflip/core/units.hpp"
 
 namespace gyroflip::earth {
@@ -27,33 +27,15 @@ bool iequals(std::string_view a, std::string_view b) {
   return true;
 }
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
-
 result<ned_vector> parse_components(std::string_view text) {
-  std::array<double, 3> v{};
-  std::size_t count = 0;
-  std::string_view rest = text;
-  while (true) {
-    const auto comma = rest.find(',');
-    const std::string_view part = trim(rest.substr(0, comma));
-    if (count == 3)
-      return usage_error(
-          fmt::format("axis '{}': expected 3 components N,E,D", printable(text, 60)));
-    double x = 0.0;
-    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), x);
-    if (ec != std::errc{} || end != part.data() + part.size() || !std::isfinite(x))
-      return usage_error(
-          fmt::format("axis '{}': '{}' is not a finite number", printable(text, 60), part));
-    v[count++] = x;
-    if (comma == std::string_view::npos) break;
-    rest.remove_prefix(comma + 1);
-  }
-  if (count != 3)
+  text::token bad;
+  const auto c = text::to_doubles(text, ',', &bad);
+  if (!c)
+    return usage_error(fmt::format("axis '{}': '{}' (column {}) is not a finite number",
+                                   printable(text, 60), printable(bad.text, 40), bad.column));
+  if (c->size() != 3)
     return usage_error(fmt::format("axis '{}': expected 3 components N,E,D", printable(text, 60)));
+  const auto& v = *c;
   const double norm = std::hypot(v[0], v[1], v[2]);
   if (!(norm > 0.0))
     return usage_error(fmt::format("axis '{}': zero vector has no direction", printable(text, 60)));
@@ -63,7 +45,7 @@ result<ned_vector> parse_components(std::string_view text) {
 }  // namespace
 
 result<ned_vector> parse_axis(std::string_view text) {
-  const std::string_view t = trim(text);
+  const std::string_view t = text::trim(text);
   if (iequals(t, "north") || iequals(t, "n")) return ned_vector{1.0, 0.0, 0.0};
   if (iequals(t, "east") || iequals(t, "e")) return ned_vector{0.0, 1.0, 0.0};
   if (iequals(t, "down") || iequals(t, "d")) return ned_vector{0.0, 0.0, 1.0};

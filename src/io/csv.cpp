@@ -253,4 +253,30 @@ result<std::vector<std::vector<double>>> read_numeric_columns(
   return cols;
 }
 
+result<time_table> read_time_table(const std::string& path, std::string_view column) {
+  auto r = csv_reader::open(path);
+  if (!r) return r.err();
+  auto t = r->require_column("time_s");
+  if (!t) return t.err();
+  auto v = r->require_column(column);
+  if (!v) return v.err();
+  r->select({*t, *v});
+  time_table out;
+  while (true) {
+    const auto s = r->next();
+    if (s == csv_reader::step::end) break;
+    if (s == csv_reader::step::failed) return r->last_error();
+    double ts = 0.0;
+    double x = 0.0;
+    if (!r->parse(0, ts) || !r->parse(1, x)) return r->last_error();
+    if (!out.time_s.empty() && !(ts > out.time_s.back()))
+      return r->error_at(
+          0, fmt::format("time_s {} does not increase (previous {})", ts, out.time_s.back()));
+    out.time_s.push_back(ts);
+    out.value.push_back(x);
+  }
+  if (out.time_s.empty()) return input_error({path}, "no data rows after the header");
+  return out;
+}
+
 }  // namespace gyroflip::io

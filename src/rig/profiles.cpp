@@ -3,38 +3,30 @@
 #include "gyroflip/rig/profiles.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 
 namespace gyroflip::rig {
 namespace {
 
+// The fields of `s` at `sep` and whole-field numbers: core's tokenizer (text.hpp).
 std::vector<std::string_view> split(std::string_view s, char sep) {
   std::vector<std::string_view> out;
-  while (true) {
-    const auto p = s.find(sep);
-    out.push_back(s.substr(0, p));
-    if (p == std::string_view::npos) return out;
-    s.remove_prefix(p + 1);
-  }
+  for (const auto& t : text::split(s, sep)) out.push_back(t.text);
+  return out;
 }
 
 bool to_double(std::string_view s, double& x) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), x);
-  return ec == std::errc{} && end == s.data() + s.size() && !s.empty() && std::isfinite(x);
+  const auto v = text::to_double(s);
+  if (v) x = *v;
+  return v.has_value();
 }
 
 error bad_spec(std::string_view what, std::string_view spec, std::string_view why) {
@@ -172,53 +164,31 @@ result<profile> profile::parse_temperature(std::string_view spec) {
     p.half_period_s_ = (*n)[2] / 2.0;
     return p;
   }
-  const std::string path(spec);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return io_error(path, "cannot open (expected a number, steps:, ramp:, fridge: or a CSV file)");
-  }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_temperature_csv(ss.str(), path);
+  return bad_spec(what, spec,
+                  "expected a number, const:V, steps:T:V,..., ramp:FROM:TO:DUR_S or "
+                  "fridge:MEAN:SWING:PERIOD_S (a CSV file is read by the caller)");
 }
 
-result<profile> profile::parse_temperature_csv(std::string_view text, std::string_view file) {
+bool profile::is_temperature_spec(std::string_view spec) {
+  double x = 0.0;
+  if (to_double(spec, x)) return true;
+  const auto kind = split(spec, ':')[0];
+  return kind == "const" || kind == "steps" || kind == "ramp" || kind == "fridge";
+}
+
+result<profile> profile::table(std::vector<double> t_s, std::vector<double> v) {
+  if (t_s.empty() || t_s.size() != v.size())
+    return usage_error("a profile table needs as many values as times, and at least one");
+  for (std::size_t i = 0; i < t_s.size(); ++i) {
+    if (!std::isfinite(t_s[i]) || !std::isfinite(v[i]))
+      return usage_error(fmt::format("profile table row {}: not a finite number", i + 1));
+    if (i > 0 && !(t_s[i] > t_s[i - 1]))
+      return usage_error(fmt::format("profile table row {}: time must increase", i + 1));
+  }
   profile p;
   p.kind_ = kind::linear;
-  std::size_t line_no = 0;
-  bool header = false;
-  for (auto line : split(text, '\n')) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (line.empty() || line.front() == '#') continue;
-    const auto cols = split(line, ',');
-    if (!header) {
-      if (cols.size() != 2 || cols[0] != "time_s" || cols[1] != "temp_c") {
-        return input_error({file, line_no, 1}, "expected the header 'time_s,temp_c'");
-      }
-      header = true;
-      continue;
-    }
-    if (cols.size() != 2) {
-      return input_error({file, line_no, 1},
-                         fmt::format("expected 2 columns (time_s,temp_c), found {}", cols.size()));
-    }
-    double t = 0.0;
-    double c = 0.0;
-    if (!to_double(cols[0], t))
-      return input_error({file, line_no, 1}, "time_s: not a finite number");
-    if (!to_double(cols[1], c)) {
-      return input_error({file, line_no, cols[0].size() + 2}, "temp_c: not a finite number");
-    }
-    if (!p.t_s_.empty() && !(t > p.t_s_.back())) {
-      return input_error({file, line_no, 1}, "time_s must increase from row to row");
-    }
-    if (c < -273.15) return input_error({file, line_no, cols[0].size() + 2}, "temp_c below 0 K");
-    p.t_s_.push_back(t);
-    p.v_.push_back(c);
-  }
-  if (!header) return input_error({file, 1, 1}, "empty file: expected the header 'time_s,temp_c'");
-  if (p.t_s_.empty()) return input_error({file, line_no, 1}, "no data rows");
+  p.t_s_ = std::move(t_s);
+  p.v_ = std::move(v);
   return p;
 }
 

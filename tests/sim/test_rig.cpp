@@ -59,17 +59,15 @@ TEST(Profiles, SpecsAndCsv) {
   auto fridge = profile::parse_temperature("fridge:4:2:600").value();
   EXPECT_NEAR(fridge.at(0.0), 5.0, 1e-12);
   EXPECT_NEAR(fridge.at(300.0), 3.0, 1e-12);
-  auto csv =
-      profile::parse_temperature_csv("# fridge\ntime_s,temp_c\n0,20\n10,10\n", "t.csv").value();
+  auto csv = profile::table({0.0, 10.0}, {20.0, 10.0}).value();
   EXPECT_NEAR(csv.at(5.0), 15.0, 1e-12);
   EXPECT_EQ(csv.at(50.0), 10.0);
-  const auto err = [](std::string_view text) {
-    return profile::parse_temperature_csv(text, "t.csv").err().message;
-  };
-  EXPECT_EQ(err("time_s,temp_c\n0,20\n1,x\n"), "t.csv:3:3: temp_c: not a finite number");
-  EXPECT_EQ(err("time,temp\n"), "t.csv:1:1: expected the header 'time_s,temp_c'");
-  EXPECT_EQ(err("time_s,temp_c\n5,1\n5,2\n"), "t.csv:3:1: time_s must increase from row to row");
-  EXPECT_EQ(err("time_s,temp_c\n5\n"), "t.csv:2:1: expected 2 columns (time_s,temp_c), found 1");
+  EXPECT_EQ(profile::table({5.0, 5.0}, {1.0, 2.0}).err().message,
+            "profile table row 2: time must increase");
+  EXPECT_FALSE(profile::table({}, {}));
+  EXPECT_TRUE(profile::is_temperature_spec("fridge:4:2:600"));
+  EXPECT_TRUE(profile::is_temperature_spec("-3.5"));
+  EXPECT_FALSE(profile::is_temperature_spec("lab_temps.csv"));
 }
 
 TEST(Profiles, FillIsBitIdenticalToAtForEveryKind) {
@@ -82,8 +80,7 @@ TEST(Profiles, FillIsBitIdenticalToAtForEveryKind) {
   all.reserve(rates.size() + temps.size() + 1);
   for (const auto& r : rates) all.push_back(profile::parse_rate(r).value());
   for (const auto& t : temps) all.push_back(profile::parse_temperature(t).value());
-  all.push_back(
-      profile::parse_temperature_csv("time_s,temp_c\n0.2,20\n0.9,10\n1.1,12\n", "t.csv").value());
+  all.push_back(profile::table({0.2, 0.9, 1.1}, {20.0, 10.0, 12.0}).value());
   const std::size_t n = 1500;  // 3 s at 500 Hz: many pieces of each kind
   std::vector<double> t(n);
   for (std::size_t k = 0; k < n; ++k) t[k] = (static_cast<double>(k) + 0.5) * 1.99886e-3;

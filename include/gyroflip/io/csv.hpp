@@ -142,6 +142,14 @@ class csv_reader {
   error error_{errc::bad_input, {}};
 };
 
+/// Two columns of a CSV table: `time_s` and `column`, time strictly increasing (`FILE:LINE:COL`
+/// naming the row that is not). For `simulate --temp-profile FILE.csv`.
+struct time_table {
+  std::vector<double> time_s;
+  std::vector<double> value;
+};
+[[nodiscard]] result<time_table> read_time_table(const std::string& path, std::string_view column);
+
 /// Reads whole columns by name as doubles (every data row). For tools that need the full
 /// series in memory (`gyroflip adev` on CSV input). Errors as csv_reader.
 [[nodiscard]] result<std::vector<std::vector<double>>> read_numeric_columns(

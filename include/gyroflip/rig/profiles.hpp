@@ -9,8 +9,9 @@
 ///   `ramp:FROM:TO:DURATION_S`        linear FROM -> TO over DURATION, then TO (temperature)
 ///   `fridge:MEAN:SWING:PERIOD_S`     triangle wave MEAN +- SWING/2 (compressor cycling), starting
 ///                                    at MEAN + SWING/2                       (temperature)
-///   FILE (temperature)               CSV with header `time_s,temp_c`, linear interpolation,
-///                                    held constant outside the table
+///   a table (temperature)            `table()`: linear interpolation, held constant outside it
+///                                    (the CLI reads `FILE.csv` with columns time_s,temp_c through
+///                                    io::read_time_table, the one CSV reader)
 /// Evaluation is O(1) amortised for non-decreasing times (a cursor). Every kind but `sine` is
 /// piecewise affine, and is evaluated as v0 + slope (t - t0) on its current piece, one formula
 /// for `at` and for the simulator's block evaluation `fill` (so both give the same bits).
@@ -35,11 +36,14 @@ class profile {
   [[nodiscard]] static profile constant(double value);
   /// A rate spec (deg/s): const, steps or sine. Errors name the spec.
   [[nodiscard]] static result<profile> parse_rate(std::string_view spec);
-  /// A temperature spec (degC): const, steps, ramp, fridge, or a CSV file (errors FILE:LINE:COL).
-  [[nodiscard]] static result<profile> parse_temperature(std::string_view spec_or_file);
-  /// The CSV temperature table in `text`; `file` names it in messages.
-  [[nodiscard]] static result<profile> parse_temperature_csv(std::string_view text,
-                                                             std::string_view file);
+  /// A temperature spec (degC): const, steps, ramp or fridge. Errors name the spec.
+  [[nodiscard]] static result<profile> parse_temperature(std::string_view spec);
+  /// True when `spec` has the form of a temperature spec (else it names a table file, which the
+  /// caller reads: io::read_time_table).
+  [[nodiscard]] static bool is_temperature_spec(std::string_view spec);
+  /// Linear interpolation between (t_s[i], v[i]) (held before the first and after the last).
+  /// Errors: sizes differ or are 0, a value not finite, times not increasing (row named).
+  [[nodiscard]] static result<profile> table(std::vector<double> t_s, std::vector<double> v);
 
   /// The value at `t_s` (s).
   double at(double t_s) noexcept {
