@@ -268,19 +268,37 @@ std::optional<int> alpha_b1(const std::vector<double>& z) {
 
 // R(n) = MVAR/AVAR (SP1065 section 5.5; IEEE 1139) splits white PM (R = 1/m) from flicker PM
 // (R = [3 ln(256/27)/(8 pi^2)] / [(1.038 + 3 ln(pi m))/(4 pi^2)], f_h = 1/(2 tau0)) with a
-// geometric-mean boundary; MDEV and OADEV at m from the whole phase.
-int alpha_rn(const phase_source& x, std::size_t m) {
-  tau_spec one{tau_spec::set::list, {m}};
-  const auto a = deviation(dev_kind::oadev, x, one);
-  const auto mo = deviation(dev_kind::mdev, x, one);
-  if (!a || !mo || a->empty() || mo->empty() || !(a->front().dev > 0.0)) return 1;
-  const double rn = (mo->front().dev * mo->front().dev) / (a->front().dev * a->front().dev);
+// geometric-mean boundary, from MDEV and OADEV at each m computed over the whole phase in one
+// sweep for all the factors. Each costs a pass over the phase, so at most `max_rn` factors (the
+// shortest) get it; the others are taken as flicker PM, the PM type with the smaller EDF (wider
+// intervals). Only `--taus all` on a PM-dominated series reaches the limit.
+constexpr std::size_t max_rn = 32;
+
+std::vector<int> alpha_rn(const phase_source& x, const std::vector<std::size_t>& ms) {
+  std::vector<int> out(ms.size(), 1);
+  if (ms.empty()) return out;
+  const tau_spec list{tau_spec::set::list, ms};
+  const auto a = deviation(dev_kind::oadev, x, list);
+  const auto mo = deviation(dev_kind::mdev, x, list);
+  if (!a || !mo) return out;
   constexpr double pi = 3.14159265358979323846;
-  const double mm = static_cast<double>(m);
-  const double r_wpm = 1.0 / mm;
-  const double r_fpm = (3.0 * std::log(256.0 / 27.0) / (8.0 * pi * pi)) /
-                       ((1.038 + 3.0 * std::log(pi * mm)) / (4.0 * pi * pi));
-  return rn < std::sqrt(r_wpm * r_fpm) ? 2 : 1;
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    const auto find = [&](const std::vector<deviation_point>& pts) {
+      for (const auto& p : pts)
+        if (p.m == ms[i]) return p.dev;
+      return 0.0;
+    };
+    const double ad = find(*a);
+    const double md = find(*mo);
+    if (!(ad > 0.0)) continue;
+    const double rn = (md * md) / (ad * ad);
+    const double mm = static_cast<double>(ms[i]);
+    const double r_wpm = 1.0 / mm;
+    const double r_fpm = (3.0 * std::log(256.0 / 27.0) / (8.0 * pi * pi)) /
+                         ((1.038 + 3.0 * std::log(pi * mm)) / (4.0 * pi * pi));
+    out[i] = rn < std::sqrt(r_wpm * r_fpm) ? 2 : 1;
+  }
+  return out;
 }
 
 // Noise identification at every factor: the decimated series of as many factors as fit in
@@ -300,19 +318,29 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
     held += len;
   }
   std::vector<std::optional<int>> ids;
+  std::vector<char> by_b1;
   for (std::size_t p = 0; p < passes.size(); ++p) {
     auto z = detail::decimated_prefixes(x, passes[p], max_points,
                                         detail::part_progress(on_progress, p, passes.size()));
     for (std::size_t i = 0; i < z.size(); ++i) {
-      if (z[i].size() >= lag1_min_points) {
-        ids.push_back(alpha_lag1(std::move(z[i])));
-        continue;
-      }
-      auto a = alpha_b1(z[i]);
-      if (a && *a == 2) a = alpha_rn(x, passes[p][i]);
-      ids.push_back(a);
+      by_b1.push_back(z[i].size() < lag1_min_points ? 1 : 0);
+      ids.push_back(by_b1.back() != 0 ? alpha_b1(z[i]) : alpha_lag1(std::move(z[i])));
     }
   }
+  // PM read by B1: white or flicker by R(n), for the first max_rn such factors.
+  std::vector<std::size_t> pm;
+  std::vector<std::size_t> pm_m;
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    if (by_b1[i] != 0 && ids[i] == 2) {
+      if (pm.size() < max_rn) {
+        pm.push_back(i);
+        pm_m.push_back(ms[i]);
+      } else {
+        ids[i] = 1;
+      }
+    }
+  const auto rn = alpha_rn(x, pm_m);
+  for (std::size_t k = 0; k < pm.size(); ++k) ids[pm[k]] = rn[k];
   return ids;
 }
 

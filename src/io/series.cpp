@@ -151,10 +151,14 @@ class mapped_samples final : public analysis::sample_source {
   }
   // Whole 64 KB windows of address: a page fault maps the aligned 64 KB around it (the kernel's
   // default fault-around), which a release of only the pages read would leave resident.
+  // A file below 256 MB stays resident: releasing it would only make every further pass (an
+  // Allan sweep per group of factors, `--taus all`: thousands) fault it in again.
   void release(std::size_t begin, std::size_t end) const noexcept override {
+    if (count_ < keep_resident_samples) return;
     file_.release(offset_ + begin * sizeof(double), offset_ + end * sizeof(double),
                   std::size_t{1} << 16);
   }
+  static constexpr std::size_t keep_resident_samples = std::size_t{1} << 25;
   // 2 MB: one madvise per 2 MB consumed per reader (cheap), ~100 MB resident at most.
   [[nodiscard]] std::size_t release_step() const noexcept override { return std::size_t{1} << 18; }
 
