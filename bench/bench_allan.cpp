@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/phase_source.hpp"
 #include "gyroflip/sensor/random.hpp"
 
@@ -76,6 +77,22 @@ BENCHMARK_CAPTURE(BM_Deviation, mdev, gyroflip::analysis::dev_kind::mdev)
 BENCHMARK_CAPTURE(BM_Deviation, totdev, gyroflip::analysis::dev_kind::totdev)
     ->Arg(1 << 22)
     ->Unit(benchmark::kMillisecond);
+
+// Issue 13 item 16: every averaging factor (`--taus all`) of OADEV with the noise identification
+// and EDF of every point, on 2^16 samples (16 383 factors): curves per second.
+void BM_OadevAllTausWithIntervals(benchmark::State& state) {
+  const auto y = white(static_cast<std::size_t>(state.range(0)));
+  const gyroflip::analysis::span_samples samples(y);
+  const auto src =
+      *gyroflip::analysis::phase_source::make(samples, gyroflip::analysis::input_kind::rate, 1.0);
+  const gyroflip::analysis::tau_spec all{gyroflip::analysis::tau_spec::set::all, {}};
+  for (auto _ : state) {
+    auto pts = *gyroflip::analysis::deviation(gyroflip::analysis::dev_kind::oadev, src, all);
+    gyroflip::analysis::add_confidence(pts, gyroflip::analysis::dev_kind::oadev, src, 0.683);
+    benchmark::DoNotOptimize(pts);
+  }
+}
+BENCHMARK(BM_OadevAllTausWithIntervals)->Arg(1 << 16)->Unit(benchmark::kMillisecond);
 
 // Rebuilding the phase of rate samples from the carries, as a far stream of a sweep reads it
 // (4096 points a read, one reader, one thread): phase points per second.

@@ -283,10 +283,11 @@ std::vector<long double> in_groups(std::size_t order, const std::vector<term_ran
                                    Sweep sweep) {
   const bool one_chunk = static_cast<index>(n_phase) <= chunk_terms;
   // Side by side, the groups must also be of similar work (terms summed), or one big group of
-  // near factors would keep one core busy alone: at most 1/16 of all the work per group.
+  // near factors would keep one core busy alone; and small enough that the caller's thread
+  // reports progress often: at most 1/64 of all the work per group.
   double total_work = 0.0;
   for (const auto& f : fs) total_work += static_cast<double>(f.hi - f.lo);
-  const double max_work = one_chunk ? total_work / 16.0 : total_work + 1.0;
+  const double max_work = one_chunk ? total_work / 64.0 : total_work + 1.0;
   std::vector<std::vector<std::size_t>> groups(1);
   std::size_t far = 0;
   double work = 0.0;

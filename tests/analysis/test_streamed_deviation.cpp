@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -238,6 +239,48 @@ TEST(StreamedDeviation, SpanAndSourceEntryPointsAgree) {
   }
   EXPECT_EQ(deviation_at(dev_kind::oadev, x, 1.0, 20000).n, 0u);  // too large: no terms
   EXPECT_EQ(deviation_at(dev_kind::oadev, x, 0.0, 1).n, 0u);      // bad tau0
+}
+
+// Issue 13 item 16: a long factor list on rate samples builds the phase once (more than 64 factors)
+// instead of rebuilding it on every read; the curve must be the one of the streamed path.
+TEST(StreamedDeviation, MaterializedPhaseForLongListsEqualsTheStreamedOne) {
+  const auto y = white(30000, 25);
+  const span_samples s(y);
+  const auto src = *phase_source::make(s, input_kind::rate, 0.5);
+  tau_spec many{tau_spec::set::list, {}};
+  for (std::size_t m = 1; m <= 65; ++m) many.factors.push_back(m * 37);
+  for (const dev_kind k : all_kinds) {
+    const auto a = *deviation(k, src, many);  // 65 factors: materialized
+    ASSERT_EQ(a.size(), 65u);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const auto b = *deviation(k, src, tau_spec{tau_spec::set::list, {a[i].m}});  // streamed
+      if (k == dev_kind::mdev || k == dev_kind::tdev) {
+        EXPECT_NEAR(a[i].dev / b[0].dev, 1.0, 1e-13) << to_string(k) << " m " << a[i].m;
+      } else {
+        EXPECT_EQ(a[i].dev, b[0].dev) << to_string(k) << " m " << a[i].m;
+      }
+      EXPECT_EQ(a[i].n, b[0].n);
+    }
+  }
+}
+
+// The progress callback of a long sweep reports often enough for a live line (at least 16
+// times for `--taus all`), from the caller's thread.
+TEST(StreamedDeviation, AllTausReportProgressAsTheyGo) {
+  const auto y = white(1 << 16, 26);
+  const span_samples s(y);
+  const auto src = *phase_source::make(s, input_kind::angle, 1.0);
+  const auto caller = std::this_thread::get_id();
+  std::size_t calls = 0;
+  bool same_thread = true;
+  const auto pts = *deviation(dev_kind::oadev, src, tau_spec{tau_spec::set::all, {}},
+                              [&](std::size_t, std::size_t) {
+                                ++calls;
+                                same_thread = same_thread && std::this_thread::get_id() == caller;
+                              });
+  EXPECT_EQ(pts.size(), (y.size() - 1) / 4);
+  EXPECT_GE(calls, 16u);
+  EXPECT_TRUE(same_thread);
 }
 
 }  // namespace
