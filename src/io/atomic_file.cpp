@@ -87,7 +87,11 @@ result<std::string> real_target(const std::string& path) {
     const ssize_t n = ::readlink(p.c_str(), buf.data(), buf.size() - 1);
     if (n < 0) return io_error(path, fmt::format("cannot read symlink: {}", errno_text(errno)));
     const std::string link(buf.data(), static_cast<std::size_t>(n));
-    p = link.front() == '/' ? link : dir_of(p) + "/" + link;
+    if (link.front() == '/') {
+      p = link;
+    } else {
+      p = dir_of(p).append("/").append(link);
+    }
   }
   return io_error(path, "too many levels of symbolic links");
 }
