@@ -31,4 +31,8 @@ class input_file {
   std::string path_;
 };
 
+/// The series targets' body: the bytes as a file of extension `ext` through io::read_series (a
+/// sample rate given for binary formats), then the phase source over what it read, both kinds.
+int fuzz_series(const std::uint8_t* data, std::size_t size, const char* ext);
+
 }  // namespace gyroflip::fuzz

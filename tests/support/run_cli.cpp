@@ -18,38 +18,10 @@ extern char** environ;
 
 namespace gyroflip::test {
 
-cli_result run_cli(const std::vector<std::string>& args) {
-  temp_dir tmp;
-  const std::string out_path = tmp.file("stdout");
-  const std::string err_path = tmp.file("stderr");
-  std::vector<std::string> argv_s;
-  argv_s.emplace_back(GYROFLIP_EXE);
-  argv_s.insert(argv_s.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : argv_s) argv.push_back(a.data());
-  argv.push_back(nullptr);
+namespace {
 
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&fa, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) throw std::runtime_error("posix_spawn failed");
-  int st = 0;
-  struct rusage ru {};
-  wait4(pid, &st, 0, &ru);
-  cli_result r;
-  r.max_rss_kb = ru.ru_maxrss;
-  r.exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-  r.out = read_text(out_path);
-  r.err = read_text(err_path);
-  return r;
-}
-
-int spawn_cli(const std::vector<std::string>& args) {
+// Starts GYROFLIP_EXE with `args`, stdin from /dev/null, stdout and stderr to the given files.
+pid_t spawn(const std::vector<std::string>& args, const char* out_path, const char* err_path) {
   std::vector<std::string> argv_s{GYROFLIP_EXE};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -57,8 +29,9 @@ int spawn_cli(const std::vector<std::string>& args) {
   argv.push_back(nullptr);
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
-  for (int fd = 0; fd < 3; ++fd)
-    posix_spawn_file_actions_addopen(&fa, fd, "/dev/null", fd == 0 ? O_RDONLY : O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 1, out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
@@ -66,10 +39,36 @@ int spawn_cli(const std::vector<std::string>& args) {
   return pid;
 }
 
+int exit_status(int st) {
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+}  // namespace
+
+cli_result run_cli(const std::vector<std::string>& args) {
+  temp_dir tmp;
+  const std::string out_path = tmp.file("stdout");
+  const std::string err_path = tmp.file("stderr");
+  const pid_t pid = spawn(args, out_path.c_str(), err_path.c_str());
+  int st = 0;
+  struct rusage ru {};
+  wait4(pid, &st, 0, &ru);
+  cli_result r;
+  r.max_rss_kb = ru.ru_maxrss;
+  r.exit_code = exit_status(st);
+  r.out = read_text(out_path);
+  r.err = read_text(err_path);
+  return r;
+}
+
+int spawn_cli(const std::vector<std::string>& args) {
+  return spawn(args, "/dev/null", "/dev/null");
+}
+
 int wait_cli(int pid) {
   int st = 0;
   waitpid(pid, &st, 0);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return exit_status(st);
 }
 
 std::string read_text(const std::string& path) {
