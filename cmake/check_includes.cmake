@@ -4,6 +4,10 @@
 # library file may include a CLI header or CLI11. Header-only uses of another module (a struct, an
 # inline function) never reach the linker, so the link checks alone would miss them. Also: no
 # string literal in the library names a CLI flag (`--rate`): messages name parameters.
+# The firmware walls (issue 8, docs/FIRMWARE.md): nothing under firmware/ includes a header other
+# than <stdint.h>, <stddef.h> or, in its own port, the MCU's <msp430.h>, nor a host library header;
+# the host library includes only firmware/protocol/ and the AD7739 fact headers
+# (drivers/ad7739/regs.hpp, convert.hpp), which the simulator's ADC model shares with the driver.
 #   cmake -DROOT=<source dir> -DRULES="core:;earth:core;..." -DSTAMP=<file> -P check_includes.cmake
 cmake_minimum_required(VERSION 3.25)
 set(failures "")
@@ -35,11 +39,32 @@ foreach(rule IN LISTS RULES)
           file(RELATIVE_PATH rel "${ROOT}" "${f}")
           list(APPEND failures "${rel}: module '${module}' includes '${CMAKE_MATCH_1}', which it may not use (allowed: ${allowed}; docs/ARCHITECTURE.md)")
         endif()
+      elseif(line MATCHES "\"(firmware/[^\"]+)\"" AND
+             NOT CMAKE_MATCH_1 MATCHES "^firmware/(protocol/|drivers/ad7739/(regs|convert)\\.hpp$)")
+        file(RELATIVE_PATH rel "${ROOT}" "${f}")
+        list(APPEND failures "${rel}: the library may include only firmware/protocol/ and the AD7739 fact headers of firmware/ (${line})")
       elseif(line MATCHES "<CLI/|\"cli|\"cmd_|progress_bar")
         file(RELATIVE_PATH rel "${ROOT}" "${f}")
         list(APPEND failures "${rel}: the library may not include CLI code (${line})")
       endif()
     endforeach()
+  endforeach()
+endforeach()
+file(GLOB_RECURSE fw_files "${ROOT}/firmware/*.cpp" "${ROOT}/firmware/*.hpp" "${ROOT}/firmware/*.c"
+     "${ROOT}/firmware/*.h")
+foreach(f IN LISTS fw_files)
+  file(RELATIVE_PATH rel "${ROOT}" "${f}")
+  file(STRINGS "${f}" lines REGEX "^[ \t]*#[ \t]*include")
+  foreach(line IN LISTS lines)
+    if(line MATCHES "<([^>]+)>")
+      set(header "${CMAKE_MATCH_1}")
+      if(NOT header MATCHES "^std(int|def)\\.h$" AND
+         NOT (rel MATCHES "^firmware/ports/msp430f149/" AND header STREQUAL "msp430.h"))
+        list(APPEND failures "${rel}: the firmware is freestanding, <stdint.h> and <stddef.h> only (${line})")
+      endif()
+    elseif(line MATCHES "\"gyroflip/")
+      list(APPEND failures "${rel}: the firmware may not include a host library header (${line})")
+    endif()
   endforeach()
 endforeach()
 if(failures)

@@ -1,0 +1,113 @@
+/// \file
+/// \brief Frames of the rig protocol (docs/PROTOCOL.md): header (version, type, 16-bit sequence,
+/// payload length), payload, CRC-16/CCITT-FALSE over header and payload and then the message's
+/// layout seed; the whole COBS-encoded and ended by 0x00. The decoder takes bytes one at a time
+/// (a UART interrupt, a serial read), resynchronises at every 0x00, and counts every frame it
+/// drops by reason and every sequence gap. No allocation: one buffer of the largest frame each.
+#pragma once
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "cobs.hpp"
+#include "messages.hpp"
+
+namespace gyroflip::protocol {
+
+inline constexpr uint8_t protocol_version = 1;
+inline constexpr size_t header_bytes = 5;  // version, type, seq (LE), payload length
+inline constexpr size_t crc_bytes = 2;
+inline constexpr size_t max_payload = 200;
+inline constexpr size_t max_frame = header_bytes + max_payload + crc_bytes;
+/// Bytes on the wire of the largest frame: COBS-encoded plus the 0x00 delimiter.
+inline constexpr size_t max_wire = cobs_max_encoded(max_frame) + 1;
+
+/// Bytes on the wire of a frame with `payload` payload bytes (at most: COBS adds one byte per
+/// 254, plus the code byte and the delimiter).
+[[nodiscard]] constexpr size_t wire_bytes(size_t payload) {
+  return cobs_max_encoded(header_bytes + payload + crc_bytes) + 1;
+}
+
+namespace detail {
+/// Where a frame is staged inside the output buffer before it is COBS-encoded in place.
+inline constexpr size_t stage = cobs_max_encoded(max_frame) - max_frame;
+/// Writes header and CRC around the `len` payload bytes staged at out + stage + header_bytes and
+/// COBS-encodes the frame in place; returns the bytes to send (delimiter included), or 0.
+[[nodiscard]] size_t seal_frame(uint8_t type, uint16_t seq, size_t len, uint8_t* out, size_t cap);
+}  // namespace detail
+
+/// Encodes one frame into `out` (capacity `cap`, at least max_wire; `payload` outside it):
+/// returns the bytes to send (delimiter included), or 0 (payload too long, buffer too small,
+/// unknown type).
+[[nodiscard]] size_t encode_frame(uint8_t type, uint16_t seq, const uint8_t* payload, size_t len,
+                                  uint8_t* out, size_t cap);
+
+/// Message `m` as a frame in `out` (capacity at least max_wire): its payload is written in
+/// place, so a device needs no second buffer. Returns the bytes to send, or 0.
+template <class M>
+[[nodiscard]] size_t encode_message(const M& m, uint16_t seq, uint8_t* out, size_t cap) {
+  if (cap < max_wire) return 0;
+  writer w{out + detail::stage + header_bytes, max_payload};
+  m.put(w);
+  if (!w.ok) return 0;
+  return detail::seal_frame(static_cast<uint8_t>(M::type), seq, w.n, out, cap);
+}
+
+/// A decoded frame (valid until the next push).
+struct frame {
+  uint8_t type = 0;
+  uint16_t seq = 0;
+  const uint8_t* payload = nullptr;
+  size_t length = 0;
+  /// Decodes the payload as message M; false when the type or the length is not M's.
+  template <class M>
+  [[nodiscard]] bool as(M& m) const {
+    if (type != static_cast<uint8_t>(M::type)) return false;
+    reader r{payload, length};
+    m.get(r);
+    return r.done();
+  }
+};
+
+/// Counts of a decoder. Every delimiter that ends at least one byte adds exactly one to `good`
+/// or to one of the bad counts; `duplicates` (good frames not handed out again) and `missing`
+/// come from the sequence numbers of good frames.
+struct decoder_counts {
+  uint32_t good = 0;          ///< valid frames (well formed, CRC correct), duplicates included
+  uint32_t bad_cobs = 0;      ///< not valid COBS (corruption)
+  uint32_t bad_length = 0;    ///< shorter than header and CRC, or the length field disagrees
+  uint32_t bad_version = 0;   ///< another protocol version
+  uint32_t unknown_type = 0;  ///< a message this version does not have
+  uint32_t crc_errors = 0;    ///< CRC mismatch (corruption, or another layout of the message)
+  uint32_t too_long = 0;      ///< more bytes than the largest frame before a delimiter
+  uint32_t duplicates = 0;    ///< good frames that repeat an earlier sequence number
+  uint32_t missing = 0;       ///< sequence numbers skipped (frames lost on the way)
+  [[nodiscard]] uint32_t bad() const {
+    return bad_cobs + bad_length + bad_version + unknown_type + crc_errors + too_long;
+  }
+};
+
+/// Byte-at-a-time frame decoder. A frame whose sequence number repeats one of the last 32768
+/// (a retransmission, a duplicated packet) is counted and not handed out again; a forward jump
+/// counts the skipped numbers as missing.
+class frame_decoder {
+ public:
+  /// Takes one byte; true when it completed a new valid frame (then `current()`).
+  [[nodiscard]] bool push(uint8_t b);
+  [[nodiscard]] const frame& current() const { return frame_; }
+  [[nodiscard]] const decoder_counts& counts() const { return counts_; }
+  /// Forgets the sequence history (after a device reset: its numbering starts again).
+  void reset_sequence() { have_seq_ = false; }
+
+ private:
+  bool finish();
+  uint8_t buf_[max_wire] = {};
+  size_t n_ = 0;
+  bool overflowed_ = false;
+  bool have_seq_ = false;
+  uint16_t last_seq_ = 0;
+  frame frame_{};
+  decoder_counts counts_{};
+};
+
+}  // namespace gyroflip::protocol

@@ -1,0 +1,331 @@
+/// \file
+/// \brief Every message of the rig protocol, byte by byte (docs/PROTOCOL.md): a struct per
+/// message with its type id, its layout seed (`crc_extra`, MAVLink v2's CRC_EXTRA idea: a peer
+/// that knows another layout of a message gets a CRC mismatch, never a misread) and its
+/// little-endian encoding. Freestanding: no heap, no standard library.
+///
+/// Units on the wire are the device's own: signed ADC codes (the AD7739's offset-binary code
+/// minus 2^23, so 0 is 0 V), timer ticks (INFO's tick_hz), stepper steps, milliseconds; the host
+/// converts with INFO's figures.
+#pragma once
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "crc16.hpp"
+#include "wire.hpp"
+
+namespace gyroflip::protocol {
+
+/// The message ids (one byte; 0x01-0x1F device to host, 0x20-0x3F host to device).
+enum class msg : uint8_t {
+  info = 0x01,
+  dwell = 0x10,
+  raw = 0x11,
+  status = 0x12,
+  error = 0x13,
+  ack = 0x14,
+  nak = 0x15,
+  compensated = 0x16,
+  cal_result = 0x17,
+  ping = 0x20,
+  configure = 0x21,
+  start = 0x22,
+  stop = 0x23,
+  home = 0x24,
+  set_delta_n = 0x25,
+  calibrate = 0x26,
+};
+
+/// The layout seed of a message: CRC-16/CCITT-FALSE of its layout text (name and fields in
+/// order), folded to one byte. Changing a field changes the seed, and so every CRC of that
+/// message.
+[[nodiscard]] constexpr uint8_t layout_seed(const char* layout) {
+  uint16_t c = crc16_init;
+  for (size_t i = 0; layout[i] != 0; ++i) c = crc16_byte(c, static_cast<uint8_t>(layout[i]));
+  return static_cast<uint8_t>((c >> 8) ^ (c & 0xFFu));
+}
+
+/// Bits of `configure_msg::flags`.
+enum config_flag : uint8_t {
+  cfg_chop = 0x01,        ///< AD7739 chopping on (CHOP bit of the conversion-time register)
+  cfg_raw = 0x02,         ///< send RAW blocks (every gyro conversion)
+  cfg_one_way = 0x04,     ///< turn A->B->A always the same way (rotary joint) instead of back
+  cfg_home = 0x08,        ///< find the home switch before the first cycle
+  cfg_compensate = 0x10,  ///< send COMPENSATED per cycle (r - dN, dN from SET_DELTA_N/CALIBRATE)
+};
+inline constexpr uint8_t cfg_all = 0x1F;
+
+/// What the motor that does not flip does (`configure_msg::other_motor`).
+enum class other_motor : uint8_t {
+  off = 0,       ///< coils de-energised
+  hold = 1,      ///< energised at its phase (holds a second axis)
+  same = 2,      ///< turns with the flipping motor, same direction
+  opposite = 3,  ///< turns with the flipping motor, opposite direction
+};
+
+/// Bits of `dwell_msg::flags`.
+enum dwell_flag : uint8_t {
+  dwell_adc_clip = 0x01,     ///< a code at the ADC's full scale in this dwell
+  dwell_rdy_timeout = 0x02,  ///< RDY did not come within 3 conversion times (a code missing)
+  dwell_step_fault = 0x04,   ///< the turn before this dwell did not reach its position
+  dwell_raw_dropped = 0x08,  ///< a RAW block of this dwell did not fit the transmit buffer
+};
+
+/// The device's states (`status_msg::state`).
+enum class device_state : uint8_t { idle = 0, homing = 1, running = 2, fault = 3 };
+
+/// The parts an ERROR names (`error_msg::what`).
+enum class error_source : uint8_t { adc = 1, stepper = 2, link = 3, configuration = 4 };
+
+/// CONFIGURE (host to device), also the second half of INFO. Defaults: the paper's rig.
+struct configure_msg {
+  static constexpr msg type = msg::configure;
+  static constexpr const char* layout =
+      "configure:u16 n_avg;u8 n_temp;u16 settle_ms;i16 pos_a_steps;i16 pos_b_steps;"
+      "u16 steps_per_rev;u16 step_rate_sps;u16 start_rate_sps;u16 ramp_sps2;u8 filter_word;"
+      "u8 flags;u8 flip_motor;u8 other_motor;u8 gyro_channel;u8 temp_channel;"
+      "u16 status_period_ms";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint16_t n_avg = 256;              ///< gyro conversions per dwell (paper: 256)
+  uint8_t n_temp = 4;                ///< temperature conversions per dwell, after the gyro's
+  uint16_t settle_ms = 80;           ///< wait after a turn before the first conversion
+  int16_t pos_a_steps = 0;           ///< position A (0 deg) in steps
+  int16_t pos_b_steps = 100;         ///< position B (180 deg) in steps
+  uint16_t steps_per_rev = 200;      ///< full steps per turn of the table
+  uint16_t step_rate_sps = 400;      ///< top step rate
+  uint16_t start_rate_sps = 100;     ///< first step rate of the ramp
+  uint16_t ramp_sps2 = 2000;         ///< acceleration (steps/s^2)
+  uint8_t filter_word = 94;          ///< AD7739 FW (~2 ms with chop: docs/HARDWARE.md)
+  uint8_t flags = cfg_chop;          ///< config_flag bits
+  uint8_t flip_motor = 0;            ///< 0: low nibble of the port, 1: high nibble
+  uint8_t other_motor = 0;           ///< an other_motor value
+  uint8_t gyro_channel = 0;          ///< AD7739 channel of the gyro (differential pair AIN0/AIN1)
+  uint8_t temp_channel = 1;          ///< AD7739 channel of the temperature output (AIN2/AIN3)
+  uint16_t status_period_ms = 1000;  ///< STATUS every this many ms (0: only on request)
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const configure_msg&) const = default;
+};
+
+/// INFO / HELLO (device to host): at boot and in reply to PING.
+struct info_msg {
+  static constexpr msg type = msg::info;
+  static constexpr const char* layout =
+      "info:u8 fw_major;u8 fw_minor;u8 fw_patch;u8 protocol;u32 serial;u32 mclk_hz;"
+      "u32 tick_hz;u8 adc_revision;u16 max_n_avg;u8 max_raw_codes;u8 range;configure";
+  static constexpr uint8_t crc_extra =
+      static_cast<uint8_t>(layout_seed(layout) ^ configure_msg::crc_extra);
+  uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0, protocol = 0;
+  uint32_t serial = 0;
+  uint32_t mclk_hz = 0;       ///< AD7739 master clock
+  uint32_t tick_hz = 0;       ///< device timestamps' tick rate
+  uint8_t adc_revision = 0;   ///< AD7739 revision register as read at boot (0: no ADC)
+  uint16_t max_n_avg = 0;     ///< largest n_avg this firmware accepts
+  uint8_t max_raw_codes = 0;  ///< codes per RAW block
+  uint8_t range = 0;          ///< AD7739 channel-setup range code (4: +-2.5 V)
+  configure_msg config;       ///< the configuration in force
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const info_msg&) const = default;
+};
+
+/// DWELL (device to host): one position's acquisition, sent when its last conversion is read.
+struct dwell_msg {
+  static constexpr msg type = msg::dwell;
+  static constexpr const char* layout =
+      "dwell:u32 cycle;u8 position;u8 flags;u32 t_start_ticks;u32 t_end_ticks;u16 n;"
+      "i48 code_sum;i24 code_min;i24 code_max;u8 n_temp;i32 temp_sum;u32 ax_high_ticks;"
+      "u32 ax_period_ticks;u32 ay_high_ticks;u32 ay_period_ticks";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint32_t cycle = 0;    ///< cycle index (a cycle is a dwell at A and one at B)
+  uint8_t position = 0;  ///< 0 = A (0 deg), 1 = B (180 deg)
+  uint8_t flags = 0;     ///< dwell_flag bits
+  uint32_t t_start_ticks = 0, t_end_ticks = 0;  ///< first conversion started, last one read
+  uint16_t n = 0;        ///< gyro conversions in the sum (n_avg less RDY timeouts)
+  int64_t code_sum = 0;  ///< sum of the gyro channel's signed codes (mean = code_sum / n)
+  int32_t code_min = 0, code_max = 0;
+  uint8_t n_temp = 0;    ///< temperature conversions in temp_sum
+  int32_t temp_sum = 0;  ///< sum of the temperature channel's signed codes
+  /// PWM accelerometer (ADXL202-class, docs/HARDWARE.md): high time T1 and period T2 of each
+  /// axis, summed over the periods captured during the dwell, in timer ticks. The duty cycle is
+  /// high / period; 0 when no period was captured.
+  uint32_t ax_high_ticks = 0, ax_period_ticks = 0, ay_high_ticks = 0, ay_period_ticks = 0;
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const dwell_msg&) const = default;
+};
+
+/// RAW (device to host): consecutive gyro codes, packed 3 bytes each.
+struct raw_msg {
+  static constexpr msg type = msg::raw;
+  static constexpr const char* layout = "raw:u32 first_index;u8 count;i24 codes[count]";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  static constexpr uint8_t max_codes = 64;
+  uint32_t first_index = 0;  ///< index of the first code in the run's count of gyro conversions
+  uint8_t count = 0;
+  uint8_t packed[3 * max_codes] = {};
+  void set(uint8_t i, int32_t code) {
+    writer w{packed + size_t{3} * i, 3};
+    w.i24(code);
+  }
+  [[nodiscard]] int32_t code(uint8_t i) const {
+    reader r{packed + size_t{3} * i, 3};
+    return r.i24();
+  }
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const raw_msg&) const = default;
+};
+
+/// STATUS (device to host): every status_period_ms and in reply to a STOP.
+struct status_msg {
+  static constexpr msg type = msg::status;
+  static constexpr const char* layout =
+      "status:u8 state;u32 uptime_ticks;u32 cycle;u32 frames_sent;u16 frames_dropped;"
+      "u16 rx_frames_ok;u16 rx_errors;u16 rdy_timeouts;u8 last_error";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint8_t state = 0;  ///< a device_state
+  uint32_t uptime_ticks = 0;
+  uint32_t cycle = 0;
+  uint32_t frames_sent = 0;
+  uint16_t frames_dropped = 0;  ///< frames that did not fit the transmit buffer (RAW first)
+  uint16_t rx_frames_ok = 0, rx_errors = 0;
+  uint16_t rdy_timeouts = 0;
+  uint8_t last_error = 0;  ///< a status code
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const status_msg&) const = default;
+};
+
+/// ERROR (device to host): a fault the device recovered from, or the reason it stopped.
+struct error_msg {
+  static constexpr msg type = msg::error;
+  static constexpr const char* layout = "error:u8 code;u8 what;u32 value";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint8_t code = 0;  ///< a status code
+  uint8_t what = 0;  ///< an error_source
+  uint32_t value = 0;
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const error_msg&) const = default;
+};
+
+/// ACK (device to host): the command with this sequence number and type was done.
+struct ack_msg {
+  static constexpr msg type = msg::ack;
+  static constexpr const char* layout = "ack:u16 seq;u8 of_type";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint16_t seq = 0;
+  uint8_t of_type = 0;
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const ack_msg&) const = default;
+};
+
+/// NAK (device to host): the command was refused, with a status code.
+struct nak_msg {
+  static constexpr msg type = msg::nak;
+  static constexpr const char* layout = "nak:u16 seq;u8 of_type;u8 reason";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint16_t seq = 0;
+  uint8_t of_type = 0;
+  uint8_t reason = 0;  ///< a status code
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const nak_msg&) const = default;
+};
+
+/// COMPENSATED (device to host): one cycle's rate with the bias removed and dN subtracted,
+/// w = (y_A - y_B) / 2 - dN (paper eqns 7 and 12), in ADC codes x 256.
+struct compensated_msg {
+  static constexpr msg type = msg::compensated;
+  static constexpr const char* layout = "compensated:u32 cycle;i32 rate_q8;i32 bias_q8;u8 flags";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint32_t cycle = 0;
+  int32_t rate_q8 = 0;  ///< r - dN, codes x 256
+  int32_t bias_q8 = 0;  ///< c = (y_A + y_B) / 2, codes x 256 (the bias itself, paper eqn 7)
+  uint8_t flags = 0;    ///< the OR of both dwells' flags
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const compensated_msg&) const = default;
+};
+
+/// CAL_RESULT (device to host): dN = mean of r over K cycles (paper eqns 8-11), its sample
+/// standard deviation, in ADC codes x 256; the device uses dN from then on.
+struct cal_result_msg {
+  static constexpr msg type = msg::cal_result;
+  static constexpr const char* layout = "cal_result:u16 cycles;i32 delta_n_q8;u32 std_q8;u8 flags";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint16_t cycles = 0;
+  int32_t delta_n_q8 = 0;
+  uint32_t std_q8 = 0;
+  uint8_t flags = 0;  ///< the OR of the dwells' flags over the calibration
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const cal_result_msg&) const = default;
+};
+
+struct ping_msg {
+  static constexpr msg type = msg::ping;
+  static constexpr const char* layout = "ping:";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  void put(writer&) const {}
+  void get(reader&) {}
+  bool operator==(const ping_msg&) const = default;
+};
+
+struct start_msg {
+  static constexpr msg type = msg::start;
+  static constexpr const char* layout = "start:";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  void put(writer&) const {}
+  void get(reader&) {}
+  bool operator==(const start_msg&) const = default;
+};
+
+struct stop_msg {
+  static constexpr msg type = msg::stop;
+  static constexpr const char* layout = "stop:";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  void put(writer&) const {}
+  void get(reader&) {}
+  bool operator==(const stop_msg&) const = default;
+};
+
+struct home_msg {
+  static constexpr msg type = msg::home;
+  static constexpr const char* layout = "home:";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  void put(writer&) const {}
+  void get(reader&) {}
+  bool operator==(const home_msg&) const = default;
+};
+
+/// SET_DELTA_N (host to device): dN for on-board compensation, ADC codes x 256.
+struct set_delta_n_msg {
+  static constexpr msg type = msg::set_delta_n;
+  static constexpr const char* layout = "set_delta_n:i32 delta_n_q8";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  int32_t delta_n_q8 = 0;
+  void put(writer& w) const { w.i32(delta_n_q8); }
+  void get(reader& r) { delta_n_q8 = r.i32(); }
+  bool operator==(const set_delta_n_msg&) const = default;
+};
+
+/// CALIBRATE (host to device): average r over the next K complete cycles (starting the run if
+/// idle, and stopping it after), report CAL_RESULT and use the result as dN.
+struct calibrate_msg {
+  static constexpr msg type = msg::calibrate;
+  static constexpr const char* layout = "calibrate:u16 cycles";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  uint16_t cycles = 0;
+  void put(writer& w) const { w.u16(cycles); }
+  void get(reader& r) { cycles = r.u16(); }
+  bool operator==(const calibrate_msg&) const = default;
+};
+
+/// The layout seed of message type `t`; false for a type this protocol version does not have.
+[[nodiscard]] bool crc_extra_of(uint8_t t, uint8_t& extra);
+
+}  // namespace gyroflip::protocol
