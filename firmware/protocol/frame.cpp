@@ -87,9 +87,10 @@ bool frame_decoder::finish() {
     const auto gap = static_cast<uint16_t>(seq - last_seq_);
     if (gap == 0 || gap >= 0x8000u) {  // the same frame again, or one from the recent past
       ++counts_.duplicates;
-      return false;
+      if (!deliver_repeats_) return false;
+    } else {
+      counts_.missing += gap - 1u;
     }
-    counts_.missing += gap - 1u;
   }
   have_seq_ = true;
   last_seq_ = seq;

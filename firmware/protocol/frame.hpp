@@ -88,10 +88,15 @@ struct decoder_counts {
 };
 
 /// Byte-at-a-time frame decoder. A frame whose sequence number repeats one of the last 32768
-/// (a retransmission, a duplicated packet) is counted and not handed out again; a forward jump
-/// counts the skipped numbers as missing.
+/// (a retransmission, a duplicated packet) is counted and, by default, not handed out again; a
+/// forward jump counts the skipped numbers as missing.
 class frame_decoder {
  public:
+  frame_decoder() = default;
+  /// `deliver_repeats`: hand out frames with a repeated or older sequence number too (counted
+  /// as duplicates; the numbering continues from them). The device decodes commands this way,
+  /// so a host program that restarts its numbering at 0 is still obeyed.
+  explicit frame_decoder(bool deliver_repeats) : deliver_repeats_(deliver_repeats) {}
   /// Takes one byte; true when it completed a new valid frame (then `current()`).
   [[nodiscard]] bool push(uint8_t b);
   [[nodiscard]] const frame& current() const { return frame_; }
@@ -105,6 +110,7 @@ class frame_decoder {
   size_t n_ = 0;
   bool overflowed_ = false;
   bool have_seq_ = false;
+  bool deliver_repeats_ = false;
   uint16_t last_seq_ = 0;
   frame frame_{};
   decoder_counts counts_{};

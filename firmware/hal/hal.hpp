@@ -1,0 +1,73 @@
+/// \file
+/// \brief The firmware's hardware abstraction (Zephyr-style: a table of operations and a context
+/// pointer). Nothing else in firmware/ reaches hardware; a port (ports/<target>/) fills the table
+/// with register accesses, and the host port with models. Every operation is non-blocking except
+/// spi_transfer, which moves a few bytes at the SPI clock.
+#pragma once
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "firmware/protocol/status.hpp"
+
+namespace gyroflip::fw {
+
+using protocol::status;
+
+/// One completed period of a PWM (duty-cycle) input, captured on its edges by a timer: the high
+/// time T1 and the period T2 in timer ticks (ADXL202 Rev. B, p. 1: A = (T1/T2 - 0.5) / 12.5 %).
+struct pwm_period {
+  uint32_t high_ticks = 0;
+  uint32_t period_ticks = 0;
+};
+
+struct hal_ops {
+  /// Full-duplex SPI: clocks out tx[0..n) and stores what came in to rx[0..n) (rx may be tx).
+  status (*spi_transfer)(void* ctx, const uint8_t* tx, uint8_t* rx, size_t n);
+  /// Chip select of the ADC (true: selected, the line low).
+  void (*spi_select)(void* ctx, bool selected);
+  /// The ADC's RDY line is low (a conversion result is ready).
+  bool (*rdy_low)(void* ctx);
+  /// Writes the 8-bit stepper port: the low nibble drives motor 0's four coils, the high nibble
+  /// motor 1's.
+  void (*stepper_port)(void* ctx, uint8_t value);
+  /// The table's home switch is closed (ports without one return false).
+  bool (*home_switch)(void* ctx);
+  /// Takes the oldest period of PWM input `axis` (0: x, 1: y) captured since the last call;
+  /// false when none completed.
+  bool (*pwm_capture)(void* ctx, uint8_t axis, pwm_period* out);
+  /// Takes one received UART byte; false when none is waiting.
+  bool (*uart_read)(void* ctx, uint8_t* b);
+  /// Hands one byte to the UART transmitter; false when it is busy (try again later).
+  bool (*uart_write)(void* ctx, uint8_t b);
+  /// The free-running tick counter (wraps; differences are taken modulo 2^32).
+  uint32_t (*ticks)(void* ctx);
+  /// Restarts the watchdog.
+  void (*watchdog_kick)(void* ctx);
+  /// Called in each turn of a bounded busy wait (ADC calibration at boot): a port may idle the
+  /// CPU until the next interrupt; the host port advances its virtual clock by one tick.
+  void (*busy_wait)(void* ctx);
+};
+
+/// A port's hardware: the operations and their context.
+struct hal {
+  const hal_ops* ops;
+  void* ctx;
+  uint32_t tick_hz;  ///< rate of ticks()
+
+  status spi_transfer(const uint8_t* tx, uint8_t* rx, size_t n) const {
+    return ops->spi_transfer(ctx, tx, rx, n);
+  }
+  void spi_select(bool on) const { ops->spi_select(ctx, on); }
+  [[nodiscard]] bool rdy_low() const { return ops->rdy_low(ctx); }
+  void stepper_port(uint8_t v) const { ops->stepper_port(ctx, v); }
+  [[nodiscard]] bool home_switch() const { return ops->home_switch(ctx); }
+  bool pwm_capture(uint8_t axis, pwm_period* out) const { return ops->pwm_capture(ctx, axis, out); }
+  bool uart_read(uint8_t* b) const { return ops->uart_read(ctx, b); }
+  bool uart_write(uint8_t b) const { return ops->uart_write(ctx, b); }
+  [[nodiscard]] uint32_t ticks() const { return ops->ticks(ctx); }
+  void watchdog_kick() const { ops->watchdog_kick(ctx); }
+  void busy_wait() const { ops->busy_wait(ctx); }
+};
+
+}  // namespace gyroflip::fw

@@ -1,0 +1,119 @@
+/// \file
+/// \brief The host port's models (board.hpp).
+#include "firmware/ports/host/board.hpp"
+
+#include "firmware/drivers/stepper/stepper.hpp"
+
+namespace gyroflip::fw::model {
+
+namespace {
+host_board& self(void* c) {
+  return *static_cast<host_board*>(c);
+}
+
+/// Index of a nibble in the full-step sequence, or -1 (coils off or not a full step).
+int phase_of(uint8_t nibble) {
+  for (int i = 0; i < 4; ++i)
+    if (stepper::full_step[i] == nibble) return i;
+  return -1;
+}
+}  // namespace
+
+host_board::host_board(ad7739_model::source_fn source, void* ctx, uint32_t mclk_hz)
+    : adc(tick_hz, mclk_hz, source, ctx), hal_{&ops_, this, tick_hz} {}
+
+size_t host_board::host_receive(uint8_t* out, size_t cap) {
+  size_t n = 0;
+  while (n < cap && tx_.peek(out + n)) {
+    tx_.pop();
+    ++n;
+  }
+  return n;
+}
+
+status host_board::spi_transfer(void* c, const uint8_t* tx, uint8_t* rx, size_t n) {
+  host_board& b = self(c);
+  for (size_t i = 0; i < n; ++i) rx[i] = b.adc.transfer(tx[i], b.now);
+  return status::ok;
+}
+
+void host_board::spi_select(void* c, bool on) {
+  self(c).adc.select(on);
+}
+
+bool host_board::rdy_low(void* c) {
+  host_board& b = self(c);
+  return b.adc.rdy_low(b.now);
+}
+
+void host_board::stepper_port(void* c, uint8_t v) {
+  host_board& b = self(c);
+  for (int m = 0; m < 2; ++m) {
+    const int before = phase_of(static_cast<uint8_t>((b.port >> (4 * m)) & 0xFu));
+    const int after = phase_of(static_cast<uint8_t>((v >> (4 * m)) & 0xFu));
+    if (before < 0 || after < 0 || before == after) continue;  // on, off, or unchanged
+    const int d = (after - before + 4) % 4;
+    if (d == 1)
+      ++b.motor_position[m];
+    else if (d == 3)
+      --b.motor_position[m];
+    else
+      ++b.bad_transitions;  // two places at once: the motor would not follow
+  }
+  // A nibble that is neither off nor a full-step pattern is a wiring or driver error.
+  for (int m = 0; m < 2; ++m) {
+    const uint8_t nib = static_cast<uint8_t>((v >> (4 * m)) & 0xFu);
+    if (nib != 0 && phase_of(nib) < 0) ++b.bad_transitions;
+  }
+  b.port = v;
+  ++b.port_writes;
+}
+
+bool host_board::home_switch(void* c) {
+  host_board& b = self(c);
+  if (!b.has_home || b.steps_per_rev <= 0) return false;
+  int32_t p = (b.motor_position[0] - b.home_at) % b.steps_per_rev;
+  return p == 0;
+}
+
+bool host_board::pwm_capture(void* c, uint8_t axis, pwm_period* out) {
+  host_board& b = self(c);
+  const uint8_t a = axis & 1u;
+  if (b.pwm_period_ticks[a] == 0) return false;
+  if (static_cast<int32_t>(b.now - (b.pwm_next_[a] + b.pwm_period_ticks[a])) < 0) return false;
+  // Periods that ended long ago (no capture for a while) are lost, as with a capture register.
+  if (b.now - b.pwm_next_[a] > 2 * b.pwm_period_ticks[a])
+    b.pwm_next_[a] = b.now - b.pwm_period_ticks[a];
+  b.pwm_next_[a] += b.pwm_period_ticks[a];
+  out->high_ticks = b.pwm_high_ticks[a];
+  out->period_ticks = b.pwm_period_ticks[a];
+  return true;
+}
+
+bool host_board::uart_read(void* c, uint8_t* out) {
+  host_board& b = self(c);
+  if (!b.rx_.peek(out)) return false;
+  b.rx_.pop();
+  return true;
+}
+
+bool host_board::uart_write(void* c, uint8_t v) {
+  host_board& b = self(c);
+  const uint64_t now_scaled = uint64_t{b.now} * baud;
+  if (b.uart_stalled || now_scaled < b.line_free_at_) return false;
+  b.line_free_at_ = now_scaled + uint64_t{10} * tick_hz;  // 10 bits per byte (8N1)
+  if (!b.tx_.push(&v, 1)) ++b.tx_overflow;
+  return true;
+}
+
+uint32_t host_board::ticks(void* c) {
+  return self(c).now;
+}
+
+void host_board::watchdog_kick(void*) {}
+
+void host_board::busy_wait(void* c) {
+  ++self(c).now;
+}
+
+}  // namespace gyroflip::fw::model

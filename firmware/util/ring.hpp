@@ -1,0 +1,41 @@
+/// \file
+/// \brief A fixed byte ring (no allocation): the firmware's transmit queue. Frames go in whole
+/// or not at all, so the UART never sends half a frame.
+#pragma once
+
+#include <stddef.h>
+#include <stdint.h>
+
+namespace gyroflip::fw {
+
+template <size_t N>
+class byte_ring {
+ public:
+  [[nodiscard]] size_t size() const { return count_; }
+  [[nodiscard]] size_t free() const { return N - count_; }
+  /// Appends all `n` bytes, or none when they do not fit.
+  bool push(const uint8_t* p, size_t n) {
+    if (n > free()) return false;
+    for (size_t i = 0; i < n; ++i) buf_[(head_ + count_ + i) % N] = p[i];
+    count_ += n;
+    return true;
+  }
+  /// The oldest byte, without taking it; false when empty.
+  bool peek(uint8_t* b) const {
+    if (count_ == 0) return false;
+    *b = buf_[head_];
+    return true;
+  }
+  void pop() {
+    if (count_ == 0) return;
+    head_ = (head_ + 1) % N;
+    --count_;
+  }
+
+ private:
+  uint8_t buf_[N] = {};
+  size_t head_ = 0;
+  size_t count_ = 0;
+};
+
+}  // namespace gyroflip::fw

@@ -1,0 +1,200 @@
+// The AD7739 driver against the register-level model, and the stepper driver (issue 8).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "firmware/drivers/ad7739/ad7739.hpp"
+#include "firmware/drivers/stepper/stepper.hpp"
+#include "firmware/ports/host/board.hpp"
+
+namespace {
+
+using namespace gyroflip;
+using fw::model::host_board;
+namespace a = gyroflip::ad7739;
+
+struct code_list {
+  std::vector<int32_t> codes;
+  static int32_t call(void* ctx, uint8_t, uint32_t index) {
+    const auto& c = *static_cast<const code_list*>(ctx);
+    return c.codes[index % c.codes.size()];
+  }
+};
+
+// Waits for RDY on the virtual clock; false after `limit` ticks.
+bool wait_rdy(host_board& b, const a::driver& d, uint32_t limit) {
+  for (uint32_t i = 0; i < limit; ++i, ++b.now)
+    if (d.ready()) return true;
+  return false;
+}
+
+TEST(Ad7739Driver, WritesTheRegistersTheDataSheetRequiresInOrder) {
+  code_list src{{0}};
+  host_board b(&code_list::call, &src);
+  a::driver d(b.hw());
+  ASSERT_EQ(d.reset(), fw::status::ok);
+  EXPECT_EQ(b.adc.resets(), 1u);  // 32 ones reset the part
+  uint8_t rev = 0;
+  ASSERT_EQ(d.read_revision(&rev), fw::status::ok);
+  EXPECT_EQ(rev, fw::model::ad7739_model::revision);
+  b.adc.clear_log();
+  ASSERT_EQ(d.setup_channel(1, a::range_bipolar_2v5), fw::status::ok);
+  ASSERT_EQ(d.set_conversion_time(1, true, 94), fw::status::ok);
+  ASSERT_EQ(d.self_calibrate(1, 1000), fw::status::ok);
+  ASSERT_EQ(d.start_single(1), fw::status::ok);
+  // Channel setup (0x28 + ch): differential, +-2.5 V; conversion time (0x30 + ch): CHOP | FW;
+  // mode (0x38 + ch): ADC zero-scale self-cal, then full-scale, then a single conversion, all
+  // 24-bit (data sheet Rev. A register descriptions; regs.hpp).
+  const std::vector<std::pair<uint8_t, uint32_t>> want = {
+      {0x29, 0x24}, {0x31, 0x80 | 94}, {0x39, 0x82}, {0x39, 0xA2}, {0x39, 0x42}};
+  ASSERT_EQ(b.adc.log_size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(b.adc.log()[i].addr, want[i].first) << i;
+    EXPECT_EQ(b.adc.log()[i].value, want[i].second) << i;
+  }
+  // Out-of-range arguments never reach the bus.
+  EXPECT_EQ(d.set_conversion_time(0, true, 1), fw::status::bad_arg);
+  EXPECT_EQ(d.set_conversion_time(0, true, 128), fw::status::bad_arg);
+  EXPECT_EQ(d.setup_channel(8, 4), fw::status::bad_arg);
+  EXPECT_EQ(b.adc.log_size(), want.size());
+}
+
+TEST(Ad7739Driver, CodesReadBackBitExact) {
+  code_list src{{0, -1, 1, -8388608, 8388607, 123456, -654321, 0x2AAAAA, -0x155555}};
+  host_board b(&code_list::call, &src);
+  a::driver d(b.hw());
+  ASSERT_EQ(d.set_conversion_time(0, false, 3), fw::status::ok);  // fastest: 398 MCLK
+  for (size_t i = 0; i < src.codes.size(); ++i) {
+    ASSERT_EQ(d.start_single(0), fw::status::ok);
+    ASSERT_TRUE(wait_rdy(b, d, 100));
+    int32_t code = 7;
+    ASSERT_EQ(d.read_data(0, &code), fw::status::ok);
+    EXPECT_EQ(code, src.codes[i]) << i;
+    EXPECT_FALSE(d.ready());  // reading the data register clears RDY
+  }
+}
+
+TEST(Ad7739Driver, RdyComesAfterTheConversionTime) {
+  code_list src{{5}};
+  host_board b(&code_list::call, &src);
+  a::driver d(b.hw());
+  for (const bool chop : {true, false}) {
+    for (const uint8_t fw : {uint8_t{2}, uint8_t{94}, uint8_t{127}}) {
+      ASSERT_EQ(d.set_conversion_time(0, chop, fw), fw::status::ok);
+      ASSERT_EQ(d.start_single(0), fw::status::ok);
+      const uint32_t t0 = b.now;
+      ASSERT_TRUE(wait_rdy(b, d, 10000));
+      // ceil(cycles x 32768 / 6.144 MHz): the data sheet's (128 FW + 249) or (64 FW + 206).
+      const double cycles = chop ? 128.0 * fw + 249.0 : 64.0 * fw + 206.0;
+      EXPECT_EQ(b.now - t0, static_cast<uint32_t>(std::ceil(cycles * 32768.0 / 6.144e6)))
+          << chop << " " << int{fw};
+      int32_t c = 0;
+      ASSERT_EQ(d.read_data(0, &c), fw::status::ok);
+    }
+  }
+  // FW = 94 with chop is the paper's 2 ms conversion (500.3 Hz).
+  EXPECT_NEAR(a::conversion_mclk(true, 94) / 6.144e6, 1.9989e-3, 1e-7);
+}
+
+TEST(Ad7739Driver, AMissingRdyIsATimeoutNotAHang) {
+  code_list src{{5}};
+  host_board b(&code_list::call, &src);
+  a::driver d(b.hw());
+  b.adc.withhold_rdy(0, 1);
+  ASSERT_EQ(d.start_single(0), fw::status::ok);
+  EXPECT_FALSE(wait_rdy(b, d, 5000));
+  // The next conversion is not affected.
+  ASSERT_EQ(d.start_single(0), fw::status::ok);
+  EXPECT_TRUE(wait_rdy(b, d, 5000));
+}
+
+TEST(Stepper, FullStepSequenceBothWays) {
+  stepper::motor m;
+  m.energised = true;
+  std::vector<uint8_t> seen;
+  for (int i = 0; i < 5; ++i) {
+    m.step(1);
+    seen.push_back(m.nibble());
+  }
+  EXPECT_EQ(seen, (std::vector<uint8_t>{0x6, 0xC, 0x9, 0x3, 0x6}));
+  EXPECT_EQ(m.position, 5);
+  seen.clear();
+  for (int i = 0; i < 5; ++i) {
+    m.step(-1);
+    seen.push_back(m.nibble());
+  }
+  EXPECT_EQ(seen, (std::vector<uint8_t>{0x3, 0x9, 0xC, 0x6, 0x3}));
+  EXPECT_EQ(m.position, 0);
+  stepper::motor off;
+  EXPECT_EQ(off.nibble(), 0);
+}
+
+TEST(Stepper, TwoMotorsOnOnePortKeepTheirNibbles) {
+  stepper::motor low;
+  stepper::motor high;
+  low.energised = high.energised = true;
+  uint32_t x = 1;
+  for (int i = 0; i < 2000; ++i) {
+    x = x * 1664525u + 1013904223u;
+    stepper::motor& m = (x >> 31) != 0 ? low : high;
+    const uint8_t other_before =
+        static_cast<uint8_t>(stepper::port_byte(low, high) & (&m == &low ? 0xF0 : 0x0F));
+    m.step((x >> 30 & 1u) != 0 ? 1 : -1);
+    const uint8_t other_after =
+        static_cast<uint8_t>(stepper::port_byte(low, high) & (&m == &low ? 0xF0 : 0x0F));
+    ASSERT_EQ(other_before, other_after) << i;
+  }
+  EXPECT_EQ(stepper::port_byte(low, high), low.nibble() | (high.nibble() << 4));
+}
+
+TEST(Stepper, AHalfTurnIsHalfARevolutionOfSteps) {
+  code_list src{{0}};
+  host_board b(&code_list::call, &src);
+  stepper::motor flip;
+  stepper::motor other;
+  stepper::mover mv;
+  const stepper::ramp r{100, 400, 2000};
+  flip.energised = other.energised = true;  // coils on at their phase first (no step)
+  b.hw().stepper_port(stepper::port_byte(flip, other));
+  mv.begin(100, b.now);  // 180 deg of a 200-step motor
+  while (mv.poll(b.now, r, host_board::tick_hz, flip, other, stepper::follower::opposite)) {
+    b.hw().stepper_port(stepper::port_byte(flip, other));
+    ++b.now;
+  }
+  b.hw().stepper_port(stepper::port_byte(flip, other));
+  EXPECT_EQ(mv.steps_done(), 100u);
+  EXPECT_EQ(b.motor_position[0], 100);
+  EXPECT_EQ(b.motor_position[1], -100);
+  EXPECT_EQ(b.bad_transitions, 0u);
+}
+
+TEST(Stepper, RampTimingMatchesTheTrapezoid) {
+  // v^2 = v0^2 + 2 a s up to the top rate, symmetric down: the move's duration in closed form
+  // is 2 (v_top - v0) / a + (n - 2 s_a) / v_top with s_a = (v_top^2 - v0^2) / (2 a).
+  const stepper::ramp r{100, 400, 2000};
+  const uint32_t n = 100;
+  uint32_t ticks = 0;
+  uint16_t prev = 0;
+  for (uint32_t k = 0; k < n; ++k) {
+    const uint16_t v = stepper::step_rate(r, k, n);
+    if (k < n / 2) {
+      EXPECT_GE(v, prev) << k;  // speeds up, then
+    }
+    EXPECT_EQ(v, stepper::step_rate(r, n - 1 - k, n)) << k;  // symmetric
+    EXPECT_LE(v, 400);
+    EXPECT_GE(v, 100);
+    prev = v;
+    if (k + 1 < n) ticks += stepper::step_interval(r, k, n, 32768);
+  }
+  EXPECT_EQ(stepper::step_rate(r, 0, n), 100);
+  EXPECT_EQ(stepper::step_rate(r, 50, n), 400);
+  const double s_a = (400.0 * 400 - 100.0 * 100) / (2 * 2000.0);
+  const double t_closed = 2 * (400.0 - 100) / 2000 + (n - 2 * s_a) / 400;
+  // Steps are discrete (the rate of a step holds until the next one): within 5 %.
+  EXPECT_NEAR(ticks / 32768.0, t_closed, 0.05 * t_closed);
+  // The paper: a turn takes about 1-2 s; the default (200 steps/rev) needs ~0.4 s.
+  EXPECT_LT(ticks / 32768.0, 2.0);
+}
+
+}  // namespace
