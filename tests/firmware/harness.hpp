@@ -39,11 +39,11 @@ struct code_source {
   static int32_t call(void* ctx, uint8_t ch, uint32_t index) {
     const auto& s = *static_cast<const code_source*>(ctx);
     if (ch != 0) return s.temp_code + static_cast<int32_t>(index % 7);
-    if (s.positions != nullptr) s.positions->push_back(s.board->motor_position[0]);
+    if (s.positions != nullptr) s.positions->push_back(s.board->motors.position[0]);
     const int32_t rev = s.board != nullptr ? s.board->steps_per_rev : 200;
     const bool at_b =
         s.board != nullptr &&
-        ((s.board->motor_position[0] - s.home_offset) % rev + rev) % rev == s.pos_b_board;
+        ((s.board->motors.position[0] - s.home_offset) % rev + rev) % rev == s.pos_b_board;
     return s.gyro(index, at_b);
   }
 };

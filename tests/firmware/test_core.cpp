@@ -337,24 +337,24 @@ TEST(FirmwareCore, TurnsBackAndForthOrOneWayAndTheSecondMotorFollowsItsRule) {
     }
     r.send(protocol::stop_msg{});
     r.run(2000);
-    const int32_t m0 = r.board.motor_position[0];
-    const uint8_t nib1 = static_cast<uint8_t>(r.board.port >> 4);
+    const int32_t m0 = r.board.motors.position[0];
+    const uint8_t nib1 = static_cast<uint8_t>(r.board.motors.port >> 4);
     switch (e.rule) {
       case protocol::other_motor::off:
         EXPECT_EQ(nib1, 0);
         break;
       case protocol::other_motor::hold:
         EXPECT_NE(nib1, 0);
-        EXPECT_EQ(r.board.motor_position[1], 0);
+        EXPECT_EQ(r.board.motors.position[1], 0);
         break;
       case protocol::other_motor::same:
-        EXPECT_EQ(r.board.motor_position[1], m0);
+        EXPECT_EQ(r.board.motors.position[1], m0);
         break;
       case protocol::other_motor::opposite:
-        EXPECT_EQ(r.board.motor_position[1], -m0);
+        EXPECT_EQ(r.board.motors.position[1], -m0);
         break;
     }
-    EXPECT_EQ(r.board.bad_transitions, 0u);
+    EXPECT_EQ(r.board.motors.bad_transitions, 0u);
   }
 }
 

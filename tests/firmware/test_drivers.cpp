@@ -164,9 +164,9 @@ TEST(Stepper, AHalfTurnIsHalfARevolutionOfSteps) {
   }
   b.hw().stepper_port(stepper::port_byte(flip, other));
   EXPECT_EQ(mv.steps_done(), 100u);
-  EXPECT_EQ(b.motor_position[0], 100);
-  EXPECT_EQ(b.motor_position[1], -100);
-  EXPECT_EQ(b.bad_transitions, 0u);
+  EXPECT_EQ(b.motors.position[0], 100);
+  EXPECT_EQ(b.motors.position[1], -100);
+  EXPECT_EQ(b.motors.bad_transitions, 0u);
 }
 
 TEST(Stepper, RampTimingMatchesTheTrapezoid) {

@@ -25,8 +25,10 @@ uint32_t step_interval(const ramp& r, uint32_t k, uint32_t n, uint32_t tick_hz) 
 
 bool mover::poll(uint32_t now, const ramp& r, uint32_t tick_hz, motor& flip, motor& other,
                  follower rule) {
-  // Due when now >= next_ (modulo 2^32: the difference read as signed).
-  while (busy() && static_cast<int32_t>(now - next_) >= 0) {
+  // Due when now >= next_ (modulo 2^32: the difference read as signed). One step per call, so
+  // the caller writes the port after every step: two steps at once would skip a phase and the
+  // motor would not follow. A late caller catches up on the following calls.
+  if (busy() && static_cast<int32_t>(now - next_) >= 0) {
     flip.step(dir_);
     if (rule == follower::same) other.step(dir_);
     if (rule == follower::opposite) other.step(static_cast<int8_t>(-dir_));

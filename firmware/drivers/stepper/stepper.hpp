@@ -61,7 +61,8 @@ class mover {
     done_steps_ = 0;
     next_ = now_ticks;
   }
-  /// Takes the steps that are due at `now`; true while the move is not finished.
+  /// Takes the next step if it is due at `now` (at most one: write the port after each call);
+  /// true while the move is not finished.
   bool poll(uint32_t now, const ramp& r, uint32_t tick_hz, motor& flip, motor& other,
             follower rule);
   [[nodiscard]] bool busy() const { return done_steps_ < total_; }

@@ -2,20 +2,11 @@
 /// \brief The host port's models (board.hpp).
 #include "firmware/ports/host/board.hpp"
 
-#include "firmware/drivers/stepper/stepper.hpp"
-
 namespace gyroflip::fw::model {
 
 namespace {
 host_board& self(void* c) {
   return *static_cast<host_board*>(c);
-}
-
-/// Index of a nibble in the full-step sequence, or -1 (coils off or not a full step).
-int phase_of(uint8_t nibble) {
-  for (int i = 0; i < 4; ++i)
-    if (stepper::full_step[i] == nibble) return i;
-  return -1;
 }
 }  // namespace
 
@@ -47,32 +38,13 @@ bool host_board::rdy_low(void* c) {
 }
 
 void host_board::stepper_port(void* c, uint8_t v) {
-  host_board& b = self(c);
-  for (int m = 0; m < 2; ++m) {
-    const int before = phase_of(static_cast<uint8_t>((b.port >> (4 * m)) & 0xFu));
-    const int after = phase_of(static_cast<uint8_t>((v >> (4 * m)) & 0xFu));
-    if (before < 0 || after < 0 || before == after) continue;  // on, off, or unchanged
-    const int d = (after - before + 4) % 4;
-    if (d == 1)
-      ++b.motor_position[m];
-    else if (d == 3)
-      --b.motor_position[m];
-    else
-      ++b.bad_transitions;  // two places at once: the motor would not follow
-  }
-  // A nibble that is neither off nor a full-step pattern is a wiring or driver error.
-  for (int m = 0; m < 2; ++m) {
-    const uint8_t nib = static_cast<uint8_t>((v >> (4 * m)) & 0xFu);
-    if (nib != 0 && phase_of(nib) < 0) ++b.bad_transitions;
-  }
-  b.port = v;
-  ++b.port_writes;
+  self(c).motors.write(v);
 }
 
 bool host_board::home_switch(void* c) {
   host_board& b = self(c);
   if (!b.has_home || b.steps_per_rev <= 0) return false;
-  int32_t p = (b.motor_position[0] - b.home_at) % b.steps_per_rev;
+  const int32_t p = (b.motors.position[0] - b.home_at) % b.steps_per_rev;
   return p == 0;
 }
 

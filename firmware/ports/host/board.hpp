@@ -13,6 +13,7 @@
 #include "firmware/drivers/ad7739/convert.hpp"
 #include "firmware/hal/hal.hpp"
 #include "firmware/ports/host/ad7739_model.hpp"
+#include "firmware/ports/host/stepper_model.hpp"
 #include "firmware/util/ring.hpp"
 
 namespace gyroflip::fw::model {
@@ -31,12 +32,7 @@ class host_board {
   uint32_t now = 0;  ///< the virtual tick counter
   ad7739_model adc;
 
-  // Stepper port: the last byte written, each nibble's decoded position, transitions that were
-  // neither a single step nor coils on/off.
-  uint8_t port = 0;
-  int32_t motor_position[2] = {0, 0};
-  uint32_t port_writes = 0;
-  uint32_t bad_transitions = 0;
+  stepper_port_model motors;  ///< the stepper port, decoded
   /// The home switch closes while motor 0's decoded position equals this modulo steps_per_rev.
   bool has_home = true;
   int32_t home_at = 0;
