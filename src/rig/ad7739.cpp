@@ -10,12 +10,12 @@
 namespace gyroflip::rig {
 
 double conversion_time_s(const ad7739_config& c) noexcept {
-  const double fw = c.filter_word;
-  return c.chop ? (128.0 * fw + 249.0) / c.mclk_hz : (64.0 * fw + 206.0) / c.mclk_hz;
+  const auto fw = static_cast<std::uint8_t>(c.filter_word);  // checked by make()
+  return static_cast<double>(gyroflip::ad7739::conversion_mclk(c.chop, fw)) / c.mclk_hz;
 }
 
 result<ad7739> ad7739::make(const ad7739_config& c, std::uint64_t seed) {
-  if (c.filter_word < 2 || c.filter_word > 127)
+  if (c.filter_word < gyroflip::ad7739::fw_min || c.filter_word > gyroflip::ad7739::fw_max)
     return usage_error("AD7739 filter word must be 2..127");
   if (!(c.mclk_hz > 0.0) || !(c.range_v > 0.0) || !(c.noise_uv_rms_at_2ms >= 0.0) ||
       !std::isfinite(c.mclk_hz + c.range_v + c.noise_uv_rms_at_2ms + c.offset_uv_chop_off)) {

@@ -169,6 +169,29 @@ TEST(Stepper, AHalfTurnIsHalfARevolutionOfSteps) {
   EXPECT_EQ(b.motors.bad_transitions, 0u);
 }
 
+TEST(Stepper, ALatePollStillTakesOneStepAtATime) {
+  // A main loop that looks only every 1000 ticks (steps are due every ~80): each poll takes one
+  // step, so the port never skips a phase, and the move still completes.
+  code_list src{{0}};
+  host_board b(&code_list::call, &src);
+  stepper::motor flip;
+  stepper::motor other;
+  flip.energised = true;
+  b.hw().stepper_port(stepper::port_byte(flip, other));
+  stepper::mover mv;
+  mv.begin(-50, 0);
+  uint32_t polls = 0;
+  for (uint32_t t = 0; mv.busy(); t += 1000, ++polls) {
+    const uint32_t before = mv.steps_done();
+    mv.poll(t, {100, 400, 2000}, host_board::tick_hz, flip, other, stepper::follower::off);
+    EXPECT_LE(mv.steps_done() - before, 1u);
+    b.hw().stepper_port(stepper::port_byte(flip, other));
+  }
+  EXPECT_EQ(polls, 50u);
+  EXPECT_EQ(b.motors.position[0], -50);
+  EXPECT_EQ(b.motors.bad_transitions, 0u);
+}
+
 TEST(Stepper, RampTimingMatchesTheTrapezoid) {
   // v^2 = v0^2 + 2 a s up to the top rate, symmetric down: the move's duration in closed form
   // is 2 (v_top - v0) / a + (n - 2 s_a) / v_top with s_a = (v_top^2 - v0^2) / (2 a).

@@ -2,12 +2,12 @@
 /// \brief The AD7739 24-bit sigma-delta ADC as the paper configured it (Tab. 1): +-2.5 V
 /// differential with chopping, single conversions of ~2 ms, ~2 uV rms noise.
 ///
-/// Conversion time from the channel conversion-time register (bit 7 CHOP, bits 6:0 filter word
-/// FW), f_MCLK = 6.144 MHz (AD7739 Rev. A family timing; FACTS §5):
+/// The part's facts (register map, conversion time in MCLK cycles, code format) live once, in
+/// firmware/drivers/ad7739/regs.hpp and convert.hpp, shared with the firmware's driver:
 ///   chop on:  t = (128 FW + 249) / f_MCLK     chop off:  t = (64 FW + 206) / f_MCLK
-/// These formulas are marked UNVERIFIED [U] in FACTS §5 (a recollection of the
-/// datasheet's Table; check before relying on exact timing). FW = 94 with chop gives
-/// 1.99886 ms (500.3 Hz), the paper's "2 ms"; FW = 127 gives 2.686 ms.
+/// with f_MCLK = 6.144 MHz (convert.hpp cites the data sheet and the family's timing). FW = 94
+/// with chop gives 1.99886 ms (500.3 Hz), the paper's "2 ms"; FW = 127 gives 2.686 ms. This
+/// header adds the noise model.
 ///
 /// Conversion: v_in = (V_sensor - V_ref) + offset + sigma_n n, sigma_n = noise_uv_rms_at_2ms
 /// sqrt(2 ms / t) (white-noise scaling of the 2-uV figure: an assumption), code =
@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "firmware/drivers/ad7739/convert.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/sensor/det_math.hpp"
 #include "gyroflip/sensor/random.hpp"
@@ -27,7 +28,7 @@
 namespace gyroflip::rig {
 
 struct ad7739_config {
-  int filter_word = 94;              ///< FW, 2..127
+  int filter_word = 94;              ///< FW, fw_min..fw_max (2..127)
   bool chop = true;                  ///< CHOP bit
   double mclk_hz = 6.144e6;          ///< master clock (Hz)
   double range_v = 2.5;              ///< +-range of the differential input (V)
@@ -40,8 +41,8 @@ struct ad7739_config {
 
 class ad7739 {
  public:
-  static constexpr std::int32_t code_max = (1 << 24) - 1;
-  static constexpr std::int32_t code_zero = 1 << 23;
+  static constexpr std::int32_t code_max = gyroflip::ad7739::code_max;
+  static constexpr std::int32_t code_zero = gyroflip::ad7739::code_zero;
 
   /// Errors: FW outside 2..127, non-positive clock or range, negative noise.
   [[nodiscard]] static result<ad7739> make(const ad7739_config& c, std::uint64_t seed);
