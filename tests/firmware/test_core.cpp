@@ -410,22 +410,32 @@ TEST(LinkBudget, RawAt500HzWithDwellsAndStatusLeavesThirtyPercent) {
   c.flags = protocol::cfg_chop | protocol::cfg_raw | protocol::cfg_compensate;
   const double link = fw::link_bytes_per_s;
   EXPECT_EQ(fw::link_bytes_per_s, 11520u);
-  // Conversions back to back at 500.3 Hz (no turn at all): RAW 206 B per 64 codes, DWELL 57 B
-  // and half a COMPENSATED (21 B) per 256 codes, STATUS 31 B/s.
+  // Conversions back to back at 500.3 Hz (no turn at all): RAW 206 B per 64 codes, DWELL 58 B
+  // and half a COMPENSATED (22 B) per 256 codes, STATUS 31 B/s (docs/PROTOCOL.md).
   const double conv_hz = 6.144e6 / 12281;
-  const double sustained = conv_hz * (206.0 / 64 + (57 + 21 / 2.0) / 256) + 31;
-  EXPECT_NEAR(sustained, 1773, 2);
+  const double sustained = conv_hz * (206.0 / 64 + (58 + 22 / 2.0) / 256) + 31;
+  EXPECT_NEAR(sustained, 1776, 1);
+  EXPECT_EQ(protocol::wire_bytes(fw::dwell_payload), 58u);
+  EXPECT_EQ(protocol::wire_bytes(fw::compensated_payload), 22u);
+  EXPECT_EQ(protocol::wire_bytes(fw::status_payload), 31u);
   EXPECT_LE(sustained, 0.7 * link);
   // The device's own bound (with the turn and the settling) is lower still.
   EXPECT_LE(fw::worst_bytes_per_s(c, 6144000), sustained);
   EXPECT_EQ(fw::check_config(c, 6144000), protocol::status::ok);
-  // With RAW the smallest n_avg that keeps 30 % headroom even without any turn: 6.
+  // With RAW, 4 temperature conversions, a 1-step turn at 5000 steps/s and no settling (the
+  // shortest dwells there are): n_avg = 2 keeps 30 % headroom (7331 B/s); n_avg = 1 still fits
+  // the link (8468 B/s) and is accepted; docs/PROTOCOL.md has the table.
   configure_msg tight = c;
   tight.settle_ms = 0;
   tight.pos_b_steps = 1;
   tight.step_rate_sps = fw::max_step_rate_sps;
-  tight.n_avg = 6;
+  tight.n_avg = 2;
+  EXPECT_EQ(fw::worst_bytes_per_s(tight, 6144000), 7331u);
   EXPECT_LE(fw::worst_bytes_per_s(tight, 6144000), 0.7 * link);
+  tight.n_avg = 1;
+  EXPECT_EQ(fw::worst_bytes_per_s(tight, 6144000), 8468u);
+  EXPECT_EQ(fw::check_config(tight, 6144000), protocol::status::ok);
+  EXPECT_EQ(fw::worst_bytes_per_s(c, 6144000), 1082u);
 }
 
 TEST(LinkBudget, TheDeviceDropsRawFirstWhenTheLinkFallsBehind) {
