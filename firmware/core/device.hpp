@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "firmware/core/budget.hpp"
 #include "firmware/core/processing.hpp"
 #include "firmware/drivers/ad7739/ad7739.hpp"
 #include "firmware/drivers/stepper/stepper.hpp"
@@ -27,9 +28,11 @@ inline constexpr uint16_t max_step_rate_sps = 5000;
 inline constexpr uint16_t max_status_period_ms = 60000;
 /// Transmit ring: a RAW frame (206 B) plus room for the frames that must not be dropped.
 inline constexpr size_t tx_ring_bytes = 512;
-/// Room a RAW frame must leave in the ring for DWELL, COMPENSATED and STATUS (RAW is dropped
-/// first when the link falls behind).
-inline constexpr size_t tx_reserve_bytes = 2 * 57 + 21 + 31;
+/// Room a RAW frame must leave in the ring for two DWELLs, a COMPENSATED and a STATUS (RAW is
+/// dropped first when the link falls behind).
+inline constexpr size_t tx_reserve_bytes = 2 * protocol::wire_bytes(dwell_payload) +
+                                           protocol::wire_bytes(compensated_payload) +
+                                           protocol::wire_bytes(status_payload);
 
 /// What a port tells the core about its board.
 struct board_facts {

@@ -33,7 +33,9 @@ struct stepper_port_model {
   }
 
  private:
-  static uint8_t nibble(uint8_t v, int m) { return static_cast<uint8_t>((v >> (4 * m)) & 0xFu); }
+  static uint8_t nibble(uint8_t v, int m) {
+    return static_cast<uint8_t>((unsigned{v} >> (m == 0 ? 0u : 4u)) & 0xFu);
+  }
   /// Index of a nibble in the full-step sequence, or -1 (coils off or not a full step).
   static int phase_of(uint8_t nib) {
     for (int i = 0; i < 4; ++i)
