@@ -156,6 +156,20 @@ struct dwell_msg {
   bool operator==(const dwell_msg&) const = default;
 };
 
+/// Acceleration (milli-g, rounded to nearest) of an ADXL202/ADXL210-class duty-cycle output from
+/// its summed high time T1 and period T2: A = (T1/T2 - 0.5) / 12.5 % (ADXL202/ADXL210 data sheet
+/// Rev. B, p. 1; docs/FACTS.md section 9). Nominal offset and scale: each part's own are
+/// calibrated (AD AN-604). 0 when no period was captured. For the host; the device never divides.
+constexpr int32_t adxl202_accel_mg(uint32_t high_ticks, uint32_t period_ticks) {
+  if (period_ticks == 0) return 0;
+  if (high_ticks > period_ticks) high_ticks = period_ticks;  // no duty above 100 %: +4000 mg
+  // 1000 mg * (T1/T2 - 1/2) * 8 = (8000 T1 - 4000 T2) / T2, exact in 64 bits for any u32 sums.
+  const int64_t num =
+      8000 * static_cast<int64_t>(high_ticks) - 4000 * static_cast<int64_t>(period_ticks);
+  const int64_t den = period_ticks;
+  return static_cast<int32_t>((num >= 0 ? num + den / 2 : num - den / 2) / den);
+}
+
 /// RAW (device to host): consecutive gyro codes, packed 3 bytes each.
 struct raw_msg {
   static constexpr msg type = msg::raw;

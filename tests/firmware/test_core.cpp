@@ -314,6 +314,43 @@ TEST(FirmwareCore, RawBlocksCarryEveryConversion) {
   EXPECT_EQ(r.dev.counters().frames_dropped, 0);
 }
 
+// The PWM accelerometer interface: each DWELL carries the summed T1 and T2 of the periods captured
+// during that dwell only (not the turn's), and the host's conversion gives the datasheet's g.
+TEST(FirmwareCore, DwellsCarryTheAccelerometersDutyCycles) {
+  rig r;
+  constexpr uint32_t period = 25;  // ticks (2 ms at the rig's 12 345 Hz tick)
+  r.board.pwm_high_ticks[0] = 14;  // 56 % duty: (0.56 - 0.5) / 0.125 = +0.48 g
+  r.board.pwm_high_ticks[1] = 12;  // 48 % duty: -0.16 g
+  r.board.pwm_period_ticks[0] = r.board.pwm_period_ticks[1] = period;
+  configure(r, quick_config(64));
+  r.send(protocol::start_msg{});
+  ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 4); }, 2'000'000));
+  for (const dwell_msg& d : r.all<dwell_msg>()) {
+    SCOPED_TRACE(d.cycle * 2 + d.position);
+    ASSERT_EQ(d.ax_period_ticks % period, 0u);
+    const uint32_t periods = d.ax_period_ticks / period;
+    EXPECT_EQ(d.ax_high_ticks, 14 * periods);
+    EXPECT_EQ(d.ay_period_ticks, d.ax_period_ticks);
+    EXPECT_EQ(d.ay_high_ticks, 12 * periods);
+    // Every period that ended inside the dwell, give or take the one at each edge.
+    const uint32_t span = (d.t_end_ticks - d.t_start_ticks) / period;
+    EXPECT_GE(periods + 1, span);
+    EXPECT_LE(periods, span + 1);
+    EXPECT_EQ(protocol::adxl202_accel_mg(d.ax_high_ticks, d.ax_period_ticks), 480);
+    EXPECT_EQ(protocol::adxl202_accel_mg(d.ay_high_ticks, d.ay_period_ticks), -160);
+  }
+  // No accelerometer wired: the fields stay zero and read as no acceleration.
+  rig bare;
+  configure(bare, quick_config(16));
+  bare.send(protocol::start_msg{});
+  ASSERT_TRUE(bare.run_until([&] { return has_dwells(bare, 2); }, 2'000'000));
+  for (const dwell_msg& d : bare.all<dwell_msg>()) {
+    EXPECT_EQ(d.ax_period_ticks, 0u);
+    EXPECT_EQ(d.ay_high_ticks, 0u);
+    EXPECT_EQ(protocol::adxl202_accel_mg(d.ax_high_ticks, d.ax_period_ticks), 0);
+  }
+}
+
 TEST(FirmwareCore, TurnsBackAndForthOrOneWayAndTheSecondMotorFollowsItsRule) {
   struct expect {
     protocol::other_motor rule;

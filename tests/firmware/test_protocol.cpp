@@ -400,3 +400,20 @@ TEST(Protocol, WireFieldsAreLittleEndianAndSignExtended) {
   EXPECT_FALSE(full.ok);
   EXPECT_EQ(full.n, 0u);
 }
+
+// ADXL202 data sheet Rev. B p. 1: A = (T1/T2 - 0.5) / 12.5 %, so 50 % duty is 0 g, 0 % and 100 %
+// are -4 g and +4 g; values worked by hand, rounded to the nearest mg.
+TEST(Protocol, Adxl202DutyCycleToAcceleration) {
+  static_assert(p::adxl202_accel_mg(500, 1000) == 0);
+  EXPECT_EQ(p::adxl202_accel_mg(56, 100), 480);
+  EXPECT_EQ(p::adxl202_accel_mg(48, 100), -160);
+  EXPECT_EQ(p::adxl202_accel_mg(2, 3), 1333);     // 1333.33
+  EXPECT_EQ(p::adxl202_accel_mg(1, 3), -1333);    // -1333.33
+  EXPECT_EQ(p::adxl202_accel_mg(4001, 8000), 1);  // one tick past 50 % of an 8000-tick period
+  EXPECT_EQ(p::adxl202_accel_mg(0, 8000), -4000);
+  EXPECT_EQ(p::adxl202_accel_mg(8000, 8000), 4000);
+  EXPECT_EQ(p::adxl202_accel_mg(9000, 8000), 4000);  // T1 > T2 cannot be: full scale, no overflow
+  EXPECT_EQ(p::adxl202_accel_mg(0xFFFFFFFFu, 0xFFFFFFFFu), 4000);
+  EXPECT_EQ(p::adxl202_accel_mg(0x7FFFFFFFu, 0xFFFFFFFEu), 0);
+  EXPECT_EQ(p::adxl202_accel_mg(7, 0), 0);  // no period captured
+}
