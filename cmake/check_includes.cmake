@@ -8,6 +8,8 @@
 # than <stdint.h>, <stddef.h> or, in its own port, the MCU's <msp430.h>, nor a host library header;
 # the host library includes only firmware/protocol/ and the AD7739 fact headers
 # (drivers/ad7739/regs.hpp, convert.hpp), which the simulator's ADC model shares with the driver.
+# The host side (host/: emulator, serial, recorder) sits above the library: no library file
+# includes it.
 #   cmake -DROOT=<source dir> -DRULES="core:;earth:core;..." -DSTAMP=<file> -P check_includes.cmake
 cmake_minimum_required(VERSION 3.25)
 set(failures "")
@@ -43,6 +45,9 @@ foreach(rule IN LISTS RULES)
              NOT CMAKE_MATCH_1 MATCHES "^firmware/(protocol/|drivers/ad7739/(regs|convert)\\.hpp$)")
         file(RELATIVE_PATH rel "${ROOT}" "${f}")
         list(APPEND failures "${rel}: the library may include only firmware/protocol/ and the AD7739 fact headers of firmware/ (${line})")
+      elseif(line MATCHES "\"host/")
+        file(RELATIVE_PATH rel "${ROOT}" "${f}")
+        list(APPEND failures "${rel}: the library may not include the host side above it (${line})")
       elseif(line MATCHES "<CLI/|\"cli|\"cmd_|progress_bar")
         file(RELATIVE_PATH rel "${ROOT}" "${f}")
         list(APPEND failures "${rel}: the library may not include CLI code (${line})")

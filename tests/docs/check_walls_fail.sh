@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The module-walls check (cmake/check_includes.cmake) must fail on a wrong include, a CLI header in
 # the library, a library string naming a CLI flag, a firmware file including a standard or host
-# header, and the library including firmware beyond the protocol and the AD7739 facts; and pass on
+# header, the library including firmware beyond the protocol and the AD7739 facts or the host side
+# (issue 9); and pass on
 # a clean tree (issue 13 items 18, 20, issue 8: a test that cannot fail is a defect, so this one
 # makes the check fail on purpose).
 #   Usage: check_walls_fail.sh SOURCE_DIR
@@ -22,7 +23,8 @@ caught=0
 for bad in 'src/earth:#include "gyroflip/sensor/params.hpp"' 'src/earth:#include <CLI/CLI.hpp>' \
            'src/earth:const char* m = "give --rate HZ";' \
            'src/earth:#include "firmware/core/sequencer.hpp"' 'firmware/core:#include <cstdint>' \
-           'firmware/core:#include "gyroflip/core/error.hpp"' 'firmware/core:#include <msp430.h>'; do
+           'firmware/core:#include "gyroflip/core/error.hpp"' 'firmware/core:#include <msp430.h>' \
+           'src/earth:#include "host/emulator/emulator.hpp"'; do
   dir=${bad%%:*}
   printf '%s\n' "${bad#*:}" >"$work/$dir/bad.cpp"
   if run; then echo "not caught in $dir: ${bad#*:}" >&2; exit 1; fi

@@ -57,8 +57,9 @@ bool host_board::pwm_capture(void* c, uint8_t axis, pwm_period* out) {
   if (b.now - b.pwm_next_[a] > 2 * b.pwm_period_ticks[a])
     b.pwm_next_[a] = b.now - b.pwm_period_ticks[a];
   b.pwm_next_[a] += b.pwm_period_ticks[a];
-  out->high_ticks = b.pwm_high_ticks[a];
-  out->period_ticks = b.pwm_period_ticks[a];
+  const bool fine = b.pwm_capture_period[a] != 0;
+  out->high_ticks = fine ? b.pwm_capture_high[a] : b.pwm_high_ticks[a];
+  out->period_ticks = fine ? b.pwm_capture_period[a] : b.pwm_period_ticks[a];
   return true;
 }
 

@@ -1,0 +1,200 @@
+/// \file
+/// \brief The emulated rig (emulator.hpp).
+#include "host/emulator/emulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/rig/geometry.hpp"
+
+namespace gyroflip::host {
+
+namespace {
+
+// ADXRS150 TEMP output (docs/FACTS.md §9, [U]): 2.50 V at 298 K,
+// 8.4 mV/K, read differentially against the 2.5 V reference on AIN3 (docs/HARDWARE.md).
+constexpr double temp_out_v_per_k = 8.4e-3;
+constexpr double temp_out_ref_c = 24.85;  // 298 K
+
+constexpr std::uint8_t gyro_channel = 0;  // AIN0/AIN1 (docs/HARDWARE.md)
+constexpr std::uint8_t temp_channel = 1;  // AIN2/AIN3
+
+double dot(const sensor::sensor_vec& a, const sensor::sensor_vec& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+}  // namespace
+
+struct emulator::parts {
+  // The ADC model's code source is this object (its address is stable; `owner` is set by the
+  // emulator that owns it).
+  parts(sensor::gyro g, const rig::ad7739& a, std::uint32_t mclk_hz, std::uint32_t serial)
+      : gyro(std::move(g)),
+        adc(a),
+        board(&emulator::source, this, mclk_hz),
+        dev(board.hw(), fw::board_facts{serial, mclk_hz}) {}
+  emulator* owner = nullptr;
+  sensor::gyro gyro;
+  rig::ad7739 adc;
+  rig::profile rate = rig::profile::constant(0.0);
+  rig::profile temp_gyro = rig::profile::constant(20.0);  // at the gyro's windows
+  rig::profile temp_chan = rig::profile::constant(20.0);  // at the temperature conversions
+  // Per table step (0 .. steps_per_rev - 1): sensed gains and terms (rig/geometry.hpp).
+  std::vector<double> in_gain, table_gain, earth, gf0, gf1, accel_x, accel_y;
+  double dt_s = 0.0;
+  fw::model::host_board board;
+  fw::device dev;
+};
+
+result<std::unique_ptr<emulator>> emulator::make(const emulator_config& c) {
+  const rig::simulation_config& s = c.sim;
+  if (!(s.adc.mclk_hz >= 1e6 && s.adc.mclk_hz <= 10e6))
+    return usage_error("ADC clock: 1 to 10 MHz");
+  if (s.stepper.steps_per_rev < 4 || s.stepper.steps_per_rev > 100000 ||
+      s.stepper.steps_per_rev % 2 != 0)
+    return usage_error("steps per revolution: an even number from 4 to 100000");
+  if (!(c.accel_period_s > 0.0 && c.accel_period_s <= 0.1) ||
+      !(c.accel_capture_hz >= 1e3 && c.accel_capture_hz <= 1e8))
+    return usage_error("accelerometer: period (0, 0.1] s, capture clock 1 kHz to 100 MHz");
+  auto adc = rig::ad7739::make(s.adc, s.seed);
+  if (!adc) return adc.err();
+  const double dt = adc->conversion_time_s();
+  auto g = sensor::gyro::make(s.sensor, dt, s.power_on_before_s, s.seed);
+  if (!g) return g.err();
+  auto geo = rig::rig_geometry::make(s.lat_deg, s.axis, s.table_axis);
+  if (!geo) return geo.err();
+  const auto mclk = static_cast<std::uint32_t>(std::lround(s.adc.mclk_hz));
+  auto p = std::make_unique<parts>(std::move(*g), *adc, mclk, c.serial);
+  p->dt_s = dt;
+  p->rate = s.rate;
+  p->temp_gyro = s.temperature;
+  p->temp_chan = s.temperature;
+  const sensor::sensor_vec g0 = p->gyro.g_sens_g0();
+  const sensor::sensor_vec g1 = p->gyro.g_sens_g1();
+  const int rev = s.stepper.steps_per_rev;
+  for (int k = 0; k < rev; ++k) {
+    const rig::frame_terms f = rig::terms_at(*geo, 360.0 * k / rev);
+    p->in_gain.push_back(rig::sensed(f.input_axis, s.sensor));
+    p->table_gain.push_back(rig::sensed(f.table_axis, s.sensor));
+    p->earth.push_back(rig::sensed(f.earth_dps, s.sensor));
+    p->gf0.push_back(dot(g0, f.specific_force_g));
+    p->gf1.push_back(dot(g1, f.specific_force_g));
+    p->accel_x.push_back(f.specific_force_g.x);
+    p->accel_y.push_back(f.specific_force_g.y);
+  }
+  return std::unique_ptr<emulator>(new emulator(c, std::move(p)));
+}
+
+emulator::emulator(const emulator_config& c, std::unique_ptr<parts> p) : cfg_(c), p_(std::move(p)) {
+  p_->owner = this;
+  // The gyro's first window ends half a window after t = 0 (sensor/gyro.hpp: t >= dt/2).
+  t_last_s_ = -0.5 * p_->dt_s;
+  next_idle_sample_ = static_cast<std::uint64_t>(std::ceil(1.5 * p_->dt_s * tick_hz));
+  p_->board.steps_per_rev = c.sim.stepper.steps_per_rev;
+  p_->board.home_at = 0;
+  const double period_ticks = c.accel_period_s * tick_hz;
+  for (int a = 0; a < 2; ++a) {
+    p_->board.pwm_period_ticks[a] =
+        static_cast<std::uint32_t>(std::max(1.0, std::round(period_ticks)));
+    p_->board.pwm_high_ticks[a] = p_->board.pwm_period_ticks[a] / 2;
+    p_->board.pwm_capture_period[a] =
+        static_cast<std::uint32_t>(std::round(c.accel_period_s * c.accel_capture_hz));
+  }
+  update_accel();
+}
+
+emulator::~emulator() = default;
+
+const fw::device& emulator::device() const noexcept {
+  return p_->dev;
+}
+
+void emulator::boot() {
+  p_->dev.boot();
+}
+
+std::size_t emulator::step_index() const noexcept {
+  const std::int32_t rev = cfg_.sim.stepper.steps_per_rev;
+  return static_cast<std::size_t>(((p_->board.motors.position[0] % rev) + rev) % rev);
+}
+
+double emulator::table_angle_deg() const noexcept {
+  return 360.0 * static_cast<double>(step_index()) / cfg_.sim.stepper.steps_per_rev;
+}
+
+double emulator::delta_n_truth_dps(double temp_c) const noexcept {
+  return p_->earth[0] + p_->gf0[0] + p_->gf1[0] * (temp_c - p_->gyro.temp_ref_c());
+}
+
+void emulator::update_accel() {
+  const std::int32_t pos = p_->board.motors.position[0];
+  if (pos == pos_accel_) return;
+  pos_accel_ = pos;
+  const std::size_t k = step_index();
+  const double f[2] = {p_->accel_x[k], p_->accel_y[k]};
+  for (int a = 0; a < 2; ++a) {
+    // Duty 0.5 + 0.125 g^-1 f, within the output's 0..100 % (data sheet p. 1).
+    const double duty = std::clamp(0.5 + 0.125 * f[a], 0.0, 1.0);
+    p_->board.pwm_capture_high[a] =
+        static_cast<std::uint32_t>(std::lround(duty * p_->board.pwm_capture_period[a]));
+  }
+}
+
+double emulator::sample_gyro(double t_s) {
+  const std::size_t k = step_index();
+  const std::int32_t pos = p_->board.motors.position[0];
+  const double step_deg = 360.0 / cfg_.sim.stepper.steps_per_rev;
+  // The table's mean rate since the last window: what the gyro integrated meanwhile.
+  const double table_dps = t_s > t_last_s_ ? (pos - pos_last_) * step_deg / (t_s - t_last_s_) : 0.0;
+  const double temp_c = p_->temp_gyro.at(t_s);
+  const double w = p_->in_gain[k] * p_->rate.at(t_s) + p_->table_gain[k] * table_dps +
+                   p_->earth[k] + p_->gf0[k] + p_->gf1[k] * (temp_c - p_->gyro.temp_ref_c());
+  t_last_s_ = t_s;
+  pos_last_ = pos;
+  next_idle_sample_ = static_cast<std::uint64_t>(std::ceil((t_s + 2.0 * p_->dt_s) * tick_hz));
+  return p_->gyro.sample(t_s, temp_c, w).v_rel;
+}
+
+std::int32_t emulator::gyro_code(double t_end_s) {
+  const double t = std::max(t_end_s - 0.5 * p_->dt_s, t_last_s_);
+  ++conversions_;
+  return p_->adc.convert(sample_gyro(t)) - rig::ad7739::code_zero;
+}
+
+std::int32_t emulator::temp_code(double t_s) {
+  const double v = temp_out_v_per_k * (p_->temp_chan.at(t_s) - temp_out_ref_c);
+  return p_->adc.convert(v) - rig::ad7739::code_zero;
+}
+
+std::int32_t emulator::source(void* ctx, std::uint8_t ch, std::uint32_t /*index*/) {
+  emulator& e = *static_cast<parts*>(ctx)->owner;
+  const double t = e.time_s();
+  if (ch == gyro_channel) return e.gyro_code(t);
+  if (ch == temp_channel) return e.temp_code(t);
+  return 0;  // unconnected inputs read 0 V
+}
+
+void emulator::run(std::uint32_t n) {
+  for (std::uint32_t i = 0; i < n; ++i) {
+    p_->dev.poll();
+    ++ticks_;
+    p_->board.now = static_cast<std::uint32_t>(ticks_);
+    if (ticks_ >= next_idle_sample_) {
+      // No conversion for two windows: the gyro still runs (a turn, a pause, idle).
+      sample_gyro(t_last_s_ + p_->dt_s);
+      update_accel();
+    }
+  }
+}
+
+bool emulator::send(const std::uint8_t* p, std::size_t n) {
+  return p_->board.host_send(p, n);
+}
+
+std::size_t emulator::receive(std::uint8_t* out, std::size_t cap) {
+  return p_->board.host_receive(out, cap);
+}
+
+}  // namespace gyroflip::host

@@ -1,0 +1,100 @@
+/// \file
+/// \brief The rig without hardware: the firmware core (firmware/core, host port) driving
+/// simulated hardware, one tick of its clock at a time (docs/EMULATOR.md).
+///
+/// Behind the HAL: the register-level AD7739 model (firmware/ports/host/ad7739_model.hpp, the
+/// one the firmware tests use) whose codes come from the simulator's physics, the same objects
+/// `simulate` uses: the gyro (sensor/gyro.hpp), the ADC's noise and quantisation
+/// (rig/ad7739.hpp), the site and axes (rig/geometry.hpp), the rate and temperature profiles.
+/// The table is motor 0 of the stepper port: its angle is the decoded step position times
+/// 360 deg / steps per revolution from the home switch (at step 0). The gyro runs on a grid of
+/// conversion times also while no conversion runs, so it sees the table's rate during a turn
+/// and its low-pass filter settles as the real part's would; each conversion samples it over
+/// its own window:
+///   w(t) = g_in(a) w_in(t) + g_tab(a) dangle/dt + earth(a) + (g0 + g1 (T - T_ref)) . f(a)
+/// with a the table step (rig/geometry.hpp terms at that angle). Channel 1 carries the
+/// ADXRS150-style temperature output, 8.4 mV/K about 2.50 V at 298 K (docs/FACTS.md §9; [U]), and
+/// the two PWM inputs an ADXL202 on the table, x and y along the sensor's x and y axes, duty
+/// 0.5 + 0.125 f/g (data sheet p. 1).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "firmware/core/device.hpp"
+#include "firmware/ports/host/board.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/rig/ad7739.hpp"
+#include "gyroflip/rig/profiles.hpp"
+#include "gyroflip/rig/simulator.hpp"
+#include "gyroflip/sensor/gyro.hpp"
+
+namespace gyroflip::host {
+
+/// The emulated rig. From `sim`: the sensor, site and axes, rate and temperature profiles, the
+/// ADC's clock, filter word, chop and noise, the power-on time, the seed, and the table's
+/// steps per revolution; the schedule and the duration are the firmware's and the host's.
+struct emulator_config {
+  rig::simulation_config sim;
+  std::uint32_t serial = 1;         ///< the device's serial number (INFO)
+  double accel_period_s = 1e-3;     ///< ADXL202 T2 (R_SET = 125 kOhm; data sheet p. 1)
+  double accel_capture_hz = 1.0e6;  ///< the capture timer's clock (MSP430 Timer_B: 1 MHz)
+};
+
+class emulator {
+ public:
+  static constexpr std::uint32_t tick_hz = fw::model::host_board::tick_hz;
+
+  /// Errors: those of the simulator's parts (sensor, ADC, geometry, profiles), and an ADC clock
+  /// outside 1..10 MHz.
+  [[nodiscard]] static result<std::unique_ptr<emulator>> make(const emulator_config& c);
+  emulator(const emulator&) = delete;
+  emulator& operator=(const emulator&) = delete;
+  ~emulator();
+
+  /// Boots the firmware: it resets and calibrates the ADC and sends INFO.
+  void boot();
+  /// Runs `n` ticks of the device clock, one main-loop pass per tick.
+  void run(std::uint32_t n);
+
+  /// Bytes from the host; false when the device's receive queue is full (nothing taken).
+  bool send(const std::uint8_t* p, std::size_t n);
+  /// Takes up to `cap` bytes the device has sent.
+  std::size_t receive(std::uint8_t* out, std::size_t cap);
+
+  [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }
+  [[nodiscard]] double time_s() const noexcept { return static_cast<double>(ticks_) / tick_hz; }
+  [[nodiscard]] const fw::device& device() const noexcept;
+  /// The table's angle (deg, in [0, 360)) now.
+  [[nodiscard]] double table_angle_deg() const noexcept;
+  /// Earth term plus g-term at position A (0 deg) at `temp_c`: the dN a calibration should find
+  /// (paper eqn 11), as the gyro senses it (deg/s).
+  [[nodiscard]] double delta_n_truth_dps(double temp_c) const noexcept;
+  /// Gyro conversions sampled so far.
+  [[nodiscard]] std::uint64_t conversions() const noexcept { return conversions_; }
+  [[nodiscard]] const emulator_config& config() const noexcept { return cfg_; }
+
+ private:
+  struct parts;
+  emulator(const emulator_config& c, std::unique_ptr<parts> p);
+  static std::int32_t source(void* ctx, std::uint8_t ch, std::uint32_t index);
+  std::int32_t gyro_code(double t_end_s);
+  std::int32_t temp_code(double t_s);
+  /// One gyro window centred at `t_s` at the table's step now; its output voltage.
+  double sample_gyro(double t_s);
+  void update_accel();
+  [[nodiscard]] std::size_t step_index() const noexcept;
+
+  emulator_config cfg_;
+  std::unique_ptr<parts> p_;
+  std::uint64_t ticks_ = 0;
+  std::uint64_t next_idle_sample_ = 0;  // tick at which an idle gyro window is due
+  double t_last_s_ = 0.0;               // centre of the last gyro window
+  std::int32_t pos_last_ = 0;           // table step at that window
+  std::int32_t pos_accel_ = -1;         // table step the accelerometer outputs were set for
+  std::uint64_t conversions_ = 0;
+};
+
+}  // namespace gyroflip::host

@@ -1,0 +1,159 @@
+// The emulated rig (issue 9): the firmware core against the simulator's physics, spoken to
+// through the protocol as a recorder would.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "firmware/protocol/frame.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "host/emulator/emulator.hpp"
+
+namespace {
+
+using namespace gyroflip;
+namespace p = gyroflip::protocol;
+
+// A host on the emulator's link: encodes commands, decodes what comes back.
+struct client {
+  explicit client(host::emulator& em) : e(em) {}
+  host::emulator& e;
+  p::frame_decoder decoder;
+  uint16_t seq = 0;
+  std::vector<p::dwell_msg> dwells;
+  std::vector<p::info_msg> infos;
+  std::vector<uint16_t> acks;
+
+  template <class M>
+  void send(const M& m) {
+    uint8_t buf[p::max_wire];
+    const size_t n = p::encode_message(m, seq++, buf, sizeof buf);
+    ASSERT_GT(n, 0u);
+    ASSERT_TRUE(e.send(buf, n));
+  }
+  void drain() {
+    uint8_t buf[1024];
+    for (size_t n; (n = e.receive(buf, sizeof buf)) > 0;)
+      for (size_t i = 0; i < n; ++i) {
+        if (!decoder.push(buf[i])) continue;
+        const p::frame& f = decoder.current();
+        p::dwell_msg d;
+        p::info_msg info;
+        p::ack_msg ack;
+        if (f.as(d)) dwells.push_back(d);
+        if (f.as(info)) infos.push_back(info);
+        if (f.as(ack)) acks.push_back(ack.seq);
+      }
+  }
+  void run_s(double s) {
+    const auto ticks = static_cast<uint64_t>(s * host::emulator::tick_hz);
+    for (uint64_t done = 0; done < ticks; done += 1024) {
+      e.run(1024);
+      drain();
+    }
+  }
+};
+
+host::emulator_config paper_rig(uint64_t seed) {
+  host::emulator_config c;
+  c.sim.sensor = sensor::find_builtin("hz1-90-100a")->params;
+  c.sim.lat_deg = 42.6;
+  c.sim.axis = "north";
+  c.sim.seed = seed;
+  return c;
+}
+
+TEST(Emulator, BootsAndSaysHello) {
+  auto e = host::emulator::make(paper_rig(1));
+  ASSERT_TRUE(e.ok()) << e.err().message;
+  client c(**e);
+  (*e)->boot();
+  c.run_s(0.1);
+  ASSERT_EQ(c.infos.size(), 1u);
+  EXPECT_EQ(c.infos[0].protocol, p::protocol_version);
+  EXPECT_EQ(c.infos[0].serial, 1u);
+  EXPECT_NE(c.infos[0].adc_revision, 0);
+}
+
+// One physics for `simulate` and `emulate`: the firmware's dwell means, scaled by the nominal
+// scale factor, calibrate to the Earth term plus g-term the simulator's geometry gives (paper
+// eqn 11), within 4 standard errors.
+TEST(Emulator, DwellsCalibrateToTheSimulatorsTruth) {
+  auto made = host::emulator::make(paper_rig(7));
+  ASSERT_TRUE(made.ok()) << made.err().message;
+  host::emulator& e = **made;
+  client c(e);
+  e.boot();
+  c.run_s(0.1);
+  p::configure_msg cfg;  // the paper's rig: n_avg 256, 4 temperature conversions
+  c.send(cfg);
+  c.send(p::start_msg{});
+  c.run_s(120.0);
+  ASSERT_GE(c.acks.size(), 2u);
+  ASSERT_GE(c.dwells.size(), 100u);
+  const double lsb_v = 5.0 / (1 << 24);
+  const double sf = e.config().sim.sensor.scale_factor_v_per_dps;
+  std::vector<method::cycle> cycles;
+  for (size_t i = 0; i + 1 < c.dwells.size(); i += 2) {
+    const p::dwell_msg& a = c.dwells[i];
+    const p::dwell_msg& b = c.dwells[i + 1];
+    ASSERT_EQ(a.position, 0);
+    ASSERT_EQ(b.position, 1);
+    ASSERT_EQ(a.n, 256);
+    ASSERT_EQ(a.flags, 0);
+    const double ya = static_cast<double>(a.code_sum) / a.n * lsb_v / sf;
+    const double yb = static_cast<double>(b.code_sum) / b.n * lsb_v / sf;
+    cycles.push_back({0.0, (ya - yb) / 2, (ya + yb) / 2, method::no_value});
+  }
+  const auto cal = method::calibrate(cycles);
+  ASSERT_TRUE(cal.ok());
+  const double truth = e.delta_n_truth_dps(20.0);
+  const double se = cal->stderr_dps;
+  EXPECT_NEAR(cal->delta_n_dps, truth, 4 * se) << "se " << se;
+  EXPECT_GT(se, 0.0);
+}
+
+// Without noise each DWELL is the physics to the ADC's resolution: at A the bias plus dN plus
+// the rate-table input, at B the bias minus both (paper eqns 5-7); the temperature channel reads
+// the profile through the TEMP output's 8.4 mV/K; a level table reads 0 g on both accelerometers.
+TEST(Emulator, NoiselessDwellsAreThePhysics) {
+  host::emulator_config cfg = paper_rig(3);
+  sensor::sensor_params& s = cfg.sim.sensor;
+  s.arw_dps_rthz = s.bias_instability_dps = s.rrw_dps_per_rts = s.rate_ramp_dps_per_s = 0.0;
+  s.turn_on_bias_sigma_dps = s.warmup_amplitude_dps = s.quantisation_deg = 0.0;
+  s.scale_factor_error_ppm = s.scale_factor_tc_ppm_per_c = s.nonlinearity_fs = 0.0;
+  s.bias_dps = 0.2;
+  cfg.sim.adc.noise_uv_rms_at_2ms = 0.0;
+  cfg.sim.rate = rig::profile::constant(0.25);
+  cfg.sim.temperature = rig::profile::constant(31.5);
+  auto made = host::emulator::make(cfg);
+  ASSERT_TRUE(made.ok()) << made.err().message;
+  host::emulator& e = **made;
+  client c(e);
+  e.boot();
+  c.run_s(0.1);
+  c.send(p::configure_msg{});
+  c.send(p::start_msg{});
+  c.run_s(6.0);
+  ASSERT_GE(c.dwells.size(), 4u);
+  const double lsb_v = 5.0 / (1 << 24);
+  const double sf = s.scale_factor_v_per_dps;
+  const double dn = e.delta_n_truth_dps(31.5);
+  const double bias = 0.2 + s.bias_tc_dps_per_c * (31.5 - s.temp_ref_c);
+  for (const p::dwell_msg& d : c.dwells) {
+    SCOPED_TRACE(d.cycle * 2 + d.position);
+    const double y = static_cast<double>(d.code_sum) / d.n * lsb_v / sf;
+    const double sign = d.position == 0 ? 1.0 : -1.0;
+    EXPECT_NEAR(y, bias + sign * (dn + 0.25), 2 * lsb_v / sf);
+    ASSERT_EQ(d.n_temp, 4);
+    const double temp_c = static_cast<double>(d.temp_sum) / d.n_temp * lsb_v / 8.4e-3 + 24.85;
+    EXPECT_NEAR(temp_c, 31.5, 1e-4);
+    EXPECT_GT(d.ax_period_ticks, 0u);
+    EXPECT_EQ(p::adxl202_accel_mg(d.ax_high_ticks, d.ax_period_ticks), 0);
+    EXPECT_EQ(p::adxl202_accel_mg(d.ay_high_ticks, d.ay_period_ticks), 0);
+  }
+}
+
+}  // namespace
