@@ -10,6 +10,7 @@
 
 #include "cli.hpp"
 #include "cmd_adev.hpp"
+#include "cmd_emulate.hpp"
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
@@ -91,6 +92,44 @@ void setup_simulate(CLI::App& app, action& chosen) {
   sub->add_option("--start-rate", o->start_rate_sps, "stepper start rate (steps/s)")
       ->capture_default_str();
   sub->add_option("--accel", o->accel_sps2, "stepper ramp (steps/s^2)")->capture_default_str();
+}
+
+void setup_emulate(CLI::App& app, action& chosen) {
+  auto* sub = app.add_subcommand(
+      "emulate", "Run the rig's firmware against the simulated rig on a pty or serial port");
+  auto o = bind<emulate_options>(sub, chosen, run_emulate);
+  sub->add_option("--sensor", o->sensor, "adxrs150|hz1-90-100a|FILE.toml")->capture_default_str();
+  sub->add_option("--temp", o->temp_c, "constant sensor temperature (degC; default: preset T_ref)");
+  sub->add_option("--temp-profile", o->temp_profile,
+                  "steps:T:C,...|ramp:FROM:TO:DUR_S|fridge:MEAN:SWING:PERIOD_S|FILE.csv");
+  sub->add_option("--rate-profile", o->rate_profile,
+                  "input rate: V|const:V|steps:T:V,...|sine:AMP:FREQ_HZ[:OFFSET] (deg/s)")
+      ->capture_default_str();
+  sub->add_option("--latitude", o->lat_deg, "geodetic latitude (deg)")->capture_default_str();
+  sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D")
+      ->capture_default_str();
+  sub->add_option("--table-axis", o->table_axis,
+                  "turntable axis (default: horizontal, perpendicular)");
+  sub->add_option("--speed", o->speed, "X times real time, or max (as fast as the reader takes)")
+      ->capture_default_str();
+  sub->add_flag("--pty", o->pty, "open a pseudo-terminal and print its path");
+  sub->add_option("--port", o->port, "an existing serial device");
+  sub->add_option("--seed", o->seed, "random seed")->capture_default_str();
+  sub->add_option("--fault-ber", o->fault_ber, "bit error rate on the device's output")
+      ->capture_default_str();
+  sub->add_option("--fault-drop", o->fault_drop, "probability of a dropped output byte")
+      ->capture_default_str();
+  sub->add_option("--log", o->log, "write every DWELL the device sent to this CSV");
+  sub->add_option("--duration", o->duration_s, "simulated seconds to run (0: until stopped)")
+      ->capture_default_str();
+  sub->add_option("--power-on-before", o->power_on_before_s,
+                  "sensor powered this long before the run (s; 0 = cold start)")
+      ->capture_default_str();
+  sub->add_option("--filter-word", o->filter_word, "AD7739 filter word FW of the physics")
+      ->capture_default_str();
+  sub->add_flag("--no-chop", o->no_chop, "AD7739 without chopping");
+  sub->add_option("--steps-per-rev", o->steps_per_rev, "stepper full steps per table revolution")
+      ->capture_default_str();
 }
 
 void setup_sensors(CLI::App& app, action& chosen) {
@@ -194,6 +233,7 @@ int run_cli(int argc, char** argv) {
   action chosen;
   setup_earth(app, chosen);
   setup_simulate(app, chosen);
+  setup_emulate(app, chosen);
   setup_sensors(app, chosen);
   setup_calibrate(app, chosen);
   setup_compensate(app, chosen);

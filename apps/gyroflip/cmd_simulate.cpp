@@ -19,6 +19,7 @@
 #include "gyroflip/io/recording_writer.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
+#include "physics_options.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
@@ -84,32 +85,12 @@ int run_simulate(const simulate_options& o) {
   if (auto s = io::check_outputs(std::array{o.sensor, o.temp_profile}, std::array{o.out, o.truth});
       !s)
     return report(s.err());
-  auto preset = sensor::load_preset(o.sensor);
-  if (!preset) return report(preset.err());
-  if (o.temp_c && !o.temp_profile.empty()) {
-    return report(usage_error("--temp and --temp-profile are mutually exclusive"));
-  }
   rig::simulation_config c;
-  c.sensor = preset->params;
+  auto preset = load_physics(o.sensor, o.temp_c, o.temp_profile, o.rate_profile, c);
+  if (!preset) return report(preset.err());
   c.lat_deg = o.lat_deg;
   c.axis = o.axis;
   c.table_axis = o.table_axis;
-  auto rate = rig::profile::parse_rate(o.rate_profile);
-  if (!rate) return report(rate.err());
-  c.rate = *rate;
-  if (!o.temp_profile.empty()) {
-    // A spec, or a table file read by io's CSV reader (FILE:LINE:COL in its errors).
-    result<rig::profile> temp = rig::profile::parse_temperature(o.temp_profile);
-    if (!rig::profile::is_temperature_spec(o.temp_profile)) {
-      auto tab = io::read_time_table(o.temp_profile, "temp_c");
-      if (!tab) return report(tab.err());
-      temp = rig::profile::table(std::move(tab->time_s), std::move(tab->value));
-    }
-    if (!temp) return report(temp.err());
-    c.temperature = *temp;
-  } else {
-    c.temperature = rig::profile::constant(o.temp_c.value_or(preset->params.temp_ref_c));
-  }
   c.sched.n_avg = o.n_avg;
   c.sched.settle_s = o.settle_s;
   auto pos = parse_positions(o.positions);

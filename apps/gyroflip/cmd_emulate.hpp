@@ -1,0 +1,34 @@
+/// \file
+/// \brief `gyroflip emulate`: the rig's firmware against the simulator, on a serial line.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace gyroflip::app {
+
+struct emulate_options {
+  std::string sensor = "hz1-90-100a";  ///< preset name or TOML file
+  std::optional<double> temp_c;
+  std::string temp_profile;
+  std::string rate_profile = "0";
+  double lat_deg = 42.6;
+  std::string axis = "north";
+  std::string table_axis;
+  std::string speed = "1";  ///< X (times real time) or max
+  bool pty = false;
+  std::string port;
+  std::uint64_t seed = 1;
+  double fault_ber = 0.0;
+  double fault_drop = 0.0;
+  std::string log;          ///< SENT.csv: every DWELL the device sent
+  double duration_s = 0.0;  ///< simulated seconds to run (0: until SIGINT/SIGTERM)
+  double power_on_before_s = 0.0;
+  int filter_word = 94;
+  bool no_chop = false;
+  int steps_per_rev = 200;
+};
+int run_emulate(const emulate_options& o);
+
+}  // namespace gyroflip::app
