@@ -159,7 +159,6 @@ double emulator::sample_gyro(double t_s) {
 
 std::int32_t emulator::gyro_code(double t_end_s) {
   const double t = std::max(t_end_s - 0.5 * p_->dt_s, t_last_s_);
-  ++conversions_;
   return p_->adc.convert(sample_gyro(t)) - rig::ad7739::code_zero;
 }
 

@@ -72,8 +72,6 @@ class emulator {
   /// Earth term plus g-term at position A (0 deg) at `temp_c`: the dN a calibration should find
   /// (paper eqn 11), as the gyro senses it (deg/s).
   [[nodiscard]] double delta_n_truth_dps(double temp_c) const noexcept;
-  /// Gyro conversions sampled so far.
-  [[nodiscard]] std::uint64_t conversions() const noexcept { return conversions_; }
   [[nodiscard]] const emulator_config& config() const noexcept { return cfg_; }
 
  private:
@@ -94,7 +92,6 @@ class emulator {
   double t_last_s_ = 0.0;               // centre of the last gyro window
   std::int32_t pos_last_ = 0;           // table step at that window
   std::int32_t pos_accel_ = -1;         // table step the accelerometer outputs were set for
-  std::uint64_t conversions_ = 0;
 };
 
 }  // namespace gyroflip::host

@@ -10,12 +10,8 @@ link_faults::link_faults(double ber, double drop, std::uint64_t seed)
       drops_(drop > 0.0),
       flip_gap_(flips_ ? ber : 0.5),
       drop_gap_(drops_ ? drop : 0.5) {
-  if (flips_) bits_to_flip_ = next_gap(flip_gap_);
-  if (drops_) bytes_to_drop_ = next_gap(drop_gap_);
-}
-
-std::uint64_t link_faults::next_gap(std::geometric_distribution<std::uint64_t>& d) {
-  return d(rng_);  // failures before the next event: the event is that many positions ahead
+  if (flips_) bits_to_flip_ = flip_gap_(rng_);
+  if (drops_) bytes_to_drop_ = drop_gap_(rng_);
 }
 
 bool link_faults::pass(std::uint8_t in, std::uint8_t& out) {
@@ -27,7 +23,7 @@ bool link_faults::pass(std::uint8_t in, std::uint8_t& out) {
       delivered = false;
       hit_ = true;
       ++counts_.bytes_dropped;
-      bytes_to_drop_ = next_gap(drop_gap_);
+      bytes_to_drop_ = drop_gap_(rng_);
     } else {
       --bytes_to_drop_;
     }
@@ -41,7 +37,7 @@ bool link_faults::pass(std::uint8_t in, std::uint8_t& out) {
           hit_ = true;
           ++counts_.bits_flipped;
         }
-        bits_to_flip_ = next_gap(flip_gap_);
+        bits_to_flip_ = flip_gap_(rng_);
       } else {
         --bits_to_flip_;
       }

@@ -29,12 +29,12 @@ class link_faults {
   [[nodiscard]] const link_fault_counts& counts() const noexcept { return counts_; }
 
  private:
-  // Events are spaced by geometric gaps: one draw per fault, not one per bit.
-  std::uint64_t next_gap(std::geometric_distribution<std::uint64_t>& d);
   std::mt19937_64 rng_;
   bool flips_, drops_;
   std::geometric_distribution<std::uint64_t> flip_gap_, drop_gap_;
-  std::uint64_t bits_to_flip_ = 0, bytes_to_drop_ = 0;  // events ahead, counted down
+  // Events are spaced by geometric gaps (the failures before the next event): one draw per
+  // fault, not one per bit. Positions to the next event, counted down.
+  std::uint64_t bits_to_flip_ = 0, bytes_to_drop_ = 0;
   bool hit_ = false, last_hit_ = false;
   link_fault_counts counts_;
 };

@@ -79,12 +79,14 @@ run_result emulate(const std::string& extra, const std::string& log, double seco
   tcgetattr(fd, &t);
   cfmakeraw(&t);
   tcsetattr(fd, TCSANOW, &t);
-  uint8_t buf[p::max_wire];
   uint16_t seq = 0;
-  for (const size_t n : {p::encode_message(p::configure_msg{}, seq++, buf, sizeof buf)})
+  const auto send = [&](const auto& m) {
+    uint8_t buf[p::max_wire];
+    const size_t n = p::encode_message(m, seq++, buf, sizeof buf);
     EXPECT_EQ(write(fd, buf, n), static_cast<ssize_t>(n));
-  const size_t n = p::encode_message(p::start_msg{}, seq++, buf, sizeof buf);
-  EXPECT_EQ(write(fd, buf, n), static_cast<ssize_t>(n));
+  };
+  send(p::configure_msg{});
+  send(p::start_msg{});
   p::frame_decoder dec;
   uint8_t in[4096];
   for (;;) {
