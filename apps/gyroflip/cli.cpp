@@ -11,6 +11,7 @@
 #include "cli.hpp"
 #include "cmd_adev.hpp"
 #include "cmd_emulate.hpp"
+#include "cmd_record.hpp"
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
@@ -52,6 +53,21 @@ void setup_earth(CLI::App& app, action& chosen) {
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
+// The AD7739 and stepper settings `simulate` models and `record` sends in CONFIGURE.
+template <class Options>
+void add_adc_stepper_options(CLI::App* sub, Options& o) {
+  sub->add_option("--filter-word", o.filter_word, "AD7739 filter word FW (2..127)")
+      ->capture_default_str();
+  sub->add_flag("--no-chop", o.no_chop, "AD7739 without chopping");
+  sub->add_option("--steps-per-rev", o.steps_per_rev, "stepper full steps per table revolution")
+      ->capture_default_str();
+  sub->add_option("--step-rate", o.step_rate_sps, "stepper cruise rate (steps/s)")
+      ->capture_default_str();
+  sub->add_option("--start-rate", o.start_rate_sps, "stepper start rate (steps/s)")
+      ->capture_default_str();
+  sub->add_option("--accel", o.accel_sps2, "stepper ramp (steps/s^2)")->capture_default_str();
+}
+
 void setup_simulate(CLI::App& app, action& chosen) {
   auto* sub =
       app.add_subcommand("simulate", "Simulate a rig recording (sensor, turntable, AD7739)");
@@ -82,16 +98,7 @@ void setup_simulate(CLI::App& app, action& chosen) {
   sub->add_option("--power-on-before", o->power_on_before_s,
                   "sensor powered this long before the run (s; 0 = cold start)")
       ->capture_default_str();
-  sub->add_option("--filter-word", o->filter_word, "AD7739 filter word FW (2..127)")
-      ->capture_default_str();
-  sub->add_flag("--no-chop", o->no_chop, "AD7739 without chopping");
-  sub->add_option("--steps-per-rev", o->steps_per_rev, "stepper full steps per table revolution")
-      ->capture_default_str();
-  sub->add_option("--step-rate", o->step_rate_sps, "stepper cruise rate (steps/s)")
-      ->capture_default_str();
-  sub->add_option("--start-rate", o->start_rate_sps, "stepper start rate (steps/s)")
-      ->capture_default_str();
-  sub->add_option("--accel", o->accel_sps2, "stepper ramp (steps/s^2)")->capture_default_str();
+  add_adc_stepper_options(sub, *o);
 }
 
 void setup_emulate(CLI::App& app, action& chosen) {
@@ -130,6 +137,43 @@ void setup_emulate(CLI::App& app, action& chosen) {
   sub->add_flag("--no-chop", o->no_chop, "AD7739 without chopping");
   sub->add_option("--steps-per-rev", o->steps_per_rev, "stepper full steps per table revolution")
       ->capture_default_str();
+}
+
+void setup_record(CLI::App& app, action& chosen, const std::vector<std::string>& args) {
+  auto* sub = app.add_subcommand("record",
+                                 "Record a rig run over a serial port into a crash-safe .gfr file");
+  auto o = bind<record_options>(sub, chosen, run_record);
+  o->command_line = args;
+  sub->add_option("--port", o->port, "serial device of the rig (or an emulator's pty)")->required();
+  sub->add_option("--baud", o->baud, "line rate (b/s)")->capture_default_str();
+  sub->add_option("-o,--output", o->output, "the recording RUN.gfr (never overwritten)")
+      ->required();
+  sub->add_option("--duration", o->duration_s, "device-clock seconds to record (0: until Ctrl-C)")
+      ->capture_default_str();
+  sub->add_option("--sensor", o->sensor,
+                  "adxrs150|hz1-90-100a|FILE.toml: its nominal scale factor converts to deg/s")
+      ->capture_default_str();
+  sub->add_option("--n-avg", o->n_avg, "gyro conversions per dwell")->capture_default_str();
+  sub->add_option("--n-temp", o->n_temp, "temperature conversions per dwell")
+      ->capture_default_str();
+  sub->add_option("--settle", o->settle_s, "settling time after a turn (s)")->capture_default_str();
+  sub->add_flag("--raw", o->raw, "keep every gyro conversion (RAW frames)");
+  add_adc_stepper_options(sub, *o);
+  sub->add_flag("--one-way", o->one_way, "always turn the same way (a rotary joint)");
+  sub->add_flag("--home", o->home, "find the home switch before the first cycle");
+  sub->add_option("--reconnect-timeout", o->reconnect_timeout_s,
+                  "how long to wait for a vanished port (s)")
+      ->capture_default_str();
+  sub->add_flag("--json-progress", o->json_progress,
+                "print progress as one JSON object per line on stdout");
+}
+
+void setup_export(CLI::App& app, action& chosen) {
+  auto* sub = app.add_subcommand("export", "Write a .gfr rig recording as a recording CSV");
+  auto o = bind<export_options>(sub, chosen, run_export);
+  sub->add_option("file", o->file, "the rig recording RUN.gfr")->required();
+  sub->add_option("-o,--output", o->output, "RUN.csv (- = stdout)")->required();
+  sub->add_flag("--raw", o->raw, "one row per gyro conversion (a recording made with --raw)");
 }
 
 void setup_sensors(CLI::App& app, action& chosen) {
@@ -234,6 +278,8 @@ int run_cli(int argc, char** argv) {
   setup_earth(app, chosen);
   setup_simulate(app, chosen);
   setup_emulate(app, chosen);
+  setup_record(app, chosen, std::vector<std::string>(argv, argv + argc));
+  setup_export(app, chosen);
   setup_sensors(app, chosen);
   setup_calibrate(app, chosen);
   setup_compensate(app, chosen);

@@ -21,6 +21,7 @@
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/method/flip_detect.hpp"
 #include "progress_bar.hpp"
+#include "rig_input.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -74,7 +75,8 @@ result<analysis_input> load_series(const series_input& in) {
   so.column = in.column;
   so.dataset = in.dataset;
   if (!std::isnan(in.rate_hz)) so.sample_rate_hz = in.rate_hz;
-  auto s = io::read_series(in.file, so);
+  auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column)
+                                     : io::read_series(in.file, so);
   if (!s) return s.err();
   // An uncompensated flip recording's rate switches with the angle: its Allan curve would show
   // the flipping (a square wave), not the sensor (issue 13 item 12).

@@ -16,6 +16,7 @@
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/io/recording.hpp"
 #include "progress_bar.hpp"
+#include "rig_input.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -137,7 +138,7 @@ int run_calibrate(const calibrate_options& o) {
   std::vector<method::cycle> all;
   for (const auto& file : o.files) {
     progress bar("reading " + file, 1000);
-    auto rc = io::read_cycles(file, *pairing, per_mille(bar));
+    auto rc = read_recording_cycles(file, *pairing, per_mille(bar));
     bar.finish();
     if (!rc) return report(rc.err());
     for (const auto& w : rc->warnings) warn(w);

@@ -16,6 +16,7 @@
 #include "gyroflip/io/recording_writer.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "progress_bar.hpp"
+#include "rig_input.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -155,7 +156,7 @@ int run_compensate(const compensate_options& o) {
   if (!(o.drift_window_s > 0.0)) return report(usage_error("--drift-window must be > 0 s"));
 
   progress bar("reading " + o.file, 1000);
-  auto rc = io::read_cycles(o.file, p, per_mille(bar));
+  auto rc = read_recording_cycles(o.file, p, per_mille(bar));
   bar.finish();
   if (!rc) return report(rc.err());
   for (const auto& w : rc->warnings) warn(w);

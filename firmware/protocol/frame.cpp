@@ -68,6 +68,7 @@ bool frame_decoder::finish() {
   }
   if (buf_[0] != protocol_version) {
     ++counts_.bad_version;
+    counts_.foreign_version = buf_[0];
     return false;
   }
   uint8_t extra = 0;

@@ -82,6 +82,7 @@ struct decoder_counts {
   uint32_t too_long = 0;      ///< more bytes than the largest frame before a delimiter
   uint32_t duplicates = 0;    ///< good frames that repeat an earlier sequence number
   uint32_t missing = 0;       ///< sequence numbers skipped (frames lost on the way)
+  uint8_t foreign_version = 0;  ///< version byte of the last frame of another version (0: none)
   [[nodiscard]] uint32_t bad() const {
     return bad_cobs + bad_length + bad_version + unknown_type + crc_errors + too_long;
   }

@@ -109,6 +109,29 @@ csv_reader::step recording_reader::next(method::row& out) {
   return csv_reader::step::row;
 }
 
+namespace {
+
+// The checks every source of rows shares: data at all, both orientations, enough cycles.
+status check_cycles(const recording_cycles& rc, const method::flip_stream& stream,
+                    method::pairing p) {
+  const auto& path = rc.path;
+  if (rc.rows == 0) return input_error({path}, "no data rows after the header");
+  if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)
+    return input_error(
+        {path}, fmt::format("the table never turns (every row is at {} deg): the method needs "
+                            "dwells at both 0 and 180 deg (an unflipped recording is for adev and "
+                            "noise, not for calibrate or compensate)",
+                            stream.dwells_at_0() == 0 ? 180 : 0));
+  if (rc.cycles.size() < method::min_cycles)
+    return input_error(
+        {path}, fmt::format("only {} cycle{} ({} dwells) with pairing '{}'; at least {} are needed",
+                            rc.cycles.size(), rc.cycles.size() == 1 ? "" : "s", rc.dwells,
+                            method::to_string(p), method::min_cycles));
+  return ok();
+}
+
+}  // namespace
+
 result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
                                      const progress_fn& on_progress) {
   auto reader = recording_reader::open(path);
@@ -134,18 +157,26 @@ result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
   stream.flush(keep);
   rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
   rc.warnings = reader->warnings();
-  if (rc.rows == 0) return input_error({path}, "no data rows after the header");
-  if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)
-    return input_error(
-        {path}, fmt::format("the table never turns (every row is at {} deg): the method needs "
-                            "dwells at both 0 and 180 deg (an unflipped recording is for adev and "
-                            "noise, not for calibrate or compensate)",
-                            stream.dwells_at_0() == 0 ? 180 : 0));
-  if (rc.cycles.size() < method::min_cycles)
-    return input_error(
-        {path}, fmt::format("only {} cycle{} ({} dwells) with pairing '{}'; at least {} are needed",
-                            rc.cycles.size(), rc.cycles.size() == 1 ? "" : "s", rc.dwells,
-                            method::to_string(p), method::min_cycles));
+  if (auto s = check_cycles(rc, stream, p); !s) return s.err();
+  return rc;
+}
+
+result<recording_cycles> cycles_of_rows(const std::string& path, std::span<const method::row> rows,
+                                        method::pairing p, std::vector<csv_metadata> metadata) {
+  recording_cycles rc;
+  rc.path = path;
+  rc.metadata = std::move(metadata);
+  rc.has_temp = !rows.empty();
+  method::flip_stream stream(p);
+  const auto keep = [&rc](const method::cycle& c) { rc.cycles.push_back(c); };
+  for (const auto& r : rows) {
+    rc.has_temp = rc.has_temp && !std::isnan(r.temp_c);
+    stream.push(r, keep);
+  }
+  stream.flush(keep);
+  rc.rows = rows.size();
+  rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
+  if (auto s = check_cycles(rc, stream, p); !s) return s.err();
   return rc;
 }
 

@@ -186,6 +186,39 @@ void series::hold(std::vector<double> values) {
   samples_ = std::make_unique<analysis::span_samples>(owned_);
 }
 
+namespace {
+
+// The interval comes from the whole record; each stamp may be rounded or jittered by up to half
+// an interval, but a gap or a duplicate breaks the uniform grid the deviations assume.
+struct grid {
+  double step = 0.0;
+  std::optional<std::size_t> bad;  // the first sample off the grid
+  double off = 0.0;
+};
+
+grid uniform_grid(std::span<const double> t) {
+  grid g;
+  g.step = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const double off = t[k] - (t.front() + static_cast<double>(k) * g.step);
+    if (std::abs(off) > 0.5 * g.step) {
+      g.bad = k;
+      g.off = off;
+      return g;
+    }
+  }
+  return g;
+}
+
+std::string off_grid_message(std::span<const double> t, const grid& g) {
+  return fmt::format(
+      "sample {} (time_s {}) is {:.3g} s off the uniform grid of {:.6g} s: the record has a gap "
+      "or uneven sampling (resample, or give the sample rate)",
+      *g.bad + 1, t[*g.bad], g.off, g.step);
+}
+
+}  // namespace
+
 result<series> read_series(const std::string& path_in, const series_options& opt) {
   series s;
   s.source_ = path_in;
@@ -307,19 +340,27 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
     return s;
   }
-  // The interval comes from the whole record; each stamp may be rounded or jittered by up to
-  // half an interval, but a gap or a duplicate breaks the uniform grid the deviations assume.
-  const double step = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    const double off = t[k] - (t.front() + static_cast<double>(k) * step);
-    if (std::abs(off) > 0.5 * step)
-      return at_row(path, **time, k,
-                    fmt::format("sample {} (time_s {}) is {:.3g} s off the uniform grid of {:.6g} "
-                                "s: the record has a gap or uneven sampling (resample, or give "
-                                "the sample rate)",
-                                k + 1, t[k], off, step));
-  }
-  s.tau0_s_ = step;
+  const auto g = uniform_grid(t);
+  if (g.bad) return at_row(path, **time, *g.bad, off_grid_message(t, g));
+  s.tau0_s_ = g.step;
+  return s;
+}
+
+result<series> series_of_samples(std::string source, std::vector<double> values,
+                                 std::span<const double> time_s, std::vector<double> angle_deg,
+                                 std::vector<csv_metadata> metadata) {
+  if (values.size() < min_samples)
+    return input_error(
+        {source}, fmt::format("{} sample{}: too few for an analysis (at least {})", values.size(),
+                              values.size() == 1 ? "" : "s", min_samples));
+  const auto g = uniform_grid(time_s);
+  if (g.bad) return input_error({source}, off_grid_message(time_s, g));
+  series s;
+  s.source_ = std::move(source);
+  s.hold(std::move(values));
+  s.tau0_s_ = g.step;
+  s.angle_deg_ = std::move(angle_deg);
+  s.metadata_ = std::move(metadata);
   return s;
 }
 

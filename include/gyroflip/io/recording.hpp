@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -68,5 +69,12 @@ struct recording_cycles {
 /// than method::min_cycles cycles.
 [[nodiscard]] result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
                                                    const progress_fn& on_progress = {});
+
+/// The cycles of rows from another source (a rig recording read back), with the same checks as
+/// read_cycles; `path` names the source in messages. Rows must be valid recording rows.
+[[nodiscard]] result<recording_cycles> cycles_of_rows(const std::string& path,
+                                                      std::span<const method::row> rows,
+                                                      method::pairing p,
+                                                      std::vector<csv_metadata> metadata);
 
 }  // namespace gyroflip::io

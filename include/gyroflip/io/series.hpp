@@ -54,6 +54,10 @@ class series {
 
  private:
   friend result<series> read_series(const std::string& path, const series_options& opt);
+  friend result<series> series_of_samples(std::string source, std::vector<double> values,
+                                          std::span<const double> time_s,
+                                          std::vector<double> angle_deg,
+                                          std::vector<csv_metadata> metadata);
   series() = default;
   void hold(std::vector<double> values);
   std::vector<double> owned_;
@@ -71,5 +75,13 @@ class series {
 /// `time_s` column (uniform within 1e-6 relative, else an error naming the line) unless
 /// `sample_rate_hz` is given. Errors name the file (and line/column for CSV).
 [[nodiscard]] result<series> read_series(const std::string& path, const series_options& opt);
+
+/// A series from samples already in memory (a rig recording read back): `time_s` per sample must
+/// lie on a uniform grid (each within half a step), which gives the interval; `angle_deg` per
+/// sample or empty. `source` names it in messages.
+[[nodiscard]] result<series> series_of_samples(std::string source, std::vector<double> values,
+                                               std::span<const double> time_s,
+                                               std::vector<double> angle_deg,
+                                               std::vector<csv_metadata> metadata);
 
 }  // namespace gyroflip::io

@@ -1,0 +1,98 @@
+/// \file
+/// \brief `gyroflip export` (docs/FORMATS.md, "Rig recording"): a `.gfr` recording as a
+/// recording CSV, one row per dwell (or per RAW conversion), with the accelerometer and the
+/// device's own dwell fields as extra columns the CSV readers ignore.
+#include <array>
+#include <cmath>
+#include <iterator>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "cmd_record.hpp"
+#include "commands.hpp"
+#include "finite_output.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/recording_writer.hpp"
+#include "host/recorder/rig_run.hpp"
+
+namespace gyroflip::app {
+
+namespace {
+
+// A field that may be absent (NaN): written empty.
+void field(std::string& out, double v) {
+  if (std::isfinite(v))
+    fmt::format_to(std::back_inserter(out), ",{}", v);
+  else
+    out += ',';
+}
+
+std::string dwell_csv(const host::rig_run& run) {
+  bool temp = true, accel = false;
+  for (const auto& d : run.dwells) {
+    if (d.d.n == 0) continue;
+    temp = temp && std::isfinite(d.temp_c);
+    accel = accel || std::isfinite(d.accel_x_g) || std::isfinite(d.accel_y_g);
+  }
+  std::string out;
+  const auto meta = host::csv_metadata(run);
+  io::append_metadata(out, meta);
+  out += temp ? "time_s,angle_deg,rate_dps,temp_c,n_avg" : "time_s,angle_deg,rate_dps,n_avg";
+  if (accel) out += ",accel_x_g,accel_y_g";
+  out += ",cycle,position,flags,segment,seq\n";
+  for (const auto& d : run.dwells) {
+    if (d.d.n == 0) continue;  // no conversion: no value (its flags say why)
+    fmt::format_to(std::back_inserter(out), "{}", d.time_s);
+    // A table that did not reach its position has no angle: the readers skip the row.
+    field(out, (d.d.flags & protocol::dwell_step_fault) != 0 ? method::no_value : d.angle_deg);
+    field(out, d.rate_dps);
+    if (temp) field(out, d.temp_c);
+    fmt::format_to(std::back_inserter(out), ",{}", d.d.n);
+    if (accel) {
+      field(out, d.accel_x_g);
+      field(out, d.accel_y_g);
+    }
+    fmt::format_to(std::back_inserter(out), ",{},{},{},{},{}\n", d.d.cycle, d.d.position, d.d.flags,
+                   d.segment, d.seq);
+  }
+  return out;
+}
+
+std::string raw_csv(const host::rig_run& run) {
+  std::string out;
+  io::append_metadata(out, host::csv_metadata(run));
+  out += "time_s,angle_deg,rate_dps,n_avg,code\n";
+  for (const auto& c : run.conversions)
+    fmt::format_to(std::back_inserter(out), "{},{},{},1,{}\n", c.time_s, c.angle_deg, c.rate_dps,
+                   c.code);
+  return out;
+}
+
+}  // namespace
+
+int run_export(const export_options& o) {
+  if (auto s = io::check_outputs(std::array{o.file}, std::array{o.output}); !s)
+    return report(s.err());
+  auto run = host::read_rig_run(o.file, o.raw);
+  if (!run) return report(run.err());
+  for (const auto& w : run->warnings) warn(w);
+  if (o.raw && run->conversions.empty())
+    return report(input_error(
+        {o.file}, "no RAW conversions in this recording (record with --raw to keep them)"));
+  if (o.raw && run->unplaced_conversions != 0)
+    warn(
+        fmt::format("{}: {} RAW conversions belong to dwells whose DWELL frame was lost: they "
+                    "have no time or angle and are not exported",
+                    o.file, run->unplaced_conversions));
+  const std::string text = o.raw ? raw_csv(*run) : dwell_csv(*run);
+  if (auto s = check_finite(text, o.output); !s) return report(s.err());
+  auto out = io::atomic_file::create(o.output);
+  if (!out) return report(out.err());
+  out->write(text);
+  if (auto s = out->commit(); !s) return report(s.err());
+  return 0;
+}
+
+}  // namespace gyroflip::app

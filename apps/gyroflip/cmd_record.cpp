@@ -1,0 +1,163 @@
+/// \file
+/// \brief `gyroflip record` (docs/RECORDER.md): the recorder on a serial port, with a progress
+/// line on a terminal or JSON lines for scripts, and Ctrl-C as a clean end.
+#include "cmd_record.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "host/recorder/recorder.hpp"
+
+namespace gyroflip::app {
+
+namespace {
+
+std::atomic<bool> stop_flag{false};
+static_assert(std::atomic<bool>::is_always_lock_free);  // safe to set in a signal handler
+
+extern "C" void on_record_signal(int) {
+  stop_flag.store(true);
+}
+
+result<protocol::configure_msg> device_config(const record_options& o) {
+  protocol::configure_msg c;
+  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+  if (!in(o.n_avg, 1, 65535)) return usage_error("--n-avg must be in 1..65535");
+  if (!in(o.n_temp, 0, 255)) return usage_error("--n-temp must be in 0..255");
+  if (!in(o.settle_s, 0, 65.535)) return usage_error("--settle must be in 0..65.535 s");
+  if (!in(o.filter_word, 2, 127)) return usage_error("--filter-word must be in 2..127");
+  if (!in(o.steps_per_rev, 2, 32767) || o.steps_per_rev % 2 != 0)
+    return usage_error("--steps-per-rev must be an even number in 2..32767");
+  if (!in(o.step_rate_sps, 1, 65535) || !in(o.start_rate_sps, 1, 65535) ||
+      !in(o.accel_sps2, 1, 65535))
+    return usage_error("--step-rate, --start-rate and --accel must be in 1..65535");
+  c.n_avg = static_cast<std::uint16_t>(o.n_avg);
+  c.n_temp = static_cast<std::uint8_t>(o.n_temp);
+  c.settle_ms = static_cast<std::uint16_t>(std::lround(o.settle_s * 1000.0));
+  c.pos_a_steps = 0;
+  c.pos_b_steps = static_cast<std::int16_t>(o.steps_per_rev / 2);
+  c.steps_per_rev = static_cast<std::uint16_t>(o.steps_per_rev);
+  c.step_rate_sps = static_cast<std::uint16_t>(o.step_rate_sps);
+  c.start_rate_sps = static_cast<std::uint16_t>(o.start_rate_sps);
+  c.ramp_sps2 = static_cast<std::uint16_t>(o.accel_sps2);
+  c.filter_word = static_cast<std::uint8_t>(o.filter_word);
+  c.flags = static_cast<std::uint8_t>(
+      (o.no_chop ? 0 : protocol::cfg_chop) | (o.raw ? protocol::cfg_raw : 0) |
+      (o.one_way ? protocol::cfg_one_way : 0) | (o.home ? protocol::cfg_home : 0));
+  return c;
+}
+
+std::string num(double v, const char* spec) {
+  return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
+}
+
+// One line, redrawn in place on a terminal.
+void draw(const host::recorder_status& s) {
+  const std::string of = s.duration_s > 0 ? fmt::format("/{:.0f}", s.duration_s) : "";
+  std::string line = fmt::format(
+      "\r{:.0f}{} s  cycles {}  frames {} good {} corrupt {} missing  dN {} +- {} deg/s  T {} C",
+      s.elapsed_s, of, s.cycles, s.frames_good, s.frames_corrupt, s.frames_missing,
+      num(s.delta_n_dps, "{:.5e}"), num(s.delta_n_se_dps, "{:.1e}"), num(s.temp_c, "{:.2f}"));
+  if (s.waiting_for_port) line += "  (waiting for the port)";
+  std::fprintf(stderr, "%s\033[K", line.c_str());
+  std::fflush(stderr);
+}
+
+nlohmann::json json_of(const host::recorder_status& s) {
+  const auto or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; };
+  return {{"elapsed_s", s.elapsed_s},
+          {"duration_s", s.duration_s},
+          {"dwells", s.dwells},
+          {"cycles", s.cycles},
+          {"frames_good", s.frames_good},
+          {"frames_corrupt", s.frames_corrupt},
+          {"frames_missing", s.frames_missing},
+          {"device_resets", s.device_resets},
+          {"link_losses", s.link_losses},
+          {"delta_n_dps", or_null(s.delta_n_dps)},
+          {"delta_n_se_dps", or_null(s.delta_n_se_dps)},
+          {"temp_c", or_null(s.temp_c)},
+          {"bytes", s.bytes},
+          {"waiting_for_port", s.waiting_for_port}};
+}
+
+const char* reason_text(host::gfr::stop_reason r) {
+  switch (r) {
+    case host::gfr::stop_reason::duration:
+      return "the duration was recorded";
+    case host::gfr::stop_reason::signal:
+      return "stopped by a signal";
+    case host::gfr::stop_reason::link_lost:
+      return "the port did not come back";
+  }
+  return "";
+}
+
+}  // namespace
+
+int run_record(const record_options& o) {
+  if (!(o.duration_s >= 0.0) || !std::isfinite(o.duration_s))
+    return report(usage_error("--duration must be 0 (until stopped) or a positive number of s"));
+  if (!(o.reconnect_timeout_s >= 0.0) || !std::isfinite(o.reconnect_timeout_s))
+    return report(usage_error("--reconnect-timeout must be a number of s >= 0"));
+  auto dev = device_config(o);
+  if (!dev) return report(dev.err());
+  auto preset = sensor::load_preset(o.sensor);
+  if (!preset) return report(preset.err());
+  host::recorder_config c;
+  c.port = o.port;
+  c.baud = o.baud;
+  c.output = o.output;
+  c.duration_s = o.duration_s;
+  c.device = *dev;
+  c.units.sensor = preset->name;
+  c.units.scale_factor_v_per_dps = preset->params.scale_factor_v_per_dps;
+  c.reconnect_timeout_s = o.reconnect_timeout_s;
+  c.software_version = GYROFLIP_VERSION;
+  c.command_line = o.command_line;
+
+  struct sigaction sa {};
+  sa.sa_handler = on_record_signal;
+  sigemptyset(&sa.sa_mask);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  bool drawn = false;
+  const auto progress = [&](const host::recorder_status& s) {
+    if (o.json_progress) {
+      fmt::print("{}\n", json_of(s).dump());
+      std::fflush(stdout);
+    } else if (tty) {
+      draw(s);
+      drawn = true;
+    }
+  };
+  auto r = host::record(c, stop_flag, progress);
+  if (drawn) std::fputs("\r\033[K", stderr);
+  if (!r) return report(r.err());
+  const auto& s = r->last;
+  std::fprintf(stderr,
+               "gyroflip record: %s: %zu dwells, %zu cycles, %llu frames (%llu corrupt, %llu "
+               "missing) over %.1f s: %s\n",
+               o.output.c_str(), s.dwells, s.cycles, static_cast<unsigned long long>(s.frames_good),
+               static_cast<unsigned long long>(s.frames_corrupt),
+               static_cast<unsigned long long>(s.frames_missing), s.elapsed_s,
+               reason_text(r->reason));
+  if (r->reason == host::gfr::stop_reason::link_lost)
+    return report(runtime_error(
+        fmt::format("{}: the port did not come back within {:g} s; {} is complete up to the loss",
+                    o.port, o.reconnect_timeout_s, o.output)));
+  return 0;
+}
+
+}  // namespace gyroflip::app

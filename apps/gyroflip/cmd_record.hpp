@@ -1,0 +1,42 @@
+/// \file
+/// \brief `gyroflip record` and `gyroflip export`: the rig's recorder and its files.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace gyroflip::app {
+
+struct record_options {
+  std::string port;
+  unsigned baud = 115200;
+  std::string output;  ///< RUN.gfr
+  double duration_s = 0.0;
+  std::string sensor = "hz1-90-100a";  ///< its nominal scale factor converts codes to deg/s
+  // CONFIGURE (docs/PROTOCOL.md); defaults are the paper's rig.
+  int n_avg = 256;
+  int n_temp = 4;
+  double settle_s = 0.08;
+  bool raw = false;
+  int filter_word = 94;
+  bool no_chop = false;
+  int steps_per_rev = 200;
+  int step_rate_sps = 400;
+  int start_rate_sps = 100;
+  int accel_sps2 = 2000;
+  bool one_way = false;
+  bool home = false;
+  double reconnect_timeout_s = 60.0;
+  bool json_progress = false;
+  std::vector<std::string> command_line;
+};
+int run_record(const record_options& o);
+
+struct export_options {
+  std::string file;
+  std::string output;
+  bool raw = false;
+};
+int run_export(const export_options& o);
+
+}  // namespace gyroflip::app

@@ -1,0 +1,57 @@
+/// \file
+/// \brief `.gfr` rig recordings as input (rig_input.hpp).
+#include "rig_input.hpp"
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+#include "host/recorder/rig_run.hpp"
+
+namespace gyroflip::app {
+
+bool is_rig_recording(const std::string& path) {
+  return path.size() > 4 && path.compare(path.size() - 4, 4, ".gfr") == 0;
+}
+
+result<io::recording_cycles> read_recording_cycles(const std::string& path, method::pairing p,
+                                                   const progress_fn& on_progress) {
+  if (!is_rig_recording(path)) return io::read_cycles(path, p, on_progress);
+  auto run = host::read_rig_run(path);
+  if (!run) return run.err();
+  const auto rows = host::dwell_rows(*run);
+  auto rc = io::cycles_of_rows(path, rows, p, host::csv_metadata(*run));
+  if (!rc) return rc.err();
+  rc->warnings = run->warnings;
+  return rc;
+}
+
+result<io::series> read_rig_series(const std::string& path, const std::string& column) {
+  auto run = host::read_rig_run(path);
+  if (!run) return run.err();
+  const auto rows = host::dwell_rows(*run);
+  std::vector<double> values, time_s, angle_deg;
+  if (column == "dwell_dps") {
+    for (const auto& r : rows) {
+      values.push_back(r.rate_dps);
+      time_s.push_back(r.time_s);
+      angle_deg.push_back(r.angle_deg);
+    }
+  } else if (column == "rate_dps" || column == "bias_dps") {
+    auto rc = io::cycles_of_rows(path, rows, method::pairing::abba, {});
+    if (!rc) return rc.err();
+    for (const auto& c : rc->cycles) {
+      values.push_back(column == "rate_dps" ? c.rate_dps : c.bias_dps);
+      time_s.push_back(c.time_s);
+    }
+  } else {
+    return about_parameter(
+        input_error({path}, fmt::format("a rig recording has no series '{}': use rate_dps (per "
+                                        "cycle, flip-compensated), bias_dps or dwell_dps",
+                                        printable(column, 60))),
+        "column");
+  }
+  return io::series_of_samples(path, std::move(values), time_s, std::move(angle_deg),
+                               host::csv_metadata(*run));
+}
+
+}  // namespace gyroflip::app

@@ -1,0 +1,30 @@
+/// \file
+/// \brief `.gfr` rig recordings as input of calibrate, compensate, adev and noise
+/// (docs/FORMATS.md, "Rig recording"): the same cycles and series a CSV recording gives.
+#pragma once
+
+#include <string>
+
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/io/recording.hpp"
+#include "gyroflip/io/series.hpp"
+
+namespace gyroflip::app {
+
+/// A `.gfr` file (by its extension).
+[[nodiscard]] bool is_rig_recording(const std::string& path);
+
+/// The cycles of a CSV recording or of a `.gfr` rig recording's dwells.
+[[nodiscard]] result<io::recording_cycles> read_recording_cycles(const std::string& path,
+                                                                 method::pairing p,
+                                                                 const progress_fn& on_progress);
+
+/// A `.gfr` recording as a series: `rate_dps` the per-cycle half-difference r (the flip-
+/// compensated rate up to the constant dN, which no deviation sees), `bias_dps` the per-cycle
+/// half-sum (the sensor's bias), `dwell_dps` the dwell means as they are (they switch with the
+/// angle). One sample per cycle (per dwell), on the cycles' own grid.
+[[nodiscard]] result<io::series> read_rig_series(const std::string& path,
+                                                 const std::string& column);
+
+}  // namespace gyroflip::app

@@ -1,0 +1,217 @@
+/// \file
+/// \brief Reading and appending `.gfr` recordings (gfr.hpp, docs/FORMATS.md).
+#include "host/recorder/gfr.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <utility>
+
+#include <fcntl.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+
+namespace gyroflip::host::gfr {
+
+namespace {
+
+void put_u16(std::vector<std::uint8_t>& b, std::uint16_t v) {
+  b.push_back(static_cast<std::uint8_t>(v));
+  b.push_back(static_cast<std::uint8_t>(v >> 8));
+}
+void put_u32(std::vector<std::uint8_t>& b, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+}
+void put_u64(std::vector<std::uint8_t>& b, std::uint64_t v) {
+  for (int i = 0; i < 8; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+}
+
+std::vector<std::uint8_t> file_header() {
+  std::vector<std::uint8_t> h(magic.begin(), magic.end());
+  put_u16(h, format_version);
+  put_u16(h, 0);
+  put_u32(h, crc32(h));
+  return h;
+}
+
+bool known_kind(std::uint8_t k) {
+  return k >= static_cast<std::uint8_t>(kind::meta) && k <= static_cast<std::uint8_t>(kind::stop);
+}
+
+error at_record(const std::string& name, std::size_t n, const std::string& what) {
+  return input_error({name}, fmt::format("record {}: {}", n, what));
+}
+
+status check_file_header(std::span<const std::uint8_t> b, const std::string& name) {
+  if (b.size() < magic.size() || std::memcmp(b.data(), magic.data(), magic.size()) != 0)
+    return at_record(name, 0, "not a gyroflip rig recording (the file does not start with the "
+                              ".gfr magic bytes)");
+  if (b.size() < file_header_bytes)
+    return at_record(name, 0, fmt::format("the file header is cut short ({} of {} bytes)",
+                                          b.size(), file_header_bytes));
+  if (load_le(b.data() + 12, 4) != crc32(b.first(12)))
+    return at_record(name, 0, "file header checksum mismatch (the file is damaged)");
+  const auto version = static_cast<std::uint16_t>(load_le(b.data() + 8, 2));
+  if (version > format_version)
+    return at_record(name, 0, fmt::format("format version {} is newer than this gyroflip reads "
+                                          "({}): update gyroflip",
+                                          version, format_version));
+  if (version == 0) return at_record(name, 0, "format version 0 does not exist");
+  return ok();
+}
+
+}  // namespace
+
+std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept {
+  uLong c = ::crc32(0L, Z_NULL, 0);
+  // zlib takes uInt lengths: feed in pieces below 4 GiB.
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const std::size_t n = std::min<std::size_t>(bytes.size() - done, std::size_t{1} << 30);
+    c = ::crc32(c, bytes.data() + done, static_cast<uInt>(n));
+    done += n;
+  }
+  return static_cast<std::uint32_t>(c);
+}
+
+result<file> parse(std::span<const std::uint8_t> b, const std::string& name) {
+  if (auto s = check_file_header(b, name); !s) return s.err();
+  file out;
+  std::size_t at = file_header_bytes;
+  for (std::size_t n = 1; at < b.size(); ++n) {
+    const std::size_t left = b.size() - at;
+    const auto torn = [&](const char* why) {
+      out.warnings.push_back(
+          fmt::format("{}: record {}: {}: the last {} bytes are a record cut off while it was "
+                      "written (the recorder was stopped hard); ignored",
+                      name, n, why, left));
+    };
+    if (left < 4) {
+      torn("length cut short");
+      break;
+    }
+    const std::uint64_t len = load_le(b.data() + at, 4);
+    if (len < 9 || len - 9 > max_body) {
+      if (left < record_overhead + 9) {
+        torn("cut short");
+        break;
+      }
+      return at_record(name, n, fmt::format("impossible length {} (the file is damaged)", len));
+    }
+    const std::size_t whole = static_cast<std::size_t>(len) + 8;  // length field + CRC
+    if (whole > left) {
+      torn("cut short");
+      break;
+    }
+    const auto rec = b.subspan(at, whole);
+    if (load_le(rec.data() + whole - 4, 4) != crc32(rec.first(whole - 4))) {
+      if (whole == left) {
+        torn("checksum mismatch");
+        break;
+      }
+      return at_record(name, n, "checksum mismatch (the file is damaged)");
+    }
+    const std::uint8_t k = rec[4];
+    if (!known_kind(k))
+      return at_record(name, n, fmt::format("unknown record kind {}", k));
+    if (n == 1 && static_cast<kind>(k) != kind::meta)
+      return at_record(name, n, "the first record is not META");
+    out.records.push_back({static_cast<kind>(k), load_le(rec.data() + 5, 8),
+                           std::vector<std::uint8_t>(rec.begin() + 13, rec.end() - 4)});
+    at += whole;
+  }
+  if (out.records.empty())
+    return at_record(name, 1, "no META record: the recorder stopped before it wrote anything");
+  return out;
+}
+
+result<file> read(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return io_error(path, std::string("cannot open: ") + std::strerror(errno));
+  std::vector<std::uint8_t> bytes;
+  std::uint8_t buf[1 << 16];
+  std::size_t got = 0;
+  while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.insert(bytes.end(), buf, buf + got);
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) return io_error(path, "read failed");
+  return parse(bytes, path);
+}
+
+result<writer> writer::create(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    if (errno == EEXIST)
+      return io_error(path, "exists; a recording is never overwritten (choose another name)");
+    return io_error(path, std::string("cannot create: ") + std::strerror(errno));
+  }
+  writer w(fd, path);
+  const auto h = file_header();
+  if (::write(fd, h.data(), h.size()) != static_cast<ssize_t>(h.size()))
+    return io_error(path, std::string("write: ") + std::strerror(errno));
+  w.bytes_ = h.size();
+  if (auto s = w.sync(); !s) return s.err();
+  return w;
+}
+
+writer::writer(writer&& o) noexcept
+    : fd_(std::exchange(o.fd_, -1)),
+      path_(std::move(o.path_)),
+      bytes_(o.bytes_),
+      buf_(std::move(o.buf_)) {}
+
+writer& writer::operator=(writer&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(o.fd_, -1);
+    path_ = std::move(o.path_);
+    bytes_ = o.bytes_;
+    buf_ = std::move(o.buf_);
+  }
+  return *this;
+}
+
+writer::~writer() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::uint8_t> body) {
+  if (body.size() > max_body) return runtime_error("a .gfr record body over 1 MiB");
+  buf_.clear();
+  put_u32(buf_, static_cast<std::uint32_t>(body.size() + 9));
+  buf_.push_back(static_cast<std::uint8_t>(k));
+  put_u64(buf_, host_time_us);
+  buf_.insert(buf_.end(), body.begin(), body.end());
+  put_u32(buf_, crc32(buf_));
+  // One write per record: a kill between records leaves whole ones only, and one inside the
+  // write leaves a torn tail the reader skips.
+  std::size_t done = 0;
+  while (done < buf_.size()) {
+    const ssize_t n = ::write(fd_, buf_.data() + done, buf_.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return io_error(path_, std::string("write: ") + std::strerror(errno));
+    done += static_cast<std::size_t>(n);
+  }
+  bytes_ += buf_.size();
+  return ok();
+}
+
+status writer::sync() {
+  if (::fdatasync(fd_) != 0) return io_error(path_, std::string("fsync: ") + std::strerror(errno));
+  return ok();
+}
+
+status writer::close() {
+  if (fd_ < 0) return ok();
+  auto s = sync();
+  const int rc = ::close(std::exchange(fd_, -1));
+  if (!s) return s;
+  if (rc != 0) return io_error(path_, std::string("close: ") + std::strerror(errno));
+  return ok();
+}
+
+}  // namespace gyroflip::host::gfr

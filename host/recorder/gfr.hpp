@@ -1,0 +1,112 @@
+/// \file
+/// \brief The `.gfr` recording (docs/FORMATS.md, "Rig recording"): a 16-byte file header, then
+/// append-only records, each length-prefixed and CRC-32 checked, written as they happen so that
+/// whatever reached the file before a crash reads back. The writer appends and syncs; the reader
+/// checks every byte and ignores a torn last record (a writer killed mid-write) with a warning.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+
+namespace gyroflip::host::gfr {
+
+/// PNG-style magic: a non-ASCII first byte, then CR LF, ^Z and LF catch text-mode transfers.
+inline constexpr std::array<std::uint8_t, 8> magic = {0x89, 'G', 'F', 'R', '\r', '\n', 0x1A, '\n'};
+inline constexpr std::uint16_t format_version = 1;
+/// magic, u16 version, u16 reserved (0), u32 CRC-32 of the 12 bytes before it.
+inline constexpr std::size_t file_header_bytes = 16;
+/// u32 length (of kind, time and body), u8 kind, u64 host time (us), body, u32 CRC-32 of all
+/// that precedes it in the record.
+inline constexpr std::size_t record_overhead = 4 + 1 + 8 + 4;
+/// The largest body a record may have (a META of a long command line fits many times).
+inline constexpr std::size_t max_body = std::size_t{1} << 20;
+
+/// What a record holds (docs/FORMATS.md has each body byte by byte).
+enum class kind : std::uint8_t {
+  meta = 1,       ///< JSON: host metadata and the conversion of device units (first record)
+  info = 2,       ///< the device's INFO payload as received
+  configure = 3,  ///< a CONFIGURE payload the device acknowledged
+  start = 4,      ///< a START the device acknowledged: a run of dwells starts (empty body)
+  frame = 5,      ///< u8 type, u16 seq, payload: a valid device frame as received
+  gap = 6,        ///< u8 gap_reason, u32 count: what was lost or happened between frames
+  stop = 7,       ///< u8 stop_reason: the recorder ended the run (the file is complete)
+};
+
+enum class gap_reason : std::uint8_t {
+  corrupt = 1,       ///< frames dropped by the decoder (COBS, length, CRC, version, type)
+  missing = 2,       ///< sequence numbers skipped (frames lost on the way)
+  device_reset = 3,  ///< the device sent INFO unasked (it rebooted); count = 0
+  link_lost = 4,     ///< the port failed (an unplugged adapter); count = ms until it came back
+};
+
+enum class stop_reason : std::uint8_t {
+  duration = 1,   ///< the requested duration was recorded
+  signal = 2,     ///< SIGINT or SIGTERM
+  link_lost = 3,  ///< the port did not come back in time
+};
+
+/// A record as read back.
+struct record {
+  kind type = kind::meta;
+  std::uint64_t host_time_us = 0;  ///< microseconds since the recording started (host clock)
+  std::vector<std::uint8_t> body;
+};
+
+/// Every record of a file plus what the reader noticed.
+struct file {
+  std::vector<record> records;
+  std::vector<std::string> warnings;  ///< `FILE: record N: ...`, e.g. a torn last record
+};
+
+/// Reads and checks a whole `.gfr` file. Errors name the file and the record (`FILE: record N:
+/// what`; record 0 is the file header): wrong magic, a newer format version, a checksum
+/// mismatch before the last record, an unknown kind, a length over max_body.
+[[nodiscard]] result<file> read(const std::string& path);
+/// The same from bytes in memory (`name` is used in messages): the fuzz target's entry.
+[[nodiscard]] result<file> parse(std::span<const std::uint8_t> bytes, const std::string& name);
+
+/// Appends records to a new file. Each record goes to the kernel in one write as it is made, so
+/// a killed writer loses nothing it appended; `sync` (fdatasync) makes it survive power loss.
+class writer {
+ public:
+  /// Creates `path` (never replacing an existing file: a recording is never overwritten) and
+  /// writes the file header.
+  [[nodiscard]] static result<writer> create(const std::string& path);
+  writer(writer&& o) noexcept;
+  writer& operator=(writer&& o) noexcept;
+  writer(const writer&) = delete;
+  writer& operator=(const writer&) = delete;
+  ~writer();
+
+  [[nodiscard]] status append(kind k, std::uint64_t host_time_us,
+                              std::span<const std::uint8_t> body);
+  [[nodiscard]] status sync();
+  [[nodiscard]] status close();
+  [[nodiscard]] std::uint64_t bytes() const noexcept { return bytes_; }
+  [[nodiscard]] const std::string& path() const noexcept { return path_; }
+
+ private:
+  writer(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
+  int fd_ = -1;
+  std::string path_;
+  std::uint64_t bytes_ = 0;
+  std::vector<std::uint8_t> buf_;
+};
+
+/// The little-endian unsigned integer of `bytes` (1..8) bytes at `p`.
+[[nodiscard]] constexpr std::uint64_t load_le(const std::uint8_t* p, int bytes) noexcept {
+  std::uint64_t v = 0;
+  for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | p[i];
+  return v;
+}
+
+/// CRC-32 (ISO-HDLC, zlib's) of `bytes`.
+[[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept;
+
+}  // namespace gyroflip::host::gfr

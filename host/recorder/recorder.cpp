@@ -1,0 +1,482 @@
+/// \file
+/// \brief The recorder's session with the rig (recorder.hpp, docs/RECORDER.md).
+#include "host/recorder/recorder.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/status.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/flip_stream.hpp"
+#include "host/serial/serial_port.hpp"
+
+namespace gyroflip::host {
+
+namespace {
+
+using steady = std::chrono::steady_clock;
+namespace p = protocol;
+
+const char* status_name(std::uint8_t s) {
+  switch (static_cast<p::status>(s)) {
+    case p::status::ok:
+      return "ok";
+    case p::status::bad_arg:
+      return "a value out of range";
+    case p::status::bad_frame:
+      return "a malformed frame";
+    case p::status::crc_mismatch:
+      return "a CRC mismatch";
+    case p::status::overflow:
+      return "a buffer overflow";
+    case p::status::timeout:
+      return "a timeout";
+    case p::status::bus_error:
+      return "a bus error";
+    case p::status::not_supported:
+      return "not supported by this firmware";
+    case p::status::busy:
+      return "busy";
+  }
+  return "an unknown reason";
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::string meta_json(const recorder_config& c) {
+  nlohmann::json j{{"format", "gyroflip rig recording"},
+                   {"gyroflip_version", c.software_version},
+                   {"command_line", c.command_line},
+                   {"start_utc", utc_now()},
+                   {"port", c.port},
+                   {"baud", c.baud},
+                   {"duration_s", c.duration_s},
+                   {"sensor", c.units.sensor},
+                   {"scale_factor_v_per_dps", c.units.scale_factor_v_per_dps},
+                   {"temp_v_per_c", c.units.temp_v_per_c},
+                   {"temp_at_0v_c", c.units.temp_at_0v_c}};
+  // The command line and names may hold any bytes: never fail on them.
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+template <class M>
+std::vector<std::uint8_t> payload_of(const M& m) {
+  std::vector<std::uint8_t> b(p::max_payload);
+  p::writer w{b.data(), b.size()};
+  m.put(w);
+  b.resize(w.n);
+  return b;
+}
+
+class session {
+ public:
+  session(const recorder_config& c, gfr::writer w, const std::atomic<bool>& stop,
+          const recorder_progress_fn& fn)
+      : c_(c), file_(std::move(w)), stop_(stop), on_progress_(fn), live_(c.output, false) {}
+
+  result<recorder_result> run();
+
+ private:
+  // The link.
+  status open_port();
+  template <class M>
+  status send(const M& m, std::uint16_t* seq_out = nullptr);
+  status pump(int timeout_ms);
+  void on_frame(const p::frame& f);
+  result<p::info_msg> ping();
+  template <class M>
+  status command(const M& m, const char* name);
+  status start_run();
+  result<bool> reconnect(steady::time_point lost_at);
+  result<recorder_result> finish(gfr::stop_reason why);
+  // The file.
+  status append(gfr::kind k, std::span<const std::uint8_t> body = {});
+  status append_gap(gfr::gap_reason r, std::uint32_t count);
+  status note_decoder();
+  status tick(bool force);
+  [[nodiscard]] double elapsed_s() const {
+    const auto& d = live_.run().dwells;
+    return d.empty() ? 0.0 : d.back().time_s;
+  }
+  [[nodiscard]] std::uint64_t host_us() const {
+    return static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::microseconds>(steady::now() - t0_).count());
+  }
+
+  const recorder_config& c_;
+  gfr::writer file_;
+  const std::atomic<bool>& stop_;
+  const recorder_progress_fn& on_progress_;
+  rig_run_builder live_;
+  std::size_t records_ = 0;
+  method::flip_stream stream_{method::pairing::abba};
+  std::vector<method::cycle> cycles_;
+  std::size_t dwells_seen_ = 0;
+
+  std::optional<serial_port> port_;
+  p::frame_decoder dec_{true};  // a device reset restarts its numbering: take repeats too
+  std::uint32_t noted_bad_ = 0, noted_missing_ = 0;
+  std::uint16_t seq_ = 0;
+  bool recording_ = false;   // after START: every frame goes to the file
+  bool stopping_ = false;
+  bool waiting_info_ = false;
+  std::optional<p::info_msg> info_;        // the INFO a PING brought
+  std::optional<std::vector<std::uint8_t>> reset_info_;  // an unasked INFO (the device rebooted)
+  bool device_idle_ = false;               // a STATUS said idle while we record
+  std::optional<std::uint16_t> reply_seq_;
+  std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
+  bool replied_ = false;
+  std::size_t link_losses_ = 0;
+  bool waiting_for_port_ = false;
+  bool link_down_ = false;  // the last error came from the port, not the file
+  steady::time_point t0_ = steady::now();
+  steady::time_point last_tick_ = steady::now();
+};
+
+status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
+  gfr::record r{k, host_us(), {body.begin(), body.end()}};
+  if (auto s = file_.append(k, r.host_time_us, body); !s) return s;
+  if (auto s = live_.add(r, ++records_); !s) return s;
+  const auto& dw = live_.run().dwells;
+  for (; dwells_seen_ < dw.size(); ++dwells_seen_)
+    if (auto row = dwell_row(dw[dwells_seen_]))
+      stream_.push(*row, [this](const method::cycle& cy) { cycles_.push_back(cy); });
+  return ok();
+}
+
+status session::append_gap(gfr::gap_reason r, std::uint32_t count) {
+  const std::uint8_t b[5] = {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(count),
+                             static_cast<std::uint8_t>(count >> 8),
+                             static_cast<std::uint8_t>(count >> 16),
+                             static_cast<std::uint8_t>(count >> 24)};
+  return append(gfr::kind::gap, b);
+}
+
+// Frames the decoder dropped or found missing since the last call become gap records.
+status session::note_decoder() {
+  const auto& k = dec_.counts();
+  if (k.bad() != noted_bad_) {
+    if (auto s = append_gap(gfr::gap_reason::corrupt, k.bad() - noted_bad_); !s) return s;
+    noted_bad_ = k.bad();
+  }
+  if (k.missing != noted_missing_) {
+    if (auto s = append_gap(gfr::gap_reason::missing, k.missing - noted_missing_); !s) return s;
+    noted_missing_ = k.missing;
+  }
+  return ok();
+}
+
+// About once a second: sync the file (what was acknowledged survives a power loss) and report.
+status session::tick(bool force) {
+  const auto now = steady::now();
+  if (!force && now - last_tick_ < std::chrono::seconds(1)) return ok();
+  last_tick_ = now;
+  if (auto s = file_.sync(); !s) return s;
+  if (!on_progress_) return ok();
+  recorder_status st;
+  const auto& run = live_.run();
+  st.elapsed_s = elapsed_s();
+  st.duration_s = c_.duration_s;
+  st.dwells = run.dwells.size();
+  st.cycles = cycles_.size();
+  st.frames_good = run.frames;
+  st.frames_corrupt = run.corrupt_frames;
+  st.frames_missing = run.missing_frames;
+  st.device_resets = run.device_resets;
+  st.link_losses = run.link_losses;
+  st.delta_n_dps = st.delta_n_se_dps = method::no_value;
+  if (auto cal = method::calibrate(cycles_)) {
+    st.delta_n_dps = cal->delta_n_dps;
+    st.delta_n_se_dps = cal->stderr_correlated_dps;
+  }
+  st.temp_c = run.dwells.empty() ? method::no_value : run.dwells.back().temp_c;
+  st.bytes = file_.bytes();
+  st.waiting_for_port = waiting_for_port_;
+  on_progress_(st);
+  return ok();
+}
+
+status session::open_port() {
+  auto port = serial_port::open(c_.port, c_.baud);
+  if (!port) return port.err();
+  port_.emplace(std::move(*port));
+  return ok();
+}
+
+template <class M>
+status session::send(const M& m, std::uint16_t* seq_out) {
+  std::uint8_t buf[p::max_wire];
+  const std::uint16_t seq = seq_++;
+  const std::size_t n = p::encode_message(m, seq, buf, sizeof buf);
+  if (seq_out != nullptr) *seq_out = seq;
+  auto s = port_->write(buf, n, 1000);
+  if (!s) link_down_ = true;
+  return s;
+}
+
+void session::on_frame(const p::frame& f) {
+  const auto type = static_cast<p::msg>(f.type);
+  if ((type == p::msg::ack || type == p::msg::nak) && reply_seq_) {
+    p::ack_msg a;
+    p::nak_msg n;
+    if (f.as(a) && a.seq == *reply_seq_) replied_ = true;
+    if (f.as(n) && n.seq == *reply_seq_) {
+      replied_ = true;
+      reply_nak_ = n.reason;
+    }
+  }
+  if (type == p::msg::info) {
+    p::info_msg m;
+    if (!f.as(m)) return;
+    if (waiting_info_) {
+      info_ = m;
+      waiting_info_ = false;
+      return;
+    }
+    // An INFO nobody asked for: the device booted again (docs/PROTOCOL.md, INFO).
+    if (recording_) reset_info_.emplace(f.payload, f.payload + f.length);
+    return;
+  }
+  if (type == p::msg::status && recording_ && !stopping_) {
+    p::status_msg m;
+    if (f.as(m) && m.state == static_cast<std::uint8_t>(p::device_state::idle)) device_idle_ = true;
+  }
+}
+
+// Reads what arrives within `timeout_ms`; stores every valid frame while recording.
+status session::pump(int timeout_ms) {
+  std::uint8_t in[4096];
+  auto got = port_->read(in, sizeof in, timeout_ms);
+  if (!got) {
+    link_down_ = true;
+    return got.err();
+  }
+  for (std::size_t i = 0; i < *got; ++i) {
+    if (!dec_.push(in[i])) continue;
+    const auto& f = dec_.current();
+    if (recording_) {
+      std::vector<std::uint8_t> body{f.type, static_cast<std::uint8_t>(f.seq),
+                                     static_cast<std::uint8_t>(f.seq >> 8)};
+      body.insert(body.end(), f.payload, f.payload + f.length);
+      if (auto s = append(gfr::kind::frame, body); !s) return s;
+    }
+    on_frame(f);
+  }
+  if (recording_) return note_decoder();
+  return ok();
+}
+
+result<p::info_msg> session::ping() {
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    info_.reset();
+    waiting_info_ = true;
+    if (auto s = send(p::ping_msg{}); !s) return s.err();
+    const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 3);
+    while (!info_ && steady::now() < until && !stop_)
+      if (auto s = pump(50); !s) return s.err();
+    if (info_) break;
+  }
+  waiting_info_ = false;
+  if (info_) return *info_;
+  if (const auto v = dec_.counts().foreign_version; v != 0)
+    return input_error({c_.port}, fmt::format("the device speaks protocol version {}; this gyroflip "
+                                              "speaks version {}: update the one that is older",
+                                              v, p::protocol_version));
+  return runtime_error(fmt::format("{}: no reply to PING within {:g} s: is the rig connected, "
+                                   "powered and running its firmware?",
+                                   c_.port, c_.reply_timeout_s));
+}
+
+template <class M>
+status session::command(const M& m, const char* name) {
+  std::uint16_t seq = 0;
+  replied_ = false;
+  reply_nak_.reset();
+  if (auto s = send(m, &seq); !s) return s;
+  reply_seq_ = seq;
+  const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s);
+  while (!replied_ && steady::now() < until)
+    if (auto s = pump(50); !s) return s;
+  reply_seq_.reset();
+  if (!replied_)
+    return runtime_error(
+        fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port, name,
+                    c_.reply_timeout_s));
+  if (reply_nak_)
+    return input_error({c_.port}, fmt::format("the device refused {}: {}", name,
+                                              status_name(*reply_nak_)));
+  return ok();
+}
+
+// STOP (a run left from before), CONFIGURE, START; each step stored once the device agreed.
+status session::start_run() {
+  recording_ = false;
+  if (auto s = command(p::stop_msg{}, "STOP"); !s) return s;
+  if (auto s = command(c_.device, "CONFIGURE"); !s) return s;
+  if (auto s = append(gfr::kind::configure, payload_of(c_.device)); !s) return s;
+  if (auto s = command(p::start_msg{}, "START"); !s) return s;
+  if (auto s = append(gfr::kind::start); !s) return s;
+  device_idle_ = false;
+  recording_ = true;
+  return ok();
+}
+
+result<recorder_result> session::finish(gfr::stop_reason why) {
+  stopping_ = true;
+  if (port_ && why != gfr::stop_reason::link_lost) {
+    // STOP, then the STATUS that answers it; a device that does not answer is noted only.
+    (void)command(p::stop_msg{}, "STOP");
+    (void)pump(100);
+  }
+  const std::uint8_t body[1] = {static_cast<std::uint8_t>(why)};
+  if (auto s = append(gfr::kind::stop, body); !s) return s.err();
+  if (auto s = tick(true); !s) return s.err();
+  if (auto s = file_.close(); !s) return s.err();
+  recorder_result r;
+  r.reason = why;
+  r.last.elapsed_s = elapsed_s();
+  const auto& run = live_.run();
+  r.last.duration_s = c_.duration_s;
+  r.last.dwells = run.dwells.size();
+  r.last.cycles = cycles_.size();
+  r.last.frames_good = run.frames;
+  r.last.frames_corrupt = run.corrupt_frames;
+  r.last.frames_missing = run.missing_frames;
+  r.last.device_resets = run.device_resets;
+  r.last.link_losses = run.link_losses;
+  r.last.bytes = file_.bytes();
+  r.last.delta_n_dps = r.last.delta_n_se_dps = method::no_value;
+  if (auto cal = method::calibrate(cycles_)) {
+    r.last.delta_n_dps = cal->delta_n_dps;
+    r.last.delta_n_se_dps = cal->stderr_correlated_dps;
+  }
+  return r;
+}
+
+// The port failed (an unplugged adapter): keep the file, wait for the device path to come back,
+// and go on where the device is; a device found reconfigured (it rebooted) is started again.
+// False: the port did not come back in time, or a stop was asked for meanwhile.
+result<bool> session::reconnect(steady::time_point lost_at) {
+  port_.reset();
+  waiting_for_port_ = true;
+  const auto until = lost_at + std::chrono::duration<double>(c_.reconnect_timeout_s);
+  const auto gap = [&]() {
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(steady::now() - lost_at);
+    return append_gap(gfr::gap_reason::link_lost, static_cast<std::uint32_t>(ms.count()));
+  };
+  while (steady::now() < until && !stop_) {
+    if (auto s = tick(false); !s) return s.err();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    if (!open_port()) continue;
+    link_down_ = false;
+    auto info = ping();
+    if (!info) {
+      if (!link_down_ && info.err().code == errc::bad_input) return info.err();
+      port_.reset();
+      continue;
+    }
+    waiting_for_port_ = false;
+    if (auto s = gap(); !s) return s.err();
+    if (info->config == c_.device) return true;
+    if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s.err();
+    if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
+    if (auto s = start_run(); !s) {
+      if (!link_down_) return s.err();
+      port_.reset();
+      lost_at = steady::now();
+      waiting_for_port_ = true;
+      continue;
+    }
+    return true;
+  }
+  waiting_for_port_ = false;
+  if (auto s = gap(); !s) return s.err();
+  return false;
+}
+
+result<recorder_result> session::run() {
+  if (auto s = append(gfr::kind::meta, [&] {
+        const auto m = meta_json(c_);
+        return std::vector<std::uint8_t>(m.begin(), m.end());
+      }());
+      !s)
+    return s.err();
+  if (auto s = open_port(); !s) return s.err();
+  auto info = ping();
+  if (!info) return info.err();
+  if (info->protocol != p::protocol_version)
+    return input_error({c_.port}, fmt::format("the device speaks protocol version {}; this gyroflip "
+                                              "speaks version {}: update the one that is older",
+                                              info->protocol, p::protocol_version));
+  if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
+  if (auto s = start_run(); !s) return s.err();
+  (void)file_.sync();
+  while (true) {
+    if (stop_) return finish(gfr::stop_reason::signal);
+    if (c_.duration_s > 0 && elapsed_s() >= c_.duration_s)
+      return finish(gfr::stop_reason::duration);
+    bool lost = !port_;
+    if (!lost && (reset_info_ || device_idle_)) {
+      // The device rebooted (an unasked INFO) or stopped by itself: note it and start it again.
+      if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s.err();
+      if (reset_info_)
+        if (auto s = append(gfr::kind::info, *reset_info_); !s) return s.err();
+      reset_info_.reset();
+      link_down_ = false;
+      if (auto s = start_run(); !s) {
+        if (!link_down_) return s.err();
+        lost = true;
+      }
+    }
+    if (!lost) {
+      link_down_ = false;
+      if (auto s = pump(100); !s) {
+        if (!link_down_) return s.err();  // the file failed
+        lost = true;
+      }
+    }
+    if (lost) {
+      auto back = reconnect(steady::now());
+      if (!back) return back.err();
+      if (!*back) return finish(stop_ ? gfr::stop_reason::signal : gfr::stop_reason::link_lost);
+    }
+    if (auto t = tick(false); !t) return t.err();
+  }
+}
+
+}  // namespace
+
+result<recorder_result> record(const recorder_config& cfg, const std::atomic<bool>& stop,
+                               const recorder_progress_fn& on_progress) {
+  auto w = gfr::writer::create(cfg.output);
+  if (!w) return w.err();
+  auto r = session(cfg, std::move(*w), stop, on_progress).run();
+  // Nothing recorded yet (no reply, another protocol, a refused configuration): no file.
+  if (!r) {
+    auto f = gfr::read(cfg.output);
+    const bool started = f && std::any_of(f->records.begin(), f->records.end(), [](auto& x) {
+      return x.type == gfr::kind::start;
+    });
+    if (!started) std::remove(cfg.output.c_str());
+  }
+  return r;
+}
+
+}  // namespace gyroflip::host
