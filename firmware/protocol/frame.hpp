@@ -73,15 +73,15 @@ struct frame {
 /// or to one of the bad counts; `duplicates` (good frames not handed out again) and `missing`
 /// come from the sequence numbers of good frames.
 struct decoder_counts {
-  uint32_t good = 0;          ///< valid frames (well formed, CRC correct), duplicates included
-  uint32_t bad_cobs = 0;      ///< not valid COBS (corruption)
-  uint32_t bad_length = 0;    ///< shorter than header and CRC, or the length field disagrees
-  uint32_t bad_version = 0;   ///< another protocol version
-  uint32_t unknown_type = 0;  ///< a message this version does not have
-  uint32_t crc_errors = 0;    ///< CRC mismatch (corruption, or another layout of the message)
-  uint32_t too_long = 0;      ///< more bytes than the largest frame before a delimiter
-  uint32_t duplicates = 0;    ///< good frames that repeat an earlier sequence number
-  uint32_t missing = 0;       ///< sequence numbers skipped (frames lost on the way)
+  uint32_t good = 0;            ///< valid frames (well formed, CRC correct), duplicates included
+  uint32_t bad_cobs = 0;        ///< not valid COBS (corruption)
+  uint32_t bad_length = 0;      ///< shorter than header and CRC, or the length field disagrees
+  uint32_t bad_version = 0;     ///< another protocol version
+  uint32_t unknown_type = 0;    ///< a message this version does not have
+  uint32_t crc_errors = 0;      ///< CRC mismatch (corruption, or another layout of the message)
+  uint32_t too_long = 0;        ///< more bytes than the largest frame before a delimiter
+  uint32_t duplicates = 0;      ///< good frames that repeat an earlier sequence number
+  uint32_t missing = 0;         ///< sequence numbers skipped (frames lost on the way)
   uint8_t foreign_version = 0;  ///< version byte of the last frame of another version (0: none)
   [[nodiscard]] uint32_t bad() const {
     return bad_cobs + bad_length + bad_version + unknown_type + crc_errors + too_long;

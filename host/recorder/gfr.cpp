@@ -48,18 +48,21 @@ error at_record(const std::string& name, std::size_t n, const std::string& what)
 
 status check_file_header(std::span<const std::uint8_t> b, const std::string& name) {
   if (b.size() < magic.size() || std::memcmp(b.data(), magic.data(), magic.size()) != 0)
-    return at_record(name, 0, "not a gyroflip rig recording (the file does not start with the "
-                              ".gfr magic bytes)");
+    return at_record(name, 0,
+                     "not a gyroflip rig recording (the file does not start with the "
+                     ".gfr magic bytes)");
   if (b.size() < file_header_bytes)
-    return at_record(name, 0, fmt::format("the file header is cut short ({} of {} bytes)",
-                                          b.size(), file_header_bytes));
+    return at_record(
+        name, 0,
+        fmt::format("the file header is cut short ({} of {} bytes)", b.size(), file_header_bytes));
   if (load_le(b.data() + 12, 4) != crc32(b.first(12)))
     return at_record(name, 0, "file header checksum mismatch (the file is damaged)");
   const auto version = static_cast<std::uint16_t>(load_le(b.data() + 8, 2));
   if (version > format_version)
-    return at_record(name, 0, fmt::format("format version {} is newer than this gyroflip reads "
-                                          "({}): update gyroflip",
-                                          version, format_version));
+    return at_record(name, 0,
+                     fmt::format("format version {} is newer than this gyroflip reads "
+                                 "({}): update gyroflip",
+                                 version, format_version));
   if (version == 0) return at_record(name, 0, "format version 0 does not exist");
   return ok();
 }
@@ -90,19 +93,16 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name) {
                       "written (the recorder was stopped hard); ignored",
                       name, n, why, left));
     };
-    if (left < 4) {
+    if (left < 8) {
       torn("length cut short");
       break;
     }
     const std::uint64_t len = load_le(b.data() + at, 4);
-    if (len < 9 || len - 9 > max_body) {
-      if (left < record_overhead + 9) {
-        torn("cut short");
-        break;
-      }
+    if ((len ^ 0xFFFFFFFFU) != load_le(b.data() + at + 4, 4))
+      return at_record(name, n, "the length field is damaged (the file is damaged)");
+    if (len < 9 || len - 9 > max_body)
       return at_record(name, n, fmt::format("impossible length {} (the file is damaged)", len));
-    }
-    const std::size_t whole = static_cast<std::size_t>(len) + 8;  // length field + CRC
+    const std::size_t whole = static_cast<std::size_t>(len) + 12;  // length, check, CRC
     if (whole > left) {
       torn("cut short");
       break;
@@ -115,13 +115,12 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name) {
       }
       return at_record(name, n, "checksum mismatch (the file is damaged)");
     }
-    const std::uint8_t k = rec[4];
-    if (!known_kind(k))
-      return at_record(name, n, fmt::format("unknown record kind {}", k));
+    const std::uint8_t k = rec[8];
+    if (!known_kind(k)) return at_record(name, n, fmt::format("unknown record kind {}", k));
     if (n == 1 && static_cast<kind>(k) != kind::meta)
       return at_record(name, n, "the first record is not META");
-    out.records.push_back({static_cast<kind>(k), load_le(rec.data() + 5, 8),
-                           std::vector<std::uint8_t>(rec.begin() + 13, rec.end() - 4)});
+    out.records.push_back({static_cast<kind>(k), load_le(rec.data() + 9, 8),
+                           std::vector<std::uint8_t>(rec.begin() + 17, rec.end() - 4)});
     at += whole;
   }
   if (out.records.empty())
@@ -182,7 +181,9 @@ writer::~writer() {
 status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::uint8_t> body) {
   if (body.size() > max_body) return runtime_error("a .gfr record body over 1 MiB");
   buf_.clear();
-  put_u32(buf_, static_cast<std::uint32_t>(body.size() + 9));
+  const auto len = static_cast<std::uint32_t>(body.size() + 9);
+  put_u32(buf_, len);
+  put_u32(buf_, len ^ 0xFFFFFFFFU);
   buf_.push_back(static_cast<std::uint8_t>(k));
   put_u64(buf_, host_time_us);
   buf_.insert(buf_.end(), body.begin(), body.end());

@@ -21,9 +21,10 @@ inline constexpr std::array<std::uint8_t, 8> magic = {0x89, 'G', 'F', 'R', '\r',
 inline constexpr std::uint16_t format_version = 1;
 /// magic, u16 version, u16 reserved (0), u32 CRC-32 of the 12 bytes before it.
 inline constexpr std::size_t file_header_bytes = 16;
-/// u32 length (of kind, time and body), u8 kind, u64 host time (us), body, u32 CRC-32 of all
-/// that precedes it in the record.
-inline constexpr std::size_t record_overhead = 4 + 1 + 8 + 4;
+/// u32 length L (of kind, time and body), u32 L XOR 0xFFFFFFFF (a damaged length is told from a
+/// record cut short: a cut removes bytes, it never changes them), u8 kind, u64 host time (us),
+/// body, u32 CRC-32 of all that precedes it in the record.
+inline constexpr std::size_t record_overhead = 4 + 4 + 1 + 8 + 4;
 /// The largest body a record may have (a META of a long command line fits many times).
 inline constexpr std::size_t max_body = std::size_t{1} << 20;
 

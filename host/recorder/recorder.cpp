@@ -134,12 +134,12 @@ class session {
   p::frame_decoder dec_{true};  // a device reset restarts its numbering: take repeats too
   std::uint32_t noted_bad_ = 0, noted_missing_ = 0;
   std::uint16_t seq_ = 0;
-  bool recording_ = false;   // after START: every frame goes to the file
+  bool recording_ = false;  // after START: every frame goes to the file
   bool stopping_ = false;
   bool waiting_info_ = false;
-  std::optional<p::info_msg> info_;        // the INFO a PING brought
+  std::optional<p::info_msg> info_;                      // the INFO a PING brought
   std::optional<std::vector<std::uint8_t>> reset_info_;  // an unasked INFO (the device rebooted)
-  bool device_idle_ = false;               // a STATUS said idle while we record
+  bool device_idle_ = false;                             // a STATUS said idle while we record
   std::optional<std::uint16_t> reply_seq_;
   std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
   bool replied_ = false;
@@ -296,12 +296,14 @@ result<p::info_msg> session::ping() {
   waiting_info_ = false;
   if (info_) return *info_;
   if (const auto v = dec_.counts().foreign_version; v != 0)
-    return input_error({c_.port}, fmt::format("the device speaks protocol version {}; this gyroflip "
-                                              "speaks version {}: update the one that is older",
-                                              v, p::protocol_version));
-  return runtime_error(fmt::format("{}: no reply to PING within {:g} s: is the rig connected, "
-                                   "powered and running its firmware?",
-                                   c_.port, c_.reply_timeout_s));
+    return input_error({c_.port},
+                       fmt::format("the device speaks protocol version {}; this gyroflip "
+                                   "speaks version {}: update the one that is older",
+                                   v, p::protocol_version));
+  return runtime_error(
+      fmt::format("{}: no reply to PING within {:g} s: is the rig connected, "
+                  "powered and running its firmware?",
+                  c_.port, c_.reply_timeout_s));
 }
 
 template <class M>
@@ -316,12 +318,11 @@ status session::command(const M& m, const char* name) {
     if (auto s = pump(50); !s) return s;
   reply_seq_.reset();
   if (!replied_)
-    return runtime_error(
-        fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port, name,
-                    c_.reply_timeout_s));
+    return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port,
+                                     name, c_.reply_timeout_s));
   if (reply_nak_)
-    return input_error({c_.port}, fmt::format("the device refused {}: {}", name,
-                                              status_name(*reply_nak_)));
+    return input_error({c_.port},
+                       fmt::format("the device refused {}: {}", name, status_name(*reply_nak_)));
   return ok();
 }
 
@@ -412,19 +413,21 @@ result<bool> session::reconnect(steady::time_point lost_at) {
 }
 
 result<recorder_result> session::run() {
-  if (auto s = append(gfr::kind::meta, [&] {
-        const auto m = meta_json(c_);
-        return std::vector<std::uint8_t>(m.begin(), m.end());
-      }());
+  if (auto s = append(gfr::kind::meta,
+                      [&] {
+                        const auto m = meta_json(c_);
+                        return std::vector<std::uint8_t>(m.begin(), m.end());
+                      }());
       !s)
     return s.err();
   if (auto s = open_port(); !s) return s.err();
   auto info = ping();
   if (!info) return info.err();
   if (info->protocol != p::protocol_version)
-    return input_error({c_.port}, fmt::format("the device speaks protocol version {}; this gyroflip "
-                                              "speaks version {}: update the one that is older",
-                                              info->protocol, p::protocol_version));
+    return input_error({c_.port},
+                       fmt::format("the device speaks protocol version {}; this gyroflip "
+                                   "speaks version {}: update the one that is older",
+                                   info->protocol, p::protocol_version));
   if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
   if (auto s = start_run(); !s) return s.err();
   (void)file_.sync();
@@ -471,9 +474,8 @@ result<recorder_result> record(const recorder_config& cfg, const std::atomic<boo
   // Nothing recorded yet (no reply, another protocol, a refused configuration): no file.
   if (!r) {
     auto f = gfr::read(cfg.output);
-    const bool started = f && std::any_of(f->records.begin(), f->records.end(), [](auto& x) {
-      return x.type == gfr::kind::start;
-    });
+    const bool started = f && std::any_of(f->records.begin(), f->records.end(),
+                                          [](auto& x) { return x.type == gfr::kind::start; });
     if (!started) std::remove(cfg.output.c_str());
   }
   return r;

@@ -19,7 +19,7 @@
 namespace gyroflip::host {
 
 struct recorder_config {
-  std::string port;                 ///< serial device
+  std::string port;  ///< serial device
   std::uint32_t baud = 115200;
   std::string output;               ///< the `.gfr` file (created; never replaced)
   double duration_s = 0.0;          ///< device-clock seconds to record (0: until stopped)

@@ -108,9 +108,9 @@ void rig_run_builder::add_dwell(const protocol::dwell_msg& d, std::uint16_t seq,
   r.segment = segment_;
   r.time_s = 0.5 * (seconds(t0) + seconds(t1));
   r.angle_deg = d.position == 0 ? 0.0 : 180.0;
-  r.rate_dps = d.n == 0 ? method::no_value
-                        : static_cast<double>(d.code_sum) / d.n * lsb_v_ /
-                              run_.units.scale_factor_v_per_dps;
+  r.rate_dps =
+      d.n == 0 ? method::no_value
+               : static_cast<double>(d.code_sum) / d.n * lsb_v_ / run_.units.scale_factor_v_per_dps;
   if (d.n_temp != 0)
     r.temp_c = static_cast<double>(d.temp_sum) / d.n_temp * lsb_v_ / run_.units.temp_v_per_c +
                run_.units.temp_at_0v_c;
@@ -188,7 +188,8 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
       if (r.body.size() < 3) return bad("frame record shorter than its header");
       if (!have_info_) return bad("a device frame before the device's INFO");
       ++run_.frames;
-      const protocol::frame fr{r.body[0], static_cast<std::uint16_t>(gfr::load_le(r.body.data() + 1, 2)),
+      const protocol::frame fr{r.body[0],
+                               static_cast<std::uint16_t>(gfr::load_le(r.body.data() + 1, 2)),
                                r.body.data() + 3, r.body.size() - 3};
       if (fr.type == static_cast<std::uint8_t>(protocol::msg::dwell)) {
         protocol::dwell_msg d;
@@ -273,8 +274,8 @@ std::vector<io::csv_metadata> csv_metadata(const rig_run& run) {
   std::vector<io::csv_metadata> m;
   if (!run.units.sensor.empty()) m.push_back({"sensor_name", run.units.sensor});
   m.push_back({"serial", fmt::format("{}", run.info.serial)});
-  m.push_back({"firmware", fmt::format("{}.{}.{}", run.info.fw_major, run.info.fw_minor,
-                                       run.info.fw_patch)});
+  m.push_back({"firmware",
+               fmt::format("{}.{}.{}", run.info.fw_major, run.info.fw_minor, run.info.fw_patch)});
   m.push_back({"n_avg", fmt::format("{}", c.n_avg)});
   m.push_back({"settle_s", fmt::format("{}", c.settle_ms / 1000.0)});
   m.push_back({"filter_word", fmt::format("{}", c.filter_word)});

@@ -37,11 +37,11 @@ struct device_units {
 struct rig_dwell {
   protocol::dwell_msg d;
   std::uint16_t seq = 0;
-  std::uint32_t segment = 0;   ///< which run of the device (a new one after each START)
-  double time_s = 0.0;         ///< middle of the dwell: device clock, continued across segments
-  double angle_deg = 0.0;      ///< 0 at position A, 180 at B
-  double rate_dps = 0.0;       ///< mean gyro code x LSB / scale factor (NaN when n = 0)
-  double temp_c = method::no_value;   ///< NaN without temperature conversions
+  std::uint32_t segment = 0;  ///< which run of the device (a new one after each START)
+  double time_s = 0.0;        ///< middle of the dwell: device clock, continued across segments
+  double angle_deg = 0.0;     ///< 0 at position A, 180 at B
+  double rate_dps = 0.0;      ///< mean gyro code x LSB / scale factor (NaN when n = 0)
+  double temp_c = method::no_value;     ///< NaN without temperature conversions
   double accel_x_g = method::no_value;  ///< NaN when no PWM period was captured
   double accel_y_g = method::no_value;
 };
@@ -62,9 +62,9 @@ struct rig_run {
   protocol::configure_msg config;  ///< the last configuration the device acknowledged
   std::vector<rig_dwell> dwells;
   std::vector<rig_conversion> conversions;  ///< only when asked for
-  std::size_t frames = 0;            ///< valid frames stored
-  std::uint64_t corrupt_frames = 0;  ///< sum of the corrupt gap records
-  std::uint64_t missing_frames = 0;  ///< sum of the missing gap records
+  std::size_t frames = 0;                   ///< valid frames stored
+  std::uint64_t corrupt_frames = 0;         ///< sum of the corrupt gap records
+  std::uint64_t missing_frames = 0;         ///< sum of the missing gap records
   std::size_t device_resets = 0;
   std::size_t link_losses = 0;
   std::size_t unplaced_conversions = 0;  ///< RAW codes whose DWELL was lost (not in conversions)

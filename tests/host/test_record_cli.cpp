@@ -1,0 +1,308 @@
+// `gyroflip record` and `export` against `gyroflip emulate` on a pty (issue 9): the file holds
+// exactly what the device sent, calibrates to the emulator's truth, survives faults, Ctrl-C and
+// SIGKILL, and a damaged file is an error naming the record.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "firmware/protocol/frame.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "host/emulator/emulator.hpp"
+#include "host/recorder/rig_run.hpp"
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+
+using namespace gyroflip;
+namespace p = gyroflip::protocol;
+using test::run_cli;
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream ss(line);
+  for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+// The emulator in the background (its own process group), on a pty; stopped by SIGTERM.
+struct emulator_process {
+  std::string pty;
+  pid_t pid = -1;
+  emulator_process(const std::string& dir, const std::string& args) {
+    const std::string out = dir + "/emu.out";
+    const std::string cmd = std::string(GYROFLIP_EXE) + " emulate --pty " + args + " >" + out +
+                            " 2>" + dir + "/emu.err & echo $! >" + dir + "/emu.pid";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    for (int i = 0; i < 200 && pty.empty(); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      const std::string text = test::read_text(out);
+      const auto at = text.find("/dev/");
+      if (at != std::string::npos && text.find('\n', at) != std::string::npos)
+        pty = text.substr(at, text.find_first_of(" \n", at) - at);
+    }
+    pid = std::stoi(test::read_text(dir + "/emu.pid"));
+    EXPECT_FALSE(pty.empty()) << test::read_text(dir + "/emu.err");
+  }
+  ~emulator_process() {
+    if (pid > 0) kill(pid, SIGTERM);
+    // Not our child (the shell started it): wait until it is gone.
+    for (int i = 0; i < 100 && pid > 0 && kill(pid, 0) == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  emulator_process(const emulator_process&) = delete;
+  emulator_process& operator=(const emulator_process&) = delete;
+};
+
+struct sent_dwell {
+  std::vector<std::string> cells;  // seq,cycle,position,t_start,t_end,n,code_sum,...,flags,..,hit
+  [[nodiscard]] long long at(std::size_t i) const { return std::stoll(cells[i]); }
+  [[nodiscard]] double num(std::size_t i) const { return std::stod(cells[i]); }
+  [[nodiscard]] bool hit() const { return cells[17] == "1"; }
+};
+
+std::vector<sent_dwell> read_log(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<sent_dwell> rows;
+  while (std::getline(in, line))
+    if (auto c = split(line); c.size() == 18) rows.push_back({c});
+  return rows;
+}
+
+// The emulator's defaults (cmd_emulate): the paper's rig with the HZ1-90-100A at its T_ref.
+double scale_factor() {
+  return sensor::find_builtin("hz1-90-100a")->params.scale_factor_v_per_dps;
+}
+constexpr double lsb_v = 5.0 / 16777216.0;  // AD7739 +-2.5 V over 2^24 codes
+
+TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), "--speed max --seed 5 --log " + log);
+  const auto rec = run_cli({"record", "--port", emu.pty, "--duration", "600", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  const auto ex = run_cli({"export", gfr, "-o", dir.path() + "/run.csv"});
+  ASSERT_EQ(ex.exit_code, 0) << ex.err;
+  EXPECT_EQ(ex.err, "");
+
+  std::map<long long, sent_dwell> sent;  // by seq (no wrap in 600 s)
+  for (auto& r : read_log(log)) sent[r.at(0)] = r;
+  std::ifstream csv(dir.path() + "/run.csv");
+  std::string line;
+  while (std::getline(csv, line) && line.rfind('#', 0) == 0) {
+  }
+  ASSERT_EQ(line,
+            "time_s,angle_deg,rate_dps,temp_c,n_avg,accel_x_g,accel_y_g,cycle,position,flags,"
+            "segment,seq");
+  const double sf = scale_factor();
+  std::size_t rows = 0;
+  long long last_seq = -1;
+  while (std::getline(csv, line)) {
+    const auto c = split(line);
+    ASSERT_EQ(c.size(), 12u) << line;
+    const long long seq = std::stoll(c[11]);
+    ASSERT_EQ(sent.count(seq), 1u) << line;
+    const auto& s = sent.at(seq);
+    SCOPED_TRACE(line);
+    EXPECT_EQ(std::stoll(c[7]), s.at(1));  // cycle
+    EXPECT_EQ(std::stoll(c[8]), s.at(2));  // position
+    EXPECT_EQ(std::stod(c[1]), s.at(2) == 0 ? 0.0 : 180.0);
+    EXPECT_EQ(std::stoll(c[4]), s.at(5));  // n
+    EXPECT_DOUBLE_EQ(std::stod(c[2]), s.num(6) / s.num(5) * lsb_v / sf);
+    EXPECT_DOUBLE_EQ(std::stod(c[3]), s.num(10) / s.num(9) * lsb_v / 8.4e-3 + 24.85);
+    EXPECT_EQ(std::stoll(c[9]), s.at(15));  // flags
+    EXPECT_GT(seq, last_seq);
+    last_seq = seq;
+    ++rows;
+  }
+  // 600 s of ~0.97-s dwells: every DWELL sent before STOP is in the file, none twice.
+  std::size_t sent_before = 0;
+  for (const auto& [seq, s] : sent) sent_before += seq <= last_seq ? 1 : 0;
+  EXPECT_EQ(rows, sent_before);
+  EXPECT_GE(rows, 600u);
+
+  // calibrate on the .gfr: the emulator's Earth term plus g-term within 4 sigma.
+  const auto cal = run_cli({"calibrate", gfr, "--json"});
+  ASSERT_EQ(cal.exit_code, 0) << cal.err;
+  const auto j = nlohmann::json::parse(cal.out);
+  host::emulator_config c;
+  c.sim.sensor = sensor::find_builtin("hz1-90-100a")->params;
+  c.sim.lat_deg = 42.6;
+  c.sim.axis = "north";
+  auto e = host::emulator::make(c);
+  ASSERT_TRUE(e);
+  const double truth = (*e)->delta_n_truth_dps(c.sim.sensor.temp_ref_c);
+  const double se = j["stderr_correlated_dps"];
+  EXPECT_NEAR(j["delta_n_dps"].get<double>(), truth, 4 * se) << "se " << se;
+}
+
+TEST(RecordCli, LinkFaultsBecomeGapRecordsNeverData) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(),
+                       "--speed max --seed 7 --fault-ber 1e-3 --fault-drop 1e-4 --log " + log);
+  const auto rec = run_cli({"record", "--port", emu.pty, "--duration", "300", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  auto run = host::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  std::map<long long, sent_dwell> sent;
+  for (auto& r : read_log(log)) sent[r.at(0)] = r;
+  std::set<long long> stored;
+  for (const auto& d : run->dwells) {
+    SCOPED_TRACE(d.seq);
+    ASSERT_EQ(sent.count(d.seq), 1u);
+    const auto& s = sent.at(d.seq);
+    EXPECT_FALSE(s.hit()) << "a frame a fault hit was stored";
+    EXPECT_EQ(d.d.code_sum, s.at(6));
+    EXPECT_EQ(d.d.t_start_ticks, static_cast<std::uint32_t>(s.at(3)));
+    stored.insert(d.seq);
+  }
+  // Between the first and last stored DWELL: what was lost is what a fault hit, plus at most
+  // the frames merged with a hit one through a damaged delimiter.
+  std::size_t hit = 0, lost = 0;
+  for (auto it = sent.lower_bound(*stored.begin());
+       it != sent.end() && it->first <= *stored.rbegin(); ++it) {
+    hit += it->second.hit() ? 1U : 0U;
+    lost += stored.count(it->first) == 0 ? 1U : 0U;
+  }
+  EXPECT_GT(hit, 50u);
+  EXPECT_GE(lost, hit);
+  EXPECT_LE(lost, hit + hit / 4 + 2);
+  // Every lost frame is a skipped sequence number; each hit frame also leaves a corrupt one
+  // (unless the fault dropped its delimiter and merged it with the next).
+  EXPECT_GE(run->missing_frames, lost);
+  EXPECT_GE(run->corrupt_frames, hit / 2);
+  EXPECT_EQ(run->stop, host::gfr::stop_reason::duration);
+}
+
+TEST(RecordCli, CtrlCStopsTheDeviceAndLeavesACompleteFile) {
+  test::temp_dir dir;
+  const std::string gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), "--speed 50 --seed 3");
+  const int pid = test::spawn_cli({"record", "--port", emu.pty, "-o", gfr});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  kill(pid, SIGINT);
+  EXPECT_EQ(test::wait_cli(pid), 0);
+  auto f = host::gfr::read(gfr);
+  ASSERT_TRUE(f) << f.err().message;
+  EXPECT_TRUE(f->warnings.empty());
+  ASSERT_EQ(f->records.back().type, host::gfr::kind::stop);
+  EXPECT_EQ(f->records.back().body.at(0),
+            static_cast<std::uint8_t>(host::gfr::stop_reason::signal));
+  // The device answered the STOP with a STATUS that says idle.
+  std::optional<p::status_msg> last;
+  for (const auto& r : f->records) {
+    if (r.type != host::gfr::kind::frame || r.body[0] != static_cast<std::uint8_t>(p::msg::status))
+      continue;
+    const p::frame fr{r.body[0], 0, r.body.data() + 3, r.body.size() - 3};
+    p::status_msg s;
+    ASSERT_TRUE(fr.as(s));
+    last = s;
+  }
+  ASSERT_TRUE(last);
+  EXPECT_EQ(last->state, static_cast<std::uint8_t>(p::device_state::idle));
+  auto run = host::read_rig_run(gfr);
+  ASSERT_TRUE(run);
+  EXPECT_GT(run->dwells.size(), 20u);  // 1.5 s at 50x
+}
+
+// SIGKILL at 10 random moments: every file reads back, and every DWELL the emulator logged as
+// sent more than 1.5 s before the kill is in it.
+TEST(RecordCli, SigkillAtRandomMomentsLosesNothingSentBeforeIt) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv";
+  emulator_process emu(dir.path(), "--speed 100 --seed 11 --log " + log);
+  std::mt19937 rng(20261123);
+  std::uniform_int_distribution<int> wait_ms(200, 900);
+  for (int k = 0; k < 10; ++k) {
+    SCOPED_TRACE(k);
+    const std::string gfr = dir.path() + "/run" + std::to_string(k) + ".gfr";
+    const std::size_t before = read_log(log).size();
+    const int pid = test::spawn_cli({"record", "--port", emu.pty, "-o", gfr});
+    std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms(rng)));
+    // Sent by now, in this recorder's run: the rows after the first cycle-0 A dwell it started.
+    const auto rows = read_log(log);
+    std::set<long long> must;
+    bool in_run = false;
+    for (std::size_t i = before; i < rows.size(); ++i) {
+      in_run = in_run || (rows[i].at(1) == 0 && rows[i].at(2) == 0);
+      if (in_run) must.insert(rows[i].at(3));  // t_start_ticks
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    kill(pid, SIGKILL);
+    EXPECT_EQ(test::wait_cli(pid), 128 + SIGKILL);
+    auto run = host::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    std::set<long long> have;
+    for (const auto& d : run->dwells) have.insert(d.d.t_start_ticks);
+    EXPECT_GT(must.size(), 5u);
+    for (const long long t : must) EXPECT_EQ(have.count(t), 1u) << "DWELL at tick " << t;
+  }
+}
+
+TEST(RecordCli, ADamagedFileIsAnErrorNamingTheRecordAndWritesNothing) {
+  test::temp_dir dir;
+  const std::string good = dir.path() + "/good.gfr";
+  {
+    emulator_process emu(dir.path(), "--speed max --seed 2");
+    ASSERT_EQ(run_cli({"record", "--port", emu.pty, "--duration", "20", "-o", good}).exit_code, 0);
+  }
+  const std::string whole = test::read_text(good);
+  ASSERT_GT(whole.size(), 400u);
+  struct damage {
+    std::string name, bytes, says;
+  };
+  std::string flipped_header = whole, magic = whole, future = whole, flipped_body = whole;
+  flipped_header[9] = static_cast<char>(flipped_header[9] ^ 0x10);
+  magic[0] = 'G';
+  future[8] = 9;  // version 9 (its header checksum no longer matches either: both are named)
+  flipped_body[200] = static_cast<char>(flipped_body[200] ^ 0x01);
+  const std::vector<damage> cases = {
+      {"truncated", whole.substr(0, 11), "record 0: the file header is cut short"},
+      {"flipped_header", flipped_header, "record 0: file header checksum mismatch"},
+      {"magic", magic, "record 0: not a gyroflip rig recording"},
+      {"future", future, "record 0: file header checksum mismatch"},
+      {"flipped_body", flipped_body, ": checksum mismatch (the file is damaged)"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string path = dir.path() + "/" + c.name + ".gfr";
+    const std::string out = dir.path() + "/" + c.name + ".csv";
+    test::write_text(path, c.bytes);
+    for (const auto& cmd : {std::vector<std::string>{"export", path, "-o", out},
+                            std::vector<std::string>{"calibrate", path, "-o", out}}) {
+      const auto r = run_cli(cmd);
+      EXPECT_EQ(r.exit_code, 2) << r.err;
+      EXPECT_NE(r.err.find(path + ": record "), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+      EXPECT_FALSE(test::exists(out));
+    }
+  }
+  // A torn last record (a killed recorder): read, with a warning naming it.
+  const std::string torn = dir.path() + "/torn.gfr";
+  test::write_text(torn, whole.substr(0, whole.size() - 3));
+  const auto r = run_cli({"export", torn, "-o", dir.path() + "/torn.csv"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("cut off while it was written"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no STOP record"), std::string::npos) << r.err;
+}
+
+}  // namespace
