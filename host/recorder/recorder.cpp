@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <map>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -283,40 +284,60 @@ status session::pump(int timeout_ms) {
   return ok();
 }
 
+// PING until an INFO comes (a noisy line may take several tries). A device of another protocol
+// version is told by the version byte of the frames the decoder drops: only when three of them
+// agree and no frame of ours came (a bit flip in a frame's first byte looks the same, and a noisy
+// line still lets some frames through).
 result<p::info_msg> session::ping() {
-  for (int attempt = 0; attempt < 3; ++attempt) {
+  constexpr int attempts = 6;
+  std::map<std::uint8_t, int> foreign;
+  std::uint32_t seen_bad_version = dec_.counts().bad_version;
+  const std::uint32_t good_before = dec_.counts().good;
+  for (int k = 0; k < attempts && !stop_; ++k) {
     info_.reset();
     waiting_info_ = true;
     if (auto s = send(p::ping_msg{}); !s) return s.err();
     const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 3);
-    while (!info_ && steady::now() < until && !stop_)
-      if (auto s = pump(50); !s) return s.err();
+    while (!info_ && steady::now() < until && !stop_) {
+      if (auto s = pump(20); !s) return s.err();
+      if (dec_.counts().bad_version != seen_bad_version) {
+        seen_bad_version = dec_.counts().bad_version;
+        if (++foreign[dec_.counts().foreign_version] >= 3 && dec_.counts().good == good_before) {
+          waiting_info_ = false;
+          return input_error(
+              {c_.port}, fmt::format("the device speaks protocol version {}; this gyroflip speaks "
+                                     "version {}: update the one that is older",
+                                     dec_.counts().foreign_version, p::protocol_version));
+        }
+      }
+    }
     if (info_) break;
   }
   waiting_info_ = false;
   if (info_) return *info_;
-  if (const auto v = dec_.counts().foreign_version; v != 0)
-    return input_error({c_.port},
-                       fmt::format("the device speaks protocol version {}; this gyroflip "
-                                   "speaks version {}: update the one that is older",
-                                   v, p::protocol_version));
   return runtime_error(
       fmt::format("{}: no reply to PING within {:g} s: is the rig connected, "
                   "powered and running its firmware?",
-                  c_.port, c_.reply_timeout_s));
+                  c_.port, attempts * c_.reply_timeout_s / 3));
 }
 
+// Sends a command until the device answers it: a frame lost on a noisy line (the command, or its
+// ACK) is sent again with a new sequence number. Every command the recorder sends is idempotent
+// (STOP, CONFIGURE while idle, START while running: docs/PROTOCOL.md).
 template <class M>
 status session::command(const M& m, const char* name) {
-  std::uint16_t seq = 0;
+  constexpr int attempts = 4;
   replied_ = false;
-  reply_nak_.reset();
-  if (auto s = send(m, &seq); !s) return s;
-  reply_seq_ = seq;
-  const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s);
-  while (!replied_ && steady::now() < until)
-    if (auto s = pump(50); !s) return s;
-  reply_seq_.reset();
+  for (int k = 0; k < attempts && !replied_; ++k) {
+    std::uint16_t seq = 0;
+    reply_nak_.reset();
+    if (auto s = send(m, &seq); !s) return s;
+    reply_seq_ = seq;
+    const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / attempts);
+    while (!replied_ && steady::now() < until)
+      if (auto s = pump(20); !s) return s;
+    reply_seq_.reset();
+  }
   if (!replied_)
     return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port,
                                      name, c_.reply_timeout_s));
@@ -336,6 +357,9 @@ status session::start_run() {
   if (auto s = append(gfr::kind::start); !s) return s;
   device_idle_ = false;
   recording_ = true;
+  // Gap records count what is lost while recording, not the handshake's noise.
+  noted_bad_ = dec_.counts().bad();
+  noted_missing_ = dec_.counts().missing;
   return ok();
 }
 
