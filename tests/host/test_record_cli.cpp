@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -152,6 +153,39 @@ TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
   const double truth = (*e)->delta_n_truth_dps(c.sim.sensor.temp_ref_c);
   const double se = j["stderr_correlated_dps"];
   EXPECT_NEAR(j["delta_n_dps"].get<double>(), truth, 4 * se) << "se " << se;
+}
+
+TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
+  test::temp_dir dir;
+  const std::string gfr = dir.path() + "/raw.gfr";
+  {
+    emulator_process emu(dir.path(), "--speed max --seed 4");
+    const auto rec = run_cli({"record", "--port", emu.pty, "--duration", "30", "--raw", "-o", gfr});
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  }
+  auto run = host::read_rig_run(gfr, true);
+  ASSERT_TRUE(run) << run.err().message;
+  ASSERT_GE(run->dwells.size(), 25u);
+  ASSERT_EQ(run->conversions.size(), run->dwells.size() * 256);
+  EXPECT_EQ(run->unplaced_conversions, 0u);
+  for (std::size_t k = 0; k < run->dwells.size(); ++k) {
+    const auto& d = run->dwells[k];
+    std::int64_t sum = 0;
+    for (std::size_t i = 0; i < 256; ++i) {
+      const auto& c = run->conversions[k * 256 + i];
+      sum += c.code;
+      EXPECT_EQ(c.angle_deg, d.angle_deg);
+    }
+    EXPECT_EQ(sum, d.d.code_sum) << k;
+    // The dwell's time is the middle of its conversions' span.
+    EXPECT_LT(run->conversions[k * 256].time_s, d.time_s);
+    EXPECT_GT(run->conversions[k * 256 + 255].time_s, d.time_s);
+  }
+  const auto ex = run_cli({"export", gfr, "--raw", "-o", dir.path() + "/raw.csv"});
+  ASSERT_EQ(ex.exit_code, 0) << ex.err;
+  const std::string csv = test::read_text(dir.path() + "/raw.csv");
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')),
+            run->conversions.size() + 1 + host::csv_metadata(*run).size());
 }
 
 TEST(RecordCli, LinkFaultsBecomeGapRecordsNeverData) {
