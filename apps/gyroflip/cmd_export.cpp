@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -14,6 +15,7 @@
 #include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/hdf5_table.hpp"
 #include "gyroflip/io/recording_writer.hpp"
 #include "host/recorder/rig_run.hpp"
 
@@ -70,6 +72,63 @@ std::string raw_csv(const host::rig_run& run) {
   return out;
 }
 
+bool is_hdf5(const std::string& path) {
+  const auto ends = [&](const char* ext) {
+    const std::string e(ext);
+    return path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0;
+  };
+  return ends(".h5") || ends(".hdf5");
+}
+
+// The same rows as the CSV, as HDF5 datasets with units. Rows without an angle (a step fault)
+// are left out: HDF5 has no empty field, and nothing written is NaN.
+result<std::vector<std::uint8_t>> hdf5_of(const host::rig_run& run, bool raw) {
+  std::vector<io::hdf5_column> cols;
+  const auto col = [&cols](const char* name, const char* unit) -> std::vector<double>& {
+    cols.push_back({name, unit, {}});
+    return cols.back().values;
+  };
+  if (raw) {
+    auto& t = col("time_s", "s");
+    auto& a = col("angle_deg", "deg");
+    auto& r = col("rate_dps", "deg/s");
+    auto& k = col("code", "1");
+    for (const auto& c : run.conversions) {
+      t.push_back(c.time_s);
+      a.push_back(c.angle_deg);
+      r.push_back(c.rate_dps);
+      k.push_back(c.code);
+    }
+    return io::hdf5_table_image(cols, host::csv_metadata(run));
+  }
+  std::vector<const host::rig_dwell*> rows;
+  bool temp = true, accel = true;
+  for (const auto& d : run.dwells) {
+    if (!host::dwell_row(d)) continue;
+    rows.push_back(&d);
+    temp = temp && std::isfinite(d.temp_c);
+    accel = accel && std::isfinite(d.accel_x_g) && std::isfinite(d.accel_y_g);
+  }
+  cols.reserve(12);
+  const auto add = [&](const char* name, const char* unit, auto get) {
+    auto& v = col(name, unit);
+    for (const auto* d : rows) v.push_back(static_cast<double>(get(*d)));
+  };
+  add("time_s", "s", [](const host::rig_dwell& d) { return d.time_s; });
+  add("angle_deg", "deg", [](const host::rig_dwell& d) { return d.angle_deg; });
+  add("rate_dps", "deg/s", [](const host::rig_dwell& d) { return d.rate_dps; });
+  if (temp) add("temp_c", "degC", [](const host::rig_dwell& d) { return d.temp_c; });
+  add("n_avg", "1", [](const host::rig_dwell& d) { return d.d.n; });
+  if (accel) {
+    add("accel_x_g", "g", [](const host::rig_dwell& d) { return d.accel_x_g; });
+    add("accel_y_g", "g", [](const host::rig_dwell& d) { return d.accel_y_g; });
+  }
+  add("cycle", "1", [](const host::rig_dwell& d) { return d.d.cycle; });
+  add("position", "1", [](const host::rig_dwell& d) { return d.d.position; });
+  add("flags", "1", [](const host::rig_dwell& d) { return d.d.flags; });
+  return io::hdf5_table_image(cols, host::csv_metadata(run));
+}
+
 }  // namespace
 
 int run_export(const export_options& o) {
@@ -86,8 +145,15 @@ int run_export(const export_options& o) {
         fmt::format("{}: {} RAW conversions belong to dwells whose DWELL frame was lost: they "
                     "have no time or angle and are not exported",
                     o.file, run->unplaced_conversions));
-  const std::string text = o.raw ? raw_csv(*run) : dwell_csv(*run);
-  if (auto s = check_finite(text, o.output); !s) return report(s.err());
+  std::string text;
+  if (is_hdf5(o.output)) {
+    auto image = hdf5_of(*run, o.raw);
+    if (!image) return report(image.err());
+    text.assign(image->begin(), image->end());
+  } else {
+    text = o.raw ? raw_csv(*run) : dwell_csv(*run);
+    if (auto s = check_finite(text, o.output); !s) return report(s.err());
+  }
   auto out = io::atomic_file::create(o.output);
   if (!out) return report(out.err());
   out->write(text);

@@ -4,9 +4,12 @@
 
 #include <hdf5.h>
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/io/hdf5_table.hpp"
 
 namespace gyroflip::io::detail {
 namespace {
@@ -80,3 +83,62 @@ result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& 
 }
 
 }  // namespace gyroflip::io::detail
+
+namespace gyroflip::io {
+
+namespace {
+
+using detail_handle = detail::handle;
+
+// A variable-free fixed-length string attribute on `obj`.
+bool put_string_attribute(hid_t obj, const std::string& name, const std::string& value) {
+  const detail_handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  if (type.id < 0 || H5Tset_size(type.id, value.empty() ? 1 : value.size()) < 0) return false;
+  const detail_handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  const detail_handle attr(
+      H5Acreate2(obj, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  return attr.id >= 0 && H5Awrite(attr.id, type.id, value.empty() ? "" : value.c_str()) >= 0;
+}
+
+}  // namespace
+
+result<std::vector<std::uint8_t>> hdf5_table_image(std::span<const hdf5_column> columns,
+                                                   std::span<const csv_metadata> attributes) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are returned, not printed
+  for (const auto& c : columns) {
+    if (c.values.size() != columns.front().values.size())
+      return runtime_error("HDF5 table: columns of different lengths");
+    for (const double v : c.values)
+      if (!std::isfinite(v))
+        return runtime_error(fmt::format("HDF5 table: column {} has a non-finite value", c.name));
+  }
+  const auto failed = [] { return runtime_error("HDF5: building the file in memory failed"); };
+  const detail_handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  // In memory only (no backing store): the caller writes the bytes.
+  if (fapl.id < 0 || H5Pset_fapl_core(fapl.id, 1 << 20, 0) < 0) return failed();
+  const detail_handle file(H5Fcreate("gyroflip-export.h5", H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id),
+                           H5Fclose);
+  if (file.id < 0) return failed();
+  for (const auto& a : attributes)
+    if (!put_string_attribute(file.id, a.key, a.value)) return failed();
+  for (const auto& c : columns) {
+    const hsize_t n = c.values.size();
+    const detail_handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+    const detail_handle set(H5Dcreate2(file.id, c.name.c_str(), H5T_IEEE_F64LE, space.id,
+                                       H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                            H5Dclose);
+    if (set.id < 0) return failed();
+    if (n != 0 &&
+        H5Dwrite(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.values.data()) < 0)
+      return failed();
+    if (!put_string_attribute(set.id, "unit", c.unit)) return failed();
+  }
+  if (H5Fflush(file.id, H5F_SCOPE_GLOBAL) < 0) return failed();
+  const ssize_t size = H5Fget_file_image(file.id, nullptr, 0);
+  if (size <= 0) return failed();
+  std::vector<std::uint8_t> image(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.id, image.data(), image.size()) != size) return failed();
+  return image;
+}
+
+}  // namespace gyroflip::io

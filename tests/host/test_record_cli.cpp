@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "firmware/protocol/frame.hpp"
+#include "gyroflip/io/series.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
 #include "host/recorder/rig_run.hpp"
@@ -116,6 +117,7 @@ TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
   const double sf = scale_factor();
   std::size_t rows = 0;
   long long last_seq = -1;
+  std::vector<double> rate_column;
   while (std::getline(csv, line)) {
     const auto c = split(line);
     ASSERT_EQ(c.size(), 12u) << line;
@@ -132,8 +134,20 @@ TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
     EXPECT_EQ(std::stoll(c[9]), s.at(15));  // flags
     EXPECT_GT(seq, last_seq);
     last_seq = seq;
+    rate_column.push_back(std::stod(c[2]));
     ++rows;
   }
+  // The same rows as HDF5 datasets (export -o RUN.h5).
+  const std::string h5 = dir.path() + "/run.h5";
+  const auto ex5 = run_cli({"export", gfr, "-o", h5});
+  ASSERT_EQ(ex5.exit_code, 0) << ex5.err;
+  io::series_options so;
+  so.sample_rate_hz = 1.0;
+  so.dataset = "/rate_dps";
+  auto rate = io::read_series(h5, so);
+  ASSERT_TRUE(rate) << rate.err().message;
+  ASSERT_EQ(rate->values().size(), rate_column.size());
+  for (std::size_t i = 0; i < rate_column.size(); ++i) EXPECT_EQ(rate->values()[i], rate_column[i]);
   // 600 s of ~0.97-s dwells: every DWELL sent before STOP is in the file, none twice.
   std::size_t sent_before = 0;
   for (const auto& [seq, s] : sent) sent_before += seq <= last_seq ? 1 : 0;
