@@ -3,6 +3,7 @@
 /// a pseudo-terminal or a serial device, paced to real time or run as fast as the reader takes.
 #include "cmd_emulate.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -21,15 +22,11 @@
 #include "host/emulator/link_faults.hpp"
 #include "host/serial/serial_line.hpp"
 #include "physics_options.hpp"
+#include "stop_signal.hpp"
 
 namespace gyroflip::app {
 
 namespace {
-
-volatile std::sig_atomic_t stop_requested = 0;
-extern "C" void on_stop_signal(int) {
-  stop_requested = 1;
-}
 
 // Writes one CSV row per DWELL the device sent (before link faults): the ground truth of a run.
 class sent_log {
@@ -109,8 +106,7 @@ int run_emulate(const emulate_options& o) {
   if (!log) return report(log.err());
   auto line = o.pty ? host::serial_line::open_pty() : host::serial_line::open_device(o.port);
   if (!line) return report(line.err());
-  std::signal(SIGINT, on_stop_signal);
-  std::signal(SIGTERM, on_stop_signal);
+  const std::atomic<bool>& stop_requested = catch_stop_signals({SIGINT, SIGTERM});
   std::signal(SIGPIPE, SIG_IGN);
   // The one line a script parses; then the run.
   fmt::print("gyroflip emulate: the rig is on {}\n", line->peer_path());
@@ -123,7 +119,7 @@ int run_emulate(const emulate_options& o) {
   constexpr std::uint32_t chunk_ticks = host::emulator::tick_hz / 100;  // 10 ms of device time
   const auto wall_start = std::chrono::steady_clock::now();
   emu.boot();
-  while (stop_requested == 0 && (o.duration_s == 0.0 || emu.time_s() < o.duration_s)) {
+  while (!stop_requested && (o.duration_s == 0.0 || emu.time_s() < o.duration_s)) {
     emu.run(chunk_ticks);
     // Device to host: the log sees the clean stream, the line the faulty one.
     out.clear();
@@ -136,7 +132,7 @@ int run_emulate(const emulate_options& o) {
             return report(s.err());
       }
     // A reader that does not keep up holds the device's time (the stream stays whole).
-    for (std::size_t done = 0; done < out.size() && stop_requested == 0;) {
+    for (std::size_t done = 0; done < out.size() && !stop_requested;) {
       auto w = line->write(out.data() + done, out.size() - done, 100);
       if (!w) return report(w.err());
       done += *w;

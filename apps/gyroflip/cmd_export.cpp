@@ -73,11 +73,7 @@ std::string raw_csv(const host::rig_run& run) {
 }
 
 bool is_hdf5(const std::string& path) {
-  const auto ends = [&](const char* ext) {
-    const std::string e(ext);
-    return path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0;
-  };
-  return ends(".h5") || ends(".hdf5");
+  return path.ends_with(".h5") || path.ends_with(".hdf5");
 }
 
 // The same rows as the CSV, as HDF5 datasets with units. Rows without an angle (a step fault)

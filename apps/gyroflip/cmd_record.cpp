@@ -17,17 +17,11 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/recorder/recorder.hpp"
+#include "stop_signal.hpp"
 
 namespace gyroflip::app {
 
 namespace {
-
-std::atomic<bool> stop_flag{false};
-static_assert(std::atomic<bool>::is_always_lock_free);  // safe to set in a signal handler
-
-extern "C" void on_record_signal(int) {
-  stop_flag.store(true);
-}
 
 result<protocol::configure_msg> device_config(const record_options& o) {
   protocol::configure_msg c;
@@ -126,10 +120,7 @@ int run_record(const record_options& o) {
   c.software_version = GYROFLIP_VERSION;
   c.command_line = o.command_line;
 
-  struct sigaction sa {};
-  sa.sa_handler = on_record_signal;
-  sigemptyset(&sa.sa_mask);
-  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+  const std::atomic<bool>& stop = catch_stop_signals({SIGINT, SIGTERM, SIGHUP});
 
   const bool tty = isatty(STDERR_FILENO) != 0;
   bool drawn = false;
@@ -142,7 +133,7 @@ int run_record(const record_options& o) {
       drawn = true;
     }
   };
-  auto r = host::record(c, stop_flag, progress);
+  auto r = host::record(c, stop, progress);
   if (drawn) std::fputs("\r\033[K", stderr);
   if (!r) return report(r.err());
   const auto& s = r->last;

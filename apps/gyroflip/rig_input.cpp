@@ -10,7 +10,7 @@
 namespace gyroflip::app {
 
 bool is_rig_recording(const std::string& path) {
-  return path.size() > 4 && path.compare(path.size() - 4, 4, ".gfr") == 0;
+  return path.ends_with(".gfr");
 }
 
 result<io::recording_cycles> read_recording_cycles(const std::string& path, method::pairing p,

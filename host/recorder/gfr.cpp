@@ -30,6 +30,13 @@ void put_u64(std::vector<std::uint8_t>& b, std::uint64_t v) {
   for (int i = 0; i < 8; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
 }
 
+// The little-endian unsigned integer of `bytes` (1..8) bytes at `p`.
+std::uint64_t load_le(const std::uint8_t* p, int bytes) noexcept {
+  std::uint64_t v = 0;
+  for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | p[i];
+  return v;
+}
+
 std::vector<std::uint8_t> file_header() {
   std::vector<std::uint8_t> h(magic.begin(), magic.end());
   put_u16(h, format_version);

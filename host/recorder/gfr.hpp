@@ -100,13 +100,6 @@ class writer {
   std::vector<std::uint8_t> buf_;
 };
 
-/// The little-endian unsigned integer of `bytes` (1..8) bytes at `p`.
-[[nodiscard]] constexpr std::uint64_t load_le(const std::uint8_t* p, int bytes) noexcept {
-  std::uint64_t v = 0;
-  for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | p[i];
-  return v;
-}
-
 /// CRC-32 (ISO-HDLC, zlib's) of `bytes`.
 [[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept;
 

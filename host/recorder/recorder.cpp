@@ -2,6 +2,7 @@
 /// \brief The recorder's session with the rig (recorder.hpp, docs/RECORDER.md).
 #include "host/recorder/recorder.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -77,6 +78,12 @@ std::string meta_json(const recorder_config& c) {
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+error foreign_protocol(const std::string& port, unsigned version) {
+  return input_error({port}, fmt::format("the device speaks protocol version {}; this gyroflip "
+                                         "speaks version {}: update the one that is older",
+                                         version, p::protocol_version));
+}
+
 template <class M>
 std::vector<std::uint8_t> payload_of(const M& m) {
   std::vector<std::uint8_t> b(p::max_payload);
@@ -111,7 +118,8 @@ class session {
   status append(gfr::kind k, std::span<const std::uint8_t> body = {});
   status append_gap(gfr::gap_reason r, std::uint32_t count);
   status note_decoder();
-  status tick(bool force);
+  status tick();
+  [[nodiscard]] recorder_status status_now() const;
   [[nodiscard]] double elapsed_s() const {
     const auto& d = live_.run().dwells;
     return d.empty() ? 0.0 : d.back().time_s;
@@ -144,7 +152,6 @@ class session {
   std::optional<std::uint16_t> reply_seq_;
   std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
   bool replied_ = false;
-  std::size_t link_losses_ = 0;
   bool waiting_for_port_ = false;
   bool link_down_ = false;  // the last error came from the port, not the file
   steady::time_point t0_ = steady::now();
@@ -163,10 +170,10 @@ status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
 }
 
 status session::append_gap(gfr::gap_reason r, std::uint32_t count) {
-  const std::uint8_t b[5] = {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(count),
-                             static_cast<std::uint8_t>(count >> 8),
-                             static_cast<std::uint8_t>(count >> 16),
-                             static_cast<std::uint8_t>(count >> 24)};
+  std::uint8_t b[5];
+  p::writer w{b, sizeof b};
+  w.u8(static_cast<std::uint8_t>(r));
+  w.u32(count);
   return append(gfr::kind::gap, b);
 }
 
@@ -184,13 +191,8 @@ status session::note_decoder() {
   return ok();
 }
 
-// About once a second: sync the file (what was acknowledged survives a power loss) and report.
-status session::tick(bool force) {
-  const auto now = steady::now();
-  if (!force && now - last_tick_ < std::chrono::seconds(1)) return ok();
-  last_tick_ = now;
-  if (auto s = file_.sync(); !s) return s;
-  if (!on_progress_) return ok();
+// What the run looks like now (the progress report and the result).
+recorder_status session::status_now() const {
   recorder_status st;
   const auto& run = live_.run();
   st.elapsed_s = elapsed_s();
@@ -210,7 +212,16 @@ status session::tick(bool force) {
   st.temp_c = run.dwells.empty() ? method::no_value : run.dwells.back().temp_c;
   st.bytes = file_.bytes();
   st.waiting_for_port = waiting_for_port_;
-  on_progress_(st);
+  return st;
+}
+
+// About once a second: sync the file (what was acknowledged survives a power loss) and report.
+status session::tick() {
+  const auto now = steady::now();
+  if (now - last_tick_ < std::chrono::seconds(1)) return ok();
+  last_tick_ = now;
+  if (auto s = file_.sync(); !s) return s;
+  if (on_progress_) on_progress_(status_now());
   return ok();
 }
 
@@ -273,10 +284,12 @@ status session::pump(int timeout_ms) {
     if (!dec_.push(in[i])) continue;
     const auto& f = dec_.current();
     if (recording_) {
-      std::vector<std::uint8_t> body{f.type, static_cast<std::uint8_t>(f.seq),
-                                     static_cast<std::uint8_t>(f.seq >> 8)};
-      body.insert(body.end(), f.payload, f.payload + f.length);
-      if (auto s = append(gfr::kind::frame, body); !s) return s;
+      std::uint8_t body[3 + p::max_payload];
+      p::writer w{body, sizeof body};
+      w.u8(f.type);
+      w.u16(f.seq);
+      std::copy_n(f.payload, f.length, w.take(f.length));
+      if (auto s = append(gfr::kind::frame, {body, w.n}); !s) return s;
     }
     on_frame(f);
   }
@@ -304,10 +317,7 @@ result<p::info_msg> session::ping() {
         seen_bad_version = dec_.counts().bad_version;
         if (++foreign[dec_.counts().foreign_version] >= 3 && dec_.counts().good == good_before) {
           waiting_info_ = false;
-          return input_error(
-              {c_.port}, fmt::format("the device speaks protocol version {}; this gyroflip speaks "
-                                     "version {}: update the one that is older",
-                                     dec_.counts().foreign_version, p::protocol_version));
+          return foreign_protocol(c_.port, dec_.counts().foreign_version);
         }
       }
     }
@@ -372,26 +382,11 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
   }
   const std::uint8_t body[1] = {static_cast<std::uint8_t>(why)};
   if (auto s = append(gfr::kind::stop, body); !s) return s.err();
-  if (auto s = tick(true); !s) return s.err();
-  if (auto s = file_.close(); !s) return s.err();
+  if (auto s = file_.close(); !s) return s.err();  // syncs
   recorder_result r;
   r.reason = why;
-  r.last.elapsed_s = elapsed_s();
-  const auto& run = live_.run();
-  r.last.duration_s = c_.duration_s;
-  r.last.dwells = run.dwells.size();
-  r.last.cycles = cycles_.size();
-  r.last.frames_good = run.frames;
-  r.last.frames_corrupt = run.corrupt_frames;
-  r.last.frames_missing = run.missing_frames;
-  r.last.device_resets = run.device_resets;
-  r.last.link_losses = run.link_losses;
-  r.last.bytes = file_.bytes();
-  r.last.delta_n_dps = r.last.delta_n_se_dps = method::no_value;
-  if (auto cal = method::calibrate(cycles_)) {
-    r.last.delta_n_dps = cal->delta_n_dps;
-    r.last.delta_n_se_dps = cal->stderr_correlated_dps;
-  }
+  r.last = status_now();
+  if (on_progress_) on_progress_(r.last);
   return r;
 }
 
@@ -407,7 +402,7 @@ result<bool> session::reconnect(steady::time_point lost_at) {
     return append_gap(gfr::gap_reason::link_lost, static_cast<std::uint32_t>(ms.count()));
   };
   while (steady::now() < until && !stop_) {
-    if (auto s = tick(false); !s) return s.err();
+    if (auto s = tick(); !s) return s.err();
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     if (!open_port()) continue;
     link_down_ = false;
@@ -447,11 +442,7 @@ result<recorder_result> session::run() {
   if (auto s = open_port(); !s) return s.err();
   auto info = ping();
   if (!info) return info.err();
-  if (info->protocol != p::protocol_version)
-    return input_error({c_.port},
-                       fmt::format("the device speaks protocol version {}; this gyroflip "
-                                   "speaks version {}: update the one that is older",
-                                   info->protocol, p::protocol_version));
+  if (info->protocol != p::protocol_version) return foreign_protocol(c_.port, info->protocol);
   if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
   if (auto s = start_run(); !s) return s.err();
   (void)file_.sync();
@@ -484,7 +475,7 @@ result<recorder_result> session::run() {
       if (!back) return back.err();
       if (!*back) return finish(stop_ ? gfr::stop_reason::signal : gfr::stop_reason::link_lost);
     }
-    if (auto t = tick(false); !t) return t.err();
+    if (auto t = tick(); !t) return t.err();
   }
 }
 

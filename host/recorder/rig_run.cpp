@@ -27,11 +27,10 @@ double accel_g(std::uint32_t high_ticks, std::uint32_t period_ticks) {
   return (static_cast<double>(high_ticks) / period_ticks - 0.5) / 0.125;
 }
 
+// A stored payload (INFO, CONFIGURE) decoded as its message, as a frame of that type would be.
 template <class M>
 bool decode(const std::vector<std::uint8_t>& body, M& m) {
-  protocol::reader r{body.data(), body.size()};
-  m.get(r);
-  return r.done();
+  return protocol::frame{static_cast<std::uint8_t>(M::type), 0, body.data(), body.size()}.as(m);
 }
 
 }  // namespace
@@ -188,9 +187,9 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
       if (r.body.size() < 3) return bad("frame record shorter than its header");
       if (!have_info_) return bad("a device frame before the device's INFO");
       ++run_.frames;
-      const protocol::frame fr{r.body[0],
-                               static_cast<std::uint16_t>(gfr::load_le(r.body.data() + 1, 2)),
-                               r.body.data() + 3, r.body.size() - 3};
+      // u8 type, u16 seq (little-endian), payload: the frame as the decoder gave it.
+      const auto seq = static_cast<std::uint16_t>(r.body[1] | (r.body[2] << 8));
+      const protocol::frame fr{r.body[0], seq, r.body.data() + 3, r.body.size() - 3};
       if (fr.type == static_cast<std::uint8_t>(protocol::msg::dwell)) {
         protocol::dwell_msg d;
         if (!fr.as(d)) return bad("DWELL body does not decode");
@@ -205,8 +204,10 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
     }
     case gfr::kind::gap: {
       if (r.body.size() != 5) return bad("gap record of the wrong size");
-      const auto count = gfr::load_le(r.body.data() + 1, 4);
-      switch (static_cast<gfr::gap_reason>(r.body[0])) {
+      protocol::reader body{r.body.data(), r.body.size()};
+      const std::uint8_t reason = body.u8();
+      const std::uint32_t count = body.u32();
+      switch (static_cast<gfr::gap_reason>(reason)) {
         case gfr::gap_reason::corrupt:
           run_.corrupt_frames += count;
           return ok();

@@ -26,6 +26,7 @@
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
 #include "host/recorder/rig_run.hpp"
+#include "support/pty_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -43,33 +44,12 @@ std::vector<std::string> split(const std::string& line) {
   return cells;
 }
 
-// The emulator in the background (its own process group), on a pty; stopped by SIGTERM.
-struct emulator_process {
-  std::string pty;
-  pid_t pid = -1;
-  emulator_process(const std::string& dir, const std::string& args) {
-    const std::string out = dir + "/emu.out";
-    const std::string cmd = std::string(GYROFLIP_EXE) + " emulate --pty " + args + " >" + out +
-                            " 2>" + dir + "/emu.err & echo $! >" + dir + "/emu.pid";
-    EXPECT_EQ(std::system(cmd.c_str()), 0);
-    for (int i = 0; i < 200 && pty.empty(); ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      const std::string text = test::read_text(out);
-      const auto at = text.find("/dev/");
-      if (at != std::string::npos && text.find('\n', at) != std::string::npos)
-        pty = text.substr(at, text.find_first_of(" \n", at) - at);
-    }
-    pid = std::stoi(test::read_text(dir + "/emu.pid"));
-    EXPECT_FALSE(pty.empty()) << test::read_text(dir + "/emu.err");
+// `gyroflip emulate --pty ARGS` in the background; stopped by SIGTERM when it goes.
+struct emulator_process : test::pty_process {
+  emulator_process(const std::string& dir, const std::string& args)
+      : test::pty_process(std::string(GYROFLIP_EXE) + " emulate --pty " + args, dir) {
+    EXPECT_FALSE(pty().empty()) << output();
   }
-  ~emulator_process() {
-    if (pid > 0) kill(pid, SIGTERM);
-    // Not our child (the shell started it): wait until it is gone.
-    for (int i = 0; i < 100 && pid > 0 && kill(pid, 0) == 0; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  emulator_process(const emulator_process&) = delete;
-  emulator_process& operator=(const emulator_process&) = delete;
 };
 
 struct sent_dwell {
@@ -99,7 +79,7 @@ TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
   test::temp_dir dir;
   const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
   emulator_process emu(dir.path(), "--speed max --seed 5 --log " + log);
-  const auto rec = run_cli({"record", "--port", emu.pty, "--duration", "600", "-o", gfr});
+  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "600", "-o", gfr});
   ASSERT_EQ(rec.exit_code, 0) << rec.err;
   const auto ex = run_cli({"export", gfr, "-o", dir.path() + "/run.csv"});
   ASSERT_EQ(ex.exit_code, 0) << ex.err;
@@ -174,7 +154,8 @@ TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
   const std::string gfr = dir.path() + "/raw.gfr";
   {
     emulator_process emu(dir.path(), "--speed max --seed 4");
-    const auto rec = run_cli({"record", "--port", emu.pty, "--duration", "30", "--raw", "-o", gfr});
+    const auto rec =
+        run_cli({"record", "--port", emu.pty(), "--duration", "30", "--raw", "-o", gfr});
     ASSERT_EQ(rec.exit_code, 0) << rec.err;
   }
   auto run = host::read_rig_run(gfr, true);
@@ -207,7 +188,7 @@ TEST(RecordCli, LinkFaultsBecomeGapRecordsNeverData) {
   const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
   emulator_process emu(dir.path(),
                        "--speed max --seed 7 --fault-ber 1e-3 --fault-drop 1e-4 --log " + log);
-  const auto rec = run_cli({"record", "--port", emu.pty, "--duration", "300", "-o", gfr});
+  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "300", "-o", gfr});
   ASSERT_EQ(rec.exit_code, 0) << rec.err;
   auto run = host::read_rig_run(gfr);
   ASSERT_TRUE(run) << run.err().message;
@@ -245,7 +226,7 @@ TEST(RecordCli, CtrlCStopsTheDeviceAndLeavesACompleteFile) {
   test::temp_dir dir;
   const std::string gfr = dir.path() + "/run.gfr";
   emulator_process emu(dir.path(), "--speed 50 --seed 3");
-  const int pid = test::spawn_cli({"record", "--port", emu.pty, "-o", gfr});
+  const int pid = test::spawn_cli({"record", "--port", emu.pty(), "-o", gfr});
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   kill(pid, SIGINT);
   EXPECT_EQ(test::wait_cli(pid), 0);
@@ -284,7 +265,7 @@ TEST(RecordCli, SigkillAtRandomMomentsLosesNothingSentBeforeIt) {
     SCOPED_TRACE(k);
     const std::string gfr = dir.path() + "/run" + std::to_string(k) + ".gfr";
     const std::size_t before = read_log(log).size();
-    const int pid = test::spawn_cli({"record", "--port", emu.pty, "-o", gfr});
+    const int pid = test::spawn_cli({"record", "--port", emu.pty(), "-o", gfr});
     std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms(rng)));
     // Sent by now, in this recorder's run: the rows after the first cycle-0 A dwell it started.
     const auto rows = read_log(log);
@@ -311,7 +292,8 @@ TEST(RecordCli, ADamagedFileIsAnErrorNamingTheRecordAndWritesNothing) {
   const std::string good = dir.path() + "/good.gfr";
   {
     emulator_process emu(dir.path(), "--speed max --seed 2");
-    ASSERT_EQ(run_cli({"record", "--port", emu.pty, "--duration", "20", "-o", good}).exit_code, 0);
+    ASSERT_EQ(run_cli({"record", "--port", emu.pty(), "--duration", "20", "-o", good}).exit_code,
+              0);
   }
   const std::string whole = test::read_text(good);
   ASSERT_GT(whole.size(), 400u);
