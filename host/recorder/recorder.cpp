@@ -107,11 +107,12 @@ class session {
   template <class M>
   status send(const M& m, std::uint16_t* seq_out = nullptr);
   status pump(int timeout_ms);
-  void on_frame(const p::frame& f);
+  status on_frame(const p::frame& f);
   result<p::info_msg> ping();
   template <class M>
   status command(const M& m, const char* name);
   status start_run();
+  status begin_recording();
   result<bool> reconnect(steady::time_point lost_at);
   result<recorder_result> finish(gfr::stop_reason why);
   // The file.
@@ -143,7 +144,8 @@ class session {
   p::frame_decoder dec_{true};  // a device reset restarts its numbering: take repeats too
   std::uint32_t noted_bad_ = 0, noted_missing_ = 0;
   std::uint16_t seq_ = 0;
-  bool recording_ = false;  // after START: every frame goes to the file
+  bool recording_ = false;      // after START: every frame goes to the file
+  bool start_pending_ = false;  // a START was sent: its ACK begins the recording
   bool stopping_ = false;
   bool waiting_info_ = false;
   std::optional<p::info_msg> info_;                      // the INFO a PING brought
@@ -243,12 +245,17 @@ status session::send(const M& m, std::uint16_t* seq_out) {
   return s;
 }
 
-void session::on_frame(const p::frame& f) {
+status session::on_frame(const p::frame& f) {
   const auto type = static_cast<p::msg>(f.type);
   if ((type == p::msg::ack || type == p::msg::nak) && reply_seq_) {
     p::ack_msg a;
     p::nak_msg n;
     if (f.as(a) && a.seq == *reply_seq_) replied_ = true;
+    // Any START's ACK: a retried START's first ACK may be the one that got through.
+    if (start_pending_ && f.as(a) && a.of_type == static_cast<std::uint8_t>(p::msg::start)) {
+      replied_ = true;
+      if (auto s = begin_recording(); !s) return s;
+    }
     if (f.as(n) && n.seq == *reply_seq_) {
       replied_ = true;
       reply_nak_ = n.reason;
@@ -256,20 +263,21 @@ void session::on_frame(const p::frame& f) {
   }
   if (type == p::msg::info) {
     p::info_msg m;
-    if (!f.as(m)) return;
+    if (!f.as(m)) return ok();
     if (waiting_info_) {
       info_ = m;
       waiting_info_ = false;
-      return;
+      return ok();
     }
     // An INFO nobody asked for: the device booted again (docs/PROTOCOL.md, INFO).
     if (recording_) reset_info_.emplace(f.payload, f.payload + f.length);
-    return;
+    return ok();
   }
   if (type == p::msg::status && recording_ && !stopping_) {
     p::status_msg m;
     if (f.as(m) && m.state == static_cast<std::uint8_t>(p::device_state::idle)) device_idle_ = true;
   }
+  return ok();
 }
 
 // Reads what arrives within `timeout_ms`; stores every valid frame while recording.
@@ -291,7 +299,7 @@ status session::pump(int timeout_ms) {
       std::copy_n(f.payload, f.length, w.take(f.length));
       if (auto s = append(gfr::kind::frame, {body, w.n}); !s) return s;
     }
-    on_frame(f);
+    if (auto s = on_frame(f); !s) return s;
   }
   if (recording_) return note_decoder();
   return ok();
@@ -363,8 +371,17 @@ status session::start_run() {
   if (auto s = command(p::stop_msg{}, "STOP"); !s) return s;
   if (auto s = command(c_.device, "CONFIGURE"); !s) return s;
   if (auto s = append(gfr::kind::configure, payload_of(c_.device)); !s) return s;
-  if (auto s = command(p::start_msg{}, "START"); !s) return s;
+  start_pending_ = true;
+  auto s = command(p::start_msg{}, "START");
+  start_pending_ = false;
+  return s;
+}
+
+// The device's ACK of START: from the next byte on, every frame is the run's. The device may send
+// its first DWELLs right behind the ACK, in the same read: they must not pass unstored.
+status session::begin_recording() {
   if (auto s = append(gfr::kind::start); !s) return s;
+  start_pending_ = false;
   device_idle_ = false;
   recording_ = true;
   // Gap records count what is lost while recording, not the handshake's noise.
