@@ -127,6 +127,16 @@ void setup_emulate(CLI::App& app, action& chosen) {
   sub->add_option("--fault-drop", o->fault_drop, "probability of a dropped output byte")
       ->capture_default_str();
   sub->add_option("--log", o->log, "write every DWELL the device sent to this CSV");
+  sub->add_option("--link", o->link,
+                  "keep this symbolic link pointing at the line (like /dev/serial/by-id)");
+  sub->add_option(
+         "--fault-reset-at", o->fault_reset_at_s,
+         "reset the firmware at these device times (s after the first START; comma-separated)")
+      ->delimiter(',');
+  sub->add_option(
+      "--fault-unplug", o->fault_unplug,
+      "AT:FOR - AT device s after the first START the line vanishes for FOR wall-clock s "
+      "(repeatable; the rig runs on, its output is lost)");
   sub->add_option("--duration", o->duration_s, "simulated seconds to run (0: until stopped)")
       ->capture_default_str();
   sub->add_option("--power-on-before", o->power_on_before_s,
@@ -163,6 +173,12 @@ void setup_record(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_flag("--home", o->home, "find the home switch before the first cycle");
   sub->add_option("--reconnect-timeout", o->reconnect_timeout_s,
                   "how long to wait for a vanished port (s)")
+      ->capture_default_str();
+  sub->add_option("--temp-mv-per-c", o->temp_mv_per_c,
+                  "temperature channel: mV per degC (ADXRS150 TEMP: 8.4)")
+      ->capture_default_str();
+  sub->add_option("--temp-at-0v", o->temp_at_0v_c,
+                  "temperature channel: degC at 0 V against the reference (ADXRS150: 24.85)")
       ->capture_default_str();
   sub->add_flag("--json-progress", o->json_progress,
                 "print progress as one JSON object per line on stdout");

@@ -3,16 +3,23 @@
 /// a pseudo-terminal or a serial device, paced to real time or run as fast as the reader takes.
 #include "cmd_emulate.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
+#include <functional>
+#include <optional>
 #include <thread>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "commands.hpp"
 #include "firmware/protocol/frame.hpp"
@@ -38,7 +45,7 @@ class sent_log {
     std::fputs(
         "seq,cycle,position,t_start_ticks,t_end_ticks,n,code_sum,code_min,code_max,n_temp,"
         "temp_sum,ax_high_ticks,ax_period_ticks,ay_high_ticks,ay_period_ticks,flags,sent_time_s,"
-        "hit\n",
+        "hit,table_deg\n",
         f);
     return sent_log(f, path);
   }
@@ -50,13 +57,15 @@ class sent_log {
     if (f_ != nullptr) std::fclose(f_);
   }
   // Rows are flushed as they are written: a reader (a crash test) sees what was sent.
-  status add(const protocol::frame& fr, double time_s, bool hit) {
+  // `hit`: a fault touched the frame or the line was gone; `table_deg`: where the table truly
+  // stood during the dwell.
+  status add(const protocol::frame& fr, double time_s, bool hit, double table_deg) {
     protocol::dwell_msg d;
     if (f_ == nullptr || !fr.as(d)) return ok();
-    fmt::print(f_, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6f},{}\n", fr.seq, d.cycle,
-               d.position, d.t_start_ticks, d.t_end_ticks, d.n, d.code_sum, d.code_min, d.code_max,
-               d.n_temp, d.temp_sum, d.ax_high_ticks, d.ax_period_ticks, d.ay_high_ticks,
-               d.ay_period_ticks, d.flags, time_s, hit ? 1 : 0);
+    fmt::print(f_, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6f},{},{:.4f}\n", fr.seq,
+               d.cycle, d.position, d.t_start_ticks, d.t_end_ticks, d.n, d.code_sum, d.code_min,
+               d.code_max, d.n_temp, d.temp_sum, d.ax_high_ticks, d.ax_period_ticks,
+               d.ay_high_ticks, d.ay_period_ticks, d.flags, time_s, hit ? 1 : 0, table_deg);
     if (std::fflush(f_) != 0 || std::ferror(f_)) return io_error(path_, "write failed");
     return ok();
   }
@@ -82,6 +91,73 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   return c;
 }
 
+// Faults of the rig and its cable, in the order they happen: firmware resets, and the line
+// vanishing (an unplugged USB-serial adapter) for a while of wall time. Both at device times
+// counted from the first run the host started, so that a test's faults fall inside its recording.
+struct fault_plan {
+  std::vector<double> reset_at_s;                 // ascending
+  std::vector<std::pair<double, double>> unplug;  // (device time, wall seconds), ascending
+};
+
+result<fault_plan> fault_plan_of(const emulate_options& o) {
+  fault_plan f;
+  for (double t : o.fault_reset_at_s) {
+    if (!(t > 0.0 && t <= 1e7))
+      return usage_error("--fault-reset-at: device s into the run, in (0, 1e7]");
+    f.reset_at_s.push_back(t);
+  }
+  for (const std::string& u : o.fault_unplug) {
+    const auto colon = u.find(':');
+    const auto at = text::to_double(u.substr(0, colon));
+    const auto dur =
+        colon == std::string::npos ? std::nullopt : text::to_double(u.substr(colon + 1));
+    if (!at || !dur || !(*at > 0.0 && *at <= 1e7) || !(*dur > 0.0 && *dur <= 3600.0))
+      return usage_error(
+          "--fault-unplug: AT:FOR, AT device s into the run in (0, 1e7], FOR wall s in (0, 3600]; "
+          "got " +
+          u);
+    f.unplug.emplace_back(*at, *dur);
+  }
+  std::sort(f.reset_at_s.begin(), f.reset_at_s.end(), std::greater<>());  // due ones at the back
+  std::sort(f.unplug.begin(), f.unplug.end(), std::greater<>());
+  return f;
+}
+
+// A symbolic link that names the line while it is there, as udev's /dev/serial/by-id names an
+// adapter: a recorder given the link finds the line again after it came back under another name.
+class line_link {
+ public:
+  static result<line_link> make(std::string path) {
+    struct stat st {};
+    if (!path.empty() && lstat(path.c_str(), &st) == 0 && !S_ISLNK(st.st_mode))
+      return io_error(path, "exists and is not a symbolic link; not replaced");
+    return line_link(std::move(path));
+  }
+  line_link(line_link&& o) noexcept : path_(std::exchange(o.path_, {})) {}
+  line_link(const line_link&) = delete;
+  line_link& operator=(const line_link&) = delete;
+  line_link& operator=(line_link&&) = delete;
+  ~line_link() { remove(); }
+  [[nodiscard]] bool empty() const noexcept { return path_.empty(); }
+  [[nodiscard]] const std::string& path() const noexcept { return path_; }
+  // Points the link at `target`, replacing an old link in one step (rename).
+  status point_to(const std::string& target) {
+    if (path_.empty()) return ok();
+    const std::string tmp = path_ + ".new";
+    (void)unlink(tmp.c_str());
+    if (symlink(target.c_str(), tmp.c_str()) != 0 || rename(tmp.c_str(), path_.c_str()) != 0)
+      return io_error(path_, std::string("cannot link to the line: ") + std::strerror(errno));
+    return ok();
+  }
+  void remove() noexcept {
+    if (!path_.empty()) (void)unlink(path_.c_str());
+  }
+
+ private:
+  explicit line_link(std::string p) : path_(std::move(p)) {}
+  std::string path_;
+};
+
 }  // namespace
 
 int run_emulate(const emulate_options& o) {
@@ -97,6 +173,8 @@ int run_emulate(const emulate_options& o) {
     return report(usage_error("--fault-ber and --fault-drop: probabilities in [0, 1)"));
   if (!(o.duration_s >= 0.0 && o.duration_s <= 1e7))
     return report(usage_error("--duration: 0 (until stopped) to 1e7 s"));
+  auto plan = fault_plan_of(o);
+  if (!plan) return report(plan.err());
   auto cfg = emulator_config_of(o);
   if (!cfg) return report(cfg.err());
   auto made = host::emulator::make(*cfg);
@@ -104,35 +182,75 @@ int run_emulate(const emulate_options& o) {
   host::emulator& emu = **made;
   auto log = sent_log::open(o.log);
   if (!log) return report(log.err());
-  auto line = o.pty ? host::serial_line::open_pty() : host::serial_line::open_device(o.port);
-  if (!line) return report(line.err());
+  auto link = line_link::make(o.link);
+  if (!link) return report(link.err());
+  const auto open_line = [&]() -> result<host::serial_line> {
+    auto l = o.pty ? host::serial_line::open_pty() : host::serial_line::open_device(o.port);
+    if (!l) return l;
+    if (auto s = link->point_to(l->peer_path()); !s) return s.err();
+    // The one line a script parses (again after the line came back).
+    fmt::print("gyroflip emulate: the rig is on {}\n",
+               link->empty() ? l->peer_path() : link->path());
+    std::fflush(stdout);
+    return l;
+  };
+  std::optional<host::serial_line> line;
+  if (auto l = open_line(); !l)
+    return report(l.err());
+  else
+    line.emplace(std::move(*l));
   const std::atomic<bool>& stop_requested = catch_stop_signals({SIGINT, SIGTERM});
   std::signal(SIGPIPE, SIG_IGN);
-  // The one line a script parses; then the run.
-  fmt::print("gyroflip emulate: the rig is on {}\n", line->peer_path());
-  std::fflush(stdout);
 
+  using steady = std::chrono::steady_clock;
   host::link_faults faults(o.fault_ber, o.fault_drop, o.seed ^ 0x5EEDF00DULL);
-  protocol::frame_decoder monitor;
+  protocol::frame_decoder monitor{true};  // a reset restarts the numbering
   std::vector<std::uint8_t> to_device, out;
   std::uint8_t buf[4096];
   constexpr std::uint32_t chunk_ticks = host::emulator::tick_hz / 100;  // 10 ms of device time
-  const auto wall_start = std::chrono::steady_clock::now();
+  const auto wall_start = steady::now();
+  steady::time_point back_at{};  // while the line is gone: when it comes back
+  std::uint64_t frames_unplugged = 0;
+  std::optional<double> run_start_s;  // device time of the first run: faults count from it
   emu.boot();
   while (!stop_requested && (o.duration_s == 0.0 || emu.time_s() < o.duration_s)) {
+    if (!run_start_s && emu.device().state() == protocol::device_state::running)
+      run_start_s = emu.time_s();
+    const double run_s = run_start_s ? emu.time_s() - *run_start_s : -1.0;
+    if (!plan->reset_at_s.empty() && run_s >= plan->reset_at_s.back()) {
+      plan->reset_at_s.pop_back();
+      emu.reset();
+    }
+    if (line && !plan->unplug.empty() && run_s >= plan->unplug.back().first) {
+      back_at = steady::now() + std::chrono::duration_cast<steady::duration>(
+                                    std::chrono::duration<double>(plan->unplug.back().second));
+      plan->unplug.pop_back();
+      line.reset();  // the recorder's reads now fail, as with a vanished adapter
+      link->remove();
+      to_device.clear();
+    }
+    if (!line && steady::now() >= back_at) {
+      auto l = open_line();
+      if (!l) return report(l.err());
+      line.emplace(std::move(*l));
+    }
     emu.run(chunk_ticks);
-    // Device to host: the log sees the clean stream, the line the faulty one.
+    // Device to host: the log sees the clean stream, the line the faulty one (or nothing).
     out.clear();
     for (std::size_t n; (n = emu.receive(buf, sizeof buf)) > 0;)
       for (std::size_t i = 0; i < n; ++i) {
         std::uint8_t b = 0;
         if (faults.pass(buf[i], b)) out.push_back(b);
-        if (monitor.push(buf[i]))
-          if (auto s = log->add(monitor.current(), emu.time_s(), faults.last_frame_hit()); !s)
-            return report(s.err());
+        if (!monitor.push(buf[i])) continue;
+        const bool lost = !line || faults.last_frame_hit();
+        if (!line) ++frames_unplugged;
+        if (auto s =
+                log->add(monitor.current(), emu.time_s(), lost, emu.last_conversion_table_deg());
+            !s)
+          return report(s.err());
       }
     // A reader that does not keep up holds the device's time (the stream stays whole).
-    for (std::size_t done = 0; done < out.size() && !stop_requested;) {
+    for (std::size_t done = 0; line && done < out.size() && !stop_requested;) {
       auto w = line->write(out.data() + done, out.size() - done, 100);
       if (!w) return report(w.err());
       done += *w;
@@ -141,11 +259,10 @@ int run_emulate(const emulate_options& o) {
     int wait_ms = 0;
     if (speed > 0.0) {
       const double due_s = emu.time_s() / speed;
-      const double now_s =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      const double now_s = std::chrono::duration<double>(steady::now() - wall_start).count();
       wait_ms = due_s > now_s ? static_cast<int>(std::ceil((due_s - now_s) * 1e3)) : 0;
     }
-    if (to_device.empty()) {
+    if (line && to_device.empty()) {
       auto r = line->read(buf, sizeof buf, wait_ms);
       if (!r) return report(r.err());
       to_device.assign(buf, buf + *r);
@@ -154,16 +271,16 @@ int run_emulate(const emulate_options& o) {
     }
     if (!to_device.empty() && emu.send(to_device.data(), to_device.size())) to_device.clear();
   }
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  // The last frames reach a reader before the line closes (closing a pty discards what the
+  // reader has not yet read).
+  if (line && !stop_requested) (void)line->drain(1000);
+  const double wall_s = std::chrono::duration<double>(steady::now() - wall_start).count();
   const host::link_fault_counts& k = faults.counts();
-  std::fprintf(stderr,
-               "gyroflip emulate: %.1f s simulated in %.1f s; %llu frames sent, %llu hit by faults "
-               "(%llu bits flipped, %llu bytes dropped)\n",
-               emu.time_s(), wall_s, static_cast<unsigned long long>(k.frames),
-               static_cast<unsigned long long>(k.frames_hit),
-               static_cast<unsigned long long>(k.bits_flipped),
-               static_cast<unsigned long long>(k.bytes_dropped));
+  fmt::print(stderr,
+             "gyroflip emulate: {:.1f} s simulated in {:.1f} s; {} frames sent, {} hit by faults "
+             "({} bits flipped, {} bytes dropped), {} while the line was gone\n",
+             emu.time_s(), wall_s, k.frames, k.frames_hit, k.bits_flipped, k.bytes_dropped,
+             frames_unplugged);
   return 0;
 }
 

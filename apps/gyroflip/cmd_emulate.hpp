@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace gyroflip::app {
 
@@ -22,8 +23,11 @@ struct emulate_options {
   std::uint64_t seed = 1;
   double fault_ber = 0.0;
   double fault_drop = 0.0;
-  std::string log;          ///< SENT.csv: every DWELL the device sent
-  double duration_s = 0.0;  ///< simulated seconds to run (0: until SIGINT/SIGTERM)
+  std::string log;   ///< SENT.csv: every DWELL the device sent
+  std::string link;  ///< a symbolic link kept pointing at the line while it is there
+  std::vector<double> fault_reset_at_s;   ///< device times of firmware resets
+  std::vector<std::string> fault_unplug;  ///< AT_S:FOR_S, the line gone for FOR_S wall s
+  double duration_s = 0.0;                ///< simulated seconds to run (0: until SIGINT/SIGTERM)
   double power_on_before_s = 0.0;
   int filter_word = 94;
   bool no_chop = false;

@@ -104,6 +104,11 @@ int run_record(const record_options& o) {
     return report(usage_error("--duration must be 0 (until stopped) or a positive number of s"));
   if (!(o.reconnect_timeout_s >= 0.0) || !std::isfinite(o.reconnect_timeout_s))
     return report(usage_error("--reconnect-timeout must be a number of s >= 0"));
+  if (!std::isfinite(o.temp_mv_per_c) || o.temp_mv_per_c == 0.0 ||
+      std::fabs(o.temp_mv_per_c) > 1e4 || !std::isfinite(o.temp_at_0v_c) ||
+      std::fabs(o.temp_at_0v_c) > 1e4)
+    return report(usage_error(
+        "--temp-mv-per-c must be a non-zero number of mV/degC and --temp-at-0v a temperature"));
   auto dev = device_config(o);
   if (!dev) return report(dev.err());
   auto preset = sensor::load_preset(o.sensor);
@@ -116,6 +121,8 @@ int run_record(const record_options& o) {
   c.device = *dev;
   c.units.sensor = preset->name;
   c.units.scale_factor_v_per_dps = preset->params.scale_factor_v_per_dps;
+  c.units.temp_v_per_c = o.temp_mv_per_c * 1e-3;
+  c.units.temp_at_0v_c = o.temp_at_0v_c;
   c.reconnect_timeout_s = o.reconnect_timeout_s;
   c.software_version = GYROFLIP_VERSION;
   c.command_line = o.command_line;

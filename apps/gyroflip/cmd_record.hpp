@@ -27,6 +27,8 @@ struct record_options {
   bool one_way = false;
   bool home = false;
   double reconnect_timeout_s = 60.0;
+  double temp_mv_per_c = 8.4;   ///< the temperature channel's output per degC
+  double temp_at_0v_c = 24.85;  ///< the temperature at 0 V on that channel
   bool json_progress = false;
   std::vector<std::string> command_line;
 };

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "gyroflip/core/error.hpp"
@@ -34,7 +35,9 @@ struct emulator::parts {
       : gyro(std::move(g)),
         adc(a),
         board(&emulator::source, this, mclk_hz),
-        dev(board.hw(), fw::board_facts{serial, mclk_hz}) {}
+        facts{serial, mclk_hz} {
+    dev.emplace(board.hw(), facts);
+  }
   emulator* owner = nullptr;
   sensor::gyro gyro;
   rig::ad7739 adc;
@@ -45,7 +48,8 @@ struct emulator::parts {
   std::vector<double> in_gain, table_gain, earth, gf0, gf1, accel_x, accel_y;
   double dt_s = 0.0;
   fw::model::host_board board;
-  fw::device dev;
+  fw::board_facts facts;
+  std::optional<fw::device> dev;  // replaced by a new one when the firmware is reset
 };
 
 result<std::unique_ptr<emulator>> emulator::make(const emulator_config& c) {
@@ -108,11 +112,19 @@ emulator::emulator(const emulator_config& c, std::unique_ptr<parts> p) : cfg_(c)
 emulator::~emulator() = default;
 
 const fw::device& emulator::device() const noexcept {
-  return p_->dev;
+  return *p_->dev;
 }
 
 void emulator::boot() {
-  p_->dev.boot();
+  p_->dev->boot();
+}
+
+// A reset (watchdog, brown-out, the reset button) clears the microcontroller's RAM: a new firmware
+// state on the same board. The table stays where it stood, the ADC keeps its registers until the
+// boot resets it, and bytes already on the wire arrive.
+void emulator::reset() {
+  p_->dev.emplace(p_->board.hw(), p_->facts);
+  p_->dev->boot();
 }
 
 std::size_t emulator::step_index() const noexcept {
@@ -124,8 +136,13 @@ double emulator::table_angle_deg() const noexcept {
   return 360.0 * static_cast<double>(step_index()) / cfg_.sim.stepper.steps_per_rev;
 }
 
+// Half the difference of A and B (paper eqn 11): what is the same at both (a tilted table's
+// gravity along its axis, for one) is bias, not dN.
 double emulator::delta_n_truth_dps(double temp_c) const noexcept {
-  return p_->earth[0] + p_->gf0[0] + p_->gf1[0] * (temp_c - p_->gyro.temp_ref_c());
+  const auto at = [&](std::size_t k) {
+    return p_->earth[k] + p_->gf0[k] + p_->gf1[k] * (temp_c - p_->gyro.temp_ref_c());
+  };
+  return 0.5 * (at(0) - at(static_cast<std::size_t>(cfg_.sim.stepper.steps_per_rev / 2)));
 }
 
 void emulator::update_accel() {
@@ -159,6 +176,7 @@ double emulator::sample_gyro(double t_s) {
 
 std::int32_t emulator::gyro_code(double t_end_s) {
   const double t = std::max(t_end_s - 0.5 * p_->dt_s, t_last_s_);
+  conv_table_deg_ = table_angle_deg();
   return p_->adc.convert(sample_gyro(t)) - rig::ad7739::code_zero;
 }
 
@@ -177,7 +195,7 @@ std::int32_t emulator::source(void* ctx, std::uint8_t ch, std::uint32_t /*index*
 
 void emulator::run(std::uint32_t n) {
   for (std::uint32_t i = 0; i < n; ++i) {
-    p_->dev.poll();
+    p_->dev->poll();
     ++ticks_;
     p_->board.now = static_cast<std::uint32_t>(ticks_);
     if (ticks_ >= next_idle_sample_) {

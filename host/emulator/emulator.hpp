@@ -56,6 +56,9 @@ class emulator {
 
   /// Boots the firmware: it resets and calibrates the ADC and sends INFO.
   void boot();
+  /// Resets the microcontroller (firmware state lost) and boots it again; the table, the
+  /// sensor and the line keep their state.
+  void reset();
   /// Runs `n` ticks of the device clock, one main-loop pass per tick.
   void run(std::uint32_t n);
 
@@ -69,8 +72,10 @@ class emulator {
   [[nodiscard]] const fw::device& device() const noexcept;
   /// The table's angle (deg, in [0, 360)) now.
   [[nodiscard]] double table_angle_deg() const noexcept;
-  /// Earth term plus g-term at position A (0 deg) at `temp_c`: the dN a calibration should find
-  /// (paper eqn 11), as the gyro senses it (deg/s).
+  /// The table's angle (deg) at the last gyro conversion: a DWELL's true position once it is sent.
+  [[nodiscard]] double last_conversion_table_deg() const noexcept { return conv_table_deg_; }
+  /// Earth term plus g-term at `temp_c`, half the difference of positions A (0 deg) and B
+  /// (180 deg): the dN a calibration should find (paper eqn 11), as the gyro senses it (deg/s).
   [[nodiscard]] double delta_n_truth_dps(double temp_c) const noexcept;
   [[nodiscard]] const emulator_config& config() const noexcept { return cfg_; }
 
@@ -92,6 +97,7 @@ class emulator {
   double t_last_s_ = 0.0;               // centre of the last gyro window
   std::int32_t pos_last_ = 0;           // table step at that window
   std::int32_t pos_accel_ = -1;         // table step the accelerometer outputs were set for
+  double conv_table_deg_ = 0.0;         // table angle at the last gyro conversion
 };
 
 }  // namespace gyroflip::host

@@ -130,7 +130,12 @@ class session {
         std::chrono::duration_cast<std::chrono::microseconds>(steady::now() - t0_).count());
   }
 
+  // A rebooted firmware counts the table's steps from where it stands: unless it finds the home
+  // switch first, a reset while the table was at B would name every later B dwell A.
+  void home_after_reset() { running_.flags |= p::cfg_home; }
+
   const recorder_config& c_;
+  p::configure_msg running_ = c_.device;  // what the device runs with (CONFIGURE records)
   gfr::writer file_;
   const std::atomic<bool>& stop_;
   const recorder_progress_fn& on_progress_;
@@ -369,8 +374,8 @@ status session::command(const M& m, const char* name) {
 status session::start_run() {
   recording_ = false;
   if (auto s = command(p::stop_msg{}, "STOP"); !s) return s;
-  if (auto s = command(c_.device, "CONFIGURE"); !s) return s;
-  if (auto s = append(gfr::kind::configure, payload_of(c_.device)); !s) return s;
+  if (auto s = command(running_, "CONFIGURE"); !s) return s;
+  if (auto s = append(gfr::kind::configure, payload_of(running_)); !s) return s;
   start_pending_ = true;
   auto s = command(p::start_msg{}, "START");
   start_pending_ = false;
@@ -431,9 +436,10 @@ result<bool> session::reconnect(steady::time_point lost_at) {
     }
     waiting_for_port_ = false;
     if (auto s = gap(); !s) return s.err();
-    if (info->config == c_.device) return true;
+    if (info->config == running_) return true;
     if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s.err();
     if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
+    home_after_reset();
     if (auto s = start_run(); !s) {
       if (!link_down_) return s.err();
       port_.reset();
@@ -475,6 +481,7 @@ result<recorder_result> session::run() {
         if (auto s = append(gfr::kind::info, *reset_info_); !s) return s.err();
       reset_info_.reset();
       link_down_ = false;
+      home_after_reset();
       if (auto s = start_run(); !s) {
         if (!link_down_) return s.err();
         lost = true;

@@ -8,6 +8,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -127,6 +128,21 @@ result<std::size_t> serial_line::write(const std::uint8_t* p, std::size_t n, int
     if (r < 0 && errno != EINTR) return sys_error(peer_, "poll");
   }
   return done;
+}
+
+bool serial_line::drain(int timeout_ms) {
+  if (peer_fd_ < 0) {
+    // A serial device: the driver sends what it holds (tcdrain has no timeout; a UART finishes).
+    return tcdrain(fd_) == 0;
+  }
+  // A pty: our slave descriptor shares the reader's input queue; wait until it is empty.
+  for (int waited = 0;; waited += 10) {
+    int unread = 0;
+    if (ioctl(peer_fd_, FIONREAD, &unread) != 0) return false;
+    if (unread == 0) return true;
+    if (waited >= timeout_ms) return false;
+    poll(nullptr, 0, 10);
+  }
 }
 
 result<std::size_t> serial_line::read(std::uint8_t* out, std::size_t cap, int timeout_ms) {

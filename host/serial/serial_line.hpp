@@ -33,6 +33,9 @@ class serial_line {
   /// Writes up to `n` bytes, waiting at most `timeout_ms` for room; returns how many were
   /// written (fewer on timeout).
   [[nodiscard]] result<std::size_t> write(const std::uint8_t* p, std::size_t n, int timeout_ms);
+  /// Waits until the peer has taken what was written (a pty: the reader's input queue is empty;
+  /// a device: the driver has sent it), at most `timeout_ms` for a pty. False when not drained.
+  bool drain(int timeout_ms);
   /// Reads what has arrived, up to `cap` bytes, waiting at most `timeout_ms` for the first one;
   /// 0 on timeout.
   [[nodiscard]] result<std::size_t> read(std::uint8_t* out, std::size_t cap, int timeout_ms);

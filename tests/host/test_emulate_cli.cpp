@@ -22,7 +22,7 @@ namespace {
 namespace p = gyroflip::protocol;
 
 struct log_row {
-  std::vector<long long> v;  // the columns up to flags, then hit
+  std::vector<long long> v;  // the columns from cycle up to flags
   bool hit = false;
 };
 
@@ -38,9 +38,11 @@ std::map<unsigned, log_row> read_log(const std::string& path) {
     log_row r;
     std::vector<std::string> cells;
     while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    EXPECT_EQ(cells.size(), 18u) << line;
+    EXPECT_EQ(cells.size(), 19u) << line;
     for (size_t i = 1; i < 16; ++i) r.v.push_back(std::stoll(cells[i]));
     r.hit = cells[17] == "1";
+    // Where the table truly stood during the dwell: the position the DWELL names.
+    EXPECT_EQ(std::stod(cells[18]), r.v[1] == 0 ? 0.0 : 180.0) << line;
     rows[static_cast<unsigned>(std::stoul(cells[0]))] = r;
   }
   return rows;

@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <vector>
 
 #include "firmware/protocol/frame.hpp"
+#include "gyroflip/earth/earth.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
@@ -65,6 +67,27 @@ host::emulator_config paper_rig(uint64_t seed) {
   return c;
 }
 
+// The paper's rig without noise, scale-factor error or drift: every dwell is the physics.
+host::emulator_config noiseless_rig(uint64_t seed) {
+  host::emulator_config c = paper_rig(seed);
+  sensor::sensor_params& s = c.sim.sensor;
+  s.arw_dps_rthz = s.bias_instability_dps = s.rrw_dps_per_rts = s.rate_ramp_dps_per_s = 0.0;
+  s.turn_on_bias_sigma_dps = s.warmup_amplitude_dps = s.quantisation_deg = 0.0;
+  s.scale_factor_error_ppm = s.scale_factor_tc_ppm_per_c = s.nonlinearity_fs = 0.0;
+  c.sim.adc.noise_uv_rms_at_2ms = 0.0;
+  return c;
+}
+
+// Boots, configures with the defaults, starts and runs 6 s: the dwells of three cycles or more.
+void run_six_seconds(client& c) {
+  c.e.boot();
+  c.run_s(0.1);
+  c.send(p::configure_msg{});
+  c.send(p::start_msg{});
+  c.run_s(6.0);
+  ASSERT_GE(c.dwells.size(), 4u);
+}
+
 TEST(Emulator, BootsAndSaysHello) {
   auto e = host::emulator::make(paper_rig(1));
   ASSERT_TRUE(e.ok()) << e.err().message;
@@ -119,25 +142,17 @@ TEST(Emulator, DwellsCalibrateToTheSimulatorsTruth) {
 // the rate-table input, at B the bias minus both (paper eqns 5-7); the temperature channel reads
 // the profile through the TEMP output's 8.4 mV/K; a level table reads 0 g on both accelerometers.
 TEST(Emulator, NoiselessDwellsAreThePhysics) {
-  host::emulator_config cfg = paper_rig(3);
+  host::emulator_config cfg = noiseless_rig(3);
   sensor::sensor_params& s = cfg.sim.sensor;
-  s.arw_dps_rthz = s.bias_instability_dps = s.rrw_dps_per_rts = s.rate_ramp_dps_per_s = 0.0;
-  s.turn_on_bias_sigma_dps = s.warmup_amplitude_dps = s.quantisation_deg = 0.0;
-  s.scale_factor_error_ppm = s.scale_factor_tc_ppm_per_c = s.nonlinearity_fs = 0.0;
   s.bias_dps = 0.2;
-  cfg.sim.adc.noise_uv_rms_at_2ms = 0.0;
   cfg.sim.rate = rig::profile::constant(0.25);
   cfg.sim.temperature = rig::profile::constant(31.5);
   auto made = host::emulator::make(cfg);
   ASSERT_TRUE(made.ok()) << made.err().message;
   host::emulator& e = **made;
   client c(e);
-  e.boot();
-  c.run_s(0.1);
-  c.send(p::configure_msg{});
-  c.send(p::start_msg{});
-  c.run_s(6.0);
-  ASSERT_GE(c.dwells.size(), 4u);
+  run_six_seconds(c);
+  if (HasFatalFailure()) return;
   const double lsb_v = 5.0 / (1 << 24);
   const double sf = s.scale_factor_v_per_dps;
   const double dn = e.delta_n_truth_dps(31.5);
@@ -153,6 +168,46 @@ TEST(Emulator, NoiselessDwellsAreThePhysics) {
     EXPECT_GT(d.ax_period_ticks, 0u);
     EXPECT_EQ(p::adxl202_accel_mg(d.ax_high_ticks, d.ax_period_ticks), 0);
     EXPECT_EQ(p::adxl202_accel_mg(d.ay_high_ticks, d.ay_period_ticks), 0);
+  }
+}
+
+// A table whose axis is tilted up by t from level (east): gravity has the component sin t along
+// the table axis at both positions, which the y accelerometer reads and the g-sensitivity turns
+// into bias, and cos t across it, which reverses with the turn and scales the g-term of dN:
+//   w_A,B = bias + g_y sin t +- (W_N - g_z cos t)      (sensor x north, y = table axis, z = x X y)
+TEST(Emulator, ATiltedTableShowsInTheAccelerometersAndTheGTerm) {
+  const double tilt = 2.0 * M_PI / 180.0;
+  host::emulator_config cfg = noiseless_rig(4);
+  sensor::sensor_params& s = cfg.sim.sensor;
+  s.cross_axis_y = s.cross_axis_z = 0.0;
+  s.bias_dps = 0.2;
+  s.g_sens_x_dps_per_g = 0.0;
+  s.g_sens_y_dps_per_g = 0.05;
+  s.g_sens_z_dps_per_g = 0.03;
+  s.g_sens_tc_x_dps_per_g_c = s.g_sens_tc_y_dps_per_g_c = s.g_sens_tc_z_dps_per_g_c = 0.0;
+  cfg.sim.temperature = rig::profile::constant(s.temp_ref_c);
+  char axis[96];
+  std::snprintf(axis, sizeof axis, "0,%.17g,%.17g", std::cos(tilt), -std::sin(tilt));
+  cfg.sim.table_axis = axis;
+  auto made = host::emulator::make(cfg);
+  ASSERT_TRUE(made.ok()) << made.err().message;
+  host::emulator& e = **made;
+  const double w_n = earth::earth_rate_ned_dps(42.6).north;
+  const double dn = w_n - 0.03 * std::cos(tilt);
+  EXPECT_NEAR(e.delta_n_truth_dps(s.temp_ref_c), dn, 1e-9);
+  client c(e);
+  run_six_seconds(c);
+  if (HasFatalFailure()) return;
+  const double lsb_v = 5.0 / (1 << 24);
+  const double sf = s.scale_factor_v_per_dps;
+  for (const p::dwell_msg& d : c.dwells) {
+    SCOPED_TRACE(d.cycle * 2 + d.position);
+    const double y = static_cast<double>(d.code_sum) / d.n * lsb_v / sf;
+    const double sign = d.position == 0 ? 1.0 : -1.0;
+    EXPECT_NEAR(y, 0.2 + 0.05 * std::sin(tilt) + sign * dn, 2 * lsb_v / sf);
+    // ADXL202 duty 0.5 + 0.125 f/g captured in 1-us ticks of a 1-ms period: 8 mg per tick.
+    EXPECT_NEAR(p::adxl202_accel_mg(d.ay_high_ticks, d.ay_period_ticks), 1000 * std::sin(tilt), 8);
+    EXPECT_EQ(p::adxl202_accel_mg(d.ax_high_ticks, d.ax_period_ticks), 0);
   }
 }
 

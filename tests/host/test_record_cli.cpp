@@ -53,10 +53,12 @@ struct emulator_process : test::pty_process {
 };
 
 struct sent_dwell {
-  std::vector<std::string> cells;  // seq,cycle,position,t_start,t_end,n,code_sum,...,flags,..,hit
+  // seq,cycle,position,t_start,t_end,n,code_sum,...,flags,sent_time_s,hit,table_deg
+  std::vector<std::string> cells;
   [[nodiscard]] long long at(std::size_t i) const { return std::stoll(cells[i]); }
   [[nodiscard]] double num(std::size_t i) const { return std::stod(cells[i]); }
   [[nodiscard]] bool hit() const { return cells[17] == "1"; }
+  [[nodiscard]] double table_deg() const { return num(18); }
 };
 
 std::vector<sent_dwell> read_log(const std::string& path) {
@@ -65,7 +67,7 @@ std::vector<sent_dwell> read_log(const std::string& path) {
   std::getline(in, line);
   std::vector<sent_dwell> rows;
   while (std::getline(in, line))
-    if (auto c = split(line); c.size() == 18) rows.push_back({c});
+    if (auto c = split(line); c.size() == 19) rows.push_back({c});
   return rows;
 }
 
@@ -74,6 +76,20 @@ double scale_factor() {
   return sensor::find_builtin("hz1-90-100a")->params.scale_factor_v_per_dps;
 }
 constexpr double lsb_v = 5.0 / 16777216.0;  // AD7739 +-2.5 V over 2^24 codes
+
+// `calibrate --json` of a recording from the emulator's defaults: its dN is the emulator's Earth
+// term plus g-term within 4 sigma of the correlated standard error.
+void expect_calibrates_to_truth(const nlohmann::json& j) {
+  host::emulator_config c;
+  c.sim.sensor = sensor::find_builtin("hz1-90-100a")->params;
+  c.sim.lat_deg = 42.6;
+  c.sim.axis = "north";
+  auto e = host::emulator::make(c);
+  ASSERT_TRUE(e);
+  const double truth = (*e)->delta_n_truth_dps(c.sim.sensor.temp_ref_c);
+  const double se = j["stderr_correlated_dps"];
+  EXPECT_NEAR(j["delta_n_dps"].get<double>(), truth, 4 * se) << "se " << se;
+}
 
 TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
   test::temp_dir dir;
@@ -142,16 +158,7 @@ TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
   // calibrate on the .gfr: the emulator's Earth term plus g-term within 4 sigma.
   const auto cal = run_cli({"calibrate", gfr, "--json"});
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
-  const auto j = nlohmann::json::parse(cal.out);
-  host::emulator_config c;
-  c.sim.sensor = sensor::find_builtin("hz1-90-100a")->params;
-  c.sim.lat_deg = 42.6;
-  c.sim.axis = "north";
-  auto e = host::emulator::make(c);
-  ASSERT_TRUE(e);
-  const double truth = (*e)->delta_n_truth_dps(c.sim.sensor.temp_ref_c);
-  const double se = j["stderr_correlated_dps"];
-  EXPECT_NEAR(j["delta_n_dps"].get<double>(), truth, 4 * se) << "se " << se;
+  expect_calibrates_to_truth(nlohmann::json::parse(cal.out));
 }
 
 TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
@@ -225,6 +232,161 @@ TEST(RecordCli, LinkFaultsBecomeGapRecordsNeverData) {
   EXPECT_GE(run->missing_frames, lost);
   EXPECT_GE(run->corrupt_frames, hit / 2);
   EXPECT_EQ(run->stop, host::gfr::stop_reason::duration);
+}
+
+// The log's DWELLs by their start tick (the emulator's clock never restarts, its sequence
+// numbers do after a reset).
+std::map<long long, sent_dwell> sent_by_start(const std::string& log) {
+  std::map<long long, sent_dwell> sent;
+  for (auto& r : read_log(log)) sent[r.at(3)] = r;
+  return sent;
+}
+
+// Every stored DWELL is one the device sent, unharmed; every one the device sent unharmed
+// between the first and the last stored is stored. Returns how many sent ones were lost.
+std::size_t expect_stored_is_what_was_sent(const host::rig_run& run,
+                                           const std::map<long long, sent_dwell>& sent) {
+  std::set<long long> stored;
+  for (const auto& d : run.dwells) {
+    SCOPED_TRACE(d.d.t_start_ticks);
+    const auto it = sent.find(d.d.t_start_ticks);
+    if (it == sent.end()) {
+      ADD_FAILURE() << "a stored DWELL the device never sent";
+      continue;
+    }
+    EXPECT_FALSE(it->second.hit());
+    EXPECT_EQ(d.d.code_sum, it->second.at(6));
+    EXPECT_EQ(d.d.position, it->second.at(2));
+    stored.insert(d.d.t_start_ticks);
+  }
+  std::size_t lost = 0;
+  if (stored.empty()) return lost;
+  for (auto it = sent.find(*stored.begin()); it != sent.end() && it->first <= *stored.rbegin();
+       ++it) {
+    if (it->second.hit())
+      ++lost;
+    else
+      EXPECT_EQ(stored.count(it->first), 1u) << "sent unharmed, not stored: tick " << it->first;
+  }
+  return lost;
+}
+
+TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  // Three resets, 150-s apart at odd times: at least one falls while the table is at B.
+  emulator_process emu(dir.path(),
+                       "--speed max --seed 13 --fault-reset-at 150.3,300.9,451.7 --log " + log);
+  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "600", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  // Each reset: a device-reset gap, the device's INFO, a CONFIGURE that finds the home switch
+  // first, START.
+  auto f = host::gfr::read(gfr);
+  ASSERT_TRUE(f) << f.err().message;
+  std::vector<host::gfr::kind> after;
+  int resets = 0;
+  for (std::size_t i = 0; i < f->records.size(); ++i) {
+    const auto& r = f->records[i];
+    if (r.type != host::gfr::kind::gap ||
+        r.body.at(0) != static_cast<std::uint8_t>(host::gfr::gap_reason::device_reset))
+      continue;
+    ++resets;
+    std::vector<const host::gfr::record*> next;
+    for (std::size_t k = i + 1; k < f->records.size() && next.size() < 3; ++k)
+      if (f->records[k].type != host::gfr::kind::frame) next.push_back(&f->records[k]);
+    ASSERT_EQ(next.size(), 3u);
+    EXPECT_EQ(next[0]->type, host::gfr::kind::info);
+    ASSERT_EQ(next[1]->type, host::gfr::kind::configure);
+    EXPECT_EQ(next[2]->type, host::gfr::kind::start);
+    const p::frame fr{static_cast<std::uint8_t>(p::msg::configure), 0, next[1]->body.data(),
+                      next[1]->body.size()};
+    p::configure_msg c;
+    ASSERT_TRUE(fr.as(c));
+    EXPECT_NE(c.flags & p::cfg_home, 0) << "a rebooted device must find the table's home";
+  }
+  EXPECT_EQ(resets, 3);
+  auto run = host::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->device_resets, 3u);
+  EXPECT_EQ(run->link_losses, 0u);
+  ASSERT_FALSE(run->dwells.empty());
+  EXPECT_EQ(run->dwells.back().segment, 3u);
+  const auto sent = sent_by_start(log);
+  EXPECT_EQ(expect_stored_is_what_was_sent(*run, sent), 0u);
+  // Where the table truly stood: the position each DWELL names (the reset device homed it).
+  for (const auto& [tick, s] : sent) EXPECT_EQ(s.table_deg(), 180.0 * s.num(2)) << "tick " << tick;
+  const auto cal = run_cli({"calibrate", gfr, "--json"});
+  ASSERT_EQ(cal.exit_code, 0) << cal.err;
+  expect_calibrates_to_truth(nlohmann::json::parse(cal.out));
+}
+
+TEST(RecordCli, AnUnpluggedAdapterIsWaitedForAndTheRunResumesWithAGapRecord) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  const std::string link = dir.path() + "/rig";  // like /dev/serial/by-id/...
+  emulator_process emu(
+      dir.path(), "--speed 100 --seed 17 --fault-unplug 120:1.5 --link " + link + " --log " + log);
+  ASSERT_EQ(emu.pty(), link);
+  const auto rec = run_cli(
+      {"record", "--port", link, "--duration", "400", "--reconnect-timeout", "20", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  auto f = host::gfr::read(gfr);
+  ASSERT_TRUE(f) << f.err().message;
+  int gaps = 0;
+  for (const auto& r : f->records)
+    if (r.type == host::gfr::kind::gap &&
+        r.body.at(0) == static_cast<std::uint8_t>(host::gfr::gap_reason::link_lost)) {
+      ++gaps;
+      p::reader rd{r.body.data() + 1, 4};
+      const std::uint32_t ms = rd.u32();
+      EXPECT_GE(ms, 1000u);  // 1.5 s unplugged, noticed at once or nearly
+      EXPECT_LE(ms, 20000u);
+    }
+  EXPECT_EQ(gaps, 1);
+  auto run = host::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->link_losses, 1u);
+  EXPECT_EQ(run->device_resets, 0u);  // the rig ran on: no new configuration
+  EXPECT_EQ(run->stop, host::gfr::stop_reason::duration);
+  // Lost: what the rig sent while the line was gone (1.5 s at 100x: ~150 DWELLs); nothing else.
+  const std::size_t lost = expect_stored_is_what_was_sent(*run, sent_by_start(log));
+  EXPECT_GT(lost, 80u);
+  EXPECT_GT(run->dwells.size(), 200u);
+}
+
+TEST(RecordCli, APortThatStaysAwayEndsTheRunWithACompleteFile) {
+  test::temp_dir dir;
+  const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
+  emulator_process emu(dir.path(), "--speed 100 --seed 19 --fault-unplug 60:4 --link " + link);
+  const auto rec = run_cli(
+      {"record", "--port", link, "--duration", "400", "--reconnect-timeout", "1", "-o", gfr});
+  EXPECT_EQ(rec.exit_code, 1);
+  EXPECT_NE(rec.err.find("did not come back within 1 s"), std::string::npos) << rec.err;
+  auto run = host::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_TRUE(run->warnings.empty());
+  EXPECT_EQ(run->stop, host::gfr::stop_reason::link_lost);
+  EXPECT_EQ(run->link_losses, 1u);
+  EXPECT_GT(run->dwells.size(), 40u);  // the 60 s before the loss
+}
+
+TEST(RecordCli, EmulatorFaultOptionsAreCheckedAndItsLinkNeverReplacesAFile) {
+  test::temp_dir dir;
+  const std::string mine = dir.path() + "/mine.txt";
+  std::ofstream(mine) << "keep";
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--fault-unplug", "5"},
+                                              {"--fault-unplug", "5:0"},
+                                              {"--fault-unplug", "x:1"},
+                                              {"--fault-reset-at", "-1"},
+                                              {"--fault-reset-at", "nan"},
+                                              {"--link", mine}}) {
+    std::vector<std::string> args{"emulate", "--pty", "--duration", "1"};
+    args.insert(args.end(), bad.begin(), bad.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << bad[0] << " " << bad[1];
+    EXPECT_EQ(r.out, "") << bad[1];  // refused before the line was opened
+  }
+  EXPECT_EQ(test::read_text(mine), "keep");
 }
 
 TEST(RecordCli, CtrlCStopsTheDeviceAndLeavesACompleteFile) {

@@ -21,7 +21,10 @@ pty_process::pty_process(const std::string& command, const std::string& dir)
   for (int i = 0; i < 250 && pty_.empty(); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const std::string text = output();
-    const auto at = text.find("/dev/");
+    // A device path, or the link `emulate --link` keeps (" on /PATH").
+    auto at = text.find("/dev/");
+    if (const auto on = text.find(" on /"); at == std::string::npos && on != std::string::npos)
+      at = on + 4;
     const auto end = at == std::string::npos ? at : text.find_first_of(" \n", at);
     if (end != std::string::npos) pty_ = text.substr(at, end - at);
   }

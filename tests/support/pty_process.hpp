@@ -11,7 +11,7 @@ namespace gyroflip::test {
 class pty_process {
  public:
   /// Runs `command` in the background, its stdout and stderr to files in `dir`, and waits up to
-  /// 5 s for it to print a `/dev/...` path ended by a blank or a newline.
+  /// 5 s for it to print a `/dev/...` path (or ` on /PATH`) ended by a blank or a newline.
   pty_process(const std::string& command, const std::string& dir);
   ~pty_process();
   pty_process(const pty_process&) = delete;
