@@ -248,8 +248,29 @@ void add_series_options(CLI::App* sub, series_input& in) {
   sub->add_option("--dataset", in.dataset, "HDF5 dataset path (or write FILE.h5:/path)");
   sub->add_flag("--ignore-flip", in.ignore_flip,
                 "analyse a column that switches with angle_deg (an uncompensated flip recording)");
-  sub->add_option("--input", in.input, "what the samples are: rate (deg/s) or angle (deg)")
+  sub->add_option("--input", in.input, "what the samples are: rate or angle")
       ->check(CLI::IsMember({"rate", "angle"}))
+      ->capture_default_str();
+  sub->add_option("--units", in.units,
+                  "unit of the samples: deg/s, rad/s or deg/h (rate); deg or rad (angle)")
+      ->check(CLI::IsMember({"deg/s", "rad/s", "deg/h", "deg", "rad"}))
+      ->capture_default_str();
+  sub->add_option("--delimiter", in.delimiter,
+                  "CSV field separator: , ; tab or space (default: detected from the first line)")
+      ->check(CLI::IsMember({",", ";", "tab", "space", "\t"}));
+  sub->add_option("--decimal", in.decimal, "CSV decimal mark: . or ,")
+      ->check(CLI::IsMember({".", ","}))
+      ->capture_default_str();
+  sub->add_flag("--no-header", in.no_header,
+                "the CSV has no header line: name columns by number (--column 3)");
+  sub->add_option("--time-column", in.time_column,
+                  "CSV column of the time stamps (default: time_s)");
+  sub->add_option("--time-unit", in.time_unit, "unit of the time stamps: s, ms, us or ns")
+      ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
+      ->capture_default_str();
+  sub->add_option("--gaps", in.gaps,
+                  "gaps in the time stamps: error, or split (analyse the longest gap-free run)")
+      ->check(CLI::IsMember({"error", "split"}))
       ->capture_default_str();
 }
 
@@ -281,6 +302,9 @@ void setup_noise(CLI::App& app, action& chosen) {
       ->check(confidence_level(false))
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
+  sub->add_option("--kalibr", o->kalibr,
+                  "also write Kalibr's IMU noise YAML (gyroscope_noise_density, "
+                  "gyroscope_random_walk in rad units, not inflated)");
 }
 
 }  // namespace

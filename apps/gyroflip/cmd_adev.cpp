@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -61,6 +62,8 @@ nlohmann::json json_of(const adev_options& o, double tau0_s, std::size_t samples
   return json{{"kind", o.kind},
               {"input", o.in.input},
               {"file", o.in.file},
+              {"column", o.in.column},
+              {"units", unit_name(o.in)},
               {"tau0_s", tau0_s},
               {"samples", samples},
               {"ci", level ? json(*level) : json(nullptr)},
@@ -70,14 +73,41 @@ nlohmann::json json_of(const adev_options& o, double tau0_s, std::size_t samples
 
 }  // namespace
 
+double deg_per_unit(const series_input& in) {
+  if (in.units == "rad/s" || in.units == "rad") return 180.0 / std::numbers::pi;
+  if (in.units == "deg/h") return 1.0 / 3600.0;
+  return 1.0;
+}
+
+std::string unit_name(const series_input& in) {
+  // The defaults read as the input's kind: deg/s for a rate, deg for an angle.
+  if (in.input == "angle") return in.units == "rad" || in.units == "rad/s" ? "rad" : "deg";
+  return in.units == "deg" ? "deg/s" : in.units == "rad" ? "rad/s" : in.units;
+}
+
 result<analysis_input> load_series(const series_input& in) {
+  if (in.input == "angle" && in.units == "deg/h")
+    return usage_error("--units deg/h is a rate unit; angle input is deg or rad");
   io::series_options so;
   so.column = in.column;
   so.dataset = in.dataset;
   if (!std::isnan(in.rate_hz)) so.sample_rate_hz = in.rate_hz;
+  so.dialect.delimiter = in.delimiter.empty()                             ? '\0'
+                         : in.delimiter == "tab" || in.delimiter == "\\t" ? '\t'
+                         : in.delimiter == "space"                        ? ' '
+                                                                          : in.delimiter[0];
+  so.dialect.decimal = in.decimal[0];
+  so.dialect.header = !in.no_header;
+  so.time_column = in.time_column;
+  so.time_unit_s = in.time_unit == "ms"   ? 1e-3
+                   : in.time_unit == "us" ? 1e-6
+                   : in.time_unit == "ns" ? 1e-9
+                                          : 1.0;
+  so.gaps = in.gaps == "split" ? io::gap_policy::split : io::gap_policy::error;
   auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column)
                                      : io::read_series(in.file, so);
   if (!s) return s.err();
+  for (const auto& n : s->notes()) note(fmt::format("{}: {}", in.file, n));
   // An uncompensated flip recording's rate switches with the angle: its Allan curve would show
   // the flipping (a square wave), not the sensor (issue 13 item 12).
   if (!s->angle_deg().empty() && !in.ignore_flip) {

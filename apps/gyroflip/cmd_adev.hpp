@@ -21,7 +21,20 @@ struct series_input {
   std::string input = "rate";                                 // rate | angle
   std::string dataset;                                        // HDF5 dataset path
   bool ignore_flip = false;  // analyse a column that switches with angle_deg all the same
+  // How a logger wrote the file (docs/FORMATS.md, "CSV rules", "Time stamps").
+  std::string delimiter;  // empty: detect; , ; tab space
+  std::string decimal = ".";
+  bool no_header = false;
+  std::string time_column;  // empty: time_s
+  std::string time_unit = "s";
+  std::string gaps = "error";   // error | split
+  std::string units = "deg/s";  // of the samples: deg/s | rad/s | deg/h (angle: deg | rad)
 };
+
+/// Degrees per second (or, for angle input, degrees) per unit of the samples.
+[[nodiscard]] double deg_per_unit(const series_input& in);
+/// The samples' unit as written in outputs ("deg/s", "rad/s", "deg/h"; "deg", "rad").
+[[nodiscard]] std::string unit_name(const series_input& in);
 
 /// A series ready for analysis: the samples and their phase source (which reads them).
 struct analysis_input {
@@ -50,6 +63,7 @@ struct noise_options {
   series_input in;
   double ci = 0.683;  ///< two-sided confidence level of the terms' intervals
   bool json = false;
+  std::string kalibr;  ///< write Kalibr's IMU noise YAML here
 };
 int run_noise(const noise_options& o);
 

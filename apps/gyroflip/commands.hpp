@@ -23,6 +23,9 @@ int report(const error& e);
 /// Prints `gyroflip: warning: <message>` on stderr (the run goes on).
 void warn(std::string_view message);
 
+/// Prints `gyroflip: note: <message>` on stderr: something the reader noticed and accepted.
+void note(std::string_view message);
+
 struct earth_options {
   double lat_deg = 0.0;
   std::string axis = "north";

@@ -15,7 +15,8 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
     {"sample_rate_hz", "--rate"},   {"dataset", "--dataset"}, {"taus", "--taus"},
     {"duration_s", "--duration"},   {"n_avg", "--n-avg"},     {"degree", "--degree"},
     {"settle_s", "--settle"},       {"seed", "--seed"},       {"lat_deg", "--latitude"},
-    {"window_s", "--drift-window"}, {"level", "--ci"},
+    {"window_s", "--drift-window"}, {"level", "--ci"},        {"gaps", "--gaps split"},
+    {"delimiter", "--delimiter"},   {"decimal", "--decimal"},
 };
 
 }  // namespace
@@ -23,6 +24,10 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
 void warn(std::string_view message) {
   std::fprintf(stderr, "gyroflip: warning: %.*s\n", static_cast<int>(message.size()),
                message.data());
+}
+
+void note(std::string_view message) {
+  std::fprintf(stderr, "gyroflip: note: %.*s\n", static_cast<int>(message.size()), message.data());
 }
 
 int report(const error& e) {

@@ -29,12 +29,74 @@ bool is_blank(std::string_view s) {
   return trim(s).empty();
 }
 
+// Calls field(begin, end) with the byte offsets of each field of `line`. With blanks as the
+// delimiter, runs of spaces and tabs separate fields and those at the ends are not fields;
+// otherwise every delimiter byte ends a field (a line without one is one field).
+template <class F>
+void for_each_field(std::string_view line, char delimiter, F&& field) {
+  const char* const base = line.data();
+  const std::size_t size = line.size();
+  if (delimiter == ' ') {
+    const auto blank = [&](std::size_t i) { return base[i] == ' ' || base[i] == '\t'; };
+    for (std::size_t i = 0;;) {
+      while (i < size && blank(i)) ++i;
+      if (i == size) return;
+      const std::size_t begin = i;
+      while (i < size && !blank(i)) ++i;
+      field(begin, i);
+    }
+  }
+  std::size_t start = 0;
+  // Eight bytes at a time: t has 0x80 exactly in the bytes equal to the delimiter (no false
+  // positives, unlike the shorter (x - 0x01..) & ~x form), then each set bit is one field end.
+  constexpr std::uint64_t low7 = 0x7F7F7F7F7F7F7F7Full;
+  const std::uint64_t delims = 0x0101010101010101ull * static_cast<unsigned char>(delimiter);
+  std::size_t i = 0;
+  for (; i + 8 <= size; i += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, base + i, 8);
+    const std::uint64_t x = w ^ delims;
+    std::uint64_t t = ~(((x & low7) + low7) | x | low7);
+    while (t != 0) {
+      const std::size_t end = i + static_cast<std::size_t>(std::countr_zero(t)) / 8;
+      field(start, end);
+      start = end + 1;
+      t &= t - 1;
+    }
+  }
+  for (; i < size; ++i)
+    if (base[i] == delimiter) {
+      field(start, i);
+      start = i + 1;
+    }
+  field(start, size);
+}
+
 }  // namespace
 
-result<csv_reader> csv_reader::open(const std::string& path) {
+std::string delimiter_name(char delimiter) {
+  switch (delimiter) {
+    case '\t':
+      return "tab";
+    case ' ':
+      return "blanks";
+    default:
+      return fmt::format("'{}'", delimiter);
+  }
+}
+
+result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& dialect) {
+  if (dialect.decimal != '.' && dialect.decimal != ',')
+    return parameter_error("decimal", "the decimal mark must be '.' or ','");
+  if (dialect.delimiter != 0 && dialect.delimiter != ',' && dialect.delimiter != ';' &&
+      dialect.delimiter != '\t' && dialect.delimiter != ' ')
+    return parameter_error("delimiter", "the delimiter must be ',', ';', tab or blanks");
+  if (dialect.decimal == ',' && dialect.delimiter == ',')
+    return parameter_error("decimal", "a decimal comma needs another delimiter than ','");
   auto f = mapped_file::open(path);
   if (!f) return f.err();
   csv_reader r(std::move(*f));
+  r.dialect_ = dialect;
   const std::string_view d = r.file_.data();
   if (d.empty()) return input_error({path}, "empty file (expected a CSV header line)");
   if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
@@ -61,8 +123,28 @@ std::optional<std::string_view> csv_reader::next_line() {
   return std::string_view(begin, len);
 }
 
+// The delimiter of a file from its first line: the most frequent of ';', tab and ',' (a
+// decimal comma is no delimiter), else blanks between fields, else one column (any will do).
+void csv_reader::detect_delimiter(std::string_view first_line) {
+  char best = 0;
+  std::ptrdiff_t most = 0;
+  for (const char c : {';', '\t', ','}) {
+    if (c == dialect_.decimal) continue;
+    const auto n = std::count(first_line.begin(), first_line.end(), c);
+    if (n > most) {
+      most = n;
+      best = c;
+    }
+  }
+  if (best == 0) best = trim(first_line).find(' ') != std::string_view::npos ? ' ' : ',';
+  dialect_.delimiter = best;
+}
+
 status csv_reader::read_header() {
-  while (auto l = next_line()) {
+  while (true) {
+    const std::size_t line_start = pos_;
+    const auto l = next_line();
+    if (!l) break;
     if (l->size() > max_line_bytes)
       return input_error({path(), line_}, "line longer than 1 MiB (not a CSV recording?)");
     if (!l->empty() && l->front() == '#') {
@@ -70,16 +152,31 @@ status csv_reader::read_header() {
       continue;
     }
     if (is_blank(*l)) continue;
+    if (dialect_.delimiter == 0) detect_delimiter(*l);
     header_line_ = line_;
-    std::string_view rest = *l;
-    std::size_t col = 1;
-    while (true) {
-      const auto comma = rest.find(',');
-      header_.emplace_back(trim(rest.substr(0, comma)));
-      header_cols_.push_back(col);
-      if (comma == std::string_view::npos) break;
-      rest.remove_prefix(comma + 1);
-      col += comma + 1;
+    // The fields of this line through split(), which stores them as cells of every column.
+    slot_of_column_.clear();
+    header_.assign(1, {});
+    std::vector<std::string_view> fields;
+    for_each_field(*l, dialect_.delimiter, [&](std::size_t begin, std::size_t end) {
+      fields.push_back(l->substr(begin, end - begin));
+      header_cols_.push_back(begin + 1);
+    });
+    if (!dialect_.header) {
+      // Every line is data: columns are numbered, and this line is read again as the first row.
+      for (std::size_t i = 0; i < fields.size(); ++i) header_.push_back(std::to_string(i + 1));
+      header_.erase(header_.begin());
+      pos_ = line_start;
+      --line_;
+    } else {
+      header_.clear();
+      for (const auto f : fields) {
+        std::string_view name = trim(f);
+        // A quoted name ("gyro_x"), as spreadsheet programs write them.
+        if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
+          name = name.substr(1, name.size() - 2);
+        header_.emplace_back(name);
+      }
     }
     slot_of_column_.assign(header_.size(), -1);
     return ok();
@@ -105,6 +202,12 @@ result<std::optional<std::size_t>> csv_reader::find_column(std::string_view name
                                      *found + 1, i + 1));
     found = i;
   }
+  // No such name: a column number (1-based), as for a file without a header.
+  std::size_t number = 0;
+  const auto [end, ec] = std::from_chars(name.data(), name.data() + name.size(), number);
+  if (!found && ec == std::errc{} && end == name.data() + name.size() && number >= 1 &&
+      number <= header_.size())
+    found = number - 1;
   return found;
 }
 
@@ -112,9 +215,12 @@ result<std::size_t> csv_reader::require_column(std::string_view name) const {
   auto f = find_column(name);
   if (!f) return f.err();
   if (!f.value())
-    return input_error({path(), header_line_, 1},
-                       fmt::format("missing required column '{}' (header: {})", printable(name),
-                                   printable(fmt::format("{}", fmt::join(header_, ",")), 200)));
+    return input_error(
+        {path(), header_line_, 1},
+        fmt::format("missing required column '{}' (header: {}; fields split at {}{})",
+                    printable(name), printable(fmt::format("{}", fmt::join(header_, ",")), 200),
+                    delimiter_name(dialect_.delimiter),
+                    dialect_.header ? "" : "; no header: columns are numbered from 1"));
   return *f.value();
 }
 
@@ -128,41 +234,19 @@ void csv_reader::select(const std::vector<std::size_t>& columns) {
 
 bool csv_reader::split(std::string_view line) {
   const std::size_t n_cols = header_.size();
-  const char* const base = line.data();
-  const std::size_t size = line.size();
   std::size_t col = 0;
-  std::size_t start = 0;
-  const auto field_end = [&](std::size_t end) {
+  for_each_field(line, dialect_.delimiter, [&](std::size_t begin, std::size_t end) {
     if (col < n_cols) {
       const int slot = slot_of_column_[col];
-      if (slot >= 0)
-        cells_[static_cast<std::size_t>(slot)] = std::string_view(base + start, end - start);
+      if (slot >= 0) cells_[static_cast<std::size_t>(slot)] = line.substr(begin, end - begin);
     }
     ++col;
-    start = end + 1;
-  };
-  // Eight bytes at a time: t has 0x80 exactly in the bytes equal to ',' (no false positives,
-  // unlike the shorter (x - 0x01..) & ~x form), then each set bit is one field end.
-  constexpr std::uint64_t low7 = 0x7F7F7F7F7F7F7F7Full;
-  constexpr std::uint64_t commas = 0x2C2C2C2C2C2C2C2Cull;
-  std::size_t i = 0;
-  for (; i + 8 <= size; i += 8) {
-    std::uint64_t w;
-    std::memcpy(&w, base + i, 8);
-    const std::uint64_t x = w ^ commas;
-    std::uint64_t t = ~(((x & low7) + low7) | x | low7);
-    while (t != 0) {
-      field_end(i + static_cast<std::size_t>(std::countr_zero(t)) / 8);
-      t &= t - 1;
-    }
-  }
-  for (; i < size; ++i)
-    if (base[i] == ',') field_end(i);
-  field_end(size);
+  });
   if (col == n_cols) return true;
-  error_ = input_error(
-      {path(), line_, std::min(line.size() + 1, max_line_bytes)},
-      fmt::format("row has {} field{}, header has {}", col, col == 1 ? "" : "s", n_cols));
+  error_ =
+      input_error({path(), line_, std::min(line.size() + 1, max_line_bytes)},
+                  fmt::format("row has {} field{}, header has {} (fields split at {})", col,
+                              col == 1 ? "" : "s", n_cols, delimiter_name(dialect_.delimiter)));
   return false;
 }
 
@@ -201,7 +285,21 @@ error csv_reader::error_at_line(std::string_view what) const {
 }
 
 bool csv_reader::parse_slow(std::size_t i, double& out) {
-  const std::string_view s = cell(i);
+  std::string_view s = cell(i);
+  char buf[64];
+  if (dialect_.decimal == ',') {
+    // A decimal comma: the number as from_chars reads it. A '.' as well is a thousands mark or
+    // another dialect, which gyroflip does not guess at.
+    if (s.find('.') != std::string_view::npos) {
+      error_ = error_at(
+          i, fmt::format("'{}' has a '.' while the decimal mark is ','", printable(s, 40)));
+      return false;
+    }
+    if (s.size() < sizeof buf) {
+      std::replace_copy(s.begin(), s.end(), buf, ',', '.');
+      s = std::string_view(buf, s.size());
+    }
+  }
   const char* b = s.data();
   const char* e = b + s.size();
   if (b != e && *b == '+') ++b;  // from_chars rejects a leading '+'; people write it

@@ -2,6 +2,7 @@
 /// \brief Series readers: CSV column, NumPy .npy, raw float64 (see series.hpp).
 #include "gyroflip/io/series.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -170,8 +171,9 @@ class mapped_samples final : public analysis::sample_source {
 
 // An error at data row `row` (0-based) of CSV `path`, column `column`: reads the file again up to
 // that row (only on this error path) for its line and column.
-error at_row(const std::string& path, std::size_t column, std::size_t row, std::string_view what) {
-  auto r = csv_reader::open(path);
+error at_row(const std::string& path, const csv_dialect& dialect, std::size_t column,
+             std::size_t row, std::string_view what) {
+  auto r = csv_reader::open(path, dialect);
   if (!r) return input_error({path}, what);
   r->select({column});
   for (std::size_t k = 0; k <= row; ++k)
@@ -215,6 +217,232 @@ std::string off_grid_message(std::span<const double> t, const grid& g) {
       "sample {} (time_s {}) is {:.3g} s off the uniform grid of {:.6g} s: the record has a gap "
       "or uneven sampling (resample, or give the sample rate)",
       *g.bad + 1, t[*g.bad], g.off, g.step);
+}
+
+// A time stamp split into its integer part and its fraction, so that epoch stamps (1.7e9 s,
+// 1.7e18 ns) are rebased exactly before any floating-point arithmetic: [sign]digits[.digits]
+// with the dialect's decimal mark. False for other forms (exponents), which are read as doubles.
+bool split_stamp(std::string_view s, char decimal, std::int64_t& whole, double& frac) {
+  std::size_t i = 0;
+  const bool negative = !s.empty() && s[0] == '-';
+  if (!s.empty() && (s[0] == '-' || s[0] == '+')) ++i;
+  const std::size_t int_begin = i;
+  while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
+  if (i == int_begin) return false;
+  std::int64_t w = 0;
+  if (std::from_chars(s.data() + int_begin, s.data() + i, w).ec != std::errc{}) return false;
+  double f = 0.0;
+  if (i < s.size()) {
+    if (s[i] != decimal) return false;
+    const std::size_t frac_begin = ++i;
+    while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
+    if (i != s.size() || i == frac_begin) return false;
+    char buf[48] = "0.";
+    const std::size_t digits = std::min<std::size_t>(i - frac_begin, sizeof buf - 3);
+    std::memcpy(buf + 2, s.data() + frac_begin, digits);
+    std::from_chars(buf, buf + 2 + digits, f);
+  }
+  whole = negative ? -w : w;
+  frac = negative ? -f : f;
+  return true;
+}
+
+// The samples of a CSV time column that form the analysed run, and its period.
+struct stamp_run {
+  std::size_t begin = 0, end = 0;  // samples [begin, end)
+  double tau0_s = 0.0;
+  std::vector<std::string> notes;
+};
+
+// Gaps, jitter and the rate of time stamps `t` (s from the first; strictly increasing).
+// `row_error(k, what)` locates a message at sample k's time cell.
+template <class RowError>
+result<stamp_run> check_stamps(const std::string& path, std::span<const double> t,
+                               const series_options& opt, const RowError& row_error) {
+  const std::size_t n = t.size();
+  std::vector<double> d(n - 1);
+  for (std::size_t k = 0; k + 1 < n; ++k) d[k] = t[k + 1] - t[k];
+  std::vector<double> sorted = d;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                   sorted.end());
+  const double period = sorted[sorted.size() / 2];
+  std::vector<std::size_t> gaps;  // k: a gap between samples k and k + 1
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    if (d[k] < 0.5 * period)
+      return row_error(k + 1, fmt::format("sample {} comes {:.6g} s after the previous one, less "
+                                          "than half the period {:.6g} s: duplicated or uneven "
+                                          "time stamps",
+                                          k + 2, d[k], period));
+    if (d[k] > 1.5 * period) gaps.push_back(k);
+  }
+  const auto describe = [&](std::size_t k) {
+    return fmt::format(
+        "after sample {} (time {:.6g} s) the next comes {:.6g} s later, about {} "
+        "sample{} missing",
+        k + 1, t[k], d[k], std::llround(d[k] / period) - 1,
+        std::llround(d[k] / period) == 2 ? "" : "s");
+  };
+  stamp_run run{0, n, 0.0, {}};
+  if (!gaps.empty() && opt.gaps == gap_policy::error) {
+    std::string list;
+    for (std::size_t i = 0; i < std::min<std::size_t>(gaps.size(), 3); ++i)
+      list += (i == 0 ? "" : "; ") + describe(gaps[i]);
+    if (gaps.size() > 3) list += fmt::format("; and {} more", gaps.size() - 3);
+    return about_parameter(
+        row_error(gaps[0] + 1,
+                  fmt::format("the time stamps have {} gap{} (period {:.6g} s): {}. Deviations "
+                              "need evenly spaced samples: fill or resample the gaps, or analyse "
+                              "the longest gap-free run",
+                              gaps.size(), gaps.size() == 1 ? "" : "s", period, list)),
+        "gaps");
+  }
+  if (!gaps.empty()) {
+    std::size_t from = 0;
+    run.end = 0;
+    for (std::size_t i = 0; i <= gaps.size(); ++i) {
+      const std::size_t to = i < gaps.size() ? gaps[i] + 1 : n;
+      if (to - from > run.end - run.begin) run = {from, to, 0.0, {}};
+      from = to;
+    }
+    if (run.end - run.begin < min_samples)
+      return input_error({path}, fmt::format("no gap-free run of {} samples or more in the time "
+                                             "stamps ({} gaps)",
+                                             min_samples, gaps.size()));
+    run.notes.push_back(fmt::format(
+        "the time stamps have {} gap{} (first: {}); analysed: samples {} to {} (time {:.6g} to "
+        "{:.6g} s), the longest of {} gap-free runs",
+        gaps.size(), gaps.size() == 1 ? "" : "s", describe(gaps[0]), run.begin + 1, run.end,
+        t[run.begin], t[run.end - 1], gaps.size() + 1));
+  }
+  const std::size_t m = run.end - run.begin;
+  run.tau0_s = (t[run.end - 1] - t[run.begin]) / static_cast<double>(m - 1);
+  double jitter = 0.0;
+  for (std::size_t k = run.begin; k < run.end; ++k) {
+    const double off = t[k] - (t[run.begin] + static_cast<double>(k - run.begin) * run.tau0_s);
+    if (std::abs(off) > 0.5 * run.tau0_s)
+      return row_error(k, fmt::format("sample {} (time {:.6g} s) is {:.3g} s off the uniform grid "
+                                      "of {:.6g} s: the sample clock drifts or the rate changes",
+                                      k + 1, t[k], off, run.tau0_s));
+    if (k + 1 < run.end) jitter = std::max(jitter, std::abs(d[k] - run.tau0_s) / run.tau0_s);
+  }
+  if (jitter > 1e-3)
+    run.notes.push_back(
+        fmt::format("the time stamps jitter by up to {:.3g} % of the period {:.6g} "
+                    "s (accepted below 50 %; the deviations assume the mean "
+                    "period)",
+                    100.0 * jitter, run.tau0_s));
+  if (opt.sample_rate_hz) {
+    if (auto c = check_rate(path, opt.sample_rate_hz); !c) return c.err();
+    const double stamped_hz = 1.0 / run.tau0_s;
+    if (std::abs(*opt.sample_rate_hz - stamped_hz) > 0.01 * stamped_hz)
+      return about_parameter(
+          input_error({path}, fmt::format("the sample rate {:.6g} Hz disagrees with the time "
+                                          "stamps' {:.6g} Hz by more than 1 %",
+                                          *opt.sample_rate_hz, stamped_hz)),
+          "sample_rate_hz");
+    run.tau0_s = 1.0 / *opt.sample_rate_hz;
+  }
+  return run;
+}
+
+// A CSV column, with its time column (or the given rate) and a recording's angle_deg.
+struct csv_series {
+  std::vector<double> values, angle_deg;
+  double tau0_s = 0.0;
+  std::vector<csv_metadata> metadata;
+  std::vector<std::string> notes;
+};
+
+result<csv_series> read_csv_series(const std::string& path, const series_options& opt) {
+  csv_series s;
+  auto r = csv_reader::open(path, opt.dialect);
+  if (!r) return r.err();
+  auto col = r->require_column(opt.column);
+  if (!col) return col.err();
+  std::optional<std::size_t> time;
+  if (!opt.time_column.empty()) {
+    auto t = r->require_column(opt.time_column);
+    if (!t) return t.err();
+    time = *t;
+  } else {
+    auto t = r->find_column("time_s");
+    if (!t) return t.err();
+    time = *t;
+  }
+  if (!time && !opt.sample_rate_hz)
+    return about_parameter(
+        input_error({path}, "no time column (time_s, or name one): the sample rate must be given"),
+        "sample_rate_hz");
+  // A recording's angle_deg (0, 180, empty while turning) goes along, so that the caller can tell
+  // an uncompensated flip recording (method/flip_detect.hpp).
+  auto angle = r->find_column("angle_deg");
+  if (!angle) return angle.err();
+  const bool with_angle = angle->has_value() && **angle != *col;
+  r->select({*col, time ? *time : csv_reader::absent_column,
+             with_angle ? **angle : csv_reader::absent_column});
+  const char decimal = r->dialect().decimal;
+  std::vector<double> t;
+  std::vector<double> values;
+  std::int64_t whole0 = 0;
+  double frac0 = 0.0;
+  while (true) {
+    const auto st = r->next();
+    if (st == csv_reader::step::end) break;
+    if (st == csv_reader::step::failed) return r->last_error();
+    double v = 0.0;
+    if (!r->parse(0, v)) return r->last_error();
+    values.push_back(v);
+    if (time) {
+      std::int64_t whole = 0;
+      double frac = 0.0;
+      if (!split_stamp(r->cell(1), decimal, whole, frac)) {
+        if (!r->parse(1, frac)) return r->last_error();
+        whole = 0;
+      }
+      if (t.empty()) {
+        whole0 = whole;
+        frac0 = frac;
+      }
+      // Rebased before scaling: the difference of two epoch stamps is exact in int64.
+      const double ts = (static_cast<double>(whole - whole0) + (frac - frac0)) * opt.time_unit_s;
+      if (!t.empty() && !(ts > t.back()))
+        return r->error_at(1, fmt::format("time stamp {} does not increase", r->cell(1)));
+      t.push_back(ts);
+    }
+    if (with_angle) {
+      double a = std::numeric_limits<double>::quiet_NaN();  // empty: the table is turning
+      if (!r->cell(2).empty() && !r->parse(2, a)) return r->last_error();
+      s.angle_deg.push_back(a);
+    }
+  }
+  s.metadata = r->metadata();  // after the rows: metadata may follow the header
+  if (values.size() < min_samples)
+    return input_error(
+        {path}, fmt::format("{} sample{}: too few for an analysis (at least {})", values.size(),
+                            values.size() == 1 ? "" : "s", min_samples));
+  if (!time) {
+    if (auto c = check_rate(path, opt.sample_rate_hz); !c) return c.err();
+    s.values = std::move(values);
+    s.tau0_s = 1.0 / *opt.sample_rate_hz;
+    return s;
+  }
+  const auto row_error = [&](std::size_t k, std::string_view what) {
+    return at_row(path, opt.dialect, *time, k, what);
+  };
+  auto run = check_stamps(path, std::span<const double>(t), opt, row_error);
+  if (!run) return run.err();
+  if (run->begin != 0 || run->end != values.size()) {
+    values = std::vector<double>(values.begin() + static_cast<std::ptrdiff_t>(run->begin),
+                                 values.begin() + static_cast<std::ptrdiff_t>(run->end));
+    if (with_angle)
+      s.angle_deg =
+          std::vector<double>(s.angle_deg.begin() + static_cast<std::ptrdiff_t>(run->begin),
+                              s.angle_deg.begin() + static_cast<std::ptrdiff_t>(run->end));
+  }
+  s.values = std::move(values);
+  s.tau0_s = run->tau0_s;
+  s.notes = std::move(run->notes);
+  return s;
 }
 
 }  // namespace
@@ -288,61 +516,13 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
     return s;
   }
-  // CSV
-  auto r = csv_reader::open(path);
-  if (!r) return r.err();
-  auto col = r->require_column(opt.column);
-  if (!col) return col.err();
-  auto time = r->find_column("time_s");
-  if (!time) return time.err();
-  const bool use_time = !opt.sample_rate_hz;
-  if (use_time && !*time)
-    return about_parameter(input_error({path}, "no time_s column: the sample rate must be given"),
-                           "sample_rate_hz");
-  // A recording's angle_deg (0, 180, empty while turning) goes along, so that the caller can tell
-  // an uncompensated flip recording (method/flip_detect.hpp).
-  auto angle = r->find_column("angle_deg");
-  if (!angle) return angle.err();
-  const bool with_angle = angle->has_value() && **angle != *col;
-  r->select({*col, use_time ? **time : csv_reader::absent_column,
-             with_angle ? **angle : csv_reader::absent_column});
-  std::vector<double> t;
-  std::vector<double> values;
-  while (true) {
-    const auto st = r->next();
-    if (st == csv_reader::step::end) break;
-    if (st == csv_reader::step::failed) return r->last_error();
-    double v = 0.0;
-    if (!r->parse(0, v)) return r->last_error();
-    values.push_back(v);
-    if (use_time) {
-      double ts = 0.0;
-      if (!r->parse(1, ts)) return r->last_error();
-      if (!t.empty() && !(ts > t.back()))
-        return r->error_at(1,
-                           fmt::format("time_s {} does not increase (previous {})", ts, t.back()));
-      t.push_back(ts);
-    }
-    if (with_angle) {
-      double a = std::numeric_limits<double>::quiet_NaN();  // empty: the table is turning
-      if (!r->cell(2).empty() && !r->parse(2, a)) return r->last_error();
-      s.angle_deg_.push_back(a);
-    }
-  }
-  s.metadata_ = r->metadata();  // after the rows: metadata may follow the header
-  if (values.size() < min_samples)
-    return input_error(
-        {path}, fmt::format("{} sample{}: too few for an analysis (at least {})", values.size(),
-                            values.size() == 1 ? "" : "s", min_samples));
-  s.hold(std::move(values));
-  if (!use_time) {
-    if (auto c = check_rate(path, opt.sample_rate_hz); !c) return c.err();
-    s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
-    return s;
-  }
-  const auto g = uniform_grid(t);
-  if (g.bad) return at_row(path, **time, *g.bad, off_grid_message(t, g));
-  s.tau0_s_ = g.step;
+  auto c = read_csv_series(path, opt);
+  if (!c) return c.err();
+  s.hold(std::move(c->values));
+  s.tau0_s_ = c->tau0_s;
+  s.angle_deg_ = std::move(c->angle_deg);
+  s.metadata_ = std::move(c->metadata);
+  s.notes_ = std::move(c->notes);
   return s;
 }
 

@@ -157,7 +157,7 @@ TEST(CliAdev, BadInput) {
   };
   const std::vector<c> cases = {
       {{"adev", d.file("gap.csv")},
-       "gap.csv:4:1: sample 3 (time_s 2) is -1 s off the uniform grid"},
+       "gap.csv:5:1: the time stamps have 1 gap (period 1 s): after sample 3 (time 2 s)"},
       {{"adev", d.file("nocol.csv")}, "nocol.csv:1:1: missing required column 'rate_dps'"},
       {{"adev", d.file("bad.csv")}, "bad.csv:3:3: 'x' is not a number"},
       {{"adev", d.file("f4.npy"), "--rate", "1"},

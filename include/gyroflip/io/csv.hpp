@@ -62,17 +62,36 @@ struct csv_metadata {
   std::string value;
 };
 
+/// How a file's fields are written (docs/FORMATS.md, "CSV rules"): what loggers write besides
+/// gyroflip's own comma-separated files with a header.
+struct csv_dialect {
+  /// Field separator: ',' ';' '\t', ' ' (any run of blanks), or 0 to detect it from the first
+  /// line: the most frequent of ';', '\t' and ',' (',' not when it is the decimal mark), else
+  /// blanks between fields, else one column.
+  char delimiter = 0;
+  char decimal = '.';  ///< '.' or ',' (then the delimiter cannot be ',')
+  bool header = true;  ///< false: every line is data; columns are named 1, 2, ...
+};
+
+/// The delimiter's name for messages ("','", "';'", "tab", "blanks").
+[[nodiscard]] std::string delimiter_name(char delimiter);
+
 class csv_reader {
  public:
   /// Maps `path` and reads comments and header. Errors: missing file, directory, empty
-  /// file, binary data, no header.
-  [[nodiscard]] static result<csv_reader> open(const std::string& path);
+  /// file, binary data, no header, a dialect whose decimal mark is its delimiter.
+  [[nodiscard]] static result<csv_reader> open(const std::string& path,
+                                               const csv_dialect& dialect = {});
+  /// The dialect in use (the delimiter as detected).
+  [[nodiscard]] const csv_dialect& dialect() const noexcept { return dialect_; }
 
   [[nodiscard]] const std::string& path() const noexcept { return file_.path(); }
   [[nodiscard]] const std::vector<std::string>& header() const noexcept { return header_; }
   [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept { return metadata_; }
 
-  /// Index of column `name`; nullopt if absent. Error if the name appears more than once.
+  /// Index of column `name`, or of the 1-based column number `name` when no column has that
+  /// name (for files without a header); nullopt if absent. Error if the name appears more than
+  /// once.
   [[nodiscard]] result<std::optional<std::size_t>> find_column(std::string_view name) const;
   /// Index of column `name`; error (naming the header line) if absent or duplicated.
   [[nodiscard]] result<std::size_t> require_column(std::string_view name) const;
@@ -100,7 +119,9 @@ class csv_reader {
   /// plain decimals without blanks; everything else (and every error) goes through parse_slow.
   [[nodiscard]] bool parse(std::size_t i, double& out) {
     const std::string_view s = cells_[i];
-    return detail::parse_plain_decimal(s.data(), s.data() + s.size(), out) || parse_slow(i, out);
+    return (dialect_.decimal == '.' &&
+            detail::parse_plain_decimal(s.data(), s.data() + s.size(), out)) ||
+           parse_slow(i, out);
   }
   /// Builds an error located at selected cell `i` of the current row.
   [[nodiscard]] error error_at(std::size_t i, std::string_view what) const;
@@ -124,9 +145,11 @@ class csv_reader {
   std::optional<std::string_view> next_line();
   void add_metadata(std::string_view comment_line);
   bool split(std::string_view line);
+  void detect_delimiter(std::string_view first_line);
   [[nodiscard]] bool parse_slow(std::size_t i, double& out);
 
   mapped_file file_;
+  csv_dialect dialect_;
   std::size_t pos_ = 0;
   std::size_t line_ = 0;
   std::size_t header_line_ = 0;

@@ -21,10 +21,24 @@
 
 namespace gyroflip::io {
 
+/// What a CSV's time stamps may do between samples (docs/FORMATS.md, "Time stamps").
+enum class gap_policy {
+  error,  ///< a gap is an error that names where it is
+  split,  ///< the longest gap-free run is analysed (series::notes says which)
+};
+
 struct series_options {
-  std::string column = "rate_dps";       ///< CSV column to read
-  std::optional<double> sample_rate_hz;  ///< overrides time_s; required for .npy and raw
-  std::string dataset;                   ///< HDF5 dataset path (or give FILE.h5:/path)
+  std::string column = "rate_dps";  ///< CSV column to read (a name, or a number from 1)
+  /// For .npy, raw and HDF5 input the sample rate (required unless the file has one). With a
+  /// CSV time column it must agree with the stamps' rate within 1 %, and is then used as the
+  /// exact rate; without one it gives the rate.
+  std::optional<double> sample_rate_hz;
+  std::string dataset;  ///< HDF5 dataset path (or give FILE.h5:/path)
+  csv_dialect dialect;  ///< how the CSV is written
+  /// CSV time column; empty: `time_s` when the file has one.
+  std::string time_column;
+  double time_unit_s = 1.0;  ///< seconds per unit of the time column (1e-9 for ns stamps)
+  gap_policy gaps = gap_policy::error;
 };
 
 /// Samples plus their spacing, from a mapped file or held in memory.
@@ -45,6 +59,9 @@ class series {
   [[nodiscard]] const std::vector<double>& angle_deg() const noexcept { return angle_deg_; }
   /// The `# key: value` lines before a CSV's first row (empty for other formats).
   [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept { return metadata_; }
+  /// What the reader noticed and the user should know (time-stamp jitter, the run analysed
+  /// after a gap), one sentence each.
+  [[nodiscard]] const std::vector<std::string>& notes() const noexcept { return notes_; }
 
   series(series&&) noexcept = default;
   series& operator=(series&&) noexcept = default;
@@ -66,14 +83,18 @@ class series {
   std::string source_;
   std::vector<csv_metadata> metadata_;
   std::vector<double> angle_deg_;
+  std::vector<std::string> notes_;
 };
 
 /// Reads `path` by its extension: `.npy` (1-D, '<f8', C order), `.f64`/`.bin`/`.raw` (raw
 /// little-endian float64), `.h5`/`.hdf5` (a 1-D dataset named `FILE.h5:/path` or by
 /// `dataset`, any numeric type, rate from a `sample_rate_hz` attribute or the option),
-/// anything else CSV. For CSV the sample interval comes from the
-/// `time_s` column (uniform within 1e-6 relative, else an error naming the line) unless
-/// `sample_rate_hz` is given. Errors name the file (and line/column for CSV).
+/// anything else CSV (in `dialect`). For CSV the sample interval comes from the time column's
+/// stamps (rebased to the first before any arithmetic, so that epoch nanoseconds keep their
+/// precision): the median step is the period; steps within +-50 % of it are jitter (accepted
+/// and noted); a longer step is a gap (an error naming where, or with gap_policy::split the
+/// longest gap-free run); a shorter one, or stamps that drift off a uniform grid by half a
+/// period, is an error. Errors name the file (and line/column for CSV).
 [[nodiscard]] result<series> read_series(const std::string& path, const series_options& opt);
 
 /// A series from samples already in memory (a rig recording read back): `time_s` per sample must
