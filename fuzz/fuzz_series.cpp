@@ -11,7 +11,20 @@ namespace gyroflip::fuzz {
 int fuzz_series(const std::uint8_t* data, std::size_t size, const char* ext) {
   const input_file f(data, size, ext);
   io::series_options o;
-  if (std::string_view(ext) != ".csv") o.sample_rate_hz = 100.0;
+  const bool csv = std::string_view(ext) == ".csv";
+  if (!csv) o.sample_rate_hz = 100.0;
+  // CSV: the dialect and gap options from the input's length, so that every byte stays the
+  // file's (and the corpus keeps its meaning): decimal comma, no header, gaps split, ns stamps.
+  if (csv) {
+    o.dialect.decimal = (size & 1U) != 0 ? ',' : '.';
+    o.dialect.header = (size & 2U) == 0;
+    if (!o.dialect.header) o.column = "2";
+    o.gaps = (size & 4U) != 0 ? io::gap_policy::split : io::gap_policy::error;
+    if ((size & 8U) != 0) o.time_unit_s = 1e-9;
+    if (auto names = io::numeric_columns(f.path(), o))
+      if (auto all = io::read_series_columns(f.path(), o, *names))
+        for (const auto& one : *all) (void)one.tau0_s();
+  }
   auto s = io::read_series(f.path(), o);
   if (!s) return 0;
   for (const auto kind : {analysis::input_kind::rate, analysis::input_kind::angle})

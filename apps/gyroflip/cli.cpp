@@ -243,7 +243,12 @@ void add_series_options(CLI::App* sub, series_input& in) {
                   "CSV (column by name), NumPy .npy, raw float64 (.f64/.bin/.raw) or HDF5 "
                   "(FILE.h5:/dataset)")
       ->required();
-  sub->add_option("--column", in.column, "CSV column to analyse")->capture_default_str();
+  sub->add_option("--column", in.column,
+                  "CSV column to analyse: a name, a number from 1, or several: gx,gy,gz")
+      ->capture_default_str();
+  sub->add_option("--columns", in.columns,
+                  "all-numeric: every numeric column but the time stamps, in one pass")
+      ->check(CLI::IsMember({"all-numeric"}));
   sub->add_option("--rate", in.rate_hz, "sample rate (Hz); default: from the CSV time_s column");
   sub->add_option("--dataset", in.dataset, "HDF5 dataset path (or write FILE.h5:/path)");
   sub->add_flag("--ignore-flip", in.ignore_flip,
@@ -302,6 +307,10 @@ void setup_noise(CLI::App& app, action& chosen) {
       ->check(confidence_level(false))
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
+  sub->add_option("--fit-taus", o->fit_taus, "fit the noise model to tau in LO:HI (s) only");
+  sub->add_option("-o,--output", o->output,
+                  "also write the terms: FILE.json (the --json object) or CSV "
+                  "column,term,unit,value,lo,hi,resolved,read_off");
   sub->add_option("--kalibr", o->kalibr,
                   "also write Kalibr's IMU noise YAML (gyroscope_noise_density, "
                   "gyroscope_random_walk in rad units, not inflated)");

@@ -41,8 +41,8 @@ std::string csv_text(const std::vector<analysis::deviation_point>& pts, bool wit
   return s;
 }
 
-nlohmann::json json_of(const adev_options& o, double tau0_s, std::size_t samples,
-                       const std::vector<analysis::deviation_point>& pts,
+nlohmann::json json_of(const adev_options& o, const std::string& column, double tau0_s,
+                       std::size_t samples, const std::vector<analysis::deviation_point>& pts,
                        const std::vector<analysis::dropped_factor>& dropped,
                        std::optional<double> level) {
   using nlohmann::json;
@@ -62,7 +62,7 @@ nlohmann::json json_of(const adev_options& o, double tau0_s, std::size_t samples
   return json{{"kind", o.kind},
               {"input", o.in.input},
               {"file", o.in.file},
-              {"column", o.in.column},
+              {"column", column},
               {"units", unit_name(o.in)},
               {"tau0_s", tau0_s},
               {"samples", samples},
@@ -85,9 +85,9 @@ std::string unit_name(const series_input& in) {
   return in.units == "deg" ? "deg/s" : in.units == "rad" ? "rad/s" : in.units;
 }
 
-result<analysis_input> load_series(const series_input& in) {
-  if (in.input == "angle" && in.units == "deg/h")
-    return usage_error("--units deg/h is a rate unit; angle input is deg or rad");
+namespace {
+
+io::series_options series_options_of(const series_input& in) {
   io::series_options so;
   so.column = in.column;
   so.dataset = in.dataset;
@@ -104,14 +104,15 @@ result<analysis_input> load_series(const series_input& in) {
                    : in.time_unit == "ns" ? 1e-9
                                           : 1.0;
   so.gaps = in.gaps == "split" ? io::gap_policy::split : io::gap_policy::error;
-  auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column)
-                                     : io::read_series(in.file, so);
-  if (!s) return s.err();
-  for (const auto& n : s->notes()) note(fmt::format("{}: {}", in.file, n));
+  return so;
+}
+
+// The series read, checked for flip modulation and ready for analysis as `column`.
+result<analysis_input> prepare(io::series s, const series_input& in, const std::string& column) {
   // An uncompensated flip recording's rate switches with the angle: its Allan curve would show
   // the flipping (a square wave), not the sensor (issue 13 item 12).
-  if (!s->angle_deg().empty() && !in.ignore_flip) {
-    const auto flip = method::detect_flip_modulation(s->values(), s->angle_deg());
+  if (!s.angle_deg().empty() && !in.ignore_flip) {
+    const auto flip = method::detect_flip_modulation(s.values(), s.angle_deg());
     if (flip.modulated)
       return input_error(
           {in.file},
@@ -120,19 +121,97 @@ result<analysis_input> load_series(const series_input& in) {
                       "flipping, not the sensor. Compensate it first (gyroflip compensate {} "
                       "--calibration CAL.json -o OUT.csv, then analyse OUT.csv), or analyse one "
                       "position, or give --ignore-flip to analyse it as it is",
-                      printable(in.column, 60), flip.mean_0, flip.mean_180,
-                      printable(in.file, 200)));
+                      printable(column, 60), flip.mean_0, flip.mean_180, printable(in.file, 200)));
   }
   const auto kind = in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
   progress bar("reading " + in.file, 1000);
-  auto phase = analysis::phase_source::make(s->samples(), kind, s->tau0_s(), per_mille(bar));
+  auto phase = analysis::phase_source::make(s.samples(), kind, s.tau0_s(), per_mille(bar));
   bar.finish();
   // The sample rate was checked when reading, so what fails here is the data: name the file.
   if (!phase)
     return about_parameter(input_error({in.file}, phase.err().message), phase.err().parameter);
   // series keeps its samples on the heap: the source's reference survives the move.
-  return analysis_input{std::move(*s), std::move(*phase)};
+  return analysis_input{std::move(s), std::move(*phase), column};
 }
+
+result<std::vector<std::string>> column_names(const series_input& in) {
+  if (in.columns == "all-numeric") return io::numeric_columns(in.file, series_options_of(in));
+  std::vector<std::string> names;
+  for (std::size_t at = 0;;) {
+    const auto comma = in.column.find(',', at);
+    names.push_back(in.column.substr(at, comma - at));
+    if (comma == std::string::npos) break;
+    at = comma + 1;
+  }
+  return names;
+}
+
+}  // namespace
+
+result<std::vector<analysis_input>> load_series(const series_input& in) {
+  if (in.input == "angle" && in.units == "deg/h")
+    return usage_error("--units deg/h is a rate unit; angle input is deg or rad");
+  if (!in.columns.empty() && in.columns != "all-numeric")
+    return usage_error("--columns takes all-numeric (or name them: --column a,b,c)");
+  auto names = column_names(in);
+  if (!names) return names.err();
+  const auto so = series_options_of(in);
+  std::vector<io::series> read;
+  if (names->size() == 1 && in.columns.empty()) {
+    auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column)
+                                       : io::read_series(in.file, so);
+    if (!s) return s.err();
+    read.push_back(std::move(*s));
+  } else {
+    if (is_rig_recording(in.file) || in.file.ends_with(".npy") || in.file.ends_with(".h5"))
+      return usage_error("several columns: a CSV file only");
+    auto all = io::read_series_columns(in.file, so, *names);
+    if (!all) return all.err();
+    read = std::move(*all);
+  }
+  for (const auto& n : read.front().notes()) note(fmt::format("{}: {}", in.file, n));
+  std::vector<analysis_input> out;
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    auto p = prepare(std::move(read[i]), in, (*names)[i]);
+    if (!p) return p.err();
+    out.push_back(std::move(*p));
+  }
+  return out;
+}
+
+namespace {
+
+struct adev_result {
+  std::vector<analysis::deviation_point> points;
+  std::vector<analysis::dropped_factor> dropped;
+};
+
+result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
+                                 const analysis::tau_spec& taus, std::optional<double> level,
+                                 const analysis_input& in) {
+  const std::string what = in.column == o.in.column ? o.in.file : o.in.file + ":" + in.column;
+  progress bar(fmt::format("{} of {}", o.kind, what), 1000);
+  auto pts = analysis::deviation(kind, in.phase, taus, per_mille(bar));
+  bar.finish();
+  if (!pts) return pts.err();
+  if (std::all_of(pts->begin(), pts->end(), [](const auto& p) { return p.dev == 0.0; }))
+    warn(
+        fmt::format("{}: every deviation is 0: the series is constant (a stuck sensor, a wrong "
+                    "column?)",
+                    what));
+  // Factors asked for by name but without a single term: say which and why (not silently).
+  auto dropped = analysis::dropped_factors(taus, *pts, kind, in.phase.size(), in.phase.tau0_s());
+  for (const auto& d : dropped)
+    warn(fmt::format("{}: averaging factor {} dropped: {}", what, d.m, d.why));
+  if (level) {
+    progress ci_bar("noise identification", 1000);
+    analysis::add_confidence(*pts, kind, in.phase, *level, per_mille(ci_bar));
+    ci_bar.finish();
+  }
+  return adev_result{std::move(*pts), std::move(dropped)};
+}
+
+}  // namespace
 
 int run_adev(const adev_options& o) {
   const auto kind = analysis::parse_dev_kind(o.kind);
@@ -148,36 +227,42 @@ int run_adev(const adev_options& o) {
     return report(s.err());
   if (o.json)
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
-  auto in = load_series(o.in);
-  if (!in) return report(in.err());
-  progress bar(fmt::format("{} of {}", o.kind, o.in.file), 1000);
-  auto pts = analysis::deviation(*kind, in->phase, *taus, per_mille(bar));
-  bar.finish();
-  if (!pts) return report(pts.err());
-  if (std::all_of(pts->begin(), pts->end(), [](const auto& p) { return p.dev == 0.0; }))
-    warn(
-        fmt::format("{}: every deviation is 0: the series is constant (a stuck sensor, a wrong "
-                    "column?)",
-                    o.in.file));
-  // Factors asked for by name but without a single term: say which and why (not silently).
-  const auto dropped =
-      analysis::dropped_factors(*taus, *pts, *kind, in->phase.size(), in->phase.tau0_s());
-  for (const auto& d : dropped)
-    warn(fmt::format("{}: averaging factor {} dropped: {}", o.in.file, d.m, d.why));
-  if (level) {
-    progress ci_bar("noise identification", 1000);
-    analysis::add_confidence(*pts, *kind, in->phase, *level, per_mille(ci_bar));
-    ci_bar.finish();
+  auto inputs = load_series(o.in);
+  if (!inputs) return report(inputs.err());
+  // One column: the CSV and JSON of one curve; several: a `column` field in each CSV row and one
+  // JSON object per column.
+  const bool several = inputs->size() > 1;
+  std::string csv;
+  nlohmann::json per_column = nlohmann::json::array();
+  for (const auto& in : *inputs) {
+    auto r = deviation_of(o, *kind, *taus, level, in);
+    if (!r) return report(r.err());
+    const std::string text = csv_text(r->points, level.has_value());
+    if (!several) {
+      csv = text;
+    } else {
+      // Each row prefixed with its column (the header once).
+      const auto first_nl = text.find('\n');
+      if (csv.empty()) csv = "column," + text.substr(0, first_nl + 1);
+      for (std::size_t at = first_nl + 1; at < text.size();) {
+        const auto nl = text.find('\n', at);
+        csv += in.column + "," + text.substr(at, nl - at + 1);
+        at = nl + 1;
+      }
+    }
+    if (o.json)
+      per_column.push_back(json_of(o, in.column, in.phase.tau0_s(), in.series.samples().size(),
+                                   r->points, r->dropped, level));
   }
   // Everything is formatted and checked before anything is written (finite_output.hpp).
-  const std::string csv = csv_text(*pts, level.has_value());
   if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
     return report(s.err());
   std::string json_line;
   if (o.json) {
-    auto t = finite_dump(
-        json_of(o, in->phase.tau0_s(), in->series.samples().size(), *pts, dropped, level),
-        "<stdout>");
+    const nlohmann::json j =
+        several ? nlohmann::json{{"file", o.in.file}, {"columns", std::move(per_column)}}
+                : std::move(per_column[0]);
+    auto t = finite_dump(j, "<stdout>");
     if (!t) return report(t.err());
     json_line = *t + "\n";
   }

@@ -16,7 +16,8 @@ namespace gyroflip::app {
 /// Input options shared by `adev` and `noise`.
 struct series_input {
   std::string file;
-  std::string column = "rate_dps";
+  std::string column = "rate_dps";  // a name, a number from 1, or several: a,b,c
+  std::string columns;              // all-numeric: every numeric column but the time stamps
   double rate_hz = std::numeric_limits<double>::quiet_NaN();  // NaN: from time_s
   std::string input = "rate";                                 // rate | angle
   std::string dataset;                                        // HDF5 dataset path
@@ -40,10 +41,12 @@ struct series_input {
 struct analysis_input {
   io::series series;
   analysis::phase_source phase;
+  std::string column;  ///< as the user named it
 };
-/// Opens `in.file` (CSV column, .npy, raw float64 or HDF5) and prepares its phase for
-/// `in.input` (two passes over the samples for rate input, with a progress line on a terminal).
-result<analysis_input> load_series(const series_input& in);
+/// Opens `in.file` (CSV columns, .npy, raw float64 or HDF5) and prepares the phase of each column
+/// asked for (`--column a,b,c`, `--columns all-numeric`: one pass over a CSV) for `in.input`
+/// (two passes over the samples for rate input, with a progress line on a terminal).
+result<std::vector<analysis_input>> load_series(const series_input& in);
 
 struct adev_options {
   series_input in;
@@ -63,7 +66,9 @@ struct noise_options {
   series_input in;
   double ci = 0.683;  ///< two-sided confidence level of the terms' intervals
   bool json = false;
-  std::string kalibr;  ///< write Kalibr's IMU noise YAML here
+  std::string kalibr;    ///< write Kalibr's IMU noise YAML here
+  std::string fit_taus;  ///< LO:HI (s): the range the model is fitted to (empty: all)
+  std::string output;    ///< the terms as CSV, or JSON for FILE.json
 };
 int run_noise(const noise_options& o);
 

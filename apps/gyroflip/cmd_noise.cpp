@@ -3,7 +3,10 @@
 #include <array>
 #include <cmath>
 #include <iterator>
+#include <limits>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -13,7 +16,9 @@
 #include "finite_output.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/analysis/readoffs.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "progress_bar.hpp"
@@ -67,95 +72,141 @@ std::string kalibr_yaml(const std::string& file, const analysis::noise_terms& f,
 
 }  // namespace
 
-int run_noise(const noise_options& o) {
-  if (o.json)
-    if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
-  if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.kalibr}); !s)
-    return report(s.err());
-  auto in = load_series(o.in);
-  if (!in) return report(in.err());
-  progress bar("noise of " + o.in.file, 1000);
-  auto pts = analysis::deviation(analysis::dev_kind::oadev, in->phase, {}, per_mille(bar));
-  bar.finish();
-  if (!pts) return report(pts.err());
-  // The OADEV points in the output carry bounds at the same level as the terms.
-  analysis::add_confidence(*pts, analysis::dev_kind::oadev, in->phase, o.ci);
-  const double tau0_s = in->phase.tau0_s();
-  const std::size_t samples = in->series.samples().size();
-  // The rate column of `gyroflip compensate` with the abba pairing: correlated cycles.
+namespace {
+
+// One column's OADEV and fitted terms (in the samples' unit).
+struct column_noise {
+  std::string column;
+  double tau0_s = 0.0;
+  std::size_t samples = 0;
+  std::vector<analysis::deviation_point> points;
   analysis::noise_series series;
-  for (const auto& m : in->series.metadata())
+  analysis::noise_terms terms;
+  analysis::slope_readoffs readoffs;  // over every point, not only the fitted range
+};
+
+// `--fit-taus LO:HI` (s): the points the model is fitted to.
+result<std::pair<double, double>> fit_range(const std::string& text) {
+  if (text.empty()) return std::pair{0.0, std::numeric_limits<double>::infinity()};
+  const auto colon = text.find(':');
+  const auto lo = text::to_double(text.substr(0, colon));
+  const auto hi =
+      colon == std::string::npos ? std::nullopt : text::to_double(text.substr(colon + 1));
+  if (!lo || !hi || !(*lo >= 0.0 && *hi > *lo))
+    return usage_error("--fit-taus: LO:HI in seconds, 0 <= LO < HI; got " + text);
+  return std::pair{*lo, *hi};
+}
+
+result<column_noise> noise_of(const noise_options& o, const analysis_input& in) {
+  column_noise c;
+  c.column = in.column;
+  progress bar("noise of " + o.in.file, 1000);
+  auto pts = analysis::deviation(analysis::dev_kind::oadev, in.phase, {}, per_mille(bar));
+  bar.finish();
+  if (!pts) return pts.err();
+  // The OADEV points in the output carry bounds at the same level as the terms.
+  analysis::add_confidence(*pts, analysis::dev_kind::oadev, in.phase, o.ci);
+  c.tau0_s = in.phase.tau0_s();
+  c.samples = in.series.samples().size();
+  // The rate column of `gyroflip compensate` with the abba pairing: correlated cycles.
+  for (const auto& m : in.series.metadata())
     if (m.key == "pairing" && m.value == "abba" && o.in.input == "rate")
-      series.abba_cycle_s = tau0_s;
-  const auto fit = analysis::fit_noise_terms(*pts, o.ci, series);
+      c.series.abba_cycle_s = c.tau0_s;
+  auto range = fit_range(o.fit_taus);
+  if (!range) return range.err();
+  std::vector<analysis::deviation_point> fitted;
+  for (const auto& p : *pts)
+    if (p.tau_s >= range->first && p.tau_s <= range->second) fitted.push_back(p);
+  auto fit = analysis::fit_noise_terms(fitted, o.ci, c.series);
   // Too few points for the fit is a property of this input (too short a series): name it.
-  if (!fit) return report(input_error({o.in.file}, fit.err().message));
-  const auto& f = *fit;
+  if (!fit)
+    return input_error({o.in.file},
+                       fit.err().message + (o.fit_taus.empty() ? "" : " in --fit-taus"));
+  c.readoffs = analysis::read_off_terms(*pts);
+  if (fit->chi2_per_dof > 4.0)
+    warn(
+        fmt::format("{}: column {}: the noise model fits the curve poorly (chi2/dof {:.3g}): "
+                    "other noise (a sinusoid, a temperature swing) or a bad range; see the misfit "
+                    "points, or fit a range with --fit-taus LO:HI",
+                    o.in.file, printable(c.column, 60), fit->chi2_per_dof));
+  c.points = std::move(*pts);
+  c.terms = std::move(*fit);
+  return c;
+}
+
+json json_of(const noise_options& o, const column_noise& c) {
+  const auto& f = c.terms;
   // The fit ran in the samples' unit; every output is in deg (and rad) units.
   const double k = deg_per_unit(o.in);
   const double k_rad = k * units::rad_per_deg;
-  const std::string unit = unit_name(o.in);
-  if (!o.kalibr.empty()) {
-    if (!f.arw.resolved || !f.rrw.resolved)
-      warn(fmt::format("{}: {} not resolved: the Kalibr file holds its upper limit", o.kalibr,
-                       !f.arw.resolved ? "ARW" : "RRW"));
-    if (auto s =
-            io::write_file_atomically(o.kalibr, kalibr_yaml(o.in.file, f, k_rad, 1.0 / tau0_s));
-        !s)
-      return report(s.err());
-  }
-  if (o.json) {
-    json j = {{"file", o.in.file},
-              {"column", o.in.column},
-              {"input", o.in.input},
-              {"units", unit},
-              {"tau0_s", tau0_s},
-              {"samples", samples},
-              {"bias_floor_tau_s", f.bias_floor_tau_s},
-              {"bias_floor_dps", f.bias_floor_dev * k},
-              {"bias_floor_deg_h", f.bias_floor_dev * k * units::dph_per_dps},
-              {"chi2_per_dof", f.chi2_per_dof},
-              {"bias_floor_reached", f.bias_floor_reached},
-              {"abba_cycles", series.abba_cycle_s > 0.0},
-              {"ci", f.level},
-              {"notes", f.notes}};
-    put(j, "arw_dps_rthz", f.arw, k);
-    put(j, "arw_deg_rth", f.arw, k * units::deg_rth_per_deg_rts);
-    put(j, "arw_rad_s_rthz", f.arw, k_rad);
-    put(j, "bias_instability_dps", f.bias_instability, k);
-    put(j, "bias_instability_deg_h", f.bias_instability, k * units::dph_per_dps);
-    put(j, "bias_instability_rad_s", f.bias_instability, k_rad);
-    put(j, "rrw_deg_h_rth", f.rrw, k * units::dph_rth_per_dps_rts);
-    put(j, "rrw_rad_s2_rthz", f.rrw, k_rad);
-    put(j, "quantization_deg", f.quantization, k);
-    put(j, "quantization_rad", f.quantization, k_rad);
-    put(j, "rate_ramp_deg_h2", f.rate_ramp, k * units::dph2_per_dps2);
-    // The OADEV points stay in the samples' unit (`units`), as `adev` writes them.
-    json points = json::array();
-    for (const auto& p : *pts)
-      points.push_back({{"tau_s", p.tau_s},
-                        {"dev", p.dev},
-                        {"ci_lo", p.ci_lo},
-                        {"ci_hi", p.ci_hi},
-                        {"edf", p.edf}});
-    j["oadev"] = std::move(points);
-    json misfit = json::array();
-    for (const auto& m : f.misfit)
-      misfit.push_back({{"tau_s", m.tau_s},
-                        {"dev", m.dev},
-                        {"model_dev", m.model_dev},
-                        {"ci_lo", m.ci_lo},
-                        {"ci_hi", m.ci_hi}});
-    j["misfit"] = std::move(misfit);
-    if (auto s = print_json(j); !s) return report(s.err());
-    return 0;
-  }
-  std::string text;
+  json j = {{"file", o.in.file},
+            {"column", c.column},
+            {"input", o.in.input},
+            {"units", unit_name(o.in)},
+            {"tau0_s", c.tau0_s},
+            {"samples", c.samples},
+            {"bias_floor_tau_s", f.bias_floor_tau_s},
+            {"bias_floor_dps", f.bias_floor_dev * k},
+            {"bias_floor_deg_h", f.bias_floor_dev * k * units::dph_per_dps},
+            {"chi2_per_dof", f.chi2_per_dof},
+            {"bias_floor_reached", f.bias_floor_reached},
+            {"abba_cycles", c.series.abba_cycle_s > 0.0},
+            {"ci", f.level},
+            {"notes", f.notes}};
+  put(j, "arw_dps_rthz", f.arw, k);
+  put(j, "arw_deg_rth", f.arw, k * units::deg_rth_per_deg_rts);
+  put(j, "arw_rad_s_rthz", f.arw, k_rad);
+  put(j, "bias_instability_dps", f.bias_instability, k);
+  put(j, "bias_instability_deg_h", f.bias_instability, k * units::dph_per_dps);
+  put(j, "bias_instability_rad_s", f.bias_instability, k_rad);
+  put(j, "rrw_deg_h_rth", f.rrw, k * units::dph_rth_per_dps_rts);
+  put(j, "rrw_rad_s2_rthz", f.rrw, k_rad);
+  put(j, "quantization_deg", f.quantization, k);
+  put(j, "quantization_rad", f.quantization, k_rad);
+  put(j, "rate_ramp_deg_h2", f.rate_ramp, k * units::dph2_per_dps2);
+  // The OADEV points stay in the samples' unit (`units`), as `adev` writes them.
+  json points = json::array();
+  for (const auto& p : c.points)
+    points.push_back({{"tau_s", p.tau_s},
+                      {"dev", p.dev},
+                      {"ci_lo", p.ci_lo},
+                      {"ci_hi", p.ci_hi},
+                      {"edf", p.edf}});
+  j["oadev"] = std::move(points);
+  json misfit = json::array();
+  for (const auto& m : f.misfit)
+    misfit.push_back({{"tau_s", m.tau_s},
+                      {"dev", m.dev},
+                      {"model_dev", m.model_dev},
+                      {"ci_lo", m.ci_lo},
+                      {"ci_hi", m.ci_hi}});
+  j["misfit"] = std::move(misfit);
+  const auto& r = c.readoffs;
+  const auto opt = [](const std::optional<double>& v, double to) {
+    return v ? json(*v * to) : json(nullptr);
+  };
+  j["readoffs"] = {{"arw_dps_rthz", opt(r.arw, k)},
+                   {"arw_deg_rth", opt(r.arw, k * units::deg_rth_per_deg_rts)},
+                   {"arw_tau_s", r.arw ? json(r.arw_from_tau_s) : json(nullptr)},
+                   {"rrw_deg_h_rth", opt(r.rrw, k * units::dph_rth_per_dps_rts)},
+                   {"rrw_rad_s2_rthz", opt(r.rrw, k_rad)},
+                   {"rrw_tau_s", r.rrw ? json(r.rrw_from_tau_s) : json(nullptr)},
+                   {"bias_instability_deg_h", r.bias_instability * k * units::dph_per_dps},
+                   {"floor_tau_s", r.floor_tau_s},
+                   {"floor_deg_h", r.floor_dev * k * units::dph_per_dps},
+                   {"floor_is_minimum", r.floor_is_minimum}};
+  return j;
+}
+
+void append_text(std::string& text, const noise_options& o, const column_noise& c) {
+  const auto& f = c.terms;
+  const double k = deg_per_unit(o.in);
+  const double k_rad = k * units::rad_per_deg;
   const auto out = std::back_inserter(text);
   fmt::format_to(out,
                  "{}: column {}, {} samples at {:g} Hz in {}, IEEE 952 terms from OADEV ({:g} % "
                  "intervals)\n",
-                 o.in.file, printable(o.in.column, 60), samples, 1.0 / tau0_s, unit,
+                 o.in.file, printable(c.column, 60), c.samples, 1.0 / c.tau0_s, unit_name(o.in),
                  100.0 * f.level);
   fmt::format_to(
       out, "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz) = {} rad/s/sqrt(Hz)\n",
@@ -170,10 +221,123 @@ int run_noise(const noise_options& o) {
   fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, k));
   fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n",
                  show(f.rate_ramp, k * units::dph2_per_dps2));
-  fmt::format_to(out, "  fit chi2/dof {:.3g}\n", f.chi2_per_dof);
+  fmt::format_to(out, "  fit chi2/dof {:.3g}{}\n", f.chi2_per_dof,
+                 o.fit_taus.empty() ? "" : " over tau " + o.fit_taus + " s");
+  const auto& r = c.readoffs;
+  const auto line = [](const std::optional<double>& v, double to, double tau, const char* slope) {
+    return v ? fmt::format("{:.4g} (slope {} at tau {:.3g} s)", *v * to, slope, tau)
+             : fmt::format("- (no slope {} on the curve)", slope);
+  };
+  fmt::format_to(out,
+                 "  read off the curve: N {} deg/sqrt(h), K {} deg/h/sqrt(h), B = floor/0.664 "
+                 "{:.4g} deg/h (floor {:.4g} deg/h at tau {:.3g} s, {})\n",
+                 line(r.arw, k * units::deg_rth_per_deg_rts, r.arw_from_tau_s, "-1/2"),
+                 line(r.rrw, k * units::dph_rth_per_dps_rts, r.rrw_from_tau_s, "+1/2"),
+                 r.bias_instability * k * units::dph_per_dps, r.floor_dev * k * units::dph_per_dps,
+                 r.floor_tau_s, r.floor_is_minimum ? "a minimum" : "the curve still falls there");
   for (const auto& n : f.notes)
     if (n.find("not resolved by the data") == std::string::npos)
       fmt::format_to(out, "  note: {}\n", n);
+}
+
+// `noise -o FILE.csv`: one row per column and term, in the field's units, with the interval (or
+// the upper limit of an unresolved term) and the read-off beside the fit.
+std::string terms_csv(const noise_options& o, const std::vector<column_noise>& all) {
+  std::string t = "column,term,unit,value,lo,hi,resolved,read_off\n";
+  const double k = deg_per_unit(o.in);
+  for (const auto& c : all) {
+    const auto& f = c.terms;
+    const auto& r = c.readoffs;
+    const auto row = [&](const char* term, const char* unit, const analysis::noise_term& x,
+                         double to, std::optional<double> read_off) {
+      const std::string ro = read_off ? fmt::format("{}", *read_off * to) : "";
+      if (x.resolved)
+        t += fmt::format("{},{},{},{},{},{},1,{}\n", c.column, term, unit, x.value * to, x.lo * to,
+                         x.hi * to, ro);
+      else
+        t += fmt::format("{},{},{},,,{},0,{}\n", c.column, term, unit, x.hi * to, ro);
+    };
+    row("arw", "deg/sqrt(h)", f.arw, k * units::deg_rth_per_deg_rts, r.arw);
+    row("bias_instability", "deg/h", f.bias_instability, k * units::dph_per_dps,
+        r.bias_instability);
+    row("rrw", "deg/h/sqrt(h)", f.rrw, k * units::dph_rth_per_dps_rts, r.rrw);
+    row("quantization", "deg", f.quantization, k, std::nullopt);
+    row("rate_ramp", "deg/h^2", f.rate_ramp, k * units::dph2_per_dps2, std::nullopt);
+  }
+  return t;
+}
+
+// Kalibr takes one value for all axes: the largest of the columns (the conservative choice).
+status write_kalibr(const noise_options& o, const std::vector<column_noise>& all) {
+  const column_noise* worst_n = &all.front();
+  const column_noise* worst_k = &all.front();
+  const auto value = [](const analysis::noise_term& t) { return t.resolved ? t.value : t.hi; };
+  for (const auto& c : all) {
+    if (value(c.terms.arw) > value(worst_n->terms.arw)) worst_n = &c;
+    if (value(c.terms.rrw) > value(worst_k->terms.rrw)) worst_k = &c;
+  }
+  analysis::noise_terms f;
+  f.arw = worst_n->terms.arw;
+  f.rrw = worst_k->terms.rrw;
+  if (!f.arw.resolved || !f.rrw.resolved)
+    warn(fmt::format("{}: {} not resolved: the Kalibr file holds its upper limit", o.kalibr,
+                     !f.arw.resolved ? "ARW" : "RRW"));
+  std::string source = o.in.file;
+  if (all.size() > 1)
+    source += fmt::format(
+        " (largest of columns {}: N from {}, K from {})",
+        [&] {
+          std::string names;
+          for (const auto& c : all) names += (names.empty() ? "" : ",") + c.column;
+          return names;
+        }(),
+        worst_n->column, worst_k->column);
+  return io::write_file_atomically(
+      o.kalibr,
+      kalibr_yaml(source, f, deg_per_unit(o.in) * units::rad_per_deg, 1.0 / all.front().tau0_s));
+}
+
+}  // namespace
+
+int run_noise(const noise_options& o) {
+  if (o.json)
+    if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
+  if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.kalibr, o.output}); !s)
+    return report(s.err());
+  auto inputs = load_series(o.in);
+  if (!inputs) return report(inputs.err());
+  std::vector<column_noise> all;
+  for (const auto& in : *inputs) {
+    auto c = noise_of(o, in);
+    if (!c) return report(c.err());
+    all.push_back(std::move(*c));
+  }
+  json j;
+  if (all.size() == 1) {
+    j = json_of(o, all.front());
+  } else {
+    j = {{"file", o.in.file}, {"columns", json::array()}};
+    for (const auto& c : all) j["columns"].push_back(json_of(o, c));
+  }
+  // Every output is formatted and checked before the first is written.
+  std::string file_text;
+  if (!o.output.empty()) {
+    auto t = o.output.ends_with(".json") ? finite_dump(j, o.output)
+                                         : result<std::string>(terms_csv(o, all));
+    if (!t) return report(t.err());
+    if (auto s = check_finite(*t, o.output); !s) return report(s.err());
+    file_text = o.output.ends_with(".json") ? *t + "\n" : *t;
+  }
+  if (!o.kalibr.empty())
+    if (auto s = write_kalibr(o, all); !s) return report(s.err());
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, file_text); !s) return report(s.err());
+  if (o.json) {
+    if (auto s = print_json(j); !s) return report(s.err());
+    return 0;
+  }
+  std::string text;
+  for (const auto& c : all) append_text(text, o, c);
   if (auto s = print_checked(text, "<stdout>"); !s) return report(s.err());
   return 0;
 }

@@ -276,11 +276,12 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
     if (d[k] > 1.5 * period) gaps.push_back(k);
   }
   const auto describe = [&](std::size_t k) {
+    // In floating point: a wild stamp makes the ratio too large for any integer type.
+    const double missing = std::round(d[k] / period) - 1.0;
     return fmt::format(
-        "after sample {} (time {:.6g} s) the next comes {:.6g} s later, about {} "
-        "sample{} missing",
-        k + 1, t[k], d[k], std::llround(d[k] / period) - 1,
-        std::llround(d[k] / period) == 2 ? "" : "s");
+        "after sample {} (time {:.6g} s) the next comes {:.6g} s later, about "
+        "{:.6g} sample{} missing",
+        k + 1, t[k], d[k], missing, missing == 1.0 ? "" : "s");
   };
   stamp_run run{0, n, 0.0, {}};
   if (!gaps.empty() && opt.gaps == gap_policy::error) {
@@ -347,29 +348,37 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
 
 // A CSV column, with its time column (or the given rate) and a recording's angle_deg.
 struct csv_series {
-  std::vector<double> values, angle_deg;
+  std::vector<std::vector<double>> values;  // per column asked for
+  std::vector<double> angle_deg;
   double tau0_s = 0.0;
   std::vector<csv_metadata> metadata;
   std::vector<std::string> notes;
 };
 
-result<csv_series> read_csv_series(const std::string& path, const series_options& opt) {
+// The time column asked for, or time_s when the file has one.
+result<std::optional<std::size_t>> time_column_of(const csv_reader& r, const series_options& opt) {
+  if (opt.time_column.empty()) return r.find_column("time_s");
+  auto t = r.require_column(opt.time_column);
+  if (!t) return t.err();
+  return std::optional<std::size_t>(*t);
+}
+
+// CSV columns (one pass over the file), with the time column (or the given rate) and a
+// recording's angle_deg. Selected cells: 0 time, 1 angle, 2... the columns.
+result<csv_series> read_csv_series(const std::string& path, const series_options& opt,
+                                   const std::vector<std::string>& columns) {
   csv_series s;
   auto r = csv_reader::open(path, opt.dialect);
   if (!r) return r.err();
-  auto col = r->require_column(opt.column);
-  if (!col) return col.err();
-  std::optional<std::size_t> time;
-  if (!opt.time_column.empty()) {
-    auto t = r->require_column(opt.time_column);
-    if (!t) return t.err();
-    time = *t;
-  } else {
-    auto t = r->find_column("time_s");
-    if (!t) return t.err();
-    time = *t;
+  std::vector<std::size_t> cols;
+  for (const auto& name : columns) {
+    auto c = r->require_column(name);
+    if (!c) return c.err();
+    cols.push_back(*c);
   }
-  if (!time && !opt.sample_rate_hz)
+  auto time = time_column_of(*r, opt);
+  if (!time) return time.err();
+  if (!*time && !opt.sample_rate_hz)
     return about_parameter(
         input_error({path}, "no time column (time_s, or name one): the sample rate must be given"),
         "sample_rate_hz");
@@ -377,26 +386,31 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
   // an uncompensated flip recording (method/flip_detect.hpp).
   auto angle = r->find_column("angle_deg");
   if (!angle) return angle.err();
-  const bool with_angle = angle->has_value() && **angle != *col;
-  r->select({*col, time ? *time : csv_reader::absent_column,
-             with_angle ? **angle : csv_reader::absent_column});
+  const bool with_angle =
+      angle->has_value() && std::find(cols.begin(), cols.end(), **angle) == cols.end();
+  std::vector<std::size_t> selected{*time ? **time : csv_reader::absent_column,
+                                    with_angle ? **angle : csv_reader::absent_column};
+  selected.insert(selected.end(), cols.begin(), cols.end());
+  r->select(selected);
   const char decimal = r->dialect().decimal;
   std::vector<double> t;
-  std::vector<double> values;
+  s.values.resize(cols.size());
   std::int64_t whole0 = 0;
   double frac0 = 0.0;
   while (true) {
     const auto st = r->next();
     if (st == csv_reader::step::end) break;
     if (st == csv_reader::step::failed) return r->last_error();
-    double v = 0.0;
-    if (!r->parse(0, v)) return r->last_error();
-    values.push_back(v);
-    if (time) {
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      double v = 0.0;
+      if (!r->parse(2 + c, v)) return r->last_error();
+      s.values[c].push_back(v);
+    }
+    if (*time) {
       std::int64_t whole = 0;
       double frac = 0.0;
-      if (!split_stamp(r->cell(1), decimal, whole, frac)) {
-        if (!r->parse(1, frac)) return r->last_error();
+      if (!split_stamp(r->cell(0), decimal, whole, frac)) {
+        if (!r->parse(0, frac)) return r->last_error();
         whole = 0;
       }
       if (t.empty()) {
@@ -404,42 +418,43 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
         frac0 = frac;
       }
       // Rebased before scaling: the difference of two epoch stamps is exact in int64.
-      const double ts = (static_cast<double>(whole - whole0) + (frac - frac0)) * opt.time_unit_s;
+      std::int64_t since = 0;
+      if (__builtin_sub_overflow(whole, whole0, &since))
+        return r->error_at(0, fmt::format("time stamp {} is too far from the first one",
+                                          printable(r->cell(0), 40)));
+      const double ts = (static_cast<double>(since) + (frac - frac0)) * opt.time_unit_s;
       if (!t.empty() && !(ts > t.back()))
-        return r->error_at(1, fmt::format("time stamp {} does not increase", r->cell(1)));
+        return r->error_at(0, fmt::format("time stamp {} does not increase", r->cell(0)));
       t.push_back(ts);
     }
     if (with_angle) {
       double a = std::numeric_limits<double>::quiet_NaN();  // empty: the table is turning
-      if (!r->cell(2).empty() && !r->parse(2, a)) return r->last_error();
+      if (!r->cell(1).empty() && !r->parse(1, a)) return r->last_error();
       s.angle_deg.push_back(a);
     }
   }
   s.metadata = r->metadata();  // after the rows: metadata may follow the header
-  if (values.size() < min_samples)
-    return input_error(
-        {path}, fmt::format("{} sample{}: too few for an analysis (at least {})", values.size(),
-                            values.size() == 1 ? "" : "s", min_samples));
-  if (!time) {
+  const std::size_t n = s.values.front().size();
+  if (n < min_samples)
+    return input_error({path}, fmt::format("{} sample{}: too few for an analysis (at least {})", n,
+                                           n == 1 ? "" : "s", min_samples));
+  if (!*time) {
     if (auto c = check_rate(path, opt.sample_rate_hz); !c) return c.err();
-    s.values = std::move(values);
     s.tau0_s = 1.0 / *opt.sample_rate_hz;
     return s;
   }
   const auto row_error = [&](std::size_t k, std::string_view what) {
-    return at_row(path, opt.dialect, *time, k, what);
+    return at_row(path, opt.dialect, **time, k, what);
   };
   auto run = check_stamps(path, std::span<const double>(t), opt, row_error);
   if (!run) return run.err();
-  if (run->begin != 0 || run->end != values.size()) {
-    values = std::vector<double>(values.begin() + static_cast<std::ptrdiff_t>(run->begin),
-                                 values.begin() + static_cast<std::ptrdiff_t>(run->end));
-    if (with_angle)
-      s.angle_deg =
-          std::vector<double>(s.angle_deg.begin() + static_cast<std::ptrdiff_t>(run->begin),
-                              s.angle_deg.begin() + static_cast<std::ptrdiff_t>(run->end));
-  }
-  s.values = std::move(values);
+  const auto cut = [&](std::vector<double>& v) {
+    if (run->begin != 0 || run->end != v.size())
+      v = std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(run->begin),
+                              v.begin() + static_cast<std::ptrdiff_t>(run->end));
+  };
+  for (auto& v : s.values) cut(v);
+  if (with_angle) cut(s.angle_deg);
   s.tau0_s = run->tau0_s;
   s.notes = std::move(run->notes);
   return s;
@@ -516,14 +531,52 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
     return s;
   }
-  auto c = read_csv_series(path, opt);
+  auto all = read_series_columns(path, opt, {opt.column});
+  if (!all) return all.err();
+  return std::move(all->front());
+}
+
+result<std::vector<series>> read_series_columns(const std::string& path, const series_options& opt,
+                                                const std::vector<std::string>& columns) {
+  if (columns.empty()) return parameter_error("columns", "no column to read");
+  auto c = read_csv_series(path, opt, columns);
   if (!c) return c.err();
-  s.hold(std::move(c->values));
-  s.tau0_s_ = c->tau0_s;
-  s.angle_deg_ = std::move(c->angle_deg);
-  s.metadata_ = std::move(c->metadata);
-  s.notes_ = std::move(c->notes);
-  return s;
+  std::vector<series> out;
+  for (auto& v : c->values) {
+    series s;
+    s.source_ = path;
+    s.hold(std::move(v));
+    s.tau0_s_ = c->tau0_s;
+    s.angle_deg_ = c->angle_deg;
+    s.metadata_ = c->metadata;
+    s.notes_ = c->notes;
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+result<std::vector<std::string>> numeric_columns(const std::string& path,
+                                                 const series_options& opt) {
+  auto r = csv_reader::open(path, opt.dialect);
+  if (!r) return r.err();
+  auto time = time_column_of(*r, opt);
+  if (!time) return time.err();
+  std::vector<std::size_t> all(r->header().size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  r->select(all);
+  const auto st = r->next();
+  if (st == csv_reader::step::failed) return r->last_error();
+  if (st == csv_reader::step::end) return input_error({path}, "no data rows after the header");
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    double v = 0.0;
+    if (*time && **time == i) continue;
+    if (r->header()[i] == "angle_deg") continue;  // a flip recording's table angle
+    if (r->parse(i, v)) names.push_back(r->header()[i]);
+  }
+  if (names.empty())
+    return input_error({path}, "no numeric column besides the time stamps in the first data row");
+  return names;
 }
 
 result<series> series_of_samples(std::string source, std::vector<double> values,

@@ -10,6 +10,7 @@
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/analysis/readoffs.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/sensor/error_terms.hpp"
 #include "gyroflip/sensor/random.hpp"
@@ -180,6 +181,37 @@ TEST(NoiseFit, Adis16405FromSharedIfPresent) {
       EXPECT_FALSE(f.rrw.resolved);  // rate random walk is not resolved on X
     }
   }
+}
+
+// Read-offs on an exact IEEE 952 curve sigma^2 = N^2/tau + (0.6643 B)^2 + K^2 tau/3 (no flicker
+// shape, so B's plateau is the floor only approximately): N from the -1/2 part at tau 1 s, K from
+// the +1/2 part at tau 3 s, both within the curvature the other terms add there.
+TEST(ReadOffs, AnExactCurveGivesItsTermsBack) {
+  const double n = 0.01, b = 1e-3, k = 1e-5;
+  std::vector<deviation_point> pts;
+  for (double tau = 0.01; tau < 1e7; tau *= 2) {
+    deviation_point p;
+    p.tau_s = tau;
+    p.dev = std::sqrt(n * n / tau + std::pow(0.6643 * b, 2) + k * k * tau / 3.0);
+    pts.push_back(p);
+  }
+  const slope_readoffs r = read_off_terms(pts);
+  ASSERT_TRUE(r.arw);
+  ASSERT_TRUE(r.rrw);
+  EXPECT_NEAR(*r.arw / n, 1.0, 0.02);
+  EXPECT_LT(r.arw_from_tau_s, 1.0);  // where the white part dominates
+  EXPECT_NEAR(*r.rrw / k, 1.0, 0.02);
+  EXPECT_GT(r.rrw_from_tau_s, 1e5);
+  EXPECT_TRUE(r.floor_is_minimum);
+  // The floor of the sum lies a little above 0.6643 B (the other terms add there).
+  EXPECT_GT(r.bias_instability, b);
+  EXPECT_LT(r.bias_instability, 1.5 * b);
+  // A curve that still falls: no +1/2 slope, the floor is its last point, not a minimum.
+  pts.resize(12);
+  const slope_readoffs f = read_off_terms(pts);
+  EXPECT_FALSE(f.rrw);
+  EXPECT_FALSE(f.floor_is_minimum);
+  EXPECT_EQ(f.floor_tau_s, pts.back().tau_s);
 }
 
 }  // namespace

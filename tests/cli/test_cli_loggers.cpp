@@ -214,6 +214,60 @@ TEST(CliLoggers, JitterIsAcceptedAndReportedAndARateThatDisagreesIsAnError) {
   EXPECT_NE(bad.err.find("(option --rate)"), std::string::npos) << bad.err;
 }
 
+// Every axis at once, as MATLAB's allanvar takes an N x M matrix: one pass over the file, each
+// column's result equal to its own run, named in CSV (a column field), JSON and text.
+TEST(CliLoggers, SeveralColumnsInOneRunGiveEachColumnsOwnResult) {
+  temp_dir dir;
+  write_text(dir.file("imu.csv"), plain_csv(three_axes(5000), 1.0));
+  const json all = run_json({"adev", dir.file("imu.csv"), "--columns", "all-numeric", "--json"});
+  const json named = run_json({"adev", dir.file("imu.csv"), "--column", "gx,gy,gz", "--json"});
+  ASSERT_EQ(all["columns"].size(), 3u);
+  EXPECT_EQ(all, named);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string axis = std::string("g") + "xyz"[i];
+    const json one = run_json({"adev", dir.file("imu.csv"), "--column", axis, "--json"});
+    EXPECT_EQ(all["columns"][i]["column"], axis);
+    EXPECT_EQ(devs(all["columns"][i]), devs(one)) << axis;
+  }
+  const auto csv = run_cli({"adev", dir.file("imu.csv"), "--column", "gx,gz"});
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_EQ(csv.out.rfind("column,tau_s,dev,ci_lo,ci_hi,edf,n,alpha\ngx,", 0), 0u) << csv.out;
+  EXPECT_NE(csv.out.find("\ngz,"), std::string::npos);
+  const json noise = run_json({"noise", dir.file("imu.csv"), "--columns", "all-numeric", "--json"});
+  ASSERT_EQ(noise["columns"].size(), 3u);
+  EXPECT_EQ(noise["columns"][2]["column"], "gz");
+  const auto text = run_cli({"noise", dir.file("imu.csv"), "--column", "gx,gy"});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("column gx,"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("column gy,"), std::string::npos) << text.out;
+  // A column that is not there names itself.
+  const auto bad = run_cli({"adev", dir.file("imu.csv"), "--column", "gx,wy"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("missing required column 'wy'"), std::string::npos) << bad.err;
+}
+
+// The fit's range, the read-offs beside the fit, and the terms written to a file.
+TEST(CliLoggers, NoiseFitRangeReadOffsAndTermsFile) {
+  temp_dir dir;
+  write_text(dir.file("imu.csv"), plain_csv(three_axes(60000), 1.0));
+  const json all = run_json(
+      {"noise", dir.file("imu.csv"), "--column", "gx", "--json", "-o", dir.file("terms.csv")});
+  const json part = run_json({"noise", dir.file("imu.csv"), "--column", "gx", "--json",
+                              "--fit-taus", "0.01:10", "-o", dir.file("terms.json")});
+  EXPECT_LT(part["oadev"].size(), all["oadev"].size() + 1);  // the points shown stay all
+  EXPECT_NE(part["arw_dps_rthz"], all["arw_dps_rthz"]);      // the fit saw fewer of them
+  // N read at tau 1 s off the -1/2 slope: the truth 0.01 deg/s/sqrt(Hz) within 10 %.
+  ASSERT_TRUE(all["readoffs"]["arw_dps_rthz"].is_number()) << all["readoffs"].dump();
+  EXPECT_NEAR(all["readoffs"]["arw_dps_rthz"].get<double>(), 0.01, 0.001);
+  EXPECT_EQ(json::parse(read_text(dir.file("terms.json"))), part);
+  const std::string csv = read_text(dir.file("terms.csv"));
+  EXPECT_EQ(csv.rfind("column,term,unit,value,lo,hi,resolved,read_off\ngx,arw,deg/sqrt(h),", 0), 0u)
+      << csv;
+  const auto bad = run_cli({"noise", dir.file("imu.csv"), "--column", "gx", "--fit-taus", "5"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--fit-taus: LO:HI"), std::string::npos) << bad.err;
+}
+
 // Kalibr's file parsed by a YAML reader (PyYAML) holds the measured N and K in rad units.
 TEST(CliLoggers, TheKalibrFileParsesAndHoldsTheMeasuredTerms) {
   if (std::system("python3 -c 'import yaml' 2>/dev/null") != 0)

@@ -71,6 +71,9 @@ class series {
 
  private:
   friend result<series> read_series(const std::string& path, const series_options& opt);
+  friend result<std::vector<series>> read_series_columns(const std::string& path,
+                                                         const series_options& opt,
+                                                         const std::vector<std::string>& columns);
   friend result<series> series_of_samples(std::string source, std::vector<double> values,
                                           std::span<const double> time_s,
                                           std::vector<double> angle_deg,
@@ -96,6 +99,16 @@ class series {
 /// longest gap-free run); a shorter one, or stamps that drift off a uniform grid by half a
 /// period, is an error. Errors name the file (and line/column for CSV).
 [[nodiscard]] result<series> read_series(const std::string& path, const series_options& opt);
+
+/// Several CSV columns read in one pass over the file (an N x M logger file): one series each,
+/// sharing the time stamps, their checks and notes. Columns by name or number from 1.
+[[nodiscard]] result<std::vector<series>> read_series_columns(
+    const std::string& path, const series_options& opt, const std::vector<std::string>& columns);
+
+/// The names of a CSV's numeric columns: those whose first data row holds a number, without the
+/// time column and a flip recording's angle_deg.
+[[nodiscard]] result<std::vector<std::string>> numeric_columns(const std::string& path,
+                                                               const series_options& opt);
 
 /// A series from samples already in memory (a rig recording read back): `time_s` per sample must
 /// lie on a uniform grid (each within half a step), which gives the interval; `angle_deg` per
