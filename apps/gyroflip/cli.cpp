@@ -198,6 +198,24 @@ void setup_sensors(CLI::App& app, action& chosen) {
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
+// The recording rules `calibrate --help` and `compensate --help` state (docs/FORMATS.md).
+constexpr const char* recording_rules =
+    "Recording rules (CSV, docs/FORMATS.md): columns time_s, angle_deg, rate_dps (deg/s), "
+    "optional temp_c and n_avg; one row per sample or per averaged dwell. A dwell is a run of "
+    "rows with equal angle_deg; angle_deg is 0 or 180 only (an encoder angle within "
+    "--angle-tolerance DEG of them counts as them) and empty while the table turns; rows of the "
+    "settling time after a turn are left out by the recorder (or give them an empty angle). "
+    "Cycles need dwells at both 0 and 180. dN is half the difference of the rate at 0 deg and at "
+    "180 deg, Earth rate plus g-sensitivity term: dN = (r_0 - r_180) / 2 (paper eqns 8-11).";
+
+void add_angle_tolerance(CLI::App* sub, double& tol) {
+  sub->add_option("--angle-tolerance", tol,
+                  "an encoder angle within DEG of 0 or 180 reads as that position (0 to 10)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  sub->footer(recording_rules);
+}
+
 void setup_calibrate(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand("calibrate", "dN from stationary recordings (paper eqns 8-11)");
   auto o = bind<calibrate_options>(sub, chosen, run_calibrate);
@@ -213,6 +231,7 @@ void setup_calibrate(CLI::App& app, action& chosen) {
           ->capture_default_str();
   sub->add_option("-o,--output", o->output, "write the calibration JSON to this file");
   sub->add_flag("--json", o->json, "print the calibration as one JSON object");
+  add_angle_tolerance(sub, o->angle_tolerance_deg);
   sub->parse_complete_callback([o, degree] { o->degree_given = degree->count() > 0; });
 }
 
@@ -233,6 +252,7 @@ void setup_compensate(CLI::App& app, action& chosen) {
   sub->add_option("--drift-window", o->drift_window_s, "moving-mean window for drift_dps (s)")
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print a JSON summary");
+  add_angle_tolerance(sub, o->angle_tolerance_deg);
   sub->parse_complete_callback([dn, cal] {
     if (dn->count() + cal->count() != 1) throw CLI::RequiredError("--delta-n or --calibration");
   });

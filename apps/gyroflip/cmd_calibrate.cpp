@@ -138,7 +138,7 @@ int run_calibrate(const calibrate_options& o) {
   std::vector<method::cycle> all;
   for (const auto& file : o.files) {
     progress bar("reading " + file, 1000);
-    auto rc = read_recording_cycles(file, *pairing, per_mille(bar));
+    auto rc = read_recording_cycles(file, *pairing, per_mille(bar), o.angle_tolerance_deg);
     bar.finish();
     if (!rc) return report(rc.err());
     for (const auto& w : rc->warnings) warn(w);

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gyroflip/method/delta_n_model.hpp"
+
 #include "commands.hpp"
 #include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
@@ -122,10 +124,21 @@ status write_csv(const std::string& path, const std::vector<method::compensated_
   return f->commit();
 }
 
+// The summary's layout: bumped when a key changes meaning or goes (new keys do not bump it).
+constexpr int summary_schema_version = 1;
+
 nlohmann::json summary_json(const method::compensation_summary& s, const compensate_options& o,
-                            method::pairing p) {
+                            method::pairing p, const method::delta_n_model& model) {
   using nlohmann::json;
-  return json{{"file", o.file},
+  // The dN that was subtracted: a constant, or the dN(T) polynomial about t_ref_c.
+  json dn = {{"source", o.calibration.empty() ? std::string("--delta-n") : o.calibration},
+             {"degree", model.degree()},
+             {"coeffs_dps", model.coeffs_dps},
+             {"t_ref_c", model.degree() > 0 ? json(model.t_ref_c) : json(nullptr)}};
+  if (model.degree() == 0) dn["delta_n_dps"] = model.coeffs_dps.front();
+  return json{{"schema_version", summary_schema_version},
+              {"file", o.file},
+              {"delta_n", std::move(dn)},
               {"pairing", method::to_string(p)},
               {"cycles", s.cycles},
               {"duration_s", s.duration_s},
@@ -156,7 +169,7 @@ int run_compensate(const compensate_options& o) {
   if (!(o.drift_window_s > 0.0)) return report(usage_error("--drift-window must be > 0 s"));
 
   progress bar("reading " + o.file, 1000);
-  auto rc = read_recording_cycles(o.file, p, per_mille(bar));
+  auto rc = read_recording_cycles(o.file, p, per_mille(bar), o.angle_tolerance_deg);
   bar.finish();
   if (!rc) return report(rc.err());
   for (const auto& w : rc->warnings) warn(w);
@@ -191,7 +204,7 @@ int run_compensate(const compensate_options& o) {
   const auto summary = method::summarize(out, o.drift_window_s);
   std::string summary_text;
   if (o.json) {
-    auto t = finite_dump(summary_json(summary, o, p), "<stdout>");
+    auto t = finite_dump(summary_json(summary, o, p, model), "<stdout>");
     if (!t) return report(t.err());
     summary_text = *t + "\n";
   } else if (!o.output.empty()) {

@@ -2,6 +2,7 @@
 /// \brief `gyroflip simulate`: a recording (docs/FORMATS.md) from the simulator, with its truth.
 #include "cmd_simulate.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
@@ -16,6 +17,7 @@
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/csv.hpp"
+#include "gyroflip/io/recording.hpp"
 #include "gyroflip/io/recording_writer.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
@@ -25,10 +27,25 @@
 namespace gyroflip::app {
 namespace {
 
+// The positions `calibrate` reads (io::recording_reader): A within its largest angle tolerance of
+// 0 (mod 360), B of 180. Others would make a recording no calibration accepts.
 result<std::pair<double, double>> parse_positions(std::string_view text) {
   const auto v = text::to_doubles(text, ',');
-  if (v && v->size() == 2) return std::pair{(*v)[0], (*v)[1]};
-  return usage_error(fmt::format("--positions '{}': expected A,B in degrees", printable(text, 60)));
+  if (!v || v->size() != 2)
+    return usage_error(
+        fmt::format("--positions '{}': expected A,B in degrees", printable(text, 60)));
+  const auto off = [](double a, double target) {
+    const double turned = std::fmod(std::fmod(a - target, 360.0) + 360.0, 360.0);
+    return std::min(turned, 360.0 - turned);
+  };
+  const double tol = io::recording_reader::max_angle_tolerance_deg;
+  if (!(std::abs((*v)[0]) <= 1e4 && std::abs((*v)[1]) <= 1e4) || !(off((*v)[0], 0.0) <= tol) ||
+      !(off((*v)[1], 180.0) <= tol))
+    return usage_error(fmt::format(
+        "--positions '{}': A must lie within {:g} deg of 0 and B within {:g} deg of 180 (the "
+        "positions calibrate reads, with --angle-tolerance for any offset)",
+        printable(text, 60), tol, tol));
+  return std::pair{(*v)[0], (*v)[1]};
 }
 
 // The `# key: value` metadata shared by the recording and the truth file: every input, so that

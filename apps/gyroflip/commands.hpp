@@ -38,6 +38,7 @@ struct calibrate_options {
   double lat_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
   std::string axis;                                           // empty: not given
   std::string pairing = "abba";
+  double angle_tolerance_deg = 0.0;  // an encoder angle this close to 0/180 reads as it
   std::size_t degree = 1;
   bool degree_given = false;
   std::string output;  // -o CAL.json
@@ -50,7 +51,8 @@ struct compensate_options {
   double delta_n_dps = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
   std::string calibration;
   std::string pairing;  // empty: from the calibration file, else abba
-  std::string output;   // -o OUT.csv; empty: stdout unless --json
+  double angle_tolerance_deg = 0.0;
+  std::string output;  // -o OUT.csv; empty: stdout unless --json
   bool json = false;
   double drift_window_s = 100.0;
 };

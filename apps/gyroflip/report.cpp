@@ -12,11 +12,21 @@ namespace {
 
 // Library parameters (error::parameter) and the options that set them.
 constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = {
-    {"sample_rate_hz", "--rate"},   {"dataset", "--dataset"}, {"taus", "--taus"},
-    {"duration_s", "--duration"},   {"n_avg", "--n-avg"},     {"degree", "--degree"},
-    {"settle_s", "--settle"},       {"seed", "--seed"},       {"lat_deg", "--latitude"},
-    {"window_s", "--drift-window"}, {"level", "--ci"},        {"gaps", "--gaps split"},
-    {"delimiter", "--delimiter"},   {"decimal", "--decimal"},
+    {"sample_rate_hz", "--rate"},
+    {"dataset", "--dataset"},
+    {"taus", "--taus"},
+    {"duration_s", "--duration"},
+    {"n_avg", "--n-avg"},
+    {"degree", "--degree"},
+    {"settle_s", "--settle"},
+    {"seed", "--seed"},
+    {"lat_deg", "--latitude"},
+    {"window_s", "--drift-window"},
+    {"level", "--ci"},
+    {"gaps", "--gaps split"},
+    {"delimiter", "--delimiter"},
+    {"decimal", "--decimal"},
+    {"angle_tolerance_deg", "--angle-tolerance"},
 };
 
 }  // namespace

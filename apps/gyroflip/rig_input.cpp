@@ -14,8 +14,10 @@ bool is_rig_recording(const std::string& path) {
 }
 
 result<io::recording_cycles> read_recording_cycles(const std::string& path, method::pairing p,
-                                                   const progress_fn& on_progress) {
-  if (!is_rig_recording(path)) return io::read_cycles(path, p, on_progress);
+                                                   const progress_fn& on_progress,
+                                                   double angle_tolerance_deg) {
+  // A rig recording's positions come from the device's step count, not an encoder.
+  if (!is_rig_recording(path)) return io::read_cycles(path, p, on_progress, angle_tolerance_deg);
   auto run = host::read_rig_run(path);
   if (!run) return run.err();
   const auto rows = host::dwell_rows(*run);

@@ -18,7 +18,8 @@ namespace gyroflip::app {
 /// The cycles of a CSV recording or of a `.gfr` rig recording's dwells.
 [[nodiscard]] result<io::recording_cycles> read_recording_cycles(const std::string& path,
                                                                  method::pairing p,
-                                                                 const progress_fn& on_progress);
+                                                                 const progress_fn& on_progress,
+                                                                 double angle_tolerance_deg = 0.0);
 
 /// A `.gfr` recording as a series: `rate_dps` the per-cycle half-difference r (the flip-
 /// compensated rate up to the constant dN, which no deviation sees), `bias_dps` the per-cycle

@@ -19,10 +19,16 @@ enum slot : std::size_t { s_time, s_angle, s_rate, s_temp, s_navg };
 
 }  // namespace
 
-result<recording_reader> recording_reader::open(const std::string& path) {
+result<recording_reader> recording_reader::open(const std::string& path,
+                                                double angle_tolerance_deg) {
+  if (!(angle_tolerance_deg >= 0.0 && angle_tolerance_deg <= max_angle_tolerance_deg))
+    return parameter_error(
+        "angle_tolerance_deg",
+        fmt::format("the angle tolerance must be 0 to {:g} deg", max_angle_tolerance_deg));
   auto c = csv_reader::open(path);
   if (!c) return c.err();
   recording_reader r(std::move(*c));
+  r.angle_tolerance_deg_ = angle_tolerance_deg;
   std::vector<std::size_t> cols;
   for (const char* name : {"time_s", "angle_deg", "rate_dps"}) {
     auto i = r.csv_.require_column(name);
@@ -68,11 +74,22 @@ csv_reader::step recording_reader::next(method::row& out) {
     out.angle_deg = 180.0;
   } else {
     if (!csv_.parse(s_angle, out.angle_deg)) return fail(csv_.last_error());
-    if (out.angle_deg != 0.0 && out.angle_deg != 180.0)
+    // An encoder's reading: within the tolerance of 0 (or 360, or -0.x) or of 180.
+    const double tol = angle_tolerance_deg_;
+    const double turned = std::fmod(std::fmod(out.angle_deg, 360.0) + 360.0, 360.0);
+    if (std::abs(turned) <= tol || std::abs(turned - 360.0) <= tol) {
+      out.angle_deg = 0.0;
+    } else if (std::abs(turned - 180.0) <= tol) {
+      out.angle_deg = 180.0;
+    } else {
       return fail(csv_.error_at(
-          s_angle, fmt::format("angle {} deg is not supported: only 0 and 180 (two-position "
-                               "flipping); leave it empty while the table turns",
-                               a)));
+          s_angle,
+          fmt::format("angle {} deg is not supported: only 0 and 180 (two-position flipping){}; "
+                      "leave it empty while the table turns",
+                      a,
+                      tol > 0.0 ? fmt::format(", within {:g} deg", tol)
+                                : std::string(" (an encoder angle: give a tolerance)"))));
+    }
   }
   if (!csv_.parse(s_rate, out.rate_dps)) return fail(csv_.last_error());
   if (has_temp_) {
@@ -133,8 +150,8 @@ status check_cycles(const recording_cycles& rc, const method::flip_stream& strea
 }  // namespace
 
 result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
-                                     const progress_fn& on_progress) {
-  auto reader = recording_reader::open(path);
+                                     const progress_fn& on_progress, double angle_tolerance_deg) {
+  auto reader = recording_reader::open(path, angle_tolerance_deg);
   if (!reader) return reader.err();
   recording_cycles rc;
   rc.path = path;

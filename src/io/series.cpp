@@ -533,7 +533,8 @@ result<series> read_series(const std::string& path_in, const series_options& opt
   }
   auto all = read_series_columns(path, opt, {opt.column});
   if (!all) return all.err();
-  return std::move(all->front());
+  series one = std::move(all->front());
+  return one;
 }
 
 result<std::vector<series>> read_series_columns(const std::string& path, const series_options& opt,

@@ -294,5 +294,67 @@ TEST(CliLoggers, TheKalibrFileParsesAndHoldsTheMeasuredTerms) {
   EXPECT_NEAR(k["gyroscope_noise_density"].get<double>(), 0.01 / deg_per_rad, 0.001 / deg_per_rad);
 }
 
+// Flip recordings as a rig with an encoder writes them: angles near 0 and 180, accepted within a
+// stated tolerance; simulate writes only positions calibrate can read; the rules are in --help;
+// compensate's JSON says its layout version and the dN it subtracted.
+TEST(CliLoggers, EncoderAnglesWithinATolerancePositionsAndTheCompensateSummary) {
+  temp_dir dir;
+  const std::string sim = dir.file("sim.csv"), enc = dir.file("enc.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "300", "--seed", "4",
+                     "-o", sim})
+                .exit_code,
+            0);
+  // The same rows with the encoder's readings: 0.3 (or 359.8) for 0, 179.7 / 180.2 for 180.
+  std::string text = read_text(sim), out;
+  std::size_t row = 0;
+  for (std::size_t at = 0; at < text.size();) {
+    const auto nl = text.find('\n', at);
+    std::string line = text.substr(at, nl - at);
+    at = nl + 1;
+    if (line.empty() || line[0] == '#' || line.rfind("time_s", 0) == 0) {
+      out += line + "\n";
+      continue;
+    }
+    const auto c1 = line.find(','), c2 = line.find(',', c1 + 1);
+    const std::string angle = line.substr(c1 + 1, c2 - c1 - 1);
+    const char* reading = angle == "0"     ? (row % 2 ? "0.3" : "359.8")
+                          : angle == "180" ? (row % 2 ? "179.7" : "180.2")
+                                           : "";
+    ++row;
+    out += line.substr(0, c1 + 1) + reading + line.substr(c2) + "\n";
+  }
+  write_text(enc, out);
+  const auto refused = run_cli({"calibrate", enc});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("deg is not supported: only 0 and 180"), std::string::npos)
+      << refused.err;
+  const json exact = run_json({"calibrate", sim, "--json"});
+  const json read = run_json({"calibrate", enc, "--angle-tolerance", "0.5", "--json"});
+  EXPECT_EQ(read["delta_n_dps"], exact["delta_n_dps"]);
+  EXPECT_EQ(run_cli({"calibrate", enc, "--angle-tolerance", "0.25"}).exit_code, 2);
+  EXPECT_EQ(run_cli({"calibrate", enc, "--angle-tolerance", "11"}).exit_code, 2);
+  // simulate writes what calibrate reads: an offset needs the tolerance, a position far from
+  // 0/180 is refused up front.
+  const std::string off = dir.file("off.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "60", "--positions",
+                     "0.5,180.5", "-o", off})
+                .exit_code,
+            0);
+  EXPECT_EQ(run_cli({"calibrate", off}).exit_code, 2);
+  EXPECT_EQ(run_cli({"calibrate", off, "--angle-tolerance", "1"}).exit_code, 0);
+  const auto far = run_cli({"simulate", "--sensor", "hz1-90-100a", "--positions", "90,270"});
+  EXPECT_EQ(far.exit_code, 2);
+  EXPECT_NE(far.err.find("within 10 deg of 0"), std::string::npos) << far.err;
+  const auto help = run_cli({"calibrate", "--help"});
+  EXPECT_NE(help.out.find("A dwell is a run of rows with equal angle_deg"), std::string::npos)
+      << help.out;
+  EXPECT_NE(help.out.find("dN = (r_0 - r_180) / 2"), std::string::npos);
+  const json comp = run_json({"compensate", sim, "--delta-n", "0.0031", "--json"});
+  EXPECT_EQ(comp["schema_version"], 1);
+  EXPECT_EQ(comp["delta_n"]["delta_n_dps"], 0.0031);
+  EXPECT_EQ(comp["delta_n"]["degree"], 0);
+  EXPECT_EQ(comp["delta_n"]["source"], "--delta-n");
+}
+
 }  // namespace
 }  // namespace gyroflip::test

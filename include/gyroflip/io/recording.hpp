@@ -16,15 +16,22 @@
 namespace gyroflip::io {
 
 /// Streams the rows of a recording, checking each one: `time_s` finite and non-decreasing,
-/// `angle_deg` 0 or 180 (empty = table turning), `rate_dps` finite, `temp_c` finite when the
-/// column exists, `n_avg` a whole number >= 1 (default 1).
+/// `angle_deg` 0 or 180 (within a tolerance; empty = table turning), `rate_dps` finite, `temp_c`
+/// finite when the column exists, `n_avg` a whole number >= 1 (default 1).
 class recording_reader {
  public:
   /// Temperatures a recording may hold (degC): absolute zero to 1000 degC.
   static constexpr double min_temp_c = -273.15;
   static constexpr double max_temp_c = 1000.0;
 
-  [[nodiscard]] static result<recording_reader> open(const std::string& path);
+  /// Largest `angle_tolerance_deg` (deg): an encoder angle further than this from its position
+  /// is a table that did not reach it.
+  static constexpr double max_angle_tolerance_deg = 10.0;
+
+  /// `angle_tolerance_deg` in [0, max_angle_tolerance_deg]: an angle within it of 0 (or 360)
+  /// reads as 0, within it of 180 as 180 (an encoder's reading of the two positions).
+  [[nodiscard]] static result<recording_reader> open(const std::string& path,
+                                                     double angle_tolerance_deg = 0.0);
 
   /// Reads the next row into `out`. `failed` -> `last_error()` has FILE:LINE:COL.
   [[nodiscard]] csv_reader::step next(method::row& out);
@@ -47,6 +54,7 @@ class recording_reader {
   csv_reader csv_;
   bool has_temp_ = false;
   bool has_n_avg_ = false;
+  double angle_tolerance_deg_ = 0.0;
   double last_time_s_ = -1e300;
   std::size_t last_time_line_ = 0;
   error error_{errc::bad_input, {}};
@@ -68,7 +76,8 @@ struct recording_cycles {
 /// bytes total)` now and then (may be empty). Errors: any bad row, a single orientation, fewer
 /// than method::min_cycles cycles.
 [[nodiscard]] result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
-                                                   const progress_fn& on_progress = {});
+                                                   const progress_fn& on_progress = {},
+                                                   double angle_tolerance_deg = 0.0);
 
 /// The cycles of rows from another source (a rig recording read back), with the same checks as
 /// read_cycles; `path` names the source in messages. Rows must be valid recording rows.
