@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -37,6 +39,25 @@ std::string csv_text(const std::vector<analysis::deviation_point>& pts, bool wit
     } else {
       s += fmt::format("{},{},,,,{},\n", p.tau_s, p.dev, p.n);
     }
+  }
+  return s;
+}
+
+// For a person at a terminal: aligned columns with 4 significant digits, the unit in the header,
+// and the averaging factor m; `-o` and `--json` keep every digit.
+std::string table_text(const std::vector<analysis::deviation_point>& pts, bool with_ci,
+                       const std::string& title, const std::string& unit) {
+  std::string s = title + "\n";
+  const std::string dev = "dev [" + unit + "]";
+  s += fmt::format("{:>11} {:>9} {:>13} {:>11} {:>11} {:>8} {:>9} {:>5}\n", "tau [s]", "m", dev,
+                   "ci_lo", "ci_hi", "edf", "n", "alpha");
+  for (const auto& p : pts) {
+    if (with_ci)
+      s += fmt::format("{:>11.4g} {:>9} {:>13.4e} {:>11.4e} {:>11.4e} {:>8.4g} {:>9} {:>5}\n",
+                       p.tau_s, p.m, p.dev, p.ci_lo, p.ci_hi, p.edf, p.n, p.alpha);
+    else
+      s += fmt::format("{:>11.4g} {:>9} {:>13.4e} {:>11} {:>11} {:>8} {:>9} {:>5}\n", p.tau_s, p.m,
+                       p.dev, "-", "-", "-", p.n, "-");
   }
   return s;
 }
@@ -232,12 +253,22 @@ int run_adev(const adev_options& o) {
   // One column: the CSV and JSON of one curve; several: a `column` field in each CSV row and one
   // JSON object per column.
   const bool several = inputs->size() > 1;
-  std::string csv;
+  // Nothing asked of the output and a person reading it: a table instead of CSV.
+  const bool table = !o.json && o.output.empty() && ::isatty(STDOUT_FILENO) == 1;
+  std::string csv, tables;
   nlohmann::json per_column = nlohmann::json::array();
   for (const auto& in : *inputs) {
     auto r = deviation_of(o, *kind, *taus, level, in);
     if (!r) return report(r.err());
     const std::string text = csv_text(r->points, level.has_value());
+    if (table)
+      tables +=
+          table_text(r->points, level.has_value(),
+                     fmt::format("{}{}: {} of column {}, {} samples at {:g} Hz{}",
+                                 tables.empty() ? "" : "\n", o.in.file, o.kind, in.column,
+                                 in.series.samples().size(), 1.0 / in.phase.tau0_s(),
+                                 level ? fmt::format(", {:g} % intervals", 100.0 * *level) : ""),
+                     unit_name(o.in));
     if (!several) {
       csv = text;
     } else {
@@ -270,6 +301,8 @@ int run_adev(const adev_options& o) {
     if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
   if (o.json) {
     fmt::print("{}", json_line);
+  } else if (table) {
+    fmt::print("{}", tables);
   } else if (o.output.empty()) {
     fmt::print("{}", csv);
   }

@@ -225,7 +225,11 @@ int run_emulate(const emulate_options& o) {
       back_at = steady::now() + std::chrono::duration_cast<steady::duration>(
                                     std::chrono::duration<double>(plan->unplug.back().second));
       plan->unplug.pop_back();
-      line.reset();  // the recorder's reads now fail, as with a vanished adapter
+      // The cable goes between frames: what is already on the wire reaches the reader (so the
+      // frames lost are exactly those sent while the line is gone), then its reads fail, as
+      // with a vanished adapter.
+      (void)line->drain(500);
+      line.reset();
       link->remove();
       to_device.clear();
     }

@@ -27,6 +27,7 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
     {"delimiter", "--delimiter"},
     {"decimal", "--decimal"},
     {"angle_tolerance_deg", "--angle-tolerance"},
+    {"column", "--column"},
 };
 
 }  // namespace

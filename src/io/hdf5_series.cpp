@@ -31,7 +31,8 @@ constexpr hsize_t max_samples = hsize_t{1} << 30;
 
 }  // namespace
 
-result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& dataset) {
+result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& dataset,
+                                    std::optional<std::size_t> column) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are returned, not printed
   if (H5Fis_hdf5(file.c_str()) <= 0) return input_error({file}, "not an HDF5 file");
   const handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
@@ -42,10 +43,20 @@ result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& 
   if (d.id < 0)
     return input_error({file}, fmt::format("'{}' is not a dataset", printable(dataset, 120)));
   const handle space(H5Dget_space(d.id), H5Sclose);
-  if (H5Sget_simple_extent_ndims(space.id) != 1)
-    return input_error({file}, fmt::format("dataset '{}' must be 1-D", printable(dataset, 120)));
-  hsize_t n = 0;
-  H5Sget_simple_extent_dims(space.id, &n, nullptr);
+  const int rank = H5Sget_simple_extent_ndims(space.id);
+  if (rank != 1 && rank != 2)
+    return input_error({file}, fmt::format("dataset '{}' must be 1-D or 2-D (samples x columns)",
+                                           printable(dataset, 120)));
+  hsize_t dims[2] = {0, 1};
+  H5Sget_simple_extent_dims(space.id, dims, nullptr);
+  const hsize_t n = dims[0];
+  // A 2-D dataset (samples x columns, as a logger writes all axes): one column of it.
+  if (rank == 2 && (!column || *column >= dims[1]))
+    return about_parameter(
+        input_error({file}, fmt::format("dataset '{}' has {} columns: give a column number from 1 "
+                                        "to {}",
+                                        printable(dataset, 120), dims[1], dims[1])),
+        "column");
   // A dataset declares its size; a chunked one may hold fill values without storage, so a tiny
   // file can announce 1e12 samples. Held in memory (8 bytes a sample), it must fit.
   if (n > max_samples)
@@ -55,8 +66,19 @@ result<hdf5_data> read_hdf5_dataset(const std::string& file, const std::string& 
   hdf5_data out;
   out.values.resize(static_cast<std::size_t>(n));
   // H5T_NATIVE_DOUBLE converts float32, integers and other byte orders on the fly.
-  if (n > 0 &&
-      H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.values.data()) < 0)
+  hid_t file_space = H5S_ALL;
+  const handle memory(rank == 2 ? H5Screate_simple(1, &dims[0], nullptr) : -1, H5Sclose);
+  if (rank == 2) {
+    const hsize_t start[2] = {0, *column};
+    const hsize_t count[2] = {n, 1};
+    if (memory.id < 0 ||
+        H5Sselect_hyperslab(space.id, H5S_SELECT_SET, start, nullptr, count, nullptr) < 0)
+      return input_error({file}, fmt::format("dataset '{}': cannot select column {}",
+                                             printable(dataset, 120), *column + 1));
+    file_space = space.id;
+  }
+  if (n > 0 && H5Dread(d.id, H5T_NATIVE_DOUBLE, rank == 2 ? memory.id : H5S_ALL, file_space,
+                       H5P_DEFAULT, out.values.data()) < 0)
     return input_error(
         {file}, fmt::format("dataset '{}' cannot be read as numbers", printable(dataset, 120)));
   if (H5Aexists(d.id, "sample_rate_hz") > 0) {

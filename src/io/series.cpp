@@ -9,7 +9,6 @@
 #include <cstring>
 #include <limits>
 #include <optional>
-#include <tuple>
 
 #include <fmt/format.h>
 
@@ -66,13 +65,21 @@ std::optional<std::string_view> npy_value(std::string_view dict, std::string_vie
   return v;
 }
 
+// Where a .npy file's numbers are and how they are laid out.
+struct npy_array {
+  std::size_t offset = 0;  // of the data
+  std::size_t rows = 0;    // samples
+  std::size_t cols = 1;    // 1 for a 1-D array
+  bool f4 = false;         // float32 ('<f4') rather than float64 ('<f8')
+  bool fortran = false;    // column-major
+};
+
 // NumPy format 1.0-3.0 (numpy.lib.format): magic "\x93NUMPY", major, minor, header length (2
 // bytes LE for 1.0, 4 for 2.0/3.0), then a Python dict literal with exactly the keys 'descr',
 // 'fortran_order' and 'shape', padded with spaces and ended by '\n'; the data follow. Accepted:
-// 1-D little-endian float64 ('<f8'), shape (N,) with the file holding exactly the N values.
-// Returns the data offset and N.
-result<std::pair<std::size_t, std::size_t>> npy_layout(const std::string& path,
-                                                       std::string_view d) {
+// little-endian float64 ('<f8') or float32 ('<f4'), shape (N,) or (N, M) (samples x columns, as
+// np.save writes a logger's table), the file holding exactly those values.
+result<npy_array> npy_layout(const std::string& path, std::string_view d) {
   if (d.size() < 10 || d.substr(0, 6) != "\x93NUMPY")
     return input_error({path}, "not a NumPy .npy file (bad magic)");
   const auto major = static_cast<unsigned char>(d[6]);
@@ -109,31 +116,60 @@ result<std::pair<std::size_t, std::size_t>> npy_layout(const std::string& path,
     return input_error({path},
                        "malformed .npy header: needs 'descr', 'fortran_order' and "
                        "'shape', once each");
-  if (*descr != "'<f8'")
-    return input_error({path}, fmt::format(".npy dtype must be little-endian float64 '<f8', not "
-                                           "{}",
+  npy_array a;
+  if (*descr != "'<f8'" && *descr != "'<f4'")
+    return input_error({path}, fmt::format(".npy dtype must be little-endian float64 '<f8' or "
+                                           "float32 '<f4', not {}",
                                            printable(*descr)));
-  // A 1-D array is laid out the same way in C and Fortran order.
+  a.f4 = *descr == "'<f4'";
   if (*fortran != "False" && *fortran != "True")
     return input_error({path}, "malformed .npy header: fortran_order must be True or False");
-  // (N,) with N a plain decimal integer.
+  a.fortran = *fortran == "True";
+  // (N,) or (N, M) with N and M plain decimal integers.
   std::string_view dims = *shape;
-  if (dims.size() < 4 || dims.front() != '(' || dims.back() != ')' ||
-      dims.substr(dims.size() - 2) != ",)")
-    return input_error(
-        {path}, fmt::format(".npy array must be 1-D, shape (N,); shape {}", printable(dims)));
-  dims = dims.substr(1, dims.size() - 3);
-  std::uint64_t n = 0;
-  const auto [end, ec] = std::from_chars(dims.data(), dims.data() + dims.size(), n);
-  if (ec != std::errc{} || end != dims.data() + dims.size())
-    return input_error({path},
-                       fmt::format(".npy shape ({},) is not a count of samples", printable(dims)));
+  const auto bad_shape = [&] {
+    return input_error({path}, fmt::format(".npy array must be 1-D (N,) or 2-D (N, M); shape {}",
+                                           printable(*shape)));
+  };
+  if (dims.size() < 3 || dims.front() != '(' || dims.back() != ')') return bad_shape();
+  dims = dims.substr(1, dims.size() - 2);
+  std::uint64_t n[2] = {0, 1};
+  int count = 0;
+  while (!dims.empty()) {
+    while (!dims.empty() && dims.front() == ' ') dims.remove_prefix(1);
+    if (dims.empty()) break;
+    if (count == 2) return bad_shape();
+    const auto [end, ec] = std::from_chars(dims.data(), dims.data() + dims.size(), n[count]);
+    if (ec != std::errc{}) return bad_shape();
+    dims.remove_prefix(static_cast<std::size_t>(end - dims.data()));
+    ++count;
+    while (!dims.empty() && dims.front() == ' ') dims.remove_prefix(1);
+    if (!dims.empty() && dims.front() != ',') return bad_shape();
+    if (!dims.empty()) dims.remove_prefix(1);
+  }
+  // "(N,)" is 1-D; "(N)" is not a tuple; "(N, M)" is 2-D.
+  if (count == 0 || (count == 1 && shape->substr(shape->size() - 2) != ",)")) return bad_shape();
+  const std::size_t size = a.f4 ? 4 : 8;
   const std::size_t data_bytes = d.size() - start - header_len;
-  if (n > data_bytes / sizeof(double) || n * sizeof(double) != data_bytes)
-    return input_error({path}, fmt::format(".npy header announces {} samples ({} bytes) but the "
-                                           "file holds {} data bytes (truncated or padded file)",
-                                           n, n * sizeof(double), data_bytes));
-  return std::pair{start + header_len, static_cast<std::size_t>(n)};
+  if (n[1] == 0 || n[0] > data_bytes / size / n[1] || n[0] * n[1] * size != data_bytes)
+    return input_error(
+        {path}, fmt::format(".npy header announces {} ({} bytes) but the file holds {} data bytes "
+                            "(truncated or padded file)",
+                            n[1] == 1 ? fmt::format("{} samples", n[0])
+                                      : fmt::format("{} x {} values", n[0], n[1]),
+                            n[0] * n[1] * size, data_bytes));
+  a.offset = start + header_len;
+  a.rows = static_cast<std::size_t>(n[0]);
+  a.cols = static_cast<std::size_t>(n[1]);
+  return a;
+}
+
+// A column number from 1 ("3") as a 0-based index; nullopt for a name.
+std::optional<std::size_t> column_number(std::string_view text) {
+  std::size_t k = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), k);
+  if (ec != std::errc{} || end != text.data() + text.size() || k == 0) return std::nullopt;
+  return k - 1;
 }
 
 // Little-endian float64 samples of a mapped file from byte `offset` (8-byte aligned, checked by
@@ -480,7 +516,7 @@ result<series> read_series(const std::string& path_in, const series_options& opt
       return about_parameter(
           input_error({path}, "name the dataset, as FILE.h5:/path or as the dataset parameter"),
           "dataset");
-    auto h = detail::read_hdf5_dataset(path, dataset);
+    auto h = detail::read_hdf5_dataset(path, dataset, column_number(opt.column));
     if (!h) return h.err();
     const auto rate = opt.sample_rate_hz ? opt.sample_rate_hz : h->sample_rate_hz;
     if (!rate)
@@ -510,7 +546,38 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     if (npy) {
       auto layout = npy_layout(path, f->data());
       if (!layout) return layout.err();
-      std::tie(offset, count) = *layout;
+      if (layout->f4 || layout->cols > 1) {
+        // float32 or one column of a table: converted once into memory (8 bytes a sample).
+        const auto col = column_number(opt.column);
+        if (layout->cols > 1 && (!col || *col >= layout->cols))
+          return about_parameter(
+              input_error({path}, fmt::format(".npy array has {} columns: give a column number "
+                                              "from 1 to {}",
+                                              layout->cols, layout->cols)),
+              "column");
+        if (layout->rows < min_samples)
+          return input_error({path}, fmt::format("{} samples: too few for an analysis (at least "
+                                                 "{})",
+                                                 layout->rows, min_samples));
+        std::vector<double> v(layout->rows);
+        const std::size_t c = layout->cols > 1 ? *col : 0;
+        const char* base = f->data().data() + layout->offset;
+        for (std::size_t r = 0; r < layout->rows; ++r) {
+          const std::size_t k = layout->fortran ? c * layout->rows + r : r * layout->cols + c;
+          if (layout->f4) {
+            float x = 0.0F;
+            std::memcpy(&x, base + k * sizeof x, sizeof x);
+            v[r] = static_cast<double>(x);
+          } else {
+            std::memcpy(&v[r], base + k * sizeof(double), sizeof(double));
+          }
+        }
+        s.hold(std::move(v));
+        s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
+        return s;
+      }
+      offset = layout->offset;
+      count = layout->rows;
     } else {
       const std::size_t bytes = f->data().size();
       if (bytes % sizeof(double) != 0)

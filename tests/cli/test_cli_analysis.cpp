@@ -149,7 +149,7 @@ TEST(CliAdev, BadInput) {
              "time_s,rate_dps\n0,1\n1,2\n2,3\n7,4\n8,5\n9,6\n10,7\n11,1\n12,2\n");
   write_text(d.file("nocol.csv"), "time_s,gx\n0,1\n1,2\n2,3\n");
   write_text(d.file("bad.csv"), "time_s,rate_dps\n0,1\n1,x\n2,3\n");
-  write_npy(d.file("f4.npy"), {1.0, 2.0}, "<f4");
+  write_npy(d.file("f4.npy"), {1.0, 2.0}, "<f2");  // half precision: not read
   write_npy(d.file("nan.npy"), {1.0, 2.0, std::nan(""), 3.0});
   struct c {
     std::vector<std::string> args;

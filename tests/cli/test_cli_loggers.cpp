@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <nlohmann/json.hpp>
 
@@ -354,6 +355,102 @@ TEST(CliLoggers, EncoderAnglesWithinATolerancePositionsAndTheCompensateSummary) 
   EXPECT_EQ(comp["delta_n"]["delta_n_dps"], 0.0031);
   EXPECT_EQ(comp["delta_n"]["degree"], 0);
   EXPECT_EQ(comp["delta_n"]["source"], "--delta-n");
+}
+
+// On a terminal `adev` prints a table a person reads (unit in the header, m, 4 digits); piped it
+// prints the CSV with every digit. The terminal is script(1)'s pty.
+TEST(CliLoggers, AdevPrintsATableOnATerminalAndCsvWhenPiped) {
+  if (std::system("script --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1)";
+  temp_dir dir;
+  write_text(dir.file("r.csv"), plain_csv(three_axes(2000), 1.0 / deg_per_rad));
+  const std::string cmd = std::string("script -qec '") + GYROFLIP_EXE + " adev " +
+                          dir.file("r.csv") + " --column gx --units rad/s' /dev/null > " +
+                          dir.file("tty.txt");
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const std::string tty = read_text(dir.file("tty.txt"));
+  EXPECT_NE(tty.find("oadev of column gx, 2000 samples at 100 Hz, 68.3 % intervals"),
+            std::string::npos)
+      << tty;
+  EXPECT_NE(tty.find("tau [s]         m   dev [rad/s]"), std::string::npos) << tty;
+  EXPECT_NE(tty.find("       0.01         1 "), std::string::npos) << tty;
+  const auto piped = run_cli({"adev", dir.file("r.csv"), "--column", "gx", "--units", "rad/s"});
+  EXPECT_EQ(piped.out.rfind("tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n", 0), 0u);
+}
+
+// A .npy table as np.save writes it: `descr` and `shape` (N, M) in C or Fortran order.
+void write_npy_table(const std::string& path, const std::vector<std::vector<double>>& cols, bool f4,
+                     bool fortran) {
+  const std::size_t n = cols[0].size(), m = cols.size();
+  std::string header = std::string("{'descr': '") + (f4 ? "<f4" : "<f8") +
+                       "', 'fortran_order': " + (fortran ? "True" : "False") + ", 'shape': (" +
+                       std::to_string(n) + ", " + std::to_string(m) + "), }";
+  while ((10 + header.size() + 1) % 64 != 0) header += ' ';
+  header += '\n';
+  std::string bytes = std::string("\x93NUMPY\x01\x00", 8);
+  bytes += static_cast<char>(header.size() & 0xFF);
+  bytes += static_cast<char>(header.size() >> 8);
+  bytes += header;
+  for (std::size_t k = 0; k < n * m; ++k) {
+    const std::size_t r = fortran ? k % n : k / m, c = fortran ? k / n : k % m;
+    if (f4) {
+      const auto x = static_cast<float>(cols[c][r]);
+      bytes.append(reinterpret_cast<const char*>(&x), sizeof x);  // NOLINT: bytes of a float
+    } else {
+      bytes.append(reinterpret_cast<const char*>(&cols[c][r]), sizeof(double));  // NOLINT
+    }
+  }
+  write_text(path, bytes);
+}
+
+// Binary tables: a 2-D .npy (float64 C order, float32 Fortran order) and a 2-D HDF5 dataset
+// give, column by number, the curve of the same column of the CSV.
+TEST(CliLoggers, TwoDimensionalNpyAndHdf5TablesByColumnNumber) {
+  temp_dir dir;
+  const auto a = three_axes(3000);
+  write_text(dir.file("plain.csv"), plain_csv(a, 1.0));
+  write_npy_table(dir.file("t8.npy"), a, false, false);
+  write_npy_table(dir.file("t4.npy"), a, true, true);
+  const auto want = devs(run_json({"adev", dir.file("plain.csv"), "--column", "gy", "--json"}));
+  const auto c8 =
+      devs(run_json({"adev", dir.file("t8.npy"), "--column", "2", "--rate", "100", "--json"}));
+  ASSERT_EQ(c8.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_NEAR(c8[i] / want[i], 1.0, 1e-9) << i;
+  const auto c4 =
+      devs(run_json({"adev", dir.file("t4.npy"), "--column", "2", "--rate", "100", "--json"}));
+  ASSERT_EQ(c4.size(), want.size());
+  // float32 keeps 24 bits: the curve agrees to its rounding.
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_NEAR(c4[i] / want[i], 1.0, 1e-4) << i;
+  const auto no_col = run_cli({"adev", dir.file("t8.npy"), "--rate", "100"});
+  EXPECT_EQ(no_col.exit_code, 2);
+  EXPECT_NE(no_col.err.find(".npy array has 3 columns: give a column number from 1 to 3"),
+            std::string::npos)
+      << no_col.err;
+  // HDF5: /imu/gyro, 3000 x 3 float64.
+  const std::string h5 = dir.file("imu.h5");
+  {
+    const hid_t f = H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t g = H5Gcreate2(f, "/imu", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t dims[2] = {a[0].size(), 3};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t d =
+        H5Dcreate2(g, "gyro", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    std::vector<double> rows;
+    for (std::size_t r = 0; r < a[0].size(); ++r)
+      for (std::size_t c = 0; c < 3; ++c) rows.push_back(a[c][r]);
+    H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data());
+    H5Dclose(d);
+    H5Sclose(space);
+    H5Gclose(g);
+    H5Fclose(f);
+  }
+  const auto h =
+      devs(run_json({"adev", h5 + ":/imu/gyro", "--column", "2", "--rate", "100", "--json"}));
+  ASSERT_EQ(h.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_NEAR(h[i] / want[i], 1.0, 1e-9) << i;
+  const auto h_bad = run_cli({"adev", h5 + ":/imu/gyro", "--column", "4", "--rate", "100"});
+  EXPECT_EQ(h_bad.exit_code, 2);
+  EXPECT_NE(h_bad.err.find("has 3 columns: give a column number from 1 to 3"), std::string::npos)
+      << h_bad.err;
 }
 
 }  // namespace
