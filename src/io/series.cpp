@@ -431,6 +431,9 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
   const char decimal = r->dialect().decimal;
   std::vector<double> t;
   s.values.resize(cols.size());
+  // Standard input cannot be read again to locate a row in a message: keep each row's line.
+  const bool rereadable = path != "-";
+  std::vector<std::size_t> lines;
   std::int64_t whole0 = 0;
   double frac0 = 0.0;
   while (true) {
@@ -462,6 +465,7 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
       if (!t.empty() && !(ts > t.back()))
         return r->error_at(0, fmt::format("time stamp {} does not increase", r->cell(0)));
       t.push_back(ts);
+      if (!rereadable) lines.push_back(r->line());
     }
     if (with_angle) {
       double a = std::numeric_limits<double>::quiet_NaN();  // empty: the table is turning
@@ -480,6 +484,7 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
     return s;
   }
   const auto row_error = [&](std::size_t k, std::string_view what) {
+    if (!rereadable) return input_error({"<stdin>", lines[k]}, what);
     return at_row(path, opt.dialect, **time, k, what);
   };
   auto run = check_stamps(path, std::span<const double>(t), opt, row_error);
@@ -625,6 +630,10 @@ result<std::vector<series>> read_series_columns(const std::string& path, const s
 
 result<std::vector<std::string>> numeric_columns(const std::string& path,
                                                  const series_options& opt) {
+  if (path == "-")
+    return input_error({"<stdin>"},
+                       "the numeric columns of standard input cannot be found "
+                       "before it is read: name the columns");
   auto r = csv_reader::open(path, opt.dialect);
   if (!r) return r.err();
   auto time = time_column_of(*r, opt);

@@ -453,5 +453,31 @@ TEST(CliLoggers, TwoDimensionalNpyAndHdf5TablesByColumnNumber) {
       << h_bad.err;
 }
 
+// `-` reads a CSV from standard input (a pipe from a logger): the same curve as the file; a gap
+// is located by its line in the input.
+TEST(CliLoggers, StandardInputIsReadAsACsv) {
+  temp_dir dir;
+  const auto a = three_axes(3000);
+  write_text(dir.file("imu.csv"), plain_csv(a, 1.0));
+  const std::string exe = GYROFLIP_EXE;
+  const std::string cmd = "cat " + dir.file("imu.csv") + " | " + exe +
+                          " adev - --column gx,gz --json > " + dir.file("out.json") + " 2> " +
+                          dir.file("err.txt");
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << read_text(dir.file("err.txt"));
+  const json piped = json::parse(read_text(dir.file("out.json")));
+  const json file = run_json({"adev", dir.file("imu.csv"), "--column", "gx,gz", "--json"});
+  ASSERT_EQ(piped["columns"].size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i)
+    EXPECT_EQ(devs(piped["columns"][i]), devs(file["columns"][i])) << i;
+  // A gap after the 3rd sample: the 5th line of the input (header on line 1).
+  write_text(dir.file("gap.csv"), "time_s,gx\n0,1\n1,2\n2,3\n4,4\n5,5\n6,6\n7,7\n");
+  const std::string gap = "cat " + dir.file("gap.csv") + " | " + exe + " adev - --column gx 2> " +
+                          dir.file("gap.txt") + " > /dev/null";
+  EXPECT_NE(std::system(gap.c_str()), 0);
+  EXPECT_NE(read_text(dir.file("gap.txt")).find("<stdin>:5: the time stamps have 1 gap"),
+            std::string::npos)
+      << read_text(dir.file("gap.txt"));
+}
+
 }  // namespace
 }  // namespace gyroflip::test
