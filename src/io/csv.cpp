@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -93,11 +96,24 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
     return parameter_error("delimiter", "the delimiter must be ',', ';', tab or blanks");
   if (dialect.decimal == ',' && dialect.delimiter == ',')
     return parameter_error("decimal", "a decimal comma needs another delimiter than ','");
+  if (path == "-") {
+    csv_reader r(STDIN_FILENO);
+    r.dialect_ = dialect;
+    while (r.buf_.size() < binary_probe_bytes && r.refill()) {
+    }
+    const std::string_view d = r.buf_;
+    if (d.empty()) return input_error({r.path_}, "empty input (expected a CSV header line)");
+    if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
+      return input_error({r.path_}, "binary data (NUL byte), not a UTF-8 CSV text");
+    if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = 3;  // UTF-8 byte-order mark
+    if (auto s = r.read_header(); !s) return s.err();
+    return r;
+  }
   auto f = mapped_file::open(path);
   if (!f) return f.err();
   csv_reader r(std::move(*f));
   r.dialect_ = dialect;
-  const std::string_view d = r.file_.data();
+  const std::string_view d = r.file_->data();
   if (d.empty()) return input_error({path}, "empty file (expected a CSV header line)");
   if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
     return input_error({path}, "binary data (NUL byte), not a UTF-8 CSV text file");
@@ -106,8 +122,53 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
   return r;
 }
 
+bool csv_reader::refill() {
+  if (stream_end_) return false;
+  buf_.erase(0, buf_pos_);
+  buf_pos_ = 0;
+  char block[std::size_t{1} << 16];
+  while (true) {
+    const ssize_t n = ::read(stream_fd_, block, sizeof block);
+    if (n > 0) {
+      buf_.append(block, static_cast<std::size_t>(n));
+      return true;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    stream_end_ = true;  // end of input (or a read error: what came is what there is)
+    return false;
+  }
+}
+
+std::optional<std::string_view> csv_reader::next_stream_line() {
+  while (true) {
+    const std::size_t left = buf_.size() - buf_pos_;
+    const char* begin = buf_.data() + buf_pos_;
+    const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', left));
+    // A line that ends, one too long to be a row (the caller says so), or the input's end.
+    if (nl != nullptr || left > max_line_bytes || (stream_end_ && left > 0)) {
+      std::size_t len =
+          nl != nullptr ? static_cast<std::size_t>(nl - begin) : std::min(left, max_line_bytes + 1);
+      buf_pos_ += nl != nullptr ? len + 1 : len;
+      consumed_ += nl != nullptr ? len + 1 : len;
+      unterminated_ = nl == nullptr;
+      ++line_;
+      if (len > 0 && begin[len - 1] == '\r') --len;
+      return std::string_view(begin, len);
+    }
+    if (stream_end_ || !refill()) {
+      if (buf_pos_ == buf_.size()) return std::nullopt;
+    }
+  }
+}
+
 std::optional<std::string_view> csv_reader::next_line() {
-  const std::string_view d = file_.data();
+  if (has_replay_) {
+    has_replay_ = false;
+    ++line_;
+    return std::string_view(replay_);
+  }
+  if (!file_) return next_stream_line();
+  const std::string_view d = file_->data();
   if (pos_ >= d.size()) return std::nullopt;
   const char* begin = d.data() + pos_;
   const std::size_t left = d.size() - pos_;
@@ -166,7 +227,12 @@ status csv_reader::read_header() {
       // Every line is data: columns are numbered, and this line is read again as the first row.
       for (std::size_t i = 0; i < fields.size(); ++i) header_.push_back(std::to_string(i + 1));
       header_.erase(header_.begin());
-      pos_ = line_start;
+      if (file_) {
+        pos_ = line_start;
+      } else {
+        replay_ = std::string(*l);
+        has_replay_ = true;
+      }
       --line_;
     } else {
       header_.clear();

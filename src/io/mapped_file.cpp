@@ -23,15 +23,13 @@ mapped_file::mapped_file(std::string path, const char* p, std::size_t n) noexcep
 
 mapped_file::mapped_file(mapped_file&& other) noexcept
     : path_(std::move(other.path_)),
-      owned_(std::move(other.owned_)),
       ptr_(std::exchange(other.ptr_, nullptr)),
       size_(std::exchange(other.size_, 0)) {}
 
 mapped_file& mapped_file::operator=(mapped_file&& other) noexcept {
   if (this != &other) {
-    if (!owned_ && ptr_ != nullptr && size_ != 0) ::munmap(const_cast<char*>(ptr_), size_);
+    if (ptr_ != nullptr && size_ != 0) ::munmap(const_cast<char*>(ptr_), size_);
     path_ = std::move(other.path_);
-    owned_ = std::move(other.owned_);
     ptr_ = std::exchange(other.ptr_, nullptr);
     size_ = std::exchange(other.size_, 0);
   }
@@ -39,11 +37,10 @@ mapped_file& mapped_file::operator=(mapped_file&& other) noexcept {
 }
 
 mapped_file::~mapped_file() {
-  if (!owned_ && ptr_ != nullptr && size_ != 0) ::munmap(const_cast<char*>(ptr_), size_);
+  if (ptr_ != nullptr && size_ != 0) ::munmap(const_cast<char*>(ptr_), size_);
 }
 
 void mapped_file::release(std::size_t begin, std::size_t end, std::size_t granule) const noexcept {
-  if (owned_) return;  // heap memory: MADV_DONTNEED would zero it
   const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
   const auto unit = std::max(granule, page);
   const auto base = reinterpret_cast<std::uintptr_t>(ptr_);  // NOLINT: page arithmetic
@@ -56,32 +53,7 @@ void mapped_file::release(std::size_t begin, std::size_t end, std::size_t granul
     ::madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_DONTNEED);  // NOLINT: madvise takes void*
 }
 
-result<mapped_file> mapped_file::read_stdin() {
-  const std::string name = "<stdin>";
-  std::size_t size = 0, cap = std::size_t{1} << 16;
-  auto buf = std::make_unique<char[]>(cap);
-  while (true) {
-    if (size == cap) {
-      auto bigger = std::make_unique<char[]>(cap * 2);
-      std::memcpy(bigger.get(), buf.get(), size);
-      buf = std::move(bigger);
-      cap *= 2;
-    }
-    const ssize_t n = ::read(STDIN_FILENO, buf.get() + size, cap - size);
-    if (n == 0) break;
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return io_error(name, std::strerror(errno));
-    }
-    size += static_cast<std::size_t>(n);
-  }
-  mapped_file f(name, buf.get(), size);
-  f.owned_ = std::move(buf);
-  return f;
-}
-
 result<mapped_file> mapped_file::open(const std::string& path) {
-  if (path == "-") return read_stdin();
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return io_error(path, std::strerror(errno));
   struct stat st {};

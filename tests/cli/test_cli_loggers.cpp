@@ -469,6 +469,17 @@ TEST(CliLoggers, StandardInputIsReadAsACsv) {
   ASSERT_EQ(piped["columns"].size(), 2u);
   for (std::size_t i = 0; i < 2; ++i)
     EXPECT_EQ(devs(piped["columns"][i]), devs(file["columns"][i])) << i;
+  // No header and decimal commas through the pipe: its first row is data (read again).
+  write_text(dir.file("nh.csv"), "0;1,5\n1;2\n2;3,25\n3;4\n4;1\n5;2,5\n");
+  const std::string nh = "cat " + dir.file("nh.csv") + " | " + exe +
+                         " adev - --no-header --decimal , --column 2 --time-column 1 --json > " +
+                         dir.file("nh.json");
+  ASSERT_EQ(std::system(nh.c_str()), 0);
+  const json nh_file = run_json({"adev", dir.file("nh.csv"), "--no-header", "--decimal", ",",
+                                 "--column", "2", "--time-column", "1", "--json"});
+  const json nh_pipe = json::parse(read_text(dir.file("nh.json")));
+  EXPECT_EQ(nh_pipe["samples"], 6);
+  EXPECT_EQ(devs(nh_pipe), devs(nh_file));
   // A gap after the 3rd sample: the 5th line of the input (header on line 1).
   write_text(dir.file("gap.csv"), "time_s,gx\n0,1\n1,2\n2,3\n4,4\n5,5\n6,6\n7,7\n");
   const std::string gap = "cat " + dir.file("gap.csv") + " | " + exe + " adev - --column gx 2> " +

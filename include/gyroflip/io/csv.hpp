@@ -78,14 +78,16 @@ struct csv_dialect {
 
 class csv_reader {
  public:
-  /// Maps `path` and reads comments and header. Errors: missing file, directory, empty
+  /// Maps `path` and reads comments and header; `-` reads standard input as it comes (a pipe from
+  /// a logger: only the lines not yet consumed are held). Errors: missing file, directory, empty
   /// file, binary data, no header, a dialect whose decimal mark is its delimiter.
   [[nodiscard]] static result<csv_reader> open(const std::string& path,
                                                const csv_dialect& dialect = {});
   /// The dialect in use (the delimiter as detected).
   [[nodiscard]] const csv_dialect& dialect() const noexcept { return dialect_; }
 
-  [[nodiscard]] const std::string& path() const noexcept { return file_.path(); }
+  /// The file's path, or `<stdin>`.
+  [[nodiscard]] const std::string& path() const noexcept { return path_; }
   [[nodiscard]] const std::vector<std::string>& header() const noexcept { return header_; }
   [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept { return metadata_; }
 
@@ -133,24 +135,40 @@ class csv_reader {
   [[nodiscard]] bool unterminated() const noexcept { return unterminated_; }
   /// 1-based line number of the current row (or of the header before the first row).
   [[nodiscard]] std::size_t line() const noexcept { return line_; }
-  /// Bytes consumed and total, for progress display.
-  [[nodiscard]] std::uint64_t bytes_done() const noexcept { return pos_; }
-  [[nodiscard]] std::uint64_t bytes_total() const noexcept { return file_.data().size(); }
+  /// Bytes consumed and total (0 for standard input: not known), for progress display.
+  [[nodiscard]] std::uint64_t bytes_done() const noexcept { return file_ ? pos_ : consumed_; }
+  [[nodiscard]] std::uint64_t bytes_total() const noexcept {
+    return file_ ? file_->data().size() : 0;
+  }
 
  private:
   // cppcheck-suppress passedByValue ; sink parameter, moved from
-  explicit csv_reader(mapped_file f) noexcept : file_(std::move(f)) {}
+  explicit csv_reader(mapped_file f) : file_(std::move(f)), path_(file_->path()) {}
+  explicit csv_reader(int fd) : path_("<stdin>"), stream_fd_(fd) {}
   status read_header();
-  // Returns the next line (without end-of-line characters) or nullopt at end of file.
+  // Returns the next line (without end-of-line characters) or nullopt at end of file. The view
+  // is valid until the next call.
   std::optional<std::string_view> next_line();
+  std::optional<std::string_view> next_stream_line();
+  // Reads more of the stream into buf_ (compacting what was consumed); false at its end.
+  bool refill();
   void add_metadata(std::string_view comment_line);
   bool split(std::string_view line);
   void detect_delimiter(std::string_view first_line);
   [[nodiscard]] bool parse_slow(std::size_t i, double& out);
 
-  mapped_file file_;
+  std::optional<mapped_file> file_;  // empty: reading a stream (standard input)
+  std::string path_;
   csv_dialect dialect_;
   std::size_t pos_ = 0;
+  // A stream is read a block at a time: only the lines not yet consumed are held.
+  int stream_fd_ = -1;
+  std::string buf_;
+  std::size_t buf_pos_ = 0;
+  bool stream_end_ = false;
+  std::uint64_t consumed_ = 0;
+  std::string replay_;  // a line to hand out again (a file without a header: its first row)
+  bool has_replay_ = false;
   std::size_t line_ = 0;
   std::size_t header_line_ = 0;
   bool unterminated_ = false;

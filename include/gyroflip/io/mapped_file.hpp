@@ -3,7 +3,6 @@
 #pragma once
 
 #include <cstddef>
-#include <memory>
 #include <string>
 #include <string_view>
 
@@ -15,7 +14,6 @@ namespace gyroflip::io {
 /// not a regular file, unreadable. An empty file maps to an empty view.
 class mapped_file {
  public:
-  /// `-` is standard input: read whole into memory (a pipe cannot be mapped), named `<stdin>`.
   [[nodiscard]] static result<mapped_file> open(const std::string& path);
   mapped_file(mapped_file&& other) noexcept;
   mapped_file& operator=(mapped_file&& other) noexcept;
@@ -34,9 +32,7 @@ class mapped_file {
 
  private:
   mapped_file(std::string path, const char* p, std::size_t n) noexcept;
-  [[nodiscard]] static result<mapped_file> read_stdin();
   std::string path_;
-  std::unique_ptr<char[]> owned_;  // the bytes of standard input (not a mapping)
   const char* ptr_ = nullptr;
   std::size_t size_ = 0;
 };
