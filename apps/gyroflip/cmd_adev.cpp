@@ -30,14 +30,18 @@ namespace gyroflip::app {
 namespace {
 
 // `--ci none`: the bound, EDF and noise-type fields are empty (CSV) or null (JSON).
-std::string csv_text(const std::vector<analysis::deviation_point>& pts, bool with_ci) {
-  std::string s = "tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n";
+constexpr const char* csv_header = "tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n";
+
+// The rows of one curve (no header); `prefix` starts each row (a column's name and a comma).
+std::string csv_rows(const std::vector<analysis::deviation_point>& pts, bool with_ci,
+                     const std::string& prefix) {
+  std::string s;
   for (const auto& p : pts) {
     if (with_ci) {
-      s += fmt::format("{},{},{},{},{},{},{}\n", p.tau_s, p.dev, p.ci_lo, p.ci_hi, p.edf, p.n,
-                       p.alpha);
+      s += prefix + fmt::format("{},{},{},{},{},{},{}\n", p.tau_s, p.dev, p.ci_lo, p.ci_hi, p.edf,
+                                p.n, p.alpha);
     } else {
-      s += fmt::format("{},{},,,,{},\n", p.tau_s, p.dev, p.n);
+      s += prefix + fmt::format("{},{},,,,{},\n", p.tau_s, p.dev, p.n);
     }
   }
   return s;
@@ -260,7 +264,12 @@ int run_adev(const adev_options& o) {
   for (const auto& in : *inputs) {
     auto r = deviation_of(o, *kind, *taus, level, in);
     if (!r) return report(r.err());
-    const std::string text = csv_text(r->points, level.has_value());
+    // The header, then the unit of `dev` as metadata (readers skip `#` lines; scripts read line 1),
+    // then the rows: with several columns each row starts with its column.
+    if (csv.empty())
+      csv = std::string(several ? "column," : "") + csv_header +
+            fmt::format("# units: {}\n", unit_name(o.in));
+    csv += csv_rows(r->points, level.has_value(), several ? in.column + "," : "");
     if (table)
       tables +=
           table_text(r->points, level.has_value(),
@@ -269,18 +278,6 @@ int run_adev(const adev_options& o) {
                                  in.series.samples().size(), 1.0 / in.phase.tau0_s(),
                                  level ? fmt::format(", {:g} % intervals", 100.0 * *level) : ""),
                      unit_name(o.in));
-    if (!several) {
-      csv = text;
-    } else {
-      // Each row prefixed with its column (the header once).
-      const auto first_nl = text.find('\n');
-      if (csv.empty()) csv = "column," + text.substr(0, first_nl + 1);
-      for (std::size_t at = first_nl + 1; at < text.size();) {
-        const auto nl = text.find('\n', at);
-        csv += in.column + "," + text.substr(at, nl - at + 1);
-        at = nl + 1;
-      }
-    }
     if (o.json)
       per_column.push_back(json_of(o, in.column, in.phase.tau0_s(), in.series.samples().size(),
                                    r->points, r->dropped, level));

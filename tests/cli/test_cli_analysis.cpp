@@ -70,8 +70,9 @@ TEST(CliAdev, JsonCsvNpyAndRawAgree) {
   ASSERT_EQ(o.exit_code, 0) << o.err;
   const std::string out = read_text(d.file("out.csv"));
   EXPECT_EQ(out.substr(0, out.find('\n')), "tau_s,dev,ci_lo,ci_hi,edf,n,alpha");
+  EXPECT_NE(out.find("\n# units: deg/s\n"), std::string::npos) << out;
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'),
-            1 + 8);  // 1, 2, 4, 10, 20, 40, 100, 200 (<= 250)
+            2 + 8);  // header, units, then 1, 2, 4, 10, 20, 40, 100, 200 (<= 250)
 }
 
 // An HDF5 file as a user's logger writes it: float32 samples in a group, the rate as an attribute.

@@ -232,7 +232,8 @@ TEST(CliLoggers, SeveralColumnsInOneRunGiveEachColumnsOwnResult) {
   }
   const auto csv = run_cli({"adev", dir.file("imu.csv"), "--column", "gx,gz"});
   ASSERT_EQ(csv.exit_code, 0) << csv.err;
-  EXPECT_EQ(csv.out.rfind("column,tau_s,dev,ci_lo,ci_hi,edf,n,alpha\ngx,", 0), 0u) << csv.out;
+  EXPECT_EQ(csv.out.rfind("column,tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n# units: deg/s\ngx,", 0), 0u)
+      << csv.out;
   EXPECT_NE(csv.out.find("\ngz,"), std::string::npos);
   const json noise = run_json({"noise", dir.file("imu.csv"), "--columns", "all-numeric", "--json"});
   ASSERT_EQ(noise["columns"].size(), 3u);
@@ -374,7 +375,8 @@ TEST(CliLoggers, AdevPrintsATableOnATerminalAndCsvWhenPiped) {
   EXPECT_NE(tty.find("tau [s]         m   dev [rad/s]"), std::string::npos) << tty;
   EXPECT_NE(tty.find("       0.01         1 "), std::string::npos) << tty;
   const auto piped = run_cli({"adev", dir.file("r.csv"), "--column", "gx", "--units", "rad/s"});
-  EXPECT_EQ(piped.out.rfind("tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n", 0), 0u);
+  EXPECT_EQ(piped.out.rfind("tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n# units: rad/s\n", 0), 0u)
+      << piped.out;
 }
 
 // A .npy table as np.save writes it: `descr` and `shape` (N, M) in C or Fortran order.

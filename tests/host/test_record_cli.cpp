@@ -174,7 +174,10 @@ TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
   ASSERT_TRUE(run) << run.err().message;
   ASSERT_GE(run->dwells.size(), 25u);
   ASSERT_EQ(run->conversions.size(), run->dwells.size() * 256);
-  EXPECT_EQ(run->unplaced_conversions, 0u);
+  // Only the dwell the end of the run cut short may leave RAW codes without their DWELL (the
+  // device got STOP mid-dwell; at --speed max its first RAW blocks may already be in): fewer
+  // than one dwell's 256.
+  EXPECT_LT(run->unplaced_conversions, 256u);
   for (std::size_t k = 0; k < run->dwells.size(); ++k) {
     const auto& d = run->dwells[k];
     std::int64_t sum = 0;
