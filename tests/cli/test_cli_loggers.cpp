@@ -125,6 +125,12 @@ TEST(CliLoggers, SemicolonsDecimalCommasNoHeaderThreeAxesReadAsThePlainFile) {
     blanks += fmt::format("  {:.2f}\t {:.17g}  {:.17g} {:.17g}\n", 0.01 * static_cast<double>(k),
                           a[0][k], a[1][k], a[2][k]);
   write_text(dir.file("blanks.txt"), blanks);
+  // Tab-separated (a LabVIEW or Excel "text" export), detected; and the same given explicitly.
+  std::string tabs = "time_s\tgx\tgy\tgz\n";
+  for (std::size_t k = 0; k < a[0].size(); ++k)
+    tabs += fmt::format("{:.2f}\t{:.17g}\t{:.17g}\t{:.17g}\n", 0.01 * static_cast<double>(k),
+                        a[0][k], a[1][k], a[2][k]);
+  write_text(dir.file("tabs.tsv"), tabs);
   for (const char* axis : {"gx", "gz"}) {
     SCOPED_TRACE(axis);
     const std::string number = axis[1] == 'x' ? "2" : "4";
@@ -133,11 +139,18 @@ TEST(CliLoggers, SemicolonsDecimalCommasNoHeaderThreeAxesReadAsThePlainFile) {
                                         "--column", number, "--time-column", "1", "--json"}));
     const auto blank_devs = devs(run_json(
         {"adev", dir.file("blanks.txt"), "--column", axis, "--time-column", "t", "--json"}));
+    const auto tab_devs =
+        devs(run_json({"adev", dir.file("tabs.tsv"), "--column", axis, "--json"}));
+    const auto tab_given = devs(
+        run_json({"adev", dir.file("tabs.tsv"), "--column", axis, "--delimiter", "tab", "--json"}));
     ASSERT_EQ(eu_devs.size(), want.size());
     ASSERT_EQ(blank_devs.size(), want.size());
+    ASSERT_EQ(tab_devs.size(), want.size());
+    EXPECT_EQ(tab_given, tab_devs);
     for (std::size_t i = 0; i < want.size(); ++i) {
       EXPECT_EQ(eu_devs[i], want[i]) << i;
       EXPECT_EQ(blank_devs[i], want[i]) << i;
+      EXPECT_EQ(tab_devs[i], want[i]) << i;
     }
   }
   // A column that is not there: the message shows the header as split and the delimiter.
