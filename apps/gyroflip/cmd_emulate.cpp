@@ -211,6 +211,7 @@ int run_emulate(const emulate_options& o) {
   const auto wall_start = steady::now();
   steady::time_point back_at{};  // while the line is gone: when it comes back
   std::uint64_t frames_unplugged = 0;
+  bool frame_unplugged = false;  // a byte of the frame being sent went out while the line was gone
   std::optional<double> run_start_s;  // device time of the first run: faults count from it
   emu.boot();
   while (!stop_requested && (o.duration_s == 0.0 || emu.time_s() < o.duration_s)) {
@@ -245,9 +246,13 @@ int run_emulate(const emulate_options& o) {
       for (std::size_t i = 0; i < n; ++i) {
         std::uint8_t b = 0;
         if (faults.pass(buf[i], b)) out.push_back(b);
+        // A frame is lost if any of its bytes went out while the line was gone: one that
+        // straddles the replug arrives without its head.
+        frame_unplugged = frame_unplugged || !line;
         if (!monitor.push(buf[i])) continue;
-        const bool lost = !line || faults.last_frame_hit();
-        if (!line) ++frames_unplugged;
+        const bool lost = frame_unplugged || faults.last_frame_hit();
+        if (frame_unplugged) ++frames_unplugged;
+        frame_unplugged = false;
         if (auto s =
                 log->add(monitor.current(), emu.time_s(), lost, emu.last_conversion_table_deg());
             !s)

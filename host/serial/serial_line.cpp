@@ -135,14 +135,18 @@ bool serial_line::drain(int timeout_ms) {
     // A serial device: the driver sends what it holds (tcdrain has no timeout; a UART finishes).
     return tcdrain(fd_) == 0;
   }
-  // A pty: our slave descriptor shares the reader's input queue; wait until it is empty.
-  for (int waited = 0;; waited += 10) {
+  // A pty: our slave descriptor shares the reader's input queue; wait until it is empty. Bytes
+  // written to the master reach that queue a moment later (the kernel pushes its buffer from a
+  // work queue), so one empty reading is not enough: three in a row, 10 ms apart.
+  int empty_readings = 0;
+  for (int waited = 0; empty_readings < 3; waited += 10) {
     int unread = 0;
     if (ioctl(peer_fd_, FIONREAD, &unread) != 0) return false;
-    if (unread == 0) return true;
-    if (waited >= timeout_ms) return false;
-    poll(nullptr, 0, 10);
+    empty_readings = unread == 0 ? empty_readings + 1 : 0;
+    if (empty_readings < 3 && waited >= timeout_ms) return false;
+    if (empty_readings < 3) poll(nullptr, 0, 10);
   }
+  return true;
 }
 
 result<std::size_t> serial_line::read(std::uint8_t* out, std::size_t cap, int timeout_ms) {

@@ -278,6 +278,23 @@ TEST(CliLoggers, NoiseFitRangeReadOffsAndTermsFile) {
   const std::string csv = read_text(dir.file("terms.csv"));
   EXPECT_EQ(csv.rfind("column,term,unit,value,lo,hi,resolved,read_off\ngx,arw,deg/sqrt(h),", 0), 0u)
       << csv;
+  // A sinusoid (a temperature swing of 20-s period) is no IEEE 952 term: the fit is poor and
+  // says so; the model-only white noise fits (no warning).
+  std::string sine = "time_s,gx\n";
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0.0, 0.1);
+  for (std::size_t k = 0; k < 60000; ++k) {
+    const double t = 0.01 * static_cast<double>(k);
+    sine +=
+        fmt::format("{:.2f},{:.9f}\n", t, g(rng) + 0.05 * std::sin(2 * std::numbers::pi * t / 20));
+  }
+  write_text(dir.file("sine.csv"), sine);
+  const auto poor = run_cli({"noise", dir.file("sine.csv"), "--column", "gx"});
+  ASSERT_EQ(poor.exit_code, 0) << poor.err;
+  EXPECT_NE(poor.err.find("the noise model fits the curve poorly (chi2/dof"), std::string::npos)
+      << poor.err;
+  EXPECT_EQ(run_cli({"noise", dir.file("imu.csv"), "--column", "gx"}).err.find("fits the curve"),
+            std::string::npos);
   const auto bad = run_cli({"noise", dir.file("imu.csv"), "--column", "gx", "--fit-taus", "5"});
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--fit-taus: LO:HI"), std::string::npos) << bad.err;
