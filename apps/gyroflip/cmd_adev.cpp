@@ -20,6 +20,7 @@
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/method/flip_detect.hpp"
@@ -162,12 +163,7 @@ result<analysis_input> prepare(io::series s, const series_input& in, const std::
 result<std::vector<std::string>> column_names(const series_input& in) {
   if (in.columns == "all-numeric") return io::numeric_columns(in.file, series_options_of(in));
   std::vector<std::string> names;
-  for (std::size_t at = 0;;) {
-    const auto comma = in.column.find(',', at);
-    names.push_back(in.column.substr(at, comma - at));
-    if (comma == std::string::npos) break;
-    at = comma + 1;
-  }
+  for (const auto& t : text::split(in.column, ',')) names.emplace_back(t.text);
   return names;
 }
 
@@ -188,8 +184,7 @@ result<std::vector<analysis_input>> load_series(const series_input& in) {
     if (!s) return s.err();
     read.push_back(std::move(*s));
   } else {
-    if (is_rig_recording(in.file) || in.file.ends_with(".npy") || in.file.ends_with(".h5"))
-      return usage_error("several columns: a CSV file only");
+    if (is_rig_recording(in.file)) return usage_error("several columns: a CSV file only");
     auto all = io::read_series_columns(in.file, so, *names);
     if (!all) return all.err();
     read = std::move(*all);

@@ -107,16 +107,14 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
     f.reset_at_s.push_back(t);
   }
   for (const std::string& u : o.fault_unplug) {
-    const auto colon = u.find(':');
-    const auto at = text::to_double(u.substr(0, colon));
-    const auto dur =
-        colon == std::string::npos ? std::nullopt : text::to_double(u.substr(colon + 1));
-    if (!at || !dur || !(*at > 0.0 && *at <= 1e7) || !(*dur > 0.0 && *dur <= 3600.0))
+    const auto v = text::to_doubles(u, ':');
+    if (!v || v->size() != 2 || !((*v)[0] > 0.0 && (*v)[0] <= 1e7) ||
+        !((*v)[1] > 0.0 && (*v)[1] <= 3600.0))
       return usage_error(
           "--fault-unplug: AT:FOR, AT device s into the run in (0, 1e7], FOR wall s in (0, 3600]; "
           "got " +
           u);
-    f.unplug.emplace_back(*at, *dur);
+    f.unplug.emplace_back((*v)[0], (*v)[1]);
   }
   std::sort(f.reset_at_s.begin(), f.reset_at_s.end(), std::greater<>());  // due ones at the back
   std::sort(f.unplug.begin(), f.unplug.end(), std::greater<>());

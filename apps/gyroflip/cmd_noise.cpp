@@ -46,9 +46,14 @@ std::string show(const analysis::noise_term& t, double to_unit) {
   return fmt::format("{:.4g}  [{:.4g}, {:.4g}]", t.value * to_unit, t.lo * to_unit, t.hi * to_unit);
 }
 
+// A term's value, or for an unresolved term its upper limit.
+double value_or_limit(const analysis::noise_term& t) {
+  return t.resolved ? t.value : t.hi;
+}
+
 // The term in another unit, for the text's "= ..." (the value, or its upper limit).
 std::string also(const analysis::noise_term& t, double to_unit) {
-  return fmt::format("{}{:.4g}", t.resolved ? "" : "< ", (t.resolved ? t.value : t.hi) * to_unit);
+  return fmt::format("{}{:.4g}", t.resolved ? "" : "< ", value_or_limit(t) * to_unit);
 }
 
 // Kalibr's IMU noise file (kalibr/wiki "IMU Noise Model"): the continuous-time gyroscope noise
@@ -56,7 +61,6 @@ std::string also(const analysis::noise_term& t, double to_unit) {
 // no inflation factor is applied (docs/ANALYSIS.md says what the field's x10 habit means).
 std::string kalibr_yaml(const std::string& file, const analysis::noise_terms& f, double to_rad,
                         double rate_hz) {
-  const auto value = [](const analysis::noise_term& t) { return t.resolved ? t.value : t.hi; };
   const auto remark = [](const analysis::noise_term& t) {
     return t.resolved ? std::string() : std::string("  # an upper limit: not resolved by the data");
   };
@@ -66,13 +70,9 @@ std::string kalibr_yaml(const std::string& file, const analysis::noise_terms& f,
       "gyroscope_noise_density: {:.6e}  # rad/s/sqrt(Hz) (ARW N){}\n"
       "gyroscope_random_walk: {:.6e}  # rad/s^2/sqrt(Hz) (RRW K){}\n"
       "update_rate: {:.9g}  # Hz\n",
-      printable(file, 200), value(f.arw) * to_rad, remark(f.arw), value(f.rrw) * to_rad,
-      remark(f.rrw), rate_hz);
+      printable(file, 200), value_or_limit(f.arw) * to_rad, remark(f.arw),
+      value_or_limit(f.rrw) * to_rad, remark(f.rrw), rate_hz);
 }
-
-}  // namespace
-
-namespace {
 
 // One column's OADEV and fitted terms (in the samples' unit).
 struct column_noise {
@@ -85,19 +85,20 @@ struct column_noise {
   analysis::slope_readoffs readoffs;  // over every point, not only the fitted range
 };
 
-// `--fit-taus LO:HI` (s): the points the model is fitted to.
-result<std::pair<double, double>> fit_range(const std::string& text) {
-  if (text.empty()) return std::pair{0.0, std::numeric_limits<double>::infinity()};
-  const auto colon = text.find(':');
-  const auto lo = text::to_double(text.substr(0, colon));
-  const auto hi =
-      colon == std::string::npos ? std::nullopt : text::to_double(text.substr(colon + 1));
-  if (!lo || !hi || !(*lo >= 0.0 && *hi > *lo))
-    return usage_error("--fit-taus: LO:HI in seconds, 0 <= LO < HI; got " + text);
-  return std::pair{*lo, *hi};
+// `--fit-taus LO:HI` (s): the taus the model is fitted to.
+struct tau_range {
+  double lo_s = 0.0, hi_s = std::numeric_limits<double>::infinity();
+};
+result<tau_range> fit_range(const std::string& spec) {
+  if (spec.empty()) return tau_range{};
+  const auto v = text::to_doubles(spec, ':');
+  if (!v || v->size() != 2 || !((*v)[0] >= 0.0 && (*v)[1] > (*v)[0]))
+    return usage_error("--fit-taus: LO:HI in seconds, 0 <= LO < HI; got " + spec);
+  return tau_range{(*v)[0], (*v)[1]};
 }
 
-result<column_noise> noise_of(const noise_options& o, const analysis_input& in) {
+result<column_noise> noise_of(const noise_options& o, const tau_range& range,
+                              const analysis_input& in) {
   column_noise c;
   c.column = in.column;
   progress bar("noise of " + o.in.file, 1000);
@@ -112,11 +113,9 @@ result<column_noise> noise_of(const noise_options& o, const analysis_input& in) 
   for (const auto& m : in.series.metadata())
     if (m.key == "pairing" && m.value == "abba" && o.in.input == "rate")
       c.series.abba_cycle_s = c.tau0_s;
-  auto range = fit_range(o.fit_taus);
-  if (!range) return range.err();
   std::vector<analysis::deviation_point> fitted;
   for (const auto& p : *pts)
-    if (p.tau_s >= range->first && p.tau_s <= range->second) fitted.push_back(p);
+    if (p.tau_s >= range.lo_s && p.tau_s <= range.hi_s) fitted.push_back(p);
   auto fit = analysis::fit_noise_terms(fitted, o.ci, c.series);
   // Too few points for the fit is a property of this input (too short a series): name it.
   if (!fit)
@@ -271,10 +270,9 @@ std::string terms_csv(const noise_options& o, const std::vector<column_noise>& a
 status write_kalibr(const noise_options& o, const std::vector<column_noise>& all) {
   const column_noise* worst_n = &all.front();
   const column_noise* worst_k = &all.front();
-  const auto value = [](const analysis::noise_term& t) { return t.resolved ? t.value : t.hi; };
   for (const auto& c : all) {
-    if (value(c.terms.arw) > value(worst_n->terms.arw)) worst_n = &c;
-    if (value(c.terms.rrw) > value(worst_k->terms.rrw)) worst_k = &c;
+    if (value_or_limit(c.terms.arw) > value_or_limit(worst_n->terms.arw)) worst_n = &c;
+    if (value_or_limit(c.terms.rrw) > value_or_limit(worst_k->terms.rrw)) worst_k = &c;
   }
   analysis::noise_terms f;
   f.arw = worst_n->terms.arw;
@@ -304,11 +302,14 @@ int run_noise(const noise_options& o) {
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.kalibr, o.output}); !s)
     return report(s.err());
+  // Checked before the files are read.
+  const auto range = fit_range(o.fit_taus);
+  if (!range) return report(range.err());
   auto inputs = load_series(o.in);
   if (!inputs) return report(inputs.err());
   std::vector<column_noise> all;
   for (const auto& in : *inputs) {
-    auto c = noise_of(o, in);
+    auto c = noise_of(o, *range, in);
     if (!c) return report(c.err());
     all.push_back(std::move(*c));
   }

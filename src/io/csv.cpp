@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 
 namespace gyroflip::io {
 namespace {
@@ -105,7 +106,7 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
     if (d.empty()) return input_error({r.path_}, "empty input (expected a CSV header line)");
     if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
       return input_error({r.path_}, "binary data (NUL byte), not a UTF-8 CSV text");
-    if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = 3;  // UTF-8 byte-order mark
+    if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = r.pos_ = 3;  // UTF-8 byte-order mark
     if (auto s = r.read_header(); !s) return s.err();
     return r;
   }
@@ -139,26 +140,34 @@ bool csv_reader::refill() {
   }
 }
 
-std::optional<std::string_view> csv_reader::next_stream_line() {
-  while (true) {
-    const std::size_t left = buf_.size() - buf_pos_;
-    const char* begin = buf_.data() + buf_pos_;
-    const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', left));
-    // A line that ends, one too long to be a row (the caller says so), or the input's end.
-    if (nl != nullptr || left > max_line_bytes || (stream_end_ && left > 0)) {
-      std::size_t len =
-          nl != nullptr ? static_cast<std::size_t>(nl - begin) : std::min(left, max_line_bytes + 1);
-      buf_pos_ += nl != nullptr ? len + 1 : len;
-      consumed_ += nl != nullptr ? len + 1 : len;
-      unterminated_ = nl == nullptr;
-      ++line_;
-      if (len > 0 && begin[len - 1] == '\r') --len;
-      return std::string_view(begin, len);
-    }
-    if (stream_end_ || !refill()) {
-      if (buf_pos_ == buf_.size()) return std::nullopt;
-    }
+namespace {
+
+// Where the next line of `left` bytes at `begin` ends: at its '\n' (`taken` includes it), or
+// one byte past the longest allowed line (the caller reports that), or at the end of the input
+// when `at_end`. Looks no further than that byte: a 2 GB file without a newline fails after
+// 1 MiB, not after the whole mapping has been paged in. nullopt: no whole line yet.
+struct line_cut {
+  std::size_t len = 0, taken = 0;
+  bool unterminated = false;
+};
+std::optional<line_cut> cut_line(const char* begin, std::size_t left, bool at_end) {
+  const std::size_t window = std::min(left, max_line_bytes + 1);
+  const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', window));
+  if (nl != nullptr) {
+    const auto len = static_cast<std::size_t>(nl - begin);
+    return line_cut{len, len + 1, false};
   }
+  if (window > max_line_bytes || (at_end && left > 0)) return line_cut{window, window, true};
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string_view csv_reader::take_line(const char* begin, std::size_t len, bool unterminated) {
+  unterminated_ = unterminated;
+  ++line_;
+  if (len > 0 && begin[len - 1] == '\r') --len;
+  return {begin, len};
 }
 
 std::optional<std::string_view> csv_reader::next_line() {
@@ -167,21 +176,24 @@ std::optional<std::string_view> csv_reader::next_line() {
     ++line_;
     return std::string_view(replay_);
   }
-  if (!file_) return next_stream_line();
-  const std::string_view d = file_->data();
-  if (pos_ >= d.size()) return std::nullopt;
-  const char* begin = d.data() + pos_;
-  const std::size_t left = d.size() - pos_;
-  // Look no further than one byte past the longest allowed line: a 2 GB file without a newline
-  // must fail after 1 MiB, not after the whole mapping has been paged in.
-  const std::size_t window = std::min(left, max_line_bytes + 1);
-  const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', window));
-  std::size_t len = nl != nullptr ? static_cast<std::size_t>(nl - begin) : window;
-  pos_ += nl != nullptr ? len + 1 : len;
-  unterminated_ = nl == nullptr;
-  ++line_;
-  if (len > 0 && begin[len - 1] == '\r') --len;
-  return std::string_view(begin, len);
+  if (file_) {
+    const std::string_view d = file_->data();
+    if (pos_ >= d.size()) return std::nullopt;
+    const char* begin = d.data() + pos_;
+    const line_cut c = *cut_line(begin, d.size() - pos_, true);
+    pos_ += c.taken;
+    return take_line(begin, c.len, c.unterminated);
+  }
+  // A stream: cut from what has come, reading more until a line is whole or the input ends.
+  while (true) {
+    const char* begin = buf_.data() + buf_pos_;
+    if (const auto c = cut_line(begin, buf_.size() - buf_pos_, stream_end_)) {
+      buf_pos_ += c->taken;
+      pos_ += c->taken;
+      return take_line(begin, c->len, c->unterminated);
+    }
+    if (!refill() && buf_pos_ == buf_.size()) return std::nullopt;
+  }
 }
 
 // The delimiter of a file from its first line: the most frequent of ';', tab and ',' (a
@@ -202,10 +214,7 @@ void csv_reader::detect_delimiter(std::string_view first_line) {
 }
 
 status csv_reader::read_header() {
-  while (true) {
-    const std::size_t line_start = pos_;
-    const auto l = next_line();
-    if (!l) break;
+  while (const auto l = next_line()) {
     if (l->size() > max_line_bytes)
       return input_error({path(), line_}, "line longer than 1 MiB (not a CSV recording?)");
     if (!l->empty() && l->front() == '#') {
@@ -215,34 +224,24 @@ status csv_reader::read_header() {
     if (is_blank(*l)) continue;
     if (dialect_.delimiter == 0) detect_delimiter(*l);
     header_line_ = line_;
-    // The fields of this line through split(), which stores them as cells of every column.
-    slot_of_column_.clear();
-    header_.assign(1, {});
-    std::vector<std::string_view> fields;
     for_each_field(*l, dialect_.delimiter, [&](std::size_t begin, std::size_t end) {
-      fields.push_back(l->substr(begin, end - begin));
       header_cols_.push_back(begin + 1);
+      if (!dialect_.header) {
+        header_.push_back(std::to_string(header_.size() + 1));
+        return;
+      }
+      std::string_view name = trim(l->substr(begin, end - begin));
+      // A quoted name ("gyro_x"), as spreadsheet programs write them.
+      if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
+        name = name.substr(1, name.size() - 2);
+      header_.emplace_back(name);
     });
     if (!dialect_.header) {
-      // Every line is data: columns are numbered, and this line is read again as the first row.
-      for (std::size_t i = 0; i < fields.size(); ++i) header_.push_back(std::to_string(i + 1));
-      header_.erase(header_.begin());
-      if (file_) {
-        pos_ = line_start;
-      } else {
-        replay_ = std::string(*l);
-        has_replay_ = true;
-      }
+      // Every line is data: columns are numbered, and this line is handed out again as the
+      // first row.
+      replay_ = std::string(*l);
+      has_replay_ = true;
       --line_;
-    } else {
-      header_.clear();
-      for (const auto f : fields) {
-        std::string_view name = trim(f);
-        // A quoted name ("gyro_x"), as spreadsheet programs write them.
-        if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
-          name = name.substr(1, name.size() - 2);
-        header_.emplace_back(name);
-      }
     }
     slot_of_column_.assign(header_.size(), -1);
     return ok();
@@ -269,11 +268,9 @@ result<std::optional<std::size_t>> csv_reader::find_column(std::string_view name
     found = i;
   }
   // No such name: a column number (1-based), as for a file without a header.
-  std::size_t number = 0;
-  const auto [end, ec] = std::from_chars(name.data(), name.data() + name.size(), number);
-  if (!found && ec == std::errc{} && end == name.data() + name.size() && number >= 1 &&
-      number <= header_.size())
-    found = number - 1;
+  if (const auto number = text::to_unsigned(name);
+      !found && number && *number >= 1 && *number <= header_.size())
+    found = static_cast<std::size_t>(*number - 1);
   return found;
 }
 

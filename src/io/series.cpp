@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/text.hpp"
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/io/mapped_file.hpp"
 #include "hdf5_series.hpp"
@@ -125,30 +126,23 @@ result<npy_array> npy_layout(const std::string& path, std::string_view d) {
   if (*fortran != "False" && *fortran != "True")
     return input_error({path}, "malformed .npy header: fortran_order must be True or False");
   a.fortran = *fortran == "True";
-  // (N,) or (N, M) with N and M plain decimal integers.
-  std::string_view dims = *shape;
+  // (N,) or (N, M) with N and M plain decimal integers; "(N)" is not a tuple.
+  const std::string_view dims = *shape;
   const auto bad_shape = [&] {
     return input_error({path}, fmt::format(".npy array must be 1-D (N,) or 2-D (N, M); shape {}",
                                            printable(*shape)));
   };
   if (dims.size() < 3 || dims.front() != '(' || dims.back() != ')') return bad_shape();
-  dims = dims.substr(1, dims.size() - 2);
+  auto fields = text::split(dims.substr(1, dims.size() - 2), ',');
+  const bool trailing_comma = fields.size() > 1 && fields.back().text.empty();
+  if (trailing_comma) fields.pop_back();
+  if (fields.size() > 2 || (fields.size() == 1 && !trailing_comma)) return bad_shape();
   std::uint64_t n[2] = {0, 1};
-  int count = 0;
-  while (!dims.empty()) {
-    while (!dims.empty() && dims.front() == ' ') dims.remove_prefix(1);
-    if (dims.empty()) break;
-    if (count == 2) return bad_shape();
-    const auto [end, ec] = std::from_chars(dims.data(), dims.data() + dims.size(), n[count]);
-    if (ec != std::errc{}) return bad_shape();
-    dims.remove_prefix(static_cast<std::size_t>(end - dims.data()));
-    ++count;
-    while (!dims.empty() && dims.front() == ' ') dims.remove_prefix(1);
-    if (!dims.empty() && dims.front() != ',') return bad_shape();
-    if (!dims.empty()) dims.remove_prefix(1);
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const auto v = text::to_unsigned(fields[i].text);
+    if (!v) return bad_shape();
+    n[i] = *v;
   }
-  // "(N,)" is 1-D; "(N)" is not a tuple; "(N, M)" is 2-D.
-  if (count == 0 || (count == 1 && shape->substr(shape->size() - 2) != ",)")) return bad_shape();
   const std::size_t size = a.f4 ? 4 : 8;
   const std::size_t data_bytes = d.size() - start - header_len;
   if (n[1] == 0 || n[0] > data_bytes / size / n[1] || n[0] * n[1] * size != data_bytes)
@@ -165,11 +159,10 @@ result<npy_array> npy_layout(const std::string& path, std::string_view d) {
 }
 
 // A column number from 1 ("3") as a 0-based index; nullopt for a name.
-std::optional<std::size_t> column_number(std::string_view text) {
-  std::size_t k = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), k);
-  if (ec != std::errc{} || end != text.data() + text.size() || k == 0) return std::nullopt;
-  return k - 1;
+std::optional<std::size_t> column_number(std::string_view name) {
+  const auto k = text::to_unsigned(name);
+  if (!k || *k == 0) return std::nullopt;
+  return static_cast<std::size_t>(*k - 1);
 }
 
 // Little-endian float64 samples of a mapped file from byte `offset` (8-byte aligned, checked by
@@ -501,14 +494,10 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
   return s;
 }
 
-}  // namespace
-
-result<series> read_series(const std::string& path_in, const series_options& opt) {
-  series s;
-  s.source_ = path_in;
-  // HDF5: `FILE.h5:/dataset` or FILE.h5 with `dataset` set in the options.
-  std::string path = path_in;
-  std::string dataset = opt.dataset;
+// What read_series takes `path` for, by its name: HDF5 (`FILE.h5:/dataset`, or FILE.h5 with the
+// `dataset` option), .npy, raw float64, else CSV. `path` and `dataset` are split for HDF5.
+enum class series_format { csv, hdf5, npy, raw };
+series_format format_of(std::string& path, std::string& dataset) {
   for (const char* ext : {".h5:", ".hdf5:", ".hdf:"}) {
     const auto at = path.find(ext);
     if (at != std::string::npos) {
@@ -516,7 +505,23 @@ result<series> read_series(const std::string& path_in, const series_options& opt
       path.resize(at + std::string_view(ext).size() - 1);
     }
   }
-  if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5")) {
+  if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5"))
+    return series_format::hdf5;
+  if (ends_with(path, ".npy")) return series_format::npy;
+  if (ends_with(path, ".f64") || ends_with(path, ".bin") || ends_with(path, ".raw"))
+    return series_format::raw;
+  return series_format::csv;
+}
+
+}  // namespace
+
+result<series> read_series(const std::string& path_in, const series_options& opt) {
+  series s;
+  s.source_ = path_in;
+  std::string path = path_in;
+  std::string dataset = opt.dataset;
+  const series_format format = format_of(path, dataset);
+  if (format == series_format::hdf5) {
     if (dataset.empty())
       return about_parameter(
           input_error({path}, "name the dataset, as FILE.h5:/path or as the dataset parameter"),
@@ -541,8 +546,8 @@ result<series> read_series(const std::string& path_in, const series_options& opt
     s.tau0_s_ = 1.0 / *rate;
     return s;
   }
-  const bool npy = ends_with(path, ".npy");
-  if (npy || ends_with(path, ".f64") || ends_with(path, ".bin") || ends_with(path, ".raw")) {
+  const bool npy = format == series_format::npy;
+  if (npy || format == series_format::raw) {
     if (auto r = check_rate(path, opt.sample_rate_hz); !r) return r.err();
     auto f = mapped_file::open(path);
     if (!f) return f.err();
@@ -612,6 +617,9 @@ result<series> read_series(const std::string& path_in, const series_options& opt
 result<std::vector<series>> read_series_columns(const std::string& path, const series_options& opt,
                                                 const std::vector<std::string>& columns) {
   if (columns.empty()) return parameter_error("columns", "no column to read");
+  std::string file = path, dataset = opt.dataset;
+  if (format_of(file, dataset) != series_format::csv)
+    return input_error({path}, "several columns: a CSV file only");
   auto c = read_csv_series(path, opt, columns);
   if (!c) return c.err();
   std::vector<series> out;

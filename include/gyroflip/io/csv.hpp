@@ -136,7 +136,7 @@ class csv_reader {
   /// 1-based line number of the current row (or of the header before the first row).
   [[nodiscard]] std::size_t line() const noexcept { return line_; }
   /// Bytes consumed and total (0 for standard input: not known), for progress display.
-  [[nodiscard]] std::uint64_t bytes_done() const noexcept { return file_ ? pos_ : consumed_; }
+  [[nodiscard]] std::uint64_t bytes_done() const noexcept { return pos_; }
   [[nodiscard]] std::uint64_t bytes_total() const noexcept {
     return file_ ? file_->data().size() : 0;
   }
@@ -149,7 +149,8 @@ class csv_reader {
   // Returns the next line (without end-of-line characters) or nullopt at end of file. The view
   // is valid until the next call.
   std::optional<std::string_view> next_line();
-  std::optional<std::string_view> next_stream_line();
+  // Counts line `begin`..`len` (a CR before its end dropped) and returns it.
+  std::string_view take_line(const char* begin, std::size_t len, bool unterminated);
   // Reads more of the stream into buf_ (compacting what was consumed); false at its end.
   bool refill();
   void add_metadata(std::string_view comment_line);
@@ -160,13 +161,12 @@ class csv_reader {
   std::optional<mapped_file> file_;  // empty: reading a stream (standard input)
   std::string path_;
   csv_dialect dialect_;
-  std::size_t pos_ = 0;
+  std::size_t pos_ = 0;  // bytes consumed (of the mapping, or of the stream)
   // A stream is read a block at a time: only the lines not yet consumed are held.
   int stream_fd_ = -1;
   std::string buf_;
   std::size_t buf_pos_ = 0;
   bool stream_end_ = false;
-  std::uint64_t consumed_ = 0;
   std::string replay_;  // a line to hand out again (a file without a header: its first row)
   bool has_replay_ = false;
   std::size_t line_ = 0;
