@@ -21,6 +21,7 @@
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
+#include "gyroflip/core/units.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/method/flip_detect.hpp"
@@ -100,15 +101,11 @@ nlohmann::json json_of(const adev_options& o, const std::string& column, double 
 }  // namespace
 
 double deg_per_unit(const series_input& in) {
-  if (in.units == "rad/s" || in.units == "rad") return 180.0 / std::numbers::pi;
-  if (in.units == "deg/h") return 1.0 / 3600.0;
-  return 1.0;
+  return units::deg_per_unit(in.units);
 }
 
 std::string unit_name(const series_input& in) {
-  // The defaults read as the input's kind: deg/s for a rate, deg for an angle.
-  if (in.input == "angle") return in.units == "rad" || in.units == "rad/s" ? "rad" : "deg";
-  return in.units == "deg" ? "deg/s" : in.units == "rad" ? "rad/s" : in.units;
+  return std::string(units::unit_name(in.input == "angle", in.units));
 }
 
 namespace {

@@ -37,18 +37,6 @@ result<std::optional<io::calibration_geometry>> geometry_of(const calibrate_opti
   return std::optional<io::calibration_geometry>{io::calibration_geometry{o.lat_deg, *axis}};
 }
 
-// The pooled mean's correlated error from the files' own: se = sqrt(sum (n_i se_i)^2) / N.
-double pooled_correlated_stderr(const std::vector<io::calibration_entry>& files) {
-  double num = 0.0;
-  double n = 0.0;
-  for (const auto& f : files) {
-    const double ni = static_cast<double>(f.cal.cycles);
-    num += ni * ni * f.cal.stderr_correlated_dps * f.cal.stderr_correlated_dps;
-    n += ni;
-  }
-  return std::sqrt(num) / n;
-}
-
 // With several files there is always a model: degree K (default 1) when the files' temperatures
 // span min_model_span_c or more, else degree 0 - the weighted mean of the runs with the
 // run-to-run scatter in its error (paper Tab. 3: repeat runs at one temperature).
@@ -168,7 +156,7 @@ int run_calibrate(const calibrate_options& o) {
   auto pooled = method::calibrate(all);
   if (!pooled) return report(pooled.err());
   rec.pooled = *pooled;
-  rec.pooled.stderr_correlated_dps = pooled_correlated_stderr(rec.files);
+  rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);
   auto model = fit_model(o, rec.files);
   if (!model) return report(model.err());
   rec.model = *model;

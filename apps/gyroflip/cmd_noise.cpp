@@ -15,31 +15,18 @@
 #include "cmd_adev.hpp"
 #include "finite_output.hpp"
 #include "gyroflip/analysis/confidence.hpp"
-#include "gyroflip/analysis/noise_fit.hpp"
-#include "gyroflip/analysis/readoffs.hpp"
+#include "gyroflip/analysis/noise.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/noise_report.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
 namespace {
 
 using nlohmann::json;
-
-// Puts `key` (value in base units times `to_unit`) and, when resolved, key_lo/key_hi; an
-// unresolved term is null with key_upper (its upper limit at the same level).
-void put(json& j, const std::string& key, const analysis::noise_term& t, double to_unit) {
-  if (t.resolved) {
-    j[key] = t.value * to_unit;
-    j[key + "_lo"] = t.lo * to_unit;
-    j[key + "_hi"] = t.hi * to_unit;
-  } else {
-    j[key] = nullptr;
-    j[key + "_upper"] = t.hi * to_unit;
-  }
-}
 
 std::string show(const analysis::noise_term& t, double to_unit) {
   if (!t.resolved) return fmt::format("not resolved (< {:.4g})", t.hi * to_unit);
@@ -74,131 +61,50 @@ std::string kalibr_yaml(const std::string& file, const analysis::noise_terms& f,
       value_or_limit(f.rrw) * to_rad, remark(f.rrw), rate_hz);
 }
 
-// One column's OADEV and fitted terms (in the samples' unit).
-struct column_noise {
-  std::string column;
-  double tau0_s = 0.0;
-  std::size_t samples = 0;
-  std::vector<analysis::deviation_point> points;
-  analysis::noise_series series;
-  analysis::noise_terms terms;
-  analysis::slope_readoffs readoffs;  // over every point, not only the fitted range
-};
+// One column's OADEV, fitted terms and read-offs (in the samples' unit).
+using column_noise = io::noise_report;
 
 // `--fit-taus LO:HI` (s): the taus the model is fitted to.
-struct tau_range {
-  double lo_s = 0.0, hi_s = std::numeric_limits<double>::infinity();
-};
-result<tau_range> fit_range(const std::string& spec) {
-  if (spec.empty()) return tau_range{};
+result<analysis::tau_range> fit_range(const std::string& spec) {
+  if (spec.empty()) return analysis::tau_range{};
   const auto v = text::to_doubles(spec, ':');
   if (!v || v->size() != 2 || !((*v)[0] >= 0.0 && (*v)[1] > (*v)[0]))
     return usage_error("--fit-taus: LO:HI in seconds, 0 <= LO < HI; got " + spec);
-  return tau_range{(*v)[0], (*v)[1]};
+  return analysis::tau_range{(*v)[0], (*v)[1]};
 }
 
-result<column_noise> noise_of(const noise_options& o, const tau_range& range,
+result<column_noise> noise_of(const noise_options& o, const analysis::tau_range& range,
                               const analysis_input& in) {
   column_noise c;
+  c.file = o.in.file;
   c.column = in.column;
-  progress bar("noise of " + o.in.file, 1000);
-  auto pts = analysis::deviation(analysis::dev_kind::oadev, in.phase, {}, per_mille(bar));
-  bar.finish();
-  if (!pts) return pts.err();
-  // The OADEV points in the output carry bounds at the same level as the terms.
-  analysis::add_confidence(*pts, analysis::dev_kind::oadev, in.phase, o.ci);
+  c.input = o.in.input;
+  c.units = unit_name(o.in);
+  c.deg_per_unit = deg_per_unit(o.in);
   c.tau0_s = in.phase.tau0_s();
   c.samples = in.series.samples().size();
   // The rate column of `gyroflip compensate` with the abba pairing: correlated cycles.
   for (const auto& m : in.series.metadata())
     if (m.key == "pairing" && m.value == "abba" && o.in.input == "rate")
       c.series.abba_cycle_s = c.tau0_s;
-  std::vector<analysis::deviation_point> fitted;
-  for (const auto& p : *pts)
-    if (p.tau_s >= range.lo_s && p.tau_s <= range.hi_s) fitted.push_back(p);
-  auto fit = analysis::fit_noise_terms(fitted, o.ci, c.series);
+  progress bar("noise of " + o.in.file, 1000);
+  auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar));
+  bar.finish();
   // Too few points for the fit is a property of this input (too short a series): name it.
-  if (!fit)
-    return input_error({o.in.file},
-                       fit.err().message + (o.fit_taus.empty() ? "" : " in --fit-taus"));
-  c.readoffs = analysis::read_off_terms(*pts);
-  if (fit->chi2_per_dof > 4.0)
+  if (!a)
+    return input_error({o.in.file}, a.err().message + (o.fit_taus.empty() ? "" : " in --fit-taus"));
+  if (a->terms.chi2_per_dof > 4.0)
     warn(
         fmt::format("{}: column {}: the noise model fits the curve poorly (chi2/dof {:.3g}): "
                     "other noise (a sinusoid, a temperature swing) or a bad range; see the misfit "
                     "points, or fit a range with --fit-taus LO:HI",
-                    o.in.file, printable(c.column, 60), fit->chi2_per_dof));
-  c.points = std::move(*pts);
-  c.terms = std::move(*fit);
+                    o.in.file, printable(c.column, 60), a->terms.chi2_per_dof));
+  c.result = std::move(*a);
   return c;
 }
 
-json json_of(const noise_options& o, const column_noise& c) {
-  const auto& f = c.terms;
-  // The fit ran in the samples' unit; every output is in deg (and rad) units.
-  const double k = deg_per_unit(o.in);
-  const double k_rad = k * units::rad_per_deg;
-  json j = {{"file", o.in.file},
-            {"column", c.column},
-            {"input", o.in.input},
-            {"units", unit_name(o.in)},
-            {"tau0_s", c.tau0_s},
-            {"samples", c.samples},
-            {"bias_floor_tau_s", f.bias_floor_tau_s},
-            {"bias_floor_dps", f.bias_floor_dev * k},
-            {"bias_floor_deg_h", f.bias_floor_dev * k * units::dph_per_dps},
-            {"chi2_per_dof", f.chi2_per_dof},
-            {"bias_floor_reached", f.bias_floor_reached},
-            {"abba_cycles", c.series.abba_cycle_s > 0.0},
-            {"ci", f.level},
-            {"notes", f.notes}};
-  put(j, "arw_dps_rthz", f.arw, k);
-  put(j, "arw_deg_rth", f.arw, k * units::deg_rth_per_deg_rts);
-  put(j, "arw_rad_s_rthz", f.arw, k_rad);
-  put(j, "bias_instability_dps", f.bias_instability, k);
-  put(j, "bias_instability_deg_h", f.bias_instability, k * units::dph_per_dps);
-  put(j, "bias_instability_rad_s", f.bias_instability, k_rad);
-  put(j, "rrw_deg_h_rth", f.rrw, k * units::dph_rth_per_dps_rts);
-  put(j, "rrw_rad_s2_rthz", f.rrw, k_rad);
-  put(j, "quantization_deg", f.quantization, k);
-  put(j, "quantization_rad", f.quantization, k_rad);
-  put(j, "rate_ramp_deg_h2", f.rate_ramp, k * units::dph2_per_dps2);
-  // The OADEV points stay in the samples' unit (`units`), as `adev` writes them.
-  json points = json::array();
-  for (const auto& p : c.points)
-    points.push_back({{"tau_s", p.tau_s},
-                      {"dev", p.dev},
-                      {"ci_lo", p.ci_lo},
-                      {"ci_hi", p.ci_hi},
-                      {"edf", p.edf}});
-  j["oadev"] = std::move(points);
-  json misfit = json::array();
-  for (const auto& m : f.misfit)
-    misfit.push_back({{"tau_s", m.tau_s},
-                      {"dev", m.dev},
-                      {"model_dev", m.model_dev},
-                      {"ci_lo", m.ci_lo},
-                      {"ci_hi", m.ci_hi}});
-  j["misfit"] = std::move(misfit);
-  const auto& r = c.readoffs;
-  const auto opt = [](const std::optional<double>& v, double to) {
-    return v ? json(*v * to) : json(nullptr);
-  };
-  j["readoffs"] = {{"arw_dps_rthz", opt(r.arw, k)},
-                   {"arw_deg_rth", opt(r.arw, k * units::deg_rth_per_deg_rts)},
-                   {"arw_tau_s", r.arw ? json(r.arw_from_tau_s) : json(nullptr)},
-                   {"rrw_deg_h_rth", opt(r.rrw, k * units::dph_rth_per_dps_rts)},
-                   {"rrw_rad_s2_rthz", opt(r.rrw, k_rad)},
-                   {"rrw_tau_s", r.rrw ? json(r.rrw_from_tau_s) : json(nullptr)},
-                   {"bias_instability_deg_h", r.bias_instability * k * units::dph_per_dps},
-                   {"floor_tau_s", r.floor_tau_s},
-                   {"floor_deg_h", r.floor_dev * k * units::dph_per_dps},
-                   {"floor_is_minimum", r.floor_is_minimum}};
-  return j;
-}
-
 void append_text(std::string& text, const noise_options& o, const column_noise& c) {
-  const auto& f = c.terms;
+  const auto& f = c.result.terms;
   const double k = deg_per_unit(o.in);
   const double k_rad = k * units::rad_per_deg;
   const auto out = std::back_inserter(text);
@@ -222,7 +128,7 @@ void append_text(std::string& text, const noise_options& o, const column_noise& 
                  show(f.rate_ramp, k * units::dph2_per_dps2));
   fmt::format_to(out, "  fit chi2/dof {:.3g}{}\n", f.chi2_per_dof,
                  o.fit_taus.empty() ? "" : " over tau " + o.fit_taus + " s");
-  const auto& r = c.readoffs;
+  const auto& r = c.result.readoffs;
   const auto line = [](const std::optional<double>& v, double to, double tau, const char* slope) {
     return v ? fmt::format("{:.4g} (slope {} at tau {:.3g} s)", *v * to, slope, tau)
              : fmt::format("- (no slope {} on the curve)", slope);
@@ -245,8 +151,8 @@ std::string terms_csv(const noise_options& o, const std::vector<column_noise>& a
   std::string t = "column,term,unit,value,lo,hi,resolved,read_off\n";
   const double k = deg_per_unit(o.in);
   for (const auto& c : all) {
-    const auto& f = c.terms;
-    const auto& r = c.readoffs;
+    const auto& f = c.result.terms;
+    const auto& r = c.result.readoffs;
     const auto row = [&](const char* term, const char* unit, const analysis::noise_term& x,
                          double to, std::optional<double> read_off) {
       const std::string ro = read_off ? fmt::format("{}", *read_off * to) : "";
@@ -271,12 +177,14 @@ status write_kalibr(const noise_options& o, const std::vector<column_noise>& all
   const column_noise* worst_n = &all.front();
   const column_noise* worst_k = &all.front();
   for (const auto& c : all) {
-    if (value_or_limit(c.terms.arw) > value_or_limit(worst_n->terms.arw)) worst_n = &c;
-    if (value_or_limit(c.terms.rrw) > value_or_limit(worst_k->terms.rrw)) worst_k = &c;
+    if (value_or_limit(c.result.terms.arw) > value_or_limit(worst_n->result.terms.arw))
+      worst_n = &c;
+    if (value_or_limit(c.result.terms.rrw) > value_or_limit(worst_k->result.terms.rrw))
+      worst_k = &c;
   }
   analysis::noise_terms f;
-  f.arw = worst_n->terms.arw;
-  f.rrw = worst_k->terms.rrw;
+  f.arw = worst_n->result.terms.arw;
+  f.rrw = worst_k->result.terms.rrw;
   if (!f.arw.resolved || !f.rrw.resolved)
     warn(fmt::format("{}: {} not resolved: the Kalibr file holds its upper limit", o.kalibr,
                      !f.arw.resolved ? "ARW" : "RRW"));
@@ -315,10 +223,10 @@ int run_noise(const noise_options& o) {
   }
   json j;
   if (all.size() == 1) {
-    j = json_of(o, all.front());
+    j = io::noise_json(all.front());
   } else {
     j = {{"file", o.in.file}, {"columns", json::array()}};
-    for (const auto& c : all) j["columns"].push_back(json_of(o, c));
+    for (const auto& c : all) j["columns"].push_back(io::noise_json(c));
   }
   // Every output is formatted and checked before the first is written.
   std::string file_text;

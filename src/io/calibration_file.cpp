@@ -163,6 +163,17 @@ std::vector<std::string> rig_differences(const sensor_record& a, const sensor_re
   return out;
 }
 
+double pooled_correlated_stderr(std::span<const calibration_entry> files) {
+  double num = 0.0;
+  double n = 0.0;
+  for (const auto& f : files) {
+    const double ni = static_cast<double>(f.cal.cycles);
+    num += ni * ni * f.cal.stderr_correlated_dps * f.cal.stderr_correlated_dps;
+    n += ni;
+  }
+  return std::sqrt(num) / n;
+}
+
 result<std::string> to_json(const calibration_record& rec, std::string_view tool_version) {
   json j = calibration_fields(rec.pooled, rec.geometry);
   j["schema"] = schema;
@@ -202,8 +213,12 @@ result<std::string> to_json(const calibration_record& rec, std::string_view tool
 result<calibration_record> read_calibration_file(const std::string& path) {
   auto f = mapped_file::open(path);
   if (!f) return f.err();
+  return parse_calibration(f->data(), path);
+}
+
+result<calibration_record> parse_calibration(std::string_view text, const std::string& path) {
   json j;
-  if (auto parsed = parse_json(path, f->data()); parsed) {
+  if (auto parsed = parse_json(path, text); parsed) {
     j = std::move(*parsed);
   } else {
     return parsed.err();

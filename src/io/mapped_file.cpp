@@ -40,17 +40,31 @@ mapped_file::~mapped_file() {
   if (ptr_ != nullptr && size_ != 0) ::munmap(const_cast<char*>(ptr_), size_);
 }
 
-void mapped_file::release(std::size_t begin, std::size_t end, std::size_t granule) const noexcept {
+void drop_pages(const char* base, std::size_t size, std::size_t begin, std::size_t end,
+                std::size_t granule) noexcept {
+  if (base == nullptr || size == 0) return;
   const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
   const auto unit = std::max(granule, page);
-  const auto base = reinterpret_cast<std::uintptr_t>(ptr_);  // NOLINT: page arithmetic
-  const std::uintptr_t map_end = (base + size_ + page - 1) / page * page;
-  // Widened to whole units, but never beyond this mapping (base is page-aligned).
-  const std::uintptr_t lo = std::max(base, (base + begin) / unit * unit);
-  const std::uintptr_t hi =
-      std::min(map_end, (base + std::min(end, size_) + unit - 1) / unit * unit);
-  if (ptr_ != nullptr && hi > lo)
+  const auto at = reinterpret_cast<std::uintptr_t>(base);  // NOLINT: page arithmetic
+  // The mapping holds whole pages: from the page of byte 0 to the page of byte size - 1.
+  const std::uintptr_t map_lo = at / page * page;
+  const std::uintptr_t map_hi = (at + size + page - 1) / page * page;
+  const std::uintptr_t lo = std::max(map_lo, (at + begin) / unit * unit);
+  const std::uintptr_t hi = std::min(map_hi, (at + std::min(end, size) + unit - 1) / unit * unit);
+  if (hi > lo)
     ::madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_DONTNEED);  // NOLINT: madvise takes void*
+}
+
+void mapped_file::release(std::size_t begin, std::size_t end, std::size_t granule) const noexcept {
+  drop_pages(ptr_, size_, begin, end, granule);
+}
+
+void mapping_samples::release(std::size_t begin, std::size_t end) const noexcept {
+  if (count_ < keep_resident_samples) return;
+  // cppcheck-suppress invalidPointerCast ; the samples' bytes
+  const auto* bytes = reinterpret_cast<const char*>(data_);  // NOLINT: byte view
+  drop_pages(bytes, count_ * sizeof(double), begin * sizeof(double), end * sizeof(double),
+             std::size_t{1} << 16);
 }
 
 result<mapped_file> mapped_file::open(const std::string& path) {

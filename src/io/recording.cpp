@@ -17,14 +17,18 @@ namespace {
 // Slots of the selected columns in csv_reader.
 enum slot : std::size_t { s_time, s_angle, s_rate, s_temp, s_navg };
 
+status check_tolerance(double angle_tolerance_deg) {
+  constexpr double most = recording_reader::max_angle_tolerance_deg;
+  if (angle_tolerance_deg >= 0.0 && angle_tolerance_deg <= most) return ok();
+  return parameter_error("angle_tolerance_deg",
+                         fmt::format("the angle tolerance must be 0 to {:g} deg", most));
+}
+
 }  // namespace
 
 result<recording_reader> recording_reader::open(const std::string& path,
                                                 double angle_tolerance_deg) {
-  if (!(angle_tolerance_deg >= 0.0 && angle_tolerance_deg <= max_angle_tolerance_deg))
-    return parameter_error(
-        "angle_tolerance_deg",
-        fmt::format("the angle tolerance must be 0 to {:g} deg", max_angle_tolerance_deg));
+  if (auto s = check_tolerance(angle_tolerance_deg); !s) return s.err();
   auto c = csv_reader::open(path);
   if (!c) return c.err();
   recording_reader r(std::move(*c));
@@ -52,6 +56,27 @@ csv_reader::step recording_reader::fail(const error& e) {
   return csv_reader::step::failed;
 }
 
+std::optional<double> position_of_angle(double angle_deg, double tol) noexcept {
+  // An encoder's reading: within the tolerance of 0 (or 360, or -0.x) or of 180.
+  const double turned = std::fmod(std::fmod(angle_deg, 360.0) + 360.0, 360.0);
+  if (std::abs(turned) <= tol || std::abs(turned - 360.0) <= tol) return 0.0;
+  if (std::abs(turned - 180.0) <= tol) return 180.0;
+  return std::nullopt;
+}
+
+namespace {
+
+std::string angle_message(std::string_view angle, double tol) {
+  return fmt::format(
+      "angle {} deg is not supported: only 0 and 180 (two-position flipping){}; leave it empty "
+      "while the table turns",
+      angle,
+      tol > 0.0 ? fmt::format(", within {:g} deg", tol)
+                : std::string(" (an encoder angle: give a tolerance)"));
+}
+
+}  // namespace
+
 csv_reader::step recording_reader::next(method::row& out) {
   const auto s = csv_.next();
   if (s != csv_reader::step::row) {
@@ -74,22 +99,9 @@ csv_reader::step recording_reader::next(method::row& out) {
     out.angle_deg = 180.0;
   } else {
     if (!csv_.parse(s_angle, out.angle_deg)) return fail(csv_.last_error());
-    // An encoder's reading: within the tolerance of 0 (or 360, or -0.x) or of 180.
-    const double tol = angle_tolerance_deg_;
-    const double turned = std::fmod(std::fmod(out.angle_deg, 360.0) + 360.0, 360.0);
-    if (std::abs(turned) <= tol || std::abs(turned - 360.0) <= tol) {
-      out.angle_deg = 0.0;
-    } else if (std::abs(turned - 180.0) <= tol) {
-      out.angle_deg = 180.0;
-    } else {
-      return fail(csv_.error_at(
-          s_angle,
-          fmt::format("angle {} deg is not supported: only 0 and 180 (two-position flipping){}; "
-                      "leave it empty while the table turns",
-                      a,
-                      tol > 0.0 ? fmt::format(", within {:g} deg", tol)
-                                : std::string(" (an encoder angle: give a tolerance)"))));
-    }
+    const auto pos = position_of_angle(out.angle_deg, angle_tolerance_deg_);
+    if (!pos) return fail(csv_.error_at(s_angle, angle_message(a, angle_tolerance_deg_)));
+    out.angle_deg = *pos;
   }
   if (!csv_.parse(s_rate, out.rate_dps)) return fail(csv_.last_error());
   if (has_temp_) {
@@ -195,6 +207,57 @@ result<recording_cycles> cycles_of_rows(const std::string& path, std::span<const
   rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
   if (auto s = check_cycles(rc, stream, p); !s) return s.err();
   return rc;
+}
+
+result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
+                                                 double angle_tolerance_deg) {
+  const std::size_t n = c.time_s.size();
+  const auto wrong_length = [&](std::string_view name, std::size_t k) {
+    return usage_error(fmt::format("{} has {} values but time_s has {}: one per row", name, k, n));
+  };
+  if (c.angle_deg.size() != n) return wrong_length("angle_deg", c.angle_deg.size());
+  if (c.rate_dps.size() != n) return wrong_length("rate_dps", c.rate_dps.size());
+  if (!c.temp_c.empty() && c.temp_c.size() != n) return wrong_length("temp_c", c.temp_c.size());
+  if (!c.n_avg.empty() && c.n_avg.size() != n) return wrong_length("n_avg", c.n_avg.size());
+  if (auto s = check_tolerance(angle_tolerance_deg); !s) return s.err();
+  const auto bad = [](std::string_view name, std::size_t k, std::string_view what) {
+    return usage_error(fmt::format("{}[{}]: {}", name, k, what));
+  };
+  std::vector<method::row> rows(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    auto& r = rows[k];
+    r.time_s = c.time_s[k];
+    if (!std::isfinite(r.time_s)) return bad("time_s", k, "not a finite number");
+    if (k > 0 && r.time_s < rows[k - 1].time_s)
+      return bad("time_s", k,
+                 fmt::format("time goes backwards: {} after {}", r.time_s, rows[k - 1].time_s));
+    if (std::isnan(c.angle_deg[k])) {
+      r.angle_deg = method::no_value;  // table turning
+    } else {
+      const auto pos = position_of_angle(c.angle_deg[k], angle_tolerance_deg);
+      if (!pos)
+        return bad("angle_deg", k,
+                   angle_message(fmt::format("{}", c.angle_deg[k]), angle_tolerance_deg));
+      r.angle_deg = *pos;
+    }
+    r.rate_dps = c.rate_dps[k];
+    if (!(std::abs(r.rate_dps) <= csv_reader::max_magnitude))
+      return bad("rate_dps", k, "not a finite number within +-1e100");
+    if (!c.temp_c.empty()) {
+      r.temp_c = c.temp_c[k];
+      if (!(r.temp_c >= recording_reader::min_temp_c && r.temp_c <= recording_reader::max_temp_c))
+        return bad("temp_c", k,
+                   fmt::format("temperature {:g} degC is outside [{:g}, {:g}]", r.temp_c,
+                               recording_reader::min_temp_c, recording_reader::max_temp_c));
+    }
+    if (!c.n_avg.empty()) {
+      const double v = c.n_avg[k];
+      if (!(v >= 1.0) || v != std::floor(v) || v > std::numeric_limits<std::uint32_t>::max())
+        return bad("n_avg", k, fmt::format("n_avg {} is not a whole number >= 1", v));
+      r.n_avg = static_cast<std::uint32_t>(v);
+    }
+  }
+  return rows;
 }
 
 }  // namespace gyroflip::io

@@ -166,36 +166,17 @@ std::optional<std::size_t> column_number(std::string_view name) {
 }
 
 // Little-endian float64 samples of a mapped file from byte `offset` (8-byte aligned, checked by
-// the caller). Released samples' pages leave the process; viewing them again re-reads them from
-// the page cache.
-class mapped_samples final : public analysis::sample_source {
+// the caller), which it owns. Released samples' pages leave the process.
+class mapped_samples final : public mapping_samples {
  public:
   mapped_samples(mapped_file file, std::size_t offset, std::size_t count)
-      : file_(std::move(file)), offset_(offset), count_(count) {}
-  [[nodiscard]] std::size_t size() const noexcept override { return count_; }
-  [[nodiscard]] std::span<const double> view(std::size_t begin,
-                                             std::size_t count) const noexcept override {
-    // cppcheck-suppress invalidPointerCast ; mapped little-endian float64, alignment checked
-    const auto* p = reinterpret_cast<const double*>(file_.data().data() + offset_);  // NOLINT
-    return {p + begin, count};
-  }
-  // Whole 64 KB windows of address: a page fault maps the aligned 64 KB around it (the kernel's
-  // default fault-around), which a release of only the pages read would leave resident.
-  // A file below 256 MB stays resident: releasing it would only make every further pass (an
-  // Allan sweep per group of factors, `--taus all`: thousands) fault it in again.
-  void release(std::size_t begin, std::size_t end) const noexcept override {
-    if (count_ < keep_resident_samples) return;
-    file_.release(offset_ + begin * sizeof(double), offset_ + end * sizeof(double),
-                  std::size_t{1} << 16);
-  }
-  static constexpr std::size_t keep_resident_samples = std::size_t{1} << 25;
-  // 2 MB: one madvise per 2 MB consumed per reader (cheap), ~100 MB resident at most.
-  [[nodiscard]] std::size_t release_step() const noexcept override { return std::size_t{1} << 18; }
+      // cppcheck-suppress invalidPointerCast ; mapped little-endian float64, alignment checked
+      : mapping_samples(reinterpret_cast<const double*>(file.data().data() + offset),  // NOLINT
+                        count),
+        file_(std::move(file)) {}
 
  private:
-  mapped_file file_;
-  std::size_t offset_;
-  std::size_t count_;
+  mapped_file file_;  // the mapping stays where it is when moved here
 };
 
 // An error at data row `row` (0-based) of CSV `path`, column `column`: reads the file again up to

@@ -4,6 +4,8 @@
 /// The library never prints. A long pass (reading a big file, an Allan sweep) calls
 /// `on_progress(done, total)` now and then from the caller's thread; the CLI turns that into
 /// its terminal line (apps/gyroflip/progress_bar.hpp), a script or a GUI into whatever it likes.
+/// A callback may throw to cancel the work (the Python module does on Ctrl-C): the library
+/// starts nothing more, joins its threads, frees what it holds and lets the exception through.
 #pragma once
 
 #include <cstddef>

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <numbers>
+#include <string_view>
 
 namespace gyroflip::units {
 
@@ -20,6 +21,21 @@ inline constexpr double dph_rth_per_dps_rts = s_per_h * deg_rth_per_deg_rts;
 inline constexpr double dph2_per_dps2 = s_per_h * s_per_h;
 /// Angles: x [rad] = x [°] * π/180.
 inline constexpr double rad_per_deg = std::numbers::pi / 180.0;
+
+/// Degrees per unit of a series' samples: `rad/s` and `rad` 180/π, `deg/h` 1/3600, else (`deg/s`,
+/// `deg`) 1. The names are those of `gyroflip adev --units` and `gyroflip.noise(units=...)`.
+[[nodiscard]] constexpr double deg_per_unit(std::string_view unit) noexcept {
+  if (unit == "rad/s" || unit == "rad") return 1.0 / rad_per_deg;
+  if (unit == "deg/h") return 1.0 / s_per_h;
+  return 1.0;
+}
+
+/// The name of the samples' unit for an `angle` (or rate) series given `unit`: the defaults read
+/// as the input's kind (deg/s for a rate, deg for an angle).
+[[nodiscard]] constexpr std::string_view unit_name(bool angle, std::string_view unit) noexcept {
+  if (angle) return unit == "rad" || unit == "rad/s" ? "rad" : "deg";
+  return unit == "deg" ? "deg/s" : unit == "rad" ? "rad/s" : unit;
+}
 
 static_assert(deg_rth_per_deg_rts * deg_rth_per_deg_rts == s_per_h, "sqrt(3600) = 60");
 

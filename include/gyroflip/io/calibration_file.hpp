@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gyroflip/core/result.hpp"
@@ -59,11 +60,18 @@ struct calibration_record {
   std::optional<method::delta_n_model> model;  ///< dN(T), when several files were given
 };
 
+/// The pooled mean's correlated standard error from the files' own (independent runs):
+/// se = sqrt(sum (n_i se_i)^2) / sum n_i, n_i the files' cycles.
+[[nodiscard]] double pooled_correlated_stderr(std::span<const calibration_entry> files);
+
 /// JSON text of a calibration (one line, keys as in docs/FORMATS.md).
 [[nodiscard]] result<std::string> to_json(const calibration_record& rec,
                                           std::string_view tool_version);
 
 /// Reads a calibration file. Errors name the file (and the key that is wrong).
 [[nodiscard]] result<calibration_record> read_calibration_file(const std::string& path);
+/// The same from the file's text (`path` names it in messages).
+[[nodiscard]] result<calibration_record> parse_calibration(std::string_view text,
+                                                           const std::string& path);
 
 }  // namespace gyroflip::io

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <string_view>
 
+#include "gyroflip/analysis/sample_source.hpp"
 #include "gyroflip/core/result.hpp"
 
 namespace gyroflip::io {
@@ -35,6 +37,38 @@ class mapped_file {
   std::string path_;
   const char* ptr_ = nullptr;
   std::size_t size_ = 0;
+};
+
+/// Drops the resident pages of bytes [begin, end) of the file mapping whose bytes start at `base`
+/// and run `size` bytes (rounded outward to multiples of `granule` bytes of address, at least
+/// whole pages, but never past the pages that hold bytes [0, size)). For a shared mapping of a
+/// file (read-only or not) the pages are read again from the page cache when touched; on private
+/// or anonymous memory it would DISCARD data, so callers pass only shared file mappings.
+void drop_pages(const char* base, std::size_t size, std::size_t begin, std::size_t end,
+                std::size_t granule) noexcept;
+
+/// Float64 samples in memory that a shared file mapping holds (this one's or another library's,
+/// e.g. a NumPy memmap), not owned: released samples leave the process's resident memory
+/// (docs/ANALYSIS.md, "memory"). A series below 2^25 samples stays resident: releasing it would
+/// only make every further pass (an Allan sweep per group of factors) fault it in again.
+class mapping_samples : public analysis::sample_source {
+ public:
+  mapping_samples(const double* data, std::size_t count) noexcept : data_(data), count_(count) {}
+  [[nodiscard]] std::size_t size() const noexcept override { return count_; }
+  [[nodiscard]] std::span<const double> view(std::size_t begin,
+                                             std::size_t count) const noexcept override {
+    return {data_ + begin, count};
+  }
+  // Whole 64 KB windows of address: a page fault maps the aligned 64 KB around it (the kernel's
+  // default fault-around), which a release of only the pages read would leave resident.
+  void release(std::size_t begin, std::size_t end) const noexcept override;
+  static constexpr std::size_t keep_resident_samples = std::size_t{1} << 25;
+  // 2 MB: one madvise per 2 MB consumed per reader (cheap), ~100 MB resident at most.
+  [[nodiscard]] std::size_t release_step() const noexcept override { return std::size_t{1} << 18; }
+
+ private:
+  const double* data_;
+  std::size_t count_;
 };
 
 }  // namespace gyroflip::io

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -85,5 +86,20 @@ struct recording_cycles {
                                                       std::span<const method::row> rows,
                                                       method::pairing p,
                                                       std::vector<csv_metadata> metadata);
+
+/// An encoder's angle (deg) as a position of the table: 0 within `tol` of 0 (or 360), 180 within
+/// `tol` of 180, else nullopt.
+[[nodiscard]] std::optional<double> position_of_angle(double angle_deg, double tol) noexcept;
+
+/// A recording's columns held in memory (the Python module's arrays): one value per row;
+/// `angle_deg` NaN while the table turns; `temp_c` and `n_avg` empty when absent.
+struct recording_columns {
+  std::span<const double> time_s, angle_deg, rate_dps, temp_c, n_avg;
+};
+
+/// Rows of columns in memory, with the checks of recording_reader. Errors name the column and
+/// the 0-based row (`angle_deg[12]: ...`) or a column of the wrong length.
+[[nodiscard]] result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
+                                                               double angle_tolerance_deg = 0.0);
 
 }  // namespace gyroflip::io

@@ -1,0 +1,322 @@
+"""gyroflip: bias-drift compensation of MEMS gyroscopes by sign reversal (0/180 deg flipping).
+
+The same C++ core as the `gyroflip` command, on NumPy arrays (docs/python.md):
+
+- Allan family, drop-in for allantools: adev, oadev, mdev, tdev, hdev, ohdev, totdev
+  (data, rate=1.0, data_type="phase", taus=None) -> (taus, devs, errs, ns).
+- deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683): a
+  Deviation with NumPy arrays tau_s, dev, ci_lo, ci_hi, edf, n, alpha (NIST SP1065 statistics,
+  chi-squared bounds as Stable32 computes them).
+- noise(...): the IEEE 952 noise terms with intervals (the keys of `gyroflip noise --json`).
+- calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns.
+- simulate(...): the rig simulator; read_recording(path): a CSV or .gfr recording.
+
+Units: rates in deg/s, angles in deg, times in s, temperatures in degC, unless a name says
+otherwise. Errors raise ValueError (bad data or arguments) or OSError (files) with the messages
+the command line prints. Long calls release the GIL and stop on Ctrl-C (KeyboardInterrupt).
+"""
+
+import json as _json
+import mmap as _mmap
+import os as _os
+from dataclasses import dataclass as _dataclass
+
+import numpy as _np
+
+from . import _gyroflip
+
+__version__ = _gyroflip.__version__
+
+__all__ = [
+    "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "tau_generator",
+    "Deviation", "deviation", "noise", "calibrate", "compensate", "simulate",
+    "read_recording", "__version__",
+]
+
+
+# ---------------------------------------------------------------------------------------------
+# Arrays in
+
+
+def _file_backed(a):
+    """True when `a`'s memory is a shared mapping of a file (np.load(..., mmap_mode="r" or "r+"),
+    np.memmap in those modes): its pages may then be handed back to the kernel as the analysis
+    moves on and re-read from the page cache. Never for "c" (private copy-on-write) memmaps or
+    ordinary arrays, whose pages hold the only copy of the data."""
+    if not isinstance(a, _np.memmap) or getattr(a, "mode", None) not in ("r", "r+", "readonly", "readwrite"):
+        return False
+    return isinstance(getattr(a, "_mmap", None), _mmap.mmap)
+
+
+def _samples(data, name="data"):
+    """`data` as a 1-D C-contiguous float64 array (no copy when it is one already), and whether
+    it is file-backed."""
+    if isinstance(data, _np.ndarray) and data.dtype == _np.float64 and data.flags.c_contiguous:
+        if data.ndim != 1:
+            raise ValueError(f"{name} must be 1-D (got {data.ndim} dimensions)")
+        return data, _file_backed(data)
+    a = _np.ascontiguousarray(data, dtype=_np.float64)
+    if a.ndim != 1:
+        raise ValueError(f"{name} must be 1-D (got {a.ndim} dimensions)")
+    return a, False
+
+
+def _positive_rate(rate):
+    rate = float(rate)
+    if not (rate > 0.0 and _np.isfinite(rate)):
+        raise ValueError(f"rate must be a positive, finite sample rate in Hz (got {rate})")
+    return rate
+
+
+# ---------------------------------------------------------------------------------------------
+# allantools-compatible functions
+
+_DATA_TYPES = {"phase": "angle", "freq": "rate"}
+
+
+def tau_generator(data, rate, taus=None, maximum_m=-1):
+    """allantools' tau_generator: the averaging factors m (tau = m / rate) for `taus`.
+
+    taus: None or "octave" (1, 2, 4, ... up to len(data)), "decade" (1, 2, 4, 10, 20, 40, ...),
+    "all" (every m), "log10" (10 per decade), or an array of taus in seconds, each rounded to
+    the nearest m (half to even, as numpy.round). Factors m < 1 or m >= len(data) are dropped,
+    duplicates removed, the rest sorted. Returns (m as float64, taus in seconds)."""
+    rate = _positive_rate(rate)
+    n = len(data)
+    if taus is None or (isinstance(taus, (list, tuple)) and len(taus) == 0):
+        taus = "octave"
+    if isinstance(taus, str):
+        if taus == "all":
+            taus = (1.0 / rate) * _np.linspace(1.0, n, n)
+        elif taus == "octave":
+            maxn = _np.floor(_np.log2(n))
+            taus = (1.0 / rate) * _np.logspace(0, int(maxn), int(maxn + 1), base=2.0)
+        elif taus == "log10":
+            maxn = _np.log10(n)
+            taus = (1.0 / rate) * _np.logspace(0, maxn, int(10 * maxn), base=10.0)
+        elif taus == "decade":
+            maxn = int(_np.floor(_np.log10(n)))
+            taus = [f * (1.0 / rate) * 10.0 ** k for k in range(maxn + 1) for f in (1.0, 2.0, 4.0)]
+        else:
+            raise ValueError(f"taus must be 'octave', 'decade', 'all', 'log10' or an array (got '{taus}')")
+    taus = _np.asarray(taus, dtype=_np.float64)
+    if not _np.all(_np.isfinite(taus)):
+        raise ValueError("taus must be finite")
+    if maximum_m == -1:
+        maximum_m = n
+    m = _np.round(taus * rate)
+    m = m[(m < n) & (m > 0) & (m <= maximum_m)]
+    m = _np.unique(m)
+    return m, m / rate
+
+
+def _compat(kind, data, rate, data_type, taus):
+    if data_type not in _DATA_TYPES:
+        raise ValueError(f"data_type must be 'phase' or 'freq' (got '{data_type}')")
+    rate = _positive_rate(rate)
+    y, backed = _samples(data)
+    # allantools' phase series: the data (phase), or the frequency integrated to N + 1 points.
+    n_phase = len(y) + (1 if data_type == "freq" else 0)
+    m, _ = tau_generator(_np.empty(n_phase), rate, taus)
+    if len(m) == 0:
+        raise ValueError(f"no averaging factor left for {len(y)} samples and taus {taus!r}")
+    r = _gyroflip._curve(kind, y, rate, _DATA_TYPES[data_type], "octave",
+                         [int(v) for v in m], None, backed)
+    # As allantools' remove_small_ns: points with fewer than two terms are dropped.
+    keep = r["n"] > 1
+    if not _np.any(keep):
+        raise ValueError(f"no {kind} point has two terms or more for {len(y)} samples")
+    ns = r["n"][keep].astype(_np.float64)
+    devs = r["dev"][keep]
+    return r["tau_s"][keep], devs, devs / _np.sqrt(ns), ns
+
+
+def _compat_doc(kind, what, reference):
+    return f"""{what} of `data`, allantools-compatible: returns (taus, devs, errs, ns).
+
+    data: phase (data_type="phase", allantools' default; an angle in deg for a gyro) or
+      fractional frequency (data_type="freq"; a rate in deg/s for a gyro), 1-D. A contiguous
+      float64 array (np.load(..., mmap_mode="r") too) is read in place; other dtypes are
+      converted once.
+    rate: samples per second (Hz).
+    taus: None/"octave", "decade", "all", "log10" or an array of taus (s), as allantools.
+    Returns numpy arrays: taus (s), devs (the unit of the rate: deg/s for a gyro{', TDEV in deg' if kind == 'tdev' else ''}),
+      errs = devs / sqrt(ns) (what allantools returns; for chi-squared bounds use
+      gyroflip.deviation), ns = the number of terms in the sum (float, as allantools).
+    Points with ns <= 1 are dropped, as allantools does. Formula: {reference}.
+    Non-finite samples raise ValueError (allantools trims NaN at the ends instead)."""
+
+
+def _compat_function(kind, what, reference):
+    def f(data, rate=1.0, data_type="phase", taus=None):
+        return _compat(kind, data, rate, data_type, taus)
+    f.__name__ = f.__qualname__ = kind
+    f.__doc__ = _compat_doc(kind, what, reference)
+    return f
+
+
+adev = _compat_function("adev", "Allan deviation (non-overlapping)", "NIST SP1065 eqn 7")
+oadev = _compat_function("oadev", "Overlapping Allan deviation", "NIST SP1065 eqn 11")
+mdev = _compat_function("mdev", "Modified Allan deviation", "NIST SP1065 eqn 14")
+tdev = _compat_function("tdev", "Time deviation (tau MDEV / sqrt 3)", "NIST SP1065 eqn 15")
+hdev = _compat_function("hdev", "Hadamard deviation (non-overlapping)", "NIST SP1065 eqn 17")
+ohdev = _compat_function("ohdev", "Overlapping Hadamard deviation", "NIST SP1065 eqn 18")
+totdev = _compat_function("totdev", "Total deviation", "NIST SP1065 eqn 25")
+
+
+# ---------------------------------------------------------------------------------------------
+# gyroflip's own interface
+
+
+@_dataclass(frozen=True)
+class Deviation:
+    """One statistic's curve. Arrays, one entry per tau:
+    tau_s (s), dev (the samples' rate unit, e.g. deg/s; TDEV in the angle unit), ci_lo and
+    ci_hi (the bounds at level `ci`, NaN when ci=None), edf (equivalent degrees of freedom),
+    n (terms in the sum, Stable32's "#"), alpha (the identified power-law noise exponent:
+    0 angle random walk, -1 bias instability, -2 rate random walk, 1/2 phase noise), m (the
+    averaging factor)."""
+
+    kind: str
+    tau_s: _np.ndarray
+    dev: _np.ndarray
+    ci_lo: _np.ndarray
+    ci_hi: _np.ndarray
+    edf: _np.ndarray
+    n: _np.ndarray
+    alpha: _np.ndarray
+    m: _np.ndarray
+    ci: float
+
+
+def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683):
+    """A deviation of the Allan family with confidence bounds, as `gyroflip adev` computes it.
+
+    data: 1-D samples; input="rate" (deg/s, SP1065's frequency) or "angle" (deg, phase). A
+      contiguous float64 array is read in place, and a memory-mapped file
+      (np.load(path, mmap_mode="r")) in bounded memory, whatever its length.
+    kind: "adev", "oadev", "mdev", "tdev", "hdev", "ohdev" or "totdev" (NIST SP1065 eqns 7, 11,
+      14, 15, 17, 18, 25).
+    rate: samples per second (Hz).
+    taus: "octave", "decade" (1, 2, 4, 10, 20, 40, ...) or "all" averaging factors, limited as
+      Stable32 does (m <= (N-1)/5 for ADEV/HDEV, (N-1)/4 for OADEV/MDEV/TDEV/OHDEV, (N-1)/2
+      for TOTDEV); or an array of taus in seconds (each rounded to the nearest factor).
+    ci: two-sided confidence level of ci_lo/ci_hi (0.683 = 1 sigma; None = no bounds): noise
+      identified at each tau (lag-1 autocorrelation, B1 ratio), EDF by Greenhall & Riley (2003),
+      chi-squared bounds (SP1065 eqn 45).
+    Returns a Deviation. Releases the GIL; Ctrl-C stops it."""
+    rate = _positive_rate(rate)
+    y, backed = _samples(data)
+    factors = None
+    spec = "octave"
+    if isinstance(taus, str):
+        spec = taus
+    else:
+        t = _np.asarray(taus, dtype=_np.float64)
+        if t.ndim != 1 or not _np.all(_np.isfinite(t)) or _np.any(t <= 0):
+            raise ValueError("taus must be 'octave', 'decade', 'all' or positive taus in seconds")
+        factors = sorted({int(v) for v in _np.round(t * rate) if v >= 1})
+        if not factors:
+            raise ValueError("every tau is shorter than half a sample interval")
+    r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed)
+    return Deviation(kind=kind, ci=ci, **r)
+
+
+def noise(data, rate=1.0, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,
+          name="<array>", column="data"):
+    """The IEEE 952 noise terms of a static gyro record, fitted to its OADEV (as `gyroflip noise`).
+
+    data: 1-D samples at `rate` Hz; input="rate" or "angle".
+    units: the samples' unit: "deg/s" (default for a rate), "rad/s", "deg/h"; "deg" (default
+      for an angle) or "rad". Every term is reported in degree units and in radians.
+    ci: confidence level of the intervals. fit_taus: (lo, hi) in seconds, the taus fitted.
+    abba_cycles: the data are the cycle values of gyroflip's abba pairing (correlated
+      neighbours; the white-noise term is modelled accordingly).
+    Returns a dict with the keys of `gyroflip noise --json`: arw_dps_rthz, arw_deg_rth,
+    bias_instability_deg_h, rrw_deg_h_rth, quantization_deg, rate_ramp_deg_h2, ... Each resolved
+    term has KEY_lo and KEY_hi; an unresolved one is None with KEY_upper, its upper limit. Also
+    the OADEV points ("oadev"), the misfit points and the slope read-offs ("readoffs")."""
+    rate = _positive_rate(rate)
+    y, backed = _samples(data)
+    if units is None:
+        units = "deg" if input == "angle" else "deg/s"
+    allowed = ("deg", "rad") if input == "angle" else ("deg/s", "rad/s", "deg/h")
+    if units not in allowed:
+        raise ValueError(f"units must be one of {', '.join(allowed)} for input '{input}' (got '{units}')")
+    lo, hi = (0.0, float("inf")) if fit_taus is None else (float(fit_taus[0]), float(fit_taus[1]))
+    return _gyroflip._noise(y, rate, input, units, float(ci), lo, hi, bool(abba_cycles), str(name),
+                            str(column), backed)
+
+
+def _columns(time_s, angle_deg, rate_dps, temp_c, n_avg):
+    def col(a, name):
+        return None if a is None else _samples(a, name)[0]
+    return _gyroflip._Columns(col(time_s, "time_s"), col(angle_deg, "angle_deg"),
+                              col(rate_dps, "rate_dps"), col(temp_c, "temp_c"), col(n_avg, "n_avg"))
+
+
+def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=None, axis=None,
+              pairing="abba", angle_tolerance_deg=0.0):
+    """Calibrates dN on a stationary flipping recording (paper eqns 8-11), as `gyroflip calibrate`.
+
+    time_s, angle_deg, rate_dps: one value per row (a dwell mean, or a conversion): time (s),
+      table angle 0 or 180 deg (NaN while turning; encoder angles within angle_tolerance_deg
+      of a position count as it), gyro output (deg/s). temp_c (degC) and n_avg (conversions
+      averaged in the row, its weight) are optional.
+    latitude (deg) and axis ("north", "east", "up", "down", or "N,E,D"): split dN into its Earth
+      term and g-term (paper eqns 9-10). pairing: "abba" (cancels linear drift) or "simple"
+      (the paper's).
+    Returns the dict `gyroflip calibrate --json` prints (delta_n_dps, stderr_correlated_dps,
+    cycles, temp_c, earth_rate_dps, g_term_dps, ...) plus "cycle_values": arrays time_s, rate_dps
+    (r, paper eqn 7), bias_dps (c), temp_c. Pass the dict to compensate(calibration=...)."""
+    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg)
+    return _gyroflip._calibrate(c, None if latitude is None else float(latitude), axis, pairing,
+                                float(angle_tolerance_deg))
+
+
+def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration=None,
+               delta_n_dps=None, pairing=None, drift_window_s=100.0, angle_tolerance_deg=0.0):
+    """Compensates a flipping recording (paper eqn 12), as `gyroflip compensate`.
+
+    The columns as for calibrate(). calibration: a calibrate() result, or the path of a
+    calibration file (`gyroflip calibrate -o CAL.json`); its dN(T) model is used when it has one
+    (then temp_c is needed). Or delta_n_dps: a constant dN (deg/s). pairing: default the
+    calibration's (else "abba"). drift_window_s: the moving-mean window of the drift figure.
+    Returns a dict of arrays, one per cycle: time_s, rate_dps (the input rate w_in), bias_dps
+    (the bias the flip removed), temp_c, delta_n_dps (what was subtracted); and "summary"
+    (cycles, mean_dps, std_dps, stderr_dps, stderr_correlated_dps, drift_dps, ...)."""
+    text = None
+    if calibration is not None:
+        if isinstance(calibration, dict):
+            text = _json.dumps({k: v for k, v in calibration.items() if k != "cycle_values"})
+        else:
+            with open(_os.fspath(calibration), "rb") as f:
+                text = f.read().decode("utf-8", errors="replace")
+    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg)
+    return _gyroflip._compensate(c, None if delta_n_dps is None else float(delta_n_dps), text, pairing,
+                                 float(drift_window_s), float(angle_tolerance_deg))
+
+
+def simulate(sensor, duration_s=3600.0, seed=1, latitude=42.6, axis="north", n_avg=256,
+             settle_s=0.08, temp=None, rate="0", power_on_before_s=0.0, flip=True):
+    """Simulates the rig (as `gyroflip simulate`): the sensor on the stepper turntable, read by
+    the AD7739, flipped 0/180 deg, one row per dwell (n_avg conversions averaged).
+
+    sensor: a preset ("adxrs150", "hz1-90-100a", ...; `gyroflip sensors`) or a TOML preset file.
+    temp: degC as a number, or a profile spec ("ramp:20:4:9000", ...); default the preset's
+      reference temperature. rate: the input-rate profile spec ("0", "0.25", "step:...").
+    power_on_before_s: sensor on this long before t = 0 (0: a cold start, warm-up drift).
+    Returns a dict of arrays time_s, angle_deg, rate_dps, temp_c, n_avg and the truth
+    bias_dps, g_term_dps, earth_dps, input_dps (as seen at each row's orientation); and
+    delta_n_truth_dps (Earth + g-term at 0 deg at the start temperature) and sensor."""
+    return _gyroflip._simulate(str(sensor), float(duration_s), int(seed), float(latitude), str(axis),
+                               int(n_avg), float(settle_s), None if temp is None else str(temp),
+                               str(rate), float(power_on_before_s), bool(flip))
+
+
+def read_recording(path, angle_tolerance_deg=0.0):
+    """Reads a recording: gyroflip's CSV format (docs/FORMATS.md) or a rig recording (.gfr).
+    Returns a dict of arrays time_s, angle_deg (NaN while turning), rate_dps, temp_c (NaN when
+    absent), n_avg; "metadata" (the `# key: value` lines; a .gfr's META) and "warnings".
+    Errors name FILE:LINE:COL (CSV) or the record (.gfr)."""
+    return _gyroflip._read_recording(_os.fspath(path), float(angle_tolerance_deg))

@@ -1,0 +1,135 @@
+/// \file
+/// \brief The Allan family and the noise terms for Python: `_curve` (one statistic at the
+/// averaging factors asked for, with or without confidence bounds) and `_noise` (the CLI's
+/// `noise --json` object). The Python layer (gyroflip/__init__.py) turns these into the
+/// allantools-compatible functions and `deviation()`.
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "common.hpp"
+#include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/noise.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
+#include "gyroflip/io/finite_output.hpp"
+#include "gyroflip/io/mapped_file.hpp"
+#include "gyroflip/io/noise_report.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace gyroflip::python {
+
+namespace {
+
+analysis::input_kind input_of(const std::string& input) {
+  if (input == "rate" || input == "freq") return analysis::input_kind::rate;
+  if (input == "angle" || input == "phase") return analysis::input_kind::angle;
+  throw py::value_error("input must be 'rate' or 'angle' (got '" + input + "')");
+}
+
+double tau0_of(double rate_hz) {
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz))
+    throw py::value_error("rate must be a positive, finite sample rate in Hz");
+  return 1.0 / rate_hz;
+}
+
+// The samples as a sample_source: a NumPy memmap of a file (`file_backed`, checked by the
+// Python layer) hands consumed pages back to the kernel, so a 1e9-sample file costs address
+// space, not memory; anything else is read in place.
+std::unique_ptr<analysis::sample_source> source_of(std::span<const double> y, bool file_backed) {
+  if (file_backed) return std::make_unique<io::mapping_samples>(y.data(), y.size());
+  return std::make_unique<analysis::span_samples>(y);
+}
+
+analysis::tau_spec spec_of(const std::string& taus,
+                           const std::optional<std::vector<std::size_t>>& m) {
+  if (m) return analysis::tau_spec{analysis::tau_spec::set::list, *m};
+  return take(analysis::parse_tau_spec(taus));
+}
+
+py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
+               const std::string& input, const std::string& taus,
+               const std::optional<std::vector<std::size_t>>& factors, std::optional<double> ci,
+               bool file_backed) {
+  const auto k = analysis::parse_dev_kind(kind);
+  if (!k) throw py::value_error("unknown statistic '" + kind + "'");
+  const auto in = input_of(input);
+  const double tau0 = tau0_of(rate_hz);
+  if (ci && !(*ci > 0.0 && *ci < 1.0)) throw py::value_error("ci must lie in (0, 1)");
+  const auto spec = spec_of(taus, factors);
+  const auto src = source_of(span_of(data, "data"), file_backed);
+  auto pts = without_gil([&](const progress_fn& listen) {
+    auto phase = analysis::phase_source::make(*src, in, tau0, listen);
+    if (!phase) return result<std::vector<analysis::deviation_point>>(phase.err());
+    auto p = analysis::deviation(*k, *phase, spec, listen);
+    if (p && ci) analysis::add_confidence(*p, *k, *phase, *ci, listen);
+    return p;
+  });
+  const auto points = take(std::move(pts));
+  const auto column = [&](auto field) {
+    using T = decltype(field(points.front()));
+    std::vector<T> v;
+    v.reserve(points.size());
+    for (const auto& p : points) v.push_back(field(p));
+    return to_numpy(v);
+  };
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  py::dict d;
+  d["m"] = column([](const auto& p) { return static_cast<std::int64_t>(p.m); });
+  d["tau_s"] = column([](const auto& p) { return p.tau_s; });
+  d["dev"] = column([](const auto& p) { return p.dev; });
+  d["n"] = column([](const auto& p) { return static_cast<std::int64_t>(p.n); });
+  d["edf"] = column([&](const auto& p) { return ci ? p.edf : nan; });
+  d["ci_lo"] = column([&](const auto& p) { return ci ? p.ci_lo : nan; });
+  d["ci_hi"] = column([&](const auto& p) { return ci ? p.ci_hi : nan; });
+  d["alpha"] = column([&](const auto& p) { return static_cast<std::int64_t>(p.alpha); });
+  return d;
+}
+
+py::object noise(const f64_array& data, double rate_hz, const std::string& input,
+                 const std::string& unit, double ci, double fit_lo_s, double fit_hi_s,
+                 bool abba_cycles, const std::string& name, const std::string& column,
+                 bool file_backed) {
+  const auto in = input_of(input);
+  const double tau0 = tau0_of(rate_hz);
+  if (!(ci > 0.0 && ci < 1.0)) throw py::value_error("ci must lie in (0, 1)");
+  if (!(fit_lo_s >= 0.0 && fit_hi_s > fit_lo_s))
+    throw py::value_error("fit_taus must be (lo, hi) in seconds with 0 <= lo < hi");
+  const auto y = span_of(data, "data");
+  const auto src = source_of(y, file_backed);
+  io::noise_report r;
+  r.file = name;
+  r.column = column;
+  r.input = in == analysis::input_kind::angle ? "angle" : "rate";
+  r.units = std::string(units::unit_name(in == analysis::input_kind::angle, unit));
+  r.deg_per_unit = units::deg_per_unit(unit);
+  r.tau0_s = tau0;
+  r.samples = y.size();
+  if (abba_cycles) r.series.abba_cycle_s = tau0;
+  auto a = without_gil([&](const progress_fn& listen) {
+    auto phase = analysis::phase_source::make(*src, in, tau0, listen);
+    if (!phase) return result<analysis::noise_analysis>(phase.err());
+    return analysis::analyse_noise(*phase, ci, {fit_lo_s, fit_hi_s}, r.series, listen);
+  });
+  r.result = take(std::move(a));
+  return json_loads(take(io::finite_dump(io::noise_json(r), "noise")));
+}
+
+}  // namespace
+
+void bind_analysis(py::module_& m) {
+  m.def("_curve", &curve, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
+        py::arg("taus"), py::arg("factors"), py::arg("ci"), py::arg("file_backed"));
+  m.def("_noise", &noise, py::arg("data"), py::arg("rate"), py::arg("input"), py::arg("units"),
+        py::arg("ci"), py::arg("fit_lo_s"), py::arg("fit_hi_s"), py::arg("abba_cycles"),
+        py::arg("name"), py::arg("column"), py::arg("file_backed"));
+}
+
+}  // namespace gyroflip::python

@@ -1,0 +1,258 @@
+/// \file
+/// \brief The method for Python: `_calibrate` and `_compensate` on a recording's columns,
+/// `_simulate` (the rig simulator, one row per dwell) and `_read_recording` (CSV or `.gfr`).
+/// Results are the CLI's JSON objects (parsed) plus NumPy columns.
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "common.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/io/recording.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/compensation.hpp"
+#include "gyroflip/rig/simulator.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "host/recorder/rig_run.hpp"
+
+namespace gyroflip::python {
+
+namespace {
+
+constexpr const char* arrays_name = "<arrays>";  // the "file" of columns passed in memory
+
+method::pairing pairing_of(const std::string& name) {
+  const auto p = method::parse_pairing(name);
+  if (!p) throw py::value_error("pairing must be 'abba' or 'simple' (got '" + name + "')");
+  return *p;
+}
+
+// The columns of a recording passed as arrays.
+struct columns {
+  f64_array time_s, angle_deg, rate_dps;
+  std::optional<f64_array> temp_c, n_avg;
+};
+
+io::recording_cycles cycles_of(const columns& c, method::pairing p, double tol) {
+  io::recording_columns rc{span_of(c.time_s, "time_s"),
+                           span_of(c.angle_deg, "angle_deg"),
+                           span_of(c.rate_dps, "rate_dps"),
+                           {},
+                           {}};
+  if (c.temp_c) rc.temp_c = span_of(*c.temp_c, "temp_c");
+  if (c.n_avg) rc.n_avg = span_of(*c.n_avg, "n_avg");
+  const auto rows = take(io::rows_of_columns(rc, tol));
+  auto cycles = take(io::cycles_of_rows(arrays_name, rows, p, {}));
+  cycles.has_temp = c.temp_c.has_value();
+  return cycles;
+}
+
+// One field of every element of `v` as a float64 NumPy array.
+template <class T, class F>
+py::array_t<double> column(const std::vector<T>& v, F T::*field) {
+  std::vector<double> out;
+  out.reserve(v.size());
+  for (const auto& x : v) out.push_back(static_cast<double>(x.*field));
+  return to_numpy(out);
+}
+
+py::dict cycle_columns(const std::vector<method::cycle>& cycles) {
+  py::dict d;
+  d["time_s"] = column(cycles, &method::cycle::time_s);
+  d["rate_dps"] = column(cycles, &method::cycle::rate_dps);
+  d["bias_dps"] = column(cycles, &method::cycle::bias_dps);
+  d["temp_c"] = column(cycles, &method::cycle::temp_c);
+  return d;
+}
+
+py::dict calibrate(const columns& c, std::optional<double> lat_deg,
+                   const std::optional<std::string>& axis, const std::string& pairing, double tol,
+                   const std::string& version) {
+  io::calibration_record rec;
+  rec.pairing = pairing_of(pairing);
+  if (lat_deg.has_value() != axis.has_value())
+    throw py::value_error("give latitude and axis together (or neither)");
+  if (lat_deg) {
+    check(earth::check_latitude(*lat_deg));
+    rec.geometry = io::calibration_geometry{*lat_deg, take(earth::parse_axis(*axis))};
+  }
+  const auto rc = cycles_of(c, rec.pairing, tol);
+  rec.sensor = io::sensor_of({});
+  rec.pooled = take(method::calibrate(rc.cycles));
+  rec.files.push_back({arrays_name, rec.pooled});
+  rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);  // as the CLI
+  py::dict d = json_loads(take(io::to_json(rec, version)));
+  d["cycle_values"] = cycle_columns(rc.cycles);
+  return d;
+}
+
+// The dN to subtract: a constant, or a calibration (JSON text) with its dN(T) model if it has one.
+struct delta_n_source {
+  method::delta_n_model model;
+  std::optional<method::pairing> pairing;
+};
+
+delta_n_source delta_n_of(std::optional<double> delta_n_dps,
+                          const std::optional<std::string>& calibration_json) {
+  if (delta_n_dps.has_value() == calibration_json.has_value())
+    throw py::value_error("give either delta_n_dps or calibration");
+  if (delta_n_dps) {
+    if (!std::isfinite(*delta_n_dps)) throw py::value_error("delta_n_dps must be finite");
+    return {method::constant_model(*delta_n_dps), std::nullopt};
+  }
+  const auto rec = take(io::parse_calibration(*calibration_json, "calibration"));
+  if (rec.model) return {*rec.model, rec.pairing};
+  return {method::constant_model(rec.pooled.delta_n_dps, rec.pooled.stderr_correlated_dps),
+          rec.pairing};
+}
+
+py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
+                    const std::optional<std::string>& calibration_json,
+                    const std::optional<std::string>& pairing, double drift_window_s, double tol) {
+  const auto dn = delta_n_of(delta_n_dps, calibration_json);
+  const auto p = pairing ? pairing_of(*pairing) : dn.pairing.value_or(method::pairing::abba);
+  if (!(drift_window_s > 0.0)) throw py::value_error("drift_window_s must be > 0");
+  const auto rc = cycles_of(c, p, tol);
+  if (dn.model.degree() > 0 && !rc.has_temp)
+    throw py::value_error("no temp_c given, but the calibration's dN(T) model needs temperatures");
+  std::vector<method::compensated_cycle> out;
+  out.reserve(rc.cycles.size());
+  for (const auto& cy : rc.cycles) out.push_back(method::compensate(cy, dn.model));
+  const auto s = method::summarize(out, drift_window_s);
+  py::dict summary;
+  summary["pairing"] = std::string(method::to_string(p));
+  summary["cycles"] = s.cycles;
+  summary["duration_s"] = s.duration_s;
+  summary["mean_dps"] = s.mean_dps;
+  summary["std_dps"] = s.std_dps;
+  summary["stderr_dps"] = s.stderr_dps;
+  summary["stderr_correlated_dps"] = s.stderr_correlated_dps;
+  summary["drift_dps"] = s.drift_dps ? py::object(py::float_(*s.drift_dps)) : py::none();
+  summary["drift_window_s"] = s.drift_window_s;
+  py::dict res;
+  using cc = method::compensated_cycle;
+  res["time_s"] = column(out, &cc::time_s);
+  res["rate_dps"] = column(out, &cc::rate_dps);
+  res["bias_dps"] = column(out, &cc::bias_dps);
+  res["temp_c"] = column(out, &cc::temp_c);
+  res["delta_n_dps"] = column(out, &cc::delta_n_dps);
+  res["summary"] = summary;
+  return res;
+}
+
+py::dict rows_dict(const std::vector<method::row>& rows) {
+  py::dict d;
+  d["time_s"] = column(rows, &method::row::time_s);
+  d["angle_deg"] = column(rows, &method::row::angle_deg);
+  d["rate_dps"] = column(rows, &method::row::rate_dps);
+  d["temp_c"] = column(rows, &method::row::temp_c);
+  d["n_avg"] = column(rows, &method::row::n_avg);
+  return d;
+}
+
+py::dict metadata_dict(const std::vector<io::csv_metadata>& meta) {
+  py::dict d;
+  for (const auto& m : meta) d[py::str(m.key)] = m.value;
+  return d;
+}
+
+py::dict read_recording(const std::string& path, double tol) {
+  std::vector<method::row> rows;
+  std::vector<io::csv_metadata> meta;
+  std::vector<std::string> warnings;
+  if (path.ends_with(".gfr")) {
+    const auto run = take(host::read_rig_run(path));
+    rows = host::dwell_rows(run);
+    meta = host::csv_metadata(run);
+    warnings = run.warnings;
+  } else {
+    auto reader = take(io::recording_reader::open(path, tol));
+    method::row r;
+    for (;;) {
+      const auto step = reader.next(r);
+      if (step == io::csv_reader::step::failed) raise(reader.last_error());
+      if (step == io::csv_reader::step::end) break;
+      rows.push_back(r);
+    }
+    meta = reader.metadata();
+    warnings = reader.warnings();
+  }
+  py::dict d = rows_dict(rows);
+  d["metadata"] = metadata_dict(meta);
+  d["warnings"] = warnings;
+  return d;
+}
+
+py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t seed, double lat_deg,
+                  const std::string& axis, int n_avg, double settle_s,
+                  const std::optional<std::string>& temp, const std::string& rate,
+                  double power_on_before_s, bool flip) {
+  rig::simulation_config c;
+  const auto preset = take(sensor::load_preset(sensor));
+  c.sensor = preset.params;
+  c.rate = take(rig::profile::parse_rate(rate));
+  c.temperature = temp ? take(rig::profile::parse_temperature(*temp))
+                       : rig::profile::constant(preset.params.temp_ref_c);
+  c.lat_deg = lat_deg;
+  c.axis = axis;
+  c.sched.n_avg = n_avg;
+  c.sched.settle_s = settle_s;
+  c.sched.flip = flip;
+  c.duration_s = duration_s;
+  c.power_on_before_s = power_on_before_s;
+  c.seed = seed;
+  auto sim = take(rig::simulator::make(c));
+  std::vector<rig::dwell_row> rows;
+  without_gil([&](const progress_fn& listen) {
+    rig::sample_block block(1U << 14, true);
+    rig::dwell_averager avg(n_avg);
+    while (sim.fill(block) > 0) {
+      avg.add(block, rows);
+      listen(static_cast<std::size_t>(sim.produced()),
+             static_cast<std::size_t>(sim.total_samples()));
+    }
+    return 0;
+  });
+  using dr = rig::dwell_row;
+  py::dict d;
+  d["time_s"] = column(rows, &dr::time_s);
+  d["angle_deg"] = column(rows, &dr::angle_deg);
+  d["rate_dps"] = column(rows, &dr::rate_dps);
+  d["temp_c"] = column(rows, &dr::temp_c);
+  d["n_avg"] = column(rows, &dr::n_avg);
+  d["bias_dps"] = column(rows, &dr::bias_dps);
+  d["g_term_dps"] = column(rows, &dr::g_term_dps);
+  d["earth_dps"] = column(rows, &dr::earth_dps);
+  d["input_dps"] = column(rows, &dr::input_dps);
+  d["delta_n_truth_dps"] = sim.earth_at_a_dps() + sim.g_term_at_a_dps(c.temperature.at(0.0));
+  d["sensor"] = preset.name;
+  return d;
+}
+
+}  // namespace
+
+void bind_method(py::module_& m, const std::string& version) {
+  py::class_<columns>(m, "_Columns")
+      .def(py::init<f64_array, f64_array, f64_array, std::optional<f64_array>,
+                    std::optional<f64_array>>());
+  m.def(
+      "_calibrate",
+      [version](const columns& c, std::optional<double> lat, const std::optional<std::string>& axis,
+                const std::string& pairing,
+                double tol) { return calibrate(c, lat, axis, pairing, tol, version); },
+      py::arg("columns"), py::arg("latitude"), py::arg("axis"), py::arg("pairing"),
+      py::arg("angle_tolerance_deg"));
+  m.def("_compensate", &compensate, py::arg("columns"), py::arg("delta_n_dps"),
+        py::arg("calibration_json"), py::arg("pairing"), py::arg("drift_window_s"),
+        py::arg("angle_tolerance_deg"));
+  m.def("_read_recording", &read_recording, py::arg("path"), py::arg("angle_tolerance_deg"));
+  m.def("_simulate", &simulate, py::arg("sensor"), py::arg("duration_s"), py::arg("seed"),
+        py::arg("latitude"), py::arg("axis"), py::arg("n_avg"), py::arg("settle_s"),
+        py::arg("temp"), py::arg("rate"), py::arg("power_on_before_s"), py::arg("flip"));
+}
+
+}  // namespace gyroflip::python

@@ -1,0 +1,151 @@
+"""The Allan family from Python against published values: NIST SP1065's NBS14 sets, the
+Stable32 tables in tests/vectors/stable32 (deviations to 1e-4 relative, as the C++ tests; term
+counts exactly; 68.3 % bounds to 3e-3), and allantools' conventions (its tau list, n, errs)."""
+import os
+
+import numpy as np
+import pytest
+
+import gyroflip
+from conftest import read_stable32, read_values
+
+KINDS = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"]
+
+# NIST SP1065 p. 107-108: the NBS14 9-value frequency set, tau = 1 and 2.
+NBS14 = [892, 809, 823, 798, 671, 644, 883, 903, 677]
+NBS14_EXPECT = {
+    "adev": (91.22945, 115.8082), "oadev": (91.22945, 85.95287), "mdev": (91.22945, 74.78849),
+    "totdev": (91.22945, 93.90379), "hdev": (70.80608, 116.7980), "ohdev": (70.80607, 85.61487),
+    "tdev": (52.67135, 86.35831),
+}
+
+
+def nbs14_1000():
+    """SP1065's 1000-point set: n <- 16807 n mod (2^31 - 1) from 1234567890, divided by 2^31 - 1."""
+    y, n = [], 1234567890
+    for _ in range(1000):
+        y.append(n / 2147483647.0)
+        n = (16807 * n) % 2147483647
+    return np.array(y)
+
+
+NBS14_1000_EXPECT = {
+    "adev": (0.2922319, 0.09965736, 0.03897804), "oadev": (0.2922319, 0.09159953, 0.03241343),
+    "mdev": (0.2922319, 0.06172376, 0.02170921), "totdev": (0.2922319, 0.09134743, 0.03406530),
+    "hdev": (0.2943883, 0.1052754, 0.03910860), "ohdev": (0.2943883, 0.09581083, 0.03237638),
+    "tdev": (0.1687202, 0.3563623, 1.253382),
+}
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_nbs14_nine_points_compat(kind):
+    taus, devs, errs, ns = getattr(gyroflip, kind)(NBS14, rate=1.0, data_type="freq", taus=[1, 2])
+    assert list(taus) == [1.0, 2.0]
+    np.testing.assert_allclose(devs, NBS14_EXPECT[kind], rtol=1e-6)
+    np.testing.assert_allclose(errs, devs / np.sqrt(ns))
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_nbs14_thousand_points(kind):
+    d = gyroflip.deviation(nbs14_1000(), kind, rate=1.0, input="rate", taus=[1, 10, 100], ci=None)
+    np.testing.assert_allclose(d.dev, NBS14_1000_EXPECT[kind], rtol=1e-6)
+    assert np.all(np.isnan(d.ci_lo))
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_phase_dat_octave_with_bounds(kind, vectors):
+    x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
+    rows = read_stable32(os.path.join(vectors, f"stable32/phasedat/phase_dat_{kind}_octave.txt"))
+    d = gyroflip.deviation(x, kind, rate=1.0, input="angle", taus="octave", ci=0.683)
+    assert list(d.m) == [r[0] for r in rows]
+    assert list(d.n) == [r[2] for r in rows]
+    np.testing.assert_allclose(d.dev, [r[5] for r in rows], rtol=1e-4)
+    assert np.all((d.ci_lo < d.dev) & (d.dev < d.ci_hi))
+    if kind == "oadev":  # end to end, noise identification included, as the C++ test does
+        np.testing.assert_allclose(d.ci_lo, [r[4] for r in rows], rtol=3e-3)
+        np.testing.assert_allclose(d.ci_hi, [r[6] for r in rows], rtol=3e-3)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_phase_dat_all_tau_compat(kind, vectors):
+    """allantools' taus="all" on phase data: every m with n > 1, the same values as Stable32
+    where its all-tau table has the point."""
+    x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
+    rows = read_stable32(os.path.join(vectors, f"stable32/phasedat/phase_dat_{kind}.txt"))
+    taus, devs, errs, ns = getattr(gyroflip, kind)(x, rate=1.0, taus="all")
+    assert taus[0] == 1.0 and np.all(np.diff(taus) == 1.0)
+    assert np.all(ns > 1)
+    by_m = {int(t): (d, n) for t, d, n in zip(taus, devs, ns)}
+    for af, _, n, _, _, sigma, _ in rows:
+        d, nn = by_m[af]
+        assert nn == n, af
+        assert d == pytest.approx(sigma, rel=1e-4), af
+
+
+def test_pink_frequency_octave_with_tau0_1s(vectors):
+    y = np.array(read_values(os.path.join(vectors, "stable32/pink_frequency/pink_frequency.txt")))
+    rows = read_stable32(os.path.join(vectors, "stable32/pink_frequency/s32_oadev_octave.txt"))
+    d = gyroflip.deviation(y, "oadev", rate=1.0, input="rate", ci=0.683)
+    assert list(d.n) == [r[2] for r in rows]
+    np.testing.assert_allclose(d.dev, [r[5] for r in rows], rtol=1e-4)
+    # The lag-1 noise type is Stable32's wherever 30 decimated points or more remain.
+    enough = (len(y) // d.m) >= 30
+    assert list(d.alpha[enough]) == [r[3] for r, e in zip(rows, enough) if e]
+
+
+def test_allantools_tau_rules():
+    """allantools' conventions: octave taus 1, 2, 4 ... up to len(phase), ns as its loops count
+    them (ADEV floor((N-1)/m) - 1, OADEV N - 2m, MDEV N - 3m + 1, OHDEV N - 3m, TOTDEV N - 2),
+    points with ns <= 1 dropped, freq data integrated to N + 1 phase points."""
+    rng = np.random.default_rng(7)
+    y = rng.normal(size=100)
+    n_phase = 101
+    t, d, e, n = gyroflip.oadev(y, rate=2.0, data_type="freq")
+    m = np.round(t * 2.0)
+    assert list(m) == [1, 2, 4, 8, 16, 32]  # m = 64 leaves 101 - 128 < 2 terms
+    np.testing.assert_array_equal(n, n_phase - 2 * m)
+    _, _, _, n = gyroflip.adev(y, rate=2.0, data_type="freq")
+    np.testing.assert_array_equal(n, [(n_phase - 1) // k - 1 for k in [1, 2, 4, 8, 16, 32]])
+    _, _, _, n = gyroflip.mdev(y, rate=2.0, data_type="freq")
+    np.testing.assert_array_equal(n, [n_phase - 3 * k + 1 for k in [1, 2, 4, 8, 16, 32]])
+    _, _, _, n = gyroflip.ohdev(y, rate=2.0, data_type="freq")
+    np.testing.assert_array_equal(n, [n_phase - 3 * k for k in [1, 2, 4, 8, 16, 32]])
+    t, _, _, n = gyroflip.totdev(y, rate=2.0, data_type="freq")
+    assert list(np.round(t * 2.0)) == [1, 2, 4, 8, 16, 32, 64]
+    assert np.all(n == n_phase - 2)
+    # Taus given in seconds round to the nearest factor, half to even (numpy.round: 2.5 -> 2,
+    # 3.5 -> 4), duplicates merged.
+    t, _, _, _ = gyroflip.oadev(y, rate=2.0, data_type="freq", taus=[0.5, 1.25, 1.75, 3.0, 3.1])
+    assert list(t) == [0.5, 1.0, 2.0, 3.0]
+    # "decade" is 1, 2, 4, 10, 20, 40, ... as in allantools.
+    t, _, _, _ = gyroflip.oadev(np.arange(1000.0), data_type="phase", taus="decade")
+    assert list(t) == [1, 2, 4, 10, 20, 40, 100, 200, 400]
+
+
+def test_phase_is_the_default_data_type():
+    """allantools reads data as phase unless told; a rate series read as phase is its integral's
+    derivative, so the two differ (the reason deviation() takes input= explicitly)."""
+    y = np.random.default_rng(3).normal(size=4096)
+    phase = np.concatenate([[0.0], np.cumsum(y)])
+    t1, d1, _, _ = gyroflip.oadev(phase)
+    t2, d2, _, _ = gyroflip.oadev(y, data_type="freq")
+    np.testing.assert_allclose(d1, d2, rtol=1e-9)
+    _, d3, _, _ = gyroflip.oadev(y)
+    assert not np.allclose(d3, d2[: len(d3)])
+
+
+def test_other_dtypes_and_lists_convert():
+    y = np.random.default_rng(5).normal(size=1000)
+    _, d64, _, _ = gyroflip.oadev(y, data_type="freq")
+    _, dl, _, _ = gyroflip.oadev(list(y), data_type="freq")
+    _, d32, _, _ = gyroflip.oadev(y.astype(np.float32), data_type="freq")
+    _, ds, _, _ = gyroflip.oadev(y[::1].copy(order="C")[::-1][::-1], data_type="freq")
+    np.testing.assert_array_equal(d64, dl)
+    np.testing.assert_array_equal(d64, ds)
+    np.testing.assert_allclose(d64, d32, rtol=1e-6)
+
+
+def test_help_is_useful():
+    doc = gyroflip.oadev.__doc__
+    assert "SP1065 eqn 11" in doc and "(taus, devs, errs, ns)" in doc and "deg/s" in doc
+    assert "ci_lo" in gyroflip.deviation.__doc__ or "bounds" in gyroflip.deviation.__doc__

@@ -1,0 +1,96 @@
+"""The module and the command line are one core: for the same input, the Python result equals
+the CLI's JSON (adev, noise, calibrate, compensate) or file (simulate), number for number."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import gyroflip
+
+
+def run(exe, *args):
+    p = subprocess.run([exe, *map(str, args)], capture_output=True, text=True, check=True)
+    return p.stdout
+
+
+@pytest.fixture
+def series_csv(tmp_path):
+    y = np.random.default_rng(11).normal(size=20000) * 0.05 + 0.01 * np.sin(np.arange(20000) / 3e3)
+    path = tmp_path / "y.csv"
+    path.write_text("rate_dps\n" + "".join(f"{v!r}\n" for v in y))
+    return path, y
+
+
+@pytest.mark.parametrize("kind", ["oadev", "mdev", "totdev", "hdev"])
+def test_deviation_equals_adev_json(exe, series_csv, kind):
+    path, y = series_csv
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--kind", kind, "--json"))
+    d = gyroflip.deviation(y, kind, rate=100.0, input="rate", taus="octave", ci=0.683)
+    assert [p["m"] for p in cli["points"]] == list(d.m)
+    for key, arr in [("dev", d.dev), ("ci_lo", d.ci_lo), ("ci_hi", d.ci_hi), ("edf", d.edf)]:
+        np.testing.assert_array_equal([p[key] for p in cli["points"]], arr, err_msg=key)
+    assert [p["alpha"] for p in cli["points"]] == list(d.alpha)
+
+
+def test_noise_equals_noise_json(exe, series_csv):
+    path, y = series_csv
+    cli = json.loads(run(exe, "noise", path, "--rate", 100, "--json"))
+    py = gyroflip.noise(y, rate=100.0, name=str(path), column="rate_dps")
+    assert py == cli
+
+
+def test_noise_in_rad_units_equals_cli(exe, series_csv, tmp_path):
+    path, y = series_csv
+    cli = json.loads(run(exe, "noise", path, "--rate", 100, "--units", "rad/s", "--json"))
+    py = gyroflip.noise(y, rate=100.0, units="rad/s", name=str(path), column="rate_dps")
+    assert py == cli
+
+
+def test_calibrate_and_compensate_equal_the_cli(exe, vectors, tmp_path):
+    cal_csv = os.path.join(vectors, "demo/cal_stationary_20c.csv")
+    run_csv = os.path.join(vectors, "demo/run_rate_table_20c.csv")
+    cli = json.loads(run(exe, "calibrate", cal_csv, "--latitude", 42.6, "--axis", "north", "--json"))
+    rec = gyroflip.read_recording(cal_csv)
+    assert rec["metadata"]  # the recording's `# key: value` lines
+    cal = gyroflip.calibrate(rec["time_s"], rec["angle_deg"], rec["rate_dps"], rec["temp_c"],
+                             rec["n_avg"], latitude=42.6, axis="north")
+    for key in ["delta_n_dps", "std_dps", "stderr_dps", "stderr_correlated_dps", "cycles",
+                "earth_rate_dps", "g_term_dps", "temp_c", "bias_mean_dps", "pairing"]:
+        assert cal[key] == cli[key], key
+    assert len(cal["cycle_values"]["rate_dps"]) == cli["cycles"]
+    assert np.mean(cal["cycle_values"]["rate_dps"]) == pytest.approx(cal["delta_n_dps"], rel=1e-12)
+
+    cal_path = tmp_path / "cal.json"
+    run(exe, "calibrate", cal_csv, "--latitude", 42.6, "--axis", "north", "-o", cal_path)
+    cli_comp = json.loads(run(exe, "compensate", run_csv, "--calibration", cal_path, "--json"))
+    r = gyroflip.read_recording(run_csv)
+    for calibration in (cal, cal_path, str(cal_path)):
+        comp = gyroflip.compensate(r["time_s"], r["angle_deg"], r["rate_dps"], r["temp_c"],
+                                   r["n_avg"], calibration=calibration)
+        for key in ["cycles", "mean_dps", "std_dps", "stderr_dps", "stderr_correlated_dps",
+                    "drift_dps", "duration_s", "pairing"]:
+            assert comp["summary"][key] == cli_comp[key], key
+    comp_csv = tmp_path / "comp.csv"
+    run(exe, "compensate", run_csv, "--calibration", cal_path, "-o", comp_csv)
+    with open(comp_csv) as f:
+        assert f.readline().strip() == "time_s,rate_dps,bias_dps,temp_c,delta_n_dps"
+    rows = np.loadtxt(comp_csv, delimiter=",", skiprows=1, comments="#")
+    np.testing.assert_array_equal(rows[:, 1], comp["rate_dps"])
+    np.testing.assert_array_equal(rows[:, 0], comp["time_s"])
+
+
+def test_simulate_equals_the_cli_file(exe, tmp_path):
+    out = tmp_path / "sim.csv"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 120, "--seed", 5, "--temp", 4,
+        "-o", out)
+    rows = gyroflip.read_recording(out)
+    assert rows["metadata"]["seed"] == "5"
+    s = gyroflip.simulate("hz1-90-100a", duration_s=120, seed=5, temp=4)
+    for key in ["time_s", "angle_deg", "rate_dps", "temp_c", "n_avg"]:
+        np.testing.assert_array_equal(rows[key], s[key], err_msg=key)
+    # The truth: dN is the Earth term plus the g-term at 0 deg.
+    assert s["delta_n_truth_dps"] == pytest.approx(
+        s["earth_dps"][0] * (1 if s["angle_deg"][0] == 0 else -1)
+        + s["g_term_dps"][0] * (1 if s["angle_deg"][0] == 0 else -1), rel=1e-2)

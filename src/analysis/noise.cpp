@@ -1,0 +1,29 @@
+/// \file
+/// \brief One series' noise analysis (noise.hpp).
+#include "gyroflip/analysis/noise.hpp"
+
+#include <utility>
+
+#include "gyroflip/analysis/confidence.hpp"
+
+namespace gyroflip::analysis {
+
+result<noise_analysis> analyse_noise(const phase_source& x, double level, const tau_range& range,
+                                     const noise_series& series, const progress_fn& on_progress) {
+  auto pts = deviation(dev_kind::oadev, x, {}, on_progress);
+  if (!pts) return pts.err();
+  // The OADEV points carry bounds at the same level as the terms.
+  add_confidence(*pts, dev_kind::oadev, x, level);
+  std::vector<deviation_point> fitted;
+  for (const auto& p : *pts)
+    if (p.tau_s >= range.lo_s && p.tau_s <= range.hi_s) fitted.push_back(p);
+  auto fit = fit_noise_terms(fitted, level, series);
+  if (!fit) return fit.err();
+  noise_analysis a;
+  a.readoffs = read_off_terms(*pts);
+  a.oadev = std::move(*pts);
+  a.terms = std::move(*fit);
+  return a;
+}
+
+}  // namespace gyroflip::analysis
