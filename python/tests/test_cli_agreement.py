@@ -94,3 +94,21 @@ def test_simulate_equals_the_cli_file(exe, tmp_path):
     assert s["delta_n_truth_dps"] == pytest.approx(
         s["earth_dps"][0] * (1 if s["angle_deg"][0] == 0 else -1)
         + s["g_term_dps"][0] * (1 if s["angle_deg"][0] == 0 else -1), rel=1e-2)
+
+
+def test_readme_python_example_runs(tmp_path):
+    """The README's Python block runs as written (with a gyro.npy beside it)."""
+    readme = os.path.join(os.path.dirname(__file__), "..", "..", "README.md")
+    text = open(readme).read()
+    block = text.split("```python\n", 1)[1].split("```", 1)[0]
+    assert len(block.strip().splitlines()) == 5
+    np.save(tmp_path / "gyro.npy", np.random.default_rng(1).normal(size=1_000_000))
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        scope = {}
+        exec(compile(block, "README.md", "exec"), scope)
+    finally:
+        os.chdir(cwd)
+    assert abs(scope["cal"]["delta_n_dps"] - scope["rec"]["delta_n_truth_dps"]) < 0.01
+    assert scope["taus"][0] == 0.01

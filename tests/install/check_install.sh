@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Installs the build into a temporary prefix and uses it as a user would (CTest: install_*):
+#   check_install.sh prefix BUILD SRC PYTHON   cmake --install, then a consumer project through
+#                                              find_package, the same through pkg-config, the
+#                                              command, its man page, and `import gyroflip`
+#   check_install.sh deb BUILD SRC PYTHON      cpack -G DEB, dpkg -x, then the command and
+#                                              `import gyroflip` from the unpacked tree; Depends
+set -euo pipefail
+mode=$1 build=$2 src=$3 python=$4
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/gyroflip-install.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "check_install: $*" >&2; exit 1; }
+
+import_check='import numpy as np, gyroflip
+t, d, e, n = gyroflip.oadev([892, 809, 823, 798, 671, 644, 883, 903, 677], data_type="freq", taus=[1, 2])
+assert abs(d[0] / 91.22945 - 1) < 1e-6 and abs(d[1] / 85.95287 - 1) < 1e-6, d
+print("python", gyroflip.__version__, gyroflip.__file__)'
+
+if [ "$mode" = prefix ]; then
+  p=$tmp/prefix
+  cmake --install "$build" --prefix "$p" >"$tmp/install.log" 2>&1 || { cat "$tmp/install.log"; fail "cmake --install failed"; }
+  "$p/bin/gyroflip" --version
+  "$p/bin/gyroflip" earth --latitude 42.6 --axis north >/dev/null
+  grep -q '^\.TH GYROFLIP-ADEV 1' "$p/share/man/man1/gyroflip-adev.1" || fail "no man page for adev"
+  # The consumer project, through find_package.
+  cmake -S "$src/tests/install/consumer" -B "$tmp/consumer" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$p" >"$tmp/configure.log" 2>&1 || { cat "$tmp/configure.log"; fail "find_package(gyroflip) failed"; }
+  cmake --build "$tmp/consumer" >"$tmp/build.log" 2>&1 || { cat "$tmp/build.log"; fail "the consumer did not build"; }
+  "$tmp/consumer/consumer"
+  # The same program through pkg-config.
+  pc=$(find "$p" -name gyroflip.pc)
+  flags=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --cflags --libs gyroflip)
+  # shellcheck disable=SC2086
+  c++ -std=c++20 -O1 "$src/tests/install/consumer/main.cpp" -o "$tmp/consumer_pc" $flags ||
+    fail "the consumer did not build with pkg-config's flags: $flags"
+  "$tmp/consumer_pc" >/dev/null
+  # The Python module where this prefix's interpreter path puts it.
+  pydir=$(dirname "$(dirname "$(find "$p" -name '__init__.py' -path '*/gyroflip/*')")")
+  case "$pydir" in "$p"/lib/python3*/dist-packages) ;; *) fail "Python module in $pydir" ;; esac
+  (cd "$tmp" && PYTHONPATH=$pydir "$python" -c "$import_check")
+elif [ "$mode" = deb ]; then
+  (cd "$build" && cpack -G DEB -B "$tmp/pkg" >"$tmp/cpack.log" 2>&1) || { cat "$tmp/cpack.log"; fail "cpack failed"; }
+  deb=$(find "$tmp/pkg" -maxdepth 1 -name 'gyroflip_*.deb')
+  [ -n "$deb" ] || fail "no .deb made"
+  depends=$(dpkg-deb -f "$deb" Depends)
+  echo "Depends: $depends"
+  for lib in libc6 libstdc++6 libfmt9 libhdf5 python3-numpy; do
+    grep -q "$lib" <<<"$depends" || fail "Depends lacks $lib"
+  done
+  dpkg-deb -c "$deb" >"$tmp/contents"
+  grep -q './usr/lib/python3/dist-packages/gyroflip/__init__.py' "$tmp/contents" ||
+    fail "the Python module is not in /usr/lib/python3/dist-packages"
+  dpkg -x "$deb" "$tmp/root"
+  "$tmp/root/usr/bin/gyroflip" --version
+  "$tmp/root/usr/bin/gyroflip" adev "$src/tests/vectors/demo/cal_stationary_20c.csv" --ignore-flip >/dev/null
+  (cd "$tmp" && PYTHONPATH=$tmp/root/usr/lib/python3/dist-packages "$python" -c "$import_check") >"$tmp/py.out"
+  grep -q "$tmp/root/usr/lib/python3/dist-packages/gyroflip" "$tmp/py.out" ||
+    fail "import gyroflip did not load the unpacked module: $(cat "$tmp/py.out")"
+  echo "deb ok: $(basename "$deb")"
+else
+  fail "mode must be prefix or deb"
+fi
