@@ -316,6 +316,27 @@ void setup_adev(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
+  sub->add_option("--plot", o->plot,
+                  "draw the Allan plot to FILE.png, .svg or .pdf (gnuplot; FILE.gp and its data "
+                  "files are written beside it)");
+}
+
+void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>& args) {
+  auto* sub = app.add_subcommand(
+      "report", "A report to send: tables, the paper's figures and the Allan plot in one page");
+  auto o = bind<report_options>(sub, chosen, run_report);
+  o->command_line = args;
+  sub->add_option("files", o->files, "recordings (CSV or .gfr)")->required();
+  sub->add_option("-o,--output", o->output, "the report folder DIR (index.html, figures/, ...)")
+      ->required();
+  sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms");
+  sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D");
+  sub->add_option("--calibration", o->calibration,
+                  "CAL.json: compensate the files with it (without: calibrate them)");
+  sub->add_option("--title", o->title, "the report's title");
+  sub->add_option("--pairing", o->pairing, "abba|simple")
+      ->check(CLI::IsMember({"abba", "simple"}))
+      ->capture_default_str();
 }
 
 void setup_noise(CLI::App& app, action& chosen) {
@@ -354,6 +375,7 @@ int run_cli(int argc, char** argv) {
   setup_compensate(app, chosen);
   setup_adev(app, chosen);
   setup_noise(app, chosen);
+  setup_report(app, chosen, std::vector<std::string>(argv, argv + argc));
   // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for
   // subcommands that way.
   if (argc > 1 && argv[1][0] != '-') {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/method/flip_detect.hpp"
+#include "gyroflip/report/figures.hpp"
 #include "progress_bar.hpp"
 #include "rig_input.hpp"
 
@@ -228,6 +230,26 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
   return adev_result{std::move(*pts), std::move(dropped)};
 }
 
+// `--plot FILE.png|.svg|.pdf`: the folder, the stem and the format (nullopt without --plot).
+struct plot_file {
+  std::string dir, stem;
+  report::image_format format;
+};
+result<std::optional<plot_file>> plot_target(const std::string& path) {
+  if (path.empty()) return std::optional<plot_file>{};
+  const std::filesystem::path p(path);
+  const auto ext = p.extension().string();
+  const std::optional<report::image_format> f =
+      ext == ".png"   ? std::optional(report::image_format::png)
+      : ext == ".svg" ? std::optional(report::image_format::svg)
+      : ext == ".pdf" ? std::optional(report::image_format::pdf)
+                      : std::nullopt;
+  if (!f || p.stem().empty())
+    return usage_error("--plot must name a .png, .svg or .pdf file; got " + printable(path));
+  const auto dir = p.parent_path().string();
+  return std::optional<plot_file>{plot_file{dir.empty() ? "." : dir, p.stem().string(), *f}};
+}
+
 }  // namespace
 
 int run_adev(const adev_options& o) {
@@ -240,8 +262,10 @@ int run_adev(const adev_options& o) {
   // The validator (cli.cpp) let through only "none" or a number in (0, 1).
   const std::optional<double> level =
       o.ci == "none" ? std::nullopt : std::optional<double>(std::stod(o.ci));
-  if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.output}); !s)
+  if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.output, o.plot}); !s)
     return report(s.err());
+  const auto plot = plot_target(o.plot);
+  if (!plot) return report(plot.err());
   if (o.json)
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto inputs = load_series(o.in);
@@ -253,9 +277,11 @@ int run_adev(const adev_options& o) {
   const bool table = !o.json && o.output.empty() && ::isatty(STDOUT_FILENO) == 1;
   std::string csv, tables;
   nlohmann::json per_column = nlohmann::json::array();
+  std::vector<report::allan_curve> curves;
   for (const auto& in : *inputs) {
     auto r = deviation_of(o, *kind, *taus, level, in);
     if (!r) return report(r.err());
+    curves.push_back({several ? in.column : o.kind, r->points, std::nullopt});
     // The header, then the unit of `dev` as metadata (readers skip `#` lines; scripts read line 1),
     // then the rows: with several columns each row starts with its column.
     if (csv.empty())
@@ -288,6 +314,14 @@ int run_adev(const adev_options& o) {
   }
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
+  if (*plot) {
+    const auto title = fmt::format("{} of {}", o.kind, printable(o.in.file, 120));
+    const std::array formats{(*plot)->format};
+    if (auto s = report::render(report::allan_figure(curves, unit_name(o.in), title), (*plot)->dir,
+                                (*plot)->stem, formats);
+        !s)
+      return report(s.err());
+  }
   if (o.json) {
     fmt::print("{}", json_line);
   } else if (table) {

@@ -55,6 +55,7 @@ struct adev_options {
   std::string ci = "0.683";  ///< two-sided level, or "none"
   bool json = false;
   std::string output;
+  std::string plot;  ///< FILE.png|.svg|.pdf: the Allan plot, its .gp script and data beside it
 };
 int run_adev(const adev_options& o);
 

@@ -46,6 +46,18 @@ struct calibrate_options {
 };
 int run_calibrate(const calibrate_options& o);
 
+struct report_options {
+  std::vector<std::string> files;
+  std::string output;                                         // -o DIR
+  double lat_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
+  std::string axis;                                           // empty: not given
+  std::string calibration;  // CAL.json: compensate the files (else: calibrate them)
+  std::string title;
+  std::string pairing = "abba";
+  std::vector<std::string> command_line;  // as typed, for the page's provenance
+};
+int run_report(const report_options& o);
+
 struct compensate_options {
   std::string file;
   double delta_n_dps = std::numeric_limits<double>::quiet_NaN();  // NaN: not given

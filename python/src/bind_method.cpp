@@ -161,29 +161,10 @@ py::dict metadata_dict(const std::vector<io::csv_metadata>& meta) {
 }
 
 py::dict read_recording(const std::string& path, double tol) {
-  std::vector<method::row> rows;
-  std::vector<io::csv_metadata> meta;
-  std::vector<std::string> warnings;
-  if (path.ends_with(".gfr")) {
-    const auto run = take(host::read_rig_run(path));
-    rows = host::dwell_rows(run);
-    meta = host::csv_metadata(run);
-    warnings = run.warnings;
-  } else {
-    auto reader = take(io::recording_reader::open(path, tol));
-    method::row r;
-    for (;;) {
-      const auto step = reader.next(r);
-      if (step == io::csv_reader::step::failed) raise(reader.last_error());
-      if (step == io::csv_reader::step::end) break;
-      rows.push_back(r);
-    }
-    meta = reader.metadata();
-    warnings = reader.warnings();
-  }
-  py::dict d = rows_dict(rows);
-  d["metadata"] = metadata_dict(meta);
-  d["warnings"] = warnings;
+  const auto r = take(host::read_recording_rows(path, tol));
+  py::dict d = rows_dict(r.rows);
+  d["metadata"] = metadata_dict(r.metadata);
+  d["warnings"] = r.warnings;
   return d;
 }
 

@@ -1,0 +1,70 @@
+/// \file
+/// \brief A figure as data (series, axes, caption) and its rendering by gnuplot: each figure is a
+/// gnuplot script `STEM.gp` plus its data files `STEM_K.dat` next to the images `STEM.png`,
+/// `STEM.svg`, `STEM.pdf`, so that a user can restyle the script and run `gnuplot STEM.gp` again.
+/// One style for every figure (style.gp's content is written into each script): DejaVu Sans,
+/// the Okabe-Ito colour-blind-safe palette, light grid, log axes with 10^k labels and minor
+/// ticks. gnuplot-nox 5.4 (terminals pngcairo, svg, pdfcairo; STACK.md §2) runs as a separate
+/// program; the library never links a plotting library.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+
+namespace gyroflip::report {
+
+enum class image_format { png, svg, pdf };
+
+/// The file suffix of a format ("png", ...).
+[[nodiscard]] std::string_view suffix(image_format f) noexcept;
+
+/// One series: points (x, y), optionally with error bars [y_lo, y_hi] (absolute values).
+struct series {
+  enum class style { points, lines, errorbars, band };
+  std::string title;  ///< legend entry (empty: none)
+  std::vector<double> x, y;
+  std::vector<double> y_lo, y_hi;  ///< for errorbars and band (same length as x)
+  style how = style::points;
+  int color = 0;        ///< index into the palette (0 blue, 1 vermillion, 2 green, 3 purple, ...)
+  bool dashed = false;  ///< lines: dashed (models and fits)
+};
+
+struct axis {
+  std::string label;  ///< with its unit, e.g. "time (s)"
+  bool log = false;
+};
+
+/// A point with a text beside it (the read-off points of the Allan plot).
+struct annotation {
+  double x = 0.0, y = 0.0;
+  std::string text;
+};
+
+struct figure {
+  std::string title;
+  std::string caption;  ///< a second title line (mean and std of the plotted series, ...)
+  axis x, y;
+  std::vector<series> data;
+  std::vector<annotation> notes;
+};
+
+/// The Okabe-Ito palette, in the order figures use it (hex RGB).
+[[nodiscard]] std::span<const std::string_view> palette() noexcept;
+
+/// The gnuplot script of `f` for the images `stem`.<format> and data files `stem`_K.dat (K from
+/// 1; names relative to the script's folder). Non-finite points are left out of the data.
+[[nodiscard]] std::string script(const figure& f, std::string_view stem,
+                                 std::span<const image_format> formats);
+
+/// Writes DIR/STEM.gp and its data files and runs `gnuplot STEM.gp` in DIR, which makes
+/// DIR/STEM.<format>. Errors: a file that cannot be written, gnuplot missing or failing (its
+/// message), a figure without any finite point.
+[[nodiscard]] status render(const figure& f, const std::string& dir, const std::string& stem,
+                            std::span<const image_format> formats,
+                            const std::string& gnuplot = "gnuplot");
+
+}  // namespace gyroflip::report

@@ -1,0 +1,62 @@
+/// \file
+/// \brief The figures people judge a gyro and the method by (issue 10), built from the
+/// library's results as report::figure values (figure.hpp renders them):
+/// the dwell values at 0 and 180 deg over time (the paper's Figs 3/5/7/9), the compensated
+/// output with its mean and std (Figs 4/6/8/10), the bias estimate c(t) (which the paper does
+/// not show), dN per run with mean +- std (Tab. 3/4 as a figure), dN against temperature with
+/// the fitted dN(T) and its band, and the Allan plot with bounds, the fitted IEEE 952 lines and
+/// their read-off points.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/method/compensation.hpp"
+#include "gyroflip/method/types.hpp"
+#include "gyroflip/report/figure.hpp"
+
+namespace gyroflip::report {
+
+/// Dwell means (deg/s) at 0 deg and at 180 deg against time (s): paper Figs 3, 5, 7, 9.
+[[nodiscard]] figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title);
+
+/// The compensated rate per cycle against time, its mean and sample std in the caption: paper
+/// Figs 4, 6, 8, 10 (eqn 12).
+[[nodiscard]] figure compensated_figure(std::span<const method::compensated_cycle> cycles,
+                                        const method::compensation_summary& summary,
+                                        const std::string& title);
+
+/// The bias estimate c = (y_0 + y_180)/2 per cycle against time: what the flip removes.
+[[nodiscard]] figure bias_figure(std::span<const method::cycle> cycles, const std::string& title);
+
+/// dN of each run (index 1..n) with its correlated standard error, and the runs' mean with
+/// +- one sample std as a band: the paper's Tab. 3 and 4 as a figure.
+[[nodiscard]] figure delta_n_runs_figure(std::span<const io::calibration_entry> runs,
+                                         const std::string& title);
+
+/// dN of each run against its mean temperature (bars: correlated standard error), the fitted
+/// dN(T) and its +- one-standard-error band (delta_n_model::stderr_at).
+[[nodiscard]] figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
+                                                const method::delta_n_model& model,
+                                                const std::string& title);
+
+/// One curve of the Allan plot: its points (with bounds) and, when fitted, its noise terms.
+struct allan_curve {
+  std::string name;
+  std::vector<analysis::deviation_point> points;
+  std::optional<analysis::noise_terms> terms;
+};
+
+/// Log-log deviation against tau with confidence bars for every curve; for the first curve with
+/// terms, the fitted IEEE 952 lines (N/sqrt(tau), 0.664 B, K sqrt(tau/3), sqrt(3) Q/tau,
+/// R tau/sqrt(2); resolved terms only) and the read-off points: N at tau = 1 s, B at the floor,
+/// K at tau = 3 s. `unit` is the deviation's unit ("deg/s").
+[[nodiscard]] figure allan_figure(std::span<const allan_curve> curves, const std::string& unit,
+                                  const std::string& title);
+
+}  // namespace gyroflip::report

@@ -1,0 +1,249 @@
+/// \file
+/// \brief Figures as gnuplot scripts and data files, rendered by gnuplot (figure.hpp).
+#include "gyroflip/report/figure.hpp"
+
+#include <stdlib.h>
+
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+#include "run_program.hpp"
+
+namespace gyroflip::report {
+
+namespace {
+
+// Okabe & Ito (2008), "Color Universal Design": distinguishable with every common colour-vision
+// deficiency. Blue, vermillion, bluish green, reddish purple, orange, sky blue, black.
+constexpr std::array<std::string_view, 7> okabe_ito = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
+                                                       "#E69F00", "#56B4E9", "#000000"};
+
+// A gnuplot single-quoted string: only the quote itself is special (doubled).
+std::string gp_string(std::string_view text) {
+  std::string out = "'";
+  for (const char c : text) {
+    if (c == '\'') out += '\'';
+    if (c != '\n') out += c;
+  }
+  return out + "'";
+}
+
+std::string_view color(int k) {
+  return okabe_ito[static_cast<std::size_t>(k) % okabe_ito.size()];
+}
+
+bool finite_point(const series& s, std::size_t i) {
+  if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) return false;
+  if (s.how != series::style::errorbars && s.how != series::style::band) return true;
+  return std::isfinite(s.y_lo[i]) && std::isfinite(s.y_hi[i]);
+}
+
+bool has_bounds(const series& s) {
+  return s.how == series::style::errorbars || s.how == series::style::band;
+}
+
+// The data file of one series: "x y" or "x y lo hi" per finite point; empty when none is.
+std::string data_text(const series& s) {
+  std::string out;
+  const std::size_t n = std::min(s.x.size(), s.y.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (has_bounds(s) && (i >= s.y_lo.size() || i >= s.y_hi.size())) break;
+    if (!finite_point(s, i)) continue;
+    if (has_bounds(s))
+      fmt::format_to(std::back_inserter(out), "{} {} {} {}\n", s.x[i], s.y[i], s.y_lo[i],
+                     s.y_hi[i]);
+    else
+      fmt::format_to(std::back_inserter(out), "{} {}\n", s.x[i], s.y[i]);
+  }
+  return out;
+}
+
+std::string data_name(std::string_view stem, std::size_t k) {
+  return fmt::format("{}_{}.dat", stem, k + 1);
+}
+
+std::string plot_clause(const series& s, const std::string& file) {
+  const std::string title =
+      s.title.empty() ? "notitle" : "title " + gp_string(s.title) + " noenhanced";
+  const auto c = color(s.color);
+  switch (s.how) {
+    case series::style::points:
+      return fmt::format("{} using 1:2 with points pt 7 ps 0.5 lc rgb '{}' {}", gp_string(file), c,
+                         title);
+    case series::style::lines:
+      return fmt::format("{} using 1:2 with lines lw 2 {}lc rgb '{}' {}", gp_string(file),
+                         s.dashed ? "dt 2 " : "", c, title);
+    case series::style::errorbars:
+      return fmt::format(
+          "{} using 1:2:3:4 with yerrorbars pt 7 ps 0.7 lw 1.2 lc rgb '{}' {}, {} using 1:2 "
+          "with lines lw 1 lc rgb '{}' notitle",
+          gp_string(file), c, title, gp_string(file), c);
+    case series::style::band:
+      return fmt::format(
+          "{} using 1:3:4 with filledcurves fs transparent solid 0.18 noborder lc rgb '{}' {}",
+          gp_string(file), c, title);
+  }
+  return {};
+}
+
+// The house style, the same in every script.
+constexpr std::string_view style = R"(set encoding utf8
+set style line 100 lc rgb '#d9d9d9' lw 1
+set grid xtics ytics mxtics mytics ls 100, ls 100
+set border 3 lw 1.2
+set tics nomirror out
+set key top right opaque box lc rgb '#bbbbbb' samplen 2 spacing 1.1
+set mxtics
+set mytics
+)";
+
+std::string terminal(image_format f) {
+  switch (f) {
+    case image_format::png:
+      return "set terminal pngcairo size 1100,680 font 'DejaVu Sans,12' enhanced";
+    case image_format::svg:
+      return "set terminal svg size 1100,680 font 'DejaVu Sans,12' enhanced background rgb "
+             "'white'";
+    case image_format::pdf:
+      return "set terminal pdfcairo size 7in,4.3in font 'DejaVu Sans,10' enhanced";
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string_view suffix(image_format f) noexcept {
+  switch (f) {
+    case image_format::png:
+      return "png";
+    case image_format::svg:
+      return "svg";
+    case image_format::pdf:
+      return "pdf";
+  }
+  return "png";
+}
+
+std::span<const std::string_view> palette() noexcept {
+  return okabe_ito;
+}
+
+std::string script(const figure& f, std::string_view stem, std::span<const image_format> formats) {
+  std::string s = fmt::format(
+      "# gyroflip figure: {}\n# Data: {}_K.dat (x y [low high]), one file per series. Restyle "
+      "and run again with: gnuplot {}.gp\n",
+      f.title, stem, stem);
+  s += style;
+  const std::string title = f.caption.empty() ? f.title : f.title + "\\n" + f.caption;
+  // A double-quoted title, for its line break: backslashes and quotes escaped.
+  std::string escaped;
+  for (const char c : title) {
+    if (c == '"') escaped += '\\';
+    escaped += c;
+  }
+  fmt::format_to(std::back_inserter(s), "set title \"{}\" noenhanced\n", escaped);
+  fmt::format_to(std::back_inserter(s), "set xlabel {} noenhanced\nset ylabel {} noenhanced\n",
+                 gp_string(f.x.label), gp_string(f.y.label));
+  for (const auto* a : {&f.x, &f.y}) {
+    const char name = a == &f.x ? 'x' : 'y';
+    if (a->log)
+      fmt::format_to(std::back_inserter(s), "set logscale {} 10\nset format {} '10^{{%L}}'\n", name,
+                     name);
+  }
+  int label = 1;
+  for (const auto& n : f.notes) {
+    if (!std::isfinite(n.x) || !std::isfinite(n.y)) continue;
+    fmt::format_to(
+        std::back_inserter(s),
+        "set label {} {} at {},{} point pt 6 ps 1.6 lw 2 offset 1,0.8 front noenhanced\n", label++,
+        gp_string(n.text), n.x, n.y);
+  }
+  std::string plot;
+  for (std::size_t k = 0; k < f.data.size(); ++k) {
+    if (data_text(f.data[k]).empty()) continue;
+    plot += (plot.empty() ? "plot " : ", \\\n     ") + plot_clause(f.data[k], data_name(stem, k));
+  }
+  for (const auto fmt_ : formats)
+    fmt::format_to(std::back_inserter(s), "\n{}\nset output '{}.{}'\n{}\nunset output\n",
+                   terminal(fmt_), stem, suffix(fmt_), plot);
+  return s;
+}
+
+namespace {
+
+// Runs `gnuplot stem.gp` in `dir`.
+status run_gnuplot(const std::string& gnuplot, const std::string& dir, const std::string& stem) {
+  const std::string script_name = stem + ".gp";
+  auto r = detail::run_program({gnuplot, script_name}, dir);
+  if (!r) return r.err();
+  if (r->exit_code == 0) return ok();
+  if (r->exit_code == 127)
+    return runtime_error(fmt::format("cannot run {} (install gnuplot-nox)", gnuplot));
+  return runtime_error(
+      fmt::format("gnuplot failed on {}: {}", script_name, printable(r->messages, 400)));
+}
+
+}  // namespace
+
+status render(const figure& f, const std::string& dir, const std::string& stem,
+              std::span<const image_format> formats, const std::string& gnuplot) {
+  namespace fs = std::filesystem;
+  // Everything is made in a private folder beside the target and then renamed into place, so
+  // that a failed or killed run leaves no half-drawn image under the figure's name.
+  std::string tmpl = dir + "/.gyroflip-figure-XXXXXX";
+  if (::mkdtemp(tmpl.data()) == nullptr) return io_error(dir, std::strerror(errno));
+  const fs::path tmp = tmpl;
+  const auto cleanup = [&] {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+  };
+  std::vector<std::string> made;
+  bool any = false;
+  for (std::size_t k = 0; k < f.data.size(); ++k) {
+    const auto text = data_text(f.data[k]);
+    if (text.empty()) continue;
+    any = true;
+    made.push_back(data_name(stem, k));
+    if (auto s = io::write_file_atomically((tmp / made.back()).string(), text); !s) {
+      cleanup();
+      return s;
+    }
+  }
+  if (!any) {
+    cleanup();
+    return runtime_error(fmt::format("figure '{}' has no finite point to plot", f.title));
+  }
+  made.push_back(stem + ".gp");
+  if (auto s = io::write_file_atomically((tmp / made.back()).string(), script(f, stem, formats));
+      !s) {
+    cleanup();
+    return s;
+  }
+  if (auto s = run_gnuplot(gnuplot, tmp.string(), stem); !s) {
+    cleanup();
+    return s;
+  }
+  for (const auto fmt_ : formats) made.push_back(stem + "." + std::string(suffix(fmt_)));
+  for (const auto& name : made) {
+    std::error_code ec;
+    fs::rename(tmp / name, fs::path(dir) / name, ec);
+    if (ec) {
+      cleanup();
+      return io_error((fs::path(dir) / name).string(), ec.message());
+    }
+  }
+  cleanup();
+  return ok();
+}
+
+}  // namespace gyroflip::report
