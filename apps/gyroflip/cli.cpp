@@ -339,6 +339,18 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
       ->capture_default_str();
 }
 
+void setup_reproduce(CLI::App& app, action& chosen) {
+  auto* sub = app.add_subcommand(
+      "reproduce", "The paper's experiment on the simulator: Tab. 3/4 and Figs 3-10 side by side");
+  auto o = bind<reproduce_options>(sub, chosen, run_reproduce);
+  sub->add_flag("--quick", o->quick, "one campaign, runs a quarter as long (< 60 s)");
+  sub->add_option("-o,--output", o->output, "folder for summary.json");
+  sub->add_option("--seed", o->seed, "seed of the first campaign")->capture_default_str();
+  sub->add_option("--campaigns", o->campaigns,
+                  "campaigns with new seeds, for each figure's ensemble mean and spread "
+                  "(default 10; 1 with --quick)");
+}
+
 void setup_noise(CLI::App& app, action& chosen) {
   auto* sub =
       app.add_subcommand("noise", "IEEE 952 noise terms (Q, N, B, K, R) from the Allan deviation");
@@ -376,6 +388,7 @@ int run_cli(int argc, char** argv) {
   setup_adev(app, chosen);
   setup_noise(app, chosen);
   setup_report(app, chosen, std::vector<std::string>(argv, argv + argc));
+  setup_reproduce(app, chosen);
   // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for
   // subcommands that way.
   if (argc > 1 && argv[1][0] != '-') {

@@ -30,6 +30,7 @@
 #include "gyroflip/report/figures.hpp"
 #include "gyroflip/report/page.hpp"
 #include "host/recorder/rig_run.hpp"
+#include "report_folder.hpp"
 
 namespace gyroflip::app {
 
@@ -217,39 +218,6 @@ result<report::figure_ref> draw(const report::figure& f, const std::string& dir,
 
 std::string stem_of(std::size_t k, const char* what) {
   return fmt::format("run{}_{}", k + 1, what);
-}
-
-// The folder the report is built in, next to the target, renamed onto it at the end.
-result<std::string> staging_folder(const std::string& out) {
-  const fs::path target = fs::absolute(out);
-  std::error_code ec;
-  if (fs::exists(target, ec)) {
-    const bool previous = fs::exists(target / "index.html") && fs::exists(target / "summary.json");
-    if (!fs::is_directory(target) || (!fs::is_empty(target) && !previous))
-      return io_error(out, "exists and is not a gyroflip report folder: give a new folder");
-  }
-  std::string tmpl =
-      (target.parent_path() / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
-  if (::mkdtemp(tmpl.data()) == nullptr) return io_error(out, "cannot create a folder beside it");
-  fs::create_directory(fs::path(tmpl) / "figures", ec);
-  if (ec) return io_error(out, ec.message());
-  return tmpl;
-}
-
-status publish(const std::string& staging, const std::string& out) {
-  const fs::path target = fs::absolute(out);
-  std::error_code ec;
-  fs::path old;
-  if (fs::exists(target, ec)) {
-    old = target.parent_path() / ("." + target.filename().string() + ".old");
-    fs::remove_all(old, ec);
-    fs::rename(target, old, ec);
-    if (ec) return io_error(out, ec.message());
-  }
-  fs::rename(staging, target, ec);
-  if (ec) return io_error(out, ec.message());
-  if (!old.empty()) fs::remove_all(old, ec);
-  return ok();
 }
 
 json run_json(const run_data& r, const std::string& sum) {

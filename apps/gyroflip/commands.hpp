@@ -58,6 +58,14 @@ struct report_options {
 };
 int run_report(const report_options& o);
 
+struct reproduce_options {
+  bool quick = false;  // one campaign, runs a quarter as long
+  std::string output;  // -o DIR: summary.json
+  std::uint64_t seed = 1;
+  std::size_t campaigns = 0;  // 0: 10 (1 with --quick)
+};
+int run_reproduce(const reproduce_options& o);
+
 struct compensate_options {
   std::string file;
   double delta_n_dps = std::numeric_limits<double>::quiet_NaN();  // NaN: not given

@@ -64,15 +64,16 @@ def test_float64_arrays_are_not_copied():
 
 def test_ctrl_c_stops_a_long_call():
     """SIGINT 0.3 s into a call that runs for minutes (MDEV at every tau of 1e6 samples) ends
-    it with KeyboardInterrupt within 3 s (the work is checked every 50 ms, but one work item of
-    an "all"-tau sweep takes up to ~1.3 s on 2 cores: docs/python.md)."""
+    it with KeyboardInterrupt. The work is checked every 50 ms, but one work item of an
+    "all"-tau sweep takes up to ~1.3 s on 2 idle cores and longer when CTest runs other tests
+    beside it (4 s seen): the bound is 10 s, against minutes uncancelled (docs/python.md)."""
     y = np.random.default_rng(3).normal(size=1_000_000)
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
     start = time.monotonic()
     timer.start()
     with pytest.raises(KeyboardInterrupt):
         gyroflip.deviation(y, "mdev", rate=1.0, taus="all", ci=None)
-    assert time.monotonic() - start < 3.3
+    assert time.monotonic() - start < 10.0
     timer.cancel()
 
 

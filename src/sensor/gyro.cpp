@@ -38,6 +38,12 @@ gyro::gyro(const sensor_params& p, double dt, double power_on_before_s, std::uin
     turn_on_dps_ = p.turn_on_bias_sigma_dps * turn_on.next();
   }
   bias0_dps_ = p.bias_dps + turn_on_dps_;
+  // Its own stream, so that a preset without it draws exactly what it drew before.
+  if (p.g_sens_turn_on_sigma_dps_per_g > 0.0 || p.g_sens_tc_turn_on_sigma_dps_per_g_c > 0.0) {
+    normal_stream turn_on(seed, stream::turn_on_g_sensitivity);
+    g0_.z += p.g_sens_turn_on_sigma_dps_per_g * turn_on.next();
+    g1_.z += p.g_sens_tc_turn_on_sigma_dps_per_g_c * turn_on.next();
+  }
 }
 
 void gyro::sample_block(const double* t_s, const double* temp_c, const double* rate_dps,

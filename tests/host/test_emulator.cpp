@@ -185,6 +185,7 @@ TEST(Emulator, ATiltedTableShowsInTheAccelerometersAndTheGTerm) {
   s.g_sens_y_dps_per_g = 0.05;
   s.g_sens_z_dps_per_g = 0.03;
   s.g_sens_tc_x_dps_per_g_c = s.g_sens_tc_y_dps_per_g_c = s.g_sens_tc_z_dps_per_g_c = 0.0;
+  s.g_sens_turn_on_sigma_dps_per_g = s.g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0;
   cfg.sim.temperature = rig::profile::constant(s.temp_ref_c);
   char axis[96];
   std::snprintf(axis, sizeof axis, "0,%.17g,%.17g", std::cos(tilt), -std::sin(tilt));

@@ -198,6 +198,7 @@ simulation_config noiseless(double duration_s) {
   c.sensor.rrw_dps_per_rts = 0.0;
   c.sensor.turn_on_bias_sigma_dps = 0.0;
   c.sensor.warmup_amplitude_dps = 0.0;
+  c.sensor.g_sens_turn_on_sigma_dps_per_g = c.sensor.g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0;
   c.sensor.nonlinearity_fs = 0.0;
   c.sensor.bias_dps = 0.25;
   c.adc.noise_uv_rms_at_2ms = 0.0;
@@ -250,6 +251,7 @@ TEST(Simulator, RateTableInputReversesAndTemperatureMovesG) {
   c.sensor = sensor::find_builtin("hz1-90-100a")->params;
   c.sensor.arw_dps_rthz = c.sensor.bias_instability_dps = c.sensor.rrw_dps_per_rts = 0.0;
   c.sensor.turn_on_bias_sigma_dps = c.sensor.warmup_amplitude_dps = 0.0;
+  c.sensor.g_sens_turn_on_sigma_dps_per_g = c.sensor.g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0;
   c.temperature = profile::constant(4.0);
   const auto rows = dwells(c);
   ASSERT_GE(rows.size(), 4U);

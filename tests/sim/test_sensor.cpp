@@ -449,3 +449,30 @@ TEST(SensorLimits, WorstAcceptedPresetHasBoundedWork) {
 }
 
 }  // namespace gyroflip::sensor
+
+// The per-power-up change of the g-sensitivity (paper Tab. 3/4: dN scatters from run to run):
+// over 400 seeds the drawn g_sens_z has the preset's mean and std (std within 4 x its standard
+// error sqrt(1/(2n)), mean within 4 standard errors), its own stream (the turn-on bias is
+// unchanged), and a preset without it draws exactly the nominal value.
+TEST(Gyro, TurnOnGSensitivityHasThePresetsSpread) {
+  const auto p = gyroflip::sensor::find_builtin("adxrs150")->params;
+  ASSERT_GT(p.g_sens_turn_on_sigma_dps_per_g, 0.0);
+  std::vector<double> z;
+  for (std::uint64_t seed = 1; seed <= 400; ++seed) {
+    auto g = gyroflip::sensor::gyro::make(p, 0.002, 0.0, seed);
+    ASSERT_TRUE(g);
+    z.push_back(g->g_sens_g0().z);
+  }
+  double mean = 0.0, var = 0.0;
+  for (double v : z) mean += v / static_cast<double>(z.size());
+  for (double v : z) var += (v - mean) * (v - mean) / static_cast<double>(z.size() - 1);
+  const double sigma = p.g_sens_turn_on_sigma_dps_per_g;
+  EXPECT_NEAR(mean, p.g_sens_z_dps_per_g, 4.0 * sigma / std::sqrt(400.0));
+  EXPECT_NEAR(std::sqrt(var) / sigma, 1.0, 4.0 * std::sqrt(1.0 / 800.0));
+  auto fixed = p;
+  fixed.g_sens_turn_on_sigma_dps_per_g = fixed.g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0;
+  auto a = gyroflip::sensor::gyro::make(fixed, 0.002, 0.0, 7);
+  auto b = gyroflip::sensor::gyro::make(p, 0.002, 0.0, 7);
+  EXPECT_EQ(a->g_sens_g0().z, p.g_sens_z_dps_per_g);
+  EXPECT_EQ(a->turn_on_bias_dps(), b->turn_on_bias_dps());
+}

@@ -46,6 +46,11 @@ struct sensor_params {
   double g_sens_tc_x_dps_per_g_c = 0.0;
   double g_sens_tc_y_dps_per_g_c = 0.0;
   double g_sens_tc_z_dps_per_g_c = 0.0;
+  // Per power-up (turn-on) changes of the g-sensitivity along z, the sensor axis the default rig
+  // turns upside down, so that they change dN from run to run (paper Tab. 3/4: the runs' dN
+  // scatter 14-30 times their own errors). Drawn once per run, like turn_on_bias_sigma_dps.
+  double g_sens_turn_on_sigma_dps_per_g = 0.0;       ///< std of the change of g_sens_z
+  double g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0;  ///< std of the change of g_sens_tc_z
   // Cross-axis sensitivity: sensed rate = w_x + c_y w_y + c_z w_z.
   double cross_axis_y = 0.0;  ///< (-)
   double cross_axis_z = 0.0;  ///< (-)

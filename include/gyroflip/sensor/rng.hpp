@@ -24,6 +24,7 @@ enum class stream : std::uint64_t {
   rate_random_walk = 3,
   turn_on_bias = 4,
   adc_noise = 5,
+  turn_on_g_sensitivity = 6,
   user = 16,  ///< first id free for callers (tests, Monte Carlo)
 };
 
