@@ -22,8 +22,10 @@ start = time.perf_counter()
 d = gyroflip.deviation(y, sys.argv[3], rate=100.0, ci=None)
 elapsed = time.perf_counter() - start
 grown = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base) / 1024
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 print(f"{sys.argv[3]} of {len(y):.0e} memory-mapped samples ({8 * len(y) / 1e9:.1f} GB): "
-      f"{elapsed:.1f} s, peak RSS growth {grown:.0f} MB, dev(tau0) {d.dev[0]:.6f}, {len(d.dev)} taus")
+      f"{elapsed:.1f} s, peak RSS {peak:.0f} MB ({grown:.0f} MB above the interpreter's peak "
+      f"before the call), dev(tau0) {d.dev[0]:.6f}, {len(d.dev)} taus")
 '''
 
 

@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::size_t columns = 3U + (temp ? 1U : 0U) + (navg ? 1U : 0U);
   const std::size_t rows = (size - 1) / sizeof(double) / columns;
   std::vector<double> v(rows * columns);
-  std::memcpy(v.data(), data + 1, v.size() * sizeof(double));
+  if (!v.empty()) std::memcpy(v.data(), data + 1, v.size() * sizeof(double));
   const auto col = [&](std::size_t k) {
     return std::span<const double>(v).subspan(k * rows, rows);
   };

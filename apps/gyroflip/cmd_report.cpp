@@ -339,14 +339,14 @@ int run_report(const report_options& o) {
   report::table runs_t{
       "Per run",
       {"file", "T (°C)", "cycles", "dN (°/s)", "stderr (°/s)", "correlated stderr (°/s)",
-       "compensated mean (°/s)", "std (°/s)", "drift (°/s)"},
+       "compensated mean (°/s)", "its correlated stderr (°/s)", "std (°/s)", "drift (°/s)"},
       {}};
   for (const auto& r : runs)
-    runs_t.rows.push_back({r.file, std::isnan(r.cal.temp_c) ? "-" : g(r.cal.temp_c, 3),
-                           std::to_string(r.cal.cycles), g(r.cal.delta_n_dps, 6),
-                           g(r.cal.stderr_dps, 3), g(r.cal.stderr_correlated_dps, 3),
-                           g(r.summary.mean_dps, 3), g(r.summary.std_dps, 3),
-                           r.summary.drift_dps ? g(*r.summary.drift_dps, 3) : "-"});
+    runs_t.rows.push_back(
+        {r.file, std::isnan(r.cal.temp_c) ? "-" : g(r.cal.temp_c, 3), std::to_string(r.cal.cycles),
+         g(r.cal.delta_n_dps, 6), g(r.cal.stderr_dps, 3), g(r.cal.stderr_correlated_dps, 3),
+         g(r.summary.mean_dps, 3), g(r.summary.stderr_correlated_dps, 3), g(r.summary.std_dps, 3),
+         r.summary.drift_dps ? g(*r.summary.drift_dps, 3) : "-"});
   summary.tables.push_back(runs_t);
   if (axis) {
     report::table split{fmt::format("dN split at {}° latitude (paper eqns 9–10)", o.lat_deg),
