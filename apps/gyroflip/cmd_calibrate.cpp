@@ -21,10 +21,6 @@
 namespace gyroflip::app {
 namespace {
 
-// Files whose mean temperatures span less than this are repeats at one temperature
-// (paper Tab. 3): they are pooled, and no dN(T) model is fitted unless --degree is given.
-constexpr double min_model_span_c = 2.0;
-
 result<std::optional<io::calibration_geometry>> geometry_of(const calibrate_options& o) {
   const bool has_lat = !std::isnan(o.lat_deg);
   if (has_lat != !o.axis.empty())
@@ -37,36 +33,18 @@ result<std::optional<io::calibration_geometry>> geometry_of(const calibrate_opti
   return std::optional<io::calibration_geometry>{io::calibration_geometry{o.lat_deg, *axis}};
 }
 
-// With several files there is always a model: degree K (default 1) when the files' temperatures
-// span min_model_span_c or more, else degree 0 - the weighted mean of the runs with the
-// run-to-run scatter in its error (paper Tab. 3: repeat runs at one temperature).
+// With several files there is always a model (io::fit_runs_model); --degree needs several files
+// with temperatures.
 result<std::optional<method::delta_n_model>> fit_model(
     const calibrate_options& o, const std::vector<io::calibration_entry>& files) {
-  if (files.size() < 2) {
-    if (o.degree_given) return usage_error("--degree needs calibrations from several files");
-    return std::optional<method::delta_n_model>{};
+  if (o.degree_given) {
+    if (files.size() < 2) return usage_error("--degree needs calibrations from several files");
+    for (const auto& f : files)
+      if (std::isnan(f.cal.temp_c))
+        return input_error({f.file},
+                           "no temp_c column; a dN(T) model (--degree) needs temperatures");
   }
-  std::vector<method::delta_n_point> pts;
-  bool all_have_temp = true;
-  for (const auto& f : files) {
-    if (std::isnan(f.cal.temp_c) && o.degree_given)
-      return input_error({f.file}, "no temp_c column; a dN(T) model (--degree) needs temperatures");
-    all_have_temp = all_have_temp && !std::isnan(f.cal.temp_c);
-    pts.push_back({f.cal.temp_c, f.cal.delta_n_dps, f.cal.stderr_correlated_dps});
-  }
-  double span_c = 0.0;
-  if (all_have_temp) {
-    const auto [lo, hi] = std::minmax_element(pts.begin(), pts.end(),
-                                              [](auto& a, auto& b) { return a.temp_c < b.temp_c; });
-    span_c = hi->temp_c - lo->temp_c;
-  } else {
-    for (auto& p : pts) p.temp_c = 0.0;  // a constant needs no temperature
-  }
-  const std::size_t degree = o.degree_given ? o.degree : (span_c >= min_model_span_c ? 1 : 0);
-  auto m = method::fit_delta_n_model(pts, degree);
-  if (!m) return m.err();
-  if (!all_have_temp) m->t_ref_c = m->temp_min_c = m->temp_max_c = method::no_value;
-  return std::optional<method::delta_n_model>{std::move(*m)};
+  return io::fit_runs_model(files, o.degree_given ? std::optional(o.degree) : std::nullopt);
 }
 
 void print_entry(std::string& out, const io::calibration_entry& e,

@@ -84,10 +84,7 @@ result<delta_n_source> load_delta_n(const compensate_options& o) {
   }
   auto rec = io::read_calibration_file(o.calibration);
   if (!rec) return rec.err();
-  if (rec->model) return delta_n_source{*rec->model, rec->pairing, *rec};
-  return delta_n_source{
-      method::constant_model(rec->pooled.delta_n_dps, rec->pooled.stderr_correlated_dps),
-      rec->pairing, *rec};
+  return delta_n_source{io::delta_n_model_of(*rec), rec->pairing, *rec};
 }
 
 std::string format_value(double v) {

@@ -285,19 +285,9 @@ int run_report(const report_options& o) {
   for (const auto& r : runs) entries.push_back({r.file, r.cal});
   std::optional<method::delta_n_model> model;
   if (given) {
-    model = given->model ? *given->model
-                         : method::constant_model(given->pooled.delta_n_dps,
-                                                  given->pooled.stderr_correlated_dps);
-  } else if (runs.size() > 1) {
-    std::vector<method::delta_n_point> pts;
-    double lo = 1e300, hi = -1e300;
-    for (const auto& r : runs) {
-      pts.push_back({r.cal.temp_c, r.cal.delta_n_dps, r.cal.stderr_correlated_dps});
-      lo = std::min(lo, r.cal.temp_c);
-      hi = std::max(hi, r.cal.temp_c);
-    }
-    if (hi - lo >= 2.0)
-      if (auto m = method::fit_delta_n_model(pts, 1); m) model = *m;
+    model = io::delta_n_model_of(*given);
+  } else if (auto m = io::fit_runs_model(entries); m && *m && (*m)->degree() > 0) {
+    model = std::move(**m);  // calibrate's rule; runs at one temperature get no dN(T)
   }
   for (auto& r : runs)
     analyse(r, given ? *model : method::constant_model(r.cal.delta_n_dps), *pairing);

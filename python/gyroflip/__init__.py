@@ -81,8 +81,12 @@ def tau_generator(data, rate, taus=None, maximum_m=-1):
     "all" (every m), "log10" (10 per decade), or an array of taus in seconds, each rounded to
     the nearest m (half to even, as numpy.round). Factors m < 1 or m >= len(data) are dropped,
     duplicates removed, the rest sorted. Returns (m as float64, taus in seconds)."""
+    return _factors(len(data), rate, taus, maximum_m)
+
+
+def _factors(n, rate, taus=None, maximum_m=-1):
+    """tau_generator for a series of n points (only its length counts)."""
     rate = _positive_rate(rate)
-    n = len(data)
     if taus is None or (isinstance(taus, (list, tuple)) and len(taus) == 0):
         taus = "octave"
     if isinstance(taus, str):
@@ -117,7 +121,7 @@ def _compat(kind, data, rate, data_type, taus):
     y, backed = _samples(data)
     # allantools' phase series: the data (phase), or the frequency integrated to N + 1 points.
     n_phase = len(y) + (1 if data_type == "freq" else 0)
-    m, _ = tau_generator(_np.empty(n_phase), rate, taus)
+    m, _ = _factors(n_phase, rate, taus)
     if len(m) == 0:
         raise ValueError(f"no averaging factor left for {len(y)} samples and taus {taus!r}")
     r = _gyroflip._curve(kind, y, rate, _DATA_TYPES[data_type], "octave",

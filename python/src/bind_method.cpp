@@ -105,9 +105,7 @@ delta_n_source delta_n_of(std::optional<double> delta_n_dps,
     return {method::constant_model(*delta_n_dps), std::nullopt};
   }
   const auto rec = take(io::parse_calibration(*calibration_json, "calibration"));
-  if (rec.model) return {*rec.model, rec.pairing};
-  return {method::constant_model(rec.pooled.delta_n_dps, rec.pooled.stderr_correlated_dps),
-          rec.pairing};
+  return {io::delta_n_model_of(rec), rec.pairing};
 }
 
 py::dict compensate(const columns& c, std::optional<double> delta_n_dps,

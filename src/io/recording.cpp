@@ -75,6 +75,19 @@ std::string angle_message(std::string_view angle, double tol) {
                 : std::string(" (an encoder angle: give a tolerance)"));
 }
 
+// A row's temperature and n_avg, one rule for the CSV reader and for columns in memory: what is
+// wrong (empty when nothing is). Written so that NaN fails.
+std::string temperature_problem(double t) {
+  constexpr double lo = recording_reader::min_temp_c, hi = recording_reader::max_temp_c;
+  if (t >= lo && t <= hi) return {};
+  return fmt::format("temperature {:g} degC is outside [{:g}, {:g}]", t, lo, hi);
+}
+
+std::string n_avg_problem(double n, std::string_view as_written) {
+  if (n >= 1.0 && n == std::floor(n) && n <= std::numeric_limits<std::uint32_t>::max()) return {};
+  return fmt::format("n_avg {} is not a whole number >= 1", as_written);
+}
+
 }  // namespace
 
 csv_reader::step recording_reader::next(method::row& out) {
@@ -106,9 +119,8 @@ csv_reader::step recording_reader::next(method::row& out) {
   if (!csv_.parse(s_rate, out.rate_dps)) return fail(csv_.last_error());
   if (has_temp_) {
     if (!csv_.parse(s_temp, out.temp_c)) return fail(csv_.last_error());
-    if (out.temp_c < min_temp_c || out.temp_c > max_temp_c)
-      return fail(csv_.error_at(s_temp, fmt::format("temperature {:g} degC is outside [{:g}, {:g}]",
-                                                    out.temp_c, min_temp_c, max_temp_c)));
+    if (auto what = temperature_problem(out.temp_c); !what.empty())
+      return fail(csv_.error_at(s_temp, what));
   } else {
     out.temp_c = method::no_value;
   }
@@ -116,9 +128,8 @@ csv_reader::step recording_reader::next(method::row& out) {
   if (has_n_avg_) {
     double n = 0.0;
     if (!csv_.parse(s_navg, n)) return fail(csv_.last_error());
-    if (n < 1.0 || n != std::floor(n) || n > std::numeric_limits<std::uint32_t>::max())
-      return fail(csv_.error_at(
-          s_navg, fmt::format("n_avg {} is not a whole number >= 1", csv_.cell(s_navg))));
+    if (auto what = n_avg_problem(n, csv_.cell(s_navg)); !what.empty())
+      return fail(csv_.error_at(s_navg, what));
     out.n_avg = static_cast<std::uint32_t>(n);
   }
   // The last line has no newline although earlier lines do: the writer may have stopped inside
@@ -245,15 +256,12 @@ result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
       return bad("rate_dps", k, "not a finite number within +-1e100");
     if (!c.temp_c.empty()) {
       r.temp_c = c.temp_c[k];
-      if (!(r.temp_c >= recording_reader::min_temp_c && r.temp_c <= recording_reader::max_temp_c))
-        return bad("temp_c", k,
-                   fmt::format("temperature {:g} degC is outside [{:g}, {:g}]", r.temp_c,
-                               recording_reader::min_temp_c, recording_reader::max_temp_c));
+      if (auto what = temperature_problem(r.temp_c); !what.empty()) return bad("temp_c", k, what);
     }
     if (!c.n_avg.empty()) {
       const double v = c.n_avg[k];
-      if (!(v >= 1.0) || v != std::floor(v) || v > std::numeric_limits<std::uint32_t>::max())
-        return bad("n_avg", k, fmt::format("n_avg {} is not a whole number >= 1", v));
+      if (auto what = n_avg_problem(v, fmt::format("{}", v)); !what.empty())
+        return bad("n_avg", k, what);
       r.n_avg = static_cast<std::uint32_t>(v);
     }
   }

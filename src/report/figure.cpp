@@ -4,6 +4,7 @@
 
 #include <stdlib.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -52,12 +53,23 @@ bool has_bounds(const series& s) {
   return s.how == series::style::errorbars || s.how == series::style::band;
 }
 
+// Points [0, usable) of a series exist in every column it plots.
+std::size_t usable(const series& s) {
+  std::size_t n = std::min(s.x.size(), s.y.size());
+  if (has_bounds(s)) n = std::min({n, s.y_lo.size(), s.y_hi.size()});
+  return n;
+}
+
+bool has_points(const series& s) {
+  for (std::size_t i = 0; i < usable(s); ++i)
+    if (finite_point(s, i)) return true;
+  return false;
+}
+
 // The data file of one series: "x y" or "x y lo hi" per finite point; empty when none is.
 std::string data_text(const series& s) {
   std::string out;
-  const std::size_t n = std::min(s.x.size(), s.y.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (has_bounds(s) && (i >= s.y_lo.size() || i >= s.y_hi.size())) break;
+  for (std::size_t i = 0; i < usable(s); ++i) {
     if (!finite_point(s, i)) continue;
     if (has_bounds(s))
       fmt::format_to(std::back_inserter(out), "{} {} {} {}\n", s.x[i], s.y[i], s.y_lo[i],
@@ -170,7 +182,7 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
   }
   std::string plot;
   for (std::size_t k = 0; k < f.data.size(); ++k) {
-    if (data_text(f.data[k]).empty()) continue;
+    if (!has_points(f.data[k])) continue;
     plot += (plot.empty() ? "plot " : ", \\\n     ") + plot_clause(f.data[k], data_name(stem, k));
   }
   for (const auto fmt_ : formats)
