@@ -24,8 +24,6 @@ status check_config(const protocol::configure_msg& c, uint32_t mclk_hz) {
   return worst_bytes_per_s(c, mclk_hz) <= link_bytes_per_s ? status::ok : status::bad_arg;
 }
 
-device::device(const hal& hw, const board_facts& facts) : hw_(hw), facts_(facts), adc_(hw) {}
-
 void device::boot() {
   hw_.watchdog_kick();
   write_port();
@@ -44,7 +42,7 @@ void device::poll() {
   receive();
   const uint32_t now = hw_.ticks();
   step_sequencer(now);
-  if (cfg_.status_period_ms != 0 && now - last_status_ >= ms_to_ticks(cfg_.status_period_ms)) {
+  if (cfg_.status_period_ms != 0 && now - last_status_ >= status_ticks_) {
     last_status_ = now;
     send_status();
   }

@@ -45,7 +45,9 @@ struct board_facts {
 
 class device {
  public:
-  device(const hal& hw, const board_facts& facts);
+  /// Constant-initialised (constexpr): a port's device object needs no constructor at start-up,
+  /// so an image works whatever a flasher does with .init_array (docs/FIRMWARE.md).
+  constexpr device(const hal& hw, const board_facts& facts) : hw_(hw), facts_(facts), adc_(hw) {}
 
   /// Resets and calibrates the ADC, then sends INFO. An ADC that does not answer is reported
   /// (ERROR) and the device still runs: its dwells then carry RDY-timeout flags.
@@ -92,7 +94,6 @@ class device {
   void flush_raw();
   [[nodiscard]] int32_t turn_steps(uint8_t to_position) const;
   [[nodiscard]] stepper::ramp ramp() const;
-  [[nodiscard]] uint32_t ms_to_ticks(uint32_t ms) const;
   void write_port();
 
   const hal& hw_;
@@ -121,6 +122,8 @@ class device {
   // acquisition
   uint32_t conv_ticks_ = 1;     // one conversion, in ticks (rounded up)
   uint32_t timeout_ticks_ = 3;  // a RDY later than this is missing: 3 conversion times
+  uint32_t settle_ticks_ = 0;   // the configuration's settle_ms and status_period_ms, in ticks
+  uint32_t status_ticks_ = 0;
   uint32_t phase_start_ = 0;
   uint32_t conv_start_ = 0;
   bool converting_ = false;

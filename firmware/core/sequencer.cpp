@@ -3,15 +3,12 @@
 /// acquire N gyro and n_temp temperature conversions -> report -> turn. Every wait is a state
 /// checked against the tick counter, so commands are served between any two conversions.
 #include "firmware/core/device.hpp"
+#include "firmware/core/timebase.hpp"
 #include "firmware/util/intmath.hpp"
 
 namespace gyroflip::fw {
 
 using protocol::status;
-
-uint32_t device::ms_to_ticks(uint32_t ms) const {
-  return static_cast<uint32_t>((uint64_t{ms} * hw_.tick_hz + 999) / 1000);
-}
 
 stepper::ramp device::ramp() const {
   return {cfg_.start_rate_sps, cfg_.step_rate_sps, cfg_.ramp_sps2};
@@ -23,9 +20,10 @@ void device::write_port() {
 
 void device::apply_adc_config() {
   const bool chop = (cfg_.flags & protocol::cfg_chop) != 0;
-  const uint64_t mclk = ad7739::conversion_mclk(chop, cfg_.filter_word);
-  conv_ticks_ = static_cast<uint32_t>((mclk * hw_.tick_hz + facts_.mclk_hz - 1) / facts_.mclk_hz);
-  if (conv_ticks_ == 0) conv_ticks_ = 1;
+  conv_ticks_ =
+      mclk_to_ticks(ad7739::conversion_mclk(chop, cfg_.filter_word), hw_.tick_hz, facts_.mclk_hz);
+  settle_ticks_ = ms_to_ticks(cfg_.settle_ms, hw_.tick_hz);
+  status_ticks_ = ms_to_ticks(cfg_.status_period_ms, hw_.tick_hz);
   // Three conversion times (issue 8), plus one tick for the quantisation of the start time.
   timeout_ticks_ = 3 * conv_ticks_ + 1;
   const uint8_t channels[2] = {cfg_.gyro_channel, cfg_.temp_channel};
@@ -160,7 +158,7 @@ void device::step_sequencer(uint32_t now) {
       return;
     }
     case phase::settling:
-      if (now - phase_start_ >= ms_to_ticks(cfg_.settle_ms)) begin_dwell(now);
+      if (now - phase_start_ >= settle_ticks_) begin_dwell(now);
       return;
     case phase::gyro:
       return step_conversion(now, true);

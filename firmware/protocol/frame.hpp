@@ -93,11 +93,11 @@ struct decoder_counts {
 /// forward jump counts the skipped numbers as missing.
 class frame_decoder {
  public:
-  frame_decoder() = default;
+  constexpr frame_decoder() = default;
   /// `deliver_repeats`: hand out frames with a repeated or older sequence number too (counted
   /// as duplicates; the numbering continues from them). The device decodes commands this way,
   /// so a host program that restarts its numbering at 0 is still obeyed.
-  explicit frame_decoder(bool deliver_repeats) : deliver_repeats_(deliver_repeats) {}
+  constexpr explicit frame_decoder(bool deliver_repeats) : deliver_repeats_(deliver_repeats) {}
   /// Takes one byte; true when it completed a new valid frame (then `current()`).
   [[nodiscard]] bool push(uint8_t b);
   [[nodiscard]] const frame& current() const { return frame_; }

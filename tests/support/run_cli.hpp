@@ -17,6 +17,9 @@ struct cli_result {
 /// Runs GYROFLIP_EXE with `args` (no shell), stdin from /dev/null.
 cli_result run_cli(const std::vector<std::string>& args);
 
+/// Runs another program: argv[0] looked up on PATH, the rest its arguments (no shell).
+cli_result run_program(const std::vector<std::string>& argv);
+
 /// Starts GYROFLIP_EXE with `args` in the background (stdin, stdout and stderr to /dev/null) and
 /// returns its process id; `wait_cli` returns its exit status (128 + N when killed by signal N).
 int spawn_cli(const std::vector<std::string>& args);

@@ -18,7 +18,7 @@ using fw::status;
 
 class driver {
  public:
-  explicit driver(const fw::hal& hw) : hw_(hw) {}
+  constexpr explicit driver(const fw::hal& hw) : hw_(hw) {}
 
   /// Resets the part: 32 serial clocks with DIN high (regs.hpp reset_bytes).
   status reset();

@@ -19,6 +19,8 @@ import sys
 FLASH = 61152
 RAM = 2048
 ISRS = ("isr_timer_a1", "isr_timer_b1", "isr_usart0_rx", "isr_unused")
+# Assembly entries (runtime.cpp) have no .su file: the bytes each pushes before its call.
+ASM_FRAMES = {f"__mspabi_{n}": 8 for n in ("mpyll", "divull", "remull", "divlli", "remlli")}
 HAL_OPS = re.compile(r"^_ZN12_GLOBAL__N_1\d+(spi_transfer|spi_select|rdy_low|stepper_port|"
                      r"home_switch|pwm_capture|uart_read|uart_write|ticks|watchdog_kick|busy_wait)E")
 
@@ -42,6 +44,7 @@ def frames(su_dir):
         for line in su.read_text().splitlines():
             loc, size, _kind = line.rsplit("\t", 2)
             sizes[loc.rsplit(":", 1)[-1]] = int(size)
+    sizes.update(ASM_FRAMES)
     return sizes
 
 

@@ -78,15 +78,21 @@ uint32_t now_ticks() {
   return (static_cast<uint32_t>(hi) << 16) | lo;
 }
 
+// A byte takes 16 MCLK cycles at SMCLK / 2; a flag that has not come after spi_guard turns of
+// its wait loop (thousands of cycles) never will: a USART fault, reported as a bus error without
+// holding the boot (or the watchdog) for long.
+constexpr uint16_t spi_guard = 256;
+
 fw::status spi_transfer(void*, const uint8_t* tx, uint8_t* rx, size_t n) {
   for (size_t i = 0; i < n; ++i) {
     uint16_t guard = 0;
     while ((IFG2 & UTXIFG1) == 0)
-      if (++guard == 0) return fw::status::bus_error;
+      if (++guard == spi_guard) return fw::status::bus_error;
     clear_bits(IFG2, URXIFG1);
     U1TXBUF = tx[i];
+    guard = 0;
     while ((IFG2 & URXIFG1) == 0)
-      if (++guard == 0) return fw::status::bus_error;
+      if (++guard == spi_guard) return fw::status::bus_error;
     rx[i] = U1RXBUF;
   }
   return fw::status::ok;
@@ -138,8 +144,9 @@ void busy_wait(void*) {}
 constexpr fw::hal_ops ops = {spi_transfer, spi_select,    rdy_low,   stepper_port,
                              home_switch,  pwm_capture,   uart_read, uart_write,
                              ticks,        watchdog_kick, busy_wait};
-const fw::hal hal{&ops, nullptr, 32768};
-fw::device dev(hal, fw::board_facts{0x0F149001u, ad7739::mclk_hz_nominal});
+constexpr fw::hal hal{&ops, nullptr, 32768};
+// Constant-initialised: no constructor runs at start-up (startup.cpp).
+constinit fw::device dev(hal, fw::board_facts{0x0F149001u, ad7739::mclk_hz_nominal});
 
 void init_clocks() {
   clear_bits(BCSCTL1, XT2OFF);
@@ -221,8 +228,7 @@ __attribute__((interrupt(USART0RX_VECTOR))) void isr_usart0_rx() {
 // The entry point startup.cpp calls (freestanding: clang does not treat `main` specially for
 // msp430 and would mangle it).
 void firmware_main() {
-  WDTCTL = WDTPW | WDTHOLD;
-  init_clocks();
+  init_clocks();  // the watchdog is held since the reset handler
   init_peripherals();
   WDTCTL = WDTPW | WDTCNTCL | WDTSSEL;
   enable_interrupts();

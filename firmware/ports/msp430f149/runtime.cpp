@@ -3,6 +3,15 @@
 /// runtime library, STACK.md §6): memory copies and the integer arithmetic of the MSP430 EABI
 /// (TI SLAA534, "MSP430 Embedded Application Binary Interface", section 6.3 helper functions).
 /// Plain shift-and-add, shift-and-subtract loops: small, exact, no hardware multiplier needed.
+///
+/// Calling conventions (SLAA534 §3 and §6.3; what clang 14 emits, docs/FIRMWARE.md): the 16- and
+/// 32-bit helpers and the 64-bit shifts follow the ordinary convention (arguments in R12..R15,
+/// then the stack). The 64-bit multiply, divide and remainder helpers do not: their first operand
+/// is in R8..R11 and the second in R12..R15 (least significant word first), the result in
+/// R12..R15. A C++ definition of those would read its second operand from the stack, where the
+/// caller never put it; they are therefore small assembly entries that move the operands into
+/// the ordinary convention and call the C++ implementation. Every helper is checked bit for bit
+/// against the host on the MSP430 instruction simulator (tests/firmware/test_msp430_sim.cpp).
 #include <stddef.h>
 #include <stdint.h>
 
@@ -100,7 +109,7 @@ int16_t __mspabi_mpyi(int16_t a, int16_t b) {
 int32_t __mspabi_mpyl(int32_t a, int32_t b) {
   return static_cast<int32_t>(mul<uint32_t>(static_cast<uint32_t>(a), static_cast<uint32_t>(b)));
 }
-int64_t __mspabi_mpyll(int64_t a, int64_t b) {
+int64_t gyroflip_rt_mpyll(int64_t a, int64_t b) {
   return static_cast<int64_t>(mul<uint64_t>(static_cast<uint64_t>(a), static_cast<uint64_t>(b)));
 }
 
@@ -134,19 +143,19 @@ int32_t __mspabi_divli(int32_t n, int32_t d) {
 int32_t __mspabi_remli(int32_t n, int32_t d) {
   return sdiv<int32_t, uint32_t>(n, d, true);
 }
-uint64_t __mspabi_divull(uint64_t n, uint64_t d) {
+uint64_t gyroflip_rt_divull(uint64_t n, uint64_t d) {
   uint64_t r;
   return udivmod<uint64_t>(n, d, &r);
 }
-uint64_t __mspabi_remull(uint64_t n, uint64_t d) {
+uint64_t gyroflip_rt_remull(uint64_t n, uint64_t d) {
   uint64_t r;
   udivmod<uint64_t>(n, d, &r);
   return r;
 }
-int64_t __mspabi_divlli(int64_t n, int64_t d) {
+int64_t gyroflip_rt_divlli(int64_t n, int64_t d) {
   return sdiv<int64_t, uint64_t>(n, d, false);
 }
-int64_t __mspabi_remlli(int64_t n, int64_t d) {
+int64_t gyroflip_rt_remlli(int64_t n, int64_t d) {
   return sdiv<int64_t, uint64_t>(n, d, true);
 }
 
@@ -166,5 +175,37 @@ uint64_t __ashldi3(uint64_t v, int n) {
 uint64_t __lshrdi3(uint64_t v, int n) {
   return shift_right<uint64_t>(v, n);
 }
+int64_t __ashrdi3(int64_t v, int n) {
+  // Arithmetic: the sign bit is copied in; the shift itself is done unsigned (defined in C++).
+  const uint64_t sign = v < 0 ? ~uint64_t{0} : 0;
+  uint64_t u = static_cast<uint64_t>(v);
+  for (; n > 0; --n) u = (u >> 1) | (sign & (uint64_t{1} << 63));
+  return static_cast<int64_t>(u);
+}
 
 }  // extern "C"
+
+// The special-convention entries (see the file comment): push the second operand (R12..R15) so
+// that it lies on the stack as the ordinary convention's second 64-bit argument, move the first
+// (R8..R11) to R12..R15, call the implementation, drop the pushed operand. R8..R10 are untouched
+// (the implementation preserves them, as the ordinary convention requires); R11 may change, as
+// for any call.
+#define GYROFLIP_MSPABI_64(name, impl)                                     \
+  __asm__(".section .text." #name                                          \
+          ",\"ax\",@progbits\n"                                            \
+          ".global " #name                                                 \
+          "\n"                                                             \
+          ".type " #name ",@function\n" #name                              \
+          ":\n"                                                            \
+          "  push r15\n  push r14\n  push r13\n  push r12\n"               \
+          "  mov r8, r12\n  mov r9, r13\n  mov r10, r14\n  mov r11, r15\n" \
+          "  call #" #impl                                                 \
+          "\n"                                                             \
+          "  add #8, r1\n"                                                 \
+          "  ret\n"                                                        \
+          ".size " #name ", .-" #name "\n")
+GYROFLIP_MSPABI_64(__mspabi_mpyll, gyroflip_rt_mpyll);
+GYROFLIP_MSPABI_64(__mspabi_divull, gyroflip_rt_divull);
+GYROFLIP_MSPABI_64(__mspabi_remull, gyroflip_rt_remull);
+GYROFLIP_MSPABI_64(__mspabi_divlli, gyroflip_rt_divlli);
+GYROFLIP_MSPABI_64(__mspabi_remlli, gyroflip_rt_remlli);
