@@ -10,19 +10,23 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(GYROFLIP_MODULES core earth analysis sensor method rig io report)
+set(GYROFLIP_MODULES core earth analysis sensor method rig io rigdata report)
 set(module_targets)
 foreach(m IN LISTS GYROFLIP_MODULES)
   list(APPEND module_targets gyroflip_${m})
 endforeach()
 
 install(TARGETS gyroflip RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(TARGETS ${module_targets} gyroflip_lib EXPORT gyroflipTargets
+install(TARGETS ${module_targets} gyroflip_protocol gyroflip_lib EXPORT gyroflipTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(DIRECTORY include/gyroflip DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp")
 install(FILES firmware/drivers/ad7739/convert.hpp
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/gyroflip/device/firmware/drivers/ad7739)
+# The rig protocol (firmware/protocol, the one part of the firmware the library uses: rigdata
+# decodes the device's messages).
+install(DIRECTORY firmware/protocol DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/gyroflip/device/firmware
+        FILES_MATCHING PATTERN "*.hpp")
 
 set(cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/gyroflip)
 install(EXPORT gyroflipTargets NAMESPACE gyroflip:: DESTINATION ${cmake_dir})
@@ -36,7 +40,7 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gyroflipConfig.cmake
 
 # pkg-config: the modules in link order (a module before those it uses), then what they use.
 set(GYROFLIP_PC_LIBS)
-foreach(m report io rig method sensor analysis earth core)
+foreach(m report rigdata io rig method sensor analysis earth core protocol)
   string(APPEND GYROFLIP_PC_LIBS " -lgyroflip_${m}")
 endforeach()
 file(RELATIVE_PATH GYROFLIP_PC_TO_PREFIX ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})

@@ -1,12 +1,15 @@
 /// \file
-/// \brief libFuzzer target: the rig protocol's frame decoder (firmware/protocol) on any byte
-/// stream. Checks that every delimiter is accounted for, that every frame handed out is well
-/// formed, and that a message decoded from it encodes back to the same payload bytes.
+/// \brief libFuzzer target: the rig protocol's decoders (firmware/protocol) on any byte stream:
+/// the frame decoder (COBS frames) and the stream decoder (the line code over it, what a host and
+/// a device read from the wire). Checks that every delimiter is accounted for, that every frame
+/// handed out is well formed, and that a message decoded from it encodes back to the same payload
+/// bytes, through the line code too.
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 
 namespace p = gyroflip::protocol;
 
@@ -28,6 +31,15 @@ void reencode(const p::frame& f) {
   for (std::size_t i = 0; i < n; ++i) got = d.push(wire[i]) || got;
   check(got && d.current().length == f.length && d.current().type == f.type);
   check(std::memcmp(d.current().payload, f.payload, f.length) == 0);
+  std::uint8_t line[p::line_bytes(p::max_payload)];
+  const std::size_t k = p::encode_wire(m, f.seq, line, sizeof line);
+  check(k > 0 && k <= sizeof line);
+  p::stream_decoder s;
+  got = false;
+  for (std::size_t i = 0; i < k; ++i) got = s.push(line[i]) || got;
+  check(got && s.current().length == f.length && s.current().type == f.type);
+  check(std::memcmp(s.current().payload, f.payload, f.length) == 0);
+  check(s.line().corrected == 0 && s.line().uncorrectable == 0);
 }
 
 void reencode_any(const p::frame& f) {
@@ -64,6 +76,10 @@ void reencode_any(const p::frame& f) {
       return reencode<p::set_delta_n_msg>(f);
     case p::msg::calibrate:
       return reencode<p::calibrate_msg>(f);
+    case p::msg::gone:
+      return reencode<p::gone_msg>(f);
+    case p::msg::resend:
+      return reencode<p::resend_msg>(f);
   }
   std::abort();  // the decoder handed out a type it does not know
 }
@@ -91,5 +107,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const p::decoder_counts& c = d.counts();
   check(c.good + c.bad() == ended);
   check(handed_out + c.duplicates == c.good);
+  // The same bytes as wire bytes: whatever the line code makes of them, every frame handed out
+  // is well formed and re-encodes.
+  p::stream_decoder line;
+  for (std::size_t i = 0; i < size; ++i) {
+    if (line.push(data[i])) {
+      check(line.current().length <= p::max_payload);
+      reencode_any(line.current());
+    }
+  }
+  check(line.line().corrected + line.line().uncorrectable <= size);
   return 0;
 }

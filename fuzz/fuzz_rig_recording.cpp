@@ -8,10 +8,10 @@
 #include <span>
 #include <string>
 
-#include "host/recorder/gfr.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/gfr.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 
-namespace gfr = gyroflip::host::gfr;
+namespace gfr = gyroflip::rigdata::gfr;
 
 namespace {
 void check(bool ok) {
@@ -26,9 +26,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   check(!f->records.empty() && f->records.front().type == gfr::kind::meta);
-  auto run = gyroflip::host::interpret(*f, "fuzz.gfr", true);
+  auto run = gyroflip::rigdata::interpret(*f, "fuzz.gfr", true);
   if (!run) return 0;
-  for (const auto& r : gyroflip::host::dwell_rows(*run))
+  for (const auto& r : gyroflip::rigdata::dwell_rows(*run))
     check(std::isfinite(r.time_s) && std::isfinite(r.rate_dps) && r.n_avg > 0);
   for (const auto& c : run->conversions)
     check(std::isfinite(c.time_s) && std::isfinite(c.rate_dps));

@@ -135,8 +135,10 @@ void setup_emulate(CLI::App& app, action& chosen) {
       ->delimiter(',');
   sub->add_option(
       "--fault-unplug", o->fault_unplug,
-      "AT:FOR - AT device s after the first START the line vanishes for FOR wall-clock s "
+      "AT:FOR - AT device s after the first START the line vanishes for FOR device s "
       "(repeatable; the rig runs on, its output is lost)");
+  sub->add_option("--serial", o->serial, "the emulated board's serial number (in its INFO)")
+      ->capture_default_str();
   sub->add_option("--duration", o->duration_s, "simulated seconds to run (0: until stopped)")
       ->capture_default_str();
   sub->add_option("--power-on-before", o->power_on_before_s,
@@ -190,6 +192,8 @@ void setup_export(CLI::App& app, action& chosen) {
   sub->add_option("file", o->file, "the rig recording RUN.gfr")->required();
   sub->add_option("-o,--output", o->output, "RUN.csv (- = stdout)")->required();
   sub->add_flag("--raw", o->raw, "one row per gyro conversion (a recording made with --raw)");
+  sub->add_flag("--strict", o->strict,
+                "refuse a recording with a damaged region instead of skipping it with a warning");
 }
 
 void setup_sensors(CLI::App& app, action& chosen) {

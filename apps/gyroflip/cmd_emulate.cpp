@@ -23,6 +23,7 @@
 
 #include "commands.hpp"
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 #include "host/emulator/emulator.hpp"
@@ -88,15 +89,17 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   c.sim.stepper.steps_per_rev = o.steps_per_rev;
   c.sim.power_on_before_s = o.power_on_before_s;
   c.sim.seed = o.seed;
+  c.serial = o.serial;
   return c;
 }
 
 // Faults of the rig and its cable, in the order they happen: firmware resets, and the line
-// vanishing (an unplugged USB-serial adapter) for a while of wall time. Both at device times
-// counted from the first run the host started, so that a test's faults fall inside its recording.
+// vanishing (an unplugged USB-serial adapter) for a while. All in device time counted from the
+// first run the host started, so that a test's faults fall inside its recording whatever the
+// speed (the device runs on while the line is gone, paced as before).
 struct fault_plan {
   std::vector<double> reset_at_s;                 // ascending
-  std::vector<std::pair<double, double>> unplug;  // (device time, wall seconds), ascending
+  std::vector<std::pair<double, double>> unplug;  // (device time, device seconds), ascending
 };
 
 result<fault_plan> fault_plan_of(const emulate_options& o) {
@@ -111,7 +114,7 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
     if (!v || v->size() != 2 || !((*v)[0] > 0.0 && (*v)[0] <= 1e7) ||
         !((*v)[1] > 0.0 && (*v)[1] <= 3600.0))
       return usage_error(
-          "--fault-unplug: AT:FOR, AT device s into the run in (0, 1e7], FOR wall s in (0, 3600]; "
+          "--fault-unplug: AT:FOR, AT device s into the run in (0, 1e7], FOR device s in (0, 3600]; "
           "got " +
           u);
     f.unplug.emplace_back((*v)[0], (*v)[1]);
@@ -202,12 +205,13 @@ int run_emulate(const emulate_options& o) {
 
   using steady = std::chrono::steady_clock;
   host::link_faults faults(o.fault_ber, o.fault_drop, o.seed ^ 0x5EEDF00DULL);
-  protocol::frame_decoder monitor{true};  // a reset restarts the numbering
+  // The clean stream, decoded once per frame: a frame sent again (RESEND) is not logged again.
+  protocol::stream_decoder monitor;
   std::vector<std::uint8_t> to_device, out;
   std::uint8_t buf[4096];
   constexpr std::uint32_t chunk_ticks = host::emulator::tick_hz / 100;  // 10 ms of device time
   const auto wall_start = steady::now();
-  steady::time_point back_at{};  // while the line is gone: when it comes back
+  double back_at_s = 0.0;  // while the line is gone: the device time it comes back
   std::uint64_t frames_unplugged = 0;
   bool frame_unplugged = false;  // a byte of the frame being sent went out while the line was gone
   std::optional<double> run_start_s;  // device time of the first run: faults count from it
@@ -219,10 +223,10 @@ int run_emulate(const emulate_options& o) {
     if (!plan->reset_at_s.empty() && run_s >= plan->reset_at_s.back()) {
       plan->reset_at_s.pop_back();
       emu.reset();
+      monitor.frames().reset_sequence();  // the rebooted device numbers its frames from 0
     }
     if (line && !plan->unplug.empty() && run_s >= plan->unplug.back().first) {
-      back_at = steady::now() + std::chrono::duration_cast<steady::duration>(
-                                    std::chrono::duration<double>(plan->unplug.back().second));
+      back_at_s = emu.time_s() + plan->unplug.back().second;
       plan->unplug.pop_back();
       // The cable goes between frames: what is already on the wire reaches the reader (so the
       // frames lost are exactly those sent while the line is gone), then its reads fail, as
@@ -232,7 +236,7 @@ int run_emulate(const emulate_options& o) {
       link->remove();
       to_device.clear();
     }
-    if (!line && steady::now() >= back_at) {
+    if (!line && emu.time_s() >= back_at_s) {
       auto l = open_line();
       if (!l) return report(l.err());
       line.emplace(std::move(*l));
@@ -262,12 +266,17 @@ int run_emulate(const emulate_options& o) {
       if (!w) return report(w.err());
       done += *w;
     }
-    // Pace to real time: wait for the host's bytes until the wall clock catches up.
+    // Pace to real time: wait for the host's bytes until the wall clock catches up. At max
+    // speed, the reader's pace: the device's time waits while more than 256 bytes (22 ms of the
+    // line) are unread, as a real line would never hold seconds of the rig's output between the
+    // rig and its reader (a RESEND then comes back within the device's history, as it would).
     int wait_ms = 0;
     if (speed > 0.0) {
       const double due_s = emu.time_s() / speed;
       const double now_s = std::chrono::duration<double>(steady::now() - wall_start).count();
       wait_ms = due_s > now_s ? static_cast<int>(std::ceil((due_s - now_s) * 1e3)) : 0;
+    } else if (line && line->unread() > 256) {
+      wait_ms = 1;
     }
     if (line && to_device.empty()) {
       auto r = line->read(buf, sizeof buf, wait_ms);

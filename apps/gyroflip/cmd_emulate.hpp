@@ -26,7 +26,8 @@ struct emulate_options {
   std::string log;   ///< SENT.csv: every DWELL the device sent
   std::string link;  ///< a symbolic link kept pointing at the line while it is there
   std::vector<double> fault_reset_at_s;   ///< device times of firmware resets
-  std::vector<std::string> fault_unplug;  ///< AT_S:FOR_S, the line gone for FOR_S wall s
+  std::vector<std::string> fault_unplug;  ///< AT_S:FOR_S, the line gone for FOR_S device s
+  std::uint32_t serial = 1;               ///< the emulated board's serial number (INFO)
   double duration_s = 0.0;                ///< simulated seconds to run (0: until SIGINT/SIGTERM)
   double power_on_before_s = 0.0;
   int filter_word = 94;

@@ -17,7 +17,7 @@
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/hdf5_table.hpp"
 #include "gyroflip/io/recording_writer.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 
 namespace gyroflip::app {
 
@@ -31,7 +31,7 @@ void field(std::string& out, double v) {
     out += ',';
 }
 
-std::string dwell_csv(const host::rig_run& run) {
+std::string dwell_csv(const rigdata::rig_run& run) {
   bool temp = true, accel = false;
   for (const auto& d : run.dwells) {
     if (d.d.n == 0) continue;
@@ -39,7 +39,7 @@ std::string dwell_csv(const host::rig_run& run) {
     accel = accel || std::isfinite(d.accel_x_g) || std::isfinite(d.accel_y_g);
   }
   std::string out;
-  const auto meta = host::csv_metadata(run);
+  const auto meta = rigdata::csv_metadata(run);
   io::append_metadata(out, meta);
   out += temp ? "time_s,angle_deg,rate_dps,temp_c,n_avg" : "time_s,angle_deg,rate_dps,n_avg";
   if (accel) out += ",accel_x_g,accel_y_g";
@@ -62,9 +62,9 @@ std::string dwell_csv(const host::rig_run& run) {
   return out;
 }
 
-std::string raw_csv(const host::rig_run& run) {
+std::string raw_csv(const rigdata::rig_run& run) {
   std::string out;
-  io::append_metadata(out, host::csv_metadata(run));
+  io::append_metadata(out, rigdata::csv_metadata(run));
   out += "time_s,angle_deg,rate_dps,n_avg,code\n";
   for (const auto& c : run.conversions)
     fmt::format_to(std::back_inserter(out), "{},{},{},1,{}\n", c.time_s, c.angle_deg, c.rate_dps,
@@ -78,7 +78,7 @@ bool is_hdf5(const std::string& path) {
 
 // The same rows as the CSV, as HDF5 datasets with units. Rows without an angle (a step fault)
 // are left out: HDF5 has no empty field, and nothing written is NaN.
-result<std::vector<std::uint8_t>> hdf5_of(const host::rig_run& run, bool raw) {
+result<std::vector<std::uint8_t>> hdf5_of(const rigdata::rig_run& run, bool raw) {
   std::vector<io::hdf5_column> cols;
   const auto col = [&cols](const char* name, const char* unit) -> std::vector<double>& {
     cols.push_back({name, unit, {}});
@@ -95,12 +95,12 @@ result<std::vector<std::uint8_t>> hdf5_of(const host::rig_run& run, bool raw) {
       r.push_back(c.rate_dps);
       k.push_back(c.code);
     }
-    return io::hdf5_table_image(cols, host::csv_metadata(run));
+    return io::hdf5_table_image(cols, rigdata::csv_metadata(run));
   }
-  std::vector<const host::rig_dwell*> rows;
+  std::vector<const rigdata::rig_dwell*> rows;
   bool temp = true, accel = true;
   for (const auto& d : run.dwells) {
-    if (!host::dwell_row(d)) continue;
+    if (!rigdata::dwell_row(d)) continue;
     rows.push_back(&d);
     temp = temp && std::isfinite(d.temp_c);
     accel = accel && std::isfinite(d.accel_x_g) && std::isfinite(d.accel_y_g);
@@ -110,19 +110,19 @@ result<std::vector<std::uint8_t>> hdf5_of(const host::rig_run& run, bool raw) {
     auto& v = col(name, unit);
     for (const auto* d : rows) v.push_back(static_cast<double>(get(*d)));
   };
-  add("time_s", "s", [](const host::rig_dwell& d) { return d.time_s; });
-  add("angle_deg", "deg", [](const host::rig_dwell& d) { return d.angle_deg; });
-  add("rate_dps", "deg/s", [](const host::rig_dwell& d) { return d.rate_dps; });
-  if (temp) add("temp_c", "degC", [](const host::rig_dwell& d) { return d.temp_c; });
-  add("n_avg", "1", [](const host::rig_dwell& d) { return d.d.n; });
+  add("time_s", "s", [](const rigdata::rig_dwell& d) { return d.time_s; });
+  add("angle_deg", "deg", [](const rigdata::rig_dwell& d) { return d.angle_deg; });
+  add("rate_dps", "deg/s", [](const rigdata::rig_dwell& d) { return d.rate_dps; });
+  if (temp) add("temp_c", "degC", [](const rigdata::rig_dwell& d) { return d.temp_c; });
+  add("n_avg", "1", [](const rigdata::rig_dwell& d) { return d.d.n; });
   if (accel) {
-    add("accel_x_g", "g", [](const host::rig_dwell& d) { return d.accel_x_g; });
-    add("accel_y_g", "g", [](const host::rig_dwell& d) { return d.accel_y_g; });
+    add("accel_x_g", "g", [](const rigdata::rig_dwell& d) { return d.accel_x_g; });
+    add("accel_y_g", "g", [](const rigdata::rig_dwell& d) { return d.accel_y_g; });
   }
-  add("cycle", "1", [](const host::rig_dwell& d) { return d.d.cycle; });
-  add("position", "1", [](const host::rig_dwell& d) { return d.d.position; });
-  add("flags", "1", [](const host::rig_dwell& d) { return d.d.flags; });
-  return io::hdf5_table_image(cols, host::csv_metadata(run));
+  add("cycle", "1", [](const rigdata::rig_dwell& d) { return d.d.cycle; });
+  add("position", "1", [](const rigdata::rig_dwell& d) { return d.d.position; });
+  add("flags", "1", [](const rigdata::rig_dwell& d) { return d.d.flags; });
+  return io::hdf5_table_image(cols, rigdata::csv_metadata(run));
 }
 
 }  // namespace
@@ -130,9 +130,13 @@ result<std::vector<std::uint8_t>> hdf5_of(const host::rig_run& run, bool raw) {
 int run_export(const export_options& o) {
   if (auto s = io::check_outputs(std::array{o.file}, std::array{o.output}); !s)
     return report(s.err());
-  auto run = host::read_rig_run(o.file, o.raw);
+  auto run = rigdata::read_rig_run(o.file, o.raw, o.strict);
   if (!run) return report(run.err());
   for (const auto& w : run->warnings) warn(w);
+  if (run->lost_dwells != 0)
+    warn(fmt::format("{}: {} dwells never arrived (the device no longer had them when they were "
+                     "asked for again); the gap records count them",
+                     o.file, run->lost_dwells));
   if (o.raw && run->conversions.empty())
     return report(input_error(
         {o.file}, "no RAW conversions in this recording (record with --raw to keep them)"));

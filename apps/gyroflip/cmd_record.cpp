@@ -38,8 +38,11 @@ result<protocol::configure_msg> device_config(const record_options& o) {
   c.n_avg = static_cast<std::uint16_t>(o.n_avg);
   c.n_temp = static_cast<std::uint8_t>(o.n_temp);
   c.settle_ms = static_cast<std::uint16_t>(std::lround(o.settle_s * 1000.0));
-  c.pos_a_steps = 0;
-  c.pos_b_steps = static_cast<std::int16_t>(o.steps_per_rev / 2);
+  c.n_positions = 2;
+  c.pos_steps[0] = 0;
+  c.pos_steps[1] = static_cast<std::int16_t>(o.steps_per_rev / 2);
+  c.pos_cdeg[0] = 0;
+  c.pos_cdeg[1] = 18000;
   c.steps_per_rev = static_cast<std::uint16_t>(o.steps_per_rev);
   c.step_rate_sps = static_cast<std::uint16_t>(o.step_rate_sps);
   c.start_rate_sps = static_cast<std::uint16_t>(o.start_rate_sps);
@@ -59,8 +62,8 @@ std::string num(double v, const char* spec) {
 void draw(const host::recorder_status& s) {
   const std::string of = s.duration_s > 0 ? fmt::format("/{:.0f}", s.duration_s) : "";
   std::string line = fmt::format(
-      "\r{:.0f}{} s  cycles {}  frames {} good {} corrupt {} missing  dN {} +- {} deg/s  T {} C",
-      s.elapsed_s, of, s.cycles, s.frames_good, s.frames_corrupt, s.frames_missing,
+      "\r{:.0f}{} s  cycles {}  frames {} good {} resent {} lost  dN {} +- {} deg/s  T {} C",
+      s.elapsed_s, of, s.cycles, s.frames_good, s.frames_recovered, s.frames_lost,
       num(s.delta_n_dps, "{:.5e}"), num(s.delta_n_se_dps, "{:.1e}"), num(s.temp_c, "{:.2f}"));
   if (s.waiting_for_port) line += "  (waiting for the port)";
   std::fprintf(stderr, "%s\033[K", line.c_str());
@@ -75,7 +78,9 @@ nlohmann::json json_of(const host::recorder_status& s) {
           {"cycles", s.cycles},
           {"frames_good", s.frames_good},
           {"frames_corrupt", s.frames_corrupt},
-          {"frames_missing", s.frames_missing},
+          {"frames_recovered", s.frames_recovered},
+          {"frames_lost", s.frames_lost},
+          {"frames_pending", s.frames_pending},
           {"device_resets", s.device_resets},
           {"link_losses", s.link_losses},
           {"delta_n_dps", or_null(s.delta_n_dps)},
@@ -85,14 +90,16 @@ nlohmann::json json_of(const host::recorder_status& s) {
           {"waiting_for_port", s.waiting_for_port}};
 }
 
-const char* reason_text(host::gfr::stop_reason r) {
+const char* reason_text(rigdata::gfr::stop_reason r) {
   switch (r) {
-    case host::gfr::stop_reason::duration:
+    case rigdata::gfr::stop_reason::duration:
       return "the duration was recorded";
-    case host::gfr::stop_reason::signal:
+    case rigdata::gfr::stop_reason::signal:
       return "stopped by a signal";
-    case host::gfr::stop_reason::link_lost:
+    case rigdata::gfr::stop_reason::link_lost:
       return "the port did not come back";
+    case rigdata::gfr::stop_reason::device_changed:
+      return "another device answered";
   }
   return "";
 }
@@ -100,15 +107,21 @@ const char* reason_text(host::gfr::stop_reason r) {
 }  // namespace
 
 int run_record(const record_options& o) {
+  if (o.output == "-")
+    return report(usage_error("-o -: a recording is a file (it is synced and read back), not "
+                              "standard output; export it to CSV for a pipe"));
+  if (o.baud == 0 || o.baud > 4000000)
+    return report(usage_error("--baud must be a rate from 1 to 4000000 b/s (the rig: 115200)"));
   if (!(o.duration_s >= 0.0) || !std::isfinite(o.duration_s))
     return report(usage_error("--duration must be 0 (until stopped) or a positive number of s"));
   if (!(o.reconnect_timeout_s >= 0.0) || !std::isfinite(o.reconnect_timeout_s))
     return report(usage_error("--reconnect-timeout must be a number of s >= 0"));
-  if (!std::isfinite(o.temp_mv_per_c) || o.temp_mv_per_c == 0.0 ||
-      std::fabs(o.temp_mv_per_c) > 1e4 || !std::isfinite(o.temp_at_0v_c) ||
-      std::fabs(o.temp_at_0v_c) > 1e4)
+  // The same bounds the reader of a recording applies (rigdata::check_units): what is recorded
+  // can always be read back.
+  if (!rigdata::check_units({"", 1.0, o.temp_mv_per_c * 1e-3, o.temp_at_0v_c}, ""))
     return report(usage_error(
-        "--temp-mv-per-c must be a non-zero number of mV/degC and --temp-at-0v a temperature"));
+        "--temp-mv-per-c must be 0.001 to 10000 mV/degC (either sign) and --temp-at-0v a "
+        "temperature from -273.15 to 1000 degC"));
   auto dev = device_config(o);
   if (!dev) return report(dev.err());
   auto preset = sensor::load_preset(o.sensor);
@@ -145,13 +158,14 @@ int run_record(const record_options& o) {
   if (!r) return report(r.err());
   const auto& s = r->last;
   std::fprintf(stderr,
-               "gyroflip record: %s: %zu dwells, %zu cycles, %llu frames (%llu corrupt, %llu "
-               "missing) over %.1f s: %s\n",
+               "gyroflip record: %s: %zu dwells, %zu cycles, %llu frames (%llu damaged on the "
+               "line, %llu sent again, %llu lost) over %.1f s: %s\n",
                o.output.c_str(), s.dwells, s.cycles, static_cast<unsigned long long>(s.frames_good),
                static_cast<unsigned long long>(s.frames_corrupt),
-               static_cast<unsigned long long>(s.frames_missing), s.elapsed_s,
+               static_cast<unsigned long long>(s.frames_recovered),
+               static_cast<unsigned long long>(s.frames_lost), s.elapsed_s,
                reason_text(r->reason));
-  if (r->reason == host::gfr::stop_reason::link_lost)
+  if (r->reason == rigdata::gfr::stop_reason::link_lost)
     return report(runtime_error(
         fmt::format("{}: the port did not come back within {:g} s; {} is complete up to the loss",
                     o.port, o.reconnect_timeout_s, o.output)));

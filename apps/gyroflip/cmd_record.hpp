@@ -38,6 +38,7 @@ struct export_options {
   std::string file;
   std::string output;
   bool raw = false;
+  bool strict = false;  ///< a damaged region is an error, not skipped with a warning
 };
 int run_export(const export_options& o);
 

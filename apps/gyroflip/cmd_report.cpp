@@ -29,7 +29,7 @@
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/report/figures.hpp"
 #include "gyroflip/report/page.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 #include "report_folder.hpp"
 
 namespace gyroflip::app {
@@ -91,7 +91,7 @@ bool fitted(const analysis::noise_analysis& a) {
 }
 
 result<run_data> read_run(const std::string& file, method::pairing p) {
-  auto rr = host::read_recording_rows(file);
+  auto rr = rigdata::read_recording_rows(file);
   if (!rr) return rr.err();
   for (const auto& w : rr->warnings) warn(w);
   run_data r;

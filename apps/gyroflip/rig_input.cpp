@@ -4,8 +4,9 @@
 
 #include <fmt/format.h>
 
+#include "commands.hpp"
 #include "gyroflip/core/error.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 
 namespace gyroflip::app {
 
@@ -18,19 +19,21 @@ result<io::recording_cycles> read_recording_cycles(const std::string& path, meth
                                                    double angle_tolerance_deg) {
   // A rig recording's positions come from the device's step count, not an encoder.
   if (!is_rig_recording(path)) return io::read_cycles(path, p, on_progress, angle_tolerance_deg);
-  auto run = host::read_rig_run(path);
+  auto run = rigdata::read_rig_run(path);
   if (!run) return run.err();
-  const auto rows = host::dwell_rows(*run);
-  auto rc = io::cycles_of_rows(path, rows, p, host::csv_metadata(*run));
+  const auto rows = rigdata::dwell_rows(*run);
+  auto rc = io::cycles_of_rows(path, rows, p, rigdata::csv_metadata(*run));
   if (!rc) return rc.err();
   rc->warnings = run->warnings;
   return rc;
 }
 
 result<io::series> read_rig_series(const std::string& path, const std::string& column) {
-  auto run = host::read_rig_run(path);
+  auto run = rigdata::read_rig_run(path);
   if (!run) return run.err();
-  const auto rows = host::dwell_rows(*run);
+  // What the reader noticed (a damaged region skipped, a torn tail) is shown, not dropped.
+  for (const auto& w : run->warnings) warn(w);
+  const auto rows = rigdata::dwell_rows(*run);
   std::vector<double> values, time_s, angle_deg;
   if (column == "dwell_dps") {
     for (const auto& r : rows) {
@@ -53,7 +56,7 @@ result<io::series> read_rig_series(const std::string& path, const std::string& c
         "column");
   }
   return io::series_of_samples(path, std::move(values), time_s, std::move(angle_deg),
-                               host::csv_metadata(*run));
+                               rigdata::csv_metadata(*run));
 }
 
 }  // namespace gyroflip::app

@@ -1,30 +1,36 @@
 /// \file
-/// \brief The firmware core's link and commands (device.hpp); the sequencer is in sequencer.cpp.
+/// \brief The firmware core's link, commands and health (device.hpp); the sequencer is in
+/// sequencer.cpp.
 #include "firmware/core/device.hpp"
 
-#include "firmware/core/budget.hpp"
+#include "firmware/core/timebase.hpp"
+#include "firmware/protocol/crc16.hpp"
 
 namespace gyroflip::fw {
 
 using protocol::status;
 
-status check_config(const protocol::configure_msg& c, uint32_t mclk_hz) {
-  const int32_t span = int32_t{c.pos_b_steps} - c.pos_a_steps;
-  const int32_t span_abs = span < 0 ? -span : span;
-  const bool ok = c.n_avg >= 1 && c.n_temp <= max_n_temp && span != 0 && c.steps_per_rev >= 4 &&
-                  span_abs < c.steps_per_rev && c.step_rate_sps >= 1 &&
-                  c.step_rate_sps <= max_step_rate_sps && c.start_rate_sps >= 1 &&
-                  c.start_rate_sps <= c.step_rate_sps && c.ramp_sps2 >= 1 &&
-                  c.filter_word >= ad7739::fw_min && c.filter_word <= ad7739::fw_max &&
-                  (c.flags & ~protocol::cfg_all) == 0 && c.flip_motor <= 1 && c.other_motor <= 3 &&
-                  c.gyro_channel <= 3 && c.temp_channel <= 3 && c.gyro_channel != c.temp_channel &&
-                  c.status_period_ms <= max_status_period_ms;
-  if (!ok) return status::bad_arg;
-  // The link must carry the worst case, or frames would be dropped by design.
-  return worst_bytes_per_s(c, mclk_hz) <= link_bytes_per_s ? status::ok : status::bad_arg;
+namespace {
+
+// Frames RESEND can ask for: the run's data, and the errors that explain gaps in it. ACK, NAK,
+// INFO and STATUS are answers or snapshots (asked for again, not resent); RAW is too large for
+// the history (docs/PROTOCOL.md, RESEND).
+bool kept_for_resend(uint8_t type) {
+  switch (static_cast<protocol::msg>(type)) {
+    case protocol::msg::dwell:
+    case protocol::msg::compensated:
+    case protocol::msg::cal_result:
+    case protocol::msg::error:
+      return true;
+    default:
+      return false;
+  }
 }
 
-void device::boot() {
+}  // namespace
+
+void device::boot(const boot_info& b) {
+  boot_ = b;
   hw_.watchdog_kick();
   write_port();
   const status s = adc_.reset();
@@ -32,21 +38,67 @@ void device::boot() {
   if (s != status::ok || adc_revision_ == 0x00 || adc_revision_ == 0xFF)
     error(status::bus_error, protocol::error_source::adc, adc_revision_);
   apply_adc_config();
-  last_status_ = hw_.ticks();
+  last_status_ = last_ticks_ = hw_.ticks();
+  check_clocks(last_ticks_);
   send_info();
   transmit();
 }
 
 void device::poll() {
-  hw_.watchdog_kick();
   receive();
   const uint32_t now = hw_.ticks();
+  check_clocks(now);
   step_sequencer(now);
   if (cfg_.status_period_ms != 0 && now - last_status_ >= status_ticks_) {
     last_status_ = now;
     send_status();
   }
   transmit();
+  // The watchdog is fed only while the sequencer keeps its deadlines: a state machine that
+  // stopped acting (a lost deadline, corrupted state) resets the device instead of idling on.
+  healthy_ = on_schedule(now);
+  if (healthy_) hw_.watchdog_kick();
+}
+
+// The tick clock must move (on the MSP430F149 it is the 32 768 Hz crystal, which the chip does
+// not supervise), and the port must not have seen an oscillator fault. A fault stops the run:
+// its timing could not be trusted.
+void device::check_clocks(uint32_t now) {
+  if (now != last_ticks_) {
+    last_ticks_ = now;
+    polls_same_tick_ = 0;
+  } else if (polls_same_tick_ < frozen_tick_polls) {
+    ++polls_same_tick_;
+  }
+  uint8_t faults = hw_.clock_faults();
+  if (polls_same_tick_ >= frozen_tick_polls) faults |= protocol::clock_lfxt1;
+  const auto fresh = static_cast<uint8_t>(faults & ~clock_faults_reported_);
+  if (fresh == 0) return;
+  clock_faults_reported_ |= fresh;
+  stat_.clock_faults = clock_faults_reported_;
+  if (state_ != protocol::device_state::idle) stop_run();
+  state_ = protocol::device_state::fault;
+  error(status::hw_fault, protocol::error_source::clock, fresh);
+}
+
+bool device::on_schedule(uint32_t now) const {
+  const auto overdue = [&](uint32_t due) {
+    return static_cast<int32_t>(now - due) > static_cast<int32_t>(stall_ticks);
+  };
+  switch (phase_) {
+    case phase::idle:
+      return true;
+    case phase::homing:
+      return !overdue(next_home_step_);
+    case phase::turning:
+      return !mover_.busy() || !overdue(mover_.next_due());
+    case phase::settling:
+      return !overdue(phase_start_ + settle_ticks_);
+    case phase::gyro:
+    case phase::temp:
+      return !converting_ || !overdue(conv_start_ + timeout_ticks_);
+  }
+  return false;
 }
 
 void device::receive() {
@@ -54,18 +106,46 @@ void device::receive() {
   // A bounded number per pass, so a flooded line cannot starve the sequencer.
   for (int i = 0; i < 64 && hw_.uart_read(&b); ++i) {
     if (rx_.push(b)) handle(rx_.current());
+    uint8_t type = 0;
+    uint16_t seq = 0;
+    status why = status::ok;
+    // A damaged command gets a NAK at once (the host resends it without waiting); a damaged
+    // frame of another kind (the host never sends one) is only counted.
+    if (rx_.frames().take_bad_header(&type, &seq, &why) && type >= 0x20 && type <= 0x3F)
+      nak_raw(type, seq, why);
   }
 }
 
 void device::transmit() {
   uint8_t b = 0;
-  while (tx_.peek(&b) && hw_.uart_write(b)) tx_.pop();
+  while (tx_.peek(&b)) {
+    const uint8_t nib = tx_low_nibble_ ? static_cast<uint8_t>(b & 0x0Fu) : static_cast<uint8_t>(b >> 4);
+    if (!hw_.uart_write(protocol::hamming84_encode(nib))) return;
+    if (tx_low_nibble_) tx_.pop();
+    tx_low_nibble_ = !tx_low_nibble_;
+  }
 }
 
-bool device::queue(size_t n, bool droppable) {
-  // The sequence number is used even when the frame is dropped: the host then counts it missing.
-  ++tx_seq_;
-  if (n != 0 && tx_.free() >= n + (droppable ? tx_reserve_bytes : 0) && tx_.push(scratch_, n)) {
+bool device::queue(uint8_t type, size_t payload_len, bool droppable) {
+  // The sequence number is used even when the frame is dropped: the host then counts it
+  // missing, asks for it, and hears GONE (or gets it from the history).
+  uint8_t* raw = scratch_ + protocol::detail::stage;
+  const size_t raw_len = protocol::detail::seal_raw(type, tx_seq_++, payload_len, raw);
+  if (raw_len != 0 && kept_for_resend(type)) history_.store(raw, raw_len);
+  return queue_staged(raw_len, droppable);
+}
+
+// The frame staged at scratch_ + stage: COBS in place, then into the ring, whole or not at
+// all, followed by the zero bytes of the line's run after it (each goes out as 2 zero wire
+// bytes: line.hpp).
+bool device::queue_staged(size_t raw_len, bool droppable) {
+  const size_t n = protocol::detail::cobs_frame(raw_len, scratch_, sizeof scratch_);
+  const size_t cobs = n == 0 ? 0 : n - 1;  // without COBS's own 0x00
+  const size_t zeros = cobs == 0 ? 0 : protocol::run_after(scratch_[cobs - 1]) / 2;
+  if (cobs != 0 && tx_.free() >= cobs + zeros + (droppable ? tx_reserve_bytes : 0)) {
+    static_cast<void>(tx_.push(scratch_, cobs));
+    constexpr uint8_t zero = 0;
+    for (size_t i = 0; i < zeros; ++i) static_cast<void>(tx_.push(&zero, 1));
     ++stat_.frames_sent;
     return true;
   }
@@ -74,6 +154,7 @@ bool device::queue(size_t n, bool droppable) {
 }
 
 void device::ack(const protocol::frame& f) {
+  remember_reply(f, true, status::ok);
   protocol::ack_msg a;
   a.seq = f.seq;
   a.of_type = f.type;
@@ -81,9 +162,14 @@ void device::ack(const protocol::frame& f) {
 }
 
 void device::nak(const protocol::frame& f, status why) {
+  remember_reply(f, false, why);
+  nak_raw(f.type, f.seq, why);
+}
+
+void device::nak_raw(uint8_t type, uint16_t seq, status why) {
   protocol::nak_msg n;
-  n.seq = f.seq;
-  n.of_type = f.type;
+  n.seq = seq;
+  n.of_type = type;
   n.reason = static_cast<uint8_t>(why);
   send(n);
 }
@@ -107,9 +193,12 @@ void device::send_info() {
   m.mclk_hz = facts_.mclk_hz;
   m.tick_hz = hw_.tick_hz;
   m.adc_revision = adc_revision_;
-  m.max_n_avg = max_n_avg;
+  m.max_n_avg = protocol::max_n_avg;
   m.max_raw_codes = protocol::raw_msg::max_codes;
   m.range = ad7739::range_bipolar_2v5;
+  m.reset_cause = boot_.reset_cause;
+  m.boot_count = boot_.boot_count;
+  m.history_bytes = static_cast<uint16_t>(history_bytes);
   m.config = cfg_;
   send(m);
 }
@@ -120,12 +209,72 @@ void device::send_status() {
   const protocol::decoder_counts& c = rx_.counts();
   stat_.rx_frames_ok = static_cast<uint16_t>(c.good);
   stat_.rx_errors = static_cast<uint16_t>(c.bad());
+  stat_.line_corrected = static_cast<uint16_t>(rx_.line().corrected);
+  stat_.line_uncorrectable = static_cast<uint16_t>(rx_.line().uncorrectable);
+  stat_.history_oldest = history_.empty() ? tx_seq_ : history_.oldest_seq();
+  stat_.stack_free = hw_.stack_free();
   send(stat_);
 }
 
+// RESEND: each frame still in the history goes out again with its own sequence number; the
+// others are named in one GONE. A frame that does not fit the ring now is skipped (the host
+// asks again).
+void device::resend(const protocol::frame& f) {
+  protocol::resend_msg m;
+  if (!f.as(m)) return nak(f, status::bad_frame);
+  protocol::gone_msg gone;
+  for (uint8_t i = 0; i < m.count; ++i) {
+    uint8_t* raw = scratch_ + protocol::detail::stage;
+    const size_t len = history_.find(m.seqs[i], raw, protocol::max_frame);
+    if (len == 0) {
+      gone.seqs[gone.count++] = m.seqs[i];
+    } else if (queue_staged(len, false) && stat_.retransmits != 0xFFFF) {
+      ++stat_.retransmits;
+    }
+  }
+  if (gone.count != 0) send(gone);
+}
+
+bool device::repeated_command(const protocol::frame& f) {
+  const uint16_t crc = protocol::crc16(f.payload, f.length);
+  if (!have_last_cmd_ || f.seq != last_cmd_seq_ || f.type != last_cmd_type_ || crc != last_cmd_crc_)
+    return false;
+  // The same command again (its ACK or NAK was lost): the same answer, nothing executed.
+  if (last_cmd_acked_) {
+    protocol::ack_msg a;
+    a.seq = f.seq;
+    a.of_type = f.type;
+    send(a);
+  } else {
+    nak_raw(f.type, f.seq, last_cmd_why_);
+  }
+  return true;
+}
+
+void device::remember_reply(const protocol::frame& f, bool acked, status why) {
+  if (f.type == static_cast<uint8_t>(protocol::msg::ping)) return;  // answered every time
+  have_last_cmd_ = true;
+  last_cmd_seq_ = f.seq;
+  last_cmd_type_ = f.type;
+  last_cmd_crc_ = protocol::crc16(f.payload, f.length);
+  last_cmd_acked_ = acked;
+  last_cmd_why_ = why;
+}
+
+bool device::method_pair() const {
+  const protocol::configure_msg& c = cfg_;
+  const int32_t d = int32_t{c.pos_cdeg[1]} - c.pos_cdeg[0];
+  return c.n_positions == 2 && (d == 18000 || d == -18000);
+}
+
 void device::handle(const protocol::frame& f) {
+  const auto type = static_cast<protocol::msg>(f.type);
+  // PING and RESEND change nothing: answered every time. Every other command runs once.
+  if (type == protocol::msg::resend) return resend(f);
+  if (type != protocol::msg::ping && repeated_command(f)) return;
   const bool idle = state_ == protocol::device_state::idle;
-  switch (static_cast<protocol::msg>(f.type)) {
+  const bool fault = state_ == protocol::device_state::fault;
+  switch (type) {
     case protocol::msg::ping: {
       protocol::ping_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
@@ -135,8 +284,9 @@ void device::handle(const protocol::frame& f) {
     case protocol::msg::configure: {
       protocol::configure_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
-      if (!idle) return nak(f, status::busy);
-      if (const status s = check_config(m, facts_.mclk_hz); s != status::ok) return nak(f, s);
+      if (!idle) return nak(f, fault ? status::hw_fault : status::busy);
+      if (const status s = protocol::check_configure(m, facts_.mclk_hz); s != status::ok)
+        return nak(f, s);
       cfg_ = m;
       apply_adc_config();
       return ack(f);
@@ -144,25 +294,29 @@ void device::handle(const protocol::frame& f) {
     case protocol::msg::start: {
       protocol::start_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
+      if (fault) return nak(f, status::hw_fault);
+      if (m.config_crc != protocol::configure_crc(cfg_)) return nak(f, status::config_mismatch);
       if (idle) start_run(false);
       return ack(f);
     }
     case protocol::msg::stop: {
       protocol::stop_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
-      stop_run();
+      if (!fault) stop_run();
       ack(f);
       return send_status();
     }
     case protocol::msg::home: {
       protocol::home_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
-      if (!idle) return nak(f, status::busy);
+      if (!idle) return nak(f, fault ? status::hw_fault : status::busy);
       home_then_run_ = false;
       state_ = protocol::device_state::homing;
       phase_ = phase::homing;
       home_steps_ = 0;
+      home_closed_ = false;
       next_home_step_ = hw_.ticks();
+      set_coils(true);
       return ack(f);
     }
     case protocol::msg::set_delta_n: {
@@ -174,7 +328,8 @@ void device::handle(const protocol::frame& f) {
     case protocol::msg::calibrate: {
       protocol::calibrate_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
-      if (m.cycles < 2) return nak(f, status::bad_arg);
+      if (m.cycles < 2 || !method_pair()) return nak(f, status::bad_arg);
+      if (fault) return nak(f, status::hw_fault);
       if (state_ == protocol::device_state::homing) return nak(f, status::busy);
       cal_.begin(m.cycles);
       cal_wait_a_ = true;

@@ -47,6 +47,18 @@ struct hal_ops {
   /// Called in each turn of a bounded busy wait (ADC calibration at boot): a port may idle the
   /// CPU until the next interrupt; the host port advances its virtual clock by one tick.
   void (*busy_wait)(void* ctx);
+  /// Stack bytes never used since boot (a port paints its stack at reset and finds the
+  /// high-water mark); 0xFFFF when the port cannot tell.
+  uint16_t (*stack_free)(void* ctx);
+  /// protocol::clock_fault bits of the oscillator faults the port has seen since boot (a
+  /// crystal that failed to start or stopped).
+  uint8_t (*clock_faults)(void* ctx);
+};
+
+/// What a port tells the core at boot: why the device started and how often it did.
+struct boot_info {
+  uint8_t reset_cause = 0;  ///< a protocol::reset_cause value
+  uint16_t boot_count = 0;  ///< starts since power-on, kept in memory a reset does not clear
 };
 
 /// A port's hardware: the operations and their context.
@@ -68,6 +80,8 @@ struct hal {
   [[nodiscard]] uint32_t ticks() const { return ops->ticks(ctx); }
   void watchdog_kick() const { ops->watchdog_kick(ctx); }
   void busy_wait() const { ops->busy_wait(ctx); }
+  [[nodiscard]] uint16_t stack_free() const { return ops->stack_free(ctx); }
+  [[nodiscard]] uint8_t clock_faults() const { return ops->clock_faults(ctx); }
 };
 
 }  // namespace gyroflip::fw

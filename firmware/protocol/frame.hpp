@@ -11,10 +11,11 @@
 
 #include "cobs.hpp"
 #include "messages.hpp"
+#include "status.hpp"
 
 namespace gyroflip::protocol {
 
-inline constexpr uint8_t protocol_version = 1;
+inline constexpr uint8_t protocol_version = 2;
 inline constexpr size_t header_bytes = 5;  // version, type, seq (LE), payload length
 inline constexpr size_t crc_bytes = 2;
 inline constexpr size_t max_payload = 200;
@@ -31,8 +32,14 @@ inline constexpr size_t max_wire = cobs_max_encoded(max_frame) + 1;
 namespace detail {
 /// Where a frame is staged inside the output buffer before it is COBS-encoded in place.
 inline constexpr size_t stage = cobs_max_encoded(max_frame) - max_frame;
-/// Writes header and CRC around the `len` payload bytes staged at out + stage + header_bytes and
-/// COBS-encodes the frame in place; returns the bytes to send (delimiter included), or 0.
+/// Writes header and CRC around the `len` payload bytes at raw + header_bytes: the frame before
+/// COBS (what a device keeps for retransmission). Returns its length, or 0 (payload too long,
+/// unknown type).
+[[nodiscard]] size_t seal_raw(uint8_t type, uint16_t seq, size_t len, uint8_t* raw);
+/// COBS-encodes the `raw_len`-byte frame staged at out + stage into out, in place, and appends
+/// the delimiter; returns the bytes to send, or 0.
+[[nodiscard]] size_t cobs_frame(size_t raw_len, uint8_t* out, size_t cap);
+/// Both: the bytes to send, or 0.
 [[nodiscard]] size_t seal_frame(uint8_t type, uint16_t seq, size_t len, uint8_t* out, size_t cap);
 }  // namespace detail
 
@@ -88,33 +95,117 @@ struct decoder_counts {
   }
 };
 
-/// Byte-at-a-time frame decoder. A frame whose sequence number repeats one of the last 32768
-/// (a retransmission, a duplicated packet) is counted and, by default, not handed out again; a
-/// forward jump counts the skipped numbers as missing.
-class frame_decoder {
+/// Byte-at-a-time frame decoder holding frames of up to `Cap` bytes of COBS (a device that only
+/// takes short commands keeps a small buffer). A frame whose sequence number repeats one of the
+/// last 32768 (a retransmission, a duplicated packet) is counted and, by default, not handed out
+/// again; a forward jump counts the skipped numbers as missing.
+template <size_t Cap>
+class basic_frame_decoder {
  public:
-  constexpr frame_decoder() = default;
+  constexpr basic_frame_decoder() = default;
   /// `deliver_repeats`: hand out frames with a repeated or older sequence number too (counted
   /// as duplicates; the numbering continues from them). The device decodes commands this way,
-  /// so a host program that restarts its numbering at 0 is still obeyed.
-  constexpr explicit frame_decoder(bool deliver_repeats) : deliver_repeats_(deliver_repeats) {}
+  /// so a host program that restarts its numbering at 0 is still obeyed, and a host takes
+  /// retransmitted frames this way.
+  constexpr explicit basic_frame_decoder(bool deliver_repeats) : deliver_repeats_(deliver_repeats) {}
   /// Takes one byte; true when it completed a new valid frame (then `current()`).
-  [[nodiscard]] bool push(uint8_t b);
+  [[nodiscard]] bool push(uint8_t b) {
+    if (b != 0) {
+      if (n_ < Cap) {
+        buf_[n_++] = b;
+      } else {
+        overflowed_ = true;  // keep discarding until the delimiter
+      }
+      return false;
+    }
+    const bool good = finish();
+    n_ = 0;
+    overflowed_ = false;
+    return good;
+  }
   [[nodiscard]] const frame& current() const { return frame_; }
   [[nodiscard]] const decoder_counts& counts() const { return counts_; }
   /// Forgets the sequence history (after a device reset: its numbering starts again).
   void reset_sequence() { have_seq_ = false; }
+  /// The type and sequence number of the last frame dropped for its CRC (or an unknown type)
+  /// whose header could be read, once, with why (status::crc_mismatch or not_supported): a
+  /// device answers a damaged command with a NAK.
+  [[nodiscard]] bool take_bad_header(uint8_t* type, uint16_t* seq, status* why) {
+    if (!bad_pending_) return false;
+    bad_pending_ = false;
+    *type = bad_type_;
+    *seq = bad_seq_;
+    *why = bad_why_;
+    return true;
+  }
 
  private:
-  bool finish();
-  uint8_t buf_[max_wire] = {};
+  bool finish() {
+    if (overflowed_) {
+      ++counts_.too_long;
+      return false;
+    }
+    if (n_ == 0) return false;  // back-to-back delimiters: no frame, nothing lost
+    const long len = cobs_decode(buf_, n_, buf_, Cap);
+    if (len < 0) {
+      ++counts_.bad_cobs;
+      return false;
+    }
+    const auto size = static_cast<size_t>(len);
+    if (size < header_bytes + crc_bytes || size != header_bytes + buf_[4] + crc_bytes) {
+      ++counts_.bad_length;
+      return false;
+    }
+    if (buf_[0] != protocol_version) {
+      ++counts_.bad_version;
+      counts_.foreign_version = buf_[0];
+      return false;
+    }
+    uint8_t extra = 0;
+    const bool known = crc_extra_of(buf_[1], extra);
+    const size_t body = size - crc_bytes;
+    const uint16_t crc = crc16_byte(crc16(buf_, body), extra);
+    if (!known || (crc & 0xFFu) != buf_[body] || (crc >> 8) != buf_[body + 1]) {
+      ++(known ? counts_.crc_errors : counts_.unknown_type);
+      bad_pending_ = true;
+      bad_type_ = buf_[1];
+      bad_seq_ = static_cast<uint16_t>(buf_[2] | (buf_[3] << 8));
+      bad_why_ = known ? status::crc_mismatch : status::not_supported;
+      return false;
+    }
+    ++counts_.good;
+    const auto seq = static_cast<uint16_t>(buf_[2] | (buf_[3] << 8));
+    if (have_seq_) {
+      const auto gap = static_cast<uint16_t>(seq - last_seq_);
+      if (gap == 0 || gap >= 0x8000u) {  // the same frame again, or one from the recent past
+        ++counts_.duplicates;
+        if (!deliver_repeats_) return false;
+        frame_ = frame{buf_[1], seq, buf_ + header_bytes, buf_[4]};
+        return true;  // the numbering goes on from the newest frame
+      }
+      counts_.missing += gap - 1u;
+    }
+    have_seq_ = true;
+    last_seq_ = seq;
+    frame_ = frame{buf_[1], seq, buf_ + header_bytes, buf_[4]};
+    return true;
+  }
+
+  uint8_t buf_[Cap] = {};
   size_t n_ = 0;
   bool overflowed_ = false;
   bool have_seq_ = false;
   bool deliver_repeats_ = false;
   uint16_t last_seq_ = 0;
+  bool bad_pending_ = false;
+  uint8_t bad_type_ = 0;
+  uint16_t bad_seq_ = 0;
+  status bad_why_ = status::ok;
   frame frame_{};
   decoder_counts counts_{};
 };
+
+/// The decoder of any frame (a host's).
+using frame_decoder = basic_frame_decoder<max_wire>;
 
 }  // namespace gyroflip::protocol

@@ -4,12 +4,17 @@
 
 namespace gyroflip::protocol {
 
+namespace {
+constexpr size_t max_payload_of_configure = 64;  // 54 bytes (docs/PROTOCOL.md)
+}  // namespace
+
 void configure_msg::put(writer& w) const {
   w.u16(n_avg);
   w.u8(n_temp);
   w.u16(settle_ms);
-  w.i16(pos_a_steps);
-  w.i16(pos_b_steps);
+  w.u8(n_positions);
+  for (const int16_t p : pos_steps) w.i16(p);
+  for (const uint16_t a : pos_cdeg) w.u16(a);
   w.u16(steps_per_rev);
   w.u16(step_rate_sps);
   w.u16(start_rate_sps);
@@ -27,8 +32,9 @@ void configure_msg::get(reader& r) {
   n_avg = r.u16();
   n_temp = r.u8();
   settle_ms = r.u16();
-  pos_a_steps = r.i16();
-  pos_b_steps = r.i16();
+  n_positions = r.u8();
+  for (int16_t& p : pos_steps) p = r.i16();
+  for (uint16_t& a : pos_cdeg) a = r.u16();
   steps_per_rev = r.u16();
   step_rate_sps = r.u16();
   start_rate_sps = r.u16();
@@ -54,6 +60,9 @@ void info_msg::put(writer& w) const {
   w.u16(max_n_avg);
   w.u8(max_raw_codes);
   w.u8(range);
+  w.u8(reset_cause);
+  w.u16(boot_count);
+  w.u16(history_bytes);
   config.put(w);
 }
 
@@ -69,6 +78,9 @@ void info_msg::get(reader& r) {
   max_n_avg = r.u16();
   max_raw_codes = r.u8();
   range = r.u8();
+  reset_cause = r.u8();
+  boot_count = r.u16();
+  history_bytes = r.u16();
   config.get(r);
 }
 
@@ -144,6 +156,14 @@ void status_msg::put(writer& w) const {
   w.u16(rx_errors);
   w.u16(rdy_timeouts);
   w.u8(last_error);
+  w.u16(retransmits);
+  w.u16(history_oldest);
+  w.u16(line_corrected);
+  w.u16(line_uncorrectable);
+  w.u16(start_failures);
+  w.u16(stale_results);
+  w.u16(stack_free);
+  w.u8(clock_faults);
 }
 
 void status_msg::get(reader& r) {
@@ -156,6 +176,14 @@ void status_msg::get(reader& r) {
   rx_errors = r.u16();
   rdy_timeouts = r.u16();
   last_error = r.u8();
+  retransmits = r.u16();
+  history_oldest = r.u16();
+  line_corrected = r.u16();
+  line_uncorrectable = r.u16();
+  start_failures = r.u16();
+  stale_results = r.u16();
+  stack_free = r.u16();
+  clock_faults = r.u8();
 }
 
 void error_msg::put(writer& w) const {
@@ -220,6 +248,48 @@ void cal_result_msg::get(reader& r) {
   flags = r.u8();
 }
 
+namespace {
+
+// u8 count, then count u16: GONE and RESEND.
+void put_seqs(writer& w, uint8_t count, const uint16_t* seqs, uint8_t max) {
+  if (count > max) {
+    w.ok = false;
+    return;
+  }
+  w.u8(count);
+  for (uint8_t i = 0; i < count; ++i) w.u16(seqs[i]);
+}
+void get_seqs(reader& r, uint8_t& count, uint16_t* seqs, uint8_t max) {
+  count = r.u8();
+  if (count > max) {
+    r.ok = false;
+    return;
+  }
+  for (uint8_t i = 0; i < count; ++i) seqs[i] = r.u16();
+}
+
+}  // namespace
+
+void gone_msg::put(writer& w) const {
+  put_seqs(w, count, seqs, max_seqs);
+}
+void gone_msg::get(reader& r) {
+  get_seqs(r, count, seqs, max_seqs);
+}
+void resend_msg::put(writer& w) const {
+  put_seqs(w, count, seqs, max_seqs);
+}
+void resend_msg::get(reader& r) {
+  get_seqs(r, count, seqs, max_seqs);
+}
+
+uint16_t configure_crc(const configure_msg& c) {
+  uint8_t b[max_payload_of_configure];
+  writer w{b, sizeof b};
+  c.put(w);
+  return crc16(b, w.n);
+}
+
 bool crc_extra_of(uint8_t t, uint8_t& extra) {
   switch (static_cast<msg>(t)) {
     case msg::info:
@@ -269,6 +339,12 @@ bool crc_extra_of(uint8_t t, uint8_t& extra) {
       return true;
     case msg::calibrate:
       extra = calibrate_msg::crc_extra;
+      return true;
+    case msg::gone:
+      extra = gone_msg::crc_extra;
+      return true;
+    case msg::resend:
+      extra = resend_msg::crc_extra;
       return true;
   }
   return false;

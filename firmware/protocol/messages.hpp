@@ -28,6 +28,7 @@ enum class msg : uint8_t {
   nak = 0x15,
   compensated = 0x16,
   cal_result = 0x17,
+  gone = 0x18,
   ping = 0x20,
   configure = 0x21,
   start = 0x22,
@@ -35,6 +36,7 @@ enum class msg : uint8_t {
   home = 0x24,
   set_delta_n = 0x25,
   calibrate = 0x26,
+  resend = 0x27,
 };
 
 /// The layout seed of a message: CRC-16/CCITT-FALSE of its layout text (name and fields in
@@ -53,8 +55,17 @@ enum config_flag : uint8_t {
   cfg_one_way = 0x04,     ///< turn A->B->A always the same way (rotary joint) instead of back
   cfg_home = 0x08,        ///< find the home switch before the first cycle
   cfg_compensate = 0x10,  ///< send COMPENSATED per cycle (r - dN, dN from SET_DELTA_N/CALIBRATE)
+  /// Keep the flip motor's coils energised during dwells and while idle. Off by default: the
+  /// coils are switched off once a turn has settled, because a two-phase-on hold heats the
+  /// table under the gyro (docs/HARDWARE.md, "Stepper holding current").
+  cfg_hold_coils = 0x20,
 };
-inline constexpr uint8_t cfg_all = 0x1F;
+inline constexpr uint8_t cfg_all = 0x3F;
+
+/// Positions a CONFIGURE can hold (the dwell sequence visits 0, 1, ..., n_positions - 1, 0, ...).
+inline constexpr uint8_t max_positions = 8;
+/// Angles in CONFIGURE are in hundredths of a degree, 0 .. 35 999.
+inline constexpr uint16_t centidegrees_per_turn = 36000;
 
 /// What the motor that does not flip does (`configure_msg::other_motor`).
 enum class other_motor : uint8_t {
@@ -70,31 +81,55 @@ enum dwell_flag : uint8_t {
   dwell_rdy_timeout = 0x02,  ///< RDY did not come within 3 conversion times (a code missing)
   dwell_step_fault = 0x04,   ///< the turn before this dwell did not reach its position
   dwell_raw_dropped = 0x08,  ///< a RAW block of this dwell did not fit the transmit buffer
+  /// A conversion result was not taken: the AD7739 said it was not this channel's new result
+  /// (RDY was still low from an earlier one) or it came before its conversion time
+  dwell_stale = 0x10,
+  dwell_noref = 0x20,         ///< the AD7739 flagged its reference missing (NOREF) in a result
+  dwell_start_failed = 0x40,  ///< a conversion could not be started (the SPI bus failed)
 };
 
 /// The device's states (`status_msg::state`).
 enum class device_state : uint8_t { idle = 0, homing = 1, running = 2, fault = 3 };
 
 /// The parts an ERROR names (`error_msg::what`).
-enum class error_source : uint8_t { adc = 1, stepper = 2, link = 3, configuration = 4 };
+enum class error_source : uint8_t { adc = 1, stepper = 2, link = 3, configuration = 4, clock = 5 };
+
+/// Why the device last started (`info_msg::reset_cause`), as its microcontroller tells it.
+enum class reset_cause : uint8_t {
+  unknown = 0,
+  power_on = 1,   ///< power applied (or a brown-out)
+  watchdog = 2,   ///< the watchdog expired: the firmware stopped making progress
+  reset_pin = 3,  ///< the reset pin (a debugger, a button)
+  other = 4,      ///< another reset (a flash or watchdog key violation)
+};
+
+/// Bits of `status_msg::clock_faults` (and ERROR clock values).
+enum clock_fault : uint8_t {
+  clock_xt2 = 0x01,    ///< the high-frequency crystal (MCLK, SMCLK: UART baud, SPI) failed
+  clock_lfxt1 = 0x02,  ///< the 32 768 Hz crystal (ACLK: the tick counter) failed
+};
 
 /// CONFIGURE (host to device), also the second half of INFO. Defaults: the paper's rig.
 struct configure_msg {
   static constexpr msg type = msg::configure;
   static constexpr const char* layout =
-      "configure:u16 n_avg;u8 n_temp;u16 settle_ms;i16 pos_a_steps;i16 pos_b_steps;"
-      "u16 steps_per_rev;u16 step_rate_sps;u16 start_rate_sps;u16 ramp_sps2;u8 filter_word;"
-      "u8 flags;u8 flip_motor;u8 other_motor;u8 gyro_channel;u8 temp_channel;"
+      "configure:u16 n_avg;u8 n_temp;u16 settle_ms;u8 n_positions;i16 pos_steps[8];"
+      "u16 pos_cdeg[8];u16 steps_per_rev;u16 step_rate_sps;u16 start_rate_sps;u16 ramp_sps2;"
+      "u8 filter_word;u8 flags;u8 flip_motor;u8 other_motor;u8 gyro_channel;u8 temp_channel;"
       "u16 status_period_ms";
   static constexpr uint8_t crc_extra = layout_seed(layout);
   uint16_t n_avg = 256;              ///< gyro conversions per dwell (paper: 256)
   uint8_t n_temp = 4;                ///< temperature conversions per dwell, after the gyro's
   uint16_t settle_ms = 80;           ///< wait after a turn before the first conversion
-  int16_t pos_a_steps = 0;           ///< position A (0 deg) in steps
-  int16_t pos_b_steps = 100;         ///< position B (180 deg) in steps
+  uint8_t n_positions = 2;           ///< positions in the angle table, 2..max_positions
+  /// The angle table: each position in steps of the flip motor (from home) and the table angle
+  /// it stands for in hundredths of a degree. A DWELL's `position` is an index into it. Default:
+  /// A = 0 deg at step 0, B = 180 deg at step 100 (200 steps per revolution).
+  int16_t pos_steps[max_positions] = {0, 100};
+  uint16_t pos_cdeg[max_positions] = {0, 18000};
   uint16_t steps_per_rev = 200;      ///< full steps per turn of the table
   uint16_t step_rate_sps = 400;      ///< top step rate
-  uint16_t start_rate_sps = 100;     ///< first step rate of the ramp
+  uint16_t start_rate_sps = 200;     ///< first step rate of the ramp (the simulator's pull-in rate)
   uint16_t ramp_sps2 = 2000;         ///< acceleration (steps/s^2)
   uint8_t filter_word = 94;          ///< AD7739 FW (~2 ms with chop: docs/HARDWARE.md)
   uint8_t flags = cfg_chop;          ///< config_flag bits
@@ -113,7 +148,8 @@ struct info_msg {
   static constexpr msg type = msg::info;
   static constexpr const char* layout =
       "info:u8 fw_major;u8 fw_minor;u8 fw_patch;u8 protocol;u32 serial;u32 mclk_hz;"
-      "u32 tick_hz;u8 adc_revision;u16 max_n_avg;u8 max_raw_codes;u8 range;configure";
+      "u32 tick_hz;u8 adc_revision;u16 max_n_avg;u8 max_raw_codes;u8 range;u8 reset_cause;"
+      "u16 boot_count;u16 history_bytes;configure";
   static constexpr uint8_t crc_extra =
       static_cast<uint8_t>(layout_seed(layout) ^ configure_msg::crc_extra);
   uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0, protocol = 0;
@@ -124,6 +160,9 @@ struct info_msg {
   uint16_t max_n_avg = 0;     ///< largest n_avg this firmware accepts
   uint8_t max_raw_codes = 0;  ///< codes per RAW block
   uint8_t range = 0;          ///< AD7739 channel-setup range code (4: +-2.5 V)
+  uint8_t reset_cause = 0;    ///< a reset_cause value: why the device last started
+  uint16_t boot_count = 0;    ///< starts since power-on (wraps); a change means it rebooted
+  uint16_t history_bytes = 0;  ///< size of the retransmit history (docs/PROTOCOL.md, RESEND)
   configure_msg config;       ///< the configuration in force
   void put(writer& w) const;
   void get(reader& r);
@@ -138,8 +177,8 @@ struct dwell_msg {
       "i48 code_sum;i24 code_min;i24 code_max;u8 n_temp;i32 temp_sum;u32 ax_high_ticks;"
       "u32 ax_period_ticks;u32 ay_high_ticks;u32 ay_period_ticks";
   static constexpr uint8_t crc_extra = layout_seed(layout);
-  uint32_t cycle = 0;    ///< cycle index (a cycle is a dwell at A and one at B)
-  uint8_t position = 0;  ///< 0 = A (0 deg), 1 = B (180 deg)
+  uint32_t cycle = 0;    ///< cycle index (a cycle is one dwell at each position)
+  uint8_t position = 0;  ///< index into CONFIGURE's angle table (default: 0 = A 0 deg, 1 = B 180)
   uint8_t flags = 0;     ///< dwell_flag bits
   uint32_t t_start_ticks = 0, t_end_ticks = 0;  ///< first conversion started, last one read
   uint16_t n = 0;        ///< gyro conversions in the sum (n_avg less RDY timeouts)
@@ -175,7 +214,7 @@ struct raw_msg {
   static constexpr msg type = msg::raw;
   static constexpr const char* layout = "raw:u32 first_index;u8 count;i24 codes[count]";
   static constexpr uint8_t crc_extra = layout_seed(layout);
-  static constexpr uint8_t max_codes = 64;
+  static constexpr uint8_t max_codes = 32;
   uint32_t first_index = 0;  ///< index of the first code in the run's count of gyro conversions
   uint8_t count = 0;
   uint8_t packed[3 * max_codes] = {};
@@ -197,7 +236,9 @@ struct status_msg {
   static constexpr msg type = msg::status;
   static constexpr const char* layout =
       "status:u8 state;u32 uptime_ticks;u32 cycle;u32 frames_sent;u16 frames_dropped;"
-      "u16 rx_frames_ok;u16 rx_errors;u16 rdy_timeouts;u8 last_error";
+      "u16 rx_frames_ok;u16 rx_errors;u16 rdy_timeouts;u8 last_error;u16 retransmits;"
+      "u16 history_oldest;u16 line_corrected;u16 line_uncorrectable;u16 start_failures;"
+      "u16 stale_results;u16 stack_free;u8 clock_faults";
   static constexpr uint8_t crc_extra = layout_seed(layout);
   uint8_t state = 0;  ///< a device_state
   uint32_t uptime_ticks = 0;
@@ -206,7 +247,15 @@ struct status_msg {
   uint16_t frames_dropped = 0;  ///< frames that did not fit the transmit buffer (RAW first)
   uint16_t rx_frames_ok = 0, rx_errors = 0;
   uint16_t rdy_timeouts = 0;
-  uint8_t last_error = 0;  ///< a status code
+  uint8_t last_error = 0;       ///< a status code
+  uint16_t retransmits = 0;     ///< frames sent again on RESEND
+  uint16_t history_oldest = 0;  ///< sequence number of the oldest frame RESEND can still send
+  uint16_t line_corrected = 0;  ///< received wire bytes with a bit corrected by the line code
+  uint16_t line_uncorrectable = 0;  ///< received wire bytes beyond correction
+  uint16_t start_failures = 0;      ///< conversions that could not be started (SPI failure)
+  uint16_t stale_results = 0;       ///< conversion results refused as not new (dwell_stale)
+  uint16_t stack_free = 0;  ///< stack bytes never used since boot (the high-water mark's margin)
+  uint8_t clock_faults = 0;  ///< clock_fault bits seen since boot
   void put(writer& w) const;
   void get(reader& r);
   bool operator==(const status_msg&) const = default;
@@ -223,6 +272,36 @@ struct error_msg {
   void put(writer& w) const;
   void get(reader& r);
   bool operator==(const error_msg&) const = default;
+};
+
+/// GONE (device to host): these sequence numbers will never be sent (again): a RESEND asked for
+/// frames the device no longer holds, or never kept (RAW, ACK, STATUS, ...). The host records
+/// them as lost.
+struct gone_msg {
+  static constexpr msg type = msg::gone;
+  static constexpr const char* layout = "gone:u8 count;u16 seqs[count]";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  static constexpr uint8_t max_seqs = 16;
+  uint8_t count = 0;
+  uint16_t seqs[max_seqs] = {};
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const gone_msg&) const = default;
+};
+
+/// RESEND (host to device): send these frames again (their sequence numbers as first sent). The
+/// frames themselves are the answer; those the device no longer holds come back in a GONE. Not
+/// acknowledged.
+struct resend_msg {
+  static constexpr msg type = msg::resend;
+  static constexpr const char* layout = "resend:u8 count;u16 seqs[count]";
+  static constexpr uint8_t crc_extra = layout_seed(layout);
+  static constexpr uint8_t max_seqs = 16;
+  uint8_t count = 0;
+  uint16_t seqs[max_seqs] = {};
+  void put(writer& w) const;
+  void get(reader& r);
+  bool operator==(const resend_msg&) const = default;
 };
 
 /// ACK (device to host): the command with this sequence number and type was done.
@@ -289,14 +368,22 @@ struct ping_msg {
   bool operator==(const ping_msg&) const = default;
 };
 
+/// START (host to device): starts a run from cycle 0 if the device's configuration is the one
+/// whose config_crc this carries (configure_crc); otherwise NAK config_mismatch. A START sent
+/// before a device reset and arriving after it therefore never starts the rebooted device on
+/// its default configuration (its table not homed: every position mislabelled).
 struct start_msg {
   static constexpr msg type = msg::start;
-  static constexpr const char* layout = "start:";
+  static constexpr const char* layout = "start:u16 config_crc";
   static constexpr uint8_t crc_extra = layout_seed(layout);
-  void put(writer&) const {}
-  void get(reader&) {}
+  uint16_t config_crc = 0;
+  void put(writer& w) const { w.u16(config_crc); }
+  void get(reader& r) { config_crc = r.u16(); }
   bool operator==(const start_msg&) const = default;
 };
+
+/// CRC-16/CCITT-FALSE of a configuration's CONFIGURE payload: what START names.
+[[nodiscard]] uint16_t configure_crc(const configure_msg& c);
 
 struct stop_msg {
   static constexpr msg type = msg::stop;

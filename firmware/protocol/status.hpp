@@ -16,7 +16,9 @@ enum class status : uint8_t {
   timeout = 5,        ///< a device line (RDY) did not come in time
   bus_error = 6,      ///< an SPI/UART transfer failed
   not_supported = 7,  ///< a message or setting this firmware does not have
-  busy = 8            ///< not now: the command needs the device idle (STOP first)
+  busy = 8,           ///< not now: the command needs the device idle (STOP first)
+  hw_fault = 9,       ///< the device found a hardware fault (a clock) and does not acquire
+  config_mismatch = 10  ///< START named another configuration than the device's (it rebooted)
 };
 
 }  // namespace gyroflip::protocol

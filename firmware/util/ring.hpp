@@ -16,7 +16,7 @@ class byte_ring {
   /// Appends all `n` bytes, or none when they do not fit.
   bool push(const uint8_t* p, size_t n) {
     if (n > free()) return false;
-    for (size_t i = 0; i < n; ++i) buf_[(head_ + count_ + i) % N] = p[i];
+    for (size_t i = 0; i < n; ++i) buf_[wrap(head_ + count_ + i)] = p[i];
     count_ += n;
     return true;
   }
@@ -28,11 +28,13 @@ class byte_ring {
   }
   void pop() {
     if (count_ == 0) return;
-    head_ = (head_ + 1) % N;
+    head_ = wrap(head_ + 1);
     --count_;
   }
 
  private:
+  // An index below 2N wrapped without a division (a runtime-helper call on the MSP430).
+  static size_t wrap(size_t i) { return i >= N ? i - N : i; }
   uint8_t buf_[N] = {};
   size_t head_ = 0;
   size_t count_ = 0;

@@ -116,7 +116,8 @@ const fw::device& emulator::device() const noexcept {
 }
 
 void emulator::boot() {
-  p_->dev->boot();
+  boots_ = 1;
+  p_->dev->boot({static_cast<std::uint8_t>(protocol::reset_cause::power_on), boots_});
 }
 
 // A reset (watchdog, brown-out, the reset button) clears the microcontroller's RAM: a new firmware
@@ -124,7 +125,8 @@ void emulator::boot() {
 // boot resets it, and bytes already on the wire arrive.
 void emulator::reset() {
   p_->dev.emplace(p_->board.hw(), p_->facts);
-  p_->dev->boot();
+  ++boots_;  // kept in memory a reset does not clear (on the MSP430F149: .noinit)
+  p_->dev->boot({static_cast<std::uint8_t>(protocol::reset_cause::reset_pin), boots_});
 }
 
 std::size_t emulator::step_index() const noexcept {

@@ -56,8 +56,8 @@ class emulator {
 
   /// Boots the firmware: it resets and calibrates the ADC and sends INFO.
   void boot();
-  /// Resets the microcontroller (firmware state lost) and boots it again; the table, the
-  /// sensor and the line keep their state.
+  /// Resets the microcontroller (firmware state lost, its boot counter kept) and boots it
+  /// again; the table, the sensor and the line keep their state.
   void reset();
   /// Runs `n` ticks of the device clock, one main-loop pass per tick.
   void run(std::uint32_t n);
@@ -98,6 +98,7 @@ class emulator {
   std::int32_t pos_last_ = 0;           // table step at that window
   std::int32_t pos_accel_ = -1;         // table step the accelerometer outputs were set for
   double conv_table_deg_ = 0.0;         // table angle at the last gyro conversion
+  std::uint16_t boots_ = 0;             // the device's boot counter
 };
 
 }  // namespace gyroflip::host

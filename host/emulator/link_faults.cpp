@@ -43,7 +43,10 @@ bool link_faults::pass(std::uint8_t in, std::uint8_t& out) {
       }
     }
   }
-  if (in == 0x00) {
+  // A frame ends with a run of zero wire bytes (protocol v2's line code: 4 zeros; inside a frame
+  // there are never more than 2 in a row): the 4th zero closes it.
+  zeros_ = in == 0x00 ? zeros_ + 1 : 0;
+  if (zeros_ == 4) {
     ++counts_.frames;
     if (hit_) ++counts_.frames_hit;
     last_hit_ = hit_;

@@ -10,12 +10,14 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 #include "firmware/protocol/status.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/method/calibration.hpp"
@@ -28,6 +30,7 @@ namespace {
 
 using steady = std::chrono::steady_clock;
 namespace p = protocol;
+namespace gfr = rigdata::gfr;
 
 const char* status_name(std::uint8_t s) {
   switch (static_cast<p::status>(s)) {
@@ -38,7 +41,7 @@ const char* status_name(std::uint8_t s) {
     case p::status::bad_frame:
       return "a malformed frame";
     case p::status::crc_mismatch:
-      return "a CRC mismatch";
+      return "a damaged frame";
     case p::status::overflow:
       return "a buffer overflow";
     case p::status::timeout:
@@ -49,6 +52,10 @@ const char* status_name(std::uint8_t s) {
       return "not supported by this firmware";
     case p::status::busy:
       return "busy";
+    case p::status::hw_fault:
+      return "a hardware fault (a clock: see its ERROR)";
+    case p::status::config_mismatch:
+      return "another configuration than the one sent (the device rebooted)";
   }
   return "an unknown reason";
 }
@@ -93,11 +100,89 @@ std::vector<std::uint8_t> payload_of(const M& m) {
   return b;
 }
 
+// The device's frames as the recorder tracks them within one session of the device (between
+// two resets): sequence numbers unwrapped to 64 bits, the missing ones remembered until they
+// arrive (asked for with RESEND) or are given up (the device no longer has them).
+class receive_window {
+ public:
+  enum class arrival { fresh, recovered, repeat };
+
+  void reset() {
+    have_ = false;
+    missing_.clear();
+  }
+  arrival arrive(std::uint16_t seq) {
+    if (!have_) {
+      have_ = true;
+      highest_ = seq;
+      return arrival::fresh;
+    }
+    const std::uint64_t s = unwrap(seq);
+    if (s > highest_) {
+      for (std::uint64_t m = highest_ + 1; m < s; ++m) missing_.emplace(m, miss{});
+      highest_ = s;
+      return arrival::fresh;
+    }
+    return missing_.erase(s) != 0 ? arrival::recovered : arrival::repeat;
+  }
+  /// Up to `max` missing sequence numbers not asked for within `interval_s`, oldest first;
+  /// each is marked asked.
+  std::vector<std::uint16_t> due(double interval_s, std::size_t max) {
+    std::vector<std::uint16_t> out;
+    const auto now = steady::now();
+    for (auto& [s, m] : missing_) {
+      if (out.size() == max) break;
+      if (m.asked != 0 && std::chrono::duration<double>(now - m.last).count() < interval_s)
+        continue;
+      ++m.asked;
+      m.last = now;
+      out.push_back(static_cast<std::uint16_t>(s));
+    }
+    return out;
+  }
+  /// Gives up `seq` (GONE); true when it was missing.
+  bool give_up(std::uint16_t seq) { return have_ && missing_.erase(unwrap(seq)) != 0; }
+  /// Gives up everything older than `oldest` (the oldest frame the device still holds), and
+  /// what was asked for `max_asks` times: how many.
+  std::size_t give_up_older(std::uint16_t oldest, int max_asks) {
+    if (!have_) return 0;
+    const std::uint64_t o = unwrap(oldest);
+    return std::erase_if(missing_, [&](const auto& e) {
+      return e.first < o || e.second.asked >= max_asks;
+    });
+  }
+  std::size_t give_up_all() {
+    const std::size_t n = missing_.size();
+    missing_.clear();
+    return n;
+  }
+  [[nodiscard]] std::size_t missing() const noexcept { return missing_.size(); }
+
+ private:
+  struct miss {
+    int asked = 0;
+    steady::time_point last{};
+  };
+  // The 64-bit number nearest the highest seen with these low 16 bits.
+  [[nodiscard]] std::uint64_t unwrap(std::uint16_t seq) const {
+    const auto d = static_cast<std::int16_t>(static_cast<std::uint16_t>(seq - highest_));
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(highest_) + d);
+  }
+  bool have_ = false;
+  std::uint64_t highest_ = 0;
+  std::map<std::uint64_t, miss> missing_;
+};
+
 class session {
  public:
   session(const recorder_config& c, gfr::writer w, const std::atomic<bool>& stop,
           const recorder_progress_fn& fn)
-      : c_(c), file_(std::move(w)), stop_(stop), on_progress_(fn), live_(c.output, false) {}
+      : c_(c), file_(std::move(w)), stop_(stop), on_progress_(fn), live_(c.output, false) {
+    // A fresh command numbering for every session: a command the device remembers from another
+    // run is never taken for a retry of this one's.
+    std::random_device rd;
+    seq_ = static_cast<std::uint16_t>(rd());
+  }
 
   result<recorder_result> run();
 
@@ -105,20 +190,25 @@ class session {
   // The link.
   status open_port();
   template <class M>
-  status send(const M& m, std::uint16_t* seq_out = nullptr);
+  status send(const M& m, std::uint16_t seq);
   status pump(int timeout_ms);
   status on_frame(const p::frame& f);
+  status on_info(const p::frame& f, bool asked);
   result<p::info_msg> ping();
   template <class M>
   status command(const M& m, const char* name);
   status start_run();
-  status begin_recording();
+  status begin_recording(std::uint16_t ack_seq);
+  status request_missing(double interval_s);
+  status drain_missing();
+  status handle_reset();
   result<bool> reconnect(steady::time_point lost_at);
   result<recorder_result> finish(gfr::stop_reason why);
   // The file.
   status append(gfr::kind k, std::span<const std::uint8_t> body = {});
   status append_gap(gfr::gap_reason r, std::uint32_t count);
-  status note_decoder();
+  status note_lost(std::size_t n);
+  status note_corrupt();
   status tick();
   [[nodiscard]] recorder_status status_now() const;
   [[nodiscard]] double elapsed_s() const {
@@ -129,38 +219,47 @@ class session {
     return static_cast<std::uint64_t>(
         std::chrono::duration_cast<std::chrono::microseconds>(steady::now() - t0_).count());
   }
-
-  // A rebooted firmware counts the table's steps from where it stands: unless it finds the home
-  // switch first, a reset while the table was at B would name every later B dwell A.
-  void home_after_reset() { running_.flags |= p::cfg_home; }
+  [[nodiscard]] error interrupted() const {
+    return runtime_error(fmt::format("{}: interrupted before the rig answered", c_.port));
+  }
 
   const recorder_config& c_;
   p::configure_msg running_ = c_.device;  // what the device runs with (CONFIGURE records)
   gfr::writer file_;
   const std::atomic<bool>& stop_;
   const recorder_progress_fn& on_progress_;
-  rig_run_builder live_;
+  rigdata::rig_run_builder live_;
   std::size_t records_ = 0;
   method::flip_stream stream_{method::pairing::abba};
   std::vector<method::cycle> cycles_;
   std::size_t dwells_seen_ = 0;
 
   std::optional<serial_port> port_;
-  p::frame_decoder dec_{true};  // a device reset restarts its numbering: take repeats too
-  std::uint32_t noted_bad_ = 0, noted_missing_ = 0;
+  p::stream_decoder dec_{true};  // retransmitted (older) frames are handed out too
+  p::frame_decoder old_dec_;     // the same bytes as protocol v1 framed them (foreign devices)
+  receive_window window_;
+  std::uint32_t noted_bad_ = 0;
   std::uint16_t seq_ = 0;
-  bool recording_ = false;      // after START: every frame goes to the file
-  bool start_pending_ = false;  // a START was sent: its ACK begins the recording
+  bool recording_ = false;  // a START was acknowledged: the run is on
   bool stopping_ = false;
   bool waiting_info_ = false;
-  std::optional<p::info_msg> info_;                      // the INFO a PING brought
-  std::optional<std::vector<std::uint8_t>> reset_info_;  // an unasked INFO (the device rebooted)
-  bool device_idle_ = false;                             // a STATUS said idle while we record
+  std::optional<p::info_msg> info_;     // the session's device (serial, boot count)
+  std::optional<p::info_msg> got_info_;  // the INFO a PING brought
+  bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
+  bool device_idle_ = false;             // a STATUS said idle while we record
+  std::uint32_t last_uptime_ = 0;
+  bool have_uptime_ = false;
+  steady::time_point last_uptime_at_{};
+  double device_speed_ = 1.0;  // device seconds per wall second
   std::optional<std::uint16_t> reply_seq_;
   std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
   bool replied_ = false;
+  bool resend_now_ = false;  // the device said our command arrived damaged
+  std::optional<std::uint16_t> start_ack_seq_;
   bool waiting_for_port_ = false;
   bool link_down_ = false;  // the last error came from the port, not the file
+  std::optional<error> fatal_;  // a reason to end the run found while reading
+  std::uint64_t recovered_ = 0, lost_ = 0;
   steady::time_point t0_ = steady::now();
   steady::time_point last_tick_ = steady::now();
 };
@@ -171,7 +270,7 @@ status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
   if (auto s = live_.add(r, ++records_); !s) return s;
   const auto& dw = live_.run().dwells;
   for (; dwells_seen_ < dw.size(); ++dwells_seen_)
-    if (auto row = dwell_row(dw[dwells_seen_]))
+    if (auto row = rigdata::dwell_row(dw[dwells_seen_]))
       stream_.push(*row, [this](const method::cycle& cy) { cycles_.push_back(cy); });
   return ok();
 }
@@ -184,18 +283,20 @@ status session::append_gap(gfr::gap_reason r, std::uint32_t count) {
   return append(gfr::kind::gap, b);
 }
 
-// Frames the decoder dropped or found missing since the last call become gap records.
-status session::note_decoder() {
-  const auto& k = dec_.counts();
-  if (k.bad() != noted_bad_) {
-    if (auto s = append_gap(gfr::gap_reason::corrupt, k.bad() - noted_bad_); !s) return s;
-    noted_bad_ = k.bad();
-  }
-  if (k.missing != noted_missing_) {
-    if (auto s = append_gap(gfr::gap_reason::missing, k.missing - noted_missing_); !s) return s;
-    noted_missing_ = k.missing;
-  }
-  return ok();
+// Frames given up: the device no longer has them. Only these are lost.
+status session::note_lost(std::size_t n) {
+  if (n == 0) return ok();
+  lost_ += n;
+  return append_gap(gfr::gap_reason::missing, static_cast<std::uint32_t>(n));
+}
+
+// Frames the decoder dropped since the last call (damaged on the line; RESEND brings most back).
+status session::note_corrupt() {
+  const std::uint32_t bad = dec_.counts().bad();
+  if (bad == noted_bad_) return ok();
+  const std::uint32_t n = bad - noted_bad_;
+  noted_bad_ = bad;
+  return append_gap(gfr::gap_reason::corrupt, n);
 }
 
 // What the run looks like now (the progress report and the result).
@@ -208,7 +309,9 @@ recorder_status session::status_now() const {
   st.cycles = cycles_.size();
   st.frames_good = run.frames;
   st.frames_corrupt = run.corrupt_frames;
-  st.frames_missing = run.missing_frames;
+  st.frames_recovered = recovered_;
+  st.frames_lost = lost_;
+  st.frames_pending = window_.missing();
   st.device_resets = run.device_resets;
   st.link_losses = run.link_losses;
   st.delta_n_dps = st.delta_n_se_dps = method::no_value;
@@ -240,52 +343,108 @@ status session::open_port() {
 }
 
 template <class M>
-status session::send(const M& m, std::uint16_t* seq_out) {
-  std::uint8_t buf[p::max_wire];
-  const std::uint16_t seq = seq_++;
-  const std::size_t n = p::encode_message(m, seq, buf, sizeof buf);
-  if (seq_out != nullptr) *seq_out = seq;
+status session::send(const M& m, std::uint16_t seq) {
+  std::uint8_t buf[p::max_wire_bytes];
+  const std::size_t n = p::encode_wire(m, seq, buf, sizeof buf, true);
   auto s = port_->write(buf, n, 1000);
   if (!s) link_down_ = true;
   return s;
 }
 
-status session::on_frame(const p::frame& f) {
-  const auto type = static_cast<p::msg>(f.type);
-  if ((type == p::msg::ack || type == p::msg::nak) && reply_seq_) {
-    p::ack_msg a;
-    p::nak_msg n;
-    if (f.as(a) && a.seq == *reply_seq_) replied_ = true;
-    // Any START's ACK: a retried START's first ACK may be the one that got through.
-    if (start_pending_ && f.as(a) && a.of_type == static_cast<std::uint8_t>(p::msg::start)) {
-      replied_ = true;
-      if (auto s = begin_recording(); !s) return s;
-    }
-    if (f.as(n) && n.seq == *reply_seq_) {
-      replied_ = true;
-      reply_nak_ = n.reason;
-    }
+// An INFO: the session's device, a reboot of it (another boot count), or another device.
+status session::on_info(const p::frame& f, bool asked) {
+  p::info_msg m;
+  if (!f.as(m)) return ok();
+  if (waiting_info_) {
+    got_info_ = m;
+    waiting_info_ = false;
   }
-  if (type == p::msg::info) {
-    p::info_msg m;
-    if (!f.as(m)) return ok();
-    if (waiting_info_) {
-      info_ = m;
-      waiting_info_ = false;
-      return ok();
-    }
-    // An INFO nobody asked for: the device booted again (docs/PROTOCOL.md, INFO).
-    if (recording_) reset_info_.emplace(f.payload, f.payload + f.length);
+  if (!info_) return ok();
+  if (m.serial != info_->serial) {
+    fatal_ = runtime_error(
+        fmt::format("{}: another device answered (serial {} instead of {}): it is not recorded "
+                    "into the same file; {} is complete up to here",
+                    c_.port, m.serial, info_->serial, c_.output));
     return ok();
   }
-  if (type == p::msg::status && recording_ && !stopping_) {
-    p::status_msg m;
-    if (f.as(m) && m.state == static_cast<std::uint8_t>(p::device_state::idle)) device_idle_ = true;
+  // A boot: the device's INFO at boot is its first frame (sequence number 0), and every boot
+  // counts up (a power-on, which starts the count again, also restarts the uptime: STATUS).
+  // Another INFO is a late answer to a PING, whoever asked.
+  static_cast<void>(asked);
+  if ((f.seq == 0 || m.boot_count != info_->boot_count) && !reset_seen_) {
+    reset_seen_ = true;
+    info_ = m;
+    window_.reset();
+    dec_.frames().reset_sequence();
+    if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s;
+    return append(gfr::kind::info, payload_of(m));
   }
   return ok();
 }
 
-// Reads what arrives within `timeout_ms`; stores every valid frame while recording.
+status session::on_frame(const p::frame& f) {
+  const auto type = static_cast<p::msg>(f.type);
+  if (type == p::msg::ack || type == p::msg::nak) {
+    p::ack_msg a;
+    p::nak_msg n;
+    const bool is_ack = f.as(a);
+    const bool is_nak = !is_ack && f.as(n);
+    const std::uint16_t of = is_ack ? a.seq : n.seq;
+    if (reply_seq_ && of == *reply_seq_) {
+      if (is_nak && n.reason == static_cast<std::uint8_t>(p::status::crc_mismatch)) {
+        resend_now_ = true;  // our command arrived damaged: send it again at once
+      } else if (is_ack || is_nak) {
+        replied_ = true;
+        if (is_nak) reply_nak_ = n.reason;
+        if (is_ack && a.of_type == static_cast<std::uint8_t>(p::msg::start))
+          start_ack_seq_ = f.seq;
+      }
+    }
+    return ok();
+  }
+  if (type == p::msg::info) return on_info(f, waiting_info_);
+  if (type == p::msg::gone) {
+    p::gone_msg g;
+    if (!f.as(g)) return ok();
+    std::size_t n = 0;
+    for (std::uint8_t i = 0; i < g.count; ++i) n += window_.give_up(g.seqs[i]) ? 1u : 0u;
+    return note_lost(n);
+  }
+  if (type == p::msg::status) {
+    p::status_msg m;
+    if (!f.as(m)) return ok();
+    // The uptime went back (not a wrap of its 32 bits): the device restarted (a power-on).
+    if (m.uptime_ticks < last_uptime_ && last_uptime_ - m.uptime_ticks < 0x80000000u &&
+        !reset_seen_) {
+      reset_seen_ = true;
+      window_.reset();
+      dec_.frames().reset_sequence();
+      if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s;
+    }
+    // How fast the device's clock runs against ours (1 for a rig, more for an emulator at
+    // --speed): a RESEND is repeated after a device-time interval, not a wall-clock one.
+    const auto now = steady::now();
+    if (info_ && info_->tick_hz != 0 && have_uptime_ && m.uptime_ticks > last_uptime_) {
+      const double dev_s = (m.uptime_ticks - last_uptime_) / static_cast<double>(info_->tick_hz);
+      const double wall_s = std::chrono::duration<double>(now - last_uptime_at_).count();
+      if (wall_s > 0) device_speed_ = std::clamp(dev_s / wall_s, 0.01, 1e5);
+    }
+    have_uptime_ = true;
+    last_uptime_at_ = now;
+    last_uptime_ = m.uptime_ticks;
+    // Idle while recording: but only a STATUS the device sent after it acknowledged START
+    // (one sent just before is still on its way when the run has begun).
+    const bool after_start = start_ack_seq_ && static_cast<std::int16_t>(static_cast<std::uint16_t>(
+                                                   f.seq - *start_ack_seq_)) > 0;
+    if (recording_ && !stopping_ && after_start &&
+        m.state == static_cast<std::uint8_t>(p::device_state::idle))
+      device_idle_ = true;
+    return note_lost(window_.give_up_older(m.history_oldest, 40));
+  }
+  return ok();
+}
+
+// Reads what arrives within `timeout_ms`; stores every new valid frame of the device.
 status session::pump(int timeout_ms) {
   std::uint8_t in[4096];
   auto got = port_->read(in, sizeof in, timeout_ms);
@@ -294,9 +453,12 @@ status session::pump(int timeout_ms) {
     return got.err();
   }
   for (std::size_t i = 0; i < *got; ++i) {
+    if (!info_) static_cast<void>(old_dec_.push(in[i]));  // a v1 device's frames, counted
     if (!dec_.push(in[i])) continue;
     const auto& f = dec_.current();
-    if (recording_) {
+    const auto arrived = info_ ? window_.arrive(f.seq) : receive_window::arrival::fresh;
+    if (arrived == receive_window::arrival::recovered) ++recovered_;
+    if (info_ && arrived != receive_window::arrival::repeat) {
       std::uint8_t body[3 + p::max_payload];
       p::writer w{body, sizeof body};
       w.u8(f.type);
@@ -304,103 +466,155 @@ status session::pump(int timeout_ms) {
       std::copy_n(f.payload, f.length, w.take(f.length));
       if (auto s = append(gfr::kind::frame, {body, w.n}); !s) return s;
     }
-    if (auto s = on_frame(f); !s) return s;
+    // A STATUS or INFO says something now even when its number looks old (a rebooted device
+    // counts from 0 again).
+    if (arrived != receive_window::arrival::repeat || f.type == static_cast<std::uint8_t>(p::msg::status) ||
+        f.type == static_cast<std::uint8_t>(p::msg::info))
+      if (auto s = on_frame(f); !s) return s;
   }
-  if (recording_) return note_decoder();
+  if (info_) return note_corrupt();
   return ok();
 }
 
-// PING until an INFO comes (a noisy line may take several tries). A device of another protocol
-// version is told by the version byte of the frames the decoder drops: only when three of them
-// agree and no frame of ours came (a bit flip in a frame's first byte looks the same, and a noisy
-// line still lets some frames through).
-result<p::info_msg> session::ping() {
-  constexpr int attempts = 6;
-  std::map<std::uint8_t, int> foreign;
-  std::uint32_t seen_bad_version = dec_.counts().bad_version;
-  const std::uint32_t good_before = dec_.counts().good;
-  for (int k = 0; k < attempts && !stop_; ++k) {
-    info_.reset();
-    waiting_info_ = true;
-    if (auto s = send(p::ping_msg{}); !s) return s.err();
-    const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 3);
-    while (!info_ && steady::now() < until && !stop_) {
-      if (auto s = pump(20); !s) return s.err();
-      if (dec_.counts().bad_version != seen_bad_version) {
-        seen_bad_version = dec_.counts().bad_version;
-        if (++foreign[dec_.counts().foreign_version] >= 3 && dec_.counts().good == good_before) {
-          waiting_info_ = false;
-          return foreign_protocol(c_.port, dec_.counts().foreign_version);
-        }
-      }
-    }
-    if (info_) break;
+// RESEND for what is missing and was not asked for within `interval_s`.
+status session::request_missing(double interval_s) {
+  for (;;) {
+    const auto due = window_.due(interval_s, p::resend_msg::max_seqs);
+    if (due.empty()) return ok();
+    p::resend_msg m;
+    m.count = static_cast<std::uint8_t>(due.size());
+    std::copy(due.begin(), due.end(), m.seqs);
+    if (auto s = send(m, seq_++); !s) return s;
   }
-  waiting_info_ = false;
-  if (info_) return *info_;
-  return runtime_error(
-      fmt::format("{}: no reply to PING within {:g} s: is the rig connected, "
-                  "powered and running its firmware?",
-                  c_.port, attempts * c_.reply_timeout_s / 3));
 }
 
-// Sends a command until the device answers it: a frame lost on a noisy line (the command, or its
-// ACK) is sent again with a new sequence number. Every command the recorder sends is idempotent
-// (STOP, CONFIGURE while idle, START while running: docs/PROTOCOL.md).
+// The end of a run: what is still missing is asked for until it comes or the time is up; the
+// rest is lost.
+status session::drain_missing() {
+  const auto until = steady::now() + std::chrono::duration<double>(c_.drain_s);
+  while (window_.missing() != 0 && steady::now() < until && port_) {
+    if (auto s = request_missing(0.1); !s) break;
+    if (auto s = pump(50); !s) break;
+  }
+  return note_lost(window_.give_up_all());
+}
+
+// PING until an INFO comes (a noisy line may take several tries). A device of protocol version 1
+// is told by its frames as v1 framed them (no line code): three of them agreeing on a version,
+// and no frame of ours.
+result<p::info_msg> session::ping() {
+  constexpr int attempts = 12;
+  const std::uint32_t good_before = dec_.counts().good;
+  const std::uint64_t bytes_before = dec_.line().corrected + dec_.line().uncorrectable;
+  for (int k = 0; k < attempts; ++k) {
+    if (stop_) return interrupted();
+    got_info_.reset();
+    waiting_info_ = true;
+    if (auto s = send(p::ping_msg{}, seq_++); !s) return s.err();
+    const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 4);
+    while (!got_info_ && steady::now() < until) {
+      if (stop_) return interrupted();
+      if (auto s = pump(20); !s) return s.err();
+      if (old_dec_.counts().bad_version >= 3 && dec_.counts().good == good_before)
+        return foreign_protocol(c_.port, old_dec_.counts().foreign_version);
+    }
+    if (got_info_) break;
+  }
+  waiting_info_ = false;
+  if (got_info_) return *got_info_;
+  const double waited = attempts * c_.reply_timeout_s / 4;
+  if (dec_.counts().bad() != 0 || dec_.line().uncorrectable != 0 ||
+      dec_.line().corrected + dec_.line().uncorrectable != bytes_before)
+    return runtime_error(fmt::format(
+        "{}: bytes arrive but no valid reply to PING came within {:g} s ({} damaged frames): "
+        "a wrong baud rate, a very noisy line, or not a gyroflip rig",
+        c_.port, waited, dec_.counts().bad()));
+  return runtime_error(fmt::format(
+      "{}: no reply to PING within {:g} s (nothing arrived): is the rig connected, powered and "
+      "running its firmware?",
+      c_.port, waited));
+}
+
+// Sends a command until the device answers it. Every try carries the same sequence number (the
+// command's id): the device executes it once and acknowledges each try; a NAK saying it arrived
+// damaged makes the next try go at once.
 template <class M>
 status session::command(const M& m, const char* name) {
-  constexpr int attempts = 4;
+  constexpr int attempts = 8;
+  const std::uint16_t id = seq_++;
   replied_ = false;
+  reply_nak_.reset();
+  reply_seq_ = id;
   for (int k = 0; k < attempts && !replied_; ++k) {
-    std::uint16_t seq = 0;
-    reply_nak_.reset();
-    if (auto s = send(m, &seq); !s) return s;
-    reply_seq_ = seq;
-    const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / attempts);
-    while (!replied_ && steady::now() < until)
+    resend_now_ = false;
+    if (auto s = send(m, id); !s) return s;
+    const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 4);
+    while (!replied_ && !resend_now_ && steady::now() < until)
       if (auto s = pump(20); !s) return s;
-    reply_seq_.reset();
   }
+  reply_seq_.reset();
   if (!replied_)
-    return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port,
-                                     name, c_.reply_timeout_s));
+    return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s",
+                                     c_.port, name, 2 * c_.reply_timeout_s));
   if (reply_nak_)
     return input_error({c_.port},
                        fmt::format("the device refused {}: {}", name, status_name(*reply_nak_)));
   return ok();
 }
 
-// STOP (a run left from before), CONFIGURE, START; each step stored once the device agreed.
+// STOP (a run left from before), CONFIGURE, START naming that configuration; each step stored
+// once the device agreed. After a reset the table is homed first: the rebooted firmware counts
+// its steps from wherever the table stands.
 status session::start_run() {
   recording_ = false;
+  if (reset_seen_) running_.flags |= p::cfg_home;
+  reset_seen_ = false;
+  device_idle_ = false;
   if (auto s = command(p::stop_msg{}, "STOP"); !s) return s;
   if (auto s = command(running_, "CONFIGURE"); !s) return s;
   if (auto s = append(gfr::kind::configure, payload_of(running_)); !s) return s;
-  start_pending_ = true;
-  auto s = command(p::start_msg{}, "START");
-  start_pending_ = false;
-  return s;
+  p::start_msg start;
+  start.config_crc = p::configure_crc(running_);
+  start_ack_seq_.reset();
+  if (auto s = command(start, "START"); !s) return s;
+  return begin_recording(start_ack_seq_.value_or(0));
 }
 
-// The device's ACK of START: from the next byte on, every frame is the run's. The device may send
-// its first DWELLs right behind the ACK, in the same read: they must not pass unstored.
-status session::begin_recording() {
-  if (auto s = append(gfr::kind::start); !s) return s;
-  start_pending_ = false;
-  device_idle_ = false;
+// START was acknowledged by the device's frame `ack_seq`: its frames after that one are the new
+// run's (the START record says so; frames that came before the ACK are already stored).
+status session::begin_recording(std::uint16_t ack_seq) {
+  std::uint8_t b[2] = {static_cast<std::uint8_t>(ack_seq & 0xFFu),
+                       static_cast<std::uint8_t>(ack_seq >> 8)};
+  if (auto s = append(gfr::kind::start, b); !s) return s;
   recording_ = true;
-  // Gap records count what is lost while recording, not the handshake's noise.
-  noted_bad_ = dec_.counts().bad();
-  noted_missing_ = dec_.counts().missing;
+  device_idle_ = false;
   return ok();
+}
+
+// The device rebooted (its INFO said so, or its STATUS went idle or back in time): what it still
+// owed is lost, the run goes on after a homing and the same configuration.
+status session::handle_reset() {
+  if (!reset_seen_ && device_idle_) {
+    // An idle device: rebooted (its INFO lost) or stopped by itself. Its INFO tells which.
+    auto info = ping();
+    if (!info) return info.err();
+    if (info->boot_count == info_->boot_count) {
+      device_idle_ = false;  // same boot: it only stopped; start it again
+    }
+  }
+  if (auto s = note_lost(window_.give_up_all()); !s) return s;
+  return start_run();
 }
 
 result<recorder_result> session::finish(gfr::stop_reason why) {
   stopping_ = true;
   if (port_ && why != gfr::stop_reason::link_lost) {
-    // STOP, then the STATUS that answers it; a device that does not answer is noted only.
+    // STOP, then the STATUS that answers it, and what the device still owes us.
     (void)command(p::stop_msg{}, "STOP");
+    (void)drain_missing();
     (void)pump(100);
+  } else {
+    (void)note_lost(window_.give_up_all());
   }
   const std::uint8_t body[1] = {static_cast<std::uint8_t>(why)};
   if (auto s = append(gfr::kind::stop, body); !s) return s.err();
@@ -413,8 +627,8 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
 }
 
 // The port failed (an unplugged adapter): keep the file, wait for the device path to come back,
-// and go on where the device is; a device found reconfigured (it rebooted) is started again.
-// False: the port did not come back in time, or a stop was asked for meanwhile.
+// and go on where the device is; a device that rebooted meanwhile is started again, another one
+// is refused. False: the port did not come back in time, or a stop was asked for meanwhile.
 result<bool> session::reconnect(steady::time_point lost_at) {
   port_.reset();
   waiting_for_port_ = true;
@@ -436,11 +650,9 @@ result<bool> session::reconnect(steady::time_point lost_at) {
     }
     waiting_for_port_ = false;
     if (auto s = gap(); !s) return s.err();
-    if (info->config == running_) return true;
-    if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s.err();
-    if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
-    home_after_reset();
-    if (auto s = start_run(); !s) {
+    if (fatal_) return false;  // the main loop closes the file with the reason
+    if (!reset_seen_ && info->config == running_ && !device_idle_) return true;
+    if (auto s = handle_reset(); !s) {
       if (!link_down_) return s.err();
       port_.reset();
       lost_at = steady::now();
@@ -466,37 +678,53 @@ result<recorder_result> session::run() {
   auto info = ping();
   if (!info) return info.err();
   if (info->protocol != p::protocol_version) return foreign_protocol(c_.port, info->protocol);
+  info_ = *info;
   if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
   if (auto s = start_run(); !s) return s.err();
   (void)file_.sync();
   while (true) {
+    if (fatal_) {
+      // Another device: leave it alone; close the file with its reason.
+      const std::uint8_t body[1] = {static_cast<std::uint8_t>(gfr::stop_reason::device_changed)};
+      (void)append(gfr::kind::stop, body);
+      (void)file_.close();
+      return *fatal_;
+    }
     if (stop_) return finish(gfr::stop_reason::signal);
     if (c_.duration_s > 0 && elapsed_s() >= c_.duration_s)
       return finish(gfr::stop_reason::duration);
     bool lost = !port_;
-    if (!lost && (reset_info_ || device_idle_)) {
-      // The device rebooted (an unasked INFO) or stopped by itself: note it and start it again.
-      if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s.err();
-      if (reset_info_)
-        if (auto s = append(gfr::kind::info, *reset_info_); !s) return s.err();
-      reset_info_.reset();
+    if (!lost && (reset_seen_ || device_idle_)) {
       link_down_ = false;
-      home_after_reset();
-      if (auto s = start_run(); !s) {
+      if (auto s = handle_reset(); !s) {
         if (!link_down_) return s.err();
         lost = true;
       }
     }
     if (!lost) {
       link_down_ = false;
-      if (auto s = pump(100); !s) {
-        if (!link_down_) return s.err();  // the file failed
+      if (auto s = pump(50); !s) {
+        if (!link_down_) {  // the file failed (a full disk): stop the device, keep what is in
+          (void)command(p::stop_msg{}, "STOP");
+          (void)file_.close();
+          return s.err();
+        }
+        lost = true;
+      }
+    }
+    if (!lost) {
+      // A missing frame is asked for again every 0.3 s of the device's time (a round trip on the
+      // line is tens of ms): its history (~6 s) allows ~20 tries.
+      const double every_s = std::clamp(0.3 / device_speed_, 0.001, 0.3);
+      if (auto s = request_missing(every_s); !s) {
+        if (!link_down_) return s.err();
         lost = true;
       }
     }
     if (lost) {
       auto back = reconnect(steady::now());
       if (!back) return back.err();
+      if (fatal_) continue;  // closed above, with its reason
       if (!*back) return finish(stop_ ? gfr::stop_reason::signal : gfr::stop_reason::link_lost);
     }
     if (auto t = tick(); !t) return t.err();
@@ -510,7 +738,8 @@ result<recorder_result> record(const recorder_config& cfg, const std::atomic<boo
   auto w = gfr::writer::create(cfg.output);
   if (!w) return w.err();
   auto r = session(cfg, std::move(*w), stop, on_progress).run();
-  // Nothing recorded yet (no reply, another protocol, a refused configuration): no file.
+  // Nothing recorded yet (no reply, another protocol, a refused configuration, a full disk at
+  // the start): no file.
   if (!r) {
     auto f = gfr::read(cfg.output);
     const bool started = f && std::any_of(f->records.begin(), f->records.end(),

@@ -1,8 +1,11 @@
 /// \file
-/// \brief The crash-safe recorder (docs/RECORDER.md): talks to the rig over a serial port
-/// (handshake, CONFIGURE, START, STOP), stores every valid frame in a `.gfr` file as it arrives,
-/// syncs it at least once a second, records link faults as gap records, follows a device reset
-/// and an unplugged adapter, and reports progress through a callback.
+/// \brief The crash-safe recorder (docs/RECORDER.md): talks to the rig over a serial port it
+/// holds alone (handshake, CONFIGURE, START, STOP; every command carries an id and is retried
+/// with it), stores every valid frame in a `.gfr` file as it arrives, asks the device to send
+/// again what the line lost (RESEND) and records as a gap only what the device no longer has,
+/// syncs the file at least once a second, follows a device reset (re-home, re-configure, resume)
+/// and an unplugged adapter, refuses a different device, and reports progress through a
+/// callback.
 #pragma once
 
 #include <atomic>
@@ -13,8 +16,8 @@
 
 #include "firmware/protocol/messages.hpp"
 #include "gyroflip/core/result.hpp"
-#include "host/recorder/gfr.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/gfr.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 
 namespace gyroflip::host {
 
@@ -24,9 +27,11 @@ struct recorder_config {
   std::string output;               ///< the `.gfr` file (created; never replaced)
   double duration_s = 0.0;          ///< device-clock seconds to record (0: until stopped)
   protocol::configure_msg device;   ///< what the device is configured with
-  device_units units;               ///< stored in META for the reader
+  rigdata::device_units units;      ///< stored in META for the reader
   double reconnect_timeout_s = 60;  ///< how long a vanished port is waited for
   double reply_timeout_s = 2.0;     ///< how long a command's ACK (or INFO) is waited for
+  /// How long the end of a run waits for frames still asked for again (RESEND).
+  double drain_s = 2.0;
   // Host metadata for META.
   std::string software_version;
   std::vector<std::string> command_line;
@@ -38,9 +43,11 @@ struct recorder_status {
   double duration_s = 0.0;
   std::size_t dwells = 0;
   std::size_t cycles = 0;
-  std::uint64_t frames_good = 0;
-  std::uint64_t frames_corrupt = 0;
-  std::uint64_t frames_missing = 0;
+  std::uint64_t frames_good = 0;       ///< valid frames received (retransmissions included)
+  std::uint64_t frames_corrupt = 0;    ///< frames the line damaged (most come back: recovered)
+  std::uint64_t frames_recovered = 0;  ///< frames received again after a RESEND
+  std::uint64_t frames_lost = 0;       ///< frames the device no longer had: gap records
+  std::uint64_t frames_pending = 0;    ///< missing frames still asked for
   std::size_t device_resets = 0;
   std::size_t link_losses = 0;
   double delta_n_dps = 0.0;     ///< running dN (abba pairing; NaN before 3 cycles)
@@ -54,13 +61,15 @@ using recorder_progress_fn = std::function<void(const recorder_status&)>;
 
 struct recorder_result {
   recorder_status last;
-  gfr::stop_reason reason = gfr::stop_reason::duration;
+  rigdata::gfr::stop_reason reason = rigdata::gfr::stop_reason::duration;
 };
 
 /// Records until `duration_s` of device time, `stop` turns true (the caller's signal handler), or
 /// the port stays away longer than the reconnect timeout. The file is complete (STOP record,
 /// synced) on every one of these ends. Errors before anything was recorded (no reply, another
-/// protocol version, a refused configuration) remove the file; later ones leave it readable.
+/// protocol version, a refused configuration, a port another program holds) remove the file;
+/// later ones (the disk is full, another device answers after a reconnect) stop the device and
+/// leave the file readable up to them.
 [[nodiscard]] result<recorder_result> record(const recorder_config& cfg,
                                              const std::atomic<bool>& stop,
                                              const recorder_progress_fn& on_progress = {});

@@ -149,6 +149,12 @@ bool serial_line::drain(int timeout_ms) {
   return true;
 }
 
+std::size_t serial_line::unread() const noexcept {
+  int n = 0;
+  const int rc = peer_fd_ >= 0 ? ioctl(peer_fd_, FIONREAD, &n) : ioctl(fd_, TIOCOUTQ, &n);
+  return rc == 0 && n > 0 ? static_cast<std::size_t>(n) : 0;
+}
+
 result<std::size_t> serial_line::read(std::uint8_t* out, std::size_t cap, int timeout_ms) {
   for (;;) {
     const ssize_t r = ::read(fd_, out, cap);

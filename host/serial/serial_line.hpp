@@ -36,6 +36,9 @@ class serial_line {
   /// Waits until the peer has taken what was written (a pty: the reader's input queue is empty;
   /// a device: the driver has sent it), at most `timeout_ms` for a pty. False when not drained.
   bool drain(int timeout_ms);
+  /// Bytes written that the peer has not taken yet (a pty: the reader's input queue; a device:
+  /// the driver's output queue); 0 when it cannot tell.
+  [[nodiscard]] std::size_t unread() const noexcept;
   /// Reads what has arrived, up to `cap` bytes, waiting at most `timeout_ms` for the first one;
   /// 0 on timeout.
   [[nodiscard]] result<std::size_t> read(std::uint8_t* out, std::size_t cap, int timeout_ms);

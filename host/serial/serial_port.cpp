@@ -3,7 +3,13 @@
 /// section 1: an asynchronous read or write, `run_for` the timeout, then `cancel`.
 #include "host/serial/serial_port.hpp"
 
+#include <sys/file.h>
+#include <sys/ioctl.h>
+#include <termios.h>
+
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <utility>
 
 #include <asio/io_context.hpp>
@@ -48,6 +54,16 @@ result<serial_port> serial_port::open(const std::string& path, std::uint32_t bau
   asio::error_code ec;
   p->port.open(path, ec);
   if (ec) return port_error(path, "cannot open", ec);
+  // One program per port: an advisory lock that every gyroflip recorder takes (a second one is
+  // refused at once, and the first loses nothing), and the terminal's exclusive mode, which
+  // makes other programs' opens fail with EBUSY (root is exempt from it, not from the lock).
+  const int fd = p->port.native_handle();
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    if (errno == EWOULDBLOCK)
+      return runtime_error(path + ": in use by another program (another gyroflip record?)");
+    return io_error(path, std::string("cannot lock: ") + std::strerror(errno));
+  }
+  (void)::ioctl(fd, TIOCEXCL);
   using sp = asio::serial_port;
   p->port.set_option(sp::baud_rate(baud), ec);
   if (!ec) p->port.set_option(sp::character_size(8), ec);

@@ -16,7 +16,9 @@ namespace gyroflip::host {
 
 class serial_port {
  public:
-  /// Opens `path` raw 8N1, no flow control, at `baud` b/s (a pty accepts and ignores it).
+  /// Opens `path` raw 8N1, no flow control, at `baud` b/s (a pty accepts and ignores it), held
+  /// exclusively: a port another recorder holds is refused ("in use"), as is any open of it by
+  /// another program while this one is open (TIOCEXCL).
   [[nodiscard]] static result<serial_port> open(const std::string& path,
                                                 std::uint32_t baud = 115200);
   serial_port(serial_port&&) noexcept;

@@ -17,7 +17,7 @@
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 
 namespace gyroflip::python {
 
@@ -159,7 +159,7 @@ py::dict metadata_dict(const std::vector<io::csv_metadata>& meta) {
 }
 
 py::dict read_recording(const std::string& path, double tol) {
-  const auto r = take(host::read_recording_rows(path, tol));
+  const auto r = take(rigdata::read_recording_rows(path, tol));
   py::dict d = rows_dict(r.rows);
   d["metadata"] = metadata_dict(r.metadata);
   d["warnings"] = r.warnings;

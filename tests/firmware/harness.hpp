@@ -10,6 +10,7 @@
 #include "firmware/core/device.hpp"
 #include "firmware/ports/host/board.hpp"
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 
 namespace gyroflip::fw::testing {
 
@@ -53,7 +54,7 @@ struct rig {
   code_source source{.positions = &positions};
   model::host_board board{&code_source::call, &source};
   device dev{board.hw(), board_facts{12345u, ad7739::mclk_hz_nominal}};
-  protocol::frame_decoder decoder;
+  protocol::stream_decoder decoder{true};  // retransmitted frames are handed out too
   uint16_t seq = 0;
 
   struct received {
@@ -78,7 +79,7 @@ struct rig {
   rig() {
     source.board = &board;
     dev.boot();
-    run(400);  // INFO leaves at 115200 b/s
+    run(1000);  // INFO (180 wire bytes) leaves at 115200 b/s: 16 ms
   }
 
   void drain() {
@@ -118,15 +119,37 @@ struct rig {
     return pred();
   }
 
+  /// Sends `m` as the host does (line code included) with the next sequence number, or `at`.
   template <class M>
   uint16_t send(const M& m) {
-    uint8_t buf[protocol::max_wire];
-    const uint16_t s = seq++;
-    const size_t n = protocol::encode_message(m, s, buf, sizeof buf);
+    return send_as(m, seq++);
+  }
+  template <class M>
+  uint16_t send_as(const M& m, uint16_t s) {
+    uint8_t buf[protocol::max_wire_bytes];
+    const size_t n = protocol::encode_wire(m, s, buf, sizeof buf, true);
     board.host_send(buf, n);
     return s;
   }
+  /// Wire bytes as they are (junk on the line).
   void send_bytes(const std::vector<uint8_t>& b) { board.host_send(b.data(), b.size()); }
+  /// A COBS stream (a frame and its delimiter, as encode_frame gives it) through the line code.
+  void send_cobs(const uint8_t* p, size_t n) {
+    std::vector<uint8_t> w(protocol::run_before_command, 0);  // as a host sends
+    for (size_t i = 0; i + 1 < n; ++i) {  // the last byte is COBS's 0x00: the run replaces it
+      uint8_t two[2];
+      protocol::line_encode(p[i], two);
+      w.insert(w.end(), two, two + 2);
+    }
+    w.insert(w.end(), protocol::run_after(p[n - 2]), 0);
+    send_bytes(w);
+  }
+  /// START naming the device's configuration (as a host sends it).
+  uint16_t start() {
+    protocol::start_msg m;
+    m.config_crc = protocol::configure_crc(dev.config());
+    return send(m);
+  }
 
   template <class M>
   [[nodiscard]] std::vector<M> all() const {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "firmware/core/budget.hpp"
+#include "firmware/protocol/budget.hpp"
 #include "firmware/harness.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/compensation.hpp"
@@ -61,7 +61,7 @@ TEST_P(DwellMeans, EqualTheModelsCodes) {
   const uint16_t n = GetParam();
   rig r;
   configure(r, quick_config(n));
-  r.send(protocol::start_msg{});
+  r.start();
   const size_t want = n > 1000 ? 2 : 6;
   ASSERT_TRUE(r.run_until([&] { return has_dwells(r, want); }, 12'000'000));
   const auto dwells = r.all<dwell_msg>();
@@ -85,7 +85,7 @@ TEST_P(DwellMeans, EqualTheModelsCodes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(N, DwellMeans,
-                         ::testing::Values(uint16_t{1}, uint16_t{256}, uint16_t{fw::max_n_avg}));
+                         ::testing::Values(uint16_t{1}, uint16_t{256}, uint16_t{protocol::max_n_avg}));
 
 TEST(FirmwareCore, CalibrationAndCompensationMatchTheHostLibrary) {
   rig r;
@@ -164,7 +164,7 @@ TEST(FirmwareCore, AMissingRdyIsFlaggedReportedAndTheRunGoesOn) {
   const uint16_t n = 64;
   configure(r, quick_config(n));
   r.board.adc.withhold_rdy(10, 1);
-  r.send(protocol::start_msg{});
+  r.start();
   ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 4); }, 2'000'000));
   const auto dwells = r.all<dwell_msg>();
   EXPECT_EQ(dwells[0].flags, protocol::dwell_rdy_timeout);
@@ -187,12 +187,12 @@ TEST(FirmwareCore, JunkAndBadCommandsNeverStopAcquisition) {
   const configure_msg c = quick_config(64);
   rig clean;
   configure(clean, c);
-  clean.send(protocol::start_msg{});
+  clean.start();
   clean.run(300000);
 
   rig noisy;
   configure(noisy, c);
-  noisy.send(protocol::start_msg{});
+  noisy.start();
   uint32_t x = 7;
   std::vector<uint8_t> junk;
   for (int burst = 0; burst < 300; ++burst) {
@@ -201,14 +201,15 @@ TEST(FirmwareCore, JunkAndBadCommandsNeverStopAcquisition) {
       x = x * 1664525u + 1013904223u;
       junk.push_back(static_cast<uint8_t>(x >> 24));
     }
-    junk.push_back(0);
+    junk.insert(junk.end(), 4, 0);  // a delimiter run: the junk ends as one bad frame
     noisy.send_bytes(junk);
     if (burst % 50 == 0) {
       noisy.send(c);  // CONFIGURE while running: refused, busy
-      const uint8_t bad[] = {1, protocol::protocol_version};  // a START with a payload byte
+      const uint8_t bad[] = {1};  // a START with one payload byte: not its layout
       uint8_t buf[protocol::max_wire];
-      const size_t len = protocol::encode_frame(0x22, 999, bad, 1, buf, sizeof buf);
-      noisy.board.host_send(buf, len);
+      const size_t len = protocol::encode_frame(0x22, static_cast<uint16_t>(999 + burst), bad, 1,
+                                                buf, sizeof buf);
+      noisy.send_cobs(buf, len);
     }
     noisy.run(1000);
   }
@@ -255,7 +256,7 @@ TEST(FirmwareCore, PingConfigureStartStop) {
   r.send(bad);
   configure_msg fast = quick_config(1);
   fast.flags = protocol::cfg_chop | protocol::cfg_raw;
-  fast.pos_b_steps = 1;
+  fast.pos_steps[1] = 1;
   fast.step_rate_sps = 5000;
   fast.settle_ms = 0;
   fast.filter_word = 2;
@@ -264,7 +265,7 @@ TEST(FirmwareCore, PingConfigureStartStop) {
   const auto naks = r.all<protocol::nak_msg>();
   ASSERT_EQ(naks.size(), 2u);
   for (const auto& nk : naks) EXPECT_EQ(nk.reason, static_cast<uint8_t>(protocol::status::bad_arg));
-  EXPECT_GT(fw::worst_bytes_per_s(fast, 6144000), fw::link_bytes_per_s);
+  EXPECT_GT(protocol::worst_bytes_per_s(fast, 6144000), protocol::link_bytes_per_s);
 
   configure_msg good = quick_config(16);
   good.other_motor = static_cast<uint8_t>(protocol::other_motor::hold);
@@ -273,7 +274,7 @@ TEST(FirmwareCore, PingConfigureStartStop) {
   r.run(1000);
   EXPECT_EQ(r.last<protocol::info_msg>().config, good);
 
-  r.send(protocol::start_msg{});
+  r.start();
   r.run(100);
   EXPECT_EQ(r.dev.state(), protocol::device_state::running);
   ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 3); }, 1'000'000));
@@ -296,7 +297,7 @@ TEST(FirmwareCore, RawBlocksCarryEveryConversion) {
   c.flags = protocol::cfg_chop | protocol::cfg_raw;
   c.status_period_ms = 1000;
   configure(r, c);
-  r.send(protocol::start_msg{});
+  r.start();
   ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 4); }, 2'000'000));
   const auto dwells = r.all<dwell_msg>();
   std::vector<protocol::raw_msg> raws = r.all<protocol::raw_msg>();
@@ -306,7 +307,7 @@ TEST(FirmwareCore, RawBlocksCarryEveryConversion) {
     const auto& m = raws[i];
     ASSERT_EQ(m.first_index, index);
     ASSERT_EQ(m.count, protocol::raw_msg::max_codes);
-    const bool at_b = dwells[i / 4].position == 1;
+    const bool at_b = dwells[i / (256 / protocol::raw_msg::max_codes)].position == 1;
     for (uint8_t k = 0; k < m.count; ++k) ASSERT_EQ(m.code(k), r.source.gyro(index + k, at_b));
     index += m.count;
   }
@@ -323,7 +324,7 @@ TEST(FirmwareCore, DwellsCarryTheAccelerometersDutyCycles) {
   r.board.pwm_high_ticks[1] = 12;  // 48 % duty: -0.16 g
   r.board.pwm_period_ticks[0] = r.board.pwm_period_ticks[1] = period;
   configure(r, quick_config(64));
-  r.send(protocol::start_msg{});
+  r.start();
   ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 4); }, 2'000'000));
   for (const dwell_msg& d : r.all<dwell_msg>()) {
     SCOPED_TRACE(d.cycle * 2 + d.position);
@@ -342,7 +343,7 @@ TEST(FirmwareCore, DwellsCarryTheAccelerometersDutyCycles) {
   // No accelerometer wired: the fields stay zero and read as no acceleration.
   rig bare;
   configure(bare, quick_config(16));
-  bare.send(protocol::start_msg{});
+  bare.start();
   ASSERT_TRUE(bare.run_until([&] { return has_dwells(bare, 2); }, 2'000'000));
   for (const dwell_msg& d : bare.all<dwell_msg>()) {
     EXPECT_EQ(d.ax_period_ticks, 0u);
@@ -365,7 +366,7 @@ TEST(FirmwareCore, TurnsBackAndForthOrOneWayAndTheSecondMotorFollowsItsRule) {
     c.other_motor = static_cast<uint8_t>(e.rule);
     if (e.one_way) c.flags |= protocol::cfg_one_way;
     configure(r, c);
-    r.send(protocol::start_msg{});
+    r.start();
     ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 6); }, 2'000'000));
     // Where the table stood at the first conversion of each dwell.
     for (size_t i = 0; i < 6; ++i) {
@@ -403,7 +404,7 @@ TEST(FirmwareCore, HomesBeforeTheRunAndReportsAMissingSwitch) {
     configure_msg c = quick_config(8);
     c.flags |= protocol::cfg_home;
     configure(r, c);
-    r.send(protocol::start_msg{});
+    r.start();
     ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 2); }, 2'000'000));
     EXPECT_EQ(r.positions.at(0), -37);        // A is home
     EXPECT_EQ(r.positions.at(8), -37 + 100);  // B, counted from home
@@ -415,7 +416,7 @@ TEST(FirmwareCore, HomesBeforeTheRunAndReportsAMissingSwitch) {
     configure_msg c = quick_config(8);
     c.flags |= protocol::cfg_home;
     configure(r, c);
-    r.send(protocol::start_msg{});
+    r.start();
     ASSERT_TRUE(r.run_until([&] { return has_dwells(r, 2); }, 2'000'000));
     const auto d = r.all<dwell_msg>();
     EXPECT_EQ(d[0].flags, protocol::dwell_step_fault);
@@ -427,52 +428,61 @@ TEST(FirmwareCore, HomesBeforeTheRunAndReportsAMissingSwitch) {
 }
 
 TEST(LinkBudget, WireSizesAreTheEncodedSizes) {
-  uint8_t buf[protocol::max_wire];
+  // A frame of p payload bytes: header 5 + p + CRC 2 and one COBS byte, each as two wire bytes,
+  // then a run of 4 zero bytes (10 after a last nibble 0): at most 2 p + 26 (docs/PROTOCOL.md).
+  uint8_t buf[protocol::max_wire_bytes];
+  const auto check = [&](const auto& m, uint32_t payload) {
+    const size_t n = protocol::encode_wire(m, 0, buf, sizeof buf);
+    EXPECT_TRUE(n == 2 * (payload + 8) + 4 || n == 2 * (payload + 8) + 10) << n;
+    EXPECT_LE(n, protocol::line_bytes(payload));
+    EXPECT_EQ(protocol::line_bytes(payload), 2 * payload + 26);
+  };
   protocol::raw_msg raw;
   raw.count = protocol::raw_msg::max_codes;
-  EXPECT_EQ(protocol::encode_message(raw, 0, buf, sizeof buf),
-            protocol::wire_bytes(fw::raw_payload(64)));
-  EXPECT_EQ(protocol::wire_bytes(fw::raw_payload(64)), 206u);
-  EXPECT_EQ(protocol::encode_message(dwell_msg{}, 0, buf, sizeof buf),
-            protocol::wire_bytes(fw::dwell_payload));
-  EXPECT_EQ(protocol::encode_message(protocol::status_msg{}, 0, buf, sizeof buf),
-            protocol::wire_bytes(fw::status_payload));
-  EXPECT_EQ(protocol::encode_message(protocol::compensated_msg{}, 0, buf, sizeof buf),
-            protocol::wire_bytes(fw::compensated_payload));
+  check(raw, protocol::raw_payload(32));
+  check(dwell_msg{}, protocol::dwell_payload);
+  check(protocol::status_msg{}, protocol::status_payload);
+  check(protocol::compensated_msg{}, protocol::compensated_payload);
 }
 
 TEST(LinkBudget, RawAt500HzWithDwellsAndStatusLeavesThirtyPercent) {
   // The paper's configuration with every option that sends: RAW, COMPENSATED, STATUS at 1 Hz.
   configure_msg c;
   c.flags = protocol::cfg_chop | protocol::cfg_raw | protocol::cfg_compensate;
-  const double link = fw::link_bytes_per_s;
-  EXPECT_EQ(fw::link_bytes_per_s, 11520u);
-  // Conversions back to back at 500.3 Hz (no turn at all): RAW 206 B per 64 codes, DWELL 58 B
-  // and half a COMPENSATED (22 B) per 256 codes, STATUS 31 B/s (docs/PROTOCOL.md).
+  const double link = protocol::link_bytes_per_s;
+  EXPECT_EQ(protocol::link_bytes_per_s, 11520u);
+  // Conversions back to back at 500.3 Hz (no turn at all), each frame at its longest (2 p + 26
+  // wire bytes): RAW 228 B per 32 codes, DWELL 124 B and half a COMPENSATED (52 B) per 256
+  // codes, STATUS 100 B/s (docs/PROTOCOL.md).
   const double conv_hz = 6.144e6 / 12281;
-  const double sustained = conv_hz * (206.0 / 64 + (58 + 22 / 2.0) / 256) + 31;
-  EXPECT_NEAR(sustained, 1776, 1);
-  EXPECT_EQ(protocol::wire_bytes(fw::dwell_payload), 58u);
-  EXPECT_EQ(protocol::wire_bytes(fw::compensated_payload), 22u);
-  EXPECT_EQ(protocol::wire_bytes(fw::status_payload), 31u);
+  const double sustained = conv_hz * (228.0 / 32 + (124 + 52 / 2.0) / 256) + 100;
+  EXPECT_NEAR(sustained, 3958, 1);
   EXPECT_LE(sustained, 0.7 * link);
   // The device's own bound (with the turn and the settling) is lower still.
-  EXPECT_LE(fw::worst_bytes_per_s(c, 6144000), sustained);
-  EXPECT_EQ(fw::check_config(c, 6144000), protocol::status::ok);
-  // With RAW, 4 temperature conversions, a 1-step turn at 5000 steps/s and no settling (the
-  // shortest dwells there are): n_avg = 2 keeps 30 % headroom (7331 B/s); n_avg = 1 still fits
-  // the link (8468 B/s) and is accepted; docs/PROTOCOL.md has the table.
+  EXPECT_LE(protocol::worst_bytes_per_s(c, 6144000), sustained);
+  EXPECT_EQ(protocol::check_configure(c, 6144000), protocol::status::ok);
+  // The shortest dwells there are (RAW, 4 temperature conversions, a 1-step turn at 5000
+  // steps/s, no settling): a dwell of n_avg codes sends DWELL 124 B, RAW 2 (5 + 3 n) + 26 B, half
+  // a COMPENSATED 26 B in (n + 4) conversions + 0.2 ms, plus STATUS 100 B/s.
+  const auto by_hand = [&](unsigned n) {
+    const double bytes = 124 + 2.0 * (5 + 3 * n) + 26 + 26;
+    return bytes / ((n + 4) * 12281 / 6.144e6 + 1 / 5000.0) + 100;
+  };
   configure_msg tight = c;
   tight.settle_ms = 0;
-  tight.pos_b_steps = 1;
-  tight.step_rate_sps = fw::max_step_rate_sps;
-  tight.n_avg = 2;
-  EXPECT_EQ(fw::worst_bytes_per_s(tight, 6144000), 7331u);
-  EXPECT_LE(fw::worst_bytes_per_s(tight, 6144000), 0.7 * link);
-  tight.n_avg = 1;
-  EXPECT_EQ(fw::worst_bytes_per_s(tight, 6144000), 8468u);
-  EXPECT_EQ(fw::check_config(tight, 6144000), protocol::status::ok);
-  EXPECT_EQ(fw::worst_bytes_per_s(c, 6144000), 1082u);
+  tight.pos_steps[1] = 1;
+  tight.step_rate_sps = protocol::max_step_rate_sps;
+  for (const uint16_t n : {uint16_t{4}, uint16_t{8}, uint16_t{16}}) {
+    tight.n_avg = n;
+    EXPECT_NEAR(protocol::worst_bytes_per_s(tight, 6144000), by_hand(n), 1.0) << n;
+  }
+  tight.n_avg = 16;  // keeps 30 % headroom
+  EXPECT_LE(protocol::worst_bytes_per_s(tight, 6144000), 0.7 * link);
+  tight.n_avg = 8;  // still fits the link: accepted
+  EXPECT_EQ(protocol::check_configure(tight, 6144000), protocol::status::ok);
+  tight.n_avg = 4;  // does not: refused
+  EXPECT_GT(protocol::worst_bytes_per_s(tight, 6144000), link);
+  EXPECT_EQ(protocol::check_configure(tight, 6144000), protocol::status::bad_arg);
 }
 
 TEST(LinkBudget, TheDeviceDropsRawFirstWhenTheLinkFallsBehind) {
@@ -482,7 +492,7 @@ TEST(LinkBudget, TheDeviceDropsRawFirstWhenTheLinkFallsBehind) {
   configure_msg c = quick_config(256);
   c.flags = protocol::cfg_chop | protocol::cfg_raw;
   configure(r, c);
-  r.send(protocol::start_msg{});
+  r.start();
   r.board.uart_stalled = true;
   r.run(2 * 32768);
   r.board.uart_stalled = false;

@@ -45,9 +45,9 @@ TEST(Ad7739Driver, WritesTheRegistersTheDataSheetRequiresInOrder) {
   ASSERT_EQ(d.start_single(1), fw::status::ok);
   // Channel setup (0x28 + ch): differential, +-2.5 V; conversion time (0x30 + ch): CHOP | FW;
   // mode (0x38 + ch): ADC zero-scale self-cal, then full-scale, then a single conversion, all
-  // 24-bit (data sheet Rev. A register descriptions; regs.hpp).
+  // 24-bit, the conversion in dump mode (data sheet Rev. A register descriptions; regs.hpp).
   const std::vector<std::pair<uint8_t, uint32_t>> want = {
-      {0x29, 0x24}, {0x31, 0x80 | 94}, {0x39, 0x82}, {0x39, 0xA2}, {0x39, 0x42}};
+      {0x29, 0x24}, {0x31, 0x80 | 94}, {0x39, 0x82}, {0x39, 0xA2}, {0x39, 0x4A}};
   ASSERT_EQ(b.adc.log_size(), want.size());
   for (size_t i = 0; i < want.size(); ++i) {
     EXPECT_EQ(b.adc.log()[i].addr, want[i].first) << i;
@@ -69,10 +69,49 @@ TEST(Ad7739Driver, CodesReadBackBitExact) {
     ASSERT_EQ(d.start_single(0), fw::status::ok);
     ASSERT_TRUE(wait_rdy(b, d, 100));
     int32_t code = 7;
-    ASSERT_EQ(d.read_data(0, &code), fw::status::ok);
+    uint8_t st = 0;
+    ASSERT_EQ(d.read_result(0, &code, &st), fw::status::ok);
     EXPECT_EQ(code, src.codes[i]) << i;
+    // Dump mode: the channel status first: channel 0, its RDY bit, the sign of the input.
+    EXPECT_EQ(st >> a::chst_channel_shift, 0);
+    EXPECT_NE(st & a::chst_rdy, 0);
+    EXPECT_EQ((st & a::chst_sign) != 0, src.codes[i] < 0) << i;
     EXPECT_FALSE(d.ready());  // reading the data register clears RDY
   }
+}
+
+// Data sheet Rev. A: /RDY goes high only in the scaling time at the end of a conversion, so a
+// result nobody read (here: the self-calibration's) keeps it low through the mode write that
+// starts the next conversion. A driver that trusts the pin sums that stale result; the channel
+// status (RDY bit, channel) and the conversion time tell it apart.
+TEST(Ad7739Driver, RdyStaysLowFromAnUnreadResultUntilTheScalingTime) {
+  code_list src{{4242}};
+  host_board b(&code_list::call, &src);
+  a::driver d(b.hw());
+  ASSERT_EQ(d.set_conversion_time(0, true, 94), fw::status::ok);
+  ASSERT_EQ(d.self_calibrate(0, 1000), fw::status::ok);
+  ASSERT_EQ(d.start_single(0), fw::status::ok);
+  EXPECT_TRUE(d.ready()) << "a mode write must not clear a pending ready at once";
+  const uint32_t t0 = b.now;
+  // Before the scaling time it stays low; in it, high; then low with the new result.
+  b.now = t0 + 30;
+  EXPECT_TRUE(d.ready());
+  bool went_high = false;
+  uint32_t low_at = 0;
+  for (uint32_t t = t0 + 30; t < t0 + 200; ++t) {
+    b.now = t;
+    if (!d.ready()) went_high = true;
+    if (went_high && d.ready()) {
+      low_at = t;
+      break;
+    }
+  }
+  EXPECT_TRUE(went_high);
+  EXPECT_EQ(low_at - t0, 66u);  // the conversion time: 12 281 MCLK at 32 768 Hz ticks
+  int32_t code = 0;
+  uint8_t st = 0;
+  ASSERT_EQ(d.read_result(0, &code, &st), fw::status::ok);
+  EXPECT_EQ(code, 4242);
 }
 
 TEST(Ad7739Driver, RdyComesAfterTheConversionTime) {
@@ -90,7 +129,8 @@ TEST(Ad7739Driver, RdyComesAfterTheConversionTime) {
       EXPECT_EQ(b.now - t0, static_cast<uint32_t>(std::ceil(cycles * 32768.0 / 6.144e6)))
           << chop << " " << int{fw};
       int32_t c = 0;
-      ASSERT_EQ(d.read_data(0, &c), fw::status::ok);
+      uint8_t st = 0;
+      ASSERT_EQ(d.read_result(0, &c, &st), fw::status::ok);
     }
   }
   // FW = 94 with chop is the paper's 2 ms conversion (500.3 Hz).

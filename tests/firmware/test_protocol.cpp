@@ -3,6 +3,8 @@
 // frames rejected, and a stream with junk, duplicated and dropped frames decoded with exact counts.
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -10,6 +12,7 @@
 #include "firmware/protocol/cobs.hpp"
 #include "firmware/protocol/crc16.hpp"
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 #include "firmware/protocol/messages.hpp"
 
 namespace p = gyroflip::protocol;
@@ -78,19 +81,24 @@ struct samples {
   p::home_msg home;
   p::set_delta_n_msg set_delta_n;
   p::calibrate_msg calibrate;
+  p::gone_msg gone;
+  p::resend_msg resend;
 
   explicit samples(std::uint32_t seed) {
     std::mt19937 g(seed);
     auto u = [&](auto& v) { v = static_cast<std::remove_reference_t<decltype(v)>>(g()); };
     auto code = [&] { return static_cast<std::int32_t>(g() % (1u << 24)) - (1 << 23); };
-    u(configure.n_avg), u(configure.n_temp), u(configure.settle_ms), u(configure.pos_a_steps);
-    u(configure.pos_b_steps), u(configure.steps_per_rev), u(configure.step_rate_sps);
+    u(configure.n_avg), u(configure.n_temp), u(configure.settle_ms), u(configure.n_positions);
+    for (auto& v : configure.pos_steps) u(v);
+    for (auto& v : configure.pos_cdeg) u(v);
+    u(configure.steps_per_rev), u(configure.step_rate_sps);
     u(configure.start_rate_sps), u(configure.ramp_sps2), u(configure.filter_word);
     u(configure.flags), u(configure.flip_motor), u(configure.other_motor);
     u(configure.gyro_channel), u(configure.temp_channel), u(configure.status_period_ms);
     u(info.fw_major), u(info.fw_minor), u(info.fw_patch), u(info.protocol), u(info.serial);
     u(info.mclk_hz), u(info.tick_hz), u(info.adc_revision), u(info.max_n_avg);
-    u(info.max_raw_codes), u(info.range);
+    u(info.max_raw_codes), u(info.range), u(info.reset_cause), u(info.boot_count);
+    u(info.history_bytes);
     info.config = configure;
     u(dwell.cycle), u(dwell.position), u(dwell.flags), u(dwell.t_start_ticks);
     u(dwell.t_end_ticks), u(dwell.n), u(dwell.n_temp), u(dwell.temp_sum);
@@ -104,7 +112,10 @@ struct samples {
     raw.set(0, -(1 << 23)), raw.set(1, (1 << 23) - 1);  // both ends of the 24-bit range
     u(status.state), u(status.uptime_ticks), u(status.cycle), u(status.frames_sent);
     u(status.frames_dropped), u(status.rx_frames_ok), u(status.rx_errors);
-    u(status.rdy_timeouts), u(status.last_error);
+    u(status.rdy_timeouts), u(status.last_error), u(status.retransmits);
+    u(status.history_oldest), u(status.line_corrected), u(status.line_uncorrectable);
+    u(status.start_failures), u(status.stale_results), u(status.stack_free);
+    u(status.clock_faults);
     u(error.code), u(error.what), u(error.value);
     u(ack.seq), u(ack.of_type);
     u(nak.seq), u(nak.of_type), u(nak.reason);
@@ -112,6 +123,11 @@ struct samples {
     u(cal_result.cycles), u(cal_result.delta_n_q8), u(cal_result.std_q8), u(cal_result.flags);
     u(set_delta_n.delta_n_q8);
     u(calibrate.cycles);
+    u(start.config_crc);
+    gone.count = p::gone_msg::max_seqs;
+    for (auto& v : gone.seqs) u(v);
+    resend.count = 5;
+    for (std::uint8_t i = 0; i < resend.count; ++i) u(resend.seqs[i]);
   }
 
   // Calls f(message) for every message type.
@@ -119,7 +135,7 @@ struct samples {
   void each(F&& f) const {
     f(info), f(dwell), f(raw), f(status), f(error), f(ack), f(nak), f(compensated);
     f(cal_result), f(ping), f(configure), f(start), f(stop), f(home), f(set_delta_n);
-    f(calibrate);
+    f(calibrate), f(gone), f(resend);
   }
 };
 
@@ -365,15 +381,16 @@ TEST(Protocol, OtherVersionUnknownTypeAndLengthMismatchAreNamed) {
     wire.push_back(0);
     return wire;
   };
-  bytes v2 = {2, static_cast<std::uint8_t>(p::msg::ping), 0, 0, 0, 0, 0};
+  bytes v1 = {1, static_cast<std::uint8_t>(p::msg::ping), 0, 0, 0, 0, 0};  // a version-1 device
   bytes unknown = {p::protocol_version, 0x7F, 0, 0, 0, 0, 0};
   bytes short_len = {p::protocol_version, static_cast<std::uint8_t>(p::msg::ping), 0, 0, 3, 0, 0};
   p::frame_decoder d;
-  decode_all(d, seal(v2));
+  decode_all(d, seal(v1));
   decode_all(d, seal(unknown));
   decode_all(d, seal(short_len));
   decode_all(d, seal({1, 2, 3}));
   EXPECT_EQ(d.counts().bad_version, 1u);
+  EXPECT_EQ(d.counts().foreign_version, 1u);
   EXPECT_EQ(d.counts().unknown_type, 1u);
   EXPECT_EQ(d.counts().bad_length, 2u);
   EXPECT_EQ(d.counts().good, 0u);
@@ -417,3 +434,99 @@ TEST(Protocol, Adxl202DutyCycleToAcceleration) {
   EXPECT_EQ(p::adxl202_accel_mg(0x7FFFFFFFu, 0xFFFFFFFEu), 0);
   EXPECT_EQ(p::adxl202_accel_mg(7, 0), 0);  // no period captured
 }
+
+// ---- the line code (protocol v2: line.hpp) -------------------------------------------------
+
+namespace {
+
+// The extended Hamming [8,4,4] code: 16 codewords at distance >= 4 from each other, so every
+// single bit error in a wire byte is corrected and every double one detected (never miscorrected).
+TEST(LineCode, CorrectsEverySingleAndDetectsEveryDoubleBitError) {
+  for (std::uint8_t a = 0; a < 16; ++a) {
+    for (std::uint8_t b = 0; b < 16; ++b) {
+      if (a == b) continue;
+      const unsigned d = static_cast<unsigned>(p::hamming84_encode(a) ^ p::hamming84_encode(b));
+      EXPECT_GE(std::popcount(d), 4);
+    }
+    const std::uint8_t c = p::hamming84_encode(a);
+    EXPECT_EQ(p::hamming84_decode(c), a);
+    for (int i = 0; i < 8; ++i) {
+      EXPECT_EQ(p::hamming84_decode(static_cast<std::uint8_t>(c ^ (1u << i))),
+                a | p::hamming84_corrected);
+      for (int j = i + 1; j < 8; ++j)
+        EXPECT_EQ(p::hamming84_decode(static_cast<std::uint8_t>(c ^ (1u << i) ^ (1u << j))),
+                  p::hamming84_error);
+    }
+  }
+}
+
+bytes wire_of(const samples& s, std::uint16_t first_seq, bool lead) {
+  bytes w;
+  std::uint16_t seq = first_seq;
+  s.each([&](const auto& m) {
+    bytes b(p::max_wire_bytes);
+    const std::size_t n = p::encode_wire(m, seq++, b.data(), b.size(), lead);
+    b.resize(n);
+    w.insert(w.end(), b.begin(), b.end());
+  });
+  return w;
+}
+
+std::size_t decode_line(p::stream_decoder& d, const bytes& w) {
+  std::size_t n = 0;
+  for (std::uint8_t b : w) n += d.push(b) ? 1u : 0u;
+  return n;
+}
+
+// Every message through the line code, back to back as a device sends them and with the
+// delimiter run before each as a host sends them: each decodes once, nothing corrected.
+TEST(LineCode, EveryMessageRoundTripsBackToBackAndWithLeadingRuns) {
+  const samples s(11);
+  for (const bool lead : {false, true}) {
+    p::stream_decoder d;
+    EXPECT_EQ(decode_line(d, wire_of(s, 40, lead)), 18u) << lead;
+    EXPECT_EQ(d.counts().bad(), 0u);
+    EXPECT_EQ(d.line().corrected + d.line().uncorrectable + d.line().realigned, 0u);
+  }
+}
+
+// One bit flipped in every wire byte of a stream: everything arrives, every flip is corrected.
+TEST(LineCode, OneFlippedBitInEveryByteLosesNothing) {
+  const samples s(12);
+  bytes w = wire_of(s, 0, false);
+  std::mt19937 g(5);
+  for (std::uint8_t& b : w) b = static_cast<std::uint8_t>(b ^ (1u << (g() % 8)));
+  p::stream_decoder d;
+  EXPECT_EQ(decode_line(d, w), 18u);
+  EXPECT_EQ(d.line().corrected, w.size());
+  EXPECT_EQ(d.counts().bad(), 0u);
+}
+
+// A lost wire byte puts the high and low nibbles out of step: the frame it was in is lost, the
+// delimiter run after it puts them back, and the next frames arrive.
+TEST(LineCode, ALostByteCostsItsFrameOnly) {
+  const samples s(13);
+  const bytes w = wire_of(s, 0, false);
+  for (std::size_t drop = 3; drop < w.size(); drop += 37) {
+    bytes lossy = w;
+    lossy.erase(lossy.begin() + static_cast<std::ptrdiff_t>(drop));
+    p::stream_decoder d;
+    EXPECT_GE(decode_line(d, lossy), 17u) << "drop at " << drop;
+    EXPECT_LE(d.counts().bad(), 2u) << "drop at " << drop;  // its frame, split in two at most
+  }
+}
+
+// Noise on an idle line (any bytes), then long runs of zeros, then frames: they all arrive.
+TEST(LineCode, NoiseAndIdleZerosBeforeAFrameDoNotJoinIt) {
+  const samples s(14);
+  bytes w;
+  std::mt19937 g(6);
+  for (int i = 0; i < 500; ++i) w.push_back(static_cast<std::uint8_t>(g()));
+  w.insert(w.end(), 1001, 0);  // a long idle run: any count of zeros
+  const bytes frames = wire_of(s, 0, true);
+  w.insert(w.end(), frames.begin(), frames.end());
+  p::stream_decoder d;
+  EXPECT_EQ(decode_line(d, w), 18u);
+}
+
+}  // namespace

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 
 namespace {
 
@@ -25,6 +26,19 @@ template <class M>
 std::string wire_hex(const M& m, uint16_t seq) {
   uint8_t buf[max_wire];
   const size_t n = encode_message(m, seq, buf, sizeof buf);
+  std::string out;
+  char b[4];
+  for (size_t i = 0; i < n; ++i) {
+    std::snprintf(b, sizeof b, "%s%02X", i == 0 ? "" : " ", buf[i]);
+    out += b;
+  }
+  return out;
+}
+
+template <class M>
+std::string line_hex(const M& m, uint16_t seq, bool lead) {
+  uint8_t buf[max_wire_bytes];
+  const size_t n = encode_wire(m, seq, buf, sizeof buf, lead);
   std::string out;
   char b[4];
   for (size_t i = 0; i < n; ++i) {
@@ -53,15 +67,18 @@ TEST(ProtocolDoc, ExampleFramesAreTheEncodersBytes) {
   calibrate_msg k;
   k.cycles = 100;
   info_msg i;
-  i.fw_minor = 1;
-  i.protocol = 1;
+  i.fw_minor = 2;
+  i.protocol = 2;
   i.serial = 0x0F149001;
   i.mclk_hz = 6144000;
   i.tick_hz = 32768;
   i.adc_revision = 0x29;
   i.max_n_avg = 65535;
-  i.max_raw_codes = 64;
+  i.max_raw_codes = 32;
   i.range = 4;
+  i.reset_cause = 1;
+  i.boot_count = 1;
+  i.history_bytes = 400;
   dwell_msg w;
   w.cycle = 7;
   w.position = 1;
@@ -88,6 +105,8 @@ TEST(ProtocolDoc, ExampleFramesAreTheEncodersBytes) {
   s.cycle = 7;
   s.frames_sent = 120;
   s.rx_frames_ok = 4;
+  s.history_oldest = 113;
+  s.stack_free = 530;
   error_msg e;
   e.code = 5;
   e.what = 1;
@@ -104,11 +123,20 @@ TEST(ProtocolDoc, ExampleFramesAreTheEncodersBytes) {
   cr.cycles = 100;
   cr.delta_n_q8 = 791;
   cr.std_q8 = 2048;
+  start_msg st;
+  st.config_crc = configure_crc(configure_msg{});
+  resend_msg rs;
+  rs.count = 2;
+  rs.seqs[0] = 40;
+  rs.seqs[1] = 41;
+  gone_msg gn;
+  gn.count = 1;
+  gn.seqs[0] = 40;
 
   EXPECT_EQ(example(t, "ping seq=0"), wire_hex(ping_msg{}, 0));
   EXPECT_EQ(example(t, "ack seq=0 of ping seq=0"), wire_hex(a, 0));
   EXPECT_EQ(example(t, "configure seq=1 (defaults)"), wire_hex(configure_msg{}, 1));
-  EXPECT_EQ(example(t, "start seq=2"), wire_hex(start_msg{}, 2));
+  EXPECT_EQ(example(t, "start seq=2 (naming the default configuration)"), wire_hex(st, 2));
   EXPECT_EQ(example(t, "stop seq=3"), wire_hex(stop_msg{}, 3));
   EXPECT_EQ(example(t, "home seq=4"), wire_hex(home_msg{}, 4));
   EXPECT_EQ(example(t, "set_delta_n seq=5 (791 q8)"), wire_hex(d, 5));
@@ -121,6 +149,11 @@ TEST(ProtocolDoc, ExampleFramesAreTheEncodersBytes) {
   EXPECT_EQ(example(t, "nak seq=46"), wire_hex(nk, 46));
   EXPECT_EQ(example(t, "compensated seq=47"), wire_hex(cm, 47));
   EXPECT_EQ(example(t, "cal_result seq=48"), wire_hex(cr, 48));
+  EXPECT_EQ(example(t, "resend seq=7 (40 and 41)"), wire_hex(rs, 7));
+  EXPECT_EQ(example(t, "gone seq=49 (40)"), wire_hex(gn, 49));
+  // On the wire (the line code): a host's command with its leading run, a device's answer.
+  EXPECT_EQ(example(t, "wire: ping seq=0 from a host"), line_hex(ping_msg{}, 0, true));
+  EXPECT_EQ(example(t, "wire: ack seq=0 of ping seq=0"), line_hex(a, 0, false));
 }
 
 TEST(ProtocolDoc, TheMessageTableHasEverySeedAndPayloadSize) {
@@ -140,6 +173,7 @@ TEST(ProtocolDoc, TheMessageTableHasEverySeedAndPayloadSize) {
       {0x15, "NAK", nak_msg::crc_extra},
       {0x16, "COMPENSATED", compensated_msg::crc_extra},
       {0x17, "CAL_RESULT", cal_result_msg::crc_extra},
+      {0x18, "GONE", gone_msg::crc_extra},
       {0x20, "PING", ping_msg::crc_extra},
       {0x21, "CONFIGURE", configure_msg::crc_extra},
       {0x22, "START", start_msg::crc_extra},
@@ -147,6 +181,7 @@ TEST(ProtocolDoc, TheMessageTableHasEverySeedAndPayloadSize) {
       {0x24, "HOME", home_msg::crc_extra},
       {0x25, "SET_DELTA_N", set_delta_n_msg::crc_extra},
       {0x26, "CALIBRATE", calibrate_msg::crc_extra},
+      {0x27, "RESEND", resend_msg::crc_extra},
   };
   for (const row& r : rows) {
     char head[32];

@@ -16,6 +16,7 @@
 
 #include "firmware/ports/cortex-m3-qemu/model_codes.hpp"
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 
 extern char** environ;
 
@@ -73,7 +74,7 @@ struct qemu_process {
 struct host_side {
   explicit host_side(qemu_process& proc) : q(proc) {}
   qemu_process& q;
-  protocol::frame_decoder dec;
+  protocol::stream_decoder dec;
   uint16_t seq = 0;
   struct got {
     uint8_t type;
@@ -84,9 +85,9 @@ struct host_side {
 
   template <class M>
   uint16_t send(const M& m) {
-    uint8_t buf[protocol::max_wire];
+    uint8_t buf[protocol::max_wire_bytes];
     const uint16_t s = seq++;
-    const size_t n = protocol::encode_message(m, s, buf, sizeof buf);
+    const size_t n = protocol::encode_wire(m, s, buf, sizeof buf, true);
     EXPECT_EQ(write(q.to, buf, n), static_cast<ssize_t>(n));
     return s;
   }
@@ -161,7 +162,9 @@ TEST(Qemu, TheCortexM3ImageSpeaksTheProtocolAndItsDwellsMatchTheModel) {
   c.ramp_sps2 = 50000;
   const uint16_t cs = h.send(c);
   ASSERT_TRUE(h.read_until([&] { return h.acked(cs); }, 20)) << "CONFIGURE not acknowledged";
-  const uint16_t ss = h.send(protocol::start_msg{});
+  protocol::start_msg start;
+  start.config_crc = protocol::configure_crc(c);
+  const uint16_t ss = h.send(start);
   ASSERT_TRUE(h.read_until([&] { return h.acked(ss); }, 20));
   ASSERT_TRUE(h.read_until([&] { return h.count<protocol::dwell_msg>() >= 20; }, 90))
       << h.count<protocol::dwell_msg>() << " DWELLs";
@@ -188,6 +191,7 @@ TEST(Qemu, TheCortexM3ImageSpeaksTheProtocolAndItsDwellsMatchTheModel) {
   ASSERT_TRUE(h.read_until([&] { return h.acked(st); }, 20));
   EXPECT_EQ(h.dec.counts().bad(), 0u);
   EXPECT_EQ(h.dec.counts().missing, 0u);
+  EXPECT_EQ(h.dec.line().corrected + h.dec.line().uncorrectable, 0u);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "firmware/protocol/frame.hpp"
+#include "firmware/protocol/line.hpp"
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/sensor/presets.hpp"
@@ -22,7 +23,7 @@ namespace p = gyroflip::protocol;
 struct client {
   explicit client(host::emulator& em) : e(em) {}
   host::emulator& e;
-  p::frame_decoder decoder;
+  p::stream_decoder decoder;
   uint16_t seq = 0;
   std::vector<p::dwell_msg> dwells;
   std::vector<p::info_msg> infos;
@@ -30,8 +31,8 @@ struct client {
 
   template <class M>
   void send(const M& m) {
-    uint8_t buf[p::max_wire];
-    const size_t n = p::encode_message(m, seq++, buf, sizeof buf);
+    uint8_t buf[p::max_wire_bytes];
+    const size_t n = p::encode_wire(m, seq++, buf, sizeof buf, true);
     ASSERT_GT(n, 0u);
     ASSERT_TRUE(e.send(buf, n));
   }
@@ -48,6 +49,12 @@ struct client {
         if (f.as(info)) infos.push_back(info);
         if (f.as(ack)) acks.push_back(ack.seq);
       }
+  }
+  /// START naming the device's configuration.
+  void start(const p::configure_msg& c) {
+    p::start_msg m;
+    m.config_crc = p::configure_crc(c);
+    send(m);
   }
   void run_s(double s) {
     const auto ticks = static_cast<uint64_t>(s * host::emulator::tick_hz);
@@ -83,7 +90,7 @@ void run_six_seconds(client& c) {
   c.e.boot();
   c.run_s(0.1);
   c.send(p::configure_msg{});
-  c.send(p::start_msg{});
+  c.start(p::configure_msg{});
   c.run_s(6.0);
   ASSERT_GE(c.dwells.size(), 4u);
 }
@@ -95,6 +102,8 @@ TEST(Emulator, BootsAndSaysHello) {
   (*e)->boot();
   c.run_s(0.1);
   ASSERT_EQ(c.infos.size(), 1u);
+  EXPECT_EQ(c.infos[0].reset_cause, static_cast<uint8_t>(p::reset_cause::power_on));
+  EXPECT_EQ(c.infos[0].boot_count, 1);
   EXPECT_EQ(c.infos[0].protocol, p::protocol_version);
   EXPECT_EQ(c.infos[0].serial, 1u);
   EXPECT_NE(c.infos[0].adc_revision, 0);
@@ -112,7 +121,7 @@ TEST(Emulator, DwellsCalibrateToTheSimulatorsTruth) {
   c.run_s(0.1);
   p::configure_msg cfg;  // the paper's rig: n_avg 256, 4 temperature conversions
   c.send(cfg);
-  c.send(p::start_msg{});
+  c.start(cfg);
   c.run_s(120.0);
   ASSERT_GE(c.acks.size(), 2u);
   ASSERT_GE(c.dwells.size(), 100u);

@@ -1,19 +1,22 @@
-// The .gfr recording format (issue 9, docs/FORMATS.md "Rig recording"): what the writer appends
-// reads back; a cut anywhere in the last record is a torn tail that is skipped with a warning;
-// any other damage is an error naming the record, never a silently different record.
+// The .gfr recording format (issues 9 and 21, docs/FORMATS.md "Rig recording"): what the writer
+// appends reads back; a cut anywhere in the last record is a torn tail that is skipped with a
+// warning; a damaged record in the middle is skipped with a warning naming it and the bytes, and
+// every intact record around it reads; never a silently different record.
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
 
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "host/recorder/gfr.hpp"
+#include "gyroflip/rigdata/gfr.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
 
-namespace gfr = gyroflip::host::gfr;
+namespace gfr = gyroflip::rigdata::gfr;
 using bytes = std::vector<std::uint8_t>;
 
 bytes file_bytes(const std::string& path) {
@@ -72,32 +75,93 @@ TEST(Gfr, EveryCutInTheLastRecordIsATornTailSkippedWithAWarning) {
   }
 }
 
-// Every single-bit flip anywhere: an error naming the record, or (in the last record) a torn
-// tail - never a file that reads as if whole but with another record.
+// Every single-bit flip anywhere: in the header or in META an error naming it; anywhere else the
+// damaged record is skipped with one warning naming it (or, in the last record, a torn tail) and
+// every other record reads - never a file that reads as if whole but with another record.
 TEST(Gfr, EveryBitFlipIsFoundAndNamed) {
   gyroflip::test::temp_dir dir;
   const bytes whole = sample(dir.path() + "/a.gfr");
   const auto original = gfr::parse(whole, "a.gfr");
   ASSERT_TRUE(original);
-  const std::size_t last_start = whole.size() - (gfr::record_overhead + 5);
+  const std::size_t meta_end = gfr::file_header_bytes + gfr::record_overhead + 31;
   for (std::size_t i = 0; i < whole.size(); ++i)
     for (int bit = 0; bit < 8; ++bit) {
       bytes b = whole;
       b[i] = static_cast<std::uint8_t>(b[i] ^ (1u << bit));
       auto f = gfr::parse(b, "a.gfr");
       SCOPED_TRACE(i * 8 + static_cast<std::size_t>(bit));
-      if (f) {
-        ASSERT_GE(i, last_start) << "a flip before the last record read as valid";
-        EXPECT_EQ(f->records.size(), 3u);
-        EXPECT_EQ(f->warnings.size(), 1u);
+      if (i < gfr::file_header_bytes) {
+        ASSERT_FALSE(f);
+        EXPECT_EQ(f.err().message.rfind("a.gfr: record 0: ", 0), 0u) << f.err().message;
         continue;
       }
-      const auto& m = f.err().message;
-      EXPECT_EQ(m.rfind("a.gfr: record ", 0), 0u) << m;
-      if (i < gfr::file_header_bytes) {
-        EXPECT_EQ(m.rfind("a.gfr: record 0: ", 0), 0u) << m;
+      if (i < meta_end) {
+        ASSERT_FALSE(f);
+        EXPECT_EQ(f.err().message.rfind("a.gfr: record 1: ", 0), 0u) << f.err().message;
+        continue;
+      }
+      ASSERT_TRUE(f) << f.err().message;
+      EXPECT_EQ(f->records.size(), 3u);
+      ASSERT_EQ(f->warnings.size(), 1u);
+      EXPECT_NE(f->warnings[0].find("a.gfr: record "), std::string::npos) << f->warnings[0];
+      for (const auto& r : f->records) {  // the intact ones, unchanged
+        bool found = false;
+        for (const auto& o : original->records) found = found || (o.type == r.type && o.body == r.body);
+        EXPECT_TRUE(found);
+      }
+      // --strict keeps the old refusal for damage in the middle.
+      if (i < whole.size() - (gfr::record_overhead + 5)) {
+        auto strict = gfr::parse(b, "a.gfr", true);
+        EXPECT_FALSE(strict);
       }
     }
+}
+
+// What a power loss leaves: the file's size grew but its last blocks were never written (zeros).
+// And one flipped bit in the middle of a long file: every record before and after it reads.
+TEST(Gfr, ZerosAtTheEndAndADamagedRecordInTheMiddleLoseOnlyThemselves) {
+  gyroflip::test::temp_dir dir;
+  const std::string path = dir.path() + "/long.gfr";
+  auto w = gfr::writer::create(path);
+  ASSERT_TRUE(w);
+  const std::string meta = R"({"scale_factor_v_per_dps":0.02})";
+  ASSERT_TRUE(w->append(gfr::kind::meta, 0, bytes(meta.begin(), meta.end())));
+  for (std::uint64_t k = 1; k <= 200; ++k)
+    ASSERT_TRUE(w->append(gfr::kind::frame, k, bytes{0x10, static_cast<std::uint8_t>(k), 0, 1, 2, 3}));
+  ASSERT_TRUE(w->close());
+  bytes b = file_bytes(path);
+  bytes zeros = b;
+  zeros.insert(zeros.end(), 8, 0);
+  auto z = gfr::parse(zeros, "z.gfr");
+  ASSERT_TRUE(z) << z.err().message;
+  EXPECT_EQ(z->records.size(), 201u);
+  ASSERT_EQ(z->warnings.size(), 1u);
+  EXPECT_NE(z->warnings[0].find("zeros"), std::string::npos) << z->warnings[0];
+  bytes flipped = b;
+  flipped[b.size() / 2] ^= 0x10;
+  auto f = gfr::parse(flipped, "f.gfr");
+  ASSERT_TRUE(f) << f.err().message;
+  EXPECT_EQ(f->records.size(), 200u);
+  ASSERT_EQ(f->warnings.size(), 1u);
+  EXPECT_NE(f->warnings[0].find("damaged bytes"), std::string::npos) << f->warnings[0];
+  EXPECT_EQ(f->records.back().host_time_us, 200u);
+}
+
+// Two recordings joined (`cat a.gfr b.gfr`), and a folder named like a recording: plain errors.
+TEST(Gfr, TwoJoinedFilesAndAFolderAreNamed) {
+  gyroflip::test::temp_dir dir;
+  bytes a = sample(dir.path() + "/a.gfr");
+  const bytes b = sample(dir.path() + "/b.gfr");
+  a.insert(a.end(), b.begin(), b.end());
+  auto f = gfr::parse(a, "ab.gfr");
+  ASSERT_FALSE(f);
+  EXPECT_NE(f.err().message.find("two .gfr files were joined"), std::string::npos)
+      << f.err().message;
+  const std::string folder = dir.path() + "/x.gfr";
+  ASSERT_EQ(::mkdir(folder.c_str(), 0755), 0);
+  auto d = gfr::read(folder);
+  ASSERT_FALSE(d);
+  EXPECT_NE(d.err().message.find("is a directory"), std::string::npos) << d.err().message;
 }
 
 TEST(Gfr, HeaderProblemsSayWhatIsWrong) {
@@ -117,10 +181,10 @@ TEST(Gfr, HeaderProblemsSayWhatIsWrong) {
   EXPECT_NE(message({}).find("record 0: not a gyroflip rig recording"), std::string::npos);
   // A newer version with a correct header checksum.
   bytes future = whole;
-  future[8] = 2;
+  future[8] = 3;
   const std::uint32_t crc = gfr::crc32(std::span<const std::uint8_t>(future.data(), 12));
   for (std::size_t k = 0; k < 4; ++k) future[12 + k] = static_cast<std::uint8_t>(crc >> (8 * k));
-  EXPECT_NE(message(future).find("record 0: format version 2 is newer"), std::string::npos)
+  EXPECT_NE(message(future).find("record 0: format version 3 is newer"), std::string::npos)
       << message(future);
   // Only the header: no META.
   EXPECT_NE(message(bytes(whole.begin(), whole.begin() + 16)).find("record 1: no META"),

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +13,8 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -25,7 +28,7 @@
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 #include "support/pty_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -172,7 +175,7 @@ TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
         run_cli({"record", "--port", emu.pty(), "--duration", "30", "--raw", "-o", gfr});
     ASSERT_EQ(rec.exit_code, 0) << rec.err;
   }
-  auto run = host::read_rig_run(gfr, true);
+  auto run = rigdata::read_rig_run(gfr, true);
   ASSERT_TRUE(run) << run.err().message;
   ASSERT_GE(run->dwells.size(), 25u);
   ASSERT_EQ(run->conversions.size(), run->dwells.size() * 256);
@@ -197,47 +200,16 @@ TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
   ASSERT_EQ(ex.exit_code, 0) << ex.err;
   const std::string csv = test::read_text(dir.path() + "/raw.csv");
   EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')),
-            run->conversions.size() + 1 + host::csv_metadata(*run).size());
+            run->conversions.size() + 1 + rigdata::csv_metadata(*run).size());
 }
 
-TEST(RecordCli, LinkFaultsBecomeGapRecordsNeverData) {
-  test::temp_dir dir;
-  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
-  emulator_process emu(dir.path(),
-                       "--speed max --seed 7 --fault-ber 1e-3 --fault-drop 1e-4 --log " + log);
-  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "300", "-o", gfr});
-  ASSERT_EQ(rec.exit_code, 0) << rec.err;
-  auto run = host::read_rig_run(gfr);
-  ASSERT_TRUE(run) << run.err().message;
-  std::map<long long, sent_dwell> sent;
-  for (auto& r : read_log(log)) sent[r.at(0)] = r;
-  std::set<long long> stored;
-  for (const auto& d : run->dwells) {
-    SCOPED_TRACE(d.seq);
-    ASSERT_EQ(sent.count(d.seq), 1u);
-    const auto& s = sent.at(d.seq);
-    EXPECT_FALSE(s.hit()) << "a frame a fault hit was stored";
-    EXPECT_EQ(d.d.code_sum, s.at(6));
-    EXPECT_EQ(d.d.t_start_ticks, static_cast<std::uint32_t>(s.at(3)));
-    stored.insert(d.seq);
-  }
-  // Between the first and last stored DWELL: what was lost is what a fault hit, plus at most
-  // the frames merged with a hit one through a damaged delimiter.
-  std::size_t hit = 0, lost = 0;
-  for (auto it = sent.lower_bound(*stored.begin());
-       it != sent.end() && it->first <= *stored.rbegin(); ++it) {
-    hit += it->second.hit() ? 1U : 0U;
-    lost += stored.count(it->first) == 0 ? 1U : 0U;
-  }
-  EXPECT_GT(hit, 50u);
-  EXPECT_GE(lost, hit);
-  EXPECT_LE(lost, hit + hit / 4 + 2);
-  // Every lost frame is a skipped sequence number; each hit frame also leaves a corrupt one
-  // (unless the fault dropped its delimiter and merged it with the next).
-  EXPECT_GE(run->missing_frames, lost);
-  EXPECT_GE(run->corrupt_frames, hit / 2);
-  EXPECT_EQ(run->stop, host::gfr::stop_reason::duration);
-}
+// Under ASan the suite runs ~5x slower: the long figure runs are shortened there (the CI's
+// release run has the full ones; docs/RELIABILITY.md has the figures).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr double figure_s = 120;
+#else
+constexpr double figure_s = 600;
+#endif
 
 // The log's DWELLs by their start tick (the emulator's clock never restarts, its sequence
 // numbers do after a reset).
@@ -247,10 +219,14 @@ std::map<long long, sent_dwell> sent_by_start(const std::string& log) {
   return sent;
 }
 
-// Every stored DWELL is one the device sent, unharmed; every one the device sent unharmed
-// between the first and the last stored is stored. Returns how many sent ones were lost.
-std::size_t expect_stored_is_what_was_sent(const host::rig_run& run,
-                                           const std::map<long long, sent_dwell>& sent) {
+// What a recording holds against what the device sent: every stored DWELL is one the device
+// sent, unharmed, labelled with the angle the table truly stood at; `lost` counts those the
+// device sent (from its run's first cycle-0 A dwell to the last stored one) that are not stored.
+struct comparison {
+  std::size_t sent = 0, stored = 0, lost = 0, mislabelled = 0, lost_not_hit = 0;
+};
+comparison compare(const rigdata::rig_run& run, const std::map<long long, sent_dwell>& sent) {
+  comparison c;
   std::set<long long> stored;
   for (const auto& d : run.dwells) {
     SCOPED_TRACE(d.d.t_start_ticks);
@@ -259,21 +235,96 @@ std::size_t expect_stored_is_what_was_sent(const host::rig_run& run,
       ADD_FAILURE() << "a stored DWELL the device never sent";
       continue;
     }
-    EXPECT_FALSE(it->second.hit());
     EXPECT_EQ(d.d.code_sum, it->second.at(6));
     EXPECT_EQ(d.d.position, it->second.at(2));
+    if (std::fabs(d.angle_deg - it->second.table_deg()) > 1e-9) ++c.mislabelled;
     stored.insert(d.d.t_start_ticks);
   }
-  std::size_t lost = 0;
-  if (stored.empty()) return lost;
-  for (auto it = sent.find(*stored.begin()); it != sent.end() && it->first <= *stored.rbegin();
-       ++it) {
-    if (it->second.hit())
-      ++lost;
-    else
-      EXPECT_EQ(stored.count(it->first), 1u) << "sent unharmed, not stored: tick " << it->first;
+  c.stored = stored.size();
+  if (stored.empty()) return c;
+  auto first = sent.begin();
+  while (first != sent.end() && !(first->second.at(1) == 0 && first->second.at(2) == 0)) ++first;
+  for (auto it = first; it != sent.end() && it->first <= *stored.rbegin(); ++it) {
+    ++c.sent;
+    if (stored.count(it->first) == 0) {
+      ++c.lost;
+      if (!it->second.hit()) ++c.lost_not_hit;
+    }
   }
-  return lost;
+  return c;
+}
+
+std::string recorded(const comparison& c) {
+  return std::to_string(c.stored) + " of " + std::to_string(c.sent) + " DWELLs recorded, " +
+         std::to_string(c.lost) + " lost";
+}
+
+// The issue's figures (docs/RELIABILITY.md): dwells recorded of dwells sent, 10 simulated minutes
+// at --speed max, per fault. The line code corrects single flips, RESEND brings back what was
+// still lost while the device has it; what it no longer has is a gap record with its count.
+struct figure {
+  std::string faults;
+  double min_recorded;
+};
+class LinkFigures : public ::testing::TestWithParam<figure> {};
+
+TEST_P(LinkFigures, DwellsRecordedOfDwellsSent) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), "--speed max --seed 21 " + GetParam().faults + " --log " + log);
+  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration",
+                            std::to_string(figure_s), "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  const comparison c = compare(*run, sent_by_start(log));
+  RecordProperty("recorded", recorded(c));
+  std::printf("%s: %s\n", GetParam().faults.c_str(), recorded(c).c_str());
+  EXPECT_GE(c.sent, static_cast<std::size_t>(figure_s / 1.0));
+  EXPECT_GE(static_cast<double>(c.stored), GetParam().min_recorded * static_cast<double>(c.sent))
+      << recorded(c) << "\n" << rec.err;
+  EXPECT_EQ(c.mislabelled, 0u);
+  // The run's own count of lost dwells is the truth's, and each one is in a gap record.
+  EXPECT_EQ(run->lost_dwells, c.lost);
+  EXPECT_GE(run->missing_frames, c.lost);
+  EXPECT_EQ(run->outside_runs, 0u);
+  // The first dwell (cycle 0 at A) is there, whenever START's ACK came.
+  ASSERT_FALSE(run->dwells.empty());
+  EXPECT_EQ(run->dwells.front().d.cycle, 0u);
+  EXPECT_EQ(run->dwells.front().d.position, 0u);
+}
+
+std::string figure_name(const ::testing::TestParamInfo<figure>& info) {
+  static const char* const names[] = {"clean", "ber_1e3", "ber_5e3", "ber_1e2", "drop_1e2"};
+  return names[info.index];
+}
+
+INSTANTIATE_TEST_SUITE_P(Faults, LinkFigures,
+                         ::testing::Values(figure{"", 1.0}, figure{"--fault-ber 1e-3", 1.0},
+                                           figure{"--fault-ber 5e-3", 0.999},
+                                           figure{"--fault-ber 1e-2", 0.99},
+                                           figure{"--fault-drop 1e-2", 0.99}),
+                         figure_name);
+
+// An unplugged adapter for 3 s of the rig's time: the recorder finds the line again and asks for
+// what the rig sent meanwhile; all of it is still in the device's history (6 s).
+TEST(RecordCli, AThreeSecondUnplugLosesNothing) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  const std::string link = dir.path() + "/rig";
+  emulator_process emu(dir.path(),
+                       "--speed 5 --seed 23 --fault-unplug 20:3 --link " + link + " --log " + log);
+  const auto rec = run_cli(
+      {"record", "--port", link, "--duration", "60", "--reconnect-timeout", "20", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->link_losses, 1u);
+  const comparison c = compare(*run, sent_by_start(log));
+  std::printf("unplug 3 s: %s\n", recorded(c).c_str());
+  EXPECT_EQ(c.lost, 0u) << recorded(c);
+  EXPECT_GT(c.stored, 50u);
+  EXPECT_EQ(run->lost_dwells, 0u);
 }
 
 TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
@@ -286,23 +337,24 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
   ASSERT_EQ(rec.exit_code, 0) << rec.err;
   // Each reset: a device-reset gap, the device's INFO, a CONFIGURE that finds the home switch
   // first, START.
-  auto f = host::gfr::read(gfr);
+  auto f = rigdata::gfr::read(gfr);
   ASSERT_TRUE(f) << f.err().message;
-  std::vector<host::gfr::kind> after;
   int resets = 0;
   for (std::size_t i = 0; i < f->records.size(); ++i) {
     const auto& r = f->records[i];
-    if (r.type != host::gfr::kind::gap ||
-        r.body.at(0) != static_cast<std::uint8_t>(host::gfr::gap_reason::device_reset))
+    if (r.type != rigdata::gfr::kind::gap ||
+        r.body.at(0) != static_cast<std::uint8_t>(rigdata::gfr::gap_reason::device_reset))
       continue;
     ++resets;
-    std::vector<const host::gfr::record*> next;
+    std::vector<const rigdata::gfr::record*> next;
     for (std::size_t k = i + 1; k < f->records.size() && next.size() < 3; ++k)
-      if (f->records[k].type != host::gfr::kind::frame) next.push_back(&f->records[k]);
+      if (f->records[k].type != rigdata::gfr::kind::frame &&
+          f->records[k].type != rigdata::gfr::kind::gap)
+        next.push_back(&f->records[k]);
     ASSERT_EQ(next.size(), 3u);
-    EXPECT_EQ(next[0]->type, host::gfr::kind::info);
-    ASSERT_EQ(next[1]->type, host::gfr::kind::configure);
-    EXPECT_EQ(next[2]->type, host::gfr::kind::start);
+    EXPECT_EQ(next[0]->type, rigdata::gfr::kind::info);
+    ASSERT_EQ(next[1]->type, rigdata::gfr::kind::configure);
+    EXPECT_EQ(next[2]->type, rigdata::gfr::kind::start);
     const p::frame fr{static_cast<std::uint8_t>(p::msg::configure), 0, next[1]->body.data(),
                       next[1]->body.size()};
     p::configure_msg c;
@@ -310,69 +362,182 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
     EXPECT_NE(c.flags & p::cfg_home, 0) << "a rebooted device must find the table's home";
   }
   EXPECT_EQ(resets, 3);
-  auto run = host::read_rig_run(gfr);
+  auto run = rigdata::read_rig_run(gfr);
   ASSERT_TRUE(run) << run.err().message;
   EXPECT_EQ(run->device_resets, 3u);
   EXPECT_EQ(run->link_losses, 0u);
   ASSERT_FALSE(run->dwells.empty());
   EXPECT_EQ(run->dwells.back().segment, 3u);
-  const auto sent = sent_by_start(log);
-  EXPECT_EQ(expect_stored_is_what_was_sent(*run, sent), 0u);
-  // Where the table truly stood: the position each DWELL names (the reset device homed it).
-  for (const auto& [tick, s] : sent) EXPECT_EQ(s.table_deg(), 180.0 * s.num(2)) << "tick " << tick;
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_EQ(c.mislabelled, 0u);
+  EXPECT_EQ(c.lost_not_hit, 0u) << recorded(c);
   const auto cal = run_cli({"calibrate", gfr, "--json"});
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   expect_calibrates_to_truth(nlohmann::json::parse(cal.out), 13);
 }
 
-TEST(RecordCli, AnUnpluggedAdapterIsWaitedForAndTheRunResumesWithAGapRecord) {
-  test::temp_dir dir;
-  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
-  const std::string link = dir.path() + "/rig";  // like /dev/serial/by-id/...
-  emulator_process emu(
-      dir.path(), "--speed 100 --seed 17 --fault-unplug 120:1.5 --link " + link + " --log " + log);
-  ASSERT_EQ(emu.pty(), link);
-  const auto rec = run_cli(
-      {"record", "--port", link, "--duration", "400", "--reconnect-timeout", "20", "-o", gfr});
-  ASSERT_EQ(rec.exit_code, 0) << rec.err;
-  auto f = host::gfr::read(gfr);
-  ASSERT_TRUE(f) << f.err().message;
-  int gaps = 0;
-  for (const auto& r : f->records)
-    if (r.type == host::gfr::kind::gap &&
-        r.body.at(0) == static_cast<std::uint8_t>(host::gfr::gap_reason::link_lost)) {
-      ++gaps;
-      p::reader rd{r.body.data() + 1, 4};
-      const std::uint32_t ms = rd.u32();
-      EXPECT_GE(ms, 1000u);  // 1.5 s unplugged, noticed at once or nearly
-      EXPECT_LE(ms, 20000u);
-    }
-  EXPECT_EQ(gaps, 1);
-  auto run = host::read_rig_run(gfr);
-  ASSERT_TRUE(run) << run.err().message;
-  EXPECT_EQ(run->link_losses, 1u);
-  EXPECT_EQ(run->device_resets, 0u);  // the rig ran on: no new configuration
-  EXPECT_EQ(run->stop, host::gfr::stop_reason::duration);
-  // Lost: what the rig sent while the line was gone (1.5 s at 100x: ~150 DWELLs); nothing else.
-  const std::size_t lost = expect_stored_is_what_was_sent(*run, sent_by_start(log));
-  EXPECT_GT(lost, 80u);
-  EXPECT_GT(run->dwells.size(), 200u);
+// The review's reset storm (docs/RELIABILITY.md): resets at any moment - during a START retry,
+// while the recorder waits for an ACK, mid-run - on a noisy line. Not one dwell may carry an
+// angle other than where the table truly stood (the emulator's table_deg).
+TEST(RecordCli, ResetStormsNeverMislabelADwell) {
+  const std::vector<std::uint64_t> seeds = {10934, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+  for (std::size_t k = 0; k < seeds.size(); ++k) {
+    SCOPED_TRACE(seeds[k]);
+    test::temp_dir dir;
+    const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+    // The review's command for its seed; the others at full speed.
+    const std::string speed = k == 0 ? "100" : "max";
+    emulator_process emu(dir.path(), "--speed " + speed + " --seed " + std::to_string(seeds[k]) +
+                                         " --fault-ber 1e-3 --fault-reset-at "
+                                         "30,60.5,90,150,200,300,400 --log " + log);
+    const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "450", "-o", gfr});
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    auto run = rigdata::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    const comparison c = compare(*run, sent_by_start(log));
+    EXPECT_EQ(c.mislabelled, 0u) << recorded(c);
+    EXPECT_GE(run->device_resets, 7u);
+    EXPECT_GT(c.stored, 300u) << recorded(c);
+  }
 }
 
 TEST(RecordCli, APortThatStaysAwayEndsTheRunWithACompleteFile) {
   test::temp_dir dir;
   const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
-  emulator_process emu(dir.path(), "--speed 100 --seed 19 --fault-unplug 60:4 --link " + link);
+  emulator_process emu(dir.path(), "--speed 100 --seed 19 --fault-unplug 60:400 --link " + link);
   const auto rec = run_cli(
       {"record", "--port", link, "--duration", "400", "--reconnect-timeout", "1", "-o", gfr});
   EXPECT_EQ(rec.exit_code, 1);
   EXPECT_NE(rec.err.find("did not come back within 1 s"), std::string::npos) << rec.err;
-  auto run = host::read_rig_run(gfr);
+  auto run = rigdata::read_rig_run(gfr);
   ASSERT_TRUE(run) << run.err().message;
   EXPECT_TRUE(run->warnings.empty());
-  EXPECT_EQ(run->stop, host::gfr::stop_reason::link_lost);
+  EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::link_lost);
   EXPECT_EQ(run->link_losses, 1u);
   EXPECT_GT(run->dwells.size(), 40u);  // the 60 s before the loss
+}
+
+// After the line comes back, another board answers (another serial): it is not recorded into the
+// same file; the file is complete up to there.
+TEST(RecordCli, AnotherDeviceAfterAReconnectIsRefused) {
+  test::temp_dir dir;
+  const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
+  auto first = std::make_unique<emulator_process>(dir.path(),
+                                                  "--speed 20 --seed 29 --serial 7 --link " + link);
+  const int pid = test::spawn_cli(
+      {"record", "--port", link, "--duration", "600", "--reconnect-timeout", "20", "-o", gfr});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  first.reset();  // the first board goes
+  emulator_process second(dir.path(), "--speed 20 --seed 30 --serial 8 --link " + link);
+  EXPECT_EQ(test::wait_cli(pid), 1);
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->info.serial, 7u);
+  EXPECT_GT(run->dwells.size(), 5u);
+  EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::device_changed);
+}
+
+// One recorder per port: a second one is refused at once, and the first records on, losing
+// nothing.
+TEST(RecordCli, ASecondRecorderOnThePortIsRefusedAndTheFirstLosesNothing) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/one.gfr";
+  emulator_process emu(dir.path(), "--speed 20 --seed 31 --log " + log);
+  const int pid = test::spawn_cli({"record", "--port", emu.pty(), "--duration", "60", "-o", gfr});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto second = run_cli({"record", "--port", emu.pty(), "-o", dir.path() + "/two.gfr"});
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(2));
+  EXPECT_EQ(second.exit_code, 1) << second.err;
+  EXPECT_NE(second.err.find("in use by another program"), std::string::npos) << second.err;
+  EXPECT_FALSE(test::exists(dir.path() + "/two.gfr"));
+  EXPECT_EQ(test::wait_cli(pid), 0);
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_EQ(c.lost, 0u) << recorded(c);
+  EXPECT_GT(c.stored, 40u);
+}
+
+// A full disk (a 48 KiB filesystem the test makes): the run ends with exit 1 naming it, the
+// device is stopped, and what was recorded reads back; a disk full from the start leaves no file.
+TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
+  test::temp_dir dir;
+  const std::string mnt = dir.path() + "/small";
+  ASSERT_EQ(::mkdir(mnt.c_str(), 0755), 0);
+  emulator_process emu(dir.path(), "--speed max --seed 33");
+  const std::string script =
+      "mount -t tmpfs -o size=48k tmpfs " + mnt + " || exit 77; " + GYROFLIP_EXE +
+      " record --port " + emu.pty() + " --raw --duration 3000 -o " + mnt +
+      "/run.gfr; echo \"rc=$?\"; ls -l " + mnt + "; " + GYROFLIP_EXE + " export " + mnt +
+      "/run.gfr -o " + dir.path() + "/run.csv; echo \"export=$?\"";
+  auto r = test::run_program({"unshare", "--mount", "--map-root-user", "sh", "-c", script});
+  if (r.out.find("rc=") == std::string::npos)
+    r = test::run_program({"unshare", "--mount", "sh", "-c", script});
+  if (r.out.find("rc=") == std::string::npos) GTEST_SKIP() << "cannot mount a small filesystem here";
+  EXPECT_NE(r.out.find("rc=1"), std::string::npos) << r.out << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("export=0"), std::string::npos) << r.out << r.err;  // what fit reads back
+  const std::string csv = test::read_text(dir.path() + "/run.csv");
+  EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
+  // Full from the start: no file at all.
+  const std::string full =
+      "mount -t tmpfs -o size=16k tmpfs " + mnt + " || exit 77; head -c 16384 /dev/zero > " + mnt +
+      "/filler; " + GYROFLIP_EXE + " record --port " + emu.pty() + " --duration 10 -o " + mnt +
+      "/run.gfr; echo \"rc=$?\"; ls " + mnt;
+  auto f = test::run_program({"unshare", "--mount", "--map-root-user", "sh", "-c", full});
+  if (f.out.find("rc=") == std::string::npos)
+    f = test::run_program({"unshare", "--mount", "sh", "-c", full});
+  EXPECT_NE(f.out.find("rc=1"), std::string::npos) << f.out << f.err;
+  EXPECT_EQ(f.out.find("run.gfr"), std::string::npos) << f.out;
+}
+
+TEST(RecordCli, RefusesWhatItCouldNotRecordOrReadBack) {
+  test::temp_dir dir;
+  for (const auto& [args, says] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"-o", "-"}, "a recording is a file"},
+           {{"--baud", "0", "-o", "x.gfr"}, "--baud"},
+           {{"--temp-at-0v", "5000", "-o", "x.gfr"}, "--temp-at-0v"},
+           {{"--temp-mv-per-c", "0", "-o", "x.gfr"}, "--temp-mv-per-c"},
+       }) {
+    std::vector<std::string> cmd{"record", "--port", "/dev/null"};
+    cmd.insert(cmd.end(), args.begin(), args.end());
+    const auto r = run_cli(cmd);
+    EXPECT_EQ(r.exit_code, 2) << args[0];
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_FALSE(test::exists("x.gfr"));
+  }
+}
+
+// The handshake's errors say what happened: Ctrl-C is an interruption, not a rig that does not
+// answer; bytes that never make a valid frame are not "is the rig connected".
+TEST(RecordCli, HandshakeErrorsSayWhatHappened) {
+  test::temp_dir dir;
+  {  // nothing answers; SIGINT during the handshake
+    test::pty_process quiet("python3 -c \"import os,pty,sys,time; m,s=pty.openpty(); "
+                            "print(os.ttyname(s), flush=True); time.sleep(30)\"",
+                            dir.path());
+    ASSERT_FALSE(quiet.pty().empty()) << quiet.output();
+    test::temp_dir out;
+    const std::string gfr = out.path() + "/q.gfr";
+    const int pid = test::spawn_cli({"record", "--port", quiet.pty(), "-o", gfr});
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    kill(pid, SIGINT);
+    EXPECT_EQ(test::wait_cli(pid), 1);
+    EXPECT_FALSE(test::exists(gfr));
+  }
+  {  // noise on the line
+    test::pty_process noisy(
+        "python3 -c \"import os,pty,sys,time,random; m,s=pty.openpty(); "
+        "print(os.ttyname(s), flush=True); r=random.Random(1)\n"
+        "while True:\n  os.write(m, bytes(r.randrange(256) for _ in range(64))); time.sleep(0.01)\"",
+        dir.path());
+    ASSERT_FALSE(noisy.pty().empty()) << noisy.output();
+    const auto r = run_cli({"record", "--port", noisy.pty(), "-o", dir.path() + "/n.gfr"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("bytes arrive but no valid reply"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("is the rig connected"), std::string::npos) << r.err;
+  }
 }
 
 TEST(RecordCli, EmulatorFaultOptionsAreCheckedAndItsLinkNeverReplacesAFile) {
@@ -402,16 +567,16 @@ TEST(RecordCli, CtrlCStopsTheDeviceAndLeavesACompleteFile) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   kill(pid, SIGINT);
   EXPECT_EQ(test::wait_cli(pid), 0);
-  auto f = host::gfr::read(gfr);
+  auto f = rigdata::gfr::read(gfr);
   ASSERT_TRUE(f) << f.err().message;
   EXPECT_TRUE(f->warnings.empty());
-  ASSERT_EQ(f->records.back().type, host::gfr::kind::stop);
+  ASSERT_EQ(f->records.back().type, rigdata::gfr::kind::stop);
   EXPECT_EQ(f->records.back().body.at(0),
-            static_cast<std::uint8_t>(host::gfr::stop_reason::signal));
+            static_cast<std::uint8_t>(rigdata::gfr::stop_reason::signal));
   // The device answered the STOP with a STATUS that says idle.
   std::optional<p::status_msg> last;
   for (const auto& r : f->records) {
-    if (r.type != host::gfr::kind::frame || r.body[0] != static_cast<std::uint8_t>(p::msg::status))
+    if (r.type != rigdata::gfr::kind::frame || r.body[0] != static_cast<std::uint8_t>(p::msg::status))
       continue;
     const p::frame fr{r.body[0], 0, r.body.data() + 3, r.body.size() - 3};
     p::status_msg s;
@@ -420,20 +585,20 @@ TEST(RecordCli, CtrlCStopsTheDeviceAndLeavesACompleteFile) {
   }
   ASSERT_TRUE(last);
   EXPECT_EQ(last->state, static_cast<std::uint8_t>(p::device_state::idle));
-  auto run = host::read_rig_run(gfr);
+  auto run = rigdata::read_rig_run(gfr);
   ASSERT_TRUE(run);
   EXPECT_GT(run->dwells.size(), 20u);  // 1.5 s at 50x
 }
 
-// SIGKILL at 10 random moments: every file reads back, and every DWELL the emulator logged as
-// sent more than 1.5 s before the kill is in it.
+// SIGKILL at 20 random moments: every file reads back, and every DWELL the emulator logged as
+// sent more than 1 s before the kill is in it.
 TEST(RecordCli, SigkillAtRandomMomentsLosesNothingSentBeforeIt) {
   test::temp_dir dir;
   const std::string log = dir.path() + "/sent.csv";
   emulator_process emu(dir.path(), "--speed 100 --seed 11 --log " + log);
   std::mt19937 rng(20261123);
   std::uniform_int_distribution<int> wait_ms(200, 900);
-  for (int k = 0; k < 10; ++k) {
+  for (int k = 0; k < 20; ++k) {
     SCOPED_TRACE(k);
     const std::string gfr = dir.path() + "/run" + std::to_string(k) + ".gfr";
     const std::size_t before = read_log(log).size();
@@ -447,10 +612,10 @@ TEST(RecordCli, SigkillAtRandomMomentsLosesNothingSentBeforeIt) {
       in_run = in_run || (rows[i].at(1) == 0 && rows[i].at(2) == 0);
       if (in_run) must.insert(rows[i].at(3));  // t_start_ticks
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     kill(pid, SIGKILL);
     EXPECT_EQ(test::wait_cli(pid), 128 + SIGKILL);
-    auto run = host::read_rig_run(gfr);
+    auto run = rigdata::read_rig_run(gfr);
     ASSERT_TRUE(run) << run.err().message;
     std::set<long long> have;
     for (const auto& d : run->dwells) have.insert(d.d.t_start_ticks);
@@ -459,12 +624,12 @@ TEST(RecordCli, SigkillAtRandomMomentsLosesNothingSentBeforeIt) {
   }
 }
 
-TEST(RecordCli, ADamagedFileIsAnErrorNamingTheRecordAndWritesNothing) {
+TEST(RecordCli, ADamagedFileSaysWhereAndReadsWhatIsIntact) {
   test::temp_dir dir;
   const std::string good = dir.path() + "/good.gfr";
   {
     emulator_process emu(dir.path(), "--speed max --seed 2");
-    ASSERT_EQ(run_cli({"record", "--port", emu.pty(), "--duration", "20", "-o", good}).exit_code,
+    ASSERT_EQ(run_cli({"record", "--port", emu.pty(), "--duration", "300", "-o", good}).exit_code,
               0);
   }
   const std::string whole = test::read_text(good);
@@ -472,17 +637,16 @@ TEST(RecordCli, ADamagedFileIsAnErrorNamingTheRecordAndWritesNothing) {
   struct damage {
     std::string name, bytes, says;
   };
-  std::string flipped_header = whole, magic = whole, future = whole, flipped_body = whole;
+  std::string flipped_header = whole, magic = whole, future = whole;
   flipped_header[9] = static_cast<char>(flipped_header[9] ^ 0x10);
   magic[0] = 'G';
   future[8] = 9;  // version 9 (its header checksum no longer matches either: both are named)
-  flipped_body[200] = static_cast<char>(flipped_body[200] ^ 0x01);
   const std::vector<damage> cases = {
       {"truncated", whole.substr(0, 11), "record 0: the file header is cut short"},
       {"flipped_header", flipped_header, "record 0: file header checksum mismatch"},
       {"magic", magic, "record 0: not a gyroflip rig recording"},
       {"future", future, "record 0: file header checksum mismatch"},
-      {"flipped_body", flipped_body, ": checksum mismatch (the file is damaged)"},
+      {"joined", whole + whole, "two .gfr files were joined"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
@@ -498,13 +662,39 @@ TEST(RecordCli, ADamagedFileIsAnErrorNamingTheRecordAndWritesNothing) {
       EXPECT_FALSE(test::exists(out));
     }
   }
-  // A torn last record (a killed recorder): read, with a warning naming it.
-  const std::string torn = dir.path() + "/torn.gfr";
-  test::write_text(torn, whole.substr(0, whole.size() - 3));
-  const auto r = run_cli({"export", torn, "-o", dir.path() + "/torn.csv"});
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("cut off while it was written"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("no STOP record"), std::string::npos) << r.err;
+  // A bit flipped in the middle: every intact record reads, with a warning naming the damaged
+  // one; --strict refuses. adev and noise show the warning too.
+  std::string flipped_body = whole;
+  flipped_body[whole.size() / 2] = static_cast<char>(flipped_body[whole.size() / 2] ^ 0x01);
+  const std::string fb = dir.path() + "/flipped_body.gfr";
+  test::write_text(fb, flipped_body);
+  for (const auto& cmd : {std::vector<std::string>{"export", fb, "-o", dir.path() + "/fb.csv"},
+                          std::vector<std::string>{"adev", fb, "-o", dir.path() + "/fb_adev.csv"},
+                          std::vector<std::string>{"noise", fb}}) {
+    const auto r = run_cli(cmd);
+    EXPECT_EQ(r.exit_code, 0) << cmd[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("damaged bytes"), std::string::npos) << cmd[0] << ": " << r.err;
+  }
+  const auto strict = run_cli({"export", fb, "--strict", "-o", dir.path() + "/fs.csv"});
+  EXPECT_EQ(strict.exit_code, 2) << strict.err;
+  EXPECT_FALSE(test::exists(dir.path() + "/fs.csv"));
+  // Zeros at the end (a power loss) and a torn last record (a killed recorder): read, warned.
+  for (const std::string& tail : {whole + std::string(8, '\0'), whole.substr(0, whole.size() - 3)}) {
+    const std::string t = dir.path() + "/tail.gfr";
+    test::write_text(t, tail);
+    const auto r = run_cli({"export", t, "-o", dir.path() + "/tail.csv"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.err.find("zeros") != std::string::npos ||
+                r.err.find("cut off while it was written") != std::string::npos)
+        << r.err;
+    std::remove(t.c_str());
+  }
+  // A folder named like a recording.
+  const std::string folder = dir.path() + "/folder.gfr";
+  ASSERT_EQ(::mkdir(folder.c_str(), 0755), 0);
+  const auto fr = run_cli({"export", folder, "-o", dir.path() + "/folder.csv"});
+  EXPECT_EQ(fr.exit_code, 2) << fr.err;
+  EXPECT_NE(fr.err.find("is a directory"), std::string::npos) << fr.err;
 }
 
 }  // namespace

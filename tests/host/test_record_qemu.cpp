@@ -6,7 +6,7 @@
 #include <string>
 
 #include "firmware/ports/cortex-m3-qemu/model_codes.hpp"
-#include "host/recorder/rig_run.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 #include "support/pty_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -32,7 +32,7 @@ TEST(RecordQemu, RecordsTheCortexM3ImageOverItsPtyAndCalibrateReadsIt) {
                                   "--n-temp", "1", "--settle", "0.005", "--step-rate", "2000",
                                   "--start-rate", "1000", "--accel", "50000", "-o", gfr});
   ASSERT_EQ(rec.exit_code, 0) << rec.err;
-  auto run = host::read_rig_run(gfr);
+  auto run = rigdata::read_rig_run(gfr);
   ASSERT_TRUE(run) << run.err().message;
   EXPECT_EQ(run->info.serial, 0x51AB0001u);
   EXPECT_EQ(run->corrupt_frames + run->missing_frames, 0u);

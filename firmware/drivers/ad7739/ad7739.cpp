@@ -5,8 +5,8 @@
 namespace gyroflip::ad7739 {
 
 status driver::write_reg(uint8_t addr, const uint8_t* data, uint8_t n) {
-  uint8_t buf[4] = {static_cast<uint8_t>(addr & 0x3Fu), 0, 0, 0};
-  if (n > 3) return status::bad_arg;
+  uint8_t buf[5] = {static_cast<uint8_t>(addr & 0x3Fu), 0, 0, 0, 0};
+  if (n > 4) return status::bad_arg;
   for (uint8_t i = 0; i < n; ++i) buf[1 + i] = data[i];
   hw_.spi_select(true);
   const status s = hw_.spi_transfer(buf, buf, size_t{1} + n);
@@ -15,8 +15,8 @@ status driver::write_reg(uint8_t addr, const uint8_t* data, uint8_t n) {
 }
 
 status driver::read_reg(uint8_t addr, uint8_t* data, uint8_t n) {
-  uint8_t buf[4] = {static_cast<uint8_t>(comm_read | (addr & 0x3Fu)), 0, 0, 0};
-  if (n > 3) return status::bad_arg;
+  uint8_t buf[5] = {static_cast<uint8_t>(comm_read | (addr & 0x3Fu)), 0, 0, 0, 0};
+  if (n > 4) return status::bad_arg;
   hw_.spi_select(true);
   const status s = hw_.spi_transfer(buf, buf, size_t{1} + n);
   hw_.spi_select(false);
@@ -73,16 +73,17 @@ status driver::self_calibrate(uint8_t ch, uint32_t timeout_ticks) {
 
 status driver::start_single(uint8_t ch) {
   if (ch > 7) return status::bad_arg;
-  const uint8_t v = mode_single | mode_24bit;
+  const uint8_t v = mode_single | mode_24bit | mode_dump;
   return write_reg(static_cast<uint8_t>(reg_mode + ch), &v, 1);
 }
 
-status driver::read_data(uint8_t ch, int32_t* code) {
+status driver::read_result(uint8_t ch, int32_t* code, uint8_t* channel_status) {
   if (ch > 7) return status::bad_arg;
-  uint8_t b[3];
-  const status s = read_reg(static_cast<uint8_t>(reg_data + ch), b, 3);
+  uint8_t b[4];
+  const status s = read_reg(static_cast<uint8_t>(reg_data + ch), b, 4);
+  *channel_status = b[0];
   const uint32_t raw =
-      (static_cast<uint32_t>(b[0]) << 16) | (static_cast<uint32_t>(b[1]) << 8) | b[2];
+      (static_cast<uint32_t>(b[1]) << 16) | (static_cast<uint32_t>(b[2]) << 8) | b[3];
   *code = to_signed(raw);
   return s;
 }

@@ -31,13 +31,19 @@ class driver {
   /// ADC zero-scale then full-scale self-calibration on channel `ch` (the data sheet's order),
   /// each waiting at most `timeout_ticks` for RDY; status::timeout when it does not come.
   status self_calibrate(uint8_t ch, uint32_t timeout_ticks);
-  /// Starts one conversion on channel `ch`, 24-bit result (mode register MD = 010).
+  /// Starts one conversion on channel `ch`, 24-bit result, in dump mode (mode register MD = 010,
+  /// 24/16 BIT and DUMP set): a data read then begins with the channel status.
   status start_single(uint8_t ch);
-  /// Reads channel `ch`'s 24-bit data register as a signed code (code - 2^23).
-  status read_data(uint8_t ch, int32_t* code);
+  /// Reads channel `ch`'s result in dump mode: the channel status byte (regs.hpp
+  /// channel_status) and the 24-bit data register as a signed code (code - 2^23). Reading it
+  /// clears the channel's RDY bit.
+  status read_result(uint8_t ch, int32_t* code, uint8_t* channel_status);
+  /// The /RDY pin is low: some channel has a result. Not proof that it is the conversion just
+  /// started: the AD7739 drives /RDY high only in the scaling time at the end of a conversion,
+  /// so a result nobody read keeps it low after a mode write (read_result's status says whose).
   [[nodiscard]] bool ready() const { return hw_.rdy_low(); }
 
-  /// One register access: the communications byte, then `n` data bytes, MSB first.
+  /// One register access: the communications byte, then `n` (at most 4) data bytes, MSB first.
   status write_reg(uint8_t addr, const uint8_t* data, uint8_t n);
   status read_reg(uint8_t addr, uint8_t* data, uint8_t n);
 

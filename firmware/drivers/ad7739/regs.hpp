@@ -69,6 +69,16 @@ enum range : uint8_t {
   range_unipolar_2v5 = 5,
 };
 
+/// Channel status register (data sheet Rev. A, p. 17, Tables 21 and 22), also the first byte
+/// of a data-register read in dump mode: CH2..CH0 in bits 7:5 (the channel), 0/P0, RDY/P1 (the
+/// channel's RDY bit of the ADC status register while its setup's STAT OPT is 0), NOREF (the
+/// reference was missing during the conversion), SIGN, OVR (over- or under-range).
+inline constexpr uint8_t chst_channel_shift = 5;
+inline constexpr uint8_t chst_rdy = 0x08;
+inline constexpr uint8_t chst_noref = 0x04;
+inline constexpr uint8_t chst_sign = 0x02;
+inline constexpr uint8_t chst_ovr = 0x01;
+
 /// Channel conversion-time register: CHOP in bit 7, the filter word FW in bits 6:0.
 inline constexpr uint8_t conv_chop = 0x80;
 inline constexpr uint8_t conv_fw_mask = 0x7F;

@@ -55,17 +55,20 @@ enum class follower : uint8_t { off = 0, hold = 1, same = 2, opposite = 3 };
 /// timed by the ramp. Poll it with the tick counter; it writes the port through `out`.
 class mover {
  public:
-  void begin(int32_t steps, uint32_t now_ticks) {
+  /// A move of `steps`, its first step due at `first_ticks`.
+  void begin(int32_t steps, uint32_t first_ticks) {
     total_ = steps < 0 ? static_cast<uint32_t>(-steps) : static_cast<uint32_t>(steps);
     dir_ = steps < 0 ? -1 : 1;
     done_steps_ = 0;
-    next_ = now_ticks;
+    next_ = first_ticks;
   }
   /// Takes the next step if it is due at `now` (at most one: write the port after each call);
   /// true while the move is not finished.
   bool poll(uint32_t now, const ramp& r, uint32_t tick_hz, motor& flip, motor& other,
             follower rule);
   [[nodiscard]] bool busy() const { return done_steps_ < total_; }
+  /// When the next step is due (ticks).
+  [[nodiscard]] uint32_t next_due() const { return next_; }
   [[nodiscard]] uint32_t steps_done() const { return done_steps_; }
 
  private:

@@ -106,12 +106,19 @@ uint32_t ticks(void*) {
   return now_ticks();
 }
 void nothing(void*) {}
+uint16_t stack_unknown(void*) {
+  return 0xFFFF;
+}
+uint8_t no_clock_faults(void*) {
+  return 0;
+}
 
-constexpr fw::hal_ops ops = {spi_transfer, spi_select,  rdy_low,   stepper_port,
-                             home_switch,  pwm_capture, uart_read, uart_write,
-                             ticks,        nothing,     nothing};
-const fw::hal hal{&ops, nullptr, tick_hz};
-fw::device dev(hal, fw::board_facts{0x51AB0001u, ad7739::mclk_hz_nominal});
+constexpr fw::hal_ops ops = {spi_transfer, spi_select,    rdy_low,         stepper_port,
+                             home_switch,  pwm_capture,   uart_read,       uart_write,
+                             ticks,        nothing,       nothing,         stack_unknown,
+                             no_clock_faults};
+constexpr fw::hal hal{&ops, nullptr, tick_hz};
+constinit fw::device dev(hal, fw::board_facts{0x51AB0001u, ad7739::mclk_hz_nominal});
 
 }  // namespace
 
@@ -122,6 +129,6 @@ int main() {
   systick().cvr = 0;
   systick().csr = 5u;  // enable, processor clock, no interrupt
   board.last_cvr = systick().cvr & 0xFFFFFFu;
-  dev.boot();
+  dev.boot({static_cast<uint8_t>(protocol::reset_cause::power_on), 1});
   for (;;) dev.poll();
 }

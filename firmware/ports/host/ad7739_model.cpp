@@ -20,8 +20,13 @@ void ad7739_model::reset_part() {
   for (uint8_t& r : regs8_) r = 0;
   regs8_[a::reg_revision] = revision;
   op_ = op::none;
-  rdy_ = false;
+  rdy_bits_ = 0;
   ++resets_;
+}
+
+uint8_t ad7739_model::channel_status(uint8_t ch) const {
+  return static_cast<uint8_t>((ch << a::chst_channel_shift) |
+                              (((rdy_bits_ >> ch) & 1u) != 0 ? a::chst_rdy : 0u) | status_[ch]);
 }
 
 void ad7739_model::select(bool on) {
@@ -40,9 +45,12 @@ void ad7739_model::start(uint8_t ch, op what, uint32_t now) {
   op_ = what;
   op_ch_ = ch;
   op_end_ = now + static_cast<uint32_t>((mclk * tick_hz_ + mclk_hz_ - 1) / mclk_hz_);
+  // The scaling time: the last 163 MCLK cycles (AD7732 data sheet, the family's timing).
+  constexpr uint64_t scaling_mclk = 163;
+  op_scaling_ =
+      op_end_ - static_cast<uint32_t>((scaling_mclk * tick_hz_ + mclk_hz_ - 1) / mclk_hz_);
   op_stuck_ = what == op::convert && started_ - miss_from_ < miss_count_;
   if (what == op::convert) ++started_;
-  rdy_ = false;
 }
 
 void ad7739_model::commit(uint32_t now) {
@@ -77,18 +85,27 @@ uint8_t ad7739_model::transfer(uint8_t in, uint32_t now) {
     io_n_ = 0;
     expect_comm_ = false;
     if (reading_) {
+      update(now);
       uint32_t v = regs8_[addr_];
+      if (addr_ == a::reg_adc_status) v = rdy_bits_;
+      if (addr_ >= a::reg_channel_status && addr_ < a::reg_channel_status + 8)
+        v = channel_status(static_cast<uint8_t>(addr_ - a::reg_channel_status));
+      uint8_t k = 0;
       if (addr_ >= a::reg_data && addr_ < a::reg_data + 8) {
-        v = data_[addr_ - a::reg_data];
-        rdy_ = false;  // reading the data register clears the channel's RDY
+        const auto ch = static_cast<uint8_t>(addr_ - a::reg_data);
+        v = data_[ch];
+        // Dump mode: the channel status first, then the data.
+        if ((regs8_[a::reg_mode + ch] & a::mode_dump) != 0) {
+          io_[k++] = channel_status(ch);
+          ++pending_;
+        }
+        rdy_bits_ = static_cast<uint8_t>(rdy_bits_ & ~(1u << ch));  // the read clears its RDY
       }
-      if (pending_ == 3) {
-        io_[0] = static_cast<uint8_t>(v >> 16);
-        io_[1] = static_cast<uint8_t>(v >> 8);
-        io_[2] = static_cast<uint8_t>(v);
-      } else {
-        io_[0] = static_cast<uint8_t>(v);
+      if (width(addr_) == 3) {
+        io_[k++] = static_cast<uint8_t>(v >> 16);
+        io_[k++] = static_cast<uint8_t>(v >> 8);
       }
+      io_[k] = static_cast<uint8_t>(v);
     }
     return 0xFF;
   }
@@ -109,21 +126,36 @@ uint8_t ad7739_model::transfer(uint8_t in, uint32_t now) {
   return out;
 }
 
-bool ad7739_model::rdy_low(uint32_t now) {
-  if (op_ != op::none && !op_stuck_ && static_cast<int32_t>(now - op_end_) >= 0) {
-    if (op_ == op::convert) {
-      int32_t code = source_(ctx_, op_ch_, done_[op_ch_]);
-      if (code < -a::code_zero) code = -a::code_zero;
-      if (code > a::code_zero - 1) code = a::code_zero - 1;
-      data_[op_ch_] = static_cast<uint32_t>(code + a::code_zero);
-      ++done_[op_ch_];
-    }
-    regs8_[a::reg_mode + op_ch_] =
-        static_cast<uint8_t>(regs8_[a::reg_mode + op_ch_] & ~a::mode_md_mask);
-    op_ = op::none;
-    rdy_ = true;
+void ad7739_model::update(uint32_t now) {
+  if (op_ == op::none || op_stuck_) return;
+  // The scaling time of a conversion: its channel's old result goes (the data register is
+  // about to change).
+  if (op_ == op::convert && static_cast<int32_t>(now - op_scaling_) >= 0)
+    rdy_bits_ = static_cast<uint8_t>(rdy_bits_ & ~(1u << op_ch_));
+  if (static_cast<int32_t>(now - op_end_) < 0) return;
+  if (op_ == op::convert) {
+    int32_t code = source_(ctx_, op_ch_, done_[op_ch_]);
+    const bool over = code < -a::code_zero || code > a::code_zero - 1;
+    if (code < -a::code_zero) code = -a::code_zero;
+    if (code > a::code_zero - 1) code = a::code_zero - 1;
+    data_[op_ch_] = static_cast<uint32_t>(code + a::code_zero);
+    status_[op_ch_] = static_cast<uint8_t>((noref ? a::chst_noref : 0u) |
+                                           (code < 0 ? a::chst_sign : 0u) |
+                                           (over ? a::chst_ovr : 0u));
+    ++done_[op_ch_];
   }
-  return rdy_;
+  regs8_[a::reg_mode + op_ch_] =
+      static_cast<uint8_t>(regs8_[a::reg_mode + op_ch_] & ~a::mode_md_mask);
+  op_ = op::none;
+  rdy_bits_ = static_cast<uint8_t>(rdy_bits_ | (1u << op_ch_));
+}
+
+bool ad7739_model::rdy_low(uint32_t now) {
+  update(now);
+  // Driven high in a conversion's scaling time, whatever else is pending.
+  if (op_ == op::convert && !op_stuck_ && static_cast<int32_t>(now - op_scaling_) >= 0)
+    return false;
+  return rdy_bits_ != 0;
 }
 
 }  // namespace gyroflip::fw::model

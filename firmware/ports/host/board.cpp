@@ -43,9 +43,17 @@ void host_board::stepper_port(void* c, uint8_t v) {
 
 bool host_board::home_switch(void* c) {
   host_board& b = self(c);
+  if (b.home_glitch_at != 0 && b.now == b.home_glitch_at) return true;
   if (!b.has_home || b.steps_per_rev <= 0) return false;
-  const int32_t p = (b.motors.position[0] - b.home_at) % b.steps_per_rev;
-  return p == 0;
+  const int32_t pos = b.motors.position[0];
+  if ((pos - b.home_at) % b.steps_per_rev != 0) return false;
+  if (pos != b.home_arrived_pos_) {
+    b.home_arrived_pos_ = pos;
+    b.home_arrived_at_ = b.now;
+  }
+  // Contact bounce: closed on every other tick until it settles.
+  if (b.now - b.home_arrived_at_ < b.home_bounce_ticks) return (b.now & 1u) == 0;
+  return true;
 }
 
 bool host_board::pwm_capture(void* c, uint8_t axis, pwm_period* out) {
@@ -80,10 +88,23 @@ bool host_board::uart_write(void* c, uint8_t v) {
 }
 
 uint32_t host_board::ticks(void* c) {
-  return self(c).now;
+  const host_board& b = self(c);
+  return b.ticks_frozen ? b.frozen_at : b.now;
 }
 
-void host_board::watchdog_kick(void*) {}
+void host_board::watchdog_kick(void* c) {
+  host_board& b = self(c);
+  ++b.watchdog_kicks;
+  b.last_kick = b.now;
+}
+
+uint16_t host_board::stack_free_op(void* c) {
+  return self(c).stack_free;
+}
+
+uint8_t host_board::clock_faults_op(void* c) {
+  return self(c).clock_faults;
+}
 
 void host_board::busy_wait(void* c) {
   ++self(c).now;

@@ -53,6 +53,24 @@ class host_board {
   size_t host_receive(uint8_t* out, size_t cap);
   /// While true the UART takes no byte (a stalled line: tests of the transmit ring).
   bool uart_stalled = false;
+  /// What stack_free reports (the host cannot measure the core's stack).
+  uint16_t stack_free = 0xFFFF;
+  /// Oscillator faults the port reports (tests of the clock supervision).
+  uint8_t clock_faults = 0;
+  /// While true the tick counter does not move when the caller advances `now` (a dead tick
+  /// crystal; ticks() returns `frozen_at`).
+  bool ticks_frozen = false;
+  uint32_t frozen_at = 0;
+  /// The home switch bounces: for this many ticks after motor 0 arrives at the home position
+  /// it reads closed only on every other tick.
+  uint32_t home_bounce_ticks = 0;
+  /// A noise spike: the switch reads closed at tick `home_glitch_at` (0: never), wherever the
+  /// table stands.
+  uint32_t home_glitch_at = 0;
+  /// Times the watchdog was fed, and the tick of the last time.
+  uint32_t watchdog_kicks = 0;
+  uint32_t last_kick = 0;
+
   /// Bytes the device sent that did not fit the host's queue (a test reads often enough).
   uint32_t tx_overflow = 0;
 
@@ -68,15 +86,20 @@ class host_board {
   static uint32_t ticks(void* c);
   static void watchdog_kick(void* c);
   static void busy_wait(void* c);
-  static constexpr hal_ops ops_ = {spi_transfer, spi_select,    rdy_low,   stepper_port,
-                                   home_switch,  pwm_capture,   uart_read, uart_write,
-                                   ticks,        watchdog_kick, busy_wait};
+  static uint16_t stack_free_op(void* c);
+  static uint8_t clock_faults_op(void* c);
+  static constexpr hal_ops ops_ = {spi_transfer, spi_select,    rdy_low,       stepper_port,
+                                   home_switch,  pwm_capture,   uart_read,     uart_write,
+                                   ticks,        watchdog_kick, busy_wait,     stack_free_op,
+                                   clock_faults_op};
 
   hal hal_;
   byte_ring<1024> rx_;
   byte_ring<16384> tx_;
   uint64_t line_free_at_ = 0;  // when the UART's shift register is free, in ticks x baud
   uint32_t pwm_next_[2] = {0, 0};
+  int32_t home_arrived_pos_ = 0x7FFFFFFF;  // motor 0's position when the bounce began
+  uint32_t home_arrived_at_ = 0;
 };
 
 }  // namespace gyroflip::fw::model

@@ -17,12 +17,16 @@ struct stepper_port_model {
   uint32_t writes = 0;
   uint32_t bad_transitions = 0;
 
+  /// A motor whose coils go off stays at the detent of its last phase (no load turns it); the
+  /// next pattern it is given moves it from there.
   void write(uint8_t v) {
     for (int m = 0; m < 2; ++m) {
-      const int before = phase_of(nibble(port, m));
       const int after = phase_of(nibble(v, m));
       if (nibble(v, m) != 0 && after < 0) ++bad_transitions;
-      if (before < 0 || after < 0 || before == after) continue;  // on, off, or unchanged
+      if (after < 0) continue;  // off (the rotor stays), or not a full step
+      const int before = last_phase_[m];
+      last_phase_[m] = after;
+      if (before < 0 || before == after) continue;  // first energised, or unchanged
       const int d = (after - before + 4) % 4;
       if (d == 1) ++position[m];
       if (d == 3) --position[m];
@@ -31,6 +35,8 @@ struct stepper_port_model {
     port = v;
     ++writes;
   }
+  /// Motor m's coils are energised.
+  [[nodiscard]] bool energised(int m) const { return nibble(port, m) != 0; }
 
  private:
   static uint8_t nibble(uint8_t v, int m) {
@@ -42,6 +48,7 @@ struct stepper_port_model {
       if (stepper::full_step[i] == nib) return i;
     return -1;
   }
+  int last_phase_[2] = {-1, -1};
 };
 
 }  // namespace gyroflip::fw::model

@@ -18,11 +18,13 @@ import sys
 
 FLASH = 61152
 RAM = 2048
-ISRS = ("isr_timer_a1", "isr_timer_b1", "isr_usart0_rx", "isr_unused")
+ISRS = ("isr_timer_a1", "isr_timer_b1", "isr_usart0_rx", "isr_usart0_tx", "isr_nmi",
+        "isr_unused")
 # Assembly entries (runtime.cpp) have no .su file: the bytes each pushes before its call.
 ASM_FRAMES = {f"__mspabi_{n}": 8 for n in ("mpyll", "divull", "remull", "divlli", "remlli")}
 HAL_OPS = re.compile(r"^_ZN12_GLOBAL__N_1\d+(spi_transfer|spi_select|rdy_low|stepper_port|"
-                     r"home_switch|pwm_capture|uart_read|uart_write|ticks|watchdog_kick|busy_wait)E")
+                     r"home_switch|pwm_capture|uart_read|uart_write|ticks|watchdog_kick|busy_wait|"
+                     r"stack_free|clock_faults)E")
 
 
 def run(*args):
@@ -94,7 +96,7 @@ def main():
     isr_depth = max(4 + depth(i, graph, sizes, indirect, memo) for i in ISRS if i in graph)
     stack = main_depth + isr_depth
     flash = sum(sec.get(s, 0) for s in (".text", ".rodata", ".init_array", ".data"))
-    ram = sec.get(".data", 0) + sec.get(".bss", 0)
+    ram = sec.get(".data", 0) + sec.get(".bss", 0) + sec.get(".noinit", 0)
     print(f"msp430f149: .text {sec.get('.text', 0)} B, .rodata {sec.get('.rodata', 0)} B, "
           f".data {sec.get('.data', 0)} B, .bss {sec.get('.bss', 0)} B")
     print(f"msp430f149: flash {flash} / {FLASH} B ({100 * flash / FLASH:.1f} %), "

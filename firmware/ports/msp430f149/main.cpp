@@ -1,15 +1,16 @@
 /// \file
 /// \brief The MSP430F149 image (the paper's MCU): the firmware core with a HAL on the chip's
-/// registers (docs/HARDWARE.md has the wiring and the pin map).
-///   XT2 8 MHz -> MCLK, SMCLK; LFXT1 32 768 Hz -> ACLK.
-///   USART0: UART 115200 8N1 to the PC (P3.4 TXD, P3.5 RXD), received bytes by interrupt.
-///   USART1: SPI master, mode 3, 4 MHz, to the AD7739 (P5.1 SIMO, P5.2 SOMI, P5.3 UCLK);
-///           P5.0 = AD7739 /CS; P2.0 = AD7739 /RDY; P2.1 = home switch (low = closed).
+/// registers (docs/HARDWARE.md has the wiring, the pin map and the clock choice).
+///   XT2 5.5296 MHz -> MCLK, SMCLK (baud-exact: 115200 x 48; within the F149's frequency limit
+///   at 3.3 V, docs/HARDWARE.md "Clocks and supply"); LFXT1 32 768 Hz -> ACLK.
+///   USART0: UART 115200 8N1 to the PC (P3.4 TXD, P3.5 RXD), both directions by interrupt.
+///   USART1: SPI master, mode 3, SMCLK / 2 = 2.76 MHz, to the AD7739 (P5.1 SIMO, P5.2 SOMI,
+///           P5.3 UCLK); P5.0 = AD7739 /CS; P2.0 = AD7739 /RDY; P2.1 = home switch (low = closed).
 ///   Timer_A: ACLK, continuous, overflow interrupt -> 32-bit ticks at 32 768 Hz.
-///   Timer_B: SMCLK/8 = 1 MHz, capture on both edges of TB1 (P4.1, ADXL202 XOUT) and TB2
+///   Timer_B: SMCLK/8 = 691.2 kHz, capture on both edges of TB1 (P4.1, ADXL202 XOUT) and TB2
 ///            (P4.2, YOUT) -> high time and period of each duty cycle.
 ///   P6: stepper port (P6.0-3 motor 0, P6.4-7 motor 1) to two ULN2003 drivers.
-///   Watchdog: ACLK, 1 s.
+///   Watchdog: ACLK, 1 s, fed by the core only while its sequencer keeps its deadlines.
 #include <stddef.h>
 #include <stdint.h>
 
@@ -20,6 +21,10 @@
 namespace {
 
 using namespace gyroflip;
+
+constexpr uint32_t xt2_hz = 5529600;  // docs/HARDWARE.md, "Clocks and supply"
+constexpr uint16_t uart_divider = xt2_hz / 115200;
+static_assert(uart_divider * 115200u == xt2_hz, "a baud-exact crystal: no modulation needed");
 
 // C++20 deprecates compound assignment to volatile; these say what is meant.
 template <class Reg, class Mask>
@@ -40,9 +45,14 @@ void disable_interrupts() {
 
 // Interrupt-side state (the only data shared with ISRs; each read under dint where torn).
 volatile uint16_t tick_overflows = 0;
-constexpr uint8_t rx_size = 64;  // > 5 ms of 115200 b/s: the longest poll (a RAW frame's CRC)
+volatile uint8_t osc_faults = 0;  // protocol::clock_fault bits the NMI saw
+constexpr uint8_t rx_size = 64;   // > 5 ms of wire bytes at 115200 b/s: the longest poll
 volatile uint8_t rx_buf[rx_size];
 volatile uint8_t rx_head = 0, rx_tail = 0;
+constexpr uint8_t tx_size = 32;  // 2.8 ms of line: the UART keeps sending through a long poll
+volatile uint8_t tx_buf[tx_size];
+volatile uint8_t tx_head = 0, tx_tail = 0;
+volatile bool tx_idle = true;  // the USART's transmit buffer is empty and nothing is queued
 struct pwm_axis {
   uint16_t last_rise = 0;
   uint16_t high = 0;
@@ -52,6 +62,12 @@ struct pwm_axis {
   uint16_t out_period = 0;
 };
 volatile pwm_axis pwm_axes[2];
+
+// Kept through a reset that does not remove power (RAM is not cleared by the start-up): the boot
+// counter and a magic word that tells a power-up (random RAM) from a reset.
+constexpr uint16_t retained_magic = 0x6F1A;
+__attribute__((section(".noinit"))) uint16_t retained_check;
+__attribute__((section(".noinit"))) uint16_t retained_boots;
 
 void pwm_edge(uint8_t a, uint16_t t, bool rising) {
   volatile pwm_axis& s = pwm_axes[a];
@@ -68,13 +84,26 @@ void pwm_edge(uint8_t a, uint16_t t, bool rising) {
   s.have_rise = true;
 }
 
+// TAR counts ACLK, asynchronous to the CPU's MCLK: a read while it changes may return a mix of
+// the old and the new count. The user's guide's remedy (SLAU049, §11.2.1): read it several
+// times and take the majority.
+uint16_t read_tar() {
+  for (;;) {
+    const uint16_t a = TAR, b = TAR, c = TAR;
+    if (a == b || a == c) return a;
+    if (b == c) return b;
+  }
+}
+
+// The 32-bit tick: the overflow count and TAR, read with interrupts off. When TAR has just
+// wrapped but the overflow interrupt has not run yet (TAIFG still pending), the count is one
+// short: a small TAR with TAIFG set belongs to the next overflow.
 uint32_t now_ticks() {
-  uint16_t hi = 0;
-  uint16_t lo = 0;
-  do {
-    hi = tick_overflows;
-    lo = TAR;
-  } while (hi != tick_overflows);
+  disable_interrupts();
+  uint16_t hi = tick_overflows;
+  const uint16_t lo = read_tar();
+  if ((TACTL & TAIFG) != 0 && lo < 0x8000u) hi = static_cast<uint16_t>(hi + 1);
+  enable_interrupts();
   return (static_cast<uint32_t>(hi) << 16) | lo;
 }
 
@@ -128,10 +157,24 @@ bool uart_read(void*, uint8_t* b) {
   rx_tail = static_cast<uint8_t>((rx_tail + 1u) % rx_size);
   return true;
 }
+// Queues a wire byte for the transmit interrupt; the first byte after an idle line starts it.
 bool uart_write(void*, uint8_t b) {
-  if ((IFG1 & UTXIFG0) == 0) return false;
-  U0TXBUF = b;
-  return true;
+  disable_interrupts();
+  bool queued = true;
+  if (tx_idle) {
+    tx_idle = false;
+    U0TXBUF = b;
+  } else {
+    const uint8_t next = static_cast<uint8_t>((tx_head + 1u) % tx_size);
+    if (next == tx_tail) {
+      queued = false;
+    } else {
+      tx_buf[tx_head] = b;
+      tx_head = next;
+    }
+  }
+  enable_interrupts();
+  return queued;
 }
 uint32_t ticks(void*) {
   return now_ticks();
@@ -141,24 +184,64 @@ void watchdog_kick(void*) {
 }
 void busy_wait(void*) {}
 
-constexpr fw::hal_ops ops = {spi_transfer, spi_select,    rdy_low,   stepper_port,
-                             home_switch,  pwm_capture,   uart_read, uart_write,
-                             ticks,        watchdog_kick, busy_wait};
+// The stack is painted at reset (startup.cpp paints it from the end of .noinit up to its own
+// frame); the first unpainted word from below is the deepest the stack has reached.
+extern "C" uint16_t __stack_paint_start[], __stack[];
+constexpr uint16_t stack_paint = 0xA55A;
+uint16_t stack_free(void*) {
+  const uint16_t* p = __stack_paint_start;
+  while (p < __stack && *p == stack_paint) ++p;
+  return static_cast<uint16_t>(reinterpret_cast<uintptr_t>(p) -
+                               reinterpret_cast<uintptr_t>(__stack_paint_start));
+}
+uint8_t clock_faults(void*) {
+  return osc_faults;
+}
+
+constexpr fw::hal_ops ops = {spi_transfer, spi_select,    rdy_low,   stepper_port, home_switch,
+                             pwm_capture,  uart_read,     uart_write, ticks,       watchdog_kick,
+                             busy_wait,    stack_free,    clock_faults};
 constexpr fw::hal hal{&ops, nullptr, 32768};
 // Constant-initialised: no constructor runs at start-up (startup.cpp).
 constinit fw::device dev(hal, fw::board_facts{0x0F149001u, ad7739::mclk_hz_nominal});
 
+// Why this start: WDTIFG survives the PUC a watchdog overflow (or a watchdog key violation)
+// causes and is cleared by a power-on reset (SLAU049 §10.2); the F149 has no flag for its reset
+// pin, so a reset with the retained magic intact (RAM kept its contents: the power stayed) is
+// taken as the pin, and one without it as a power-up.
+fw::boot_info read_boot_info() {
+  fw::boot_info b;
+  const bool magic = retained_check == retained_magic;
+  if ((IFG1 & WDTIFG) != 0) {
+    b.reset_cause = static_cast<uint8_t>(protocol::reset_cause::watchdog);
+  } else if (magic) {
+    b.reset_cause = static_cast<uint8_t>(protocol::reset_cause::reset_pin);
+  } else {
+    b.reset_cause = static_cast<uint8_t>(protocol::reset_cause::power_on);
+  }
+  clear_bits(IFG1, WDTIFG);
+  if (!magic) retained_boots = 0;
+  retained_check = retained_magic;
+  retained_boots = static_cast<uint16_t>(retained_boots + 1);
+  b.boot_count = retained_boots;
+  return b;
+}
+
+// XT2 to MCLK and SMCLK once the oscillator-fault flag stays clear (the crystal runs). A crystal
+// that never starts leaves the chip on its DCO (~0.8 MHz, no exact baud rate): reported as a
+// clock fault, and the device refuses to acquire.
 void init_clocks() {
   clear_bits(BCSCTL1, XT2OFF);
-  for (uint16_t i = 0; i < 1000; ++i) {  // wait for the crystals (bounded: DCO if absent)
+  for (uint16_t i = 0; i < 1000; ++i) {
     clear_bits(IFG1, OFIFG);
     for (volatile uint16_t d = 0; d < 255; d = static_cast<uint16_t>(d + 1)) {
     }
     if ((IFG1 & OFIFG) == 0) {
-      BCSCTL2 = SELM_2 | SELS;  // MCLK = SMCLK = XT2 (8 MHz)
+      BCSCTL2 = SELM_2 | SELS;  // MCLK = SMCLK = XT2
       return;
     }
   }
+  osc_faults = protocol::clock_xt2;
 }
 
 void init_peripherals() {
@@ -170,16 +253,16 @@ void init_peripherals() {
   P2DIR = 0x00;                // /RDY, home switch in
   P3SEL = 0x30;                // UTXD0, URXD0
   P4SEL = 0x06;                // TB1, TB2 capture inputs
-  // USART0: UART 115200 from SMCLK 8 MHz: 69 + modulation 0xAA (8e6 / 115200 = 69.44).
+  // USART0: UART 115200 from SMCLK: an integer divider, no modulation.
   U0CTL = CHAR | SWRST;
   U0TCTL = SSEL1;
-  U0BR0 = 69;
-  U0BR1 = 0;
-  U0MCTL = 0xAA;
+  U0BR0 = static_cast<uint8_t>(uart_divider & 0xFFu);
+  U0BR1 = static_cast<uint8_t>(uart_divider >> 8);
+  U0MCTL = 0;
   set_bits(ME1, UTXE0 | URXE0);
   clear_bits(U0CTL, SWRST);
-  set_bits(IE1, URXIE0);
-  // USART1: SPI master, CKPL = 1 with CKPH = 0 (the AD7739's mode 3), SMCLK / 2 = 4 MHz.
+  set_bits(IE1, URXIE0 | UTXIE0);
+  // USART1: SPI master, CKPL = 1 with CKPH = 0 (the AD7739's mode 3), SMCLK / 2.
   U1CTL = CHAR | SYNC | MM | SWRST;
   U1TCTL = CKPL | SSEL1 | STC;
   U1BR0 = 2;
@@ -193,6 +276,9 @@ void init_peripherals() {
   TBCTL = TBSSEL_2 | ID_3 | MC_2;
   TBCCTL1 = CM_3 | SCS | CAP | CCIE;
   TBCCTL2 = CM_3 | SCS | CAP | CCIE;
+  // An oscillator fault later (XT2 stops) raises the NMI.
+  clear_bits(IFG1, OFIFG);
+  set_bits(IE1, OFIE);
 }
 
 }  // namespace
@@ -219,20 +305,36 @@ __attribute__((interrupt(TIMERB1_VECTOR))) void isr_timer_b1() {
 __attribute__((interrupt(USART0RX_VECTOR))) void isr_usart0_rx() {
   const uint8_t b = U0RXBUF;
   const uint8_t next = static_cast<uint8_t>((rx_head + 1u) % rx_size);
-  if (next != rx_tail) {  // full: the byte is lost, and the frame's CRC will say so
+  if (next != rx_tail) {  // full: the byte is lost, and the line code and CRC will say so
     rx_buf[rx_head] = b;
     rx_head = next;
   }
 }
 
+__attribute__((interrupt(USART0TX_VECTOR))) void isr_usart0_tx() {
+  if (tx_tail == tx_head) {
+    tx_idle = true;
+    return;
+  }
+  U0TXBUF = tx_buf[tx_tail];
+  tx_tail = static_cast<uint8_t>((tx_tail + 1u) % tx_size);
+}
+
+// An oscillator fault (OFIFG with OFIE): the hardware has switched MCLK to the DCO. Noted for
+// the core, which stops acquiring and reports it; OFIE is cleared by the NMI itself.
+__attribute__((interrupt(NMI_VECTOR))) void isr_nmi() {
+  if ((IFG1 & OFIFG) != 0) osc_faults = static_cast<uint8_t>(osc_faults | protocol::clock_xt2);
+}
+
 // The entry point startup.cpp calls (freestanding: clang does not treat `main` specially for
 // msp430 and would mangle it).
 void firmware_main() {
+  const fw::boot_info boot = read_boot_info();
   init_clocks();  // the watchdog is held since the reset handler
   init_peripherals();
   WDTCTL = WDTPW | WDTCNTCL | WDTSSEL;
   enable_interrupts();
-  dev.boot();
+  dev.boot(boot);
   for (;;) dev.poll();
 }
 

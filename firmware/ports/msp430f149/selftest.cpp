@@ -55,5 +55,7 @@ void firmware_main() {
 __attribute__((interrupt(0))) void isr_timer_a1() {}
 __attribute__((interrupt(0))) void isr_timer_b1() {}
 __attribute__((interrupt(0))) void isr_usart0_rx() {}
+__attribute__((interrupt(0))) void isr_usart0_tx() {}
+__attribute__((interrupt(0))) void isr_nmi() {}
 
 }  // extern "C"

@@ -9,8 +9,8 @@
 
 #include <stdint.h>
 
-#include "firmware/core/budget.hpp"
 #include "firmware/core/device.hpp"
+#include "firmware/protocol/budget.hpp"
 #include "firmware/core/processing.hpp"
 #include "firmware/core/timebase.hpp"
 #include "firmware/drivers/stepper/stepper.hpp"
@@ -188,10 +188,10 @@ inline results compute(op o, uint64_t a, uint64_t b, calibrator& cal) {
       c.flags = static_cast<uint8_t>(a >> 32);
       c.settle_ms = static_cast<uint16_t>(a >> 40);
       c.step_rate_sps = static_cast<uint16_t>(b);
-      c.pos_b_steps = static_cast<int16_t>(b >> 16);
+      c.pos_steps[1] = static_cast<int16_t>(b >> 16);
       c.status_period_ms = static_cast<uint16_t>(b >> 32);
-      return {worst_bytes_per_s(c, ad7739::mclk_hz_nominal),
-              static_cast<uint8_t>(check_config(c, ad7739::mclk_hz_nominal))};
+      return {protocol::worst_bytes_per_s(c, ad7739::mclk_hz_nominal),
+              static_cast<uint8_t>(protocol::check_configure(c, ad7739::mclk_hz_nominal))};
     }
     default:
       return detail::helper(o, a, b);

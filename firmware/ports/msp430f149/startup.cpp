@@ -1,6 +1,6 @@
 /// \file
-/// \brief MSP430F149 start-up: the reset handler (watchdog, stack pointer, .data, .bss,
-/// firmware_main) and the interrupt vector table's reset entry. The other vectors are filled by
+/// \brief MSP430F149 start-up: the reset handler (watchdog, stack pointer, .data, .bss, the
+/// stack's paint, firmware_main) and the interrupt vector table's reset entry. The other vectors are filled by
 /// the linker script from the ISRs main.cpp defines (link.ld).
 ///
 /// No static constructors: every object of the image is constant-initialised (the device object
@@ -12,6 +12,7 @@
 extern "C" {
 // Arrays of unknown bound: the linker script says where they start and end.
 extern uint16_t __data_start[], __data_end[], __data_load[], __bss_start[], __bss_end[];
+extern uint16_t __stack_paint_start[];
 void firmware_main();
 void reset_handler();
 void continue_reset();
@@ -35,6 +36,12 @@ extern "C" void continue_reset() {
       sizeof(uint16_t);
   for (uintptr_t i = 0; i < data_words; ++i) __data_start[i] = __data_load[i];
   for (uintptr_t i = 0; i < bss_words; ++i) __bss_start[i] = 0;
+  // Paint the free stack (below this frame, with a margin) so that its deepest use can be found
+  // later (main.cpp stack_free).
+  uintptr_t sp = 0;
+  __asm__ volatile("mov r1, %0" : "=r"(sp));
+  for (uint16_t* p = __stack_paint_start; reinterpret_cast<uintptr_t>(p) + 16 < sp; ++p)
+    *p = 0xA55A;
   firmware_main();
   for (;;) {
   }

@@ -2,7 +2,9 @@
 /// \brief The `.gfr` recording (docs/FORMATS.md, "Rig recording"): a 16-byte file header, then
 /// append-only records, each length-prefixed and CRC-32 checked, written as they happen so that
 /// whatever reached the file before a crash reads back. The writer appends and syncs; the reader
-/// checks every byte and ignores a torn last record (a writer killed mid-write) with a warning.
+/// checks every byte, ignores a torn last record (a writer killed mid-write) and zeros at the end
+/// (a power loss), and reads every intact record around a damaged region, with a warning for
+/// each region it skips.
 #pragma once
 
 #include <array>
@@ -14,11 +16,13 @@
 
 #include "gyroflip/core/result.hpp"
 
-namespace gyroflip::host::gfr {
+namespace gyroflip::rigdata::gfr {
 
 /// PNG-style magic: a non-ASCII first byte, then CR LF, ^Z and LF catch text-mode transfers.
 inline constexpr std::array<std::uint8_t, 8> magic = {0x89, 'G', 'F', 'R', '\r', '\n', 0x1A, '\n'};
-inline constexpr std::uint16_t format_version = 1;
+/// 2: START records name the device frame that acknowledged them (1: empty START bodies; read
+/// too).
+inline constexpr std::uint16_t format_version = 2;
 /// magic, u16 version, u16 reserved (0), u32 CRC-32 of the 12 bytes before it.
 inline constexpr std::size_t file_header_bytes = 16;
 /// u32 length L (of kind, time and body), u32 L XOR 0xFFFFFFFF (a damaged length is told from a
@@ -33,7 +37,8 @@ enum class kind : std::uint8_t {
   meta = 1,       ///< JSON: host metadata and the conversion of device units (first record)
   info = 2,       ///< the device's INFO payload as received
   configure = 3,  ///< a CONFIGURE payload the device acknowledged
-  start = 4,      ///< a START the device acknowledged: a run of dwells starts (empty body)
+  start = 4,      ///< a START the device acknowledged: u16 the sequence number of its ACK frame
+                  ///< (the run's frames follow it; format 1: empty body, the run follows here)
   frame = 5,      ///< u8 type, u16 seq, payload: a valid device frame as received
   gap = 6,        ///< u8 gap_reason, u32 count: what was lost or happened between frames
   stop = 7,       ///< u8 stop_reason: the recorder ended the run (the file is complete)
@@ -47,9 +52,10 @@ enum class gap_reason : std::uint8_t {
 };
 
 enum class stop_reason : std::uint8_t {
-  duration = 1,   ///< the requested duration was recorded
-  signal = 2,     ///< SIGINT or SIGTERM
-  link_lost = 3,  ///< the port did not come back in time
+  duration = 1,        ///< the requested duration was recorded
+  signal = 2,          ///< SIGINT or SIGTERM
+  link_lost = 3,       ///< the port did not come back in time
+  device_changed = 4,  ///< another device (another serial) answered after a reconnect
 };
 
 /// A record as read back.
@@ -66,11 +72,14 @@ struct file {
 };
 
 /// Reads and checks a whole `.gfr` file. Errors name the file and the record (`FILE: record N:
-/// what`; record 0 is the file header): wrong magic, a newer format version, a checksum
-/// mismatch before the last record, an unknown kind, a length over max_body.
-[[nodiscard]] result<file> read(const std::string& path);
+/// what`; record 0 is the file header): not a regular file, wrong magic, a newer format
+/// version, two recordings joined into one file. A damaged region (a flipped bit, a damaged
+/// length, an unknown kind) is skipped up to the next intact record, with a warning that names
+/// the record number and the bytes skipped; with `strict` it is an error instead.
+[[nodiscard]] result<file> read(const std::string& path, bool strict = false);
 /// The same from bytes in memory (`name` is used in messages): the fuzz target's entry.
-[[nodiscard]] result<file> parse(std::span<const std::uint8_t> bytes, const std::string& name);
+[[nodiscard]] result<file> parse(std::span<const std::uint8_t> bytes, const std::string& name,
+                                 bool strict = false);
 
 /// Appends records to a new file. Each record goes to the kernel in one write as it is made, so
 /// a killed writer loses nothing it appended; `sync` (fdatasync) makes it survive power loss.
@@ -103,4 +112,4 @@ class writer {
 /// CRC-32 (ISO-HDLC, zlib's) of `bytes`.
 [[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept;
 
-}  // namespace gyroflip::host::gfr
+}  // namespace gyroflip::rigdata::gfr

@@ -1,10 +1,12 @@
 /// \file
 /// \brief Reading and appending `.gfr` recordings (gfr.hpp, docs/FORMATS.md).
-#include "host/recorder/gfr.hpp"
+#include "gyroflip/rigdata/gfr.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
 #include <fcntl.h>
@@ -15,7 +17,7 @@
 
 #include "gyroflip/core/error.hpp"
 
-namespace gyroflip::host::gfr {
+namespace gyroflip::rigdata::gfr {
 
 namespace {
 
@@ -53,6 +55,15 @@ error at_record(const std::string& name, std::size_t n, const std::string& what)
   return input_error({name}, fmt::format("record {}: {}", n, what));
 }
 
+// A failed write or sync of the recording: a full disk (or a failing one) is a condition of the
+// run (exit 1), not of what the user asked for.
+error write_error(const std::string& path, const std::string& what, int err) {
+  const std::string m = what + std::strerror(err);
+  if (err == ENOSPC || err == EDQUOT || err == EIO || err == EFBIG)
+    return runtime_error(path + ": " + m);
+  return io_error(path, m);
+}
+
 status check_file_header(std::span<const std::uint8_t> b, const std::string& name) {
   if (b.size() < magic.size() || std::memcmp(b.data(), magic.data(), magic.size()) != 0)
     return at_record(name, 0,
@@ -88,54 +99,88 @@ std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept {
   return static_cast<std::uint32_t>(c);
 }
 
-result<file> parse(std::span<const std::uint8_t> b, const std::string& name) {
+namespace {
+
+// The record at `at` when it is intact: its length (with length field, check and CRC), else 0.
+std::size_t intact_record(std::span<const std::uint8_t> b, std::size_t at) {
+  const std::size_t left = b.size() - at;
+  if (left < record_overhead) return 0;
+  const std::uint64_t len = load_le(b.data() + at, 4);
+  if ((len ^ 0xFFFFFFFFU) != load_le(b.data() + at + 4, 4)) return 0;
+  if (len < 9 || len - 9 > max_body) return 0;
+  const std::size_t whole = static_cast<std::size_t>(len) + 12;
+  if (whole > left) return 0;
+  const auto rec = b.subspan(at, whole);
+  if (load_le(rec.data() + whole - 4, 4) != crc32(rec.first(whole - 4))) return 0;
+  return known_kind(rec[8]) ? whole : 0;
+}
+
+bool all_zero(std::span<const std::uint8_t> b) {
+  return std::all_of(b.begin(), b.end(), [](std::uint8_t v) { return v == 0; });
+}
+
+}  // namespace
+
+result<file> parse(std::span<const std::uint8_t> b, const std::string& name, bool strict) {
   if (auto s = check_file_header(b, name); !s) return s.err();
   file out;
   std::size_t at = file_header_bytes;
   for (std::size_t n = 1; at < b.size(); ++n) {
+    if (const std::size_t whole = intact_record(b, at); whole != 0) {
+      const auto rec = b.subspan(at, whole);
+      if (n == 1 && static_cast<kind>(rec[8]) != kind::meta)
+        return at_record(name, n, "the first record is not META");
+      out.records.push_back({static_cast<kind>(rec[8]), load_le(rec.data() + 9, 8),
+                             std::vector<std::uint8_t>(rec.begin() + 17, rec.end() - 4)});
+      at += whole;
+      continue;
+    }
     const std::size_t left = b.size() - at;
-    const auto torn = [&](const char* why) {
-      out.warnings.push_back(
-          fmt::format("{}: record {}: {}: the last {} bytes are a record cut off while it was "
-                      "written (the recorder was stopped hard); ignored",
-                      name, n, why, left));
-    };
-    if (left < 8) {
-      torn("length cut short");
+    // Another recording's header here: two files were joined (`cat a.gfr b.gfr`).
+    if (left >= magic.size() && std::memcmp(b.data() + at, magic.data(), magic.size()) == 0)
+      return at_record(name, n,
+                       fmt::format("offset {}: the header of another recording: two .gfr files "
+                                   "were joined into one; split them there",
+                                   at));
+    // Zeros to the end: what a power loss leaves after the last write (the file's size was
+    // extended, its data never written).
+    if (all_zero(b.subspan(at))) {
+      out.warnings.push_back(fmt::format(
+          "{}: record {}: the last {} bytes are zeros (a power loss during writing); ignored",
+          name, n, left));
       break;
     }
-    const std::uint64_t len = load_le(b.data() + at, 4);
-    if ((len ^ 0xFFFFFFFFU) != load_le(b.data() + at + 4, 4))
-      return at_record(name, n, "the length field is damaged (the file is damaged)");
-    if (len < 9 || len - 9 > max_body)
-      return at_record(name, n, fmt::format("impossible length {} (the file is damaged)", len));
-    const std::size_t whole = static_cast<std::size_t>(len) + 12;  // length, check, CRC
-    if (whole > left) {
-      torn("cut short");
+    // META holds the conversion to physical units: without it nothing reads.
+    if (n == 1) return at_record(name, 1, "the META record is damaged (its checksum does not match)");
+    std::size_t next = at + 1;
+    while (next < b.size() && intact_record(b, next) == 0) ++next;
+    if (next >= b.size()) {
+      // Nothing intact after it: a record cut off while it was written (a hard stop).
+      out.warnings.push_back(fmt::format(
+          "{}: record {}: the last {} bytes are a record cut off while it was written (the "
+          "recorder was stopped hard); ignored",
+          name, n, left));
       break;
     }
-    const auto rec = b.subspan(at, whole);
-    if (load_le(rec.data() + whole - 4, 4) != crc32(rec.first(whole - 4))) {
-      if (whole == left) {
-        torn("checksum mismatch");
-        break;
-      }
-      return at_record(name, n, "checksum mismatch (the file is damaged)");
-    }
-    const std::uint8_t k = rec[8];
-    if (!known_kind(k)) return at_record(name, n, fmt::format("unknown record kind {}", k));
-    if (n == 1 && static_cast<kind>(k) != kind::meta)
-      return at_record(name, n, "the first record is not META");
-    out.records.push_back({static_cast<kind>(k), load_le(rec.data() + 9, 8),
-                           std::vector<std::uint8_t>(rec.begin() + 17, rec.end() - 4)});
-    at += whole;
+    if (strict)
+      return at_record(name, n,
+                       fmt::format("damaged: {} bytes from offset {} are no intact record",
+                                   next - at, at));
+    out.warnings.push_back(fmt::format(
+        "{}: record {}: {} damaged bytes at offsets {}..{} skipped; reading goes on at the next "
+        "intact record (every record is checked by its CRC-32)",
+        name, n, next - at, at, next - 1));
+    at = next;
   }
   if (out.records.empty())
     return at_record(name, 1, "no META record: the recorder stopped before it wrote anything");
   return out;
 }
 
-result<file> read(const std::string& path) {
+result<file> read(const std::string& path, bool strict) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return io_error(path, "is a directory, not a .gfr recording");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) return io_error(path, std::string("cannot open: ") + std::strerror(errno));
   std::vector<std::uint8_t> bytes;
@@ -143,9 +188,10 @@ result<file> read(const std::string& path) {
   std::size_t got = 0;
   while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.insert(bytes.end(), buf, buf + got);
   const bool failed = std::ferror(f) != 0;
+  const int err = errno;
   std::fclose(f);
-  if (failed) return io_error(path, "read failed");
-  return parse(bytes, path);
+  if (failed) return io_error(path, std::string("read failed: ") + std::strerror(err));
+  return parse(bytes, path, strict);
 }
 
 result<writer> writer::create(const std::string& path) {
@@ -156,11 +202,28 @@ result<writer> writer::create(const std::string& path) {
     return io_error(path, std::string("cannot create: ") + std::strerror(errno));
   }
   writer w(fd, path);
+  // A file this call made and could not start is removed: no empty recording is left behind
+  // (a full disk).
+  const auto fail = [&](const std::string& what) {
+    const int err = errno;
+    (void)::close(std::exchange(w.fd_, -1));
+    (void)::unlink(path.c_str());
+    return write_error(path, what, err);
+  };
   const auto h = file_header();
-  if (::write(fd, h.data(), h.size()) != static_cast<ssize_t>(h.size()))
-    return io_error(path, std::string("write: ") + std::strerror(errno));
+  if (::write(fd, h.data(), h.size()) != static_cast<ssize_t>(h.size())) return fail("write: ");
   w.bytes_ = h.size();
-  if (auto s = w.sync(); !s) return s.err();
+  if (::fdatasync(fd) != 0) return fail("fsync: ");
+  // The new name must survive a power loss too: sync the folder that holds it.
+  const std::string dir = std::filesystem::path(path).parent_path().empty()
+                              ? std::string(".")
+                              : std::filesystem::path(path).parent_path().string();
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd < 0 || ::fsync(dfd) != 0) {
+    if (dfd >= 0) ::close(dfd);
+    return fail("fsync of its folder: ");
+  }
+  ::close(dfd);
   return w;
 }
 
@@ -201,7 +264,7 @@ status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::u
   while (done < buf_.size()) {
     const ssize_t n = ::write(fd_, buf_.data() + done, buf_.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return io_error(path_, std::string("write: ") + std::strerror(errno));
+    if (n <= 0) return write_error(path_, "write: ", errno);
     done += static_cast<std::size_t>(n);
   }
   bytes_ += buf_.size();
@@ -209,7 +272,7 @@ status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::u
 }
 
 status writer::sync() {
-  if (::fdatasync(fd_) != 0) return io_error(path_, std::string("fsync: ") + std::strerror(errno));
+  if (::fdatasync(fd_) != 0) return write_error(path_, "fsync: ", errno);
   return ok();
 }
 
@@ -222,4 +285,4 @@ status writer::close() {
   return ok();
 }
 
-}  // namespace gyroflip::host::gfr
+}  // namespace gyroflip::rigdata::gfr
