@@ -133,10 +133,9 @@ void setup_emulate(CLI::App& app, action& chosen) {
          "--fault-reset-at", o->fault_reset_at_s,
          "reset the firmware at these device times (s after the first START; comma-separated)")
       ->delimiter(',');
-  sub->add_option(
-      "--fault-unplug", o->fault_unplug,
-      "AT:FOR - AT device s after the first START the line vanishes for FOR device s "
-      "(repeatable; the rig runs on, its output is lost)");
+  sub->add_option("--fault-unplug", o->fault_unplug,
+                  "AT:FOR - AT device s after the first START the line vanishes for FOR device s "
+                  "(repeatable; the rig runs on, its output is lost)");
   sub->add_option("--serial", o->serial, "the emulated board's serial number (in its INFO)")
       ->capture_default_str();
   sub->add_option("--duration", o->duration_s, "simulated seconds to run (0: until stopped)")

@@ -93,6 +93,42 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   return c;
 }
 
+// The fastest a faulty line runs at --speed max (docs/EMULATOR.md).
+constexpr double max_faulty_speed = 100.0;
+
+// Device time against wall time at `speed` device seconds per wall second (0: no pacing). A
+// stall (a busy host) is not made up in a burst: the device's time runs at most 5 ms of wall
+// time ahead of its pace, and a pace that fell behind restarts from now.
+class pace {
+ public:
+  explicit pace(double speed) : speed_(speed) {}
+  int wait_ms(double device_s, std::chrono::steady_clock::time_point now) {
+    if (speed_ <= 0.0) return 0;
+    if (!started_ || now - due(device_s) > std::chrono::milliseconds(5)) {
+      started_ = true;
+      anchor_wall_ = now;
+      anchor_device_s_ = device_s;
+      return 0;
+    }
+    const auto ahead = due(device_s) - now;
+    return ahead > std::chrono::steady_clock::duration::zero()
+               ? static_cast<int>(
+                     std::ceil(std::chrono::duration<double, std::milli>(ahead).count()))
+               : 0;
+  }
+
+ private:
+  [[nodiscard]] std::chrono::steady_clock::time_point due(double device_s) const {
+    return anchor_wall_ +
+           std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+               std::chrono::duration<double>((device_s - anchor_device_s_) / speed_));
+  }
+  double speed_;
+  bool started_ = false;
+  std::chrono::steady_clock::time_point anchor_wall_{};
+  double anchor_device_s_ = 0.0;
+};
+
 // Faults of the rig and its cable, in the order they happen: firmware resets, and the line
 // vanishing (an unplugged USB-serial adapter) for a while. All in device time counted from the
 // first run the host started, so that a test's faults fall inside its recording whatever the
@@ -114,7 +150,8 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
     if (!v || v->size() != 2 || !((*v)[0] > 0.0 && (*v)[0] <= 1e7) ||
         !((*v)[1] > 0.0 && (*v)[1] <= 3600.0))
       return usage_error(
-          "--fault-unplug: AT:FOR, AT device s into the run in (0, 1e7], FOR device s in (0, 3600]; "
+          "--fault-unplug: AT:FOR, AT device s into the run in (0, 1e7], FOR device s in (0, "
+          "3600]; "
           "got " +
           u);
     f.unplug.emplace_back((*v)[0], (*v)[1]);
@@ -215,6 +252,12 @@ int run_emulate(const emulate_options& o) {
   std::uint64_t frames_unplugged = 0;
   bool frame_unplugged = false;  // a byte of the frame being sent went out while the line was gone
   std::optional<double> run_start_s;  // device time of the first run: faults count from it
+  // On a faulty line, max speed is at most max_faulty_speed times the rig's: a RESEND must come
+  // back while the device still holds the frame (its history, ~6 s of the rig's time). A host
+  // answers within milliseconds; at 100x that is a fraction of a second of the rig's time, as a
+  // host's tens of ms are on a real line. Flat out, a host's few ms would be seconds.
+  const bool faulty = o.fault_ber > 0.0 || o.fault_drop > 0.0 || !plan->unplug.empty();
+  pace pacer(speed > 0.0 ? speed : faulty ? max_faulty_speed : 0.0);
   emu.boot();
   while (!stop_requested && (o.duration_s == 0.0 || emu.time_s() < o.duration_s)) {
     if (!run_start_s && emu.device().state() == protocol::device_state::running)
@@ -266,18 +309,12 @@ int run_emulate(const emulate_options& o) {
       if (!w) return report(w.err());
       done += *w;
     }
-    // Pace to real time: wait for the host's bytes until the wall clock catches up. At max
-    // speed, the reader's pace: the device's time waits while more than 256 bytes (22 ms of the
-    // line) are unread, as a real line would never hold seconds of the rig's output between the
-    // rig and its reader (a RESEND then comes back within the device's history, as it would).
-    int wait_ms = 0;
-    if (speed > 0.0) {
-      const double due_s = emu.time_s() / speed;
-      const double now_s = std::chrono::duration<double>(steady::now() - wall_start).count();
-      wait_ms = due_s > now_s ? static_cast<int>(std::ceil((due_s - now_s) * 1e3)) : 0;
-    } else if (line && line->unread() > 256) {
-      wait_ms = 1;
-    }
+    // Pace: wait for the host's bytes until the wall clock has caught up with the device's time
+    // (pacer). At max speed, the reader's pace besides: the device's time waits while more than
+    // 256 bytes are unread, as a real line never holds seconds of the rig's output between the
+    // rig and its reader.
+    int wait_ms = pacer.wait_ms(emu.time_s(), steady::now());
+    if (speed == 0.0 && line && line->unread() > 256) wait_ms = std::max(wait_ms, 1);
     if (line && to_device.empty()) {
       auto r = line->read(buf, sizeof buf, wait_ms);
       if (!r) return report(r.err());

@@ -134,9 +134,10 @@ int run_export(const export_options& o) {
   if (!run) return report(run.err());
   for (const auto& w : run->warnings) warn(w);
   if (run->lost_dwells != 0)
-    warn(fmt::format("{}: {} dwells never arrived (the device no longer had them when they were "
-                     "asked for again); the gap records count them",
-                     o.file, run->lost_dwells));
+    warn(
+        fmt::format("{}: {} dwells never arrived (the device no longer had them when they were "
+                    "asked for again); the gap records count them",
+                    o.file, run->lost_dwells));
   if (o.raw && run->conversions.empty())
     return report(input_error(
         {o.file}, "no RAW conversions in this recording (record with --raw to keep them)"));

@@ -108,8 +108,9 @@ const char* reason_text(rigdata::gfr::stop_reason r) {
 
 int run_record(const record_options& o) {
   if (o.output == "-")
-    return report(usage_error("-o -: a recording is a file (it is synced and read back), not "
-                              "standard output; export it to CSV for a pipe"));
+    return report(
+        usage_error("-o -: a recording is a file (it is synced and read back), not "
+                    "standard output; export it to CSV for a pipe"));
   if (o.baud == 0 || o.baud > 4000000)
     return report(usage_error("--baud must be a rate from 1 to 4000000 b/s (the rig: 115200)"));
   if (!(o.duration_s >= 0.0) || !std::isfinite(o.duration_s))
@@ -163,8 +164,7 @@ int run_record(const record_options& o) {
                o.output.c_str(), s.dwells, s.cycles, static_cast<unsigned long long>(s.frames_good),
                static_cast<unsigned long long>(s.frames_corrupt),
                static_cast<unsigned long long>(s.frames_recovered),
-               static_cast<unsigned long long>(s.frames_lost), s.elapsed_s,
-               reason_text(r->reason));
+               static_cast<unsigned long long>(s.frames_lost), s.elapsed_s, reason_text(r->reason));
   if (r->reason == rigdata::gfr::stop_reason::link_lost)
     return report(runtime_error(
         fmt::format("{}: the port did not come back within {:g} s; {} is complete up to the loss",

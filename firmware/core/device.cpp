@@ -119,7 +119,8 @@ void device::receive() {
 void device::transmit() {
   uint8_t b = 0;
   while (tx_.peek(&b)) {
-    const uint8_t nib = tx_low_nibble_ ? static_cast<uint8_t>(b & 0x0Fu) : static_cast<uint8_t>(b >> 4);
+    const uint8_t nib =
+        tx_low_nibble_ ? static_cast<uint8_t>(b & 0x0Fu) : static_cast<uint8_t>(b >> 4);
     if (!hw_.uart_write(protocol::hamming84_encode(nib))) return;
     if (tx_low_nibble_) tx_.pop();
     tx_low_nibble_ = !tx_low_nibble_;
@@ -158,6 +159,7 @@ void device::ack(const protocol::frame& f) {
   protocol::ack_msg a;
   a.seq = f.seq;
   a.of_type = f.type;
+  a.at_seq = tx_seq_;  // this ACK's own number
   send(a);
 }
 
@@ -213,6 +215,7 @@ void device::send_status() {
   stat_.line_uncorrectable = static_cast<uint16_t>(rx_.line().uncorrectable);
   stat_.history_oldest = history_.empty() ? tx_seq_ : history_.oldest_seq();
   stat_.stack_free = hw_.stack_free();
+  stat_.boot_count = boot_.boot_count;
   send(stat_);
 }
 
@@ -224,6 +227,8 @@ void device::resend(const protocol::frame& f) {
   if (!f.as(m)) return nak(f, status::bad_frame);
   protocol::gone_msg gone;
   for (uint8_t i = 0; i < m.count; ++i) {
+    // A number not yet sent (a host probing past what it heard): nothing to say about it.
+    if (static_cast<int16_t>(static_cast<uint16_t>(m.seqs[i] - tx_seq_)) >= 0) continue;
     uint8_t* raw = scratch_ + protocol::detail::stage;
     const size_t len = history_.find(m.seqs[i], raw, protocol::max_frame);
     if (len == 0) {
@@ -244,6 +249,7 @@ bool device::repeated_command(const protocol::frame& f) {
     protocol::ack_msg a;
     a.seq = f.seq;
     a.of_type = f.type;
+    a.at_seq = last_cmd_at_seq_;
     send(a);
   } else {
     nak_raw(f.type, f.seq, last_cmd_why_);
@@ -258,6 +264,7 @@ void device::remember_reply(const protocol::frame& f, bool acked, status why) {
   last_cmd_type_ = f.type;
   last_cmd_crc_ = protocol::crc16(f.payload, f.length);
   last_cmd_acked_ = acked;
+  last_cmd_at_seq_ = tx_seq_;  // the reply about to be sent takes this number
   last_cmd_why_ = why;
 }
 

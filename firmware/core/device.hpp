@@ -32,13 +32,12 @@ inline constexpr uint8_t fw_version_patch = 0;
 inline constexpr size_t tx_ring_bytes = 352;
 /// Room a RAW frame must leave in the ring for a DWELL, a COMPENSATED and a STATUS (RAW is
 /// dropped first when the link falls behind; a RAW block every 64 ms leaves time to send them).
-inline constexpr size_t tx_reserve_bytes =
-    (protocol::line_bytes(protocol::dwell_payload) +
-     protocol::line_bytes(protocol::compensated_payload) +
-     protocol::line_bytes(protocol::status_payload)) /
-    protocol::line_expansion;
-static_assert(tx_ring_bytes >= protocol::line_bytes(protocol::raw_payload(32)) / 2 +
-                                   tx_reserve_bytes + 64);
+inline constexpr size_t tx_reserve_bytes = (protocol::line_bytes(protocol::dwell_payload) +
+                                            protocol::line_bytes(protocol::compensated_payload) +
+                                            protocol::line_bytes(protocol::status_payload)) /
+                                           protocol::line_expansion;
+static_assert(tx_ring_bytes >=
+              protocol::line_bytes(protocol::raw_payload(32)) / 2 + tx_reserve_bytes + 64);
 /// The retransmit history (RESEND): frames before COBS. On the MSP430F149 it takes what its
 /// 2 KB of RAM leave (docs/PERFORMANCE.md): 7 DWELLs (57 B each with its length byte), i.e.
 /// 6 s of the paper's rig (a dwell every ~0.9 s), or 4.5 s with COMPENSATED on.
@@ -159,6 +158,7 @@ class device {
   uint8_t last_cmd_type_ = 0;
   uint16_t last_cmd_crc_ = 0;
   bool last_cmd_acked_ = false;
+  uint16_t last_cmd_at_seq_ = 0;
   protocol::status last_cmd_why_ = protocol::status::ok;
 
   // health

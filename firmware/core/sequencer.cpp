@@ -45,8 +45,8 @@ void device::set_coils(bool on) {
 
 void device::apply_adc_config() {
   const bool chop = (cfg_.flags & protocol::cfg_chop) != 0;
-  conv_ticks_ = mclk_to_ticks(ad7739::conversion_mclk(chop, cfg_.filter_word), hw_.tick_hz,
-                              facts_.mclk_hz);
+  conv_ticks_ =
+      mclk_to_ticks(ad7739::conversion_mclk(chop, cfg_.filter_word), hw_.tick_hz, facts_.mclk_hz);
   settle_ticks_ = ms_to_ticks(cfg_.settle_ms, hw_.tick_hz);
   status_ticks_ = ms_to_ticks(cfg_.status_period_ms, hw_.tick_hz);
   // Three conversion times (issue 8), plus one tick for the quantisation of the start time.
@@ -293,8 +293,7 @@ void device::take_result(uint32_t now, bool gyro, uint8_t ch) {
   }
   if (dwell_.n == 0 || code < dwell_.code_min) dwell_.code_min = code;
   if (dwell_.n == 0 || code > dwell_.code_max) dwell_.code_max = code;
-  if (code <= -ad7739::code_zero || code >= ad7739::code_zero - 1 ||
-      (st & ad7739::chst_ovr) != 0)
+  if (code <= -ad7739::code_zero || code >= ad7739::code_zero - 1 || (st & ad7739::chst_ovr) != 0)
     dwell_.flags |= protocol::dwell_adc_clip;
   dwell_.code_sum += code;
   ++dwell_.n;

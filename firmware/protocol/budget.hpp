@@ -27,7 +27,7 @@ inline constexpr uint32_t link_bytes_per_s = 115200 / 10;
 
 /// Payload bytes of each device-to-host message (their layouts in messages.hpp).
 inline constexpr uint32_t dwell_payload = 49;
-inline constexpr uint32_t status_payload = 37;
+inline constexpr uint32_t status_payload = 39;
 inline constexpr uint32_t compensated_payload = 13;
 [[nodiscard]] constexpr uint32_t raw_payload(uint32_t codes) {
   return 5 + 3 * codes;
@@ -69,8 +69,8 @@ inline constexpr uint32_t compensated_payload = 13;
   const uint64_t conv_mclk = ad7739::conversion_mclk((c.flags & cfg_chop) != 0, c.filter_word);
   const uint64_t conv_ns = conv_mclk * (uint64_t{c.n_avg} + c.n_temp) * 1000000000u / mclk_hz;
   uint64_t steps = 0xFFFFFFFFu;
-  const uint8_t n = c.n_positions < 2 ? 2 : (c.n_positions > max_positions ? max_positions
-                                                                            : c.n_positions);
+  const uint8_t n =
+      c.n_positions < 2 ? 2 : (c.n_positions > max_positions ? max_positions : c.n_positions);
   for (uint8_t i = 0; i < n; ++i) {
     const int32_t d = turn_steps(c, c.pos_steps[i], static_cast<uint8_t>((i + 1) % n));
     const uint64_t s = static_cast<uint64_t>(d < 0 ? -d : d);
@@ -83,8 +83,8 @@ inline constexpr uint32_t compensated_payload = 13;
   uint64_t bps =
       dwell_ns == 0 ? 0xFFFFFFFFu : (x2 * 1000000000u + 2 * dwell_ns - 1) / (2 * dwell_ns);
   if (c.status_period_ms != 0)
-    bps += (uint64_t{line_bytes(status_payload)} * 1000 + c.status_period_ms - 1) /
-           c.status_period_ms;
+    bps +=
+        (uint64_t{line_bytes(status_payload)} * 1000 + c.status_period_ms - 1) / c.status_period_ms;
   return bps > 0xFFFFFFFFu ? 0xFFFFFFFFu : static_cast<uint32_t>(bps);
 }
 
@@ -104,16 +104,16 @@ inline constexpr uint32_t compensated_payload = 13;
       return status::bad_arg;
     }
   }
-  const int32_t half = c.pos_cdeg[1] > c.pos_cdeg[0] ? c.pos_cdeg[1] - c.pos_cdeg[0]
-                                                     : c.pos_cdeg[0] - c.pos_cdeg[1];
+  const int32_t half =
+      c.pos_cdeg[1] > c.pos_cdeg[0] ? c.pos_cdeg[1] - c.pos_cdeg[0] : c.pos_cdeg[0] - c.pos_cdeg[1];
   const bool pair = c.n_positions == 2 && half == centidegrees_per_turn / 2;
   const bool ok = c.n_avg >= 1 && c.n_temp <= max_n_temp && c.step_rate_sps >= 1 &&
                   c.step_rate_sps <= max_step_rate_sps && c.start_rate_sps >= 1 &&
                   c.start_rate_sps <= c.step_rate_sps && c.ramp_sps2 >= 1 &&
                   c.filter_word >= ad7739::fw_min && c.filter_word <= ad7739::fw_max &&
                   (c.flags & ~cfg_all) == 0 && c.flip_motor <= 1 && c.other_motor <= 3 &&
-                  c.gyro_channel <= 3 && c.temp_channel <= 3 &&
-                  c.gyro_channel != c.temp_channel && c.status_period_ms <= max_status_period_ms &&
+                  c.gyro_channel <= 3 && c.temp_channel <= 3 && c.gyro_channel != c.temp_channel &&
+                  c.status_period_ms <= max_status_period_ms &&
                   ((c.flags & cfg_compensate) == 0 || pair);
   if (!ok) return status::bad_arg;
   // The link must carry the worst case, or frames would be dropped by design.

@@ -107,7 +107,8 @@ class basic_frame_decoder {
   /// as duplicates; the numbering continues from them). The device decodes commands this way,
   /// so a host program that restarts its numbering at 0 is still obeyed, and a host takes
   /// retransmitted frames this way.
-  constexpr explicit basic_frame_decoder(bool deliver_repeats) : deliver_repeats_(deliver_repeats) {}
+  constexpr explicit basic_frame_decoder(bool deliver_repeats)
+      : deliver_repeats_(deliver_repeats) {}
   /// Takes one byte; true when it completed a new valid frame (then `current()`).
   [[nodiscard]] bool push(uint8_t b) {
     if (b != 0) {

@@ -164,6 +164,7 @@ void status_msg::put(writer& w) const {
   w.u16(stale_results);
   w.u16(stack_free);
   w.u8(clock_faults);
+  w.u16(boot_count);
 }
 
 void status_msg::get(reader& r) {
@@ -184,6 +185,7 @@ void status_msg::get(reader& r) {
   stale_results = r.u16();
   stack_free = r.u16();
   clock_faults = r.u8();
+  boot_count = r.u16();
 }
 
 void error_msg::put(writer& w) const {
@@ -201,11 +203,13 @@ void error_msg::get(reader& r) {
 void ack_msg::put(writer& w) const {
   w.u16(seq);
   w.u8(of_type);
+  w.u16(at_seq);
 }
 
 void ack_msg::get(reader& r) {
   seq = r.u16();
   of_type = r.u8();
+  at_seq = r.u16();
 }
 
 void nak_msg::put(writer& w) const {

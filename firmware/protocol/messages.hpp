@@ -118,10 +118,10 @@ struct configure_msg {
       "u8 filter_word;u8 flags;u8 flip_motor;u8 other_motor;u8 gyro_channel;u8 temp_channel;"
       "u16 status_period_ms";
   static constexpr uint8_t crc_extra = layout_seed(layout);
-  uint16_t n_avg = 256;              ///< gyro conversions per dwell (paper: 256)
-  uint8_t n_temp = 4;                ///< temperature conversions per dwell, after the gyro's
-  uint16_t settle_ms = 80;           ///< wait after a turn before the first conversion
-  uint8_t n_positions = 2;           ///< positions in the angle table, 2..max_positions
+  uint16_t n_avg = 256;     ///< gyro conversions per dwell (paper: 256)
+  uint8_t n_temp = 4;       ///< temperature conversions per dwell, after the gyro's
+  uint16_t settle_ms = 80;  ///< wait after a turn before the first conversion
+  uint8_t n_positions = 2;  ///< positions in the angle table, 2..max_positions
   /// The angle table: each position in steps of the flip motor (from home) and the table angle
   /// it stands for in hundredths of a degree. A DWELL's `position` is an index into it. Default:
   /// A = 0 deg at step 0, B = 180 deg at step 100 (200 steps per revolution).
@@ -154,16 +154,16 @@ struct info_msg {
       static_cast<uint8_t>(layout_seed(layout) ^ configure_msg::crc_extra);
   uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0, protocol = 0;
   uint32_t serial = 0;
-  uint32_t mclk_hz = 0;       ///< AD7739 master clock
-  uint32_t tick_hz = 0;       ///< device timestamps' tick rate
-  uint8_t adc_revision = 0;   ///< AD7739 revision register as read at boot (0: no ADC)
-  uint16_t max_n_avg = 0;     ///< largest n_avg this firmware accepts
-  uint8_t max_raw_codes = 0;  ///< codes per RAW block
-  uint8_t range = 0;          ///< AD7739 channel-setup range code (4: +-2.5 V)
-  uint8_t reset_cause = 0;    ///< a reset_cause value: why the device last started
-  uint16_t boot_count = 0;    ///< starts since power-on (wraps); a change means it rebooted
+  uint32_t mclk_hz = 0;        ///< AD7739 master clock
+  uint32_t tick_hz = 0;        ///< device timestamps' tick rate
+  uint8_t adc_revision = 0;    ///< AD7739 revision register as read at boot (0: no ADC)
+  uint16_t max_n_avg = 0;      ///< largest n_avg this firmware accepts
+  uint8_t max_raw_codes = 0;   ///< codes per RAW block
+  uint8_t range = 0;           ///< AD7739 channel-setup range code (4: +-2.5 V)
+  uint8_t reset_cause = 0;     ///< a reset_cause value: why the device last started
+  uint16_t boot_count = 0;     ///< starts since power-on (wraps); a change means it rebooted
   uint16_t history_bytes = 0;  ///< size of the retransmit history (docs/PROTOCOL.md, RESEND)
-  configure_msg config;       ///< the configuration in force
+  configure_msg config;        ///< the configuration in force
   void put(writer& w) const;
   void get(reader& r);
   bool operator==(const info_msg&) const = default;
@@ -238,7 +238,7 @@ struct status_msg {
       "status:u8 state;u32 uptime_ticks;u32 cycle;u32 frames_sent;u16 frames_dropped;"
       "u16 rx_frames_ok;u16 rx_errors;u16 rdy_timeouts;u8 last_error;u16 retransmits;"
       "u16 history_oldest;u16 line_corrected;u16 line_uncorrectable;u16 start_failures;"
-      "u16 stale_results;u16 stack_free;u8 clock_faults";
+      "u16 stale_results;u16 stack_free;u8 clock_faults;u16 boot_count";
   static constexpr uint8_t crc_extra = layout_seed(layout);
   uint8_t state = 0;  ///< a device_state
   uint32_t uptime_ticks = 0;
@@ -247,15 +247,17 @@ struct status_msg {
   uint16_t frames_dropped = 0;  ///< frames that did not fit the transmit buffer (RAW first)
   uint16_t rx_frames_ok = 0, rx_errors = 0;
   uint16_t rdy_timeouts = 0;
-  uint8_t last_error = 0;       ///< a status code
-  uint16_t retransmits = 0;     ///< frames sent again on RESEND
-  uint16_t history_oldest = 0;  ///< sequence number of the oldest frame RESEND can still send
-  uint16_t line_corrected = 0;  ///< received wire bytes with a bit corrected by the line code
+  uint8_t last_error = 0;           ///< a status code
+  uint16_t retransmits = 0;         ///< frames sent again on RESEND
+  uint16_t history_oldest = 0;      ///< sequence number of the oldest frame RESEND can still send
+  uint16_t line_corrected = 0;      ///< received wire bytes with a bit corrected by the line code
   uint16_t line_uncorrectable = 0;  ///< received wire bytes beyond correction
   uint16_t start_failures = 0;      ///< conversions that could not be started (SPI failure)
   uint16_t stale_results = 0;       ///< conversion results refused as not new (dwell_stale)
-  uint16_t stack_free = 0;  ///< stack bytes never used since boot (the high-water mark's margin)
+  uint16_t stack_free = 0;   ///< stack bytes never used since boot (the high-water mark's margin)
   uint8_t clock_faults = 0;  ///< clock_fault bits seen since boot
+  /// INFO's boot_count: a host whose boot INFO was lost still sees the device restarted.
+  uint16_t boot_count = 0;
   void put(writer& w) const;
   void get(reader& r);
   bool operator==(const status_msg&) const = default;
@@ -307,10 +309,14 @@ struct resend_msg {
 /// ACK (device to host): the command with this sequence number and type was done.
 struct ack_msg {
   static constexpr msg type = msg::ack;
-  static constexpr const char* layout = "ack:u16 seq;u8 of_type";
+  static constexpr const char* layout = "ack:u16 seq;u8 of_type;u16 at_seq";
   static constexpr uint8_t crc_extra = layout_seed(layout);
   uint16_t seq = 0;
   uint8_t of_type = 0;
+  /// The device's sequence number of the command's first ACK: when it was done. The ACK of a
+  /// retry names the first one, so a host whose first ACK was lost still knows where a run
+  /// began (docs/PROTOCOL.md, Commands).
+  uint16_t at_seq = 0;
   void put(writer& w) const;
   void get(reader& r);
   bool operator==(const ack_msg&) const = default;

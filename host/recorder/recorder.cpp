@@ -140,16 +140,28 @@ class receive_window {
     }
     return out;
   }
-  /// Gives up `seq` (GONE); true when it was missing.
-  bool give_up(std::uint16_t seq) { return have_ && missing_.erase(unwrap(seq)) != 0; }
+  /// Gives up `seq` (GONE); true when it was missing. A number past the highest seen was sent
+  /// (the device names only those), so the ones between are missing.
+  bool give_up(std::uint16_t seq) {
+    if (!have_) return false;
+    const std::uint64_t s = unwrap(seq);
+    if (s > highest_) {
+      for (std::uint64_t m = highest_ + 1; m < s; ++m) missing_.emplace(m, miss{});
+      highest_ = s;
+      return true;
+    }
+    return missing_.erase(s) != 0;
+  }
+  /// The number after the highest seen.
+  [[nodiscard]] std::uint16_t next() const { return static_cast<std::uint16_t>(highest_ + 1); }
+  [[nodiscard]] bool started() const noexcept { return have_; }
   /// Gives up everything older than `oldest` (the oldest frame the device still holds), and
   /// what was asked for `max_asks` times: how many.
   std::size_t give_up_older(std::uint16_t oldest, int max_asks) {
     if (!have_) return 0;
     const std::uint64_t o = unwrap(oldest);
-    return std::erase_if(missing_, [&](const auto& e) {
-      return e.first < o || e.second.asked >= max_asks;
-    });
+    return std::erase_if(missing_,
+                         [&](const auto& e) { return e.first < o || e.second.asked >= max_asks; });
   }
   std::size_t give_up_all() {
     const std::size_t n = missing_.size();
@@ -193,13 +205,17 @@ class session {
   status send(const M& m, std::uint16_t seq);
   status pump(int timeout_ms);
   status on_frame(const p::frame& f);
-  status on_info(const p::frame& f, bool asked);
+  status on_info(const p::frame& f);
+  [[nodiscard]] bool says_reset(const p::frame& f) const;
+  status note_reset();
   result<p::info_msg> ping();
   template <class M>
   status command(const M& m, const char* name);
   status start_run();
   status begin_recording(std::uint16_t ack_seq);
   status request_missing(double interval_s);
+  status keep_up();
+  status probe();
   status drain_missing();
   status handle_reset();
   result<bool> reconnect(steady::time_point lost_at);
@@ -214,6 +230,16 @@ class session {
   [[nodiscard]] double elapsed_s() const {
     const auto& d = live_.run().dwells;
     return d.empty() ? 0.0 : d.back().time_s;
+  }
+  // A missing frame is asked for again every 0.15 s of the device's time (a round trip on the
+  // line is tens of ms): its history (~6 s) allows ~40 tries.
+  [[nodiscard]] double resend_interval_s() const {
+    return std::clamp(0.15 / device_speed_, 0.001, 0.15);
+  }
+  // How long a read waits for bytes: short when the device runs fast (an emulator), so that a
+  // RESEND due within ms goes out in time.
+  [[nodiscard]] int read_wait_ms() const {
+    return static_cast<int>(std::clamp(resend_interval_s() * 1e3, 1.0, 20.0));
   }
   [[nodiscard]] std::uint64_t host_us() const {
     return static_cast<std::uint64_t>(
@@ -243,21 +269,25 @@ class session {
   bool recording_ = false;  // a START was acknowledged: the run is on
   bool stopping_ = false;
   bool waiting_info_ = false;
-  std::optional<p::info_msg> info_;     // the session's device (serial, boot count)
+  std::optional<p::info_msg> info_;      // the session's device (serial, boot count)
   std::optional<p::info_msg> got_info_;  // the INFO a PING brought
   bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
+  bool need_info_ = false;               // ... and its INFO is still to be recorded
   bool device_idle_ = false;             // a STATUS said idle while we record
   std::uint32_t last_uptime_ = 0;
   bool have_uptime_ = false;
-  steady::time_point last_uptime_at_{};
-  double device_speed_ = 1.0;  // device seconds per wall second
+  std::uint32_t speed_uptime_ = 0;  // the device_speed_ estimate's start
+  steady::time_point speed_at_{};
+  double device_speed_ = 1.0;        // device seconds per wall second
+  steady::time_point last_fresh_{};  // a new frame of the device arrived
+  steady::time_point last_probe_{};
   std::optional<std::uint16_t> reply_seq_;
   std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
   bool replied_ = false;
   bool resend_now_ = false;  // the device said our command arrived damaged
   std::optional<std::uint16_t> start_ack_seq_;
   bool waiting_for_port_ = false;
-  bool link_down_ = false;  // the last error came from the port, not the file
+  bool link_down_ = false;      // the last error came from the port, not the file
   std::optional<error> fatal_;  // a reason to end the run found while reading
   std::uint64_t recovered_ = 0, lost_ = 0;
   steady::time_point t0_ = steady::now();
@@ -351,8 +381,39 @@ status session::send(const M& m, std::uint16_t seq) {
   return s;
 }
 
-// An INFO: the session's device, a reboot of it (another boot count), or another device.
-status session::on_info(const p::frame& f, bool asked) {
+// Whether frame `f` says the device restarted since the session's INFO: its boot INFO (number
+// 0: a boot's first frame), an INFO or STATUS with another boot count, or a STATUS whose uptime
+// went back (a power-on restarts the count and the clock). One reset at a time: a second one
+// during the first one's handling shows in the next STATUS.
+bool session::says_reset(const p::frame& f) const {
+  if (!info_ || reset_seen_) return false;
+  if (f.type == static_cast<std::uint8_t>(p::msg::info)) {
+    p::info_msg m;
+    return f.as(m) && m.serial == info_->serial &&
+           (f.seq == 0 || m.boot_count != info_->boot_count);
+  }
+  if (f.type == static_cast<std::uint8_t>(p::msg::status)) {
+    p::status_msg m;
+    if (!f.as(m)) return false;
+    const bool went_back = have_uptime_ && m.uptime_ticks < last_uptime_ &&
+                           last_uptime_ - m.uptime_ticks < 0x80000000u;  // not a 32-bit wrap
+    return m.boot_count != info_->boot_count || went_back;
+  }
+  return false;
+}
+
+// The device restarted: what it owed is lost, its numbering starts again, and its INFO (the
+// boot's, or a PING's) goes into the file after the gap.
+status session::note_reset() {
+  reset_seen_ = true;
+  need_info_ = true;
+  window_.reset();
+  dec_.frames().reset_sequence();
+  return append_gap(gfr::gap_reason::device_reset, 0);
+}
+
+// An INFO: the session's device (after a reset, the new session's INFO), or another device.
+status session::on_info(const p::frame& f) {
   p::info_msg m;
   if (!f.as(m)) return ok();
   if (waiting_info_) {
@@ -367,19 +428,10 @@ status session::on_info(const p::frame& f, bool asked) {
                     c_.port, m.serial, info_->serial, c_.output));
     return ok();
   }
-  // A boot: the device's INFO at boot is its first frame (sequence number 0), and every boot
-  // counts up (a power-on, which starts the count again, also restarts the uptime: STATUS).
-  // Another INFO is a late answer to a PING, whoever asked.
-  static_cast<void>(asked);
-  if ((f.seq == 0 || m.boot_count != info_->boot_count) && !reset_seen_) {
-    reset_seen_ = true;
-    info_ = m;
-    window_.reset();
-    dec_.frames().reset_sequence();
-    if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s;
-    return append(gfr::kind::info, payload_of(m));
-  }
-  return ok();
+  if (!need_info_) return ok();  // a late answer to a PING
+  need_info_ = false;
+  info_ = m;
+  return append(gfr::kind::info, payload_of(m));
 }
 
 status session::on_frame(const p::frame& f) {
@@ -396,13 +448,14 @@ status session::on_frame(const p::frame& f) {
       } else if (is_ack || is_nak) {
         replied_ = true;
         if (is_nak) reply_nak_ = n.reason;
+        // Where the run began: the first ACK's number, also when only a retry's ACK came.
         if (is_ack && a.of_type == static_cast<std::uint8_t>(p::msg::start))
-          start_ack_seq_ = f.seq;
+          start_ack_seq_ = a.at_seq;
       }
     }
     return ok();
   }
-  if (type == p::msg::info) return on_info(f, waiting_info_);
+  if (type == p::msg::info) return on_info(f);
   if (type == p::msg::gone) {
     p::gone_msg g;
     if (!f.as(g)) return ok();
@@ -413,33 +466,31 @@ status session::on_frame(const p::frame& f) {
   if (type == p::msg::status) {
     p::status_msg m;
     if (!f.as(m)) return ok();
-    // The uptime went back (not a wrap of its 32 bits): the device restarted (a power-on).
-    if (m.uptime_ticks < last_uptime_ && last_uptime_ - m.uptime_ticks < 0x80000000u &&
-        !reset_seen_) {
-      reset_seen_ = true;
-      window_.reset();
-      dec_.frames().reset_sequence();
-      if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s;
-    }
     // How fast the device's clock runs against ours (1 for a rig, more for an emulator at
-    // --speed): a RESEND is repeated after a device-time interval, not a wall-clock one.
+    // --speed): a RESEND is repeated after a device-time interval, not a wall-clock one. Taken
+    // over at least 50 ms of ours (STATUS frames read in one go would say "infinitely fast").
     const auto now = steady::now();
-    if (info_ && info_->tick_hz != 0 && have_uptime_ && m.uptime_ticks > last_uptime_) {
-      const double dev_s = (m.uptime_ticks - last_uptime_) / static_cast<double>(info_->tick_hz);
-      const double wall_s = std::chrono::duration<double>(now - last_uptime_at_).count();
-      if (wall_s > 0) device_speed_ = std::clamp(dev_s / wall_s, 0.01, 1e5);
+    if (!have_uptime_ || m.uptime_ticks < speed_uptime_) {
+      speed_uptime_ = m.uptime_ticks;
+      speed_at_ = now;
+    } else if (const double wall_s = std::chrono::duration<double>(now - speed_at_).count();
+               info_ && info_->tick_hz != 0 && wall_s >= 0.05) {
+      const double dev_s = (m.uptime_ticks - speed_uptime_) / static_cast<double>(info_->tick_hz);
+      device_speed_ = std::clamp(dev_s / wall_s, 0.01, 1e5);
+      speed_uptime_ = m.uptime_ticks;
+      speed_at_ = now;
     }
     have_uptime_ = true;
-    last_uptime_at_ = now;
     last_uptime_ = m.uptime_ticks;
     // Idle while recording: but only a STATUS the device sent after it acknowledged START
     // (one sent just before is still on its way when the run has begun).
-    const bool after_start = start_ack_seq_ && static_cast<std::int16_t>(static_cast<std::uint16_t>(
-                                                   f.seq - *start_ack_seq_)) > 0;
+    const bool after_start =
+        start_ack_seq_ &&
+        static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *start_ack_seq_)) > 0;
     if (recording_ && !stopping_ && after_start &&
         m.state == static_cast<std::uint8_t>(p::device_state::idle))
       device_idle_ = true;
-    return note_lost(window_.give_up_older(m.history_oldest, 40));
+    return note_lost(window_.give_up_older(m.history_oldest, 80));
   }
   return ok();
 }
@@ -456,8 +507,11 @@ status session::pump(int timeout_ms) {
     if (!info_) static_cast<void>(old_dec_.push(in[i]));  // a v1 device's frames, counted
     if (!dec_.push(in[i])) continue;
     const auto& f = dec_.current();
+    if (says_reset(f))
+      if (auto s = note_reset(); !s) return s;
     const auto arrived = info_ ? window_.arrive(f.seq) : receive_window::arrival::fresh;
     if (arrived == receive_window::arrival::recovered) ++recovered_;
+    if (arrived == receive_window::arrival::fresh) last_fresh_ = steady::now();
     if (info_ && arrived != receive_window::arrival::repeat) {
       std::uint8_t body[3 + p::max_payload];
       p::writer w{body, sizeof body};
@@ -468,7 +522,8 @@ status session::pump(int timeout_ms) {
     }
     // A STATUS or INFO says something now even when its number looks old (a rebooted device
     // counts from 0 again).
-    if (arrived != receive_window::arrival::repeat || f.type == static_cast<std::uint8_t>(p::msg::status) ||
+    if (arrived != receive_window::arrival::repeat ||
+        f.type == static_cast<std::uint8_t>(p::msg::status) ||
         f.type == static_cast<std::uint8_t>(p::msg::info))
       if (auto s = on_frame(f); !s) return s;
   }
@@ -486,6 +541,32 @@ status session::request_missing(double interval_s) {
     std::copy(due.begin(), due.end(), m.seqs);
     if (auto s = send(m, seq_++); !s) return s;
   }
+}
+
+// What the recorder does between reads: RESEND what is missing, and probe a quiet device.
+status session::keep_up() {
+  if (auto s = request_missing(resend_interval_s()); !s) return s;
+  return probe();
+}
+
+// Nothing new for longer than the device's STATUS period: a burst of losses, or frames lost
+// with none after them yet (the recorder learns of a loss only from a later frame). A RESEND
+// of the numbers after the highest seen brings back what the device holds, GONE names what it
+// no longer has, and numbers it has not sent are ignored (docs/PROTOCOL.md, RESEND).
+status session::probe() {
+  if (!window_.started()) return ok();
+  const double period_s = running_.status_period_ms != 0 ? running_.status_period_ms / 1e3 : 1.0;
+  const auto now = steady::now();
+  const auto since = [&](steady::time_point t) {
+    return std::chrono::duration<double>(now - t).count() * device_speed_;
+  };
+  if (since(last_fresh_) < 1.2 * period_s || since(last_probe_) < 0.3) return ok();
+  last_probe_ = now;
+  p::resend_msg m;
+  m.count = 4;
+  for (std::uint8_t i = 0; i < m.count; ++i)
+    m.seqs[i] = static_cast<std::uint16_t>(window_.next() + i);
+  return send(m, seq_++);
 }
 
 // The end of a run: what is still missing is asked for until it comes or the time is up; the
@@ -549,13 +630,17 @@ status session::command(const M& m, const char* name) {
     resend_now_ = false;
     if (auto s = send(m, id); !s) return s;
     const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 4);
-    while (!replied_ && !resend_now_ && steady::now() < until)
-      if (auto s = pump(20); !s) return s;
+    while (!replied_ && !resend_now_ && steady::now() < until) {
+      if (auto s = pump(read_wait_ms()); !s) return s;
+      // The run may already be going (a START whose ACK was lost): what is lost meanwhile is
+      // asked for now, while the device still has it.
+      if (auto s = keep_up(); !s) return s;
+    }
   }
   reply_seq_.reset();
   if (!replied_)
-    return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s",
-                                     c_.port, name, 2 * c_.reply_timeout_s));
+    return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port,
+                                     name, 2 * c_.reply_timeout_s));
   if (reply_nak_)
     return input_error({c_.port},
                        fmt::format("the device refused {}: {}", name, status_name(*reply_nak_)));
@@ -594,13 +679,12 @@ status session::begin_recording(std::uint16_t ack_seq) {
 // The device rebooted (its INFO said so, or its STATUS went idle or back in time): what it still
 // owed is lost, the run goes on after a homing and the same configuration.
 status session::handle_reset() {
-  if (!reset_seen_ && device_idle_) {
-    // An idle device: rebooted (its INFO lost) or stopped by itself. Its INFO tells which.
+  if (need_info_ || (!reset_seen_ && device_idle_)) {
+    // The reset's INFO was lost; or an idle device, rebooted (its INFO and STATUS lost) or
+    // stopped by itself. Its INFO tells which.
     auto info = ping();
     if (!info) return info.err();
-    if (info->boot_count == info_->boot_count) {
-      device_idle_ = false;  // same boot: it only stopped; start it again
-    }
+    if (!reset_seen_) device_idle_ = false;  // same boot: it only stopped; start it again
   }
   if (auto s = note_lost(window_.give_up_all()); !s) return s;
   return start_run();
@@ -703,7 +787,7 @@ result<recorder_result> session::run() {
     }
     if (!lost) {
       link_down_ = false;
-      if (auto s = pump(50); !s) {
+      if (auto s = pump(read_wait_ms()); !s) {
         if (!link_down_) {  // the file failed (a full disk): stop the device, keep what is in
           (void)command(p::stop_msg{}, "STOP");
           (void)file_.close();
@@ -713,10 +797,7 @@ result<recorder_result> session::run() {
       }
     }
     if (!lost) {
-      // A missing frame is asked for again every 0.3 s of the device's time (a round trip on the
-      // line is tens of ms): its history (~6 s) allows ~20 tries.
-      const double every_s = std::clamp(0.3 / device_speed_, 0.001, 0.3);
-      if (auto s = request_missing(every_s); !s) {
+      if (auto s = keep_up(); !s) {
         if (!link_down_) return s.err();
         lost = true;
       }

@@ -16,8 +16,8 @@
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/rig/simulator.hpp"
-#include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
+#include "gyroflip/sensor/presets.hpp"
 
 namespace gyroflip::python {
 

@@ -146,12 +146,13 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
     // extended, its data never written).
     if (all_zero(b.subspan(at))) {
       out.warnings.push_back(fmt::format(
-          "{}: record {}: the last {} bytes are zeros (a power loss during writing); ignored",
-          name, n, left));
+          "{}: record {}: the last {} bytes are zeros (a power loss during writing); ignored", name,
+          n, left));
       break;
     }
     // META holds the conversion to physical units: without it nothing reads.
-    if (n == 1) return at_record(name, 1, "the META record is damaged (its checksum does not match)");
+    if (n == 1)
+      return at_record(name, 1, "the META record is damaged (its checksum does not match)");
     std::size_t next = at + 1;
     while (next < b.size() && intact_record(b, next) == 0) ++next;
     if (next >= b.size()) {
@@ -163,9 +164,9 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
       break;
     }
     if (strict)
-      return at_record(name, n,
-                       fmt::format("damaged: {} bytes from offset {} are no intact record",
-                                   next - at, at));
+      return at_record(
+          name, n,
+          fmt::format("damaged: {} bytes from offset {} are no intact record", next - at, at));
     out.warnings.push_back(fmt::format(
         "{}: record {}: {} damaged bytes at offsets {}..{} skipped; reading goes on at the next "
         "intact record (every record is checked by its CRC-32)",

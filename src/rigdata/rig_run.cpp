@@ -152,7 +152,8 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
     case gfr::kind::start: {
       if (r.body.size() != 0 && r.body.size() != 2) return bad("START record of the wrong size");
       start_mark m{session_, std::nullopt, n, r.host_time_us, run_.config};
-      if (r.body.size() == 2) m.after_seq = unwrap(static_cast<std::uint16_t>(r.body[0] | (r.body[1] << 8)));
+      if (r.body.size() == 2)
+        m.after_seq = unwrap(static_cast<std::uint16_t>(r.body[0] | (r.body[1] << 8)));
       starts_.push_back(m);
       return ok();
     }
@@ -265,7 +266,8 @@ result<rig_run> rig_run_builder::finish() && {
   for (std::size_t i = 0; i < runs.size(); ++i) {
     auto& v = runs[i];
     if (v.empty()) continue;
-    std::sort(v.begin(), v.end(), [](const arrival* a, const arrival* b) { return a->seq < b->seq; });
+    std::sort(v.begin(), v.end(),
+              [](const arrival* a, const arrival* b) { return a->seq < b->seq; });
     // Repeats of a frame (stored twice) are read once.
     v.erase(std::unique(v.begin(), v.end(),
                         [](const arrival* a, const arrival* b) { return a->seq == b->seq; }),
@@ -305,8 +307,8 @@ result<rig_run> rig_run_builder::finish() && {
       rig_dwell r = physical(a->d, cfg, offset_s + t0 / hz, offset_s + t1 / hz);
       r.seq = a->seq16;
       r.segment = static_cast<std::uint32_t>(i);
-      if (std::isfinite(r.temp_c) && !within(r.temp_c, io::recording_reader::min_temp_c,
-                                             io::recording_reader::max_temp_c))
+      if (std::isfinite(r.temp_c) &&
+          !within(r.temp_c, io::recording_reader::min_temp_c, io::recording_reader::max_temp_c))
         return input_error({run_.path},
                            fmt::format("record {}: a dwell's temperature is {:.6g} degC, outside "
                                        "what a recording may hold ({} to {} degC): the "

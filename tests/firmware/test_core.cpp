@@ -6,8 +6,8 @@
 #include <cmath>
 #include <vector>
 
-#include "firmware/protocol/budget.hpp"
 #include "firmware/harness.hpp"
+#include "firmware/protocol/budget.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/compensation.hpp"
 
@@ -85,7 +85,8 @@ TEST_P(DwellMeans, EqualTheModelsCodes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(N, DwellMeans,
-                         ::testing::Values(uint16_t{1}, uint16_t{256}, uint16_t{protocol::max_n_avg}));
+                         ::testing::Values(uint16_t{1}, uint16_t{256},
+                                           uint16_t{protocol::max_n_avg}));
 
 TEST(FirmwareCore, CalibrationAndCompensationMatchTheHostLibrary) {
   rig r;
@@ -204,11 +205,11 @@ TEST(FirmwareCore, JunkAndBadCommandsNeverStopAcquisition) {
     junk.insert(junk.end(), 4, 0);  // a delimiter run: the junk ends as one bad frame
     noisy.send_bytes(junk);
     if (burst % 50 == 0) {
-      noisy.send(c);  // CONFIGURE while running: refused, busy
+      noisy.send(c);              // CONFIGURE while running: refused, busy
       const uint8_t bad[] = {1};  // a START with one payload byte: not its layout
       uint8_t buf[protocol::max_wire];
-      const size_t len = protocol::encode_frame(0x22, static_cast<uint16_t>(999 + burst), bad, 1,
-                                                buf, sizeof buf);
+      const size_t len =
+          protocol::encode_frame(0x22, static_cast<uint16_t>(999 + burst), bad, 1, buf, sizeof buf);
       noisy.send_cobs(buf, len);
     }
     noisy.run(1000);
@@ -453,20 +454,20 @@ TEST(LinkBudget, RawAt500HzWithDwellsAndStatusLeavesThirtyPercent) {
   EXPECT_EQ(protocol::link_bytes_per_s, 11520u);
   // Conversions back to back at 500.3 Hz (no turn at all), each frame at its longest (2 p + 26
   // wire bytes): RAW 228 B per 32 codes, DWELL 124 B and half a COMPENSATED (52 B) per 256
-  // codes, STATUS 100 B/s (docs/PROTOCOL.md).
+  // codes, STATUS 104 B/s (docs/PROTOCOL.md).
   const double conv_hz = 6.144e6 / 12281;
-  const double sustained = conv_hz * (228.0 / 32 + (124 + 52 / 2.0) / 256) + 100;
-  EXPECT_NEAR(sustained, 3958, 1);
+  const double sustained = conv_hz * (228.0 / 32 + (124 + 52 / 2.0) / 256) + 104;
+  EXPECT_NEAR(sustained, 3962, 1);
   EXPECT_LE(sustained, 0.7 * link);
   // The device's own bound (with the turn and the settling) is lower still.
   EXPECT_LE(protocol::worst_bytes_per_s(c, 6144000), sustained);
   EXPECT_EQ(protocol::check_configure(c, 6144000), protocol::status::ok);
   // The shortest dwells there are (RAW, 4 temperature conversions, a 1-step turn at 5000
   // steps/s, no settling): a dwell of n_avg codes sends DWELL 124 B, RAW 2 (5 + 3 n) + 26 B, half
-  // a COMPENSATED 26 B in (n + 4) conversions + 0.2 ms, plus STATUS 100 B/s.
+  // a COMPENSATED 26 B in (n + 4) conversions + 0.2 ms, plus STATUS 104 B/s.
   const auto by_hand = [&](unsigned n) {
     const double bytes = 124 + 2.0 * (5 + 3 * n) + 26 + 26;
-    return bytes / ((n + 4) * 12281 / 6.144e6 + 1 / 5000.0) + 100;
+    return bytes / ((n + 4) * 12281 / 6.144e6 + 1 / 5000.0) + 104;
   };
   configure_msg tight = c;
   tight.settle_ms = 0;

@@ -454,9 +454,9 @@ TEST(Msp430Sim, ShippedImageBootsIntoItsMainLoopWithinTheWatchdog) {
   EXPECT_EQ(writes.front().second, 0x5A80u);
   EXPECT_LE(writes.front().first, 8.0) << "the watchdog is not stopped by the reset handler";
   // The image runs the watchdog from ACLK (32 768 Hz), 32 768 ticks, while MCLK runs from the
-  // 7.3728 MHz crystal: 7 372 800 MCLK cycles per interval (the simulator's own ACLK ratio,
-  // 1:256, is slower; the board's ratio is the one that counts).
-  constexpr double interval_mclk = 32768.0 * 7372800.0 / 32768.0;
+  // 5.5296 MHz crystal (XT2; docs/HARDWARE.md, Clocks): 5 529 600 MCLK cycles per interval (the
+  // simulator's own ACLK ratio, 1:256, is slower; the board's ratio is the one that counts).
+  constexpr double interval_mclk = 32768.0 * 5529600.0 / 32768.0;
   double gap = 0;
   for (std::size_t i = 1; i < writes.size(); ++i)
     gap = std::max(gap, writes[i].first - writes[i - 1].first);
@@ -465,9 +465,9 @@ TEST(Msp430Sim, ShippedImageBootsIntoItsMainLoopWithinTheWatchdog) {
   RecordProperty("cycles_to_main_loop", std::to_string(static_cast<long>(cycles_to_main)));
   RecordProperty("longest_watchdog_gap_cycles", std::to_string(static_cast<long>(gap)));
   std::printf(
-      "msp430f149 boot: %.0f MCLK cycles to the main loop (%.2f ms at 7.3728 MHz); "
+      "msp430f149 boot: %.0f MCLK cycles to the main loop (%.2f ms at 5.5296 MHz); "
       "longest watchdog gap %.0f cycles (%.1f %% of its interval)\n",
-      cycles_to_main, cycles_to_main / 7372.8, gap, 100 * gap / interval_mclk);
+      cycles_to_main, cycles_to_main / 5529.6, gap, 100 * gap / interval_mclk);
 }
 
 }  // namespace

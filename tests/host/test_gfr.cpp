@@ -106,7 +106,8 @@ TEST(Gfr, EveryBitFlipIsFoundAndNamed) {
       EXPECT_NE(f->warnings[0].find("a.gfr: record "), std::string::npos) << f->warnings[0];
       for (const auto& r : f->records) {  // the intact ones, unchanged
         bool found = false;
-        for (const auto& o : original->records) found = found || (o.type == r.type && o.body == r.body);
+        for (const auto& o : original->records)
+          found = found || (o.type == r.type && o.body == r.body);
         EXPECT_TRUE(found);
       }
       // --strict keeps the old refusal for damage in the middle.
@@ -127,7 +128,8 @@ TEST(Gfr, ZerosAtTheEndAndADamagedRecordInTheMiddleLoseOnlyThemselves) {
   const std::string meta = R"({"scale_factor_v_per_dps":0.02})";
   ASSERT_TRUE(w->append(gfr::kind::meta, 0, bytes(meta.begin(), meta.end())));
   for (std::uint64_t k = 1; k <= 200; ++k)
-    ASSERT_TRUE(w->append(gfr::kind::frame, k, bytes{0x10, static_cast<std::uint8_t>(k), 0, 1, 2, 3}));
+    ASSERT_TRUE(
+        w->append(gfr::kind::frame, k, bytes{0x10, static_cast<std::uint8_t>(k), 0, 1, 2, 3}));
   ASSERT_TRUE(w->close());
   bytes b = file_bytes(path);
   bytes zeros = b;

@@ -26,9 +26,9 @@
 
 #include "firmware/protocol/frame.hpp"
 #include "gyroflip/io/series.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
-#include "gyroflip/rigdata/rig_run.hpp"
 #include "support/pty_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -272,8 +272,8 @@ TEST_P(LinkFigures, DwellsRecordedOfDwellsSent) {
   test::temp_dir dir;
   const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
   emulator_process emu(dir.path(), "--speed max --seed 21 " + GetParam().faults + " --log " + log);
-  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration",
-                            std::to_string(figure_s), "-o", gfr});
+  const auto rec =
+      run_cli({"record", "--port", emu.pty(), "--duration", std::to_string(figure_s), "-o", gfr});
   ASSERT_EQ(rec.exit_code, 0) << rec.err;
   auto run = rigdata::read_rig_run(gfr);
   ASSERT_TRUE(run) << run.err().message;
@@ -282,7 +282,8 @@ TEST_P(LinkFigures, DwellsRecordedOfDwellsSent) {
   std::printf("%s: %s\n", GetParam().faults.c_str(), recorded(c).c_str());
   EXPECT_GE(c.sent, static_cast<std::size_t>(figure_s / 1.0));
   EXPECT_GE(static_cast<double>(c.stored), GetParam().min_recorded * static_cast<double>(c.sent))
-      << recorded(c) << "\n" << rec.err;
+      << recorded(c) << "\n"
+      << rec.err;
   EXPECT_EQ(c.mislabelled, 0u);
   // The run's own count of lost dwells is the truth's, and each one is in a gap record.
   EXPECT_EQ(run->lost_dwells, c.lost);
@@ -389,7 +390,8 @@ TEST(RecordCli, ResetStormsNeverMislabelADwell) {
     const std::string speed = k == 0 ? "100" : "max";
     emulator_process emu(dir.path(), "--speed " + speed + " --seed " + std::to_string(seeds[k]) +
                                          " --fault-ber 1e-3 --fault-reset-at "
-                                         "30,60.5,90,150,200,300,400 --log " + log);
+                                         "30,60.5,90,150,200,300,400 --log " +
+                                         log);
     const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "450", "-o", gfr});
     ASSERT_EQ(rec.exit_code, 0) << rec.err;
     auto run = rigdata::read_rig_run(gfr);
@@ -474,17 +476,18 @@ TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
   auto r = test::run_program({"unshare", "--mount", "--map-root-user", "sh", "-c", script});
   if (r.out.find("rc=") == std::string::npos)
     r = test::run_program({"unshare", "--mount", "sh", "-c", script});
-  if (r.out.find("rc=") == std::string::npos) GTEST_SKIP() << "cannot mount a small filesystem here";
+  if (r.out.find("rc=") == std::string::npos)
+    GTEST_SKIP() << "cannot mount a small filesystem here";
   EXPECT_NE(r.out.find("rc=1"), std::string::npos) << r.out << r.err;
   EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("export=0"), std::string::npos) << r.out << r.err;  // what fit reads back
   const std::string csv = test::read_text(dir.path() + "/run.csv");
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
   // Full from the start: no file at all.
-  const std::string full =
-      "mount -t tmpfs -o size=16k tmpfs " + mnt + " || exit 77; head -c 16384 /dev/zero > " + mnt +
-      "/filler; " + GYROFLIP_EXE + " record --port " + emu.pty() + " --duration 10 -o " + mnt +
-      "/run.gfr; echo \"rc=$?\"; ls " + mnt;
+  const std::string full = "mount -t tmpfs -o size=16k tmpfs " + mnt +
+                           " || exit 77; head -c 16384 /dev/zero > " + mnt + "/filler; " +
+                           GYROFLIP_EXE + " record --port " + emu.pty() + " --duration 10 -o " +
+                           mnt + "/run.gfr; echo \"rc=$?\"; ls " + mnt;
   auto f = test::run_program({"unshare", "--mount", "--map-root-user", "sh", "-c", full});
   if (f.out.find("rc=") == std::string::npos)
     f = test::run_program({"unshare", "--mount", "sh", "-c", full});
@@ -514,9 +517,10 @@ TEST(RecordCli, RefusesWhatItCouldNotRecordOrReadBack) {
 TEST(RecordCli, HandshakeErrorsSayWhatHappened) {
   test::temp_dir dir;
   {  // nothing answers; SIGINT during the handshake
-    test::pty_process quiet("python3 -c \"import os,pty,sys,time; m,s=pty.openpty(); "
-                            "print(os.ttyname(s), flush=True); time.sleep(30)\"",
-                            dir.path());
+    test::pty_process quiet(
+        "python3 -c \"import os,pty,sys,time; m,s=pty.openpty(); "
+        "print(os.ttyname(s), flush=True); time.sleep(30)\"",
+        dir.path());
     ASSERT_FALSE(quiet.pty().empty()) << quiet.output();
     test::temp_dir out;
     const std::string gfr = out.path() + "/q.gfr";
@@ -530,7 +534,8 @@ TEST(RecordCli, HandshakeErrorsSayWhatHappened) {
     test::pty_process noisy(
         "python3 -c \"import os,pty,sys,time,random; m,s=pty.openpty(); "
         "print(os.ttyname(s), flush=True); r=random.Random(1)\n"
-        "while True:\n  os.write(m, bytes(r.randrange(256) for _ in range(64))); time.sleep(0.01)\"",
+        "while True:\n  os.write(m, bytes(r.randrange(256) for _ in range(64))); "
+        "time.sleep(0.01)\"",
         dir.path());
     ASSERT_FALSE(noisy.pty().empty()) << noisy.output();
     const auto r = run_cli({"record", "--port", noisy.pty(), "-o", dir.path() + "/n.gfr"});
@@ -576,7 +581,8 @@ TEST(RecordCli, CtrlCStopsTheDeviceAndLeavesACompleteFile) {
   // The device answered the STOP with a STATUS that says idle.
   std::optional<p::status_msg> last;
   for (const auto& r : f->records) {
-    if (r.type != rigdata::gfr::kind::frame || r.body[0] != static_cast<std::uint8_t>(p::msg::status))
+    if (r.type != rigdata::gfr::kind::frame ||
+        r.body[0] != static_cast<std::uint8_t>(p::msg::status))
       continue;
     const p::frame fr{r.body[0], 0, r.body.data() + 3, r.body.size() - 3};
     p::status_msg s;
@@ -664,8 +670,25 @@ TEST(RecordCli, ADamagedFileSaysWhereAndReadsWhatIsIntact) {
   }
   // A bit flipped in the middle: every intact record reads, with a warning naming the damaged
   // one; --strict refuses. adev and noise show the warning too.
+  // The bit is in a STATUS frame's record (a damaged DWELL would leave a gap in the series,
+  // which adev refuses: that is the gap test's).
+  std::size_t flip_at = std::string::npos;
+  {
+    auto f = rigdata::gfr::read(good);
+    ASSERT_TRUE(f) << f.err().message;
+    for (std::size_t i = f->records.size() / 2; i < f->records.size(); ++i) {
+      const auto& b = f->records[i].body;
+      if (f->records[i].type != rigdata::gfr::kind::frame ||
+          b.at(0) != static_cast<std::uint8_t>(p::msg::status))
+        continue;
+      flip_at = whole.find(std::string(b.begin(), b.end()));
+      if (flip_at != std::string::npos) flip_at += b.size() / 2;
+      break;
+    }
+  }
+  ASSERT_NE(flip_at, std::string::npos);
   std::string flipped_body = whole;
-  flipped_body[whole.size() / 2] = static_cast<char>(flipped_body[whole.size() / 2] ^ 0x01);
+  flipped_body[flip_at] = static_cast<char>(flipped_body[flip_at] ^ 0x01);
   const std::string fb = dir.path() + "/flipped_body.gfr";
   test::write_text(fb, flipped_body);
   for (const auto& cmd : {std::vector<std::string>{"export", fb, "-o", dir.path() + "/fb.csv"},
@@ -679,7 +702,8 @@ TEST(RecordCli, ADamagedFileSaysWhereAndReadsWhatIsIntact) {
   EXPECT_EQ(strict.exit_code, 2) << strict.err;
   EXPECT_FALSE(test::exists(dir.path() + "/fs.csv"));
   // Zeros at the end (a power loss) and a torn last record (a killed recorder): read, warned.
-  for (const std::string& tail : {whole + std::string(8, '\0'), whole.substr(0, whole.size() - 3)}) {
+  for (const std::string& tail :
+       {whole + std::string(8, '\0'), whole.substr(0, whole.size() - 3)}) {
     const std::string t = dir.path() + "/tail.gfr";
     test::write_text(t, tail);
     const auto r = run_cli({"export", t, "-o", dir.path() + "/tail.csv"});

@@ -139,9 +139,8 @@ void ad7739_model::update(uint32_t now) {
     if (code < -a::code_zero) code = -a::code_zero;
     if (code > a::code_zero - 1) code = a::code_zero - 1;
     data_[op_ch_] = static_cast<uint32_t>(code + a::code_zero);
-    status_[op_ch_] = static_cast<uint8_t>((noref ? a::chst_noref : 0u) |
-                                           (code < 0 ? a::chst_sign : 0u) |
-                                           (over ? a::chst_ovr : 0u));
+    status_[op_ch_] = static_cast<uint8_t>(
+        (noref ? a::chst_noref : 0u) | (code < 0 ? a::chst_sign : 0u) | (over ? a::chst_ovr : 0u));
     ++done_[op_ch_];
   }
   regs8_[a::reg_mode + op_ch_] =

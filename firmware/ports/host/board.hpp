@@ -88,9 +88,9 @@ class host_board {
   static void busy_wait(void* c);
   static uint16_t stack_free_op(void* c);
   static uint8_t clock_faults_op(void* c);
-  static constexpr hal_ops ops_ = {spi_transfer, spi_select,    rdy_low,       stepper_port,
-                                   home_switch,  pwm_capture,   uart_read,     uart_write,
-                                   ticks,        watchdog_kick, busy_wait,     stack_free_op,
+  static constexpr hal_ops ops_ = {spi_transfer,   spi_select,    rdy_low,   stepper_port,
+                                   home_switch,    pwm_capture,   uart_read, uart_write,
+                                   ticks,          watchdog_kick, busy_wait, stack_free_op,
                                    clock_faults_op};
 
   hal hal_;

@@ -189,18 +189,21 @@ void busy_wait(void*) {}
 extern "C" uint16_t __stack_paint_start[], __stack[];
 constexpr uint16_t stack_paint = 0xA55A;
 uint16_t stack_free(void*) {
+  // Word by word between two linker symbols: counted, not compared as pointers.
   const uint16_t* p = __stack_paint_start;
-  while (p < __stack && *p == stack_paint) ++p;
-  return static_cast<uint16_t>(reinterpret_cast<uintptr_t>(p) -
-                               reinterpret_cast<uintptr_t>(__stack_paint_start));
+  const uintptr_t words =
+      (reinterpret_cast<uintptr_t>(__stack) - reinterpret_cast<uintptr_t>(p)) / 2;
+  uintptr_t n = 0;
+  while (n < words && p[n] == stack_paint) ++n;
+  return static_cast<uint16_t>(2 * n);
 }
 uint8_t clock_faults(void*) {
   return osc_faults;
 }
 
-constexpr fw::hal_ops ops = {spi_transfer, spi_select,    rdy_low,   stepper_port, home_switch,
-                             pwm_capture,  uart_read,     uart_write, ticks,       watchdog_kick,
-                             busy_wait,    stack_free,    clock_faults};
+constexpr fw::hal_ops ops = {spi_transfer, spi_select, rdy_low,     stepper_port, home_switch,
+                             pwm_capture,  uart_read,  uart_write,  ticks,        watchdog_kick,
+                             busy_wait,    stack_free, clock_faults};
 constexpr fw::hal hal{&ops, nullptr, 32768};
 // Constant-initialised: no constructor runs at start-up (startup.cpp).
 constinit fw::device dev(hal, fw::board_facts{0x0F149001u, ad7739::mclk_hz_nominal});

@@ -10,10 +10,10 @@
 #include <stdint.h>
 
 #include "firmware/core/device.hpp"
-#include "firmware/protocol/budget.hpp"
 #include "firmware/core/processing.hpp"
 #include "firmware/core/timebase.hpp"
 #include "firmware/drivers/stepper/stepper.hpp"
+#include "firmware/protocol/budget.hpp"
 #include "firmware/util/intmath.hpp"
 
 namespace gyroflip::fw::selftest {

@@ -1,7 +1,7 @@
 /// \file
 /// \brief MSP430F149 start-up: the reset handler (watchdog, stack pointer, .data, .bss, the
-/// stack's paint, firmware_main) and the interrupt vector table's reset entry. The other vectors are filled by
-/// the linker script from the ISRs main.cpp defines (link.ld).
+/// stack's paint, firmware_main) and the interrupt vector table's reset entry. The other vectors
+/// are filled by the linker script from the ISRs main.cpp defines (link.ld).
 ///
 /// No static constructors: every object of the image is constant-initialised (the device object
 /// is `constinit`), and link.ld refuses an image with a non-empty .init_array. A flasher that

@@ -70,12 +70,12 @@ struct rig_run {
   std::string path;
   std::string meta_json;  ///< the META record as written
   device_units units;
-  protocol::info_msg info;         ///< the last INFO of the device
-  protocol::configure_msg config;  ///< the last configuration the device acknowledged
-  std::vector<rig_dwell> dwells;   ///< in order: by segment, then by sequence number
+  protocol::info_msg info;                  ///< the last INFO of the device
+  protocol::configure_msg config;           ///< the last configuration the device acknowledged
+  std::vector<rig_dwell> dwells;            ///< in order: by segment, then by sequence number
   std::vector<rig_conversion> conversions;  ///< only when asked for
   std::size_t frames = 0;                   ///< valid frames stored
-  std::uint64_t corrupt_frames = 0;  ///< frames damaged on the line (most were sent again)
+  std::uint64_t corrupt_frames = 0;         ///< frames damaged on the line (most were sent again)
   std::uint64_t missing_frames = 0;  ///< frames lost for good (the device no longer had them)
   std::size_t lost_dwells = 0;       ///< dwells of each run that never arrived
   std::size_t device_resets = 0;
