@@ -165,9 +165,16 @@ result<atomic_file> atomic_file::create(std::string path) {
   static std::atomic<unsigned> counter{0};
   std::string temp = fmt::format("{}/.{}.gyroflip-tmp.{}.{}", dir_of(*target), base_of(*target),
                                  static_cast<long>(::getpid()), counter.fetch_add(1));
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) return io_error(path, fmt::format("cannot write: {}", errno_text(errno)));
+  // Registered for removal on a signal before it exists: a signal between the two steps must
+  // not leave it behind (a signal before the open finds nothing to remove; the name holds this
+  // process's id, so no other process's file has it).
   const int slot = register_temporary(temp);
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int e = errno;
+    unregister_temporary(slot);
+    return io_error(path, fmt::format("cannot write: {}", errno_text(e)));
+  }
   // An existing file keeps its permission bits (a user's 0600 recording stays private).
   if (exists) (void)::fchmod(fd, st.st_mode & 07777);
   std::FILE* f = ::fdopen(fd, "wb");
