@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/io/series.hpp"
 
 namespace gyroflip::io {
 namespace {
@@ -272,7 +273,9 @@ status check_outputs(std::span<const std::string> inputs, std::span<const std::s
   std::vector<seen> ins;
   for (const auto& in : inputs) {
     struct stat st {};
-    if (!in.empty() && in != "-" && ::stat(in.c_str(), &st) == 0)
+    // The file itself, through symlinks; for a series named `FILE.h5:/dataset`, FILE.h5.
+    if (!in.empty() && in != "-" &&
+        (::stat(in.c_str(), &st) == 0 || ::stat(series_file(in).c_str(), &st) == 0))
       ins.push_back({&in, st.st_dev, st.st_ino});
   }
   std::vector<seen> outs;

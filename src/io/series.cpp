@@ -475,16 +475,32 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
   return s;
 }
 
+// `FILE.h5:/dataset` split into the file and the dataset (empty for other names).
+std::pair<std::string, std::string> split_dataset(const std::string& spec) {
+  for (const std::string_view ext : {".h5:", ".hdf5:", ".hdf:"}) {
+    const auto at = spec.find(ext);
+    if (at != std::string::npos)
+      return {spec.substr(0, at + ext.size() - 1), spec.substr(at + ext.size())};
+  }
+  return {spec, {}};
+}
+
 // What read_series takes `path` for, by its name: HDF5 (`FILE.h5:/dataset`, or FILE.h5 with the
 // `dataset` option), .npy, raw float64, else CSV. `path` and `dataset` are split for HDF5.
+// Errors: the name and the dataset option name two different datasets.
 enum class series_format { csv, hdf5, npy, raw };
-series_format format_of(std::string& path, std::string& dataset) {
-  for (const char* ext : {".h5:", ".hdf5:", ".hdf:"}) {
-    const auto at = path.find(ext);
-    if (at != std::string::npos) {
-      dataset = path.substr(at + std::string_view(ext).size() - 1 + 1);
-      path.resize(at + std::string_view(ext).size() - 1);
-    }
+result<series_format> format_of(std::string& path, std::string& dataset) {
+  auto [file, named] = split_dataset(path);
+  if (!named.empty()) {
+    // `FILE.h5:/a` with the dataset parameter `/b`: which one was meant cannot be guessed.
+    if (!dataset.empty() && dataset != named)
+      return about_parameter(
+          input_error({path}, fmt::format("names dataset '{}', but the dataset parameter says "
+                                          "'{}': give it once",
+                                          printable(named, 120), printable(dataset, 120))),
+          "dataset");
+    path = std::move(file);
+    dataset = std::move(named);
   }
   if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5"))
     return series_format::hdf5;
@@ -496,12 +512,18 @@ series_format format_of(std::string& path, std::string& dataset) {
 
 }  // namespace
 
+std::string series_file(const std::string& spec) {
+  return split_dataset(spec).first;
+}
+
 result<series> read_series(const std::string& path_in, const series_options& opt) {
   series s;
   s.source_ = path_in;
   std::string path = path_in;
   std::string dataset = opt.dataset;
-  const series_format format = format_of(path, dataset);
+  const auto known = format_of(path, dataset);
+  if (!known) return known.err();
+  const series_format format = *known;
   if (format == series_format::hdf5) {
     if (dataset.empty())
       return about_parameter(
@@ -509,13 +531,20 @@ result<series> read_series(const std::string& path_in, const series_options& opt
           "dataset");
     auto h = detail::read_hdf5_dataset(path, dataset, column_number(opt.column));
     if (!h) return h.err();
-    const auto rate = opt.sample_rate_hz ? opt.sample_rate_hz : h->sample_rate_hz;
-    if (!rate)
+    if (!opt.sample_rate_hz && !h->sample_rate_hz)
       return about_parameter(
           input_error({path}, fmt::format("dataset '{}' has no sample_rate_hz attribute: the "
                                           "sample rate must be given",
                                           printable(dataset, 120))),
           "sample_rate_hz");
+    // A rate from the file that is no rate is the file's fault, not the parameter's (which was
+    // not given).
+    if (!opt.sample_rate_hz && !(*h->sample_rate_hz > 0.0 && std::isfinite(*h->sample_rate_hz)))
+      return input_error({path}, fmt::format("dataset '{}': its sample_rate_hz attribute is {}, "
+                                             "not a sample rate (a positive number of samples "
+                                             "per second); give the sample rate instead",
+                                             printable(dataset, 120), *h->sample_rate_hz));
+    const auto rate = opt.sample_rate_hz ? opt.sample_rate_hz : h->sample_rate_hz;
     if (auto c = check_rate(path, rate); !c) return c.err();
     for (std::size_t i = 0; i < h->values.size(); ++i)
       if (!std::isfinite(h->values[i]))
@@ -599,8 +628,9 @@ result<std::vector<series>> read_series_columns(const std::string& path, const s
                                                 const std::vector<std::string>& columns) {
   if (columns.empty()) return parameter_error("columns", "no column to read");
   std::string file = path, dataset = opt.dataset;
-  if (format_of(file, dataset) != series_format::csv)
-    return input_error({path}, "several columns: a CSV file only");
+  const auto known = format_of(file, dataset);
+  if (!known) return known.err();
+  if (*known != series_format::csv) return input_error({path}, "several columns: a CSV file only");
   auto c = read_csv_series(path, opt, columns);
   if (!c) return c.err();
   std::vector<series> out;

@@ -191,6 +191,15 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
   return s;
 }
 
+std::vector<std::string> rendered_files(const std::string& dir, const std::string& stem,
+                                        std::size_t series, std::span<const image_format> formats) {
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < series; ++k) out.push_back(dir + "/" + data_name(stem, k));
+  out.push_back(dir + "/" + stem + ".gp");
+  for (const auto f : formats) out.push_back(dir + "/" + stem + "." + std::string(suffix(f)));
+  return out;
+}
+
 namespace {
 
 // Runs `gnuplot stem.gp` in `dir`.

@@ -78,7 +78,7 @@ class atomic_file {
 
 /// Checks, before a run does any work, that none of its `outputs` is one of its `inputs` (same
 /// file: same device and inode, so `./a.csv`, `a.csv`, a symlink to it and a hard link all
-/// count) and that no two outputs name the same file (same file, or the same resolved path for
+/// count; an input `FILE.h5:/dataset` is the file FILE.h5, io::series_file) and that no two outputs name the same file (same file, or the same resolved path for
 /// files that do not exist yet). Devices and FIFOs may be named twice; `-` only once. Empty
 /// names are skipped. Errors: `OUT: ...` naming both files (bad input).
 [[nodiscard]] status check_outputs(std::span<const std::string> inputs,
