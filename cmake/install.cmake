@@ -5,7 +5,7 @@
 #   lib/<multiarch>/cmake/gyroflip/      find_package(gyroflip CONFIG) -> gyroflip::gyroflip
 #   lib/<multiarch>/pkgconfig/gyroflip.pc
 #   lib/python3*/dist-packages/gyroflip/ the Python module (GYROFLIP_PYTHON_INSTALL_DIR)
-#   share/man/man1/gyroflip*.1           the --help of the command and each subcommand
+#   share/man/man1/gyroflip*.1           the --help of the command and every subcommand
 # and `cpack -G DEB` (in the build folder) makes a .deb of the same tree under /usr.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -43,21 +43,17 @@ file(RELATIVE_PATH GYROFLIP_PC_TO_PREFIX ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig 
 configure_file(cmake/gyroflip.pc.in ${CMAKE_CURRENT_BINARY_DIR}/gyroflip.pc @ONLY)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gyroflip.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
-# Man pages: the command's --help and each subcommand's, as troff (cmake/man_page.cmake).
-set(GYROFLIP_SUBCOMMANDS earth calibrate compensate adev noise simulate sensors emulate record export)
-set(man_pages ${CMAKE_CURRENT_BINARY_DIR}/man/gyroflip.1)
-foreach(sub IN LISTS GYROFLIP_SUBCOMMANDS)
-  list(APPEND man_pages ${CMAKE_CURRENT_BINARY_DIR}/man/gyroflip-${sub}.1)
-endforeach()
+# Man pages: the command's --help and every subcommand's (the list read from `gyroflip --help`), as
+# troff (cmake/man_page.cmake); pages.stamp names them.
+set(man_dir ${CMAKE_CURRENT_BINARY_DIR}/man)
 add_custom_command(
-  OUTPUT ${man_pages}
-  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:gyroflip> "-DSUBCOMMANDS=${GYROFLIP_SUBCOMMANDS}"
-          -DVERSION=${PROJECT_VERSION} -DOUT=${CMAKE_CURRENT_BINARY_DIR}/man
-          -P ${PROJECT_SOURCE_DIR}/cmake/man_page.cmake
+  OUTPUT ${man_dir}/pages.stamp
+  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:gyroflip> -DVERSION=${PROJECT_VERSION}
+          -DOUT=${man_dir} -P ${PROJECT_SOURCE_DIR}/cmake/man_page.cmake
   DEPENDS gyroflip ${PROJECT_SOURCE_DIR}/cmake/man_page.cmake
   COMMENT "Rendering the man pages from --help" VERBATIM)
-add_custom_target(gyroflip_man ALL DEPENDS ${man_pages})
-install(FILES ${man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+add_custom_target(gyroflip_man ALL DEPENDS ${man_dir}/pages.stamp)
+install(DIRECTORY ${man_dir}/ DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 FILES_MATCHING PATTERN "*.1")
 
 # The Python module where Debian's interpreter looks for it under the prefix the install goes to
 # (decided at install time, so that `cmake --install --prefix P` and cpack's /usr both get it
