@@ -79,7 +79,10 @@ endif()
 
 # The .deb: one package with the command, the Python module and the development files.
 # Depends: what dpkg-shlibdeps finds the binaries link (libc, libstdc++, libfmt, libhdf5, ...)
-# plus the Python runtime; the -dev packages a C++ consumer's find_package needs are Recommends.
+# plus the Python runtime. Recommends: the programs `gyroflip report` runs (gnuplot for the
+# figures, pdfunite for report.pdf without a browser) and the -dev packages a C++ consumer's
+# find_package needs (gyroflipConfig.cmake's find_dependency list); Suggests: Chromium, which
+# prints the whole page as report.pdf. docs/INSTALL.md lists the same (install_deb compares).
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME gyroflip)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
@@ -96,6 +99,8 @@ if(GYROFLIP_PYTHON)
 python3 (<< ${Python_VERSION_MAJOR}.${py_next_minor}), python3-numpy")
 endif()
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS
-    "libfmt-dev, nlohmann-json3-dev, libeigen3-dev, libtomlplusplus-dev, libhdf5-dev")
+    "gnuplot-nox, poppler-utils, libfmt-dev, nlohmann-json3-dev, libeigen3-dev, libtomlplusplus-dev, \
+libhdf5-dev, libssl-dev")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "chromium")
 set(CPACK_STRIP_FILES ON)
 include(CPack)

@@ -72,6 +72,16 @@ elif [ "$mode" = deb ]; then
   for lib in libc6 libstdc++6 libfmt9 libhdf5 python3-numpy; do
     grep -q "$lib" <<<"$depends" || fail "Depends lacks $lib"
   done
+  # docs/INSTALL.md lists the package's relations: the same package names (issue 21: it lacked
+  # libssl3, and report's gnuplot and PDF makers were in no field at all).
+  names() { tr ',' '\n' | sed 's/(.*)//; s/^ *//; s/ *$//' | { grep -v '^$' || true; } | sort -u; }
+  for field in Depends Recommends Suggests; do
+    documented=$(sed -n "s/^$field: //p" "$src/docs/INSTALL.md" | names)
+    packaged=$(dpkg-deb -f "$deb" "$field" | names)
+    [ -n "$documented" ] || fail "docs/INSTALL.md has no '$field:' line"
+    [ "$documented" = "$packaged" ] ||
+      fail "$field: docs/INSTALL.md says $(echo $documented), the .deb $(echo $packaged)"
+  done
   dpkg-deb -c "$deb" >"$tmp/contents"
   grep -q './usr/lib/python3/dist-packages/gyroflip/__init__.py' "$tmp/contents" ||
     fail "the Python module is not in /usr/lib/python3/dist-packages"
