@@ -104,3 +104,12 @@ libhdf5-dev, libssl-dev")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "chromium")
 set(CPACK_STRIP_FILES ON)
 include(CPack)
+
+# Everything the install step and cpack take from the build, as one target: scripts/demo builds
+# it, so that `cmake --install build` and `cpack` work after either README command
+# (tests/install/check_demo_builds_install.sh checks it against the install scripts).
+add_custom_target(gyroflip_installable)
+add_dependencies(gyroflip_installable gyroflip gyroflip_man ${module_targets})
+if(GYROFLIP_PYTHON)
+  add_dependencies(gyroflip_installable gyroflip_python)
+endif()
