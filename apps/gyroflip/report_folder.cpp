@@ -88,8 +88,11 @@ report_folder::report_folder(std::string out, std::string target, io::temporary_
 
 result<report_folder> report_folder::make(const std::string& out,
                                           std::span<const std::string> inputs) {
-  // A symbolic link is followed: its target is the folder (made if the link dangles).
-  auto real = io::real_target(out);
+  // A symbolic link is followed: its target is the folder (made if the link dangles). A trailing
+  // slash (a shell's completion of a folder name) names the same folder.
+  std::string given = out;
+  while (given.size() > 1 && given.back() == '/') given.pop_back();
+  auto real = io::real_target(given);
   if (!real) return real.err();
   const fs::path target = fs::absolute(*real).lexically_normal();
   if (target.filename().empty() || target == target.root_path())

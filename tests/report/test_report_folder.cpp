@@ -99,9 +99,11 @@ TEST(ReportFolder, NothingOfTheUsersIsReplaced) {
   ASSERT_EQ(replaced.exit_code, 0) << replaced.err;
   EXPECT_EQ(read_text(dir.file(".R.old/keep.txt")), "mine\n");
   EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{".R.old"});
-  // An empty folder is taken; reproduce follows the same rules (refused before it simulates).
+  // An empty folder is taken (named with a trailing slash, as a shell completes it); reproduce
+  // follows the same rules (refused before it simulates).
   fs::create_directory(dir.file("empty"));
-  EXPECT_EQ(run_cli({"report", run, "-o", dir.file("empty")}).exit_code, 0);
+  EXPECT_EQ(run_cli({"report", run, "-o", dir.file("empty") + "/"}).exit_code, 0);
+  EXPECT_TRUE(fs::exists(dir.file("empty/index.html")));
   write_text(r + "/notes.txt", "mine\n");
   const auto rep = run_cli({"reproduce", "--quick", "-o", r});
   EXPECT_EQ(rep.exit_code, 2);
