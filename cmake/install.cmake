@@ -5,7 +5,7 @@
 #   lib/<multiarch>/cmake/gyroflip/      find_package(gyroflip CONFIG) -> gyroflip::gyroflip
 #   lib/<multiarch>/pkgconfig/gyroflip.pc
 #   lib/python3*/dist-packages/gyroflip/ the Python module (GYROFLIP_PYTHON_INSTALL_DIR)
-#   share/man/man1/gyroflip*.1           the --help of the command and each subcommand
+#   share/man/man1/gyroflip*.1           the --help of the command and every subcommand
 # and `cpack -G DEB` (in the build folder) makes a .deb of the same tree under /usr.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -47,21 +47,17 @@ file(RELATIVE_PATH GYROFLIP_PC_TO_PREFIX ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig 
 configure_file(cmake/gyroflip.pc.in ${CMAKE_CURRENT_BINARY_DIR}/gyroflip.pc @ONLY)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gyroflip.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
-# Man pages: the command's --help and each subcommand's, as troff (cmake/man_page.cmake).
-set(GYROFLIP_SUBCOMMANDS earth calibrate compensate adev noise simulate sensors emulate record export)
-set(man_pages ${CMAKE_CURRENT_BINARY_DIR}/man/gyroflip.1)
-foreach(sub IN LISTS GYROFLIP_SUBCOMMANDS)
-  list(APPEND man_pages ${CMAKE_CURRENT_BINARY_DIR}/man/gyroflip-${sub}.1)
-endforeach()
+# Man pages: the command's --help and every subcommand's (the list read from `gyroflip --help`), as
+# troff (cmake/man_page.cmake); pages.stamp names them.
+set(man_dir ${CMAKE_CURRENT_BINARY_DIR}/man)
 add_custom_command(
-  OUTPUT ${man_pages}
-  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:gyroflip> "-DSUBCOMMANDS=${GYROFLIP_SUBCOMMANDS}"
-          -DVERSION=${PROJECT_VERSION} -DOUT=${CMAKE_CURRENT_BINARY_DIR}/man
-          -P ${PROJECT_SOURCE_DIR}/cmake/man_page.cmake
+  OUTPUT ${man_dir}/pages.stamp
+  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:gyroflip> -DVERSION=${PROJECT_VERSION}
+          -DOUT=${man_dir} -P ${PROJECT_SOURCE_DIR}/cmake/man_page.cmake
   DEPENDS gyroflip ${PROJECT_SOURCE_DIR}/cmake/man_page.cmake
   COMMENT "Rendering the man pages from --help" VERBATIM)
-add_custom_target(gyroflip_man ALL DEPENDS ${man_pages})
-install(FILES ${man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+add_custom_target(gyroflip_man ALL DEPENDS ${man_dir}/pages.stamp)
+install(DIRECTORY ${man_dir}/ DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 FILES_MATCHING PATTERN "*.1")
 
 # The Python module where Debian's interpreter looks for it under the prefix the install goes to
 # (decided at install time, so that `cmake --install --prefix P` and cpack's /usr both get it
@@ -87,7 +83,10 @@ endif()
 
 # The .deb: one package with the command, the Python module and the development files.
 # Depends: what dpkg-shlibdeps finds the binaries link (libc, libstdc++, libfmt, libhdf5, ...)
-# plus the Python runtime; the -dev packages a C++ consumer's find_package needs are Recommends.
+# plus the Python runtime. Recommends: the programs `gyroflip report` runs (gnuplot for the
+# figures, pdfunite for report.pdf without a browser) and the -dev packages a C++ consumer's
+# find_package needs (gyroflipConfig.cmake's find_dependency list); Suggests: Chromium, which
+# prints the whole page as report.pdf. docs/INSTALL.md lists the same (install_deb compares).
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME gyroflip)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
@@ -104,6 +103,17 @@ if(GYROFLIP_PYTHON)
 python3 (<< ${Python_VERSION_MAJOR}.${py_next_minor}), python3-numpy")
 endif()
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS
-    "libfmt-dev, nlohmann-json3-dev, libeigen3-dev, libtomlplusplus-dev, libhdf5-dev")
+    "gnuplot-nox, poppler-utils, libfmt-dev, nlohmann-json3-dev, libeigen3-dev, libtomlplusplus-dev, \
+libhdf5-dev, libssl-dev")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "chromium")
 set(CPACK_STRIP_FILES ON)
 include(CPack)
+
+# Everything the install step and cpack take from the build, as one target: scripts/demo builds
+# it, so that `cmake --install build` and `cpack` work after either README command
+# (tests/install/check_demo_builds_install.sh checks it against the install scripts).
+add_custom_target(gyroflip_installable)
+add_dependencies(gyroflip_installable gyroflip gyroflip_man ${module_targets})
+if(GYROFLIP_PYTHON)
+  add_dependencies(gyroflip_installable gyroflip_python)
+endif()

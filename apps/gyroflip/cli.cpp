@@ -14,6 +14,7 @@
 #include "cmd_record.hpp"
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
+#include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 
@@ -29,7 +30,7 @@ CLI::Validator confidence_level(bool allow_none) {
       [allow_none](const std::string& text) -> std::string {
         if (allow_none && text == "none") return {};
         const auto v = text::to_double(text);
-        if (v && *v > 0.0 && *v < 1.0) return {};
+        if (v && analysis::check_confidence_level(*v)) return {};
         return std::string("must be a probability in (0, 1), e.g. 0.683") +
                (allow_none ? " or none" : "") + "; got " + text;
       },

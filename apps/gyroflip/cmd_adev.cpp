@@ -262,10 +262,18 @@ int run_adev(const adev_options& o) {
   // The validator (cli.cpp) let through only "none" or a number in (0, 1).
   const std::optional<double> level =
       o.ci == "none" ? std::nullopt : std::optional<double>(std::stod(o.ci));
-  if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.output, o.plot}); !s)
-    return report(s.err());
   const auto plot = plot_target(o.plot);
   if (!plot) return report(plot.err());
+  // --plot writes its script and one data file per column beside the image: none may be an input.
+  std::vector<std::string> outputs{o.output};
+  if (*plot) {
+    auto names = column_names(o.in);
+    if (!names) return report(names.err());
+    const std::array format{(*plot)->format};
+    outputs = report::rendered_files((*plot)->dir, (*plot)->stem, names->size(), format);
+    outputs.push_back(o.output);
+  }
+  if (auto s = io::check_outputs(std::array{o.in.file}, outputs); !s) return report(s.err());
   if (o.json)
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto inputs = load_series(o.in);

@@ -78,8 +78,7 @@ status check_calibration_fits(const compensate_options& o, const io::calibration
 
 result<delta_n_source> load_delta_n(const compensate_options& o) {
   if (o.calibration.empty()) {
-    if (!(std::abs(o.delta_n_dps) <= io::csv_reader::max_magnitude))
-      return usage_error("--delta-n must be a finite number within +-1e100 (deg/s)");
+    if (auto s = method::check_delta_n(o.delta_n_dps); !s) return s.err();
     return delta_n_source{method::constant_model(o.delta_n_dps), std::nullopt, std::nullopt};
   }
   auto rec = io::read_calibration_file(o.calibration);
@@ -163,7 +162,7 @@ int run_compensate(const compensate_options& o) {
   if (dn->pairing && *dn->pairing != p)
     fmt::print(stderr, "gyroflip: warning: calibration used pairing '{}', compensating with '{}'\n",
                method::to_string(*dn->pairing), method::to_string(p));
-  if (!(o.drift_window_s > 0.0)) return report(usage_error("--drift-window must be > 0 s"));
+  if (auto s = method::check_drift_window(o.drift_window_s); !s) return report(s.err());
 
   progress bar("reading " + o.file, 1000);
   auto rc = read_recording_cycles(o.file, p, per_mille(bar), o.angle_tolerance_deg);
@@ -194,11 +193,9 @@ int run_compensate(const compensate_options& o) {
 
   // Every number is checked before anything is written (finite_output.hpp): the rows, so that
   // stdout gets no partial table, and the summary.
-  for (const auto& c : out)
-    if (!std::isfinite(c.time_s) || !std::isfinite(c.rate_dps) || !std::isfinite(c.bias_dps) ||
-        !std::isfinite(c.delta_n_dps))
-      return report(check_finite("nan", o.output.empty() ? "<stdout>" : o.output).err());
   const auto summary = method::summarize(out, o.drift_window_s);
+  if (auto s = io::check_finite(out, summary, o.output.empty() ? "<stdout>" : o.output); !s)
+    return report(s.err());
   std::string summary_text;
   if (o.json) {
     auto t = finite_dump(summary_json(summary, o, p, model), "<stdout>");

@@ -4,6 +4,7 @@
 #include "cmd_emulate.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -26,6 +27,7 @@
 #include "firmware/protocol/line.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
+#include "gyroflip/io/atomic_file.hpp"
 #include "host/emulator/emulator.hpp"
 #include "host/emulator/link_faults.hpp"
 #include "host/serial/serial_line.hpp"
@@ -37,12 +39,31 @@ namespace gyroflip::app {
 namespace {
 
 // Writes one CSV row per DWELL the device sent (before link faults): the ground truth of a run.
+// Written as the run goes (a crash test reads it while the emulator runs), so it is no
+// temporary-and-rename output: `check` vets the path with everything else, and `open`, which
+// truncates, comes last, once nothing can refuse the run any more.
 class sent_log {
  public:
+  // Errors: a folder, or a new file in a folder that is missing or not writable.
+  static status check(const std::string& path) {
+    if (path.empty()) return ok();
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+      if (S_ISDIR(st.st_mode)) return io_error(path, "is a directory");
+      if (::access(path.c_str(), W_OK) != 0)
+        return io_error(path, std::string("cannot write: ") + std::strerror(errno));
+      return ok();
+    }
+    const auto slash = path.rfind('/');
+    const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash + 1);
+    if (::access(dir.c_str(), W_OK) != 0)
+      return io_error(path, std::string("cannot create: ") + std::strerror(errno));
+    return ok();
+  }
   static result<sent_log> open(const std::string& path) {
     if (path.empty()) return sent_log(nullptr, path);
     std::FILE* f = std::fopen(path.c_str(), "w");
-    if (f == nullptr) return io_error(path, "cannot create");
+    if (f == nullptr) return io_error(path, std::string("cannot create: ") + std::strerror(errno));
     std::fputs(
         "seq,cycle,position,t_start_ticks,t_end_ticks,n,code_sum,code_min,code_max,n_temp,"
         "temp_sum,ax_high_ticks,ax_period_ticks,ay_high_ticks,ay_period_ticks,flags,sent_time_s,"
@@ -163,37 +184,70 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
 
 // A symbolic link that names the line while it is there, as udev's /dev/serial/by-id names an
 // adapter: a recorder given the link finds the line again after it came back under another name.
+// It removes only what it made: an existing path is replaced only when it is a dangling symbolic
+// link (left by an emulator that was killed: its pty is gone), the new link is made under a name
+// of its own and renamed into place, and the link is removed only while it still points where
+// this run pointed it.
 class line_link {
  public:
   static result<line_link> make(std::string path) {
     struct stat st {};
-    if (!path.empty() && lstat(path.c_str(), &st) == 0 && !S_ISLNK(st.st_mode))
+    if (path.empty() || ::lstat(path.c_str(), &st) != 0) return line_link(std::move(path));
+    if (!S_ISLNK(st.st_mode))
       return io_error(path, "exists and is not a symbolic link; not replaced");
-    return line_link(std::move(path));
+    if (::stat(path.c_str(), &st) == 0)
+      return io_error(path, fmt::format("is a symbolic link to {}, which exists (a line in use, or "
+                                        "a link of yours); not replaced",
+                                        printable(target_of(path), 200)));
+    return line_link(std::move(path));  // dangling: an earlier emulator's, whose line is gone
   }
-  line_link(line_link&& o) noexcept : path_(std::exchange(o.path_, {})) {}
+  line_link(line_link&& o) noexcept
+      : path_(std::exchange(o.path_, {})), target_(std::exchange(o.target_, {})) {}
   line_link(const line_link&) = delete;
   line_link& operator=(const line_link&) = delete;
   line_link& operator=(line_link&&) = delete;
   ~line_link() { remove(); }
   [[nodiscard]] bool empty() const noexcept { return path_.empty(); }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
-  // Points the link at `target`, replacing an old link in one step (rename).
+  // Points the link at `target`, replacing the old link in one step (rename). The new link is
+  // made under a hidden name no other file has (symlink(2) never replaces a file).
   status point_to(const std::string& target) {
     if (path_.empty()) return ok();
-    const std::string tmp = path_ + ".new";
-    (void)unlink(tmp.c_str());
-    if (symlink(target.c_str(), tmp.c_str()) != 0 || rename(tmp.c_str(), path_.c_str()) != 0)
-      return io_error(path_, std::string("cannot link to the line: ") + std::strerror(errno));
-    return ok();
+    const auto slash = path_.rfind('/');
+    const std::string dir = slash == std::string::npos ? "" : path_.substr(0, slash + 1);
+    const std::string base = slash == std::string::npos ? path_ : path_.substr(slash + 1);
+    for (unsigned k = 0; k < 100; ++k) {
+      const std::string tmp = fmt::format("{}.{}.gyroflip-link.{}.{}", dir, base, ::getpid(), k);
+      if (::symlink(target.c_str(), tmp.c_str()) != 0) {
+        if (errno == EEXIST) continue;
+        break;
+      }
+      if (::rename(tmp.c_str(), path_.c_str()) != 0) {
+        const int e = errno;
+        (void)::unlink(tmp.c_str());  // made just above
+        return io_error(path_, std::string("cannot link to the line: ") + std::strerror(e));
+      }
+      target_ = target;
+      return ok();
+    }
+    return io_error(path_, std::string("cannot link to the line: ") + std::strerror(errno));
   }
+  // Removes the link if it is still the one this run made.
   void remove() noexcept {
-    if (!path_.empty()) (void)unlink(path_.c_str());
+    if (path_.empty() || target_.empty()) return;
+    if (target_of(path_) == target_) (void)::unlink(path_.c_str());
+    target_.clear();
   }
 
  private:
   explicit line_link(std::string p) : path_(std::move(p)) {}
+  static std::string target_of(const std::string& link) {
+    char buf[4096];
+    const ssize_t n = ::readlink(link.c_str(), buf, sizeof buf);
+    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+  }
   std::string path_;
+  std::string target_;  // where this run pointed the link (empty: no link of ours there)
 };
 
 }  // namespace
@@ -213,15 +267,20 @@ int run_emulate(const emulate_options& o) {
     return report(usage_error("--duration: 0 (until stopped) to 1e7 s"));
   auto plan = fault_plan_of(o);
   if (!plan) return report(plan.err());
+  // Everything is checked before anything is opened or written: the log and the link may be
+  // no input of the run (a preset, a temperature profile, the port) and no one file.
+  if (auto s = io::check_outputs(std::array{o.sensor, o.temp_profile, o.port},
+                                 std::array{o.log, o.link});
+      !s)
+    return report(s.err());
+  if (auto s = sent_log::check(o.log); !s) return report(s.err());
+  auto link = line_link::make(o.link);
+  if (!link) return report(link.err());
   auto cfg = emulator_config_of(o);
   if (!cfg) return report(cfg.err());
   auto made = host::emulator::make(*cfg);
   if (!made) return report(made.err());
   host::emulator& emu = **made;
-  auto log = sent_log::open(o.log);
-  if (!log) return report(log.err());
-  auto link = line_link::make(o.link);
-  if (!link) return report(link.err());
   const auto open_line = [&]() -> result<host::serial_line> {
     auto l = o.pty ? host::serial_line::open_pty() : host::serial_line::open_device(o.port);
     if (!l) return l;
@@ -237,6 +296,9 @@ int run_emulate(const emulate_options& o) {
     return report(l.err());
   else
     line.emplace(std::move(*l));
+  // Last: opening the log truncates it.
+  auto log = sent_log::open(o.log);
+  if (!log) return report(log.err());
   const std::atomic<bool>& stop_requested = catch_stop_signals({SIGINT, SIGTERM});
   std::signal(SIGPIPE, SIG_IGN);
 

@@ -64,13 +64,15 @@ std::string kalibr_yaml(const std::string& file, const analysis::noise_terms& f,
 // One column's OADEV, fitted terms and read-offs (in the samples' unit).
 using column_noise = io::noise_report;
 
-// `--fit-taus LO:HI` (s): the taus the model is fitted to.
+// `--fit-taus LO:HI` (s): the taus the model is fitted to (the library's rule).
 result<analysis::tau_range> fit_range(const std::string& spec) {
   if (spec.empty()) return analysis::tau_range{};
   const auto v = text::to_doubles(spec, ':');
-  if (!v || v->size() != 2 || !((*v)[0] >= 0.0 && (*v)[1] > (*v)[0]))
+  if (!v || v->size() != 2)
     return usage_error("--fit-taus: LO:HI in seconds, 0 <= LO < HI; got " + spec);
-  return analysis::tau_range{(*v)[0], (*v)[1]};
+  const analysis::tau_range r{(*v)[0], (*v)[1]};
+  if (auto s = analysis::check_fit_range(r); !s) return s.err();
+  return r;
 }
 
 result<column_noise> noise_of(const noise_options& o, const analysis::tau_range& range,

@@ -265,6 +265,10 @@ int run_report(const report_options& o) {
   std::vector<std::string> inputs = o.files;
   if (!o.calibration.empty()) inputs.push_back(o.calibration);
   if (auto s = io::check_outputs(inputs, std::array{o.output}); !s) return report(s.err());
+  // The folder is checked (and its staging folder made) before any work.
+  auto folder = report_folder::make(o.output, inputs);
+  if (!folder) return report(folder.err());
+  const std::string& staging = folder->path();  // removed with `folder` unless published
   std::optional<io::calibration_record> given;
   if (!o.calibration.empty()) {
     auto rec = io::read_calibration_file(o.calibration);
@@ -292,13 +296,7 @@ int run_report(const report_options& o) {
   for (auto& r : runs)
     analyse(r, given ? *model : method::constant_model(r.cal.delta_n_dps), *pairing);
 
-  auto staging = staging_folder(o.output);
-  if (!staging) return report(staging.err());
-  const auto fail = [&](const error& e) {
-    std::error_code ec;
-    fs::remove_all(*staging, ec);
-    return report(e);
-  };
+  const auto fail = [&](const error& e) { return report(e); };
 
   report::page page;
   page.title = o.title.empty() ? (given ? "Compensated gyro runs" : "Calibration of dN") : o.title;
@@ -362,14 +360,14 @@ int run_report(const report_options& o) {
   }
   summary.tables.push_back(noise_table(runs));
   if (!given && runs.size() > 1) {
-    auto f = draw(report::delta_n_runs_figure(entries, "ΔN per run"), *staging, "delta_n_runs",
+    auto f = draw(report::delta_n_runs_figure(entries, "ΔN per run"), staging, "delta_n_runs",
                   "the paper's Tab. 3/4 as a figure");
     if (!f) return fail(f.err());
     summary.figures.push_back(*f);
   }
   if (model && model->degree() > 0) {
     auto f = draw(report::delta_n_temperature_figure(entries, *model, "ΔN against temperature"),
-                  *staging, "delta_n_temperature", "");
+                  staging, "delta_n_temperature", "");
     if (!f) return fail(f.err());
     summary.figures.push_back(*f);
   }
@@ -382,7 +380,7 @@ int run_report(const report_options& o) {
     s.heading = r.file;
     const auto add = [&](const report::figure& fig, const char* what,
                          const std::string& caption) -> status {
-      auto f = draw(fig, *staging, stem_of(k, what), caption);
+      auto f = draw(fig, staging, stem_of(k, what), caption);
       if (!f) return f.err();
       s.figures.push_back(*f);
       return ok();
@@ -419,13 +417,13 @@ int run_report(const report_options& o) {
                            {"degree", model->degree()}};
   auto summary_text = finite_dump(sj, o.output + "/summary.json");
   if (!summary_text) return fail(summary_text.err());
-  auto page_text = report::html(page, *staging);
+  auto page_text = report::html(page, staging);
   if (!page_text) return fail(page_text.err());
   for (const auto& [name, text] :
        {std::pair{"summary.json", *summary_text + "\n"}, std::pair{"index.html", *page_text}})
-    if (auto s = io::write_file_atomically(*staging + "/" + name, text); !s) return fail(s.err());
-  if (auto s = report::print_pdf(page, *staging); !s) return fail(s.err());
-  if (auto s = publish(*staging, o.output); !s) return fail(s.err());
+    if (auto s = io::write_file_atomically(staging + "/" + name, text); !s) return fail(s.err());
+  if (auto s = report::print_pdf(page, staging); !s) return fail(s.err());
+  if (auto s = folder->publish("gyroflip report " GYROFLIP_VERSION); !s) return fail(s.err());
   fmt::print(
       "{}: index.html, report.pdf, summary.json and {} figures (PNG, SVG, PDF with their "
       "gnuplot scripts in figures/)\n",

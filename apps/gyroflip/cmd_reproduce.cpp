@@ -201,16 +201,12 @@ std::string pct(double sim, double paper) {
 
 // DIR: summary.json, index.html (the printed comparison, the campaign's dN per run, the figure
 // runs as the paper drew them), figures/ and report.pdf; built aside and renamed into place.
-status write_page(const reproduce_options& o, const std::string& text, const std::string& summary,
-                  const std::vector<job>& jobs, const std::vector<run_result>& results,
-                  std::size_t first_figure, const std::vector<double> (&dn_means)[3]) {
-  auto staging = staging_folder(o.output);
-  if (!staging) return staging.err();
-  const auto fail = [&](const error& e) -> status {
-    std::error_code ec;
-    fs::remove_all(*staging, ec);
-    return e;
-  };
+status write_page(const reproduce_options& o, report_folder& folder, const std::string& text,
+                  const std::string& summary, const std::vector<job>& jobs,
+                  const std::vector<run_result>& results, std::size_t first_figure,
+                  const std::vector<double> (&dn_means)[3]) {
+  const std::string& staging = folder.path();  // removed with `folder` unless published
+  const auto fail = [](const error& e) -> status { return e; };
   report::page page;
   page.title = "The paper's experiment on the simulator";
   page.version = GYROFLIP_VERSION;
@@ -229,7 +225,7 @@ status write_page(const reproduce_options& o, const std::string& text, const std
     start = end == std::string::npos ? text.size() : end + 2;
   }
   const auto draw = [&](const report::figure& f, const std::string& stem) -> status {
-    if (auto st = report::render(f, *staging + "/figures", stem,
+    if (auto st = report::render(f, staging + "/figures", stem,
                                  std::array{report::image_format::png, report::image_format::svg,
                                             report::image_format::pdf});
         !st)
@@ -278,14 +274,13 @@ status write_page(const reproduce_options& o, const std::string& text, const std
       return fail(st.err());
   }
   page.sections.push_back(std::move(cmp));
-  auto html = report::html(page, *staging);
+  auto html = report::html(page, staging);
   if (!html) return fail(html.err());
   for (const auto& [name, body] :
        {std::pair{"summary.json", summary + "\n"}, std::pair{"index.html", *html}})
-    if (auto st = io::write_file_atomically(*staging + "/" + name, body); !st)
-      return fail(st.err());
-  if (auto st = report::print_pdf(page, *staging); !st) return fail(st.err());
-  return publish(*staging, o.output);
+    if (auto st = io::write_file_atomically(staging + "/" + name, body); !st) return fail(st.err());
+  if (auto st = report::print_pdf(page, staging); !st) return fail(st.err());
+  return folder.publish("gyroflip reproduce " GYROFLIP_VERSION);
 }
 
 }  // namespace
@@ -293,6 +288,13 @@ status write_page(const reproduce_options& o, const std::string& text, const std
 int run_reproduce(const reproduce_options& o) {
   const std::size_t campaigns = o.campaigns > 0 ? o.campaigns : (o.quick ? 1 : 10);
   if (campaigns > 1000) return report(usage_error("--campaigns must be 1 to 1000"));
+  // The folder is checked (and its staging folder made) before the simulations.
+  std::optional<report_folder> folder;
+  if (!o.output.empty()) {
+    auto f = report_folder::make(o.output, {});
+    if (!f) return report(f.err());
+    folder.emplace(std::move(*f));
+  }
   // The jobs: K campaigns of Tab. 3/4, the four figure runs, and one cooling run.
   std::vector<job> jobs;
   std::mt19937_64 durations(o.seed);
@@ -551,8 +553,9 @@ int run_reproduce(const reproduce_options& o) {
   auto js = finite_dump(summary, "summary.json");
   if (!js) return report(js.err());
   if (auto s = check_finite(text, "<stdout>"); !s) return report(s.err());
-  if (!o.output.empty()) {
-    auto st = write_page(o, text, *js, jobs, results, first_figure, campaign_mean_of_group);
+  if (folder) {
+    auto st =
+        write_page(o, *folder, text, *js, jobs, results, first_figure, campaign_mean_of_group);
     if (!st) return report(st.err());
   }
   fmt::print("{}", text);

@@ -8,12 +8,15 @@
 
 #include "cli.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/report/helpers.hpp"
 
 namespace {
 
-// SIGINT, SIGTERM, SIGHUP: remove the outputs' temporary files, then die of the same signal
+// SIGINT, SIGTERM, SIGHUP: stop the helper programs (gnuplot, Chromium: they write into the
+// temporaries), remove the outputs' temporary files and folders, then die of the same signal
 // (the shell sees 128 + N, as for any killed program). Only async-signal-safe calls here.
 extern "C" void on_fatal_signal(int sig) {
+  gyroflip::report::stop_helper_programs();
   gyroflip::io::remove_temporary_files();
   std::signal(sig, SIG_DFL);
   std::raise(sig);

@@ -22,6 +22,8 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
     {"seed", "--seed"},
     {"lat_deg", "--latitude"},
     {"window_s", "--drift-window"},
+    {"delta_n_dps", "--delta-n"},
+    {"fit_taus", "--fit-taus"},
     {"level", "--ci"},
     {"gaps", "--gaps split"},
     {"delimiter", "--delimiter"},

@@ -1,50 +1,171 @@
 /// \file
-/// \brief Report folders built aside and renamed into place (report_folder.hpp).
+/// \brief Report folders built aside and swapped into place (report_folder.hpp).
 #include "report_folder.hpp"
 
-#include <stdlib.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <set>
 #include <system_error>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
 
 namespace gyroflip::app {
 
+namespace {
+
 namespace fs = std::filesystem;
 
-result<std::string> staging_folder(const std::string& out) {
-  const fs::path target = fs::absolute(out);
+// Every entry below `dir`, relative to it, sorted: folders with a trailing '/', symbolic links
+// (never followed, never written by a report) marked so that no list entry matches them.
+result<std::vector<std::string>> entries_of(const fs::path& dir) {
+  std::vector<std::string> out;
   std::error_code ec;
-  if (fs::exists(target, ec)) {
-    const bool previous = fs::exists(target / "index.html") && fs::exists(target / "summary.json");
-    if (!fs::is_directory(target) || (!fs::is_empty(target) && !previous))
-      return io_error(out, "exists and is not a gyroflip report folder: give a new folder");
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string rel = it->path().lexically_relative(dir).generic_string();
+    const auto type = it->symlink_status(ec).type();
+    if (type == fs::file_type::directory) rel += '/';
+    if (type == fs::file_type::symlink) rel += " (a symbolic link)";
+    out.push_back(std::move(rel));
   }
-  std::string name = ".";
-  name.append(target.filename().string()).append(".tmp-XXXXXX");
-  std::string tmpl = (target.parent_path() / name).string();
-  if (::mkdtemp(tmpl.data()) == nullptr) return io_error(out, "cannot create a folder beside it");
-  fs::create_directory(fs::path(tmpl) / "figures", ec);
-  if (ec) return io_error(out, ec.message());
-  return tmpl;
+  if (ec) return io_error(dir.string(), "cannot list it: " + ec.message());
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
-status publish(const std::string& staging, const std::string& out) {
-  const fs::path target = fs::absolute(out);
-  std::error_code ec;
-  fs::path old;
-  if (fs::exists(target, ec)) {
-    std::string name = ".";
-    name.append(target.filename().string()).append(".old");
-    old = target.parent_path() / name;
-    fs::remove_all(old, ec);
-    fs::rename(target, old, ec);
-    if (ec) return io_error(out, ec.message());
+// Whether the existing folder `target` may be replaced: empty, or holding only what its report's
+// list names. Errors name `out` and the first entry that is not the report's.
+status check_replaceable(const fs::path& target, const std::string& out) {
+  struct stat st {};
+  if (::lstat(target.c_str(), &st) != 0) return ok();  // new
+  if (!S_ISDIR(st.st_mode))
+    return input_error({out}, "exists and is not a folder: give a new folder for the report");
+  auto have = entries_of(target);
+  if (!have) return have.err();
+  if (have->empty()) return ok();
+  std::ifstream list(target / report_folder::list_name);
+  if (!list)
+    return input_error({out}, fmt::format("is a folder that no gyroflip report made (it holds {}, "
+                                          "and no {} list): not replaced; give a new or an empty "
+                                          "folder",
+                                          printable(have->front(), 200), report_folder::list_name));
+  std::set<std::string> listed;
+  for (std::string line; std::getline(list, line);)
+    if (!line.empty() && line.front() != '#') listed.insert(line);
+  for (const auto& e : *have) {
+    if (e == report_folder::list_name) continue;
+    if (listed.count(e) == 0)
+      return input_error({out}, fmt::format("holds {}, which its report did not write: not "
+                                            "replaced (move it out, or give another folder)",
+                                            printable(e, 200)));
   }
-  fs::rename(staging, target, ec);
+  return ok();
+}
+
+// The permission bits a new folder gets from the user's umask.
+mode_t umask_mode() {
+  const mode_t mask = ::umask(0);  // reading the umask sets it: set it back at once
+  ::umask(mask);
+  return 0777 & ~mask;
+}
+
+}  // namespace
+
+report_folder::report_folder(std::string out, std::string target, io::temporary_folder staging,
+                             mode_t mode)
+    : out_(std::move(out)), target_(std::move(target)), staging_(std::move(staging)), mode_(mode) {}
+
+result<report_folder> report_folder::make(const std::string& out,
+                                          std::span<const std::string> inputs) {
+  // A symbolic link is followed: its target is the folder (made if the link dangles). A trailing
+  // slash (a shell's completion of a folder name) names the same folder.
+  std::string given = out;
+  while (given.size() > 1 && given.back() == '/') given.pop_back();
+  auto real = io::real_target(given);
+  if (!real) return real.err();
+  const fs::path target = fs::absolute(*real).lexically_normal();
+  if (target.filename().empty() || target == target.root_path())
+    return input_error({out}, "is not a folder a report can be made in");
+  // No input inside: the folder is replaced as a whole.
+  std::error_code ec;
+  const fs::path inside = fs::weakly_canonical(target, ec);
+  for (const auto& in : inputs) {
+    if (in.empty() || ec) continue;
+    std::error_code e;
+    const fs::path file = fs::weakly_canonical(in, e);
+    if (e) continue;
+    const auto rel = file.lexically_relative(inside);
+    if (!rel.empty() && *rel.begin() != ".." && rel != ".")
+      return input_error({out}, fmt::format("holds {}, an input of this run: a report replaces its "
+                                            "folder as a whole; give another folder",
+                                            printable(in, 200)));
+  }
+  if (auto s = check_replaceable(target, out); !s) return s.err();
+  struct stat st {};
+  const mode_t mode =
+      ::stat(target.c_str(), &st) == 0 ? static_cast<mode_t>(st.st_mode & 07777) : umask_mode();
+  auto staging =
+      io::temporary_folder::create(target.parent_path().string(), target.filename().string());
+  if (!staging) return staging.err();
+  fs::create_directory(fs::path(staging->path()) / "figures", ec);
   if (ec) return io_error(out, ec.message());
-  if (!old.empty()) fs::remove_all(old, ec);
+  return report_folder(out, target.string(), std::move(*staging), mode);
+}
+
+status report_folder::publish(const std::string& made_by) {
+  auto have = entries_of(staging_.path());
+  if (!have) return have.err();
+  std::string list = fmt::format(
+      "# A report folder made by {}. A later report replaces this folder only while it holds\n"
+      "# nothing but the entries below (and this list).\n",
+      made_by);
+  for (const auto& e : *have) list += e + "\n";
+  if (auto s = io::write_file_atomically(staging_.path() + "/" + list_name, list); !s) return s;
+  if (::chmod(staging_.path().c_str(), mode_) != 0)
+    return io_error(out_, fmt::format("cannot set its permissions: {}", std::strerror(errno)));
+  struct stat st {};
+  if (::lstat(target_.c_str(), &st) != 0) {
+    // New: renamed into place, unless something appeared there meanwhile.
+    if (::renameat2(AT_FDCWD, staging_.path().c_str(), AT_FDCWD, target_.c_str(),
+                    RENAME_NOREPLACE) != 0 &&
+        (errno != EINVAL || std::rename(staging_.path().c_str(), target_.c_str()) != 0))
+      return io_error(out_,
+                      fmt::format("cannot put the report in place: {}", std::strerror(errno)));
+    staging_.keep();
+    return ok();
+  }
+  // An earlier report: swapped with the new one in one step, so that DIR always holds a whole
+  // report; the staging name then holds the earlier one, which goes with `staging_`.
+  if (::renameat2(AT_FDCWD, staging_.path().c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) ==
+      0)
+    return ok();
+  if (errno != EINVAL && errno != ENOSYS)
+    return io_error(out_, fmt::format("cannot put the report in place: {}", std::strerror(errno)));
+  // A file system without the exchange: the earlier report moved aside first (into an empty
+  // folder of our own, which a rename may replace), then the new one renamed in.
+  const fs::path target(target_);
+  auto old = io::temporary_folder::create(target.parent_path().string(),
+                                          target.filename().string() + ".old");
+  if (!old) return old.err();
+  if (std::rename(target_.c_str(), old->path().c_str()) != 0)
+    return io_error(out_, fmt::format("cannot put the report in place: {}", std::strerror(errno)));
+  if (std::rename(staging_.path().c_str(), target_.c_str()) != 0) {
+    const int e = errno;
+    (void)std::rename(old->path().c_str(), target_.c_str());  // the earlier report back
+    return io_error(out_, fmt::format("cannot put the report in place: {}", std::strerror(e)));
+  }
+  staging_.keep();
   return ok();
 }
 

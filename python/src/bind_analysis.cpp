@@ -62,7 +62,7 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
   if (!k) throw py::value_error("unknown statistic '" + kind + "'");
   const auto in = input_of(input);
   const double tau0 = tau0_of(rate_hz);
-  if (ci && !(*ci > 0.0 && *ci < 1.0)) throw py::value_error("ci must lie in (0, 1)");
+  if (ci) check(analysis::check_confidence_level(*ci));
   const auto spec = spec_of(taus, factors);
   const auto src = source_of(span_of(data, "data"), file_backed);
   auto pts = without_gil([&](const progress_fn& listen) {
@@ -99,9 +99,8 @@ py::object noise(const f64_array& data, double rate_hz, const std::string& input
                  bool file_backed) {
   const auto in = input_of(input);
   const double tau0 = tau0_of(rate_hz);
-  if (!(ci > 0.0 && ci < 1.0)) throw py::value_error("ci must lie in (0, 1)");
-  if (!(fit_lo_s >= 0.0 && fit_hi_s > fit_lo_s))
-    throw py::value_error("fit_taus must be (lo, hi) in seconds with 0 <= lo < hi");
+  check(analysis::check_confidence_level(ci));  // the CLI's rules, from the library
+  check(analysis::check_fit_range({fit_lo_s, fit_hi_s}));
   const auto y = span_of(data, "data");
   const auto src = source_of(y, file_backed);
   io::noise_report r;

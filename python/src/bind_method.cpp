@@ -2,6 +2,7 @@
 /// \brief The method for Python: `_calibrate` and `_compensate` on a recording's columns,
 /// `_simulate` (the rig simulator, one row per dwell) and `_read_recording` (CSV or `.gfr`).
 /// Results are the CLI's JSON objects (parsed) plus NumPy columns.
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 #include "common.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/compensation.hpp"
@@ -86,6 +88,8 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
   rec.files.push_back({arrays_name, rec.pooled});
   rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);  // as the CLI
   py::dict d = json_loads(take(io::to_json(rec, version)));
+  for (const auto& cy : rc.cycles)  // the temperature may be absent (NaN)
+    check(io::check_finite(std::array{cy.time_s, cy.rate_dps, cy.bias_dps}, "calibrate"));
   d["cycle_values"] = cycle_columns(rc.cycles);
   return d;
 }
@@ -101,7 +105,7 @@ delta_n_source delta_n_of(std::optional<double> delta_n_dps,
   if (delta_n_dps.has_value() == calibration_json.has_value())
     throw py::value_error("give either delta_n_dps or calibration");
   if (delta_n_dps) {
-    if (!std::isfinite(*delta_n_dps)) throw py::value_error("delta_n_dps must be finite");
+    check(method::check_delta_n(*delta_n_dps));  // the CLI's --delta-n rule
     return {method::constant_model(*delta_n_dps), std::nullopt};
   }
   const auto rec = take(io::parse_calibration(*calibration_json, "calibration"));
@@ -113,7 +117,7 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
                     const std::optional<std::string>& pairing, double drift_window_s, double tol) {
   const auto dn = delta_n_of(delta_n_dps, calibration_json);
   const auto p = pairing ? pairing_of(*pairing) : dn.pairing.value_or(method::pairing::abba);
-  if (!(drift_window_s > 0.0)) throw py::value_error("drift_window_s must be > 0");
+  check(method::check_drift_window(drift_window_s));
   const auto rc = cycles_of(c, p, tol);
   if (dn.model.degree() > 0 && !rc.has_temp)
     throw py::value_error("no temp_c given, but the calibration's dN(T) model needs temperatures");
@@ -121,6 +125,7 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   out.reserve(rc.cycles.size());
   for (const auto& cy : rc.cycles) out.push_back(method::compensate(cy, dn.model));
   const auto s = method::summarize(out, drift_window_s);
+  check(io::check_finite(out, s, "compensate"));  // every number returned is finite, as the CLI
   py::dict summary;
   summary["pairing"] = std::string(method::to_string(p));
   summary["cycles"] = s.cycles;
@@ -196,6 +201,10 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
     }
     return 0;
   });
+  for (const auto& r : rows)  // as `gyroflip simulate` writes nothing that is not finite
+    check(io::check_finite(std::array{r.time_s, r.rate_dps, r.temp_c, r.bias_dps, r.g_term_dps,
+                                      r.earth_dps, r.input_dps},
+                           "simulate"));
   using dr = rig::dwell_row;
   py::dict d;
   d["time_s"] = column(rows, &dr::time_s);

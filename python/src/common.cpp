@@ -18,6 +18,8 @@ constexpr std::pair<const char*, const char*> argument_of_parameter[] = {
     {"seed", "seed"},
     {"lat_deg", "latitude"},
     {"window_s", "drift_window_s"},
+    {"delta_n_dps", "delta_n_dps"},
+    {"fit_taus", "fit_taus"},
     {"level", "ci"},
     {"taus", "taus"},
     {"settle_s", "settle_s"},

@@ -1,4 +1,7 @@
 """Bad input raises ValueError (data, arguments) or OSError (files) with the CLI's messages."""
+import os
+import subprocess
+
 import numpy as np
 import pytest
 
@@ -19,7 +22,7 @@ def test_non_finite_sample_names_it():
     ({"rate": float("inf")}, "rate must be a positive"),
     ({"kind": "xdev"}, "unknown statistic 'xdev'"),
     ({"input": "voltage"}, "input must be 'rate' or 'angle'"),
-    ({"ci": 1.5}, r"ci must lie in \(0, 1\)"),
+    ({"ci": 1.5}, r"confidence level must be a probability in \(0, 1\).*\(argument ci\)"),
     ({"taus": "weekly"}, "weekly"),
     ({"taus": [-1.0]}, "taus must be"),
 ])
@@ -84,3 +87,55 @@ def test_simulate_bad_arguments():
         gyroflip.simulate("no-such-sensor")
     with pytest.raises(ValueError, match="duration"):
         gyroflip.simulate("adxrs150", duration_s=-1)
+
+
+def _recording():
+    rec = gyroflip.read_recording(os.path.join(os.environ["GYROFLIP_VECTORS_DIR"], "demo",
+                                               "run_rate_table_20c.csv"))
+    return [rec[k] for k in ("time_s", "angle_deg", "rate_dps", "temp_c", "n_avg")]
+
+
+def _cli(*args):
+    return subprocess.run([os.environ["GYROFLIP_EXE"], *map(str, args)], capture_output=True, text=True)
+
+
+# Issue 21: gyroflip.compensate(..., delta_n_dps=1e300) returned NaN and inf where the CLI refuses
+# --delta-n 1e300; a drift window of inf came back as inf; time stamps of 1e300 were taken where a
+# CSV cell is refused beyond 1e100. The rules live in the library, and both front ends call them:
+# the same values are refused by both with the same message.
+@pytest.mark.parametrize("dn", [1e300, -1e101, float("inf"), float("nan")])
+def test_compensate_applies_the_clis_dn_rule(dn):
+    cols = _recording()
+    with pytest.raises(ValueError, match=r"dN must be a finite number of deg/s within \+-1e\+100; "
+                                         r".*\(argument delta_n_dps\)"):
+        gyroflip.compensate(*cols, delta_n_dps=dn)
+    cli = _cli("compensate", os.path.join(os.environ["GYROFLIP_VECTORS_DIR"], "demo",
+                                          "run_rate_table_20c.csv"), "--delta-n", dn)
+    assert cli.returncode == 2
+    assert "dN must be a finite number of deg/s within +-1e+100" in cli.stderr, cli.stderr
+    assert "(option --delta-n)" in cli.stderr
+
+
+def test_every_number_python_returns_is_finite_within_the_bounds():
+    cols = _recording()
+    r = gyroflip.compensate(*cols, delta_n_dps=1e100)  # the bound itself: all finite
+    for k in ("time_s", "rate_dps", "bias_dps", "delta_n_dps"):
+        assert np.all(np.isfinite(r[k])), k
+    assert all(np.isfinite(v) for v in r["summary"].values() if isinstance(v, float))
+    for w in (float("inf"), 0.0, 2e9):
+        with pytest.raises(ValueError, match=r"drift window must be in \(0, 1e\+09\] s.*"
+                                             r"\(argument drift_window_s\)"):
+            gyroflip.compensate(*cols, delta_n_dps=0.1, drift_window_s=w)
+        cli = _cli("compensate", os.path.join(os.environ["GYROFLIP_VECTORS_DIR"], "demo",
+                                              "run_rate_table_20c.csv"), "--delta-n", 0.1,
+                   "--drift-window", w)
+        assert cli.returncode == 2 and "(option --drift-window)" in cli.stderr, (w, cli.stderr)
+    for t in (cols[0] * 1e298, np.where(np.arange(len(cols[0])) == 3, 1e101, cols[0])):
+        with pytest.raises(ValueError, match=r"time_s\[\d+\]: not a finite number within \+-1e100"):
+            gyroflip.calibrate(t, *cols[1:])
+    y = np.random.default_rng(21).normal(size=20000)
+    for lo, hi in ((float("nan"), 1.0), (-1.0, 1.0), (2.0, 1.0), (0.0, float("nan"))):
+        with pytest.raises(ValueError, match=r"\(argument fit_taus\)"):
+            gyroflip.noise(y, rate=100.0, fit_taus=(lo, hi))
+    with pytest.raises(ValueError, match=r"\(argument ci\)"):
+        gyroflip.noise(y, rate=100.0, ci=float("nan"))

@@ -7,7 +7,10 @@
 #include <limits>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include "decimate.hpp"
+#include "gyroflip/core/error.hpp"
 #include "parallel.hpp"
 
 namespace gyroflip::analysis {
@@ -418,6 +421,14 @@ double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
     }
   }
   return 0.0;
+}
+
+status check_confidence_level(double level) {
+  if (level > 0.0 && level < 1.0) return ok();
+  return parameter_error(
+      "level", fmt::format("the confidence level must be a probability in (0, 1), e.g. 0.683; "
+                           "got {}",
+                           level));
 }
 
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,

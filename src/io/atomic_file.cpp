@@ -3,6 +3,7 @@
 /// devices and pipes, symlinks followed, inputs protected (see atomic_file.hpp).
 #include "gyroflip/io/atomic_file.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -13,7 +14,9 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <optional>
+#include <random>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -21,28 +24,32 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/io/series.hpp"
 
 namespace gyroflip::io {
 namespace {
 
-// The registry of live temporaries, for the signal handler. This is the library's one piece of
-// process-wide state: a handler can reach nothing else, and the temporaries are process-wide by
-// nature (a SIGTERM kills every output at once). Fixed slots of fixed buffers, claimed with
-// atomic flags, so that the handler reads only memory that is complete and never allocates.
+// The registry of live temporaries (files and folders), for the signal handler. This is the
+// library's one piece of process-wide state besides the report module's helper programs: a
+// handler can reach nothing else, and the temporaries are process-wide by nature (a SIGTERM kills
+// every output at once). Fixed slots of fixed buffers, claimed with atomic flags, so that the
+// handler reads only memory that is complete and never allocates.
 constexpr std::size_t max_temporaries = 16;
 struct temp_slot {
   std::atomic<bool> used{false};
+  bool folder = false;  // removed with everything in it
   std::array<char, PATH_MAX> path{};
 };
 std::array<temp_slot, max_temporaries> registry;  // NOLINT: see above
 
-int register_temporary(const std::string& path) noexcept {
+int register_temporary(const std::string& path, bool folder = false) noexcept {
   if (path.size() >= PATH_MAX) return -1;
   for (std::size_t i = 0; i < registry.size(); ++i) {
     bool expected = false;
     // Claimed first, filled next, published last: the handler checks `path[0]`, so a slot
     // claimed but not yet filled (still all zero) is skipped.
     if (!registry[i].used.compare_exchange_strong(expected, true)) continue;
+    registry[i].folder = folder;
     std::memcpy(registry[i].path.data() + 1, path.c_str() + 1, path.size());
     std::atomic_signal_fence(std::memory_order_release);
     registry[i].path[0] = path[0];
@@ -76,8 +83,8 @@ std::string base_of(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-// The file a write to `path` lands in: symlinks followed one by one (the target of a dangling
-// link is the file to create, as the shell's `>` does). Errors: a loop.
+}  // namespace
+
 result<std::string> real_target(const std::string& path) {
   std::string p = path;
   for (int hops = 0; hops < 40; ++hops) {
@@ -95,6 +102,8 @@ result<std::string> real_target(const std::string& path) {
   }
   return io_error(path, "too many levels of symbolic links");
 }
+
+namespace {
 
 // An absolute spelling of the file `path` writes to, for comparing outputs that do not exist
 // yet: the real directory plus the last component.
@@ -165,9 +174,16 @@ result<atomic_file> atomic_file::create(std::string path) {
   static std::atomic<unsigned> counter{0};
   std::string temp = fmt::format("{}/.{}.gyroflip-tmp.{}.{}", dir_of(*target), base_of(*target),
                                  static_cast<long>(::getpid()), counter.fetch_add(1));
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) return io_error(path, fmt::format("cannot write: {}", errno_text(errno)));
+  // Registered for removal on a signal before it exists: a signal between the two steps must
+  // not leave it behind (a signal before the open finds nothing to remove; the name holds this
+  // process's id, so no other process's file has it).
   const int slot = register_temporary(temp);
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int e = errno;
+    unregister_temporary(slot);
+    return io_error(path, fmt::format("cannot write: {}", errno_text(e)));
+  }
   // An existing file keeps its permission bits (a user's 0600 recording stays private).
   if (exists) (void)::fchmod(fd, st.st_mode & 07777);
   std::FILE* f = ::fdopen(fd, "wb");
@@ -265,7 +281,9 @@ status check_outputs(std::span<const std::string> inputs, std::span<const std::s
   std::vector<seen> ins;
   for (const auto& in : inputs) {
     struct stat st {};
-    if (!in.empty() && in != "-" && ::stat(in.c_str(), &st) == 0)
+    // The file itself, through symlinks; for a series named `FILE.h5:/dataset`, FILE.h5.
+    if (!in.empty() && in != "-" &&
+        (::stat(in.c_str(), &st) == 0 || ::stat(series_file(in).c_str(), &st) == 0))
       ins.push_back({&in, st.st_dev, st.st_ino});
   }
   std::vector<seen> outs;
@@ -317,12 +335,92 @@ status check_distinct_inputs(std::span<const std::string> inputs) {
   return ok();
 }
 
+namespace {
+
+// Removes `name` in folder `dir_fd` and, for a folder, everything in it, with system calls only
+// (async-signal-safe: no allocation, no stdio): entries are read with getdents64 into a buffer on
+// the stack, at most `depth` folders deep. Best effort: what cannot be removed stays. True when
+// `name` is gone.
+bool remove_tree(int dir_fd, const char* name, int depth) noexcept {
+  if (::unlinkat(dir_fd, name, 0) == 0 || errno == ENOENT) return true;
+  if (depth == 0) return false;
+  const int fd = ::openat(dir_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return false;
+  // Passes until one removes nothing more: removing entries while reading may skip some.
+  for (bool removed = true; removed;) {
+    removed = false;
+    ::lseek(fd, 0, SEEK_SET);
+    alignas(8) char buf[2048];
+    for (ssize_t n; (n = ::getdents64(fd, buf, sizeof buf)) > 0;) {
+      for (ssize_t at = 0; at < n;) {
+        const auto* e = reinterpret_cast<const dirent64*>(buf + at);  // NOLINT: kernel records
+        at += e->d_reclen;
+        const char* entry = e->d_name;
+        if (entry[0] == '.' && (entry[1] == '\0' || (entry[1] == '.' && entry[2] == '\0')))
+          continue;
+        if (remove_tree(fd, entry, depth - 1)) removed = true;
+      }
+    }
+  }
+  ::close(fd);
+  return ::unlinkat(dir_fd, name, AT_REMOVEDIR) == 0;
+}
+
+// Folders nest at most this deep in a temporary folder (a report's staging folder holds
+// figures/ and, while Chromium prints, its profile, some 8 levels).
+constexpr int max_folder_depth = 24;
+
+}  // namespace
+
 void remove_temporary_files() noexcept {
   for (auto& s : registry) {
     if (!s.used.load()) continue;
     std::atomic_signal_fence(std::memory_order_acquire);
-    if (s.path[0] != '\0') ::unlink(s.path.data());
+    if (s.path[0] == '\0') continue;
+    if (s.folder) {
+      (void)remove_tree(AT_FDCWD, s.path.data(), max_folder_depth);
+    } else {
+      ::unlink(s.path.data());
+    }
   }
+}
+
+// cppcheck-suppress passedByValue ; sink parameter, moved from
+temporary_folder::temporary_folder(std::string path, int slot) noexcept
+    : path_(std::move(path)), slot_(slot) {}
+
+temporary_folder::temporary_folder(temporary_folder&& other) noexcept
+    : path_(std::move(other.path_)), slot_(std::exchange(other.slot_, -1)) {
+  other.path_.clear();
+}
+
+result<temporary_folder> temporary_folder::create(const std::string& dir, const std::string& name) {
+  static std::atomic<unsigned> counter{0};
+  std::random_device entropy;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string path = fmt::format("{}/.{}.gyroflip-tmp.{}.{}{:08x}", dir, name,
+                                   static_cast<long>(::getpid()), counter.fetch_add(1), entropy());
+    // Registered before it exists, as a file temporary (atomic_file::create).
+    const int slot = register_temporary(path, true);
+    if (::mkdir(path.c_str(), 0700) == 0) return temporary_folder(std::move(path), slot);
+    const int e = errno;
+    unregister_temporary(slot);
+    if (e != EEXIST)
+      return io_error(dir, fmt::format("cannot create a folder in it: {}", errno_text(e)));
+  }
+  return io_error(dir, "cannot create a folder in it: every name tried exists");
+}
+
+temporary_folder::~temporary_folder() {
+  if (path_.empty()) return;
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+  unregister_temporary(slot_);
+}
+
+void temporary_folder::keep() noexcept {
+  unregister_temporary(std::exchange(slot_, -1));
+  path_.clear();
 }
 
 }  // namespace gyroflip::io

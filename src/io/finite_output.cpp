@@ -2,6 +2,7 @@
 /// \brief The finite-output gate (see finite_output.hpp).
 #include "gyroflip/io/finite_output.hpp"
 
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -63,6 +64,24 @@ status check_finite(std::string_view text, std::string_view what) {
     }
   }
   return ok();
+}
+
+status check_finite(std::span<const double> values, std::string_view what) {
+  for (const double v : values)
+    if (!std::isfinite(v)) return not_finite(what);
+  return ok();
+}
+
+status check_finite(std::span<const method::compensated_cycle> cycles,
+                    const method::compensation_summary& summary, std::string_view what) {
+  for (const auto& c : cycles)
+    if (auto s = check_finite(std::array{c.time_s, c.rate_dps, c.bias_dps, c.delta_n_dps}, what);
+        !s)
+      return s;
+  return check_finite(std::array{summary.mean_dps, summary.std_dps, summary.stderr_dps,
+                                 summary.stderr_correlated_dps, summary.drift_dps.value_or(0.0),
+                                 summary.drift_window_s, summary.duration_s},
+                      what);
 }
 
 result<std::string> finite_dump(const nlohmann::json& j, std::string_view what) {

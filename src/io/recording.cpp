@@ -238,7 +238,9 @@ result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
   for (std::size_t k = 0; k < n; ++k) {
     auto& r = rows[k];
     r.time_s = c.time_s[k];
-    if (!std::isfinite(r.time_s)) return bad("time_s", k, "not a finite number");
+    // The bound every number read from a file obeys (csv_reader::parse), for columns in memory.
+    if (!(std::abs(r.time_s) <= max_input_magnitude))
+      return bad("time_s", k, "not a finite number within +-1e100");
     if (k > 0 && r.time_s < rows[k - 1].time_s)
       return bad("time_s", k,
                  fmt::format("time goes backwards: {} after {}", r.time_s, rows[k - 1].time_s));
@@ -252,7 +254,7 @@ result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
       r.angle_deg = *pos;
     }
     r.rate_dps = c.rate_dps[k];
-    if (!(std::abs(r.rate_dps) <= csv_reader::max_magnitude))
+    if (!(std::abs(r.rate_dps) <= max_input_magnitude))
       return bad("rate_dps", k, "not a finite number within +-1e100");
     if (!c.temp_c.empty()) {
       r.temp_c = c.temp_c[k];

@@ -145,13 +145,19 @@ result<npy_array> npy_layout(const std::string& path, std::string_view d) {
   }
   const std::size_t size = a.f4 ? 4 : 8;
   const std::size_t data_bytes = d.size() - start - header_len;
-  if (n[1] == 0 || n[0] > data_bytes / size / n[1] || n[0] * n[1] * size != data_bytes)
+  // The announced size in bytes, or none when it does not fit in 64 bits (a shape of 2^61
+  // samples wrapped to "0 bytes" in the message).
+  std::uint64_t values = 0, bytes = 0;
+  const bool fits = !__builtin_mul_overflow(n[0], n[1], &values) &&
+                    !__builtin_mul_overflow(values, std::uint64_t{size}, &bytes);
+  if (n[1] == 0 || !fits || bytes != data_bytes)
     return input_error(
-        {path}, fmt::format(".npy header announces {} ({} bytes) but the file holds {} data bytes "
-                            "(truncated or padded file)",
-                            n[1] == 1 ? fmt::format("{} samples", n[0])
-                                      : fmt::format("{} x {} values", n[0], n[1]),
-                            n[0] * n[1] * size, data_bytes));
+        {path},
+        fmt::format(
+            ".npy header announces {} ({}) but the file holds {} data bytes "
+            "(truncated or padded file)",
+            n[1] == 1 ? fmt::format("{} samples", n[0]) : fmt::format("{} x {} values", n[0], n[1]),
+            fits ? fmt::format("{} bytes", bytes) : "more than 2^64 bytes", data_bytes));
   a.offset = start + header_len;
   a.rows = static_cast<std::size_t>(n[0]);
   a.cols = static_cast<std::size_t>(n[1]);
@@ -229,24 +235,35 @@ std::string off_grid_message(std::span<const double> t, const grid& g) {
       *g.bad + 1, t[*g.bad], g.off, g.step);
 }
 
+// A time stamp's integer part: 128 bits, so that stamps past int64 (9.2e18: nanoseconds after
+// the year 2262, or a logger counting picoseconds) are still rebased exactly (issue 21: a stamp
+// past int64 fell back to a double and was reported as "does not increase").
+__extension__ using stamp_int = __int128;
+constexpr std::size_t max_stamp_digits = 38;  // 10^38 - 1 < 2^127
+
+enum class stamp_form { plain, other, too_long };
+
 // A time stamp split into its integer part and its fraction, so that epoch stamps (1.7e9 s,
 // 1.7e18 ns) are rebased exactly before any floating-point arithmetic: [sign]digits[.digits]
-// with the dialect's decimal mark. False for other forms (exponents), which are read as doubles.
-bool split_stamp(std::string_view s, char decimal, std::int64_t& whole, double& frac) {
+// with the dialect's decimal mark. `other` for other forms (exponents), which are read as
+// doubles; `too_long` for an integer part of more than 38 digits.
+stamp_form split_stamp(std::string_view s, char decimal, stamp_int& whole, double& frac) {
   std::size_t i = 0;
   const bool negative = !s.empty() && s[0] == '-';
   if (!s.empty() && (s[0] == '-' || s[0] == '+')) ++i;
   const std::size_t int_begin = i;
-  while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
-  if (i == int_begin) return false;
-  std::int64_t w = 0;
-  if (std::from_chars(s.data() + int_begin, s.data() + i, w).ec != std::errc{}) return false;
+  stamp_int w = 0;
+  for (; i < s.size() && s[i] >= '0' && s[i] <= '9'; ++i) {
+    if (i - int_begin == max_stamp_digits) return stamp_form::too_long;
+    w = 10 * w + (s[i] - '0');
+  }
+  if (i == int_begin) return stamp_form::other;
   double f = 0.0;
   if (i < s.size()) {
-    if (s[i] != decimal) return false;
+    if (s[i] != decimal) return stamp_form::other;
     const std::size_t frac_begin = ++i;
     while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
-    if (i != s.size() || i == frac_begin) return false;
+    if (i != s.size() || i == frac_begin) return stamp_form::other;
     char buf[48] = "0.";
     const std::size_t digits = std::min<std::size_t>(i - frac_begin, sizeof buf - 3);
     std::memcpy(buf + 2, s.data() + frac_begin, digits);
@@ -254,7 +271,7 @@ bool split_stamp(std::string_view s, char decimal, std::int64_t& whole, double& 
   }
   whole = negative ? -w : w;
   frac = negative ? -f : f;
-  return true;
+  return stamp_form::plain;
 }
 
 // The samples of a CSV time column that form the analysed run, and its period.
@@ -408,7 +425,7 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
   // Standard input cannot be read again to locate a row in a message: keep each row's line.
   const bool rereadable = path != "-";
   std::vector<std::size_t> lines;
-  std::int64_t whole0 = 0;
+  stamp_int whole0 = 0;
   double frac0 = 0.0;
   while (true) {
     const auto st = r->next();
@@ -420,9 +437,14 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
       s.values[c].push_back(v);
     }
     if (*time) {
-      std::int64_t whole = 0;
+      stamp_int whole = 0;
       double frac = 0.0;
-      if (!split_stamp(r->cell(0), decimal, whole, frac)) {
+      const stamp_form form = split_stamp(r->cell(0), decimal, whole, frac);
+      if (form == stamp_form::too_long)
+        return r->error_at(0, fmt::format("time stamp {} has more than {} digits before the "
+                                          "decimal mark: use a coarser time unit",
+                                          printable(r->cell(0), 60), max_stamp_digits));
+      if (form == stamp_form::other) {
         if (!r->parse(0, frac)) return r->last_error();
         whole = 0;
       }
@@ -430,8 +452,8 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
         whole0 = whole;
         frac0 = frac;
       }
-      // Rebased before scaling: the difference of two epoch stamps is exact in int64.
-      std::int64_t since = 0;
+      // Rebased before scaling: the difference of two epoch stamps is exact in 128 bits.
+      stamp_int since = 0;
       if (__builtin_sub_overflow(whole, whole0, &since))
         return r->error_at(0, fmt::format("time stamp {} is too far from the first one",
                                           printable(r->cell(0), 40)));
@@ -475,16 +497,32 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
   return s;
 }
 
+// `FILE.h5:/dataset` split into the file and the dataset (empty for other names).
+std::pair<std::string, std::string> split_dataset(const std::string& spec) {
+  for (const std::string_view ext : {".h5:", ".hdf5:", ".hdf:"}) {
+    const auto at = spec.find(ext);
+    if (at != std::string::npos)
+      return {spec.substr(0, at + ext.size() - 1), spec.substr(at + ext.size())};
+  }
+  return {spec, {}};
+}
+
 // What read_series takes `path` for, by its name: HDF5 (`FILE.h5:/dataset`, or FILE.h5 with the
 // `dataset` option), .npy, raw float64, else CSV. `path` and `dataset` are split for HDF5.
+// Errors: the name and the dataset option name two different datasets.
 enum class series_format { csv, hdf5, npy, raw };
-series_format format_of(std::string& path, std::string& dataset) {
-  for (const char* ext : {".h5:", ".hdf5:", ".hdf:"}) {
-    const auto at = path.find(ext);
-    if (at != std::string::npos) {
-      dataset = path.substr(at + std::string_view(ext).size() - 1 + 1);
-      path.resize(at + std::string_view(ext).size() - 1);
-    }
+result<series_format> format_of(std::string& path, std::string& dataset) {
+  auto [file, named] = split_dataset(path);
+  if (!named.empty()) {
+    // `FILE.h5:/a` with the dataset parameter `/b`: which one was meant cannot be guessed.
+    if (!dataset.empty() && dataset != named)
+      return about_parameter(
+          input_error({path}, fmt::format("names dataset '{}', but the dataset parameter says "
+                                          "'{}': give it once",
+                                          printable(named, 120), printable(dataset, 120))),
+          "dataset");
+    path = std::move(file);
+    dataset = std::move(named);
   }
   if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5"))
     return series_format::hdf5;
@@ -496,12 +534,18 @@ series_format format_of(std::string& path, std::string& dataset) {
 
 }  // namespace
 
+std::string series_file(const std::string& spec) {
+  return split_dataset(spec).first;
+}
+
 result<series> read_series(const std::string& path_in, const series_options& opt) {
   series s;
   s.source_ = path_in;
   std::string path = path_in;
   std::string dataset = opt.dataset;
-  const series_format format = format_of(path, dataset);
+  const auto known = format_of(path, dataset);
+  if (!known) return known.err();
+  const series_format format = *known;
   if (format == series_format::hdf5) {
     if (dataset.empty())
       return about_parameter(
@@ -509,13 +553,20 @@ result<series> read_series(const std::string& path_in, const series_options& opt
           "dataset");
     auto h = detail::read_hdf5_dataset(path, dataset, column_number(opt.column));
     if (!h) return h.err();
-    const auto rate = opt.sample_rate_hz ? opt.sample_rate_hz : h->sample_rate_hz;
-    if (!rate)
+    if (!opt.sample_rate_hz && !h->sample_rate_hz)
       return about_parameter(
           input_error({path}, fmt::format("dataset '{}' has no sample_rate_hz attribute: the "
                                           "sample rate must be given",
                                           printable(dataset, 120))),
           "sample_rate_hz");
+    // A rate from the file that is no rate is the file's fault, not the parameter's (which was
+    // not given).
+    if (!opt.sample_rate_hz && !(*h->sample_rate_hz > 0.0 && std::isfinite(*h->sample_rate_hz)))
+      return input_error({path}, fmt::format("dataset '{}': its sample_rate_hz attribute is {}, "
+                                             "not a sample rate (a positive number of samples "
+                                             "per second); give the sample rate instead",
+                                             printable(dataset, 120), *h->sample_rate_hz));
+    const auto rate = opt.sample_rate_hz ? opt.sample_rate_hz : h->sample_rate_hz;
     if (auto c = check_rate(path, rate); !c) return c.err();
     for (std::size_t i = 0; i < h->values.size(); ++i)
       if (!std::isfinite(h->values[i]))
@@ -599,8 +650,9 @@ result<std::vector<series>> read_series_columns(const std::string& path, const s
                                                 const std::vector<std::string>& columns) {
   if (columns.empty()) return parameter_error("columns", "no column to read");
   std::string file = path, dataset = opt.dataset;
-  if (format_of(file, dataset) != series_format::csv)
-    return input_error({path}, "several columns: a CSV file only");
+  const auto known = format_of(file, dataset);
+  if (!known) return known.err();
+  if (*known != series_format::csv) return input_error({path}, "several columns: a CSV file only");
   auto c = read_csv_series(path, opt, columns);
   if (!c) return c.err();
   std::vector<series> out;

@@ -6,10 +6,26 @@
 #include <cmath>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "gyroflip/analysis/drift.hpp"
+#include "gyroflip/core/error.hpp"
 #include "gyroflip/method/calibration.hpp"
 
 namespace gyroflip::method {
+
+status check_delta_n(double delta_n_dps) {
+  if (std::abs(delta_n_dps) <= max_input_magnitude) return ok();
+  return parameter_error("delta_n_dps",
+                         fmt::format("dN must be a finite number of deg/s within +-{:g}; got {}",
+                                     max_input_magnitude, delta_n_dps));
+}
+
+status check_drift_window(double window_s) {
+  if (window_s > 0.0 && window_s <= drift_window_max_s) return ok();
+  return parameter_error("window_s", fmt::format("the drift window must be in (0, {:g}] s; got {}",
+                                                 drift_window_max_s, window_s));
+}
 
 compensated_cycle compensate(const cycle& c, const delta_n_model& dn) noexcept {
   const double delta_n_dps = dn.eval(c.temp_c);

@@ -2,13 +2,9 @@
 /// \brief Figures as gnuplot scripts and data files, rendered by gnuplot (figure.hpp).
 #include "gyroflip/report/figure.hpp"
 
-#include <stdlib.h>
-
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <iterator>
 #include <string>
@@ -191,6 +187,16 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
   return s;
 }
 
+std::vector<std::string> rendered_files(const std::string& dir, const std::string& stem,
+                                        std::size_t series, std::span<const image_format> formats) {
+  std::vector<std::string> out;
+  const auto file = [&](const std::string& name) { return fmt::format("{}/{}", dir, name); };
+  for (std::size_t k = 0; k < series; ++k) out.push_back(file(data_name(stem, k)));
+  out.push_back(file(stem + ".gp"));
+  for (const auto f : formats) out.push_back(fmt::format("{}/{}.{}", dir, stem, suffix(f)));
+  return out;
+}
+
 namespace {
 
 // Runs `gnuplot stem.gp` in `dir`.
@@ -211,50 +217,31 @@ status render(const figure& f, const std::string& dir, const std::string& stem,
               std::span<const image_format> formats, const std::string& gnuplot) {
   namespace fs = std::filesystem;
   // Everything is made in a private folder beside the target and then renamed into place, so
-  // that a failed or killed run leaves no half-drawn image under the figure's name.
-  std::string tmpl = dir + "/.gyroflip-figure-XXXXXX";
-  if (::mkdtemp(tmpl.data()) == nullptr) return io_error(dir, std::strerror(errno));
-  const fs::path tmp = tmpl;
-  const auto cleanup = [&] {
-    std::error_code ec;
-    fs::remove_all(tmp, ec);
-  };
+  // that a failed or killed run leaves no half-drawn image under the figure's name (the folder
+  // goes when `work` does, and on a signal).
+  auto work = io::temporary_folder::create(dir, stem + ".figure");
+  if (!work) return work.err();
+  const fs::path tmp = work->path();
   std::vector<std::string> made;
-  bool any = false;
   for (std::size_t k = 0; k < f.data.size(); ++k) {
     const auto text = data_text(f.data[k]);
     if (text.empty()) continue;
-    any = true;
     made.push_back(data_name(stem, k));
-    if (auto s = io::write_file_atomically((tmp / made.back()).string(), text); !s) {
-      cleanup();
-      return s;
-    }
+    if (auto s = io::write_file_atomically((tmp / made.back()).string(), text); !s) return s;
   }
-  if (!any) {
-    cleanup();
+  if (made.empty())
     return runtime_error(fmt::format("figure '{}' has no finite point to plot", f.title));
-  }
   made.push_back(stem + ".gp");
   if (auto s = io::write_file_atomically((tmp / made.back()).string(), script(f, stem, formats));
-      !s) {
-    cleanup();
+      !s)
     return s;
-  }
-  if (auto s = run_gnuplot(gnuplot, tmp.string(), stem); !s) {
-    cleanup();
-    return s;
-  }
+  if (auto s = run_gnuplot(gnuplot, tmp.string(), stem); !s) return s;
   for (const auto fmt_ : formats) made.push_back(stem + "." + std::string(suffix(fmt_)));
   for (const auto& name : made) {
     std::error_code ec;
     fs::rename(tmp / name, fs::path(dir) / name, ec);
-    if (ec) {
-      cleanup();
-      return io_error((fs::path(dir) / name).string(), ec.message());
-    }
+    if (ec) return io_error((fs::path(dir) / name).string(), ec.message());
   }
-  cleanup();
   return ok();
 }
 

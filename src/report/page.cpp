@@ -97,6 +97,14 @@ void put_table(std::string& out, const table& t) {
   out += "</table>\n";
 }
 
+// "NAME failed (exit N): its first messages" for a helper that ran and failed.
+std::string program_failure(const std::string& name, const detail::program_run& r) {
+  std::string what =
+      r.exit_code < 0 ? std::string("was killed") : fmt::format("failed (exit {})", r.exit_code);
+  const std::string text = printable(r.messages, 200);
+  return name + " " + what + (text.empty() ? std::string() : ": " + text);
+}
+
 }  // namespace
 
 result<std::string> html(const page& p, const std::string& dir) {
@@ -155,8 +163,11 @@ result<std::string> sha256_file(const std::string& path) {
 
 status print_pdf(const page& p, const std::string& dir) {
   // Headless Chromium prints the page itself (STACK.md §8): a fresh profile, no sandbox (root).
+  // What each renderer did, for the message when none made the PDF: it must say what to install.
+  std::vector<std::string> why;
   const std::string profile = dir + "/.chromium-profile";
   const auto abs = std::filesystem::absolute(dir).string();
+  bool browser_found = false;
   for (const char* browser : {"chromium", "chromium-browser", "google-chrome"}) {
     auto r = detail::run_program(
         {browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
@@ -167,18 +178,32 @@ status print_pdf(const page& p, const std::string& dir) {
     std::error_code ec;
     std::filesystem::remove_all(profile, ec);
     if (r && r->exit_code == 0 && std::filesystem::exists(dir + "/report.pdf")) return ok();
+    if (r && r->exit_code == 127) continue;  // not installed under this name
+    browser_found = true;
+    why.push_back(!r ? r.err().message : program_failure(browser, *r));
   }
+  if (!browser_found) why.emplace_back("no Chromium (chromium, chromium-browser, google-chrome)");
   // Without a browser: the figures' PDFs, merged (the tables are in index.html and summary.json).
   std::vector<std::string> argv{"pdfunite"};
   for (const auto& s : p.sections)
     for (const auto& f : s.figures)
       if (!f.pdf.empty()) argv.push_back(f.pdf);
   argv.emplace_back("report.pdf");
-  if (argv.size() < 3) return runtime_error("no figure to put into report.pdf");
-  auto r = detail::run_program(argv, dir);
-  if (r && r->exit_code == 0) return ok();
-  return runtime_error("cannot make report.pdf: neither chromium nor pdfunite (poppler-utils) ran" +
-                       (r ? ": " + printable(r->messages, 200) : std::string()));
+  if (argv.size() < 3) {
+    why.emplace_back("no figure for pdfunite to merge");
+  } else {
+    auto r = detail::run_program(argv, dir);
+    if (r && r->exit_code == 0) return ok();
+    why.push_back(!r                    ? r.err().message
+                  : r->exit_code == 127 ? std::string("no pdfunite")
+                                        : program_failure("pdfunite", *r));
+  }
+  std::string reasons;
+  for (const auto& w : why) reasons += (reasons.empty() ? "" : "; ") + w;
+  return runtime_error(
+      fmt::format("cannot make report.pdf: {}. Install poppler-utils (pdfunite "
+                  "merges the figures' PDFs) or chromium (prints the whole page)",
+                  reasons));
 }
 
 }  // namespace gyroflip::report

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <hdf5.h>
 
 #include <nlohmann/json.hpp>
 
@@ -75,33 +74,11 @@ TEST(CliAdev, JsonCsvNpyAndRawAgree) {
             2 + 8);  // header, units, then 1, 2, 4, 10, 20, 40, 100, 200 (<= 250)
 }
 
-// An HDF5 file as a user's logger writes it: float32 samples in a group, the rate as an attribute.
-void write_h5(const std::string& path, const std::vector<double>& y) {
-  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  const hid_t g = H5Gcreate2(f, "/gyro", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  const hsize_t n = y.size();
-  const hid_t space = H5Screate_simple(1, &n, nullptr);
-  const hid_t d =
-      H5Dcreate2(g, "rate_x", H5T_IEEE_F32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, y.data());
-  const hid_t scalar = H5Screate(H5S_SCALAR);
-  const hid_t a =
-      H5Acreate2(d, "sample_rate_hz", H5T_NATIVE_DOUBLE, scalar, H5P_DEFAULT, H5P_DEFAULT);
-  const double hz = 1.0;
-  H5Awrite(a, H5T_NATIVE_DOUBLE, &hz);
-  H5Aclose(a);
-  H5Sclose(scalar);
-  H5Dclose(d);
-  H5Sclose(space);
-  H5Gclose(g);
-  H5Fclose(f);
-}
-
 TEST(CliAdev, Hdf5DatasetInput) {
   temp_dir d;
   auto y = nbs14_1000();
   for (auto& v : y) v = static_cast<double>(static_cast<float>(v));  // what float32 storage keeps
-  write_h5(d.file("log.h5"), y);
+  write_h5(d.file("log.h5"), "/gyro/rate_x", y, 1.0, true);
   write_npy(d.file("y.npy"), y);
   const auto h = run_cli({"adev", d.file("log.h5") + ":/gyro/rate_x", "--json"});
   ASSERT_EQ(h.exit_code, 0) << h.err;
@@ -121,6 +98,34 @@ TEST(CliAdev, Hdf5DatasetInput) {
   const auto fake = run_cli({"adev", d.file("fake.h5") + ":/x"});
   EXPECT_EQ(fake.exit_code, 2);
   EXPECT_NE(fake.err.find("fake.h5: not an HDF5 file"), std::string::npos) << fake.err;
+}
+
+// Issue 21: a file's own sample_rate_hz of 0 or NaN was reported as "(option --rate)", an option
+// never given; `FILE.h5:/a --dataset /b` silently read /a.
+TEST(CliAdev, Hdf5RateAttributeAndDatasetConflictAreNamedForWhatTheyAre) {
+  temp_dir d;
+  const auto y = nbs14_1000();
+  for (const double bad : {0.0, std::nan(""), -5.0}) {
+    write_h5(d.file("bad.h5"), "/gyro/rate_x", y, bad);
+    const auto r = run_cli({"adev", d.file("bad.h5") + ":/gyro/rate_x"});
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_EQ(r.err.find("--rate"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("bad.h5: dataset '/gyro/rate_x': its sample_rate_hz attribute is"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("give the sample rate instead"), std::string::npos) << r.err;
+    // Given, the rate overrides the file's.
+    EXPECT_EQ(run_cli({"adev", d.file("bad.h5") + ":/gyro/rate_x", "--rate", "1"}).exit_code, 0);
+  }
+  write_h5(d.file("two.h5"), "/a", y, 1.0);
+  const auto conflict = run_cli({"adev", d.file("two.h5") + ":/a", "--dataset", "/b"});
+  EXPECT_EQ(conflict.exit_code, 2);
+  EXPECT_NE(conflict.err.find("names dataset '/a', but the dataset parameter says '/b': give it "
+                              "once (option --dataset)"),
+            std::string::npos)
+      << conflict.err;
+  EXPECT_EQ(run_cli({"adev", d.file("two.h5") + ":/a", "--dataset", "/a"}).exit_code, 0);
+  EXPECT_EQ(run_cli({"noise", d.file("two.h5") + ":/a", "--dataset", "/b"}).exit_code, 2);
 }
 
 TEST(CliAdev, RateAndAngleColumnsGiveTheSameCurve) {

@@ -91,6 +91,13 @@ TEST(CliBadInput, NpyHeaderAndLengthAreCheckedExactly) {
       {"shape_neg", npy(dict_of("(-1,)"), 4), "shape (-1,)"},
       {"shape_scalar", npy(dict_of("()"), 1), "1-D"},
       {"shape_huge", npy(dict_of("(1000000000000,)"), 4), "announces 1000000000000"},
+      // Issue 21: sizes past 2^64 bytes wrapped, "announces 2305843009213693952 samples (0
+      // bytes) but the file holds 0 data bytes".
+      {"shape_2p61", npy(dict_of("(2305843009213693952,)"), 0),
+       "announces 2305843009213693952 samples (more than 2^64 bytes) but the file holds 0 data "
+       "bytes"},
+      {"shape_2p62_x_4", npy(dict_of("(4611686018427387904, 4)"), 4),
+       "announces 4611686018427387904 x 4 values (more than 2^64 bytes) but the file holds 32"},
       {"shape_3d", npy(dict_of("(3, 2, 1)"), 6), "1-D (N,) or 2-D (N, M)"},
       {"table_without_column", npy(dict_of("(3, 2)"), 6), "has 2 columns: give a column number"},
       {"f2", npy(dict_of("(8,)", "'<f2'"), 2), "'<f8' or float32 '<f4'"},

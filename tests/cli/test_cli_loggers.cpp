@@ -105,6 +105,43 @@ TEST(CliLoggers, NanosecondEpochStampsInRadiansGiveTheSameCurveTimesTheFactor) {
   EXPECT_NEAR(arw, 0.01, 3 * (hi - lo) / 2);
 }
 
+// Issue 21: stamps past int64 (9.2e18) fell back to doubles and were reported as "does not
+// increase". Integer ns stamps crossing 2^63 - 1, and 22-digit ns stamps (past 2^64), at 10 ms
+// steps give the curve of the same samples stamped in seconds; 39 digits are refused by name.
+TEST(CliLoggers, StampsPastInt64AreRebasedExactly) {
+  temp_dir dir;
+  const auto a = three_axes(3000);
+  write_text(dir.file("plain.csv"), plain_csv(a, 1.0));
+  const json want = run_json({"adev", dir.file("plain.csv"), "--column", "gx", "--json"});
+  const auto stamped = [&](const std::string& name, auto stamp) {
+    std::string csv = "t,gx\n";
+    for (std::size_t k = 0; k < a[0].size(); ++k)
+      csv += stamp(static_cast<unsigned long long>(k)) + fmt::format(",{:.17g}\n", a[0][k]);
+    write_text(dir.file(name), csv);
+    return run_json({"adev", dir.file(name), "--column", "gx", "--time-column", "t", "--time-unit",
+                     "ns", "--json"});
+  };
+  for (const json& j :
+       {stamped("cross.csv",
+                [](unsigned long long k) {
+                  return fmt::format("{}", 9223372036854775000ULL + k * 10'000'000ULL);
+                }),
+        stamped("wide.csv", [](unsigned long long k) {
+          return fmt::format("17000000001{:011}", 23456789000ULL + k * 10'000'000ULL);
+        })}) {
+    EXPECT_DOUBLE_EQ(j["tau0_s"].get<double>(), 0.01);
+    EXPECT_EQ(devs(j), devs(want));
+  }
+  write_text(dir.file("long.csv"), "t,gx\n" + std::string(39, '1') + ",1\n" + std::string(38, '1') +
+                                       "2,2\n" + std::string(38, '1') + "3,3\n");
+  const auto r = run_cli({"adev", dir.file("long.csv"), "--column", "gx", "--time-column", "t"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("long.csv:2:1: time stamp " + std::string(39, '1') +
+                       " has more than 38 digits before the decimal mark"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(CliLoggers, SemicolonsDecimalCommasNoHeaderThreeAxesReadAsThePlainFile) {
   temp_dir dir;
   const auto a = three_axes(3000);

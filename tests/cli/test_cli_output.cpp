@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <future>
 #include <string>
@@ -17,6 +18,8 @@
 #include <gtest/gtest.h>
 
 #include "support/run_cli.hpp"
+#include "support/series_files.hpp"
+#include "support/synth.hpp"
 #include "support/temp_dir.hpp"
 
 namespace gyroflip::test {
@@ -27,6 +30,14 @@ namespace fs = std::filesystem;
 std::vector<std::string> simulate(const std::string& out, double duration_s = 60.0) {
   return {"simulate", "--sensor", "hz1-90-100a", "--duration", std::to_string(duration_s),
           "-o",       out};
+}
+
+// `n` samples of white noise (sd `sd`, fixed seed).
+std::vector<double> white_noise(std::size_t n, double sd, std::uint64_t seed) {
+  normal_source g(seed);
+  std::vector<double> y(n);
+  for (auto& v : y) v = sd * g();
+  return y;
 }
 
 // Names in `dir` other than `keep` (temporaries left behind show here).
@@ -105,6 +116,54 @@ TEST(CliOutput, AnInputIsNeverOverwritten) {
   EXPECT_EQ(a.exit_code, 2);
   EXPECT_EQ(read_text(d.file("rec.csv")), before);
   EXPECT_EQ(stray_files(d, {"rec.csv", "link.csv", "hard.csv"}), std::vector<std::string>{});
+}
+
+// Issue 21: `adev FILE.h5:/rate_dps -o FILE.h5` replaced the HDF5 input by a CSV (the identity
+// check looked for a file named "FILE.h5:/rate_dps"); so did noise -o, noise --kalibr and an -o
+// link pointing at the input. Each output option, by the file's name, a symlink and a hard link.
+TEST(CliOutput, AnHdf5InputBehindItsDatasetNameIsNeverOverwritten) {
+  temp_dir d;
+  write_h5(d.file("run.h5"), "/rate_dps", white_noise(4000, 0.01, 21), 100.0);
+  const std::string before = read_text(d.file("run.h5"));
+  fs::create_symlink("run.h5", d.file("link.h5"));
+  fs::create_hard_link(d.file("run.h5"), d.file("hard.h5"));
+  const std::string in = d.file("run.h5") + ":/rate_dps";
+  ASSERT_EQ(run_cli({"adev", in}).exit_code, 0);  // the input reads
+  for (const auto& out : {d.file("run.h5"), d.file("link.h5"), d.file("hard.h5")}) {
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"adev", in, "-o", out}, {"noise", in, "-o", out}, {"noise", in, "--kalibr", out}}) {
+      const auto r = run_cli(args);
+      EXPECT_EQ(r.exit_code, 2) << args[0] << " " << args[2] << " " << out;
+      EXPECT_NE(r.err.find("is an input of this run"), std::string::npos) << r.err;
+      EXPECT_TRUE(read_text(d.file("run.h5")) == before)
+          << args[0] << " " << args[2] << " " << out << ": the HDF5 input was replaced";
+    }
+  }
+  EXPECT_EQ(stray_files(d, {"run.h5", "link.h5", "hard.h5"}), std::vector<std::string>{});
+}
+
+// `adev --plot NAME.png` also writes NAME.gp and NAME_K.dat beside it (one per column): an input
+// of that name must not be replaced by plot data (issue 21).
+TEST(CliOutput, APlotsSideFilesNeverReplaceAnInput) {
+  if (std::system("command -v gnuplot >/dev/null") != 0) GTEST_SKIP() << "no gnuplot";
+  temp_dir d;
+  std::string csv = "time_s,rate_dps\n";
+  const auto y = white_noise(400, 0.01, 5);
+  for (std::size_t i = 0; i < y.size(); ++i)
+    csv += std::to_string(i) + "," + std::to_string(y[i]) + "\n";
+  for (const char* name : {"plot_1.dat", "plot.gp"}) {
+    write_text(d.file(name), csv);
+    const auto r = run_cli({"adev", d.file(name), "--plot", d.file("plot.png")});
+    EXPECT_EQ(r.exit_code, 2) << name << ": " << r.err;
+    EXPECT_NE(r.err.find("is an input of this run"), std::string::npos) << r.err;
+    EXPECT_EQ(read_text(d.file(name)), csv) << name;
+    EXPECT_EQ(stray_files(d, {name}), std::vector<std::string>{});
+    fs::remove(d.file(name));
+  }
+  write_text(d.file("in.csv"), csv);
+  const auto ok = run_cli({"adev", d.file("in.csv"), "--plot", d.file("plot.png")});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_TRUE(exists(d.file("plot_1.dat")) && exists(d.file("plot.gp")));
 }
 
 TEST(CliOutput, TwoOutputsNamingOneFileAreRefused) {

@@ -1,5 +1,6 @@
 // `gyroflip emulate` through a real pseudo-terminal (issue 9): what a reader decodes is what the
-// device sent (its --log), and link faults lose exactly the frames they hit.
+// device sent (its --log), and link faults lose exactly the frames they hit; its --log and --link
+// never destroy a file of the user's (issue 21).
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -8,6 +9,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -16,11 +18,16 @@
 
 #include "firmware/protocol/frame.hpp"
 #include "firmware/protocol/line.hpp"
+#include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
 
 namespace p = gyroflip::protocol;
+namespace fs = std::filesystem;
+using gyroflip::test::read_text;
+using gyroflip::test::run_cli;
+using gyroflip::test::write_text;
 
 struct log_row {
   std::vector<long long> v;  // the columns from cycle up to flags
@@ -156,6 +163,74 @@ TEST(EmulateCli, LinkFaultsAreCorrectedOrLoseTheirFrameAndNeverMisread) {
   EXPECT_LT(lost, sent.size() / 20) << r.summary;
   EXPECT_LT(lost, hit / 10);
   EXPECT_EQ(r.dwells.size(), sent.size() - lost);
+}
+
+// Issue 21: `--temp-profile p.csv --log p.csv` and `--sensor my.toml --log my.toml` truncated the
+// input; the log was opened before later checks, so a refused run had truncated it already.
+TEST(EmulateCli, TheLogNeverTruncatesAnInputOrARefusedRunsFile) {
+  gyroflip::test::temp_dir dir;
+  const std::string profile = dir.path() + "/p.csv", toml = dir.path() + "/my.toml";
+  write_text(profile, "time_s,temp_c\n0,20\n100,21\n");
+  write_text(toml, "not read: the log check comes first\n");
+  fs::create_symlink("p.csv", dir.path() + "/link.csv");
+  const std::vector<std::vector<std::string>> same_file{
+      {"--temp-profile", profile, "--log", profile},
+      {"--temp-profile", profile, "--log", dir.path() + "/link.csv"},
+      {"--sensor", toml, "--log", toml},
+  };
+  for (const auto& extra : same_file) {
+    std::vector<std::string> args{"emulate", "--pty", "--duration", "1", "--speed", "max"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << extra[0] << " " << extra[3];
+    EXPECT_NE(r.err.find("is an input of this run"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");  // refused before the line was opened
+  }
+  EXPECT_EQ(read_text(profile), "time_s,temp_c\n0,20\n100,21\n");
+  EXPECT_EQ(read_text(toml), "not read: the log check comes first\n");
+  // A run refused for another reason leaves an existing log as it was.
+  const std::string log = dir.path() + "/sent.csv", mine = dir.path() + "/mine.txt";
+  write_text(log, "an earlier run's log\n");
+  write_text(mine, "keep");
+  for (const auto& extra : std::vector<std::vector<std::string>>{
+           {"--link", mine}, {"--sensor", dir.path() + "/nope.toml"}, {"--fault-unplug", "5"}}) {
+    std::vector<std::string> args{"emulate", "--pty", "--duration", "1", "--log", log};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << extra[0] << ": " << r.err;
+    EXPECT_EQ(read_text(log), "an earlier run's log\n") << extra[0];
+  }
+  EXPECT_EQ(read_text(mine), "keep");
+}
+
+// Issue 21: `--link rig` unlinked a file named rig.new (its temporary name) before making the
+// link; a symbolic link of the user's that points somewhere was replaced and, at the end, removed.
+TEST(EmulateCli, TheLinkRemovesOnlyWhatItMade) {
+  gyroflip::test::temp_dir dir;
+  const std::string rig = dir.path() + "/rig";
+  write_text(rig + ".new", "a file of the user's\n");
+  const auto r = run_cli({"emulate", "--pty", "--duration", "2", "--speed", "max", "--link", rig});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("the rig is on " + rig), std::string::npos) << r.out;
+  EXPECT_EQ(read_text(rig + ".new"), "a file of the user's\n");
+  EXPECT_FALSE(fs::exists(fs::symlink_status(rig)));  // removed at the end: it was this run's
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir.path())) left.push_back(e.path().filename());
+  EXPECT_EQ(left, std::vector<std::string>{"rig.new"});
+  // A link of the user's pointing at something that exists stays, whatever it points at.
+  write_text(dir.path() + "/target.txt", "t");
+  fs::create_symlink("target.txt", rig);
+  const auto mine = run_cli({"emulate", "--pty", "--duration", "1", "--link", rig});
+  EXPECT_EQ(mine.exit_code, 2);
+  EXPECT_NE(mine.err.find("which exists"), std::string::npos) << mine.err;
+  EXPECT_EQ(fs::read_symlink(rig), "target.txt");
+  // A dangling one (an emulator killed before it could remove its link) is taken over.
+  fs::remove(rig);
+  fs::create_symlink("/dev/pts/999999", rig);
+  EXPECT_EQ(
+      run_cli({"emulate", "--pty", "--duration", "1", "--speed", "max", "--link", rig}).exit_code,
+      0);
+  EXPECT_FALSE(fs::exists(fs::symlink_status(rig)));
 }
 
 }  // namespace

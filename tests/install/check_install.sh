@@ -21,7 +21,32 @@ if [ "$mode" = prefix ]; then
   cmake --install "$build" --prefix "$p" >"$tmp/install.log" 2>&1 || { cat "$tmp/install.log"; fail "cmake --install failed"; }
   "$p/bin/gyroflip" --version
   "$p/bin/gyroflip" earth --latitude 42.6 --axis north >/dev/null
-  grep -q '^\.TH GYROFLIP-ADEV 1' "$p/share/man/man1/gyroflip-adev.1" || fail "no man page for adev"
+  # A man page for every subcommand `gyroflip --help` lists (issue 21: report and reproduce had
+  # none), each with its own NAME line (its one-line description) and a SEE ALSO naming every
+  # other page.
+  man=$p/share/man/man1
+  pages=(gyroflip)
+  while read -r sub; do pages+=("gyroflip-$sub"); done < <("$p/bin/gyroflip" --help |
+    sed -n '/^Subcommands:/,$p' | sed -n 's/^  \([a-z][a-z0-9-]*\)  .*/\1/p')
+  [ ${#pages[@]} -ge 13 ] || fail "only ${#pages[@]} pages expected from --help"
+  names=()
+  for page in "${pages[@]}"; do
+    f=$man/$page.1
+    [ -f "$f" ] || fail "no man page $page.1"
+    grep -q "^\.TH ${page^^} 1" "$f" || fail "$page.1: no .TH line for ${page^^}"
+    name=$(sed -n '/^\.SH NAME$/{n;p;}' "$f")
+    case "$name" in "$page \\- "?*) ;; *) fail "$page.1: NAME line '$name'" ;; esac
+    names+=("${name#* \\- }")
+    for other in "${pages[@]}"; do
+      [ "$other" = "$page" ] && continue
+      sed -n '/^\.SH SEE ALSO$/,$p' "$f" | grep -qF "\fB$other\fR(1)" ||
+        fail "$page.1: SEE ALSO does not name $other(1)"
+    done
+  done
+  [ "$(printf '%s\n' "${names[@]}" | sort -u | wc -l)" -eq ${#pages[@]} ] ||
+    fail "man pages share a NAME line: $(printf '%s | ' "${names[@]}")"
+  [ -z "$(find "$man" -name '*.1' | grep -vxF -f <(printf "$man/%s.1\n" "${pages[@]}"))" ] ||
+    fail "man pages for no subcommand: $(ls "$man")"
   # The consumer project, through find_package.
   cmake -S "$src/tests/install/consumer" -B "$tmp/consumer" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_PREFIX_PATH="$p" >"$tmp/configure.log" 2>&1 || { cat "$tmp/configure.log"; fail "find_package(gyroflip) failed"; }
@@ -46,6 +71,16 @@ elif [ "$mode" = deb ]; then
   echo "Depends: $depends"
   for lib in libc6 libstdc++6 libfmt9 libhdf5 python3-numpy; do
     grep -q "$lib" <<<"$depends" || fail "Depends lacks $lib"
+  done
+  # docs/INSTALL.md lists the package's relations: the same package names (issue 21: it lacked
+  # libssl3, and report's gnuplot and PDF makers were in no field at all).
+  names() { tr ',' '\n' | sed 's/(.*)//; s/^ *//; s/ *$//' | { grep -v '^$' || true; } | sort -u; }
+  for field in Depends Recommends Suggests; do
+    documented=$(sed -n "s/^$field: //p" "$src/docs/INSTALL.md" | names)
+    packaged=$(dpkg-deb -f "$deb" "$field" | names)
+    [ -n "$documented" ] || fail "docs/INSTALL.md has no '$field:' line"
+    [ "$documented" = "$packaged" ] ||
+      fail "$field: docs/INSTALL.md says $(echo $documented), the .deb $(echo $packaged)"
   done
   dpkg-deb -c "$deb" >"$tmp/contents"
   grep -q './usr/lib/python3/dist-packages/gyroflip/__init__.py' "$tmp/contents" ||

@@ -44,7 +44,11 @@ TEST(RowsOfColumns, ErrorsNameColumnAndRow) {
       0u);
   EXPECT_EQ(msg({std::vector<double>{0, 2, 1}, a, r, {}, {}}),
             "time_s[2]: time goes backwards: 1 after 2");
-  EXPECT_EQ(msg({std::vector<double>{0, nan, 1}, a, r, {}, {}}), "time_s[1]: not a finite number");
+  EXPECT_EQ(msg({std::vector<double>{0, nan, 1}, a, r, {}, {}}),
+            "time_s[1]: not a finite number within +-1e100");
+  // Issue 21: the bound of a CSV cell, for columns in memory too (1e300 was taken).
+  EXPECT_EQ(msg({std::vector<double>{0, 1, 1e101}, a, r, {}, {}}),
+            "time_s[2]: not a finite number within +-1e100");
   EXPECT_EQ(msg({t, a, std::vector<double>{1, INFINITY, 3}, {}, {}}),
             "rate_dps[1]: not a finite number within +-1e100");
   EXPECT_EQ(

@@ -1,6 +1,7 @@
 // The report module: golden gnuplot scripts (text, not pixels), rendering through gnuplot into
 // all three formats with nothing left behind, and the figures' content from known inputs.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -139,6 +140,40 @@ TEST(ReportPage, Sha256OfKnownText) {
   EXPECT_EQ(*report::sha256_file(dir.path() + "/abc"),
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_FALSE(report::sha256_file(dir.path() + "/none"));
+}
+
+// Issue 21: from the installed package, `report` failed with "neither chromium nor pdfunite
+// (poppler-utils) ran: " and nothing after it. With no renderer on PATH the error says what each
+// did and what to install; without gnuplot, to install gnuplot-nox.
+TEST(ReportPage, WithoutARendererTheErrorSaysWhatToInstall) {
+  const test::temp_dir dir, empty_path;
+  report::page p;
+  p.title = "t";
+  report::section s;
+  s.figures.push_back({"f", "figures/f.png", "figures/f.pdf", ""});
+  p.sections.push_back(s);
+  const std::string path = std::getenv("PATH") != nullptr ? std::getenv("PATH") : "";
+  ::setenv("PATH", empty_path.path().c_str(), 1);
+  const auto pdf = report::print_pdf(p, dir.path());
+  p.sections.clear();
+  const auto no_figure = report::print_pdf(p, dir.path());
+  const std::vector<report::allan_curve> curves{white_curve()};
+  const auto figure = report::render(report::allan_figure(curves, "°/s", "Allan"), dir.path(), "a",
+                                     std::array{report::image_format::png});
+  ::setenv("PATH", path.c_str(), 1);
+  ASSERT_FALSE(pdf);
+  EXPECT_EQ(pdf.err().message,
+            "cannot make report.pdf: no Chromium (chromium, chromium-browser, google-chrome); no "
+            "pdfunite. Install poppler-utils (pdfunite merges the figures' PDFs) or chromium "
+            "(prints the whole page)");
+  ASSERT_FALSE(no_figure);
+  EXPECT_NE(no_figure.err().message.find("no figure for pdfunite to merge. Install poppler-utils"),
+            std::string::npos)
+      << no_figure.err().message;
+  ASSERT_FALSE(figure);
+  EXPECT_NE(figure.err().message.find("install gnuplot-nox"), std::string::npos)
+      << figure.err().message;
+  EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
 TEST(ReportCli, AdevPlotWritesImageScriptAndData) {

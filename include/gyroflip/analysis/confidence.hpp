@@ -39,11 +39,16 @@ namespace gyroflip::analysis {
 /// and the OADEV EDF for TOTDEV with PM noise.
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
+/// The rule for a confidence level (`--ci`, Python's `ci`): a probability in (0, 1). Error
+/// (parameter `level`) otherwise.
+[[nodiscard]] status check_confidence_level(double level);
+
 /// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau
 /// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF at each
 /// tau the smallest of those that the types identified at it and at its two neighbours give (a
 /// type misread from few points must not make one interval narrower than its neighbours allow),
-/// bounds at confidence `level` (two-sided; 0.683 = 1 sigma) from SP1065 eqn 45:
+/// bounds at confidence `level` (two-sided; 0.683 = 1 sigma; check_confidence_level) from
+/// SP1065 eqn 45:
 /// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
 /// level)/2, edf)). The decimated series of all points are collected in one pass over the phase
 /// (as many as fit in 128 MB; more factors take more passes). `on_progress` reports that pass.

@@ -25,9 +25,13 @@ struct tau_range {
   double hi_s = std::numeric_limits<double>::infinity();
 };
 
+/// The rule for a fit range (`--fit-taus LO:HI`, Python's `fit_taus`): 0 <= LO < HI, LO finite,
+/// HI finite or +inf (no upper limit, the default). Error (parameter `fit_taus`) otherwise.
+[[nodiscard]] status check_fit_range(const tau_range& range);
+
 /// OADEV of `x` (octave taus), its bounds at `level` (add_confidence), the fit of the points in
-/// `range` and the read-offs. Errors: those of `deviation` and `fit_noise_terms` (too few
-/// points in the range).
+/// `range` and the read-offs. Errors: a level or range the checks above refuse, those of
+/// `deviation` and `fit_noise_terms` (too few points in the range).
 [[nodiscard]] result<noise_analysis> analyse_noise(const phase_source& x, double level,
                                                    const tau_range& range = {},
                                                    const noise_series& series = {},

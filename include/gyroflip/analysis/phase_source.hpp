@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "gyroflip/analysis/sample_source.hpp"
+#include "gyroflip/core/error.hpp"
 #include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
 
@@ -37,7 +38,7 @@ class phase_source {
   /// max_tau0_s]. Within it no sum, square or EDF of any deviation overflows (a phase point is at
   /// most 1e100 x 1e9 s x 1e12 samples, its square 1e242), so every result is finite; beyond it
   /// `make` refuses the series rather than compute inf (docs/FORMATS.md, "Series").
-  static constexpr double max_sample_magnitude = 1e100;
+  static constexpr double max_sample_magnitude = max_input_magnitude;
   static constexpr double min_tau0_s = 1e-9;
   static constexpr double max_tau0_s = 1e9;
 

@@ -13,6 +13,11 @@
 
 namespace gyroflip {
 
+/// The largest magnitude of a number gyroflip takes from a user (a CSV cell, an option, a Python
+/// argument, a sample): within it no sum or square the method and the analysis form overflows
+/// (1e100 x 1e12 terms, squared, is 1e224), so every result is finite (docs/FORMATS.md).
+inline constexpr double max_input_magnitude = 1e100;
+
 /// Where in an input the problem is. `line`/`column` are 1-based, 0 when unknown.
 struct source_location {
   std::string_view file;

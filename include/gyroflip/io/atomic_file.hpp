@@ -76,11 +76,16 @@ class atomic_file {
 /// Writes `text` to `path` atomically (convenience for small outputs such as JSON).
 [[nodiscard]] status write_file_atomically(const std::string& path, std::string_view text);
 
+/// The file (or folder) a write to `path` lands in: symlinks followed one by one, the target of a
+/// dangling link being the file to create (as the shell's `>` does). Errors: a loop.
+[[nodiscard]] result<std::string> real_target(const std::string& path);
+
 /// Checks, before a run does any work, that none of its `outputs` is one of its `inputs` (same
 /// file: same device and inode, so `./a.csv`, `a.csv`, a symlink to it and a hard link all
-/// count) and that no two outputs name the same file (same file, or the same resolved path for
-/// files that do not exist yet). Devices and FIFOs may be named twice; `-` only once. Empty
-/// names are skipped. Errors: `OUT: ...` naming both files (bad input).
+/// count; an input `FILE.h5:/dataset` is the file FILE.h5, io::series_file) and that no two outputs
+/// name the same file (same file, or the same resolved path for files that do not exist yet).
+/// Devices and FIFOs may be named twice; `-` only once. Empty names are skipped. Errors: `OUT: ...`
+/// naming both files (bad input).
 [[nodiscard]] status check_outputs(std::span<const std::string> inputs,
                                    std::span<const std::string> outputs);
 
@@ -89,7 +94,33 @@ class atomic_file {
 /// naming both spellings (bad input).
 [[nodiscard]] status check_distinct_inputs(std::span<const std::string> inputs);
 
-/// Removes every temporary file not yet committed. Async-signal-safe (only unlink(2)): for
+/// A private folder for a run's work, `DIR/.NAME.gyroflip-tmp.*` (mode 0700), removed with all it
+/// holds when the object goes, or by remove_temporary_files() on a signal; registered for that
+/// before it is created, so no signal leaves it behind. A report is built in one beside its
+/// target and renamed into place (then `keep()`), a figure is drawn in one.
+class temporary_folder {
+ public:
+  /// Errors: DIR is missing or not writable.
+  [[nodiscard]] static result<temporary_folder> create(const std::string& dir,
+                                                       const std::string& name);
+  temporary_folder(temporary_folder&& other) noexcept;
+  temporary_folder& operator=(temporary_folder&&) = delete;
+  temporary_folder(const temporary_folder&) = delete;
+  temporary_folder& operator=(const temporary_folder&) = delete;
+  /// Removes the folder and everything in it (unless kept).
+  ~temporary_folder();
+  [[nodiscard]] const std::string& path() const noexcept { return path_; }
+  /// Forgets the folder: it is no longer removed (it was renamed into place).
+  void keep() noexcept;
+
+ private:
+  temporary_folder(std::string path, int slot) noexcept;
+  std::string path_;
+  int slot_ = -1;
+};
+
+/// Removes every temporary file not yet committed and every temporary folder with what it
+/// holds. Async-signal-safe (system calls only: unlink, getdents64, unlinkat): for
 /// SIGINT/SIGTERM/SIGHUP handlers, before the process dies.
 void remove_temporary_files() noexcept;
 

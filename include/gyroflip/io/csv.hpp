@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gyroflip/core/error.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/mapped_file.hpp"
 
@@ -115,7 +116,7 @@ class csv_reader {
   [[nodiscard]] std::string_view cell(std::size_t i) const noexcept;
   /// Largest magnitude a number may have (docs/FORMATS.md): within it the method's and the
   /// analysis' sums and squares cannot overflow.
-  static constexpr double max_magnitude = 1e100;
+  static constexpr double max_magnitude = max_input_magnitude;
   /// Parses selected cell `i` as a finite double of magnitude <= max_magnitude. On failure returns
   /// false and sets `last_error()` to `FILE:LINE:COL: ...` naming the column. Inline fast path for
   /// plain decimals without blanks; everything else (and every error) goes through parse_slow.

@@ -89,6 +89,10 @@ class series {
   std::vector<std::string> notes_;
 };
 
+/// The file a series input names: FILE.h5 for `FILE.h5:/dataset` (also .hdf5, .hdf), else the
+/// name itself. For checks on the file (an output must not replace an input).
+[[nodiscard]] std::string series_file(const std::string& spec);
+
 /// Reads `path` by its extension: `.npy` (1-D, '<f8', C order), `.f64`/`.bin`/`.raw` (raw
 /// little-endian float64), `.h5`/`.hdf5` (a 1-D dataset named `FILE.h5:/path` or by
 /// `dataset`, any numeric type, rate from a `sample_rate_hz` attribute or the option),
@@ -97,7 +101,8 @@ class series {
 /// precision): the median step is the period; steps within +-50 % of it are jitter (accepted
 /// and noted); a longer step is a gap (an error naming where, or with gap_policy::split the
 /// longest gap-free run); a shorter one, or stamps that drift off a uniform grid by half a
-/// period, is an error. Errors name the file (and line/column for CSV).
+/// period, is an error. Errors name the file (and line/column for CSV); `FILE.h5:/a` with the
+/// `dataset` option naming another dataset is an error (which one was meant cannot be guessed).
 [[nodiscard]] result<series> read_series(const std::string& path, const series_options& opt);
 
 /// Several CSV columns read in one pass over the file (an N x M logger file): one series each,

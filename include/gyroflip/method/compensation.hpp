@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 
+#include "gyroflip/core/result.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
 #include "gyroflip/method/types.hpp"
 
@@ -37,6 +38,17 @@ struct compensation_summary {
 
 /// Default moving-mean window for `drift_dps` (s).
 inline constexpr double drift_window_default_s = 100.0;
+/// Longest moving-mean window (s): 1e9 s, some 30 years.
+inline constexpr double drift_window_max_s = 1e9;
+
+/// The rules for a dN a user gives as a number (`compensate --delta-n`, Python's
+/// `delta_n_dps`): finite, |dN| <= max_input_magnitude (deg/s), as any number gyroflip reads.
+/// Error (parameter `delta_n_dps`) otherwise.
+[[nodiscard]] status check_delta_n(double delta_n_dps);
+
+/// The rules for the drift's moving-mean window (`--drift-window`, `drift_window_s`): in
+/// (0, drift_window_max_s] s. Error (parameter `window_s`) otherwise.
+[[nodiscard]] status check_drift_window(double window_s);
 
 /// Mean, std, standard errors and drift (moving-mean range over `window_s`).
 /// Precondition: at least one cycle.

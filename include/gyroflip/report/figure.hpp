@@ -60,6 +60,13 @@ struct figure {
 [[nodiscard]] std::string script(const figure& f, std::string_view stem,
                                  std::span<const image_format> formats);
 
+/// Every file render() may write for a figure of `series` data series: DIR/STEM_K.dat (K from 1
+/// to `series`), DIR/STEM.gp and DIR/STEM.<format> per format. For checking, before any work,
+/// that none of them is an input of the run.
+[[nodiscard]] std::vector<std::string> rendered_files(const std::string& dir,
+                                                      const std::string& stem, std::size_t series,
+                                                      std::span<const image_format> formats);
+
 /// Writes DIR/STEM.gp and its data files and runs `gnuplot STEM.gp` in DIR, which makes
 /// DIR/STEM.<format>. Errors: a file that cannot be written, gnuplot missing or failing (its
 /// message), a figure without any finite point.
