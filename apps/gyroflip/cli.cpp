@@ -314,6 +314,10 @@ void setup_adev(CLI::App& app, action& chosen) {
                   "no bounds: fastest)")
       ->check(confidence_level(true))
       ->capture_default_str();
+  sub->add_flag(
+      "--ci-guard", o->ci_guard,
+      "no interval narrower than the noise types at the neighbouring taus allow (default: "
+      "the type identified at each tau, as Stable32)");
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
   sub->add_option("--plot", o->plot,

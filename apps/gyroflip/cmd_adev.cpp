@@ -224,7 +224,9 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
     warn(fmt::format("{}: averaging factor {} dropped: {}", what, d.m, d.why));
   if (level) {
     progress ci_bar("noise identification", 1000);
-    analysis::add_confidence(*pts, kind, in.phase, *level, per_mille(ci_bar));
+    analysis::add_confidence(
+        *pts, kind, in.phase, *level, per_mille(ci_bar),
+        o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
     ci_bar.finish();
   }
   return adev_result{std::move(*pts), std::move(dropped)};

@@ -193,7 +193,7 @@ class Deviation:
     ci: float
 
 
-def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683):
+def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683, guard=False):
     """A deviation of the Allan family with confidence bounds, as `gyroflip adev` computes it.
 
     data: 1-D samples; input="rate" (deg/s, SP1065's frequency) or "angle" (deg, phase). A
@@ -207,7 +207,9 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
       for TOTDEV); or an array of taus in seconds (each rounded to the nearest factor).
     ci: two-sided confidence level of ci_lo/ci_hi (0.683 = 1 sigma; None = no bounds): noise
       identified at each tau (lag-1 autocorrelation, B1 ratio), EDF by Greenhall & Riley (2003),
-      chi-squared bounds (SP1065 eqn 45).
+      chi-squared bounds (SP1065 eqn 45), as Stable32 computes them.
+    guard: no interval narrower than the noise types identified at the neighbouring taus allow
+      (a guard against a type misread from a few points; `gyroflip adev --ci-guard`).
     Returns a Deviation. Releases the GIL; Ctrl-C stops it."""
     rate = _positive_rate(rate)
     y, backed = _samples(data)
@@ -222,7 +224,8 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
         factors = sorted({int(v) for v in _np.round(t * rate) if v >= 1})
         if not factors:
             raise ValueError("every tau is shorter than half a sample interval")
-    r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed)
+    r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed,
+                         bool(guard))
     return Deviation(kind=kind, ci=ci, **r)
 
 

@@ -57,7 +57,7 @@ analysis::tau_spec spec_of(const std::string& taus,
 py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
                const std::string& input, const std::string& taus,
                const std::optional<std::vector<std::size_t>>& factors, std::optional<double> ci,
-               bool file_backed) {
+               bool file_backed, bool guard) {
   const auto k = analysis::parse_dev_kind(kind);
   if (!k) throw py::value_error("unknown statistic '" + kind + "'");
   const auto in = input_of(input);
@@ -69,7 +69,9 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
     auto phase = analysis::phase_source::make(*src, in, tau0, listen);
     if (!phase) return result<std::vector<analysis::deviation_point>>(phase.err());
     auto p = analysis::deviation(*k, *phase, spec, listen);
-    if (p && ci) analysis::add_confidence(*p, *k, *phase, *ci, listen);
+    if (p && ci)
+      analysis::add_confidence(*p, *k, *phase, *ci, listen,
+                               guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
     return p;
   });
   const auto points = take(std::move(pts));
@@ -126,7 +128,8 @@ py::object noise(const f64_array& data, double rate_hz, const std::string& input
 
 void bind_analysis(py::module_& m) {
   m.def("_curve", &curve, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
-        py::arg("taus"), py::arg("factors"), py::arg("ci"), py::arg("file_backed"));
+        py::arg("taus"), py::arg("factors"), py::arg("ci"), py::arg("file_backed"),
+        py::arg("guard") = false);
   m.def("_noise", &noise, py::arg("data"), py::arg("rate"), py::arg("input"), py::arg("units"),
         py::arg("ci"), py::arg("fit_lo_s"), py::arg("fit_hi_s"), py::arg("abba_cycles"),
         py::arg("name"), py::arg("column"), py::arg("file_backed"));

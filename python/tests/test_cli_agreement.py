@@ -34,6 +34,19 @@ def test_deviation_equals_adev_json(exe, series_csv, kind):
     assert [p["alpha"] for p in cli["points"]] == list(d.alpha)
 
 
+def test_ci_guard_equals_guard_true(exe, series_csv):
+    """`adev --ci-guard` and deviation(guard=True) are one rule (issue 23): never a larger EDF
+    than the default, the same noise types."""
+    path, y = series_csv
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--ci-guard", "--json"))
+    plain = json.loads(run(exe, "adev", path, "--rate", 100, "--json"))
+    d = gyroflip.deviation(y, "oadev", rate=100.0, taus="octave", ci=0.683, guard=True)
+    for key, arr in [("dev", d.dev), ("ci_lo", d.ci_lo), ("ci_hi", d.ci_hi), ("edf", d.edf)]:
+        np.testing.assert_array_equal([p[key] for p in cli["points"]], arr, err_msg=key)
+    assert [p["alpha"] for p in cli["points"]] == [p["alpha"] for p in plain["points"]]
+    assert all(g["edf"] <= p["edf"] for g, p in zip(cli["points"], plain["points"]))
+
+
 def test_noise_equals_noise_json(exe, series_csv):
     path, y = series_csv
     cli = json.loads(run(exe, "noise", path, "--rate", 100, "--json"))

@@ -37,8 +37,10 @@ std::size_t ohdev_terms(std::size_t n, std::size_t m) {
 std::size_t mdev_terms(std::size_t n, std::size_t m) {
   return n >= 3 * m ? n - 3 * m + 1 : 0;
 }
+// TOTDEV's reflected series x* reaches N - 2 points beyond either end, so every m up to N - 1
+// has its N - 2 terms (Stable32 and allantools compute m = N - 1 too).
 std::size_t totdev_terms(std::size_t n, std::size_t m) {
-  return n >= 3 && m <= n - 2 ? n - 2 : 0;
+  return n >= 3 && m <= n - 1 ? n - 2 : 0;
 }
 
 // Term ranges [0, terms) of a sweep whose terms start at i = 0.

@@ -76,7 +76,8 @@ struct deviation_point {
 /// - OHDEV  (eqn 18): all third differences (x_{i+3m} - 3x_{i+2m} + 3x_{i+m} - x_i)^2 / (6 tau^2 (N
 /// - 3m))
 /// - TOTDEV (eqn 25): OADEV terms centred on every interior point of x extended by reflection
-///   at both ends (x*_{-j} = 2x_0 - x_j, x*_{N-1+j} = 2x_{N-1} - x_{N-1-j}), over N - 2 terms.
+///   at both ends (x*_{-j} = 2x_0 - x_j, x*_{N-1+j} = 2x_{N-1} - x_{N-1-j}), over N - 2 terms,
+///   for every m up to N - 1.
 /// Squared differences are summed in double over blocks of 4096 terms and the block sums in long
 /// double; MDEV's inner sum slides by one term per step and is recomputed exactly every 2^20
 /// steps (relative rounding ~1e-13, tested against all-long-double references).

@@ -35,23 +35,37 @@ namespace gyroflip::analysis {
 /// Greenhall & Riley's algorithm ("Uncertainty of stability variances based on finite
 /// differences", 2003; as Stable32) for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV — the basic sum
 /// directly up to J_max = 100 terms, their Tables 1-3 beyond — so one EDF costs at most ~100
-/// evaluations whatever m and N; the SP1065 Table 11 fit b (T/tau) - c for TOTDEV with FM noise,
-/// and the OADEV EDF for TOTDEV with PM noise.
+/// evaluations whatever m and N. TOTDEV: the SP1065 Table 11 fit b (T/tau) - c with FM noise,
+/// the SP1065 Table 5 flicker-PM formula with alpha = 1 and the OADEV EDF with white PM (as
+/// Stable32: its bounds agree to 6e-4 on the GPS set); beyond m = (N-1)/2, where those fits are
+/// not defined, at least 1.
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
+/// How `add_confidence` picks each point's EDF.
+enum class edf_rule {
+  /// The EDF of the noise type identified at that tau, as Stable32 computes it (the default:
+  /// bounds agree with Stable32's to 1e-3 wherever the identified type agrees).
+  stable32,
+  /// No interval narrower than the neighbouring taus allow: the smallest EDF among the types
+  /// identified at the tau and at its two neighbours, and a frequency-noise type carried on where
+  /// PM is read at a tau longer than one that showed frequency noise. A type misread from few
+  /// points (white FM read as PM on 44 points: EDF 20 000 instead of 130) then cannot give one
+  /// point a +-0.5 % interval. The noise fit's weights use it (docs/ANALYSIS.md, "The guard").
+  guarded,
+};
+
 /// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau
-/// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF at each
-/// tau the smallest of those that the types identified at it and at its two neighbours give (a
-/// type misread from few points must not make one interval narrower than its neighbours allow),
-/// bounds at confidence `level` (two-sided; 0.683 = 1 sigma) from SP1065 eqn 45:
+/// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF by
+/// `rule`, bounds at confidence `level` (two-sided; 0.683 = 1 sigma) from SP1065 eqn 45:
 /// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
 /// level)/2, edf)). The decimated series of all points are collected in one pass over the phase
 /// (as many as fit in 128 MB; more factors take more passes). `on_progress` reports that pass.
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
-                    double level, const progress_fn& on_progress = {});
+                    double level, const progress_fn& on_progress = {},
+                    edf_rule rule = edf_rule::stable32);
 
 /// As above, on a phase series in memory (deg).
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
-                    double level);
+                    double level, edf_rule rule = edf_rule::stable32);
 
 }  // namespace gyroflip::analysis
