@@ -222,12 +222,15 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
   auto dropped = analysis::dropped_factors(taus, *pts, kind, in.phase.size(), in.phase.tau0_s());
   for (const auto& d : dropped)
     warn(fmt::format("{}: averaging factor {} dropped: {}", what, d.m, d.why));
-  if (level) {
+  // Noise identification for the bounds, or for the total deviations' bias correction alone
+  // (then at the default level, the bounds not shown).
+  if (level || o.bias_correction) {
     progress ci_bar("noise identification", 1000);
     analysis::add_confidence(
-        *pts, kind, in.phase, *level, per_mille(ci_bar),
+        *pts, kind, in.phase, level.value_or(0.683), per_mille(ci_bar),
         o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
     ci_bar.finish();
+    if (o.bias_correction) analysis::correct_total_bias(*pts, kind);
   }
   return adev_result{std::move(*pts), std::move(dropped)};
 }
@@ -257,13 +260,19 @@ result<std::optional<plot_file>> plot_target(const std::string& path) {
 int run_adev(const adev_options& o) {
   const auto kind = analysis::parse_dev_kind(o.kind);
   if (!kind)
-    return report(
-        usage_error("--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev"));
+    return report(usage_error(
+        "--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
+        "htotdev, theo1, pdev, mtie, tierms"));
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
-  // The validator (cli.cpp) let through only "none" or a number in (0, 1).
-  const std::optional<double> level =
-      o.ci == "none" ? std::nullopt : std::optional<double>(std::stod(o.ci));
+  // The validator (cli.cpp) let through only "none" or a number in (0, 1). Kinds without an EDF
+  // (HTOTDEV, Theo1, PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
+  const std::optional<double> level = o.ci == "none" || !analysis::has_edf(*kind)
+                                          ? std::nullopt
+                                          : std::optional<double>(std::stod(o.ci));
+  if (o.bias_correction && *kind != analysis::dev_kind::mtotdev &&
+      *kind != analysis::dev_kind::ttotdev && *kind != analysis::dev_kind::htotdev)
+    return report(usage_error("--bias-correction applies to mtotdev, ttotdev and htotdev only"));
   if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.output, o.plot}); !s)
     return report(s.err());
   const auto plot = plot_target(o.plot);

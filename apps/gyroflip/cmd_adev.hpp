@@ -54,6 +54,7 @@ struct adev_options {
   std::string taus = "octave";
   std::string ci = "0.683";  ///< two-sided level, or "none"
   bool ci_guard = false;     ///< no interval narrower than its neighbours allow (edf_rule::guarded)
+  bool bias_correction = false;  ///< Stable32's bias correction of mtotdev/ttotdev/htotdev
   bool json = false;
   std::string output;
   std::string plot;  ///< FILE.png|.svg|.pdf: the Allan plot, its .gp script and data beside it

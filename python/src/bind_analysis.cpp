@@ -57,7 +57,7 @@ analysis::tau_spec spec_of(const std::string& taus,
 py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
                const std::string& input, const std::string& taus,
                const std::optional<std::vector<std::size_t>>& factors, std::optional<double> ci,
-               bool file_backed, bool guard) {
+               bool file_backed, bool guard, bool bias_correction) {
   const auto k = analysis::parse_dev_kind(kind);
   if (!k) throw py::value_error("unknown statistic '" + kind + "'");
   const auto in = input_of(input);
@@ -69,9 +69,10 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
     auto phase = analysis::phase_source::make(*src, in, tau0, listen);
     if (!phase) return result<std::vector<analysis::deviation_point>>(phase.err());
     auto p = analysis::deviation(*k, *phase, spec, listen);
-    if (p && ci)
-      analysis::add_confidence(*p, *k, *phase, *ci, listen,
+    if (p && (ci || bias_correction))
+      analysis::add_confidence(*p, *k, *phase, ci.value_or(0.683), listen,
                                guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
+    if (p && bias_correction) analysis::correct_total_bias(*p, *k);
     return p;
   });
   const auto points = take(std::move(pts));
@@ -129,7 +130,7 @@ py::object noise(const f64_array& data, double rate_hz, const std::string& input
 void bind_analysis(py::module_& m) {
   m.def("_curve", &curve, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
         py::arg("taus"), py::arg("factors"), py::arg("ci"), py::arg("file_backed"),
-        py::arg("guard") = false);
+        py::arg("guard") = false, py::arg("bias_correction") = false);
   m.def("_noise", &noise, py::arg("data"), py::arg("rate"), py::arg("input"), py::arg("units"),
         py::arg("ci"), py::arg("fit_lo_s"), py::arg("fit_hi_s"), py::arg("abba_cycles"),
         py::arg("name"), py::arg("column"), py::arg("file_backed"));

@@ -158,3 +158,47 @@ def test_help_is_useful():
     doc = gyroflip.oadev.__doc__
     assert "SP1065 eqn 11" in doc and "(taus, devs, errs, ns)" in doc and "deg/s" in doc
     assert "ci_lo" in gyroflip.deviation.__doc__ or "bounds" in gyroflip.deviation.__doc__
+
+
+# Issue 23: the total and time-error statistics against Stable32's PHASE.DAT tables, through the
+# allantools-compatible functions (taus m / rate, ns as Stable32's "#") and deviation().
+EXTENDED_TABLES = [
+    ("mtotdev", "phase_dat_mtotdev_octave.txt"), ("ttotdev", "phase_dat_ttotdev_octave.txt"),
+    ("htotdev", "phase_dat_htotdev_octave_nobias.txt"), ("theo1", "phase_dat_theo1_alpha0.txt"),
+    ("mtie", "phase_dat_mtie.txt"), ("tierms", "phase_dat_tierms.txt"),
+]
+
+
+def read_rows_any(path):
+    """(af, n, sigma) of a Stable32 table, `#`-commented data rows included."""
+    out = []
+    with open(path) as f:
+        for line in f:
+            t = line.lstrip("# ").split()
+            if len(t) in (4, 7) and t[0].isdigit():
+                out.append((int(t[0]), float(t[2]), float(t[5] if len(t) == 7 else t[3])))
+    return out
+
+
+@pytest.mark.parametrize("kind,table", EXTENDED_TABLES)
+def test_extended_kinds_match_stable32(kind, table, vectors):
+    x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
+    rows = read_rows_any(os.path.join(vectors, "stable32/phasedat", table))
+    taus, devs, errs, ns = getattr(gyroflip, kind)(x, rate=1.0, taus=[r[0] for r in rows])
+    assert list(taus) == [float(r[0]) for r in rows]
+    np.testing.assert_allclose(devs, [r[2] for r in rows], rtol=1e-4)
+    np.testing.assert_allclose(ns, [r[1] for r in rows], rtol=5e-5)  # Theo1's "#" has 5 digits
+    d = gyroflip.deviation(x, kind, rate=1.0, input="angle", taus=[r[0] for r in rows])
+    np.testing.assert_allclose(d.dev, devs, rtol=1e-12)
+    if kind == "theo1":
+        np.testing.assert_allclose(d.tau_s, 0.75 * taus)
+
+
+def test_htotdev_bias_correction_matches_stable32(vectors):
+    x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
+    rows = read_rows_any(os.path.join(vectors, "stable32/phasedat/phase_dat_htotdev_octave.txt"))
+    d = gyroflip.deviation(x, "htotdev", rate=1.0, input="angle", taus=[r[0] for r in rows],
+                           bias_correction=True)
+    np.testing.assert_allclose(d.dev, [r[2] for r in rows], rtol=1e-4)
+    with pytest.raises(ValueError):
+        gyroflip.deviation(x, "oadev", input="angle", bias_correction=True)

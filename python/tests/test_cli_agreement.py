@@ -125,3 +125,33 @@ def test_readme_python_example_runs(tmp_path):
         os.chdir(cwd)
     assert abs(scope["cal"]["delta_n_dps"] - scope["rec"]["delta_n_truth_dps"]) < 0.01
     assert scope["taus"][0] == 0.01
+
+
+@pytest.mark.parametrize("kind", ["mtotdev", "ttotdev", "htotdev", "theo1", "pdev", "mtie", "tierms"])
+def test_extended_kinds_equal_adev_json(exe, series_csv, kind):
+    """Issue 23: the new kinds through `adev --kind` and deviation() are one computation; the kinds
+    without an EDF print null bounds (as --ci none)."""
+    path, y = series_csv
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--kind", kind, "--json"))
+    d = gyroflip.deviation(y, kind, rate=100.0, input="rate", taus="octave", ci=0.683)
+    assert [p["m"] for p in cli["points"]] == list(d.m)
+    np.testing.assert_array_equal([p["dev"] for p in cli["points"]], d.dev)
+    np.testing.assert_array_equal([p["tau_s"] for p in cli["points"]], d.tau_s)
+    if kind in ("mtotdev", "ttotdev"):
+        np.testing.assert_array_equal([p["ci_lo"] for p in cli["points"]], d.ci_lo)
+    else:
+        assert cli["ci"] is None and all(p["ci_lo"] is None for p in cli["points"])
+        assert np.all(np.isnan(d.ci_lo))
+
+
+def test_bias_correction_is_for_the_total_kinds_only(exe, series_csv):
+    path, y = series_csv
+    plain = json.loads(run(exe, "adev", path, "--rate", 100, "--kind", "htotdev", "--json"))
+    corr = json.loads(run(exe, "adev", path, "--rate", 100, "--kind", "htotdev", "--json",
+                          "--bias-correction"))
+    d = gyroflip.deviation(y, "htotdev", rate=100.0, bias_correction=True)
+    np.testing.assert_array_equal([p["dev"] for p in corr["points"]], d.dev)
+    assert all(c["dev"] >= p["dev"] for c, p in zip(corr["points"], plain["points"]))
+    bad = subprocess.run([exe, "adev", str(path), "--rate", "100", "--bias-correction"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "--bias-correction" in bad.stderr

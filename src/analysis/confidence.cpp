@@ -452,8 +452,39 @@ double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
       return edf_greenhall(alpha, 3, m, n_phase, true, false);
     case dev_kind::totdev:
       return edf_totdev(alpha, m, n_phase);
+    case dev_kind::mtotdev:
+    case dev_kind::ttotdev: {
+      // SP1065 Table 8, rows alpha = 2, 1, 0, -1, -2.
+      constexpr double b[5] = {1.90, 1.20, 1.10, 0.85, 0.75};
+      constexpr double c[5] = {2.1, 1.40, 1.2, 0.50, 0.31};
+      const auto row = static_cast<std::size_t>(2 - std::clamp(alpha, -2, 2));
+      const double e = b[row] * static_cast<double>(n_phase - 1) / static_cast<double>(m) - c[row];
+      return e > 1.0 ? e : 1.0;
+    }
+    default:
+      return 0.0;
   }
-  return 0.0;
+}
+
+bool has_edf(dev_kind k) noexcept {
+  return !is_extended(k) || k == dev_kind::mtotdev || k == dev_kind::ttotdev;
+}
+
+void correct_total_bias(std::vector<deviation_point>& points, dev_kind k) {
+  for (auto& p : points) {
+    double b = 1.0;
+    if (k == dev_kind::mtotdev || k == dev_kind::ttotdev) {
+      constexpr double table[5] = {0.94, 0.83, 0.73, 0.70, 0.69};  // alpha 2 .. -2
+      b = table[static_cast<std::size_t>(2 - std::clamp(p.alpha, -2, 2))];
+    } else if (k == dev_kind::htotdev && p.m > 1 && p.alpha <= 0) {
+      constexpr double table[5] = {0.995, 0.851, 0.771, 0.717, 0.679};  // alpha 0 .. -4
+      b = table[static_cast<std::size_t>(-std::clamp(p.alpha, -4, 0))];
+    }
+    const double f = 1.0 / std::sqrt(b);
+    p.dev *= f;
+    p.ci_lo *= f;
+    p.ci_hi *= f;
+  }
 }
 
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,

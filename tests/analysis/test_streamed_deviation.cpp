@@ -105,6 +105,8 @@ raw_deviation reference(dev_kind k, const std::vector<double>& xd, double tau0_s
       s = mdev_sum(x, m, n);
       c = 2.0L * static_cast<long double>(m) * static_cast<long double>(m);
       break;
+    default:  // the extended kinds: test_extended.cpp
+      return {};
   }
   long double dev = std::sqrt(s / (c * tau * tau * static_cast<long double>(n)));
   if (k == dev_kind::tdev) dev *= tau / std::sqrt(3.0L);

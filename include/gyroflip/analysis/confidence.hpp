@@ -39,7 +39,23 @@ namespace gyroflip::analysis {
 /// the SP1065 Table 5 flicker-PM formula with alpha = 1 and the OADEV EDF with white PM (as
 /// Stable32: its bounds agree to 6e-4 on the GPS set); beyond m = (N-1)/2, where those fits are
 /// not defined, at least 1.
+/// MTOTDEV and TTOTDEV: SP1065 Table 8's fit b (T/tau) - c (WPM 1.90, 2.1; FPM 1.20, 1.40; WFM
+/// 1.10, 1.2; FFM 0.85, 0.50; RWFM 0.75, 0.31), at least 1. Stable32 1.60 prints other bounds
+/// (docs/ANALYSIS.md). 0 for the kinds without an EDF (has_edf).
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
+
+/// Whether `edf` gives kind k an EDF (and so bounds): every kind but HTOTDEV, Theo1, PDEV, MTIE
+/// and TIE rms, for which SP1065 gives none that could be checked here.
+[[nodiscard]] bool has_edf(dev_kind k) noexcept;
+
+/// Stable32's bias correction of the total deviations, by the noise type identified at each point
+/// (its `alpha`, so after add_confidence): dev, ci_lo and ci_hi divided by sqrt(B), B the ratio of
+/// the total variance to the variance it stands for: MTOTDEV/TTOTDEV (to MVAR) WPM 0.94, FPM 0.83,
+/// WFM 0.73, FFM 0.70, RWFM 0.69; HTOTDEV (to HVAR) WFM 0.995, FFM 0.851, RWFM 0.771, none for PM
+/// and at m = 1 (where it is OHDEV). Values: Riley, "Handbook of frequency stability analysis"
+/// (SP1065) and Stable32 (docs/FACTS.md); Stable32's PHASE.DAT tables are met to 1e-4. No-op for
+/// other kinds.
+void correct_total_bias(std::vector<deviation_point>& points, dev_kind k);
 
 /// How `add_confidence` picks each point's EDF.
 enum class edf_rule {
