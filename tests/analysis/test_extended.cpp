@@ -13,6 +13,7 @@
 
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/cross.hpp"
 #include "support/reference_data.hpp"
 #include "support/synth.hpp"
 
@@ -383,6 +384,104 @@ TEST(Extended, BadInputGivesAnErrorOrNoPoint) {
   const auto gone = dropped_factors(odd, pts, dev_kind::theo1, x.size(), 1.0);
   ASSERT_EQ(gone.size(), 1u);
   EXPECT_NE(gone[0].why.find("even"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gyroflip::analysis
+
+namespace gyroflip::analysis {
+namespace {
+
+// ---- GRADEV, GCODEV, three-cornered hat, DAVAR ------------------------------------------------
+
+TEST(Cross, GradevWithoutGapsIsOadevAndSkipsTermsAcrossGaps) {
+  const auto x = walk_phase(3000, 31);
+  const auto g = *gradev(x, input_kind::angle, 1.0);
+  const auto o = *deviation(dev_kind::oadev, x, input_kind::angle, 1.0, {});
+  ASSERT_EQ(g.size(), o.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    EXPECT_EQ(g[i].n, o[i].n);
+    EXPECT_NEAR(g[i].dev / o[i].dev, 1.0, 1e-12);
+  }
+  // Phase gaps: the terms touching a NaN are left out, the others summed as written.
+  auto gap = x;
+  for (std::size_t i = 1000; i < 1100; ++i) gap[i] = std::nan("");
+  const auto gg = *gradev(gap, input_kind::angle, 1.0, tau_spec{tau_spec::set::list, {1, 16, 256}});
+  for (const auto& p : gg) {
+    ld s = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i + 2 * p.m < gap.size(); ++i) {
+      const double v = gap[i + 2 * p.m] - 2 * gap[i + p.m] + gap[i];
+      if (std::isnan(v)) continue;
+      s += static_cast<ld>(v) * v;
+      ++n;
+    }
+    EXPECT_EQ(p.n, n);
+    EXPECT_NEAR(p.dev, static_cast<double>(std::sqrt(s / (2 * n))) / static_cast<double>(p.m),
+                1e-12);
+  }
+  // Rate gaps: each run integrated on its own, so a run's curve is the OADEV of that run.
+  auto y = white_phase(4001, 32);
+  y[2000] = std::nan("");
+  const auto gr = *gradev(y, input_kind::rate, 1.0, tau_spec{tau_spec::set::list, {1, 8}});
+  EXPECT_EQ(gr[0].n, (2000 + 1 - 2) + (2000 + 1 - 2));
+  // Bad input: infinite samples, nothing but NaN.
+  y[5] = INFINITY;
+  EXPECT_FALSE(gradev(y, input_kind::rate, 1.0));
+  EXPECT_FALSE(gradev(std::vector<double>(50, std::nan("")), input_kind::angle, 1.0));
+  EXPECT_FALSE(gradev(std::vector<double>{}, input_kind::angle, 1.0));
+}
+
+TEST(Cross, GcodevOfASeriesWithItselfIsItsOadevAndThreeCorneredHatRecoversTheClocks) {
+  // Three clocks of white FM with sigmas 1, 2, 3 (phase random walks), compared in pairs.
+  constexpr std::size_t n = 200000;
+  test::normal_source g(41);
+  std::vector<double> a(n), b(n), c(n), ab(n), bc(n), ca(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    a[i] = 1.0 * g();
+    b[i] = 2.0 * g();
+    c[i] = 3.0 * g();
+    ab[i] = a[i] - b[i];
+    bc[i] = b[i] - c[i];
+    ca[i] = c[i] - a[i];
+  }
+  const tau_spec spec{tau_spec::set::list, {1, 4, 16}};
+  const auto self = *gcodev(ab, ab, input_kind::rate, 1.0, spec);
+  const auto o = *deviation(dev_kind::oadev, ab, input_kind::rate, 1.0, spec);
+  for (std::size_t i = 0; i < self.size(); ++i) EXPECT_NEAR(self[i].dev / o[i].dev, 1.0, 1e-12);
+  // GCODEV of AB and CB (= -BC) estimates clock B alone: sigma 2 / sqrt(tau) for white FM.
+  std::vector<double> cb(n);
+  for (std::size_t i = 0; i < n; ++i) cb[i] = -bc[i];
+  const auto gb = *gcodev(ab, cb, input_kind::rate, 1.0, spec);
+  const auto hat = *three_cornered_hat(dev_kind::oadev, ab, bc, ca, input_kind::rate, 1.0, spec);
+  for (std::size_t i = 0; i < gb.size(); ++i) {
+    const double tau = gb[i].tau_s;
+    EXPECT_NEAR(gb[i].dev / (2.0 / std::sqrt(tau)), 1.0, 0.05) << tau;  // 200 000 samples: ~1 %
+    EXPECT_NEAR(hat[0][i].dev / (1.0 / std::sqrt(tau)), 1.0, 0.05) << tau;
+    EXPECT_NEAR(hat[1][i].dev / (2.0 / std::sqrt(tau)), 1.0, 0.05) << tau;
+    EXPECT_NEAR(hat[2][i].dev / (3.0 / std::sqrt(tau)), 1.0, 0.05) << tau;
+  }
+  EXPECT_FALSE(gcodev(ab, std::vector<double>(10, 0.0), input_kind::rate, 1.0));
+  EXPECT_FALSE(three_cornered_hat(dev_kind::oadev, ab, bc, std::vector<double>(10, 0.0),
+                                  input_kind::rate, 1.0));
+}
+
+TEST(Cross, DynamicDeviationIsTheCurveOfEachWindow) {
+  auto y = white_phase(10000, 51);
+  for (std::size_t i = 5000; i < y.size(); ++i) y[i] *= 3.0;  // the noise triples half way
+  const auto d = *dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 2000, 1000);
+  ASSERT_EQ(d.size(), 9u);
+  for (std::size_t w = 0; w < d.size(); ++w) {
+    EXPECT_DOUBLE_EQ(d[w].start_s, 0.5 * 1000.0 * static_cast<double>(w));
+    const auto direct =
+        *deviation(dev_kind::oadev, std::span<const double>(y).subspan(w * 1000, 2000),
+                   input_kind::rate, 0.5, {});
+    ASSERT_EQ(d[w].curve.size(), direct.size());
+    EXPECT_EQ(d[w].curve[0].dev, direct[0].dev);
+  }
+  EXPECT_NEAR(d.back().curve[0].dev / d.front().curve[0].dev, 3.0, 0.3);
+  EXPECT_FALSE(dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 20000, 1));
+  EXPECT_FALSE(dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 100, 0));
 }
 
 }  // namespace
