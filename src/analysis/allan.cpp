@@ -10,6 +10,7 @@
 
 #include "decimate.hpp"
 #include "extended.hpp"
+#include "parallel.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 #include "sweep.hpp"
@@ -168,10 +169,11 @@ std::vector<raw_deviation> raw_deviations(dev_kind k, const phase_source& x,
     phase_reader r(x);
     const auto all = r.read(0, x.size());
     const std::vector<double> phase(all.begin(), all.end());
-    for (std::size_t i = 0; i < ms.size(); ++i) {
-      out.push_back(extended_at(k, phase, ms[i], x.tau0_s()));
-      if (p) p(i + 1, ms.size());
-    }
+    out.resize(ms.size());
+    // The factors side by side on all cores (Theo1 spreads each factor itself).
+    detail::for_each_item(
+        ms.size(), k == dev_kind::theo1 ? 1 : detail::worker_count(x.size()),
+        [&](std::size_t, std::size_t i) { out[i] = extended_at(k, phase, ms[i], x.tau0_s()); }, p);
     return out;
   }
   const auto sums = sums_of(k, x, ms, p);
