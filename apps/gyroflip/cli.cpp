@@ -324,6 +324,9 @@ void setup_adev(CLI::App& app, action& chosen) {
   sub->add_flag(
       "--bias-correction", o->bias_correction,
       "mtotdev, ttotdev, htotdev: Stable32's bias correction by the noise type at each tau");
+  sub->add_option("--dynamic", o->dynamic,
+                  "WINDOW_S[:STEP_S]: the dynamic deviation (DAVAR), a curve per window of "
+                  "WINDOW_S seconds every STEP_S (default WINDOW_S/4); CSV start_s,tau_s,dev,n");
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
   sub->add_option("--plot", o->plot,

@@ -20,6 +20,7 @@
 
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/cross.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/core/units.hpp"
@@ -255,6 +256,84 @@ result<std::optional<plot_file>> plot_target(const std::string& path) {
   return std::optional<plot_file>{plot_file{dir.empty() ? "." : dir, p.stem().string(), *f}};
 }
 
+// `--dynamic WINDOW_S[:STEP_S]`: the window and step in samples (step: a quarter window).
+result<std::pair<std::size_t, std::size_t>> dynamic_windows(const std::string& spec,
+                                                            double tau0_s) {
+  const auto parts = text::split(spec, ':');
+  const auto w = parts.empty() ? std::nullopt : text::to_double(parts[0].text);
+  std::optional<double> st;
+  if (parts.size() == 2)
+    st = text::to_double(parts[1].text);
+  else if (w)
+    st = *w / 4.0;
+  if (parts.size() > 2 || !w || !st || !(*w > 0.0) || !(*st > 0.0) || !std::isfinite(*w) ||
+      !std::isfinite(*st))
+    return usage_error("--dynamic takes WINDOW_S or WINDOW_S:STEP_S in seconds (> 0); got " +
+                       printable(spec, 60));
+  const auto samples = [tau0_s](double s) {
+    return static_cast<std::size_t>(std::max(1.0, std::round(s / tau0_s)));
+  };
+  return std::pair{samples(*w), samples(*st)};
+}
+
+// DAVAR (cross.hpp): one curve per window, as CSV start_s,tau_s,dev,n (or JSON), and with
+// --plot the windows' curves in one Allan plot.
+int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::tau_spec& taus,
+                const std::optional<plot_file>& plot, const analysis_input& in) {
+  const auto win = dynamic_windows(o.dynamic, in.series.tau0_s());
+  if (!win) return report(win.err());
+  const auto kind_of_input =
+      o.in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
+  progress bar(fmt::format("dynamic {} of {}", o.kind, o.in.file), 1000);
+  auto d = analysis::dynamic_deviation(kind, in.series.values(), kind_of_input, in.series.tau0_s(),
+                                       win->first, win->second, taus, per_mille(bar));
+  bar.finish();
+  if (!d) return report(d.err());
+  std::string csv = "start_s,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit_name(o.in));
+  nlohmann::json windows = nlohmann::json::array();
+  std::vector<report::allan_curve> curves;
+  for (const auto& w : *d) {
+    nlohmann::json pts = nlohmann::json::array();
+    for (const auto& p : w.curve) {
+      csv += fmt::format("{},{},{},{}\n", w.start_s, p.tau_s, p.dev, p.n);
+      pts.push_back({{"tau_s", p.tau_s}, {"m", p.m}, {"dev", p.dev}, {"n", p.n}});
+    }
+    windows.push_back({{"start_s", w.start_s}, {"points", std::move(pts)}});
+    curves.push_back({fmt::format("t = {:g} s", w.start_s), w.curve, std::nullopt});
+  }
+  if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
+    return report(s.err());
+  std::string json_line;
+  if (o.json) {
+    const nlohmann::json j{{"kind", o.kind},
+                           {"file", o.in.file},
+                           {"units", unit_name(o.in)},
+                           {"tau0_s", in.series.tau0_s()},
+                           {"window_s", static_cast<double>(win->first) * in.series.tau0_s()},
+                           {"step_s", static_cast<double>(win->second) * in.series.tau0_s()},
+                           {"windows", std::move(windows)}};
+    auto t = finite_dump(j, "<stdout>");
+    if (!t) return report(t.err());
+    json_line = *t + "\n";
+  }
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
+  if (plot) {
+    const std::array formats{plot->format};
+    if (auto s = report::render(report::allan_figure(curves, unit_name(o.in),
+                                                     fmt::format("dynamic {} of {}", o.kind,
+                                                                 printable(o.in.file, 100))),
+                                plot->dir, plot->stem, formats);
+        !s)
+      return report(s.err());
+  }
+  if (o.json)
+    fmt::print("{}", json_line);
+  else if (o.output.empty())
+    fmt::print("{}", csv);
+  return 0;
+}
+
 }  // namespace
 
 int run_adev(const adev_options& o) {
@@ -281,6 +360,10 @@ int run_adev(const adev_options& o) {
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto inputs = load_series(o.in);
   if (!inputs) return report(inputs.err());
+  if (!o.dynamic.empty()) {
+    if (inputs->size() != 1) return report(usage_error("--dynamic analyses one column"));
+    return run_dynamic(o, *kind, *taus, *plot, inputs->front());
+  }
   // One column: the CSV and JSON of one curve; several: a `column` field in each CSV row and one
   // JSON object per column.
   const bool several = inputs->size() > 1;

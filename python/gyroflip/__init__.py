@@ -30,7 +30,7 @@ __version__ = _gyroflip.__version__
 __all__ = [
     "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
-    "Deviation", "deviation", "noise", "calibrate", "compensate", "simulate",
+    "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "compensate", "simulate",
     "read_recording", "__version__",
 ]
 
@@ -248,6 +248,24 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
     r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed,
                          bool(guard), bool(bias_correction))
     return Deviation(kind=kind, ci=ci, **r)
+
+
+def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None, step_s=None,
+                      taus="octave"):
+    """The dynamic deviation (DAVAR; Galleani & Tavella 2009), as `gyroflip adev --dynamic`: the
+    curve of statistic `kind` over each window of window_s seconds, one every step_s (default a
+    quarter window). Returns a list of dicts with start_s (s from the first sample) and arrays
+    m, tau_s, dev, n."""
+    rate = _positive_rate(rate)
+    y, _ = _samples(data)
+    if window_s is None or not (float(window_s) > 0):
+        raise ValueError("window_s must be a positive number of seconds")
+    step_s = float(window_s) / 4.0 if step_s is None else float(step_s)
+    if not step_s > 0:
+        raise ValueError("step_s must be positive")
+    window = max(1, int(round(float(window_s) * rate)))
+    step = max(1, int(round(step_s * rate)))
+    return _gyroflip._dynamic(kind, y, rate, input, window, step, taus)
 
 
 def noise(data, rate=1.0, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,

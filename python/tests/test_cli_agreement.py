@@ -155,3 +155,20 @@ def test_bias_correction_is_for_the_total_kinds_only(exe, series_csv):
     bad = subprocess.run([exe, "adev", str(path), "--rate", "100", "--bias-correction"],
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "--bias-correction" in bad.stderr
+
+
+def test_dynamic_deviation_equals_adev_dynamic_json(exe, series_csv):
+    """DAVAR: `adev --dynamic W:S` and dynamic_deviation() are one computation, each window's
+    curve the deviation of that window."""
+    path, y = series_csv
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--dynamic", "40:20", "--json"))
+    py = gyroflip.dynamic_deviation(y, "oadev", rate=100.0, window_s=40, step_s=20)
+    assert len(cli["windows"]) == len(py) == (20000 - 4000) // 2000 + 1
+    for c, p in zip(cli["windows"], py):
+        assert c["start_s"] == p["start_s"]
+        np.testing.assert_array_equal([q["dev"] for q in c["points"]], p["dev"])
+    w = py[3]
+    d = gyroflip.deviation(y[6000:10000], "oadev", rate=100.0, ci=None)
+    np.testing.assert_array_equal(w["dev"], d.dev)
+    with pytest.raises(ValueError):
+        gyroflip.dynamic_deviation(y, window_s=1e6, rate=100.0)

@@ -168,8 +168,14 @@ def remove_small_ns(taus, devs, deverrs, ns):
 
 def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on_freq=False):
     rate = _rate(rate)
-    phase = input_to_phase(data, rate, data_type)
-    n_phase = len(phase)
+    if data_type == "freq":
+        samples = trim_data(_column(data))
+        n_phase = len(samples) + 1
+    elif data_type == "phase":
+        samples = _column(data)
+        n_phase = len(samples)
+    else:
+        raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
     # allantools generates HTOTDEV's taus on the frequency (N - 1 points) with m <= that / 3,
     # MTOTDEV's and TTOTDEV's on the phase with m <= N / 3.
     n_gen = n_phase - 1 if on_freq else n_phase
@@ -178,11 +184,15 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
         warnings.simplefilter("ignore", NoValidTau)
         _, m, t = tau_generator(np.empty(n_gen), rate, taus, even=even, maximum_m=limit)
     dtype = t.dtype
-    nan_inside = bool(np.any(np.isnan(phase)))
-    work = np.nan_to_num(phase, nan=0.0) if nan_inside else phase
     if m.size == 0 or n_phase < 3:
         raise NoValidTau(f"no averaging time fits {n_phase} phase points for taus {taus!r}")
-    r = _gyroflip._curve(kind, work, rate, "angle", "octave", [int(v) for v in m], None, False)
+    nan_inside = bool(np.any(np.isnan(samples)))
+    # Frequency data go to the core as rate samples (it removes the mean and integrates, as
+    # frequency2phase does, without a phase array in Python); NaN inside are zeroed for the term
+    # counts and give NaN deviations.
+    work = np.nan_to_num(samples, nan=0.0) if nan_inside else samples
+    r = _gyroflip._curve(kind, work, rate, "rate" if data_type == "freq" else "angle", "octave",
+                         [int(v) for v in m], None, False)
     by_m = {int(mm): (d, n) for mm, d, n in zip(r["m"], r["dev"], r["n"])}
     devs = np.array([by_m.get(int(mm), (0.0, 0))[0] for mm in m], dtype=np.float64)
     ns = np.array([by_m.get(int(mm), (0.0, 0))[1] for mm in m], dtype=np.float64)
