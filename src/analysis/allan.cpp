@@ -10,9 +10,9 @@
 
 #include "decimate.hpp"
 #include "extended.hpp"
-#include "parallel.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
+#include "parallel.hpp"
 #include "sweep.hpp"
 
 namespace gyroflip::analysis {
