@@ -324,6 +324,11 @@ void setup_adev(CLI::App& app, action& chosen) {
   sub->add_flag(
       "--bias-correction", o->bias_correction,
       "mtotdev, ttotdev, htotdev: Stable32's bias correction by the noise type at each tau");
+  sub->add_flag("--codev", o->codev,
+                "the Groslambert codeviation (GCODEV) of two columns --column AB,CB: the common "
+                "clock B");
+  sub->add_flag("--three-cornered-hat", o->three_cornered_hat,
+                "clocks A, B, C from three columns --column AB,BC,CA (statistic --kind)");
   sub->add_option("--dynamic", o->dynamic,
                   "WINDOW_S[:STEP_S]: the dynamic deviation (DAVAR), a curve per window of "
                   "WINDOW_S seconds every STEP_S (default WINDOW_S/4); CSV start_s,tau_s,dev,n");

@@ -334,6 +334,59 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
   return 0;
 }
 
+// `--codev` (GCODEV of two columns) and `--three-cornered-hat` (clocks A, B, C from the columns
+// AB, BC, CA): CSV `clock,tau_s,dev,n` (clock "AB*BC" for the codeviation), or JSON.
+int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::tau_spec& taus,
+              const std::vector<analysis_input>& in) {
+  const std::size_t want = o.codev ? 2 : 3;
+  if (in.size() != want)
+    return report(usage_error(
+        o.codev ? "--codev needs two columns: --column AB,CB (comparisons with the common clock B)"
+                : "--three-cornered-hat needs three columns: --column "
+                  "AB,BC,CA (the comparisons of clocks A, B, C)"));
+  const auto kind_of_input =
+      o.in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
+  const double tau0 = in[0].series.tau0_s();
+  std::vector<std::pair<std::string, std::vector<analysis::deviation_point>>> curves;
+  if (o.codev) {
+    auto c =
+        analysis::gcodev(in[0].series.values(), in[1].series.values(), kind_of_input, tau0, taus);
+    if (!c) return report(c.err());
+    curves.emplace_back(in[0].column + "*" + in[1].column, std::move(*c));
+  } else {
+    auto h = analysis::three_cornered_hat(kind, in[0].series.values(), in[1].series.values(),
+                                          in[2].series.values(), kind_of_input, tau0, taus);
+    if (!h) return report(h.err());
+    for (std::size_t c = 0; c < 3; ++c) curves.emplace_back(std::string(1, "ABC"[c]), (*h)[c]);
+  }
+  std::string csv = "clock,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit_name(o.in));
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& [name, pts] : curves) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const auto& p : pts) {
+      csv += fmt::format("{},{},{},{}\n", name, p.tau_s, p.dev, p.n);
+      points.push_back({{"tau_s", p.tau_s}, {"m", p.m}, {"dev", p.dev}, {"n", p.n}});
+    }
+    j.push_back({{"clock", name}, {"points", std::move(points)}});
+  }
+  if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
+    return report(s.err());
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
+  if (o.json) {
+    auto t = finite_dump(nlohmann::json{{"kind", o.codev ? "gcodev" : o.kind},
+                                        {"file", o.in.file},
+                                        {"units", unit_name(o.in)},
+                                        {"curves", std::move(j)}},
+                         "<stdout>");
+    if (!t) return report(t.err());
+    fmt::print("{}\n", *t);
+  } else if (o.output.empty()) {
+    fmt::print("{}", csv);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int run_adev(const adev_options& o) {
@@ -360,6 +413,7 @@ int run_adev(const adev_options& o) {
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto inputs = load_series(o.in);
   if (!inputs) return report(inputs.err());
+  if (o.codev || o.three_cornered_hat) return run_multi(o, *kind, *taus, *inputs);
   if (!o.dynamic.empty()) {
     if (inputs->size() != 1) return report(usage_error("--dynamic analyses one column"));
     return run_dynamic(o, *kind, *taus, *plot, inputs->front());

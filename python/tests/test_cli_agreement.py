@@ -172,3 +172,29 @@ def test_dynamic_deviation_equals_adev_dynamic_json(exe, series_csv):
     np.testing.assert_array_equal(w["dev"], d.dev)
     with pytest.raises(ValueError):
         gyroflip.dynamic_deviation(y, window_s=1e6, rate=100.0)
+
+
+def test_codev_and_three_cornered_hat_in_the_cli(exe, tmp_path):
+    """adev --codev (two columns) and --three-cornered-hat (three) against the drop-in's gcodev
+    and three_cornered_hat_phase on the same samples: clocks of white FM 1, 2, 3."""
+    import gyroflip.allantools as at
+    rng = np.random.default_rng(3)
+    a, b, c = rng.normal(size=(3, 20000)) * np.array([[1.0], [2.0], [3.0]])
+    path = tmp_path / "clocks.csv"
+    np.savetxt(path, np.c_[a - b, b - c, c - a, c - b], delimiter=",", header="ab,bc,ca,cb",
+               comments="")
+    hat = json.loads(run(exe, "adev", path, "--rate", 1, "--column", "ab,bc,ca",
+                         "--three-cornered-hat", "--taus", "1,10", "--json"))
+    assert [cv["clock"] for cv in hat["curves"]] == ["A", "B", "C"]
+    for cv, sigma in zip(hat["curves"], (1.0, 2.0, 3.0)):
+        assert cv["points"][0]["dev"] == pytest.approx(sigma, rel=0.05)
+    _, da, _, _ = at.three_cornered_hat_phase(at.frequency2phase(a - b, 1), at.frequency2phase(b - c, 1),
+                                              at.frequency2phase(c - a, 1), 1.0, [1.0, 10.0], at.oadev)
+    np.testing.assert_allclose([p["dev"] for p in hat["curves"][0]["points"]], da, rtol=1e-9)
+    co = json.loads(run(exe, "adev", path, "--rate", 1, "--column", "ab,cb", "--codev",
+                        "--taus", "1,10", "--json"))
+    _, g, _, _ = at.gcodev(a - b, c - b, data_type="freq", taus=[1.0, 10.0])
+    np.testing.assert_allclose([abs(p["dev"]) for p in co["curves"][0]["points"]], g, rtol=1e-9)
+    bad = subprocess.run([exe, "adev", str(path), "--rate", "1", "--column", "ab", "--codev"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "two columns" in bad.stderr
