@@ -322,10 +322,19 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
   for (std::size_t p = 0; p < passes.size(); ++p) {
     auto z = detail::decimated_prefixes(x, passes[p], max_points,
                                         detail::part_progress(on_progress, p, passes.size()));
-    for (std::size_t i = 0; i < z.size(); ++i) {
-      by_b1.push_back(z[i].size() < lag1_min_points ? 1 : 0);
-      ids.push_back(by_b1.back() != 0 ? alpha_b1(z[i]) : alpha_lag1(std::move(z[i])));
-    }
+    // Each factor's type on its own series, the factors side by side on all cores (lag-1 on up
+    // to 2^20 points each: 0.3 s of 1e8 samples' octave taus on one core).
+    const std::size_t first = ids.size();
+    ids.resize(first + z.size());
+    by_b1.resize(first + z.size());
+    std::size_t held_points = 0;
+    for (const auto& v : z) held_points += v.size();
+    detail::for_each_item(z.size(), detail::worker_count(held_points),
+                          [&](std::size_t, std::size_t i) {
+                            const bool b1 = z[i].size() < lag1_min_points;
+                            by_b1[first + i] = b1 ? 1 : 0;
+                            ids[first + i] = b1 ? alpha_b1(z[i]) : alpha_lag1(std::move(z[i]));
+                          });
   }
   // PM read by B1: white or flicker by R(n), for the first max_rn such factors.
   std::vector<std::size_t> pm;
