@@ -60,6 +60,8 @@ def _column(data):
 def trim_data(x):
     """x without its leading and trailing NaN (NaN inside stay)."""
     x = np.asarray(x)
+    if x.size == 0 or (not np.isnan(x[0]) and not np.isnan(x[-1])):
+        return x  # the usual case, without a pass over the data
     finite = np.flatnonzero(~np.isnan(x))
     if finite.size == 0:
         return x[:0]
@@ -186,13 +188,21 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
     dtype = t.dtype
     if m.size == 0 or n_phase < 3:
         raise NoValidTau(f"no averaging time fits {n_phase} phase points for taus {taus!r}")
-    nan_inside = bool(np.any(np.isnan(samples)))
     # Frequency data go to the core as rate samples (it removes the mean and integrates, as
-    # frequency2phase does, without a phase array in Python); NaN inside are zeroed for the term
-    # counts and give NaN deviations.
-    work = np.nan_to_num(samples, nan=0.0) if nan_inside else samples
-    r = _gyroflip._curve(kind, work, rate, "rate" if data_type == "freq" else "angle", "octave",
-                         [int(v) for v in m], None, False)
+    # frequency2phase does, without a phase array in Python). The core refuses non-finite
+    # samples; only then are they looked for here: zeroed for the term counts, the deviations NaN
+    # (no pass over the data in the usual case).
+    factors = [int(v) for v in m]
+    kind_in = "rate" if data_type == "freq" else "angle"
+    nan_inside = False
+    try:
+        r = _gyroflip._curve(kind, samples, rate, kind_in, "octave", factors, None, False)
+    except ValueError as e:
+        if "not finite" not in str(e):
+            raise
+        nan_inside = True
+        work = np.where(np.isfinite(samples), samples, 0.0)
+        r = _gyroflip._curve(kind, work, rate, kind_in, "octave", factors, None, False)
     by_m = {int(mm): (d, n) for mm, d, n in zip(r["m"], r["dev"], r["n"])}
     devs = np.array([by_m.get(int(mm), (0.0, 0))[0] for mm in m], dtype=np.float64)
     ns = np.array([by_m.get(int(mm), (0.0, 0))[1] for mm in m], dtype=np.float64)
