@@ -77,7 +77,10 @@ if(GYROFLIP_PYTHON)
       set(py_dir ${py_versioned})
     endif()
     file(INSTALL DESTINATION \"\${CMAKE_INSTALL_PREFIX}/\${py_dir}/gyroflip\" TYPE FILE
-         FILES \"$<TARGET_FILE:gyroflip_python>\" \"${PROJECT_SOURCE_DIR}/python/gyroflip/__init__.py\")
+         FILES \"$<TARGET_FILE:gyroflip_python>\")
+    # The pure-Python half: the package and its allantools drop-in (every .py of the tree).
+    file(INSTALL DESTINATION \"\${CMAKE_INSTALL_PREFIX}/\${py_dir}\" TYPE DIRECTORY
+         FILES \"${PROJECT_SOURCE_DIR}/python/gyroflip\" FILES_MATCHING PATTERN \"*.py\")
   ")
 endif()
 

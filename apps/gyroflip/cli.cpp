@@ -308,8 +308,11 @@ void setup_adev(CLI::App& app, action& chosen) {
       app.add_subcommand("adev", "Allan-family deviation with confidence intervals (NIST SP1065)");
   auto o = bind<adev_options>(sub, chosen, run_adev);
   add_series_options(sub, o->in);
-  sub->add_option("--kind", o->kind, "adev|oadev|mdev|tdev|hdev|ohdev|totdev")
-      ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"}))
+  sub->add_option("--kind", o->kind,
+                  "adev|oadev|mdev|tdev|hdev|ohdev|totdev|mtotdev|ttotdev|htotdev|theo1|pdev|mtie|"
+                  "tierms")
+      ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev",
+                             "ttotdev", "htotdev", "theo1", "pdev", "mtie", "tierms"}))
       ->capture_default_str();
   sub->add_option("--taus", o->taus, "octave|decade|all or averaging factors like 1,2,10")
       ->capture_default_str();
@@ -318,6 +321,21 @@ void setup_adev(CLI::App& app, action& chosen) {
                   "no bounds: fastest)")
       ->check(confidence_level(true))
       ->capture_default_str();
+  sub->add_flag(
+      "--ci-guard", o->ci_guard,
+      "no interval narrower than the noise types at the neighbouring taus allow (default: "
+      "the type identified at each tau, as Stable32)");
+  sub->add_flag(
+      "--bias-correction", o->bias_correction,
+      "mtotdev, ttotdev, htotdev: Stable32's bias correction by the noise type at each tau");
+  sub->add_flag("--codev", o->codev,
+                "the Groslambert codeviation (GCODEV) of two columns --column AB,CB: the common "
+                "clock B");
+  sub->add_flag("--three-cornered-hat", o->three_cornered_hat,
+                "clocks A, B, C from three columns --column AB,BC,CA (statistic --kind)");
+  sub->add_option("--dynamic", o->dynamic,
+                  "WINDOW_S[:STEP_S]: the dynamic deviation (DAVAR), a curve per window of "
+                  "WINDOW_S seconds every STEP_S (default WINDOW_S/4); CSV start_s,tau_s,dev,n");
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
   sub->add_option("--plot", o->plot,

@@ -20,6 +20,7 @@
 
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/cross.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/core/units.hpp"
@@ -222,10 +223,15 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
   auto dropped = analysis::dropped_factors(taus, *pts, kind, in.phase.size(), in.phase.tau0_s());
   for (const auto& d : dropped)
     warn(fmt::format("{}: averaging factor {} dropped: {}", what, d.m, d.why));
-  if (level) {
+  // Noise identification for the bounds, or for the total deviations' bias correction alone
+  // (then at the default level, the bounds not shown).
+  if (level || o.bias_correction) {
     progress ci_bar("noise identification", 1000);
-    analysis::add_confidence(*pts, kind, in.phase, *level, per_mille(ci_bar));
+    analysis::add_confidence(
+        *pts, kind, in.phase, level.value_or(0.683), per_mille(ci_bar),
+        o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
     ci_bar.finish();
+    if (o.bias_correction) analysis::correct_total_bias(*pts, kind);
   }
   return adev_result{std::move(*pts), std::move(dropped)};
 }
@@ -250,18 +256,155 @@ result<std::optional<plot_file>> plot_target(const std::string& path) {
   return std::optional<plot_file>{plot_file{dir.empty() ? "." : dir, p.stem().string(), *f}};
 }
 
+// `--dynamic WINDOW_S[:STEP_S]`: the window and step in samples (step: a quarter window).
+result<std::pair<std::size_t, std::size_t>> dynamic_windows(const std::string& spec,
+                                                            double tau0_s) {
+  const auto parts = text::split(spec, ':');
+  const auto w = parts.empty() ? std::nullopt : text::to_double(parts[0].text);
+  std::optional<double> st;
+  if (parts.size() == 2)
+    st = text::to_double(parts[1].text);
+  else if (w)
+    st = *w / 4.0;
+  if (parts.size() > 2 || !w || !st || !(*w > 0.0) || !(*st > 0.0) || !std::isfinite(*w) ||
+      !std::isfinite(*st))
+    return usage_error("--dynamic takes WINDOW_S or WINDOW_S:STEP_S in seconds (> 0); got " +
+                       printable(spec, 60));
+  const auto samples = [tau0_s](double s) {
+    return static_cast<std::size_t>(std::max(1.0, std::round(s / tau0_s)));
+  };
+  return std::pair{samples(*w), samples(*st)};
+}
+
+// DAVAR (cross.hpp): one curve per window, as CSV start_s,tau_s,dev,n (or JSON), and with
+// --plot the windows' curves in one Allan plot.
+int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::tau_spec& taus,
+                const std::optional<plot_file>& plot, const analysis_input& in) {
+  const auto win = dynamic_windows(o.dynamic, in.series.tau0_s());
+  if (!win) return report(win.err());
+  const auto kind_of_input =
+      o.in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
+  progress bar(fmt::format("dynamic {} of {}", o.kind, o.in.file), 1000);
+  auto d = analysis::dynamic_deviation(kind, in.series.values(), kind_of_input, in.series.tau0_s(),
+                                       win->first, win->second, taus, per_mille(bar));
+  bar.finish();
+  if (!d) return report(d.err());
+  std::string csv = "start_s,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit_name(o.in));
+  nlohmann::json windows = nlohmann::json::array();
+  std::vector<report::allan_curve> curves;
+  for (const auto& w : *d) {
+    nlohmann::json pts = nlohmann::json::array();
+    for (const auto& p : w.curve) {
+      csv += fmt::format("{},{},{},{}\n", w.start_s, p.tau_s, p.dev, p.n);
+      pts.push_back({{"tau_s", p.tau_s}, {"m", p.m}, {"dev", p.dev}, {"n", p.n}});
+    }
+    windows.push_back({{"start_s", w.start_s}, {"points", std::move(pts)}});
+    curves.push_back({fmt::format("t = {:g} s", w.start_s), w.curve, std::nullopt});
+  }
+  if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
+    return report(s.err());
+  std::string json_line;
+  if (o.json) {
+    const nlohmann::json j{{"kind", o.kind},
+                           {"file", o.in.file},
+                           {"units", unit_name(o.in)},
+                           {"tau0_s", in.series.tau0_s()},
+                           {"window_s", static_cast<double>(win->first) * in.series.tau0_s()},
+                           {"step_s", static_cast<double>(win->second) * in.series.tau0_s()},
+                           {"windows", std::move(windows)}};
+    auto t = finite_dump(j, "<stdout>");
+    if (!t) return report(t.err());
+    json_line = *t + "\n";
+  }
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
+  if (plot) {
+    const std::array formats{plot->format};
+    if (auto s = report::render(report::allan_figure(curves, unit_name(o.in),
+                                                     fmt::format("dynamic {} of {}", o.kind,
+                                                                 printable(o.in.file, 100))),
+                                plot->dir, plot->stem, formats);
+        !s)
+      return report(s.err());
+  }
+  if (o.json)
+    fmt::print("{}", json_line);
+  else if (o.output.empty())
+    fmt::print("{}", csv);
+  return 0;
+}
+
+// `--codev` (GCODEV of two columns) and `--three-cornered-hat` (clocks A, B, C from the columns
+// AB, BC, CA): CSV `clock,tau_s,dev,n` (clock "AB*BC" for the codeviation), or JSON.
+int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::tau_spec& taus,
+              const std::vector<analysis_input>& in) {
+  const std::size_t want = o.codev ? 2 : 3;
+  if (in.size() != want)
+    return report(usage_error(
+        o.codev ? "--codev needs two columns: --column AB,CB (comparisons with the common clock B)"
+                : "--three-cornered-hat needs three columns: --column "
+                  "AB,BC,CA (the comparisons of clocks A, B, C)"));
+  const auto kind_of_input =
+      o.in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
+  const double tau0 = in[0].series.tau0_s();
+  std::vector<std::pair<std::string, std::vector<analysis::deviation_point>>> curves;
+  if (o.codev) {
+    auto c =
+        analysis::gcodev(in[0].series.values(), in[1].series.values(), kind_of_input, tau0, taus);
+    if (!c) return report(c.err());
+    curves.emplace_back(in[0].column + "*" + in[1].column, std::move(*c));
+  } else {
+    auto h = analysis::three_cornered_hat(kind, in[0].series.values(), in[1].series.values(),
+                                          in[2].series.values(), kind_of_input, tau0, taus);
+    if (!h) return report(h.err());
+    for (std::size_t c = 0; c < 3; ++c) curves.emplace_back(std::string(1, "ABC"[c]), (*h)[c]);
+  }
+  std::string csv = "clock,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit_name(o.in));
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& [name, pts] : curves) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const auto& p : pts) {
+      csv += fmt::format("{},{},{},{}\n", name, p.tau_s, p.dev, p.n);
+      points.push_back({{"tau_s", p.tau_s}, {"m", p.m}, {"dev", p.dev}, {"n", p.n}});
+    }
+    j.push_back({{"clock", name}, {"points", std::move(points)}});
+  }
+  if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
+    return report(s.err());
+  if (!o.output.empty())
+    if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
+  if (o.json) {
+    auto t = finite_dump(nlohmann::json{{"kind", o.codev ? "gcodev" : o.kind},
+                                        {"file", o.in.file},
+                                        {"units", unit_name(o.in)},
+                                        {"curves", std::move(j)}},
+                         "<stdout>");
+    if (!t) return report(t.err());
+    fmt::print("{}\n", *t);
+  } else if (o.output.empty()) {
+    fmt::print("{}", csv);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int run_adev(const adev_options& o) {
   const auto kind = analysis::parse_dev_kind(o.kind);
   if (!kind)
-    return report(
-        usage_error("--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev"));
+    return report(usage_error(
+        "--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
+        "htotdev, theo1, pdev, mtie, tierms"));
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
-  // The validator (cli.cpp) let through only "none" or a number in (0, 1).
-  const std::optional<double> level =
-      o.ci == "none" ? std::nullopt : std::optional<double>(std::stod(o.ci));
+  // The validator (cli.cpp) let through only "none" or a number in (0, 1). Kinds without an EDF
+  // (HTOTDEV, Theo1, PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
+  const std::optional<double> level = o.ci == "none" || !analysis::has_edf(*kind)
+                                          ? std::nullopt
+                                          : std::optional<double>(std::stod(o.ci));
+  if (o.bias_correction && *kind != analysis::dev_kind::mtotdev &&
+      *kind != analysis::dev_kind::ttotdev && *kind != analysis::dev_kind::htotdev)
+    return report(usage_error("--bias-correction applies to mtotdev, ttotdev and htotdev only"));
   const auto plot = plot_target(o.plot);
   if (!plot) return report(plot.err());
   // --plot writes its script and one data file per column beside the image: none may be an input.
@@ -278,6 +421,11 @@ int run_adev(const adev_options& o) {
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto inputs = load_series(o.in);
   if (!inputs) return report(inputs.err());
+  if (o.codev || o.three_cornered_hat) return run_multi(o, *kind, *taus, *inputs);
+  if (!o.dynamic.empty()) {
+    if (inputs->size() != 1) return report(usage_error("--dynamic analyses one column"));
+    return run_dynamic(o, *kind, *taus, *plot, inputs->front());
+  }
   // One column: the CSV and JSON of one curve; several: a `column` field in each CSV row and one
   // JSON object per column.
   const bool several = inputs->size() > 1;

@@ -53,6 +53,11 @@ struct adev_options {
   std::string kind = "oadev";
   std::string taus = "octave";
   std::string ci = "0.683";  ///< two-sided level, or "none"
+  bool ci_guard = false;     ///< no interval narrower than its neighbours allow (edf_rule::guarded)
+  bool bias_correction = false;     ///< Stable32's bias correction of mtotdev/ttotdev/htotdev
+  std::string dynamic;              ///< WINDOW_S[:STEP_S]: DAVAR, one curve per sliding window
+  bool codev = false;               ///< GCODEV of two columns
+  bool three_cornered_hat = false;  ///< clocks A, B, C from the columns AB, BC, CA
   bool json = false;
   std::string output;
   std::string plot;  ///< FILE.png|.svg|.pdf: the Allan plot, its .gp script and data beside it

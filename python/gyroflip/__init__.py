@@ -28,8 +28,9 @@ from . import _gyroflip
 __version__ = _gyroflip.__version__
 
 __all__ = [
-    "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "tau_generator",
-    "Deviation", "deviation", "noise", "calibrate", "compensate", "simulate",
+    "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
+    "theo1", "pdev", "mtie", "tierms", "tau_generator",
+    "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "compensate", "simulate",
     "read_recording", "__version__",
 ]
 
@@ -132,7 +133,8 @@ def _compat(kind, data, rate, data_type, taus):
         raise ValueError(f"no {kind} point has two terms or more for {len(y)} samples")
     ns = r["n"][keep].astype(_np.float64)
     devs = r["dev"][keep]
-    return r["tau_s"][keep], devs, devs / _np.sqrt(ns), ns
+    # allantools reports tau = m / rate for every kind (Theo1 too, whose own tau is 0.75 m tau0).
+    return r["m"][keep] / rate, devs, devs / _np.sqrt(ns), ns
 
 
 def _compat_doc(kind, what, reference):
@@ -166,6 +168,18 @@ tdev = _compat_function("tdev", "Time deviation (tau MDEV / sqrt 3)", "NIST SP10
 hdev = _compat_function("hdev", "Hadamard deviation (non-overlapping)", "NIST SP1065 eqn 17")
 ohdev = _compat_function("ohdev", "Overlapping Hadamard deviation", "NIST SP1065 eqn 18")
 totdev = _compat_function("totdev", "Total deviation", "NIST SP1065 eqn 25")
+mtotdev = _compat_function("mtotdev", "Modified total deviation (no bias correction)",
+                           "NIST SP1065 eqn 27")
+ttotdev = _compat_function("ttotdev", "Time total deviation (tau MTOTDEV / sqrt 3)",
+                           "NIST SP1065 eqn 28")
+htotdev = _compat_function("htotdev", "Hadamard total deviation (no bias correction; OHDEV at m = 1)",
+                           "NIST SP1065 eqn 29")
+theo1 = _compat_function("theo1", "Theo1 deviation (even m; taus reported as m / rate, as allantools)",
+                         "NIST SP1065 eqn 30")
+pdev = _compat_function("pdev", "Parabolic deviation (OADEV at m = 1)",
+                        "Vernotte et al. 2016, eqn 13")
+mtie = _compat_function("mtie", "Maximum time interval error", "ITU-T G.810")
+tierms = _compat_function("tierms", "Rms time interval error", "ITU-T G.810")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -193,21 +207,28 @@ class Deviation:
     ci: float
 
 
-def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683):
+def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683, guard=False,
+              bias_correction=False):
     """A deviation of the Allan family with confidence bounds, as `gyroflip adev` computes it.
 
     data: 1-D samples; input="rate" (deg/s, SP1065's frequency) or "angle" (deg, phase). A
       contiguous float64 array is read in place, and a memory-mapped file
       (np.load(path, mmap_mode="r")) in bounded memory, whatever its length.
     kind: "adev", "oadev", "mdev", "tdev", "hdev", "ohdev" or "totdev" (NIST SP1065 eqns 7, 11,
-      14, 15, 17, 18, 25).
+      14, 15, 17, 18, 25); "mtotdev", "ttotdev", "htotdev", "theo1" (eqns 27-30; Theo1's tau_s is
+      0.75 m tau0), "pdev" (parabolic), "mtie", "tierms" (the angle unit). HTOTDEV, Theo1, PDEV,
+      MTIE and TIE rms have no bounds (ci_lo, ci_hi NaN).
     rate: samples per second (Hz).
     taus: "octave", "decade" (1, 2, 4, 10, 20, 40, ...) or "all" averaging factors, limited as
       Stable32 does (m <= (N-1)/5 for ADEV/HDEV, (N-1)/4 for OADEV/MDEV/TDEV/OHDEV, (N-1)/2
       for TOTDEV); or an array of taus in seconds (each rounded to the nearest factor).
     ci: two-sided confidence level of ci_lo/ci_hi (0.683 = 1 sigma; None = no bounds): noise
       identified at each tau (lag-1 autocorrelation, B1 ratio), EDF by Greenhall & Riley (2003),
-      chi-squared bounds (SP1065 eqn 45).
+      chi-squared bounds (SP1065 eqn 45), as Stable32 computes them.
+    guard: no interval narrower than the noise types identified at the neighbouring taus allow
+      (a guard against a type misread from a few points; `gyroflip adev --ci-guard`).
+    bias_correction: MTOTDEV, TTOTDEV, HTOTDEV divided by Stable32's bias factor of the noise type
+      identified at each tau (`gyroflip adev --bias-correction`).
     Returns a Deviation. Releases the GIL; Ctrl-C stops it."""
     rate = _positive_rate(rate)
     y, backed = _samples(data)
@@ -222,8 +243,29 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
         factors = sorted({int(v) for v in _np.round(t * rate) if v >= 1})
         if not factors:
             raise ValueError("every tau is shorter than half a sample interval")
-    r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed)
+    if bias_correction and kind not in ("mtotdev", "ttotdev", "htotdev"):
+        raise ValueError("bias_correction applies to mtotdev, ttotdev and htotdev only")
+    r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed,
+                         bool(guard), bool(bias_correction))
     return Deviation(kind=kind, ci=ci, **r)
+
+
+def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None, step_s=None,
+                      taus="octave"):
+    """The dynamic deviation (DAVAR; Galleani & Tavella 2009), as `gyroflip adev --dynamic`: the
+    curve of statistic `kind` over each window of window_s seconds, one every step_s (default a
+    quarter window). Returns a list of dicts with start_s (s from the first sample) and arrays
+    m, tau_s, dev, n."""
+    rate = _positive_rate(rate)
+    y, _ = _samples(data)
+    if window_s is None or not (float(window_s) > 0):
+        raise ValueError("window_s must be a positive number of seconds")
+    step_s = float(window_s) / 4.0 if step_s is None else float(step_s)
+    if not step_s > 0:
+        raise ValueError("step_s must be positive")
+    window = max(1, int(round(float(window_s) * rate)))
+    step = max(1, int(round(step_s * rate)))
+    return _gyroflip._dynamic(kind, y, rate, input, window, step, taus)
 
 
 def noise(data, rate=1.0, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,

@@ -15,6 +15,7 @@
 #include "common.hpp"
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/cross.hpp"
 #include "gyroflip/analysis/noise.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/units.hpp"
@@ -57,7 +58,7 @@ analysis::tau_spec spec_of(const std::string& taus,
 py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
                const std::string& input, const std::string& taus,
                const std::optional<std::vector<std::size_t>>& factors, std::optional<double> ci,
-               bool file_backed) {
+               bool file_backed, bool guard, bool bias_correction) {
   const auto k = analysis::parse_dev_kind(kind);
   if (!k) throw py::value_error("unknown statistic '" + kind + "'");
   const auto in = input_of(input);
@@ -69,7 +70,10 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
     auto phase = analysis::phase_source::make(*src, in, tau0, listen);
     if (!phase) return result<std::vector<analysis::deviation_point>>(phase.err());
     auto p = analysis::deviation(*k, *phase, spec, listen);
-    if (p && ci) analysis::add_confidence(*p, *k, *phase, *ci, listen);
+    if (p && (ci || bias_correction))
+      analysis::add_confidence(*p, *k, *phase, ci.value_or(0.683), listen,
+                               guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
+    if (p && bias_correction) analysis::correct_total_bias(*p, *k);
     return p;
   });
   const auto points = take(std::move(pts));
@@ -121,11 +125,96 @@ py::object noise(const f64_array& data, double rate_hz, const std::string& input
   return json_loads(take(io::finite_dump(io::noise_json(r), "noise")));
 }
 
+// A curve's columns as a dict of NumPy arrays (m, tau_s, dev, n).
+py::dict columns_of(const std::vector<analysis::deviation_point>& points) {
+  std::vector<std::int64_t> m, n;
+  std::vector<double> tau, dev;
+  for (const auto& p : points) {
+    m.push_back(static_cast<std::int64_t>(p.m));
+    n.push_back(static_cast<std::int64_t>(p.n));
+    tau.push_back(p.tau_s);
+    dev.push_back(p.dev);
+  }
+  py::dict d;
+  d["m"] = to_numpy(m);
+  d["tau_s"] = to_numpy(tau);
+  d["dev"] = to_numpy(dev);
+  d["n"] = to_numpy(n);
+  return d;
+}
+
+// GRADEV on data with NaN gaps (the array is read as it is; NaN allowed).
+py::dict gradev(const f64_array& data, double rate_hz, const std::string& input,
+                const std::vector<std::size_t>& factors) {
+  const auto y = span_of(data, "data");
+  const analysis::tau_spec spec{analysis::tau_spec::set::list, factors};
+  auto r = without_gil([&](const progress_fn&) {
+    return analysis::gradev(y, input_of(input), tau0_of(rate_hz), spec);
+  });
+  return columns_of(take(std::move(r)));
+}
+
+py::dict gcodev(const f64_array& a, const f64_array& b, double rate_hz, const std::string& input,
+                const std::vector<std::size_t>& factors) {
+  const analysis::tau_spec spec{analysis::tau_spec::set::list, factors};
+  auto r = without_gil([&](const progress_fn&) {
+    return analysis::gcodev(span_of(a, "data_1"), span_of(b, "data_2"), input_of(input),
+                            tau0_of(rate_hz), spec);
+  });
+  return columns_of(take(std::move(r)));
+}
+
+py::list dynamic(const std::string& kind, const f64_array& data, double rate_hz,
+                 const std::string& input, std::size_t window, std::size_t step,
+                 const std::string& taus) {
+  const auto k = analysis::parse_dev_kind(kind);
+  if (!k) throw py::value_error("unknown statistic '" + kind + "'");
+  const auto spec = take(analysis::parse_tau_spec(taus));
+  auto r = without_gil([&](const progress_fn& listen) {
+    return analysis::dynamic_deviation(*k, span_of(data, "data"), input_of(input), tau0_of(rate_hz),
+                                       window, step, spec, listen);
+  });
+  const auto windows = take(std::move(r));
+  py::list out;
+  for (const auto& w : windows) {
+    auto d = columns_of(w.curve);
+    d["start_s"] = w.start_s;
+    out.append(d);
+  }
+  return out;
+}
+
+// Greenhall & Riley's EDF for (d, overlapping, modified) as SP1065 names the variances.
+double edf_of(int alpha, int d, std::size_t m, std::size_t n, bool overlapping, bool modified) {
+  using analysis::dev_kind;
+  std::optional<dev_kind> k;
+  if (d == 2 && !modified) k = overlapping ? dev_kind::oadev : dev_kind::adev;
+  if (d == 2 && modified && overlapping) k = dev_kind::mdev;
+  if (d == 3 && !modified) k = overlapping ? dev_kind::ohdev : dev_kind::hdev;
+  if (!k || alpha < -4 || alpha > 2 || alpha + 2 * d <= 1)
+    throw py::value_error("no EDF for this (alpha, d, overlapping, modified)");
+  return analysis::edf(*k, alpha, m, n);
+}
+
 }  // namespace
 
 void bind_analysis(py::module_& m) {
+  m.def("_gradev", &gradev, py::arg("data"), py::arg("rate"), py::arg("input"), py::arg("factors"));
+  m.def("_gcodev", &gcodev, py::arg("a"), py::arg("b"), py::arg("rate"), py::arg("input"),
+        py::arg("factors"));
+  m.def("_dynamic", &dynamic, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
+        py::arg("window"), py::arg("step"), py::arg("taus"));
+  m.def("_chi2_quantile", &analysis::chi2_quantile, py::arg("p"), py::arg("dof"));
+  m.def("_edf", &edf_of, py::arg("alpha"), py::arg("d"), py::arg("m"), py::arg("n"),
+        py::arg("overlapping"), py::arg("modified"));
+  m.def("_edf_kind", [](const std::string& kind, int alpha, std::size_t mm, std::size_t n) {
+    const auto k = analysis::parse_dev_kind(kind);
+    if (!k) throw py::value_error("unknown statistic '" + kind + "'");
+    return analysis::edf(*k, alpha, mm, n);
+  });
   m.def("_curve", &curve, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
-        py::arg("taus"), py::arg("factors"), py::arg("ci"), py::arg("file_backed"));
+        py::arg("taus"), py::arg("factors"), py::arg("ci"), py::arg("file_backed"),
+        py::arg("guard") = false, py::arg("bias_correction") = false);
   m.def("_noise", &noise, py::arg("data"), py::arg("rate"), py::arg("input"), py::arg("units"),
         py::arg("ci"), py::arg("fit_lo_s"), py::arg("fit_hi_s"), py::arg("abba_cycles"),
         py::arg("name"), py::arg("column"), py::arg("file_backed"));

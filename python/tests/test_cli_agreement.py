@@ -34,6 +34,19 @@ def test_deviation_equals_adev_json(exe, series_csv, kind):
     assert [p["alpha"] for p in cli["points"]] == list(d.alpha)
 
 
+def test_ci_guard_equals_guard_true(exe, series_csv):
+    """`adev --ci-guard` and deviation(guard=True) are one rule (issue 23): never a larger EDF
+    than the default, the same noise types."""
+    path, y = series_csv
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--ci-guard", "--json"))
+    plain = json.loads(run(exe, "adev", path, "--rate", 100, "--json"))
+    d = gyroflip.deviation(y, "oadev", rate=100.0, taus="octave", ci=0.683, guard=True)
+    for key, arr in [("dev", d.dev), ("ci_lo", d.ci_lo), ("ci_hi", d.ci_hi), ("edf", d.edf)]:
+        np.testing.assert_array_equal([p[key] for p in cli["points"]], arr, err_msg=key)
+    assert [p["alpha"] for p in cli["points"]] == [p["alpha"] for p in plain["points"]]
+    assert all(g["edf"] <= p["edf"] for g, p in zip(cli["points"], plain["points"]))
+
+
 def test_noise_equals_noise_json(exe, series_csv):
     path, y = series_csv
     cli = json.loads(run(exe, "noise", path, "--rate", 100, "--json"))
@@ -112,3 +125,76 @@ def test_readme_python_example_runs(tmp_path):
         os.chdir(cwd)
     assert abs(scope["cal"]["delta_n_dps"] - scope["rec"]["delta_n_truth_dps"]) < 0.01
     assert scope["taus"][0] == 0.01
+
+
+@pytest.mark.parametrize("kind", ["mtotdev", "ttotdev", "htotdev", "theo1", "pdev", "mtie", "tierms"])
+def test_extended_kinds_equal_adev_json(exe, series_csv, kind):
+    """Issue 23: the new kinds through `adev --kind` and deviation() are one computation; the kinds
+    without an EDF print null bounds (as --ci none)."""
+    path, y = series_csv
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--kind", kind, "--json"))
+    d = gyroflip.deviation(y, kind, rate=100.0, input="rate", taus="octave", ci=0.683)
+    assert [p["m"] for p in cli["points"]] == list(d.m)
+    np.testing.assert_array_equal([p["dev"] for p in cli["points"]], d.dev)
+    np.testing.assert_array_equal([p["tau_s"] for p in cli["points"]], d.tau_s)
+    if kind in ("mtotdev", "ttotdev"):
+        np.testing.assert_array_equal([p["ci_lo"] for p in cli["points"]], d.ci_lo)
+    else:
+        assert cli["ci"] is None and all(p["ci_lo"] is None for p in cli["points"])
+        assert np.all(np.isnan(d.ci_lo))
+
+
+def test_bias_correction_is_for_the_total_kinds_only(exe, series_csv):
+    path, y = series_csv
+    plain = json.loads(run(exe, "adev", path, "--rate", 100, "--kind", "htotdev", "--json"))
+    corr = json.loads(run(exe, "adev", path, "--rate", 100, "--kind", "htotdev", "--json",
+                          "--bias-correction"))
+    d = gyroflip.deviation(y, "htotdev", rate=100.0, bias_correction=True)
+    np.testing.assert_array_equal([p["dev"] for p in corr["points"]], d.dev)
+    assert all(c["dev"] >= p["dev"] for c, p in zip(corr["points"], plain["points"]))
+    bad = subprocess.run([exe, "adev", str(path), "--rate", "100", "--bias-correction"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "--bias-correction" in bad.stderr
+
+
+def test_dynamic_deviation_equals_adev_dynamic_json(exe, series_csv):
+    """DAVAR: `adev --dynamic W:S` and dynamic_deviation() are one computation, each window's
+    curve the deviation of that window."""
+    path, y = series_csv
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--dynamic", "40:20", "--json"))
+    py = gyroflip.dynamic_deviation(y, "oadev", rate=100.0, window_s=40, step_s=20)
+    assert len(cli["windows"]) == len(py) == (20000 - 4000) // 2000 + 1
+    for c, p in zip(cli["windows"], py):
+        assert c["start_s"] == p["start_s"]
+        np.testing.assert_array_equal([q["dev"] for q in c["points"]], p["dev"])
+    w = py[3]
+    d = gyroflip.deviation(y[6000:10000], "oadev", rate=100.0, ci=None)
+    np.testing.assert_array_equal(w["dev"], d.dev)
+    with pytest.raises(ValueError):
+        gyroflip.dynamic_deviation(y, window_s=1e6, rate=100.0)
+
+
+def test_codev_and_three_cornered_hat_in_the_cli(exe, tmp_path):
+    """adev --codev (two columns) and --three-cornered-hat (three) against the drop-in's gcodev
+    and three_cornered_hat_phase on the same samples: clocks of white FM 1, 2, 3."""
+    import gyroflip.allantools as at
+    rng = np.random.default_rng(3)
+    a, b, c = rng.normal(size=(3, 20000)) * np.array([[1.0], [2.0], [3.0]])
+    path = tmp_path / "clocks.csv"
+    np.savetxt(path, np.c_[a - b, b - c, c - a, c - b], delimiter=",", header="ab,bc,ca,cb",
+               comments="")
+    hat = json.loads(run(exe, "adev", path, "--rate", 1, "--column", "ab,bc,ca",
+                         "--three-cornered-hat", "--taus", "1,10", "--json"))
+    assert [cv["clock"] for cv in hat["curves"]] == ["A", "B", "C"]
+    for cv, sigma in zip(hat["curves"], (1.0, 2.0, 3.0)):
+        assert cv["points"][0]["dev"] == pytest.approx(sigma, rel=0.05)
+    _, da, _, _ = at.three_cornered_hat_phase(at.frequency2phase(a - b, 1), at.frequency2phase(b - c, 1),
+                                              at.frequency2phase(c - a, 1), 1.0, [1.0, 10.0], at.oadev)
+    np.testing.assert_allclose([p["dev"] for p in hat["curves"][0]["points"]], da, rtol=1e-9)
+    co = json.loads(run(exe, "adev", path, "--rate", 1, "--column", "ab,cb", "--codev",
+                        "--taus", "1,10", "--json"))
+    _, g, _, _ = at.gcodev(a - b, c - b, data_type="freq", taus=[1.0, 10.0])
+    np.testing.assert_allclose([abs(p["dev"]) for p in co["curves"][0]["points"]], g, rtol=1e-9)
+    bad = subprocess.run([exe, "adev", str(path), "--rate", "1", "--column", "ab", "--codev"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "two columns" in bad.stderr

@@ -9,8 +9,10 @@
 #include <fmt/format.h>
 
 #include "decimate.hpp"
+#include "extended.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
+#include "parallel.hpp"
 #include "sweep.hpp"
 
 namespace gyroflip::analysis {
@@ -37,8 +39,10 @@ std::size_t ohdev_terms(std::size_t n, std::size_t m) {
 std::size_t mdev_terms(std::size_t n, std::size_t m) {
   return n >= 3 * m ? n - 3 * m + 1 : 0;
 }
+// TOTDEV's reflected series x* reaches N - 2 points beyond either end, so every m up to N - 1
+// has its N - 2 terms (Stable32 and allantools compute m = N - 1 too).
 std::size_t totdev_terms(std::size_t n, std::size_t m) {
-  return n >= 3 && m <= n - 2 ? n - 2 : 0;
+  return n >= 3 && m <= n - 1 ? n - 2 : 0;
 }
 
 // Term ranges [0, terms) of a sweep whose terms start at i = 0.
@@ -79,8 +83,9 @@ std::vector<long double> sums_of(dev_kind k, const phase_source& x,
     case dev_kind::mdev:
     case dev_kind::tdev:
       return detail::mdev_sums(x, ms, p);
+    default:  // the extended kinds: extended_at
+      return std::vector<long double>(ms.size(), 0.0L);
   }
-  return {};
 }
 
 raw_deviation from_sum(dev_kind k, long double sum, std::size_t n, std::size_t m, double tau0_s) {
@@ -103,29 +108,90 @@ raw_deviation from_sum(dev_kind k, long double sum, std::size_t n, std::size_t m
       const auto r = finish(sum, 2.0L * mm * mm, tau, mdev_terms(n, m));
       return {tau * r.dev / std::sqrt(3.0), r.n};
     }
+    default:  // the extended kinds: extended_at
+      return {};
   }
-  return {};
+}
+
+// One extended statistic at factor m on the phase x in memory (allan.hpp gives the formulas).
+raw_deviation extended_at(dev_kind k, std::span<const double> x, std::size_t m, double tau0_s) {
+  const double tau = static_cast<double>(m) * tau0_s;
+  const auto mm = static_cast<long double>(m);
+  switch (k) {
+    case dev_kind::mtotdev:
+    case dev_kind::ttotdev: {
+      const auto s = detail::total_sum(x, m);
+      auto r = finish(s.sum, 6.0L * mm * mm * mm * 2.0L, tau, s.n);
+      if (k == dev_kind::ttotdev) r.dev *= tau / std::sqrt(3.0);  // SP1065 eqn 28
+      return r;
+    }
+    case dev_kind::htotdev: {
+      if (m == 1) return deviation_at(dev_kind::ohdev, x, tau0_s, 1);  // Stable32's choice
+      // The frequency y_i = (x_{i+1} - x_i) / tau0: finish's tau^2 takes the tau0^2 back.
+      std::vector<double> y(x.size() - 1);
+      for (std::size_t i = 0; i + 1 < x.size(); ++i) y[i] = x[i + 1] - x[i];
+      const auto s = detail::total_sum(y, m);
+      return finish(s.sum, 36.0L * mm * mm * mm, tau0_s, s.n);
+    }
+    case dev_kind::theo1: {
+      const auto s = detail::theo1_sum(x, m);
+      if (s.n == 0) return {};
+      return {
+          static_cast<double>(std::sqrt(s.sum / (0.75L * static_cast<long double>(x.size() - m) *
+                                                 static_cast<long double>(tau) * tau))),
+          s.n};
+    }
+    case dev_kind::pdev: {
+      if (m == 1) return deviation_at(dev_kind::oadev, x, tau0_s, 1);  // PDEV = OADEV at m = 1
+      const auto s = detail::pdev_sum(x, m);
+      return finish(72.0L * s.sum, mm * mm * mm * mm, tau, s.n);
+    }
+    case dev_kind::mtie: {
+      const auto s = detail::mtie_value(x, m);
+      return {static_cast<double>(s.sum), s.n};
+    }
+    case dev_kind::tierms: {
+      const auto s = detail::tie_sum(x, m);
+      if (s.n == 0) return {};
+      return {static_cast<double>(std::sqrt(s.sum / static_cast<long double>(s.n))), s.n};
+    }
+    default:
+      return {};
+  }
 }
 
 std::vector<raw_deviation> raw_deviations(dev_kind k, const phase_source& x,
                                           const std::vector<std::size_t>& ms,
                                           const progress_fn& p) {
-  const auto sums = sums_of(k, x, ms, p);
   std::vector<raw_deviation> out;
+  if (is_extended(k)) {
+    // The whole phase in memory (8 bytes a point), then each factor by its own algorithm.
+    phase_reader r(x);
+    const auto all = r.read(0, x.size());
+    const std::vector<double> phase(all.begin(), all.end());
+    out.resize(ms.size());
+    // The factors side by side on all cores (Theo1 spreads each factor itself).
+    detail::for_each_item(
+        ms.size(), k == dev_kind::theo1 ? 1 : detail::worker_count(x.size()),
+        [&](std::size_t, std::size_t i) { out[i] = extended_at(k, phase, ms[i], x.tau0_s()); }, p);
+    return out;
+  }
+  const auto sums = sums_of(k, x, ms, p);
   for (std::size_t i = 0; i < ms.size(); ++i)
     out.push_back(from_sum(k, sums[i], x.size(), ms[i], x.tau0_s()));
   return out;
 }
 
 // The curve from per-factor results, dropping factors without terms.
-result<std::vector<deviation_point>> collect(const std::vector<std::size_t>& factors,
+result<std::vector<deviation_point>> collect(dev_kind k, const std::vector<std::size_t>& factors,
                                              const std::vector<raw_deviation>& raw, double tau0_s) {
   std::vector<deviation_point> out;
   for (std::size_t i = 0; i < factors.size(); ++i) {
     if (raw[i].n == 0) continue;
     deviation_point p;
     p.m = factors[i];
-    p.tau_s = static_cast<double>(factors[i]) * tau0_s;
+    // Theo1's tau is 0.75 m tau0 (SP1065 eqn 30; Stable32's "Theo1 Tau").
+    p.tau_s = (k == dev_kind::theo1 ? 0.75 : 1.0) * static_cast<double>(factors[i]) * tau0_s;
     p.dev = raw[i].dev;
     p.n = raw[i].n;
     out.push_back(p);
@@ -143,12 +209,34 @@ std::size_t max_factor(dev_kind k, std::size_t n_phase) {
       return span / 5;
     case dev_kind::totdev:
       return span / 2;
+    case dev_kind::mtotdev:
+    case dev_kind::ttotdev:
+    case dev_kind::htotdev:
+      return span / 3;
+    case dev_kind::theo1:
+    case dev_kind::mtie:
+      return span;
     default:
       return span / 4;
   }
 }
 
 }  // namespace
+
+bool is_extended(dev_kind k) noexcept {
+  switch (k) {
+    case dev_kind::mtotdev:
+    case dev_kind::ttotdev:
+    case dev_kind::htotdev:
+    case dev_kind::theo1:
+    case dev_kind::pdev:
+    case dev_kind::mtie:
+    case dev_kind::tierms:
+      return true;
+    default:
+      return false;
+  }
+}
 
 std::string_view to_string(dev_kind k) noexcept {
   switch (k) {
@@ -166,13 +254,26 @@ std::string_view to_string(dev_kind k) noexcept {
       return "ohdev";
     case dev_kind::totdev:
       return "totdev";
+    case dev_kind::mtotdev:
+      return "mtotdev";
+    case dev_kind::ttotdev:
+      return "ttotdev";
+    case dev_kind::htotdev:
+      return "htotdev";
+    case dev_kind::theo1:
+      return "theo1";
+    case dev_kind::pdev:
+      return "pdev";
+    case dev_kind::mtie:
+      return "mtie";
+    case dev_kind::tierms:
+      return "tierms";
   }
   return "?";
 }
 
 std::optional<dev_kind> parse_dev_kind(std::string_view name) noexcept {
-  for (dev_kind k : {dev_kind::adev, dev_kind::oadev, dev_kind::mdev, dev_kind::tdev,
-                     dev_kind::hdev, dev_kind::ohdev, dev_kind::totdev})
+  for (dev_kind k : all_dev_kinds)
     if (to_string(k) == name) return k;
   return std::nullopt;
 }
@@ -218,6 +319,8 @@ std::vector<std::size_t> averaging_factors(const tau_spec& spec, dev_kind k, std
         if (m < n_phase) out.push_back(m);
       break;
   }
+  // Theo1 is defined for even factors only (SP1065 eqn 30).
+  if (k == dev_kind::theo1) std::erase_if(out, [](std::size_t m) { return m % 2 != 0; });
   return out;
 }
 
@@ -241,15 +344,17 @@ result<std::vector<deviation_point>> deviation(dev_kind k, const phase_source& x
   // phase (phase_reader is bit-identical wherever it starts), so the same sums - bit for bit but
   // for MDEV's exact restarts (~1e-14) - three times faster at 557 k points.
   constexpr std::size_t materialize_max_points = std::size_t{1} << 24;
-  if (x.kind() == input_kind::rate && x.size() <= materialize_max_points && factors.size() > 64) {
+  if (x.kind() == input_kind::rate && x.size() <= materialize_max_points && factors.size() > 64 &&
+      !is_extended(k)) {
     phase_reader r(x);
     const auto all = r.read(0, x.size());
     const std::vector<double> phase(all.begin(), all.end());
     const span_samples samples(phase);
     const auto angle = phase_source::make(samples, input_kind::angle, x.tau0_s());
-    if (angle) return collect(factors, raw_deviations(k, *angle, factors, on_progress), x.tau0_s());
+    if (angle)
+      return collect(k, factors, raw_deviations(k, *angle, factors, on_progress), x.tau0_s());
   }
-  return collect(factors, raw_deviations(k, x, factors, on_progress), x.tau0_s());
+  return collect(k, factors, raw_deviations(k, x, factors, on_progress), x.tau0_s());
 }
 
 std::vector<dropped_factor> dropped_factors(const tau_spec& spec,
@@ -261,11 +366,19 @@ std::vector<dropped_factor> dropped_factors(const tau_spec& spec,
     const bool kept = std::any_of(points.begin(), points.end(),
                                   [m](const deviation_point& p) { return p.m == m; });
     if (kept || std::any_of(out.begin(), out.end(), [m](auto& d) { return d.m == m; })) continue;
-    std::size_t need = 2 * m + 1;  // ADEV, OADEV: x_i, x_{i+m}, x_{i+2m}
-    if (k == dev_kind::mdev || k == dev_kind::tdev) need = 3 * m;
-    if (k == dev_kind::hdev || k == dev_kind::ohdev) need = 3 * m + 1;
-    if (k == dev_kind::totdev) need = m + 1;
+    std::size_t need = 2 * m + 1;  // ADEV, OADEV, PDEV: x_i, x_{i+m}, x_{i+2m}
+    if (k == dev_kind::mdev || k == dev_kind::tdev || k == dev_kind::mtotdev ||
+        k == dev_kind::ttotdev)
+      need = 3 * m;
+    if (k == dev_kind::hdev || k == dev_kind::ohdev || k == dev_kind::htotdev) need = 3 * m + 1;
+    if (k == dev_kind::totdev || k == dev_kind::theo1 || k == dev_kind::mtie ||
+        k == dev_kind::tierms)
+      need = m + 1;
     const double tau_s = static_cast<double>(m) * tau0_s;
+    if (k == dev_kind::theo1 && m % 2 != 0) {
+      out.push_back({m, tau_s, fmt::format("theo1 needs an even averaging factor; {} is odd", m)});
+      continue;
+    }
     out.push_back(
         {m, tau_s,
          fmt::format("{} at tau = {:g} s needs at least {} phase points; the series has {}",

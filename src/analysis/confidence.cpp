@@ -325,10 +325,19 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
   for (std::size_t p = 0; p < passes.size(); ++p) {
     auto z = detail::decimated_prefixes(x, passes[p], max_points,
                                         detail::part_progress(on_progress, p, passes.size()));
-    for (std::size_t i = 0; i < z.size(); ++i) {
-      by_b1.push_back(z[i].size() < lag1_min_points ? 1 : 0);
-      ids.push_back(by_b1.back() != 0 ? alpha_b1(z[i]) : alpha_lag1(std::move(z[i])));
-    }
+    // Each factor's type on its own series, the factors side by side on all cores (lag-1 on up
+    // to 2^20 points each: 0.3 s of 1e8 samples' octave taus on one core).
+    const std::size_t first = ids.size();
+    ids.resize(first + z.size());
+    by_b1.resize(first + z.size());
+    std::size_t held_points = 0;
+    for (const auto& v : z) held_points += v.size();
+    detail::for_each_item(z.size(), detail::worker_count(held_points),
+                          [&](std::size_t, std::size_t i) {
+                            const bool b1 = z[i].size() < lag1_min_points;
+                            by_b1[first + i] = b1 ? 1 : 0;
+                            ids[first + i] = b1 ? alpha_b1(z[i]) : alpha_lag1(std::move(z[i]));
+                          });
   }
   // PM read by B1: white or flicker by R(n), for the first max_rn such factors.
   std::vector<std::size_t> pm;
@@ -345,6 +354,48 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
   const auto rn = alpha_rn(x, pm_m);
   for (std::size_t k = 0; k < pm.size(); ++k) ids[pm[k]] = rn[k];
   return ids;
+}
+
+// TOTDEV's EDF (SP1065 section 5.2.11): Table 11's b (T/tau) - c for white, flicker and random-walk
+// FM (T/tau = (N-1)/m); Table 5's flicker-PM formula exp(sqrt(ln((N-1)/(2m)) ln((2m+1)(N-1)/4)))
+// with alpha = 1 and the OADEV EDF with white PM, which is what Stable32 prints (GPS set: 6e-4).
+// Beyond m = (N-1)/2 the fits are not defined (the first logarithm turns negative, Greenhall's
+// term count to zero): at least 1 there, a wide interval rather than none.
+double edf_totdev(int alpha, std::size_t m, std::size_t n_phase) {
+  const double span = static_cast<double>(n_phase - 1);
+  const double mm = static_cast<double>(m);
+  const double t_over_tau = span / mm;
+  double e = 0.0;
+  if (alpha == 0) {
+    e = 1.500 * t_over_tau;
+  } else if (alpha == -1) {
+    e = 1.168 * t_over_tau - 0.222;
+  } else if (alpha <= -2) {
+    e = 0.927 * t_over_tau - 0.358;
+  } else if (alpha == 1) {
+    const double a = std::log(span / (2.0 * mm));
+    const double b = std::log((2.0 * mm + 1.0) * span / 4.0);
+    e = a > 0.0 && b > 0.0 ? std::exp(std::sqrt(a * b)) : 0.0;
+  } else {
+    e = edf_greenhall(alpha, 2, m, n_phase, true, false);
+  }
+  return e > 1.0 ? e : 1.0;
+}
+
+// The guarded EDF at point i (edf_rule::guarded): no more than the types identified at the two
+// neighbouring taus give at this m, nor the frequency-noise type carried on past a PM reading at
+// a longer tau than one that showed frequency noise (PM's AVAR falls as tau^-2, so PM dominates
+// only at short taus: a PM reading there is a misreading of a few points).
+double guarded_edf(dev_kind k, const std::vector<int>& alpha, std::size_t i, std::size_t m,
+                   std::size_t n_phase, double own) {
+  int plausible = alpha[0];
+  for (std::size_t j = 1; j <= i; ++j)
+    plausible = alpha[j] >= 1 && plausible <= 0 ? plausible : alpha[j];
+  double e = own;
+  for (const int a :
+       {plausible, i > 0 ? alpha[i - 1] : alpha[i], i + 1 < alpha.size() ? alpha[i + 1] : alpha[i]})
+    if (a != alpha[i]) e = std::min(e, edf(k, a, m, n_phase));
+  return e;
 }
 
 }  // namespace
@@ -411,16 +462,41 @@ double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
       return edf_greenhall(alpha, 3, m, n_phase, false, false);
     case dev_kind::ohdev:
       return edf_greenhall(alpha, 3, m, n_phase, true, false);
-    case dev_kind::totdev: {
-      // SP1065 Table 11: edf = b (T/tau) - c, T = record length, for WFM, FFM, RWFM.
-      const double t_over_tau = static_cast<double>(n_phase - 1) / static_cast<double>(m);
-      if (alpha == 0) return 1.500 * t_over_tau;
-      if (alpha == -1) return 1.168 * t_over_tau - 0.222;
-      if (alpha <= -2) return 0.927 * t_over_tau - 0.358;
-      return edf_greenhall(alpha, 2, m, n_phase, true, false);
+    case dev_kind::totdev:
+      return edf_totdev(alpha, m, n_phase);
+    case dev_kind::mtotdev:
+    case dev_kind::ttotdev: {
+      // SP1065 Table 8, rows alpha = 2, 1, 0, -1, -2.
+      constexpr double b[5] = {1.90, 1.20, 1.10, 0.85, 0.75};
+      constexpr double c[5] = {2.1, 1.40, 1.2, 0.50, 0.31};
+      const auto row = static_cast<std::size_t>(2 - std::clamp(alpha, -2, 2));
+      const double e = b[row] * static_cast<double>(n_phase - 1) / static_cast<double>(m) - c[row];
+      return e > 1.0 ? e : 1.0;
     }
+    default:
+      return 0.0;
   }
-  return 0.0;
+}
+
+bool has_edf(dev_kind k) noexcept {
+  return !is_extended(k) || k == dev_kind::mtotdev || k == dev_kind::ttotdev;
+}
+
+void correct_total_bias(std::vector<deviation_point>& points, dev_kind k) {
+  for (auto& p : points) {
+    double b = 1.0;
+    if (k == dev_kind::mtotdev || k == dev_kind::ttotdev) {
+      constexpr double table[5] = {0.94, 0.83, 0.73, 0.70, 0.69};  // alpha 2 .. -2
+      b = table[static_cast<std::size_t>(2 - std::clamp(p.alpha, -2, 2))];
+    } else if (k == dev_kind::htotdev && p.m > 1 && p.alpha <= 0) {
+      constexpr double table[5] = {0.995, 0.851, 0.771, 0.717, 0.679};  // alpha 0 .. -4
+      b = table[static_cast<std::size_t>(-std::clamp(p.alpha, -4, 0))];
+    }
+    const double f = 1.0 / std::sqrt(b);
+    p.dev *= f;
+    p.ci_lo *= f;
+    p.ci_hi *= f;
+  }
 }
 
 status check_confidence_level(double level) {
@@ -432,15 +508,15 @@ status check_confidence_level(double level) {
 }
 
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
-                    double level) {
+                    double level, edf_rule rule) {
   // The phase as a source; tau0 matters for neither the noise type nor the EDF.
   const span_samples samples(phase);
   if (const auto src = phase_source::make(samples, input_kind::angle, 1.0))
-    add_confidence(points, k, *src, level);
+    add_confidence(points, k, *src, level, {}, rule);
 }
 
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
-                    double level, const progress_fn& on_progress) {
+                    double level, const progress_fn& on_progress, edf_rule rule) {
   std::vector<std::size_t> ms;
   ms.reserve(points.size());
   for (const auto& p : points) ms.push_back(p.m);
@@ -453,25 +529,12 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phas
     if (ids[i]) last = ids[i];
     alpha[i] = ids[i] ? *ids[i] : last.value_or(0);
   }
-  // Phase noise (alpha >= 1) dominates only at short taus (its AVAR falls as tau^-2): once a
-  // shorter tau showed frequency noise, a PM reading at a longer one is a misreading of a few
-  // points (lag-1 on 44 points, B1 on 10), and its EDF - ten times the white-FM one - must not
-  // be used. `plausible` carries the FM type on instead.
-  std::vector<int> plausible(alpha);
-  for (std::size_t i = 1; i < points.size(); ++i)
-    if (plausible[i] >= 1 && plausible[i - 1] <= 0) plausible[i] = plausible[i - 1];
   const double p_lo = 0.5 * (1.0 - level);
   for (std::size_t i = 0; i < points.size(); ++i) {
     auto& p = points[i];
     p.alpha = alpha[i];
-    // A noise type read from a few points can be wrong (white FM read as PM at 44 points gave
-    // EDF 20 000 instead of 130: a +-0.5 % interval). The interval at a tau may therefore be no
-    // narrower than the noise types identified at the neighbouring taus would make it: the EDF is
-    // the smallest of the three (issue 13 item 14; docs/ANALYSIS.md).
     p.edf = edf(k, alpha[i], p.m, x.size());
-    for (const int a : {plausible[i], i > 0 ? alpha[i - 1] : alpha[i],
-                        i + 1 < points.size() ? alpha[i + 1] : alpha[i]})
-      if (a != alpha[i]) p.edf = std::min(p.edf, edf(k, a, p.m, x.size()));
+    if (rule == edf_rule::guarded) p.edf = guarded_edf(k, alpha, i, p.m, x.size(), p.edf);
     if (!(p.edf > 0.0)) {
       p.ci_lo = p.ci_hi = std::numeric_limits<double>::quiet_NaN();
       continue;

@@ -27,8 +27,10 @@ result<noise_analysis> analyse_noise(const phase_source& x, double level, const 
   if (auto s = check_fit_range(range); !s) return s.err();
   auto pts = deviation(dev_kind::oadev, x, {}, on_progress);
   if (!pts) return pts.err();
-  // The OADEV points carry bounds at the same level as the terms.
-  add_confidence(*pts, dev_kind::oadev, x, level);
+  // The OADEV points carry bounds at the same level as the terms. Their EDFs weight the fit, so
+  // a noise type misread from a few points must not make one point outweigh the others: the
+  // guarded rule (docs/ANALYSIS.md, "The guard").
+  add_confidence(*pts, dev_kind::oadev, x, level, {}, edf_rule::guarded);
   std::vector<deviation_point> fitted;
   for (const auto& p : *pts)
     if (p.tau_s >= range.lo_s && p.tau_s <= range.hi_s) fitted.push_back(p);

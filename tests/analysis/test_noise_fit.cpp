@@ -21,7 +21,8 @@ namespace {
 
 std::vector<deviation_point> oadev_with_ci(const std::vector<double>& y, double tau0_s) {
   auto pts = *oadev(y, input_kind::rate, tau0_s);
-  add_confidence(pts, dev_kind::oadev, phase_from_rate(y, tau0_s), 0.683);
+  // As analyse_noise: the fit's weights come from the guarded EDFs.
+  add_confidence(pts, dev_kind::oadev, phase_from_rate(y, tau0_s), 0.683, edf_rule::guarded);
   return pts;
 }
 

@@ -14,6 +14,9 @@ fail() { echo "check_install: $*" >&2; exit 1; }
 import_check='import numpy as np, gyroflip
 t, d, e, n = gyroflip.oadev([892, 809, 823, 798, 671, 644, 883, 903, 677], data_type="freq", taus=[1, 2])
 assert abs(d[0] / 91.22945 - 1) < 1e-6 and abs(d[1] / 85.95287 - 1) < 1e-6, d
+import gyroflip.allantools as at
+t2, d2, e2, n2 = at.oadev([892, 809, 823, 798, 671, 644, 883, 903, 677], data_type="freq", taus=[1, 2])
+assert abs(d2[0] / 91.22945 - 1) < 1e-6, d2
 print("python", gyroflip.__version__, gyroflip.__file__)'
 
 if [ "$mode" = prefix ]; then
@@ -60,7 +63,7 @@ if [ "$mode" = prefix ]; then
     fail "the consumer did not build with pkg-config's flags: $flags"
   "$tmp/consumer_pc" >/dev/null
   # The Python module where this prefix's interpreter path puts it.
-  pydir=$(dirname "$(dirname "$(find "$p" -name '__init__.py' -path '*/gyroflip/*')")")
+  pydir=$(dirname "$(dirname "$(find "$p" -path '*/dist-packages/gyroflip/__init__.py')")")
   case "$pydir" in "$p"/lib/python3*/dist-packages) ;; *) fail "Python module in $pydir" ;; esac
   (cd "$tmp" && PYTHONPATH=$pydir "$python" -c "$import_check")
 elif [ "$mode" = deb ]; then
@@ -83,7 +86,7 @@ elif [ "$mode" = deb ]; then
       fail "$field: docs/INSTALL.md says $(echo $documented), the .deb $(echo $packaged)"
   done
   dpkg-deb -c "$deb" >"$tmp/contents"
-  grep -q './usr/lib/python3/dist-packages/gyroflip/__init__.py' "$tmp/contents" ||
+  grep -q './usr/lib/python3/dist-packages/gyroflip/allantools/allantools.py' "$tmp/contents" && grep -q './usr/lib/python3/dist-packages/gyroflip/__init__.py' "$tmp/contents" ||
     fail "the Python module is not in /usr/lib/python3/dist-packages"
   dpkg -x "$deb" "$tmp/root"
   "$tmp/root/usr/bin/gyroflip" --version

@@ -341,8 +341,9 @@ TEST(AbbaCycles, AllanVarianceOfWhiteDwellNoiseHasTheClosedForm) {
     EXPECT_NEAR(p.dev * p.dev / want, 1.0, 0.02) << "m " << p.m;
   }
   auto curve = *analysis::oadev(r, analysis::input_kind::rate, cycle_s);
+  // The fit's weights from the guarded EDFs, as analysis::analyse_noise computes them.
   analysis::add_confidence(curve, analysis::dev_kind::oadev, analysis::phase_from_rate(r, cycle_s),
-                           0.683);
+                           0.683, analysis::edf_rule::guarded);
   const auto f = *analysis::fit_noise_terms(curve, 0.683, {cycle_s});
   EXPECT_FALSE(f.bias_instability.resolved);
   const double n_true = sigma * std::sqrt(cycle_s / 2.0);

@@ -30,7 +30,33 @@
 
 namespace gyroflip::analysis {
 
-enum class dev_kind { adev, oadev, mdev, tdev, hdev, ohdev, totdev };
+enum class dev_kind {
+  adev,
+  oadev,
+  mdev,
+  tdev,
+  hdev,
+  ohdev,
+  totdev,
+  mtotdev,  ///< modified total (SP1065 eqn 27)
+  ttotdev,  ///< time total: tau MTOTDEV / sqrt(3) (eqn 28)
+  htotdev,  ///< Hadamard total (eqn 29), OHDEV at m = 1 as Stable32
+  theo1,    ///< Theo1 (eqn 30), even m, tau = 0.75 m tau0
+  pdev,     ///< parabolic (Vernotte et al. 2016), OADEV at m = 1
+  mtie,     ///< maximum time interval error (ITU-T G.810), in the angle unit
+  tierms,   ///< rms time interval error, in the angle unit
+};
+
+/// Every kind, in the order above.
+inline constexpr dev_kind all_dev_kinds[] = {
+    dev_kind::adev,  dev_kind::oadev,  dev_kind::mdev,    dev_kind::tdev,    dev_kind::hdev,
+    dev_kind::ohdev, dev_kind::totdev, dev_kind::mtotdev, dev_kind::ttotdev, dev_kind::htotdev,
+    dev_kind::theo1, dev_kind::pdev,   dev_kind::mtie,    dev_kind::tierms};
+
+/// True for the kinds computed on the whole phase in memory (8 bytes a point) by their own
+/// algorithms (extended.hpp): MTOTDEV, TTOTDEV, HTOTDEV, Theo1, PDEV, MTIE, TIE rms. The SP1065
+/// sums of the others stream over the phase in bounded memory.
+[[nodiscard]] bool is_extended(dev_kind k) noexcept;
 
 [[nodiscard]] std::string_view to_string(dev_kind k) noexcept;
 [[nodiscard]] std::optional<dev_kind> parse_dev_kind(std::string_view name) noexcept;
@@ -58,9 +84,10 @@ struct deviation_point {
 };
 
 /// Averaging factors of `spec` for a phase series of `n_phase` points and statistic `k`,
-/// limited as Stable32 does: m <= (N-1)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
-/// OHDEV, (N-1)/2 for TOTDEV (a `list` is limited to factors with at least one term).
-/// `decade` is 1, 2, 4, 10, 20, 40, 100, ... (Stable32).
+/// limited as Stable32 does: m <= (N-1)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV, OHDEV,
+/// PDEV and TIE rms, (N-1)/3 for MTOTDEV, TTOTDEV and HTOTDEV (their windows of 3m), (N-1)/2 for
+/// TOTDEV, N - 1 for Theo1 and MTIE (a `list` is limited to factors with at least one term).
+/// Theo1 keeps even factors only. `decade` is 1, 2, 4, 10, 20, 40, 100, ... (Stable32).
 [[nodiscard]] std::vector<std::size_t> averaging_factors(const tau_spec& spec, dev_kind k,
                                                          std::size_t n_phase);
 
@@ -76,10 +103,23 @@ struct deviation_point {
 /// - OHDEV  (eqn 18): all third differences (x_{i+3m} - 3x_{i+2m} + 3x_{i+m} - x_i)^2 / (6 tau^2 (N
 /// - 3m))
 /// - TOTDEV (eqn 25): OADEV terms centred on every interior point of x extended by reflection
-///   at both ends (x*_{-j} = 2x_0 - x_j, x*_{N-1+j} = 2x_{N-1} - x_{N-1-j}), over N - 2 terms.
+///   at both ends (x*_{-j} = 2x_0 - x_j, x*_{N-1+j} = 2x_{N-1} - x_{N-1-j}), over N - 2 terms,
+///   for every m up to N - 1.
+/// - MTOTDEV (eqn 27): every window of 3m phase points, detrended by the slope between the means
+///   of its halves and reflected to 9m points; the 6m MDEV-type terms of each, averaged:
+///   sum / (6m m^2 2 m^2 tau^2 (N - 3m + 1)) with m-point sums; TTOTDEV = tau MTOTDEV / sqrt(3).
+/// - HTOTDEV (eqn 29): the same windows of 3m frequency averages y_i = (x_{i+1} - x_i)/tau0,
+///   Hadamard terms: sum / (36 m^3 (N - 3m)); OHDEV at m = 1 (Stable32).
+/// - Theo1 (eqn 30): sum_{i<N-m} sum_{d<m/2} (x_i - x_{i-d+m/2} + x_{i+m} - x_{i+d+m/2})^2 /
+///   (m/2 - d) / (0.75 (N - m) tau^2), tau reported as 0.75 m tau0, n = (N - m) m/2.
+/// - PDEV (Vernotte et al. 2016 eqn 13): 72 sum_i [sum_{k<m} ((m-1)/2 - k)(x_{i+k} - x_{i+k+m})]^2
+///   / ((N - 2m) m^4 tau^2); OADEV at m = 1.
+/// - MTIE: max over windows of m + 1 points of (max - min); TIE rms: sqrt(mean (x_{i+m} - x_i)^2),
+///   n = N - m (both in the angle unit).
 /// Squared differences are summed in double over blocks of 4096 terms and the block sums in long
 /// double; MDEV's inner sum slides by one term per step and is recomputed exactly every 2^20
-/// steps (relative rounding ~1e-13, tested against all-long-double references).
+/// steps (relative rounding ~1e-13, tested against all-long-double references). The extended
+/// kinds' algorithms (docs/ANALYSIS.md, "The extended statistics") are tested against direct sums.
 /// Returns n = 0 when m is too large, tau0 is not positive or x has a non-finite value.
 struct raw_deviation {
   double dev = 0.0;
@@ -121,8 +161,9 @@ struct dropped_factor {
 
 /// The factors of a `list` spec that `points` (the curve of statistic `k` on `n_phase` phase
 /// points spaced `tau0_s`) does not have, each with the reason: a statistic needs at least one
-/// difference of its order at m, i.e. ADEV and OADEV 2m + 1 phase points, MDEV and TDEV 3m,
-/// HDEV and OHDEV 3m + 1, TOTDEV (reflected) m + 1. Empty for octave, decade and all.
+/// difference of its order at m, i.e. ADEV, OADEV and PDEV 2m + 1 phase points, MDEV, TDEV,
+/// MTOTDEV and TTOTDEV 3m, HDEV, OHDEV and HTOTDEV 3m + 1, TOTDEV (reflected), MTIE and TIE rms
+/// m + 1, Theo1 m + 1 and an even m. Empty for octave, decade and all.
 [[nodiscard]] std::vector<dropped_factor> dropped_factors(const tau_spec& spec,
                                                           std::span<const deviation_point> points,
                                                           dev_kind k, std::size_t n_phase,

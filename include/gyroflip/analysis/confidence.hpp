@@ -35,28 +35,58 @@ namespace gyroflip::analysis {
 /// Greenhall & Riley's algorithm ("Uncertainty of stability variances based on finite
 /// differences", 2003; as Stable32) for ADEV, OADEV, MDEV, TDEV, HDEV and OHDEV — the basic sum
 /// directly up to J_max = 100 terms, their Tables 1-3 beyond — so one EDF costs at most ~100
-/// evaluations whatever m and N; the SP1065 Table 11 fit b (T/tau) - c for TOTDEV with FM noise,
-/// and the OADEV EDF for TOTDEV with PM noise.
+/// evaluations whatever m and N. TOTDEV: the SP1065 Table 11 fit b (T/tau) - c with FM noise,
+/// the SP1065 Table 5 flicker-PM formula with alpha = 1 and the OADEV EDF with white PM (as
+/// Stable32: its bounds agree to 6e-4 on the GPS set); beyond m = (N-1)/2, where those fits are
+/// not defined, at least 1.
+/// MTOTDEV and TTOTDEV: SP1065 Table 8's fit b (T/tau) - c (WPM 1.90, 2.1; FPM 1.20, 1.40; WFM
+/// 1.10, 1.2; FFM 0.85, 0.50; RWFM 0.75, 0.31), at least 1. Stable32 1.60 prints other bounds
+/// (docs/ANALYSIS.md). 0 for the kinds without an EDF (has_edf).
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
 /// The rule for a confidence level (`--ci`, Python's `ci`): a probability in (0, 1). Error
 /// (parameter `level`) otherwise.
 [[nodiscard]] status check_confidence_level(double level);
 
+/// Whether `edf` gives kind k an EDF (and so bounds): every kind but HTOTDEV, Theo1, PDEV, MTIE
+/// and TIE rms, for which SP1065 gives none that could be checked here.
+[[nodiscard]] bool has_edf(dev_kind k) noexcept;
+
+/// Stable32's bias correction of the total deviations, by the noise type identified at each point
+/// (its `alpha`, so after add_confidence): dev, ci_lo and ci_hi divided by sqrt(B), B the ratio of
+/// the total variance to the variance it stands for: MTOTDEV/TTOTDEV (to MVAR) WPM 0.94, FPM 0.83,
+/// WFM 0.73, FFM 0.70, RWFM 0.69; HTOTDEV (to HVAR) WFM 0.995, FFM 0.851, RWFM 0.771, none for PM
+/// and at m = 1 (where it is OHDEV). Values: Riley, "Handbook of frequency stability analysis"
+/// (SP1065) and Stable32 (docs/FACTS.md); Stable32's PHASE.DAT tables are met to 1e-4. No-op for
+/// other kinds.
+void correct_total_bias(std::vector<deviation_point>& points, dev_kind k);
+
+/// How `add_confidence` picks each point's EDF.
+enum class edf_rule {
+  /// The EDF of the noise type identified at that tau, as Stable32 computes it (the default:
+  /// bounds agree with Stable32's to 1e-3 wherever the identified type agrees).
+  stable32,
+  /// No interval narrower than the neighbouring taus allow: the smallest EDF among the types
+  /// identified at the tau and at its two neighbours, and a frequency-noise type carried on where
+  /// PM is read at a tau longer than one that showed frequency noise. A type misread from few
+  /// points (white FM read as PM on 44 points: EDF 20 000 instead of 130) then cannot give one
+  /// point a +-0.5 % interval. The noise fit's weights use it (docs/ANALYSIS.md, "The guard").
+  guarded,
+};
+
 /// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau
-/// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF at each
-/// tau the smallest of those that the types identified at it and at its two neighbours give (a
-/// type misread from few points must not make one interval narrower than its neighbours allow),
-/// bounds at confidence `level` (two-sided; 0.683 = 1 sigma; check_confidence_level) from
+/// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF by
+/// `rule`, bounds at confidence `level` (two-sided; 0.683 = 1 sigma; check_confidence_level) from
 /// SP1065 eqn 45:
 /// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
 /// level)/2, edf)). The decimated series of all points are collected in one pass over the phase
 /// (as many as fit in 128 MB; more factors take more passes). `on_progress` reports that pass.
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
-                    double level, const progress_fn& on_progress = {});
+                    double level, const progress_fn& on_progress = {},
+                    edf_rule rule = edf_rule::stable32);
 
 /// As above, on a phase series in memory (deg).
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
-                    double level);
+                    double level, edf_rule rule = edf_rule::stable32);
 
 }  // namespace gyroflip::analysis

@@ -1,0 +1,58 @@
+#!/usr/bin/env python3
+"""Issue 23, section 4: every deviation of `gyroflip.allantools` beside allantools' own, in the
+same process on the same array (data_type="freq", taus="octave"), best of REPEAT calls; and the
+per-call overhead (a 1000-sample call). allantools is timed only when it can be imported
+(PYTHONPATH); gyroflip never imports it otherwise.
+
+Usage: /usr/bin/python3 bench/python_vs_allantools.py [build/python] [sizes...] [--kinds a,b,...]
+Prints one line per (kind, N): gyroflip s, allantools s (or "-"), ratio. docs/PERFORMANCE.md."""
+import os
+import sys
+import time
+
+REPEAT = 3
+
+
+def best(f):
+    t = []
+    for _ in range(REPEAT):
+        start = time.perf_counter()
+        f()
+        t.append(time.perf_counter() - start)
+    return min(t)
+
+
+def main():
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    kinds = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
+             "htotdev", "theo1", "pdev", "mtie", "tierms"]
+    for a in sys.argv[1:]:
+        if a.startswith("--kinds="):
+            kinds = a.split("=", 1)[1].split(",")
+    pydir = args[0] if args else os.path.join(os.path.dirname(__file__), "..", "build", "python")
+    sizes = [int(float(s)) for s in args[1:]] or [10 ** 6, 10 ** 7]
+    sys.path.insert(0, pydir)
+    import numpy as np
+    import gyroflip.allantools as ours
+    try:
+        import allantools as theirs  # only when PYTHONPATH has it (never installed by gyroflip)
+    except ImportError:
+        theirs = None
+    small = np.random.default_rng(2).normal(size=1000)
+    for k in kinds:
+        t = best(lambda: getattr(ours, k)(small, data_type="freq", taus="octave"))
+        print(f"overhead {k:8s} N=1e3   gyroflip {t * 1e3:8.3f} ms", flush=True)
+    for n in sizes:
+        y = np.random.default_rng(1).normal(size=n)
+        for k in kinds:
+            g = best(lambda: getattr(ours, k)(y, data_type="freq", taus="octave"))
+            a = None
+            if theirs is not None and hasattr(theirs, k):
+                a = best(lambda: getattr(theirs, k)(y, data_type="freq", taus="octave"))
+            ratio = f"{a / g:6.1f}x" if a else "     -"
+            at = f"{a:8.3f} s" if a else "       - "
+            print(f"{k:8s} N={n:.0e}  gyroflip {g:8.3f} s  allantools {at}  {ratio}", flush=True)
+
+
+if __name__ == "__main__":
+    main()

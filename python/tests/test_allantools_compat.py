@@ -1,0 +1,266 @@
+"""gyroflip.allantools runs code written for allantools 2024.06 (issue 23, section 3): each test
+states a behaviour from allantools' documentation (its docstrings and README) and checks it, and
+the numbers against Stable32 and the NBS14 published values. allantools itself is never imported
+(it is not installed); neither are scipy nor matplotlib."""
+import os
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import gyroflip.allantools as at
+from conftest import read_stable32, read_values
+
+NBS14_PHASE = [0.00000, 103.11111, 123.22222, 157.33333, 166.44444, 48.55555, -96.33333,
+               -2.22222, 111.88889, 0.00000]
+NBS14_FREQ = [892.0, 809.0, 823.0, 798.0, 671.0, 644.0, 883.0, 903.0, 677.0]
+
+
+def test_every_public_name_is_there_and_nothing_heavy_is_imported():
+    for name in ["adev", "oadev", "mdev", "pdev", "hdev", "ohdev", "calc_hdev_phase", "tdev",
+                 "totdev", "mtotdev", "calc_mtotdev_phase", "ttotdev", "htotdev",
+                 "calc_htotdev_freq", "theo1", "mtie", "mtie_phase_fast", "tierms",
+                 "frequency2phase", "phase2frequency", "phase2radians", "frequency2fractional",
+                 "three_cornered_hat_phase", "noise", "gradev", "gcodev", "trim_data",
+                 "edf_simple", "edf_greenhall", "edf_totdev", "edf_mtotdev", "confidence_interval",
+                 "confidence_interval_noiseID", "autocorr_noise_id", "b1_noise_id", "Dataset",
+                 "Noise", "Plot", "psd2allan", "adev2psd_piecewise_approx", "psd_piecewise_to_adev",
+                 "tau_generator", "tau_reduction", "remove_small_ns", "oadev_realtime",
+                 "ohdev_realtime", "tdev_realtime", "mask", "__version__"]:
+        assert hasattr(at, name), name
+    assert at.allantools.tau_reduction is at.tau_reduction  # at.allantools.X works too
+    assert "allantools" not in [m.split(".")[0] for m in sys.modules]
+    assert "scipy" not in sys.modules and "matplotlib" not in sys.modules
+
+
+# -- tau_generator (allantools docs: "all" 1..len, "octave" 1, 2, 4, ..., "decade" 1, 2, 4, 10, ...)
+D128 = np.random.default_rng(1).random(128)
+
+
+@pytest.mark.parametrize("taus,expected", [
+    (None, [1, 2, 4, 8, 16, 32]), ([], [1, 2, 4, 8, 16, 32]), ("octave", [1, 2, 4, 8, 16, 32]),
+    ("all", list(range(1, 43))), ("decade", [1, 2, 4, 10, 20, 40]), ([1, 2, 3, 4], [1, 2, 3, 4]),
+    (np.array([1, 2, 3, 4]), [1, 2, 3, 4])])
+def test_taus_as_allantools_generates_them(taus, expected):
+    t, _, _, _ = at.adev(D128, taus=taus)
+    np.testing.assert_allclose(t, expected)
+
+
+def test_tau_generator_signature_and_tau_reduction():
+    data, m, taus = at.tau_generator(D128, 2.0, taus="octave")
+    assert data is D128 and list(m) == [1, 2, 4, 8, 16, 32, 64] and np.allclose(taus, m / 2.0)
+    _, m, _ = at.tau_generator(D128, 1.0, taus="all", even=True, maximum_m=10)
+    assert list(m) == [2, 4, 6, 8, 10]
+    ms, _ = at.tau_reduction(np.arange(1, 43), 1.0, 10)
+    np.testing.assert_allclose(ms, [1, 2, 3, 4, 5, 7, 8, 11, 14, 17, 22, 28, 35])
+    ms, _ = at.tau_reduction(np.arange(1, 43), 1.0, 2)
+    np.testing.assert_allclose(ms, [1, 5, 17])
+
+
+def test_nan_taus_are_dropped_and_float32_taus_give_float32():
+    t, d, e, n = at.oadev(D128, taus=np.array([1.0, np.nan, 4.0], dtype=np.float32))
+    assert list(t) == [1.0, 4.0]
+    assert t.dtype == d.dtype == e.dtype == n.dtype == np.float32
+
+
+def test_bad_rate_is_both_value_error_and_runtime_error():
+    for bad in (0.0, -1.0, float("nan"), float("inf")):
+        with pytest.raises(RuntimeError):
+            at.adev(D128, rate=bad)
+        with pytest.raises(ValueError):
+            at.oadev(D128, rate=bad)
+
+
+def test_no_valid_tau_is_a_user_warning():
+    with pytest.raises(UserWarning):
+        at.adev(D128, taus=[1e6])
+    with pytest.raises(UserWarning):
+        at.remove_small_ns(np.array([1.0]), np.array([1.0]), np.array([1.0]), np.array([1.0]))
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        _, m, _ = at.tau_generator(D128, 1.0, taus=[1e6])
+    assert len(m) == 0 and issubclass(w[0].category, UserWarning)
+
+
+def test_ns_are_at_least_two_for_unreasonable_taus():
+    phase = at.noise.white(500)
+    for f in (at.adev, at.oadev, at.mdev, at.tdev, at.hdev, at.ohdev, at.totdev, at.mtie, at.tierms,
+              at.mtotdev, at.ttotdev, at.htotdev, at.theo1, at.pdev):
+        t, d, e, n = f(phase, rate=1.0, taus=list(np.logspace(0, 4, 400)))
+        assert len(t) == len(d) == len(e) == len(n) > 0 and np.all(n > 1), f.__name__
+
+
+def test_remove_small_ns_with_one_or_two_error_arrays():
+    taus = np.arange(1.0, 6.0)
+    ns = np.array([8.0, 4.0, 2.0, 1.0, 1.0])
+    t, d, e, n = at.remove_small_ns(taus, taus * 2, taus * 3, ns)
+    assert list(t) == [1, 2, 3] and list(e) == [3, 6, 9]
+    t, d, (lo, hi), n = at.remove_small_ns(taus, taus, [taus, -taus], ns)
+    assert list(lo) == [1, 2, 3] and list(hi) == [-1, -2, -3]
+
+
+def test_trim_data_and_nan_in_frequency_data():
+    x = np.array([np.nan, np.nan, 1, 2, 3.4, 2.3, np.nan, 9, 12, 45, np.nan])
+    np.testing.assert_array_equal(at.trim_data(x), [1, 2, 3.4, 2.3, np.nan, 9, 12, 45])
+    np.testing.assert_array_equal(at.trim_data(D128), D128)
+    y = np.random.default_rng(2).normal(size=1000)
+    padded = np.concatenate(([np.nan] * 3, y, [np.nan] * 2))
+    a = at.oadev(y, data_type="freq")
+    b = at.oadev(padded, data_type="freq")
+    for u, v in zip(a, b):
+        np.testing.assert_array_equal(u, v)
+    inside = y.copy()
+    inside[500] = np.nan
+    t, d, e, n = at.oadev(inside, data_type="freq")
+    assert len(t) == len(a[0]) and np.all(np.isnan(d))
+
+
+def test_column_arrays_are_accepted():
+    y = np.random.default_rng(3).normal(size=(300, 1))
+    for u, v in zip(at.mdev(y, data_type="freq"), at.mdev(y[:, 0], data_type="freq")):
+        np.testing.assert_array_equal(u, v)
+
+
+def test_nbs14_and_stable32_values_through_allantools_names(vectors):
+    # NIST SP1065 p. 107-108 (10-point set), as allantools' own tests use them.
+    expect = {"adev": (91.22945, 115.8082), "oadev": (91.22945, 85.95287),
+              "mdev": (91.22945, 74.78849), "totdev": (91.22945, 93.90379),
+              "hdev": (70.80608, 116.7980), "tdev": (52.67135, 86.35831),
+              "ohdev": (70.80607, 85.61487), "mtotdev": (64.509, 64.794), "ttotdev": (37.244, 74.818)}
+    for name, (d1, d2) in expect.items():
+        for data, kind in ((NBS14_PHASE, "phase"), (NBS14_FREQ, "freq")):
+            _, d, _, _ = getattr(at, name)(data, rate=1.0, data_type=kind, taus=[1, 2])
+            np.testing.assert_allclose(d, [d1, d2], rtol=1e-4, err_msg=name)
+    x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
+    rows = read_stable32(os.path.join(vectors, "stable32/phasedat/phase_dat_oadev_octave.txt"))
+    t, d, e, n = at.oadev(x, taus=[r[0] for r in rows])
+    np.testing.assert_allclose(d, [r[5] for r in rows], rtol=1e-4)
+    assert list(n) == [r[2] for r in rows]
+
+
+def test_conversions():
+    y = np.array([1.0, 2.0, 4.0])
+    x = at.frequency2phase(y, 2.0)
+    # Mean removed (7/3), integrated with dt = 1/2, a leading 0: (-4/3, -1/3, 5/3) / 2 summed.
+    np.testing.assert_allclose(x, [0, -2 / 3, -5 / 6, 0], atol=1e-15)
+    np.testing.assert_allclose(at.phase2frequency([0.0, 1.0, 3.0], 2.0), [2.0, 4.0])
+    np.testing.assert_allclose(at.phase2radians([1e-9], 10e6), [2 * np.pi * 1e-2])
+    np.testing.assert_allclose(at.frequency2fractional([9.0, 11.0]), [-0.1, 0.1])
+    np.testing.assert_allclose(at.frequency2fractional([9.0, 11.0], mean_frequency=9.0), [0, 2 / 9])
+
+
+def test_confidence_intervals_and_edf():
+    lo, hi = at.confidence_interval(1.0, 10.0, ci=0.9)
+    # chi-squared 5 % and 95 % points at 10 degrees of freedom: 3.940299, 18.307038.
+    np.testing.assert_allclose([lo, hi], [np.sqrt(10 / 18.307038), np.sqrt(10 / 3.940299)], rtol=1e-6)
+    assert abs(at.ci.ONE_SIGMA_CI - 0.6826894921370859) < 1e-15
+    np.testing.assert_allclose(at.edf_simple(1001, 1, 0), (3 * 1000 / 2 - 2 * 999 / 1001) * 4 / 9)
+    assert at.edf_simple(100, 2, 7) == 99  # unknown noise: N - 1
+    assert at.edf_totdev(1001, 10, 0) == pytest.approx(150.15)
+    assert at.edf_mtotdev(1001, 10, 0) == pytest.approx(1.1 * 100.1 - 1.2)
+    assert at.edf_greenhall(0, 2, 8, 1001, overlapping=True) == pytest.approx(166.0, rel=1e-3)
+    x = np.array(at.noise.white(5000)).cumsum()  # random-walk phase: white FM, alpha 0
+    assert at.autocorr_noise_id(x, 1)[0] == 0
+    assert at.autocorr_noise_id(at.noise.white(5000), 1)[0] == 2
+    lo, hi = at.confidence_interval_noiseID(x, 1.0, 4, dev_type="oadev")
+    assert lo < 1.0 < hi
+
+
+def test_realtime_equals_batch_on_nbs14():
+    o = at.oadev_realtime(afs=[1, 2], tau0=1.0)
+    h = at.ohdev_realtime(afs=[1, 2], tau0=1.0)
+    t = at.tdev_realtime(afs=[1, 2], tau0=1.0)
+    for v in NBS14_PHASE:
+        o.add_phase(v)
+        h.add_phase(v)
+        t.add_phase(v)
+    np.testing.assert_allclose(o.dev, [91.22945, 85.95287], rtol=1e-6)
+    np.testing.assert_allclose(h.dev, [70.80607, 85.61487], rtol=1e-6)
+    np.testing.assert_allclose(t.mdev(), [91.22945, 74.78849], rtol=1e-6)
+    f = at.oadev_realtime(afs=[1], auto_afs=True)
+    for v in NBS14_FREQ:
+        f.add_frequency(v)
+    assert len(f.x) == 10 and list(f.taus()[:2]) == [1, 2]
+
+
+def test_noise_generators():
+    np.random.seed(5)
+    w = at.noise.white(2 ** 16, b0=2.0, fs=4.0)
+    f, p = at.noise.numpy_psd(w, 4.0)
+    assert abs(np.mean(p[1:]) / 2.0 - 1) < 0.05  # PSD b0 up to fs/2
+    assert len(at.noise.brown(100)) == 100 and len(at.noise.violet(100)) == 100
+    assert len(at.noise.pink(100)) == 100
+    n = at.Noise(nr=2 ** 12, qd=1e-20, b=-2)
+    n.generateNoise()
+    assert n.time_series.shape == (2 ** 12,)
+    # White FM (b = -2) as Kasdin-Walter phase: ADEV follows the predicted prefactor.
+    _, d, _, _ = at.oadev(n.time_series, taus=[16.0])
+    assert d[0] == pytest.approx(n.adev(1.0, 16.0), rel=0.2)
+    x = at.noise.timmer_koenig_from_psd(np.array([]), [1e-22], [0.0], 4096.0, 1.0, seed=42)
+    assert x.shape == (4096,)
+
+
+def test_gradev_gcodev_and_three_cornered_hat():
+    rng = np.random.default_rng(7)
+    y = rng.normal(size=5000).cumsum()
+    gap = y.copy()
+    gap[2000:2300] = np.nan
+    t, d, (lo, hi), n = at.gradev(y, taus=[1, 4, 16])
+    tg, dg, _, ng = at.gradev(gap, taus=[1, 4, 16])
+    assert np.all(np.abs(np.log(d / dg)) < 0.2) and np.all(ng < n)
+    assert np.all(lo > 0) and np.all(hi > 0)
+    a, b, c = rng.normal(size=(3, 20000))
+    t, g, _, _ = at.gcodev(a - b, c - b, data_type="freq", taus=[1.0])
+    assert g[0] == pytest.approx(1.0, rel=0.05)  # B's white FM at tau = 1
+    t, da, ea, na = at.three_cornered_hat_phase(at.frequency2phase(a - b, 1), at.frequency2phase(b - 2 * c, 1),
+                                                at.frequency2phase(2 * c - a, 1), 1.0, [1.0], at.oadev)
+    assert da[0] == pytest.approx(1.0, rel=0.05)
+
+
+def test_dataset_and_plot(tmp_path):
+    ds = at.Dataset(data=NBS14_PHASE, rate=1.0, data_type="phase", taus=[1, 2])
+    r = ds.compute("oadev")
+    np.testing.assert_allclose(r["stat"], [91.22945, 85.95287], rtol=1e-6)
+    assert ds.out["stat_id"] == "oadev"
+    ds.write_results(str(tmp_path / "r.txt"))
+    assert "oadev" in (tmp_path / "r.txt").read_text()
+    with pytest.raises(RuntimeError):
+        ds.compute("trim_data")
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        pytest.skip("matplotlib is not installed (not a gyroflip dependency)")
+    p = at.Plot(no_display=True)
+    p.plot(ds, errorbars=True, grid=True)
+    p.save(str(tmp_path / "p.png"))
+
+
+def test_masks():
+    assert at.mask.prc_tdev(10) == 3e-9 and at.mask.prc_tdev(1e4) == 30e-9
+    assert at.mask.prc_mtie(100) == pytest.approx(1e-6 * (0.0275 + 0.025))
+    assert at.mask.eprtc_mtie(1e6) == 30e-9 and at.mask.prtcB_mtie(100) == 40e-9
+
+
+def test_psd_conversions():
+    taus = np.geomspace(1.0, 1e4, 9)
+    a = 1e-13
+    f_nodes, _, h, alpha = at.adev2psd_piecewise_approx(a * taus ** -0.5, taus)
+    assert h.size == 1 and abs(alpha[0]) < 1e-9 and h[0] == pytest.approx(2 * a * a, rel=1e-8)
+    f_nodes, _, h, alpha = at.adev2psd_piecewise_approx(np.full_like(taus, a), taus)
+    assert alpha[0] == pytest.approx(-1.0) and h[0] == pytest.approx(a * a / (2 * np.log(2)), rel=1e-8)
+    back = at.psd_piecewise_to_adev(h, alpha, f_nodes, taus)
+    np.testing.assert_allclose(back, a, rtol=1e-6)
+    t = np.geomspace(1, 1e4, 5)
+    with pytest.raises(ValueError):
+        at.adev2psd_piecewise_approx(1e-13 * t ** -1.5, t)
+    _, _, h, alpha = at.adev2psd_piecewise_approx(1e-13 * t ** 1.5, t, vartype="hdev")
+    assert alpha[0] == pytest.approx(-4.0)
+    tt = np.array([1, 10, 1e2, 1e3, 5e3, 1e4])
+    ad = np.array([1e-11, 2e-11, 5.5e-11, 1.3e-10, 2.85e-10, 4e-10])
+    f_nodes, _, h, alpha = at.adev2psd_piecewise_approx(ad, tt)
+    np.testing.assert_allclose(at.psd_piecewise_to_adev(h, alpha, f_nodes, tt), ad, rtol=0.15)
+    # psd2allan: a flat one-sided S_y = h0 (white FM) gives ADEV sqrt(h0 / (2 tau)).
+    taus2, ad2 = at.psd2allan(np.full(20001, 2e-20), 0.001)
+    mid = (taus2 > 1) & (taus2 < 100)
+    np.testing.assert_allclose(ad2[mid], np.sqrt(2e-20 / (2 * taus2[mid])), rtol=0.05)

@@ -1,0 +1,488 @@
+// The statistics of issue 23 (MTOTDEV, TTOTDEV, HTOTDEV, Theo1, PDEV, MTIE, TIE rms): their fast
+// algorithms against the direct sums written from the definitions (SP1065 eqns 27-30, the way
+// Stable32 and allantools compute them) in long double, on series that cross the FFT blocks; and
+// against Stable32's PHASE.DAT tables (values 1e-4, the printed precision; "#" exact) and the
+// published NBS14 values. Bad input: a clear error or no point, never a number from nothing.
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/cross.hpp"
+#include "support/reference_data.hpp"
+#include "support/synth.hpp"
+
+namespace gyroflip::analysis {
+namespace {
+
+using ld = long double;
+const std::string phasedat = std::string(GYROFLIP_VECTORS_DIR) + "/stable32/phasedat/";
+
+// ---- direct references, as the definitions read ----------------------------------------------
+
+// One window of 3m points detrended by the slope between its half means, reflected to 9m points;
+// the sum of the squared second differences of its m-point sums (6m terms).
+ld window_energy(const std::vector<ld>& xs, std::size_t m) {
+  const std::size_t l = 3 * m;
+  const std::size_t half = l / 2;
+  ld m1 = 0, m2 = 0;
+  for (std::size_t t = 0; t < half; ++t) m1 += xs[t];
+  for (std::size_t t = l - half; t < l; ++t) m2 += xs[t];
+  m1 /= static_cast<ld>(half);
+  m2 /= static_cast<ld>(half);
+  const ld dist = l % 2 == 0 ? static_cast<ld>(l) / 2 : static_cast<ld>(l + 1) / 2;
+  const ld slope = (m2 - m1) / dist;
+  std::vector<ld> w(l), star;
+  for (std::size_t t = 0; t < l; ++t) w[t] = xs[t] - slope * static_cast<ld>(t);
+  for (std::size_t t = 0; t < l; ++t) star.push_back(w[l - 1 - t]);
+  for (std::size_t t = 0; t < l; ++t) star.push_back(w[t]);
+  for (std::size_t t = 0; t < l; ++t) star.push_back(w[l - 1 - t]);
+  ld e = 0;
+  for (std::size_t j = 0; j < 6 * m; ++j) {
+    ld a = 0, b = 0, c = 0;
+    for (std::size_t t = 0; t < m; ++t) {
+      a += star[j + t];
+      b += star[j + m + t];
+      c += star[j + 2 * m + t];
+    }
+    e += (a - 2 * b + c) * (a - 2 * b + c);
+  }
+  return e;
+}
+
+ld total_reference(const std::vector<double>& v, std::size_t m) {
+  ld s = 0;
+  for (std::size_t i = 0; i + 3 * m <= v.size(); ++i)
+    s += window_energy(std::vector<ld>(v.begin() + static_cast<std::ptrdiff_t>(i),
+                                       v.begin() + static_cast<std::ptrdiff_t>(i + 3 * m)),
+                       m);
+  return s;
+}
+
+double mtotdev_ref(const std::vector<double>& x, std::size_t m) {
+  const ld n = static_cast<ld>(x.size() - 3 * m + 1);
+  const ld mm = static_cast<ld>(m);
+  return static_cast<double>(
+      std::sqrt(total_reference(x, m) / (6 * mm * mm * mm * 2 * mm * mm * n)));
+}
+
+double htotdev_ref(const std::vector<double>& x, std::size_t m) {
+  std::vector<double> y;
+  for (std::size_t i = 0; i + 1 < x.size(); ++i) y.push_back(x[i + 1] - x[i]);
+  const ld n = static_cast<ld>(y.size() - 3 * m + 1);
+  const ld mm = static_cast<ld>(m);
+  return static_cast<double>(std::sqrt(total_reference(y, m) / (36 * mm * mm * mm * n)));
+}
+
+double theo1_ref(const std::vector<double>& x, std::size_t m) {
+  const std::size_t h = m / 2;
+  ld s = 0;
+  for (std::size_t i = 0; i + m < x.size(); ++i)
+    for (std::size_t d = 0; d < h; ++d) {
+      const ld e = static_cast<ld>(x[i]) - x[i - d + h] + x[i + m] - x[i + d + h];
+      s += e * e / static_cast<ld>(h - d);
+    }
+  const ld mm = static_cast<ld>(m);
+  return static_cast<double>(std::sqrt(s / (0.75L * static_cast<ld>(x.size() - m) * mm * mm)));
+}
+
+double pdev_ref(const std::vector<double>& x, std::size_t m) {
+  ld s = 0;
+  const std::size_t terms = x.size() - 2 * m;
+  for (std::size_t i = 0; i < terms; ++i) {
+    ld a = 0;
+    for (std::size_t k = 0; k < m; ++k)
+      a += (static_cast<ld>(m - 1) / 2 - static_cast<ld>(k)) *
+           (static_cast<ld>(x[i + k]) - x[i + k + m]);
+    s += a * a;
+  }
+  const ld mm = static_cast<ld>(m);
+  return static_cast<double>(
+      std::sqrt(72 * s / (static_cast<ld>(terms) * mm * mm * mm * mm * mm * mm)));
+}
+
+double mtie_ref(const std::vector<double>& x, std::size_t m) {
+  double best = 0;
+  for (std::size_t i = 0; i + m < x.size(); ++i) {
+    double lo = x[i], hi = x[i];
+    for (std::size_t t = i; t <= i + m; ++t) {
+      lo = std::min(lo, x[t]);
+      hi = std::max(hi, x[t]);
+    }
+    best = std::max(best, hi - lo);
+  }
+  return best;
+}
+
+// The value at m of kind k on phase x (tau0 = 1), or NaN when there is none.
+double fast(dev_kind k, const std::vector<double>& x, std::size_t m) {
+  const auto r = deviation_at(k, x, 1.0, m);
+  return r.n > 0 ? r.dev : std::nan("");
+}
+
+std::vector<double> white_phase(std::size_t n, std::uint64_t seed) {
+  test::normal_source g(seed);
+  std::vector<double> x(n);
+  for (double& v : x) v = g();
+  return x;
+}
+
+// A random walk with a large offset and slope: the statistic ignores both, the sums must too.
+std::vector<double> walk_phase(std::size_t n, std::uint64_t seed) {
+  test::normal_source g(seed);
+  std::vector<double> x(n);
+  double v = 0;
+  for (std::size_t i = 0; i < n; ++i) x[i] = 1e4 + 3.0 * static_cast<double>(i) + (v += g());
+  return x;
+}
+
+TEST(Extended, TotalVariancesEqualTheDirectSums) {
+  // Windows fewer than, about as many as, and more than the window length; several FFT blocks
+  // (2^15 windows) for the small factors.
+  for (const std::size_t n : {7u, 10u, 31u, 100u, 257u, 1000u}) {
+    for (const auto& x : {white_phase(n, n), walk_phase(n, n + 1)}) {
+      for (std::size_t m = 1; 3 * m + 1 <= n; m = m * 2 + 1) {
+        EXPECT_NEAR(fast(dev_kind::mtotdev, x, m) / mtotdev_ref(x, m), 1.0, 1e-9) << n << " " << m;
+        if (m > 1) {
+          EXPECT_NEAR(fast(dev_kind::htotdev, x, m) / htotdev_ref(x, m), 1.0, 1e-9)
+              << n << " " << m;
+        }
+      }
+    }
+  }
+  const auto long_walk = walk_phase(70001, 3);
+  for (const std::size_t m : {1u, 2u, 3u}) {
+    EXPECT_NEAR(fast(dev_kind::mtotdev, long_walk, m) / mtotdev_ref(long_walk, m), 1.0, 1e-9) << m;
+    EXPECT_NEAR(fast(dev_kind::ttotdev, long_walk, m) /
+                    (static_cast<double>(m) * mtotdev_ref(long_walk, m) / std::sqrt(3.0)),
+                1.0, 1e-9)
+        << m;
+  }
+  EXPECT_NEAR(fast(dev_kind::htotdev, long_walk, 2) / htotdev_ref(long_walk, 2), 1.0, 1e-9);
+  // The FFT blocks (from m = 8; blocks of max(12m, 1024) windows): several blocks and their
+  // joins, on a random walk with offset and slope and on white phase.
+  for (const auto& x : {walk_phase(5000, 11), white_phase(5000, 12)})
+    for (const std::size_t m : {8u, 30u}) {
+      EXPECT_NEAR(fast(dev_kind::mtotdev, x, m) / mtotdev_ref(x, m), 1.0, 1e-9) << m;
+      EXPECT_NEAR(fast(dev_kind::htotdev, x, m) / htotdev_ref(x, m), 1.0, 1e-9) << m;
+    }
+}
+
+TEST(Extended, Theo1PdevMtieTieEqualTheDirectSums) {
+  for (const std::size_t n : {5u, 33u, 600u}) {
+    for (const auto& x : {white_phase(n, 2 * n), walk_phase(n, 2 * n + 1)}) {
+      for (std::size_t m = 2; m < n; m += m / 2 + 1) {
+        if (m % 2 == 0) {
+          EXPECT_NEAR(fast(dev_kind::theo1, x, m) / theo1_ref(x, m), 1.0, 1e-11) << n << " " << m;
+        }
+        if (2 * m + 1 <= n) {
+          EXPECT_NEAR(fast(dev_kind::pdev, x, m) / pdev_ref(x, m), 1.0, 1e-9) << n << " " << m;
+        }
+        EXPECT_EQ(fast(dev_kind::mtie, x, m), mtie_ref(x, m)) << n << " " << m;
+        ld s = 0;
+        for (std::size_t i = 0; i + m < n; ++i)
+          s += static_cast<ld>(x[i + m] - x[i]) * (x[i + m] - x[i]);
+        EXPECT_NEAR(fast(dev_kind::tierms, x, m),
+                    static_cast<double>(std::sqrt(s / static_cast<ld>(n - m))),
+                    1e-12 * (1 + std::sqrt(static_cast<double>(s))));
+      }
+    }
+  }
+  // PDEV's slide restarts every 4096 terms: a long series stays on the direct sum.
+  const auto w = walk_phase(20000, 9);
+  EXPECT_NEAR(fast(dev_kind::pdev, w, 37) / pdev_ref(w, 37), 1.0, 1e-9);
+  // PDEV is OADEV at m = 1 (Vernotte et al.).
+  EXPECT_EQ(fast(dev_kind::pdev, w, 1), fast(dev_kind::oadev, w, 1));
+}
+
+// ---- Stable32 -------------------------------------------------------------------------------
+
+struct row {
+  std::size_t af = 0;
+  double tau = 0, n = 0;
+  int alpha = 0;
+  double lo = 0, sigma = 0, hi = 0;
+  bool with_ci = false;
+};
+
+// Rows of a Stable32 table, the `#`-commented data rows included (see PROVENANCE.md); tables of
+// four columns (MTIE, TIE rms) have no alpha or bounds.
+std::vector<row> table(const std::string& name) {
+  std::ifstream f(phasedat + name);
+  std::vector<row> rows;
+  std::string line;
+  while (std::getline(f, line)) {
+    const auto start = line.find_first_not_of("# ");
+    if (start == std::string::npos || !std::isdigit(static_cast<unsigned char>(line[start])))
+      continue;
+    std::istringstream s(line.substr(start));
+    std::vector<double> v;
+    for (double d; s >> d;) v.push_back(d);
+    row r;
+    if (v.size() == 4) {
+      r = {static_cast<std::size_t>(v[0]), v[1], v[2], 0, 0, v[3], 0, false};
+    } else if (v.size() == 7) {
+      r = {static_cast<std::size_t>(v[0]),
+           v[1],
+           v[2],
+           static_cast<int>(v[3]),
+           v[4],
+           v[5],
+           v[6],
+           v[4] > 0};
+    } else {
+      continue;
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::vector<double> phase_dat() {
+  return test::read_values(phasedat + "PHASE.DAT");
+}
+
+// Our curve of kind k at the table's factors; values to 1e-4, "#" exact, tau as printed.
+std::vector<deviation_point> check_values(const std::string& name, dev_kind k,
+                                          bool bias_corrected = false) {
+  const auto x = phase_dat();
+  const auto rows = table(name);
+  EXPECT_FALSE(rows.empty()) << name;
+  tau_spec spec{tau_spec::set::list, {}};
+  for (const auto& r : rows) spec.factors.push_back(r.af);
+  auto pts = *deviation(k, x, input_kind::angle, 1.0, spec);
+  add_confidence(pts, k, x, 0.683);
+  if (bias_corrected) {
+    // Stable32's correction by its own noise type (its alpha column).
+    for (std::size_t i = 0; i < pts.size() && i < rows.size(); ++i) pts[i].alpha = rows[i].alpha;
+    correct_total_bias(pts, k);
+  }
+  EXPECT_EQ(pts.size(), rows.size()) << name;
+  for (std::size_t i = 0; i < std::min(pts.size(), rows.size()); ++i) {
+    EXPECT_EQ(pts[i].m, rows[i].af) << name;
+    EXPECT_NEAR(pts[i].dev / rows[i].sigma, 1.0, 1e-4) << name << " AF " << rows[i].af;
+    // Theo1's "#" is printed as a float of 5 digits (1.0050e+05).
+    if (k == dev_kind::theo1) {
+      EXPECT_NEAR(static_cast<double>(pts[i].n) / rows[i].n, 1.0, 5e-5) << name << rows[i].af;
+    } else {
+      EXPECT_EQ(static_cast<double>(pts[i].n), rows[i].n) << name << " AF " << rows[i].af;
+    }
+    EXPECT_NEAR(pts[i].tau_s / rows[i].tau, 1.0, 1e-4) << name << " AF " << rows[i].af;
+  }
+  return pts;
+}
+
+TEST(ExtendedStable32, ModifiedAndTimeTotalOnPhaseDat) {
+  check_values("phase_dat_mtotdev_octave.txt", dev_kind::mtotdev);
+  check_values("phase_dat_mtotdev_decade.txt", dev_kind::mtotdev);
+  check_values("phase_dat_ttotdev_octave.txt", dev_kind::ttotdev);
+  // Stable32 1.53's all-tau tables carry its bias correction (white FM: / sqrt(0.73)).
+  check_values("phase_dat_mtotdev.txt", dev_kind::mtotdev, true);
+  check_values("phase_dat_ttotdev_all.txt", dev_kind::ttotdev, true);
+}
+
+TEST(ExtendedStable32, HadamardTotalWithAndWithoutBiasCorrection) {
+  check_values("phase_dat_htotdev_octave_nobias.txt", dev_kind::htotdev);
+  const auto pts = check_values("phase_dat_htotdev_octave.txt", dev_kind::htotdev, true);
+  // Our own noise identification gives Stable32's types on this table (lag-1 to m = 32, B1 at
+  // 64 and 128, the type carried to 256), so the correction by our alpha is Stable32's too.
+  const auto x = phase_dat();
+  auto ours = *deviation(dev_kind::htotdev, x, input_kind::angle, 1.0,
+                         tau_spec{tau_spec::set::list, {1, 2, 4, 8, 16, 32, 64, 128, 256}});
+  add_confidence(ours, dev_kind::htotdev, x, 0.683);
+  correct_total_bias(ours, dev_kind::htotdev);
+  const auto rows = table("phase_dat_htotdev_octave.txt");
+  ASSERT_EQ(ours.size(), rows.size());
+  for (std::size_t i = 0; i < ours.size(); ++i) {
+    EXPECT_EQ(ours[i].alpha, rows[i].alpha) << rows[i].af;
+    EXPECT_NEAR(ours[i].dev / rows[i].sigma, 1.0, 1e-4) << rows[i].af;
+  }
+}
+
+TEST(ExtendedStable32, Theo1MtieTieRmsOnPhaseDat) {
+  check_values("phase_dat_theo1_alpha0.txt", dev_kind::theo1);  // tau = 0.75 m
+  check_values("phase_dat_mtie.txt", dev_kind::mtie);
+  check_values("phase_dat_tierms.txt", dev_kind::tierms);
+  // Stable32's Theo1 with alpha = 1 is the same statistic divided by a constant: its flicker-PM
+  // bias factor, 0.6028 in variance here at every m (not applied by gyroflip; docs/ANALYSIS.md).
+  const auto x = phase_dat();
+  for (const auto& r : table("phase_dat_theo1.txt")) {
+    const double ours = fast(dev_kind::theo1, x, r.af);
+    EXPECT_NEAR(r.sigma * r.sigma / (ours * ours), 0.60278, 3e-4) << r.af;
+  }
+}
+
+// SP1065 §12 / Riley, "The calculation of time domain frequency stability": the 1000-point set
+// (PHASE.DAT is its phase) HTOTDEV at tau = 1, 10, 100 (published with the white-FM bias
+// correction, / sqrt(0.995), except at tau = 1 where it is OHDEV) and Theo1 at AF 10, 100, 1000;
+// the 10-point set MTOTDEV and TTOTDEV at tau = 1, 2 (no bias correction). 7 and 5 digits.
+TEST(ExtendedStable32, PublishedNbs14Values) {
+  const auto x = phase_dat();
+  EXPECT_NEAR(fast(dev_kind::htotdev, x, 1) / 0.2943883, 1.0, 1e-6);
+  EXPECT_NEAR(fast(dev_kind::htotdev, x, 10) / std::sqrt(0.995) / 0.09614787, 1.0, 1e-6);
+  EXPECT_NEAR(fast(dev_kind::htotdev, x, 100) / std::sqrt(0.995) / 0.03058103, 1.0, 1e-6);
+  EXPECT_NEAR(fast(dev_kind::theo1, x, 10) / 0.10757, 1.0, 5e-5);
+  EXPECT_NEAR(fast(dev_kind::theo1, x, 100) / 0.031789, 1.0, 5e-5);
+  EXPECT_NEAR(fast(dev_kind::theo1, x, 1000) / 0.0050524, 1.0, 5e-5);
+  const std::vector<double> y10 = {892, 809, 823, 798, 671, 644, 883, 903, 677};
+  const auto x10 = phase_from_rate(y10, 1.0);
+  EXPECT_NEAR(fast(dev_kind::mtotdev, x10, 1) / 64.509, 1.0, 5e-5);
+  EXPECT_NEAR(fast(dev_kind::mtotdev, x10, 2) / 64.794, 1.0, 5e-5);
+  EXPECT_NEAR(fast(dev_kind::ttotdev, x10, 1) / 37.244, 1.0, 5e-5);
+  EXPECT_NEAR(fast(dev_kind::ttotdev, x10, 2) / 74.818, 1.0, 5e-5);
+}
+
+// MTOTDEV/TTOTDEV bounds: SP1065 Table 8's EDF. Stable32 1.60 prints other bounds; they differ by
+// at most this much on PHASE.DAT (measured; docs/ANALYSIS.md).
+TEST(ExtendedStable32, ModifiedTotalBoundsFromSp1065Table8) {
+  const auto x = phase_dat();
+  const auto rows = table("phase_dat_mtotdev_octave.txt");
+  const auto pts = check_values("phase_dat_mtotdev_octave.txt", dev_kind::mtotdev);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_LT(pts[i].ci_lo, pts[i].dev);
+    EXPECT_GT(pts[i].ci_hi, pts[i].dev);
+    EXPECT_NEAR(pts[i].ci_lo / rows[i].lo, 1.0, 0.06) << rows[i].af;
+    EXPECT_NEAR(pts[i].ci_hi / rows[i].hi, 1.0, 0.12) << rows[i].af;
+  }
+}
+
+// ---- bad input -------------------------------------------------------------------------------
+
+TEST(Extended, BadInputGivesAnErrorOrNoPoint) {
+  for (const dev_kind k : {dev_kind::mtotdev, dev_kind::ttotdev, dev_kind::htotdev, dev_kind::theo1,
+                           dev_kind::pdev, dev_kind::mtie, dev_kind::tierms}) {
+    const std::vector<double> empty;
+    EXPECT_FALSE(deviation(k, empty, input_kind::angle, 1.0, {})) << to_string(k);
+    EXPECT_FALSE(deviation(k, std::vector<double>{1.0, 2.0}, input_kind::angle, 1.0, {}));
+    std::vector<double> x = white_phase(100, 5);
+    x[50] = std::nan("");
+    const auto nan = deviation(k, x, input_kind::angle, 1.0, {});
+    ASSERT_FALSE(nan) << to_string(k);
+    EXPECT_NE(nan.err().message.find("not finite"), std::string::npos) << nan.err().message;
+    x[50] = INFINITY;
+    EXPECT_FALSE(deviation(k, x, input_kind::angle, 1.0, {}));
+    x[50] = 0.0;
+    // A factor far beyond the series: no point, and it is named as dropped.
+    const tau_spec huge{tau_spec::set::list, {std::size_t{1} << 40}};
+    EXPECT_FALSE(deviation(k, x, input_kind::angle, 1.0, huge)) << to_string(k);
+    const tau_spec mixed{tau_spec::set::list, {2, std::size_t{1} << 40}};
+    const auto pts = *deviation(k, x, input_kind::angle, 1.0, mixed);
+    EXPECT_EQ(pts.size(), 1u);
+    EXPECT_EQ(dropped_factors(mixed, pts, k, x.size(), 1.0).size(), 1u);
+    EXPECT_TRUE(std::isnan(fast(k, x, std::size_t{1} << 40))) << to_string(k);
+  }
+  // Theo1 at an odd factor: dropped, and said why.
+  const auto x = white_phase(100, 6);
+  const tau_spec odd{tau_spec::set::list, {3, 4}};
+  const auto pts = *deviation(dev_kind::theo1, x, input_kind::angle, 1.0, odd);
+  ASSERT_EQ(pts.size(), 1u);
+  const auto gone = dropped_factors(odd, pts, dev_kind::theo1, x.size(), 1.0);
+  ASSERT_EQ(gone.size(), 1u);
+  EXPECT_NE(gone[0].why.find("even"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gyroflip::analysis
+
+namespace gyroflip::analysis {
+namespace {
+
+// ---- GRADEV, GCODEV, three-cornered hat, DAVAR ------------------------------------------------
+
+TEST(Cross, GradevWithoutGapsIsOadevAndSkipsTermsAcrossGaps) {
+  const auto x = walk_phase(3000, 31);
+  const auto g = *gradev(x, input_kind::angle, 1.0);
+  const auto o = *deviation(dev_kind::oadev, x, input_kind::angle, 1.0, {});
+  ASSERT_EQ(g.size(), o.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    EXPECT_EQ(g[i].n, o[i].n);
+    EXPECT_NEAR(g[i].dev / o[i].dev, 1.0, 1e-12);
+  }
+  // Phase gaps: the terms touching a NaN are left out, the others summed as written.
+  auto gap = x;
+  for (std::size_t i = 1000; i < 1100; ++i) gap[i] = std::nan("");
+  const auto gg = *gradev(gap, input_kind::angle, 1.0, tau_spec{tau_spec::set::list, {1, 16, 256}});
+  for (const auto& p : gg) {
+    ld s = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i + 2 * p.m < gap.size(); ++i) {
+      const double v = gap[i + 2 * p.m] - 2 * gap[i + p.m] + gap[i];
+      if (std::isnan(v)) continue;
+      s += static_cast<ld>(v) * v;
+      ++n;
+    }
+    EXPECT_EQ(p.n, n);
+    EXPECT_NEAR(p.dev, static_cast<double>(std::sqrt(s / (2 * n))) / static_cast<double>(p.m),
+                1e-12);
+  }
+  // Rate gaps: each run integrated on its own, so a run's curve is the OADEV of that run.
+  auto y = white_phase(4001, 32);
+  y[2000] = std::nan("");
+  const auto gr = *gradev(y, input_kind::rate, 1.0, tau_spec{tau_spec::set::list, {1, 8}});
+  EXPECT_EQ(gr[0].n, (2000 + 1 - 2) + (2000 + 1 - 2));
+  // Bad input: infinite samples, nothing but NaN.
+  y[5] = INFINITY;
+  EXPECT_FALSE(gradev(y, input_kind::rate, 1.0));
+  EXPECT_FALSE(gradev(std::vector<double>(50, std::nan("")), input_kind::angle, 1.0));
+  EXPECT_FALSE(gradev(std::vector<double>{}, input_kind::angle, 1.0));
+}
+
+TEST(Cross, GcodevOfASeriesWithItselfIsItsOadevAndThreeCorneredHatRecoversTheClocks) {
+  // Three clocks of white FM with sigmas 1, 2, 3 (phase random walks), compared in pairs.
+  constexpr std::size_t n = 200000;
+  test::normal_source g(41);
+  std::vector<double> a(n), b(n), c(n), ab(n), bc(n), ca(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    a[i] = 1.0 * g();
+    b[i] = 2.0 * g();
+    c[i] = 3.0 * g();
+    ab[i] = a[i] - b[i];
+    bc[i] = b[i] - c[i];
+    ca[i] = c[i] - a[i];
+  }
+  const tau_spec spec{tau_spec::set::list, {1, 4, 16}};
+  const auto self = *gcodev(ab, ab, input_kind::rate, 1.0, spec);
+  const auto o = *deviation(dev_kind::oadev, ab, input_kind::rate, 1.0, spec);
+  for (std::size_t i = 0; i < self.size(); ++i) EXPECT_NEAR(self[i].dev / o[i].dev, 1.0, 1e-12);
+  // GCODEV of AB and CB (= -BC) estimates clock B alone: sigma 2 / sqrt(tau) for white FM.
+  std::vector<double> cb(n);
+  for (std::size_t i = 0; i < n; ++i) cb[i] = -bc[i];
+  const auto gb = *gcodev(ab, cb, input_kind::rate, 1.0, spec);
+  const auto hat = *three_cornered_hat(dev_kind::oadev, ab, bc, ca, input_kind::rate, 1.0, spec);
+  for (std::size_t i = 0; i < gb.size(); ++i) {
+    const double tau = gb[i].tau_s;
+    EXPECT_NEAR(gb[i].dev / (2.0 / std::sqrt(tau)), 1.0, 0.05) << tau;  // 200 000 samples: ~1 %
+    EXPECT_NEAR(hat[0][i].dev / (1.0 / std::sqrt(tau)), 1.0, 0.05) << tau;
+    EXPECT_NEAR(hat[1][i].dev / (2.0 / std::sqrt(tau)), 1.0, 0.05) << tau;
+    EXPECT_NEAR(hat[2][i].dev / (3.0 / std::sqrt(tau)), 1.0, 0.05) << tau;
+  }
+  EXPECT_FALSE(gcodev(ab, std::vector<double>(10, 0.0), input_kind::rate, 1.0));
+  EXPECT_FALSE(three_cornered_hat(dev_kind::oadev, ab, bc, std::vector<double>(10, 0.0),
+                                  input_kind::rate, 1.0));
+}
+
+TEST(Cross, DynamicDeviationIsTheCurveOfEachWindow) {
+  auto y = white_phase(10000, 51);
+  for (std::size_t i = 5000; i < y.size(); ++i) y[i] *= 3.0;  // the noise triples half way
+  const auto d = *dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 2000, 1000);
+  ASSERT_EQ(d.size(), 9u);
+  for (std::size_t w = 0; w < d.size(); ++w) {
+    EXPECT_DOUBLE_EQ(d[w].start_s, 0.5 * 1000.0 * static_cast<double>(w));
+    const auto direct =
+        *deviation(dev_kind::oadev, std::span<const double>(y).subspan(w * 1000, 2000),
+                   input_kind::rate, 0.5, {});
+    ASSERT_EQ(d[w].curve.size(), direct.size());
+    EXPECT_EQ(d[w].curve[0].dev, direct[0].dev);
+  }
+  EXPECT_NEAR(d.back().curve[0].dev / d.front().curve[0].dev, 3.0, 0.3);
+  EXPECT_FALSE(dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 20000, 1));
+  EXPECT_FALSE(dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 100, 0));
+}
+
+}  // namespace
+}  // namespace gyroflip::analysis
