@@ -126,7 +126,7 @@ run_result run_one(const job& j) {
   }
   r.truth = sim->earth_at_a_dps() + sim->g_term_at_a_dps(c.temperature.at(0.0));
   rig::sample_block block(1U << 14, false);
-  rig::dwell_averager avg(c.sched.n_avg);
+  rig::dwell_averager avg(c.rig.n_avg);
   std::vector<rig::dwell_row> rows;
   while (sim->fill(block) > 0) avg.add(block, rows);
   std::vector<method::row> rec;
