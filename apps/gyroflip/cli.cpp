@@ -55,7 +55,8 @@ void setup_earth(CLI::App& app, action& chosen) {
 }
 
 // The rig's settings (rig_options.hpp) that `simulate` models and `record` sends in CONFIGURE.
-// `device`: also those only the device acts on (--n-temp, --home, --hold-coils).
+// `device`: also those only the device acts on (--n-temp, --home); otherwise the simulated
+// coils' heat (--coil-heat).
 void add_rig_options(CLI::App* sub, rig_options& o, bool device) {
   sub->add_option("--n-avg", o.n_avg, "gyro conversions per dwell")->capture_default_str();
   if (device)
@@ -77,11 +78,15 @@ void add_rig_options(CLI::App* sub, rig_options& o, bool device) {
       ->capture_default_str();
   sub->add_option("--accel", o.accel_sps2, "stepper ramp (steps/s^2)")->capture_default_str();
   sub->add_flag("--one-way", o.one_way, "always turn the same way (a rotary joint)");
+  sub->add_flag("--hold-coils", o.hold_coils,
+                "keep the stepper energised during dwells (default: off, the coils heat the "
+                "table)");
   if (device) {
     sub->add_flag("--home", o.home, "find the home switch before the first cycle");
-    sub->add_flag("--hold-coils", o.hold_coils,
-                  "keep the stepper energised during dwells (default: off, the coils heat the "
-                  "table)");
+  } else {
+    sub->add_option("--coil-heat", o.coil_heat,
+                    "the coils warm the gyro: RISE_C[:TAU_S], the steady rise with the coils on "
+                    "all the time and its time constant (default TAU 600 s; docs/SIMULATOR.md)");
   }
 }
 

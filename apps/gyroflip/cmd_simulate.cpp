@@ -75,6 +75,9 @@ std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::
   add("flip", o.no_flip ? "no" : "yes");
   add("power_on_before_s", num(o.power_on_before_s));
   add("turns", r.one_way ? "one way" : "back and forth");
+  add("hold_coils", r.hold_coils ? "yes" : "no");
+  add("coil_heat_rise_c", num(sim.config().coil.rise_c));
+  add("coil_heat_tau_s", num(sim.config().coil.tau_s));
   add("filter_word", num(r.filter_word));
   add("chop", r.chop ? "on" : "off");
   add("steps_per_rev", num(r.steps_per_rev));
@@ -111,6 +114,9 @@ int run_simulate(const simulate_options& o) {
   if (auto s = check_readable_positions(*rig, o.rig.positions); !s) return report(s.err());
   c.rig = *rig;
   c.flip = !o.no_flip;
+  auto coil = coil_heating_of(o.rig);
+  if (!coil) return report(coil.err());
+  c.coil = *coil;
   c.duration_s = o.duration_s;
   c.power_on_before_s = o.power_on_before_s;
   c.seed = o.seed;

@@ -27,6 +27,7 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
     {"degree", "--degree"},
     {"settle_s", "--settle"},
     {"seed", "--seed"},
+    {"coil_heat", "--coil-heat"},
     {"lat_deg", "--latitude"},
     {"window_s", "--drift-window"},
     {"delta_n_dps", "--delta-n"},

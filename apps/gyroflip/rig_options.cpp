@@ -33,4 +33,16 @@ result<rig::rig_config> rig_config_of(const rig_options& o) {
   return c;
 }
 
+result<rig::coil_heating> coil_heating_of(const rig_options& o) {
+  rig::coil_heating h;
+  if (o.coil_heat.empty()) return h;
+  const auto v = text::to_doubles(o.coil_heat, ':');
+  if (!v || v->empty() || v->size() > 2)
+    return parameter_error("coil_heat", fmt::format("'{}': expected RISE_C or RISE_C:TAU_S",
+                                                    printable(o.coil_heat, 60)));
+  h.rise_c = (*v)[0];
+  if (v->size() == 2) h.tau_s = (*v)[1];
+  return h;
+}
+
 }  // namespace gyroflip::app

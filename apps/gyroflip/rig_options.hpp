@@ -8,6 +8,7 @@
 
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/rig/rig_config.hpp"
+#include "gyroflip/rig/simulator.hpp"
 
 namespace gyroflip::app {
 
@@ -25,10 +26,15 @@ struct rig_options {
   bool one_way = false;
   bool home = false;
   bool hold_coils = false;
+  std::string coil_heat;  ///< the simulated coils' heat, RISE_C[:TAU_S] (empty: none)
 };
 
 /// The rig configuration the options give, checked (rig_config::check: errors name the library
 /// parameter, which the front end maps to its option).
 [[nodiscard]] result<rig::rig_config> rig_config_of(const rig_options& o);
+
+/// The coils' heat the options give (RISE_C[:TAU_S]; empty: none). The simulator checks the
+/// ranges (parameter "coil_heat").
+[[nodiscard]] result<rig::coil_heating> coil_heating_of(const rig_options& o);
 
 }  // namespace gyroflip::app

@@ -48,7 +48,8 @@ inline constexpr size_t max_command_cobs = 64;
 /// longer fed (ticks).
 inline constexpr uint32_t stall_ticks = 8192;
 /// Polls without the tick counter moving before the tick clock (the 32 768 Hz crystal on the
-/// MSP430F149) is declared failed: ~0.3 s of main loop at 7.37 MHz.
+/// MSP430F149) is declared failed: a pass takes at least ~100 MCLK cycles, so >= 0.36 s at
+/// 5.5296 MHz, thousands of tick periods.
 inline constexpr uint32_t frozen_tick_polls = 20000;
 /// The home switch must read closed this long before homing ends (contact bounce and noise).
 inline constexpr uint32_t home_debounce_ticks = 66;  // 2 ms at 32 768 Hz

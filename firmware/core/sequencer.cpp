@@ -127,7 +127,8 @@ void device::begin_dwell(uint32_t now) {
 
 // Homing: one step at the start rate until the switch has read closed for home_debounce_ticks
 // without a break (a bouncing contact or a noise spike on its line does not end the search),
-// or a revolution and a bit found nothing.
+// or a revolution and a bit found nothing. The table stands still while the switch reads closed
+// and for home_debounce_ticks after (a bounce's open half must not move it off home).
 void device::step_homing(uint32_t now) {
   stepper::motor& flip = motors_[cfg_.flip_motor & 1];
   const bool closed = hw_.home_switch();
@@ -159,7 +160,9 @@ void device::step_homing(uint32_t now) {
     next_home_step_ +=
         stepper::step_interval({cfg_.start_rate_sps, cfg_.start_rate_sps, 1}, 0, 1, hw_.tick_hz);
   }
-  if (closed) next_home_step_ = now;  // the schedule waits with the search
+  // After any closed reading the next step waits a whole debounce time: a contact bouncing on
+  // arrival reads open half the time, and stepping on then would leave the home step.
+  if (closed) next_home_step_ = now + home_debounce_ticks;
 }
 
 void device::step_sequencer(uint32_t now) {

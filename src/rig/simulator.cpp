@@ -49,6 +49,11 @@ status check_ranges(const simulation_config& c) {
     return parameter_error("power_on_before_s",
                            "the power-on time before the run must be in "
                            "[0, 1e9] s");
+  if (!(c.coil.rise_c >= 0.0 && c.coil.rise_c <= 50.0) ||
+      !(c.coil.tau_s >= 1.0 && c.coil.tau_s <= 1e6))
+    return parameter_error("coil_heat",
+                           "the coils' heat: a rise of 0..50 degC, a time constant "
+                           "of 1..1e6 s");
   if (c.rig.positions_deg.size() != 2)
     return parameter_error("positions_deg",
                            fmt::format("the simulator turns between two positions; the angle "
@@ -98,8 +103,10 @@ result<simulator> simulator::make(const simulation_config& c) {
                                       : p.angle_deg - 360.0 * std::floor(p.angle_deg / 360.0));
     sim.dwell_base_.push_back(p.dwell < 0 ? -1 : p.dwell);
     sim.dwell_mask_.push_back(p.dwell < 0 ? 0 : -1);
+    sim.coils_on_.push_back(p.dwell < 0 || c.rig.hold_coils ? 1 : 0);
   }
   sim.total_ = static_cast<std::uint64_t>(std::floor(c.duration_s / t_conv + 1e-9));
+  sim.heat_a_ = -std::expm1(-t_conv / c.coil.tau_s);
   return sim;
 }
 
@@ -148,6 +155,7 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
   for (int j = 0; j < static_cast<int>(n); ++j)
     out_t[j] = (k0 + static_cast<double>(j) + 0.5) * t_conv_s_;
   cfg_.temperature.fill(out_t, out_temp, n);
+  if (cfg_.coil.rise_c > 0.0) add_coil_heat(out_temp, n);
   cfg_.rate.fill(out_t, w_in_.data(), n);
   // Stage 2: the rig, one run of consecutive cycle slots at a time (contiguous slot tables).
   const std::size_t period = in_gain_.size();
@@ -168,6 +176,19 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
   double* bias = b.truth ? b.bias_dps.data() + first : bias_.data();
   gyro_.sample_block(out_t, out_temp, out_rate, n_arw_.data(), v_rel, bias, n);
   adc_.convert_block(v_rel, n_adc_.data(), out_rate, inv_sf_, n);
+}
+
+// The coils' first-order warming, conversion by conversion from the current cycle slot (exact
+// for a rise that is constant over a conversion: dT += (target - dT) (1 - exp(-t_conv / tau))).
+void simulator::add_coil_heat(double* temp, std::size_t n) noexcept {
+  const std::size_t period = coils_on_.size();
+  std::size_t slot = p_;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double target = coils_on_[slot] != 0 ? cfg_.coil.rise_c : 0.0;
+    heat_dt_c_ += (target - heat_dt_c_) * heat_a_;
+    temp[j] += heat_dt_c_;
+    if (++slot == period) slot = 0;
+  }
 }
 
 template <bool truth>

@@ -2,6 +2,8 @@
 // host side that speaks the protocol through the virtual UART.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
@@ -172,5 +174,25 @@ struct rig {
     return n;
   }
 };
+
+/// A short configuration for tests: n_avg conversions per dwell, no temperature conversions,
+/// 5 ms of settling, no periodic STATUS.
+inline protocol::configure_msg quick_config(uint16_t n_avg) {
+  protocol::configure_msg c;
+  c.n_avg = n_avg;
+  c.n_temp = 0;
+  c.settle_ms = 5;
+  c.status_period_ms = 0;
+  return c;
+}
+
+/// Sends CONFIGURE `c` and requires its ACK.
+inline void configure(rig& r, const protocol::configure_msg& c) {
+  const uint16_t s = r.send(c);
+  r.run(400);
+  const auto acks = r.all<protocol::ack_msg>();
+  ASSERT_FALSE(acks.empty());
+  ASSERT_EQ(acks.back().seq, s) << "CONFIGURE was not acknowledged";
+}
 
 }  // namespace gyroflip::fw::testing

@@ -14,26 +14,11 @@
 namespace {
 
 using namespace gyroflip;
+using fw::testing::configure;
+using fw::testing::quick_config;
 using fw::testing::rig;
 using protocol::configure_msg;
 using protocol::dwell_msg;
-
-configure_msg quick_config(uint16_t n_avg) {
-  configure_msg c;
-  c.n_avg = n_avg;
-  c.n_temp = 0;
-  c.settle_ms = 5;
-  c.status_period_ms = 0;
-  return c;
-}
-
-void configure(rig& r, const configure_msg& c) {
-  const uint16_t s = r.send(c);
-  r.run(400);
-  const auto acks = r.all<protocol::ack_msg>();
-  ASSERT_FALSE(acks.empty());
-  ASSERT_EQ(acks.back().seq, s) << "CONFIGURE was not acknowledged";
-}
 
 bool has_dwells(const rig& r, size_t n) {
   return r.count<dwell_msg>() >= n;

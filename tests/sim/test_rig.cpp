@@ -192,9 +192,9 @@ TEST(Schedule, PaperCycleOfAbout179Seconds) {
 }
 
 // A noiseless sensor so that the flip algebra can be checked to ADC precision.
-simulation_config noiseless(double duration_s) {
+simulation_config noiseless(double duration_s, const char* preset = "adxrs150") {
   simulation_config c;
-  c.sensor = sensor::find_builtin("adxrs150")->params;
+  c.sensor = sensor::find_builtin(preset)->params;
   c.sensor.arw_dps_rthz = 0.0;
   c.sensor.bias_instability_dps = 0.0;
   c.sensor.rrw_dps_per_rts = 0.0;
@@ -334,6 +334,52 @@ TEST(Simulator, RawBlocksMarkTurnsAndDwells) {
   EXPECT_EQ(b.dwell[448], 1);
   EXPECT_NEAR(b.time_s[0], 0.5 * sim.conversion_time_s(), 1e-15);
   EXPECT_EQ(sim.total_samples(), static_cast<std::uint64_t>(2.0 / sim.conversion_time_s()));
+}
+
+// The coils' heat (simulator.hpp, coil_heating): energised all the time (hold), the gyro's
+// temperature follows the first-order step T0 + rise (1 - exp(-t / tau)); energised only while
+// turning and settling (the device's default), the rise settles at rise times that share of the
+// cycle. The g-term follows the temperature, so the effect shows in dN: with the HZ1-90-100A's
+// g-sensitivity tempco (paper Tab. 3) a rise of 2 degC moves dN by 9e-5 deg/s, 3 % of dN.
+TEST(Simulator, CoilHeatWarmsTheGyroWhileTheCoilsAreOn) {
+  auto c = noiseless(3.0 * 600.0, "hz1-90-100a");
+  c.coil = {2.0, 300.0};
+  const double t0 = 20.0;
+  c.temperature = profile::constant(t0);
+  c.rig.hold_coils = true;
+  const auto held = dwells(c);
+  c.rig.hold_coils = false;
+  const auto released = dwells(c);
+  ASSERT_GT(held.size(), 1000U);
+  ASSERT_EQ(held.size(), released.size());
+  auto sim = simulator::make(c).value();
+  const double dwell_s = c.rig.n_avg * sim.conversion_time_s();
+  const double on_share = 1.0 - 2.0 * dwell_s / sim.sched().cycle_s();
+  ASSERT_GT(on_share, 0.05);
+  ASSERT_LT(on_share, 0.6);
+  for (std::size_t i = 0; i < held.size(); i += 97) {
+    // A dwell's mean of the exponential, within its half-length's curvature.
+    const double want = t0 + 2.0 * -std::expm1(-held[i].time_s / 300.0);
+    EXPECT_NEAR(held[i].temp_c, want, 2e-3) << "dwell " << i;
+    EXPECT_NEAR(held[i].g_term_dps, (i % 2 == 0 ? 1 : -1) * sim.g_term_at_a_dps(held[i].temp_c),
+                1e-9);
+  }
+  // After 6 time constants: held at the full rise; released at the coils' share of it (the
+  // ripple over one cycle is rise x cycle / tau at most).
+  const auto& last_held = held.back();
+  const auto& last_released = released.back();
+  EXPECT_NEAR(last_held.temp_c - t0, 2.0, 0.01);
+  EXPECT_NEAR(last_released.temp_c - t0, 2.0 * on_share, 2.0 * sim.sched().cycle_s() / 300.0);
+  EXPECT_LT(last_released.temp_c - t0, 0.7 * (last_held.temp_c - t0));
+  // dN moves with it: the g-term's change is gf1 x the rise (none without a heat path).
+  const double dn_shift = sim.g_term_at_a_dps(last_held.temp_c) - sim.g_term_at_a_dps(t0);
+  EXPECT_NEAR(std::abs(dn_shift), 4.5e-5 * (last_held.temp_c - t0), 1e-9);  // 1 g along the axis
+  c.coil = {};
+  const auto cold = dwells(c);
+  EXPECT_EQ(cold.back().temp_c, t0);
+  auto bad = c;
+  bad.coil.rise_c = -1.0;
+  EXPECT_FALSE(simulator::make(bad).ok());
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ void ad7739_model::reset_part() {
 }
 
 uint8_t ad7739_model::channel_status(uint8_t ch) const {
-  return static_cast<uint8_t>((ch << a::chst_channel_shift) |
+  return static_cast<uint8_t>((static_cast<unsigned>(ch) << a::chst_channel_shift) |
                               (((rdy_bits_ >> ch) & 1u) != 0 ? a::chst_rdy : 0u) | status_[ch]);
 }
 

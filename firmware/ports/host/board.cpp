@@ -24,6 +24,7 @@ size_t host_board::host_receive(uint8_t* out, size_t cap) {
 
 status host_board::spi_transfer(void* c, const uint8_t* tx, uint8_t* rx, size_t n) {
   host_board& b = self(c);
+  if (b.spi_fails) return status::bus_error;
   for (size_t i = 0; i < n; ++i) rx[i] = b.adc.transfer(tx[i], b.now);
   return status::ok;
 }

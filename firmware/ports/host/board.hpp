@@ -73,6 +73,9 @@ class host_board {
   uint32_t watchdog_kicks = 0;
   uint32_t last_kick = 0;
 
+  /// While true every SPI transfer fails (a broken bus: the core's start failures).
+  bool spi_fails = false;
+
   /// Bytes the device sent that did not fit the host's queue (a test reads often enough).
   uint32_t tx_overflow = 0;
 

@@ -35,6 +35,17 @@ namespace gyroflip::rig {
 inline constexpr double max_duration_s = 1e7;  ///< 116 days
 inline constexpr double max_rate_dps = 1e6;    ///< input rate magnitude
 
+/// The stepper's coils warm the table under the gyro while they are energised: a first-order
+/// path, dT' = (rise_c on(t) - dT) / tau_s, added to the temperature profile (the gyro's
+/// temperature, so its bias and g-sensitivity follow it). The device energises the coils while
+/// the table turns and settles and, unless rig_config::hold_coils, not while the gyro measures
+/// (docs/HARDWARE.md, "Stepper holding current"). rise_c 0: no heat path (the default: the
+/// paper gives no figure; docs/SIMULATOR.md states the values its example assumes).
+struct coil_heating {
+  double rise_c = 0.0;   ///< steady rise with the coils on all the time (degC), 0..50
+  double tau_s = 600.0;  ///< time constant of the table's warming (s), 1..1e6
+};
+
 struct simulation_config {
   sensor::sensor_params sensor;
   double lat_deg = 42.6;                          ///< paper site, Sofia (deg)
@@ -47,6 +58,7 @@ struct simulation_config {
   ad7739_part adc;             ///< the ADC part (its filter word and chopping are the rig's)
   double duration_s = 3600.0;  ///< run length (s)
   double power_on_before_s = 0.0;  ///< sensor on this long before t = 0 (s)
+  coil_heating coil;               ///< the coils' heat (off by default)
   std::uint64_t seed = 1;
 };
 
@@ -91,6 +103,7 @@ class simulator {
 
  private:
   simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a);
+  void add_coil_heat(double* temp, std::size_t n) noexcept;
   // Conversions [first, first + n) of `b`, n <= chunk.
   void fill_chunk(sample_block& b, std::size_t first, std::size_t n) noexcept;
   // The rig terms of n conversions in consecutive cycle slots (from p_), into `b` from `first`
@@ -109,6 +122,10 @@ class simulator {
   // the dwell index as dwell_base + (dwell_mask & 2 cycle) (base -1 and mask 0 outside dwells).
   std::vector<double> in_gain_, table_, earth_, gf0_, gf1_, angle_out_;
   std::vector<std::int64_t> dwell_base_, dwell_mask_;
+  // Per cycle slot: the coils are energised (turning, settling; dwells with hold_coils).
+  std::vector<char> coils_on_;
+  double heat_a_ = 0.0;     // 1 - exp(-t_conv / tau): the first-order step per conversion
+  double heat_dt_c_ = 0.0;  // the coils' temperature rise now
   // Per-chunk scratch: normal deviates, input rate, gyro output voltage, bias without truth.
   std::vector<double> n_arw_, n_adc_, w_in_, v_rel_, bias_;
 };
