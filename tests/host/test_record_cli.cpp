@@ -461,6 +461,30 @@ TEST(RecordCli, ASecondRecorderOnThePortIsRefusedAndTheFirstLosesNothing) {
   EXPECT_GT(c.stored, 40u);
 }
 
+// Runs `sh -c` with a small tmpfs of `size` bytes mounted at `mnt` (a private mount namespace),
+// then `body`; where mounting is not allowed (a container, a chroot without the right), `body` runs
+// with the record's file size limited to the same size instead (prlimit, SIGXFSZ ignored): its
+// writes then fail with EFBIG where the filesystem's fail with ENOSPC, the recorder's path is the
+// same. `limited` tells which.
+test::cli_result on_small_disk(const std::string& mnt, const std::string& size,
+                               const std::string& prep, const std::string& body, bool& limited) {
+  const std::string mounted =
+      "mount -t tmpfs -o size=" + size + " tmpfs " + mnt + " || exit 77; " + prep + body;
+  limited = false;
+  for (const bool map_root : {true, false}) {
+    std::vector<std::string> args = {"unshare", "--mount"};
+    if (map_root) args.emplace_back("--map-root-user");
+    args.insert(args.end(), {"sh", "-c", mounted});
+    auto r = test::run_program(args);
+    if (r.out.find("rc=") != std::string::npos) return r;
+  }
+  limited = true;
+  std::string b = body;
+  const std::string rec = std::string(GYROFLIP_EXE) + " record ";
+  b.replace(b.find(rec), rec.size(), "prlimit --fsize=" + size + " " + rec);
+  return test::run_program({"sh", "-c", "trap '' XFSZ; " + prep + b});
+}
+
 // A full disk (a 48 KiB filesystem the test makes): the run ends with exit 1 naming it, the
 // device is stopped, and what was recorded reads back; a disk full from the start leaves no file.
 TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
@@ -468,29 +492,27 @@ TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
   const std::string mnt = dir.path() + "/small";
   ASSERT_EQ(::mkdir(mnt.c_str(), 0755), 0);
   emulator_process emu(dir.path(), "--speed max --seed 33");
-  const std::string script =
-      "mount -t tmpfs -o size=48k tmpfs " + mnt + " || exit 77; " + GYROFLIP_EXE +
-      " record --port " + emu.pty() + " --raw --duration 3000 -o " + mnt +
-      "/run.gfr; echo \"rc=$?\"; ls -l " + mnt + "; " + GYROFLIP_EXE + " export " + mnt +
-      "/run.gfr -o " + dir.path() + "/run.csv; echo \"export=$?\"";
-  auto r = test::run_program({"unshare", "--mount", "--map-root-user", "sh", "-c", script});
-  if (r.out.find("rc=") == std::string::npos)
-    r = test::run_program({"unshare", "--mount", "sh", "-c", script});
-  if (r.out.find("rc=") == std::string::npos)
-    GTEST_SKIP() << "cannot mount a small filesystem here";
+  bool limited = false;
+  const auto r = on_small_disk(
+      mnt, "49152", "",
+      std::string(GYROFLIP_EXE) + " record --port " + emu.pty() + " --raw --duration 3000 -o " +
+          mnt + "/run.gfr; echo \"rc=$?\"; ls -l " + mnt + "; " + GYROFLIP_EXE + " export " + mnt +
+          "/run.gfr -o " + dir.path() + "/run.csv; echo \"export=$?\"",
+      limited);
   EXPECT_NE(r.out.find("rc=1"), std::string::npos) << r.out << r.err;
-  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(limited ? "File too large" : "No space left on device"), std::string::npos)
+      << r.err;
   EXPECT_NE(r.out.find("export=0"), std::string::npos) << r.out << r.err;  // what fit reads back
   const std::string csv = test::read_text(dir.path() + "/run.csv");
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
   // Full from the start: no file at all.
-  const std::string full = "mount -t tmpfs -o size=16k tmpfs " + mnt +
-                           " || exit 77; head -c 16384 /dev/zero > " + mnt + "/filler; " +
-                           GYROFLIP_EXE + " record --port " + emu.pty() + " --duration 10 -o " +
-                           mnt + "/run.gfr; echo \"rc=$?\"; ls " + mnt;
-  auto f = test::run_program({"unshare", "--mount", "--map-root-user", "sh", "-c", full});
-  if (f.out.find("rc=") == std::string::npos)
-    f = test::run_program({"unshare", "--mount", "sh", "-c", full});
+  const std::string fill = limited ? "rm -f " + mnt + "/run.gfr; "  // what the first run left
+                                   : "head -c 16384 /dev/zero > " + mnt + "/filler; ";
+  const auto f =
+      on_small_disk(mnt, limited ? "0" : "16384", fill,
+                    std::string(GYROFLIP_EXE) + " record --port " + emu.pty() +
+                        " --duration 10 -o " + mnt + "/run.gfr; echo \"rc=$?\"; ls " + mnt,
+                    limited);
   EXPECT_NE(f.out.find("rc=1"), std::string::npos) << f.out << f.err;
   EXPECT_EQ(f.out.find("run.gfr"), std::string::npos) << f.out;
 }
