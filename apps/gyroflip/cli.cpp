@@ -54,6 +54,13 @@ void setup_earth(CLI::App& app, action& chosen) {
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
+// The simulated coils' heat (simulate, emulate; docs/SIMULATOR.md §4).
+void add_coil_heat(CLI::App* sub, std::string& spec) {
+  sub->add_option("--coil-heat", spec,
+                  "the coils warm the gyro: RISE_C[:TAU_S], the steady rise with the coils on "
+                  "all the time and its time constant (default TAU 600 s; docs/SIMULATOR.md)");
+}
+
 // The rig's settings (rig_options.hpp) that `simulate` models and `record` sends in CONFIGURE.
 // `device`: also those only the device acts on (--n-temp, --home); otherwise the simulated
 // coils' heat (--coil-heat).
@@ -84,9 +91,7 @@ void add_rig_options(CLI::App* sub, rig_options& o, bool device) {
   if (device) {
     sub->add_flag("--home", o.home, "find the home switch before the first cycle");
   } else {
-    sub->add_option("--coil-heat", o.coil_heat,
-                    "the coils warm the gyro: RISE_C[:TAU_S], the steady rise with the coils on "
-                    "all the time and its time constant (default TAU 600 s; docs/SIMULATOR.md)");
+    add_coil_heat(sub, o.coil_heat);
   }
 }
 
@@ -166,6 +171,7 @@ void setup_emulate(CLI::App& app, action& chosen) {
   sub->add_flag("--no-chop", o->no_chop, "AD7739 without chopping");
   sub->add_option("--steps-per-rev", o->steps_per_rev, "stepper full steps per table revolution")
       ->capture_default_str();
+  add_coil_heat(sub, o->coil_heat);
 }
 
 void setup_record(CLI::App& app, action& chosen, const std::vector<std::string>& args) {

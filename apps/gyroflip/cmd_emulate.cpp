@@ -32,6 +32,7 @@
 #include "host/emulator/link_faults.hpp"
 #include "host/serial/serial_line.hpp"
 #include "physics_options.hpp"
+#include "rig_options.hpp"
 #include "stop_signal.hpp"
 
 namespace gyroflip::app {
@@ -109,6 +110,9 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   c.sim.rig.chop = !o.no_chop;
   c.sim.rig.steps_per_rev = o.steps_per_rev;
   c.sim.power_on_before_s = o.power_on_before_s;
+  auto coil = coil_heating_of(o.coil_heat);
+  if (!coil) return coil.err();
+  c.sim.coil = *coil;
   c.sim.seed = o.seed;
   c.serial = o.serial;
   return c;

@@ -33,6 +33,7 @@ struct emulate_options {
   int filter_word = 94;
   bool no_chop = false;
   int steps_per_rev = 200;
+  std::string coil_heat;  ///< the coils' heat, RISE_C[:TAU_S] (empty: none)
 };
 int run_emulate(const emulate_options& o);
 

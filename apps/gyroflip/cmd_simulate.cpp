@@ -114,7 +114,7 @@ int run_simulate(const simulate_options& o) {
   if (auto s = check_readable_positions(*rig, o.rig.positions); !s) return report(s.err());
   c.rig = *rig;
   c.flip = !o.no_flip;
-  auto coil = coil_heating_of(o.rig);
+  auto coil = coil_heating_of(o.rig.coil_heat);
   if (!coil) return report(coil.err());
   c.coil = *coil;
   c.duration_s = o.duration_s;

@@ -33,15 +33,16 @@ result<rig::rig_config> rig_config_of(const rig_options& o) {
   return c;
 }
 
-result<rig::coil_heating> coil_heating_of(const rig_options& o) {
+result<rig::coil_heating> coil_heating_of(const std::string& spec) {
   rig::coil_heating h;
-  if (o.coil_heat.empty()) return h;
-  const auto v = text::to_doubles(o.coil_heat, ':');
+  if (spec.empty()) return h;
+  const auto v = text::to_doubles(spec, ':');
   if (!v || v->empty() || v->size() > 2)
-    return parameter_error("coil_heat", fmt::format("'{}': expected RISE_C or RISE_C:TAU_S",
-                                                    printable(o.coil_heat, 60)));
+    return parameter_error(
+        "coil_heat", fmt::format("'{}': expected RISE_C or RISE_C:TAU_S", printable(spec, 60)));
   h.rise_c = (*v)[0];
   if (v->size() == 2) h.tau_s = (*v)[1];
+  if (auto s = h.check(); !s) return s.err();
   return h;
 }
 

@@ -33,8 +33,7 @@ struct rig_options {
 /// parameter, which the front end maps to its option).
 [[nodiscard]] result<rig::rig_config> rig_config_of(const rig_options& o);
 
-/// The coils' heat the options give (RISE_C[:TAU_S]; empty: none). The simulator checks the
-/// ranges (parameter "coil_heat").
-[[nodiscard]] result<rig::coil_heating> coil_heating_of(const rig_options& o);
+/// The coils' heat `spec` gives (RISE_C[:TAU_S]; empty: none), checked (rig::check).
+[[nodiscard]] result<rig::coil_heating> coil_heating_of(const std::string& spec);
 
 }  // namespace gyroflip::app

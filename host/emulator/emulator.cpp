@@ -57,6 +57,7 @@ result<std::unique_ptr<emulator>> emulator::make(const emulator_config& c) {
   if (!(s.adc.mclk_hz >= 1e6 && s.adc.mclk_hz <= 10e6))
     return usage_error("ADC clock: 1 to 10 MHz");
   if (auto r = s.rig.check(s.adc.mclk_hz); !r) return r.err();
+  if (auto r = s.coil.check(); !r) return r.err();
   if (!(c.accel_period_s > 0.0 && c.accel_period_s <= 0.1) ||
       !(c.accel_capture_hz >= 1e3 && c.accel_capture_hz <= 1e8))
     return usage_error("accelerometer: period (0, 0.1] s, capture clock 1 kHz to 100 MHz");
@@ -159,13 +160,27 @@ void emulator::update_accel() {
   }
 }
 
+// The coils' heat at `t_s` (rig::coil_heating): advanced from the last time asked with the
+// flip motor's coils as the firmware has them now. The gyro is sampled every conversion (and
+// every two conversion times when idle), so a change of the coils is seen within ~4 ms.
+double emulator::coil_heat_c(double t_s) {
+  const rig::coil_heating& h = cfg_.sim.coil;
+  if (h.rise_c == 0.0) return 0.0;
+  if (t_s > heat_t_s_) {
+    const bool on = p_->board.motors.energised(p_->dev->config().flip_motor & 1);
+    heat_c_ = h.step(heat_c_, on, t_s - heat_t_s_);
+    heat_t_s_ = t_s;
+  }
+  return heat_c_;
+}
+
 double emulator::sample_gyro(double t_s) {
   const std::size_t k = step_index();
   const std::int32_t pos = p_->board.motors.position[0];
   const double step_deg = 360.0 / cfg_.sim.rig.steps_per_rev;
   // The table's mean rate since the last window: what the gyro integrated meanwhile.
   const double table_dps = t_s > t_last_s_ ? (pos - pos_last_) * step_deg / (t_s - t_last_s_) : 0.0;
-  const double temp_c = p_->temp_gyro.at(t_s);
+  const double temp_c = p_->temp_gyro.at(t_s) + coil_heat_c(t_s);
   const double w = p_->in_gain[k] * p_->rate.at(t_s) + p_->table_gain[k] * table_dps +
                    p_->earth[k] + p_->gf0[k] + p_->gf1[k] * (temp_c - p_->gyro.temp_ref_c());
   t_last_s_ = t_s;
@@ -181,7 +196,7 @@ std::int32_t emulator::gyro_code(double t_end_s) {
 }
 
 std::int32_t emulator::temp_code(double t_s) {
-  const double v = temp_out_v_per_k * (p_->temp_chan.at(t_s) - temp_out_ref_c);
+  const double v = temp_out_v_per_k * (p_->temp_chan.at(t_s) + coil_heat_c(t_s) - temp_out_ref_c);
   return p_->adc.convert(v) - rig::ad7739::code_zero;
 }
 

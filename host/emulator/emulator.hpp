@@ -88,6 +88,7 @@ class emulator {
   std::int32_t temp_code(double t_s);
   /// One gyro window centred at `t_s` at the table's step now; its output voltage.
   double sample_gyro(double t_s);
+  double coil_heat_c(double t_s);
   void update_accel();
   [[nodiscard]] std::size_t step_index() const noexcept;
 
@@ -99,7 +100,9 @@ class emulator {
   std::int32_t pos_last_ = 0;           // table step at that window
   std::int32_t pos_accel_ = -1;         // table step the accelerometer outputs were set for
   double conv_table_deg_ = 0.0;         // table angle at the last gyro conversion
-  std::uint16_t boots_ = 0;             // the device's boot counter
+  double heat_c_ = 0.0;                 // the coils' temperature rise at heat_t_s_
+  double heat_t_s_ = 0.0;
+  std::uint16_t boots_ = 0;  // the device's boot counter
 };
 
 }  // namespace gyroflip::host

@@ -35,6 +35,13 @@ sample_block::sample_block(std::size_t capacity, bool with_truth)
       input_dps(capacity),
       dwell(capacity) {}
 
+status coil_heating::check() const {
+  if (!(rise_c >= 0.0 && rise_c <= 50.0) || !(tau_s >= 1.0 && tau_s <= 1e6))
+    return parameter_error("coil_heat",
+                           "the coils' heat: a rise of 0..50 degC, a time constant of 1..1e6 s");
+  return ok();
+}
+
 namespace {
 
 // The bounds of every value of a simulation (header constants), checked before any work.
@@ -49,11 +56,7 @@ status check_ranges(const simulation_config& c) {
     return parameter_error("power_on_before_s",
                            "the power-on time before the run must be in "
                            "[0, 1e9] s");
-  if (!(c.coil.rise_c >= 0.0 && c.coil.rise_c <= 50.0) ||
-      !(c.coil.tau_s >= 1.0 && c.coil.tau_s <= 1e6))
-    return parameter_error("coil_heat",
-                           "the coils' heat: a rise of 0..50 degC, a time constant "
-                           "of 1..1e6 s");
+  if (auto s = c.coil.check(); !s) return s;
   if (c.rig.positions_deg.size() != 2)
     return parameter_error("positions_deg",
                            fmt::format("the simulator turns between two positions; the angle "
@@ -106,7 +109,6 @@ result<simulator> simulator::make(const simulation_config& c) {
     sim.coils_on_.push_back(p.dwell < 0 || c.rig.hold_coils ? 1 : 0);
   }
   sim.total_ = static_cast<std::uint64_t>(std::floor(c.duration_s / t_conv + 1e-9));
-  sim.heat_a_ = -std::expm1(-t_conv / c.coil.tau_s);
   return sim;
 }
 
@@ -178,14 +180,13 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
   adc_.convert_block(v_rel, n_adc_.data(), out_rate, inv_sf_, n);
 }
 
-// The coils' first-order warming, conversion by conversion from the current cycle slot (exact
-// for a rise that is constant over a conversion: dT += (target - dT) (1 - exp(-t_conv / tau))).
+// The coils' first-order warming, conversion by conversion from the current cycle slot (the
+// coils' state is constant over a conversion).
 void simulator::add_coil_heat(double* temp, std::size_t n) noexcept {
   const std::size_t period = coils_on_.size();
   std::size_t slot = p_;
   for (std::size_t j = 0; j < n; ++j) {
-    const double target = coils_on_[slot] != 0 ? cfg_.coil.rise_c : 0.0;
-    heat_dt_c_ += (target - heat_dt_c_) * heat_a_;
+    heat_dt_c_ = cfg_.coil.step(heat_dt_c_, coils_on_[slot] != 0, t_conv_s_);
     temp[j] += heat_dt_c_;
     if (++slot == period) slot = 0;
   }

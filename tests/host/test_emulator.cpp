@@ -250,4 +250,45 @@ TEST(Emulator, ATiltedTableShowsInTheAccelerometersAndTheGTerm) {
   }
 }
 
+// The coils' heat (rig::coil_heating) follows what the firmware does with the coils: held
+// (CONFIGURE's hold_coils) the gyro's temperature rises as T0 + rise (1 - exp(-t / tau)) from
+// the CONFIGURE that energised them; released during dwells (the default) it settles at the
+// share of the cycle the table turns and settles. The temperature channel reads it.
+TEST(Emulator, TheCoilsHeatTheGyroOnlyWhileTheFirmwareEnergisesThem) {
+  std::vector<double> last_temp_c;
+  for (const bool hold : {true, false}) {
+    SCOPED_TRACE(hold ? "held" : "released");
+    host::emulator_config cfg = noiseless_rig(5);
+    cfg.sim.temperature = rig::profile::constant(20.0);
+    cfg.sim.coil = {2.0, 5.0};
+    auto made = host::emulator::make(cfg);
+    ASSERT_TRUE(made.ok()) << made.err().message;
+    host::emulator& e = **made;
+    client c(e);
+    e.boot();
+    c.run_s(0.1);
+    p::configure_msg conf;
+    if (hold) conf.flags |= p::cfg_hold_coils;
+    const double t_on_s = e.time_s();
+    c.send(conf);
+    c.start(conf);
+    c.run_s(30.0);
+    ASSERT_GE(c.dwells.size(), 20u);
+    const double lsb_v = 5.0 / (1 << 24);
+    for (const p::dwell_msg& d : c.dwells) {
+      const double temp_c = static_cast<double>(d.temp_sum) / d.n_temp * lsb_v / 8.4e-3 + 24.85;
+      const double t_s = d.t_end_ticks / static_cast<double>(host::emulator::tick_hz);
+      if (hold) {
+        EXPECT_NEAR(temp_c, 20.0 + 2.0 * -std::expm1(-(t_s - t_on_s) / 5.0), 0.05);
+      }
+    }
+    const p::dwell_msg& d = c.dwells.back();
+    last_temp_c.push_back(static_cast<double>(d.temp_sum) / d.n_temp * lsb_v / 8.4e-3 + 24.85);
+  }
+  EXPECT_NEAR(last_temp_c[0], 22.0, 0.01);  // 6 time constants
+  // Released: the coils are on for the turns and settling, ~40 % of the cycle.
+  EXPECT_GT(last_temp_c[1] - 20.0, 0.2 * 2.0);
+  EXPECT_LT(last_temp_c[1] - 20.0, 0.6 * 2.0);
+}
+
 }  // namespace

@@ -15,6 +15,7 @@
 /// the g-term and the input have the opposite sign of 0 deg, the bias the same sign.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -44,6 +45,13 @@ inline constexpr double max_rate_dps = 1e6;    ///< input rate magnitude
 struct coil_heating {
   double rise_c = 0.0;   ///< steady rise with the coils on all the time (degC), 0..50
   double tau_s = 600.0;  ///< time constant of the table's warming (s), 1..1e6
+  /// Errors (parameter "coil_heat"): a value outside the ranges above.
+  [[nodiscard]] status check() const;
+  /// The rise after `dt_s` more seconds from `rise_now_c`, the coils on or off meanwhile (the
+  /// first-order step, exact for a constant state).
+  [[nodiscard]] double step(double rise_now_c, bool on, double dt_s) const noexcept {
+    return rise_now_c + ((on ? rise_c : 0.0) - rise_now_c) * -std::expm1(-dt_s / tau_s);
+  }
 };
 
 struct simulation_config {
@@ -124,7 +132,6 @@ class simulator {
   std::vector<std::int64_t> dwell_base_, dwell_mask_;
   // Per cycle slot: the coils are energised (turning, settling; dwells with hold_coils).
   std::vector<char> coils_on_;
-  double heat_a_ = 0.0;     // 1 - exp(-t_conv / tau): the first-order step per conversion
   double heat_dt_c_ = 0.0;  // the coils' temperature rise now
   // Per-chunk scratch: normal deviates, input rate, gyro output voltage, bias without truth.
   std::vector<double> n_arw_, n_adc_, w_in_, v_rel_, bias_;
