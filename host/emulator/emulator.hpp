@@ -38,9 +38,12 @@ namespace gyroflip::host {
 /// steps per revolution; the schedule and the duration are the firmware's and the host's.
 struct emulator_config {
   rig::simulation_config sim;
-  std::uint32_t serial = 1;         ///< the device's serial number (INFO)
-  double accel_period_s = 1e-3;     ///< ADXL202 T2 (R_SET = 125 kOhm; data sheet p. 1)
-  double accel_capture_hz = 1.0e6;  ///< the capture timer's clock (MSP430 Timer_B: 1 MHz)
+  std::uint32_t serial = 1;      ///< the device's serial number (INFO)
+  double accel_period_s = 1e-3;  ///< ADXL202 T2 (R_SET = 125 kOhm; data sheet p. 1)
+  /// The capture timer's clock: 1 MHz, a whole number of counts per 1-ms period (the F149
+  /// board's Timer_B runs at SMCLK/8 = 691.2 kHz, where a 1-ms period is 691 counts and a 50 %
+  /// duty would read 0.5007 with the model's exact edges).
+  double accel_capture_hz = 1.0e6;
 };
 
 class emulator {

@@ -232,7 +232,8 @@ class session {
     return d.empty() ? 0.0 : d.back().time_s;
   }
   // A missing frame is asked for again every 0.15 s of the device's time (a round trip on the
-  // line is tens of ms): its history (~6 s) allows ~40 tries.
+  // line is tens of ms): its history (~6 s) allows ~40 tries. It is given up when STATUS says
+  // the history no longer holds it, or after 80 asks (a device that never says so).
   [[nodiscard]] double resend_interval_s() const {
     return std::clamp(0.15 / device_speed_, 0.001, 0.15);
   }
@@ -402,11 +403,13 @@ bool session::says_reset(const p::frame& f) const {
   return false;
 }
 
-// The device restarted: what it owed is lost, its numbering starts again, and its INFO (the
-// boot's, or a PING's) goes into the file after the gap.
+// The device restarted: what it owed is lost (a GAP with their count: its history went with its
+// RAM), its numbering starts again, and its INFO (the boot's, or a PING's) goes into the file
+// after the gap.
 status session::note_reset() {
   reset_seen_ = true;
   need_info_ = true;
+  if (auto s = note_lost(window_.give_up_all()); !s) return s;
   window_.reset();
   dec_.frames().reset_sequence();
   return append_gap(gfr::gap_reason::device_reset, 0);

@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "firmware/protocol/frame.hpp"
 #include "gyroflip/rigdata/gfr.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -199,6 +201,100 @@ TEST(Gfr, Crc32IsTheStandardOne) {
   EXPECT_EQ(gfr::crc32(std::span<const std::uint8_t>(
                 reinterpret_cast<const std::uint8_t*>(s.data()), s.size())),
             0xCBF43926u);
+}
+
+// A recording written record by record: META, INFO, CONFIGURE, START, then DWELL frames. Each
+// `dwells` entry is {cycle, position, t_start_ticks}; the dwell lasts 500 ticks.
+struct dwell_spec {
+  std::uint32_t cycle;
+  std::uint8_t position;
+  std::uint32_t t_start_ticks;
+};
+template <class M>
+bytes payload(const M& m) {
+  std::uint8_t b[gyroflip::protocol::max_payload];
+  gyroflip::protocol::writer w{b, sizeof b};
+  m.put(w);
+  return bytes(b, b + w.n);
+}
+std::string recording(const std::string& path, const std::string& meta,
+                      const std::vector<dwell_spec>& dwells) {
+  namespace p = gyroflip::protocol;
+  auto w = gfr::writer::create(path);
+  EXPECT_TRUE(w);
+  EXPECT_TRUE(w->append(gfr::kind::meta, 0, bytes(meta.begin(), meta.end())));
+  p::info_msg info;
+  info.protocol = p::protocol_version;
+  info.tick_hz = 32768;
+  info.mclk_hz = 6144000;
+  info.range = 4;
+  EXPECT_TRUE(w->append(gfr::kind::info, 1, payload(info)));
+  EXPECT_TRUE(w->append(gfr::kind::configure, 2, payload(p::configure_msg{})));
+  EXPECT_TRUE(w->append(gfr::kind::start, 3, bytes{0, 0}));  // the ACK was frame 0
+  std::uint16_t seq = 1;
+  for (const dwell_spec& d : dwells) {
+    p::dwell_msg m;
+    m.cycle = d.cycle;
+    m.position = d.position;
+    m.t_start_ticks = d.t_start_ticks;
+    m.t_end_ticks = d.t_start_ticks + 500;
+    m.n = 256;
+    m.code_sum = 256 * 1000;
+    m.n_temp = 4;
+    m.temp_sum = 4 * -1000;
+    bytes body = {static_cast<std::uint8_t>(p::msg::dwell), static_cast<std::uint8_t>(seq & 0xFF),
+                  static_cast<std::uint8_t>(seq >> 8)};
+    const bytes pl = payload(m);
+    body.insert(body.end(), pl.begin(), pl.end());
+    EXPECT_TRUE(w->append(gfr::kind::frame, 10 + seq, body));
+    ++seq;
+  }
+  EXPECT_TRUE(w->close());
+  return path;
+}
+
+// The .gfr reader holds a recording to the CSV reader's bounds (issue 20): META's conversion of
+// device units, each dwell's temperature, device times that go backwards; a dwell at a position
+// its angle table does not have is not used (never taken for 180 deg). Each error names the file
+// and the record.
+TEST(RigRun, TheReaderChecksEveryFieldAgainstTheRecordingBounds) {
+  gyroflip::test::temp_dir dir;
+  const std::string good_meta =
+      R"({"scale_factor_v_per_dps":0.0125,"temp_v_per_c":0.0084,"temp_at_0v_c":-272.65})";
+  const std::vector<dwell_spec> fine = {{0, 0, 1000}, {0, 1, 2000}, {1, 0, 3000}, {1, 1, 4000}};
+  auto ok = gyroflip::rigdata::read_rig_run(recording(dir.path() + "/ok.gfr", good_meta, fine));
+  ASSERT_TRUE(ok) << ok.err().message;
+  ASSERT_EQ(ok->dwells.size(), 4u);
+  EXPECT_EQ(ok->dwells[0].angle_deg, 0.0);
+  EXPECT_EQ(ok->dwells[1].angle_deg, 180.0);
+
+  const auto error_of = [&](const std::string& name, const std::string& meta,
+                            const std::vector<dwell_spec>& d) {
+    auto r = gyroflip::rigdata::read_rig_run(recording(dir.path() + "/" + name, meta, d));
+    EXPECT_FALSE(r) << name;
+    return r ? std::string() : r.err().message;
+  };
+  std::string e = error_of(
+      "hot.gfr", R"({"scale_factor_v_per_dps":0.0125,"temp_v_per_c":0.0084,"temp_at_0v_c":5000})",
+      fine);
+  EXPECT_NE(e.find("hot.gfr: record 1: META"), std::string::npos) << e;
+  EXPECT_NE(e.find("temp_at_0v_c 5000"), std::string::npos) << e;
+  e = error_of("slope.gfr",
+               R"({"scale_factor_v_per_dps":0.0125,"temp_v_per_c":1e-6,"temp_at_0v_c":20})", fine);
+  EXPECT_NE(e.find("record 5: a dwell's temperature"), std::string::npos) << e;
+  e = error_of("back.gfr", good_meta, {{0, 0, 1000}, {0, 1, 2000}, {1, 0, 1500}, {1, 1, 4000}});
+  EXPECT_NE(e.find("record 7: DWELL of cycle 1 position 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("backwards"), std::string::npos) << e;
+
+  auto odd = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/odd.gfr", good_meta, {{0, 0, 1000}, {0, 5, 2000}, {1, 0, 3000}}));
+  ASSERT_TRUE(odd) << odd.err().message;
+  ASSERT_EQ(odd->dwells.size(), 2u);
+  for (const auto& d : odd->dwells) EXPECT_EQ(d.angle_deg, 0.0);
+  bool named = false;
+  for (const auto& w : odd->warnings)
+    named = named || w.find("outside their configuration's angle table") != std::string::npos;
+  EXPECT_TRUE(named);
 }
 
 }  // namespace

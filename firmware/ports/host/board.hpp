@@ -41,9 +41,9 @@ class host_board {
   // PWM inputs: high time and period (ticks) of axis 0 (x) and 1 (y); 0 period = no signal.
   uint32_t pwm_high_ticks[2] = {0, 0};
   uint32_t pwm_period_ticks[2] = {0, 0};
-  /// What the capture timer reports for each period, in its own ticks (the MSP430's Timer_B runs
-  /// at 1 MHz, finer than this board's tick): used instead of the two above when the period is
-  /// not 0 (the emulator's accelerometer).
+  /// What the capture timer reports for each period, in its own ticks (the MSP430F149's Timer_B
+  /// runs at SMCLK/8 = 691.2 kHz, finer than this board's tick): used instead of the two above when
+  /// the period is not 0 (the emulator's accelerometer).
   uint32_t pwm_capture_high[2] = {0, 0};
   uint32_t pwm_capture_period[2] = {0, 0};
 

@@ -46,8 +46,10 @@ enum class kind : std::uint8_t {
 
 enum class gap_reason : std::uint8_t {
   corrupt = 1,       ///< frames dropped by the decoder (COBS, length, CRC, version, type)
-  missing = 2,       ///< sequence numbers skipped (frames lost on the way)
-  device_reset = 3,  ///< the device sent INFO unasked (it rebooted); count = 0
+  missing = 2,       ///< frames given up: the device no longer holds them (count), or owed
+                     ///< when it restarted
+  device_reset = 3,  ///< the device restarted (an INFO unasked, or STATUS: another boot count,
+                     ///< its uptime back, idle mid-run); count = 0
   link_lost = 4,     ///< the port failed (an unplugged adapter); count = ms until it came back
 };
 
