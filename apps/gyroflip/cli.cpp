@@ -86,8 +86,8 @@ void add_rig_options(CLI::App* sub, rig_options& o, bool device) {
   sub->add_option("--accel", o.accel_sps2, "stepper ramp (steps/s^2)")->capture_default_str();
   sub->add_flag("--one-way", o.one_way, "always turn the same way (a rotary joint)");
   sub->add_flag("--hold-coils", o.hold_coils,
-                "keep the stepper energised during dwells (default: off, the coils heat the "
-                "table)");
+                "keep the stepper energised during dwells too (the default de-energises it while "
+                "the gyro measures: held, the coils heat the table)");
   if (device) {
     sub->add_flag("--home", o.home, "find the home switch before the first cycle");
   } else {

@@ -77,6 +77,8 @@ const char* reason_text(rigdata::gfr::stop_reason r) {
       return "the port did not come back";
     case rigdata::gfr::stop_reason::device_changed:
       return "another device answered";
+    case rigdata::gfr::stop_reason::device_failed:
+      return "the device could not be started again after a reset";
   }
   return "";
 }

@@ -212,7 +212,7 @@ class session {
   template <class M>
   status command(const M& m, const char* name);
   status start_run();
-  status begin_recording(std::uint16_t ack_seq);
+  status begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc);
   status request_missing(double interval_s);
   status keep_up();
   status probe();
@@ -273,6 +273,7 @@ class session {
   std::optional<p::info_msg> info_;      // the session's device (serial, boot count)
   std::optional<p::info_msg> got_info_;  // the INFO a PING brought
   bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
+  int restart_failures_ = 0;             // handle_reset() failed this many times in a row
   bool need_info_ = false;               // ... and its INFO is still to be recorded
   bool device_idle_ = false;             // a STATUS said idle while we record
   std::uint32_t last_uptime_ = 0;
@@ -669,14 +670,15 @@ status session::start_run() {
   start.config_crc = p::configure_crc(running_);
   start_ack_seq_.reset();
   if (auto s = command(start, "START"); !s) return s;
-  return begin_recording(start_ack_seq_.value_or(0));
+  return begin_recording(start_ack_seq_.value_or(0), start.config_crc);
 }
 
 // START was acknowledged by the device's frame `ack_seq`: its frames after that one are the new
 // run's (the START record says so; frames that came before the ACK are already stored).
-status session::begin_recording(std::uint16_t ack_seq) {
-  std::uint8_t b[2] = {static_cast<std::uint8_t>(ack_seq & 0xFFu),
-                       static_cast<std::uint8_t>(ack_seq >> 8)};
+status session::begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc) {
+  const std::uint8_t b[4] = {
+      static_cast<std::uint8_t>(ack_seq & 0xFFu), static_cast<std::uint8_t>(ack_seq >> 8),
+      static_cast<std::uint8_t>(config_crc & 0xFFu), static_cast<std::uint8_t>(config_crc >> 8)};
   if (auto s = append(gfr::kind::start, b); !s) return s;
   recording_ = true;
   device_idle_ = false;
@@ -788,8 +790,19 @@ result<recorder_result> session::run() {
     if (!lost && (reset_seen_ || device_idle_)) {
       link_down_ = false;
       if (auto s = handle_reset(); !s) {
-        if (!link_down_) return s.err();
+        if (!link_down_) {
+          // A command went unanswered (a noisy line, another reset meanwhile): try again from
+          // the top; after three whole attempts end the run, the file closed with its reason.
+          reset_seen_ = true;
+          if (++restart_failures_ < 3) continue;
+          const std::uint8_t body[1] = {static_cast<std::uint8_t>(gfr::stop_reason::device_failed)};
+          (void)append(gfr::kind::stop, body);
+          (void)file_.close();
+          return s.err();
+        }
         lost = true;
+      } else {
+        restart_failures_ = 0;
       }
     }
     if (!lost) {

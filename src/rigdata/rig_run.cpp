@@ -150,10 +150,17 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
         return bad(fmt::format("CONFIGURE with {} positions", run_.config.n_positions));
       return ok();
     case gfr::kind::start: {
-      if (r.body.size() != 0 && r.body.size() != 2) return bad("START record of the wrong size");
+      if (r.body.size() != 0 && r.body.size() != 2 && r.body.size() != 4)
+        return bad("START record of the wrong size");
       start_mark m{session_, std::nullopt, n, r.host_time_us, run_.config};
-      if (r.body.size() == 2)
+      if (r.body.size() >= 2)
         m.after_seq = unwrap(static_cast<std::uint16_t>(r.body[0] | (r.body[1] << 8)));
+      // Format 3: the CRC of the configuration the device started with. A damaged CONFIGURE
+      // record leaves an older one (or INFO's) in force here: its angle table would label the
+      // run's dwells wrongly, so the run's angles are unknown instead.
+      if (r.body.size() == 4)
+        m.config_known = protocol::configure_crc(run_.config) ==
+                         static_cast<std::uint16_t>(r.body[2] | (r.body[3] << 8));
       starts_.push_back(m);
       return ok();
     }
@@ -209,7 +216,8 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
       return bad("gap record of an unknown reason");
     }
     case gfr::kind::stop:
-      if (r.body.size() != 1 || r.body[0] < 1 || r.body[0] > 4)
+      if (r.body.size() != 1 || r.body[0] < 1 ||
+          r.body[0] > static_cast<std::uint8_t>(gfr::stop_reason::device_failed))
         return bad("STOP record of an unknown reason");
       run_.stop = static_cast<gfr::stop_reason>(r.body[0]);
       return ok();
@@ -272,6 +280,10 @@ result<rig_run> rig_run_builder::finish() && {
     v.erase(std::unique(v.begin(), v.end(),
                         [](const arrival* a, const arrival* b) { return a->seq == b->seq; }),
             v.end());
+    if (!starts_[i].config_known) {
+      run_.unknown_config += v.size();
+      continue;
+    }
     const protocol::configure_msg& cfg = starts_[i].config;
     std::map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::int32_t>>> pend;
     if (with_conversions_ && cfg.n_avg != 0) {
@@ -335,6 +347,11 @@ result<rig_run> rig_run_builder::finish() && {
     run_.warnings.push_back(fmt::format(
         "{}: {} dwells name a position outside their configuration's angle table: not used",
         run_.path, unknown_positions));
+  if (run_.unknown_config != 0)
+    run_.warnings.push_back(fmt::format(
+        "{}: {} dwells belong to a run whose configuration (its angle table) is not in the file "
+        "(the CONFIGURE record before its START is damaged or missing): not used",
+        run_.path, run_.unknown_config));
   if (run_.outside_runs != 0)
     run_.warnings.push_back(fmt::format(
         "{}: {} dwells arrived outside an acknowledged run (a run the device had before the "

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -185,10 +186,12 @@ TEST(Gfr, HeaderProblemsSayWhatIsWrong) {
   EXPECT_NE(message({}).find("record 0: not a gyroflip rig recording"), std::string::npos);
   // A newer version with a correct header checksum.
   bytes future = whole;
-  future[8] = 3;
+  future[8] = static_cast<std::uint8_t>(gfr::format_version + 1);
   const std::uint32_t crc = gfr::crc32(std::span<const std::uint8_t>(future.data(), 12));
   for (std::size_t k = 0; k < 4; ++k) future[12 + k] = static_cast<std::uint8_t>(crc >> (8 * k));
-  EXPECT_NE(message(future).find("record 0: format version 3 is newer"), std::string::npos)
+  EXPECT_NE(message(future).find("record 0: format version " +
+                                 std::to_string(gfr::format_version + 1) + " is newer"),
+            std::string::npos)
       << message(future);
   // Only the header: no META.
   EXPECT_NE(message(bytes(whole.begin(), whole.begin() + 16)).find("record 1: no META"),
@@ -217,8 +220,12 @@ bytes payload(const M& m) {
   m.put(w);
   return bytes(b, b + w.n);
 }
+// `config`: the CONFIGURE record (none: nullptr); `crc`: the START record's configuration CRC
+// (format 3; none: a format-2 START).
 std::string recording(const std::string& path, const std::string& meta,
-                      const std::vector<dwell_spec>& dwells) {
+                      const std::vector<dwell_spec>& dwells,
+                      const gyroflip::protocol::configure_msg* config = nullptr,
+                      std::optional<std::uint16_t> crc = std::nullopt) {
   namespace p = gyroflip::protocol;
   auto w = gfr::writer::create(path);
   EXPECT_TRUE(w);
@@ -229,8 +236,13 @@ std::string recording(const std::string& path, const std::string& meta,
   info.mclk_hz = 6144000;
   info.range = 4;
   EXPECT_TRUE(w->append(gfr::kind::info, 1, payload(info)));
-  EXPECT_TRUE(w->append(gfr::kind::configure, 2, payload(p::configure_msg{})));
-  EXPECT_TRUE(w->append(gfr::kind::start, 3, bytes{0, 0}));  // the ACK was frame 0
+  const p::configure_msg plain;
+  EXPECT_TRUE(w->append(gfr::kind::configure, 2, payload(config != nullptr ? *config : plain)));
+  bytes start = {0, 0};  // the ACK was frame 0
+  if (crc)
+    start.insert(start.end(),
+                 {static_cast<std::uint8_t>(*crc & 0xFF), static_cast<std::uint8_t>(*crc >> 8)});
+  EXPECT_TRUE(w->append(gfr::kind::start, 3, start));
   std::uint16_t seq = 1;
   for (const dwell_spec& d : dwells) {
     p::dwell_msg m;
@@ -294,6 +306,39 @@ TEST(RigRun, TheReaderChecksEveryFieldAgainstTheRecordingBounds) {
   bool named = false;
   for (const auto& w : odd->warnings)
     named = named || w.find("outside their configuration's angle table") != std::string::npos;
+  EXPECT_TRUE(named);
+}
+
+// A START record names the configuration the device started with (format 3): a run whose
+// CONFIGURE record is damaged (here: replaced by the default one) would take the wrong angle
+// table and turn the sign of dN; its dwells are left out with a warning instead.
+TEST(RigRun, ARunWhoseConfigurationIsNotInTheFileIsNotLabelled) {
+  namespace p = gyroflip::protocol;
+  gyroflip::test::temp_dir dir;
+  const std::string meta =
+      R"({"scale_factor_v_per_dps":0.0125,"temp_v_per_c":0.0084,"temp_at_0v_c":-272.65})";
+  p::configure_msg swapped;  // the table 180, 0
+  swapped.pos_steps[0] = 100;
+  swapped.pos_cdeg[0] = 18000;
+  swapped.pos_steps[1] = 0;
+  swapped.pos_cdeg[1] = 0;
+  const std::vector<dwell_spec> d = {{0, 0, 1000}, {0, 1, 2000}};
+  auto ok = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/ok.gfr", meta, d, &swapped, p::configure_crc(swapped)));
+  ASSERT_TRUE(ok) << ok.err().message;
+  ASSERT_EQ(ok->dwells.size(), 2u);
+  EXPECT_EQ(ok->dwells[0].angle_deg, 180.0);
+  EXPECT_EQ(ok->dwells[1].angle_deg, 0.0);
+  // The START names the swapped table, the file holds the default one: not used.
+  auto lost = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/lost.gfr", meta, d, nullptr, p::configure_crc(swapped)));
+  ASSERT_TRUE(lost) << lost.err().message;
+  EXPECT_TRUE(lost->dwells.empty());
+  EXPECT_EQ(lost->unknown_config, 2u);
+  bool named = false;
+  for (const auto& w : lost->warnings)
+    named =
+        named || w.find("configuration (its angle table) is not in the file") != std::string::npos;
   EXPECT_TRUE(named);
 }
 

@@ -20,9 +20,9 @@ namespace gyroflip::rigdata::gfr {
 
 /// PNG-style magic: a non-ASCII first byte, then CR LF, ^Z and LF catch text-mode transfers.
 inline constexpr std::array<std::uint8_t, 8> magic = {0x89, 'G', 'F', 'R', '\r', '\n', 0x1A, '\n'};
-/// 2: START records name the device frame that acknowledged them (1: empty START bodies; read
-/// too).
-inline constexpr std::uint16_t format_version = 2;
+/// 3: START records carry the CRC of the configuration started (2: the device frame that
+/// acknowledged them only; 1: empty START bodies; both read too).
+inline constexpr std::uint16_t format_version = 3;
 /// magic, u16 version, u16 reserved (0), u32 CRC-32 of the 12 bytes before it.
 inline constexpr std::size_t file_header_bytes = 16;
 /// u32 length L (of kind, time and body), u32 L XOR 0xFFFFFFFF (a damaged length is told from a
@@ -38,7 +38,8 @@ enum class kind : std::uint8_t {
   info = 2,       ///< the device's INFO payload as received
   configure = 3,  ///< a CONFIGURE payload the device acknowledged
   start = 4,      ///< a START the device acknowledged: u16 the sequence number of its ACK frame
-                  ///< (the run's frames follow it; format 1: empty body, the run follows here)
+                  ///< (the run's frames follow it), u16 the CRC of its configuration
+                  ///< (protocol::configure_crc; format 2: no CRC; format 1: empty body)
   frame = 5,      ///< u8 type, u16 seq, payload: a valid device frame as received
   gap = 6,        ///< u8 gap_reason, u32 count: what was lost or happened between frames
   stop = 7,       ///< u8 stop_reason: the recorder ended the run (the file is complete)
@@ -58,6 +59,7 @@ enum class stop_reason : std::uint8_t {
   signal = 2,          ///< SIGINT or SIGTERM
   link_lost = 3,       ///< the port did not come back in time
   device_changed = 4,  ///< another device (another serial) answered after a reconnect
+  device_failed = 5,   ///< the device could not be started again after a reset (format 3)
 };
 
 /// A record as read back.

@@ -82,6 +82,9 @@ struct rig_run {
   std::size_t link_losses = 0;
   std::size_t unplaced_conversions = 0;  ///< RAW codes whose DWELL was lost (not in conversions)
   std::size_t outside_runs = 0;  ///< DWELLs of no acknowledged START (a run left from before)
+  /// DWELLs of a run whose configuration is not in the file (its CONFIGURE record damaged):
+  /// their angles are unknown, so they are not used.
+  std::size_t unknown_config = 0;
   std::optional<gfr::stop_reason> stop;  ///< empty: the recorder did not end the file itself
   std::vector<std::string> warnings;     ///< `FILE: ...` for the caller to show
 };
@@ -126,6 +129,7 @@ class rig_run_builder {
     std::size_t record = 0;
     std::uint64_t host_us = 0;
     protocol::configure_msg config;
+    bool config_known = true;  // the START's configuration CRC matches `config` (format 3)
   };
 
   [[nodiscard]] std::uint64_t unwrap(std::uint16_t seq);
