@@ -182,7 +182,7 @@ std::vector<sum_terms> theo1_sums(std::span<const double> x, std::span<const std
   for (std::size_t t = 0; t < n; ++t)
     sh.sq[t + 1] = sh.sq[t] + static_cast<long double>(sh.x[t]) * sh.x[t];
   const std::size_t top = ms[by_fft.front()];
-  // Real series: half spectra (half the memory and work of full ones).
+  // Real series: half spectra (less memory than full ones).
   const auto half = [](Eigen::FFT<double>& f) { f.SetFlag(Eigen::FFT<double>::HalfSpectrum); };
   {
     Eigen::FFT<double> fft;
