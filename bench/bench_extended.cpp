@@ -58,7 +58,7 @@ void BM_tierms(benchmark::State& s) {
 BENCHMARK(BM_mtotdev)->Arg(100000)->Arg(1000000)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_ttotdev)->Arg(100000)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_htotdev)->Arg(100000)->Arg(1000000)->Unit(benchmark::kSecond)->Iterations(1);
-BENCHMARK(BM_theo1)->Arg(100000)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_theo1)->Arg(100000)->Arg(1000000)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_pdev)->Arg(1000000)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_mtie)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_tierms)->Arg(10000000)->Unit(benchmark::kSecond)->Iterations(1);

@@ -113,6 +113,15 @@ raw_deviation from_sum(dev_kind k, long double sum, std::size_t n, std::size_t m
   }
 }
 
+// Theo1 from its sum at m on n phase points (SP1065 eqn 30).
+raw_deviation theo1_from(const detail::sum_terms& s, std::size_t n, std::size_t m, double tau0_s) {
+  if (s.n == 0) return {};
+  const auto tau = static_cast<long double>(m) * tau0_s;
+  return {
+      static_cast<double>(std::sqrt(s.sum / (0.75L * static_cast<long double>(n - m) * tau * tau))),
+      s.n};
+}
+
 // One extended statistic at factor m on the phase x in memory (allan.hpp gives the formulas).
 raw_deviation extended_at(dev_kind k, std::span<const double> x, std::size_t m, double tau0_s) {
   const double tau = static_cast<double>(m) * tau0_s;
@@ -134,12 +143,8 @@ raw_deviation extended_at(dev_kind k, std::span<const double> x, std::size_t m, 
       return finish(s.sum, 36.0L * mm * mm * mm, tau0_s, s.n);
     }
     case dev_kind::theo1: {
-      const auto s = detail::theo1_sum(x, m);
-      if (s.n == 0) return {};
-      return {
-          static_cast<double>(std::sqrt(s.sum / (0.75L * static_cast<long double>(x.size() - m) *
-                                                 static_cast<long double>(tau) * tau))),
-          s.n};
+      const std::size_t one[] = {m};
+      return theo1_from(detail::theo1_sums(x, one).front(), x.size(), m, tau0_s);
     }
     case dev_kind::pdev: {
       if (m == 1) return deviation_at(dev_kind::oadev, x, tau0_s, 1);  // PDEV = OADEV at m = 1
@@ -170,9 +175,15 @@ std::vector<raw_deviation> raw_deviations(dev_kind k, const phase_source& x,
     const auto all = r.read(0, x.size());
     const std::vector<double> phase(all.begin(), all.end());
     out.resize(ms.size());
-    // The factors side by side on all cores (Theo1 spreads each factor itself).
+    if (k == dev_kind::theo1) {  // shares one autocorrelation of the phase among its factors
+      const auto sums = detail::theo1_sums(phase, ms, p);
+      for (std::size_t i = 0; i < ms.size(); ++i)
+        out[i] = theo1_from(sums[i], phase.size(), ms[i], x.tau0_s());
+      return out;
+    }
+    // The factors side by side on all cores.
     detail::for_each_item(
-        ms.size(), k == dev_kind::theo1 ? 1 : detail::worker_count(x.size()),
+        ms.size(), detail::worker_count(x.size()),
         [&](std::size_t, std::size_t i) { out[i] = extended_at(k, phase, ms[i], x.tau0_s()); }, p);
     return out;
   }

@@ -9,6 +9,9 @@
 
 #include <cstddef>
 #include <span>
+#include <vector>
+
+#include "gyroflip/core/progress.hpp"
 
 namespace gyroflip::analysis::detail {
 
@@ -28,8 +31,17 @@ struct sum_terms {
 [[nodiscard]] sum_terms total_sum(std::span<const double> v, std::size_t m);
 
 /// Theo1's sum (SP1065 eqn 30), m even: sum over i < N - m and d < m/2 of
-/// (x_i - x_{i-d+m/2} + x_{i+m} - x_{i+d+m/2})^2 / (m/2 - d); n = (N - m) m / 2 terms.
+/// (x_i - x_{i-d+m/2} + x_{i+m} - x_{i+d+m/2})^2 / (m/2 - d); n = (N - m) m / 2 terms. Term by
+/// term, on all cores.
 [[nodiscard]] sum_terms theo1_sum(std::span<const double> x, std::size_t m);
+
+/// Theo1's sums at the factors ms (odd, < 2 or >= N: no terms): below m = 128 term by term,
+/// beyond by prefix sums and FFT correlations (docs/ANALYSIS.md, "Theo1 by FFT"), the factors
+/// side by side on all cores; a factor whose rounding bound exceeds 1e-9 of its sum (a phase
+/// far from a line against its fluctuations at that m) term by term.
+[[nodiscard]] std::vector<sum_terms> theo1_sums(std::span<const double> x,
+                                                std::span<const std::size_t> ms,
+                                                const progress_fn& progress = {});
 
 /// PDEV's sum (Vernotte, Lenczner, Bourgeois, Rubiola 2016, eqn 13): over i < N - 2m of
 /// [sum_{k<m} ((m-1)/2 - k)(x_{i+k} - x_{i+k+m})]^2; n = N - 2m (m >= 2).

@@ -153,44 +153,53 @@ status phase_source::prepare_rate(const progress_fn& on_progress) {
   const std::size_t m = s.size();
   n_phase_ = m + 1;
   const std::size_t sample_blocks = (m + block - 1) / block;
-  // Pass 1: the mean, from block sums in double added in long double.
-  std::vector<double> total(sample_blocks);
-  std::vector<double> largest(sample_blocks);
+  // One pass: per block the sum and the largest |v| (the mean, the checks) and, about a
+  // provisional offset c (the mean of the first block), the carry increment sum(v - c) and the sum
+  // of the running sums. Those about the mean follow exactly (long double):
+  // part = part_c - n (mean - c), parts = parts_c - (mean - c) n (n - 1) / 2, n the block's
+  // samples. One read of the samples instead of two (the mean first, then the runs).
+  double c = 0.0;
+  if (m > 0) {
+    const auto head = s.view(0, std::min(m, block));
+    long double acc = 0.0L;
+    for (double v : head) acc += static_cast<long double>(v);
+    c = static_cast<double>(acc / static_cast<long double>(head.size()));
+  }
   struct fold {
     double sum = 0.0;
     double largest = 0.0;  // max |v|: samples beyond max_sample_magnitude are refused
+    double part = 0.0;
+    double parts = 0.0;
   };
+  std::vector<fold> folds(sample_blocks);
   fold_all(
       s, fold{},
-      [](fold& a, double v) {
+      [c](fold& a, double v) {
         a.sum += v;
         a.largest = std::max(a.largest, std::abs(v));
+        a.parts += a.part;
+        a.part += v - c;
       },
-      [&](std::size_t b, const fold& a) {
-        total[b] = a.sum;
-        largest[b] = a.largest;
-      },
-      detail::part_progress(on_progress, 0, 2));
+      [&](std::size_t b, const fold& a) { folds[b] = a; }, on_progress);
   long double sum = 0.0L;
   for (std::size_t b = 0; b < sample_blocks; ++b) {
-    if (!std::isfinite(total[b]) || !(largest[b] <= max_sample_magnitude)) return bad_block(s, b);
-    sum += static_cast<long double>(total[b]);
+    if (!std::isfinite(folds[b].sum) || !(folds[b].largest <= max_sample_magnitude))
+      return bad_block(s, b);
+    sum += static_cast<long double>(folds[b].sum);
   }
   mean_ = static_cast<double>(sum / static_cast<long double>(std::max<std::size_t>(m, 1)));
-  // Pass 2: per block the sum of (y - mean) (the carry increment) and the sum of the running
-  // sums (the block's phase sum), in the order rebuild() adds them.
   struct run {
     double part = 0.0;
     double parts = 0.0;
   };
   std::vector<run> runs(sample_blocks);
-  fold_all(
-      s, run{},
-      [mean = mean_](run& r, double v) {
-        r.parts += r.part;
-        r.part += v - mean;
-      },
-      [&](std::size_t b, const run& r) { runs[b] = r; }, detail::part_progress(on_progress, 1, 2));
+  const long double shift = static_cast<long double>(mean_) - static_cast<long double>(c);
+  for (std::size_t b = 0; b < sample_blocks; ++b) {
+    const auto n = static_cast<long double>(std::min(block, m - b * block));
+    runs[b].part = static_cast<double>(static_cast<long double>(folds[b].part) - n * shift);
+    runs[b].parts = static_cast<double>(static_cast<long double>(folds[b].parts) -
+                                        shift * n * (n - 1.0L) / 2.0L);
+  }
   base_.resize(blocks());
   err_.resize(blocks());
   sum_.resize(blocks());

@@ -18,55 +18,14 @@
 #include <complex>
 #include <vector>
 
-#include <unsupported/Eigen/FFT>
-
 #include "extended.hpp"
+#include "fft.hpp"
 
 namespace gyroflip::analysis::detail {
 namespace {
 
-using cvec = std::vector<std::complex<double>>;
-
 // Factors below this are summed window by window (direct_energy), the others by FFT blocks.
 constexpr std::size_t direct_below = 8;
-
-std::size_t fft_size(std::size_t n) {
-  std::size_t s = 1;
-  while (s < n) s *= 2;
-  return s;
-}
-
-// Spectrum of f zero-padded to s points.
-cvec spectrum(Eigen::FFT<double>& fft, const std::vector<double>& f, std::size_t s) {
-  std::vector<double> padded(s, 0.0);
-  std::copy(f.begin(), f.end(), padded.begin());
-  cvec out;
-  fft.fwd(out, padded);
-  return out;
-}
-
-// c(d) = sum_p f_p g_{p+d} for d < count, from the spectra of f and g (both padded to s >= their
-// lengths summed, so that nothing wraps).
-std::vector<double> correlation(Eigen::FFT<double>& fft, const cvec& f, const cvec& g,
-                                std::size_t count) {
-  cvec prod(f.size());
-  for (std::size_t k = 0; k < f.size(); ++k) prod[k] = std::conj(f[k]) * g[k];
-  std::vector<double> out;
-  fft.inv(out, prod);
-  out.resize(count);
-  return out;
-}
-
-// c(s) = sum_p f_p g_{s-p} for s < count.
-std::vector<double> convolution(Eigen::FFT<double>& fft, const cvec& f, const cvec& g,
-                                std::size_t count) {
-  cvec prod(f.size());
-  for (std::size_t k = 0; k < f.size(); ++k) prod[k] = f[k] * g[k];
-  std::vector<double> out;
-  fft.inv(out, prod);
-  out.resize(count);
-  return out;
-}
 
 // What a total-variance pass needs for one m: the kernel and its cumulative sums.
 struct total_kernel {

@@ -200,6 +200,36 @@ TEST(Extended, Theo1PdevMtieTieEqualTheDirectSums) {
   EXPECT_EQ(fast(dev_kind::pdev, w, 1), fast(dev_kind::oadev, w, 1));
 }
 
+// Theo1 from m = 128 on: prefix sums, FFT correlations and the triangle sums (theo1.cpp), against
+// the direct sum. Series: white phase, a random walk with offset and slope (large products whose
+// differences are small) and a cubic drift (bound up to 2e-8 of the sum at m = 128: the small
+// factors go back to the direct sum); factors alone and as one curve (the shared
+// autocorrelation), the triangles from below their leaf size (127 points) to many levels (3997).
+TEST(Extended, Theo1ByFftEqualsTheDirectSum) {
+  std::vector<double> drift = white_phase(4000, 31);
+  for (std::size_t t = 0; t < drift.size(); ++t)
+    drift[t] += 1e-2 * std::pow(static_cast<double>(t), 3.0);
+  for (const auto& x : {white_phase(4000, 29), walk_phase(4000, 30), drift}) {
+    tau_spec spec{tau_spec::set::list, {128, 130, 256, 998, 2048, 3998}};
+    const auto curve = *deviation(dev_kind::theo1, x, input_kind::angle, 1.0, spec);
+    ASSERT_EQ(curve.size(), spec.factors.size());
+    for (std::size_t i = 0; i < curve.size(); ++i) {
+      const std::size_t m = spec.factors[i];
+      const double ref = theo1_ref(x, m);
+      EXPECT_NEAR(curve[i].dev / ref, 1.0, 1e-9) << m;
+      EXPECT_EQ(curve[i].n, (x.size() - m) * (m / 2)) << m;
+      EXPECT_EQ(curve[i].tau_s, 0.75 * static_cast<double>(m)) << m;
+      EXPECT_NEAR(fast(dev_kind::theo1, x, m) / ref, 1.0, 1e-9) << m;
+    }
+  }
+  // A long drifting series (Sum x^2 grows as N^7 against a sum of N m^4 at m = 128): the FFT
+  // path would be off by 2e-5 here (measured); its rounding bound sends it to the direct sum.
+  std::vector<double> far = white_phase(100000, 32);
+  for (std::size_t t = 0; t < far.size(); ++t)
+    far[t] += 1e-2 * std::pow(static_cast<double>(t), 3.0);
+  EXPECT_NEAR(fast(dev_kind::theo1, far, 128) / theo1_ref(far, 128), 1.0, 1e-9);
+}
+
 // ---- Stable32 -------------------------------------------------------------------------------
 
 struct row {
