@@ -208,6 +208,7 @@ class session {
   status on_info(const p::frame& f);
   [[nodiscard]] bool says_reset(const p::frame& f) const;
   status note_reset();
+  [[nodiscard]] bool started_after_reboot(const p::frame& f) const;
   result<p::info_msg> ping();
   template <class M>
   status command(const M& m, const char* name);
@@ -274,6 +275,7 @@ class session {
   std::optional<p::info_msg> got_info_;  // the INFO a PING brought
   bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
   int restart_failures_ = 0;             // handle_reset() failed this many times in a row
+  bool restate_start_ = false;           // the run's START was the new boot's: say so again
   bool need_info_ = false;               // ... and its INFO is still to be recorded
   bool device_idle_ = false;             // a STATUS said idle while we record
   std::uint32_t last_uptime_ = 0;
@@ -404,6 +406,19 @@ bool session::says_reset(const p::frame& f) const {
   return false;
 }
 
+// A STATUS of another boot that is running, sent after our START's ACK: the device rebooted
+// before the START (a rebooted device is idle until started, and only the recorder starts it; a
+// reboot between CONFIGURE and START would have refused START for its configuration), so the
+// START it acknowledged began this run (its INFO, sent at the boot, was lost).
+bool session::started_after_reboot(const p::frame& f) const {
+  if (f.type != static_cast<std::uint8_t>(p::msg::status) || !start_ack_seq_)
+    return false;
+  p::status_msg m;
+  return f.as(m) && m.boot_count != info_->boot_count &&
+         m.state == static_cast<std::uint8_t>(p::device_state::running) &&
+         static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *start_ack_seq_)) > 0;
+}
+
 // The device restarted: what it owed is lost (a GAP with their count: its history went with its
 // RAM), its numbering starts again, and its INFO (the boot's, or a PING's) goes into the file
 // after the gap.
@@ -511,8 +526,18 @@ status session::pump(int timeout_ms) {
     if (!info_) static_cast<void>(old_dec_.push(in[i]));  // a v1 device's frames, counted
     if (!dec_.push(in[i])) continue;
     const auto& f = dec_.current();
-    if (says_reset(f))
-      if (auto s = note_reset(); !s) return s;
+    if (says_reset(f)) {
+      if (started_after_reboot(f)) {
+        // Nothing owed is lost and nothing needs starting: the file only has to say that the
+        // run's frames are the new boot's (GAP reset, its INFO, the START again).
+        reset_seen_ = true;
+        need_info_ = true;
+        restate_start_ = true;
+        if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s;
+      } else if (auto s = note_reset(); !s) {
+        return s;
+      }
+    }
     const auto arrived = info_ ? window_.arrive(f.seq) : receive_window::arrival::fresh;
     if (arrived == receive_window::arrival::recovered) ++recovered_;
     if (arrived == receive_window::arrival::fresh) last_fresh_ = steady::now();
@@ -688,6 +713,13 @@ status session::begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc)
 // The device rebooted (its INFO said so, or its STATUS went idle or back in time): what it still
 // owed is lost, the run goes on after a homing and the same configuration.
 status session::handle_reset() {
+  if (restate_start_) {
+    auto info = ping();  // its INFO goes into the file (need_info_)
+    if (!info) return info.err();
+    restate_start_ = false;
+    reset_seen_ = false;
+    return begin_recording(*start_ack_seq_, p::configure_crc(running_));
+  }
   if (need_info_ || (!reset_seen_ && device_idle_)) {
     // The reset's INFO was lost; or an idle device, rebooted (its INFO and STATUS lost) or
     // stopped by itself. Its INFO tells which.
