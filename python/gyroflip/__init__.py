@@ -8,7 +8,8 @@ The same C++ core as the `gyroflip` command, on NumPy arrays (docs/python.md):
   Deviation with NumPy arrays tau_s, dev, ci_lo, ci_hi, edf, n, alpha (NIST SP1065 statistics,
   chi-squared bounds as Stable32 computes them).
 - noise(...): the IEEE 952 noise terms with intervals (the keys of `gyroflip noise --json`).
-- calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns.
+- calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns;
+  calibrate_runs(files): several recordings pooled, with dN(T), as `gyroflip calibrate`.
 - simulate(...): the rig simulator; read_recording(path): a CSV or .gfr recording.
 
 Units: rates in deg/s, angles in deg, times in s, temperatures in degC, unless a name says
@@ -30,8 +31,8 @@ __version__ = _gyroflip.__version__
 __all__ = [
     "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
-    "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "compensate", "simulate",
-    "read_recording", "__version__",
+    "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "calibrate_runs",
+    "compensate", "simulate", "read_recording", "__version__",
 ]
 
 
@@ -320,6 +321,25 @@ def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=Non
                                 float(angle_tolerance_deg))
 
 
+def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
+                   angle_tolerance_deg=0.0):
+    """Calibrates dN on stationary recordings (CSV or .gfr), as `gyroflip calibrate FILE... --json`
+    (the same library call): each run's dN (paper eqns 8-11), all cycles pooled, and with several
+    files a dN model (a line over a temperature span of 2 degC or more, else the runs' weighted
+    mean; `degree` chooses the polynomial's degree).
+
+    files: paths of the recordings, one stationary run each, of one sensor.
+    latitude (deg) and axis: split dN into its Earth term and g-term (paper eqns 9-10).
+    pairing: "abba" (default) or "simple" (the paper's). angle_tolerance_deg: as calibrate().
+    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/1: delta_n_dps,
+    stderr_correlated_dps, files, model, sensor, ...) plus "warnings" (what the command prints as
+    warnings: a rig setting that differs between files, a sensor nobody named, a damaged .gfr
+    region skipped). Pass it to compensate(calibration=...). Releases the GIL; Ctrl-C stops it."""
+    paths = [_os.fspath(f) for f in ([files] if isinstance(files, (str, bytes, _os.PathLike)) else files)]
+    return _gyroflip._calibrate_runs(paths, None if latitude is None else float(latitude), axis, pairing,
+                                     None if degree is None else int(degree), float(angle_tolerance_deg))
+
+
 def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration=None,
                delta_n_dps=None, pairing=None, drift_window_s=100.0, angle_tolerance_deg=0.0):
     """Compensates a flipping recording (paper eqn 12), as `gyroflip compensate`.
@@ -329,12 +349,14 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
     (then temp_c is needed). Or delta_n_dps: a constant dN (deg/s). pairing: default the
     calibration's (else "abba"). drift_window_s: the moving-mean window of the drift figure.
     Returns a dict of arrays, one per cycle: time_s, rate_dps (the input rate w_in), bias_dps
-    (the bias the flip removed), temp_c, delta_n_dps (what was subtracted); and "summary"
-    (cycles, mean_dps, std_dps, stderr_dps, stderr_correlated_dps, drift_dps, ...)."""
+    (the bias the flip removed), temp_c, delta_n_dps (what was subtracted); and "summary", the
+    object `gyroflip compensate --json` prints (schema gyroflip.compensate/2: cycles, mean_dps,
+    std_dps, stderr_dps, stderr_correlated_dps, drift_dps, delta_n, ...)."""
     text = None
     if calibration is not None:
         if isinstance(calibration, dict):
-            text = _json.dumps({k: v for k, v in calibration.items() if k != "cycle_values"})
+            text = _json.dumps({k: v for k, v in calibration.items()
+                                if k not in ("cycle_values", "warnings")})
         else:
             with open(_os.fspath(calibration), "rb") as f:
                 text = f.read().decode("utf-8", errors="replace")

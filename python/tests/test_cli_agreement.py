@@ -94,6 +94,27 @@ def test_calibrate_and_compensate_equal_the_cli(exe, vectors, tmp_path):
     np.testing.assert_array_equal(rows[:, 0], comp["time_s"])
 
 
+def test_calibrate_runs_equals_the_cli(exe, tmp_path):
+    """calibrate_runs and `gyroflip calibrate FILE... --json` are one library call (issue 22): the
+    same object, every key, with the dN(T) line of runs at two temperatures."""
+    files = []
+    for seed, temp in ((1, 20), (2, 4), (3, 12)):
+        f = tmp_path / f"c{temp}.csv"
+        run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 300, "--seed", seed, "--temp", temp,
+            "-o", f)
+        files.append(f)
+    cli = json.loads(run(exe, "calibrate", *files, "--latitude", 42.6, "--axis", "north", "--json"))
+    py = gyroflip.calibrate_runs(files, latitude=42.6, axis="north")
+    assert py.pop("warnings") == []
+    assert py == cli
+    assert cli["schema"] == "gyroflip.calibration/1" and cli["version"] == gyroflip.__version__
+    assert cli["model"]["degree"] == 1
+    one = gyroflip.calibrate_runs(files[:2], degree=1, pairing="simple")
+    assert one["pairing"] == "simple" and one["model"]["degree"] == 1
+    with pytest.raises(ValueError, match="a dN\\(T\\) model needs calibrations from several files"):
+        gyroflip.calibrate_runs(files[:1], degree=1)
+
+
 def test_simulate_equals_the_cli_file(exe, tmp_path):
     out = tmp_path / "sim.csv"
     run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 120, "--seed", 5, "--temp", 4,

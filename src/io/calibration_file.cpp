@@ -13,13 +13,12 @@
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/mapped_file.hpp"
 #include "gyroflip/io/recording.hpp"
+#include "gyroflip/io/schema.hpp"
 
 namespace gyroflip::io {
 namespace {
 
 using nlohmann::json;
-
-constexpr std::string_view schema = "gyroflip.calibration/1";
 
 json number_or_null(double v) {
   return std::isfinite(v) ? json(v) : json(nullptr);
@@ -202,10 +201,9 @@ double pooled_correlated_stderr(std::span<const calibration_entry> files) {
   return std::sqrt(num) / n;
 }
 
-result<std::string> to_json(const calibration_record& rec, std::string_view tool_version) {
-  json j = calibration_fields(rec.pooled, rec.geometry);
-  j["schema"] = schema;
-  j["version"] = tool_version;
+result<std::string> to_json(const calibration_record& rec) {
+  json j = schema_object("calibration", 1);
+  j.update(calibration_fields(rec.pooled, rec.geometry));
   j["pairing"] = method::to_string(rec.pairing);
   j["lat_deg"] = rec.geometry ? json(rec.geometry->lat_deg) : json(nullptr);
   j["axis_ned"] = rec.geometry ? json{rec.geometry->axis.north, rec.geometry->axis.east,
