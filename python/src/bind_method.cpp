@@ -25,6 +25,7 @@
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/compensate.hpp"
+#include "gyroflip/workflow/simulate.hpp"
 
 namespace gyroflip::python {
 
@@ -199,22 +200,11 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
   c.duration_s = duration_s;
   c.power_on_before_s = power_on_before_s;
   c.seed = seed;
-  auto sim = take(rig::simulator::make(c));
-  std::vector<rig::dwell_row> rows;
-  without_gil([&](const progress_fn& listen) {
-    rig::sample_block block(1U << 14, true);
-    rig::dwell_averager avg(n_avg);
-    while (sim.fill(block) > 0) {
-      avg.add(block, rows);
-      listen(static_cast<std::size_t>(sim.produced()),
-             static_cast<std::size_t>(sim.total_samples()));
-    }
-    return 0;
+  auto run = without_gil([&](const progress_fn& listen) {
+    return workflow::simulate_rows(c, true, listen);  // `gyroflip simulate`'s simulation
   });
-  for (const auto& r : rows)  // as `gyroflip simulate` writes nothing that is not finite
-    check(io::check_finite(std::array{r.time_s, r.rate_dps, r.temp_c, r.bias_dps, r.g_term_dps,
-                                      r.earth_dps, r.input_dps},
-                           "simulate"));
+  const auto sim = take(std::move(run));
+  const auto& rows = sim.rows;
   using dr = rig::dwell_row;
   py::dict d;
   d["time_s"] = column(rows, &dr::time_s);
@@ -226,7 +216,7 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
   d["g_term_dps"] = column(rows, &dr::g_term_dps);
   d["earth_dps"] = column(rows, &dr::earth_dps);
   d["input_dps"] = column(rows, &dr::input_dps);
-  d["delta_n_truth_dps"] = sim.earth_at_a_dps() + sim.g_term_at_a_dps(c.temperature.at(0.0));
+  d["delta_n_truth_dps"] = sim.truth.delta_n_dps;
   d["sensor"] = preset.name;
   return d;
 }
