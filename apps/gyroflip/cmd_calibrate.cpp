@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
@@ -17,18 +18,6 @@
 
 namespace gyroflip::app {
 namespace {
-
-result<std::optional<io::calibration_geometry>> geometry_of(const calibrate_options& o) {
-  const bool has_lat = !std::isnan(o.lat_deg);
-  if (has_lat != !o.axis.empty())
-    return usage_error(
-        "--latitude and --axis go together: give both to split dN into Earth and g terms");
-  if (!has_lat) return std::optional<io::calibration_geometry>{};
-  if (auto s = earth::check_latitude(o.lat_deg); !s) return s.err();
-  auto axis = earth::parse_axis(o.axis);
-  if (!axis) return axis.err();
-  return std::optional<io::calibration_geometry>{io::calibration_geometry{o.lat_deg, *axis}};
-}
 
 void print_entry(std::string& out, const io::calibration_entry& e,
                  const std::optional<io::calibration_geometry>& g) {
@@ -74,7 +63,7 @@ std::string summary_text(const io::calibration_record& rec) {
 int run_calibrate(const calibrate_options& o) {
   const auto pairing = method::parse_pairing(o.pairing);
   if (!pairing) return report(usage_error("--pairing must be abba or simple"));
-  auto geometry = geometry_of(o);
+  auto geometry = geometry_option(o.lat_deg, o.axis);
   if (!geometry) return report(geometry.err());
   if (auto s = io::check_outputs(o.files, std::array{o.output}); !s) return report(s.err());
   workflow::calibrate_request req;

@@ -34,11 +34,11 @@
 #include "gyroflip/method/delta_n_model.hpp"
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/report/figures.hpp"
+#include "gyroflip/report/folder.hpp"
 #include "gyroflip/report/page.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "progress_bar.hpp"
-#include "report_folder.hpp"
 
 namespace gyroflip::app {
 
@@ -201,8 +201,8 @@ std::string pct(double sim, double paper) {
 
 // DIR: summary.json, index.html (the printed comparison, the campaign's dN per run, the figure
 // runs as the paper drew them), figures/ and report.pdf; built aside and renamed into place.
-status write_page(const reproduce_options& o, report_folder& folder, const std::string& text,
-                  const std::string& summary, const std::vector<job>& jobs,
+status write_page(const reproduce_options& o, report::report_folder& folder,
+                  const std::string& text, const std::string& summary, const std::vector<job>& jobs,
                   const std::vector<run_result>& results, std::size_t first_figure,
                   const std::vector<double> (&dn_means)[3]) {
   const std::string& staging = folder.path();  // removed with `folder` unless published
@@ -289,9 +289,9 @@ int run_reproduce(const reproduce_options& o) {
   const std::size_t campaigns = o.campaigns > 0 ? o.campaigns : (o.quick ? 1 : 10);
   if (campaigns > 1000) return report(usage_error("--campaigns must be 1 to 1000"));
   // The folder is checked (and its staging folder made) before the simulations.
-  std::optional<report_folder> folder;
+  std::optional<report::report_folder> folder;
   if (!o.output.empty()) {
-    auto f = report_folder::make(o.output, {});
+    auto f = report::report_folder::make(o.output, {});
     if (!f) return report(f.err());
     folder.emplace(std::move(*f));
   }

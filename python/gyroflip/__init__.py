@@ -11,6 +11,7 @@ The same C++ core as the `gyroflip` command, on NumPy arrays (docs/python.md):
 - calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns;
   calibrate_runs(files): several recordings pooled, with dN(T), as `gyroflip calibrate`.
 - simulate(...): the rig simulator; read_recording(path): a CSV or .gfr recording.
+- report(files, output): the report folder `gyroflip report` writes (the same library call).
 
 Units: rates in deg/s, angles in deg, times in s, temperatures in degC, unless a name says
 otherwise. Errors raise ValueError (bad data or arguments) or OSError (files) with the messages
@@ -32,7 +33,7 @@ __all__ = [
     "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
     "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "calibrate_runs",
-    "compensate", "simulate", "read_recording", "__version__",
+    "compensate", "simulate", "read_recording", "report", "__version__",
 ]
 
 
@@ -388,3 +389,34 @@ def read_recording(path, angle_tolerance_deg=0.0):
     absent), n_avg; "metadata" (the `# key: value` lines; a .gfr's META) and "warnings".
     Errors name FILE:LINE:COL (CSV) or the record (.gfr)."""
     return _gyroflip._read_recording(_os.fspath(path), float(angle_tolerance_deg))
+
+
+def _call_text(name, args, kwargs):
+    """The call as written, for a report's provenance: gyroflip.NAME(args, key=value, ...)."""
+    words = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items()]
+    return f"python3: gyroflip.{name}({', '.join(words)})"
+
+
+def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba"):
+    """Writes the report folder `gyroflip report FILE... -o OUTPUT` writes (the same library call,
+    docs/REPORT.md): index.html (tables, figures, provenance), report.pdf, summary.json and
+    figures/ with each figure's gnuplot script and data. Needs gnuplot and Chromium or pdfunite.
+
+    files: recordings (CSV or .gfr). Without `calibration` they are stationary calibration runs
+      (each calibrated; dN(T) over a temperature span); with it (a CAL.json path) each is
+      compensated with its dN or dN(T).
+    output: the report folder: new, empty, or one a report made (nothing of the user's is ever
+      replaced; docs/cli.md, "report").
+    latitude (deg) and axis: split dN into its Earth term and g-term. title: the page's title
+      (default: one naming the sensor and the runs). pairing: "abba" or "simple".
+    Returns summary.json as a dict (schema gyroflip.report/N, the numbers per run), plus
+    "warnings". The provenance names this call. Releases the GIL; Ctrl-C stops it."""
+    paths = [_os.fspath(f) for f in ([files] if isinstance(files, (str, bytes, _os.PathLike)) else files)]
+    kwargs = {k: v for k, v in (("latitude", latitude), ("axis", axis), ("calibration", calibration),
+                                ("title", title)) if v is not None}
+    if pairing != "abba":
+        kwargs["pairing"] = pairing
+    command = _call_text("report", [paths, _os.fspath(output)], kwargs)
+    return _gyroflip._report(paths, _os.fspath(output), None if latitude is None else float(latitude),
+                             axis, "" if calibration is None else _os.fspath(calibration),
+                             "" if title is None else str(title), pairing, command)

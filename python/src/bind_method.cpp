@@ -77,15 +77,6 @@ py::dict cycle_columns(const std::vector<method::cycle>& cycles) {
   return d;
 }
 
-std::optional<io::calibration_geometry> geometry_of(std::optional<double> lat_deg,
-                                                    const std::optional<std::string>& axis) {
-  if (lat_deg.has_value() != axis.has_value())
-    throw py::value_error("give latitude and axis together (or neither)");
-  if (!lat_deg) return std::nullopt;
-  check(earth::check_latitude(*lat_deg));
-  return io::calibration_geometry{*lat_deg, take(earth::parse_axis(*axis))};
-}
-
 py::dict calibrate(const columns& c, std::optional<double> lat_deg,
                    const std::optional<std::string>& axis, const std::string& pairing, double tol) {
   io::calibration_record rec;

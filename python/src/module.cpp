@@ -8,6 +8,7 @@
 namespace gyroflip::python {
 void bind_analysis(py::module_& m);
 void bind_method(py::module_& m);
+void bind_workflow(py::module_& m);
 }  // namespace gyroflip::python
 
 PYBIND11_MODULE(_gyroflip, m) {
@@ -15,4 +16,5 @@ PYBIND11_MODULE(_gyroflip, m) {
   m.attr("__version__") = GYROFLIP_VERSION;
   gyroflip::python::bind_analysis(m);
   gyroflip::python::bind_method(m);
+  gyroflip::python::bind_workflow(m);
 }

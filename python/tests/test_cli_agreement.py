@@ -2,6 +2,7 @@
 the CLI's JSON (adev, noise, calibrate, compensate) or file (simulate), number for number."""
 import json
 import os
+import shutil
 import subprocess
 
 import numpy as np
@@ -113,6 +114,26 @@ def test_calibrate_runs_equals_the_cli(exe, tmp_path):
     assert one["pairing"] == "simple" and one["model"]["degree"] == 1
     with pytest.raises(ValueError, match="a dN\\(T\\) model needs calibrations from several files"):
         gyroflip.calibrate_runs(files[:1], degree=1)
+
+
+@pytest.mark.skipif(shutil.which("gnuplot") is None, reason="gnuplot not installed")
+def test_report_equals_the_cli(exe, tmp_path):
+    """gyroflip.report and `gyroflip report` are one library call (issue 22): the same
+    summary.json but for the command that made it, and the same folder."""
+    files = []
+    for seed, temp in ((1, 20), (2, 4)):
+        f = tmp_path / f"r{temp}.csv"
+        run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 300, "--seed", seed, "--temp", temp,
+            "-o", f)
+        files.append(str(f))
+    run(exe, "report", *files, "--latitude", 42.6, "--axis", "north", "-o", tmp_path / "cli")
+    cli = json.load(open(tmp_path / "cli" / "summary.json"))
+    py = gyroflip.report(files, tmp_path / "py", latitude=42.6, axis="north")
+    assert py.pop("warnings") == []
+    assert py.pop("command").startswith("python3: gyroflip.report([")
+    assert cli.pop("command").split()[1:3] == ["report", files[0]]
+    assert py == cli
+    assert sorted(os.listdir(tmp_path / "py")) == sorted(os.listdir(tmp_path / "cli"))
 
 
 def test_simulate_equals_the_cli_file(exe, tmp_path):

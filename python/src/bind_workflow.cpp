@@ -1,0 +1,49 @@
+/// \file
+/// \brief The experiments for Python, the CLI's workflow calls (workflow/*.hpp): `_report` (the
+/// report folder) and `_reproduce` (the paper's experiment). Results are the CLI's JSON objects
+/// (its summary.json), parsed.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "common.hpp"
+#include "gyroflip/workflow/report.hpp"
+
+namespace gyroflip::python {
+
+namespace {
+
+py::dict report(const std::vector<std::string>& files, const std::string& output,
+                std::optional<double> lat_deg, const std::optional<std::string>& axis,
+                const std::string& calibration, const std::string& title,
+                const std::string& pairing, const std::string& command) {
+  workflow::report_request req;
+  req.files = files;
+  req.output = output;
+  req.geometry = geometry_of(lat_deg, axis);
+  req.calibration = calibration;
+  req.title = title;
+  const auto p = method::parse_pairing(pairing);
+  if (!p) throw py::value_error("pairing must be 'abba' or 'simple' (got '" + pairing + "')");
+  req.pairing = *p;
+  req.command = command;
+  req.made_by = "gyroflip.report (Python)";
+  auto run =
+      without_gil([&](const progress_fn& listen) { return workflow::make_report(req, listen); });
+  const auto res = take(std::move(run));
+  py::dict d = json_loads(res.summary_json);
+  d["warnings"] = res.warnings;
+  return d;
+}
+
+}  // namespace
+
+void bind_workflow(py::module_& m) {
+  m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),
+        py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
+        py::arg("command"));
+}
+
+}  // namespace gyroflip::python
