@@ -361,10 +361,11 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
       ->capture_default_str();
 }
 
-void setup_reproduce(CLI::App& app, action& chosen) {
+void setup_reproduce(CLI::App& app, action& chosen, const std::vector<std::string>& args) {
   auto* sub = app.add_subcommand(
       "reproduce", "The paper's experiment on the simulator: Tab. 3/4 and Figs 3-10 side by side");
   auto o = bind<reproduce_options>(sub, chosen, run_reproduce);
+  o->command_line = args;
   sub->add_flag("--quick", o->quick, "one campaign, runs a quarter as long (< 60 s)");
   sub->add_option("-o,--output", o->output, "folder for summary.json");
   sub->add_option("--seed", o->seed, "seed of the first campaign")->capture_default_str();
@@ -410,7 +411,7 @@ int run_cli(int argc, char** argv) {
   setup_adev(app, chosen);
   setup_noise(app, chosen);
   setup_report(app, chosen, std::vector<std::string>(argv, argv + argc));
-  setup_reproduce(app, chosen);
+  setup_reproduce(app, chosen, std::vector<std::string>(argv, argv + argc));
   // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for
   // subcommands that way.
   if (argc > 1 && argv[1][0] != '-') {

@@ -11,7 +11,8 @@ The same C++ core as the `gyroflip` command, on NumPy arrays (docs/python.md):
 - calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns;
   calibrate_runs(files): several recordings pooled, with dN(T), as `gyroflip calibrate`.
 - simulate(...): the rig simulator; read_recording(path): a CSV or .gfr recording.
-- report(files, output): the report folder `gyroflip report` writes (the same library call).
+- report(files, output): the report folder `gyroflip report` writes (the same library call);
+  reproduce(): the paper's experiment on the simulator, as `gyroflip reproduce`.
 
 Units: rates in deg/s, angles in deg, times in s, temperatures in degC, unless a name says
 otherwise. Errors raise ValueError (bad data or arguments) or OSError (files) with the messages
@@ -33,7 +34,7 @@ __all__ = [
     "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
     "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "calibrate_runs",
-    "compensate", "simulate", "read_recording", "report", "__version__",
+    "compensate", "simulate", "read_recording", "report", "reproduce", "__version__",
 ]
 
 
@@ -420,3 +421,20 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
     return _gyroflip._report(paths, _os.fspath(output), None if latitude is None else float(latitude),
                              axis, "" if calibration is None else _os.fspath(calibration),
                              "" if title is None else str(title), pairing, command)
+
+
+def reproduce(quick=False, seed=1, campaigns=None, output=None):
+    """The paper's experiment on the simulator, as `gyroflip reproduce` (the same library call,
+    docs/REPRODUCE.md): the campaigns of Tab. 3/4 and the runs of Figs 3-10 on every core, set
+    beside the paper's numbers.
+
+    quick: one campaign of runs a quarter as long. seed: the first campaign's seed.
+    campaigns: how many campaigns (default 10, 1 with quick). output: a report folder for the
+      page, its figures and summary.json (as `-o DIR`), or None.
+    Returns summary.json as a dict (schema gyroflip.reproduce/N) plus "text", the comparison the
+    command prints. Releases the GIL; Ctrl-C stops it."""
+    kwargs = {k: v for k, v in (("quick", quick), ("seed", seed), ("campaigns", campaigns),
+                                ("output", output)) if v not in (None, False) and not (k == "seed" and v == 1)}
+    command = _call_text("reproduce", [], kwargs)
+    return _gyroflip._reproduce(bool(quick), int(seed), 0 if campaigns is None else int(campaigns),
+                                "" if output is None else _os.fspath(output), command)

@@ -2,6 +2,7 @@
 /// \brief The experiments for Python, the CLI's workflow calls (workflow/*.hpp): `_report` (the
 /// report folder) and `_reproduce` (the paper's experiment). Results are the CLI's JSON objects
 /// (its summary.json), parsed.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 
 #include "common.hpp"
 #include "gyroflip/workflow/report.hpp"
+#include "gyroflip/workflow/reproduce.hpp"
 
 namespace gyroflip::python {
 
@@ -38,12 +40,31 @@ py::dict report(const std::vector<std::string>& files, const std::string& output
   return d;
 }
 
+py::dict reproduce(bool quick, std::uint64_t seed, std::size_t campaigns, const std::string& output,
+                   const std::string& command) {
+  workflow::reproduce_request req;
+  req.quick = quick;
+  req.seed = seed;
+  req.campaigns = campaigns;
+  req.output = output;
+  req.command = command;
+  req.made_by = "gyroflip.reproduce (Python)";
+  auto run =
+      without_gil([&](const progress_fn& listen) { return workflow::reproduce(req, listen); });
+  const auto res = take(std::move(run));
+  py::dict d = json_loads(res.summary_json);
+  d["text"] = res.text;
+  return d;
+}
+
 }  // namespace
 
 void bind_workflow(py::module_& m) {
   m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),
         py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
         py::arg("command"));
+  m.def("_reproduce", &reproduce, py::arg("quick"), py::arg("seed"), py::arg("campaigns"),
+        py::arg("output"), py::arg("command"));
 }
 
 }  // namespace gyroflip::python

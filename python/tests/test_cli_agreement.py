@@ -136,6 +136,15 @@ def test_report_equals_the_cli(exe, tmp_path):
     assert sorted(os.listdir(tmp_path / "py")) == sorted(os.listdir(tmp_path / "cli"))
 
 
+def test_reproduce_equals_the_cli(exe):
+    """gyroflip.reproduce and `gyroflip reproduce` are one library call (issue 22): the same
+    text, the same summary."""
+    cli = run(exe, "reproduce", "--quick", "--seed", 3)
+    py = gyroflip.reproduce(quick=True, seed=3)
+    assert py.pop("text") == cli
+    assert py["schema"].startswith("gyroflip.reproduce/") and py["campaigns"] == 1 and py["seed"] == 3
+
+
 def test_simulate_equals_the_cli_file(exe, tmp_path):
     out = tmp_path / "sim.csv"
     run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 120, "--seed", 5, "--temp", 4,
