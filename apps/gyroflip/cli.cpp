@@ -359,6 +359,9 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_option("--pairing", o->pairing, "abba|simple")
       ->check(CLI::IsMember({"abba", "simple"}))
       ->capture_default_str();
+  sub->add_option("--expected-rate", o->expected_rate_dps,
+                  "the rate the runs were commanded to (deg/s; with --calibration): each run's "
+                  "error and scale-factor error against it");
 }
 
 void setup_reproduce(CLI::App& app, action& chosen, const std::vector<std::string>& args) {

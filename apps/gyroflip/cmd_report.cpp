@@ -30,6 +30,7 @@ int run_report(const report_options& o) {
   req.calibration = o.calibration;
   req.title = o.title;
   req.pairing = *pairing;
+  if (!std::isnan(o.expected_rate_dps)) req.expected_rate_dps = o.expected_rate_dps;
   req.command = shell_command(o.command_line);
   req.made_by = "gyroflip report";
   progress bar("report", 1000);

@@ -398,7 +398,8 @@ def _call_text(name, args, kwargs):
     return f"python3: gyroflip.{name}({', '.join(words)})"
 
 
-def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba"):
+def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba",
+           expected_rate=None):
     """Writes the report folder `gyroflip report FILE... -o OUTPUT` writes (the same library call,
     docs/REPORT.md): index.html (tables, figures, provenance), report.pdf, summary.json and
     figures/ with each figure's gnuplot script and data. Needs gnuplot and Chromium or pdfunite.
@@ -410,17 +411,21 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
       replaced; docs/cli.md, "report").
     latitude (deg) and axis: split dN into its Earth term and g-term. title: the page's title
       (default: one naming the sensor and the runs). pairing: "abba" or "simple".
-    Returns summary.json as a dict (schema gyroflip.report/N, the numbers per run), plus
-    "warnings". The provenance names this call. Releases the GIL; Ctrl-C stops it."""
+    expected_rate (deg/s, with calibration): the rate a rate table commanded; each run's error
+      and scale-factor error against it.
+    Returns summary.json as a dict (schema gyroflip.report/N: the numbers per run, the dN budget,
+    the conclusion and "warnings"). The provenance names this call. Releases the GIL; Ctrl-C
+    stops it."""
     paths = [_os.fspath(f) for f in ([files] if isinstance(files, (str, bytes, _os.PathLike)) else files)]
     kwargs = {k: v for k, v in (("latitude", latitude), ("axis", axis), ("calibration", calibration),
-                                ("title", title)) if v is not None}
+                                ("title", title), ("expected_rate", expected_rate)) if v is not None}
     if pairing != "abba":
         kwargs["pairing"] = pairing
     command = _call_text("report", [paths, _os.fspath(output)], kwargs)
     return _gyroflip._report(paths, _os.fspath(output), None if latitude is None else float(latitude),
                              axis, "" if calibration is None else _os.fspath(calibration),
-                             "" if title is None else str(title), pairing, command)
+                             "" if title is None else str(title), pairing,
+                             None if expected_rate is None else float(expected_rate), command)
 
 
 def reproduce(quick=False, seed=1, campaigns=None, output=None):

@@ -274,7 +274,8 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
     }
     if (j.contains("model") && !j["model"].is_null()) {
       const json& m = j["model"];
-      if (m.value("kind", "") != "poly")
+      const auto kind = m.find("kind");
+      if (kind == m.end() || !kind->is_string() || kind->get<std::string>() != "poly")
         return input_error({path}, "model 'kind' must be \"poly\"");
       method::delta_n_model model;
       model.coeffs_dps = m.at("coeffs_dps").get<std::vector<double>>();
@@ -287,6 +288,8 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
         model.temp_min_c = r[0].is_null() ? method::no_value : r[0].get<double>();
         model.temp_max_c = r[1].is_null() ? method::no_value : r[1].get<double>();
       }
+      if (m.contains("chi2_per_dof") && m["chi2_per_dof"].is_number())
+        model.chi2_per_dof = m["chi2_per_dof"].get<double>();
       if (model.coeffs_dps.size() > 1 && !std::isfinite(model.t_ref_c))
         return input_error({path}, "model of degree >= 1 needs a finite 't_ref_c'");
       for (double c : model.coeffs_dps)
@@ -295,6 +298,30 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
       if (auto s = check_model(path, model); !s) return s.err();
       rec.model = std::move(model);
     }
+    // The runs it was made of (their dN and errors: a report's budget of the dN applied).
+    if (j.contains("files") && j["files"].is_array())
+      for (const auto& f : j["files"]) {
+        calibration_entry e;
+        if (!f.is_object()) return input_error({path}, "files: each run must be an object");
+        if (const auto it = f.find("file"); it != f.end() && it->is_string())
+          e.file = it->get<std::string>();
+        e.cal.delta_n_dps = f.at("delta_n_dps").get<double>();
+        if (f.contains("stderr_correlated_dps") && f["stderr_correlated_dps"].is_number())
+          e.cal.stderr_correlated_dps = f["stderr_correlated_dps"].get<double>();
+        if (f.contains("temp_c") && f["temp_c"].is_number())
+          e.cal.temp_c = f["temp_c"].get<double>();
+        if (f.contains("cycles") && f["cycles"].is_number_unsigned())
+          e.cal.cycles = f["cycles"].get<std::size_t>();
+        if (auto s = check_magnitude(path, "files: delta_n_dps", e.cal.delta_n_dps); !s)
+          return s.err();
+        if (!(e.cal.stderr_correlated_dps >= 0.0) ||
+            !(e.cal.stderr_correlated_dps <= max_magnitude) ||
+            !(std::isnan(e.cal.temp_c) || std::abs(e.cal.temp_c) <= max_magnitude))
+          return input_error({path},
+                             "files: a run's 'stderr_correlated_dps' or 'temp_c' is out "
+                             "of range");
+        rec.files.push_back(std::move(e));
+      }
     if (auto s = check_magnitude(path, "delta_n_dps", rec.pooled.delta_n_dps); !s) return s.err();
     if (!(rec.pooled.stderr_correlated_dps >= 0.0) ||
         !(rec.pooled.stderr_correlated_dps <= max_magnitude))

@@ -18,37 +18,46 @@ namespace gyroflip::workflow {
 
 namespace {
 
-// The calibration must belong to the recording's sensor (refused otherwise), on the same rig
-// (warned), at about its temperature (warned) - docs/cli.md, "compensate".
-status check_calibration_fits(const compensate_request& r, const io::recording_cycles& rc,
+delta_n_source of_record(io::calibration_record rec, const std::string& name) {
+  auto model = io::delta_n_model_of(rec);
+  const auto p = rec.pairing;
+  return delta_n_source{std::move(model), name, p, std::move(rec)};
+}
+
+}  // namespace
+
+status check_calibration_fits(const std::string& file, const delta_n_source& dn,
+                              std::span<const io::csv_metadata> metadata,
+                              std::span<const method::cycle> cycles,
                               std::vector<std::string>& warnings) {
-  const auto& cal = *r.delta_n.record;
-  const auto& name = r.delta_n.source;
-  const auto here = io::sensor_of(rc.metadata);
+  if (!dn.record) return ok();
+  const auto& cal = *dn.record;
+  const auto& name = dn.source;
+  const auto here = io::sensor_of(metadata);
   if (!cal.sensor) {
     warnings.push_back(
         fmt::format("{}: the calibration names no sensor (a file from before gyroflip recorded "
                     "it): nothing checks that it belongs to this sensor",
                     name));
   } else if (cal.sensor->known() && here.known() && cal.sensor->sensor != here.sensor) {
-    return input_error({r.file}, fmt::format("recorded with sensor '{}', but {} calibrates '{}': "
-                                             "a calibration applies to its own sensor only",
-                                             printable(here.sensor, 80), printable(name, 200),
-                                             printable(cal.sensor->sensor, 80)));
+    return input_error({file}, fmt::format("recorded with sensor '{}', but {} calibrates '{}': "
+                                           "a calibration applies to its own sensor only",
+                                           printable(here.sensor, 80), printable(name, 200),
+                                           printable(cal.sensor->sensor, 80)));
   } else {
     if (!cal.sensor->known() || !here.known())
       warnings.push_back(
           fmt::format("{}: sensor unknown on one side ({} vs {}): nothing checks that the "
                       "calibration belongs to this sensor",
-                      r.file, printable(here.sensor, 80), printable(cal.sensor->sensor, 80)));
+                      file, printable(here.sensor, 80), printable(cal.sensor->sensor, 80)));
     for (const auto& d : io::rig_differences(*cal.sensor, here))
       warnings.push_back(
-          fmt::format("{}: rig setting differs from the calibration's: {}", r.file, d));
+          fmt::format("{}: rig setting differs from the calibration's: {}", file, d));
   }
   if (cal.model && cal.model->degree() > 0) return ok();  // dN(T) covers temperature
   double sum = 0.0;
   std::size_t n = 0;
-  for (const auto& c : rc.cycles)
+  for (const auto& c : cycles)
     if (std::isfinite(c.temp_c)) {
       sum += c.temp_c;
       ++n;
@@ -58,17 +67,9 @@ status check_calibration_fits(const compensate_request& r, const io::recording_c
     warnings.push_back(fmt::format(
         "{}: mean temperature {:.1f} degC, but the calibration was made at {:.1f} degC: dN "
         "depends on temperature (calibrate at several temperatures for a dN(T) model)",
-        r.file, sum / static_cast<double>(n), cal.pooled.temp_c));
+        file, sum / static_cast<double>(n), cal.pooled.temp_c));
   return ok();
 }
-
-delta_n_source of_record(io::calibration_record rec, const std::string& name) {
-  auto model = io::delta_n_model_of(rec);
-  const auto p = rec.pairing;
-  return delta_n_source{std::move(model), name, p, std::move(rec)};
-}
-
-}  // namespace
 
 result<delta_n_source> delta_n_of_value(double delta_n_dps) {
   if (auto s = method::check_delta_n(delta_n_dps); !s) return s.err();
@@ -117,8 +118,8 @@ result<compensate_result> compensate_file(const compensate_request& r,
   auto rc = read_cycles(r.file, out.pairing, on_progress, r.angle_tolerance_deg);
   if (!rc) return rc.err();
   for (auto& w : rc->warnings) out.warnings.push_back(std::move(w));
-  if (dn.record)
-    if (auto s = check_calibration_fits(r, *rc, out.warnings); !s) return s.err();
+  if (auto s = check_calibration_fits(r.file, dn, rc->metadata, rc->cycles, out.warnings); !s)
+    return s.err();
   if (dn.model.degree() > 0 && !rc->has_temp)
     return input_error({r.file},
                        "no temp_c column, but the calibration's dN(T) model needs temperatures");

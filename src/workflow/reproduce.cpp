@@ -194,8 +194,10 @@ status write_page(const reproduce_request& o, std::size_t campaigns, report::rep
   const auto fail = [](const error& e) -> status { return e; };
   report::page page;
   page.title = "The paper's experiment on the simulator";
-  page.version = std::string(version());
-  page.command = o.command;
+  page.made.version = std::string(version());
+  page.made.commit = std::string(build_commit());
+  page.made.made_utc = report::utc_now();
+  page.made.command = o.command;
   (void)campaigns;
   report::section cmp;
   cmp.heading = "Simulation beside the paper";

@@ -66,7 +66,7 @@ TEST(CliSchema, EveryJsonOutputCarriesItsSchemaAndVersion) {
   // The report folders' summary.json (they need gnuplot to draw their figures).
   if (gyroflip::test::run_program({"gnuplot", "--version"}).exit_code != 0) return;
   ASSERT_EQ(run_cli({"report", rec, "-o", d.file("rep")}).exit_code, 0);
-  expect_schema(json::parse(std::ifstream(d.file("rep/summary.json"))), "gyroflip.report/1",
+  expect_schema(json::parse(std::ifstream(d.file("rep/summary.json"))), "gyroflip.report/2",
                 "report");
   const auto rep = run_cli({"reproduce", "--quick", "-o", d.file("repro")});
   ASSERT_EQ(rep.exit_code, 0) << rep.err;

@@ -58,8 +58,14 @@ TEST(Parallel, AWorkItemsExceptionOnAnyThreadReachesTheCaller) {
 
 TEST(Parallel, AProgressReportThatThrowsCancelsThePass) {
   std::atomic<std::size_t> ran{0};
+  // Items of 0.2 ms: only the caller's thread reports, so with instant items the other thread
+  // could finish all of them while the caller's waits for a core (seen on a loaded machine).
   EXPECT_THROW(for_each_item(
-                   10000, 2, [&](std::size_t, std::size_t) { ++ran; },
+                   10000, 2,
+                   [&](std::size_t, std::size_t) {
+                     ++ran;
+                     std::this_thread::sleep_for(std::chrono::microseconds(200));
+                   },
                    [](std::size_t done, std::size_t) {
                      if (done >= 10) throw std::logic_error("cancelled");
                    }),

@@ -73,6 +73,15 @@ struct compensate_result {
 /// (docs/FACTS.md §3).
 inline constexpr double far_from_calibration_c = 5.0;
 
+/// Whether the calibration of `dn` (when it is one) fits a recording `file` with its metadata and
+/// cycles: it must belong to the recording's sensor (refused otherwise); another rig setting, a
+/// sensor unknown on one side, or a single-temperature dN applied more than
+/// far_from_calibration_c from its temperature are warned about (appended to `warnings`).
+[[nodiscard]] status check_calibration_fits(const std::string& file, const delta_n_source& dn,
+                                            std::span<const io::csv_metadata> metadata,
+                                            std::span<const method::cycle> cycles,
+                                            std::vector<std::string>& warnings);
+
 /// Reads the recording and compensates it. The calibration must belong to the recording's
 /// sensor (refused otherwise), is warned about on another rig setting, more than
 /// far_from_calibration_c from its temperature, a pairing other than its own, cycles outside

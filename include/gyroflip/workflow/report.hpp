@@ -23,6 +23,9 @@ struct report_request {
   std::string calibration;  ///< a calibration file: compensate the files (else calibrate them)
   std::string title;        ///< empty: a title naming the run
   method::pairing pairing = method::pairing::abba;
+  /// The rate the runs were commanded to (a rate table), with a calibration: each run's error
+  /// and scale-factor error against it. Non-zero, within the simulator's rate bound.
+  std::optional<double> expected_rate_dps;
   std::string command;  ///< the command (or call) exactly as run, for the provenance
   std::string made_by = "gyroflip report";  ///< who made the folder (its list's first line)
 };
