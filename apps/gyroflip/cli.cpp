@@ -54,19 +54,35 @@ void setup_earth(CLI::App& app, action& chosen) {
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
-// The AD7739 and stepper settings `simulate` models and `record` sends in CONFIGURE.
-template <class Options>
-void add_adc_stepper_options(CLI::App* sub, Options& o) {
+// The rig's settings (rig_options.hpp) that `simulate` models and `record` sends in CONFIGURE.
+// `device`: also those only the device acts on (--n-temp, --home, --hold-coils).
+void add_rig_options(CLI::App* sub, rig_options& o, bool device) {
+  sub->add_option("--n-avg", o.n_avg, "gyro conversions per dwell")->capture_default_str();
+  if (device)
+    sub->add_option("--n-temp", o.n_temp, "temperature conversions per dwell")
+        ->capture_default_str();
+  sub->add_option("--settle", o.settle_s, "settling time after a turn (s)")->capture_default_str();
+  sub->add_option("--positions", o.positions,
+                  device ? "the angle table: 2 to 8 table positions (deg, whole steps)"
+                         : "the two table positions A,B (deg, whole steps)")
+      ->capture_default_str();
   sub->add_option("--filter-word", o.filter_word, "AD7739 filter word FW (2..127)")
       ->capture_default_str();
   sub->add_flag("--no-chop", o.no_chop, "AD7739 without chopping");
   sub->add_option("--steps-per-rev", o.steps_per_rev, "stepper full steps per table revolution")
       ->capture_default_str();
-  sub->add_option("--step-rate", o.step_rate_sps, "stepper cruise rate (steps/s)")
+  sub->add_option("--step-rate", o.step_rate_sps, "stepper top rate (steps/s)")
       ->capture_default_str();
   sub->add_option("--start-rate", o.start_rate_sps, "stepper start rate (steps/s)")
       ->capture_default_str();
   sub->add_option("--accel", o.accel_sps2, "stepper ramp (steps/s^2)")->capture_default_str();
+  sub->add_flag("--one-way", o.one_way, "always turn the same way (a rotary joint)");
+  if (device) {
+    sub->add_flag("--home", o.home, "find the home switch before the first cycle");
+    sub->add_flag("--hold-coils", o.hold_coils,
+                  "keep the stepper energised during dwells (default: off, the coils heat the "
+                  "table)");
+  }
 }
 
 void setup_simulate(CLI::App& app, action& chosen) {
@@ -86,20 +102,16 @@ void setup_simulate(CLI::App& app, action& chosen) {
   sub->add_option("--rate-profile", o->rate_profile,
                   "input rate: V|const:V|steps:T:V,...|sine:AMP:FREQ_HZ[:OFFSET] (deg/s)")
       ->capture_default_str();
-  sub->add_option("--n-avg", o->n_avg, "conversions averaged per dwell")->capture_default_str();
   sub->add_option("--seed", o->seed, "random seed")->capture_default_str();
   sub->add_flag("--raw", o->raw, "write every conversion (angle empty while turning)");
   sub->add_option("-o,--output", o->out, "recording CSV (- = stdout)")->capture_default_str();
   sub->add_option("--truth", o->truth, "write the true terms per output row to this CSV");
-  sub->add_option("--settle", o->settle_s, "settling time after a turn (s)")->capture_default_str();
-  sub->add_option("--positions", o->positions, "the two table positions A,B (deg)")
-      ->capture_default_str();
   sub->add_flag("--no-flip", o->no_flip,
                 "never turn: stay at position A (a stationary recording of the raw sensor)");
   sub->add_option("--power-on-before", o->power_on_before_s,
                   "sensor powered this long before the run (s; 0 = cold start)")
       ->capture_default_str();
-  add_adc_stepper_options(sub, *o);
+  add_rig_options(sub, o->rig, false);
 }
 
 void setup_emulate(CLI::App& app, action& chosen) {
@@ -165,14 +177,8 @@ void setup_record(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_option("--sensor", o->sensor,
                   "adxrs150|hz1-90-100a|FILE.toml: its nominal scale factor converts to deg/s")
       ->capture_default_str();
-  sub->add_option("--n-avg", o->n_avg, "gyro conversions per dwell")->capture_default_str();
-  sub->add_option("--n-temp", o->n_temp, "temperature conversions per dwell")
-      ->capture_default_str();
-  sub->add_option("--settle", o->settle_s, "settling time after a turn (s)")->capture_default_str();
+  add_rig_options(sub, o->rig, true);
   sub->add_flag("--raw", o->raw, "keep every gyro conversion (RAW frames)");
-  add_adc_stepper_options(sub, *o);
-  sub->add_flag("--one-way", o->one_way, "always turn the same way (a rotary joint)");
-  sub->add_flag("--home", o->home, "find the home switch before the first cycle");
   sub->add_option("--reconnect-timeout", o->reconnect_timeout_s,
                   "how long to wait for a vanished port (s)")
       ->capture_default_str();

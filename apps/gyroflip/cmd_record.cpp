@@ -23,35 +23,12 @@ namespace gyroflip::app {
 
 namespace {
 
-result<protocol::configure_msg> device_config(const record_options& o) {
-  protocol::configure_msg c;
-  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
-  if (!in(o.n_avg, 1, 65535)) return usage_error("--n-avg must be in 1..65535");
-  if (!in(o.n_temp, 0, 255)) return usage_error("--n-temp must be in 0..255");
-  if (!in(o.settle_s, 0, 65.535)) return usage_error("--settle must be in 0..65.535 s");
-  if (!in(o.filter_word, 2, 127)) return usage_error("--filter-word must be in 2..127");
-  if (!in(o.steps_per_rev, 2, 32767) || o.steps_per_rev % 2 != 0)
-    return usage_error("--steps-per-rev must be an even number in 2..32767");
-  if (!in(o.step_rate_sps, 1, 65535) || !in(o.start_rate_sps, 1, 65535) ||
-      !in(o.accel_sps2, 1, 65535))
-    return usage_error("--step-rate, --start-rate and --accel must be in 1..65535");
-  c.n_avg = static_cast<std::uint16_t>(o.n_avg);
-  c.n_temp = static_cast<std::uint8_t>(o.n_temp);
-  c.settle_ms = static_cast<std::uint16_t>(std::lround(o.settle_s * 1000.0));
-  c.n_positions = 2;
-  c.pos_steps[0] = 0;
-  c.pos_steps[1] = static_cast<std::int16_t>(o.steps_per_rev / 2);
-  c.pos_cdeg[0] = 0;
-  c.pos_cdeg[1] = 18000;
-  c.steps_per_rev = static_cast<std::uint16_t>(o.steps_per_rev);
-  c.step_rate_sps = static_cast<std::uint16_t>(o.step_rate_sps);
-  c.start_rate_sps = static_cast<std::uint16_t>(o.start_rate_sps);
-  c.ramp_sps2 = static_cast<std::uint16_t>(o.accel_sps2);
-  c.filter_word = static_cast<std::uint8_t>(o.filter_word);
-  c.flags = static_cast<std::uint8_t>(
-      (o.no_chop ? 0 : protocol::cfg_chop) | (o.raw ? protocol::cfg_raw : 0) |
-      (o.one_way ? protocol::cfg_one_way : 0) | (o.home ? protocol::cfg_home : 0));
-  return c;
+result<rig::rig_config> device_config(const record_options& o) {
+  auto r = rig_config_of(o.rig);
+  if (!r) return r.err();
+  r->raw = o.raw;
+  if (auto s = r->check(); !s) return s.err();
+  return r;
 }
 
 std::string num(double v, const char* spec) {
@@ -132,7 +109,7 @@ int run_record(const record_options& o) {
   c.baud = o.baud;
   c.output = o.output;
   c.duration_s = o.duration_s;
-  c.device = *dev;
+  c.rig = *dev;
   c.units.sensor = preset->name;
   c.units.scale_factor_v_per_dps = preset->params.scale_factor_v_per_dps;
   c.units.temp_v_per_c = o.temp_mv_per_c * 1e-3;

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <string>
+
 #include <vector>
+#include "rig_options.hpp"
 
 namespace gyroflip::app {
 
@@ -14,18 +16,8 @@ struct record_options {
   double duration_s = 0.0;
   std::string sensor = "hz1-90-100a";  ///< its nominal scale factor converts codes to deg/s
   // CONFIGURE (docs/PROTOCOL.md); defaults are the paper's rig.
-  int n_avg = 256;
-  int n_temp = 4;
-  double settle_s = 0.08;
-  bool raw = false;
-  int filter_word = 94;
-  bool no_chop = false;
-  int steps_per_rev = 200;
-  int step_rate_sps = 400;
-  int start_rate_sps = 100;
-  int accel_sps2 = 2000;
-  bool one_way = false;
-  bool home = false;
+  rig_options rig;
+  bool raw = false;  ///< keep every gyro conversion (RAW frames)
   double reconnect_timeout_s = 60.0;
   double temp_mv_per_c = 8.4;   ///< the temperature channel's output per degC
   double temp_at_0v_c = 24.85;  ///< the temperature at 0 V on that channel

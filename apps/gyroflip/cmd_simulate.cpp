@@ -28,28 +28,26 @@ namespace {
 
 // The positions `calibrate` reads (io::recording_reader): A within its largest angle tolerance of
 // 0 (mod 360), B of 180. Others would make a recording no calibration accepts.
-result<std::pair<double, double>> parse_positions(std::string_view text) {
-  const auto v = text::to_doubles(text, ',');
-  if (!v || v->size() != 2)
-    return usage_error(
-        fmt::format("--positions '{}': expected A,B in degrees", printable(text, 60)));
+status check_readable_positions(const rig::rig_config& r, std::string_view text) {
   const auto off = [](double a, double target) {
     const double turned = std::fmod(std::fmod(a - target, 360.0) + 360.0, 360.0);
     return std::min(turned, 360.0 - turned);
   };
   const double tol = io::recording_reader::max_angle_tolerance_deg;
-  if (!(std::abs((*v)[0]) <= 1e4 && std::abs((*v)[1]) <= 1e4) || !(off((*v)[0], 0.0) <= tol) ||
-      !(off((*v)[1], 180.0) <= tol))
+  if (r.positions_deg.size() != 2 || !(off(r.positions_deg[0], 0.0) <= tol) ||
+      !(off(r.positions_deg[1], 180.0) <= tol))
     return usage_error(fmt::format(
         "--positions '{}': A must lie within {:g} deg of 0 and B within {:g} deg of 180 (the "
         "positions calibrate reads, with --angle-tolerance for any offset)",
         printable(text, 60), tol, tol));
-  return std::pair{(*v)[0], (*v)[1]};
+  return ok();
 }
 
-// The `# key: value` metadata of the recording and the truth file: every option, so that the
-// file can be made again byte for byte (the simulator adds what it derived from them).
-std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::preset& p) {
+// The `# key: value` metadata of the recording and the truth file: every option (the rig's as
+// it takes them, rig_config), so that the file can be made again byte for byte (the simulator
+// adds what it derived from them: workflow::simulate_recording).
+std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::preset& p,
+                                       const rig::rig_config& r) {
   std::vector<io::csv_metadata> m;
   const auto add = [&m](std::string key, std::string value) {
     m.push_back({std::move(key), std::move(value)});
@@ -68,18 +66,19 @@ std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::
   add("axis", o.axis);
   add("table_axis", o.table_axis.empty() ? "default" : o.table_axis);
   add("rate_profile", o.rate_profile);
-  add("n_avg", num(o.n_avg));
+  add("n_avg", num(r.n_avg));
   add("raw", o.raw ? "yes" : "no");
-  add("settle_s", num(o.settle_s));
-  add("positions_deg", o.positions);
+  add("settle_s", num(r.settle_s));
+  add("positions_deg", o.rig.positions);
   add("flip", o.no_flip ? "no" : "yes");
   add("power_on_before_s", num(o.power_on_before_s));
-  add("filter_word", num(o.filter_word));
-  add("chop", o.no_chop ? "off" : "on");
-  add("steps_per_rev", num(o.steps_per_rev));
-  add("start_rate_sps", num(o.start_rate_sps));
-  add("step_rate_sps", num(o.step_rate_sps));
-  add("accel_sps2", num(o.accel_sps2));
+  add("turns", r.one_way ? "one way" : "back and forth");
+  add("filter_word", num(r.filter_word));
+  add("chop", r.chop ? "on" : "off");
+  add("steps_per_rev", num(r.steps_per_rev));
+  add("start_rate_sps", num(r.start_rate_sps));
+  add("step_rate_sps", num(r.max_rate_sps));
+  add("accel_sps2", num(r.accel_sps2));
   add("sensor_name", p.name);
   return m;
 }
@@ -98,21 +97,16 @@ int run_simulate(const simulate_options& o) {
   c.lat_deg = o.lat_deg;
   c.axis = o.axis;
   c.table_axis = o.table_axis;
-  c.sched.n_avg = o.n_avg;
-  c.sched.settle_s = o.settle_s;
-  auto pos = parse_positions(o.positions);
-  if (!pos) return report(pos.err());
-  c.sched.pos_a_deg = pos->first;
-  c.sched.pos_b_deg = pos->second;
-  c.sched.flip = !o.no_flip;
-  c.adc.filter_word = o.filter_word;
-  c.adc.chop = !o.no_chop;
-  c.stepper = {o.steps_per_rev, o.start_rate_sps, o.step_rate_sps, o.accel_sps2};
+  auto rig = rig_config_of(o.rig);
+  if (!rig) return report(rig.err());
+  if (auto s = check_readable_positions(*rig, o.rig.positions); !s) return report(s.err());
+  c.rig = *rig;
+  c.flip = !o.no_flip;
   c.duration_s = o.duration_s;
   c.power_on_before_s = o.power_on_before_s;
   c.seed = o.seed;
   workflow::recording_request req{
-      c, o.raw, o.out, o.truth, "gyroflip simulate", metadata(o, *preset)};
+      c, o.raw, o.out, o.truth, "gyroflip simulate", metadata(o, *preset, c.rig)};
   progress bar("simulate", 1000);
   auto truth = workflow::simulate_recording(req, per_mille(bar));
   bar.finish();

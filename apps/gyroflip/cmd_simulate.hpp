@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "rig_options.hpp"
+
 namespace gyroflip::app {
 
 struct simulate_options {
@@ -17,21 +19,13 @@ struct simulate_options {
   std::string axis = "north";
   std::string table_axis;  ///< empty = perpendicular horizontal default
   std::string rate_profile = "0";
-  int n_avg = 256;
   std::uint64_t seed = 1;
   bool raw = false;
   std::string out = "-";
   std::string truth;
-  double settle_s = 0.08;
-  std::string positions = "0,180";
+  rig_options rig;       ///< the rig's settings (rig_options.hpp)
   bool no_flip = false;  ///< stay at the first position (a stationary, unflipped recording)
   double power_on_before_s = 0.0;
-  int filter_word = 94;
-  bool no_chop = false;
-  int steps_per_rev = 200;
-  double step_rate_sps = 400.0;
-  double start_rate_sps = 200.0;
-  double accel_sps2 = 2000.0;
 };
 int run_simulate(const simulate_options& o);
 

@@ -10,25 +10,6 @@ namespace gyroflip::fw {
 
 using protocol::status;
 
-namespace {
-
-// Frames RESEND can ask for: the run's data, and the errors that explain gaps in it. ACK, NAK,
-// INFO and STATUS are answers or snapshots (asked for again, not resent); RAW is too large for
-// the history (docs/PROTOCOL.md, RESEND).
-bool kept_for_resend(uint8_t type) {
-  switch (static_cast<protocol::msg>(type)) {
-    case protocol::msg::dwell:
-    case protocol::msg::compensated:
-    case protocol::msg::cal_result:
-    case protocol::msg::error:
-      return true;
-    default:
-      return false;
-  }
-}
-
-}  // namespace
-
 void device::boot(const boot_info& b) {
   boot_ = b;
   hw_.watchdog_kick();
@@ -132,7 +113,7 @@ bool device::queue(uint8_t type, size_t payload_len, bool droppable) {
   // missing, asks for it, and hears GONE (or gets it from the history).
   uint8_t* raw = scratch_ + protocol::detail::stage;
   const size_t raw_len = protocol::detail::seal_raw(type, tx_seq_++, payload_len, raw);
-  if (raw_len != 0 && kept_for_resend(type)) history_.store(raw, raw_len);
+  if (raw_len != 0 && protocol::kept_for_resend(type)) history_.store(raw, raw_len);
   return queue_staged(raw_len, droppable);
 }
 

@@ -148,11 +148,9 @@ class basic_stream_decoder {
     const uint8_t n = d == hamming84_error ? 0x0F : static_cast<uint8_t>(d & 0x0Fu);
     if (n == 0) {
       if (zeros_ == 0) started_lo_ = lo_;
-      if (zeros_ < 252) {
-        ++zeros_;
-      } else {
-        zeros_ = 248;  // a long idle run of zeros: the count only matters modulo 4
-      }
+      // A long idle run of zeros: the count only matters modulo 4 beyond 16, so it stays in
+      // 249..252 (253 counts as 249).
+      zeros_ = static_cast<uint8_t>(zeros_ < 252 ? zeros_ + 1 : zeros_ - 3);
       if (zeros_ != 4) return false;
       // A frame boundary: complete the last byte with the run's first zero if that was a low
       // nibble, then end the frame.

@@ -67,6 +67,21 @@ inline constexpr uint8_t max_positions = 8;
 /// Angles in CONFIGURE are in hundredths of a degree, 0 .. 35 999.
 inline constexpr uint16_t centidegrees_per_turn = 36000;
 
+/// Frames RESEND can ask for: the run's data, and the errors that explain gaps in it. ACK, NAK,
+/// INFO, STATUS and GONE are answers or snapshots (asked for again, not resent); RAW is too large
+/// for the history (docs/PROTOCOL.md, RESEND).
+[[nodiscard]] constexpr bool kept_for_resend(uint8_t type) {
+  switch (static_cast<msg>(type)) {
+    case msg::dwell:
+    case msg::compensated:
+    case msg::cal_result:
+    case msg::error:
+      return true;
+    default:
+      return false;
+  }
+}
+
 /// What the motor that does not flip does (`configure_msg::other_motor`).
 enum class other_motor : uint8_t {
   off = 0,       ///< coils de-energised

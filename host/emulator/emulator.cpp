@@ -56,13 +56,11 @@ result<std::unique_ptr<emulator>> emulator::make(const emulator_config& c) {
   const rig::simulation_config& s = c.sim;
   if (!(s.adc.mclk_hz >= 1e6 && s.adc.mclk_hz <= 10e6))
     return usage_error("ADC clock: 1 to 10 MHz");
-  if (s.stepper.steps_per_rev < 4 || s.stepper.steps_per_rev > 100000 ||
-      s.stepper.steps_per_rev % 2 != 0)
-    return usage_error("steps per revolution: an even number from 4 to 100000");
+  if (auto r = s.rig.check(s.adc.mclk_hz); !r) return r.err();
   if (!(c.accel_period_s > 0.0 && c.accel_period_s <= 0.1) ||
       !(c.accel_capture_hz >= 1e3 && c.accel_capture_hz <= 1e8))
     return usage_error("accelerometer: period (0, 0.1] s, capture clock 1 kHz to 100 MHz");
-  auto adc = rig::ad7739::make(s.adc, s.seed);
+  auto adc = rig::ad7739::make(rig::adc_config(s), s.seed);
   if (!adc) return adc.err();
   const double dt = adc->conversion_time_s();
   auto g = sensor::gyro::make(s.sensor, dt, s.power_on_before_s, s.seed);
@@ -77,7 +75,7 @@ result<std::unique_ptr<emulator>> emulator::make(const emulator_config& c) {
   p->temp_chan = s.temperature;
   const sensor::sensor_vec g0 = p->gyro.g_sens_g0();
   const sensor::sensor_vec g1 = p->gyro.g_sens_g1();
-  const int rev = s.stepper.steps_per_rev;
+  const int rev = s.rig.steps_per_rev;
   for (int k = 0; k < rev; ++k) {
     const rig::frame_terms f = rig::terms_at(*geo, 360.0 * k / rev);
     p->in_gain.push_back(rig::sensed(f.input_axis, s.sensor));
@@ -96,7 +94,7 @@ emulator::emulator(const emulator_config& c, std::unique_ptr<parts> p) : cfg_(c)
   // The gyro's first window ends half a window after t = 0 (sensor/gyro.hpp: t >= dt/2).
   t_last_s_ = -0.5 * p_->dt_s;
   next_idle_sample_ = static_cast<std::uint64_t>(std::ceil(1.5 * p_->dt_s * tick_hz));
-  p_->board.steps_per_rev = c.sim.stepper.steps_per_rev;
+  p_->board.steps_per_rev = c.sim.rig.steps_per_rev;
   p_->board.home_at = 0;
   const double period_ticks = c.accel_period_s * tick_hz;
   for (int a = 0; a < 2; ++a) {
@@ -130,12 +128,12 @@ void emulator::reset() {
 }
 
 std::size_t emulator::step_index() const noexcept {
-  const std::int32_t rev = cfg_.sim.stepper.steps_per_rev;
+  const std::int32_t rev = cfg_.sim.rig.steps_per_rev;
   return static_cast<std::size_t>(((p_->board.motors.position[0] % rev) + rev) % rev);
 }
 
 double emulator::table_angle_deg() const noexcept {
-  return 360.0 * static_cast<double>(step_index()) / cfg_.sim.stepper.steps_per_rev;
+  return 360.0 * static_cast<double>(step_index()) / cfg_.sim.rig.steps_per_rev;
 }
 
 // Half the difference of A and B (paper eqn 11): what is the same at both (a tilted table's
@@ -144,7 +142,7 @@ double emulator::delta_n_truth_dps(double temp_c) const noexcept {
   const auto at = [&](std::size_t k) {
     return p_->earth[k] + p_->gf0[k] + p_->gf1[k] * (temp_c - p_->gyro.temp_ref_c());
   };
-  return 0.5 * (at(0) - at(static_cast<std::size_t>(cfg_.sim.stepper.steps_per_rev / 2)));
+  return 0.5 * (at(0) - at(static_cast<std::size_t>(cfg_.sim.rig.steps_per_rev / 2)));
 }
 
 void emulator::update_accel() {
@@ -164,7 +162,7 @@ void emulator::update_accel() {
 double emulator::sample_gyro(double t_s) {
   const std::size_t k = step_index();
   const std::int32_t pos = p_->board.motors.position[0];
-  const double step_deg = 360.0 / cfg_.sim.stepper.steps_per_rev;
+  const double step_deg = 360.0 / cfg_.sim.rig.steps_per_rev;
   // The table's mean rate since the last window: what the gyro integrated meanwhile.
   const double table_dps = t_s > t_last_s_ ? (pos - pos_last_) * step_deg / (t_s - t_last_s_) : 0.0;
   const double temp_c = p_->temp_gyro.at(t_s);
@@ -208,8 +206,9 @@ void emulator::run(std::uint32_t n) {
   }
 }
 
-bool emulator::send(const std::uint8_t* p, std::size_t n) {
-  return p_->board.host_send(p, n);
+std::size_t emulator::send(const std::uint8_t* p, std::size_t n) {
+  const std::size_t k = std::min(n, p_->board.host_free());
+  return p_->board.host_send(p, k) ? k : 0;
 }
 
 std::size_t emulator::receive(std::uint8_t* out, std::size_t cap) {

@@ -62,8 +62,9 @@ class emulator {
   /// Runs `n` ticks of the device clock, one main-loop pass per tick.
   void run(std::uint32_t n);
 
-  /// Bytes from the host; false when the device's receive queue is full (nothing taken).
-  bool send(const std::uint8_t* p, std::size_t n);
+  /// Bytes from the host, as many as the device's receive queue takes (1 KB, emptied at the
+  /// line's rate): how many (the rest waits, as in a UART's FIFO and the host's buffer).
+  std::size_t send(const std::uint8_t* p, std::size_t n);
   /// Takes up to `cap` bytes the device has sent.
   std::size_t receive(std::uint8_t* out, std::size_t cap);
 

@@ -250,7 +250,7 @@ class session {
   }
 
   const recorder_config& c_;
-  p::configure_msg running_ = c_.device;  // what the device runs with (CONFIGURE records)
+  p::configure_msg running_ = c_.rig.to_configure();  // what the device runs with
   gfr::writer file_;
   const std::atomic<bool>& stop_;
   const recorder_progress_fn& on_progress_;
@@ -560,7 +560,11 @@ status session::probe() {
   const auto since = [&](steady::time_point t) {
     return std::chrono::duration<double>(now - t).count() * device_speed_;
   };
-  if (since(last_fresh_) < 1.2 * period_s || since(last_probe_) < 0.3) return ok();
+  // At least 10 ms of ours too: an emulator flat out would otherwise be "quiet" while this
+  // process merely waits for the disk.
+  const bool quiet =
+      since(last_fresh_) >= 1.2 * period_s && now - last_fresh_ >= std::chrono::milliseconds(10);
+  if (!quiet || since(last_probe_) < 0.3) return ok();
   last_probe_ = now;
   p::resend_msg m;
   m.count = 4;
@@ -816,6 +820,7 @@ result<recorder_result> session::run() {
 
 result<recorder_result> record(const recorder_config& cfg, const std::atomic<bool>& stop,
                                const recorder_progress_fn& on_progress) {
+  if (auto s = cfg.rig.check(); !s) return s.err();  // before the file or the port
   auto w = gfr::writer::create(cfg.output);
   if (!w) return w.err();
   auto r = session(cfg, std::move(*w), stop, on_progress).run();

@@ -16,6 +16,7 @@
 
 #include "firmware/protocol/messages.hpp"
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/rig/rig_config.hpp"
 #include "gyroflip/rigdata/gfr.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 
@@ -26,7 +27,7 @@ struct recorder_config {
   std::uint32_t baud = 115200;
   std::string output;               ///< the `.gfr` file (created; never replaced)
   double duration_s = 0.0;          ///< device-clock seconds to record (0: until stopped)
-  protocol::configure_msg device;   ///< what the device is configured with
+  rig::rig_config rig;              ///< what the device is configured with (checked first)
   rigdata::device_units units;      ///< stored in META for the reader
   double reconnect_timeout_s = 60;  ///< how long a vanished port is waited for
   double reply_timeout_s = 2.0;     ///< how long a command's ACK (or INFO) is waited for

@@ -185,9 +185,9 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
                        : rig::profile::constant(preset.params.temp_ref_c);
   c.lat_deg = lat_deg;
   c.axis = axis;
-  c.sched.n_avg = n_avg;
-  c.sched.settle_s = settle_s;
-  c.sched.flip = flip;
+  c.rig.n_avg = n_avg;
+  c.rig.settle_s = settle_s;
+  c.flip = flip;
   c.duration_s = duration_s;
   c.power_on_before_s = power_on_before_s;
   c.seed = seed;

@@ -13,17 +13,18 @@ std::size_t slots(double duration_s, double t_conv_s) {
   return static_cast<std::size_t>(std::ceil(duration_s / t_conv_s - 1e-9));
 }
 
-// Appends the conversions of a turn from `from_deg` by `turn` plus the settling time.
-void add_turn(std::vector<phase>& out, double from_deg, const turn_profile& turn, double settle_s,
-              double t_conv_s) {
+// Appends the conversions of a turn from `from_deg` by `turn` (backwards when `sign` is -1) plus
+// the settling time.
+void add_turn(std::vector<phase>& out, double from_deg, const turn_profile& turn, double sign,
+              double settle_s, double t_conv_s) {
   const std::size_t n = slots(turn.duration_s(), t_conv_s) + slots(settle_s, t_conv_s);
   for (std::size_t i = 0; i < n; ++i) {
     const double t0 = static_cast<double>(i) * t_conv_s;
     const double a0 = turn.angle_at(t0);
     const double a1 = turn.angle_at(t0 + t_conv_s);
     phase p;
-    p.angle_deg = from_deg + turn.angle_at(t0 + 0.5 * t_conv_s);
-    p.table_rate_dps = (a1 - a0) / t_conv_s;
+    p.angle_deg = from_deg + sign * turn.angle_at(t0 + 0.5 * t_conv_s);
+    p.table_rate_dps = sign * (a1 - a0) / t_conv_s;
     p.moving = t0 < turn.duration_s();
     out.push_back(p);
   }
@@ -51,7 +52,7 @@ result<schedule> schedule::make(const schedule_params& s, const stepper_params& 
   if (ab == 0.0) return usage_error("the two positions must differ (or do not flip at all)");
   auto turn_ab = turn_profile::make(m, ab);
   if (!turn_ab) return turn_ab.err();
-  auto turn_ba = turn_profile::make(m, 360.0 - ab);
+  auto turn_ba = turn_profile::make(m, s.one_way ? 360.0 - ab : ab);
   if (!turn_ba) return turn_ba.err();
   schedule out;
   out.p_ = s;
@@ -62,9 +63,9 @@ result<schedule> schedule::make(const schedule_params& s, const stepper_params& 
     for (int i = 0; i < s.n_avg; ++i) out.phases_.push_back({angle_deg, 0.0, false, slot});
   };
   dwell(s.pos_a_deg, 0);
-  add_turn(out.phases_, s.pos_a_deg, *turn_ab, s.settle_s, t_conv_s);
+  add_turn(out.phases_, s.pos_a_deg, *turn_ab, 1.0, s.settle_s, t_conv_s);
   dwell(s.pos_a_deg + ab, 1);
-  add_turn(out.phases_, s.pos_a_deg + ab, *turn_ba, s.settle_s, t_conv_s);
+  add_turn(out.phases_, s.pos_a_deg + ab, *turn_ba, s.one_way ? 1.0 : -1.0, s.settle_s, t_conv_s);
   return out;
 }
 

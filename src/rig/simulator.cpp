@@ -49,29 +49,33 @@ status check_ranges(const simulation_config& c) {
     return parameter_error("power_on_before_s",
                            "the power-on time before the run must be in "
                            "[0, 1e9] s");
-  if (c.sched.n_avg > max_n_avg)
-    return parameter_error("n_avg",
-                           fmt::format("conversions per dwell (n_avg) must be <= {}", max_n_avg));
-  if (!(c.sched.settle_s <= 1e4))
-    return parameter_error("settle_s", "the settling time must be <= 1e4 s");
-  if (!(std::abs(c.sched.pos_a_deg) <= 1e4 && std::abs(c.sched.pos_b_deg) <= 1e4))
-    return usage_error("table positions must be within +-1e4 deg");
-  const auto& m = c.stepper;
-  if (m.steps_per_rev > 1000000 || !(m.max_rate_sps <= 1e6) || !(m.accel_sps2 <= 1e9))
-    return usage_error("stepper: at most 1e6 steps/rev, 1e6 steps/s and 1e9 steps/s^2");
+  if (c.rig.positions_deg.size() != 2)
+    return parameter_error("positions_deg",
+                           fmt::format("the simulator turns between two positions; the angle "
+                                       "table holds {}",
+                                       c.rig.positions_deg.size()));
+  if (auto s = c.rig.check(c.adc.mclk_hz); !s) return s;
   return ok();
 }
 
 }  // namespace
 
+ad7739_config adc_config(const simulation_config& c) {
+  ad7739_config a;
+  static_cast<ad7739_part&>(a) = c.adc;
+  a.filter_word = c.rig.filter_word;
+  a.chop = c.rig.chop;
+  return a;
+}
+
 result<simulator> simulator::make(const simulation_config& c) {
   if (auto s = check_ranges(c); !s) return s.err();
-  auto adc = ad7739::make(c.adc, c.seed);
+  auto adc = ad7739::make(adc_config(c), c.seed);
   if (!adc) return adc.err();
   const double t_conv = adc->conversion_time_s();
   auto g = sensor::gyro::make(c.sensor, t_conv, c.power_on_before_s, c.seed);
   if (!g) return g.err();
-  auto s = schedule::make(c.sched, c.stepper, t_conv);
+  auto s = schedule::make(c.rig.schedule(c.flip), c.rig.stepper(), t_conv);
   if (!s) return s.err();
   auto geo = rig_geometry::make(c.lat_deg, c.axis, c.table_axis);
   if (!geo) return geo.err();

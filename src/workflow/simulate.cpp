@@ -139,8 +139,7 @@ result<simulation_truth> simulate_recording(const recording_request& r,
     if (tf) tf->write(std::string_view(tru.data(), tru.size()));
     return ok();
   };
-  if (auto s = run(*sim, c.sched.n_avg, r.raw, tf.has_value(), sink, on_progress); !s)
-    return s.err();
+  if (auto s = run(*sim, c.rig.n_avg, r.raw, tf.has_value(), sink, on_progress); !s) return s.err();
   // Both files or neither: a full disk on the truth must not leave a recording without it.
   if (auto s = io::commit_all({&*out, tf ? &*tf : nullptr}); !s) return s.err();
   return truth;
@@ -166,7 +165,7 @@ result<simulated_run> simulate_rows(const rig::simulation_config& c, bool with_t
     out.rows.insert(out.rows.end(), rows.begin(), rows.end());
     return ok();
   };
-  if (auto s = run(*sim, c.sched.n_avg, false, with_truth, sink, on_progress); !s) return s.err();
+  if (auto s = run(*sim, c.rig.n_avg, false, with_truth, sink, on_progress); !s) return s.err();
   return out;
 }
 

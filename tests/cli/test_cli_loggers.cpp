@@ -404,12 +404,18 @@ TEST(CliLoggers, EncoderAnglesWithinATolerancePositionsAndTheCompensateSummary) 
   EXPECT_EQ(run_cli({"calibrate", enc, "--angle-tolerance", "0.25"}).exit_code, 2);
   EXPECT_EQ(run_cli({"calibrate", enc, "--angle-tolerance", "11"}).exit_code, 2);
   // simulate writes what calibrate reads: an offset needs the tolerance, a position far from
-  // 0/180 is refused up front.
+  // 0/180 is refused up front. Positions are whole steps of the table (rig_config): 0.5-deg
+  // steps here.
   const std::string off = dir.file("off.csv");
   ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "60", "--positions",
-                     "0.5,180.5", "-o", off})
+                     "0.5,180.5", "--steps-per-rev", "720", "-o", off})
                 .exit_code,
             0);
+  const auto between = run_cli({"simulate", "--sensor", "hz1-90-100a", "--positions", "0.5,180.5"});
+  EXPECT_EQ(between.exit_code, 2);
+  EXPECT_NE(between.err.find("not a whole number of the table's 1.8-deg steps"), std::string::npos)
+      << between.err;
+  EXPECT_NE(between.err.find("(option --positions)"), std::string::npos) << between.err;
   EXPECT_EQ(run_cli({"calibrate", off}).exit_code, 2);
   EXPECT_EQ(run_cli({"calibrate", off, "--angle-tolerance", "1"}).exit_code, 0);
   const auto far = run_cli({"simulate", "--sensor", "hz1-90-100a", "--positions", "90,270"});

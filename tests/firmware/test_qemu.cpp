@@ -42,10 +42,12 @@ struct qemu_process {
     posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
     for (const int fd : {in[0], in[1], out[0], out[1]}) posix_spawn_file_actions_addclose(&fa, fd);
     std::vector<std::string> args = {"qemu-system-arm", "-M", "mps2-an385",
-                                     // Virtual time from executed instructions: a host that
-                                     // stalls QEMU (a loaded CI machine) cannot make the
-                                     // firmware's SysTick jump and its RDY wait time out.
-                                     "-icount", "shift=auto", "-display", "none", "-monitor",
+                                     // Virtual time from executed instructions only (16 ns
+                                     // each; sleep=off: no idle time taken from the host's
+                                     // clock): a host that stalls QEMU (a loaded CI machine)
+                                     // cannot make the firmware's timer jump and its RDY wait
+                                     // time out. shift=auto let it (fresh Debian 12, load).
+                                     "-icount", "shift=4,sleep=off", "-display", "none", "-monitor",
                                      "none", "-serial", "stdio", "-semihosting-config",
                                      "enable=on,target=native", "-kernel", elf};
     std::vector<char*> argv;

@@ -20,7 +20,8 @@ TEST(RecordQemu, RecordsTheCortexM3ImageOverItsPtyAndCalibrateReadsIt) {
   ASSERT_TRUE(std::filesystem::exists(elf)) << elf;
   test::temp_dir dir;
   const test::pty_process qemu(
-      "qemu-system-arm -M mps2-an385 -icount shift=auto -display none -monitor none -serial pty "
+      "qemu-system-arm -M mps2-an385 -icount shift=4,sleep=off -display none -monitor none -serial "
+      "pty "
       "-semihosting-config enable=on,target=native -kernel " +
           elf,
       dir.path());

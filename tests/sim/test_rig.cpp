@@ -145,7 +145,9 @@ TEST(Ad7739, ConversionTimeCodesAndClipping) {
   }
   EXPECT_NEAR(std::sqrt(s2 / 100000.0), 2e-6 * std::sqrt(2e-3 / noisy.conversion_time_s()),
               0.05e-6);
-  EXPECT_FALSE(ad7739::make(ad7739_config{1}, 1).ok());
+  ad7739_config fw1;
+  fw1.filter_word = 1;  // below the part's FW range
+  EXPECT_FALSE(ad7739::make(fw1, 1).ok());
 }
 
 TEST(Ad7739, BlockIsBitIdenticalToPerConversion) {
@@ -209,7 +211,7 @@ simulation_config noiseless(double duration_s) {
 std::vector<dwell_row> dwells(const simulation_config& c) {
   auto sim = simulator::make(c).value();
   sample_block b(5000);
-  dwell_averager avg(c.sched.n_avg);
+  dwell_averager avg(c.rig.n_avg);
   std::vector<dwell_row> rows;
   while (sim.fill(b) > 0) avg.add(b, rows);
   return rows;
@@ -268,7 +270,7 @@ TEST(Simulator, TruthOffKeepsTheRecordingAndDwellMeansAreSequentialSums) {
   auto without = simulator::make(c).value();
   sample_block a(333);  // dwells split across blocks
   sample_block b(333, false);
-  dwell_averager avg_a(c.sched.n_avg), avg_b(c.sched.n_avg);
+  dwell_averager avg_a(c.rig.n_avg), avg_b(c.rig.n_avg);
   std::vector<dwell_row> rows_a, rows_b;
   // Reference means: plain sums in conversion order, then one division (the averager's own).
   std::vector<double> sum(7, 0.0);
@@ -292,7 +294,7 @@ TEST(Simulator, TruthOffKeepsTheRecordingAndDwellMeansAreSequentialSums) {
       const double v[7] = {a.time_s[i],     a.rate_dps[i],  a.temp_c[i],   a.bias_dps[i],
                            a.g_term_dps[i], a.earth_dps[i], a.input_dps[i]};
       for (int j = 0; j < 7; ++j) sum[static_cast<std::size_t>(j)] += v[j];
-      if (++count == c.sched.n_avg) {
+      if (++count == c.rig.n_avg) {
         const double inv = 1.0 / count;
         want.push_back({sum[0] * inv, a.angle_deg[i], sum[1] * inv, sum[2] * inv, count,
                         sum[3] * inv, sum[4] * inv, sum[5] * inv, sum[6] * inv});
@@ -309,7 +311,7 @@ TEST(Simulator, TruthOffKeepsTheRecordingAndDwellMeansAreSequentialSums) {
       EXPECT_EQ(got.rate_dps, want[r].rate_dps);
       EXPECT_EQ(got.temp_c, want[r].temp_c);
       EXPECT_EQ(got.angle_deg, want[r].angle_deg);
-      EXPECT_EQ(got.n_avg, c.sched.n_avg);
+      EXPECT_EQ(got.n_avg, c.rig.n_avg);
     }
     EXPECT_EQ(rows_a[r].bias_dps, want[r].bias_dps);
     EXPECT_EQ(rows_a[r].g_term_dps, want[r].g_term_dps);

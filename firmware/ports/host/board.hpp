@@ -49,6 +49,8 @@ class host_board {
 
   /// The host sends bytes to the device (false when the receive queue is full).
   bool host_send(const uint8_t* p, size_t n) { return rx_.push(p, n); }
+  /// Room in the receive queue.
+  [[nodiscard]] size_t host_free() const { return rx_.free(); }
   /// Takes up to `cap` bytes the device has sent.
   size_t host_receive(uint8_t* out, size_t cap);
   /// While true the UART takes no byte (a stalled line: tests of the transmit ring).

@@ -27,13 +27,18 @@
 
 namespace gyroflip::rig {
 
-struct ad7739_config {
-  int filter_word = 94;              ///< FW, fw_min..fw_max (2..127)
-  bool chop = true;                  ///< CHOP bit
+/// The part: its clock, range and noise (what the rig's settings do not choose).
+struct ad7739_part {
   double mclk_hz = 6.144e6;          ///< master clock (Hz)
   double range_v = 2.5;              ///< +-range of the differential input (V)
   double noise_uv_rms_at_2ms = 2.0;  ///< paper Tab. 1 (uV rms); 0 = noiseless
   double offset_uv_chop_off = 20.0;  ///< residual offset without chopping (uV, assumption)
+};
+
+/// The part with its settings (a simulation takes these from rig::rig_config).
+struct ad7739_config : ad7739_part {
+  int filter_word = 94;  ///< FW, fw_min..fw_max (2..127)
+  bool chop = true;      ///< CHOP bit
 };
 
 /// Conversion time (s) from FW and CHOP (formula above).

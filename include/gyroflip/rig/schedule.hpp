@@ -1,6 +1,6 @@
 /// \file
 /// \brief The acquisition schedule (paper section 4): dwell at A, turn to B, settle, dwell at
-/// B, turn on to A (one-way turns through a rotary joint), settle, repeat.
+/// B, turn back to A (or on to A, one way round through a rotary joint), settle, repeat.
 ///
 /// Everything runs on the ADC clock: the ADC converts continuously, so one cycle is
 ///   [N acquisitions at A][M_AB turning][M_s settling][N at B][M_BA turning][M_s settling]
@@ -26,6 +26,9 @@ struct schedule_params {
   /// false: no flipping at all, the table stays at A and dwell follows dwell (a stationary
   /// recording of the raw sensor, to compare its Allan curve with the compensated one).
   bool flip = true;
+  /// true: B -> A turns on the same way round (360 - (B - A) degrees, through a rotary joint);
+  /// false: back by B - A, as the device turns unless told otherwise (configure_msg cfg_one_way).
+  bool one_way = false;
 };
 
 /// One conversion slot of the cycle.

@@ -23,6 +23,7 @@
 #include "gyroflip/rig/ad7739.hpp"
 #include "gyroflip/rig/geometry.hpp"
 #include "gyroflip/rig/profiles.hpp"
+#include "gyroflip/rig/rig_config.hpp"
 #include "gyroflip/rig/schedule.hpp"
 #include "gyroflip/rig/turntable.hpp"
 #include "gyroflip/sensor/gyro.hpp"
@@ -33,7 +34,6 @@ namespace gyroflip::rig {
 /// unbounded in size or not a physical rig.
 inline constexpr double max_duration_s = 1e7;  ///< 116 days
 inline constexpr double max_rate_dps = 1e6;    ///< input rate magnitude
-inline constexpr int max_n_avg = 10000000;     ///< conversions per dwell
 
 struct simulation_config {
   sensor::sensor_params sensor;
@@ -42,13 +42,16 @@ struct simulation_config {
   std::string table_axis;                         ///< empty = default (geometry.hpp)
   profile rate = profile::constant(0.0);          ///< input rate w_in (deg/s)
   profile temperature = profile::constant(20.0);  ///< sensor temperature (degC)
-  stepper_params stepper;
-  ad7739_config adc;
-  schedule_params sched;
-  double duration_s = 3600.0;      ///< run length (s)
+  rig_config rig;              ///< the rig's settings (the device's CONFIGURE; rig_config.hpp)
+  bool flip = true;            ///< false: never turn, dwell after dwell at position A (raw sensor)
+  ad7739_part adc;             ///< the ADC part (its filter word and chopping are the rig's)
+  double duration_s = 3600.0;  ///< run length (s)
   double power_on_before_s = 0.0;  ///< sensor on this long before t = 0 (s)
   std::uint64_t seed = 1;
 };
+
+/// The ADC of a simulation: its part with the rig's filter word and chopping.
+[[nodiscard]] ad7739_config adc_config(const simulation_config& c);
 
 /// A chunk of conversions, column-wise. `angle_deg` is NaN while the table turns; `dwell` is
 /// the global dwell index (0, 1, 2, ... alternating A, B) or -1 outside acquisitions. The truth
@@ -76,6 +79,7 @@ class simulator {
   [[nodiscard]] std::uint64_t produced() const noexcept { return k_; }
   [[nodiscard]] double conversion_time_s() const noexcept { return adc_.conversion_time_s(); }
   [[nodiscard]] const schedule& sched() const noexcept { return sched_; }
+  [[nodiscard]] const simulation_config& config() const noexcept { return cfg_; }
   [[nodiscard]] const sensor::gyro& sensor_model() const noexcept { return gyro_; }
   [[nodiscard]] const ad7739& adc() const noexcept { return adc_; }
   /// Earth term and g-term (deg/s) seen at position A at temperature `temp_c`: their sum is

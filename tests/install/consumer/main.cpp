@@ -29,7 +29,7 @@ int main() {
   auto sim = rig::simulator::make(c);
   if (!sim) return 1;
   rig::sample_block block(1u << 14, false);
-  rig::dwell_averager avg(c.sched.n_avg);
+  rig::dwell_averager avg(c.rig.n_avg);
   std::vector<rig::dwell_row> rows;
   while (sim->fill(block) > 0) avg.add(block, rows);
   std::vector<method::row> rec;
