@@ -1262,11 +1262,13 @@ result<reproduction> reproduce(const reproduce_request& o, const progress_fn& on
   auto fd = findings_of(*e);
   if (!fd) return fd.err();
   json sens;
+  std::size_t sensitivity_runs = 0;
   if (sensitivity) {
     std::vector<key_numbers> ks;
     for (std::size_t v = 0; v < vars.size(); ++v) {
       auto ev = run_experiment(o, vars[v], 1, false, part_progress(on_progress, v + 1, parts));
       if (!ev) return ev.err();
+      sensitivity_runs += ev->jobs.size();
       auto fv = findings_of(*ev);
       if (!fv) return fv.err();
       ks.push_back(key_numbers_of(*ev, fv->figures, fv->predictions));
@@ -1281,12 +1283,8 @@ result<reproduction> reproduce(const reproduce_request& o, const progress_fn& on
       "gyroflip reproduce: {} campaign{} of the paper's Tab. 3/4 ({} simulated runs in all{}), "
       "seed {}{}\n",
       campaigns, campaigns == 1 ? "" : "s", e->jobs.size(),
-      sensitivity
-          ? fmt::format(", and {} more runs for the sensitivity study",
-                        [&] {
-                          return vars.size() * (e->first_figure / campaigns + paper_figures.size());
-                        }())
-          : std::string(),
+      sensitivity ? fmt::format(", and {} more runs for the sensitivity study", sensitivity_runs)
+                  : std::string(),
       o.seed, o.quick ? ", quick (runs 1/4 as long)" : "");
   for (const auto& t : fd->tables) text += "\n" + report::text(t);
   const auto held = std::count_if(fd->predictions.begin(), fd->predictions.end(),
