@@ -93,7 +93,7 @@ figure{margin:1em 0 2em}figure img{width:100%;height:auto;border:1px solid #eee}
 figcaption{font-size:.9em;color:#444}
 .prov{font-size:.85em;color:#444}.prov td{overflow-wrap:anywhere;word-break:break-all}code{font-size:.95em;overflow-wrap:anywhere}
 @page{size:A4;margin:14mm}
-@media print{body{margin:0;max-width:none;font-size:10pt}h2{break-after:avoid}figure,tr,.tablebox{break-inside:avoid}.tablebox{overflow:visible}table{font-size:8pt}th,td{padding:.15em .3em}}
+@media print{body{margin:0;max-width:none;font-size:10pt}h2,caption{break-after:avoid}figure,tr{break-inside:avoid}.tablebox{overflow:visible}table{font-size:8pt}th,td{padding:.15em .3em}}
 )";
 
 // A cell that reads as a number (with its interval, unit or mark), kept on one line and
