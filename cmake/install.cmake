@@ -10,7 +10,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(GYROFLIP_MODULES core earth analysis sensor method rig io rigdata report)
+set(GYROFLIP_MODULES core earth analysis sensor method rig io rigdata report workflow)
 set(module_targets)
 foreach(m IN LISTS GYROFLIP_MODULES)
   list(APPEND module_targets gyroflip_${m})
@@ -40,7 +40,7 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gyroflipConfig.cmake
 
 # pkg-config: the modules in link order (a module before those it uses), then what they use.
 set(GYROFLIP_PC_LIBS)
-foreach(m report rigdata io rig method sensor analysis earth core protocol)
+foreach(m workflow report rigdata io rig method sensor analysis earth core protocol)
   string(APPEND GYROFLIP_PC_LIBS " -lgyroflip_${m}")
 endforeach()
 file(RELATIVE_PATH GYROFLIP_PC_TO_PREFIX ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})

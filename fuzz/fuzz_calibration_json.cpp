@@ -10,6 +10,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const gyroflip::fuzz::input_file f(data, size, ".json");
   const auto rec = gyroflip::io::read_calibration_file(f.path());
   if (!rec) return 0;
-  (void)gyroflip::io::to_json(*rec, "fuzz");
+  (void)gyroflip::io::to_json(*rec);
   return 0;
 }

@@ -376,12 +376,16 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_option("--pairing", o->pairing, "abba|simple")
       ->check(CLI::IsMember({"abba", "simple"}))
       ->capture_default_str();
+  sub->add_option("--expected-rate", o->expected_rate_dps,
+                  "the rate the runs were commanded to (deg/s; with --calibration): each run's "
+                  "error and scale-factor error against it");
 }
 
-void setup_reproduce(CLI::App& app, action& chosen) {
+void setup_reproduce(CLI::App& app, action& chosen, const std::vector<std::string>& args) {
   auto* sub = app.add_subcommand(
       "reproduce", "The paper's experiment on the simulator: Tab. 3/4 and Figs 3-10 side by side");
   auto o = bind<reproduce_options>(sub, chosen, run_reproduce);
+  o->command_line = args;
   sub->add_flag("--quick", o->quick, "one campaign, runs a quarter as long (< 60 s)");
   sub->add_option("-o,--output", o->output, "folder for summary.json");
   sub->add_option("--seed", o->seed, "seed of the first campaign")->capture_default_str();
@@ -427,7 +431,7 @@ int run_cli(int argc, char** argv) {
   setup_adev(app, chosen);
   setup_noise(app, chosen);
   setup_report(app, chosen, std::vector<std::string>(argv, argv + argc));
-  setup_reproduce(app, chosen);
+  setup_reproduce(app, chosen, std::vector<std::string>(argv, argv + argc));
   // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for
   // subcommands that way.
   if (argc > 1 && argv[1][0] != '-') {

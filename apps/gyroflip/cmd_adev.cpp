@@ -89,16 +89,17 @@ nlohmann::json json_of(const adev_options& o, const std::string& column, double 
                       {"edf", or_null(p.edf)},
                       {"n", p.n},
                       {"alpha", or_null(p.alpha)}});
-  return json{{"kind", o.kind},
-              {"input", o.in.input},
-              {"file", o.in.file},
-              {"column", column},
-              {"units", unit_name(o.in)},
-              {"tau0_s", tau0_s},
-              {"samples", samples},
-              {"ci", level ? json(*level) : json(nullptr)},
-              {"points", std::move(points)},
-              {"dropped", std::move(gone)}};
+  return with_schema("adev", 1,
+                     {{"kind", o.kind},
+                      {"input", o.in.input},
+                      {"file", o.in.file},
+                      {"column", column},
+                      {"units", unit_name(o.in)},
+                      {"tau0_s", tau0_s},
+                      {"samples", samples},
+                      {"ci", level ? json(*level) : json(nullptr)},
+                      {"points", std::move(points)},
+                      {"dropped", std::move(gone)}});
 }
 
 }  // namespace
@@ -305,13 +306,14 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
     return report(s.err());
   std::string json_line;
   if (o.json) {
-    const nlohmann::json j{{"kind", o.kind},
-                           {"file", o.in.file},
-                           {"units", unit_name(o.in)},
-                           {"tau0_s", in.series.tau0_s()},
-                           {"window_s", static_cast<double>(win->first) * in.series.tau0_s()},
-                           {"step_s", static_cast<double>(win->second) * in.series.tau0_s()},
-                           {"windows", std::move(windows)}};
+    const auto j = with_schema("adev_dynamic", 1,
+                               {{"kind", o.kind},
+                                {"file", o.in.file},
+                                {"units", unit_name(o.in)},
+                                {"tau0_s", in.series.tau0_s()},
+                                {"window_s", static_cast<double>(win->first) * in.series.tau0_s()},
+                                {"step_s", static_cast<double>(win->second) * in.series.tau0_s()},
+                                {"windows", std::move(windows)}});
     auto t = finite_dump(j, "<stdout>");
     if (!t) return report(t.err());
     json_line = *t + "\n";
@@ -374,10 +376,11 @@ int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::ta
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
   if (o.json) {
-    auto t = finite_dump(nlohmann::json{{"kind", o.codev ? "gcodev" : o.kind},
-                                        {"file", o.in.file},
-                                        {"units", unit_name(o.in)},
-                                        {"curves", std::move(j)}},
+    auto t = finite_dump(with_schema("adev_curves", 1,
+                                     {{"kind", o.codev ? "gcodev" : o.kind},
+                                      {"file", o.in.file},
+                                      {"units", unit_name(o.in)},
+                                      {"curves", std::move(j)}}),
                          "<stdout>");
     if (!t) return report(t.err());
     fmt::print("{}\n", *t);
@@ -462,7 +465,8 @@ int run_adev(const adev_options& o) {
   std::string json_line;
   if (o.json) {
     const nlohmann::json j =
-        several ? nlohmann::json{{"file", o.in.file}, {"columns", std::move(per_column)}}
+        several ? with_schema("adev_columns", 1,
+                              {{"file", o.in.file}, {"columns", std::move(per_column)}})
                 : std::move(per_column[0]);
     auto t = finite_dump(j, "<stdout>");
     if (!t) return report(t.err());

@@ -17,10 +17,11 @@ int run_earth(const earth_options& o) {
   if (!axis) return report(axis.err());
   const double w_dps = earth::earth_rate_component_dps(o.lat_deg, *axis);
   if (o.json) {
-    const nlohmann::json j = {{"lat_deg", o.lat_deg},
-                              {"axis_ned", {axis->north, axis->east, axis->down}},
-                              {"earth_rate_dps", w_dps},
-                              {"earth_rate_deg_h", w_dps * units::dph_per_dps}};
+    const auto j = with_schema("earth", 1,
+                               {{"lat_deg", o.lat_deg},
+                                {"axis_ned", {axis->north, axis->east, axis->down}},
+                                {"earth_rate_dps", w_dps},
+                                {"earth_rate_deg_h", w_dps * units::dph_per_dps}});
     if (auto s = print_json(j); !s) return report(s.err());
     return 0;
   }

@@ -227,7 +227,7 @@ int run_noise(const noise_options& o) {
   if (all.size() == 1) {
     j = io::noise_json(all.front());
   } else {
-    j = {{"file", o.in.file}, {"columns", json::array()}};
+    j = with_schema("noise_columns", 1, {{"file", o.in.file}, {"columns", json::array()}});
     for (const auto& c : all) j["columns"].push_back(io::noise_json(c));
   }
   // Every output is formatted and checked before the first is written.

@@ -45,7 +45,8 @@ int run_sensors(const sensors_options& o) {
       }
       list.push_back({{"name", p.name}, {"description", p.description}, {"params", params}});
     }
-    if (auto s = print_json(nlohmann::json{{"sensors", list}}); !s) return report(s.err());
+    if (auto s = print_json(with_schema("sensors", 1, {{"sensors", list}})); !s)
+      return report(s.err());
     return 0;
   }
   std::string text;

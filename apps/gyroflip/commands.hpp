@@ -54,6 +54,7 @@ struct report_options {
   std::string calibration;  // CAL.json: compensate the files (else: calibrate them)
   std::string title;
   std::string pairing = "abba";
+  double expected_rate_dps = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
   std::vector<std::string> command_line;  // as typed, for the page's provenance
 };
 int run_report(const report_options& o);
@@ -62,7 +63,8 @@ struct reproduce_options {
   bool quick = false;  // one campaign, runs a quarter as long
   std::string output;  // -o DIR: summary.json
   std::uint64_t seed = 1;
-  std::size_t campaigns = 0;  // 0: 10 (1 with --quick)
+  std::size_t campaigns = 0;              // 0: 10 (1 with --quick)
+  std::vector<std::string> command_line;  // as typed, for the page's provenance
 };
 int run_reproduce(const reproduce_options& o);
 

@@ -7,7 +7,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gyroflip/io/schema.hpp"
+
 namespace gyroflip::app {
+
+nlohmann::json with_schema(std::string_view what, int n, nlohmann::json j) {
+  auto out = io::schema_object(what, n);
+  out.update(std::move(j));
+  return out;
+}
 
 status print_json(const nlohmann::json& j) {
   auto text = finite_dump(j, "<stdout>");

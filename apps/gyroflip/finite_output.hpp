@@ -14,6 +14,10 @@ namespace gyroflip::app {
 using io::check_finite;
 using io::finite_dump;
 
+/// `j` (an object) with the JSON convention's `schema` gyroflip.WHAT/N and `version`
+/// (io/schema.hpp) added: what every subcommand prints with --json.
+[[nodiscard]] nlohmann::json with_schema(std::string_view what, int n, nlohmann::json j);
+
 /// Prints `j` as one line of JSON on stdout when every number in it is finite.
 [[nodiscard]] status print_json(const nlohmann::json& j);
 

@@ -38,6 +38,8 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
     {"decimal", "--decimal"},
     {"angle_tolerance_deg", "--angle-tolerance"},
     {"column", "--column"},
+    {"expected_rate_dps", "--expected-rate"},
+    {"campaigns", "--campaigns"},
 };
 
 }  // namespace

@@ -8,8 +8,11 @@ The same C++ core as the `gyroflip` command, on NumPy arrays (docs/python.md):
   Deviation with NumPy arrays tau_s, dev, ci_lo, ci_hi, edf, n, alpha (NIST SP1065 statistics,
   chi-squared bounds as Stable32 computes them).
 - noise(...): the IEEE 952 noise terms with intervals (the keys of `gyroflip noise --json`).
-- calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns.
+- calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns;
+  calibrate_runs(files): several recordings pooled, with dN(T), as `gyroflip calibrate`.
 - simulate(...): the rig simulator; read_recording(path): a CSV or .gfr recording.
+- report(files, output): the report folder `gyroflip report` writes (the same library call);
+  reproduce(): the paper's experiment on the simulator, as `gyroflip reproduce`.
 
 Units: rates in deg/s, angles in deg, times in s, temperatures in degC, unless a name says
 otherwise. Errors raise ValueError (bad data or arguments) or OSError (files) with the messages
@@ -30,8 +33,8 @@ __version__ = _gyroflip.__version__
 __all__ = [
     "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
-    "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "compensate", "simulate",
-    "read_recording", "__version__",
+    "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "calibrate_runs",
+    "compensate", "simulate", "read_recording", "report", "reproduce", "__version__",
 ]
 
 
@@ -320,6 +323,25 @@ def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=Non
                                 float(angle_tolerance_deg))
 
 
+def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
+                   angle_tolerance_deg=0.0):
+    """Calibrates dN on stationary recordings (CSV or .gfr), as `gyroflip calibrate FILE... --json`
+    (the same library call): each run's dN (paper eqns 8-11), all cycles pooled, and with several
+    files a dN model (a line over a temperature span of 2 degC or more, else the runs' weighted
+    mean; `degree` chooses the polynomial's degree).
+
+    files: paths of the recordings, one stationary run each, of one sensor.
+    latitude (deg) and axis: split dN into its Earth term and g-term (paper eqns 9-10).
+    pairing: "abba" (default) or "simple" (the paper's). angle_tolerance_deg: as calibrate().
+    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/1: delta_n_dps,
+    stderr_correlated_dps, files, model, sensor, ...) plus "warnings" (what the command prints as
+    warnings: a rig setting that differs between files, a sensor nobody named, a damaged .gfr
+    region skipped). Pass it to compensate(calibration=...). Releases the GIL; Ctrl-C stops it."""
+    paths = [_os.fspath(f) for f in ([files] if isinstance(files, (str, bytes, _os.PathLike)) else files)]
+    return _gyroflip._calibrate_runs(paths, None if latitude is None else float(latitude), axis, pairing,
+                                     None if degree is None else int(degree), float(angle_tolerance_deg))
+
+
 def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration=None,
                delta_n_dps=None, pairing=None, drift_window_s=100.0, angle_tolerance_deg=0.0):
     """Compensates a flipping recording (paper eqn 12), as `gyroflip compensate`.
@@ -329,12 +351,14 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
     (then temp_c is needed). Or delta_n_dps: a constant dN (deg/s). pairing: default the
     calibration's (else "abba"). drift_window_s: the moving-mean window of the drift figure.
     Returns a dict of arrays, one per cycle: time_s, rate_dps (the input rate w_in), bias_dps
-    (the bias the flip removed), temp_c, delta_n_dps (what was subtracted); and "summary"
-    (cycles, mean_dps, std_dps, stderr_dps, stderr_correlated_dps, drift_dps, ...)."""
+    (the bias the flip removed), temp_c, delta_n_dps (what was subtracted); and "summary", the
+    object `gyroflip compensate --json` prints (schema gyroflip.compensate/2: cycles, mean_dps,
+    std_dps, stderr_dps, stderr_correlated_dps, drift_dps, delta_n, ...)."""
     text = None
     if calibration is not None:
         if isinstance(calibration, dict):
-            text = _json.dumps({k: v for k, v in calibration.items() if k != "cycle_values"})
+            text = _json.dumps({k: v for k, v in calibration.items()
+                                if k not in ("cycle_values", "warnings")})
         else:
             with open(_os.fspath(calibration), "rb") as f:
                 text = f.read().decode("utf-8", errors="replace")
@@ -366,3 +390,56 @@ def read_recording(path, angle_tolerance_deg=0.0):
     absent), n_avg; "metadata" (the `# key: value` lines; a .gfr's META) and "warnings".
     Errors name FILE:LINE:COL (CSV) or the record (.gfr)."""
     return _gyroflip._read_recording(_os.fspath(path), float(angle_tolerance_deg))
+
+
+def _call_text(name, args, kwargs):
+    """The call as written, for a report's provenance: gyroflip.NAME(args, key=value, ...)."""
+    words = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items()]
+    return f"python3: gyroflip.{name}({', '.join(words)})"
+
+
+def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba",
+           expected_rate=None):
+    """Writes the report folder `gyroflip report FILE... -o OUTPUT` writes (the same library call,
+    docs/REPORT.md): index.html (tables, figures, provenance), report.pdf, summary.json and
+    figures/ with each figure's gnuplot script and data. Needs gnuplot and Chromium or pdfunite.
+
+    files: recordings (CSV or .gfr). Without `calibration` they are stationary calibration runs
+      (each calibrated; dN(T) over a temperature span); with it (a CAL.json path) each is
+      compensated with its dN or dN(T).
+    output: the report folder: new, empty, or one a report made (nothing of the user's is ever
+      replaced; docs/cli.md, "report").
+    latitude (deg) and axis: split dN into its Earth term and g-term. title: the page's title
+      (default: one naming the sensor and the runs). pairing: "abba" or "simple".
+    expected_rate (deg/s, with calibration): the rate a rate table commanded; each run's error
+      and scale-factor error against it.
+    Returns summary.json as a dict (schema gyroflip.report/N: the numbers per run, the dN budget,
+    the conclusion and "warnings"). The provenance names this call. Releases the GIL; Ctrl-C
+    stops it."""
+    paths = [_os.fspath(f) for f in ([files] if isinstance(files, (str, bytes, _os.PathLike)) else files)]
+    kwargs = {k: v for k, v in (("latitude", latitude), ("axis", axis), ("calibration", calibration),
+                                ("title", title), ("expected_rate", expected_rate)) if v is not None}
+    if pairing != "abba":
+        kwargs["pairing"] = pairing
+    command = _call_text("report", [paths, _os.fspath(output)], kwargs)
+    return _gyroflip._report(paths, _os.fspath(output), None if latitude is None else float(latitude),
+                             axis, "" if calibration is None else _os.fspath(calibration),
+                             "" if title is None else str(title), pairing,
+                             None if expected_rate is None else float(expected_rate), command)
+
+
+def reproduce(quick=False, seed=1, campaigns=None, output=None):
+    """The paper's experiment on the simulator, as `gyroflip reproduce` (the same library call,
+    docs/REPRODUCE.md): the campaigns of Tab. 3/4 and the runs of Figs 3-10 on every core, set
+    beside the paper's numbers.
+
+    quick: one campaign of runs a quarter as long. seed: the first campaign's seed.
+    campaigns: how many campaigns (default 10, 1 with quick). output: a report folder for the
+      page, its figures and summary.json (as `-o DIR`), or None.
+    Returns summary.json as a dict (schema gyroflip.reproduce/N) plus "text", the comparison the
+    command prints. Releases the GIL; Ctrl-C stops it."""
+    kwargs = {k: v for k, v in (("quick", quick), ("seed", seed), ("campaigns", campaigns),
+                                ("output", output)) if v not in (None, False) and not (k == "seed" and v == 1)}
+    command = _call_text("reproduce", [], kwargs)
+    return _gyroflip._reproduce(bool(quick), int(seed), 0 if campaigns is None else int(campaigns),
+                                "" if output is None else _os.fspath(output), command)

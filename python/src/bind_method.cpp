@@ -1,5 +1,6 @@
 /// \file
 /// \brief The method for Python: `_calibrate` and `_compensate` on a recording's columns,
+/// `_calibrate_runs` on recordings (the workflow's multi-run calibration),
 /// `_simulate` (the rig simulator, one row per dwell) and `_read_recording` (CSV or `.gfr`).
 /// Results are the CLI's JSON objects (parsed) plus NumPy columns.
 #include <array>
@@ -9,6 +10,8 @@
 #include <vector>
 
 #include <pybind11/stl.h>
+
+#include <nlohmann/json.hpp>
 
 #include "common.hpp"
 #include "gyroflip/core/error.hpp"
@@ -20,6 +23,9 @@
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/calibrate.hpp"
+#include "gyroflip/workflow/compensate.hpp"
+#include "gyroflip/workflow/simulate.hpp"
 
 namespace gyroflip::python {
 
@@ -72,44 +78,51 @@ py::dict cycle_columns(const std::vector<method::cycle>& cycles) {
 }
 
 py::dict calibrate(const columns& c, std::optional<double> lat_deg,
-                   const std::optional<std::string>& axis, const std::string& pairing, double tol,
-                   const std::string& version) {
+                   const std::optional<std::string>& axis, const std::string& pairing, double tol) {
   io::calibration_record rec;
   rec.pairing = pairing_of(pairing);
-  if (lat_deg.has_value() != axis.has_value())
-    throw py::value_error("give latitude and axis together (or neither)");
-  if (lat_deg) {
-    check(earth::check_latitude(*lat_deg));
-    rec.geometry = io::calibration_geometry{*lat_deg, take(earth::parse_axis(*axis))};
-  }
+  rec.geometry = geometry_of(lat_deg, axis);
   const auto rc = cycles_of(c, rec.pairing, tol);
   rec.sensor = io::sensor_of({});
   rec.pooled = take(method::calibrate(rc.cycles));
   rec.files.push_back({arrays_name, rec.pooled});
   rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);  // as the CLI
-  py::dict d = json_loads(take(io::to_json(rec, version)));
+  py::dict d = json_loads(take(io::to_json(rec)));
   for (const auto& cy : rc.cycles)  // the temperature may be absent (NaN)
     check(io::check_finite(std::array{cy.time_s, cy.rate_dps, cy.bias_dps}, "calibrate"));
   d["cycle_values"] = cycle_columns(rc.cycles);
   return d;
 }
 
-// The dN to subtract: a constant, or a calibration (JSON text) with its dN(T) model if it has one.
-struct delta_n_source {
-  method::delta_n_model model;
-  std::optional<method::pairing> pairing;
-};
+// The same as `gyroflip calibrate FILE... --json` (workflow::calibrate_runs), with the warnings.
+py::dict calibrate_runs(const std::vector<std::string>& files, std::optional<double> lat_deg,
+                        const std::optional<std::string>& axis, const std::string& pairing,
+                        std::optional<std::size_t> degree, double tol) {
+  workflow::calibrate_request req;
+  req.files = files;
+  req.pairing = pairing_of(pairing);
+  req.geometry = geometry_of(lat_deg, axis);
+  req.degree = degree;
+  req.angle_tolerance_deg = tol;
+  auto run =
+      without_gil([&](const progress_fn& listen) { return workflow::calibrate_runs(req, listen); });
+  const auto res = take(std::move(run));
+  py::dict d = json_loads(take(io::to_json(res.record)));
+  d["warnings"] = res.warnings;
+  return d;
+}
 
-delta_n_source delta_n_of(std::optional<double> delta_n_dps,
-                          const std::optional<std::string>& calibration_json) {
+// The dN to subtract: a constant, or a calibration (JSON text) with its dN(T) model if it has one.
+workflow::delta_n_source delta_n_of(std::optional<double> delta_n_dps,
+                                    const std::optional<std::string>& calibration_json) {
   if (delta_n_dps.has_value() == calibration_json.has_value())
     throw py::value_error("give either delta_n_dps or calibration");
   if (delta_n_dps) {
-    check(method::check_delta_n(*delta_n_dps));  // the CLI's --delta-n rule
-    return {method::constant_model(*delta_n_dps), std::nullopt};
+    auto dn = take(workflow::delta_n_of_value(*delta_n_dps));  // the CLI's --delta-n rule
+    dn.source = "delta_n_dps";
+    return dn;
   }
-  const auto rec = take(io::parse_calibration(*calibration_json, "calibration"));
-  return {io::delta_n_model_of(rec), rec.pairing};
+  return take(workflow::delta_n_of_json(*calibration_json, "calibration"));
 }
 
 py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
@@ -121,29 +134,18 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   const auto rc = cycles_of(c, p, tol);
   if (dn.model.degree() > 0 && !rc.has_temp)
     throw py::value_error("no temp_c given, but the calibration's dN(T) model needs temperatures");
-  std::vector<method::compensated_cycle> out;
-  out.reserve(rc.cycles.size());
-  for (const auto& cy : rc.cycles) out.push_back(method::compensate(cy, dn.model));
-  const auto s = method::summarize(out, drift_window_s);
-  check(io::check_finite(out, s, "compensate"));  // every number returned is finite, as the CLI
-  py::dict summary;
-  summary["pairing"] = std::string(method::to_string(p));
-  summary["cycles"] = s.cycles;
-  summary["duration_s"] = s.duration_s;
-  summary["mean_dps"] = s.mean_dps;
-  summary["std_dps"] = s.std_dps;
-  summary["stderr_dps"] = s.stderr_dps;
-  summary["stderr_correlated_dps"] = s.stderr_correlated_dps;
-  summary["drift_dps"] = s.drift_dps ? py::object(py::float_(*s.drift_dps)) : py::none();
-  summary["drift_window_s"] = s.drift_window_s;
+  // The CLI's compensate loop and summary (every number checked finite, as the CLI).
+  const auto comp =
+      take(workflow::compensate_cycles(rc.cycles, dn.model, drift_window_s, "compensate"));
   py::dict res;
   using cc = method::compensated_cycle;
-  res["time_s"] = column(out, &cc::time_s);
-  res["rate_dps"] = column(out, &cc::rate_dps);
-  res["bias_dps"] = column(out, &cc::bias_dps);
-  res["temp_c"] = column(out, &cc::temp_c);
-  res["delta_n_dps"] = column(out, &cc::delta_n_dps);
-  res["summary"] = summary;
+  res["time_s"] = column(comp.cycles, &cc::time_s);
+  res["rate_dps"] = column(comp.cycles, &cc::rate_dps);
+  res["bias_dps"] = column(comp.cycles, &cc::bias_dps);
+  res["temp_c"] = column(comp.cycles, &cc::temp_c);
+  res["delta_n_dps"] = column(comp.cycles, &cc::delta_n_dps);
+  res["summary"] = json_loads(
+      take(io::finite_dump(workflow::compensation_json(comp, arrays_name, dn, p), "compensate")));
   return res;
 }
 
@@ -189,22 +191,11 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
   c.duration_s = duration_s;
   c.power_on_before_s = power_on_before_s;
   c.seed = seed;
-  auto sim = take(rig::simulator::make(c));
-  std::vector<rig::dwell_row> rows;
-  without_gil([&](const progress_fn& listen) {
-    rig::sample_block block(1U << 14, true);
-    rig::dwell_averager avg(n_avg);
-    while (sim.fill(block) > 0) {
-      avg.add(block, rows);
-      listen(static_cast<std::size_t>(sim.produced()),
-             static_cast<std::size_t>(sim.total_samples()));
-    }
-    return 0;
+  auto run = without_gil([&](const progress_fn& listen) {
+    return workflow::simulate_rows(c, true, listen);  // `gyroflip simulate`'s simulation
   });
-  for (const auto& r : rows)  // as `gyroflip simulate` writes nothing that is not finite
-    check(io::check_finite(std::array{r.time_s, r.rate_dps, r.temp_c, r.bias_dps, r.g_term_dps,
-                                      r.earth_dps, r.input_dps},
-                           "simulate"));
+  const auto sim = take(std::move(run));
+  const auto& rows = sim.rows;
   using dr = rig::dwell_row;
   py::dict d;
   d["time_s"] = column(rows, &dr::time_s);
@@ -216,24 +207,21 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
   d["g_term_dps"] = column(rows, &dr::g_term_dps);
   d["earth_dps"] = column(rows, &dr::earth_dps);
   d["input_dps"] = column(rows, &dr::input_dps);
-  d["delta_n_truth_dps"] = sim.earth_at_a_dps() + sim.g_term_at_a_dps(c.temperature.at(0.0));
+  d["delta_n_truth_dps"] = sim.truth.delta_n_dps;
   d["sensor"] = preset.name;
   return d;
 }
 
 }  // namespace
 
-void bind_method(py::module_& m, const std::string& version) {
+void bind_method(py::module_& m) {
   py::class_<columns>(m, "_Columns")
       .def(py::init<f64_array, f64_array, f64_array, std::optional<f64_array>,
                     std::optional<f64_array>>());
-  m.def(
-      "_calibrate",
-      [version](const columns& c, std::optional<double> lat, const std::optional<std::string>& axis,
-                const std::string& pairing,
-                double tol) { return calibrate(c, lat, axis, pairing, tol, version); },
-      py::arg("columns"), py::arg("latitude"), py::arg("axis"), py::arg("pairing"),
-      py::arg("angle_tolerance_deg"));
+  m.def("_calibrate", &calibrate, py::arg("columns"), py::arg("latitude"), py::arg("axis"),
+        py::arg("pairing"), py::arg("angle_tolerance_deg"));
+  m.def("_calibrate_runs", &calibrate_runs, py::arg("files"), py::arg("latitude"), py::arg("axis"),
+        py::arg("pairing"), py::arg("degree"), py::arg("angle_tolerance_deg"));
   m.def("_compensate", &compensate, py::arg("columns"), py::arg("delta_n_dps"),
         py::arg("calibration_json"), py::arg("pairing"), py::arg("drift_window_s"),
         py::arg("angle_tolerance_deg"));

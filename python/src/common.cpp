@@ -6,6 +6,8 @@
 
 #include <chrono>
 
+#include "gyroflip/earth/earth.hpp"
+
 namespace gyroflip::python {
 
 namespace {
@@ -59,6 +61,15 @@ std::span<const double> span_of(const f64_array& a, const char* name) {
 
 py::object json_loads(const std::string& text) {
   return py::module_::import("json").attr("loads")(text);
+}
+
+std::optional<io::calibration_geometry> geometry_of(std::optional<double> lat_deg,
+                                                    const std::optional<std::string>& axis) {
+  if (lat_deg.has_value() != axis.has_value())
+    throw py::value_error("give latitude and axis together (or neither)");
+  if (!lat_deg) return std::nullopt;
+  check(earth::check_latitude(*lat_deg));
+  return io::calibration_geometry{*lat_deg, take(earth::parse_axis(*axis))};
 }
 
 }  // namespace gyroflip::python

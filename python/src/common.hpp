@@ -15,6 +15,7 @@
 
 #include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/io/calibration_file.hpp"
 
 namespace gyroflip::python {
 
@@ -69,6 +70,10 @@ py::array_t<T> to_numpy(const std::vector<T>& v) {
   std::copy(v.begin(), v.end(), a.mutable_data());
   return a;
 }
+
+/// The geometry of `latitude` and `axis` (both or neither), checked as the CLI checks them.
+[[nodiscard]] std::optional<io::calibration_geometry> geometry_of(
+    std::optional<double> lat_deg, const std::optional<std::string>& axis);
 
 /// Python's json.loads of `text`.
 [[nodiscard]] py::object json_loads(const std::string& text);

@@ -2,6 +2,7 @@
 the CLI's JSON (adev, noise, calibrate, compensate) or file (simulate), number for number."""
 import json
 import os
+import shutil
 import subprocess
 
 import numpy as np
@@ -92,6 +93,58 @@ def test_calibrate_and_compensate_equal_the_cli(exe, vectors, tmp_path):
     rows = np.loadtxt(comp_csv, delimiter=",", skiprows=1, comments="#")
     np.testing.assert_array_equal(rows[:, 1], comp["rate_dps"])
     np.testing.assert_array_equal(rows[:, 0], comp["time_s"])
+
+
+def test_calibrate_runs_equals_the_cli(exe, tmp_path):
+    """calibrate_runs and `gyroflip calibrate FILE... --json` are one library call (issue 22): the
+    same object, every key, with the dN(T) line of runs at two temperatures."""
+    files = []
+    for seed, temp in ((1, 20), (2, 4), (3, 12)):
+        f = tmp_path / f"c{temp}.csv"
+        run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 300, "--seed", seed, "--temp", temp,
+            "-o", f)
+        files.append(f)
+    cli = json.loads(run(exe, "calibrate", *files, "--latitude", 42.6, "--axis", "north", "--json"))
+    py = gyroflip.calibrate_runs(files, latitude=42.6, axis="north")
+    assert py.pop("warnings") == []
+    assert py == cli
+    assert cli["schema"] == "gyroflip.calibration/1" and cli["version"] == gyroflip.__version__
+    assert cli["model"]["degree"] == 1
+    one = gyroflip.calibrate_runs(files[:2], degree=1, pairing="simple")
+    assert one["pairing"] == "simple" and one["model"]["degree"] == 1
+    with pytest.raises(ValueError, match="a dN\\(T\\) model needs calibrations from several files"):
+        gyroflip.calibrate_runs(files[:1], degree=1)
+
+
+@pytest.mark.skipif(shutil.which("gnuplot") is None, reason="gnuplot not installed")
+def test_report_equals_the_cli(exe, tmp_path):
+    """gyroflip.report and `gyroflip report` are one library call (issue 22): the same
+    summary.json but for the command that made it, and the same folder."""
+    files = []
+    for seed, temp in ((1, 20), (2, 4)):
+        f = tmp_path / f"r{temp}.csv"
+        run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 300, "--seed", seed, "--temp", temp,
+            "-o", f)
+        files.append(str(f))
+    run(exe, "report", *files, "--latitude", 42.6, "--axis", "north", "-o", tmp_path / "cli")
+    cli = json.load(open(tmp_path / "cli" / "summary.json"))
+    py = gyroflip.report(files, tmp_path / "py", latitude=42.6, axis="north")
+    # Two runs for a dN(T) line: no degrees of freedom left, which both say.
+    assert len(py["warnings"]) == 1 and "0 degrees of freedom" in py["warnings"][0]
+    assert py.pop("command").startswith("python3: gyroflip.report([")
+    assert cli.pop("command").split()[1:3] == ["report", files[0]]
+    py.pop("made_utc"), cli.pop("made_utc")
+    assert py == cli
+    assert sorted(os.listdir(tmp_path / "py")) == sorted(os.listdir(tmp_path / "cli"))
+
+
+def test_reproduce_equals_the_cli(exe):
+    """gyroflip.reproduce and `gyroflip reproduce` are one library call (issue 22): the same
+    text, the same summary."""
+    cli = run(exe, "reproduce", "--quick", "--seed", 3)
+    py = gyroflip.reproduce(quick=True, seed=3)
+    assert py.pop("text") == cli
+    assert py["schema"].startswith("gyroflip.reproduce/") and py["campaigns"] == 1 and py["seed"] == 3
 
 
 def test_simulate_equals_the_cli_file(exe, tmp_path):

@@ -13,13 +13,12 @@
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/mapped_file.hpp"
 #include "gyroflip/io/recording.hpp"
+#include "gyroflip/io/schema.hpp"
 
 namespace gyroflip::io {
 namespace {
 
 using nlohmann::json;
-
-constexpr std::string_view schema = "gyroflip.calibration/1";
 
 json number_or_null(double v) {
   return std::isfinite(v) ? json(v) : json(nullptr);
@@ -202,10 +201,9 @@ double pooled_correlated_stderr(std::span<const calibration_entry> files) {
   return std::sqrt(num) / n;
 }
 
-result<std::string> to_json(const calibration_record& rec, std::string_view tool_version) {
-  json j = calibration_fields(rec.pooled, rec.geometry);
-  j["schema"] = schema;
-  j["version"] = tool_version;
+result<std::string> to_json(const calibration_record& rec) {
+  json j = schema_object("calibration", 1);
+  j.update(calibration_fields(rec.pooled, rec.geometry));
   j["pairing"] = method::to_string(rec.pairing);
   j["lat_deg"] = rec.geometry ? json(rec.geometry->lat_deg) : json(nullptr);
   j["axis_ned"] = rec.geometry ? json{rec.geometry->axis.north, rec.geometry->axis.east,
@@ -276,7 +274,8 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
     }
     if (j.contains("model") && !j["model"].is_null()) {
       const json& m = j["model"];
-      if (m.value("kind", "") != "poly")
+      const auto kind = m.find("kind");
+      if (kind == m.end() || !kind->is_string() || kind->get<std::string>() != "poly")
         return input_error({path}, "model 'kind' must be \"poly\"");
       method::delta_n_model model;
       model.coeffs_dps = m.at("coeffs_dps").get<std::vector<double>>();
@@ -289,6 +288,8 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
         model.temp_min_c = r[0].is_null() ? method::no_value : r[0].get<double>();
         model.temp_max_c = r[1].is_null() ? method::no_value : r[1].get<double>();
       }
+      if (m.contains("chi2_per_dof") && m["chi2_per_dof"].is_number())
+        model.chi2_per_dof = m["chi2_per_dof"].get<double>();
       if (model.coeffs_dps.size() > 1 && !std::isfinite(model.t_ref_c))
         return input_error({path}, "model of degree >= 1 needs a finite 't_ref_c'");
       for (double c : model.coeffs_dps)
@@ -297,6 +298,30 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
       if (auto s = check_model(path, model); !s) return s.err();
       rec.model = std::move(model);
     }
+    // The runs it was made of (their dN and errors: a report's budget of the dN applied).
+    if (j.contains("files") && j["files"].is_array())
+      for (const auto& f : j["files"]) {
+        calibration_entry e;
+        if (!f.is_object()) return input_error({path}, "files: each run must be an object");
+        if (const auto it = f.find("file"); it != f.end() && it->is_string())
+          e.file = it->get<std::string>();
+        e.cal.delta_n_dps = f.at("delta_n_dps").get<double>();
+        if (f.contains("stderr_correlated_dps") && f["stderr_correlated_dps"].is_number())
+          e.cal.stderr_correlated_dps = f["stderr_correlated_dps"].get<double>();
+        if (f.contains("temp_c") && f["temp_c"].is_number())
+          e.cal.temp_c = f["temp_c"].get<double>();
+        if (f.contains("cycles") && f["cycles"].is_number_unsigned())
+          e.cal.cycles = f["cycles"].get<std::size_t>();
+        if (auto s = check_magnitude(path, "files: delta_n_dps", e.cal.delta_n_dps); !s)
+          return s.err();
+        if (!(e.cal.stderr_correlated_dps >= 0.0) ||
+            !(e.cal.stderr_correlated_dps <= max_magnitude) ||
+            !(std::isnan(e.cal.temp_c) || std::abs(e.cal.temp_c) <= max_magnitude))
+          return input_error({path},
+                             "files: a run's 'stderr_correlated_dps' or 'temp_c' is out "
+                             "of range");
+        rec.files.push_back(std::move(e));
+      }
     if (auto s = check_magnitude(path, "delta_n_dps", rec.pooled.delta_n_dps); !s) return s.err();
     if (!(rec.pooled.stderr_correlated_dps >= 0.0) ||
         !(rec.pooled.stderr_correlated_dps <= max_magnitude))

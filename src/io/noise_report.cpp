@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyroflip/core/units.hpp"
+#include "gyroflip/io/schema.hpp"
 
 namespace gyroflip::io {
 
@@ -36,20 +37,21 @@ json noise_json(const noise_report& r) {
   // The fit ran in the samples' unit; every output is in deg (and rad) units.
   const double k = r.deg_per_unit;
   const double k_rad = k * units::rad_per_deg;
-  json j = {{"file", r.file},
-            {"column", r.column},
-            {"input", r.input},
-            {"units", r.units},
-            {"tau0_s", r.tau0_s},
-            {"samples", r.samples},
-            {"bias_floor_tau_s", f.bias_floor_tau_s},
-            {"bias_floor_dps", f.bias_floor_dev * k},
-            {"bias_floor_deg_h", f.bias_floor_dev * k * units::dph_per_dps},
-            {"chi2_per_dof", f.chi2_per_dof},
-            {"bias_floor_reached", f.bias_floor_reached},
-            {"abba_cycles", r.series.abba_cycle_s > 0.0},
-            {"ci", f.level},
-            {"notes", f.notes}};
+  json j = schema_object("noise", 1);
+  j.update(json{{"file", r.file},
+                {"column", r.column},
+                {"input", r.input},
+                {"units", r.units},
+                {"tau0_s", r.tau0_s},
+                {"samples", r.samples},
+                {"bias_floor_tau_s", f.bias_floor_tau_s},
+                {"bias_floor_dps", f.bias_floor_dev * k},
+                {"bias_floor_deg_h", f.bias_floor_dev * k * units::dph_per_dps},
+                {"chi2_per_dof", f.chi2_per_dof},
+                {"bias_floor_reached", f.bias_floor_reached},
+                {"abba_cycles", r.series.abba_cycle_s > 0.0},
+                {"ci", f.level},
+                {"notes", f.notes}});
   put(j, "arw_dps_rthz", f.arw, k);
   put(j, "arw_deg_rth", f.arw, k * units::deg_rth_per_deg_rts);
   put(j, "arw_rad_s_rthz", f.arw, k_rad);

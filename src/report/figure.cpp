@@ -92,10 +92,11 @@ std::string plot_clause(const series& s, const std::string& file) {
       return fmt::format("{} using 1:2 with lines lw 2 {}lc rgb '{}' {}", gp_string(file),
                          s.dashed ? "dt 2 " : "", c, title);
     case series::style::errorbars:
-      return fmt::format(
-          "{} using 1:2:3:4 with yerrorbars pt 7 ps 0.7 lw 1.2 lc rgb '{}' {}, {} using 1:2 "
-          "with lines lw 1 lc rgb '{}' notitle",
-          gp_string(file), c, title, gp_string(file), c);
+      return fmt::format("{} using 1:2:3:4 with yerrorbars pt 7 ps 0.7 lw 1.2 lc rgb '{}' {}",
+                         gp_string(file), c, title) +
+             (s.joined ? fmt::format(", {} using 1:2 with lines lw 1 lc rgb '{}' notitle",
+                                     gp_string(file), c)
+                       : std::string());
     case series::style::band:
       return fmt::format(
           "{} using 1:3:4 with filledcurves fs transparent solid 0.18 noborder lc rgb '{}' {}",
@@ -104,13 +105,14 @@ std::string plot_clause(const series& s, const std::string& file) {
   return {};
 }
 
-// The house style, the same in every script.
+// The house style, the same in every script. The key sits below the plot, where it can hide no
+// data (inside, an opaque key covered points).
 constexpr std::string_view style = R"(set encoding utf8
 set style line 100 lc rgb '#d9d9d9' lw 1
 set grid xtics ytics mxtics mytics ls 100, ls 100
 set border 3 lw 1.2
 set tics nomirror out
-set key top right opaque box lc rgb '#bbbbbb' samplen 2 spacing 1.1
+set key below left vertical maxrows 3 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set mxtics
 set mytics
 )";
@@ -167,14 +169,17 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
     if (a->log)
       fmt::format_to(std::back_inserter(s), "set logscale {} 10\nset format {} '10^{{%L}}'\n", name,
                      name);
+    if (a->tic_step > 0.0)
+      fmt::format_to(std::back_inserter(s), "set {}tics {}\n", name, a->tic_step);
   }
   int label = 1;
   for (const auto& n : f.notes) {
     if (!std::isfinite(n.x) || !std::isfinite(n.y)) continue;
-    fmt::format_to(
-        std::back_inserter(s),
-        "set label {} {} at {},{} point pt 6 ps 1.6 lw 2 offset 1,0.8 front noenhanced\n", label++,
-        gp_string(n.text), n.x, n.y);
+    fmt::format_to(std::back_inserter(s),
+                   "set label {} {} at {},{} {}point pt 6 ps 1.6 lw 2 offset {},0.8 front "
+                   "noenhanced\n",
+                   label++, gp_string(n.text), n.x, n.y, n.text_left ? "right " : "",
+                   n.text_left ? -1 : 1);
   }
   std::string plot;
   for (std::size_t k = 0; k < f.data.size(); ++k) {

@@ -58,11 +58,14 @@ figure dwell_figure(std::span<const method::dwell> dwells, const std::string& ti
 }
 
 figure compensated_figure(std::span<const method::compensated_cycle> cycles,
-                          const method::compensation_summary& summary, const std::string& title) {
+                          const method::compensation_summary& summary, const std::string& title,
+                          bool show_mean) {
   figure f;
   f.title = title;
-  f.caption = fmt::format("{} cycles: mean {:.4g} °/s, std {:.4g} °/s (eqn 12)", summary.cycles,
-                          summary.mean_dps, summary.std_dps);
+  f.caption = show_mean ? fmt::format("{} cycles: mean {:.4g} °/s, std {:.4g} °/s (eqn 12)",
+                                      summary.cycles, summary.mean_dps, summary.std_dps)
+                        : fmt::format("{} cycles: std {:.4g} °/s about the run's own ΔN (eqn 12)",
+                                      summary.cycles, summary.std_dps);
   f.x = {"time (s)", false};
   f.y = {"compensated rate (°/s)", false};
   series s = points_of("w = r − ΔN per cycle", 0);
@@ -71,7 +74,8 @@ figure compensated_figure(std::span<const method::compensated_cycle> cycles,
     s.y.push_back(c.rate_dps);
   }
   const auto [t0, t1] = span_of(s.x);
-  f.data = {s, level("mean", t0, t1, summary.mean_dps, 1, false)};
+  f.data = {s};
+  if (show_mean) f.data.push_back(level("mean", t0, t1, summary.mean_dps, 1, false));
   return f;
 }
 
@@ -93,7 +97,7 @@ figure bias_figure(std::span<const method::cycle> cycles, const std::string& tit
 figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const std::string& title) {
   figure f;
   f.title = title;
-  f.x = {"run", false};
+  f.x = {"run", false, std::ceil(static_cast<double>(runs.size()) / 20.0)};
   f.y = {"ΔN (°/s)", false};
   series s = points_of("ΔN ± correlated standard error", 0);
   s.how = series::style::errorbars;
@@ -109,7 +113,17 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
   if (values.empty()) return f;
   const auto ms = analysis::mean_and_std(values);
   const double sd = values.size() > 1 ? ms.std : 0.0;
-  f.caption = fmt::format("{} runs: mean {:.6g} °/s, std {:.3g} °/s", values.size(), ms.mean, sd);
+  double t_lo = 1e300, t_hi = -1e300;
+  for (const auto& r : runs)
+    if (std::isfinite(r.cal.temp_c)) {
+      t_lo = std::min(t_lo, r.cal.temp_c);
+      t_hi = std::max(t_hi, r.cal.temp_c);
+    }
+  f.caption =
+      fmt::format("{} runs: mean {:.6g} °/s, std {:.3g} °/s{}", values.size(), ms.mean, sd,
+                  t_hi - t_lo >= io::min_model_span_c
+                      ? fmt::format(" (pooled over {:.1f}–{:.1f} °C: see ΔN(T))", t_lo, t_hi)
+                      : std::string());
   const double x0 = 0.5, x1 = static_cast<double>(runs.size()) + 0.5;
   series band = points_of("mean ± std", 1);
   band.how = series::style::band;
@@ -156,23 +170,37 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
   return f;
 }
 
-figure allan_figure(std::span<const allan_curve> curves, const std::string& unit,
-                    const std::string& title) {
+namespace {
+
+// How an Allan plot shows its curves and the fitted terms: the factor from the curves' unit to
+// the plotted one, and each term's label unit, factor and read-off tau.
+struct term_units {
+  std::string dev_unit;
+  double dev_scale = 1.0;
+  std::string n_unit, b_unit, k_unit;
+  double n_factor = 1.0, k_factor = 1.0, b_factor = 1.0;
+  double n_tau_s = 1.0, k_tau_s = 3.0;
+  std::string n_at, k_at;  // the read-off taus in words
+};
+
+figure allan_plot(std::span<const allan_curve> curves, const term_units& u,
+                  const std::string& title) {
   figure f;
   f.title = title;
   f.x = {"averaging time τ (s)", true};
-  f.y = {fmt::format("Allan deviation ({})", unit), true};
+  f.y = {fmt::format("Allan deviation ({})", u.dev_unit), true};
   double tau_lo = 1e300, tau_hi = 0.0;
   int color = 0;
   for (const auto& c : curves) {
     series s = points_of(c.name, color++);
     s.how = series::style::errorbars;
+    s.joined = true;  // one curve
     for (const auto& p : c.points) {
       s.x.push_back(p.tau_s);
-      s.y.push_back(p.dev);
+      s.y.push_back(p.dev * u.dev_scale);
       // Points without bounds (none computed) show as their value alone.
-      s.y_lo.push_back(p.ci_lo > 0.0 ? p.ci_lo : p.dev);
-      s.y_hi.push_back(p.ci_hi > 0.0 ? p.ci_hi : p.dev);
+      s.y_lo.push_back((p.ci_lo > 0.0 ? p.ci_lo : p.dev) * u.dev_scale);
+      s.y_hi.push_back((p.ci_hi > 0.0 ? p.ci_hi : p.dev) * u.dev_scale);
       tau_lo = std::min(tau_lo, p.tau_s);
       tau_hi = std::max(tau_hi, p.tau_s);
     }
@@ -182,41 +210,89 @@ figure allan_figure(std::span<const allan_curve> curves, const std::string& unit
                                    [](const allan_curve& c) { return c.terms.has_value(); });
   if (fitted == curves.end() || tau_hi <= 0.0) return f;
   const auto& t = *fitted->terms;
-  // The fitted terms' lines, each over the plot's tau range (IEEE 952 Annex C).
+  const double k = u.dev_scale;
+  // The fitted terms' lines, each over the data's tau range and on to a read-off tau beyond it
+  // (IEEE 952 Annex C), so that an extrapolated read-off lies on its line.
+  double from = tau_lo, to = tau_hi;
+  for (const auto& [resolved, tau] :
+       {std::pair{t.arw.resolved, u.n_tau_s}, std::pair{t.rrw.resolved, u.k_tau_s}})
+    if (resolved) {
+      from = std::min(from, tau);
+      to = std::max(to, tau);
+    }
   const auto line = [&](const std::string& name, int col, auto sigma) {
     series s = points_of(name, col);
     s.how = series::style::lines;
     s.dashed = true;
-    for (int k = 0; k <= 60; ++k) {
-      const double tau = tau_lo * std::pow(tau_hi / tau_lo, k / 60.0);
+    for (int j = 0; j <= 60; ++j) {
+      const double tau = from * std::pow(to / from, j / 60.0);
       s.x.push_back(tau);
       s.y.push_back(sigma(tau));
     }
     f.data.push_back(std::move(s));
   };
   if (t.arw.resolved)
-    line(fmt::format("N = {:.3g} {}/√Hz", t.arw.value, unit), 2,
-         [&](double tau) { return t.arw.value / std::sqrt(tau); });
+    line(fmt::format("N = {:.3g} {}", t.arw.value * u.n_factor, u.n_unit), 2,
+         [&](double tau) { return k * t.arw.value / std::sqrt(tau); });
   if (t.bias_instability.resolved)
-    line(fmt::format("B = {:.3g} {}", t.bias_instability.value, unit), 3,
-         [&](double) { return floor_factor * t.bias_instability.value; });
+    line(fmt::format("B = {:.3g} {}", t.bias_instability.value * u.b_factor, u.b_unit), 3,
+         [&](double) { return k * floor_factor * t.bias_instability.value; });
   if (t.rrw.resolved)
-    line(fmt::format("K = {:.3g} {}·√Hz", t.rrw.value, unit), 4,
-         [&](double tau) { return t.rrw.value * std::sqrt(tau / 3.0); });
+    line(fmt::format("K = {:.3g} {}", t.rrw.value * u.k_factor, u.k_unit), 4,
+         [&](double tau) { return k * t.rrw.value * std::sqrt(tau / 3.0); });
   if (t.quantization.resolved)
     line(fmt::format("Q = {:.3g}", t.quantization.value), 5,
-         [&](double tau) { return std::sqrt(3.0) * t.quantization.value / tau; });
+         [&](double tau) { return k * std::sqrt(3.0) * t.quantization.value / tau; });
   if (t.rate_ramp.resolved)
     line(fmt::format("R = {:.3g}", t.rate_ramp.value), 6,
-         [&](double tau) { return t.rate_ramp.value * tau / std::numbers::sqrt2; });
-  // Read-off points: N at tau = 1 s, K at tau = 3 s (where the lines equal the coefficients),
-  // B at the floor.
-  if (t.arw.resolved) f.notes.push_back({1.0, t.arw.value, "N at τ = 1 s"});
-  if (t.rrw.resolved) f.notes.push_back({3.0, t.rrw.value, "K at τ = 3 s"});
+         [&](double tau) { return k * t.rate_ramp.value * tau / std::numbers::sqrt2; });
+  // Read-off points where the lines equal the coefficients (N at n_tau, K at k_tau), marked when
+  // that tau lies outside the data; B at the floor, which is read from the data.
+  const auto inside = [&](double tau) { return tau >= tau_lo * 0.999 && tau <= tau_hi * 1.001; };
+  const auto mark = [&](const char* name, double tau, const std::string& at, double y) {
+    // Text to the left of a point in the right half of the plot, so that it stays on it.
+    f.notes.push_back(
+        {tau, y, fmt::format("{} at τ = {}{}", name, at, inside(tau) ? "" : " (extrapolated)"),
+         tau > std::sqrt(from * to)});
+  };
+  if (t.arw.resolved) mark("N", u.n_tau_s, u.n_at, k * t.arw.value / std::sqrt(u.n_tau_s));
+  if (t.rrw.resolved) mark("K", u.k_tau_s, u.k_at, k * t.rrw.value * std::sqrt(u.k_tau_s / 3.0));
   if (t.bias_floor_dev > 0.0)
-    f.notes.push_back({t.bias_floor_tau_s, t.bias_floor_dev,
-                       t.bias_floor_reached ? "floor: B = floor / 0.664" : "no floor yet"});
+    f.notes.push_back({t.bias_floor_tau_s, k * t.bias_floor_dev,
+                       t.bias_floor_reached ? "floor: B = floor / 0.664" : "no floor yet",
+                       t.bias_floor_tau_s > std::sqrt(from * to)});
   return f;
+}
+
+}  // namespace
+
+figure allan_figure(std::span<const allan_curve> curves, const std::string& unit,
+                    const std::string& title) {
+  term_units u;
+  u.dev_unit = unit;
+  u.n_unit = unit + "/√Hz";
+  u.b_unit = unit;
+  u.k_unit = unit + "·√Hz";
+  u.n_at = "1 s";
+  u.k_at = "3 s";
+  return allan_plot(curves, u, title);
+}
+
+figure gyro_allan_figure(std::span<const allan_curve> curves_dps, const std::string& title) {
+  term_units u;
+  u.dev_unit = "°/h";
+  u.dev_scale = 3600.0;  // deg/s -> deg/h
+  u.n_unit = "°/√h";
+  u.n_factor = 60.0;  // deg/s/sqrt(Hz) = deg/sqrt(s) -> deg/sqrt(h)
+  u.b_unit = "°/h";
+  u.b_factor = 3600.0;
+  u.k_unit = "°/h/√h";
+  u.k_factor = 3600.0 * 60.0;  // deg/s sqrt(Hz) = deg/s/sqrt(s) -> deg/h/sqrt(h)
+  u.n_tau_s = 3600.0;          // sigma(1 h) in deg/h = N in deg/sqrt(h)
+  u.k_tau_s = 10800.0;         // sigma(3 h) in deg/h = K in deg/h/sqrt(h)
+  u.n_at = "1 h";
+  u.k_at = "3 h";
+  return allan_plot(curves_dps, u, title);
 }
 
 }  // namespace gyroflip::report

@@ -4,9 +4,11 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -71,30 +73,68 @@ std::string base64(std::string_view bytes) {
   return out;
 }
 
+// The page's style. Tables never leave the page: they take at most its width, long words (file
+// names, hashes) break anywhere, and print smaller (@media print); wide tables scroll on screen.
 constexpr std::string_view css =
-    R"(body{font-family:"DejaVu Sans",Arial,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
+    R"(body{font-family:"DejaVu Sans",Arial,sans-serif;max-width:62em;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
 h1{font-size:1.6em;border-bottom:2px solid #0072B2;padding-bottom:.2em}
 h2{font-size:1.25em;margin-top:2em;color:#0072B2}
-table{border-collapse:collapse;margin:.8em 0 1.2em;font-size:.9em}
+.banner{border:2px solid #D55E00;background:#fff4ec;padding:.5em .8em;margin:1em 0;font-weight:bold}
+.warn{border-left:4px solid #D55E00;background:#fff8f3;padding:.3em .8em;margin:.8em 0}
+.warn li{margin:.2em 0}
+.tablebox{max-width:100%;overflow-x:auto;margin:.8em 0 1.2em}
+table{border-collapse:collapse;font-size:.88em;max-width:100%}
 caption{text-align:left;font-weight:bold;padding:.3em 0}
-th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right}
+th,td{border:1px solid #ccc;padding:.25em .5em;text-align:right;vertical-align:top}
+td.n{white-space:nowrap}td.t{text-align:left;overflow-wrap:anywhere;min-width:6em}th.t{text-align:left}
 th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}
+.note{font-size:.85em;color:#444;margin:.2em 0 0}
 figure{margin:1em 0 2em}figure img{width:100%;height:auto;border:1px solid #eee}
 figcaption{font-size:.9em;color:#444}
-.prov{font-size:.85em;color:#444;word-break:break-all}code{font-size:.95em}
-@media print{body{margin:0;max-width:none}h2{break-after:avoid}figure,table{break-inside:avoid}}
+.prov{font-size:.85em;color:#444}.prov td{overflow-wrap:anywhere;word-break:break-all}code{font-size:.95em;overflow-wrap:anywhere}
+@page{size:A4;margin:14mm}
+@media print{body{margin:0;max-width:none;font-size:10pt}h2,caption{break-after:avoid}figure,tr{break-inside:avoid}.tablebox{overflow:visible}table{font-size:8pt}th,td{padding:.15em .3em}}
 )";
 
+// A cell that reads as a number (with its interval, unit or mark), kept on one line and
+// right-aligned; anything else is text, left-aligned and wrapped.
+bool is_number(std::string_view c) {
+  std::size_t letters = 0;
+  for (const char ch : c)
+    if ((ch >= 'a' && ch <= 'z' && ch != 'e') || (ch >= 'A' && ch <= 'Z' && ch != 'E')) ++letters;
+  return !c.empty() && letters <= 3 && c.find(": ") == std::string_view::npos;
+}
+
 void put_table(std::string& out, const table& t) {
-  out += fmt::format("<table>\n<caption>{}</caption>\n<tr>", escaped(t.caption));
-  for (const auto& h : t.header) out += fmt::format("<th>{}</th>", escaped(h));
-  out += "</tr>\n";
+  out +=
+      fmt::format("<div class=\"tablebox\">\n<table>\n<caption>{}</caption>\n", escaped(t.caption));
+  if (!t.header.empty()) {  // a table of key-value rows has none
+    out += "<tr>";
+    for (std::size_t k = 0; k < t.header.size(); ++k) {
+      // A column of text has its heading on the left, as its cells.
+      bool text = false;
+      for (const auto& r : t.rows) text = text || (k < r.size() && !is_number(r[k]));
+      out += fmt::format("<th{}>{}</th>", text ? " class=\"t\"" : "", escaped(t.header[k]));
+    }
+    out += "</tr>\n";
+  }
   for (const auto& r : t.rows) {
     out += "<tr>";
-    for (const auto& c : r) out += fmt::format("<td>{}</td>", escaped(c));
+    for (const auto& c : r)
+      out += fmt::format("<td class=\"{}\">{}</td>", is_number(c) ? "n" : "t", escaped(c));
     out += "</tr>\n";
   }
   out += "</table>\n";
+  if (!t.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", escaped(t.note));
+  out += "</div>\n";
+}
+
+// Code points of UTF-8 text (for the plain-text tables' widths).
+std::size_t width(std::string_view s) {
+  std::size_t n = 0;
+  for (const char c : s)
+    if ((static_cast<unsigned char>(c) & 0xC0U) != 0x80U) ++n;
+  return n;
 }
 
 // "NAME failed (exit N): its first messages" for a helper that ran and failed.
@@ -113,9 +153,15 @@ result<std::string> html(const page& p, const std::string& dir) {
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
       escaped(p.title), css, escaped(p.title));
+  for (const auto& b : p.banners) out += fmt::format("<p class=\"banner\">{}</p>\n", escaped(b));
   for (const auto& s : p.sections) {
     out += fmt::format("<h2>{}</h2>\n", escaped(s.heading));
     for (const auto& para : s.paragraphs) out += fmt::format("<p>{}</p>\n", escaped(para));
+    if (!s.warnings.empty()) {
+      out += "<div class=\"warn\"><ul>\n";
+      for (const auto& w : s.warnings) out += fmt::format("<li>{}</li>\n", escaped(w));
+      out += "</ul></div>\n";
+    }
     for (const auto& t : s.tables) put_table(out, t);
     for (const auto& f : s.figures) {
       const auto img = io::mapped_file::open(dir + "/" + f.png);
@@ -127,13 +173,65 @@ result<std::string> html(const page& p, const std::string& dir) {
           f.caption.empty() ? "" : ": " + escaped(f.caption));
     }
   }
+  const auto& m = p.made;
   out += "<h2>Provenance</h2>\n<div class=\"prov\">\n";
-  out += fmt::format("<p>Made by gyroflip {} with:</p>\n<p><code>{}</code></p>\n",
-                     escaped(p.version), escaped(p.command));
-  table inputs{"Inputs (SHA-256)", {"file", "sha256"}, {}};
-  for (const auto& [file, sum] : p.inputs) inputs.rows.push_back({file, sum});
+  table made{"How this page was made",
+             {},
+             {{"command", m.command},
+              {"made (UTC)", m.made_utc},
+              {"gyroflip version", m.version},
+              {"built from commit", m.commit}},
+             ""};
+  put_table(out, made);
+  table inputs{
+      fmt::format("Inputs ({})", m.inputs.size()), {"file", "bytes", "SHA-256", "origin"}, {}, ""};
+  for (const auto& f : m.inputs)
+    inputs.rows.push_back({f.file, fmt::format("{}", f.size_bytes), f.sha256, f.origin});
+  if (m.inputs.empty()) inputs.note = "none: everything on this page was simulated by the command";
   put_table(out, inputs);
   out += "</div>\n</body>\n</html>\n";
+  return out;
+}
+
+result<input_file> identify_file(const std::string& path) {
+  auto sum = sha256_file(path);
+  if (!sum) return sum.err();
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return io_error(path, ec.message());
+  return input_file{path, static_cast<std::uint64_t>(size), *sum, {}};
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z", tm.tm_year + 1900, tm.tm_mon + 1,
+                     tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec);
+}
+
+std::string text(const table& t) {
+  std::vector<std::size_t> w(t.header.size(), 0);
+  const auto widen = [&w](const std::vector<std::string>& r) {
+    if (w.size() < r.size()) w.resize(r.size(), 0);
+    for (std::size_t k = 0; k < r.size(); ++k) w[k] = std::max(w[k], width(r[k]));
+  };
+  widen(t.header);
+  for (const auto& r : t.rows) widen(r);
+  std::string out = t.caption + "\n";
+  const auto line = [&](const std::vector<std::string>& r) {
+    std::string l;
+    for (std::size_t k = 0; k < r.size(); ++k) {
+      const std::string pad(w[k] - width(r[k]), ' ');
+      // The first column left-aligned (names), the others right-aligned (numbers).
+      l += (k == 0 ? r[k] + pad : pad + r[k]) + (k + 1 < r.size() ? "  " : "");
+    }
+    while (!l.empty() && l.back() == ' ') l.pop_back();
+    out += "  " + l + "\n";
+  };
+  if (!t.header.empty()) line(t.header);
+  for (const auto& r : t.rows) line(r);
+  if (!t.note.empty()) out += "  " + t.note + "\n";
   return out;
 }
 

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gyroflip/core/version.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -425,7 +426,8 @@ TEST(CliLoggers, EncoderAnglesWithinATolerancePositionsAndTheCompensateSummary) 
       << help.out;
   EXPECT_NE(help.out.find("dN = (r_0 - r_180) / 2"), std::string::npos);
   const json comp = run_json({"compensate", sim, "--delta-n", "0.0031", "--json"});
-  EXPECT_EQ(comp["schema_version"], 1);
+  EXPECT_EQ(comp["schema"], "gyroflip.compensate/2");  // io/schema.hpp: one convention
+  EXPECT_EQ(comp["version"], std::string(gyroflip::version()));
   EXPECT_EQ(comp["delta_n"]["delta_n_dps"], 0.0031);
   EXPECT_EQ(comp["delta_n"]["degree"], 0);
   EXPECT_EQ(comp["delta_n"]["source"], "--delta-n");

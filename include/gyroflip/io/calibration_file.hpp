@@ -79,11 +79,13 @@ inline constexpr double min_model_span_c = 2.0;
 [[nodiscard]] result<std::optional<method::delta_n_model>> fit_runs_model(
     std::span<const calibration_entry> runs, std::optional<std::size_t> degree = std::nullopt);
 
-/// JSON text of a calibration (one line, keys as in docs/FORMATS.md).
-[[nodiscard]] result<std::string> to_json(const calibration_record& rec,
-                                          std::string_view tool_version);
+/// JSON text of a calibration (one line, keys as in docs/FORMATS.md; schema
+/// gyroflip.calibration/1 and gyroflip's version, io/schema.hpp).
+[[nodiscard]] result<std::string> to_json(const calibration_record& rec);
 
-/// Reads a calibration file. Errors name the file (and the key that is wrong).
+/// Reads a calibration file: its pooled dN, sensor, rig, pairing, model and the runs it was made
+/// of (`files`: dN, correlated error, temperature, cycles). Errors name the file (and the key that
+/// is wrong).
 [[nodiscard]] result<calibration_record> read_calibration_file(const std::string& path);
 /// The same from the file's text (`path` names it in messages).
 [[nodiscard]] result<calibration_record> parse_calibration(std::string_view text,

@@ -28,7 +28,8 @@ struct noise_report {
   analysis::noise_analysis result;
 };
 
-/// The JSON object of `r` (numbers unchecked: pass it through finite_dump).
+/// The JSON object of `r`, schema gyroflip.noise/1 (io/schema.hpp; numbers unchecked: pass it
+/// through finite_dump).
 [[nodiscard]] nlohmann::json noise_json(const noise_report& r);
 
 }  // namespace gyroflip::io

@@ -31,17 +31,22 @@ struct series {
   style how = style::points;
   int color = 0;        ///< index into the palette (0 blue, 1 vermillion, 2 green, 3 purple, ...)
   bool dashed = false;  ///< lines: dashed (models and fits)
+  /// errorbars: a thin line through the points, for the points of one curve (an Allan curve);
+  /// never for independent values (runs), which are not a series in time.
+  bool joined = false;
 };
 
 struct axis {
   std::string label;  ///< with its unit, e.g. "time (s)"
   bool log = false;
+  double tic_step = 0.0;  ///< > 0: tics every this much (whole run numbers: 1); 0: gnuplot's
 };
 
 /// A point with a text beside it (the read-off points of the Allan plot).
 struct annotation {
   double x = 0.0, y = 0.0;
   std::string text;
+  bool text_left = false;  ///< the text ends at the point (near the right edge) instead of starting
 };
 
 struct figure {

@@ -26,16 +26,19 @@ namespace gyroflip::report {
 [[nodiscard]] figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title);
 
 /// The compensated rate per cycle against time, its mean and sample std in the caption: paper
-/// Figs 4, 6, 8, 10 (eqn 12).
+/// Figs 4, 6, 8, 10 (eqn 12). Without `show_mean` (a calibration run compensated with its own
+/// dN, whose mean is zero by construction) the caption gives the std alone.
 [[nodiscard]] figure compensated_figure(std::span<const method::compensated_cycle> cycles,
                                         const method::compensation_summary& summary,
-                                        const std::string& title);
+                                        const std::string& title, bool show_mean = true);
 
 /// The bias estimate c = (y_0 + y_180)/2 per cycle against time: what the flip removes.
 [[nodiscard]] figure bias_figure(std::span<const method::cycle> cycles, const std::string& title);
 
-/// dN of each run (index 1..n) with its correlated standard error, and the runs' mean with
-/// +- one sample std as a band: the paper's Tab. 3 and 4 as a figure.
+/// dN of each run (index 1..n) with its correlated standard error (runs are independent: not
+/// joined), and the runs' mean with +- one sample std as a band: the paper's Tab. 3 and 4 as a
+/// figure. Runs whose temperatures span io::min_model_span_c or more are said to be pooled across
+/// that span in the caption.
 [[nodiscard]] figure delta_n_runs_figure(std::span<const io::calibration_entry> runs,
                                          const std::string& title);
 
@@ -55,8 +58,16 @@ struct allan_curve {
 /// Log-log deviation against tau with confidence bars for every curve; for the first curve with
 /// terms, the fitted IEEE 952 lines (N/sqrt(tau), 0.664 B, K sqrt(tau/3), sqrt(3) Q/tau,
 /// R tau/sqrt(2); resolved terms only) and the read-off points: N at tau = 1 s, B at the floor,
-/// K at tau = 3 s. `unit` is the deviation's unit ("deg/s").
+/// K at tau = 3 s, each marked "extrapolated" when its tau lies outside the curve's taus.
+/// `unit` is the deviation's unit ("deg/s").
 [[nodiscard]] figure allan_figure(std::span<const allan_curve> curves, const std::string& unit,
                                   const std::string& title);
+
+/// The same for gyro curves in deg/s, drawn in the units gyro specifications and the report's
+/// noise table use: the deviation in deg/h, N in deg/sqrt(h) (read at tau = 1 h, where the N
+/// line equals N), B in deg/h (the floor 0.664 B), K in deg/h/sqrt(h) (read at tau = 3 h), so
+/// that every number on the plot is the table's number (IEEE 952 Annex C; FACTS §7).
+[[nodiscard]] figure gyro_allan_figure(std::span<const allan_curve> curves_dps,
+                                       const std::string& title);
 
 }  // namespace gyroflip::report

@@ -5,7 +5,7 @@ set style line 100 lc rgb '#d9d9d9' lw 1
 set grid xtics ytics mxtics mytics ls 100, ls 100
 set border 3 lw 1.2
 set tics nomirror out
-set key top right opaque box lc rgb '#bbbbbb' samplen 2 spacing 1.1
+set key below left vertical maxrows 3 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set mxtics
 set mytics
 set title "Allan deviation" noenhanced
@@ -16,7 +16,7 @@ set format x '10^{%L}'
 set logscale y 10
 set format y '10^{%L}'
 set label 1 'N at τ = 1 s' at 1,0.01 point pt 6 ps 1.6 lw 2 offset 1,0.8 front noenhanced
-set label 2 'no floor yet' at 1024,0.0003125 point pt 6 ps 1.6 lw 2 offset 1,0.8 front noenhanced
+set label 2 'no floor yet' at 1024,0.0003125 right point pt 6 ps 1.6 lw 2 offset -1,0.8 front noenhanced
 
 set terminal pngcairo size 1100,680 font 'DejaVu Sans,12' enhanced
 set output 'allan.png'

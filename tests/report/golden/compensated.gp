@@ -5,7 +5,7 @@ set style line 100 lc rgb '#d9d9d9' lw 1
 set grid xtics ytics mxtics mytics ls 100, ls 100
 set border 3 lw 1.2
 set tics nomirror out
-set key top right opaque box lc rgb '#bbbbbb' samplen 2 spacing 1.1
+set key below left vertical maxrows 3 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set mxtics
 set mytics
 set title "Compensated output\n6 cycles: mean 0 °/s, std 0.00187 °/s (eqn 12)" noenhanced

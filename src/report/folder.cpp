@@ -1,6 +1,6 @@
 /// \file
-/// \brief Report folders built aside and swapped into place (report_folder.hpp).
-#include "report_folder.hpp"
+/// \brief Report folders built aside and swapped into place (folder.hpp).
+#include "gyroflip/report/folder.hpp"
 
 #include <fcntl.h>
 #include <stdio.h>
@@ -21,7 +21,7 @@
 
 #include "gyroflip/core/error.hpp"
 
-namespace gyroflip::app {
+namespace gyroflip::report {
 
 namespace {
 
@@ -169,4 +169,4 @@ status report_folder::publish(const std::string& made_by) {
   return ok();
 }
 
-}  // namespace gyroflip::app
+}  // namespace gyroflip::report

@@ -1,7 +1,8 @@
 /// \file
-/// \brief A report folder (`report -o DIR`, `reproduce -o DIR`), built in a staging folder beside
-/// DIR and swapped into place at the end, so that DIR is never half written and nothing of the
-/// user's is ever removed (docs/cli.md, "report").
+/// \brief A report folder (`gyroflip report`, `reproduce`, Python's `gyroflip.report` and
+/// `gyroflip.reproduce`), built in a staging folder beside DIR and swapped into place at the end,
+/// so that DIR is never half written and nothing of the user's is ever removed (docs/cli.md,
+/// "report").
 ///
 /// DIR may be new, an empty folder, or a folder that a report made and that holds nothing else:
 /// a report lists everything it wrote in DIR/.gyroflip-report, and a folder with any entry not on
@@ -20,7 +21,7 @@
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 
-namespace gyroflip::app {
+namespace gyroflip::report {
 
 class report_folder {
  public:
@@ -47,4 +48,4 @@ class report_folder {
   mode_t mode_;
 };
 
-}  // namespace gyroflip::app
+}  // namespace gyroflip::report

@@ -1,0 +1,61 @@
+/// \file
+/// \brief The uncertainty budget of dN (module workflow; docs/REPORT.md, "The dN budget"): the
+/// within-run (correlated) error, the run-to-run repeatability (from the runs, or the sensor
+/// preset's turn-on spread when they cannot show it, labelled so), the error of the dN(T) model
+/// (flagged when the fit has no degrees of freedom), and their combination for the calibrated
+/// value and for the dN of a new power-up, which is what a compensated rate inherits.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/method/delta_n_model.hpp"
+#include "gyroflip/sensor/params.hpp"
+
+namespace gyroflip::workflow {
+
+struct delta_n_budget {
+  std::size_t runs = 0;
+  /// Within-run (correlated) error of the runs' dN pooled (io::pooled_correlated_stderr).
+  double within_run_dps = 0.0;
+  /// Repeatability of dN from one power-up to the next (one sample std); NaN when unknown.
+  double run_to_run_dps = 0.0;
+  bool run_to_run_measured = false;  ///< false: from the sensor preset, or unknown
+  std::string run_to_run_source;     ///< what it is and where it comes from
+  /// The dN(T) (or weighted-mean) model's standard error at the runs' temperatures (largest);
+  /// empty without a model or when it is not determined (model_note says why).
+  std::optional<double> model_dps;
+  std::string model_note;
+  /// The error of the calibrated dN value (the model's, else the one run's within-run error,
+  /// or, for a fit without degrees of freedom, within-run and repeatability combined).
+  double calibration_dps = 0.0;
+  /// A new power-up's dN about the calibrated value: sqrt(calibration^2 + run_to_run^2). A rate
+  /// compensated with this calibration carries it as a systematic error (paper eqn 12).
+  double new_power_up_dps = 0.0;
+  double temp_c = 0.0;  ///< the temperature the preset's spread is evaluated at
+};
+
+/// The turn-on spread of dN a sensor model draws (sensor/params.hpp): the change of the g-term
+/// along the axis the rig turns upside down (1 g) and of its temperature coefficient, at `temp_c`:
+/// sqrt(s_g^2 + (s_tc (T - T_ref))^2) deg/s (docs/REPRODUCE.md, "The run-to-run spread").
+[[nodiscard]] double turn_on_spread_dps(const sensor::sensor_params& p, double temp_c) noexcept;
+
+/// The budget of dN from the runs' calibrations and their model (io::fit_runs_model; none for
+/// one run). `preset` gives the repeatability when the runs cannot (one run, or a fit with no
+/// degrees of freedom); `preset_name` names it in the labels.
+[[nodiscard]] delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
+                                       const std::optional<method::delta_n_model>& model,
+                                       const sensor::sensor_params* preset,
+                                       const std::string& preset_name);
+
+/// The g-sensitivity a sensor's specification allows (deg/s/g) and its source, for the presets
+/// whose datasheet states one; nullopt otherwise (docs/FACTS.md §4-5).
+struct g_spec {
+  double dps_per_g = 0.0;
+  std::string source;
+};
+[[nodiscard]] std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name);
+
+}  // namespace gyroflip::workflow

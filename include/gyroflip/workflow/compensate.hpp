@@ -1,0 +1,100 @@
+/// \file
+/// \brief Compensate and summarise (module workflow): paper eqn 12 per cycle, w_in = r - dN(T),
+/// with the dN of a number or of a calibration (checked against the recording's sensor, rig and
+/// temperature), and the summary every front end shows. The one compensate loop of `gyroflip
+/// compensate`, `report`, `reproduce` and Python's `gyroflip.compensate`.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/method/compensation.hpp"
+#include "gyroflip/method/delta_n_model.hpp"
+
+namespace gyroflip::workflow {
+
+/// The dN a run is compensated with, and where it comes from.
+struct delta_n_source {
+  method::delta_n_model model;
+  std::string source;  ///< the calibration's name, or empty for a number given as such
+  std::optional<method::pairing> pairing;        ///< the pairing the calibration used
+  std::optional<io::calibration_record> record;  ///< the calibration, when one was given
+};
+
+/// A constant dN given as a number. Errors: method::check_delta_n (parameter `delta_n_dps`).
+[[nodiscard]] result<delta_n_source> delta_n_of_value(double delta_n_dps);
+/// The dN of a calibration file (`calibrate -o`): its dN(T) model when it has one, else its
+/// pooled dN. Errors: io::read_calibration_file.
+[[nodiscard]] result<delta_n_source> delta_n_of_file(const std::string& path);
+/// The same from the calibration's JSON text; `name` names it.
+[[nodiscard]] result<delta_n_source> delta_n_of_json(std::string_view text,
+                                                     const std::string& name);
+
+/// Compensated cycles and their summary.
+struct compensation {
+  std::vector<method::compensated_cycle> cycles;
+  method::compensation_summary summary;
+  /// Cycles more than 1 degC outside the dN(T) model's fitted range (the model extrapolated).
+  bool outside_model = false;
+};
+
+/// The one compensate loop: method::compensate (paper eqn 12) per cycle and
+/// method::summarize over `drift_window_s`; every number checked finite (io::check_finite,
+/// `what` names the output). Precondition: at least one cycle. Errors: drift window outside
+/// (0, 1e9] s (parameter `window_s`), a number that is not finite.
+[[nodiscard]] result<compensation> compensate_cycles(std::span<const method::cycle> cycles,
+                                                     const method::delta_n_model& model,
+                                                     double drift_window_s, std::string_view what);
+
+struct compensate_request {
+  std::string file;  ///< the recording (CSV or `.gfr`)
+  delta_n_source delta_n;
+  std::optional<method::pairing> pairing;  ///< default: the calibration's, else abba
+  double angle_tolerance_deg = 0.0;
+  double drift_window_s = method::drift_window_default_s;
+};
+
+struct compensate_result {
+  compensation comp;
+  method::pairing pairing = method::pairing::abba;
+  std::vector<std::string> warnings;  ///< `FILE: what`, for the caller to show
+};
+
+/// A single-temperature dN applied more than this far from its calibration temperature is warned
+/// about: the paper's HZ1-90-100A moved its dN by 7e-4 deg/s (23 %) between 20 and 4 degC
+/// (docs/FACTS.md §3).
+inline constexpr double far_from_calibration_c = 5.0;
+
+/// Whether the calibration of `dn` (when it is one) fits a recording `file` with its metadata and
+/// cycles: it must belong to the recording's sensor (refused otherwise); another rig setting, a
+/// sensor unknown on one side, or a single-temperature dN applied more than
+/// far_from_calibration_c from its temperature are warned about (appended to `warnings`).
+[[nodiscard]] status check_calibration_fits(const std::string& file, const delta_n_source& dn,
+                                            std::span<const io::csv_metadata> metadata,
+                                            std::span<const method::cycle> cycles,
+                                            std::vector<std::string>& warnings);
+
+/// Reads the recording and compensates it. The calibration must belong to the recording's
+/// sensor (refused otherwise), is warned about on another rig setting, more than
+/// far_from_calibration_c from its temperature, a pairing other than its own, cycles outside
+/// its dN(T) range. Errors: the reader's, a dN(T) model without temperatures in the recording,
+/// compensate_cycles'.
+[[nodiscard]] result<compensate_result> compensate_file(const compensate_request& request,
+                                                        const progress_fn& on_progress = {});
+
+/// The summary `compensate --json` prints and Python's compensate returns as "summary"
+/// (schema gyroflip.compensate/2, docs/cli.md): file, delta_n (source, degree, coeffs_dps,
+/// t_ref_c, delta_n_dps for a constant), pairing, cycles, duration_s, mean/std/stderr,
+/// drift_dps (null when the run is shorter than the window), drift_window_s.
+[[nodiscard]] nlohmann::json compensation_json(const compensation& c, const std::string& file,
+                                               const delta_n_source& dn, method::pairing p);
+
+}  // namespace gyroflip::workflow

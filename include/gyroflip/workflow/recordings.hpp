@@ -1,0 +1,51 @@
+/// \file
+/// \brief Any recording as the method's input (module workflow): a CSV recording
+/// (docs/FORMATS.md; streamed) or a `.gfr` rig recording (rigdata, its dwells), as cycles for
+/// calibrate and compensate, or as a whole run (rows, dwells, both pairings) for the report.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/io/csv.hpp"
+#include "gyroflip/io/recording.hpp"
+#include "gyroflip/method/types.hpp"
+
+namespace gyroflip::workflow {
+
+/// The cycles of a recording with pairing `p`: a CSV recording read in one streamed pass
+/// (io::read_cycles; `on_progress` in bytes), or a `.gfr` rig recording's dwells
+/// (rigdata::read_recording_rows; positions from the device's step count, so the angle
+/// tolerance does not apply). The reader's warnings (a damaged region skipped) are in
+/// `warnings`. Errors: those of the readers, fewer than method::min_cycles cycles.
+[[nodiscard]] result<io::recording_cycles> read_cycles(const std::string& path, method::pairing p,
+                                                       const progress_fn& on_progress = {},
+                                                       double angle_tolerance_deg = 0.0);
+
+/// One recording read whole: its dwells and its cycles by both pairings (paper eqn 7 and abba).
+struct recording_run {
+  std::string file;
+  std::vector<io::csv_metadata> metadata;
+  std::vector<std::string> warnings;
+  std::vector<method::dwell> dwells;
+  std::vector<method::cycle> simple, abba;
+  bool has_temp = false;
+  /// The cycles of pairing `p`.
+  [[nodiscard]] const std::vector<method::cycle>& cycles(method::pairing p) const noexcept {
+    return p == method::pairing::abba ? abba : simple;
+  }
+};
+
+/// Reads a recording (CSV or `.gfr`) whole. Errors: those of the readers and of
+/// io::cycles_of_rows.
+[[nodiscard]] result<recording_run> read_run(const std::string& path,
+                                             double angle_tolerance_deg = 0.0);
+
+/// The same from rows already in memory (a simulation); `name` names them in messages.
+[[nodiscard]] result<recording_run> run_of_rows(const std::string& name,
+                                                std::vector<method::row> rows,
+                                                std::vector<io::csv_metadata> metadata);
+
+}  // namespace gyroflip::workflow

@@ -1,0 +1,46 @@
+/// \file
+/// \brief The report a lab sends (module workflow; docs/REPORT.md): recordings calibrated (or,
+/// with a calibration, compensated), each analysed, the paper's figures and the Allan plot drawn,
+/// and one page written with its PDF, figures and summary.json into a report folder
+/// (report/folder.hpp). What `gyroflip report` and Python's `gyroflip.report` run.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/method/types.hpp"
+
+namespace gyroflip::workflow {
+
+struct report_request {
+  std::vector<std::string> files;                    ///< recordings (CSV or `.gfr`)
+  std::string output;                                ///< the report folder DIR
+  std::optional<io::calibration_geometry> geometry;  ///< split dN into Earth and g terms
+  std::string calibration;  ///< a calibration file: compensate the files (else calibrate them)
+  std::string title;        ///< empty: a title naming the run
+  method::pairing pairing = method::pairing::abba;
+  /// The rate the runs were commanded to (a rate table), with a calibration: each run's error
+  /// and scale-factor error against it. Non-zero, within the simulator's rate bound.
+  std::optional<double> expected_rate_dps;
+  std::string command;  ///< the command (or call) exactly as run, for the provenance
+  std::string made_by = "gyroflip report";  ///< who made the folder (its list's first line)
+};
+
+struct report_result {
+  std::string summary_json;           ///< DIR/summary.json's text
+  std::size_t figures = 0;            ///< figures drawn (each as PNG, SVG and PDF)
+  std::vector<std::string> warnings;  ///< `FILE: what`, for the caller to show
+};
+
+/// Makes the report folder request.output. The folder is checked before any work (report/
+/// folder.hpp) and built aside, so a failure leaves it as it was. Errors: the folder's, the
+/// readers', a calibration that cannot be read, gnuplot or the PDF makers missing (what to
+/// install), a number that is not finite.
+[[nodiscard]] result<report_result> make_report(const report_request& request,
+                                                const progress_fn& on_progress = {});
+
+}  // namespace gyroflip::workflow

@@ -1,0 +1,53 @@
+/// \file
+/// \brief The paper's experiment on the simulator (module workflow; docs/REPRODUCE.md): the
+/// campaigns of Tab. 3 and 4 and the runs of Figs 3-10, on every core, set beside the paper's
+/// numbers. What `gyroflip reproduce` and Python's `gyroflip.reproduce` run.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/sensor/presets.hpp"
+
+namespace gyroflip::workflow {
+
+struct reproduce_request {
+  bool quick = false;         ///< one campaign (unless `campaigns`), runs a quarter as long
+  std::uint64_t seed = 1;     ///< seed of the first campaign
+  std::size_t campaigns = 0;  ///< 0: 10 (1 when quick); at most max_campaigns
+  std::string output;         ///< a report folder for the page (empty: none)
+  /// Sensor models used instead of the built-in presets of the same name ("adxrs150",
+  /// "hz1-90-100a"): a model to put to the paper's test. The verdict is on predictions only, so
+  /// a model whose predictions are wrong fails it.
+  std::vector<sensor::preset> sensors;
+  /// Run the sensitivity study (docs/REPRODUCE.md, "Sensitivity"): the experiment again, one
+  /// campaign each, with each assumed value changed within reason. Default: unless quick.
+  std::optional<bool> sensitivity;
+  std::string command;  ///< the command (or call) exactly as run, for the provenance
+  std::string made_by = "gyroflip reproduce";  ///< who made the folder
+};
+
+/// The most campaigns a reproduction runs.
+inline constexpr std::size_t max_campaigns = 1000;
+
+struct reproduction {
+  std::string text;          ///< the comparison as plain text
+  std::string summary_json;  ///< summary.json's text (schema gyroflip.reproduce/N)
+  /// The verdict: every prediction (a quantity not fitted to the paper) within its criterion.
+  /// The calibration targets (fitted) are shown but not judged.
+  bool reproduced = false;
+};
+
+/// Runs the reproduction (all simulated runs on every core through the library's parallel
+/// helper; progress in runs) and, with request.output, writes its report folder (checked before
+/// the simulations). Errors: campaigns outside 1..max_campaigns (parameter `campaigns`), the
+/// folder's, a simulation that fails, gnuplot or the PDF makers missing.
+[[nodiscard]] result<reproduction> reproduce(const reproduce_request& request,
+                                             const progress_fn& on_progress = {});
+
+}  // namespace gyroflip::workflow

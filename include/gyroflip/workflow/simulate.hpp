@@ -1,0 +1,67 @@
+/// \file
+/// \brief Simulate to a recording, with its truth (module workflow): the rig simulator
+/// (rig/simulator.hpp) run to a recording file (docs/FORMATS.md) and its truth file, or to
+/// dwell rows in memory; and the one formula of the dN a calibration of the simulated run should
+/// find. What `gyroflip simulate`, `reproduce` and Python's `gyroflip.simulate` run.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/progress.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/io/csv.hpp"
+#include "gyroflip/method/types.hpp"
+#include "gyroflip/rig/simulator.hpp"
+
+namespace gyroflip::workflow {
+
+/// What a simulated run's calibration should find.
+struct simulation_truth {
+  double earth_dps = 0.0;   ///< Earth term at position A (paper eqn 9 for a north axis)
+  double g_term_dps = 0.0;  ///< g-term at position A at the run's start temperature
+  /// dN = Earth term + g-term at A (paper eqn 11), at the start temperature. The one place of
+  /// this formula: the truth file, Python's delta_n_truth_dps and the reproduction use it.
+  double delta_n_dps = 0.0;
+};
+
+/// The truth of simulator `sim` made from `c` (its temperature at t = 0).
+[[nodiscard]] simulation_truth truth_of(const rig::simulator& sim, const rig::simulation_config& c);
+
+/// A simulation written as a recording (and its truth).
+struct recording_request {
+  rig::simulation_config config;  ///< taken whole (the rig's settings are its business)
+  bool raw = false;               ///< every conversion (angle empty while turning), else dwells
+  std::string output = "-";       ///< the recording CSV (`-`: standard output)
+  std::string truth;              ///< the truth CSV, or empty for none
+  /// The maker's name: the files' first `# key: value` line is `MADE_BY: recording` (or
+  /// `truth`).
+  std::string made_by = "gyroflip";
+  /// `# key: value` lines next (the front end's inputs, enough to make the file again); the
+  /// simulator's own (conversion time, cycle, turn, scale factor, every sensor parameter) follow.
+  std::vector<io::csv_metadata> metadata;
+};
+
+/// Runs the simulation into request.output (and request.truth): both written to temporaries,
+/// every number checked finite, and committed together (io::commit_all), so a failure leaves
+/// neither. Progress in conversions. Errors: the simulator's (bad sensor, schedule, duration),
+/// a file that cannot be written, a number that is not finite.
+[[nodiscard]] result<simulation_truth> simulate_recording(const recording_request& request,
+                                                          const progress_fn& on_progress = {});
+
+/// A simulation held in memory: one row per dwell, with the truth columns.
+struct simulated_run {
+  std::vector<rig::dwell_row> rows;
+  simulation_truth truth;
+};
+
+/// Runs the simulation into dwell rows (truth columns only when `with_truth`, which costs ~7 %).
+/// Errors: the simulator's; a number that is not finite.
+[[nodiscard]] result<simulated_run> simulate_rows(const rig::simulation_config& config,
+                                                  bool with_truth,
+                                                  const progress_fn& on_progress = {});
+
+/// The dwell rows as recording rows (method::row).
+[[nodiscard]] std::vector<method::row> recording_rows(const std::vector<rig::dwell_row>& rows);
+
+}  // namespace gyroflip::workflow

@@ -1,0 +1,98 @@
+/// \file
+/// \brief The uncertainty budget of dN (budget.hpp).
+#include "gyroflip/workflow/budget.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+namespace gyroflip::workflow {
+
+double turn_on_spread_dps(const sensor::sensor_params& p, double temp_c) noexcept {
+  const double tc =
+      std::isfinite(temp_c) ? p.g_sens_tc_turn_on_sigma_dps_per_g_c * (temp_c - p.temp_ref_c) : 0.0;
+  return std::hypot(p.g_sens_turn_on_sigma_dps_per_g, tc);  // x 1 g, upside down
+}
+
+delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
+                         const std::optional<method::delta_n_model>& model,
+                         const sensor::sensor_params* preset, const std::string& preset_name) {
+  delta_n_budget b;
+  b.runs = runs.size();
+  if (runs.empty()) return b;
+  b.within_run_dps = io::pooled_correlated_stderr(runs);
+  double t_sum = 0.0;
+  std::size_t t_n = 0;
+  for (const auto& r : runs)
+    if (std::isfinite(r.cal.temp_c)) {
+      t_sum += r.cal.temp_c;
+      ++t_n;
+    }
+  b.temp_c = t_n > 0 ? t_sum / static_cast<double>(t_n) : std::numeric_limits<double>::quiet_NaN();
+  // The runs show their repeatability when a model with degrees of freedom is fitted to them:
+  // the scatter of their dN about it.
+  std::size_t dof = 0;
+  if (model && runs.size() > model->degree() + 1) dof = runs.size() - model->degree() - 1;
+  if (model && dof > 0) {
+    double ss = 0.0, worst = 0.0;
+    for (const auto& r : runs) {
+      const double d = r.cal.delta_n_dps - model->eval(r.cal.temp_c);
+      ss += d * d;
+      worst = std::max(worst, model->stderr_at(r.cal.temp_c));
+    }
+    b.run_to_run_dps = std::sqrt(ss / static_cast<double>(dof));
+    b.run_to_run_measured = true;
+    b.run_to_run_source =
+        model->degree() == 0
+            ? fmt::format("measured: std of the {} runs' dN", runs.size())
+            : fmt::format(
+                  "measured: std of the {} runs' dN about the dN(T) line ({} degrees of "
+                  "freedom)",
+                  runs.size(), dof);
+    b.model_dps = worst;
+    b.model_note = model->degree() == 0
+                       ? "the weighted mean's error, scaled by the runs' scatter"
+                       : "the dN(T) line's error at the runs' temperatures (largest)";
+    b.calibration_dps = worst;
+  } else {
+    if (preset != nullptr) {
+      b.run_to_run_dps = turn_on_spread_dps(*preset, b.temp_c);
+      b.run_to_run_source = fmt::format(
+          "not measured ({}): the turn-on spread of the sensor preset {} (an assumption fitted "
+          "to the paper, not this sensor)",
+          runs.size() == 1 ? "one run" : "the dN(T) fit has no degrees of freedom", preset_name);
+    } else {
+      b.run_to_run_dps = std::numeric_limits<double>::quiet_NaN();
+      b.run_to_run_source =
+          fmt::format("unknown: {} and no sensor preset to take it from",
+                      runs.size() == 1 ? "one run" : "the dN(T) fit has no degrees of freedom");
+    }
+    if (model) {
+      b.model_note = fmt::format(
+          "not determined: the dN(T) line of degree {} passes through its {} runs exactly (0 "
+          "degrees of freedom), so its own error says nothing",
+          model->degree(), runs.size());
+      b.calibration_dps = std::isfinite(b.run_to_run_dps)
+                              ? std::hypot(b.within_run_dps, b.run_to_run_dps)
+                              : std::numeric_limits<double>::quiet_NaN();
+    } else {
+      b.model_note = "none: one run";
+      b.calibration_dps = b.within_run_dps;
+    }
+  }
+  b.new_power_up_dps = std::hypot(b.calibration_dps, b.run_to_run_dps);
+  return b;
+}
+
+std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name) {
+  // The specifications' own numbers (FACTS §4.1, §4.2).
+  if (preset_name == "adxrs150")
+    return g_spec{0.2, "ADXRS150 datasheet, 0.2 °/s/g typical (FACTS §4.1, not verified)"};
+  if (preset_name == "hz1-90-100a")
+    return g_spec{0.06, "HZ1-90-100A specification, < 0.06 °/s/g (paper Tab. 2, FACTS §4.2)"};
+  return std::nullopt;
+}
+
+}  // namespace gyroflip::workflow

@@ -1,0 +1,88 @@
+/// \file
+/// \brief Multi-run calibration (calibrate.hpp).
+#include "gyroflip/workflow/calibrate.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/core/parallel.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/workflow/recordings.hpp"
+
+namespace gyroflip::workflow {
+
+namespace {
+
+// With several files there is always a model (io::fit_runs_model); a chosen degree needs several
+// files with temperatures.
+result<std::optional<method::delta_n_model>> fit_model(
+    const calibrate_request& r, const std::vector<io::calibration_entry>& files) {
+  if (r.degree) {
+    if (files.size() < 2)
+      return parameter_error("degree", "a dN(T) model needs calibrations from several files");
+    for (const auto& f : files)
+      if (std::isnan(f.cal.temp_c))
+        return about_parameter(
+            input_error({f.file}, "no temp_c column; a dN(T) model needs temperatures"), "degree");
+  }
+  return io::fit_runs_model(files, r.degree);
+}
+
+}  // namespace
+
+result<calibrate_result> calibrate_runs(const calibrate_request& r,
+                                        const progress_fn& on_progress) {
+  if (r.files.empty()) return usage_error("no recording to calibrate");
+  if (auto s = io::check_distinct_inputs(r.files); !s) return s.err();
+  // The calibration record names its files, and it is JSON (docs/FORMATS.md).
+  for (const auto& file : r.files)
+    if (auto s = check_name_for_json(file); !s) return s.err();
+  calibrate_result out;
+  auto& rec = out.record;
+  rec.pairing = r.pairing;
+  rec.geometry = r.geometry;
+  std::vector<method::cycle> all;
+  for (std::size_t k = 0; k < r.files.size(); ++k) {
+    const auto& file = r.files[k];
+    auto rc = read_cycles(file, r.pairing, part_progress(on_progress, k, r.files.size()),
+                          r.angle_tolerance_deg);
+    if (!rc) return rc.err();
+    for (auto& w : rc->warnings) out.warnings.push_back(std::move(w));
+    auto cal = method::calibrate(rc->cycles);
+    if (!cal) return input_error({file}, cal.err().message);
+    rec.files.push_back({file, *cal});
+    // One sensor per calibration: its identity and rig come from the recordings' metadata.
+    const auto sr = io::sensor_of(rc->metadata);
+    if (!rec.sensor) {
+      rec.sensor = sr;
+    } else if (sr.sensor != rec.sensor->sensor) {
+      return input_error(
+          {file}, fmt::format("recorded with sensor '{}', but {} with '{}': calibrate one sensor "
+                              "at a time",
+                              printable(sr.sensor, 80), printable(r.files.front(), 200),
+                              printable(rec.sensor->sensor, 80)));
+    } else {
+      for (const auto& d : io::rig_differences(*rec.sensor, sr))
+        out.warnings.push_back(
+            fmt::format("{}: rig setting differs from {}: {}", file, r.files.front(), d));
+    }
+    all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
+  }
+  if (!rec.sensor->known())
+    out.warnings.emplace_back(
+        "the recordings name no sensor (no `# sensor_name:` or `# serial:` line): a compensation "
+        "cannot check that this calibration is applied to the same sensor");
+  auto pooled = method::calibrate(all);
+  if (!pooled) return pooled.err();
+  rec.pooled = *pooled;
+  rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);
+  auto model = fit_model(r, rec.files);
+  if (!model) return model.err();
+  rec.model = std::move(*model);
+  return out;
+}
+
+}  // namespace gyroflip::workflow

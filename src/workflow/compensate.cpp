@@ -1,0 +1,162 @@
+/// \file
+/// \brief Compensate and summarise (compensate.hpp).
+#include "gyroflip/workflow/compensate.hpp"
+
+#include <cmath>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/io/finite_output.hpp"
+#include "gyroflip/io/schema.hpp"
+#include "gyroflip/workflow/recordings.hpp"
+
+namespace gyroflip::workflow {
+
+namespace {
+
+delta_n_source of_record(io::calibration_record rec, const std::string& name) {
+  auto model = io::delta_n_model_of(rec);
+  const auto p = rec.pairing;
+  return delta_n_source{std::move(model), name, p, std::move(rec)};
+}
+
+}  // namespace
+
+status check_calibration_fits(const std::string& file, const delta_n_source& dn,
+                              std::span<const io::csv_metadata> metadata,
+                              std::span<const method::cycle> cycles,
+                              std::vector<std::string>& warnings) {
+  if (!dn.record) return ok();
+  const auto& cal = *dn.record;
+  const auto& name = dn.source;
+  const auto here = io::sensor_of(metadata);
+  if (!cal.sensor) {
+    warnings.push_back(
+        fmt::format("{}: the calibration names no sensor (a file from before gyroflip recorded "
+                    "it): nothing checks that it belongs to this sensor",
+                    name));
+  } else if (cal.sensor->known() && here.known() && cal.sensor->sensor != here.sensor) {
+    return input_error({file}, fmt::format("recorded with sensor '{}', but {} calibrates '{}': "
+                                           "a calibration applies to its own sensor only",
+                                           printable(here.sensor, 80), printable(name, 200),
+                                           printable(cal.sensor->sensor, 80)));
+  } else {
+    if (!cal.sensor->known() || !here.known())
+      warnings.push_back(
+          fmt::format("{}: sensor unknown on one side ({} vs {}): nothing checks that the "
+                      "calibration belongs to this sensor",
+                      file, printable(here.sensor, 80), printable(cal.sensor->sensor, 80)));
+    for (const auto& d : io::rig_differences(*cal.sensor, here))
+      warnings.push_back(
+          fmt::format("{}: rig setting differs from the calibration's: {}", file, d));
+  }
+  if (cal.model && cal.model->degree() > 0) return ok();  // dN(T) covers temperature
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& c : cycles)
+    if (std::isfinite(c.temp_c)) {
+      sum += c.temp_c;
+      ++n;
+    }
+  if (n > 0 && std::isfinite(cal.pooled.temp_c) &&
+      std::abs(sum / static_cast<double>(n) - cal.pooled.temp_c) > far_from_calibration_c)
+    warnings.push_back(fmt::format(
+        "{}: mean temperature {:.1f} degC, but the calibration was made at {:.1f} degC: dN "
+        "depends on temperature (calibrate at several temperatures for a dN(T) model)",
+        file, sum / static_cast<double>(n), cal.pooled.temp_c));
+  return ok();
+}
+
+result<delta_n_source> delta_n_of_value(double delta_n_dps) {
+  if (auto s = method::check_delta_n(delta_n_dps); !s) return s.err();
+  return delta_n_source{method::constant_model(delta_n_dps), {}, std::nullopt, std::nullopt};
+}
+
+result<delta_n_source> delta_n_of_file(const std::string& path) {
+  auto rec = io::read_calibration_file(path);
+  if (!rec) return rec.err();
+  return of_record(std::move(*rec), path);
+}
+
+result<delta_n_source> delta_n_of_json(std::string_view text, const std::string& name) {
+  auto rec = io::parse_calibration(text, name);
+  if (!rec) return rec.err();
+  return of_record(std::move(*rec), name);
+}
+
+result<compensation> compensate_cycles(std::span<const method::cycle> cycles,
+                                       const method::delta_n_model& model, double drift_window_s,
+                                       std::string_view what) {
+  if (auto s = method::check_drift_window(drift_window_s); !s) return s.err();
+  compensation out;
+  out.cycles.reserve(cycles.size());
+  for (const auto& c : cycles) {
+    out.cycles.push_back(method::compensate(c, model));
+    if (model.degree() > 0 &&
+        (c.temp_c < model.temp_min_c - 1.0 || c.temp_c > model.temp_max_c + 1.0))
+      out.outside_model = true;
+  }
+  out.summary = method::summarize(out.cycles, drift_window_s);
+  if (auto s = io::check_finite(out.cycles, out.summary, what); !s) return s.err();
+  return out;
+}
+
+result<compensate_result> compensate_file(const compensate_request& r,
+                                          const progress_fn& on_progress) {
+  compensate_result out;
+  const auto& dn = r.delta_n;
+  out.pairing = r.pairing.value_or(dn.pairing.value_or(method::pairing::abba));
+  if (auto s = method::check_drift_window(r.drift_window_s); !s) return s.err();
+  if (dn.pairing && *dn.pairing != out.pairing)
+    out.warnings.push_back(fmt::format("calibration used pairing '{}', compensating with '{}'",
+                                       method::to_string(*dn.pairing),
+                                       method::to_string(out.pairing)));
+  auto rc = read_cycles(r.file, out.pairing, on_progress, r.angle_tolerance_deg);
+  if (!rc) return rc.err();
+  for (auto& w : rc->warnings) out.warnings.push_back(std::move(w));
+  if (auto s = check_calibration_fits(r.file, dn, rc->metadata, rc->cycles, out.warnings); !s)
+    return s.err();
+  if (dn.model.degree() > 0 && !rc->has_temp)
+    return input_error({r.file},
+                       "no temp_c column, but the calibration's dN(T) model needs temperatures");
+  auto comp = compensate_cycles(rc->cycles, dn.model, r.drift_window_s, r.file);
+  if (!comp) return comp.err();
+  out.comp = std::move(*comp);
+  if (out.comp.outside_model)
+    out.warnings.push_back(
+        fmt::format("{}: some cycles lie outside the dN(T) model's {:.1f}..{:.1f} degC", r.file,
+                    dn.model.temp_min_c, dn.model.temp_max_c));
+  return out;
+}
+
+nlohmann::json compensation_json(const compensation& c, const std::string& file,
+                                 const delta_n_source& dn, method::pairing p) {
+  using nlohmann::json;
+  const auto& m = dn.model;
+  const auto& s = c.summary;
+  // The dN that was subtracted: a constant, or the dN(T) polynomial about t_ref_c.
+  json d = {{"source", dn.source.empty() ? json(nullptr) : json(dn.source)},
+            {"degree", m.degree()},
+            {"coeffs_dps", m.coeffs_dps},
+            {"t_ref_c", m.degree() > 0 ? json(m.t_ref_c) : json(nullptr)}};
+  if (m.degree() == 0) d["delta_n_dps"] = m.coeffs_dps.front();
+  json j = io::schema_object("compensate", 2);
+  j.update(json{{"file", file},
+                {"delta_n", std::move(d)},
+                {"pairing", method::to_string(p)},
+                {"cycles", s.cycles},
+                {"duration_s", s.duration_s},
+                {"mean_dps", s.mean_dps},
+                {"std_dps", s.std_dps},
+                {"stderr_dps", s.stderr_dps},
+                {"stderr_correlated_dps", s.stderr_correlated_dps},
+                {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
+                {"drift_window_s", s.drift_window_s}});
+  return j;
+}
+
+}  // namespace gyroflip::workflow

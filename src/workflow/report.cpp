@@ -1,0 +1,889 @@
+/// \file
+/// \brief The report a lab sends (report.hpp; docs/REPORT.md): the runs read and analysed, then
+/// one page built from their numbers: what the sensor and rig were, a conclusion written from the
+/// numbers, dN and its budget (or the compensated rates), the noise, the pairing comparison, the
+/// figures per run and the provenance; summary.json holds the same numbers.
+#include "gyroflip/workflow/report.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "gyroflip/analysis/drift.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
+#include "gyroflip/core/version.hpp"
+#include "gyroflip/earth/earth.hpp"
+#include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/finite_output.hpp"
+#include "gyroflip/io/schema.hpp"
+#include "gyroflip/report/figures.hpp"
+#include "gyroflip/report/folder.hpp"
+#include "gyroflip/report/page.hpp"
+#include "gyroflip/rig/simulator.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/analyse.hpp"
+#include "gyroflip/workflow/budget.hpp"
+#include "gyroflip/workflow/compensate.hpp"
+
+namespace gyroflip::workflow {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::array formats{report::image_format::png, report::image_format::svg,
+                             report::image_format::pdf};
+
+// The summary.json layout (schema gyroflip.report/N): 2 since issue 22 (calibration runs carry a
+// residual instead of a compensated mean, the budget, identity, provenance, warnings).
+constexpr int summary_schema = 2;
+
+// A dN that calls a calibration run not stationary: its g-term beyond this many times the
+// sensor's specified g-sensitivity (at 1 g), or runs whose dN disagree by a chi^2/dof beyond
+// max_chi2_per_dof (the paper's own runs scatter 14-30 times their errors: chi^2/dof 200-900).
+constexpr double g_term_beyond_spec = 3.0;
+constexpr double max_chi2_per_dof = 1e4;
+
+std::string g(double v, int digits = 4) {
+  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
+}
+
+// `v` with the decimals that show its uncertainty `u` to two significant digits (0.500099 with
+// u = 1.2e-5), as "v ± u"; without a usable u, 6 significant digits.
+std::string pm(double v, double u) {
+  if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
+  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  return fmt::format("{:.{}f} ± {:.{}f}", v, decimals, u, decimals);
+}
+
+json num(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+
+// What the recordings say about the sensor, the rig and where the data came from.
+struct identity {
+  std::string preset;  // the sensor's name (a built-in preset's name when it is one)
+  const sensor::preset* builtin = nullptr;
+  std::set<std::string> serials;
+  std::vector<io::csv_metadata> rig;  // the first run's rig settings
+  std::vector<std::string> origin;    // per run
+  std::size_t simulated = 0;          // runs from gyroflip's simulator
+};
+
+std::string meta(std::span<const io::csv_metadata> m, std::string_view key) {
+  for (const auto& e : m)
+    if (e.key == key) return e.value;
+  return {};
+}
+
+// Where a recording came from, from its metadata.
+std::string origin_of(const recording_run& r, bool& simulated) {
+  const auto& m = r.metadata;
+  simulated = false;
+  if (!meta(m, "gyroflip simulate").empty()) {
+    simulated = true;
+    return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)", meta(m, "sensor"),
+                       meta(m, "seed"), meta(m, "duration_s"));
+  }
+  if (r.file.ends_with(".gfr"))
+    return fmt::format("rig recording (.gfr): device serial {}, firmware {}", meta(m, "serial"),
+                       meta(m, "firmware"));
+  return "recording (CSV); its metadata names no maker";
+}
+
+identity identify(const std::vector<run_analysis>& runs) {
+  identity id;
+  for (const auto& a : runs) {
+    const auto& m = a.run.metadata;
+    if (id.preset.empty()) {
+      id.preset = meta(m, "sensor_name");
+      if (id.preset.empty()) id.preset = meta(m, "sensor");
+      id.rig = io::sensor_of(m).rig;
+    }
+    if (const auto s = meta(m, "serial"); !s.empty()) id.serials.insert(s);
+    bool sim = false;
+    id.origin.push_back(origin_of(a.run, sim));
+    id.simulated += sim ? 1 : 0;
+  }
+  id.builtin = id.preset.empty() ? nullptr : sensor::find_builtin(id.preset);
+  return id;
+}
+
+std::string sensor_words(const identity& id) {
+  if (id.builtin != nullptr) return id.builtin->description;
+  return id.preset.empty() ? std::string("a sensor the recordings do not name") : id.preset;
+}
+
+// The sensor's short name for titles ("HZ1-90-100A").
+std::string part_of(const identity& id) {
+  if (id.preset.empty()) return "Gyro";
+  std::string p = id.preset;
+  if (id.builtin != nullptr)
+    std::transform(p.begin(), p.end(), p.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  return p;
+}
+
+struct temp_span {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  [[nodiscard]] bool known() const { return lo <= hi; }
+  [[nodiscard]] std::string text() const {
+    if (!known()) return "not recorded";
+    return hi - lo < 0.05 ? fmt::format("{:.1f} °C", lo) : fmt::format("{:.1f}–{:.1f} °C", lo, hi);
+  }
+};
+
+temp_span cycle_temps(const std::vector<method::cycle>& cycles) {
+  temp_span t;
+  for (const auto& c : cycles)
+    if (std::isfinite(c.temp_c)) {
+      t.lo = std::min(t.lo, c.temp_c);
+      t.hi = std::max(t.hi, c.temp_c);
+    }
+  return t;
+}
+
+std::string minutes(double s) {
+  return s >= 120.0 ? fmt::format("{:.0f} min", s / 60.0) : fmt::format("{:.0f} s", s);
+}
+
+// The run's mean cycle period (s).
+double cycle_period_s(const run_analysis& a) {
+  const auto& c = a.run.cycles(a.pairing);
+  return c.size() > 1 ? (c.back().time_s - c.front().time_s) / static_cast<double>(c.size() - 1)
+                      : 0.0;
+}
+
+std::string term(const analysis::noise_term& t, double to) {
+  if (!t.resolved) return "< " + g(t.hi * to, 3);
+  return fmt::format("{} [{}, {}]", g(t.value * to, 3), g(t.lo * to, 3), g(t.hi * to, 3));
+}
+
+// The noise of each run's raw sensor and compensated rate: the IEEE 952 terms of the fit the
+// Allan plot draws, in the plot's units (°/√h, °/h, °/h/√h), and the taus the data cover.
+report::table noise_table(const std::vector<run_analysis>& runs) {
+  report::table t{
+      "IEEE 952 noise terms (68.3 % intervals; < : an upper limit, not resolved)",
+      {"run", "series", "τ of the data (s)", "N (°/√h)", "B (°/h)", "K (°/h/√h)",
+       "OADEV floor (°/h) at τ (s)"},
+      {},
+      "N, B and K are fitted to the OADEV over the τ of the data; the Allan plot draws the same "
+      "numbers and marks where each is read (N at τ = 1 h, K at 3 h, B at the floor), "
+      "“extrapolated” when that τ lies beyond the data."};
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto& a = runs[k];
+    for (const auto& [what, n] :
+         {std::pair{"raw (0° dwells)", &a.raw_noise}, std::pair{"compensated", &a.comp_noise}}) {
+      const std::string run = fmt::format("{}: {}", k + 1, a.run.file);
+      if (!*n || (*n)->oadev.empty()) {
+        t.rows.push_back({run, what, "–", "–", "–", "–", "series too short"});
+        continue;
+      }
+      const auto& pts = (*n)->oadev;
+      const std::string taus =
+          fmt::format("{}–{}", g(pts.front().tau_s, 3), g(pts.back().tau_s, 3));
+      if (!noise_fitted(**n)) {
+        t.rows.push_back({run, what, taus, "–", "–", "–", "too few points to fit"});
+        continue;
+      }
+      const auto& f = (*n)->terms;
+      t.rows.push_back({run, what, taus, term(f.arw, units::deg_rth_per_deg_rts),
+                        term(f.bias_instability, units::dph_per_dps),
+                        term(f.rrw, units::dph_rth_per_dps_rts),
+                        fmt::format("{} at {}", g(f.bias_floor_dev * units::dph_per_dps, 3),
+                                    g(f.bias_floor_tau_s, 3))});
+    }
+  }
+  return t;
+}
+
+// The pairing comparison the reader would otherwise misread (docs/METHOD-NOTES.md).
+report::section pairing_section(const std::vector<run_analysis>& runs) {
+  report::section s;
+  s.heading = "Simple and abba pairing";
+  s.paragraphs.push_back(
+      "The paper pairs each 0° dwell with the next 180° dwell (simple pairing). gyroflip's "
+      "default, abba, averages each dwell with both neighbours, which cancels a linear drift "
+      "of the bias exactly (the warm-up leak of simple pairing). Abba cycles share dwells, so "
+      "neighbouring cycle values are correlated: their per-cycle std is lower than simple "
+      "pairing's although the white-noise level at long averaging times is the same. Compare "
+      "the paper's per-cycle std with the simple pairing's row; compare long-term stability "
+      "with the OADEV at long τ, which is the same for both.");
+  report::table t{"Per-cycle statistics of r = (y₀ − y₁₈₀)/2 by pairing",
+                  {"run", "pairing", "cycles", "mean r (°/s)", "per-cycle std (°/s)",
+                   "correlated stderr (°/s)", "OADEV at the longest common τ (°/s)"},
+                  {},
+                  ""};
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    for (const auto& p : runs[k].pairings) {
+      const auto& c = p.cal;
+      const auto& at = p.oadev_at_common_tau;
+      t.rows.push_back({fmt::format("{}: {}", k + 1, runs[k].run.file),
+                        p.pairing == method::pairing::simple ? "simple (paper)" : "abba",
+                        std::to_string(c.cycles), pm(c.delta_n_dps, c.stderr_correlated_dps),
+                        g(c.std_dps, 3), g(c.stderr_correlated_dps, 3),
+                        at ? fmt::format("{} at {} s", g(at->dev, 3), g(at->tau_s, 3)) : "–"});
+    }
+  s.tables.push_back(std::move(t));
+  return s;
+}
+
+// Renders `f` as figures/STEM.{png,svg,pdf} in `dir` and returns its reference.
+result<report::figure_ref> draw(const report::figure& f, const std::string& dir,
+                                const std::string& stem, const std::string& caption) {
+  if (auto s = report::render(f, dir + "/figures", stem, formats); !s) return s.err();
+  return report::figure_ref{f.title, "figures/" + stem + ".png", "figures/" + stem + ".pdf",
+                            caption};
+}
+
+std::string stem_of(std::size_t k, const char* what) {
+  return fmt::format("run{}_{}", k + 1, what);
+}
+
+// A compensated run's numbers against a commanded rate.
+struct rate_check {
+  double error_dps = 0.0;
+  double scale_factor_ppm = 0.0;
+  double scale_factor_u_ppm = 0.0;
+};
+
+rate_check check_rate(const method::compensation_summary& s, double expected_dps,
+                      double systematic_dps) {
+  rate_check c;
+  c.error_dps = s.mean_dps - expected_dps;
+  c.scale_factor_ppm = 1e6 * (s.mean_dps / expected_dps - 1.0);
+  c.scale_factor_u_ppm =
+      1e6 * std::hypot(s.stderr_correlated_dps, systematic_dps) / std::abs(expected_dps);
+  return c;
+}
+
+// The dN actually subtracted from a run (a constant, or dN(T) at its cycles' temperatures).
+std::pair<double, double> applied_range(const compensation& c) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& x : c.cycles) {
+    lo = std::min(lo, x.delta_n_dps);
+    hi = std::max(hi, x.delta_n_dps);
+  }
+  return {lo, hi};
+}
+
+std::string applied_text(const compensation& c) {
+  const auto [lo, hi] = applied_range(c);
+  return hi - lo <= 1e-12 * std::max(1.0, std::abs(hi)) ? g(lo, 6)
+                                                        : fmt::format("{}…{}", g(lo, 5), g(hi, 5));
+}
+
+// Everything the page and summary.json say, computed once.
+struct findings {
+  identity id;
+  bool compensating = false;
+  std::optional<delta_n_source> given;
+  std::optional<method::delta_n_model> model;       // the calibration's, or the runs' dN(T)
+  std::optional<method::delta_n_model> runs_model;  // the runs' model (calibration mode)
+  delta_n_budget budget;
+  std::optional<std::pair<double, double>> pooled;  // one temperature: weighted mean and error
+  std::vector<std::string> warnings;
+  std::vector<std::optional<rate_check>> rates;
+};
+
+// The calibration runs' warnings: a run that cannot have been stationary, runs that disagree.
+void check_stationary(const report_request& r, const std::vector<run_analysis>& runs, findings& f) {
+  const auto spec = g_sensitivity_spec(f.id.preset);
+  const double w_e = earth::earth_rate_wgs84_dps;
+  for (const auto& a : runs) {
+    if (!spec) break;
+    // The g-term: exactly with the geometry, else at least |dN| - W_E (any axis).
+    const double g_term =
+        r.geometry ? std::abs(method::split_delta_n(a.cal.delta_n_dps, r.geometry->lat_deg,
+                                                    r.geometry->axis)
+                                  .g_term_dps)
+                   : std::max(0.0, std::abs(a.cal.delta_n_dps) - w_e);
+    if (g_term > g_term_beyond_spec * spec->dps_per_g)
+      f.warnings.push_back(fmt::format(
+          "{}: dN = {} °/s means a g-term of {}{} °/s, {:.0f} times the {} at 1 g: this run was "
+          "not a stationary calibration (a rate input, a tilted or moving rig?); its dN is not "
+          "the sensor's",
+          a.run.file, g(a.cal.delta_n_dps, 6), r.geometry ? "" : "at least ", g(g_term, 3),
+          g_term / spec->dps_per_g, spec->source));
+  }
+  if (f.runs_model && f.runs_model->chi2_per_dof > max_chi2_per_dof)
+    f.warnings.push_back(fmt::format(
+        "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {:.3g}; the paper's own "
+        "runs scatter 14–30 times theirs): they were not made under the same stationary "
+        "conditions, and the pooled dN means little",
+        std::sqrt(f.runs_model->chi2_per_dof), f.runs_model->chi2_per_dof));
+}
+
+// The conclusion, written from the numbers the tables show.
+std::string conclusion(const report_request& r, const std::vector<run_analysis>& runs,
+                       const findings& f) {
+  const auto& b = f.budget;
+  std::string out;
+  const std::string sensor = part_of(f.id);
+  const auto worst_std = [&] {
+    double s = 0.0;
+    for (const auto& a : runs) s = std::max(s, a.comp.summary.std_dps);
+    return s;
+  }();
+  if (!f.compensating) {
+    std::string value;
+    if (f.pooled) {
+      value = fmt::format("{} °/s (weighted mean of {} runs at {})",
+                          pm(f.pooled->first, f.pooled->second), runs.size(),
+                          cycle_temps(runs.front().run.cycles(runs.front().pairing)).text());
+    } else if (f.runs_model && f.runs_model->degree() > 0) {
+      const auto& m = *f.runs_model;
+      // A line without degrees of freedom has no error of its own: the budget's stands in.
+      value = fmt::format(
+          "{} °/s at {:.1f} °C, changing by {} °/s per °C over {:.1f}–{:.1f} °C "
+          "(dN(T) of {} runs)",
+          pm(m.coeffs_dps[0], b.model_dps ? m.stderr_at(m.t_ref_c) : b.calibration_dps), m.t_ref_c,
+          g(m.coeffs_dps[1], 3), m.temp_min_c, m.temp_max_c, runs.size());
+    } else {
+      const auto& c = runs.front().cal;
+      value = fmt::format("{} °/s (one run of {}, within-run error)",
+                          pm(c.delta_n_dps, c.stderr_correlated_dps), minutes(c.duration_s));
+    }
+    out = fmt::format("ΔN of this {} is {}.", sensor, value);
+    if (r.geometry) {
+      const auto s = method::split_delta_n(runs.front().cal.delta_n_dps, r.geometry->lat_deg,
+                                           r.geometry->axis);
+      out += fmt::format(
+          " Of it, {} °/s is the Earth's rate at {}° latitude and {} °/s the "
+          "g-term (first run).",
+          g(s.earth_rate_dps, 4), r.geometry->lat_deg, g(s.g_term_dps, 3));
+    }
+    if (std::isfinite(b.new_power_up_dps)) {
+      out += fmt::format(
+          " For a new power-up its uncertainty is ±{} °/s: the repeatability from one power-up "
+          "to the next is {} °/s ({}) and the calibrated value's error {} °/s.",
+          g(b.new_power_up_dps, 2), g(b.run_to_run_dps, 2),
+          b.run_to_run_measured ? "measured on these runs" : "the sensor preset's, not measured",
+          g(b.calibration_dps, 2));
+    } else {
+      out +=
+          " Its repeatability from one power-up to the next is unknown (one run, no sensor "
+          "preset): calibrate over several power-ups before relying on it.";
+    }
+    out += fmt::format(" With ΔN removed, the rate scatters by up to {} °/s per cycle.",
+                       g(worst_std, 3));
+  } else {
+    out = fmt::format("Compensated with {} (ΔN applied: {} °/s; for this power-up ±{} °/s).",
+                      f.given->source, applied_text(runs.front().comp), g(b.new_power_up_dps, 2));
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const auto& s = runs[k].comp.summary;
+      out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
+                         pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
+      if (f.rates[k])
+        out += fmt::format(" against the commanded {} °/s: a scale-factor error of {} ppm",
+                           g(*r.expected_rate_dps, 6),
+                           pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
+      out += ".";
+    }
+    out += fmt::format(
+        " The ΔN error ±{} °/s is common to every cycle: averaging longer does not "
+        "reduce it.",
+        g(b.new_power_up_dps, 2));
+  }
+  const auto* a = &runs.front();
+  if (a->comp_noise && noise_fitted(*a->comp_noise) && a->raw_noise &&
+      !a->raw_noise->oadev.empty()) {
+    const auto& t = a->comp_noise->terms;
+    out += fmt::format(
+        " The compensated rate's Allan deviation reaches {} °/h at τ = {} s (the raw sensor's {} "
+        "°/h at its longest τ, {} s).",
+        g(t.bias_floor_dev * units::dph_per_dps, 3), g(t.bias_floor_tau_s, 3),
+        g(a->raw_noise->oadev.back().dev * units::dph_per_dps, 3),
+        g(a->raw_noise->oadev.back().tau_s, 3));
+  }
+  out += f.warnings.empty() ? " Nothing in the runs looks wrong."
+                            : fmt::format(" Watch: {} warning{} below.", f.warnings.size(),
+                                          f.warnings.size() == 1 ? "" : "s");
+  return out;
+}
+
+json budget_json(const delta_n_budget& b) {
+  return {{"runs", b.runs},
+          {"within_run_dps", num(b.within_run_dps)},
+          {"run_to_run_dps", num(b.run_to_run_dps)},
+          {"run_to_run_measured", b.run_to_run_measured},
+          {"run_to_run_source", b.run_to_run_source},
+          {"model_dps", b.model_dps ? num(*b.model_dps) : json(nullptr)},
+          {"model_note", b.model_note},
+          {"calibration_dps", num(b.calibration_dps)},
+          {"new_power_up_dps", num(b.new_power_up_dps)}};
+}
+
+report::table budget_table(const delta_n_budget& b, bool compensating) {
+  const auto v = [](double x) { return std::isfinite(x) ? g(x, 2) : std::string("unknown"); };
+  report::table t{
+      compensating ? "Uncertainty of the ΔN applied (from the calibration's runs)"
+                   : "Uncertainty budget of ΔN (°/s, one standard uncertainty)",
+      {"component", "value (°/s)", "what it is"},
+      {{"within-run (correlated)", v(b.within_run_dps),
+        fmt::format("the {} run{}' own errors, pooled (correlated noise included)", b.runs,
+                    b.runs == 1 ? "" : "s")},
+       {"run-to-run repeatability", v(b.run_to_run_dps), b.run_to_run_source},
+       {"dN(T) model", b.model_dps ? v(*b.model_dps) : std::string("–"), b.model_note},
+       {"calibrated ΔN", v(b.calibration_dps), "the error of the calibrated value"},
+       {"ΔN of a new power-up", v(b.new_power_up_dps),
+        "√(calibrated² + repeatability²): what a compensated rate carries as a systematic error "
+        "(w = r − ΔN, paper eqn 12), the same in every cycle"}},
+      "The components are not added linearly: the within-run error is part of the runs' "
+      "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
+  return t;
+}
+
+}  // namespace
+
+result<report_result> make_report(const report_request& r, const progress_fn& on_progress) {
+  if (r.files.empty()) return usage_error("no recording to report on");
+  if (r.expected_rate_dps) {
+    if (r.calibration.empty())
+      return parameter_error("expected_rate_dps",
+                             "a commanded rate is checked on compensated runs: give a calibration");
+    if (!(std::isfinite(*r.expected_rate_dps) && *r.expected_rate_dps != 0.0 &&
+          std::abs(*r.expected_rate_dps) <= rig::max_rate_dps))
+      return parameter_error(
+          "expected_rate_dps",
+          fmt::format("must be a non-zero rate within ±{:g} °/s", rig::max_rate_dps));
+  }
+  if (auto s = io::check_distinct_inputs(r.files); !s) return s.err();
+  std::vector<std::string> inputs = r.files;
+  if (!r.calibration.empty()) inputs.push_back(r.calibration);
+  // The folder is checked (and its staging folder made) before any work.
+  auto folder = report::report_folder::make(r.output, inputs);
+  if (!folder) return folder.err();
+  const std::string& staging = folder->path();  // removed with `folder` unless published
+  const std::size_t steps = 2 * r.files.size() + 1;
+  report_result out;
+  findings f;
+  if (!r.calibration.empty()) {
+    auto dn = delta_n_of_file(r.calibration);
+    if (!dn) return dn.err();
+    f.given = std::move(*dn);
+    f.compensating = true;
+  }
+
+  std::vector<run_analysis> runs;
+  for (std::size_t k = 0; k < r.files.size(); ++k) {
+    auto run = read_run(r.files[k]);
+    if (!run) return run.err();
+    for (const auto& w : run->warnings) f.warnings.push_back(w);
+    if (f.given) {
+      std::vector<std::string> ws;
+      if (auto s = check_calibration_fits(run->file, *f.given, run->metadata,
+                                          run->cycles(r.pairing), ws);
+          !s)
+        return s.err();
+      f.warnings.insert(f.warnings.end(), ws.begin(), ws.end());
+      if (f.given->model.degree() > 0 && !run->has_temp)
+        return input_error(
+            {run->file}, "no temp_c column, but the calibration's dN(T) model needs temperatures");
+    }
+    auto a = analyse_run(std::move(*run), r.pairing);
+    if (!a) return a.err();
+    runs.push_back(std::move(*a));
+    if (on_progress) on_progress(k + 1, steps);
+  }
+  f.id = identify(runs);
+
+  // The dN: each calibration run compensated with its own dN (residuals about zero; their mean
+  // says nothing); the runs' model (a weighted mean at one temperature, dN(T) over a span). With
+  // a calibration: its dN or dN(T) for every run.
+  std::vector<io::calibration_entry> entries;
+  for (const auto& a : runs) entries.push_back({a.run.file, a.cal});
+  if (f.given) {
+    f.model = f.given->model;
+    const auto& rec = *f.given->record;
+    f.budget = budget_of(rec.files, rec.model, f.id.builtin ? &f.id.builtin->params : nullptr,
+                         f.id.preset);
+  } else {
+    auto m = io::fit_runs_model(entries);
+    if (!m) return m.err();
+    f.runs_model = *m;
+    if (f.runs_model && f.runs_model->degree() > 0) f.model = f.runs_model;
+    if (f.runs_model && f.runs_model->degree() == 0)
+      f.pooled = std::pair{f.runs_model->coeffs_dps[0], f.runs_model->stderr_at(0.0)};
+    f.budget = budget_of(entries, f.runs_model, f.id.builtin ? &f.id.builtin->params : nullptr,
+                         f.id.preset);
+    check_stationary(r, runs, f);
+  }
+  for (auto& a : runs) {
+    const auto model = f.given ? f.given->model : method::constant_model(a.cal.delta_n_dps);
+    if (auto s = compensate_run(a, model); !s) return s.err();
+    if (a.comp.outside_model)
+      f.warnings.push_back(
+          fmt::format("{}: some cycles lie outside the dN(T) model's "
+                      "{:.1f}–{:.1f} °C: ΔN was extrapolated",
+                      a.run.file, f.model->temp_min_c, f.model->temp_max_c));
+    f.rates.push_back(r.expected_rate_dps
+                          ? std::optional(check_rate(a.comp.summary, *r.expected_rate_dps,
+                                                     f.budget.new_power_up_dps))
+                          : std::nullopt);
+  }
+  if (!f.compensating && f.runs_model && !f.budget.model_dps)
+    f.warnings.push_back(fmt::format(
+        "the dN(T) line passes exactly through its {} runs (0 degrees of freedom): its error is "
+        "not determined, and the run-to-run repeatability is not measured; calibrate more runs "
+        "than the line has coefficients",
+        runs.size()));
+  if (runs.size() == 1 && !f.compensating)
+    f.warnings.push_back(
+        "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "
+        "below is the sensor preset's or unknown); calibrate several runs");
+
+  // Provenance first: a title, banners and the inputs' identities.
+  report::page page;
+  page.made.command = r.command;
+  page.made.made_utc = report::utc_now();
+  page.made.version = std::string(version());
+  page.made.commit = std::string(build_commit());
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    auto in = report::identify_file(inputs[k]);
+    if (!in) return in.err();
+    in->origin = k < runs.size() ? f.id.origin[k]
+                                 : fmt::format("calibration of {} run{} (gyroflip.calibration)",
+                                               f.given->record->files.size(),
+                                               f.given->record->files.size() == 1 ? "" : "s");
+    page.made.inputs.push_back(std::move(*in));
+  }
+  temp_span all_t;
+  for (const auto& a : runs) {
+    const auto t = cycle_temps(a.run.cycles(a.pairing));
+    if (t.known()) {
+      all_t.lo = std::min(all_t.lo, t.lo);
+      all_t.hi = std::max(all_t.hi, t.hi);
+    }
+  }
+  const std::string serials = [&] {
+    std::string s;
+    for (const auto& x : f.id.serials) s += (s.empty() ? "" : ", ") + x;
+    return s;
+  }();
+  page.title = !r.title.empty()
+                   ? r.title
+                   : fmt::format("{}{}: {} {} run{}, {}", part_of(f.id),
+                                 serials.empty() ? std::string() : " serial " + serials,
+                                 f.compensating ? "compensated" : "ΔN calibration from",
+                                 runs.size(), runs.size() == 1 ? "" : "s", all_t.text());
+  if (f.id.simulated > 0)
+    page.banners.push_back(fmt::format(
+        "Simulated data: {} of the {} recordings came from gyroflip's simulator (see Inputs); "
+        "no sensor was measured for them.",
+        f.id.simulated, runs.size()));
+
+  // Summary: the conclusion and the warnings.
+  report::section top;
+  top.heading = "Conclusion";
+  top.paragraphs.push_back(conclusion(r, runs, f));
+  top.warnings = f.warnings;
+  page.sections.push_back(std::move(top));
+
+  // Identity.
+  report::section who;
+  who.heading = "Sensor and rig";
+  report::table idt{"What was measured, with what", {}, {}, ""};
+  idt.rows.push_back({"sensor", sensor_words(f.id)});
+  idt.rows.push_back({"serial", serials.empty() ? "not recorded" : serials});
+  idt.rows.push_back({"data", f.id.simulated == runs.size()
+                                  ? "simulated (gyroflip simulate)"
+                                  : (f.id.simulated > 0 ? fmt::format("{} of {} runs simulated",
+                                                                      f.id.simulated, runs.size())
+                                                        : "recorded")});
+  for (const auto& m : f.id.rig) idt.rows.push_back({"rig: " + m.key, m.value});
+  idt.rows.push_back({"cycle (measured)", fmt::format("{} s", g(cycle_period_s(runs.front()), 4))});
+  idt.rows.push_back({"pairing", std::string(method::to_string(r.pairing))});
+  if (r.geometry)
+    idt.rows.push_back(
+        {"geometry", fmt::format("latitude {}°, sensitive axis at 0° (N, E, D) = ({:.3g}, "
+                                 "{:.3g}, {:.3g})",
+                                 r.geometry->lat_deg, r.geometry->axis.north, r.geometry->axis.east,
+                                 r.geometry->axis.down)});
+  idt.rows.push_back({"temperatures", all_t.text()});
+  who.tables.push_back(std::move(idt));
+  report::table durations{"Runs", {"run", "file", "duration", "cycles", "temperature"}, {}, ""};
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    durations.rows.push_back({std::to_string(k + 1), runs[k].run.file,
+                              minutes(runs[k].cal.duration_s), std::to_string(runs[k].cal.cycles),
+                              cycle_temps(runs[k].run.cycles(r.pairing)).text()});
+  who.tables.push_back(std::move(durations));
+  page.sections.push_back(std::move(who));
+
+  // dN and its budget, or the compensated rates.
+  report::section main;
+  if (!f.compensating) {
+    main.heading = "ΔN and its uncertainty";
+    main.paragraphs.push_back(fmt::format(
+        "ΔN = mean of r = (y₀ − y₁₈₀)/2 over the cycles of each stationary run (paper eqns "
+        "8–11), pairing {}. The correlated standard error accounts for the cycles' correlation "
+        "(the naive std/√n understates it when the noise is not white).",
+        method::to_string(r.pairing)));
+    report::table per{"ΔN per run",
+                      {"run", "T (°C)", "ΔN ± within-run error (°/s)", "per-cycle std (°/s)",
+                       "residual drift (°/s)"},
+                      {},
+                      "Each run compensated with its own ΔN has a mean of zero by construction: "
+                      "its residual's std and drift (max − min of the 100-s moving mean) are "
+                      "shown instead."};
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const auto& a = runs[k];
+      const auto& s = a.comp.summary;
+      per.rows.push_back({fmt::format("{}: {}", k + 1, a.run.file), g(a.cal.temp_c, 3),
+                          pm(a.cal.delta_n_dps, a.cal.stderr_correlated_dps), g(s.std_dps, 3),
+                          s.drift_dps ? g(*s.drift_dps, 3) : "run too short"});
+    }
+    if (f.pooled)
+      per.rows.push_back({"all runs (weighted mean)", all_t.text(),
+                          pm(f.pooled->first, f.pooled->second), "", ""});
+    else if (f.runs_model)
+      per.note += fmt::format(
+          " The runs span {}: they are not pooled into one mean; ΔN(T) "
+          "below.",
+          all_t.text());
+    main.tables.push_back(std::move(per));
+    if (r.geometry) {
+      const auto spec = g_sensitivity_spec(f.id.preset);
+      report::table split{
+          fmt::format("ΔN split at {}° latitude (paper eqns 9–11)", r.geometry->lat_deg),
+          {"run", "ΔN (°/s)", "Earth term (°/s)", "g-term (°/s)"},
+          {},
+          spec ? fmt::format("The sensor's specification: {}.", spec->source) : ""};
+      for (std::size_t k = 0; k < runs.size(); ++k) {
+        const auto& a = runs[k];
+        const auto s =
+            method::split_delta_n(a.cal.delta_n_dps, r.geometry->lat_deg, r.geometry->axis);
+        split.rows.push_back({fmt::format("{}: {}", k + 1, a.run.file), g(a.cal.delta_n_dps, 6),
+                              g(s.earth_rate_dps, 6), g(s.g_term_dps, 4)});
+      }
+      main.tables.push_back(std::move(split));
+    }
+  } else {
+    main.heading = "Compensated runs";
+    const auto& m = *f.model;
+    main.paragraphs.push_back(
+        fmt::format("w = r − ΔN per cycle (paper eqn 12), pairing {}, with {}: {}.",
+                    method::to_string(r.pairing), f.given->source,
+                    m.degree() == 0 ? fmt::format("ΔN = {} °/s", g(m.coeffs_dps[0], 6))
+                                    : fmt::format("ΔN(T) of degree {} fitted over {:.1f}–{:.1f} °C",
+                                                  m.degree(), m.temp_min_c, m.temp_max_c)));
+    std::vector<std::string> head{"run",
+                                  "T (°C)",
+                                  "ΔN applied (°/s)",
+                                  "mean ± its correlated error (°/s)",
+                                  "per-cycle std (°/s)",
+                                  "drift (°/s)"};
+    if (r.expected_rate_dps) {
+      head.emplace_back("commanded (°/s)");
+      head.emplace_back("error (°/s)");
+      head.emplace_back("scale-factor error (ppm)");
+    }
+    report::table per{
+        "Per run",
+        head,
+        {},
+        fmt::format(
+            "The mean's error is its own (random); the ΔN applied adds ±{} °/s to every "
+            "cycle alike (budget below){}.",
+            g(f.budget.new_power_up_dps, 2),
+            r.expected_rate_dps ? "; the scale-factor error's uncertainty includes both" : "")};
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const auto& a = runs[k];
+      const auto& s = a.comp.summary;
+      std::vector<std::string> row{fmt::format("{}: {}", k + 1, a.run.file),
+                                   g(a.cal.temp_c, 3),
+                                   applied_text(a.comp),
+                                   pm(s.mean_dps, s.stderr_correlated_dps),
+                                   g(s.std_dps, 3),
+                                   s.drift_dps ? g(*s.drift_dps, 3) : "–"};
+      if (f.rates[k]) {
+        row.push_back(g(*r.expected_rate_dps, 6));
+        row.push_back(pm(f.rates[k]->error_dps,
+                         std::hypot(s.stderr_correlated_dps, f.budget.new_power_up_dps)));
+        row.push_back(pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
+      }
+      per.rows.push_back(std::move(row));
+    }
+    main.tables.push_back(std::move(per));
+  }
+  main.tables.push_back(budget_table(f.budget, f.compensating));
+  const auto& shown_model = f.compensating ? f.given->record->model : f.runs_model;
+  if (shown_model && shown_model->degree() > 0) {
+    const auto& m = *shown_model;
+    const std::size_t n = m.coeffs_dps.size();
+    const std::size_t pts = f.compensating ? f.given->record->files.size() : runs.size();
+    report::table mt{
+        fmt::format("ΔN(T) = Σ c_k (T − {:.2f} °C)^k, fitted over {:.1f}–{:.1f} °C", m.t_ref_c,
+                    m.temp_min_c, m.temp_max_c),
+        {"k", "c_k (°/s per °C^k)", "standard error"},
+        {},
+        pts > n ? fmt::format("{} runs, {} degrees of freedom, χ²/dof {}", pts, pts - n,
+                              g(m.chi2_per_dof, 3))
+                : fmt::format("{} runs for {} coefficients: 0 degrees of freedom; the errors "
+                              "below are the runs' own only and understate the truth",
+                              pts, n)};
+    for (std::size_t k = 0; k < n; ++k)
+      mt.rows.push_back(
+          {std::to_string(k), g(m.coeffs_dps[k], 6), g(std::sqrt(m.cov[k * n + k]), 3)});
+    main.tables.push_back(std::move(mt));
+  }
+  if (!f.compensating && runs.size() > 1) {
+    auto fig = draw(report::delta_n_runs_figure(entries, "ΔN per run"), staging, "delta_n_runs",
+                    "the paper's Tab. 3/4 as a figure");
+    if (!fig) return fig.err();
+    main.figures.push_back(*fig);
+  }
+  if (!f.compensating && f.model && f.model->degree() > 0) {
+    auto dt = report::delta_n_temperature_figure(entries, *f.model, "ΔN against temperature");
+    if (!f.budget.model_dps)
+      dt.caption += ", 0 degrees of freedom: the band is the runs' own error only";
+    auto fig = draw(dt, staging, "delta_n_temperature", "");
+    if (!fig) return fig.err();
+    main.figures.push_back(*fig);
+  }
+  page.sections.push_back(std::move(main));
+
+  report::section noise;
+  noise.heading = "Noise";
+  noise.tables.push_back(noise_table(runs));
+  page.sections.push_back(std::move(noise));
+  page.sections.push_back(pairing_section(runs));
+
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto& a = runs[k];
+    report::section s;
+    s.heading = fmt::format("Run {}: {} ({}, {})", k + 1, a.run.file, minutes(a.cal.duration_s),
+                            cycle_temps(a.run.cycles(r.pairing)).text());
+    const auto add = [&](const report::figure& fig, const char* what,
+                         const std::string& caption) -> status {
+      auto fr = draw(fig, staging, stem_of(k, what), caption);
+      if (!fr) return fr.err();
+      s.figures.push_back(*fr);
+      return ok();
+    };
+    std::vector<report::allan_curve> curves;
+    if (a.raw_noise) curves.push_back({"raw: dwell means at 0°", a.raw_noise->oadev, std::nullopt});
+    if (a.comp_noise)
+      curves.push_back(
+          {"compensated (" + std::string(method::to_string(a.pairing)) + " cycles)",
+           a.comp_noise->oadev,
+           noise_fitted(*a.comp_noise) ? std::optional(a.comp_noise->terms) : std::nullopt});
+    const std::string name = a.run.file;
+    for (const auto& st :
+         {add(report::dwell_figure(a.run.dwells, name + ": output at 0° and 180°"), "dwells",
+              "the paper's Figs 3/5/7/9"),
+          add(report::compensated_figure(
+                  a.comp.cycles, a.comp.summary,
+                  name + (f.compensating ? ": compensated rate" : ": residual about its own ΔN"),
+                  f.compensating),
+              "compensated", "the paper's Figs 4/6/8/10"),
+          add(report::bias_figure(a.run.cycles(a.pairing), name + ": bias estimate c(t)"), "bias",
+              ""),
+          curves.empty()
+              ? ok()
+              : add(report::gyro_allan_figure(curves, name + ": Allan deviation"), "allan",
+                    "68.3 % bounds; dashed: the fitted IEEE 952 terms of the Noise "
+                    "table")})
+      if (!st) return st.err();
+    page.sections.push_back(std::move(s));
+    if (on_progress) on_progress(r.files.size() + k + 1, steps);
+  }
+  for (const auto& s : page.sections) out.figures += s.figures.size();
+
+  // summary.json: the same numbers.
+  json sj = io::schema_object("report", summary_schema);
+  json inj = json::array();
+  for (const auto& in : page.made.inputs)
+    inj.push_back({{"file", in.file},
+                   {"bytes", in.size_bytes},
+                   {"sha256", in.sha256},
+                   {"origin", in.origin}});
+  sj.update(
+      json{{"command", page.made.command},
+           {"made_utc", page.made.made_utc},
+           {"commit", page.made.commit},
+           {"title", page.title},
+           {"mode", f.compensating ? "compensation" : "calibration"},
+           {"pairing", method::to_string(r.pairing)},
+           {"sensor",
+            {{"name", f.id.preset},
+             {"description", sensor_words(f.id)},
+             {"serials", std::vector<std::string>(f.id.serials.begin(), f.id.serials.end())}}},
+           {"simulated_runs", f.id.simulated},
+           {"inputs", std::move(inj)},
+           {"runs", json::array()},
+           {"budget", budget_json(f.budget)},
+           {"warnings", f.warnings},
+           {"conclusion", page.sections.front().paragraphs.front()}});
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto& a = runs[k];
+    const auto& s = a.comp.summary;
+    json j = {{"file", a.run.file},
+              {"sha256", page.made.inputs[k].sha256},
+              {"cycles", a.cal.cycles},
+              {"duration_s", a.cal.duration_s},
+              {"temp_c", num(a.cal.temp_c)},
+              {"delta_n_dps", a.cal.delta_n_dps},
+              {"std_dps", a.cal.std_dps},
+              {"stderr_dps", a.cal.stderr_dps},
+              {"stderr_correlated_dps", a.cal.stderr_correlated_dps}};
+    if (f.compensating) {
+      const auto [lo, hi] = applied_range(a.comp);
+      j["compensated"] = {{"delta_n_applied_min_dps", lo},
+                          {"delta_n_applied_max_dps", hi},
+                          {"mean_dps", s.mean_dps},
+                          {"std_dps", s.std_dps},
+                          {"stderr_correlated_dps", s.stderr_correlated_dps},
+                          {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
+                          {"drift_window_s", s.drift_window_s}};
+      if (f.rates[k])
+        j["compensated"].update(json{{"expected_rate_dps", *r.expected_rate_dps},
+                                     {"error_dps", f.rates[k]->error_dps},
+                                     {"scale_factor_error_ppm", f.rates[k]->scale_factor_ppm},
+                                     {"scale_factor_error_u_ppm", f.rates[k]->scale_factor_u_ppm}});
+    } else {
+      j["residual"] = {{"std_dps", s.std_dps},
+                       {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
+                       {"drift_window_s", s.drift_window_s}};
+    }
+    if (a.comp_noise && noise_fitted(*a.comp_noise)) {
+      const auto& t = a.comp_noise->terms;
+      const auto v = [](const analysis::noise_term& x, double to) {
+        return x.resolved ? json(x.value * to) : json(nullptr);
+      };
+      j["noise"] = {{"arw_deg_rth", v(t.arw, units::deg_rth_per_deg_rts)},
+                    {"bias_instability_deg_h", v(t.bias_instability, units::dph_per_dps)},
+                    {"rrw_deg_h_rth", v(t.rrw, units::dph_rth_per_dps_rts)}};
+    }
+    sj["runs"].push_back(std::move(j));
+  }
+  if (f.model)
+    sj["delta_n_model"] = {{"coeffs_dps", f.model->coeffs_dps},
+                           {"t_ref_c", f.model->t_ref_c},
+                           {"degree", f.model->degree()},
+                           {"chi2_per_dof", f.model->chi2_per_dof}};
+  auto summary_text = io::finite_dump(sj, r.output + "/summary.json");
+  if (!summary_text) return summary_text.err();
+  auto page_text = report::html(page, staging);
+  if (!page_text) return page_text.err();
+  for (const auto& [name, text] :
+       {std::pair{"summary.json", *summary_text + "\n"}, std::pair{"index.html", *page_text}})
+    if (auto s = io::write_file_atomically(staging + "/" + name, text); !s) return s.err();
+  if (auto s = report::print_pdf(page, staging); !s) return s.err();
+  if (auto s = folder->publish(fmt::format("{} {}", r.made_by, version())); !s) return s.err();
+  out.summary_json = *summary_text;
+  out.warnings = f.warnings;  // the page's and summary.json's
+  if (on_progress) on_progress(steps, steps);
+  return out;
+}
+
+}  // namespace gyroflip::workflow

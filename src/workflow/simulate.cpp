@@ -1,0 +1,172 @@
+/// \file
+/// \brief Simulate to a recording, with its truth (simulate.hpp).
+#include "gyroflip/workflow/simulate.hpp"
+
+#include <array>
+#include <functional>
+#include <iterator>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/finite_output.hpp"
+#include "gyroflip/io/recording_writer.hpp"
+#include "gyroflip/sensor/params.hpp"
+
+namespace gyroflip::workflow {
+
+namespace {
+
+// One pass of the simulator: `sink` gets each block's rows (dwell averages, or with `raw` one
+// row per conversion with n_avg 1). A sink error stops the run.
+using row_sink = std::function<status(const std::vector<rig::dwell_row>&)>;
+
+status run(rig::simulator& sim, int n_avg, bool raw, bool with_truth, const row_sink& sink,
+           const progress_fn& on_progress) {
+  rig::sample_block block(1U << 14, with_truth);
+  rig::dwell_averager avg(n_avg);
+  std::vector<rig::dwell_row> rows;
+  while (sim.fill(block) > 0) {
+    rows.clear();
+    if (raw) {
+      for (std::size_t i = 0; i < block.size; ++i) {
+        rig::dwell_row r{block.time_s[i], block.angle_deg[i], block.rate_dps[i], block.temp_c[i],
+                         1};
+        if (with_truth) {
+          r.bias_dps = block.bias_dps[i];
+          r.g_term_dps = block.g_term_dps[i];
+          r.earth_dps = block.earth_dps[i];
+          r.input_dps = block.input_dps[i];
+        }
+        rows.push_back(r);
+      }
+    } else {
+      avg.add(block, rows);
+    }
+    if (auto s = sink(rows); !s) return s;
+    if (on_progress)
+      on_progress(static_cast<std::size_t>(sim.produced()),
+                  static_cast<std::size_t>(sim.total_samples()));
+  }
+  return ok();
+}
+
+// The simulator's own metadata: what it derived from the configuration.
+void add_simulator_metadata(std::vector<io::csv_metadata>& m, const rig::simulator& sim,
+                            const rig::simulation_config& c) {
+  const auto num = [](auto v) { return fmt::format("{}", v); };
+  m.push_back({"conversion_time_s", num(sim.conversion_time_s())});
+  m.push_back({"cycle_s", num(sim.sched().cycle_s())});
+  m.push_back({"turn_s", num(sim.sched().turn_ab_s())});
+  m.push_back({"scale_factor_v_per_dps", fmt::format("{} (nominal; rate_dps = ADC volts / this)",
+                                                     c.sensor.scale_factor_v_per_dps)});
+  for (const auto& f : sensor::fields())
+    m.push_back({fmt::format("sensor.{}", f.key), num(c.sensor.*f.member)});
+}
+
+}  // namespace
+
+simulation_truth truth_of(const rig::simulator& sim, const rig::simulation_config& c) {
+  simulation_truth t;
+  t.earth_dps = sim.earth_at_a_dps();
+  auto temperature = c.temperature;  // a profile keeps its place (at() is not const)
+  t.g_term_dps = sim.g_term_at_a_dps(temperature.at(0.0));
+  t.delta_n_dps = t.earth_dps + t.g_term_dps;  // paper eqn 11
+  return t;
+}
+
+std::vector<method::row> recording_rows(const std::vector<rig::dwell_row>& rows) {
+  std::vector<method::row> out;
+  out.reserve(rows.size());
+  for (const auto& d : rows)
+    out.push_back(
+        {d.time_s, d.angle_deg, d.rate_dps, d.temp_c, static_cast<std::uint32_t>(d.n_avg)});
+  return out;
+}
+
+result<simulation_truth> simulate_recording(const recording_request& r,
+                                            const progress_fn& on_progress) {
+  const auto& c = r.config;
+  auto sim = rig::simulator::make(c);
+  if (!sim) return sim.err();
+  const auto truth = truth_of(*sim, c);
+  std::vector<io::csv_metadata> meta{{r.made_by, "recording"}};
+  meta.insert(meta.end(), r.metadata.begin(), r.metadata.end());
+  add_simulator_metadata(meta, *sim, c);
+
+  auto out = io::atomic_file::create(r.output);
+  if (!out) return out.err();
+  std::optional<io::atomic_file> tf;
+  if (!r.truth.empty()) {
+    auto t = io::atomic_file::create(r.truth);
+    if (!t) return t.err();
+    tf.emplace(std::move(*t));
+  }
+  std::string head;
+  io::append_recording_header(head, meta);
+  out->write(head);
+  if (tf) {
+    auto tmeta = meta;
+    tmeta.front().value = "truth";
+    head.clear();
+    io::append_metadata(head, tmeta);
+    tf->write(head);
+    tf->write(fmt::format(
+        "# sign convention: each term as seen by the sensor at that row's orientation (Earth, "
+        "g-term and input reverse at 180 deg, bias does not); rate_dps ~ bias + g_term + earth + "
+        "input + noise\n# dN expected at position A and the run's start temperature: earth {} + "
+        "g_term {} deg/s\n",
+        truth.earth_dps, truth.g_term_dps));
+    tf->write("time_s,bias_dps,g_term_dps,earth_dps,input_dps,temp_c\n");
+  }
+  std::string rec;
+  fmt::memory_buffer tru;
+  const auto sink = [&](const std::vector<rig::dwell_row>& rows) -> status {
+    rec.clear();
+    tru.clear();
+    for (const auto& w : rows) {
+      io::append_recording_row(
+          rec, {w.time_s, w.angle_deg, w.rate_dps, w.temp_c, static_cast<std::uint32_t>(w.n_avg)});
+      if (tf)
+        fmt::format_to(std::back_inserter(tru), "{},{},{},{},{},{}\n", w.time_s, w.bias_dps,
+                       w.g_term_dps, w.earth_dps, w.input_dps, w.temp_c);
+    }
+    // The gate of every written number (io/finite_output.hpp); on failure the temporaries go.
+    if (auto s = io::check_finite(rec, r.output); !s) return s;
+    if (auto s = io::check_finite({tru.data(), tru.size()}, r.truth); !s) return s;
+    out->write(rec);
+    if (tf) tf->write(std::string_view(tru.data(), tru.size()));
+    return ok();
+  };
+  if (auto s = run(*sim, c.rig.n_avg, r.raw, tf.has_value(), sink, on_progress); !s) return s.err();
+  // Both files or neither: a full disk on the truth must not leave a recording without it.
+  if (auto s = io::commit_all({&*out, tf ? &*tf : nullptr}); !s) return s.err();
+  return truth;
+}
+
+result<simulated_run> simulate_rows(const rig::simulation_config& c, bool with_truth,
+                                    const progress_fn& on_progress) {
+  auto sim = rig::simulator::make(c);
+  if (!sim) return sim.err();
+  simulated_run out;
+  out.truth = truth_of(*sim, c);
+  const auto sink = [&](const std::vector<rig::dwell_row>& rows) -> status {
+    for (const auto& w : rows) {
+      // As a recording file: nothing that is not finite.
+      if (auto s = io::check_finite(std::array{w.time_s, w.rate_dps, w.temp_c}, "simulation"); !s)
+        return s;
+      if (with_truth)
+        if (auto s = io::check_finite(
+                std::array{w.bias_dps, w.g_term_dps, w.earth_dps, w.input_dps}, "simulation");
+            !s)
+          return s;
+    }
+    out.rows.insert(out.rows.end(), rows.begin(), rows.end());
+    return ok();
+  };
+  if (auto s = run(*sim, c.rig.n_avg, false, with_truth, sink, on_progress); !s) return s.err();
+  return out;
+}
+
+}  // namespace gyroflip::workflow

@@ -1,0 +1,79 @@
+// The dN uncertainty budget of the report (workflow/budget.hpp, issue 22): each component
+// against its closed form on made-up runs whose numbers are known.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/budget.hpp"
+
+namespace gyroflip {
+namespace {
+
+io::calibration_entry run(double dn_dps, double err_dps, double temp_c) {
+  io::calibration_entry e;
+  e.file = "r.csv";
+  e.cal.delta_n_dps = dn_dps;
+  e.cal.stderr_correlated_dps = err_dps;
+  e.cal.temp_c = temp_c;
+  e.cal.cycles = 1000;
+  return e;
+}
+
+TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {
+  // Equal errors: the weighted mean is the plain mean, the scatter the sample std (0.01).
+  const std::vector runs{run(0.40, 1e-4, 20.0), run(0.41, 1e-4, 20.0), run(0.42, 1e-4, 20.0)};
+  const auto model = io::fit_runs_model(runs);
+  ASSERT_TRUE(model && model->has_value());
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  ASSERT_NE(hz1, nullptr);
+  const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
+  EXPECT_TRUE(b.run_to_run_measured);
+  EXPECT_NEAR(b.run_to_run_dps, 0.01, 1e-9);
+  // The weighted mean's error scaled by the scatter: std / sqrt(n).
+  ASSERT_TRUE(b.model_dps.has_value());
+  EXPECT_NEAR(*b.model_dps, 0.01 / std::sqrt(3.0), 1e-6);
+  EXPECT_NEAR(b.calibration_dps, *b.model_dps, 1e-12);
+  EXPECT_NEAR(b.new_power_up_dps, std::hypot(0.01 / std::sqrt(3.0), 0.01), 1e-6);
+  EXPECT_NEAR(b.within_run_dps, io::pooled_correlated_stderr(runs), 1e-15);
+}
+
+TEST(DeltaNBudget, OneRunTakesThePresetsTurnOnSpreadAndSaysSo) {
+  const std::vector runs{run(0.40, 2e-4, 4.0)};
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  ASSERT_NE(hz1, nullptr);
+  const auto& p = hz1->params;
+  const auto b = workflow::budget_of(runs, std::nullopt, &p, "hz1-90-100a");
+  EXPECT_FALSE(b.run_to_run_measured);
+  const double spread = std::hypot(p.g_sens_turn_on_sigma_dps_per_g,
+                                   p.g_sens_tc_turn_on_sigma_dps_per_g_c * (4.0 - p.temp_ref_c));
+  EXPECT_GT(spread, 0.0);
+  EXPECT_NEAR(b.run_to_run_dps, spread, 1e-15);
+  EXPECT_NE(b.run_to_run_source.find("not measured"), std::string::npos);
+  EXPECT_NEAR(b.calibration_dps, 2e-4, 1e-15);
+  EXPECT_NEAR(b.new_power_up_dps, std::hypot(2e-4, spread), 1e-15);
+  // Without a preset the repeatability is unknown, not zero.
+  const auto none = workflow::budget_of(runs, std::nullopt, nullptr, "");
+  EXPECT_TRUE(std::isnan(none.run_to_run_dps));
+  EXPECT_TRUE(std::isnan(none.new_power_up_dps));
+}
+
+TEST(DeltaNBudget, ALineThroughTwoRunsIsFlaggedNotShownAsExact) {
+  const std::vector runs{run(0.40, 1e-4, 4.0), run(0.42, 1e-4, 20.0)};
+  const auto model = io::fit_runs_model(runs);
+  ASSERT_TRUE(model && model->has_value() && (*model)->degree() == 1);
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
+  EXPECT_FALSE(b.model_dps.has_value());
+  EXPECT_NE(b.model_note.find("0 degrees of freedom"), std::string::npos);
+  EXPECT_FALSE(b.run_to_run_measured);
+  // The calibrated value's error is not the line's own (which would be ~1e-4): the preset's
+  // repeatability is in it.
+  EXPECT_NEAR(b.calibration_dps, std::hypot(b.within_run_dps, b.run_to_run_dps), 1e-15);
+  EXPECT_GT(b.calibration_dps, 1e-4 * 2);
+}
+
+}  // namespace
+}  // namespace gyroflip

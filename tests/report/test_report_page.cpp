@@ -1,0 +1,136 @@
+// Golden tests of the pages' structure (issue 22): the headings, banners, warnings, table
+// captions, column headings and the row names of the key-value tables (identity, budget,
+// provenance) of `gyroflip report` (a calibration, a compensation with --expected-rate) and of
+// `gyroflip reproduce --quick`, compared with tests/report/golden/*.structure
+// (GYROFLIP_UPDATE_GOLDEN=1 rewrites them: review the diff). Numbers, dates, hashes and the
+// commit are not part of the structure (figure captions on the page carry none: the numbers are
+// in the images); the temporary folder reads TMP.
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+
+using gyroflip::test::read_text;
+using gyroflip::test::run_cli;
+using gyroflip::test::temp_dir;
+
+const std::string golden_dir = std::string(GYROFLIP_SOURCE_DIR) + "/tests/report/golden/";
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  for (auto at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+    s.replace(at, from.size(), to);
+  return s;
+}
+
+// The text between `open`'s end and the next `close` (tags inside removed).
+std::string inner(const std::string& html, std::size_t from, const std::string& close) {
+  const auto start = html.find('>', from) + 1;
+  const auto end = html.find(close, start);
+  std::string t;
+  bool tag = false;
+  for (std::size_t k = start; k < end; ++k) {
+    if (html[k] == '<') tag = true;
+    if (!tag) t += html[k];
+    if (html[k] == '>') tag = false;
+  }
+  return t;
+}
+
+// One line per structural element, in page order.
+std::string structure(const std::string& html, const std::string& tmp) {
+  struct mark {
+    std::string open, close, name;
+  };
+  const std::vector<mark> marks{{"<h1>", "</h1>", "h1"},
+                                {"<h2>", "</h2>", "h2"},
+                                {"<p class=\"banner\">", "</p>", "banner"},
+                                {"<div class=\"warn\">", "</div>", "warnings"},
+                                {"<caption>", "</caption>", "table"},
+                                {"<th", "</th>", "  column"},
+                                {"<tr><td class=\"t\">", "</td>", "  row"},
+                                {"<figcaption>", "</figcaption>", "figure"}};
+  std::string out;
+  std::size_t at = 0;
+  while (true) {
+    std::size_t best = std::string::npos;
+    const mark* which = nullptr;
+    for (const auto& m : marks) {
+      const auto p = html.find(m.open, at);
+      if (p < best) {
+        best = p;
+        which = &m;
+      }
+    }
+    if (which == nullptr) break;
+    std::string text = which->name == "warnings"
+                           ? std::string("(list)")
+                           : inner(html, best + which->open.size() - 1, which->close);
+    out += which->name + ": " + replaced(text, tmp, "TMP") + "\n";
+    at = best + which->open.size();
+  }
+  return out;
+}
+
+void expect_golden(const std::string& text, const std::string& name) {
+  const auto path = golden_dir + name;
+  if (std::getenv("GYROFLIP_UPDATE_GOLDEN") != nullptr)
+    std::ofstream(path, std::ios::binary) << text;
+  EXPECT_EQ(text, read_text(path))
+      << "golden " << path << " (GYROFLIP_UPDATE_GOLDEN=1 rewrites it)";
+}
+
+std::string simulate(const temp_dir& d, const std::string& name, const std::string& temp,
+                     const std::string& seed, const std::string& rate = "0") {
+  const auto f = d.file(name);
+  const auto r = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "600", "--temp",
+                          temp, "--seed", seed, "--rate-profile", rate, "-o", f});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return f;
+}
+
+TEST(ReportPage, CalibrationPageStructureIsGolden) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "b20.csv", "20", "2"),
+             c = simulate(d, "c4.csv", "4", "3");
+  const auto r =
+      run_cli({"report", a, b, c, "--latitude", "42.6", "--axis", "north", "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto html = read_text(d.file("rep/index.html"));
+  EXPECT_EQ(html.find("<pre"), std::string::npos);  // tables, not preformatted text
+  expect_golden(structure(html, d.path()), "report_calibration.structure");
+}
+
+TEST(ReportPage, RateTablePageStructureIsGolden) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "b20.csv", "20", "2");
+  ASSERT_EQ(run_cli({"calibrate", a, b, "-o", d.file("cal.json")}).exit_code, 0);
+  const auto t = simulate(d, "table.csv", "20", "4", "0.5");
+  const auto r = run_cli({"report", t, "--calibration", d.file("cal.json"), "--expected-rate",
+                          "0.5", "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto html = read_text(d.file("rep/index.html"));
+  expect_golden(structure(html, d.path()), "report_rate_table.structure");
+  // The same run passed as a calibration: not stationary, warned about on the page.
+  const auto w = run_cli({"report", t, "-o", d.file("rep2")});
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_NE(read_text(d.file("rep2/index.html")).find("was not a stationary calibration"),
+            std::string::npos);
+}
+
+TEST(ReportPage, ReproducePageStructureIsGolden) {
+  temp_dir d;
+  const auto r = run_cli({"reproduce", "--quick", "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto html = read_text(d.file("rep/index.html"));
+  EXPECT_EQ(html.find("<pre"), std::string::npos);
+  expect_golden(structure(html, d.path()), "reproduce_quick.structure");
+}
+
+}  // namespace
