@@ -47,7 +47,8 @@ status check_readable_positions(const rig::rig_config& r, std::string_view text)
 // it takes them, rig_config), so that the file can be made again byte for byte (the simulator
 // adds what it derived from them: workflow::simulate_recording).
 std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::preset& p,
-                                       const rig::rig_config& r) {
+                                       const rig::simulation_config& c) {
+  const rig::rig_config& r = c.rig;
   std::vector<io::csv_metadata> m;
   const auto add = [&m](std::string key, std::string value) {
     m.push_back({std::move(key), std::move(value)});
@@ -74,8 +75,8 @@ std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::
   add("power_on_before_s", num(o.power_on_before_s));
   add("turns", r.one_way ? "one way" : "back and forth");
   add("hold_coils", r.hold_coils ? "yes" : "no");
-  add("coil_heat_rise_c", num(sim.config().coil.rise_c));
-  add("coil_heat_tau_s", num(sim.config().coil.tau_s));
+  add("coil_heat_rise_c", num(c.coil.rise_c));
+  add("coil_heat_tau_s", num(c.coil.tau_s));
   add("filter_word", num(r.filter_word));
   add("chop", r.chop ? "on" : "off");
   add("steps_per_rev", num(r.steps_per_rev));
@@ -112,7 +113,7 @@ int run_simulate(const simulate_options& o) {
   c.power_on_before_s = o.power_on_before_s;
   c.seed = o.seed;
   workflow::recording_request req{
-      c, o.raw, o.out, o.truth, "gyroflip simulate", metadata(o, *preset, c.rig)};
+      c, o.raw, o.out, o.truth, "gyroflip simulate", metadata(o, *preset, c)};
   progress bar("simulate", 1000);
   auto truth = workflow::simulate_recording(req, per_mille(bar));
   bar.finish();
