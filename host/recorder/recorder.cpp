@@ -411,8 +411,7 @@ bool session::says_reset(const p::frame& f) const {
 // reboot between CONFIGURE and START would have refused START for its configuration), so the
 // START it acknowledged began this run (its INFO, sent at the boot, was lost).
 bool session::started_after_reboot(const p::frame& f) const {
-  if (f.type != static_cast<std::uint8_t>(p::msg::status) || !start_ack_seq_)
-    return false;
+  if (f.type != static_cast<std::uint8_t>(p::msg::status) || !start_ack_seq_) return false;
   p::status_msg m;
   return f.as(m) && m.boot_count != info_->boot_count &&
          m.state == static_cast<std::uint8_t>(p::device_state::running) &&
