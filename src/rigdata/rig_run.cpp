@@ -352,6 +352,15 @@ result<rig_run> rig_run_builder::finish() && {
         "{}: {} dwells belong to a run whose configuration (its angle table) is not in the file "
         "(the CONFIGURE record before its START is damaged or missing): not used",
         run_.path, run_.unknown_config));
+  const auto off_pair = std::count_if(run_.dwells.begin(), run_.dwells.end(), [](const auto& d) {
+    return d.angle_deg != 0.0 && d.angle_deg != 180.0;
+  });
+  if (off_pair != 0)
+    run_.warnings.push_back(fmt::format(
+        "{}: {} dwells at table positions other than 0 and 180 deg: the method's analyses "
+        "(calibrate, compensate, adev, noise, report) pair A = 0 with B = 180 and leave them "
+        "out; export writes every dwell",
+        run_.path, off_pair));
   if (run_.outside_runs != 0)
     run_.warnings.push_back(fmt::format(
         "{}: {} dwells arrived outside an acknowledged run (a run the device had before the "
