@@ -63,7 +63,10 @@ class sent_log {
   }
   static result<sent_log> open(const std::string& path) {
     if (path.empty()) return sent_log(nullptr, path);
-    std::FILE* f = std::fopen(path.c_str(), "w");
+    // /dev/stdout, /dev/fd/N: into that descriptor (`>> session.log` appends), not re-opened.
+    auto through = io::descriptor_stream(path);
+    if (!through) return through.err();
+    std::FILE* f = *through != nullptr ? *through : std::fopen(path.c_str(), "w");
     if (f == nullptr) return io_error(path, std::string("cannot create: ") + std::strerror(errno));
     std::fputs(
         "seq,cycle,position,t_start_ticks,t_end_ticks,n,code_sum,code_min,code_max,n_temp,"
@@ -205,9 +208,9 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
 // A symbolic link that names the line while it is there, as udev's /dev/serial/by-id names an
 // adapter: a recorder given the link finds the line again after it came back under another name.
 // It removes only what it made: an existing path is replaced only when it is a dangling symbolic
-// link (left by an emulator that was killed: its pty is gone), the new link is made under a name
-// of its own and renamed into place, and the link is removed only while it still points where
-// this run pointed it.
+// link to a pseudo-terminal (left by an emulator that was killed: its pty is gone), the new link is
+// made under a name of its own and renamed into place, and the link is removed only while it still
+// points where this run pointed it.
 class line_link {
  public:
   static result<line_link> make(std::string path) {
@@ -219,7 +222,13 @@ class line_link {
       return io_error(path, fmt::format("is a symbolic link to {}, which exists (a line in use, or "
                                         "a link of yours); not replaced",
                                         printable(target_of(path), 200)));
-    return line_link(std::move(path));  // dangling: an earlier emulator's, whose line is gone
+    // Dangling: an earlier emulator's, whose line is gone, only when it named a pseudo-terminal
+    // (a dangling link of the user's, to an unmounted disk say, is not ours to replace).
+    if (!target_of(path).starts_with("/dev/pts/"))
+      return io_error(path, fmt::format("is a symbolic link to {}, not a pseudo-terminal an "
+                                        "earlier emulator made; not replaced",
+                                        printable(target_of(path), 200)));
+    return line_link(std::move(path));
   }
   line_link(line_link&& o) noexcept
       : path_(std::exchange(o.path_, {})), target_(std::exchange(o.target_, {})) {}

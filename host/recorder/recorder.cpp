@@ -663,6 +663,8 @@ status session::command(const M& m, const char* name) {
     if (auto s = send(m, id); !s) return s;
     const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 4);
     while (!replied_ && !resend_now_ && steady::now() < until) {
+      // Ctrl-C while starting a run ends it at once (the STOP that ends a run is not cut short).
+      if (stop_ && !stopping_) return interrupted();
       if (auto s = pump(read_wait_ms()); !s) return s;
       // The run may already be going (a START whose ACK was lost): what is lost meanwhile is
       // asked for now, while the device still has it.

@@ -11,12 +11,14 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <climits>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <optional>
 #include <random>
+#include <string_view>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -84,6 +86,36 @@ std::string base_of(const std::string& path) {
 }
 
 }  // namespace
+
+std::optional<int> open_descriptor(const std::string& path) {
+  if (path == "/dev/stdout") return 1;
+  if (path == "/dev/stderr") return 2;
+  for (const std::string_view prefix : {"/dev/fd/", "/proc/self/fd/"}) {
+    if (!path.starts_with(prefix)) continue;
+    const std::string_view digits = std::string_view(path).substr(prefix.size());
+    int n = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), n);
+    if (ec == std::errc{} && end == digits.data() + digits.size() && n >= 0) return n;
+  }
+  return std::nullopt;
+}
+
+result<std::FILE*> descriptor_stream(const std::string& path) {
+  const auto n = open_descriptor(path);
+  if (!n) return static_cast<std::FILE*>(nullptr);
+  const int flags = ::fcntl(*n, F_GETFL);
+  if (flags < 0 || (flags & O_ACCMODE) == O_RDONLY)
+    return io_error(path, fmt::format("descriptor {} is not open for writing", *n));
+  const int fd = ::fcntl(*n, F_DUPFD_CLOEXEC, 3);
+  if (fd < 0) return io_error(path, fmt::format("cannot write: {}", errno_text(errno)));
+  std::FILE* f = ::fdopen(fd, "wb");
+  if (f == nullptr) {
+    const int e = errno;
+    ::close(fd);
+    return io_error(path, fmt::format("cannot write: {}", errno_text(e)));
+  }
+  return f;
+}
 
 result<std::string> real_target(const std::string& path) {
   std::string p = path;
@@ -153,6 +185,11 @@ atomic_file::atomic_file(atomic_file&& other) noexcept
 
 result<atomic_file> atomic_file::create(std::string path) {
   if (path == "-") return atomic_file(std::move(path), {}, {}, stdout, kind::standard_output, -1);
+  // /dev/stdout, /dev/fd/N: where the shell's redirection points (a pipe, `>> log`), written
+  // through; following the link to a regular file and renaming over it would replace the file.
+  auto through = descriptor_stream(path);
+  if (!through) return through.err();
+  if (*through != nullptr) return atomic_file(path, path, {}, *through, kind::stream, -1);
   auto target = real_target(path);
   if (!target) return target.err();
   struct stat st {};

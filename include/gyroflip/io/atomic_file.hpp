@@ -15,6 +15,7 @@
 
 #include <cstdio>
 #include <initializer_list>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -79,6 +80,16 @@ class atomic_file {
 /// The file (or folder) a write to `path` lands in: symlinks followed one by one, the target of a
 /// dangling link being the file to create (as the shell's `>` does). Errors: a loop.
 [[nodiscard]] result<std::string> real_target(const std::string& path);
+
+/// The descriptor a path names that this process already has open: /dev/stdout (1),
+/// /dev/stderr (2), /dev/fd/N and /proc/self/fd/N (N). Such an output is written straight into
+/// a duplicate of that descriptor, where the shell's redirection put it (`>> log` appends), never
+/// re-opened (which would truncate a file behind it, or fail for a pipe).
+[[nodiscard]] std::optional<int> open_descriptor(const std::string& path);
+
+/// A stream writing into the descriptor `path` names (open_descriptor), or nothing when it names
+/// none. Errors: a descriptor that is not open for writing.
+[[nodiscard]] result<std::FILE*> descriptor_stream(const std::string& path);
 
 /// Checks, before a run does any work, that none of its `outputs` is one of its `inputs` (same
 /// file: same device and inode, so `./a.csv`, `a.csv`, a symlink to it and a hard link all
