@@ -72,6 +72,48 @@ TEST(CliOutput, FifoGetsTheBytesAndStaysAFifo) {
   EXPECT_EQ(stray_files(d, {"pipe"}), std::vector<std::string>{});
 }
 
+// An output named by a descriptor the process has (/dev/stdout, /dev/fd/N) goes where the
+// shell's redirection put it: `>> log` appends (it replaced the log: the link was followed to
+// the file and a temporary renamed over it), a pipe gets the bytes (it failed: "pipe:[N]" was
+// taken for a file name). Also emulate --log.
+TEST(CliOutput, DescriptorOutputsGoWhereTheShellPutThem) {
+  temp_dir d;
+  const std::string exe = GYROFLIP_EXE;
+  const std::string log = d.file("log.txt");
+  write_text(log, "line1 of my log\n");
+  auto r = run_program(
+      {"sh", "-c",
+       exe + " simulate --sensor hz1-90-100a --duration 30 -o /dev/stdout >> " + log + " && " +
+           exe + " simulate --sensor hz1-90-100a --duration 30 -o /dev/fd/3 3>> " + log});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string got = read_text(log);
+  EXPECT_EQ(got.rfind("line1 of my log\n", 0), 0u) << got.substr(0, 200);
+  const auto first = got.find("time_s,angle_deg,rate_dps");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_NE(got.find("time_s,angle_deg,rate_dps", first + 1), std::string::npos);  // appended
+  r = run_program({"sh", "-c",
+                   exe + " simulate --sensor hz1-90-100a --duration 30 -o /dev/stdout | head -c "
+                         "100000 | grep -c time_s,angle_deg"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "1\n") << r.err;
+  const std::string session = d.file("session.log");
+  write_text(session, "session line 1\n");
+  r = run_program(
+      {"sh", "-c",
+       exe + " emulate --pty --speed max --duration 2 --log /dev/stdout >> " + session});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string s = read_text(session);
+  EXPECT_EQ(s.rfind("session line 1\n", 0), 0u) << s.substr(0, 200);
+  EXPECT_NE(s.find("seq,cycle,position"), std::string::npos);
+  // A dangling link of the user's (to an unmounted disk) is not taken for an old emulator's.
+  const std::string link = d.file("rig");
+  ASSERT_EQ(::symlink("/media/not-mounted/calibration", link.c_str()), 0);
+  r = run_cli({"emulate", "--pty", "--link", link, "--speed", "max", "--duration", "1"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(fs::read_symlink(link), "/media/not-mounted/calibration");
+  EXPECT_EQ(stray_files(d, {"log.txt", "session.log", "rig"}), std::vector<std::string>{});
+}
+
 TEST(CliOutput, SymlinkStaysAndItsTargetIsWritten) {
   temp_dir d;
   write_text(d.file("target.csv"), "old\n");
