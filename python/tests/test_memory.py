@@ -73,7 +73,10 @@ def test_ctrl_c_stops_a_long_call():
     timer.start()
     with pytest.raises(KeyboardInterrupt):
         gyroflip.deviation(y, "mdev", rate=1.0, taus="all", ci=None)
-    assert time.monotonic() - start < 10.0
+    # A work item in progress runs to its end: on a machine loaded beyond its cores (a CI host
+    # running other jobs: 25 s seen at load 6 on 2 cores) it takes as much longer.
+    overload = max(1.0, os.getloadavg()[0] / (os.cpu_count() or 1))
+    assert time.monotonic() - start < 10.0 * overload
     timer.cancel()
 
 
