@@ -31,6 +31,7 @@
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/analyse.hpp"
 #include "gyroflip/workflow/budget.hpp"
+#include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/compensate.hpp"
 
 namespace gyroflip::workflow {
@@ -78,24 +79,19 @@ struct identity {
   std::size_t simulated = 0;          // runs from gyroflip's simulator
 };
 
-std::string meta(std::span<const io::csv_metadata> m, std::string_view key) {
-  for (const auto& e : m)
-    if (e.key == key) return e.value;
-  return {};
-}
-
 // Where a recording came from, from its metadata.
 std::string origin_of(const recording_run& r, bool& simulated) {
   const auto& m = r.metadata;
   simulated = false;
-  if (!meta(m, "gyroflip simulate").empty()) {
+  if (!metadata_value(m, "gyroflip simulate").empty()) {
     simulated = true;
-    return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)", meta(m, "sensor"),
-                       meta(m, "seed"), meta(m, "duration_s"));
+    return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)",
+                       metadata_value(m, "sensor"), metadata_value(m, "seed"),
+                       metadata_value(m, "duration_s"));
   }
   if (r.file.ends_with(".gfr"))
-    return fmt::format("rig recording (.gfr): device serial {}, firmware {}", meta(m, "serial"),
-                       meta(m, "firmware"));
+    return fmt::format("rig recording (.gfr): device serial {}, firmware {}",
+                       metadata_value(m, "serial"), metadata_value(m, "firmware"));
   return "recording (CSV); its metadata names no maker";
 }
 
@@ -104,11 +100,11 @@ identity identify(const std::vector<run_analysis>& runs) {
   for (const auto& a : runs) {
     const auto& m = a.run.metadata;
     if (id.preset.empty()) {
-      id.preset = meta(m, "sensor_name");
-      if (id.preset.empty()) id.preset = meta(m, "sensor");
+      id.preset = metadata_value(m, "sensor_name");
+      if (id.preset.empty()) id.preset = metadata_value(m, "sensor");
       id.rig = io::sensor_of(m).rig;
     }
-    if (const auto s = meta(m, "serial"); !s.empty()) id.serials.insert(s);
+    if (const auto s = metadata_value(m, "serial"); !s.empty()) id.serials.insert(s);
     bool sim = false;
     id.origin.push_back(origin_of(a.run, sim));
     id.simulated += sim ? 1 : 0;
@@ -475,10 +471,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   }
 
   std::vector<run_analysis> runs;
+  // The runs of one report are of one sensor, checked as calibrate checks them.
+  one_sensor sensors("report on");
   for (std::size_t k = 0; k < r.files.size(); ++k) {
     auto run = read_run(r.files[k]);
     if (!run) return run.err();
     for (const auto& w : run->warnings) f.warnings.push_back(w);
+    if (auto s = sensors.add(run->file, run->metadata, f.warnings); !s) return s.err();
     if (f.given) {
       std::vector<std::string> ws;
       if (auto s = check_calibration_fits(run->file, *f.given, run->metadata,
@@ -611,11 +610,22 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                  r.geometry->axis.down)});
   idt.rows.push_back({"temperatures", all_t.text()});
   who.tables.push_back(std::move(idt));
+  // The time the sensor was on before each run (a warm-up transient moves dN), when the
+  // recordings carry it (gyroflip simulate writes power_on_before_s).
+  const bool power_on = std::any_of(runs.begin(), runs.end(), [](const run_analysis& a) {
+    return !metadata_value(a.run.metadata, "power_on_before_s").empty();
+  });
   report::table durations{"Runs", {"run", "file", "duration", "cycles", "temperature"}, {}, ""};
-  for (std::size_t k = 0; k < runs.size(); ++k)
+  if (power_on) durations.header.emplace_back("sensor on before the run");
+  for (std::size_t k = 0; k < runs.size(); ++k) {
     durations.rows.push_back({std::to_string(k + 1), runs[k].run.file,
                               minutes(runs[k].cal.duration_s), std::to_string(runs[k].cal.cycles),
                               cycle_temps(runs[k].run.cycles(r.pairing)).text()});
+    if (power_on) {
+      const auto s = metadata_value(runs[k].run.metadata, "power_on_before_s");
+      durations.rows.back().push_back(s.empty() ? "not recorded" : s + " s");
+    }
+  }
   who.tables.push_back(std::move(durations));
   page.sections.push_back(std::move(who));
 

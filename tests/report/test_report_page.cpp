@@ -5,6 +5,7 @@
 // (GYROFLIP_UPDATE_GOLDEN=1 rewrites them: review the diff). Numbers, dates, hashes and the
 // commit are not part of the structure (figure captions on the page carry none: the numbers are
 // in the images); the temporary folder reads TMP.
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -131,6 +132,39 @@ TEST(ReportPage, ReproducePageStructureIsGolden) {
   const auto html = read_text(d.file("rep/index.html"));
   EXPECT_EQ(html.find("<pre"), std::string::npos);
   expect_golden(structure(html, d.path()), "reproduce_quick.structure");
+}
+
+// Hostile review of issue 22: report skipped calibrate's checks. A report is on one sensor
+// (calibrate's check: another sensor is refused, exit 2, no folder), a rig setting or power-on
+// time that differs between runs is warned about, and the time the sensor was on before each
+// run is shown beside the run.
+TEST(ReportChecks, OneSensorRigAndPowerOnAsCalibrateChecksThem) {
+  temp_dir d;
+  const auto sim = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> a{"simulate", "--duration", "300", "--temp", "20", "-o", d.file(name)};
+    a.insert(a.end(), extra.begin(), extra.end());
+    const auto r = run_cli(a);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return d.file(name);
+  };
+  const auto hz = sim("hz.csv", {"--sensor", "hz1-90-100a", "--seed", "1"});
+  const auto adx = sim("adx.csv", {"--sensor", "adxrs150", "--seed", "2"});
+  const auto hz128 = sim("hz128.csv", {"--sensor", "hz1-90-100a", "--seed", "3", "--n-avg", "128",
+                                       "--power-on-before", "600"});
+  const auto mixed = run_cli({"report", hz, adx, "-o", d.file("mixed")});
+  EXPECT_EQ(mixed.exit_code, 2) << mixed.err;
+  EXPECT_NE(mixed.err.find("report on one sensor at a time"), std::string::npos) << mixed.err;
+  EXPECT_FALSE(std::filesystem::exists(d.file("mixed")));
+  const auto rig = run_cli({"report", hz, hz128, "-o", d.file("rig")});
+  ASSERT_EQ(rig.exit_code, 0) << rig.err;
+  EXPECT_NE(rig.err.find("rig setting differs from " + hz + ": n_avg 256 vs 128"),
+            std::string::npos)
+      << rig.err;
+  EXPECT_NE(rig.err.find("the sensor was on 600 s before the run"), std::string::npos) << rig.err;
+  const auto html = read_text(d.file("rig/index.html"));
+  EXPECT_NE(html.find("sensor on before the run"), std::string::npos);
+  EXPECT_NE(html.find("600 s"), std::string::npos);
+  EXPECT_NE(html.find("n_avg 256 vs 128"), std::string::npos);  // the warning on the page
 }
 
 }  // namespace
