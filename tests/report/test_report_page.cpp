@@ -167,4 +167,24 @@ TEST(ReportChecks, OneSensorRigAndPowerOnAsCalibrateChecksThem) {
   EXPECT_NE(html.find("n_avg 256 vs 128"), std::string::npos);  // the warning on the page
 }
 
+// Hostile review of issue 22: `--expected-rate nan` was read as "not given" (NaN was the
+// CLI's "not given") and ignored, while Python's report(expected_rate=nan) raises ValueError.
+// A non-finite value is refused (exit 2, the flag named, no folder), as is a NaN latitude.
+TEST(ReportChecks, NonFiniteNumbersAreRefused) {
+  temp_dir d;
+  const auto t = simulate(d, "t.csv", "20", "4");
+  for (const char* v : {"nan", "inf", "-inf"}) {
+    const auto r = run_cli({"report", t, "--expected-rate", v, "-o", d.file("rep")});
+    EXPECT_EQ(r.exit_code, 2) << v << ": " << r.err;
+    EXPECT_NE(r.err.find("--expected-rate"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("must be a finite number"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(d.file("rep")));
+  }
+  for (const char* cmd : {"report", "calibrate"}) {
+    const auto r = run_cli({cmd, t, "--latitude", "nan", "--axis", "north", "-o", d.file("rep")});
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.err;
+    EXPECT_NE(r.err.find("must be a finite number"), std::string::npos) << r.err;
+  }
+}
+
 }  // namespace
