@@ -7,8 +7,10 @@
 // in the images); the temporary folder reads TMP.
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -185,6 +187,61 @@ TEST(ReportChecks, NonFiniteNumbersAreRefused) {
     EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.err;
     EXPECT_NE(r.err.find("must be a finite number"), std::string::npos) << r.err;
   }
+}
+
+// The numbers (digits, with sign, decimals and exponent) in `text`.
+std::vector<std::string> numbers_in(const std::string& text) {
+  std::vector<std::string> out;
+  const std::regex number(R"([-+]?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), number);
+       it != std::sregex_iterator(); ++it)
+    out.push_back(it->str());
+  return out;
+}
+
+// The conclusion paragraph and the text of every table (cells, captions, notes) of a page.
+std::pair<std::string, std::string> conclusion_and_tables(const std::string& html) {
+  const auto h = html.find(">Conclusion</h2>");
+  EXPECT_NE(h, std::string::npos);
+  const auto p = html.find("<p", h);
+  std::string cells;
+  for (const auto& [open, close] : {std::pair{"<td", "</td>"}, std::pair{"<caption", "</caption>"},
+                                    std::pair{"<p class=\"note\"", "</p>"}})
+    for (auto at = html.find(open); at != std::string::npos; at = html.find(open, at + 1))
+      cells += inner(html, at, close) + "\n";
+  return {inner(html, p, "</p>"), cells};
+}
+
+// Hostile review of issue 22: the conclusion stated an unresolved dN(T) slope as fact, quoted
+// numbers in no table, and gave the dN applied of the first run only. Every number of the
+// conclusion is now in a table of the page; a slope with no degrees of freedom is "not resolved";
+// the dN applied is given per run with the run's name.
+TEST(ReportChecks, TheConclusionQuotesOnlyTheTablesNumbers) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), c = simulate(d, "c4.csv", "4", "3");
+  const auto r =
+      run_cli({"report", a, c, "--latitude", "42.6", "--axis", "north", "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto [text, cells] = conclusion_and_tables(read_text(d.file("rep/index.html")));
+  EXPECT_NE(text.find("not resolved"), std::string::npos) << text;
+  EXPECT_NE(text.find("no degrees of freedom"), std::string::npos) << text;
+  EXPECT_EQ(text.find("changing by"), std::string::npos) << text;
+  for (const auto& n : numbers_in(text))
+    EXPECT_NE(cells.find(n.front() == '+' ? n.substr(1) : n), std::string::npos)
+        << n << " of the conclusion is in no table: " << text;
+  // Two runs at 20 and 4 degC compensated with the dN(T) of both: each run's dN applied.
+  ASSERT_EQ(run_cli({"calibrate", a, c, "-o", d.file("cal.json")}).exit_code, 0);
+  const auto t20 = simulate(d, "t20.csv", "20", "5", "0.5"),
+             t4 = simulate(d, "t4.csv", "4", "6", "0.5");
+  const auto rc =
+      run_cli({"report", t20, t4, "--calibration", d.file("cal.json"), "-o", d.file("rep2")});
+  ASSERT_EQ(rc.exit_code, 0) << rc.err;
+  const auto [text2, cells2] = conclusion_and_tables(read_text(d.file("rep2/index.html")));
+  EXPECT_NE(text2.find(t20 + " "), std::string::npos) << text2;
+  EXPECT_NE(text2.find(t4 + " "), std::string::npos) << text2;
+  for (const auto& n : numbers_in(text2))
+    EXPECT_NE(cells2.find(n.front() == '+' ? n.substr(1) : n), std::string::npos)
+        << n << " of the conclusion is in no table: " << text2;
 }
 
 }  // namespace
