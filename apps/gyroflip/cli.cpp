@@ -1,6 +1,7 @@
 /// \file
 /// \brief Command-line parsing for all subcommands: the only translation unit that includes
 /// CLI11 (a 5-s header). Parsing only fills option structs; work runs after parsing.
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -35,6 +36,17 @@ CLI::Validator confidence_level(bool allow_none) {
                (allow_none ? " or none" : "") + "; got " + text;
       },
       allow_none ? "LEVEL in (0,1) or none" : "LEVEL in (0,1)");
+}
+
+// A finite number (CLI11 reads "nan" and "inf" as doubles; a NaN would pass for "not given").
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](const std::string& text) -> std::string {
+        const auto v = text::to_double(text);
+        if (v && std::isfinite(*v)) return {};
+        return "must be a finite number; got " + text;
+      },
+      "NUMBER");
 }
 
 // Binds options to a shared struct and, when the subcommand is chosen, selects its run_.
@@ -241,7 +253,8 @@ void setup_calibrate(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand("calibrate", "dN from stationary recordings (paper eqns 8-11)");
   auto o = bind<calibrate_options>(sub, chosen, run_calibrate);
   sub->add_option("files", o->files, "recordings (CSV, docs/FORMATS.md)")->required();
-  sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms");
+  sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms")
+      ->check(finite_number());
   sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D");
   sub->add_option("--pairing", o->pairing, "cycle estimator")
       ->check(CLI::IsMember({"abba", "simple"}))
@@ -368,7 +381,8 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_option("files", o->files, "recordings (CSV or .gfr)")->required();
   sub->add_option("-o,--output", o->output, "the report folder DIR (index.html, figures/, ...)")
       ->required();
-  sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms");
+  sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms")
+      ->check(finite_number());
   sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D");
   sub->add_option("--calibration", o->calibration,
                   "CAL.json: compensate the files with it (without: calibrate them)");
@@ -378,7 +392,8 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
       ->capture_default_str();
   sub->add_option("--expected-rate", o->expected_rate_dps,
                   "the rate the runs were commanded to (deg/s; with --calibration): each run's "
-                  "error and scale-factor error against it");
+                  "error and scale-factor error against it")
+      ->check(finite_number());
 }
 
 void setup_reproduce(CLI::App& app, action& chosen, const std::vector<std::string>& args) {

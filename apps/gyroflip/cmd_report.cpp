@@ -2,7 +2,6 @@
 /// \brief `gyroflip report FILE... -o DIR`: the report a lab sends (workflow/report.hpp,
 /// docs/REPORT.md): options -> one workflow call -> what was written.
 #include <array>
-#include <cmath>
 
 #include <fmt/format.h>
 
@@ -30,7 +29,7 @@ int run_report(const report_options& o) {
   req.calibration = o.calibration;
   req.title = o.title;
   req.pairing = *pairing;
-  if (!std::isnan(o.expected_rate_dps)) req.expected_rate_dps = o.expected_rate_dps;
+  req.expected_rate_dps = o.expected_rate_dps;
   req.command = shell_command(o.command_line);
   req.made_by = "gyroflip report";
   progress bar("report", 1000);

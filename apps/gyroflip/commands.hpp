@@ -54,8 +54,8 @@ struct report_options {
   std::string calibration;  // CAL.json: compensate the files (else: calibrate them)
   std::string title;
   std::string pairing = "abba";
-  double expected_rate_dps = std::numeric_limits<double>::quiet_NaN();  // NaN: not given
-  std::vector<std::string> command_line;  // as typed, for the page's provenance
+  std::optional<double> expected_rate_dps;  // nullopt: not given
+  std::vector<std::string> command_line;    // as typed, for the page's provenance
 };
 int run_report(const report_options& o);
 

@@ -33,6 +33,31 @@ result<std::optional<method::delta_n_model>> fit_model(
 
 }  // namespace
 
+status one_sensor::add(const std::string& file, std::span<const io::csv_metadata> metadata,
+                       std::vector<std::string>& warnings) {
+  const auto sr = io::sensor_of(metadata);
+  const auto power_on = metadata_value(metadata, "power_on_before_s");
+  if (!sensor_) {
+    sensor_ = sr;
+    first_file_ = file;
+    first_power_on_ = power_on;
+    return ok();
+  }
+  if (sr.sensor != sensor_->sensor)
+    return input_error({file}, fmt::format("recorded with sensor '{}', but {} with '{}': {} one "
+                                           "sensor at a time",
+                                           printable(sr.sensor, 80), printable(first_file_, 200),
+                                           printable(sensor_->sensor, 80), task_));
+  for (const auto& d : io::rig_differences(*sensor_, sr))
+    warnings.push_back(fmt::format("{}: rig setting differs from {}: {}", file, first_file_, d));
+  if (!power_on.empty() && !first_power_on_.empty() && power_on != first_power_on_)
+    warnings.push_back(fmt::format(
+        "{}: the sensor was on {} s before the run, {} s before {}'s: a warm-up transient moves "
+        "dN differently",
+        file, power_on, first_power_on_, first_file_));
+  return ok();
+}
+
 result<calibrate_result> calibrate_runs(const calibrate_request& r,
                                         const progress_fn& on_progress) {
   if (r.files.empty()) return usage_error("no recording to calibrate");
@@ -45,6 +70,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   rec.pairing = r.pairing;
   rec.geometry = r.geometry;
   std::vector<method::cycle> all;
+  one_sensor sensors("calibrate");
   for (std::size_t k = 0; k < r.files.size(); ++k) {
     const auto& file = r.files[k];
     auto rc = read_cycles(file, r.pairing, part_progress(on_progress, k, r.files.size()),
@@ -54,23 +80,10 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     auto cal = method::calibrate(rc->cycles);
     if (!cal) return input_error({file}, cal.err().message);
     rec.files.push_back({file, *cal});
-    // One sensor per calibration: its identity and rig come from the recordings' metadata.
-    const auto sr = io::sensor_of(rc->metadata);
-    if (!rec.sensor) {
-      rec.sensor = sr;
-    } else if (sr.sensor != rec.sensor->sensor) {
-      return input_error(
-          {file}, fmt::format("recorded with sensor '{}', but {} with '{}': calibrate one sensor "
-                              "at a time",
-                              printable(sr.sensor, 80), printable(r.files.front(), 200),
-                              printable(rec.sensor->sensor, 80)));
-    } else {
-      for (const auto& d : io::rig_differences(*rec.sensor, sr))
-        out.warnings.push_back(
-            fmt::format("{}: rig setting differs from {}: {}", file, r.files.front(), d));
-    }
+    if (auto s = sensors.add(file, rc->metadata, out.warnings); !s) return s.err();
     all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
   }
+  rec.sensor = sensors.sensor();
   if (!rec.sensor->known())
     out.warnings.emplace_back(
         "the recordings name no sensor (no `# sensor_name:` or `# serial:` line): a compensation "

@@ -52,4 +52,10 @@ result<recording_run> read_run(const std::string& path, double angle_tolerance_d
   return r;
 }
 
+std::string metadata_value(std::span<const io::csv_metadata> metadata, std::string_view key) {
+  for (const auto& e : metadata)
+    if (e.key == key) return e.value;
+  return {};
+}
+
 }  // namespace gyroflip::workflow

@@ -31,6 +31,7 @@
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/analyse.hpp"
 #include "gyroflip/workflow/budget.hpp"
+#include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/compensate.hpp"
 
 namespace gyroflip::workflow {
@@ -78,24 +79,19 @@ struct identity {
   std::size_t simulated = 0;          // runs from gyroflip's simulator
 };
 
-std::string meta(std::span<const io::csv_metadata> m, std::string_view key) {
-  for (const auto& e : m)
-    if (e.key == key) return e.value;
-  return {};
-}
-
 // Where a recording came from, from its metadata.
 std::string origin_of(const recording_run& r, bool& simulated) {
   const auto& m = r.metadata;
   simulated = false;
-  if (!meta(m, "gyroflip simulate").empty()) {
+  if (!metadata_value(m, "gyroflip simulate").empty()) {
     simulated = true;
-    return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)", meta(m, "sensor"),
-                       meta(m, "seed"), meta(m, "duration_s"));
+    return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)",
+                       metadata_value(m, "sensor"), metadata_value(m, "seed"),
+                       metadata_value(m, "duration_s"));
   }
   if (r.file.ends_with(".gfr"))
-    return fmt::format("rig recording (.gfr): device serial {}, firmware {}", meta(m, "serial"),
-                       meta(m, "firmware"));
+    return fmt::format("rig recording (.gfr): device serial {}, firmware {}",
+                       metadata_value(m, "serial"), metadata_value(m, "firmware"));
   return "recording (CSV); its metadata names no maker";
 }
 
@@ -104,11 +100,11 @@ identity identify(const std::vector<run_analysis>& runs) {
   for (const auto& a : runs) {
     const auto& m = a.run.metadata;
     if (id.preset.empty()) {
-      id.preset = meta(m, "sensor_name");
-      if (id.preset.empty()) id.preset = meta(m, "sensor");
+      id.preset = metadata_value(m, "sensor_name");
+      if (id.preset.empty()) id.preset = metadata_value(m, "sensor");
       id.rig = io::sensor_of(m).rig;
     }
-    if (const auto s = meta(m, "serial"); !s.empty()) id.serials.insert(s);
+    if (const auto s = metadata_value(m, "serial"); !s.empty()) id.serials.insert(s);
     bool sim = false;
     id.origin.push_back(origin_of(a.run, sim));
     id.simulated += sim ? 1 : 0;
@@ -341,13 +337,27 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                           pm(f.pooled->first, f.pooled->second), runs.size(),
                           cycle_temps(runs.front().run.cycles(runs.front().pairing)).text());
     } else if (f.runs_model && f.runs_model->degree() > 0) {
+      // The numbers as the ΔN(T) and budget tables print them. A slope is stated only when it
+      // is resolved: degrees of freedom left and at least 2 standard errors from zero.
       const auto& m = *f.runs_model;
-      // A line without degrees of freedom has no error of its own: the budget's stands in.
-      value = fmt::format(
-          "{} °/s at {:.1f} °C, changing by {} °/s per °C over {:.1f}–{:.1f} °C "
-          "(dN(T) of {} runs)",
-          pm(m.coeffs_dps[0], b.model_dps ? m.stderr_at(m.t_ref_c) : b.calibration_dps), m.t_ref_c,
-          g(m.coeffs_dps[1], 3), m.temp_min_c, m.temp_max_c, runs.size());
+      const std::size_t n = m.coeffs_dps.size();
+      const std::size_t dof = runs.size() > n ? runs.size() - n : 0;
+      const double slope = m.coeffs_dps[1], u = std::sqrt(m.cov[n + 1]);
+      value = fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
+                          g(m.coeffs_dps[0], 6), g(b.calibration_dps, 2), m.t_ref_c, runs.size(),
+                          m.temp_min_c, m.temp_max_c);
+      if (dof == 0)
+        value += fmt::format(
+            "; how it changes with temperature is not resolved: {} runs for {} coefficients "
+            "leave no degrees of freedom",
+            runs.size(), n);
+      else if (std::abs(slope) < 2.0 * u)
+        value += fmt::format(
+            "; how it changes with temperature is not resolved: the slope {} ± {} °/s per °C is "
+            "below 2 standard errors",
+            g(slope, 6), g(u, 3));
+      else
+        value += fmt::format(", changing by {} ± {} °/s per °C", g(slope, 6), g(u, 3));
     } else {
       const auto& c = runs.front().cal;
       value = fmt::format("{} °/s (one run of {}, within-run error)",
@@ -358,9 +368,9 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const auto s = method::split_delta_n(runs.front().cal.delta_n_dps, r.geometry->lat_deg,
                                            r.geometry->axis);
       out += fmt::format(
-          " Of it, {} °/s is the Earth's rate at {}° latitude and {} °/s the "
-          "g-term (first run).",
-          g(s.earth_rate_dps, 4), r.geometry->lat_deg, g(s.g_term_dps, 3));
+          " Of the first run's ΔN, {} °/s is the Earth's rate at {}° latitude and {} °/s the "
+          "g-term.",
+          g(s.earth_rate_dps, 6), r.geometry->lat_deg, g(s.g_term_dps, 4));
     }
     if (std::isfinite(b.new_power_up_dps)) {
       out += fmt::format(
@@ -377,8 +387,13 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     out += fmt::format(" With ΔN removed, the rate scatters by up to {} °/s per cycle.",
                        g(worst_std, 3));
   } else {
-    out = fmt::format("Compensated with {} (ΔN applied: {} °/s; for this power-up ±{} °/s).",
-                      f.given->source, applied_text(runs.front().comp), g(b.new_power_up_dps, 2));
+    // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
+    std::string applied;
+    for (std::size_t k = 0; k < runs.size(); ++k)
+      applied +=
+          fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file, applied_text(runs[k].comp));
+    out = fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up ±{} °/s).",
+                      f.given->source, applied, g(b.new_power_up_dps, 2));
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
@@ -394,16 +409,15 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
         "reduce it.",
         g(b.new_power_up_dps, 2));
   }
+  // The noise, as the noise table prints it: the same term (B) of both series of the first run.
   const auto* a = &runs.front();
-  if (a->comp_noise && noise_fitted(*a->comp_noise) && a->raw_noise &&
-      !a->raw_noise->oadev.empty()) {
-    const auto& t = a->comp_noise->terms;
-    out += fmt::format(
-        " The compensated rate's Allan deviation reaches {} °/h at τ = {} s (the raw sensor's {} "
-        "°/h at its longest τ, {} s).",
-        g(t.bias_floor_dev * units::dph_per_dps, 3), g(t.bias_floor_tau_s, 3),
-        g(a->raw_noise->oadev.back().dev * units::dph_per_dps, 3),
-        g(a->raw_noise->oadev.back().tau_s, 3));
+  if (a->comp_noise && noise_fitted(*a->comp_noise)) {
+    out += fmt::format(" The compensated rate's bias instability B is {} °/h",
+                       term(a->comp_noise->terms.bias_instability, units::dph_per_dps));
+    if (a->raw_noise && noise_fitted(*a->raw_noise))
+      out += fmt::format(" against {} °/h for the raw 0° dwell means (without flipping)",
+                         term(a->raw_noise->terms.bias_instability, units::dph_per_dps));
+    out += fmt::format(" ({}, noise table).", a->run.file);
   }
   out += f.warnings.empty() ? " Nothing in the runs looks wrong."
                             : fmt::format(" Watch: {} warning{} below.", f.warnings.size(),
@@ -430,8 +444,9 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
                    : "Uncertainty budget of ΔN (°/s, one standard uncertainty)",
       {"component", "value (°/s)", "what it is"},
       {{"within-run (correlated)", v(b.within_run_dps),
-        fmt::format("the {} run{}' own errors, pooled (correlated noise included)", b.runs,
-                    b.runs == 1 ? "" : "s")},
+        b.runs == 1
+            ? std::string("the run's own error (correlated noise included)")
+            : fmt::format("the {} runs' own errors, pooled (correlated noise included)", b.runs)},
        {"run-to-run repeatability", v(b.run_to_run_dps), b.run_to_run_source},
        {"dN(T) model", b.model_dps ? v(*b.model_dps) : std::string("–"), b.model_note},
        {"calibrated ΔN", v(b.calibration_dps), "the error of the calibrated value"},
@@ -475,10 +490,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   }
 
   std::vector<run_analysis> runs;
+  // The runs of one report are of one sensor, checked as calibrate checks them.
+  one_sensor sensors("report on");
   for (std::size_t k = 0; k < r.files.size(); ++k) {
     auto run = read_run(r.files[k]);
     if (!run) return run.err();
     for (const auto& w : run->warnings) f.warnings.push_back(w);
+    if (auto s = sensors.add(run->file, run->metadata, f.warnings); !s) return s.err();
     if (f.given) {
       std::vector<std::string> ws;
       if (auto s = check_calibration_fits(run->file, *f.given, run->metadata,
@@ -611,11 +629,22 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                  r.geometry->axis.down)});
   idt.rows.push_back({"temperatures", all_t.text()});
   who.tables.push_back(std::move(idt));
+  // The time the sensor was on before each run (a warm-up transient moves dN), when the
+  // recordings carry it (gyroflip simulate writes power_on_before_s).
+  const bool power_on = std::any_of(runs.begin(), runs.end(), [](const run_analysis& a) {
+    return !metadata_value(a.run.metadata, "power_on_before_s").empty();
+  });
   report::table durations{"Runs", {"run", "file", "duration", "cycles", "temperature"}, {}, ""};
-  for (std::size_t k = 0; k < runs.size(); ++k)
+  if (power_on) durations.header.emplace_back("sensor on before the run");
+  for (std::size_t k = 0; k < runs.size(); ++k) {
     durations.rows.push_back({std::to_string(k + 1), runs[k].run.file,
                               minutes(runs[k].cal.duration_s), std::to_string(runs[k].cal.cycles),
                               cycle_temps(runs[k].run.cycles(r.pairing)).text()});
+    if (power_on) {
+      const auto s = metadata_value(runs[k].run.metadata, "power_on_before_s");
+      durations.rows.back().push_back(s.empty() ? "not recorded" : s + " s");
+    }
+  }
   who.tables.push_back(std::move(durations));
   page.sections.push_back(std::move(who));
 

@@ -5,9 +5,12 @@
 // (GYROFLIP_UPDATE_GOLDEN=1 rewrites them: review the diff). Numbers, dates, hashes and the
 // commit are not part of the structure (figure captions on the page carry none: the numbers are
 // in the images); the temporary folder reads TMP.
+#include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -131,6 +134,114 @@ TEST(ReportPage, ReproducePageStructureIsGolden) {
   const auto html = read_text(d.file("rep/index.html"));
   EXPECT_EQ(html.find("<pre"), std::string::npos);
   expect_golden(structure(html, d.path()), "reproduce_quick.structure");
+}
+
+// Hostile review of issue 22: report skipped calibrate's checks. A report is on one sensor
+// (calibrate's check: another sensor is refused, exit 2, no folder), a rig setting or power-on
+// time that differs between runs is warned about, and the time the sensor was on before each
+// run is shown beside the run.
+TEST(ReportChecks, OneSensorRigAndPowerOnAsCalibrateChecksThem) {
+  temp_dir d;
+  const auto sim = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> a{"simulate", "--duration", "300", "--temp", "20", "-o", d.file(name)};
+    a.insert(a.end(), extra.begin(), extra.end());
+    const auto r = run_cli(a);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return d.file(name);
+  };
+  const auto hz = sim("hz.csv", {"--sensor", "hz1-90-100a", "--seed", "1"});
+  const auto adx = sim("adx.csv", {"--sensor", "adxrs150", "--seed", "2"});
+  const auto hz128 = sim("hz128.csv", {"--sensor", "hz1-90-100a", "--seed", "3", "--n-avg", "128",
+                                       "--power-on-before", "600"});
+  const auto mixed = run_cli({"report", hz, adx, "-o", d.file("mixed")});
+  EXPECT_EQ(mixed.exit_code, 2) << mixed.err;
+  EXPECT_NE(mixed.err.find("report on one sensor at a time"), std::string::npos) << mixed.err;
+  EXPECT_FALSE(std::filesystem::exists(d.file("mixed")));
+  const auto rig = run_cli({"report", hz, hz128, "-o", d.file("rig")});
+  ASSERT_EQ(rig.exit_code, 0) << rig.err;
+  EXPECT_NE(rig.err.find("rig setting differs from " + hz + ": n_avg 256 vs 128"),
+            std::string::npos)
+      << rig.err;
+  EXPECT_NE(rig.err.find("the sensor was on 600 s before the run"), std::string::npos) << rig.err;
+  const auto html = read_text(d.file("rig/index.html"));
+  EXPECT_NE(html.find("sensor on before the run"), std::string::npos);
+  EXPECT_NE(html.find("600 s"), std::string::npos);
+  EXPECT_NE(html.find("n_avg 256 vs 128"), std::string::npos);  // the warning on the page
+}
+
+// Hostile review of issue 22: `--expected-rate nan` was read as "not given" (NaN was the
+// CLI's "not given") and ignored, while Python's report(expected_rate=nan) raises ValueError.
+// A non-finite value is refused (exit 2, the flag named, no folder), as is a NaN latitude.
+TEST(ReportChecks, NonFiniteNumbersAreRefused) {
+  temp_dir d;
+  const auto t = simulate(d, "t.csv", "20", "4");
+  for (const char* v : {"nan", "inf", "-inf"}) {
+    const auto r = run_cli({"report", t, "--expected-rate", v, "-o", d.file("rep")});
+    EXPECT_EQ(r.exit_code, 2) << v << ": " << r.err;
+    EXPECT_NE(r.err.find("--expected-rate"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("must be a finite number"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(d.file("rep")));
+  }
+  for (const char* cmd : {"report", "calibrate"}) {
+    const auto r = run_cli({cmd, t, "--latitude", "nan", "--axis", "north", "-o", d.file("rep")});
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.err;
+    EXPECT_NE(r.err.find("must be a finite number"), std::string::npos) << r.err;
+  }
+}
+
+// The numbers (digits, with sign, decimals and exponent) in `text`.
+std::vector<std::string> numbers_in(const std::string& text) {
+  std::vector<std::string> out;
+  const std::regex number(R"([-+]?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), number);
+       it != std::sregex_iterator(); ++it)
+    out.push_back(it->str());
+  return out;
+}
+
+// The conclusion paragraph and the text of every table (cells, captions, notes) of a page.
+std::pair<std::string, std::string> conclusion_and_tables(const std::string& html) {
+  const auto h = html.find(">Conclusion</h2>");
+  EXPECT_NE(h, std::string::npos);
+  const auto p = html.find("<p", h);
+  std::string cells;
+  for (const auto& [open, close] : {std::pair{"<td", "</td>"}, std::pair{"<caption", "</caption>"},
+                                    std::pair{"<p class=\"note\"", "</p>"}})
+    for (auto at = html.find(open); at != std::string::npos; at = html.find(open, at + 1))
+      cells += inner(html, at, close) + "\n";
+  return {inner(html, p, "</p>"), cells};
+}
+
+// Hostile review of issue 22: the conclusion stated an unresolved dN(T) slope as fact, quoted
+// numbers in no table, and gave the dN applied of the first run only. Every number of the
+// conclusion is now in a table of the page; a slope with no degrees of freedom is "not resolved";
+// the dN applied is given per run with the run's name.
+TEST(ReportChecks, TheConclusionQuotesOnlyTheTablesNumbers) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), c = simulate(d, "c4.csv", "4", "3");
+  const auto r =
+      run_cli({"report", a, c, "--latitude", "42.6", "--axis", "north", "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto [text, cells] = conclusion_and_tables(read_text(d.file("rep/index.html")));
+  EXPECT_NE(text.find("not resolved"), std::string::npos) << text;
+  EXPECT_NE(text.find("no degrees of freedom"), std::string::npos) << text;
+  EXPECT_EQ(text.find("changing by"), std::string::npos) << text;
+  for (const auto& n : numbers_in(text))
+    EXPECT_NE(cells.find(n.front() == '+' ? n.substr(1) : n), std::string::npos)
+        << n << " of the conclusion is in no table: " << text;
+  // Two runs at 20 and 4 degC compensated with the dN(T) of both: each run's dN applied.
+  ASSERT_EQ(run_cli({"calibrate", a, c, "-o", d.file("cal.json")}).exit_code, 0);
+  const auto t20 = simulate(d, "t20.csv", "20", "5", "0.5"),
+             t4 = simulate(d, "t4.csv", "4", "6", "0.5");
+  const auto rc =
+      run_cli({"report", t20, t4, "--calibration", d.file("cal.json"), "-o", d.file("rep2")});
+  ASSERT_EQ(rc.exit_code, 0) << rc.err;
+  const auto [text2, cells2] = conclusion_and_tables(read_text(d.file("rep2/index.html")));
+  EXPECT_NE(text2.find(t20 + " "), std::string::npos) << text2;
+  EXPECT_NE(text2.find(t4 + " "), std::string::npos) << text2;
+  for (const auto& n : numbers_in(text2))
+    EXPECT_NE(cells2.find(n.front() == '+' ? n.substr(1) : n), std::string::npos)
+        << n << " of the conclusion is in no table: " << text2;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
-// The reproduction's verdict (issue 22) is on predictions only and can fail: a sensor model
-// whose prediction is wrong on purpose fails it, and exactly the predictions it breaks fail,
-// while the calibration targets it still matches do not rescue it.
+// The reproduction's verdict (issue 22) is on the tests of the model only (what the simulator
+// predicts and the paper measured) and can fail: a sensor model whose prediction is wrong on
+// purpose fails it, and exactly the tests it breaks fail, while the calibration targets and the
+// consistency checks of the paper's own data (which no model can pass or fail) do not count.
 #include <algorithm>
 #include <string>
 
@@ -31,6 +32,21 @@ TEST(ReproduceVerdict, HoldsForTheModelAndFailsWhenAPredictionIsBrokenOnPurpose)
   const auto good = workflow::reproduce(req);
   ASSERT_TRUE(good) << good.err().message;
   EXPECT_TRUE(good->reproduced) << failed_predictions(*good);
+  const auto summary = json::parse(good->summary_json);
+  // The consistency checks of the paper's own data (the simulator does not enter them) are
+  // apart and do not count; the paper's figure values carry no simulated uncertainty.
+  json checks = json::array();
+  for (const auto& c : summary["consistency_checks"]) checks.push_back(c["id"]);
+  EXPECT_EQ(checks, json({"tab3_4c_mean_vs_20c", "tab3_20c_loo", "tab3_4c_loo", "tab4_20c_loo"}));
+  for (const auto& p : summary["predictions"]) {
+    EXPECT_EQ(std::string(p["id"]).find("_loo"), std::string::npos) << p;
+    if (std::string(p["id"]).ends_with("_mean")) {
+      EXPECT_EQ(p["u_observed"].get<double>(), 0.0) << p;
+      EXPECT_GT(p["u_predicted"].get<double>(), 0.0) << p;
+    }
+  }
+  EXPECT_NE(good->text.find("reproduced (7 of 7 tests of the model hold)"), std::string::npos)
+      << good->text;
 
   // The ADXRS150 with twice its datasheet ARW: the Tab. 4 targets (g-term, turn-on spread) are
   // untouched, the per-cycle std of Figs 4/6 (a prediction) doubles.
@@ -42,17 +58,18 @@ TEST(ReproduceVerdict, HoldsForTheModelAndFailsWhenAPredictionIsBrokenOnPurpose)
   EXPECT_FALSE(noisy->reproduced);
   EXPECT_EQ(failed_predictions(*noisy), json({"fig4_std", "fig6_std"}));
 
-  // The HZ1 with a g-term 0.003 deg/s/g larger (its dN at 20 degC is almost all Earth rate):
-  // the 4 degC row predicted from 20 degC alone misses by about 4 sigma.
+  // The HZ1 with a tenth of its turn-on spread (a new power-up's g-term moves 10 times less):
+  // the Tab. 3 stds (targets) are missed, which is not judged, but the figure runs simulated
+  // with it predict compensated means 10 times tighter than the paper's Figs 8/10 show, and the
+  // 4 degC std from the 20-degC-only model falls far below the paper's: tests of the model.
   auto hz1 = *sensor::find_builtin("hz1-90-100a");
-  hz1.params.g_sens_z_dps_per_g += 0.003;
+  hz1.params.g_sens_turn_on_sigma_dps_per_g *= 0.1;
+  hz1.params.g_sens_tc_turn_on_sigma_dps_per_g_c *= 0.1;
   req.sensors = {hz1};
-  const auto shifted = workflow::reproduce(req);
-  ASSERT_TRUE(shifted) << shifted.err().message;
-  EXPECT_FALSE(shifted->reproduced);
-  const auto failed = failed_predictions(*shifted);
-  EXPECT_NE(std::find(failed.begin(), failed.end(), "tab3_4c_mean_from_20c"), failed.end())
-      << failed;
+  const auto tight = workflow::reproduce(req);
+  ASSERT_TRUE(tight) << tight.err().message;
+  EXPECT_FALSE(tight->reproduced);
+  EXPECT_EQ(failed_predictions(*tight), json({"tab3_4c_std_from_20c", "fig8_mean", "fig10_mean"}));
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 /// calibrate and compensate, or as a whole run (rows, dwells, both pairings) for the report.
 #pragma once
 
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gyroflip/core/progress.hpp"
@@ -37,6 +39,10 @@ struct recording_run {
     return p == method::pairing::abba ? abba : simple;
   }
 };
+
+/// The value of metadata key `key` (`# key: value`), empty when the recording has none.
+[[nodiscard]] std::string metadata_value(std::span<const io::csv_metadata> metadata,
+                                         std::string_view key);
 
 /// Reads a recording (CSV or `.gfr`) whole. Errors: those of the readers and of
 /// io::cycles_of_rows.

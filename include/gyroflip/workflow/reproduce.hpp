@@ -22,8 +22,8 @@ struct reproduce_request {
   std::size_t campaigns = 0;  ///< 0: 10 (1 when quick); at most max_campaigns
   std::string output;         ///< a report folder for the page (empty: none)
   /// Sensor models used instead of the built-in presets of the same name ("adxrs150",
-  /// "hz1-90-100a"): a model to put to the paper's test. The verdict is on predictions only, so
-  /// a model whose predictions are wrong fails it.
+  /// "hz1-90-100a"): a model to put to the paper's test. The verdict is on the tests of the
+  /// model only, so a model whose predictions are wrong fails it.
   std::vector<sensor::preset> sensors;
   /// Run the sensitivity study (docs/REPRODUCE.md, "Sensitivity"): the experiment again, one
   /// campaign each, with each assumed value changed within reason. Default: unless quick.
@@ -38,8 +38,9 @@ inline constexpr std::size_t max_campaigns = 1000;
 struct reproduction {
   std::string text;          ///< the comparison as plain text
   std::string summary_json;  ///< summary.json's text (schema gyroflip.reproduce/N)
-  /// The verdict: every prediction (a quantity not fitted to the paper) within its criterion.
-  /// The calibration targets (fitted) are shown but not judged.
+  /// The verdict: every test of the model (a quantity the simulator predicts, not fitted to
+  /// the paper) within its criterion. The calibration targets (fitted) and the consistency
+  /// checks of the paper's own data are shown but not counted.
   bool reproduced = false;
 };
 
