@@ -123,6 +123,29 @@ result<report_folder> report_folder::make(const std::string& out,
   return report_folder(out, target.string(), std::move(*staging), mode);
 }
 
+namespace {
+
+// Removes the earlier report at `dir` (checked: every entry its report's), entry by entry, deepest
+// first, and then the folder: never a folder with anything in it, so that a file that appeared
+// after the check stays (with the folders above it). Errors name `out` and where the earlier
+// report is kept.
+status remove_earlier(const std::string& dir, const std::string& out) {
+  auto have = entries_of(dir);
+  if (!have) return have.err();
+  for (auto e = have->rbegin(); e != have->rend(); ++e) {
+    const bool folder = e->back() == '/';
+    const std::string path = dir + "/" + (folder ? e->substr(0, e->size() - 1) : *e);
+    (void)(folder ? ::rmdir(path.c_str()) : ::unlink(path.c_str()));  // a failure: rmdir tells
+  }
+  if (::rmdir(dir.c_str()) != 0)
+    return io_error(out, fmt::format("the report is in place; the earlier one could not be removed "
+                                     "wholly ({}): what is left of it is in {}",
+                                     std::strerror(errno), dir));
+  return ok();
+}
+
+}  // namespace
+
 status report_folder::publish(const std::string& made_by) {
   auto have = entries_of(staging_.path());
   if (!have) return have.err();
@@ -145,28 +168,50 @@ status report_folder::publish(const std::string& made_by) {
     staging_.keep();
     return ok();
   }
+  // The earlier report was checked when the run began; the user may have added to it since.
+  if (auto s = check_replaceable(target_, out_); !s) return s;
   // An earlier report: swapped with the new one in one step, so that DIR always holds a whole
-  // report; the staging name then holds the earlier one, which goes with `staging_`.
-  if (::renameat2(AT_FDCWD, staging_.path().c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) ==
-      0)
-    return ok();
+  // report; the staging name then holds the earlier one. Checked again there (something may have
+  // appeared between the check and the swap): if it is no longer only the report's, swapped back.
+  const std::string staged = staging_.path();
+  if (::renameat2(AT_FDCWD, staged.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
+    if (auto s = check_replaceable(staged, out_); !s) {
+      if (::renameat2(AT_FDCWD, staged.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0) {
+        staging_.keep();  // the earlier folder stays where it is, with what appeared in it
+        return error{s.err().code, fmt::format("{}; it could not be put back ({}) and is in {}",
+                                               s.err().message, std::strerror(errno), staged)};
+      }
+      return s;  // the new report goes with `staging_`
+    }
+    // Removed entry by entry (never as a tree, by the destructor or a signal): a file that
+    // appears now stays.
+    staging_.keep();
+    return remove_earlier(staged, out_);
+  }
   if (errno != EINVAL && errno != ENOSYS)
     return io_error(out_, fmt::format("cannot put the report in place: {}", std::strerror(errno)));
   // A file system without the exchange: the earlier report moved aside first (into an empty
-  // folder of our own, which a rename may replace), then the new one renamed in.
+  // folder of our own, which a rename may replace), checked there, then the new one renamed in.
   const fs::path target(target_);
   auto old = io::temporary_folder::create(target.parent_path().string(),
                                           target.filename().string() + ".old");
   if (!old) return old.err();
   if (std::rename(target_.c_str(), old->path().c_str()) != 0)
     return io_error(out_, fmt::format("cannot put the report in place: {}", std::strerror(errno)));
-  if (std::rename(staging_.path().c_str(), target_.c_str()) != 0) {
+  const std::string aside = old->path();
+  old->keep();  // from now on removed entry by entry only
+  status checked = check_replaceable(aside, out_);
+  if (!checked || std::rename(staging_.path().c_str(), target_.c_str()) != 0) {
     const int e = errno;
-    (void)std::rename(old->path().c_str(), target_.c_str());  // the earlier report back
+    if (std::rename(aside.c_str(), target_.c_str()) != 0)  // the earlier folder back
+      return io_error(out_, fmt::format("cannot put the report in place, nor the earlier folder "
+                                        "back ({}): it is in {}",
+                                        std::strerror(errno), aside));
+    if (!checked) return checked;
     return io_error(out_, fmt::format("cannot put the report in place: {}", std::strerror(e)));
   }
   staging_.keep();
-  return ok();
+  return remove_earlier(aside, out_);
 }
 
 }  // namespace gyroflip::report

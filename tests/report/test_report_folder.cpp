@@ -20,6 +20,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gyroflip/report/folder.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -110,6 +111,44 @@ TEST(ReportFolder, NothingOfTheUsersIsReplaced) {
   EXPECT_NE(rep.err.find("notes.txt, which its report did not write"), std::string::npos)
       << rep.err;
   EXPECT_EQ(read_text(r + "/notes.txt"), "mine\n");
+}
+
+// A report folder made through report_folder, as `report` makes it: index.html and
+// figures/a.gp.
+void make_report(const std::string& out, const std::string& page) {
+  auto f = report::report_folder::make(out, {});
+  ASSERT_TRUE(f) << f.err().message;
+  write_text(f->path() + "/index.html", page);
+  write_text(f->path() + "/figures/a.gp", "plot x\n");
+  const auto s = f->publish("a test");
+  ASSERT_TRUE(s) << s.err().message;
+}
+
+// What the user adds to the folder while a report runs (after the check at the start, before
+// the swap at the end) stays, and the earlier report with it (the old code checked only at the
+// start and removed the swapped-out folder with what had been added).
+TEST(ReportFolder, WhatAppearsDuringTheRunIsKept) {
+  const test::temp_dir dir;
+  const std::string r = dir.file("R");
+  make_report(r, "first\n");
+  for (const std::string added : {"notes.txt", "figures/notes.txt"}) {
+    auto f = report::report_folder::make(r, {});
+    ASSERT_TRUE(f) << f.err().message;
+    write_text(f->path() + "/index.html", "second\n");
+    write_text(r + "/" + added, "mine\n");  // while the report runs
+    const auto s = f->publish("a test");
+    ASSERT_FALSE(s) << added;
+    EXPECT_EQ(s.err().code, errc::bad_input);
+    EXPECT_NE(s.err().message.find(added + ", which its report did not write"), std::string::npos)
+        << s.err().message;
+    EXPECT_EQ(read_text(r + "/" + added), "mine\n");
+    EXPECT_EQ(read_text(r + "/index.html"), "first\n");
+    fs::remove(r + "/" + added);
+  }
+  EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{});
+  make_report(r, "third\n");  // with nothing added: replaced
+  EXPECT_EQ(read_text(r + "/index.html"), "third\n");
+  EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{});
 }
 
 TEST(ReportFolder, ASymbolicLinkIsFollowedAndStays) {
