@@ -253,6 +253,26 @@ TEST(CliOutput, AKilledRunLeavesNoTemporaryAndNoTarget) {
   }
 }
 
+// A temporary's name holds the process id and a count from 0; a file of that name left by a
+// killed run whose id is reused now (touched here by the shell that then becomes gyroflip, with
+// the same id) is skipped and kept (the old code failed: "out.csv: cannot write: File exists").
+TEST(CliOutput, AStaleTemporaryOfAReusedProcessIdIsSkippedAndKept) {
+  temp_dir d;
+  const std::string stale = d.file(".out.csv.gyroflip-tmp.$$.");
+  const std::string cmd =
+      "cd '" + d.path() + "' && sh -c 'for k in 0 1 2; do echo stale > " + stale +
+      "$k; done; exec \"$0\" simulate --sensor adxrs150 --duration 100 -o out.csv' '" +
+      GYROFLIP_EXE + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_TRUE(exists(d.file("out.csv")));
+  const auto left = stray_files(d, {"out.csv"});
+  ASSERT_EQ(left.size(), 3u) << ::testing::PrintToString(left);
+  for (const auto& name : left) {
+    EXPECT_NE(name.find(".out.csv.gyroflip-tmp."), std::string::npos) << name;
+    EXPECT_EQ(read_text(d.file(name)), "stale\n") << name;
+  }
+}
+
 TEST(CliOutput, CommittedFileIsComplete) {
   // fsync itself cannot be observed from a test (it matters only across a power cut); what can
   // be checked is that the committed file is whole: the last row ends the run.
