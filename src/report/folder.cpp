@@ -9,10 +9,13 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <set>
+#include <map>
+#include <optional>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -20,6 +23,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/report/page.hpp"
 
 namespace gyroflip::report {
 
@@ -44,8 +48,50 @@ result<std::vector<std::string>> entries_of(const fs::path& dir) {
   return out;
 }
 
+// What a report's list says of a file: the size and SHA-256 it had when the report wrote it
+// (line "SHA256 SIZE NAME"). Lists of a gyroflip before the checksums name files alone (no size,
+// no checksum); folders are named alone, with a trailing '/'.
+struct listed_file {
+  std::optional<std::uintmax_t> size_bytes;
+  std::string sha256;
+};
+
+std::map<std::string, listed_file> read_list(std::istream& in) {
+  std::map<std::string, listed_file> out;
+  const auto all_of = [](std::string_view text, auto pred) {
+    return !text.empty() && std::all_of(text.begin(), text.end(), pred);
+  };
+  const auto hex = [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); };
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line.front() == '#') continue;
+    const auto size_end = line.size() > 66 ? line.find(' ', 65) : std::string::npos;
+    const std::string_view l = line;
+    if (size_end != std::string::npos && line[64] == ' ' && all_of(l.substr(0, 64), hex) &&
+        all_of(l.substr(65, size_end - 65), digit)) {
+      out[line.substr(size_end + 1)] = {std::stoull(line.substr(65, size_end - 65)),
+                                        line.substr(0, 64)};
+      continue;
+    }
+    out[line] = {};
+  }
+  return out;
+}
+
+// The list's line for the entry `e` (as entries_of names it) of `dir`.
+result<std::string> list_line(const fs::path& dir, const std::string& e) {
+  if (e.back() == '/') return e;
+  std::error_code ec;
+  const auto size = fs::file_size(dir / e, ec);
+  if (ec) return io_error((dir / e).string(), ec.message());
+  auto sum = sha256_file((dir / e).string());
+  if (!sum) return sum.err();
+  return fmt::format("{} {} {}", *sum, size, e);
+}
+
 // Whether the existing folder `target` may be replaced: empty, or holding only what its report's
-// list names. Errors name `out` and the first entry that is not the report's.
+// list names, each file as the report wrote it (size and SHA-256). Errors name `out` and the
+// first entry that is not the report's or was changed.
 status check_replaceable(const fs::path& target, const std::string& out) {
   struct stat st {};
   if (::lstat(target.c_str(), &st) != 0) return ok();  // new
@@ -60,14 +106,33 @@ status check_replaceable(const fs::path& target, const std::string& out) {
                                           "and no {} list): not replaced; give a new or an empty "
                                           "folder",
                                           printable(have->front(), 200), report_folder::list_name));
-  std::set<std::string> listed;
-  for (std::string line; std::getline(list, line);)
-    if (!line.empty() && line.front() != '#') listed.insert(line);
+  const auto listed = read_list(list);
   for (const auto& e : *have) {
     if (e == report_folder::list_name) continue;
-    if (listed.count(e) == 0)
+    const auto it = listed.find(e);
+    if (it == listed.end())
       return input_error({out}, fmt::format("holds {}, which its report did not write: not "
                                             "replaced (move it out, or give another folder)",
+                                            printable(e, 200)));
+    if (e.back() == '/') continue;
+    if (!it->second.size_bytes)
+      return input_error({out}, fmt::format("holds {}, listed by an older gyroflip that kept no "
+                                            "checksums: whether it was edited cannot be told, so "
+                                            "the folder is not replaced (give another folder, or "
+                                            "move this one aside)",
+                                            printable(e, 200)));
+    std::error_code ec;
+    const auto size = fs::file_size(target / e, ec);
+    bool same = !ec && size == *it->second.size_bytes;
+    if (same) {
+      auto sum = sha256_file((target / e).string());
+      if (!sum) return sum.err();
+      same = *sum == it->second.sha256;
+    }
+    if (!same)
+      return input_error({out}, fmt::format("holds {}, changed since its report wrote it: not "
+                                            "replaced, so that the change is kept (give another "
+                                            "folder, or move this one aside)",
                                             printable(e, 200)));
   }
   return ok();
@@ -151,9 +216,14 @@ status report_folder::publish(const std::string& made_by) {
   if (!have) return have.err();
   std::string list = fmt::format(
       "# A report folder made by {}. A later report replaces this folder only while it holds\n"
-      "# nothing but the entries below (and this list).\n",
+      "# nothing but the entries below (and this list), each file unchanged. Files: SHA-256,\n"
+      "# size in bytes, name; folders: name/.\n",
       made_by);
-  for (const auto& e : *have) list += e + "\n";
+  for (const auto& e : *have) {
+    auto line = list_line(staging_.path(), e);
+    if (!line) return line.err();
+    list += *line + "\n";
+  }
   if (auto s = io::write_file_atomically(staging_.path() + "/" + list_name, list); !s) return s;
   if (::chmod(staging_.path().c_str(), mode_) != 0)
     return io_error(out_, fmt::format("cannot set its permissions: {}", std::strerror(errno)));

@@ -151,6 +151,42 @@ TEST(ReportFolder, WhatAppearsDuringTheRunIsKept) {
   EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{});
 }
 
+// A file of the report edited by the user (a restyled figure script, as the script invites; a
+// page changed at the same size) keeps its edit: the folder is refused (the old code's list held
+// names only, and the re-run overwrote the edit). A list of an older gyroflip (names only) cannot
+// tell: refused too.
+TEST(ReportFolder, AnEditedFileOfTheReportIsKept) {
+  const test::temp_dir dir;
+  const std::string r = dir.file("R");
+  make_report(r, "first\n");
+  const struct {
+    std::string file, text, why;
+  } edits[] = {{"figures/a.gp", "plot x\n# MY RESTYLE\n", "changed since its report wrote it"},
+               {"index.html", "fir5t\n", "changed since its report wrote it"}};
+  for (const auto& e : edits) {
+    const std::string before = read_text(r + "/" + e.file);
+    write_text(r + "/" + e.file, e.text);
+    const auto f = report::report_folder::make(r, {});
+    ASSERT_FALSE(f) << e.file;
+    EXPECT_EQ(f.err().code, errc::bad_input);
+    EXPECT_NE(f.err().message.find(e.file + ", " + e.why), std::string::npos) << f.err().message;
+    EXPECT_EQ(read_text(r + "/" + e.file), e.text);
+    write_text(r + "/" + e.file, before);
+  }
+  EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{});
+  // Each file's line: SHA-256, size, name (`printf 'plot x\n' | sha256sum`).
+  EXPECT_NE(read_text(r + "/.gyroflip-report")
+                .find("\ne2dde7b97e9d69cb268019cd64f9ad8e245aa0000d01eb14e90855f8ec913fc7 7 "
+                      "figures/a.gp\n"),
+            std::string::npos)
+      << read_text(r + "/.gyroflip-report");
+  write_text(r + "/.gyroflip-report", "# an older list\nfigures/\nfigures/a.gp\nindex.html\n");
+  const auto old = report::report_folder::make(r, {});
+  ASSERT_FALSE(old);
+  EXPECT_NE(old.err().message.find("kept no checksums"), std::string::npos) << old.err().message;
+  EXPECT_EQ(read_text(r + "/index.html"), "first\n");
+}
+
 TEST(ReportFolder, ASymbolicLinkIsFollowedAndStays) {
   if (!have("gnuplot")) GTEST_SKIP() << "gnuplot not installed";
   const test::temp_dir dir;
