@@ -178,11 +178,27 @@ result<report_folder> report_folder::make(const std::string& out,
   }
   if (auto s = check_replaceable(target, out); !s) return s.err();
   struct stat st {};
-  const mode_t mode =
-      ::stat(target.c_str(), &st) == 0 ? static_cast<mode_t>(st.st_mode & 07777) : umask_mode();
+  const bool replacing = ::stat(target.c_str(), &st) == 0;
+  mode_t mode = replacing ? static_cast<mode_t>(st.st_mode & 07777) : umask_mode();
   auto staging =
       io::temporary_folder::create(target.parent_path().string(), target.filename().string());
   if (!staging) return staging.err();
+  // The group: that of the folder replaced, with its setgid bit set at once, so that figures/
+  // and every file take the group as they would in the folder itself (a shared folder stays
+  // shared); a new folder gets what mkdir gives it (under a setgid parent: the parent's group
+  // and the setgid bit, kept). A group the user may not give (EPERM) is left as it is.
+  struct stat made {};
+  if (::stat(staging->path().c_str(), &made) != 0)
+    return io_error(out, fmt::format("cannot read its staging folder: {}", std::strerror(errno)));
+  if (replacing) {
+    if (made.st_gid != st.st_gid &&
+        ::chown(staging->path().c_str(), static_cast<uid_t>(-1), st.st_gid) != 0 && errno != EPERM)
+      return io_error(out, fmt::format("cannot give it its group: {}", std::strerror(errno)));
+    if ((st.st_mode & S_ISGID) != 0 && ::chmod(staging->path().c_str(), 0700 | S_ISGID) != 0)
+      return io_error(out, fmt::format("cannot set its permissions: {}", std::strerror(errno)));
+  } else {
+    mode |= made.st_mode & S_ISGID;
+  }
   fs::create_directory(fs::path(staging->path()) / "figures", ec);
   if (ec) return io_error(out, ec.message());
   return report_folder(out, target.string(), std::move(*staging), mode);

@@ -187,6 +187,38 @@ TEST(ReportFolder, AnEditedFileOfTheReportIsKept) {
   EXPECT_EQ(read_text(r + "/index.html"), "first\n");
 }
 
+// A shared folder (another group, setgid) stays shared when a report replaces it, and a new
+// report folder under a shared parent is shared as mkdir makes it: figures/ and the files take
+// the group, folders the setgid bit (the old code gave the replaced folder the user's group and
+// figures/ 0755 without setgid; a new folder lost the setgid bit mkdir gave it).
+TEST(ReportFolder, AFoldersGroupAndSetgidBitAreKept) {
+  const test::temp_dir dir;
+  const gid_t other = ::getegid() + 4242;  // a group that is not the user's
+  const std::string shared = dir.file("SG");
+  ASSERT_EQ(::mkdir(shared.c_str(), 0775), 0);
+  if (::chown(shared.c_str(), static_cast<uid_t>(-1), other) != 0)
+    GTEST_SKIP() << "cannot give a folder another group here (not root)";
+  ASSERT_EQ(::chmod(shared.c_str(), 02775), 0);
+  make_report(shared, "first\n");   // replaces the empty folder
+  make_report(shared, "second\n");  // replaces the report
+  make_report(shared + "/new", "a new one\n");
+  for (const std::string& path :
+       {shared, shared + "/figures", shared + "/new", shared + "/new/figures"}) {
+    struct stat st {};
+    ASSERT_EQ(::stat(path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_gid, other) << path;
+    EXPECT_NE(st.st_mode & S_ISGID, 0u) << path;
+  }
+  struct stat st {};
+  ASSERT_EQ(::stat(shared.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 07777, 02775u);
+  for (const std::string& path : {shared + "/index.html", shared + "/figures/a.gp",
+                                  shared + "/.gyroflip-report", shared + "/new/index.html"}) {
+    ASSERT_EQ(::stat(path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_gid, other) << path;
+  }
+}
+
 TEST(ReportFolder, ASymbolicLinkIsFollowedAndStays) {
   if (!have("gnuplot")) GTEST_SKIP() << "gnuplot not installed";
   const test::temp_dir dir;
