@@ -411,15 +411,21 @@ int run_adev(const adev_options& o) {
   const auto plot = plot_target(o.plot);
   if (!plot) return report(plot.err());
   // --plot writes its script and one data file per column beside the image: none may be an input.
+  // Nor may the script or a data file be the user's, or one restyled since gyroflip wrote it.
   std::vector<std::string> outputs{o.output};
+  std::size_t plotted = 0;  // data files
   if (*plot) {
     auto names = column_names(o.in);
     if (!names) return report(names.err());
+    plotted = names->size();
     const std::array format{(*plot)->format};
-    outputs = report::rendered_files((*plot)->dir, (*plot)->stem, names->size(), format);
+    outputs = report::rendered_files((*plot)->dir, (*plot)->stem, plotted, format);
     outputs.push_back(o.output);
   }
   if (auto s = io::check_outputs(std::array{o.in.file}, outputs); !s) return report(s.err());
+  if (*plot)
+    if (auto s = report::check_rendered_files((*plot)->dir, (*plot)->stem, plotted); !s)
+      return report(s.err());
   if (o.json)
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
   auto inputs = load_series(o.in);

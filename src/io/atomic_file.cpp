@@ -207,19 +207,28 @@ result<atomic_file> atomic_file::create(std::string path) {
     return atomic_file(std::move(path), std::move(*target), {}, f, kind::stream, -1);
   }
   // A hidden name in the target's directory (the rename must not cross file systems), unique
-  // per process and output.
+  // per process and output. A file of that name left by a killed process that had this process's
+  // id (ids are reused) is skipped, and never removed: the next number is tried.
   static std::atomic<unsigned> counter{0};
-  std::string temp = fmt::format("{}/.{}.gyroflip-tmp.{}.{}", dir_of(*target), base_of(*target),
-                                 static_cast<long>(::getpid()), counter.fetch_add(1));
-  // Registered for removal on a signal before it exists: a signal between the two steps must
-  // not leave it behind (a signal before the open finds nothing to remove; the name holds this
-  // process's id, so no other process's file has it).
-  const int slot = register_temporary(temp);
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) {
+  std::string temp;
+  int slot = -1;
+  int fd = -1;
+  for (int attempt = 0; fd < 0; ++attempt) {
+    if (attempt == 100)
+      return io_error(path, "cannot write: every temporary name tried beside it exists");
+    temp = fmt::format("{}/.{}.gyroflip-tmp.{}.{}", dir_of(*target), base_of(*target),
+                       static_cast<long>(::getpid()), counter.fetch_add(1));
+    struct stat taken {};
+    if (::lstat(temp.c_str(), &taken) == 0) continue;  // not ours: never registered
+    // Registered for removal on a signal before it exists: a signal between the two steps must
+    // not leave it behind (a signal before the open finds nothing to remove; the name holds this
+    // process's id and was free a moment ago, so no other process's file has it).
+    slot = register_temporary(temp);
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) break;
     const int e = errno;
     unregister_temporary(slot);
-    return io_error(path, fmt::format("cannot write: {}", errno_text(e)));
+    if (e != EEXIST) return io_error(path, fmt::format("cannot write: {}", errno_text(e)));
   }
   // An existing file keeps its permission bits (a user's 0600 recording stays private).
   if (exists) (void)::fchmod(fd, st.st_mode & 07777);

@@ -2,11 +2,15 @@
 /// \brief Figures as gnuplot scripts and data files, rendered by gnuplot (figure.hpp).
 #include "gyroflip/report/figure.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +18,7 @@
 
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/report/page.hpp"
 #include "run_program.hpp"
 
 namespace gyroflip::report {
@@ -204,6 +209,50 @@ std::vector<std::string> rendered_files(const std::string& dir, const std::strin
 
 namespace {
 
+// The first line of every script and data file render() writes: the SHA-256 of the rest of the
+// file, by which a later render knows that the file is its own and unchanged (a restyled script
+// is the user's: it is never overwritten).
+constexpr std::string_view stamp_prefix = "# gyroflip figure file; SHA-256 of the lines below: ";
+
+result<std::string> stamped(const std::string& text) {
+  auto sum = sha256_text(text);
+  if (!sum) return sum.err();
+  return fmt::format("{}{}\n{}", stamp_prefix, *sum, text);
+}
+
+// Whether the file `path` may be replaced by render(): absent, or a file render() wrote that has
+// not changed since (its stamp matches its content).
+status check_replaceable(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return ok();
+  std::string text;
+  if (S_ISREG(st.st_mode)) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream all;
+    all << in.rdbuf();
+    text = all.str();
+  }
+  const auto eol = text.find('\n');
+  if (text.rfind(stamp_prefix, 0) == 0 && eol != std::string::npos) {
+    const auto sum = sha256_text(std::string_view(text).substr(eol + 1));
+    if (sum && text.compare(stamp_prefix.size(), eol - stamp_prefix.size(), *sum) == 0) return ok();
+  }
+  return input_error({path},
+                     "exists and is not a figure file as gyroflip wrote it (it is "
+                     "someone else's, or was edited since): not replaced; move it aside, "
+                     "or draw the figure under another name");
+}
+
+}  // namespace
+
+status check_rendered_files(const std::string& dir, const std::string& stem, std::size_t series) {
+  for (const auto& path : rendered_files(dir, stem, series, {}))
+    if (auto s = check_replaceable(path); !s) return s;
+  return ok();
+}
+
+namespace {
+
 // Runs `gnuplot stem.gp` in `dir`.
 status run_gnuplot(const std::string& gnuplot, const std::string& dir, const std::string& stem) {
   const std::string script_name = stem + ".gp";
@@ -224,6 +273,8 @@ status render(const figure& f, const std::string& dir, const std::string& stem,
   // Everything is made in a private folder beside the target and then renamed into place, so
   // that a failed or killed run leaves no half-drawn image under the figure's name (the folder
   // goes when `work` does, and on a signal).
+  // A script or data file of the user's (or one restyled) is never replaced.
+  if (auto s = check_rendered_files(dir, stem, f.data.size()); !s) return s;
   auto work = io::temporary_folder::create(dir, stem + ".figure");
   if (!work) return work.err();
   const fs::path tmp = work->path();
@@ -232,16 +283,20 @@ status render(const figure& f, const std::string& dir, const std::string& stem,
     const auto text = data_text(f.data[k]);
     if (text.empty()) continue;
     made.push_back(data_name(stem, k));
-    if (auto s = io::write_file_atomically((tmp / made.back()).string(), text); !s) return s;
+    auto file = stamped(text);
+    if (!file) return file.err();
+    if (auto s = io::write_file_atomically((tmp / made.back()).string(), *file); !s) return s;
   }
   if (made.empty())
     return runtime_error(fmt::format("figure '{}' has no finite point to plot", f.title));
   made.push_back(stem + ".gp");
-  if (auto s = io::write_file_atomically((tmp / made.back()).string(), script(f, stem, formats));
-      !s)
-    return s;
+  auto gp = stamped(script(f, stem, formats));
+  if (!gp) return gp.err();
+  if (auto s = io::write_file_atomically((tmp / made.back()).string(), *gp); !s) return s;
   if (auto s = run_gnuplot(gnuplot, tmp.string(), stem); !s) return s;
   for (const auto fmt_ : formats) made.push_back(stem + "." + std::string(suffix(fmt_)));
+  // Checked again: gnuplot took a while, and the user may have written a script meanwhile.
+  if (auto s = check_rendered_files(dir, stem, f.data.size()); !s) return s;
   for (const auto& name : made) {
     std::error_code ec;
     fs::rename(tmp / name, fs::path(dir) / name, ec);

@@ -235,28 +235,47 @@ std::string text(const table& t) {
   return out;
 }
 
-result<std::string> sha256_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return io_error(path, std::strerror(errno));
+namespace {
+
+// The SHA-256 (FIPS 180-4, OpenSSL's libcrypto) of the bytes `feed` hands to the function it is
+// given, lowercase hex.
+template <class Feed>
+result<std::string> sha256_of(Feed&& feed) {
   EVP_MD_CTX* ctx = EVP_MD_CTX_new();
   if (ctx == nullptr || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) {
     EVP_MD_CTX_free(ctx);
     return runtime_error("SHA-256 is not available (libcrypto)");
   }
-  std::array<char, 1 << 16> buf{};
-  while (in) {
-    in.read(buf.data(), buf.size());
-    EVP_DigestUpdate(ctx, buf.data(), static_cast<std::size_t>(in.gcount()));
-  }
-  const bool read_all = in.eof();
+  feed([ctx](const char* bytes, std::size_t n) { EVP_DigestUpdate(ctx, bytes, n); });
   std::array<unsigned char, EVP_MAX_MD_SIZE> md{};
   unsigned int len = 0;
   EVP_DigestFinal_ex(ctx, md.data(), &len);
   EVP_MD_CTX_free(ctx);
-  if (!read_all) return io_error(path, "read error");
   std::string hex;
   for (unsigned i = 0; i < len; ++i) fmt::format_to(std::back_inserter(hex), "{:02x}", md[i]);
   return hex;
+}
+
+}  // namespace
+
+result<std::string> sha256_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return io_error(path, std::strerror(errno));
+  bool read_all = false;
+  auto sum = sha256_of([&](const auto& update) {
+    std::array<char, 1 << 16> buf{};
+    while (in) {
+      in.read(buf.data(), buf.size());
+      update(buf.data(), static_cast<std::size_t>(in.gcount()));
+    }
+    read_all = in.eof();
+  });
+  if (sum && !read_all) return io_error(path, "read error");
+  return sum;
+}
+
+result<std::string> sha256_text(std::string_view bytes) {
+  return sha256_of([bytes](const auto& update) { update(bytes.data(), bytes.size()); });
 }
 
 status print_pdf(const page& p, const std::string& dir) {

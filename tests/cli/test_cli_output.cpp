@@ -184,15 +184,21 @@ TEST(CliOutput, AnHdf5InputBehindItsDatasetNameIsNeverOverwritten) {
   EXPECT_EQ(stray_files(d, {"run.h5", "link.h5", "hard.h5"}), std::vector<std::string>{});
 }
 
+// A white-noise rate recording as CSV (400 rows), for plots.
+std::string noise_csv() {
+  std::string csv = "time_s,rate_dps\n";
+  const auto y = white_noise(400, 0.01, 5);
+  for (std::size_t i = 0; i < y.size(); ++i)
+    csv += std::to_string(i) + "," + std::to_string(y[i]) + "\n";
+  return csv;
+}
+
 // `adev --plot NAME.png` also writes NAME.gp and NAME_K.dat beside it (one per column): an input
 // of that name must not be replaced by plot data (issue 21).
 TEST(CliOutput, APlotsSideFilesNeverReplaceAnInput) {
   if (std::system("command -v gnuplot >/dev/null") != 0) GTEST_SKIP() << "no gnuplot";
   temp_dir d;
-  std::string csv = "time_s,rate_dps\n";
-  const auto y = white_noise(400, 0.01, 5);
-  for (std::size_t i = 0; i < y.size(); ++i)
-    csv += std::to_string(i) + "," + std::to_string(y[i]) + "\n";
+  const std::string csv = noise_csv();
   for (const char* name : {"plot_1.dat", "plot.gp"}) {
     write_text(d.file(name), csv);
     const auto r = run_cli({"adev", d.file(name), "--plot", d.file("plot.png")});
@@ -206,6 +212,39 @@ TEST(CliOutput, APlotsSideFilesNeverReplaceAnInput) {
   const auto ok = run_cli({"adev", d.file("in.csv"), "--plot", d.file("plot.png")});
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_TRUE(exists(d.file("plot_1.dat")) && exists(d.file("plot.gp")));
+}
+
+// Nor a script or data file of the user's, or a script restyled since (the figure's script
+// says "Restyle and run again with: gnuplot NAME.gp"): refused before any work, left as it was;
+// a script and data gyroflip wrote and nobody changed are replaced (issue 21's review: `adev
+// --plot allan.png` overwrote the user's allan.gp and allan_1.dat).
+TEST(CliOutput, APlotsSideFilesOfTheUsersAreNeverReplaced) {
+  if (std::system("command -v gnuplot >/dev/null") != 0) GTEST_SKIP() << "no gnuplot";
+  temp_dir d;
+  const std::string csv = noise_csv();
+  write_text(d.file("in.csv"), csv);
+  const std::vector<std::string> plot{"adev", d.file("in.csv"), "--plot", d.file("plot.png"),
+                                      "-o",   d.file("out.csv")};
+  for (const char* name : {"plot.gp", "plot_1.dat"}) {
+    write_text(d.file(name), "# mine\n");
+    const auto r = run_cli(plot);
+    EXPECT_EQ(r.exit_code, 2) << name << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string(name) + ": exists and is not a figure file as gyroflip "
+                                             "wrote it"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(read_text(d.file(name)), "# mine\n") << name;
+    EXPECT_EQ(stray_files(d, {"in.csv", name}), std::vector<std::string>{}) << name;
+    fs::remove(d.file(name));
+  }
+  // gyroflip's own files are replaced; restyled, the script is the user's.
+  ASSERT_EQ(run_cli(plot).exit_code, 0);
+  ASSERT_EQ(run_cli(plot).exit_code, 0);
+  const std::string script = read_text(d.file("plot.gp")) + "# MY RESTYLE\n";
+  write_text(d.file("plot.gp"), script);
+  const auto restyled = run_cli(plot);
+  EXPECT_EQ(restyled.exit_code, 2) << restyled.err;
+  EXPECT_EQ(read_text(d.file("plot.gp")), script);
 }
 
 TEST(CliOutput, TwoOutputsNamingOneFileAreRefused) {
@@ -253,6 +292,26 @@ TEST(CliOutput, AKilledRunLeavesNoTemporaryAndNoTarget) {
     ::kill(pid, sig);
     EXPECT_EQ(wait_cli(pid), 128 + sig);
     EXPECT_EQ(stray_files(d, {}), std::vector<std::string>{}) << "signal " << sig;
+  }
+}
+
+// A temporary's name holds the process id and a count from 0; a file of that name left by a
+// killed run whose id is reused now (touched here by the shell that then becomes gyroflip, with
+// the same id) is skipped and kept (the old code failed: "out.csv: cannot write: File exists").
+TEST(CliOutput, AStaleTemporaryOfAReusedProcessIdIsSkippedAndKept) {
+  temp_dir d;
+  const std::string stale = d.file(".out.csv.gyroflip-tmp.$$.");
+  const std::string cmd =
+      "cd '" + d.path() + "' && sh -c 'for k in 0 1 2; do echo stale > " + stale +
+      "$k; done; exec \"$0\" simulate --sensor adxrs150 --duration 100 -o out.csv' '" +
+      GYROFLIP_EXE + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_TRUE(exists(d.file("out.csv")));
+  const auto left = stray_files(d, {"out.csv"});
+  ASSERT_EQ(left.size(), 3u) << ::testing::PrintToString(left);
+  for (const auto& name : left) {
+    EXPECT_NE(name.find(".out.csv.gyroflip-tmp."), std::string::npos) << name;
+    EXPECT_EQ(read_text(d.file(name)), "stale\n") << name;
   }
 }
 

@@ -20,6 +20,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gyroflip/report/folder.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -110,6 +111,112 @@ TEST(ReportFolder, NothingOfTheUsersIsReplaced) {
   EXPECT_NE(rep.err.find("notes.txt, which its report did not write"), std::string::npos)
       << rep.err;
   EXPECT_EQ(read_text(r + "/notes.txt"), "mine\n");
+}
+
+// A report folder made through report_folder, as `report` makes it: index.html and
+// figures/a.gp.
+void make_report(const std::string& out, const std::string& page) {
+  auto f = report::report_folder::make(out, {});
+  ASSERT_TRUE(f) << f.err().message;
+  write_text(f->path() + "/index.html", page);
+  write_text(f->path() + "/figures/a.gp", "plot x\n");
+  const auto s = f->publish("a test");
+  ASSERT_TRUE(s) << s.err().message;
+}
+
+// What the user adds to the folder while a report runs (after the check at the start, before
+// the swap at the end) stays, and the earlier report with it (the old code checked only at the
+// start and removed the swapped-out folder with what had been added).
+TEST(ReportFolder, WhatAppearsDuringTheRunIsKept) {
+  const test::temp_dir dir;
+  const std::string r = dir.file("R");
+  make_report(r, "first\n");
+  for (const std::string added : {"notes.txt", "figures/notes.txt"}) {
+    auto f = report::report_folder::make(r, {});
+    ASSERT_TRUE(f) << f.err().message;
+    write_text(f->path() + "/index.html", "second\n");
+    write_text(r + "/" + added, "mine\n");  // while the report runs
+    const auto s = f->publish("a test");
+    ASSERT_FALSE(s) << added;
+    EXPECT_EQ(s.err().code, errc::bad_input);
+    EXPECT_NE(s.err().message.find(added + ", which its report did not write"), std::string::npos)
+        << s.err().message;
+    EXPECT_EQ(read_text(r + "/" + added), "mine\n");
+    EXPECT_EQ(read_text(r + "/index.html"), "first\n");
+    fs::remove(r + "/" + added);
+  }
+  EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{});
+  make_report(r, "third\n");  // with nothing added: replaced
+  EXPECT_EQ(read_text(r + "/index.html"), "third\n");
+  EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{});
+}
+
+// A file of the report edited by the user (a restyled figure script, as the script invites; a
+// page changed at the same size) keeps its edit: the folder is refused (the old code's list held
+// names only, and the re-run overwrote the edit). A list of an older gyroflip (names only) cannot
+// tell: refused too.
+TEST(ReportFolder, AnEditedFileOfTheReportIsKept) {
+  const test::temp_dir dir;
+  const std::string r = dir.file("R");
+  make_report(r, "first\n");
+  const struct {
+    std::string file, text, why;
+  } edits[] = {{"figures/a.gp", "plot x\n# MY RESTYLE\n", "changed since its report wrote it"},
+               {"index.html", "fir5t\n", "changed since its report wrote it"}};
+  for (const auto& e : edits) {
+    const std::string before = read_text(r + "/" + e.file);
+    write_text(r + "/" + e.file, e.text);
+    const auto f = report::report_folder::make(r, {});
+    ASSERT_FALSE(f) << e.file;
+    EXPECT_EQ(f.err().code, errc::bad_input);
+    EXPECT_NE(f.err().message.find(e.file + ", " + e.why), std::string::npos) << f.err().message;
+    EXPECT_EQ(read_text(r + "/" + e.file), e.text);
+    write_text(r + "/" + e.file, before);
+  }
+  EXPECT_EQ(hidden(dir.path()), std::vector<std::string>{});
+  // Each file's line: SHA-256, size, name (`printf 'plot x\n' | sha256sum`).
+  EXPECT_NE(read_text(r + "/.gyroflip-report")
+                .find("\ne2dde7b97e9d69cb268019cd64f9ad8e245aa0000d01eb14e90855f8ec913fc7 7 "
+                      "figures/a.gp\n"),
+            std::string::npos)
+      << read_text(r + "/.gyroflip-report");
+  write_text(r + "/.gyroflip-report", "# an older list\nfigures/\nfigures/a.gp\nindex.html\n");
+  const auto old = report::report_folder::make(r, {});
+  ASSERT_FALSE(old);
+  EXPECT_NE(old.err().message.find("kept no checksums"), std::string::npos) << old.err().message;
+  EXPECT_EQ(read_text(r + "/index.html"), "first\n");
+}
+
+// A shared folder (another group, setgid) stays shared when a report replaces it, and a new
+// report folder under a shared parent is shared as mkdir makes it: figures/ and the files take
+// the group, folders the setgid bit (the old code gave the replaced folder the user's group and
+// figures/ 0755 without setgid; a new folder lost the setgid bit mkdir gave it).
+TEST(ReportFolder, AFoldersGroupAndSetgidBitAreKept) {
+  const test::temp_dir dir;
+  const gid_t other = ::getegid() + 4242;  // a group that is not the user's
+  const std::string shared = dir.file("SG");
+  ASSERT_EQ(::mkdir(shared.c_str(), 0775), 0);
+  if (::chown(shared.c_str(), static_cast<uid_t>(-1), other) != 0)
+    GTEST_SKIP() << "cannot give a folder another group here (not root)";
+  ASSERT_EQ(::chmod(shared.c_str(), 02775), 0);
+  make_report(shared, "first\n");   // replaces the empty folder
+  make_report(shared, "second\n");  // replaces the report
+  make_report(shared + "/new", "a new one\n");
+  for (const std::string& path :
+       {shared, shared + "/figures", shared + "/new", shared + "/new/figures"}) {
+    struct stat st {};
+    ASSERT_EQ(::stat(path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_gid, other) << path;
+    EXPECT_NE(st.st_mode & S_ISGID, 0u) << path;
+  }
+  struct stat st {};
+  ASSERT_EQ(::stat(shared.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 07777, 02775u);
+  for (const std::string& path : {shared + "/index.html", shared + "/figures/a.gp",
+                                  shared + "/.gyroflip-report", shared + "/new/index.html"}) {
+    ASSERT_EQ(::stat(path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_gid, other) << path;
+  }
 }
 
 TEST(ReportFolder, ASymbolicLinkIsFollowedAndStays) {

@@ -72,9 +72,18 @@ struct figure {
                                                       const std::string& stem, std::size_t series,
                                                       std::span<const image_format> formats);
 
+/// Whether render() may write DIR/STEM.gp and DIR/STEM_K.dat (K from 1 to `series`): each is
+/// absent, or a file render() wrote and nobody changed since. Every such file starts with a line
+/// holding the SHA-256 of the rest; a file without it (the user's, or one from a gyroflip before
+/// the stamp) or not matching it (a restyled script) is refused (bad input, naming it). For
+/// checking before any work; render() checks again.
+[[nodiscard]] status check_rendered_files(const std::string& dir, const std::string& stem,
+                                          std::size_t series);
+
 /// Writes DIR/STEM.gp and its data files and runs `gnuplot STEM.gp` in DIR, which makes
-/// DIR/STEM.<format>. Errors: a file that cannot be written, gnuplot missing or failing (its
-/// message), a figure without any finite point.
+/// DIR/STEM.<format>. Errors: a script or data file it may not replace (check_rendered_files), a
+/// file that cannot be written, gnuplot missing or failing (its message), a figure without any
+/// finite point.
 [[nodiscard]] status render(const figure& f, const std::string& dir, const std::string& stem,
                             std::span<const image_format> formats,
                             const std::string& gnuplot = "gnuplot");

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gyroflip/core/result.hpp"
@@ -80,6 +81,9 @@ struct page {
 
 /// The SHA-256 of a file's bytes, lowercase hex (FIPS 180-4, by OpenSSL's libcrypto).
 [[nodiscard]] result<std::string> sha256_file(const std::string& path);
+
+/// The SHA-256 of `bytes`, lowercase hex (as sha256_file).
+[[nodiscard]] result<std::string> sha256_text(std::string_view bytes);
 
 /// DIR/report.pdf from DIR/index.html by headless Chromium (`chromium` on PATH), else the
 /// figures' PDFs merged by `pdfunite`. Errors: neither program works.
