@@ -1,4 +1,4 @@
-# Writes OUT (a C++ fragment) with the git commit the build is made from: `abc123...` (40 hex),
+# Writes OUT (a C++ fragment) with the git commit the build is configured from: `abc123...` (40 hex),
 # `+modified` when the tree differs from it, `unknown` outside a git checkout. The file is
 # rewritten only when that changes, so a build without a new commit rebuilds nothing.
 #   cmake -DSRC=<source dir> -DOUT=<file> -P build_commit.cmake
