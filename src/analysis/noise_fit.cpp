@@ -214,6 +214,19 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
     }
   }
   noise_terms out;
+  // Where the fitted curve is lowest within the data's taus (a log grid of 400 points): the tau
+  // at which a plot marks the fitted flicker floor 0.664 B.
+  double lowest = std::numeric_limits<double>::infinity();
+  const double tau_first = p.front().tau_s, tau_last = p.back().tau_s;
+  for (int j = 0; j <= 400; ++j) {
+    const double tau = tau_first * std::pow(tau_last / tau_first, j / 400.0);
+    double avar = 0.0;
+    for (std::size_t k = 0; k < terms; ++k) avar += f.c[k] * basis(k, tau, abba_t);
+    if (avar < lowest) {
+      lowest = avar;
+      out.fit_min_tau_s = tau;
+    }
+  }
   std::size_t used = 0;
   for (std::size_t k = 0; k < terms; ++k) used += f.c[k] > 0.0 ? 1u : 0u;
   const double dof = static_cast<double>(p.size()) - static_cast<double>(used);

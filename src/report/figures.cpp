@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/drift.hpp"
+#include "gyroflip/core/units.hpp"
 
 namespace gyroflip::report {
 
@@ -183,84 +185,123 @@ struct term_units {
   std::string n_at, k_at;  // the read-off taus in words
 };
 
+// The number as the report's tables print it (3 significant digits).
+std::string g3(double v) {
+  return fmt::format("{:.3g}", v);
+}
+
+// A curve's name up to its first ':' or " (" ("raw: dwell means at 0°" -> "raw"), to name its
+// fitted lines and marks when several curves are fitted.
+std::string short_name(const std::string& name) {
+  return name.substr(0, std::min(name.find(':'), name.find(" (")));
+}
+
 figure allan_plot(std::span<const allan_curve> curves, const term_units& u,
                   const std::string& title) {
   figure f;
   f.title = title;
   f.x = {"averaging time τ (s)", true};
   f.y = {fmt::format("Allan deviation ({})", u.dev_unit), true};
-  double tau_lo = 1e300, tau_hi = 0.0;
+  const double k = u.dev_scale;
+  // The taus the plot spans: every curve's, and the read-off taus of the resolved N and K (IEEE
+  // 952 Annex C), so that an extrapolated read-off lies on its line.
+  double from = 1e300, to = 0.0;
+  for (const auto& c : curves) {
+    for (const auto& p : c.points) {
+      from = std::min(from, p.tau_s);
+      to = std::max(to, p.tau_s);
+    }
+    if (c.terms && !c.points.empty())
+      for (const auto& [resolved, tau] : {std::pair{c.terms->arw.resolved, u.n_tau_s},
+                                          std::pair{c.terms->rrw.resolved, u.k_tau_s}})
+        if (resolved) {
+          from = std::min(from, tau);
+          to = std::max(to, tau);
+        }
+  }
+  const std::size_t fitted = static_cast<std::size_t>(std::count_if(
+      curves.begin(), curves.end(), [](const allan_curve& c) { return c.terms.has_value(); }));
+  std::vector<std::string> not_drawn;
   int color = 0;
   for (const auto& c : curves) {
-    series s = points_of(c.name, color++);
+    const int col = color++;
+    series s = points_of(c.name, col);
     s.how = series::style::errorbars;
     s.joined = true;  // one curve
     for (const auto& p : c.points) {
       s.x.push_back(p.tau_s);
-      s.y.push_back(p.dev * u.dev_scale);
+      s.y.push_back(p.dev * k);
       // Points without bounds (none computed) show as their value alone.
-      s.y_lo.push_back((p.ci_lo > 0.0 ? p.ci_lo : p.dev) * u.dev_scale);
-      s.y_hi.push_back((p.ci_hi > 0.0 ? p.ci_hi : p.dev) * u.dev_scale);
-      tau_lo = std::min(tau_lo, p.tau_s);
-      tau_hi = std::max(tau_hi, p.tau_s);
+      s.y_lo.push_back((p.ci_lo > 0.0 ? p.ci_lo : p.dev) * k);
+      s.y_hi.push_back((p.ci_hi > 0.0 ? p.ci_hi : p.dev) * k);
     }
     f.data.push_back(std::move(s));
+    if (!c.terms || c.points.empty()) continue;
+    // This curve's fitted terms, in its colour, dashed, named after it when several are fitted.
+    const auto& t = *c.terms;
+    const std::string who = fitted > 1 ? short_name(c.name) + ": " : "";
+    const auto [lo, hi] =
+        std::minmax_element(c.points.begin(), c.points.end(),
+                            [](const auto& a, const auto& b) { return a.tau_s < b.tau_s; });
+    const double tau_lo = lo->tau_s, tau_hi = hi->tau_s;
+    const auto line = [&](const std::string& name, auto sigma) {
+      series l = points_of(who + name, col);
+      l.how = series::style::lines;
+      l.dashed = true;
+      for (int j = 0; j <= 60; ++j) {
+        const double tau = from * std::pow(to / from, j / 60.0);
+        l.x.push_back(tau);
+        l.y.push_back(sigma(tau));
+      }
+      f.data.push_back(std::move(l));
+    };
+    const std::string n_text = fmt::format("N = {} {}", g3(t.arw.value * u.n_factor), u.n_unit);
+    const std::string b_text =
+        fmt::format("B = {} {}", g3(t.bias_instability.value * u.b_factor), u.b_unit);
+    const std::string k_text = fmt::format("K = {} {}", g3(t.rrw.value * u.k_factor), u.k_unit);
+    if (t.arw.resolved) line(n_text, [&](double tau) { return k * t.arw.value / std::sqrt(tau); });
+    if (t.bias_instability.resolved)
+      line(b_text, [&](double) { return k * floor_factor * t.bias_instability.value; });
+    if (t.rrw.resolved)
+      line(k_text, [&](double tau) { return k * t.rrw.value * std::sqrt(tau / 3.0); });
+    if (t.quantization.resolved)
+      line(fmt::format("Q = {}", g3(t.quantization.value)),
+           [&](double tau) { return k * std::sqrt(3.0) * t.quantization.value / tau; });
+    if (t.rate_ramp.resolved)
+      line(fmt::format("R = {}", g3(t.rate_ramp.value)),
+           [&](double tau) { return k * t.rate_ramp.value * tau / std::numbers::sqrt2; });
+    // Read-off points on the lines, where each equals its coefficient (N at n_tau, K at k_tau),
+    // marked "extrapolated" when that tau lies outside this curve's data; B on its flicker floor
+    // 0.664 B at the tau where the fitted curve is lowest (inside the data by construction).
+    const auto inside = [&](double tau) { return tau >= tau_lo * 0.999 && tau <= tau_hi * 1.001; };
+    const auto mark = [&](const std::string& text, double tau, const std::string& at, double y) {
+      // Text to the left of a point in the right half of the plot, so that it stays on it.
+      f.notes.push_back(
+          {tau, y,
+           fmt::format("{}{} at τ = {}{}", who, text, at, inside(tau) ? "" : " (extrapolated)"),
+           tau > std::sqrt(from * to)});
+    };
+    if (t.arw.resolved) mark(n_text, u.n_tau_s, u.n_at, k * t.arw.value / std::sqrt(u.n_tau_s));
+    if (t.bias_instability.resolved) {
+      const double tau_b = std::clamp(t.fit_min_tau_s, tau_lo, tau_hi);
+      mark(b_text + " (floor 0.664 B)", tau_b, fmt::format("{} s", g3(tau_b)),
+           k * floor_factor * t.bias_instability.value);
+    }
+    if (t.rrw.resolved)
+      mark(k_text, u.k_tau_s, u.k_at, k * t.rrw.value * std::sqrt(u.k_tau_s / 3.0));
+    // Upper limits are not drawn (a line or point would read as a value); the caption names them.
+    for (const auto& [sym, term, factor, unit] :
+         {std::tuple{"N", &t.arw, u.n_factor, &u.n_unit},
+          std::tuple{"B", &t.bias_instability, u.b_factor, &u.b_unit},
+          std::tuple{"K", &t.rrw, u.k_factor, &u.k_unit}})
+      if (!term->resolved)
+        not_drawn.push_back(fmt::format("{}{} < {} {}", who, sym, g3(term->hi * factor), *unit));
   }
-  const auto fitted = std::find_if(curves.begin(), curves.end(),
-                                   [](const allan_curve& c) { return c.terms.has_value(); });
-  if (fitted == curves.end() || tau_hi <= 0.0) return f;
-  const auto& t = *fitted->terms;
-  const double k = u.dev_scale;
-  // The fitted terms' lines, each over the data's tau range and on to a read-off tau beyond it
-  // (IEEE 952 Annex C), so that an extrapolated read-off lies on its line.
-  double from = tau_lo, to = tau_hi;
-  for (const auto& [resolved, tau] :
-       {std::pair{t.arw.resolved, u.n_tau_s}, std::pair{t.rrw.resolved, u.k_tau_s}})
-    if (resolved) {
-      from = std::min(from, tau);
-      to = std::max(to, tau);
-    }
-  const auto line = [&](const std::string& name, int col, auto sigma) {
-    series s = points_of(name, col);
-    s.how = series::style::lines;
-    s.dashed = true;
-    for (int j = 0; j <= 60; ++j) {
-      const double tau = from * std::pow(to / from, j / 60.0);
-      s.x.push_back(tau);
-      s.y.push_back(sigma(tau));
-    }
-    f.data.push_back(std::move(s));
-  };
-  if (t.arw.resolved)
-    line(fmt::format("N = {:.3g} {}", t.arw.value * u.n_factor, u.n_unit), 2,
-         [&](double tau) { return k * t.arw.value / std::sqrt(tau); });
-  if (t.bias_instability.resolved)
-    line(fmt::format("B = {:.3g} {}", t.bias_instability.value * u.b_factor, u.b_unit), 3,
-         [&](double) { return k * floor_factor * t.bias_instability.value; });
-  if (t.rrw.resolved)
-    line(fmt::format("K = {:.3g} {}", t.rrw.value * u.k_factor, u.k_unit), 4,
-         [&](double tau) { return k * t.rrw.value * std::sqrt(tau / 3.0); });
-  if (t.quantization.resolved)
-    line(fmt::format("Q = {:.3g}", t.quantization.value), 5,
-         [&](double tau) { return k * std::sqrt(3.0) * t.quantization.value / tau; });
-  if (t.rate_ramp.resolved)
-    line(fmt::format("R = {:.3g}", t.rate_ramp.value), 6,
-         [&](double tau) { return k * t.rate_ramp.value * tau / std::numbers::sqrt2; });
-  // Read-off points where the lines equal the coefficients (N at n_tau, K at k_tau), marked when
-  // that tau lies outside the data; B at the floor, which is read from the data.
-  const auto inside = [&](double tau) { return tau >= tau_lo * 0.999 && tau <= tau_hi * 1.001; };
-  const auto mark = [&](const char* name, double tau, const std::string& at, double y) {
-    // Text to the left of a point in the right half of the plot, so that it stays on it.
-    f.notes.push_back(
-        {tau, y, fmt::format("{} at τ = {}{}", name, at, inside(tau) ? "" : " (extrapolated)"),
-         tau > std::sqrt(from * to)});
-  };
-  if (t.arw.resolved) mark("N", u.n_tau_s, u.n_at, k * t.arw.value / std::sqrt(u.n_tau_s));
-  if (t.rrw.resolved) mark("K", u.k_tau_s, u.k_at, k * t.rrw.value * std::sqrt(u.k_tau_s / 3.0));
-  if (t.bias_floor_dev > 0.0)
-    f.notes.push_back({t.bias_floor_tau_s, k * t.bias_floor_dev,
-                       t.bias_floor_reached ? "floor: B = floor / 0.664" : "no floor yet",
-                       t.bias_floor_tau_s > std::sqrt(from * to)});
+  if (!not_drawn.empty()) {
+    f.caption = "upper limits, not drawn: ";
+    for (std::size_t j = 0; j < not_drawn.size(); ++j)
+      f.caption += (j > 0 ? "; " : "") + not_drawn[j];
+  }
   return f;
 }
 
@@ -281,15 +322,15 @@ figure allan_figure(std::span<const allan_curve> curves, const std::string& unit
 figure gyro_allan_figure(std::span<const allan_curve> curves_dps, const std::string& title) {
   term_units u;
   u.dev_unit = "°/h";
-  u.dev_scale = 3600.0;  // deg/s -> deg/h
+  u.dev_scale = units::dph_per_dps;
   u.n_unit = "°/√h";
-  u.n_factor = 60.0;  // deg/s/sqrt(Hz) = deg/sqrt(s) -> deg/sqrt(h)
+  u.n_factor = units::deg_rth_per_deg_rts;
   u.b_unit = "°/h";
-  u.b_factor = 3600.0;
+  u.b_factor = units::dph_per_dps;
   u.k_unit = "°/h/√h";
-  u.k_factor = 3600.0 * 60.0;  // deg/s sqrt(Hz) = deg/s/sqrt(s) -> deg/h/sqrt(h)
-  u.n_tau_s = 3600.0;          // sigma(1 h) in deg/h = N in deg/sqrt(h)
-  u.k_tau_s = 10800.0;         // sigma(3 h) in deg/h = K in deg/h/sqrt(h)
+  u.k_factor = units::dph_rth_per_dps_rts;
+  u.n_tau_s = units::s_per_h;        // sigma(1 h) in deg/h = N in deg/sqrt(h)
+  u.k_tau_s = 3.0 * units::s_per_h;  // sigma(3 h) in deg/h = K in deg/h/sqrt(h)
   u.n_at = "1 h";
   u.k_at = "3 h";
   return allan_plot(curves_dps, u, title);

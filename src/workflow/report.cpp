@@ -170,11 +170,13 @@ report::table noise_table(const std::vector<run_analysis>& runs) {
   report::table t{
       "IEEE 952 noise terms (68.3 % intervals; < : an upper limit, not resolved)",
       {"run", "series", "τ of the data (s)", "N (°/√h)", "B (°/h)", "K (°/h/√h)",
-       "OADEV floor (°/h) at τ (s)"},
+       "lowest OADEV (°/h) at τ (s)"},
       {},
-      "N, B and K are fitted to the OADEV over the τ of the data; the Allan plot draws the same "
-      "numbers and marks where each is read (N at τ = 1 h, K at 3 h, B at the floor), "
-      "“extrapolated” when that τ lies beyond the data."};
+      "N, B and K are fitted to the OADEV over the τ of the data; the Allan plot draws the "
+      "resolved ones with these numbers and marks where each is read (N at τ = 1 h on its −½ "
+      "line, K at 3 h on its +½ line, B on its floor 0.664 B where the fitted curve is lowest), "
+      "“extrapolated” when that τ lies beyond the data; upper limits (<) are not drawn. The "
+      "lowest OADEV is the lowest measured point of the plotted curve."};
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
     for (const auto& [what, n] :
@@ -192,11 +194,12 @@ report::table noise_table(const std::vector<run_analysis>& runs) {
         continue;
       }
       const auto& f = (*n)->terms;
-      t.rows.push_back({run, what, taus, term(f.arw, units::deg_rth_per_deg_rts),
-                        term(f.bias_instability, units::dph_per_dps),
-                        term(f.rrw, units::dph_rth_per_dps_rts),
-                        fmt::format("{} at {}", g(f.bias_floor_dev * units::dph_per_dps, 3),
-                                    g(f.bias_floor_tau_s, 3))});
+      const auto lowest = std::min_element(
+          pts.begin(), pts.end(), [](const auto& x, const auto& y) { return x.dev < y.dev; });
+      t.rows.push_back(
+          {run, what, taus, term(f.arw, units::deg_rth_per_deg_rts),
+           term(f.bias_instability, units::dph_per_dps), term(f.rrw, units::dph_rth_per_dps_rts),
+           fmt::format("{} at {}", g(lowest->dev * units::dph_per_dps, 3), g(lowest->tau_s, 3))});
     }
   }
   return t;
@@ -800,12 +803,15 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       return ok();
     };
     std::vector<report::allan_curve> curves;
-    if (a.raw_noise) curves.push_back({"raw: dwell means at 0°", a.raw_noise->oadev, std::nullopt});
+    // Both series with the terms the noise table prints for them.
+    const auto fitted_terms = [](const analysis::noise_analysis& n) {
+      return noise_fitted(n) ? std::optional(n.terms) : std::nullopt;
+    };
+    if (a.raw_noise)
+      curves.push_back({"raw: dwell means at 0°", a.raw_noise->oadev, fitted_terms(*a.raw_noise)});
     if (a.comp_noise)
-      curves.push_back(
-          {"compensated (" + std::string(method::to_string(a.pairing)) + " cycles)",
-           a.comp_noise->oadev,
-           noise_fitted(*a.comp_noise) ? std::optional(a.comp_noise->terms) : std::nullopt});
+      curves.push_back({"compensated (" + std::string(method::to_string(a.pairing)) + " cycles)",
+                        a.comp_noise->oadev, fitted_terms(*a.comp_noise)});
     const std::string name = a.run.file;
     for (const auto& st :
          {add(report::dwell_figure(a.run.dwells, name + ": output at 0° and 180°"), "dwells",

@@ -53,6 +53,9 @@ report::allan_curve white_curve() {
   }
   analysis::noise_terms t;
   t.arw = {true, 0.01, 0.009, 0.011};
+  t.bias_instability = {false, 0.0, 0.0, 0.0004};
+  t.rrw = {false, 0.0, 0.0, 0.00002};
+  t.fit_min_tau_s = 1024.0;
   t.bias_floor_tau_s = 1024.0;
   t.bias_floor_dev = 0.01 / 32.0;
   c.terms = t;

@@ -5,6 +5,7 @@
 // (GYROFLIP_UPDATE_GOLDEN=1 rewrites them: review the diff). Numbers, dates, hashes and the
 // commit are not part of the structure (figure captions on the page carry none: the numbers are
 // in the images); the temporary folder reads TMP.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -13,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "support/run_cli.hpp"
@@ -242,6 +244,126 @@ TEST(ReportChecks, TheConclusionQuotesOnlyTheTablesNumbers) {
   for (const auto& n : numbers_in(text2))
     EXPECT_NE(cells2.find(n.front() == '+' ? n.substr(1) : n), std::string::npos)
         << n << " of the conclusion is in no table: " << text2;
+}
+
+// The cells of each row of the table captioned `caption` (tags removed, &lt; as <).
+std::vector<std::vector<std::string>> table_rows(const std::string& html,
+                                                 const std::string& caption) {
+  std::vector<std::vector<std::string>> rows;
+  const auto from = html.find("<caption>" + caption);
+  const auto to = html.find("</table>", from);
+  for (auto r = html.find("<tr><td", from); r < to; r = html.find("<tr><td", r + 1)) {
+    std::vector<std::string> cells;
+    const auto end = html.find("</tr>", r);
+    for (auto c = html.find("<td", r); c < end; c = html.find("<td", c + 1))
+      cells.push_back(replaced(inner(html, c, "</td>"), "&lt;", "<"));
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+struct plot_label {
+  std::string text;
+  double x = 0.0, y = 0.0;
+};
+
+// The read-off marks ("set label K 'TEXT' at X,Y") of a gnuplot script.
+std::vector<plot_label> labels_of(const std::string& gp) {
+  std::vector<plot_label> out;
+  const std::regex re(R"(set label \d+ '([^']*)' at ([^,]+),(\S+))");
+  for (std::sregex_iterator it(gp.begin(), gp.end(), re), e; it != e; ++it)
+    out.push_back({(*it)[1], std::stod((*it)[2]), std::stod((*it)[3])});
+  return out;
+}
+
+// The points of a figure data file (x y ...; the stamp line skipped).
+std::vector<std::pair<double, double>> points_of(const std::string& file) {
+  std::vector<std::pair<double, double>> out;
+  std::istringstream in(read_text(file));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line.front() == '#') continue;
+    std::istringstream l(line);
+    double x = 0.0, y = 0.0;
+    l >> x >> y;
+    out.emplace_back(x, y);
+  }
+  return out;
+}
+
+// Issue 22 (review): the B mark sat on the compensated curve's first local minimum (1.86 deg/h at
+// 115 s: B = 2.8 deg/h) while the table said B < 1.63 deg/h; the raw curve's resolved N and B were
+// not drawn; the table's raw "floor 10.2 at 57.3" was not the plotted minimum (8.91 at 229 s).
+// Every mark is now the table's number, where it belongs: N on its line at 1 h, K at 3 h, B on its
+// floor 0.664 B inside the data, "extrapolated" outside it; upper limits named, not drawn.
+TEST(ReportChecks, TheAllanPlotDrawsTheNoiseTablesTerms) {
+  temp_dir d;
+  const auto f = d.file("c20.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "1800", "--temp", "20",
+                     "--seed", "1", "-o", f})
+                .exit_code,
+            0);
+  const auto r = run_cli({"report", f, "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = table_rows(read_text(d.file("rep/index.html")), "IEEE 952 noise terms");
+  const auto gp = read_text(d.file("rep/figures/run1_allan.gp"));
+  const auto labels = labels_of(gp);
+  const auto caption =
+      gp.substr(gp.find("set title"), gp.find('\n', gp.find("set title")) - gp.find("set title"));
+  ASSERT_EQ(rows.size(), 2u);
+  std::size_t drawn = 0, bounds = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto& c = rows[k];
+    ASSERT_EQ(c.size(), 7u);
+    const std::string who = c[1].rfind("raw", 0) == 0 ? "raw" : "compensated";
+    const double tau_lo = std::stod(c[2]), tau_hi = std::stod(c[2].substr(c[2].find("–") + 3));
+    // The lowest OADEV is the plotted curve's lowest point (file K: the K-th curve).
+    const std::regex curve("'(run1_allan_\\d+\\.dat)' using 1:2:3:4 with yerrorbars[^,]* title '" +
+                           who);
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(gp, m, curve)) << who;
+    const auto pts = points_of(d.file("rep/figures/" + m[1].str()));
+    const auto low = *std::min_element(pts.begin(), pts.end(),
+                                       [](auto a, auto b) { return a.second < b.second; });
+    EXPECT_EQ(c[6], fmt::format("{:.3g} at {:.3g}", low.second, low.first)) << who;
+    const struct {
+      const char* sym;
+      const std::string& cell;
+      double tau_s;  // 0: B, on its floor inside the data
+      double on_line;
+    } terms[] = {{"N", c[3], 3600.0, 1.0}, {"B", c[4], 0.0, 0.6643}, {"K", c[5], 10800.0, 1.0}};
+    for (const auto& t : terms) {
+      const std::string head = who + ": " + t.sym;
+      const auto mark = std::find_if(labels.begin(), labels.end(), [&](const plot_label& l) {
+        return l.text.rfind(head + " ", 0) == 0;
+      });
+      if (t.cell.rfind("< ", 0) == 0) {  // an upper limit: named in the caption, not drawn
+        ++bounds;
+        EXPECT_EQ(mark, labels.end()) << head << " is an upper limit but drawn";
+        EXPECT_NE(caption.find(head + " " + t.cell.substr(0, t.cell.find(' ', 2))),
+                  std::string::npos)
+            << caption;
+        EXPECT_EQ(gp.find("title '" + head + " ="), std::string::npos);
+        continue;
+      }
+      ++drawn;
+      const auto value = t.cell.substr(0, t.cell.find(' '));
+      ASSERT_NE(mark, labels.end()) << head << " = " << value << " not marked";
+      EXPECT_EQ(mark->text.rfind(head + " = " + value + " ", 0), 0u) << mark->text;
+      EXPECT_NE(gp.find("title '" + head + " = " + value + " "), std::string::npos) << head;
+      // On its line where it is read: the table's value within its 3 printed digits.
+      EXPECT_NEAR(mark->y, t.on_line * std::stod(value), 0.006 * std::stod(value)) << mark->text;
+      const bool inside = mark->x >= tau_lo * 0.99 && mark->x <= tau_hi * 1.01;
+      if (t.tau_s > 0.0)
+        EXPECT_EQ(mark->x, t.tau_s) << mark->text;
+      else
+        EXPECT_TRUE(inside) << mark->text;
+      EXPECT_EQ(mark->text.find("(extrapolated)") != std::string::npos, !inside) << mark->text;
+    }
+  }
+  EXPECT_EQ(labels.size(), drawn);
+  EXPECT_GE(drawn, 3u);  // both N and the raw B (main drew one N only)
+  EXPECT_GE(bounds, 1u);
 }
 
 }  // namespace

@@ -47,6 +47,9 @@ struct noise_terms {
   double bias_floor_dev = 0.0;    ///< OADEV there (deg/s)
   bool bias_floor_reached =
       false;  ///< false: OADEV still falls at the longest tau (B bounded only)
+  /// tau (s) within the data's taus where the fitted model is lowest: where a plot marks the
+  /// fitted flicker floor 0.664 B (a model's minimum, not a measured point's)
+  double fit_min_tau_s = 0.0;
   std::vector<misfit_point> misfit;  ///< points whose interval the fitted model misses
   double chi2_per_dof = 0.0;         ///< weighted fit quality
   double level = 0.683;              ///< two-sided confidence level of the intervals
