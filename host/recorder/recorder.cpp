@@ -224,6 +224,8 @@ class session {
   // The file.
   status append(gfr::kind k, std::span<const std::uint8_t> body = {});
   status append_gap(gfr::gap_reason r, std::uint32_t count);
+  // The STOP record with its reason, then the file closed (synced).
+  status close_file(gfr::stop_reason why);
   status note_lost(std::size_t n);
   status note_corrupt();
   status tick();
@@ -307,6 +309,12 @@ status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
     if (auto row = rigdata::dwell_row(dw[dwells_seen_]))
       stream_.push(*row, [this](const method::cycle& cy) { cycles_.push_back(cy); });
   return ok();
+}
+
+status session::close_file(gfr::stop_reason why) {
+  const std::uint8_t body[1] = {static_cast<std::uint8_t>(why)};
+  if (auto s = append(gfr::kind::stop, body); !s) return s;
+  return file_.close();  // syncs
 }
 
 status session::append_gap(gfr::gap_reason r, std::uint32_t count) {
@@ -702,9 +710,10 @@ status session::start_run() {
 // START was acknowledged by the device's frame `ack_seq`: its frames after that one are the new
 // run's (the START record says so; frames that came before the ACK are already stored).
 status session::begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc) {
-  const std::uint8_t b[4] = {
-      static_cast<std::uint8_t>(ack_seq & 0xFFu), static_cast<std::uint8_t>(ack_seq >> 8),
-      static_cast<std::uint8_t>(config_crc & 0xFFu), static_cast<std::uint8_t>(config_crc >> 8)};
+  std::uint8_t b[4];
+  p::writer w{b, sizeof b};  // little-endian, as every record body
+  w.u16(ack_seq);
+  w.u16(config_crc);
   if (auto s = append(gfr::kind::start, b); !s) return s;
   recording_ = true;
   device_idle_ = false;
@@ -742,9 +751,7 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
   } else {
     (void)note_lost(window_.give_up_all());
   }
-  const std::uint8_t body[1] = {static_cast<std::uint8_t>(why)};
-  if (auto s = append(gfr::kind::stop, body); !s) return s.err();
-  if (auto s = file_.close(); !s) return s.err();  // syncs
+  if (auto s = close_file(why); !s) return s.err();
   recorder_result r;
   r.reason = why;
   r.last = status_now();
@@ -811,9 +818,7 @@ result<recorder_result> session::run() {
   while (true) {
     if (fatal_) {
       // Another device: leave it alone; close the file with its reason.
-      const std::uint8_t body[1] = {static_cast<std::uint8_t>(gfr::stop_reason::device_changed)};
-      (void)append(gfr::kind::stop, body);
-      (void)file_.close();
+      (void)close_file(gfr::stop_reason::device_changed);
       return *fatal_;
     }
     if (stop_) return finish(gfr::stop_reason::signal);
@@ -828,9 +833,7 @@ result<recorder_result> session::run() {
           // the top; after three whole attempts end the run, the file closed with its reason.
           reset_seen_ = true;
           if (++restart_failures_ < 3) continue;
-          const std::uint8_t body[1] = {static_cast<std::uint8_t>(gfr::stop_reason::device_failed)};
-          (void)append(gfr::kind::stop, body);
-          (void)file_.close();
+          (void)close_file(gfr::stop_reason::device_failed);
           return s.err();
         }
         lost = true;

@@ -106,7 +106,6 @@ result<simulator> simulator::make(const simulation_config& c) {
                                       : p.angle_deg - 360.0 * std::floor(p.angle_deg / 360.0));
     sim.dwell_base_.push_back(p.dwell < 0 ? -1 : p.dwell);
     sim.dwell_mask_.push_back(p.dwell < 0 ? 0 : -1);
-    sim.coils_on_.push_back(p.dwell < 0 || c.rig.hold_coils ? 1 : 0);
   }
   sim.total_ = static_cast<std::uint64_t>(std::floor(c.duration_s / t_conv + 1e-9));
   return sim;
@@ -181,12 +180,14 @@ void simulator::fill_chunk(sample_block& b, std::size_t first, std::size_t n) no
 }
 
 // The coils' first-order warming, conversion by conversion from the current cycle slot (the
-// coils' state is constant over a conversion).
+// coils' state is constant over a conversion): energised outside the dwells (turning, settling),
+// and in them too with hold_coils.
 void simulator::add_coil_heat(double* temp, std::size_t n) noexcept {
-  const std::size_t period = coils_on_.size();
+  const std::size_t period = dwell_base_.size();
+  const bool hold = cfg_.rig.hold_coils;
   std::size_t slot = p_;
   for (std::size_t j = 0; j < n; ++j) {
-    heat_dt_c_ = cfg_.coil.step(heat_dt_c_, coils_on_[slot] != 0, t_conv_s_);
+    heat_dt_c_ = cfg_.coil.step(heat_dt_c_, hold || dwell_base_[slot] < 0, t_conv_s_);
     temp[j] += heat_dt_c_;
     if (++slot == period) slot = 0;
   }

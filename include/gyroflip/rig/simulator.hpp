@@ -130,8 +130,6 @@ class simulator {
   // the dwell index as dwell_base + (dwell_mask & 2 cycle) (base -1 and mask 0 outside dwells).
   std::vector<double> in_gain_, table_, earth_, gf0_, gf1_, angle_out_;
   std::vector<std::int64_t> dwell_base_, dwell_mask_;
-  // Per cycle slot: the coils are energised (turning, settling; dwells with hold_coils).
-  std::vector<char> coils_on_;
   double heat_dt_c_ = 0.0;  // the coils' temperature rise now
   // Per-chunk scratch: normal deviates, input rate, gyro output voltage, bias without truth.
   std::vector<double> n_arw_, n_adc_, w_in_, v_rel_, bias_;
