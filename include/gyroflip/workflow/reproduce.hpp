@@ -17,10 +17,11 @@
 namespace gyroflip::workflow {
 
 struct reproduce_request {
-  bool quick = false;         ///< one campaign (unless `campaigns`), runs a quarter as long
-  std::uint64_t seed = 1;     ///< seed of the first campaign
-  std::size_t campaigns = 0;  ///< 0: 10 (1 when quick); at most max_campaigns
-  std::string output;         ///< a report folder for the page (empty: none)
+  bool quick = false;      ///< one campaign (unless `campaigns`), runs a quarter as long
+  std::uint64_t seed = 1;  ///< seed of the first campaign
+  /// How many campaigns, 1 to max_campaigns; none: 10 (1 when quick).
+  std::optional<std::size_t> campaigns;
+  std::string output;  ///< a report folder for the page (empty: none)
   /// Sensor models used instead of the built-in presets of the same name ("adxrs150",
   /// "hz1-90-100a"): a model to put to the paper's test. The verdict is on the tests of the
   /// model only, so a model whose predictions are wrong fails it.
