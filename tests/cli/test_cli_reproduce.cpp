@@ -28,9 +28,10 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
   const auto r = run_cli({"reproduce", "--quick", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Tab. 3, HZ1-90-100A, 4 °C, 13 runs"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("Tests of the model: what the simulator predicts and the paper measured"),
+  EXPECT_NE(r.out.find("Independent tests of the model (the verdict)"), std::string::npos);
+  EXPECT_NE(r.out.find("Tests of the model's assumptions on the paper's own data (in-sample"),
             std::string::npos);
-  EXPECT_NE(r.out.find("Consistency checks of the paper's own data"), std::string::npos);
+  EXPECT_NE(r.out.find("made "), std::string::npos);  // provenance in the text too
   EXPECT_NE(r.out.find("Calibration targets: what the sensor model was fitted to"),
             std::string::npos);
   const auto j = json::parse(std::ifstream(out + "/summary.json"));
@@ -60,15 +61,15 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
         "fig7_hz1-90-100a_outputs", "fig10_hz1-90-100a_compensated", "fig8_hz1-90-100a_allan"})
     EXPECT_TRUE(std::filesystem::exists(out + "/figures/" + std::string(f) + ".png")) << f;
   // The verdict is the predictions': none of them is a calibration target.
-  ASSERT_EQ(j["predictions"].size(), 7u);
-  ASSERT_EQ(j["consistency_checks"].size(), 4u);
+  ASSERT_EQ(j["predictions"].size(), 2u);
+  ASSERT_EQ(j["in_sample_tests"].size(), 9u);
   bool all = true;
   for (const auto& p : j["predictions"]) {
     all = all && p["pass"].get<bool>();
     for (const auto& t : j["targets"])
       EXPECT_NE(p["quantity"].get<std::string>(), t["quantity"].get<std::string>());
   }
-  EXPECT_EQ(j["reproduced"].get<bool>(), all);
+  EXPECT_EQ(j["reproduced"].get<bool>(), all && j["verdict"] == "reproduced");
   // The main claim: the compensated Allan deviation below the raw at the longest common tau.
   ASSERT_EQ(j["claim"]["adev"].size(), 4u);
   for (const auto& a : j["claim"]["adev"])
@@ -121,7 +122,8 @@ TEST(ReproduceCli, TenCampaignsKeepTheFitAndThePredictionsHold) {
   temp_dir d;
   const auto r = run_cli({"reproduce", "--campaigns", "10", "--seed", "1", "-o", d.file("r")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("verdict: reproduced (7 of 7 tests of the model hold"), std::string::npos)
+  EXPECT_NE(r.out.find("verdict: reproduced (2 of 2 independent tests of the model hold)"),
+            std::string::npos)
       << r.out;
   const auto j = json::parse(std::ifstream(d.file("r/summary.json")));
   // The fit (a regression): ensemble means within 15 %, stds within 25 % of the paper's.
