@@ -125,7 +125,7 @@ void setup_simulate(CLI::App& app, action& chosen) {
                   "input rate: V|const:V|steps:T:V,...|sine:AMP:FREQ_HZ[:OFFSET] (deg/s)")
       ->capture_default_str();
   sub->add_option("--seed", o->seed, "random seed")->capture_default_str();
-  sub->add_flag("--raw", o->raw, "write every conversion (angle empty while turning)");
+  sub->add_flag("--raw", o->raw, "write every conversion (angle empty while turning and settling)");
   sub->add_option("-o,--output", o->out, "recording CSV (- = stdout)")->capture_default_str();
   sub->add_option("--truth", o->truth, "write the true terms per output row to this CSV");
   sub->add_flag("--no-flip", o->no_flip,

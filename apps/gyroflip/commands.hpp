@@ -63,7 +63,7 @@ struct reproduce_options {
   bool quick = false;  // one campaign, runs a quarter as long
   std::string output;  // -o DIR: summary.json
   std::uint64_t seed = 1;
-  std::size_t campaigns = 0;              // 0: 10 (1 with --quick)
+  std::optional<std::size_t> campaigns;   // none: 10 (1 with --quick)
   std::vector<std::string> command_line;  // as typed, for the page's provenance
 };
 int run_reproduce(const reproduce_options& o);

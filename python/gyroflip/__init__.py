@@ -439,7 +439,7 @@ def reproduce(quick=False, seed=1, campaigns=None, output=None):
     Returns summary.json as a dict (schema gyroflip.reproduce/N) plus "text", the comparison the
     command prints. Releases the GIL; Ctrl-C stops it."""
     kwargs = {k: v for k, v in (("quick", quick), ("seed", seed), ("campaigns", campaigns),
-                                ("output", output)) if v not in (None, False) and not (k == "seed" and v == 1)}
+                                ("output", output)) if v is not None and v is not False and not (k == "seed" and v == 1)}
     command = _call_text("reproduce", [], kwargs)
-    return _gyroflip._reproduce(bool(quick), int(seed), 0 if campaigns is None else int(campaigns),
+    return _gyroflip._reproduce(bool(quick), int(seed), None if campaigns is None else int(campaigns),
                                 "" if output is None else _os.fspath(output), command)

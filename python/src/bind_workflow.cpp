@@ -40,8 +40,8 @@ py::dict report(const std::vector<std::string>& files, const std::string& output
   return json_loads(res.summary_json);  // its "warnings" are the result's
 }
 
-py::dict reproduce(bool quick, std::uint64_t seed, std::size_t campaigns, const std::string& output,
-                   const std::string& command) {
+py::dict reproduce(bool quick, std::uint64_t seed, std::optional<std::size_t> campaigns,
+                   const std::string& output, const std::string& command) {
   workflow::reproduce_request req;
   req.quick = quick;
   req.seed = seed;

@@ -143,8 +143,21 @@ def test_reproduce_equals_the_cli(exe):
     text, the same summary."""
     cli = run(exe, "reproduce", "--quick", "--seed", 3)
     py = gyroflip.reproduce(quick=True, seed=3)
-    assert py.pop("text") == cli
+    # The same but the provenance line (its time and the command as made).
+    def body(text):
+        return [l for l in text.splitlines() if not l.startswith("made ")]
+    made = [l for l in py["text"].splitlines() if l.startswith("made ")]
+    assert len(made) == 1 and made[0].endswith(": python3: gyroflip.reproduce(quick=True, seed=3)")
+    assert body(py.pop("text")) == body(cli)
     assert py["schema"].startswith("gyroflip.reproduce/") and py["campaigns"] == 1 and py["seed"] == 3
+    assert py["command"] == "python3: gyroflip.reproduce(quick=True, seed=3)"
+
+
+def test_reproduce_refuses_a_campaign_count_outside_its_range():
+    """campaigns=0 was taken as the default (review of issue 22): 1 to 1000, else ValueError."""
+    for k in (0, 1001):
+        with pytest.raises(ValueError, match="campaigns"):
+            gyroflip.reproduce(quick=True, campaigns=k)
 
 
 def test_simulate_equals_the_cli_file(exe, tmp_path):

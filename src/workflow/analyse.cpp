@@ -39,10 +39,27 @@ std::optional<analysis::noise_analysis> noise_of(const std::vector<double>& y, d
   return only;
 }
 
+// The median 0-deg dwell's data span (its conversions times their time) over the raw series'
+// spacing, at most 1; 0 when the conversion time is unknown.
+double raw_duty(const recording_run& run, double spacing_s) {
+  std::vector<double> w;
+  for (const auto& d : run.dwells)
+    if (d.sign > 0) w.push_back(static_cast<double>(d.weight));
+  if (w.empty() || !(run.conversion_s > 0.0) || !(spacing_s > 0.0)) return 0.0;
+  auto mid = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
+  std::nth_element(w.begin(), mid, w.end());
+  return std::min(1.0, *mid * run.conversion_s / spacing_s);
+}
+
 }  // namespace
 
 bool noise_fitted(const analysis::noise_analysis& a) noexcept {
   return a.terms.chi2_per_dof >= 0.0;
+}
+
+std::optional<analysis::noise_terms> fitted_terms(const analysis::noise_analysis& a) {
+  if (!noise_fitted(a)) return std::nullopt;
+  return a.terms;
 }
 
 result<run_analysis> analyse_run(recording_run run, method::pairing p) {
@@ -96,6 +113,7 @@ status compensate_run(run_analysis& a, const method::delta_n_model& model) {
   const double tc = mean_step(t);
   a.comp_noise = noise_of(y, tc, a.pairing == method::pairing::abba ? tc : 0.0);
   a.raw_noise = noise_of(y0, mean_step(t0), 0.0);
+  a.raw_duty = raw_duty(a.run, mean_step(t0));
   return ok();
 }
 

@@ -2,9 +2,14 @@
 /// \brief Any recording as the method's input (recordings.hpp).
 #include "gyroflip/workflow/recordings.hpp"
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <system_error>
 #include <utility>
 
 #include "gyroflip/method/dwells.hpp"
+#include "gyroflip/rig/ad7739.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 
 namespace gyroflip::workflow {
@@ -13,6 +18,38 @@ namespace {
 
 bool is_rig_recording(const std::string& path) {
   return path.ends_with(".gfr");
+}
+
+// The median spacing per conversion of consecutive rows at the same orientation (0: none).
+double conversion_time_s(const std::vector<method::row>& rows) {
+  std::vector<double> dt;
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    const auto &a = rows[k - 1], &b = rows[k];
+    if (std::isnan(a.angle_deg) || std::isnan(b.angle_deg) ||
+        method::sign_of_angle(a.angle_deg) != method::sign_of_angle(b.angle_deg))
+      continue;
+    const double step = (b.time_s - a.time_s) / static_cast<double>(b.n_avg);
+    if (step > 0.0) dt.push_back(step);
+  }
+  if (dt.empty()) return 0.0;
+  auto mid = dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2);
+  std::nth_element(dt.begin(), mid, dt.end());
+  return *mid;
+}
+
+// The conversion time the recording's rig settings give (the AD7739's FW and CHOP at the rig's
+// clock, rig/ad7739.hpp), for recordings of one row per dwell; 0 when they are not recorded.
+double conversion_time_of_settings(std::span<const io::csv_metadata> metadata) {
+  const std::string fw = metadata_value(metadata, "filter_word");
+  const std::string chop = metadata_value(metadata, "chop");
+  rig::ad7739_config c;
+  const auto [end, ec] = std::from_chars(fw.data(), fw.data() + fw.size(), c.filter_word);
+  if (fw.empty() || ec != std::errc{} || end != fw.data() + fw.size() ||
+      c.filter_word < ad7739::fw_min || c.filter_word > ad7739::fw_max ||
+      (chop != "on" && chop != "off"))
+    return 0.0;
+  c.chop = chop == "on";
+  return rig::conversion_time_s(c);
 }
 
 }  // namespace
@@ -34,6 +71,8 @@ result<recording_run> run_of_rows(const std::string& name, std::vector<method::r
   recording_run r;
   r.file = name;
   r.dwells = method::extract_dwells(rows);
+  r.conversion_s = conversion_time_s(rows);
+  if (r.conversion_s == 0.0) r.conversion_s = conversion_time_of_settings(metadata);
   for (const auto p : {method::pairing::simple, method::pairing::abba}) {
     auto c = io::cycles_of_rows(name, rows, p, metadata);
     if (!c) return c.err();

@@ -170,36 +170,47 @@ report::table noise_table(const std::vector<run_analysis>& runs) {
   report::table t{
       "IEEE 952 noise terms (68.3 % intervals; < : an upper limit, not resolved)",
       {"run", "series", "τ of the data (s)", "N (°/√h)", "B (°/h)", "K (°/h/√h)",
-       "lowest OADEV (°/h) at τ (s)"},
+       "lowest OADEV (°/h) at τ (s)", "sensor's N, dead time removed (°/√h)"},
       {},
       "N, B and K are fitted to the OADEV over the τ of the data; the Allan plot draws the "
       "resolved ones with these numbers and marks where each is read (N at τ = 1 h on its −½ "
       "line, K at 3 h on its +½ line, B on its floor 0.664 B where the fitted curve is lowest), "
       "“extrapolated” when that τ lies beyond the data; upper limits (<) are not drawn. The "
-      "lowest OADEV is the lowest measured point of the plotted curve."};
+      "lowest OADEV is the lowest measured point of the plotted curve. The raw series' dwell "
+      "means average only a share d of their spacing (the rest is turning and settling), so its "
+      "white noise looks √(1/d) times larger than the sensor's: the last column is the raw N "
+      "times √d, the sensor's own angle random walk. The compensated rate's N is that of the "
+      "flipped output as delivered (its dead time included)."};
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
     for (const auto& [what, n] :
          {std::pair{"raw (0° dwells)", &a.raw_noise}, std::pair{"compensated", &a.comp_noise}}) {
       const std::string run = fmt::format("{}: {}", k + 1, a.run.file);
       if (!*n || (*n)->oadev.empty()) {
-        t.rows.push_back({run, what, "–", "–", "–", "–", "series too short"});
+        t.rows.push_back({run, what, "–", "–", "–", "–", "series too short", "–"});
         continue;
       }
       const auto& pts = (*n)->oadev;
       const std::string taus =
           fmt::format("{}–{}", g(pts.front().tau_s, 3), g(pts.back().tau_s, 3));
       if (!noise_fitted(**n)) {
-        t.rows.push_back({run, what, taus, "–", "–", "–", "too few points to fit"});
+        t.rows.push_back({run, what, taus, "–", "–", "–", "too few points to fit", "–"});
         continue;
       }
       const auto& f = (*n)->terms;
       const auto lowest = std::min_element(
           pts.begin(), pts.end(), [](const auto& x, const auto& y) { return x.dev < y.dev; });
+      const bool raw = n == &a.raw_noise;
+      std::string sensor_n = raw ? "dead time unknown" : "–";
+      if (raw && a.raw_duty > 0.0)
+        sensor_n = fmt::format("{} (d = {})",
+                               term(f.arw, units::deg_rth_per_deg_rts * std::sqrt(a.raw_duty)),
+                               g(a.raw_duty, 3));
       t.rows.push_back(
           {run, what, taus, term(f.arw, units::deg_rth_per_deg_rts),
            term(f.bias_instability, units::dph_per_dps), term(f.rrw, units::dph_rth_per_dps_rts),
-           fmt::format("{} at {}", g(lowest->dev * units::dph_per_dps, 3), g(lowest->tau_s, 3))});
+           fmt::format("{} at {}", g(lowest->dev * units::dph_per_dps, 3), g(lowest->tau_s, 3)),
+           sensor_n});
     }
   }
   return t;
@@ -804,9 +815,6 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     };
     std::vector<report::allan_curve> curves;
     // Both series with the terms the noise table prints for them.
-    const auto fitted_terms = [](const analysis::noise_analysis& n) {
-      return noise_fitted(n) ? std::optional(n.terms) : std::nullopt;
-    };
     if (a.raw_noise)
       curves.push_back({"raw: dwell means at 0°", a.raw_noise->oadev, fitted_terms(*a.raw_noise)});
     if (a.comp_noise)
@@ -890,14 +898,25 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                        {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
                        {"drift_window_s", s.drift_window_s}};
     }
+    const auto v = [](const analysis::noise_term& x, double to) {
+      return x.resolved ? json(x.value * to) : json(nullptr);
+    };
     if (a.comp_noise && noise_fitted(*a.comp_noise)) {
       const auto& t = a.comp_noise->terms;
-      const auto v = [](const analysis::noise_term& x, double to) {
-        return x.resolved ? json(x.value * to) : json(nullptr);
-      };
       j["noise"] = {{"arw_deg_rth", v(t.arw, units::deg_rth_per_deg_rts)},
                     {"bias_instability_deg_h", v(t.bias_instability, units::dph_per_dps)},
                     {"rrw_deg_h_rth", v(t.rrw, units::dph_rth_per_dps_rts)}};
+    }
+    if (a.raw_noise && noise_fitted(*a.raw_noise)) {
+      const auto& t = a.raw_noise->terms;
+      j["raw_noise"] = {
+          {"arw_deg_rth", v(t.arw, units::deg_rth_per_deg_rts)},
+          {"bias_instability_deg_h", v(t.bias_instability, units::dph_per_dps)},
+          {"rrw_deg_h_rth", v(t.rrw, units::dph_rth_per_dps_rts)},
+          {"duty", a.raw_duty > 0.0 ? json(a.raw_duty) : json(nullptr)},
+          {"sensor_arw_deg_rth", a.raw_duty > 0.0
+                                     ? v(t.arw, units::deg_rth_per_deg_rts * std::sqrt(a.raw_duty))
+                                     : json(nullptr)}};
     }
     sj["runs"].push_back(std::move(j));
   }

@@ -31,8 +31,10 @@ status run(rig::simulator& sim, int n_avg, bool raw, bool with_truth, const row_
     rows.clear();
     if (raw) {
       for (std::size_t i = 0; i < block.size; ++i) {
-        rig::dwell_row r{block.time_s[i], block.angle_deg[i], block.rate_dps[i], block.temp_c[i],
-                         1};
+        // Conversions outside the dwells (turning and settling) carry no angle: the rig averages
+        // only the dwell's conversions and its RAW frames carry only those.
+        const double angle = block.dwell[i] < 0 ? method::no_value : block.angle_deg[i];
+        rig::dwell_row r{block.time_s[i], angle, block.rate_dps[i], block.temp_c[i], 1};
         if (with_truth) {
           r.bias_dps = block.bias_dps[i];
           r.g_term_dps = block.g_term_dps[i];

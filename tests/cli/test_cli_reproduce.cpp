@@ -28,9 +28,10 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
   const auto r = run_cli({"reproduce", "--quick", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Tab. 3, HZ1-90-100A, 4 °C, 13 runs"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("Tests of the model: what the simulator predicts and the paper measured"),
+  EXPECT_NE(r.out.find("Independent tests of the model (the verdict)"), std::string::npos);
+  EXPECT_NE(r.out.find("Tests of the model's assumptions on the paper's own data (in-sample"),
             std::string::npos);
-  EXPECT_NE(r.out.find("Consistency checks of the paper's own data"), std::string::npos);
+  EXPECT_NE(r.out.find("made "), std::string::npos);  // provenance in the text too
   EXPECT_NE(r.out.find("Calibration targets: what the sensor model was fitted to"),
             std::string::npos);
   const auto j = json::parse(std::ifstream(out + "/summary.json"));
@@ -60,27 +61,69 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
         "fig7_hz1-90-100a_outputs", "fig10_hz1-90-100a_compensated", "fig8_hz1-90-100a_allan"})
     EXPECT_TRUE(std::filesystem::exists(out + "/figures/" + std::string(f) + ".png")) << f;
   // The verdict is the predictions': none of them is a calibration target.
-  ASSERT_EQ(j["predictions"].size(), 7u);
-  ASSERT_EQ(j["consistency_checks"].size(), 4u);
+  ASSERT_EQ(j["predictions"].size(), 2u);
+  ASSERT_EQ(j["in_sample_tests"].size(), 9u);
   bool all = true;
   for (const auto& p : j["predictions"]) {
     all = all && p["pass"].get<bool>();
     for (const auto& t : j["targets"])
       EXPECT_NE(p["quantity"].get<std::string>(), t["quantity"].get<std::string>());
   }
-  EXPECT_EQ(j["reproduced"].get<bool>(), all);
+  EXPECT_EQ(j["reproduced"].get<bool>(), all && j["verdict"] == "reproduced");
   // The main claim: the compensated Allan deviation below the raw at the longest common tau.
   ASSERT_EQ(j["claim"]["adev"].size(), 4u);
   for (const auto& a : j["claim"]["adev"])
     EXPECT_LT(a["compensated_dps"].get<double>(), a["raw_dps"].get<double>()) << a;
+  // Each main-claim number with its spread over the figure's simulated runs (the figure run and
+  // its replicates, max(1, 8) = 8 of them): the figure's own run inside the range, the range
+  // not one run's (a table made from one realisation has min == max).
+  ASSERT_EQ(j["claim"]["runs_per_figure"].get<int>(), 8);
+  const auto within = [](double own, const json& s) {
+    EXPECT_EQ(s["runs"].get<int>(), 8) << s;
+    EXPECT_LE(s["min"].get<double>(), own) << s;
+    EXPECT_GE(s["max"].get<double>(), own) << s;
+    EXPECT_LT(s["min"].get<double>(), s["max"].get<double>()) << s;
+  };
+  for (const auto& a : j["claim"]["adev"]) {
+    within(a["raw_dps"].get<double>(), a["runs_raw_dps"]);
+    within(a["compensated_dps"].get<double>(), a["runs_compensated_dps"]);
+    within(a["raw_dps"].get<double>() / a["compensated_dps"].get<double>(), a["runs_ratio"]);
+  }
+  for (const auto& row : j["claim"]["drift"])
+    for (const char* f : {"fig4", "fig6", "fig8", "fig10"})
+      if (row[f].is_number()) within(row[f].get<double>(), row[std::string(f) + "_runs"]);
+  for (const char* f : {"fig8", "fig10"}) {
+    const auto& w = j["claim"]["window_for_claim_runs"][f];
+    EXPECT_EQ(w["runs"].get<int>(), 8) << w;
+    if (j["claim"]["window_for_claim_s"][f].is_number()) {
+      EXPECT_LE(w["min"].get<double>(), j["claim"]["window_for_claim_s"][f].get<double>());
+    }
+  }
+  // Provenance in summary.json as on the page.
+  for (const char* k : {"command", "made_utc", "version", "commit"})
+    EXPECT_TRUE(j[k].is_string()) << k;
+  EXPECT_NE(j["command"].get<std::string>().find("reproduce --quick"), std::string::npos) << j;
   EXPECT_FALSE(j.contains("sensitivity"));  // not with --quick
+}
+
+// --campaigns 0 was taken as "the default"; a count outside 1..1000 is refused, before any
+// simulation and without a folder.
+TEST(ReproduceCli, ACampaignCountOutsideItsRangeIsRefused) {
+  temp_dir d;
+  for (const char* k : {"0", "1001"}) {
+    const auto r = run_cli({"reproduce", "--quick", "--campaigns", k, "-o", d.file("r")});
+    EXPECT_EQ(r.exit_code, 2) << k << r.err;
+    EXPECT_NE(r.err.find("--campaigns"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(d.file("r"))) << k;
+  }
 }
 
 TEST(ReproduceCli, TenCampaignsKeepTheFitAndThePredictionsHold) {
   temp_dir d;
   const auto r = run_cli({"reproduce", "--campaigns", "10", "--seed", "1", "-o", d.file("r")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("verdict: reproduced (7 of 7 tests of the model hold)"), std::string::npos)
+  EXPECT_NE(r.out.find("verdict: reproduced (2 of 2 independent tests of the model hold)"),
+            std::string::npos)
       << r.out;
   const auto j = json::parse(std::ifstream(d.file("r/summary.json")));
   // The fit (a regression): ensemble means within 15 %, stds within 25 % of the paper's.

@@ -36,10 +36,18 @@ struct run_analysis {
   /// gives) and the compensated rate: OADEV with 68.3 % bounds and, when the series is long
   /// enough, the IEEE 952 terms (noise_fitted); empty when too short for a deviation.
   std::optional<analysis::noise_analysis> raw_noise, comp_noise;
+  /// The share of the raw series' spacing its dwell means average (median dwell data span over
+  /// the mean spacing of the 0-deg dwells; the rest is turning and settling); 0 when unknown.
+  /// White rate noise averaged over a share d of each spacing tau0 looks, at tau0 and beyond,
+  /// like white noise of N / sqrt(d): the sensor's own N is the fitted N times sqrt(d).
+  double raw_duty = 0.0;
 };
 
 /// True when `a` holds fitted IEEE 952 terms (not only the deviation curve).
 [[nodiscard]] bool noise_fitted(const analysis::noise_analysis& a) noexcept;
+
+/// `a`'s IEEE 952 terms when fitted (noise_fitted), else nothing: what an Allan plot draws.
+[[nodiscard]] std::optional<analysis::noise_terms> fitted_terms(const analysis::noise_analysis& a);
 
 /// Calibrates the run with pairing `p` and compares the pairings. Errors: too few cycles.
 [[nodiscard]] result<run_analysis> analyse_run(recording_run run, method::pairing p);

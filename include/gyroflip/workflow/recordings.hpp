@@ -34,6 +34,10 @@ struct recording_run {
   std::vector<method::dwell> dwells;
   std::vector<method::cycle> simple, abba;
   bool has_temp = false;
+  /// The time one conversion takes: the median spacing of consecutive rows of a dwell per
+  /// conversion they average (s; 0 when no dwell has two rows). A dwell's data span its weight
+  /// times this; the rest of the cycle is turning and settling (the dead time).
+  double conversion_s = 0.0;
   /// The cycles of pairing `p`.
   [[nodiscard]] const std::vector<method::cycle>& cycles(method::pairing p) const noexcept {
     return p == method::pairing::abba ? abba : simple;
