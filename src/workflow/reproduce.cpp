@@ -1384,6 +1384,9 @@ report::figure table_figure(const experiment& e, std::size_t t) {
   const auto& p = paper_tables[t];
   auto f = report::delta_n_runs_figure(
       runs, fmt::format("{}: ΔN per run, simulated campaign 1 and the paper's runs", p.label));
+  // The band and the points are campaign 1's; the caption summarises every campaign.
+  for (auto& d : f.data)
+    if (d.title == "mean ± std") d.title = "campaign 1: mean ± std";
   report::series paper;
   paper.title = "the paper's runs";
   paper.color = 2;
@@ -1396,7 +1399,7 @@ report::figure table_figure(const experiment& e, std::size_t t) {
   const auto em = stats_of(e.means[t]), es = stats_of(e.stds[t]);
   const auto ps = paper_stats(t, e.a);
   const auto spread = [&](double s) {
-    return e.campaigns > 1 ? fmt::format(" (spread {})", g(s, 2)) : std::string();
+    return e.campaigns > 1 ? fmt::format(" (std over the campaigns {})", g(s, 2)) : std::string();
   };
   f.caption = fmt::format("{} campaign{}: mean {}{}, std {}{} °/s; paper: mean {}, std {} °/s",
                           e.campaigns, e.campaigns == 1 ? "" : "s", g(em.mean, 4), spread(em.std),

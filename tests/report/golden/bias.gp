@@ -11,6 +11,7 @@ set mytics
 set title "Bias\nc = (y₀ + y₁₈₀)/2: the bias and its drift, which the flip removes" noenhanced
 set xlabel 'time (s)' noenhanced
 set ylabel 'bias estimate c (°/s)' noenhanced
+set offsets 0, 0, graph 0.05, graph 0.05
 
 set terminal svg size 1100,680 font 'DejaVu Sans,12' enhanced background rgb 'white'
 set output 'bias.svg'

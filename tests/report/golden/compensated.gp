@@ -11,6 +11,7 @@ set mytics
 set title "Compensated output\n6 cycles: mean 0 °/s, std 0.00187 °/s (eqn 12)" noenhanced
 set xlabel 'time (s)' noenhanced
 set ylabel 'compensated rate (°/s)' noenhanced
+set offsets 0, 0, graph 0.05, graph 0.05
 
 set terminal svg size 1100,680 font 'DejaVu Sans,12' enhanced background rgb 'white'
 set output 'comp.svg'

@@ -12,6 +12,7 @@ set title "ΔN per run\n3 runs: mean 0.4 °/s, std 0.01 °/s (pooled over 4.0–
 set xlabel 'run' noenhanced
 set ylabel 'ΔN (°/s)' noenhanced
 set xtics 1
+set offsets 0, 0, graph 0.05, graph 0.05
 
 set terminal svg size 1100,680 font 'DejaVu Sans,12' enhanced background rgb 'white'
 set output 'runs.svg'

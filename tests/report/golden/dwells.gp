@@ -11,6 +11,7 @@ set mytics
 set title "Output at 0° and 180°" noenhanced
 set xlabel 'time (s)' noenhanced
 set ylabel 'dwell mean (°/s)' noenhanced
+set offsets 0, 0, graph 0.05, graph 0.05
 
 set terminal svg size 1100,680 font 'DejaVu Sans,12' enhanced background rgb 'white'
 set output 'dwells.svg'
