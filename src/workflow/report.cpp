@@ -76,7 +76,8 @@ struct identity {
   std::set<std::string> serials;
   std::vector<io::csv_metadata> rig;  // the first run's rig settings
   std::vector<std::string> origin;    // per run
-  std::size_t simulated = 0;          // runs from gyroflip's simulator
+  std::size_t simulated = 0;          // runs from gyroflip's simulator or an emulated rig
+  std::size_t emulated = 0;           // of them, rig recordings of an emulator
 };
 
 // Where a recording came from, from its metadata.
@@ -88,6 +89,13 @@ std::string origin_of(const recording_run& r, bool& simulated) {
     return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)",
                        metadata_value(m, "sensor"), metadata_value(m, "seed"),
                        metadata_value(m, "duration_s"));
+  }
+  if (const auto e = metadata_value(m, "emulated"); !e.empty()) {
+    simulated = true;
+    return fmt::format(
+        "emulated: a rig recording (.gfr) of {} (device serial {}, firmware {}), "
+        "not of a real board",
+        e, metadata_value(m, "serial"), metadata_value(m, "firmware"));
   }
   if (r.file.ends_with(".gfr"))
     return fmt::format("rig recording (.gfr): device serial {}, firmware {}",
@@ -108,6 +116,7 @@ identity identify(const std::vector<run_analysis>& runs) {
     bool sim = false;
     id.origin.push_back(origin_of(a.run, sim));
     id.simulated += sim ? 1 : 0;
+    if (!metadata_value(m, "emulated").empty()) ++id.emulated;
   }
   id.builtin = id.preset.empty() ? nullptr : sensor::find_builtin(id.preset);
   return id;
@@ -610,9 +619,12 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                  runs.size(), runs.size() == 1 ? "" : "s", all_t.text());
   if (f.id.simulated > 0)
     page.banners.push_back(fmt::format(
-        "Simulated data: {} of the {} recordings came from gyroflip's simulator (see Inputs); "
+        "Simulated data: {} of the {} recordings came from gyroflip's {} (see Inputs); "
         "no sensor was measured for them.",
-        f.id.simulated, runs.size()));
+        f.id.simulated, runs.size(),
+        f.id.emulated == 0                ? "simulator"
+        : f.id.emulated == f.id.simulated ? "emulator (a rig recording of no real board)"
+                                          : "simulator or emulator"));
 
   // Summary: the conclusion and the warnings.
   report::section top;
@@ -627,11 +639,14 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   report::table idt{"What was measured, with what", {}, {}, ""};
   idt.rows.push_back({"sensor", sensor_words(f.id)});
   idt.rows.push_back({"serial", serials.empty() ? "not recorded" : serials});
-  idt.rows.push_back({"data", f.id.simulated == runs.size()
-                                  ? "simulated (gyroflip simulate)"
-                                  : (f.id.simulated > 0 ? fmt::format("{} of {} runs simulated",
-                                                                      f.id.simulated, runs.size())
-                                                        : "recorded")});
+  idt.rows.push_back(
+      {"data", f.id.simulated == runs.size()
+                   ? (f.id.emulated == 0             ? "simulated (gyroflip simulate)"
+                      : f.id.emulated == runs.size() ? "emulated (gyroflip emulate: no real board)"
+                                                     : "simulated (gyroflip simulate and emulate)")
+                   : (f.id.simulated > 0
+                          ? fmt::format("{} of {} runs simulated", f.id.simulated, runs.size())
+                          : "recorded")});
   for (const auto& m : f.id.rig) idt.rows.push_back({"rig: " + m.key, m.value});
   idt.rows.push_back({"cycle (measured)", fmt::format("{} s", g(cycle_period_s(runs.front()), 4))});
   idt.rows.push_back({"pairing", std::string(method::to_string(r.pairing))});
