@@ -86,6 +86,37 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   return b;
 }
 
+double delta_n_tc_dps_per_c(const sensor::sensor_params& p) noexcept {
+  return std::hypot(p.g_sens_tc_z_dps_per_g_c, p.g_sens_tc_turn_on_sigma_dps_per_g_c);  // x 1 g
+}
+
+void add_temperature_term(delta_n_budget& b, double outside_c, double lo_c, double hi_c,
+                          const sensor::sensor_params* preset, const std::string& preset_name) {
+  b.outside_c = outside_c;
+  const std::string span = hi_c - lo_c < 0.05 ? fmt::format("{:.1f} °C", lo_c)
+                                              : fmt::format("{:.1f}–{:.1f} °C", lo_c, hi_c);
+  const double tc = preset != nullptr ? delta_n_tc_dps_per_c(*preset) : 0.0;
+  if (!(tc > 0.0)) {
+    b.valid = false;
+    b.temperature_dps = std::numeric_limits<double>::quiet_NaN();
+    b.temperature_note = fmt::format(
+        "not known: the run lies {:.1f} °C outside the calibration's {} and {} no temperature "
+        "coefficient of ΔN; the uncertainty is not valid outside the calibration's temperatures",
+        outside_c, span,
+        preset != nullptr ? "the sensor preset " + preset_name + " states"
+                          : "no sensor preset gives");
+    b.new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  b.temperature_dps = tc * outside_c;
+  b.temperature_note = fmt::format(
+      "from the preset's temperature coefficient (assumed): the run lies {:.1f} °C outside the "
+      "calibration's {}; {} °/s per °C (the g-term's coefficient and its spread from one "
+      "power-up to the next, sensor preset {}) × {:.1f} °C",
+      outside_c, span, fmt::format("{:.3g}", tc), preset_name, outside_c);
+  b.new_power_up_dps = std::hypot(b.new_power_up_dps, b.temperature_dps);
+}
+
 std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name) {
   // The specifications' own numbers (FACTS §4.1, §4.2).
   if (preset_name == "adxrs150")

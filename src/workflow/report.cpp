@@ -342,6 +342,43 @@ void check_stationary(const report_request& r, const std::vector<run_analysis>& 
         std::sqrt(f.runs_model->chi2_per_dof), f.runs_model->chi2_per_dof));
 }
 
+// A constant dN applied to runs away from its runs' temperatures (review R3): the budget gets the
+// sensor preset's temperature term, or is marked not valid when no coefficient is known.
+void check_calibration_temperature(const std::vector<run_analysis>& runs, findings& f) {
+  const auto& rec = *f.given->record;
+  if (rec.model && rec.model->degree() > 0) return;  // dN(T) covers temperature
+  temp_span cal;
+  for (const auto& e : rec.files)
+    if (std::isfinite(e.cal.temp_c)) {
+      cal.lo = std::min(cal.lo, e.cal.temp_c);
+      cal.hi = std::max(cal.hi, e.cal.temp_c);
+    }
+  if (!cal.known()) return;
+  double outside_c = 0.0;
+  for (const auto& a : runs) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (const auto& c : a.run.cycles(a.pairing))
+      if (std::isfinite(c.temp_c)) {
+        sum += c.temp_c;
+        ++n;
+      }
+    if (n == 0) continue;
+    const double t = sum / static_cast<double>(n);
+    outside_c = std::max({outside_c, cal.lo - t, t - cal.hi});
+  }
+  if (outside_c > outside_calibration_c)
+    add_temperature_term(f.budget, outside_c, cal.lo, cal.hi,
+                         f.id.builtin ? &f.id.builtin->params : nullptr, f.id.preset);
+}
+
+// "±u °/s" of a new power-up's ΔN, or why there is none.
+std::string power_up_text(const delta_n_budget& b) {
+  if (!b.valid) return "not valid outside the calibration's temperatures";
+  return fmt::format("±{} °/s{}", g(b.new_power_up_dps, 2),
+                     b.outside_c > 0.0 ? ", its temperature term included" : "");
+}
+
 // The conclusion, written from the numbers the tables show.
 std::string conclusion(const report_request& r, const std::vector<run_analysis>& runs,
                        const findings& f) {
@@ -415,22 +452,27 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     for (std::size_t k = 0; k < runs.size(); ++k)
       applied +=
           fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file, applied_text(runs[k].comp));
-    out = fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up ±{} °/s).",
-                      f.given->source, applied, g(b.new_power_up_dps, 2));
+    out = fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up {}).",
+                      f.given->source, applied, power_up_text(b));
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
                          pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
       if (f.rates[k])
-        out += fmt::format(" against the commanded {} °/s: a scale-factor error of {} ppm",
+        out += fmt::format(" against the commanded {} °/s: a scale-factor error of {} ppm{}",
                            g(*r.expected_rate_dps, 6),
-                           pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
+                           pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm),
+                           b.valid ? ""
+                                   : " (its uncertainty is not known: the ΔN applied is "
+                                     "not valid outside the calibration's temperatures)");
       out += ".";
     }
-    out += fmt::format(
-        " The ΔN error ±{} °/s is common to every cycle: averaging longer does not "
-        "reduce it.",
-        g(b.new_power_up_dps, 2));
+    out += b.valid ? fmt::format(
+                         " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
+                         "not reduce it.",
+                         g(b.new_power_up_dps, 2))
+                   : " The ΔN error is not known outside the calibration's temperatures; it is "
+                     "common to every cycle: averaging longer does not reduce it.";
   }
   // The noise, as the noise table prints it: the same term (B) of both series of the first run.
   const auto* a = &runs.front();
@@ -457,6 +499,10 @@ json budget_json(const delta_n_budget& b) {
           {"model_dps", b.model_dps ? num(*b.model_dps) : json(nullptr)},
           {"model_note", b.model_note},
           {"calibration_dps", num(b.calibration_dps)},
+          {"outside_calibration_c", num(b.outside_c)},
+          {"temperature_dps", num(b.temperature_dps)},
+          {"temperature_note", b.temperature_note},
+          {"valid", b.valid},
           {"new_power_up_dps", num(b.new_power_up_dps)}};
 }
 
@@ -473,11 +519,19 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
        {"run-to-run repeatability", v(b.run_to_run_dps), b.run_to_run_source},
        {"dN(T) model", b.model_dps ? v(*b.model_dps) : std::string("–"), b.model_note},
        {"calibrated ΔN", v(b.calibration_dps), "the error of the calibrated value"},
-       {"ΔN of a new power-up", v(b.new_power_up_dps),
-        "√(calibrated² + repeatability²): what a compensated rate carries as a systematic error "
-        "(w = r − ΔN, paper eqn 12), the same in every cycle"}},
+       {"ΔN of a new power-up", b.valid ? v(b.new_power_up_dps) : std::string("not valid"),
+        b.valid ? fmt::format("√(calibrated² + repeatability²{}): what a compensated rate "
+                              "carries as a systematic error (w = r − ΔN, paper eqn 12), the "
+                              "same in every cycle",
+                              b.outside_c > 0.0 ? " + temperature²" : "")
+                : std::string("not valid outside the calibration's temperatures: no ± covers "
+                              "the run")}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
+  if (b.outside_c > 0.0)
+    t.rows.insert(t.rows.end() - 1,
+                  {"temperature (outside the calibration's)",
+                   b.valid ? v(b.temperature_dps) : std::string("not known"), b.temperature_note});
   return t;
 }
 
@@ -548,6 +602,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     const auto& rec = *f.given->record;
     f.budget = budget_of(rec.files, rec.model, f.id.builtin ? &f.id.builtin->params : nullptr,
                          f.id.preset);
+    check_calibration_temperature(runs, f);
   } else {
     auto m = io::fit_runs_model(entries);
     if (!m) return m.err();
@@ -750,9 +805,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         head,
         {},
         fmt::format(
-            "The mean's error is its own (random); the ΔN applied adds ±{} °/s to every "
+            "The mean's error is its own (random); the ΔN applied adds {} to every "
             "cycle alike (budget below){}.",
-            g(f.budget.new_power_up_dps, 2),
+            power_up_text(f.budget),
             r.expected_rate_dps ? "; the scale-factor error's uncertainty includes both" : "")};
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& a = runs[k];
@@ -904,10 +959,11 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                           {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
                           {"drift_window_s", s.drift_window_s}};
       if (f.rates[k])
-        j["compensated"].update(json{{"expected_rate_dps", *r.expected_rate_dps},
-                                     {"error_dps", f.rates[k]->error_dps},
-                                     {"scale_factor_error_ppm", f.rates[k]->scale_factor_ppm},
-                                     {"scale_factor_error_u_ppm", f.rates[k]->scale_factor_u_ppm}});
+        j["compensated"].update(
+            json{{"expected_rate_dps", *r.expected_rate_dps},
+                 {"error_dps", f.rates[k]->error_dps},
+                 {"scale_factor_error_ppm", f.rates[k]->scale_factor_ppm},
+                 {"scale_factor_error_u_ppm", num(f.rates[k]->scale_factor_u_ppm)}});
     } else {
       j["residual"] = {{"std_dps", s.std_dps},
                        {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},

@@ -75,5 +75,29 @@ TEST(DeltaNBudget, ALineThroughTwoRunsIsFlaggedNotShownAsExact) {
   EXPECT_GT(b.calibration_dps, 1e-4 * 2);
 }
 
+// Review R3: a constant dN applied 16 degC from its runs' temperature. HZ1: the preset's g-term
+// coefficient 4.5e-5 and its power-up spread 8.75e-5 deg/s/degC (paper Tab. 3) combined, times
+// 16 degC, added in quadrature; ADXRS150 (no coefficient): not valid, no number.
+TEST(DeltaNBudget, ATemperatureTermFromThePresetOrNotValid) {
+  const std::vector runs{run(0.0030, 1e-4, 20.0), run(0.0031, 1e-4, 20.0)};
+  const auto model = io::fit_runs_model(runs);
+  ASSERT_TRUE(model && model->has_value());
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
+  const double before = b.new_power_up_dps;
+  workflow::add_temperature_term(b, 16.0, 20.0, 20.0, &hz1->params, "hz1-90-100a");
+  const double term = std::hypot(4.5e-5, 8.75e-5) * 16.0;
+  EXPECT_TRUE(b.valid);
+  EXPECT_NEAR(b.temperature_dps, term, 1e-12);
+  EXPECT_NEAR(b.new_power_up_dps, std::hypot(before, term), 1e-12);
+  EXPECT_NE(b.temperature_note.find("(assumed)"), std::string::npos);
+  const auto* adx = sensor::find_builtin("adxrs150");
+  auto a = workflow::budget_of(runs, *model, &adx->params, "adxrs150");
+  workflow::add_temperature_term(a, 16.0, 20.0, 20.0, &adx->params, "adxrs150");
+  EXPECT_FALSE(a.valid);
+  EXPECT_TRUE(std::isnan(a.new_power_up_dps));
+  EXPECT_NE(a.temperature_note.find("not valid outside"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace gyroflip

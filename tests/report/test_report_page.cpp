@@ -409,4 +409,94 @@ TEST(ReportChecks, TheRawSeriesNIsTheSensorsWithItsDeadTimeRemoved) {
   }
 }
 
+// Review R3: a constant dN calibrated at 20 degC (three HZ1 runs) applied to a 0.5 deg/s run at
+// 4 degC. The truth file gives the run's own dN (0.006135 deg/s against the 0.002104 applied: an
+// error of 0.0040 deg/s); the stated uncertainty of the dN applied must cover it at 2 sigma. It
+// did not (+-0.0015, the 20-degC budget unchanged): the budget now has the preset's temperature
+// term (its g-term coefficient and that coefficient's power-up spread, x 16 degC). A sensor whose
+// preset states no coefficient (ADXRS150) gets "not valid", not a +-.
+TEST(ReportChecks, AConstantDeltaNFarFromItsTemperatureCarriesATemperatureTerm) {
+  temp_dir d;
+  std::vector<std::string> cal{"calibrate"};
+  for (const char* seed : {"1", "2", "3"}) {
+    const auto f = d.file(std::string("c") + seed + ".csv");
+    ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "3600", "--seed", seed,
+                       "--temp", "20", "-o", f})
+                  .exit_code,
+              0);
+    cal.push_back(f);
+  }
+  cal.insert(cal.end(), {"-o", d.file("cal.json")});
+  ASSERT_EQ(run_cli(cal).exit_code, 0);
+  const auto t4 = d.file("t4.csv"), truth = d.file("t4_truth.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "2000", "--seed", "11",
+                     "--temp", "4", "--rate-profile", "0.5", "-o", t4, "--truth", truth})
+                .exit_code,
+            0);
+  const auto r = run_cli({"report", t4, "--calibration", d.file("cal.json"), "--expected-rate",
+                          "0.5", "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The run's true dN: the g-term and Earth terms as the sensor sees them, + at 0 deg, - at 180.
+  const auto rows = [](const std::string& file) {
+    std::vector<std::vector<std::string>> out;
+    std::istringstream in(read_text(file));
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line[0] == '#') continue;
+      std::vector<std::string> cells;
+      std::stringstream ss(line);
+      for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+      out.push_back(cells);
+    }
+    return out;
+  };
+  const auto rec = rows(t4), tru = rows(truth);
+  ASSERT_EQ(rec.size(), tru.size());
+  ASSERT_EQ(rec[0][1], "angle_deg");
+  ASSERT_EQ(tru[0][2], "g_term_dps");
+  ASSERT_EQ(tru[0][3], "earth_dps");
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 1; i < rec.size(); ++i) {
+    if (rec[i][1].empty()) continue;
+    const double s = std::stod(tru[i][2]) + std::stod(tru[i][3]);
+    sum += std::stod(rec[i][1]) == 0.0 ? s : -s;
+    ++n;
+  }
+  const double true_dn = sum / static_cast<double>(n);
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  const double applied = j["runs"][0]["compensated"]["delta_n_applied_min_dps"];
+  const double u = j["budget"]["new_power_up_dps"];
+  EXPECT_NEAR(true_dn - applied, 0.0040, 0.0001);  // the reviewer's numbers
+  EXPECT_TRUE(j["budget"]["valid"].get<bool>());
+  EXPECT_NEAR(j["budget"]["outside_calibration_c"].get<double>(), 16.0, 0.1);
+  EXPECT_GT(j["budget"]["temperature_dps"].get<double>(), 0.0);
+  EXPECT_LE(std::abs(true_dn - applied), 2.0 * u) << "u " << u;
+  const auto html = read_text(d.file("rep/index.html"));
+  EXPECT_NE(html.find("from the preset's temperature coefficient (assumed)"), std::string::npos);
+  const auto [text, cells] = conclusion_and_tables(html);
+  EXPECT_NE(text.find("its temperature term included"), std::string::npos) << text;
+  for (const auto& num : numbers_in(text))
+    EXPECT_NE(cells.find(num.front() == '+' ? num.substr(1) : num), std::string::npos)
+        << num << " of the conclusion is in no table: " << text;
+
+  // No coefficient known: not valid, no +- in the conclusion.
+  for (const auto& [name, temp] : {std::pair{"a20.csv", "20"}, std::pair{"a4.csv", "4"}})
+    ASSERT_EQ(
+        run_cli({"simulate", "--sensor", "adxrs150", "--duration", "600", "--seed", "7", "--temp",
+                 temp, "--rate-profile", temp[0] == '4' ? "0.5" : "0", "-o", d.file(name)})
+            .exit_code,
+        0);
+  ASSERT_EQ(run_cli({"calibrate", d.file("a20.csv"), "-o", d.file("acal.json")}).exit_code, 0);
+  const auto ra = run_cli({"report", d.file("a4.csv"), "--calibration", d.file("acal.json"),
+                           "--expected-rate", "0.5", "-o", d.file("repa")});
+  ASSERT_EQ(ra.exit_code, 0) << ra.err;
+  const auto ja = nlohmann::json::parse(read_text(d.file("repa/summary.json")));
+  EXPECT_FALSE(ja["budget"]["valid"].get<bool>());
+  EXPECT_TRUE(ja["budget"]["new_power_up_dps"].is_null());
+  const auto [texta, cellsa] = conclusion_and_tables(read_text(d.file("repa/index.html")));
+  EXPECT_NE(texta.find("not valid outside the calibration"), std::string::npos) << texta;
+  EXPECT_EQ(texta.find("power-up ±"), std::string::npos) << texta;
+  EXPECT_NE(texta.find("its uncertainty is not known"), std::string::npos) << texta;
+}
+
 }  // namespace

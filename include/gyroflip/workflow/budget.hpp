@@ -35,7 +35,33 @@ struct delta_n_budget {
   /// compensated with this calibration carries it as a systematic error (paper eqn 12).
   double new_power_up_dps = 0.0;
   double temp_c = 0.0;  ///< the temperature the preset's spread is evaluated at
+  /// A run compensated away from the calibration runs' temperatures (a constant dN): how far
+  /// (degC beyond their span, 0 inside), the change of dN over that distance the sensor preset's
+  /// temperature coefficients give (an assumption; add_temperature_term), and what it is.
+  double outside_c = 0.0;
+  double temperature_dps = 0.0;
+  std::string temperature_note;
+  /// false: outside the calibration's temperatures with no coefficient known, so no uncertainty
+  /// covers the run (new_power_up_dps is then NaN and the page says "not valid").
+  bool valid = true;
 };
+
+/// Beyond this distance (degC) from the calibration runs' temperatures, a constant dN gets a
+/// temperature term in its budget (the paper's HZ1 dN moves 7.2e-4 deg/s over 16 degC, Tab. 3:
+/// 2 degC is about its runs' within-run error, docs/REPORT.md).
+inline constexpr double outside_calibration_c = 2.0;
+
+/// How much dN moves per degC by a sensor preset: its g-term's temperature coefficient along the
+/// flipped axis (x 1 g) and that coefficient's spread from one power-up to the next, combined
+/// (sensor/params.hpp g_sens_tc_z, g_sens_tc_turn_on_sigma); 0 when the preset states neither.
+[[nodiscard]] double delta_n_tc_dps_per_c(const sensor::sensor_params& p) noexcept;
+
+/// Adds the temperature term for a run `outside_c` degC beyond the calibration runs' span
+/// (`lo_c`..`hi_c`) to `b`: delta_n_tc_dps_per_c x distance, combined with the new power-up's
+/// error; without a coefficient (no preset, or one that states none) the budget is marked not
+/// valid instead of printing a +- that does not cover the run.
+void add_temperature_term(delta_n_budget& b, double outside_c, double lo_c, double hi_c,
+                          const sensor::sensor_params* preset, const std::string& preset_name);
 
 /// The turn-on spread of dN a sensor model draws (sensor/params.hpp): the change of the g-term
 /// along the axis the rig turns upside down (1 g) and of its temperature coefficient, at `temp_c`:
