@@ -126,4 +126,15 @@ std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name) {
   return std::nullopt;
 }
 
+std::optional<scale_factor_spec> scale_factor_tolerance(const std::string& preset_name) {
+  // The specifications' own numbers (FACTS §4.1, §4.2).
+  if (preset_name == "adxrs150")
+    return scale_factor_spec{
+        0.10, "ADXRS150 datasheet's scale-factor tolerance ±10 % (FACTS §4.1, not verified)"};
+  if (preset_name == "hz1-90-100a")
+    return scale_factor_spec{
+        0.02, "HZ1-90-100A specification's scale-factor tolerance ±2 % (paper Tab. 2, FACTS §4.2)"};
+  return std::nullopt;
+}
+
 }  // namespace gyroflip::workflow

@@ -52,6 +52,9 @@ constexpr int summary_schema = 2;
 // max_chi2_per_dof (the paper's own runs scatter 14-30 times their errors: chi^2/dof 200-900).
 constexpr double g_term_beyond_spec = 3.0;
 constexpr double max_chi2_per_dof = 1e4;
+// A scale-factor error beyond this many times the sensor's tolerance is warned about (review
+// R12): 3 x the tolerance is already outside any unit's specification.
+constexpr double sf_beyond_spec = 3.0;
 
 std::string g(double v, int digits = 4) {
   return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
@@ -379,6 +382,30 @@ std::string power_up_text(const delta_n_budget& b) {
                      b.outside_c > 0.0 ? ", its temperature term included" : "");
 }
 
+// A compensated run against its commanded rate (review R12): a reading of the opposite sign, or a
+// scale-factor error far beyond the sensor's tolerance, says the comparison is wrong (the
+// commanded rate's sign, the table's speed, the sensor's mounting or preset), not the sensor.
+void check_commanded_rate(const run_analysis& a, double expected_dps, const rate_check& c,
+                          findings& f) {
+  const double mean = a.comp.summary.mean_dps;
+  if (mean * expected_dps < 0.0) {
+    f.warnings.push_back(fmt::format(
+        "{}: the compensated rate {} °/s has the opposite sign of the commanded {} °/s (a "
+        "scale-factor error of {:.0f} %): the commanded rate's sign or the sensor's mounting is "
+        "wrong, not the sensor's scale factor",
+        a.run.file, g(mean, 6), g(expected_dps, 6), c.scale_factor_ppm / 1e4));
+    return;
+  }
+  const auto spec = scale_factor_tolerance(f.id.preset);
+  if (spec && std::abs(c.scale_factor_ppm) > sf_beyond_spec * 1e6 * spec->fraction)
+    f.warnings.push_back(fmt::format(
+        "{}: a scale-factor error of {:.1f} % against the commanded {} °/s is {:.0f} times the "
+        "{}: the commanded rate, the table's speed or the sensor (preset) is not what was "
+        "assumed",
+        a.run.file, c.scale_factor_ppm / 1e4, g(expected_dps, 6),
+        std::abs(c.scale_factor_ppm) / (1e6 * spec->fraction), spec->source));
+}
+
 // The conclusion, written from the numbers the tables show.
 std::string conclusion(const report_request& r, const std::vector<run_analysis>& runs,
                        const findings& f) {
@@ -626,6 +653,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                           ? std::optional(check_rate(a.comp.summary, *r.expected_rate_dps,
                                                      f.budget.new_power_up_dps))
                           : std::nullopt);
+    if (f.rates.back()) check_commanded_rate(a, *r.expected_rate_dps, *f.rates.back(), f);
   }
   if (!f.compensating && f.runs_model && !f.budget.model_dps)
     f.warnings.push_back(fmt::format(

@@ -499,4 +499,30 @@ TEST(ReportChecks, AConstantDeltaNFarFromItsTemperatureCarriesATemperatureTerm) 
   EXPECT_NE(texta.find("its uncertainty is not known"), std::string::npos) << texta;
 }
 
+// Review R12: a commanded rate of the opposite sign (-200 % scale-factor error) or far beyond the
+// sensor's tolerance (HZ1 +-2 %, paper Tab. 2) came with "Nothing in the runs looks wrong". Both
+// are warned about on the page and counted in the conclusion; the right commanded rate is not.
+TEST(ReportChecks, ACommandedRateTheRunCannotMatchIsWarnedAbout) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "b20.csv", "20", "2");
+  ASSERT_EQ(run_cli({"calibrate", a, b, "-o", d.file("cal.json")}).exit_code, 0);
+  const auto t = simulate(d, "t.csv", "20", "8", "0.5");
+  const auto page_of = [&](const std::string& rate, const std::string& out) {
+    const auto r = run_cli({"report", t, "--calibration", d.file("cal.json"), "--expected-rate",
+                            rate, "-o", d.file(out)});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_text(d.file(out + "/index.html"));
+  };
+  const auto neg = page_of("-0.5", "neg");
+  EXPECT_NE(neg.find("has the opposite sign of the commanded -0.5 °/s"), std::string::npos);
+  EXPECT_EQ(neg.find("Nothing in the runs looks wrong"), std::string::npos);
+  const auto far = page_of("0.4", "far");
+  EXPECT_NE(far.find("scale-factor error of 25"), std::string::npos);
+  EXPECT_NE(far.find("times the HZ1-90-100A specification's"), std::string::npos);
+  EXPECT_EQ(far.find("Nothing in the runs looks wrong"), std::string::npos);
+  const auto right = page_of("0.5", "right");
+  EXPECT_EQ(right.find("opposite sign"), std::string::npos);
+  EXPECT_EQ(right.find("specification's scale-factor tolerance"), std::string::npos);
+}
+
 }  // namespace

@@ -84,4 +84,13 @@ struct g_spec {
 };
 [[nodiscard]] std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name);
 
+/// The scale-factor tolerance a sensor's specification states (a fraction: 0.02 is +-2 %) and its
+/// source, for the presets whose datasheet gives one; nullopt otherwise (docs/FACTS.md §4).
+struct scale_factor_spec {
+  double fraction = 0.0;
+  std::string source;
+};
+[[nodiscard]] std::optional<scale_factor_spec> scale_factor_tolerance(
+    const std::string& preset_name);
+
 }  // namespace gyroflip::workflow
