@@ -52,6 +52,14 @@ constexpr int summary_schema = 2;
 // max_chi2_per_dof (the paper's own runs scatter 14-30 times their errors: chi^2/dof 200-900).
 constexpr double g_term_beyond_spec = 3.0;
 constexpr double max_chi2_per_dof = 1e4;
+// A calibration run whose temperature moves more than this (degC) is not isothermal (review R17):
+// its dN is a mean over temperatures no dN(T) sees; the HZ1's dN moves 9e-5 deg/s over 2 degC
+// (paper Tab. 3), about a 1-h run's within-run error.
+constexpr double isothermal_span_c = 2.0;
+// Fewer cycles than this give no usable correlated standard error (review R11): the std of n
+// cycles has a relative error of 1/sqrt(2 (n - 1)) (13 % at 30) before the correlation of
+// neighbouring cycles is estimated from blocks of them; the paper's runs have 3000-6700 cycles.
+constexpr std::size_t min_cycles = 30;
 // A scale-factor error beyond this many times the sensor's tolerance is warned about (review
 // R12): 3 x the tolerance is already outside any unit's specification.
 constexpr double sf_beyond_spec = 3.0;
@@ -158,6 +166,19 @@ temp_span cycle_temps(const std::vector<method::cycle>& cycles) {
       t.hi = std::max(t.hi, c.temp_c);
     }
   return t;
+}
+
+// The temperatures of all the runs' cycles.
+temp_span runs_temps(const std::vector<run_analysis>& runs) {
+  temp_span all;
+  for (const auto& a : runs) {
+    const auto t = cycle_temps(a.run.cycles(a.pairing));
+    if (t.known()) {
+      all.lo = std::min(all.lo, t.lo);
+      all.hi = std::max(all.hi, t.hi);
+    }
+  }
+  return all;
 }
 
 std::string minutes(double s) {
@@ -337,6 +358,15 @@ void check_stationary(const report_request& r, const std::vector<run_analysis>& 
           a.run.file, g(a.cal.delta_n_dps, 6), r.geometry ? "" : "at least ", g(g_term, 3),
           g_term / spec->dps_per_g, spec->source));
   }
+  for (const auto& a : runs) {
+    const auto t = cycle_temps(a.run.cycles(a.pairing));
+    if (t.known() && t.hi - t.lo > isothermal_span_c)
+      f.warnings.push_back(fmt::format(
+          "{}: the temperature moved over {} during the run: not isothermal (more than {:g} °C), "
+          "so its dN is a mean over temperatures and no dN(T) can place it; calibrate at a "
+          "steady temperature",
+          a.run.file, t.text(), isothermal_span_c));
+  }
   if (f.runs_model && f.runs_model->chi2_per_dof > max_chi2_per_dof)
     f.warnings.push_back(fmt::format(
         "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {:.3g}; the paper's own "
@@ -420,9 +450,9 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
   if (!f.compensating) {
     std::string value;
     if (f.pooled) {
-      value = fmt::format("{} °/s (weighted mean of {} runs at {})",
-                          pm(f.pooled->first, f.pooled->second), runs.size(),
-                          cycle_temps(runs.front().run.cycles(runs.front().pairing)).text());
+      value =
+          fmt::format("{} °/s (weighted mean of {} runs at {})",
+                      pm(f.pooled->first, f.pooled->second), runs.size(), runs_temps(runs).text());
     } else if (f.runs_model && f.runs_model->degree() > 0) {
       // The numbers as the ΔN(T) and budget tables print them. A slope is stated only when it
       // is resolved: degrees of freedom left and at least 2 standard errors from zero.
@@ -661,6 +691,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         "not determined, and the run-to-run repeatability is not measured; calibrate more runs "
         "than the line has coefficients",
         runs.size()));
+  for (const auto& a : runs)
+    if (a.cal.cycles < min_cycles)
+      f.warnings.push_back(fmt::format(
+          "{}: {} cycles: too few for a standard error that accounts for correlated noise (at "
+          "least {}: the scatter of n cycles is itself uncertain by 1/√(2(n−1)), and the "
+          "correlation is estimated from blocks of cycles); its ± understates the truth",
+          a.run.file, a.cal.cycles, min_cycles));
   if (runs.size() == 1 && !f.compensating)
     f.warnings.push_back(
         "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "
@@ -681,14 +718,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                                f.given->record->files.size() == 1 ? "" : "s");
     page.made.inputs.push_back(std::move(*in));
   }
-  temp_span all_t;
-  for (const auto& a : runs) {
-    const auto t = cycle_temps(a.run.cycles(a.pairing));
-    if (t.known()) {
-      all_t.lo = std::min(all_t.lo, t.lo);
-      all_t.hi = std::max(all_t.hi, t.hi);
-    }
-  }
+  const temp_span all_t = runs_temps(runs);
   const std::string serials = [&] {
     std::string s;
     for (const auto& x : f.id.serials) s += (s.empty() ? "" : ", ") + x;

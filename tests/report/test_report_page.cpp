@@ -525,4 +525,45 @@ TEST(ReportChecks, ACommandedRateTheRunCannotMatchIsWarnedAbout) {
   EXPECT_EQ(right.find("specification's scale-factor tolerance"), std::string::npos);
 }
 
+// Review R17/R11: a calibration run whose temperature ramps 20 -> 4 degC was taken as one
+// isothermal calibration, a 5-s run (3 cycles) as a calibration with a "correlated" error, and two
+// runs pooled at 20.0 and 21.9 degC were described as "at 20.0 degC". Now: warnings, and the
+// conclusion names the pooled runs' temperature range.
+TEST(ReportChecks, ARampAShortRunAndThePooledRunsTemperaturesAreNamed) {
+  temp_dir d;
+  const auto warnings_of = [&](const std::vector<std::string>& files, const std::string& out) {
+    std::vector<std::string> a{"report"};
+    a.insert(a.end(), files.begin(), files.end());
+    a.insert(a.end(), {"-o", d.file(out)});
+    const auto r = run_cli(a);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(read_text(d.file(out + "/summary.json")));
+  };
+  const auto has = [](const nlohmann::json& j, const std::string& what) {
+    for (const auto& w : j["warnings"])
+      if (w.get<std::string>().find(what) != std::string::npos) return true;
+    return false;
+  };
+  const auto ramp = d.file("ramp.csv"), shrt = d.file("short.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "600", "--seed", "32",
+                     "--temp-profile", "ramp:20:4:600", "-o", ramp})
+                .exit_code,
+            0);
+  ASSERT_EQ(
+      run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "5", "--seed", "1", "-o", shrt})
+          .exit_code,
+      0);
+  const auto jr = warnings_of({ramp}, "ramp");
+  EXPECT_TRUE(has(jr, "not isothermal")) << jr["warnings"];
+  EXPECT_FALSE(has(jr, "too few")) << jr["warnings"];
+  const auto js = warnings_of({shrt}, "short");
+  EXPECT_TRUE(has(js, "3 cycles: too few for a standard error")) << js["warnings"];
+  EXPECT_FALSE(has(js, "not isothermal")) << js["warnings"];
+  const auto a = simulate(d, "a20.csv", "20", "1"), w = simulate(d, "w219.csv", "21.9", "31");
+  const auto jp = warnings_of({a, w}, "pooled");
+  const std::string text = jp["conclusion"];
+  EXPECT_NE(text.find("weighted mean of 2 runs at 20.0–21.9 °C"), std::string::npos) << text;
+  EXPECT_FALSE(has(jp, "not isothermal")) << jp["warnings"];
+}
+
 }  // namespace
