@@ -36,21 +36,30 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   std::size_t dof = 0;
   if (model && runs.size() > model->degree() + 1) dof = runs.size() - model->degree() - 1;
   if (model && dof > 0) {
+    // At one temperature: the plain sample std of the runs' dN (what the label says; the
+    // weighted mean would weight runs by within-run errors that their scatter dwarfs, review
+    // R5). A dN(T) line: the runs' scatter about it, over its degrees of freedom.
+    double plain_mean = 0.0;
+    for (const auto& r : runs) plain_mean += r.cal.delta_n_dps / static_cast<double>(runs.size());
     double ss = 0.0, worst = 0.0;
     for (const auto& r : runs) {
-      const double d = r.cal.delta_n_dps - model->eval(r.cal.temp_c);
+      const double d =
+          r.cal.delta_n_dps - (model->degree() == 0 ? plain_mean : model->eval(r.cal.temp_c));
       ss += d * d;
       worst = std::max(worst, model->stderr_at(r.cal.temp_c));
     }
     b.run_to_run_dps = std::sqrt(ss / static_cast<double>(dof));
     b.run_to_run_measured = true;
+    b.run_to_run_dof = dof;
+    const std::string rough =
+        dof == 1 ? "; 1 degree of freedom: this std is itself uncertain by about 70 %" : "";
     b.run_to_run_source =
         model->degree() == 0
-            ? fmt::format("measured: std of the {} runs' dN", runs.size())
+            ? fmt::format("measured: std of the {} runs' dN{}", runs.size(), rough)
             : fmt::format(
-                  "measured: std of the {} runs' dN about the dN(T) line ({} degrees of "
-                  "freedom)",
-                  runs.size(), dof);
+                  "measured: std of the {} runs' dN about the dN(T) line ({} degree{} of "
+                  "freedom){}",
+                  runs.size(), dof, dof == 1 ? "" : "s", rough);
     b.model_dps = worst;
     b.model_note = model->degree() == 0
                        ? "the weighted mean's error, scaled by the runs' scatter"

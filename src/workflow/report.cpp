@@ -460,9 +460,17 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const std::size_t n = m.coeffs_dps.size();
       const std::size_t dof = runs.size() > n ? runs.size() - n : 0;
       const double slope = m.coeffs_dps[1], u = std::sqrt(m.cov[n + 1]);
-      value = fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
-                          g(m.coeffs_dps[0], 6), g(b.calibration_dps, 2), m.t_ref_c, runs.size(),
-                          m.temp_min_c, m.temp_max_c);
+      // With degrees of freedom: the error at the temperature named (the table's c_0) and the
+      // largest over the runs' temperatures (the budget's), review R4.
+      value = dof == 0
+                  ? fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
+                                g(m.coeffs_dps[0], 6), g(b.calibration_dps, 2), m.t_ref_c,
+                                runs.size(), m.temp_min_c, m.temp_max_c)
+                  : fmt::format(
+                        "{} ± {} °/s at {:.2f} °C, ± {} °/s anywhere in {:.1f}–{:.1f} °C (ΔN(T) of "
+                        "{} runs)",
+                        g(m.coeffs_dps[0], 6), g(std::sqrt(m.cov[0]), 3), m.t_ref_c,
+                        g(b.calibration_dps, 2), m.temp_min_c, m.temp_max_c, runs.size());
       if (dof == 0)
         value += fmt::format(
             "; how it changes with temperature is not resolved: {} runs for {} coefficients "
@@ -698,6 +706,12 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
           "least {}: the scatter of n cycles is itself uncertain by 1/√(2(n−1)), and the "
           "correlation is estimated from blocks of cycles); its ± understates the truth",
           a.run.file, a.cal.cycles, min_cycles));
+  if (!f.compensating && f.budget.run_to_run_dof == 1)
+    f.warnings.push_back(fmt::format(
+        "the run-to-run repeatability {} °/s is measured with 1 degree of freedom ({} runs for "
+        "{} coefficient{}): a std of one degree of freedom is itself uncertain by about 70 %; "
+        "calibrate more runs",
+        g(f.budget.run_to_run_dps, 2), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
   if (runs.size() == 1 && !f.compensating)
     f.warnings.push_back(
         "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "

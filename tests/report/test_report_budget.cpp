@@ -99,5 +99,33 @@ TEST(DeltaNBudget, ATemperatureTermFromThePresetOrNotValid) {
   EXPECT_NE(a.temperature_note.find("not valid outside"), std::string::npos);
 }
 
+// Review R5/R5b: "std of the 3 runs' dN" was the rms about the weighted mean (0.0013434 for the
+// review's runs, whose plain std is 0.0012544); a repeatability of 1 degree of freedom is flagged.
+TEST(DeltaNBudget, TheRunsStdIsTheirPlainStdAndOneDegreeOfFreedomIsFlagged) {
+  const std::vector runs{run(0.0026233, 1.403e-4, 20.0), run(0.0036824, 1.170e-4, 20.0),
+                         run(0.0011830, 8.059e-5, 20.0)};
+  const auto model = io::fit_runs_model(runs);
+  ASSERT_TRUE(model && model->has_value());
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
+  const double mean = (0.0026233 + 0.0036824 + 0.0011830) / 3.0;
+  const double sd = std::sqrt((std::pow(0.0026233 - mean, 2) + std::pow(0.0036824 - mean, 2) +
+                               std::pow(0.0011830 - mean, 2)) /
+                              2.0);
+  EXPECT_NEAR(sd, 0.0012544, 2e-7);  // the review's 5-digit inputs
+  EXPECT_NEAR(b.run_to_run_dps, sd, 1e-12);
+  EXPECT_EQ(b.run_to_run_dof, 2u);
+  EXPECT_EQ(b.run_to_run_source.find("70 %"), std::string::npos);
+  // Two runs (the review's ADXRS150 pair): |difference| / sqrt(2), 1 degree of freedom, flagged.
+  const std::vector two{run(0.41494, 2e-4, 20.0), run(0.39844, 1e-4, 20.0)};
+  const auto m2 = io::fit_runs_model(two);
+  ASSERT_TRUE(m2 && m2->has_value());
+  const auto* adx = sensor::find_builtin("adxrs150");
+  const auto b2 = workflow::budget_of(two, *m2, &adx->params, "adxrs150");
+  EXPECT_NEAR(b2.run_to_run_dps, (0.41494 - 0.39844) / std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(b2.run_to_run_dof, 1u);
+  EXPECT_NE(b2.run_to_run_source.find("1 degree of freedom"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace gyroflip

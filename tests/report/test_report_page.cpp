@@ -566,4 +566,28 @@ TEST(ReportChecks, ARampAShortRunAndThePooledRunsTemperaturesAreNamed) {
   EXPECT_FALSE(has(jp, "not isothermal")) << jp["warnings"];
 }
 
+// Review R4: the conclusion of a dN(T) calibration (HZ1 at 20, 4 and 12 degC: a line of 1 degree
+// of freedom) quoted the error at the worst temperature as the error at the reference
+// temperature. It now gives the table's c_0 error at the temperature it names and the budget's
+// largest for the span; the 1-degree-of-freedom repeatability is warned about (review R5b).
+TEST(ReportChecks, ADeltaNLineIsQuotedAtTheTemperatureItNames) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "d4.csv", "4", "4"),
+             c = simulate(d, "e12.csv", "12", "5");
+  const auto r = run_cli({"report", a, b, c, "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto html = read_text(d.file("rep/index.html"));
+  const auto rows = table_rows(html, "ΔN(T) = Σ c_k");
+  ASSERT_GE(rows.size(), 2u);
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  const std::string text = j["conclusion"];
+  EXPECT_NE(text.find(rows[0][1] + " ± " + rows[0][2] + " °/s at 12.00 °C, ± "), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("anywhere in 4.0–20.0 °C"), std::string::npos) << text;
+  bool flagged = false;
+  for (const auto& w : j["warnings"])
+    flagged = flagged || w.get<std::string>().find("1 degree of freedom") != std::string::npos;
+  EXPECT_TRUE(flagged) << j["warnings"];
+}
+
 }  // namespace

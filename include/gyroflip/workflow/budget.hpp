@@ -23,7 +23,10 @@ struct delta_n_budget {
   /// Repeatability of dN from one power-up to the next (one sample std); NaN when unknown.
   double run_to_run_dps = 0.0;
   bool run_to_run_measured = false;  ///< false: from the sensor preset, or unknown
-  std::string run_to_run_source;     ///< what it is and where it comes from
+  /// Degrees of freedom of a measured repeatability (runs less the model's coefficients): the
+  /// std of 1 degree of freedom is uncertain by 1/sqrt(2) (~70 %) and is flagged.
+  std::size_t run_to_run_dof = 0;
+  std::string run_to_run_source;  ///< what it is and where it comes from
   /// The dN(T) (or weighted-mean) model's standard error at the runs' temperatures (largest);
   /// empty without a model or when it is not determined (model_note says why).
   std::optional<double> model_dps;
