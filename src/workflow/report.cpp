@@ -509,8 +509,10 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           " Its repeatability from one power-up to the next is unknown (one run, no sensor "
           "preset): calibrate over several power-ups before relying on it.";
     }
-    out += fmt::format(" With ΔN removed, the rate scatters by up to {} °/s per cycle.",
-                       g(worst_std, 3));
+    out += fmt::format(
+        " With ΔN removed, the rate's per-cycle standard deviation is up to {} °/s (a std, not "
+        "a bound).",
+        g(worst_std, 3));
   } else {
     // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
     std::string applied;

@@ -563,6 +563,9 @@ TEST(ReportChecks, ARampAShortRunAndThePooledRunsTemperaturesAreNamed) {
   const auto jp = warnings_of({a, w}, "pooled");
   const std::string text = jp["conclusion"];
   EXPECT_NE(text.find("weighted mean of 2 runs at 20.0–21.9 °C"), std::string::npos) << text;
+  // Review R16: the per-cycle scatter is a std, and the conclusion says so.
+  EXPECT_NE(text.find("per-cycle standard deviation is up to"), std::string::npos) << text;
+  EXPECT_EQ(text.find("scatters by up to"), std::string::npos) << text;
   EXPECT_FALSE(has(jp, "not isothermal")) << jp["warnings"];
 }
 
