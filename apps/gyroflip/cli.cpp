@@ -1,7 +1,9 @@
 /// \file
 /// \brief Command-line parsing for all subcommands: the only translation unit that includes
 /// CLI11 (a 5-s header). Parsing only fills option structs; work runs after parsing.
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -47,6 +49,23 @@ CLI::Validator finite_number() {
         return "must be a finite number; got " + text;
       },
       "NUMBER");
+}
+
+// --seed: an integer 0 .. 2^64 - 1, digits only. CLI11 converts "-1" to an unsigned 64-bit option
+// by wrapping it to 2^64 - 1, and 2^64 to 2^64 - 1 (review of issue 22, R10).
+CLI::Option* add_seed(CLI::App* sub, std::uint64_t& seed, const std::string& help) {
+  return sub->add_option("--seed", seed, help)
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            std::uint64_t v = 0;
+            const char* end = text.data() + text.size();
+            const auto [at, ec] = std::from_chars(text.data(), end, v);
+            const bool digits = !text.empty() && text.front() != '-' && text.front() != '+';
+            if (digits && ec == std::errc() && at == end) return {};
+            return "must be an integer from 0 to 2^64 - 1; got " + text;
+          },
+          "UINT64"))
+      ->capture_default_str();
 }
 
 // Binds options to a shared struct and, when the subcommand is chosen, selects its run_.
@@ -124,7 +143,7 @@ void setup_simulate(CLI::App& app, action& chosen) {
   sub->add_option("--rate-profile", o->rate_profile,
                   "input rate: V|const:V|steps:T:V,...|sine:AMP:FREQ_HZ[:OFFSET] (deg/s)")
       ->capture_default_str();
-  sub->add_option("--seed", o->seed, "random seed")->capture_default_str();
+  add_seed(sub, o->seed, "random seed");
   sub->add_flag("--raw", o->raw, "write every conversion (angle empty while turning and settling)");
   sub->add_option("-o,--output", o->out, "recording CSV (- = stdout)")->capture_default_str();
   sub->add_option("--truth", o->truth, "write the true terms per output row to this CSV");
@@ -156,7 +175,7 @@ void setup_emulate(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_flag("--pty", o->pty, "open a pseudo-terminal and print its path");
   sub->add_option("--port", o->port, "an existing serial device");
-  sub->add_option("--seed", o->seed, "random seed")->capture_default_str();
+  add_seed(sub, o->seed, "random seed");
   sub->add_option("--fault-ber", o->fault_ber, "bit error rate on the device's output")
       ->capture_default_str();
   sub->add_option("--fault-drop", o->fault_drop, "probability of a dropped output byte")
@@ -403,7 +422,7 @@ void setup_reproduce(CLI::App& app, action& chosen, const std::vector<std::strin
   o->command_line = args;
   sub->add_flag("--quick", o->quick, "one campaign, runs a quarter as long (< 60 s)");
   sub->add_option("-o,--output", o->output, "folder for summary.json");
-  sub->add_option("--seed", o->seed, "seed of the first campaign")->capture_default_str();
+  add_seed(sub, o->seed, "seed of the first campaign");
   sub->add_option("--campaigns", o->campaigns,
                   "campaigns with new seeds, for each figure's ensemble mean and spread "
                   "(default 10; 1 with --quick)");

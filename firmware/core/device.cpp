@@ -182,6 +182,7 @@ void device::send_info() {
   m.reset_cause = boot_.reset_cause;
   m.boot_count = boot_.boot_count;
   m.history_bytes = static_cast<uint16_t>(history_bytes);
+  m.board = static_cast<uint8_t>(facts_.board);
   m.config = cfg_;
   send(m);
 }

@@ -24,7 +24,7 @@
 namespace gyroflip::fw {
 
 inline constexpr uint8_t fw_version_major = 0;
-inline constexpr uint8_t fw_version_minor = 2;
+inline constexpr uint8_t fw_version_minor = 3;
 inline constexpr uint8_t fw_version_patch = 0;
 
 /// Transmit ring, in bytes of the COBS stream (each goes out as two wire bytes): a RAW frame
@@ -57,7 +57,8 @@ inline constexpr uint32_t home_debounce_ticks = 66;  // 2 ms at 32 768 Hz
 /// What a port tells the core about its board.
 struct board_facts {
   uint32_t serial = 0;
-  uint32_t mclk_hz = ad7739::mclk_hz_nominal;  ///< the AD7739's master clock
+  uint32_t mclk_hz = ad7739::mclk_hz_nominal;                   ///< the AD7739's master clock
+  protocol::board_kind board = protocol::board_kind::hardware;  ///< INFO's `board`
 };
 
 class device {

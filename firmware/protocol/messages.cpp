@@ -63,6 +63,7 @@ void info_msg::put(writer& w) const {
   w.u8(reset_cause);
   w.u16(boot_count);
   w.u16(history_bytes);
+  w.u8(board);
   config.put(w);
 }
 
@@ -81,6 +82,7 @@ void info_msg::get(reader& r) {
   reset_cause = r.u8();
   boot_count = r.u16();
   history_bytes = r.u16();
+  board = r.u8();
   config.get(r);
 }
 

@@ -118,6 +118,14 @@ enum class reset_cause : uint8_t {
   other = 4,      ///< another reset (a flash or watchdog key violation)
 };
 
+/// What sends INFO (`info_msg::board`): a rig's board, or a machine that only imitates one. Data
+/// from anything but a board is not a measurement (a report says "simulated data").
+enum class board_kind : uint8_t {
+  hardware = 0,       ///< a real controller board (the MSP430F149 port)
+  host_emulator = 1,  ///< gyroflip's emulator: the firmware on the host port's simulated rig
+  qemu = 2,           ///< the Cortex-M3 image under QEMU
+};
+
 /// Bits of `status_msg::clock_faults` (and ERROR clock values).
 enum clock_fault : uint8_t {
   clock_xt2 = 0x01,    ///< the high-frequency crystal (MCLK, SMCLK: UART baud, SPI) failed
@@ -164,7 +172,7 @@ struct info_msg {
   static constexpr const char* layout =
       "info:u8 fw_major;u8 fw_minor;u8 fw_patch;u8 protocol;u32 serial;u32 mclk_hz;"
       "u32 tick_hz;u8 adc_revision;u16 max_n_avg;u8 max_raw_codes;u8 range;u8 reset_cause;"
-      "u16 boot_count;u16 history_bytes;configure";
+      "u16 boot_count;u16 history_bytes;u8 board;configure";
   static constexpr uint8_t crc_extra =
       static_cast<uint8_t>(layout_seed(layout) ^ configure_msg::crc_extra);
   uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0, protocol = 0;
@@ -178,6 +186,7 @@ struct info_msg {
   uint8_t reset_cause = 0;     ///< a reset_cause value: why the device last started
   uint16_t boot_count = 0;     ///< starts since power-on (wraps); a change means it rebooted
   uint16_t history_bytes = 0;  ///< size of the retransmit history (docs/PROTOCOL.md, RESEND)
+  uint8_t board = 0;           ///< a board_kind value: a real board, or an emulator
   configure_msg config;        ///< the configuration in force
   void put(writer& w) const;
   void get(reader& r);

@@ -35,7 +35,7 @@ struct emulator::parts {
       : gyro(std::move(g)),
         adc(a),
         board(&emulator::source, this, mclk_hz),
-        facts{serial, mclk_hz} {
+        facts{serial, mclk_hz, protocol::board_kind::host_emulator} {
     dev.emplace(board.hw(), facts);
   }
   emulator* owner = nullptr;

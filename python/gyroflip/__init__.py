@@ -21,6 +21,7 @@ the command line prints. Long calls release the GIL and stop on Ctrl-C (Keyboard
 
 import json as _json
 import mmap as _mmap
+import numbers as _numbers
 import os as _os
 from dataclasses import dataclass as _dataclass
 
@@ -323,6 +324,40 @@ def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=Non
                                 float(angle_tolerance_deg))
 
 
+def _int_arg(name, value, lo, hi):
+    """`value` as an int in lo..hi; a float, str or bool is refused (never truncated or parsed)."""
+    if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
+        raise TypeError(f"{name} must be an int, not {type(value).__name__} ({value!r})")
+    value = int(value)
+    if not lo <= value <= hi:
+        raise ValueError(f"{name} must be an int in {lo}..{hi} (got {value})")
+    return value
+
+
+def _real_arg(name, value):
+    """`value` as a float; a str or bool is refused (the library checks finiteness and range)."""
+    if isinstance(value, bool) or not isinstance(value, _numbers.Real):
+        raise TypeError(f"{name} must be a real number, not {type(value).__name__} ({value!r})")
+    return float(value)
+
+
+def _path_arg(name, value):
+    if not isinstance(value, (str, _os.PathLike)):
+        raise TypeError(f"{name} must be a path (str or os.PathLike), not {type(value).__name__}")
+    return _os.fspath(value)
+
+
+def _paths_arg(name, files):
+    """A list or tuple of paths. A single path is refused rather than wrapped: a str is also a
+    sequence, and the provenance must show the call as made (docs/python.md)."""
+    if isinstance(files, (str, bytes, _os.PathLike)):
+        raise TypeError(f"{name} must be a list or tuple of paths, not a single path "
+                        f"(write [{_os.fspath(files)!r}])")
+    if not isinstance(files, (list, tuple)):
+        raise TypeError(f"{name} must be a list or tuple of paths, not {type(files).__name__}")
+    return [_path_arg(f"{name}[{k}]", f) for k, f in enumerate(files)]
+
+
 def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
                    angle_tolerance_deg=0.0):
     """Calibrates dN on stationary recordings (CSV or .gfr), as `gyroflip calibrate FILE... --json`
@@ -330,16 +365,21 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
     files a dN model (a line over a temperature span of 2 degC or more, else the runs' weighted
     mean; `degree` chooses the polynomial's degree).
 
-    files: paths of the recordings, one stationary run each, of one sensor.
+    files: a list or tuple of the recordings' paths (a single path is refused: write [path]), one
+      stationary run each, of one sensor.
     latitude (deg) and axis: split dN into its Earth term and g-term (paper eqns 9-10).
     pairing: "abba" (default) or "simple" (the paper's). angle_tolerance_deg: as calibrate().
+    degree: an int in 0..6 (as `--degree`). A wrong type raises TypeError naming the argument.
     Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/1: delta_n_dps,
     stderr_correlated_dps, files, model, sensor, ...) plus "warnings" (what the command prints as
     warnings: a rig setting that differs between files, a sensor nobody named, a damaged .gfr
-    region skipped). Pass it to compensate(calibration=...). Releases the GIL; Ctrl-C stops it."""
-    paths = [_os.fspath(f) for f in ([files] if isinstance(files, (str, bytes, _os.PathLike)) else files)]
-    return _gyroflip._calibrate_runs(paths, None if latitude is None else float(latitude), axis, pairing,
-                                     None if degree is None else int(degree), float(angle_tolerance_deg))
+    region skipped). Pass it to compensate(calibration=...); report() takes a calibration file's
+    path instead (write the dict with json.dump, or use `gyroflip calibrate -o CAL.json`).
+    Releases the GIL; Ctrl-C stops it."""
+    paths = _paths_arg("files", files)
+    return _gyroflip._calibrate_runs(paths, None if latitude is None else _real_arg("latitude", latitude),
+                                     axis, pairing, None if degree is None else _int_arg("degree", degree, 0, 6),
+                                     _real_arg("angle_tolerance_deg", angle_tolerance_deg))
 
 
 def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration=None,
@@ -404,9 +444,11 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
     docs/REPORT.md): index.html (tables, figures, provenance), report.pdf, summary.json and
     figures/ with each figure's gnuplot script and data. Needs gnuplot and Chromium or pdfunite.
 
-    files: recordings (CSV or .gfr). Without `calibration` they are stationary calibration runs
-      (each calibrated; dN(T) over a temperature span); with it (a CAL.json path) each is
-      compensated with its dN or dN(T).
+    files: a list or tuple of the recordings' paths (CSV or .gfr; a single path is refused: write
+      [path]). Without `calibration` they are stationary calibration runs (each calibrated;
+      dN(T) over a temperature span); with it (a CAL.json path: the page lists the file with its
+      SHA-256, so a calibrate_runs() dict must be written to a file first) each is compensated
+      with its dN or dN(T).
     output: the report folder: new, empty, or one a report made (nothing of the user's is ever
       replaced; docs/cli.md, "report").
     latitude (deg) and axis: split dN into its Earth term and g-term. title: the page's title
@@ -416,16 +458,22 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
     Returns summary.json as a dict (schema gyroflip.report/N: the numbers per run, the dN budget,
     the conclusion and "warnings"). The provenance names this call. Releases the GIL; Ctrl-C
     stops it."""
-    paths = [_os.fspath(f) for f in ([files] if isinstance(files, (str, bytes, _os.PathLike)) else files)]
+    paths = _paths_arg("files", files)
+    output = _path_arg("output", output)
+    if isinstance(calibration, dict):
+        raise TypeError("calibration must be the path of a calibration file (gyroflip calibrate -o "
+                        "CAL.json, or a calibrate_runs() dict written with json.dump), not a dict: "
+                        "the report lists it with its SHA-256")
+    calibration = None if calibration is None else _path_arg("calibration", calibration)
+    latitude = None if latitude is None else _real_arg("latitude", latitude)
+    expected_rate = None if expected_rate is None else _real_arg("expected_rate", expected_rate)
     kwargs = {k: v for k, v in (("latitude", latitude), ("axis", axis), ("calibration", calibration),
                                 ("title", title), ("expected_rate", expected_rate)) if v is not None}
     if pairing != "abba":
         kwargs["pairing"] = pairing
-    command = _call_text("report", [paths, _os.fspath(output)], kwargs)
-    return _gyroflip._report(paths, _os.fspath(output), None if latitude is None else float(latitude),
-                             axis, "" if calibration is None else _os.fspath(calibration),
-                             "" if title is None else str(title), pairing,
-                             None if expected_rate is None else float(expected_rate), command)
+    command = _call_text("report", [files, output], kwargs)
+    return _gyroflip._report(paths, output, latitude, axis, "" if calibration is None else calibration,
+                             "" if title is None else str(title), pairing, expected_rate, command)
 
 
 def reproduce(quick=False, seed=1, campaigns=None, output=None):
@@ -433,13 +481,19 @@ def reproduce(quick=False, seed=1, campaigns=None, output=None):
     docs/REPRODUCE.md): the campaigns of Tab. 3/4 and the runs of Figs 3-10 on every core, set
     beside the paper's numbers.
 
-    quick: one campaign of runs a quarter as long. seed: the first campaign's seed.
-    campaigns: how many campaigns (default 10, 1 with quick). output: a report folder for the
-      page, its figures and summary.json (as `-o DIR`), or None.
+    quick: one campaign of runs a quarter as long. seed: the first campaign's seed, an int in
+      0..2**64-1. campaigns: how many campaigns, an int in 1..1000 (default 10, 1 with quick).
+      output: a report folder for the page, its figures and summary.json (as `-o DIR`), or None.
+    A float, str or bool where an int is expected raises TypeError, an int out of range
+    ValueError, each naming the argument (never truncated or parsed).
     Returns summary.json as a dict (schema gyroflip.reproduce/N) plus "text", the comparison the
     command prints. Releases the GIL; Ctrl-C stops it."""
+    if not isinstance(quick, bool):
+        raise TypeError(f"quick must be a bool, not {type(quick).__name__} ({quick!r})")
+    seed = _int_arg("seed", seed, 0, 2**64 - 1)
+    campaigns = None if campaigns is None else _int_arg("campaigns", campaigns, 1, 1000)
+    output = None if output is None else _path_arg("output", output)
     kwargs = {k: v for k, v in (("quick", quick), ("seed", seed), ("campaigns", campaigns),
                                 ("output", output)) if v is not None and v is not False and not (k == "seed" and v == 1)}
     command = _call_text("reproduce", [], kwargs)
-    return _gyroflip._reproduce(bool(quick), int(seed), None if campaigns is None else int(campaigns),
-                                "" if output is None else _os.fspath(output), command)
+    return _gyroflip._reproduce(bool(quick), seed, campaigns, "" if output is None else output, command)

@@ -139,3 +139,53 @@ def test_every_number_python_returns_is_finite_within_the_bounds():
             gyroflip.noise(y, rate=100.0, fit_taus=(lo, hi))
     with pytest.raises(ValueError, match=r"\(argument ci\)"):
         gyroflip.noise(y, rate=100.0, ci=float("nan"))
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    ({"campaigns": 1.5}, TypeError, r"campaigns must be an int, not float"),
+    ({"campaigns": 2.9}, TypeError, r"campaigns must be an int, not float"),
+    ({"campaigns": "2"}, TypeError, r"campaigns must be an int, not str"),
+    ({"campaigns": True}, TypeError, r"campaigns must be an int, not bool"),
+    ({"campaigns": -1}, ValueError, r"campaigns must be an int in 1\.\.1000 \(got -1\)"),
+    ({"campaigns": 1001}, ValueError, r"campaigns must be an int in 1\.\.1000"),
+    ({"seed": 1.7}, TypeError, r"seed must be an int, not float"),
+    ({"seed": "3"}, TypeError, r"seed must be an int, not str"),
+    ({"seed": -1}, ValueError, r"seed must be an int in 0\.\.18446744073709551615 \(got -1\)"),
+    ({"seed": 2**70}, ValueError, r"seed must be an int in 0\.\."),
+    ({"quick": "yes"}, TypeError, r"quick must be a bool"),
+])
+def test_reproduce_checks_its_arguments_before_the_library(kwargs, error, match):
+    """Review of issue 22, R10: campaigns=1.5 ran 1 campaign, '2' ran 2, seed=-1 gave pybind's
+    "incompatible function arguments" with the private signature. Each now names the argument."""
+    with pytest.raises(error, match=match) as e:
+        gyroflip.reproduce(**{"quick": True, **kwargs})
+    assert "incompatible function arguments" not in str(e.value)
+
+
+def test_report_and_calibrate_runs_check_their_arguments(tmp_path):
+    """Review R10: expected_rate='0.5' was accepted, a single str was wrapped and recorded as a
+    list, a calibrate_runs() dict gave 'expected str, bytes or os.PathLike object, not dict',
+    degree=-1 pybind's error. Nothing is written when an argument is wrong."""
+    out = tmp_path / "rep"
+    cases = [
+        (dict(files="a.csv", output=out), TypeError, r"files must be a list or tuple of paths, not a single path \(write \['a.csv'\]\)"),
+        (dict(files=[1], output=out), TypeError, r"files\[0\] must be a path"),
+        (dict(files=["a.csv"], output=out, expected_rate="0.5", calibration="c.json"), TypeError,
+         r"expected_rate must be a real number, not str"),
+        (dict(files=["a.csv"], output=out, latitude="42"), TypeError, r"latitude must be a real number, not str"),
+        (dict(files=["a.csv"], output=out, calibration={"delta_n_dps": 0.003}), TypeError,
+         r"calibration must be the path of a calibration file"),
+    ]
+    for kwargs, error, match in cases:
+        with pytest.raises(error, match=match):
+            gyroflip.report(**kwargs)
+    assert not out.exists()
+    for kwargs, error, match in [
+        (dict(files="a.csv"), TypeError, r"files must be a list or tuple of paths"),
+        (dict(files=["a.csv"], degree=-1), ValueError, r"degree must be an int in 0\.\.6 \(got -1\)"),
+        (dict(files=["a.csv"], degree=1.0), TypeError, r"degree must be an int, not float"),
+        (dict(files=["a.csv"], latitude="x"), TypeError, r"latitude must be a real number"),
+    ]:
+        with pytest.raises(error, match=match) as e:
+            gyroflip.calibrate_runs(**kwargs)
+        assert "incompatible function arguments" not in str(e.value)

@@ -121,11 +121,17 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
       t_lo = std::min(t_lo, r.cal.temp_c);
       t_hi = std::max(t_hi, r.cal.temp_c);
     }
-  f.caption =
-      fmt::format("{} runs: mean {:.6g} °/s, std {:.3g} °/s{}", values.size(), ms.mean, sd,
-                  t_hi - t_lo >= io::min_model_span_c
-                      ? fmt::format(" (pooled over {:.1f}–{:.1f} °C: see ΔN(T))", t_lo, t_hi)
-                      : std::string());
+  // Runs at different temperatures are not one population: no pooled mean +- std over them
+  // (review of issue 22, R16; ΔN(T) has its own figure).
+  if (t_hi - t_lo >= io::min_model_span_c) {
+    f.caption = fmt::format(
+        "{} runs over {:.1f}–{:.1f} °C: ΔN depends on temperature, so no pooled mean ± std is "
+        "drawn (see ΔN(T))",
+        values.size(), t_lo, t_hi);
+    f.data = {s};
+    return f;
+  }
+  f.caption = fmt::format("{} runs: mean {:.6g} °/s, std {:.3g} °/s", values.size(), ms.mean, sd);
   const double x0 = 0.5, x1 = static_cast<double>(runs.size()) + 0.5;
   series band = points_of("mean ± std", 1);
   band.how = series::style::band;

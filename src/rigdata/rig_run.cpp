@@ -35,6 +35,17 @@ bool decode(const std::vector<std::uint8_t>& body, M& m) {
   return protocol::frame{static_cast<std::uint8_t>(M::type), 0, body.data(), body.size()}.as(m);
 }
 
+// INFO as stored: files of format 3 and older hold the 80-byte INFO without `board` (firmware
+// 0.2), which came before the configuration; their board is not known (read as 0, a board).
+bool decode_info(const std::vector<std::uint8_t>& body, protocol::info_msg& m) {
+  constexpr std::size_t board_at = 26;
+  constexpr std::size_t without_board = 80;
+  if (body.size() != without_board) return decode(body, m);
+  std::vector<std::uint8_t> b(body);
+  b.insert(b.begin() + board_at, std::uint8_t{0});
+  return decode(b, m);
+}
+
 bool within(double v, double lo, double hi) {
   return std::isfinite(v) && v >= lo && v <= hi;
 }
@@ -138,7 +149,7 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
     case gfr::kind::meta:
       return bad("a second META record");
     case gfr::kind::info:
-      if (!decode(r.body, run_.info)) return bad("INFO body does not decode");
+      if (!decode_info(r.body, run_.info)) return bad("INFO body does not decode");
       if (run_.info.tick_hz == 0) return bad("INFO gives a tick rate of 0");
       have_info_ = true;
       lsb_v_ = adc_lsb_v(run_.info.range);
@@ -411,6 +422,10 @@ std::vector<io::csv_metadata> csv_metadata(const rig_run& run) {
   m.push_back({"serial", fmt::format("{}", run.info.serial)});
   m.push_back({"firmware",
                fmt::format("{}.{}.{}", run.info.fw_major, run.info.fw_minor, run.info.fw_patch)});
+  if (run.info.board == static_cast<std::uint8_t>(protocol::board_kind::host_emulator))
+    m.push_back({"emulated", "gyroflip emulate"});
+  else if (run.info.board == static_cast<std::uint8_t>(protocol::board_kind::qemu))
+    m.push_back({"emulated", "the firmware's QEMU image"});
   m.push_back({"n_avg", fmt::format("{}", c.n_avg)});
   m.push_back({"settle_s", fmt::format("{}", c.settle_ms / 1000.0)});
   m.push_back({"filter_word", fmt::format("{}", c.filter_word)});

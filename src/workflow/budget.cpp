@@ -36,21 +36,30 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   std::size_t dof = 0;
   if (model && runs.size() > model->degree() + 1) dof = runs.size() - model->degree() - 1;
   if (model && dof > 0) {
+    // At one temperature: the plain sample std of the runs' dN (what the label says; the
+    // weighted mean would weight runs by within-run errors that their scatter dwarfs, review
+    // R5). A dN(T) line: the runs' scatter about it, over its degrees of freedom.
+    double plain_mean = 0.0;
+    for (const auto& r : runs) plain_mean += r.cal.delta_n_dps / static_cast<double>(runs.size());
     double ss = 0.0, worst = 0.0;
     for (const auto& r : runs) {
-      const double d = r.cal.delta_n_dps - model->eval(r.cal.temp_c);
+      const double d =
+          r.cal.delta_n_dps - (model->degree() == 0 ? plain_mean : model->eval(r.cal.temp_c));
       ss += d * d;
       worst = std::max(worst, model->stderr_at(r.cal.temp_c));
     }
     b.run_to_run_dps = std::sqrt(ss / static_cast<double>(dof));
     b.run_to_run_measured = true;
+    b.run_to_run_dof = dof;
+    const std::string rough =
+        dof == 1 ? "; 1 degree of freedom: this std is itself uncertain by about 70 %" : "";
     b.run_to_run_source =
         model->degree() == 0
-            ? fmt::format("measured: std of the {} runs' dN", runs.size())
+            ? fmt::format("measured: std of the {} runs' dN{}", runs.size(), rough)
             : fmt::format(
-                  "measured: std of the {} runs' dN about the dN(T) line ({} degrees of "
-                  "freedom)",
-                  runs.size(), dof);
+                  "measured: std of the {} runs' dN about the dN(T) line ({} degree{} of "
+                  "freedom){}",
+                  runs.size(), dof, dof == 1 ? "" : "s", rough);
     b.model_dps = worst;
     b.model_note = model->degree() == 0
                        ? "the weighted mean's error, scaled by the runs' scatter"
@@ -86,12 +95,54 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   return b;
 }
 
+double delta_n_tc_dps_per_c(const sensor::sensor_params& p) noexcept {
+  return std::hypot(p.g_sens_tc_z_dps_per_g_c, p.g_sens_tc_turn_on_sigma_dps_per_g_c);  // x 1 g
+}
+
+void add_temperature_term(delta_n_budget& b, double outside_c, double lo_c, double hi_c,
+                          const sensor::sensor_params* preset, const std::string& preset_name) {
+  b.outside_c = outside_c;
+  const std::string span = hi_c - lo_c < 0.05 ? fmt::format("{:.1f} °C", lo_c)
+                                              : fmt::format("{:.1f}–{:.1f} °C", lo_c, hi_c);
+  const double tc = preset != nullptr ? delta_n_tc_dps_per_c(*preset) : 0.0;
+  if (!(tc > 0.0)) {
+    b.valid = false;
+    b.temperature_dps = std::numeric_limits<double>::quiet_NaN();
+    b.temperature_note = fmt::format(
+        "not known: the run lies {:.1f} °C outside the calibration's {} and {} no temperature "
+        "coefficient of ΔN; the uncertainty is not valid outside the calibration's temperatures",
+        outside_c, span,
+        preset != nullptr ? "the sensor preset " + preset_name + " states"
+                          : "no sensor preset gives");
+    b.new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  b.temperature_dps = tc * outside_c;
+  b.temperature_note = fmt::format(
+      "from the preset's temperature coefficient (assumed): the run lies {:.1f} °C outside the "
+      "calibration's {}; {} °/s per °C (the g-term's coefficient and its spread from one "
+      "power-up to the next, sensor preset {}) × {:.1f} °C",
+      outside_c, span, fmt::format("{:.3g}", tc), preset_name, outside_c);
+  b.new_power_up_dps = std::hypot(b.new_power_up_dps, b.temperature_dps);
+}
+
 std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name) {
   // The specifications' own numbers (FACTS §4.1, §4.2).
   if (preset_name == "adxrs150")
     return g_spec{0.2, "ADXRS150 datasheet, 0.2 °/s/g typical (FACTS §4.1, not verified)"};
   if (preset_name == "hz1-90-100a")
     return g_spec{0.06, "HZ1-90-100A specification, < 0.06 °/s/g (paper Tab. 2, FACTS §4.2)"};
+  return std::nullopt;
+}
+
+std::optional<scale_factor_spec> scale_factor_tolerance(const std::string& preset_name) {
+  // The specifications' own numbers (FACTS §4.1, §4.2).
+  if (preset_name == "adxrs150")
+    return scale_factor_spec{
+        0.10, "ADXRS150 datasheet's scale-factor tolerance ±10 % (FACTS §4.1, not verified)"};
+  if (preset_name == "hz1-90-100a")
+    return scale_factor_spec{
+        0.02, "HZ1-90-100A specification's scale-factor tolerance ±2 % (paper Tab. 2, FACTS §4.2)"};
   return std::nullopt;
 }
 

@@ -52,6 +52,17 @@ constexpr int summary_schema = 2;
 // max_chi2_per_dof (the paper's own runs scatter 14-30 times their errors: chi^2/dof 200-900).
 constexpr double g_term_beyond_spec = 3.0;
 constexpr double max_chi2_per_dof = 1e4;
+// A calibration run whose temperature moves more than this (degC) is not isothermal (review R17):
+// its dN is a mean over temperatures no dN(T) sees; the HZ1's dN moves 9e-5 deg/s over 2 degC
+// (paper Tab. 3), about a 1-h run's within-run error.
+constexpr double isothermal_span_c = 2.0;
+// Fewer cycles than this give no usable correlated standard error (review R11): the std of n
+// cycles has a relative error of 1/sqrt(2 (n - 1)) (13 % at 30) before the correlation of
+// neighbouring cycles is estimated from blocks of them; the paper's runs have 3000-6700 cycles.
+constexpr std::size_t min_cycles = 30;
+// A scale-factor error beyond this many times the sensor's tolerance is warned about (review
+// R12): 3 x the tolerance is already outside any unit's specification.
+constexpr double sf_beyond_spec = 3.0;
 
 std::string g(double v, int digits = 4) {
   return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
@@ -76,7 +87,8 @@ struct identity {
   std::set<std::string> serials;
   std::vector<io::csv_metadata> rig;  // the first run's rig settings
   std::vector<std::string> origin;    // per run
-  std::size_t simulated = 0;          // runs from gyroflip's simulator
+  std::size_t simulated = 0;          // runs from gyroflip's simulator or an emulated rig
+  std::size_t emulated = 0;           // of them, rig recordings of an emulator
 };
 
 // Where a recording came from, from its metadata.
@@ -88,6 +100,13 @@ std::string origin_of(const recording_run& r, bool& simulated) {
     return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)",
                        metadata_value(m, "sensor"), metadata_value(m, "seed"),
                        metadata_value(m, "duration_s"));
+  }
+  if (const auto e = metadata_value(m, "emulated"); !e.empty()) {
+    simulated = true;
+    return fmt::format(
+        "emulated: a rig recording (.gfr) of {} (device serial {}, firmware {}), "
+        "not of a real board",
+        e, metadata_value(m, "serial"), metadata_value(m, "firmware"));
   }
   if (r.file.ends_with(".gfr"))
     return fmt::format("rig recording (.gfr): device serial {}, firmware {}",
@@ -108,6 +127,7 @@ identity identify(const std::vector<run_analysis>& runs) {
     bool sim = false;
     id.origin.push_back(origin_of(a.run, sim));
     id.simulated += sim ? 1 : 0;
+    if (!metadata_value(m, "emulated").empty()) ++id.emulated;
   }
   id.builtin = id.preset.empty() ? nullptr : sensor::find_builtin(id.preset);
   return id;
@@ -146,6 +166,19 @@ temp_span cycle_temps(const std::vector<method::cycle>& cycles) {
       t.hi = std::max(t.hi, c.temp_c);
     }
   return t;
+}
+
+// The temperatures of all the runs' cycles.
+temp_span runs_temps(const std::vector<run_analysis>& runs) {
+  temp_span all;
+  for (const auto& a : runs) {
+    const auto t = cycle_temps(a.run.cycles(a.pairing));
+    if (t.known()) {
+      all.lo = std::min(all.lo, t.lo);
+      all.hi = std::max(all.hi, t.hi);
+    }
+  }
+  return all;
 }
 
 std::string minutes(double s) {
@@ -325,12 +358,82 @@ void check_stationary(const report_request& r, const std::vector<run_analysis>& 
           a.run.file, g(a.cal.delta_n_dps, 6), r.geometry ? "" : "at least ", g(g_term, 3),
           g_term / spec->dps_per_g, spec->source));
   }
+  for (const auto& a : runs) {
+    const auto t = cycle_temps(a.run.cycles(a.pairing));
+    if (t.known() && t.hi - t.lo > isothermal_span_c)
+      f.warnings.push_back(fmt::format(
+          "{}: the temperature moved over {} during the run: not isothermal (more than {:g} °C), "
+          "so its dN is a mean over temperatures and no dN(T) can place it; calibrate at a "
+          "steady temperature",
+          a.run.file, t.text(), isothermal_span_c));
+  }
   if (f.runs_model && f.runs_model->chi2_per_dof > max_chi2_per_dof)
     f.warnings.push_back(fmt::format(
         "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {:.3g}; the paper's own "
         "runs scatter 14–30 times theirs): they were not made under the same stationary "
         "conditions, and the pooled dN means little",
         std::sqrt(f.runs_model->chi2_per_dof), f.runs_model->chi2_per_dof));
+}
+
+// A constant dN applied to runs away from its runs' temperatures (review R3): the budget gets the
+// sensor preset's temperature term, or is marked not valid when no coefficient is known.
+void check_calibration_temperature(const std::vector<run_analysis>& runs, findings& f) {
+  const auto& rec = *f.given->record;
+  if (rec.model && rec.model->degree() > 0) return;  // dN(T) covers temperature
+  temp_span cal;
+  for (const auto& e : rec.files)
+    if (std::isfinite(e.cal.temp_c)) {
+      cal.lo = std::min(cal.lo, e.cal.temp_c);
+      cal.hi = std::max(cal.hi, e.cal.temp_c);
+    }
+  if (!cal.known()) return;
+  double outside_c = 0.0;
+  for (const auto& a : runs) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (const auto& c : a.run.cycles(a.pairing))
+      if (std::isfinite(c.temp_c)) {
+        sum += c.temp_c;
+        ++n;
+      }
+    if (n == 0) continue;
+    const double t = sum / static_cast<double>(n);
+    outside_c = std::max({outside_c, cal.lo - t, t - cal.hi});
+  }
+  if (outside_c > outside_calibration_c)
+    add_temperature_term(f.budget, outside_c, cal.lo, cal.hi,
+                         f.id.builtin ? &f.id.builtin->params : nullptr, f.id.preset);
+}
+
+// "±u °/s" of a new power-up's ΔN, or why there is none.
+std::string power_up_text(const delta_n_budget& b) {
+  if (!b.valid) return "not valid outside the calibration's temperatures";
+  return fmt::format("±{} °/s{}", g(b.new_power_up_dps, 2),
+                     b.outside_c > 0.0 ? ", its temperature term included" : "");
+}
+
+// A compensated run against its commanded rate (review R12): a reading of the opposite sign, or a
+// scale-factor error far beyond the sensor's tolerance, says the comparison is wrong (the
+// commanded rate's sign, the table's speed, the sensor's mounting or preset), not the sensor.
+void check_commanded_rate(const run_analysis& a, double expected_dps, const rate_check& c,
+                          findings& f) {
+  const double mean = a.comp.summary.mean_dps;
+  if (mean * expected_dps < 0.0) {
+    f.warnings.push_back(fmt::format(
+        "{}: the compensated rate {} °/s has the opposite sign of the commanded {} °/s (a "
+        "scale-factor error of {:.0f} %): the commanded rate's sign or the sensor's mounting is "
+        "wrong, not the sensor's scale factor",
+        a.run.file, g(mean, 6), g(expected_dps, 6), c.scale_factor_ppm / 1e4));
+    return;
+  }
+  const auto spec = scale_factor_tolerance(f.id.preset);
+  if (spec && std::abs(c.scale_factor_ppm) > sf_beyond_spec * 1e6 * spec->fraction)
+    f.warnings.push_back(fmt::format(
+        "{}: a scale-factor error of {:.1f} % against the commanded {} °/s is {:.0f} times the "
+        "{}: the commanded rate, the table's speed or the sensor (preset) is not what was "
+        "assumed",
+        a.run.file, c.scale_factor_ppm / 1e4, g(expected_dps, 6),
+        std::abs(c.scale_factor_ppm) / (1e6 * spec->fraction), spec->source));
 }
 
 // The conclusion, written from the numbers the tables show.
@@ -347,9 +450,9 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
   if (!f.compensating) {
     std::string value;
     if (f.pooled) {
-      value = fmt::format("{} °/s (weighted mean of {} runs at {})",
-                          pm(f.pooled->first, f.pooled->second), runs.size(),
-                          cycle_temps(runs.front().run.cycles(runs.front().pairing)).text());
+      value =
+          fmt::format("{} °/s (weighted mean of {} runs at {})",
+                      pm(f.pooled->first, f.pooled->second), runs.size(), runs_temps(runs).text());
     } else if (f.runs_model && f.runs_model->degree() > 0) {
       // The numbers as the ΔN(T) and budget tables print them. A slope is stated only when it
       // is resolved: degrees of freedom left and at least 2 standard errors from zero.
@@ -357,9 +460,17 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const std::size_t n = m.coeffs_dps.size();
       const std::size_t dof = runs.size() > n ? runs.size() - n : 0;
       const double slope = m.coeffs_dps[1], u = std::sqrt(m.cov[n + 1]);
-      value = fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
-                          g(m.coeffs_dps[0], 6), g(b.calibration_dps, 2), m.t_ref_c, runs.size(),
-                          m.temp_min_c, m.temp_max_c);
+      // With degrees of freedom: the error at the temperature named (the table's c_0) and the
+      // largest over the runs' temperatures (the budget's), review R4.
+      value = dof == 0
+                  ? fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
+                                g(m.coeffs_dps[0], 6), g(b.calibration_dps, 2), m.t_ref_c,
+                                runs.size(), m.temp_min_c, m.temp_max_c)
+                  : fmt::format(
+                        "{} ± {} °/s at {:.2f} °C, ± {} °/s anywhere in {:.1f}–{:.1f} °C (ΔN(T) of "
+                        "{} runs)",
+                        g(m.coeffs_dps[0], 6), g(std::sqrt(m.cov[0]), 3), m.t_ref_c,
+                        g(b.calibration_dps, 2), m.temp_min_c, m.temp_max_c, runs.size());
       if (dof == 0)
         value += fmt::format(
             "; how it changes with temperature is not resolved: {} runs for {} coefficients "
@@ -398,30 +509,37 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           " Its repeatability from one power-up to the next is unknown (one run, no sensor "
           "preset): calibrate over several power-ups before relying on it.";
     }
-    out += fmt::format(" With ΔN removed, the rate scatters by up to {} °/s per cycle.",
-                       g(worst_std, 3));
+    out += fmt::format(
+        " With ΔN removed, the rate's per-cycle standard deviation is up to {} °/s (a std, not "
+        "a bound).",
+        g(worst_std, 3));
   } else {
     // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
     std::string applied;
     for (std::size_t k = 0; k < runs.size(); ++k)
       applied +=
           fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file, applied_text(runs[k].comp));
-    out = fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up ±{} °/s).",
-                      f.given->source, applied, g(b.new_power_up_dps, 2));
+    out = fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up {}).",
+                      f.given->source, applied, power_up_text(b));
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
                          pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
       if (f.rates[k])
-        out += fmt::format(" against the commanded {} °/s: a scale-factor error of {} ppm",
+        out += fmt::format(" against the commanded {} °/s: a scale-factor error of {} ppm{}",
                            g(*r.expected_rate_dps, 6),
-                           pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
+                           pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm),
+                           b.valid ? ""
+                                   : " (its uncertainty is not known: the ΔN applied is "
+                                     "not valid outside the calibration's temperatures)");
       out += ".";
     }
-    out += fmt::format(
-        " The ΔN error ±{} °/s is common to every cycle: averaging longer does not "
-        "reduce it.",
-        g(b.new_power_up_dps, 2));
+    out += b.valid ? fmt::format(
+                         " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
+                         "not reduce it.",
+                         g(b.new_power_up_dps, 2))
+                   : " The ΔN error is not known outside the calibration's temperatures; it is "
+                     "common to every cycle: averaging longer does not reduce it.";
   }
   // The noise, as the noise table prints it: the same term (B) of both series of the first run.
   const auto* a = &runs.front();
@@ -448,6 +566,10 @@ json budget_json(const delta_n_budget& b) {
           {"model_dps", b.model_dps ? num(*b.model_dps) : json(nullptr)},
           {"model_note", b.model_note},
           {"calibration_dps", num(b.calibration_dps)},
+          {"outside_calibration_c", num(b.outside_c)},
+          {"temperature_dps", num(b.temperature_dps)},
+          {"temperature_note", b.temperature_note},
+          {"valid", b.valid},
           {"new_power_up_dps", num(b.new_power_up_dps)}};
 }
 
@@ -464,11 +586,19 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
        {"run-to-run repeatability", v(b.run_to_run_dps), b.run_to_run_source},
        {"dN(T) model", b.model_dps ? v(*b.model_dps) : std::string("–"), b.model_note},
        {"calibrated ΔN", v(b.calibration_dps), "the error of the calibrated value"},
-       {"ΔN of a new power-up", v(b.new_power_up_dps),
-        "√(calibrated² + repeatability²): what a compensated rate carries as a systematic error "
-        "(w = r − ΔN, paper eqn 12), the same in every cycle"}},
+       {"ΔN of a new power-up", b.valid ? v(b.new_power_up_dps) : std::string("not valid"),
+        b.valid ? fmt::format("√(calibrated² + repeatability²{}): what a compensated rate "
+                              "carries as a systematic error (w = r − ΔN, paper eqn 12), the "
+                              "same in every cycle",
+                              b.outside_c > 0.0 ? " + temperature²" : "")
+                : std::string("not valid outside the calibration's temperatures: no ± covers "
+                              "the run")}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
+  if (b.outside_c > 0.0)
+    t.rows.insert(t.rows.end() - 1,
+                  {"temperature (outside the calibration's)",
+                   b.valid ? v(b.temperature_dps) : std::string("not known"), b.temperature_note});
   return t;
 }
 
@@ -539,6 +669,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     const auto& rec = *f.given->record;
     f.budget = budget_of(rec.files, rec.model, f.id.builtin ? &f.id.builtin->params : nullptr,
                          f.id.preset);
+    check_calibration_temperature(runs, f);
   } else {
     auto m = io::fit_runs_model(entries);
     if (!m) return m.err();
@@ -562,6 +693,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                           ? std::optional(check_rate(a.comp.summary, *r.expected_rate_dps,
                                                      f.budget.new_power_up_dps))
                           : std::nullopt);
+    if (f.rates.back()) check_commanded_rate(a, *r.expected_rate_dps, *f.rates.back(), f);
   }
   if (!f.compensating && f.runs_model && !f.budget.model_dps)
     f.warnings.push_back(fmt::format(
@@ -569,6 +701,19 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         "not determined, and the run-to-run repeatability is not measured; calibrate more runs "
         "than the line has coefficients",
         runs.size()));
+  for (const auto& a : runs)
+    if (a.cal.cycles < min_cycles)
+      f.warnings.push_back(fmt::format(
+          "{}: {} cycles: too few for a standard error that accounts for correlated noise (at "
+          "least {}: the scatter of n cycles is itself uncertain by 1/√(2(n−1)), and the "
+          "correlation is estimated from blocks of cycles); its ± understates the truth",
+          a.run.file, a.cal.cycles, min_cycles));
+  if (!f.compensating && f.budget.run_to_run_dof == 1)
+    f.warnings.push_back(fmt::format(
+        "the run-to-run repeatability {} °/s is measured with 1 degree of freedom ({} runs for "
+        "{} coefficient{}): a std of one degree of freedom is itself uncertain by about 70 %; "
+        "calibrate more runs",
+        g(f.budget.run_to_run_dps, 2), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
   if (runs.size() == 1 && !f.compensating)
     f.warnings.push_back(
         "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "
@@ -589,14 +734,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                                f.given->record->files.size() == 1 ? "" : "s");
     page.made.inputs.push_back(std::move(*in));
   }
-  temp_span all_t;
-  for (const auto& a : runs) {
-    const auto t = cycle_temps(a.run.cycles(a.pairing));
-    if (t.known()) {
-      all_t.lo = std::min(all_t.lo, t.lo);
-      all_t.hi = std::max(all_t.hi, t.hi);
-    }
-  }
+  const temp_span all_t = runs_temps(runs);
   const std::string serials = [&] {
     std::string s;
     for (const auto& x : f.id.serials) s += (s.empty() ? "" : ", ") + x;
@@ -610,9 +748,12 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                  runs.size(), runs.size() == 1 ? "" : "s", all_t.text());
   if (f.id.simulated > 0)
     page.banners.push_back(fmt::format(
-        "Simulated data: {} of the {} recordings came from gyroflip's simulator (see Inputs); "
+        "Simulated data: {} of the {} recordings came from gyroflip's {} (see Inputs); "
         "no sensor was measured for them.",
-        f.id.simulated, runs.size()));
+        f.id.simulated, runs.size(),
+        f.id.emulated == 0                ? "simulator"
+        : f.id.emulated == f.id.simulated ? "emulator (a rig recording of no real board)"
+                                          : "simulator or emulator"));
 
   // Summary: the conclusion and the warnings.
   report::section top;
@@ -627,11 +768,14 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   report::table idt{"What was measured, with what", {}, {}, ""};
   idt.rows.push_back({"sensor", sensor_words(f.id)});
   idt.rows.push_back({"serial", serials.empty() ? "not recorded" : serials});
-  idt.rows.push_back({"data", f.id.simulated == runs.size()
-                                  ? "simulated (gyroflip simulate)"
-                                  : (f.id.simulated > 0 ? fmt::format("{} of {} runs simulated",
-                                                                      f.id.simulated, runs.size())
-                                                        : "recorded")});
+  idt.rows.push_back(
+      {"data", f.id.simulated == runs.size()
+                   ? (f.id.emulated == 0             ? "simulated (gyroflip simulate)"
+                      : f.id.emulated == runs.size() ? "emulated (gyroflip emulate: no real board)"
+                                                     : "simulated (gyroflip simulate and emulate)")
+                   : (f.id.simulated > 0
+                          ? fmt::format("{} of {} runs simulated", f.id.simulated, runs.size())
+                          : "recorded")});
   for (const auto& m : f.id.rig) idt.rows.push_back({"rig: " + m.key, m.value});
   idt.rows.push_back({"cycle (measured)", fmt::format("{} s", g(cycle_period_s(runs.front()), 4))});
   idt.rows.push_back({"pairing", std::string(method::to_string(r.pairing))});
@@ -735,9 +879,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         head,
         {},
         fmt::format(
-            "The mean's error is its own (random); the ΔN applied adds ±{} °/s to every "
+            "The mean's error is its own (random); the ΔN applied adds {} to every "
             "cycle alike (budget below){}.",
-            g(f.budget.new_power_up_dps, 2),
+            power_up_text(f.budget),
             r.expected_rate_dps ? "; the scale-factor error's uncertainty includes both" : "")};
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& a = runs[k];
@@ -889,10 +1033,11 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                           {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
                           {"drift_window_s", s.drift_window_s}};
       if (f.rates[k])
-        j["compensated"].update(json{{"expected_rate_dps", *r.expected_rate_dps},
-                                     {"error_dps", f.rates[k]->error_dps},
-                                     {"scale_factor_error_ppm", f.rates[k]->scale_factor_ppm},
-                                     {"scale_factor_error_u_ppm", f.rates[k]->scale_factor_u_ppm}});
+        j["compensated"].update(
+            json{{"expected_rate_dps", *r.expected_rate_dps},
+                 {"error_dps", f.rates[k]->error_dps},
+                 {"scale_factor_error_ppm", f.rates[k]->scale_factor_ppm},
+                 {"scale_factor_error_u_ppm", num(f.rates[k]->scale_factor_u_ppm)}});
     } else {
       j["residual"] = {{"std_dps", s.std_dps},
                        {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -307,6 +308,30 @@ TEST(CliBadInput, ConstantSeriesSaysItIsConstant) {
   const auto a = run_cli({"adev", d.file("c.csv")});
   EXPECT_EQ(a.exit_code, 0);
   EXPECT_NE(a.err.find("the series is constant"), std::string::npos) << a.err;
+}
+
+// Review of issue 22, R10: `--seed -1` was wrapped to 18446744073709551615 and run. Every
+// subcommand's --seed takes 0 .. 2^64 - 1 only: a negative, fractional or too large seed is a
+// usage error (exit 2) naming the option, before anything runs or is written.
+TEST(CliBadInput, ASeedIsAnIntegerFromZeroTo2To64) {
+  temp_dir d;
+  const std::vector<std::vector<std::string>> commands = {
+      {"simulate", "--sensor", "hz1-90-100a", "--duration", "10", "-o", d.file("s.csv")},
+      {"emulate", "--pty", "--duration", "1"},
+      {"reproduce", "--quick"},
+  };
+  for (const auto& base : commands)
+    for (const std::string seed : {"-1", "1.5", "-0", "18446744073709551616", "x"}) {
+      auto cmd = base;
+      cmd.insert(cmd.end(), {"--seed", seed});
+      const auto r = run_cli(cmd);
+      EXPECT_EQ(r.exit_code, 2) << cmd[0] << " --seed " << seed << ": " << r.err;
+      EXPECT_NE(r.err.find("--seed"), std::string::npos) << cmd[0] << ": " << r.err;
+    }
+  EXPECT_FALSE(std::filesystem::exists(d.file("s.csv")));
+  const auto top = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "10", "--seed",
+                            "18446744073709551615", "-o", d.file("s.csv")});
+  EXPECT_EQ(top.exit_code, 0) << top.err;
 }
 
 }  // namespace

@@ -67,7 +67,7 @@ TEST(ProtocolDoc, ExampleFramesAreTheEncodersBytes) {
   calibrate_msg k;
   k.cycles = 100;
   info_msg i;
-  i.fw_minor = 2;
+  i.fw_minor = 3;
   i.protocol = 2;
   i.serial = 0x0F149001;
   i.mclk_hz = 6144000;

@@ -221,11 +221,12 @@ bytes payload(const M& m) {
   return bytes(b, b + w.n);
 }
 // `config`: the CONFIGURE record (none: nullptr); `crc`: the START record's configuration CRC
-// (format 3; none: a format-2 START).
+// (format 3; none: a format-2 START); `info_body`: the INFO record's body (none: a board's INFO).
 std::string recording(const std::string& path, const std::string& meta,
                       const std::vector<dwell_spec>& dwells,
                       const gyroflip::protocol::configure_msg* config = nullptr,
-                      std::optional<std::uint16_t> crc = std::nullopt) {
+                      std::optional<std::uint16_t> crc = std::nullopt,
+                      const bytes* info_body = nullptr) {
   namespace p = gyroflip::protocol;
   auto w = gfr::writer::create(path);
   EXPECT_TRUE(w);
@@ -235,7 +236,7 @@ std::string recording(const std::string& path, const std::string& meta,
   info.tick_hz = 32768;
   info.mclk_hz = 6144000;
   info.range = 4;
-  EXPECT_TRUE(w->append(gfr::kind::info, 1, payload(info)));
+  EXPECT_TRUE(w->append(gfr::kind::info, 1, info_body != nullptr ? *info_body : payload(info)));
   const p::configure_msg plain;
   EXPECT_TRUE(w->append(gfr::kind::configure, 2, payload(config != nullptr ? *config : plain)));
   bytes start = {0, 0};  // the ACK was frame 0
@@ -263,6 +264,51 @@ std::string recording(const std::string& path, const std::string& meta,
   }
   EXPECT_TRUE(w->close());
   return path;
+}
+
+// INFO names what sent it (issue 22, review R6): a recording of the emulator says so in its
+// metadata, a board's does not; a file of format 3 (firmware 0.2: INFO of 80 bytes, no board
+// byte before the configuration) still reads, with its configuration where it was.
+TEST(RigRun, InfoTellsAnEmulatorFromABoardAndOldInfoStillReads) {
+  namespace p = gyroflip::protocol;
+  gyroflip::test::temp_dir dir;
+  const std::string meta =
+      R"({"scale_factor_v_per_dps":0.0125,"temp_v_per_c":0.0084,"temp_at_0v_c":24.85})";
+  const std::vector<dwell_spec> d = {{0, 0, 1000}, {0, 1, 2000}, {1, 0, 3000}, {1, 1, 4000}};
+  const auto emulated_of = [](const gyroflip::rigdata::rig_run& run) {
+    for (const auto& m : gyroflip::rigdata::csv_metadata(run))
+      if (m.key == "emulated") return m.value;
+    return std::string("(none)");
+  };
+  p::info_msg info;
+  info.protocol = p::protocol_version;
+  info.tick_hz = 32768;
+  info.range = 4;
+  info.serial = 4711;
+  info.board = static_cast<std::uint8_t>(p::board_kind::host_emulator);
+  info.config.pos_cdeg[1] = 9000;  // a table that tells where the configuration was read from
+  const bytes emu = payload(info);
+  ASSERT_EQ(emu.size(), 81u);
+  auto e = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/emu.gfr", meta, d, nullptr, std::nullopt, &emu));
+  ASSERT_TRUE(e) << e.err().message;
+  EXPECT_EQ(emulated_of(*e), "gyroflip emulate");
+
+  info.board = static_cast<std::uint8_t>(p::board_kind::hardware);
+  const bytes board = payload(info);
+  auto b = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/board.gfr", meta, d, nullptr, std::nullopt, &board));
+  ASSERT_TRUE(b) << b.err().message;
+  EXPECT_EQ(emulated_of(*b), "(none)");
+
+  bytes old = board;
+  old.erase(old.begin() + 26);  // the 80-byte INFO of firmware 0.2
+  auto o = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/old.gfr", meta, d, nullptr, std::nullopt, &old));
+  ASSERT_TRUE(o) << o.err().message;
+  EXPECT_EQ(o->info.serial, 4711u);
+  EXPECT_EQ(o->info.config.pos_cdeg[1], 9000);
+  EXPECT_EQ(emulated_of(*o), "(none)");
 }
 
 // The .gfr reader holds a recording to the CSV reader's bounds (issue 20): META's conversion of

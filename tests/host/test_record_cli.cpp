@@ -166,6 +166,30 @@ TEST(RecordCli, ExportEqualsWhatTheDeviceSentAndCalibratesToTheTruth) {
   expect_calibrates_to_truth(nlohmann::json::parse(cal.out), 5);
 }
 
+// A recording of the emulator is not a measurement (issue 22 §3, review R6): the emulator says
+// what it is in INFO, the file keeps it, and the report shows the "Simulated data" banner and the
+// origin "emulated" (as it does for a CSV exported from the file).
+TEST(RecordCli, AnEmulatorsRecordingIsReportedAsSimulated) {
+  test::temp_dir dir;
+  const std::string gfr = dir.path() + "/run1.gfr";
+  emulator_process emu(dir.path(), "--speed max --seed 21 --serial 4711");
+  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "120", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  const auto ex = run_cli({"export", gfr, "-o", dir.path() + "/run1.csv"});
+  ASSERT_EQ(ex.exit_code, 0) << ex.err;
+  for (const std::string& in : {gfr, dir.path() + "/run1.csv"}) {
+    SCOPED_TRACE(in);
+    const std::string out = dir.path() + "/rep" + std::to_string(in.size());
+    const auto rep = run_cli({"report", in, "-o", out});
+    ASSERT_EQ(rep.exit_code, 0) << rep.err;
+    const std::string html = test::read_text(out + "/index.html");
+    EXPECT_NE(html.find("Simulated data: 1 of the 1 recordings came from gyroflip's emulator"),
+              std::string::npos);
+    EXPECT_NE(html.find("emulated: a rig recording"), std::string::npos);
+    EXPECT_NE(html.find("emulated (gyroflip emulate: no real board)"), std::string::npos);
+  }
+}
+
 TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
   test::temp_dir dir;
   const std::string gfr = dir.path() + "/raw.gfr";

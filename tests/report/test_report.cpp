@@ -103,12 +103,20 @@ TEST(ReportFigure, PaperFiguresAreGolden) {
     method::calibration c;
     c.delta_n_dps = 0.39 + 0.01 * k;
     c.stderr_correlated_dps = 0.002;
-    c.temp_c = 4.0 + 8.0 * k;
+    c.temp_c = 20.0 + 0.5 * k;
     runs.push_back({"run" + std::to_string(k), c});
   }
   const auto ft = report::delta_n_runs_figure(runs, "ΔN per run");
   expect_golden(report::script(ft, "runs", formats), "delta_n_runs.gp");
   EXPECT_NE(ft.caption.find("mean 0.4 °/s, std 0.01 °/s"), std::string::npos) << ft.caption;
+  // Review R16: runs at 4, 12 and 20 degC got one pooled "mean +- std" band, a number in no
+  // table; over a temperature span of 2 degC or more the runs are drawn without it.
+  for (int k = 0; k < 3; ++k) runs[static_cast<std::size_t>(k)].cal.temp_c = 4.0 + 8.0 * k;
+  const auto spread = report::delta_n_runs_figure(runs, "ΔN per run");
+  EXPECT_EQ(report::script(spread, "runs", formats).find("filledcurves"), std::string::npos);
+  EXPECT_EQ(spread.data.size(), 1u);
+  EXPECT_NE(spread.caption.find("over 4.0–20.0 °C"), std::string::npos) << spread.caption;
+  EXPECT_NE(spread.caption.find("no pooled mean ± std"), std::string::npos) << spread.caption;
 }
 
 TEST(ReportFigure, RendersPngSvgPdfAndLeavesNothingElse) {

@@ -75,5 +75,57 @@ TEST(DeltaNBudget, ALineThroughTwoRunsIsFlaggedNotShownAsExact) {
   EXPECT_GT(b.calibration_dps, 1e-4 * 2);
 }
 
+// Review R3: a constant dN applied 16 degC from its runs' temperature. HZ1: the preset's g-term
+// coefficient 4.5e-5 and its power-up spread 8.75e-5 deg/s/degC (paper Tab. 3) combined, times
+// 16 degC, added in quadrature; ADXRS150 (no coefficient): not valid, no number.
+TEST(DeltaNBudget, ATemperatureTermFromThePresetOrNotValid) {
+  const std::vector runs{run(0.0030, 1e-4, 20.0), run(0.0031, 1e-4, 20.0)};
+  const auto model = io::fit_runs_model(runs);
+  ASSERT_TRUE(model && model->has_value());
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
+  const double before = b.new_power_up_dps;
+  workflow::add_temperature_term(b, 16.0, 20.0, 20.0, &hz1->params, "hz1-90-100a");
+  const double term = std::hypot(4.5e-5, 8.75e-5) * 16.0;
+  EXPECT_TRUE(b.valid);
+  EXPECT_NEAR(b.temperature_dps, term, 1e-12);
+  EXPECT_NEAR(b.new_power_up_dps, std::hypot(before, term), 1e-12);
+  EXPECT_NE(b.temperature_note.find("(assumed)"), std::string::npos);
+  const auto* adx = sensor::find_builtin("adxrs150");
+  auto a = workflow::budget_of(runs, *model, &adx->params, "adxrs150");
+  workflow::add_temperature_term(a, 16.0, 20.0, 20.0, &adx->params, "adxrs150");
+  EXPECT_FALSE(a.valid);
+  EXPECT_TRUE(std::isnan(a.new_power_up_dps));
+  EXPECT_NE(a.temperature_note.find("not valid outside"), std::string::npos);
+}
+
+// Review R5/R5b: "std of the 3 runs' dN" was the rms about the weighted mean (0.0013434 for the
+// review's runs, whose plain std is 0.0012544); a repeatability of 1 degree of freedom is flagged.
+TEST(DeltaNBudget, TheRunsStdIsTheirPlainStdAndOneDegreeOfFreedomIsFlagged) {
+  const std::vector runs{run(0.0026233, 1.403e-4, 20.0), run(0.0036824, 1.170e-4, 20.0),
+                         run(0.0011830, 8.059e-5, 20.0)};
+  const auto model = io::fit_runs_model(runs);
+  ASSERT_TRUE(model && model->has_value());
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
+  const double mean = (0.0026233 + 0.0036824 + 0.0011830) / 3.0;
+  const double sd = std::sqrt((std::pow(0.0026233 - mean, 2) + std::pow(0.0036824 - mean, 2) +
+                               std::pow(0.0011830 - mean, 2)) /
+                              2.0);
+  EXPECT_NEAR(sd, 0.0012544, 2e-7);  // the review's 5-digit inputs
+  EXPECT_NEAR(b.run_to_run_dps, sd, 1e-12);
+  EXPECT_EQ(b.run_to_run_dof, 2u);
+  EXPECT_EQ(b.run_to_run_source.find("70 %"), std::string::npos);
+  // Two runs (the review's ADXRS150 pair): |difference| / sqrt(2), 1 degree of freedom, flagged.
+  const std::vector two{run(0.41494, 2e-4, 20.0), run(0.39844, 1e-4, 20.0)};
+  const auto m2 = io::fit_runs_model(two);
+  ASSERT_TRUE(m2 && m2->has_value());
+  const auto* adx = sensor::find_builtin("adxrs150");
+  const auto b2 = workflow::budget_of(two, *m2, &adx->params, "adxrs150");
+  EXPECT_NEAR(b2.run_to_run_dps, (0.41494 - 0.39844) / std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(b2.run_to_run_dof, 1u);
+  EXPECT_NE(b2.run_to_run_source.find("1 degree of freedom"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace gyroflip

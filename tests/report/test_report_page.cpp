@@ -409,4 +409,188 @@ TEST(ReportChecks, TheRawSeriesNIsTheSensorsWithItsDeadTimeRemoved) {
   }
 }
 
+// Review R3: a constant dN calibrated at 20 degC (three HZ1 runs) applied to a 0.5 deg/s run at
+// 4 degC. The truth file gives the run's own dN (0.006135 deg/s against the 0.002104 applied: an
+// error of 0.0040 deg/s); the stated uncertainty of the dN applied must cover it at 2 sigma. It
+// did not (+-0.0015, the 20-degC budget unchanged): the budget now has the preset's temperature
+// term (its g-term coefficient and that coefficient's power-up spread, x 16 degC). A sensor whose
+// preset states no coefficient (ADXRS150) gets "not valid", not a +-.
+TEST(ReportChecks, AConstantDeltaNFarFromItsTemperatureCarriesATemperatureTerm) {
+  temp_dir d;
+  std::vector<std::string> cal{"calibrate"};
+  for (const char* seed : {"1", "2", "3"}) {
+    const auto f = d.file(std::string("c") + seed + ".csv");
+    ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "3600", "--seed", seed,
+                       "--temp", "20", "-o", f})
+                  .exit_code,
+              0);
+    cal.push_back(f);
+  }
+  cal.insert(cal.end(), {"-o", d.file("cal.json")});
+  ASSERT_EQ(run_cli(cal).exit_code, 0);
+  const auto t4 = d.file("t4.csv"), truth = d.file("t4_truth.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "2000", "--seed", "11",
+                     "--temp", "4", "--rate-profile", "0.5", "-o", t4, "--truth", truth})
+                .exit_code,
+            0);
+  const auto r = run_cli({"report", t4, "--calibration", d.file("cal.json"), "--expected-rate",
+                          "0.5", "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The run's true dN: the g-term and Earth terms as the sensor sees them, + at 0 deg, - at 180.
+  const auto rows = [](const std::string& file) {
+    std::vector<std::vector<std::string>> out;
+    std::istringstream in(read_text(file));
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line[0] == '#') continue;
+      std::vector<std::string> cells;
+      std::stringstream ss(line);
+      for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+      out.push_back(cells);
+    }
+    return out;
+  };
+  const auto rec = rows(t4), tru = rows(truth);
+  ASSERT_EQ(rec.size(), tru.size());
+  ASSERT_EQ(rec[0][1], "angle_deg");
+  ASSERT_EQ(tru[0][2], "g_term_dps");
+  ASSERT_EQ(tru[0][3], "earth_dps");
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 1; i < rec.size(); ++i) {
+    if (rec[i][1].empty()) continue;
+    const double s = std::stod(tru[i][2]) + std::stod(tru[i][3]);
+    sum += std::stod(rec[i][1]) == 0.0 ? s : -s;
+    ++n;
+  }
+  const double true_dn = sum / static_cast<double>(n);
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  const double applied = j["runs"][0]["compensated"]["delta_n_applied_min_dps"];
+  const double u = j["budget"]["new_power_up_dps"];
+  EXPECT_NEAR(true_dn - applied, 0.0040, 0.0001);  // the reviewer's numbers
+  EXPECT_TRUE(j["budget"]["valid"].get<bool>());
+  EXPECT_NEAR(j["budget"]["outside_calibration_c"].get<double>(), 16.0, 0.1);
+  EXPECT_GT(j["budget"]["temperature_dps"].get<double>(), 0.0);
+  EXPECT_LE(std::abs(true_dn - applied), 2.0 * u) << "u " << u;
+  const auto html = read_text(d.file("rep/index.html"));
+  EXPECT_NE(html.find("from the preset's temperature coefficient (assumed)"), std::string::npos);
+  const auto [text, cells] = conclusion_and_tables(html);
+  EXPECT_NE(text.find("its temperature term included"), std::string::npos) << text;
+  for (const auto& num : numbers_in(text))
+    EXPECT_NE(cells.find(num.front() == '+' ? num.substr(1) : num), std::string::npos)
+        << num << " of the conclusion is in no table: " << text;
+
+  // No coefficient known: not valid, no +- in the conclusion.
+  for (const auto& [name, temp] : {std::pair{"a20.csv", "20"}, std::pair{"a4.csv", "4"}})
+    ASSERT_EQ(
+        run_cli({"simulate", "--sensor", "adxrs150", "--duration", "600", "--seed", "7", "--temp",
+                 temp, "--rate-profile", temp[0] == '4' ? "0.5" : "0", "-o", d.file(name)})
+            .exit_code,
+        0);
+  ASSERT_EQ(run_cli({"calibrate", d.file("a20.csv"), "-o", d.file("acal.json")}).exit_code, 0);
+  const auto ra = run_cli({"report", d.file("a4.csv"), "--calibration", d.file("acal.json"),
+                           "--expected-rate", "0.5", "-o", d.file("repa")});
+  ASSERT_EQ(ra.exit_code, 0) << ra.err;
+  const auto ja = nlohmann::json::parse(read_text(d.file("repa/summary.json")));
+  EXPECT_FALSE(ja["budget"]["valid"].get<bool>());
+  EXPECT_TRUE(ja["budget"]["new_power_up_dps"].is_null());
+  const auto [texta, cellsa] = conclusion_and_tables(read_text(d.file("repa/index.html")));
+  EXPECT_NE(texta.find("not valid outside the calibration"), std::string::npos) << texta;
+  EXPECT_EQ(texta.find("power-up ±"), std::string::npos) << texta;
+  EXPECT_NE(texta.find("its uncertainty is not known"), std::string::npos) << texta;
+}
+
+// Review R12: a commanded rate of the opposite sign (-200 % scale-factor error) or far beyond the
+// sensor's tolerance (HZ1 +-2 %, paper Tab. 2) came with "Nothing in the runs looks wrong". Both
+// are warned about on the page and counted in the conclusion; the right commanded rate is not.
+TEST(ReportChecks, ACommandedRateTheRunCannotMatchIsWarnedAbout) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "b20.csv", "20", "2");
+  ASSERT_EQ(run_cli({"calibrate", a, b, "-o", d.file("cal.json")}).exit_code, 0);
+  const auto t = simulate(d, "t.csv", "20", "8", "0.5");
+  const auto page_of = [&](const std::string& rate, const std::string& out) {
+    const auto r = run_cli({"report", t, "--calibration", d.file("cal.json"), "--expected-rate",
+                            rate, "-o", d.file(out)});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_text(d.file(out + "/index.html"));
+  };
+  const auto neg = page_of("-0.5", "neg");
+  EXPECT_NE(neg.find("has the opposite sign of the commanded -0.5 °/s"), std::string::npos);
+  EXPECT_EQ(neg.find("Nothing in the runs looks wrong"), std::string::npos);
+  const auto far = page_of("0.4", "far");
+  EXPECT_NE(far.find("scale-factor error of 25"), std::string::npos);
+  EXPECT_NE(far.find("times the HZ1-90-100A specification's"), std::string::npos);
+  EXPECT_EQ(far.find("Nothing in the runs looks wrong"), std::string::npos);
+  const auto right = page_of("0.5", "right");
+  EXPECT_EQ(right.find("opposite sign"), std::string::npos);
+  EXPECT_EQ(right.find("specification's scale-factor tolerance"), std::string::npos);
+}
+
+// Review R17/R11: a calibration run whose temperature ramps 20 -> 4 degC was taken as one
+// isothermal calibration, a 5-s run (3 cycles) as a calibration with a "correlated" error, and two
+// runs pooled at 20.0 and 21.9 degC were described as "at 20.0 degC". Now: warnings, and the
+// conclusion names the pooled runs' temperature range.
+TEST(ReportChecks, ARampAShortRunAndThePooledRunsTemperaturesAreNamed) {
+  temp_dir d;
+  const auto warnings_of = [&](const std::vector<std::string>& files, const std::string& out) {
+    std::vector<std::string> a{"report"};
+    a.insert(a.end(), files.begin(), files.end());
+    a.insert(a.end(), {"-o", d.file(out)});
+    const auto r = run_cli(a);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(read_text(d.file(out + "/summary.json")));
+  };
+  const auto has = [](const nlohmann::json& j, const std::string& what) {
+    for (const auto& w : j["warnings"])
+      if (w.get<std::string>().find(what) != std::string::npos) return true;
+    return false;
+  };
+  const auto ramp = d.file("ramp.csv"), shrt = d.file("short.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "600", "--seed", "32",
+                     "--temp-profile", "ramp:20:4:600", "-o", ramp})
+                .exit_code,
+            0);
+  ASSERT_EQ(
+      run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "5", "--seed", "1", "-o", shrt})
+          .exit_code,
+      0);
+  const auto jr = warnings_of({ramp}, "ramp");
+  EXPECT_TRUE(has(jr, "not isothermal")) << jr["warnings"];
+  EXPECT_FALSE(has(jr, "too few")) << jr["warnings"];
+  const auto js = warnings_of({shrt}, "short");
+  EXPECT_TRUE(has(js, "3 cycles: too few for a standard error")) << js["warnings"];
+  EXPECT_FALSE(has(js, "not isothermal")) << js["warnings"];
+  const auto a = simulate(d, "a20.csv", "20", "1"), w = simulate(d, "w219.csv", "21.9", "31");
+  const auto jp = warnings_of({a, w}, "pooled");
+  const std::string text = jp["conclusion"];
+  EXPECT_NE(text.find("weighted mean of 2 runs at 20.0–21.9 °C"), std::string::npos) << text;
+  // Review R16: the per-cycle scatter is a std, and the conclusion says so.
+  EXPECT_NE(text.find("per-cycle standard deviation is up to"), std::string::npos) << text;
+  EXPECT_EQ(text.find("scatters by up to"), std::string::npos) << text;
+  EXPECT_FALSE(has(jp, "not isothermal")) << jp["warnings"];
+}
+
+// Review R4: the conclusion of a dN(T) calibration (HZ1 at 20, 4 and 12 degC: a line of 1 degree
+// of freedom) quoted the error at the worst temperature as the error at the reference
+// temperature. It now gives the table's c_0 error at the temperature it names and the budget's
+// largest for the span; the 1-degree-of-freedom repeatability is warned about (review R5b).
+TEST(ReportChecks, ADeltaNLineIsQuotedAtTheTemperatureItNames) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "d4.csv", "4", "4"),
+             c = simulate(d, "e12.csv", "12", "5");
+  const auto r = run_cli({"report", a, b, c, "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto html = read_text(d.file("rep/index.html"));
+  const auto rows = table_rows(html, "ΔN(T) = Σ c_k");
+  ASSERT_GE(rows.size(), 2u);
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  const std::string text = j["conclusion"];
+  EXPECT_NE(text.find(rows[0][1] + " ± " + rows[0][2] + " °/s at 12.00 °C, ± "), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("anywhere in 4.0–20.0 °C"), std::string::npos) << text;
+  bool flagged = false;
+  for (const auto& w : j["warnings"])
+    flagged = flagged || w.get<std::string>().find("1 degree of freedom") != std::string::npos;
+  EXPECT_TRUE(flagged) << j["warnings"];
+}
+
 }  // namespace

@@ -117,7 +117,8 @@ constexpr fw::hal_ops ops = {spi_transfer, spi_select,    rdy_low,        steppe
                              pwm_capture,  uart_read,     uart_write,     ticks,        nothing,
                              nothing,      stack_unknown, no_clock_faults};
 constexpr fw::hal hal{&ops, nullptr, tick_hz};
-constinit fw::device dev(hal, fw::board_facts{0x51AB0001u, ad7739::mclk_hz_nominal});
+constinit fw::device dev(hal, fw::board_facts{0x51AB0001u, ad7739::mclk_hz_nominal,
+                                              protocol::board_kind::qemu});
 
 }  // namespace
 

@@ -20,9 +20,11 @@ namespace gyroflip::rigdata::gfr {
 
 /// PNG-style magic: a non-ASCII first byte, then CR LF, ^Z and LF catch text-mode transfers.
 inline constexpr std::array<std::uint8_t, 8> magic = {0x89, 'G', 'F', 'R', '\r', '\n', 0x1A, '\n'};
-/// 3: START records carry the CRC of the configuration started (2: the device frame that
-/// acknowledged them only; 1: empty START bodies; both read too).
-inline constexpr std::uint16_t format_version = 3;
+/// 4: INFO bodies carry the device's `board` (a real board or an emulator; 3 and older: INFO of
+/// protocol 2's first layout, 80 bytes, without it). 3: START records carry the CRC of the
+/// configuration started (2: the device frame that acknowledged them only; 1: empty START
+/// bodies; all read too).
+inline constexpr std::uint16_t format_version = 4;
 /// magic, u16 version, u16 reserved (0), u32 CRC-32 of the 12 bytes before it.
 inline constexpr std::size_t file_header_bytes = 16;
 /// u32 length L (of kind, time and body), u32 L XOR 0xFFFFFFFF (a damaged length is told from a

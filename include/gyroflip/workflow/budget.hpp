@@ -23,7 +23,10 @@ struct delta_n_budget {
   /// Repeatability of dN from one power-up to the next (one sample std); NaN when unknown.
   double run_to_run_dps = 0.0;
   bool run_to_run_measured = false;  ///< false: from the sensor preset, or unknown
-  std::string run_to_run_source;     ///< what it is and where it comes from
+  /// Degrees of freedom of a measured repeatability (runs less the model's coefficients): the
+  /// std of 1 degree of freedom is uncertain by 1/sqrt(2) (~70 %) and is flagged.
+  std::size_t run_to_run_dof = 0;
+  std::string run_to_run_source;  ///< what it is and where it comes from
   /// The dN(T) (or weighted-mean) model's standard error at the runs' temperatures (largest);
   /// empty without a model or when it is not determined (model_note says why).
   std::optional<double> model_dps;
@@ -35,7 +38,33 @@ struct delta_n_budget {
   /// compensated with this calibration carries it as a systematic error (paper eqn 12).
   double new_power_up_dps = 0.0;
   double temp_c = 0.0;  ///< the temperature the preset's spread is evaluated at
+  /// A run compensated away from the calibration runs' temperatures (a constant dN): how far
+  /// (degC beyond their span, 0 inside), the change of dN over that distance the sensor preset's
+  /// temperature coefficients give (an assumption; add_temperature_term), and what it is.
+  double outside_c = 0.0;
+  double temperature_dps = 0.0;
+  std::string temperature_note;
+  /// false: outside the calibration's temperatures with no coefficient known, so no uncertainty
+  /// covers the run (new_power_up_dps is then NaN and the page says "not valid").
+  bool valid = true;
 };
+
+/// Beyond this distance (degC) from the calibration runs' temperatures, a constant dN gets a
+/// temperature term in its budget (the paper's HZ1 dN moves 7.2e-4 deg/s over 16 degC, Tab. 3:
+/// 2 degC is about its runs' within-run error, docs/REPORT.md).
+inline constexpr double outside_calibration_c = 2.0;
+
+/// How much dN moves per degC by a sensor preset: its g-term's temperature coefficient along the
+/// flipped axis (x 1 g) and that coefficient's spread from one power-up to the next, combined
+/// (sensor/params.hpp g_sens_tc_z, g_sens_tc_turn_on_sigma); 0 when the preset states neither.
+[[nodiscard]] double delta_n_tc_dps_per_c(const sensor::sensor_params& p) noexcept;
+
+/// Adds the temperature term for a run `outside_c` degC beyond the calibration runs' span
+/// (`lo_c`..`hi_c`) to `b`: delta_n_tc_dps_per_c x distance, combined with the new power-up's
+/// error; without a coefficient (no preset, or one that states none) the budget is marked not
+/// valid instead of printing a +- that does not cover the run.
+void add_temperature_term(delta_n_budget& b, double outside_c, double lo_c, double hi_c,
+                          const sensor::sensor_params* preset, const std::string& preset_name);
 
 /// The turn-on spread of dN a sensor model draws (sensor/params.hpp): the change of the g-term
 /// along the axis the rig turns upside down (1 g) and of its temperature coefficient, at `temp_c`:
@@ -57,5 +86,14 @@ struct g_spec {
   std::string source;
 };
 [[nodiscard]] std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name);
+
+/// The scale-factor tolerance a sensor's specification states (a fraction: 0.02 is +-2 %) and its
+/// source, for the presets whose datasheet gives one; nullopt otherwise (docs/FACTS.md §4).
+struct scale_factor_spec {
+  double fraction = 0.0;
+  std::string source;
+};
+[[nodiscard]] std::optional<scale_factor_spec> scale_factor_tolerance(
+    const std::string& preset_name);
 
 }  // namespace gyroflip::workflow

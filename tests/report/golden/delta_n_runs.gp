@@ -8,7 +8,7 @@ set tics nomirror out
 set key below left vertical maxrows 3 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set mxtics
 set mytics
-set title "ΔN per run\n3 runs: mean 0.4 °/s, std 0.01 °/s (pooled over 4.0–20.0 °C: see ΔN(T))" noenhanced
+set title "ΔN per run\n3 runs: mean 0.4 °/s, std 0.01 °/s" noenhanced
 set xlabel 'run' noenhanced
 set ylabel 'ΔN (°/s)' noenhanced
 set xtics 1
