@@ -404,13 +404,35 @@ result<std::vector<deviation_point>> deviation_of_phase(dev_kind k, std::span<co
   return deviation(k, x, input_kind::angle, tau0_s, taus, on_progress);
 }
 
+result<std::vector<deviation_point>> deviation(dev_kind k, const sample_source& samples,
+                                               input_kind in, double tau0_s, const tau_spec& taus,
+                                               const progress_fn& on_progress) {
+  // ADEV and HDEV of rate samples at octave factors: from block sums, without the phase. Where
+  // that does not apply (other factors, a sample or tau0 out of range) the phase path computes
+  // the curve or says what is wrong.
+  if (in == input_kind::rate && (k == dev_kind::adev || k == dev_kind::hdev)) {
+    const std::size_t n_phase = samples.size() + 1;
+    const auto factors = averaging_factors(taus, k, n_phase);
+    const std::size_t order = k == dev_kind::adev ? 2 : 3;
+    if (!factors.empty())
+      if (const auto sums =
+              detail::octave_block_sums(samples, tau0_s, order, factors, on_progress)) {
+        std::vector<raw_deviation> raw;
+        for (std::size_t i = 0; i < factors.size(); ++i)
+          raw.push_back(from_sum(k, (*sums)[i], n_phase, factors[i], tau0_s));
+        return collect(k, factors, raw, tau0_s);
+      }
+  }
+  const auto src = phase_source::make(samples, in, tau0_s);
+  if (!src) return src.err();
+  return deviation(k, *src, taus, on_progress);
+}
+
 result<std::vector<deviation_point>> deviation(dev_kind k, std::span<const double> data,
                                                input_kind in, double tau0_s, const tau_spec& taus,
                                                const progress_fn& on_progress) {
   const span_samples samples(data);
-  const auto src = phase_source::make(samples, in, tau0_s);
-  if (!src) return src.err();
-  return deviation(k, *src, taus, on_progress);
+  return deviation(k, samples, in, tau0_s, taus, on_progress);
 }
 
 result<std::vector<deviation_point>> oadev(std::span<const double> data, input_kind in,
