@@ -6,8 +6,9 @@ per-call overhead (a 1000-sample call). allantools is timed only when it can be 
 
 Usage: /usr/bin/python3 bench/python_vs_allantools.py [build/python] [sizes...] [--kinds=a,b,...]
        [--repeat=N]
-Prints one line per (kind, N): gyroflip wall and CPU ms (CPU of all threads), allantools wall ms
-(or "-"), the wall-time ratio. docs/PERFORMANCE.md."""
+Prints one line per (kind, N): gyroflip wall and CPU ms (CPU of all threads), allantools wall and
+CPU ms (or "-"), the wall-time and CPU-time ratios (on a loaded machine the CPU ratio is the steadier
+one: gyroflip's threads then wait for a core). docs/PERFORMANCE.md."""
 import os
 import sys
 import time
@@ -54,9 +55,9 @@ def main():
             g, g_cpu = best(lambda: getattr(ours, k)(y, data_type="freq", taus="octave"))
             a = None
             if theirs is not None and hasattr(theirs, k):
-                a, _ = best(lambda: getattr(theirs, k)(y, data_type="freq", taus="octave"))
-            ratio = f"{a / g:6.1f}x" if a else "     -"
-            at = f"{a * 1e3:9.2f} ms" if a else "        - "
+                a, a_cpu = best(lambda: getattr(theirs, k)(y, data_type="freq", taus="octave"))
+            ratio = f"{a / g:6.1f}x (cpu {a_cpu / g_cpu:5.1f}x)" if a else "     -"
+            at = f"{a * 1e3:9.2f} ms (cpu {a_cpu * 1e3:9.2f} ms)" if a else "        - "
             print(f"{k:8s} N={n:.0e}  gyroflip {g * 1e3:8.2f} ms (cpu {g_cpu * 1e3:8.2f} ms)  "
                   f"allantools {at}  {ratio}", flush=True)
 
