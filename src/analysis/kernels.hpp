@@ -68,6 +68,13 @@ inline double sum4(const double* p, std::size_t n) {
   return (a0 + a1) + (a2 + a3);
 }
 
+/// MDEV's steps delta_t = d_{t+m} - d_t = x3_t - 3 x2_t + 3 x1_t - x0_t over t < n, as
+/// (x3 - x0) - 3 (x2 - x1) (four operations), element by element (so the same bits at any width).
+GYROFLIP_KERNEL_CLONES inline void mdev_steps(const double* x0, const double* x1, const double* x2,
+                                              const double* x3, double* delta, std::size_t n) {
+  for (std::size_t t = 0; t < n; ++t) delta[t] = (x3[t] - x0[t]) - 3.0 * (x2[t] - x1[t]);
+}
+
 /// MDEV's slide (SP1065 eqn 14): the inner sum s_t over m second differences moves by
 /// delta_t = d_{t+m} - d_t per step. Returns sum_{t<n} s_t^2 with s_0 = `inner` and leaves s_n
 /// in `inner`. The chain runs as four lanes side by side over quarters of the block, each
