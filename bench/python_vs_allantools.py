@@ -4,21 +4,25 @@ same process on the same array (data_type="freq", taus="octave"), best of REPEAT
 per-call overhead (a 1000-sample call). allantools is timed only when it can be imported
 (PYTHONPATH); gyroflip never imports it otherwise.
 
-Usage: /usr/bin/python3 bench/python_vs_allantools.py [build/python] [sizes...] [--kinds a,b,...]
-Prints one line per (kind, N): gyroflip s, allantools s (or "-"), ratio. docs/PERFORMANCE.md."""
+Usage: /usr/bin/python3 bench/python_vs_allantools.py [build/python] [sizes...] [--kinds=a,b,...]
+       [--repeat=N]
+Prints one line per (kind, N): gyroflip wall and CPU ms (CPU of all threads), allantools wall and
+CPU ms (or "-"), the wall-time and CPU-time ratios (on a loaded machine the CPU ratio is the steadier
+one: gyroflip's threads then wait for a core). docs/PERFORMANCE.md."""
 import os
 import sys
 import time
 
-REPEAT = 3
+REPEAT = 5
 
 
 def best(f):
+    """(wall, cpu) seconds of the fastest of REPEAT calls (cpu: all threads of the process)."""
     t = []
     for _ in range(REPEAT):
-        start = time.perf_counter()
+        c0, start = time.process_time(), time.perf_counter()
         f()
-        t.append(time.perf_counter() - start)
+        t.append((time.perf_counter() - start, time.process_time() - c0))
     return min(t)
 
 
@@ -26,9 +30,12 @@ def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     kinds = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
              "htotdev", "theo1", "pdev", "mtie", "tierms"]
+    global REPEAT
     for a in sys.argv[1:]:
         if a.startswith("--kinds="):
             kinds = a.split("=", 1)[1].split(",")
+        if a.startswith("--repeat="):
+            REPEAT = int(a.split("=", 1)[1])
     pydir = args[0] if args else os.path.join(os.path.dirname(__file__), "..", "build", "python")
     sizes = [int(float(s)) for s in args[1:]] or [10 ** 6, 10 ** 7]
     sys.path.insert(0, pydir)
@@ -40,18 +47,19 @@ def main():
         theirs = None
     small = np.random.default_rng(2).normal(size=1000)
     for k in kinds:
-        t = best(lambda: getattr(ours, k)(small, data_type="freq", taus="octave"))
+        t, _ = best(lambda: getattr(ours, k)(small, data_type="freq", taus="octave"))
         print(f"overhead {k:8s} N=1e3   gyroflip {t * 1e3:8.3f} ms", flush=True)
     for n in sizes:
         y = np.random.default_rng(1).normal(size=n)
         for k in kinds:
-            g = best(lambda: getattr(ours, k)(y, data_type="freq", taus="octave"))
+            g, g_cpu = best(lambda: getattr(ours, k)(y, data_type="freq", taus="octave"))
             a = None
             if theirs is not None and hasattr(theirs, k):
-                a = best(lambda: getattr(theirs, k)(y, data_type="freq", taus="octave"))
-            ratio = f"{a / g:6.1f}x" if a else "     -"
-            at = f"{a:8.3f} s" if a else "       - "
-            print(f"{k:8s} N={n:.0e}  gyroflip {g:8.3f} s  allantools {at}  {ratio}", flush=True)
+                a, a_cpu = best(lambda: getattr(theirs, k)(y, data_type="freq", taus="octave"))
+            ratio = f"{a / g:6.1f}x (cpu {a_cpu / g_cpu:5.1f}x)" if a else "     -"
+            at = f"{a * 1e3:9.2f} ms (cpu {a_cpu * 1e3:9.2f} ms)" if a else "        - "
+            print(f"{k:8s} N={n:.0e}  gyroflip {g * 1e3:8.2f} ms (cpu {g_cpu * 1e3:8.2f} ms)  "
+                  f"allantools {at}  {ratio}", flush=True)
 
 
 if __name__ == "__main__":

@@ -401,7 +401,7 @@ int run_adev(const adev_options& o) {
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
   // The validator (cli.cpp) let through only "none" or a number in (0, 1). Kinds without an EDF
-  // (HTOTDEV, Theo1, PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
+  // (Theo1, PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
   const std::optional<double> level = o.ci == "none" || !analysis::has_edf(*kind)
                                           ? std::nullopt
                                           : std::optional<double>(std::stod(o.ci));

@@ -194,6 +194,39 @@ def test_extended_kinds_match_stable32(kind, table, vectors):
         np.testing.assert_allclose(d.tau_s, 0.75 * taus)
 
 
+def read_rows_ci(path):
+    """(af, alpha, lo, sigma, hi) of a Stable32 table with bounds, `#`-commented rows included."""
+    out = []
+    with open(path) as f:
+        for line in f:
+            t = line.lstrip("# ").split()
+            if len(t) == 7 and t[0].isdigit():
+                out.append((int(t[0]), int(t[3]), float(t[4]), float(t[5]), float(t[6])))
+    return out
+
+
+@pytest.mark.parametrize("kind,table,bias", [
+    ("mtotdev", "phase_dat_mtotdev_octave.txt", False),
+    ("mtotdev", "phase_dat_mtotdev_decade.txt", False),
+    ("ttotdev", "phase_dat_ttotdev_octave.txt", False),
+    ("htotdev", "phase_dat_htotdev_octave.txt", True),
+])
+def test_total_family_bounds_as_stable32(kind, table, bias, vectors):
+    """Issue 23: deviation()'s bounds of the total family are Stable32's to 1e-3 wherever the
+    identified noise type is its own (every row here), but HTOTDEV with flicker PM (m = 128, 256;
+    docs/ANALYSIS.md, "Intervals of the total family")."""
+    x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
+    rows = read_rows_ci(os.path.join(vectors, "stable32/phasedat", table))
+    d = gyroflip.deviation(x, kind, rate=1.0, input="angle", taus=[r[0] for r in rows], ci=0.683,
+                           bias_correction=bias)
+    np.testing.assert_array_equal(d.alpha, [r[1] for r in rows])
+    keep = ~((d.alpha == 1) & (kind == "htotdev"))
+    assert np.count_nonzero(keep) >= 7
+    np.testing.assert_allclose(d.dev, [r[3] for r in rows], rtol=1e-4)
+    np.testing.assert_allclose(d.ci_lo[keep], np.array([r[2] for r in rows])[keep], rtol=1e-3)
+    np.testing.assert_allclose(d.ci_hi[keep], np.array([r[4] for r in rows])[keep], rtol=1e-3)
+
+
 def test_htotdev_bias_correction_matches_stable32(vectors):
     x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
     rows = read_rows_any(os.path.join(vectors, "stable32/phasedat/phase_dat_htotdev_octave.txt"))

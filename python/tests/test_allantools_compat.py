@@ -264,3 +264,26 @@ def test_psd_conversions():
     taus2, ad2 = at.psd2allan(np.full(20001, 2e-20), 0.001)
     mid = (taus2 > 1) & (taus2 < 100)
     np.testing.assert_allclose(ad2[mid], np.sqrt(2e-20 / (2 * taus2[mid])), rtol=0.05)
+
+
+def test_total_family_errors_and_counts_as_allantools():
+    """allantools 2024.06's mtotdev, ttotdev and htotdev return errs = devs / sqrt(ns) (its own
+    docstrings call them rough estimates; no EDF) with ns the number of terms: N - 3m + 1 for
+    MTOTDEV and TTOTDEV on N phase points, Nf - 3m + 1 for HTOTDEV on Nf frequency points (OHDEV's
+    N - 3m at m = 1); taus only up to a third of the points. edf_mtotdev stays SP1065 Table 8."""
+    x = np.cumsum(np.random.default_rng(7).normal(size=1001))  # white FM phase
+    n = len(x)
+    for f in (at.mtotdev, at.ttotdev):
+        t, d, e, ns = f(x, rate=1.0, taus="octave")
+        np.testing.assert_array_equal(ns, n - 3 * t + 1)
+        np.testing.assert_allclose(e, d / np.sqrt(ns), rtol=1e-15)
+        assert t.max() <= n / 3
+    t, d, e, ns = at.htotdev(x, rate=1.0, taus="octave")
+    nf = n - 1
+    np.testing.assert_array_equal(ns, np.where(t == 1, n - 3, nf - 3 * t + 1))
+    np.testing.assert_allclose(e, d / np.sqrt(ns), rtol=1e-15)
+    assert t.max() <= nf / 3
+    _, td, te, tn = at.ttotdev(x, rate=1.0, taus=[4.0])
+    _, md, _, _ = at.mtotdev(x, rate=1.0, taus=[4.0])
+    np.testing.assert_allclose(td, 4.0 * md / np.sqrt(3.0), rtol=1e-12)
+    assert at.edf_mtotdev(1001, 100, 1) == pytest.approx(1.2 * 10.01 - 1.4)

@@ -356,6 +356,70 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
   return ids;
 }
 
+// SP1065 Table 5 (NIST TN 1337 Table 12-4): the simple OADEV EDF for N phase points, alpha 2 ..
+// -2 (alpha below -2 as -2). Stable32 uses it for the Hadamard total deviation where Howe's fit
+// does not apply (docs/ANALYSIS.md, "Intervals of the total family").
+double edf_table5(int alpha, std::size_t m_int, std::size_t n_phase) {
+  const auto n = static_cast<double>(n_phase);
+  const auto m = static_cast<double>(m_int);
+  switch (std::clamp(alpha, -2, 2)) {
+    case 2:
+      return (n + 1.0) * (n - 2.0 * m) / (2.0 * (n - m));
+    case 1: {
+      const double a = std::log((n - 1.0) / (2.0 * m));
+      const double b = std::log((2.0 * m + 1.0) * (n - 1.0) / 4.0);
+      return a > 0.0 && b > 0.0 ? std::exp(std::sqrt(a * b)) : 0.0;
+    }
+    case 0:
+      return (3.0 * (n - 1.0) / (2.0 * m) - 2.0 * (n - 2.0) / n) * 4.0 * m * m /
+             (4.0 * m * m + 5.0);
+    case -1:
+      return m == 1.0 ? 2.0 * (n - 2.0) * (n - 2.0) / (2.3 * n - 4.9)
+                      : 5.0 * n * n / (4.0 * m * (n + 3.0 * m));
+    default:
+      return (n - 2.0) / (m * (n - 3.0) * (n - 3.0)) *
+             ((n - 1.0) * (n - 1.0) - 3.0 * m * (n - 1.0) + 4.0 * m * m);
+  }
+}
+
+// MTOTDEV/TTOTDEV as Stable32 computes them: up to m = 8 the MDEV EDF (Greenhall & Riley); beyond,
+// b (T/tau) - c with T/tau = N/m (N phase points) and D. A. Howe's revised coefficients of
+// 2000-05-20 (WPM 2.16, 2.28; FPM 1.73, 2.99; WFM 1.33, 1.89; FFM 0.92, 0.76; RWFM 0.79, 0.37),
+// which replaced SP1065 Table 8's (1.90, 2.1 ... 0.75, 0.31) in Stable32 (W. J. Riley's EDF
+// functions for Stable32, ModTotvarEDF). At least 1. PHASE.DAT: bounds within 5.2e-4 of
+// Stable32 1.60's (docs/ANALYSIS.md).
+constexpr std::size_t mtot_greenhall_max_m = 8;
+
+double edf_modified_total(int alpha, std::size_t m, std::size_t n_phase) {
+  if (m <= mtot_greenhall_max_m) return edf_greenhall(alpha, 2, m, n_phase, true, true);
+  constexpr double b[5] = {2.16, 1.73, 1.33, 0.92, 0.79};  // alpha 2 .. -2
+  constexpr double c[5] = {2.28, 2.99, 1.89, 0.76, 0.37};
+  const auto row = static_cast<std::size_t>(2 - std::clamp(alpha, -2, 2));
+  const double e = b[row] * static_cast<double>(n_phase) / static_cast<double>(m) - c[row];
+  return e > 1.0 ? e : 1.0;
+}
+
+// HTOTDEV as Stable32 computes it: for frequency noise (alpha <= 0) from m = 16 on, Howe et al.'s
+// fit (T/tau) / (b0 + b1 tau/T), T/tau = N/m ("A total estimator of the Hadamard function used
+// for GPS operations", PTTI 2000: WFM 0.559, 1.004; FFM 0.868, 1.140; RWFM 0.938, 1.696; FWFM
+// 0.974, 2.554; RRFM 1.276, 3.149); otherwise (shorter taus, phase noise) SP1065 Table 5's
+// overlapping-Allan EDF, as Stable32's HTOT code does. At least 1.
+constexpr std::size_t htot_fit_min_m = 16;
+
+double edf_hadamard_total(int alpha, std::size_t m, std::size_t n_phase) {
+  double e = 0.0;
+  if (alpha <= 0 && m >= htot_fit_min_m) {
+    constexpr double b0[5] = {0.559, 0.868, 0.938, 0.974, 1.276};  // alpha 0 .. -4
+    constexpr double b1[5] = {1.004, 1.140, 1.696, 2.554, 3.149};
+    const auto row = static_cast<std::size_t>(-std::clamp(alpha, -4, 0));
+    const double ratio = static_cast<double>(n_phase) / static_cast<double>(m);
+    e = ratio / (b0[row] + b1[row] / ratio);
+  } else {
+    e = edf_table5(alpha, m, n_phase);
+  }
+  return e > 1.0 ? e : 1.0;
+}
+
 // TOTDEV's EDF (SP1065 section 5.2.11): Table 11's b (T/tau) - c for white, flicker and random-walk
 // FM (T/tau = (N-1)/m); Table 5's flicker-PM formula exp(sqrt(ln((N-1)/(2m)) ln((2m+1)(N-1)/4)))
 // with alpha = 1 and the OADEV EDF with white PM, which is what Stable32 prints (GPS set: 6e-4).
@@ -373,9 +437,7 @@ double edf_totdev(int alpha, std::size_t m, std::size_t n_phase) {
   } else if (alpha <= -2) {
     e = 0.927 * t_over_tau - 0.358;
   } else if (alpha == 1) {
-    const double a = std::log(span / (2.0 * mm));
-    const double b = std::log((2.0 * mm + 1.0) * span / 4.0);
-    e = a > 0.0 && b > 0.0 ? std::exp(std::sqrt(a * b)) : 0.0;
+    e = edf_table5(1, m, n_phase);
   } else {
     e = edf_greenhall(alpha, 2, m, n_phase, true, false);
   }
@@ -465,21 +527,18 @@ double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
     case dev_kind::totdev:
       return edf_totdev(alpha, m, n_phase);
     case dev_kind::mtotdev:
-    case dev_kind::ttotdev: {
-      // SP1065 Table 8, rows alpha = 2, 1, 0, -1, -2.
-      constexpr double b[5] = {1.90, 1.20, 1.10, 0.85, 0.75};
-      constexpr double c[5] = {2.1, 1.40, 1.2, 0.50, 0.31};
-      const auto row = static_cast<std::size_t>(2 - std::clamp(alpha, -2, 2));
-      const double e = b[row] * static_cast<double>(n_phase - 1) / static_cast<double>(m) - c[row];
-      return e > 1.0 ? e : 1.0;
-    }
+    case dev_kind::ttotdev:
+      return edf_modified_total(alpha, m, n_phase);
+    case dev_kind::htotdev:
+      return edf_hadamard_total(alpha, m, n_phase);
     default:
       return 0.0;
   }
 }
 
 bool has_edf(dev_kind k) noexcept {
-  return !is_extended(k) || k == dev_kind::mtotdev || k == dev_kind::ttotdev;
+  return !is_extended(k) || k == dev_kind::mtotdev || k == dev_kind::ttotdev ||
+         k == dev_kind::htotdev;
 }
 
 void correct_total_bias(std::vector<deviation_point>& points, dev_kind k) {

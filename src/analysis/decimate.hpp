@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "gyroflip/analysis/phase_source.hpp"
@@ -25,6 +26,21 @@ inline std::size_t decimated_terms(std::size_t n_phase, std::size_t m, std::size
 [[nodiscard]] std::vector<long double> decimated_sums(const phase_source& x, std::size_t order,
                                                       const std::vector<std::size_t>& factors,
                                                       const progress_fn& on_progress);
+
+/// As decimated_sums, for rate samples y and factors that are all powers of two, without the
+/// phase: x_{(k+1)m} - x_{km} = tau0 (S_k - m ybar) with S_k the sum of block k of m samples, so
+/// the order-th difference of the decimated phase is tau0 times the (order-1)-th difference of
+/// the block sums, and the mean cancels (docs/ANALYSIS.md, "ADEV and HDEV of rate samples from
+/// block sums"). One read of the samples, in chunks on all cores, builds the pyramid of octave
+/// block sums (each level the pairwise sums of the one below, of y - c with c the mean of the
+/// first 1024 samples, so the sums stay small) and sums every level's squared differences; the
+/// levels of 1024 samples and more are kept whole (M/512 doubles) and finished after the pass.
+/// Sums in double per 4096 terms, added in long double in chunk order (thread-independent).
+/// nullopt (nothing computed) when a factor is not a power of two, tau0 or a sample is outside
+/// phase_source's limits (a non-finite sample among them): phase_source::make then says why.
+[[nodiscard]] std::optional<std::vector<long double>> octave_block_sums(
+    const sample_source& y, double tau0_s, std::size_t order,
+    const std::vector<std::size_t>& factors, const progress_fn& on_progress);
 
 /// For every factor m: z_0, z_1, ... (the first min(cap, (N-1)/m + 1) points), all collected in
 /// one pass over the phase. Holds sum over factors of that many doubles.

@@ -11,9 +11,10 @@
 
 namespace gyroflip::analysis::detail {
 
-/// Sum over t < n of f(t)^2 with four accumulators (t mod 4), the rest into the first.
+/// Sum over t < n of f(t)^2 with four accumulators (t mod 4), the rest into the first. Always
+/// inlined, so that it is compiled for its caller's target (the kernels' AVX2 clones below).
 template <class F>
-double sum_squares(std::size_t n, F f) {
+[[gnu::always_inline]] inline double sum_squares(std::size_t n, F f) {
   double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
   std::size_t t = 0;
   for (; t + 4 <= n; t += 4) {
@@ -30,16 +31,26 @@ double sum_squares(std::size_t n, F f) {
   return (a0 + a1) + (a2 + a3);
 }
 
+// The two difference kernels are compiled twice on x86-64 (SSE2 and AVX2, picked at load time by
+// the CPU): twice the lanes where the CPU has them. The four accumulators stay four lanes either
+// way and -ffp-contract=off keeps multiplies and adds apart, so the sums are bit-identical.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define GYROFLIP_KERNEL_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define GYROFLIP_KERNEL_CLONES
+#endif
+
 /// Sum of squared second differences x2_t - 2 x1_t + x0_t over t < n (NIST SP1065 eqn 11 terms;
 /// x_j points at x_{i + j m}).
-inline double sum_second_differences(const double* x0, const double* x1, const double* x2,
-                                     std::size_t n) {
+GYROFLIP_KERNEL_CLONES inline double sum_second_differences(const double* x0, const double* x1,
+                                                            const double* x2, std::size_t n) {
   return sum_squares(n, [=](std::size_t t) { return x2[t] - 2.0 * x1[t] + x0[t]; });
 }
 
 /// Sum of squared third differences x3_t - 3 x2_t + 3 x1_t - x0_t over t < n (SP1065 eqn 18).
-inline double sum_third_differences(const double* x0, const double* x1, const double* x2,
-                                    const double* x3, std::size_t n) {
+GYROFLIP_KERNEL_CLONES inline double sum_third_differences(const double* x0, const double* x1,
+                                                           const double* x2, const double* x3,
+                                                           std::size_t n) {
   return sum_squares(n, [=](std::size_t t) { return x3[t] - 3.0 * x2[t] + 3.0 * x1[t] - x0[t]; });
 }
 
@@ -55,6 +66,13 @@ inline double sum4(const double* p, std::size_t n) {
   }
   for (; t < n; ++t) a0 += p[t];
   return (a0 + a1) + (a2 + a3);
+}
+
+/// MDEV's steps delta_t = d_{t+m} - d_t = x3_t - 3 x2_t + 3 x1_t - x0_t over t < n, as
+/// (x3 - x0) - 3 (x2 - x1) (four operations), element by element (so the same bits at any width).
+GYROFLIP_KERNEL_CLONES inline void mdev_steps(const double* x0, const double* x1, const double* x2,
+                                              const double* x3, double* delta, std::size_t n) {
+  for (std::size_t t = 0; t < n; ++t) delta[t] = (x3[t] - x0[t]) - 3.0 * (x2[t] - x1[t]);
 }
 
 /// MDEV's slide (SP1065 eqn 14): the inner sum s_t over m second differences moves by

@@ -380,12 +380,9 @@ void mdev_chunk(const phase_source& x, const plan& p, stream_set& ss, index c0, 
       const auto steps =
           static_cast<std::size_t>(std::min<index>(static_cast<index>(n), hi - 1 - b));
       if (steps > 0) {
-        const double* x0 = ss.at(f, 0, b);
-        const double* x1 = ss.at(f, 1, b);
-        const double* x2 = ss.at(f, 2, b);
-        const double* x3 = ss.at(f, 3, b);
-        // d_{j+m} - d_j = x_{j+3m} - 3x_{j+2m} + 3x_{j+m} - x_j, in four operations.
-        for (std::size_t t = 0; t < steps; ++t) delta[t] = (x3[t] - x0[t]) - 3.0 * (x2[t] - x1[t]);
+        // d_{j+m} - d_j = x_{j+3m} - 3x_{j+2m} + 3x_{j+m} - x_j.
+        mdev_steps(ss.at(f, 0, b), ss.at(f, 1, b), ss.at(f, 2, b), ss.at(f, 3, b), delta.data(),
+                   steps);
       }
       std::fill(delta.begin() + static_cast<index>(steps), delta.begin() + static_cast<index>(n),
                 0.0);

@@ -207,3 +207,73 @@ TEST(Allan, LongSeriesWithLargeOffsetStaysAccurate) {
 
 }  // namespace
 }  // namespace gyroflip::analysis
+
+namespace gyroflip::analysis {
+namespace {
+
+// ADEV and HDEV of rate samples at octave factors come from block sums of the samples (one read,
+// no phase; docs/ANALYSIS.md "ADEV and HDEV of rate samples from block sums"). Against a direct
+// long-double reference of the same statistic (block sums S_k of m samples, (order-1)-th
+// differences of S; tau0 cancels), and against the phase path (a phase_source, as the intervals
+// use), on white and random-walk rate noise, on lengths around the 2^18-sample work items and below
+// one item.
+TEST(Allan, OctaveAdevHdevFromBlockSums) {
+  std::uint64_t st = 11;
+  const auto uniform = [&st] {
+    st = st * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(st >> 11) * 0x1.0p-53 - 0.5;
+  };
+  for (const std::size_t n : {std::size_t{7}, std::size_t{4097}, (std::size_t{1} << 18) - 1,
+                              (std::size_t{1} << 18) + 1, 3 * (std::size_t{1} << 18) + 5}) {
+    for (const bool walk : {false, true}) {
+      std::vector<double> y(n);
+      double level = 0.0;
+      for (auto& v : y) {
+        level = walk ? level + uniform() : 5.0 + uniform();
+        v = level;
+      }
+      const span_samples samples(y);
+      const auto phase = *phase_source::make(samples, input_kind::rate, 0.5);
+      for (const dev_kind k : {dev_kind::adev, dev_kind::hdev}) {
+        const std::size_t order = k == dev_kind::adev ? 2 : 3;
+        const auto fast = *deviation(k, samples, input_kind::rate, 0.5, {});
+        const auto slow = *deviation(k, phase, {});
+        ASSERT_EQ(fast.size(), slow.size()) << n;
+        for (std::size_t i = 0; i < fast.size(); ++i) {
+          const std::size_t m = fast[i].m;
+          ASSERT_EQ(m, slow[i].m);
+          EXPECT_EQ(fast[i].n, slow[i].n) << n << " m " << m;
+          // The phase path's own rounding on a random walk reaches 1e-11 (its phase grows as
+          // N^1.5); the block sums match the long-double reference to 1e-13 either way.
+          EXPECT_NEAR(fast[i].dev / slow[i].dev, 1.0, walk ? 1e-10 : 1e-12) << n << " m " << m;
+          std::vector<long double> s(n / m, 0.0L);
+          for (std::size_t j = 0; j < s.size() * m; ++j) s[j / m] += static_cast<long double>(y[j]);
+          long double sum = 0.0L;
+          for (std::size_t j = 0; j + order <= s.size(); ++j) {
+            const long double d = order == 2 ? s[j + 1] - s[j] : s[j + 2] - 2.0L * s[j + 1] + s[j];
+            sum += d * d;
+          }
+          const auto terms = static_cast<long double>(s.size() + 1 - order);
+          const long double c = order == 2 ? 2.0L : 6.0L;
+          const auto ref =
+              static_cast<double>(std::sqrt(sum / (c * static_cast<long double>(m * m) * terms)));
+          EXPECT_NEAR(fast[i].dev / ref, 1.0, 1e-13) << n << " m " << m << (walk ? " walk" : "");
+        }
+      }
+    }
+  }
+  // A non-finite sample is named as before (the phase path reports it); a factor that is not a
+  // power of two takes the phase path.
+  std::vector<double> y(5000, 1.0);
+  y[4321] = NAN;
+  const auto bad = deviation(dev_kind::adev, y, input_kind::rate, 1.0, {});
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.err().message.find("sample 4321 (0-based) is not finite"), std::string::npos);
+  y[4321] = 2.0;
+  const auto mixed = *deviation(dev_kind::hdev, y, input_kind::rate, 1.0, *parse_tau_spec("3,4"));
+  ASSERT_EQ(mixed.size(), 2u);
+  EXPECT_EQ(mixed[0].m, 3u);
+}
+
+}  // namespace
+}  // namespace gyroflip::analysis

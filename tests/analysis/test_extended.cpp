@@ -277,16 +277,23 @@ std::vector<double> phase_dat() {
   return test::read_values(phasedat + "PHASE.DAT");
 }
 
+// Our curve of kind k on PHASE.DAT at the factors of a table's rows, with 68.3 % bounds.
+std::vector<deviation_point> curve_at(const std::vector<double>& x, const std::vector<row>& rows,
+                                      dev_kind k) {
+  tau_spec spec{tau_spec::set::list, {}};
+  for (const auto& r : rows) spec.factors.push_back(r.af);
+  auto pts = *deviation(k, x, input_kind::angle, 1.0, spec);
+  add_confidence(pts, k, x, 0.683);
+  return pts;
+}
+
 // Our curve of kind k at the table's factors; values to 1e-4, "#" exact, tau as printed.
 std::vector<deviation_point> check_values(const std::string& name, dev_kind k,
                                           bool bias_corrected = false) {
   const auto x = phase_dat();
   const auto rows = table(name);
   EXPECT_FALSE(rows.empty()) << name;
-  tau_spec spec{tau_spec::set::list, {}};
-  for (const auto& r : rows) spec.factors.push_back(r.af);
-  auto pts = *deviation(k, x, input_kind::angle, 1.0, spec);
-  add_confidence(pts, k, x, 0.683);
+  auto pts = curve_at(x, rows, k);
   if (bias_corrected) {
     // Stable32's correction by its own noise type (its alpha column).
     for (std::size_t i = 0; i < pts.size() && i < rows.size(); ++i) pts[i].alpha = rows[i].alpha;
@@ -367,18 +374,72 @@ TEST(ExtendedStable32, PublishedNbs14Values) {
   EXPECT_NEAR(fast(dev_kind::ttotdev, x10, 2) / 74.818, 1.0, 5e-5);
 }
 
-// MTOTDEV/TTOTDEV bounds: SP1065 Table 8's EDF. Stable32 1.60 prints other bounds; they differ by
-// at most this much on PHASE.DAT (measured; docs/ANALYSIS.md).
-TEST(ExtendedStable32, ModifiedTotalBoundsFromSp1065Table8) {
+// Bounds of the total family as Stable32 computes them (docs/ANALYSIS.md, "Intervals of the total
+// family"). With Stable32's own noise type (the table's alpha column), our EDF's chi-squared bounds
+// of the printed deviation are within 1e-3 of the printed bounds at every row but HTOTDEV's two
+// flicker-PM rows (m = 128, 256: Stable32's model there is not known; 2.6e-3 and 1.4e-2). Through
+// add_confidence (our own noise identification), the same wherever our alpha is Stable32's.
+void check_bounds(const std::string& name, dev_kind k, bool bias_corrected) {
   const auto x = phase_dat();
-  const auto rows = table("phase_dat_mtotdev_octave.txt");
-  const auto pts = check_values("phase_dat_mtotdev_octave.txt", dev_kind::mtotdev);
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    EXPECT_LT(pts[i].ci_lo, pts[i].dev);
-    EXPECT_GT(pts[i].ci_hi, pts[i].dev);
-    EXPECT_NEAR(pts[i].ci_lo / rows[i].lo, 1.0, 0.06) << rows[i].af;
-    EXPECT_NEAR(pts[i].ci_hi / rows[i].hi, 1.0, 0.12) << rows[i].af;
+  const auto rows = table(name);
+  ASSERT_FALSE(rows.empty()) << name;
+  auto ours = curve_at(x, rows, k);
+  if (bias_corrected) correct_total_bias(ours, k);
+  ASSERT_EQ(ours.size(), rows.size()) << name;
+  const double p_lo = 0.5 * (1.0 - 0.683);
+  std::size_t agreeing = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    ASSERT_TRUE(r.with_ci) << name << " AF " << r.af;
+    const double e = edf(k, r.alpha, r.af, x.size());
+    const double lo = r.sigma * std::sqrt(e / chi2_quantile(1.0 - p_lo, e));
+    const double hi = r.sigma * std::sqrt(e / chi2_quantile(p_lo, e));
+    const bool flicker_pm_htot = k == dev_kind::htotdev && r.alpha == 1;
+    const double tol = flicker_pm_htot ? 1.5e-2 : 1e-3;
+    EXPECT_NEAR(lo / r.lo, 1.0, tol) << name << " AF " << r.af << " edf " << e;
+    EXPECT_NEAR(hi / r.hi, 1.0, tol) << name << " AF " << r.af << " edf " << e;
+    if (ours[i].alpha == r.alpha && !flicker_pm_htot) {
+      ++agreeing;
+      EXPECT_NEAR(ours[i].ci_lo / r.lo, 1.0, 1e-3) << name << " AF " << r.af;
+      EXPECT_NEAR(ours[i].ci_hi / r.hi, 1.0, 1e-3) << name << " AF " << r.af;
+    }
   }
+  // Our identification agrees with Stable32's at most taus of these tables (not on the table
+  // whose white PM Stable32 was told, not found).
+  if (name.find("nobias") == std::string::npos) {
+    EXPECT_GE(agreeing, rows.size() - 3) << name;
+  }
+}
+
+TEST(ExtendedStable32, ModifiedAndTimeTotalBoundsAsStable32) {
+  check_bounds("phase_dat_mtotdev_octave.txt", dev_kind::mtotdev, false);
+  check_bounds("phase_dat_mtotdev_decade.txt", dev_kind::mtotdev, false);
+  check_bounds("phase_dat_ttotdev_octave.txt", dev_kind::ttotdev, false);
+}
+
+TEST(ExtendedStable32, HadamardTotalBoundsAsStable32) {
+  check_bounds("phase_dat_htotdev_octave.txt", dev_kind::htotdev, true);
+  check_bounds("phase_dat_htotdev_octave_nobias.txt", dev_kind::htotdev, false);
+}
+
+// The rules behind those bounds, where they change: MTOTDEV takes the MDEV EDF up to m = 8 and
+// Howe's fit 1.33 N/m - 1.89 (white FM) beyond; HTOTDEV takes SP1065 Table 5 below m = 16 and for
+// phase noise, Howe et al.'s fit from m = 16 on.
+TEST(ExtendedStable32, TotalFamilyEdfRules) {
+  const std::size_t n = 1001;
+  EXPECT_DOUBLE_EQ(edf(dev_kind::mtotdev, 0, 8, n), edf(dev_kind::mdev, 0, 8, n));
+  EXPECT_DOUBLE_EQ(edf(dev_kind::ttotdev, 0, 8, n), edf(dev_kind::mdev, 0, 8, n));
+  EXPECT_NEAR(edf(dev_kind::mtotdev, 0, 10, n), 1.33 * 100.1 - 1.89, 1e-12);
+  EXPECT_NEAR(edf(dev_kind::mtotdev, 2, 100, n), 2.16 * 10.01 - 2.28, 1e-12);
+  EXPECT_NEAR(edf(dev_kind::mtotdev, -2, 100, n), 0.79 * 10.01 - 0.37, 1e-12);
+  EXPECT_DOUBLE_EQ(edf(dev_kind::mtotdev, 0, 1000, n), 1.0);  // at least 1
+  // Table 5's white FM at m = 8: (3 (N - 1)/(2m) - 2 (N - 2)/N) 4m^2/(4m^2 + 5).
+  EXPECT_NEAR(edf(dev_kind::htotdev, 0, 8, n), (1500.0 / 8 - 2.0 * 999 / 1001) * 256 / 261, 1e-9);
+  EXPECT_NEAR(edf(dev_kind::htotdev, 0, 16, n), (1001.0 / 16) / (0.559 + 1.004 * 16 / 1001), 1e-9);
+  EXPECT_NEAR(edf(dev_kind::htotdev, -4, 32, n), (1001.0 / 32) / (1.276 + 3.149 * 32 / 1001), 1e-9);
+  EXPECT_NEAR(edf(dev_kind::htotdev, 2, 64, n), 1002.0 * (1001 - 128) / (2.0 * (1001 - 64)), 1e-9);
+  EXPECT_TRUE(has_edf(dev_kind::htotdev));
+  EXPECT_FALSE(has_edf(dev_kind::theo1));
 }
 
 // ---- bad input -------------------------------------------------------------------------------

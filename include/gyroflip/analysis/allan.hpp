@@ -147,6 +147,17 @@ struct raw_deviation {
                                                              const tau_spec& taus,
                                                              const progress_fn& on_progress = {});
 
+/// The whole curve of statistic `k` on `samples`, for callers that need no phase afterwards (no
+/// confidence intervals): as deviation() on phase_source::make(samples, in, tau0_s), but ADEV and
+/// HDEV of rate samples at factors that are all powers of two come from one read of the samples
+/// (block sums: decimate.hpp, octave_block_sums; docs/ANALYSIS.md) instead of the phase tables'
+/// two reads and a sweep; equal to the phase path to ~1e-13 relative. Errors as deviation().
+[[nodiscard]] result<std::vector<deviation_point>> deviation(dev_kind k,
+                                                             const sample_source& samples,
+                                                             input_kind in, double tau0_s,
+                                                             const tau_spec& taus,
+                                                             const progress_fn& on_progress = {});
+
 /// As `deviation`, on a phase series already built (deg; from phase_from_rate for rate data).
 [[nodiscard]] result<std::vector<deviation_point>> deviation_of_phase(
     dev_kind k, std::span<const double> x, double tau0_s, const tau_spec& taus,

@@ -39,17 +39,22 @@ namespace gyroflip::analysis {
 /// the SP1065 Table 5 flicker-PM formula with alpha = 1 and the OADEV EDF with white PM (as
 /// Stable32: its bounds agree to 6e-4 on the GPS set); beyond m = (N-1)/2, where those fits are
 /// not defined, at least 1.
-/// MTOTDEV and TTOTDEV: SP1065 Table 8's fit b (T/tau) - c (WPM 1.90, 2.1; FPM 1.20, 1.40; WFM
-/// 1.10, 1.2; FFM 0.85, 0.50; RWFM 0.75, 0.31), at least 1. Stable32 1.60 prints other bounds
-/// (docs/ANALYSIS.md). 0 for the kinds without an EDF (has_edf).
+/// MTOTDEV and TTOTDEV, as Stable32: the MDEV EDF up to m = 8, beyond it b (N/m) - c with
+/// D. A. Howe's revised coefficients (WPM 2.16, 2.28; FPM 1.73, 2.99; WFM 1.33, 1.89; FFM 0.92,
+/// 0.76; RWFM 0.79, 0.37), which replaced SP1065 Table 8's in Stable32. HTOTDEV, as Stable32: for
+/// alpha <= 0 from m = 16 on, Howe et al.'s (N/m) / (b0 + b1 m/N) (PTTI 2000; WFM 0.559, 1.004 ...
+/// RRFM 1.276, 3.149), otherwise SP1065 Table 5's OADEV EDF. All at least 1; on PHASE.DAT the
+/// bounds are within 6.5e-4 of Stable32 1.60's wherever the noise type agrees, except HTOTDEV
+/// with flicker PM (docs/ANALYSIS.md, "Intervals of the total family"). 0 for the kinds without
+/// an EDF (has_edf).
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
 /// The rule for a confidence level (`--ci`, Python's `ci`): a probability in (0, 1). Error
 /// (parameter `level`) otherwise.
 [[nodiscard]] status check_confidence_level(double level);
 
-/// Whether `edf` gives kind k an EDF (and so bounds): every kind but HTOTDEV, Theo1, PDEV, MTIE
-/// and TIE rms, for which SP1065 gives none that could be checked here.
+/// Whether `edf` gives kind k an EDF (and so bounds): every kind but Theo1, PDEV, MTIE and TIE
+/// rms, for which no EDF could be checked against a published table here.
 [[nodiscard]] bool has_edf(dev_kind k) noexcept;
 
 /// Stable32's bias correction of the total deviations, by the noise type identified at each point

@@ -47,6 +47,14 @@ def _rate(rate):
     return r
 
 
+def _length(n):
+    """A read-only array of n zeros that holds no memory (stride 0): tau_generator needs only the
+    length. np.empty(n) cost 3.5 ms of CPU per 1e6-sample OADEV call (10.6 -> 7.1 ms): its 8 MB,
+    freed again, made the core's own buffers come back as fresh pages (2 165 page faults a call,
+    19 without)."""
+    return np.broadcast_to(np.float64(0.0), (int(n),))
+
+
 def _column(data):
     """data as a 1-D float64 array: (N,) or (N, 1)."""
     a = np.asarray(data, dtype=np.float64)
@@ -184,7 +192,7 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
     limit = -1 if maximum_m is None else maximum_m(n_gen)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NoValidTau)
-        _, m, t = tau_generator(np.empty(n_gen), rate, taus, even=even, maximum_m=limit)
+        _, m, t = tau_generator(_length(n_gen), rate, taus, even=even, maximum_m=limit)
     dtype = t.dtype
     if m.size == 0 or n_phase < 3:
         raise NoValidTau(f"no averaging time fits {n_phase} phase points for taus {taus!r}")
@@ -272,7 +280,7 @@ def _factor_list(n_phase, rate, taus):
     """The averaging factors (ints) of `taus` for n_phase points; NoValidTau when none fits."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NoValidTau)
-        _, m, _ = tau_generator(np.empty(n_phase), rate, taus)
+        _, m, _ = tau_generator(_length(n_phase), rate, taus)
     if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} points for taus {taus!r}")
     return [int(v) for v in m]
