@@ -88,6 +88,17 @@ result<delta_n_source> delta_n_of_json(std::string_view text, const std::string&
   return of_record(std::move(*rec), name);
 }
 
+std::string outside_model_warning(std::string_view file, const compensation& c,
+                                  const method::delta_n_model& model) {
+  const std::size_t n = c.cycles.size();
+  return fmt::format(
+      "{}: {} cycles lie outside the dN(T) model's {:.1f}–{:.1f} °C: ΔN was "
+      "extrapolated",
+      file,
+      c.outside_model == n ? fmt::format("all {}", n) : fmt::format("{} of {}", c.outside_model, n),
+      model.temp_min_c, model.temp_max_c);
+}
+
 result<compensation> compensate_cycles(std::span<const method::cycle> cycles,
                                        const method::delta_n_model& model, double drift_window_s,
                                        std::string_view what) {
@@ -98,7 +109,7 @@ result<compensation> compensate_cycles(std::span<const method::cycle> cycles,
     out.cycles.push_back(method::compensate(c, model));
     if (model.degree() > 0 &&
         (c.temp_c < model.temp_min_c - 1.0 || c.temp_c > model.temp_max_c + 1.0))
-      out.outside_model = true;
+      ++out.outside_model;
   }
   out.summary = method::summarize(out.cycles, drift_window_s);
   if (auto s = io::check_finite(out.cycles, out.summary, what); !s) return s.err();
@@ -126,10 +137,8 @@ result<compensate_result> compensate_file(const compensate_request& r,
   auto comp = compensate_cycles(rc->cycles, dn.model, r.drift_window_s, r.file);
   if (!comp) return comp.err();
   out.comp = std::move(*comp);
-  if (out.comp.outside_model)
-    out.warnings.push_back(
-        fmt::format("{}: some cycles lie outside the dN(T) model's {:.1f}..{:.1f} degC", r.file,
-                    dn.model.temp_min_c, dn.model.temp_max_c));
+  if (out.comp.outside_model > 0)
+    out.warnings.push_back(outside_model_warning(r.file, out.comp, dn.model));
   return out;
 }
 

@@ -523,6 +523,46 @@ TEST(ReportChecks, ACommandedRateTheRunCannotMatchIsWarnedAbout) {
   const auto right = page_of("0.5", "right");
   EXPECT_EQ(right.find("opposite sign"), std::string::npos);
   EXPECT_EQ(right.find("specification's scale-factor tolerance"), std::string::npos);
+  // Re-review of issue 22: a run at exactly its commanded 0.002 deg/s, whose scale-factor error
+  // is uncertain by ~75 % (the dN error against so slow a rate), was told its table or sensor
+  // was wrong. It is told the rate is too slow for a scale factor, nothing else.
+  const auto slow = simulate(d, "slow.csv", "20", "15", "0.002");
+  const auto r = run_cli({"report", slow, "--calibration", d.file("cal.json"), "--expected-rate",
+                          "0.002", "-o", d.file("slow")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto page = read_text(d.file("slow/index.html"));
+  EXPECT_NE(page.find("is too slow to measure a scale factor"), std::string::npos);
+  EXPECT_EQ(page.find("opposite sign"), std::string::npos);
+  EXPECT_EQ(page.find("times the HZ1-90-100A specification's"), std::string::npos);
+}
+
+// Re-review of issue 22: a dN(T) line applied 16 degC beyond its runs (4-20 degC) quoted its
+// error at the calibration runs' temperatures (the largest of them, at 20 degC), 2.6 times too
+// small, and said "some cycles" were outside when all were. Its error is now taken at the run's
+// temperature: far larger than at 20 degC (the line's standard error grows with the distance
+// from its runs' mean temperature, closed form of a weighted line fit).
+TEST(ReportChecks, ADeltaNLineFarOutsideItsRunsCarriesItsErrorThere) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "b4.csv", "4", "4"),
+             c = simulate(d, "c12.csv", "12", "5");
+  ASSERT_EQ(run_cli({"calibrate", a, b, c, "--degree", "1", "-o", d.file("cal.json")}).exit_code,
+            0);
+  const auto budget_of = [&](const std::string& temp, const std::string& out) {
+    const auto t = simulate(d, out + ".csv", temp, "14", "0.5");
+    const auto r = run_cli({"report", t, "--calibration", d.file("cal.json"), "-o", d.file(out)});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(read_text(d.file(out + "/summary.json")));
+  };
+  const auto in = budget_of("20", "t20"), far = budget_of("36", "t36");
+  const double m_in = in["budget"]["model_dps"].get<double>();
+  const double m_far = far["budget"]["model_dps"].get<double>();
+  EXPECT_GT(m_far, 2.0 * m_in) << in["budget"] << far["budget"];
+  EXPECT_NE(far["budget"]["model_note"].get<std::string>().find("extrapolated"), std::string::npos)
+      << far["budget"];
+  bool all = false;
+  for (const auto& w : far["warnings"])
+    all = all || w.get<std::string>().find("all ") != std::string::npos;
+  EXPECT_TRUE(all) << far["warnings"];
 }
 
 // Review R17/R11: a calibration run whose temperature ramps 20 -> 4 degC was taken as one

@@ -43,13 +43,18 @@ struct compensation {
   std::vector<method::compensated_cycle> cycles;
   method::compensation_summary summary;
   /// Cycles more than 1 degC outside the dN(T) model's fitted range (the model extrapolated).
-  bool outside_model = false;
+  std::size_t outside_model = 0;
 };
 
 /// The one compensate loop: method::compensate (paper eqn 12) per cycle and
 /// method::summarize over `drift_window_s`; every number checked finite (io::check_finite,
 /// `what` names the output). Precondition: at least one cycle. Errors: drift window outside
 /// (0, 1e9] s (parameter `window_s`), a number that is not finite.
+/// "FILE: N of M cycles lie outside the dN(T) model's LO–HI °C: ΔN was extrapolated" (or
+/// "all M cycles ...") for a compensation with outside_model > 0.
+[[nodiscard]] std::string outside_model_warning(std::string_view file, const compensation& c,
+                                                const method::delta_n_model& model);
+
 [[nodiscard]] result<compensation> compensate_cycles(std::span<const method::cycle> cycles,
                                                      const method::delta_n_model& model,
                                                      double drift_window_s, std::string_view what);
