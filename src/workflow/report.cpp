@@ -558,12 +558,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
                          pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
       if (f.rates[k])
-        out += fmt::format(" against the commanded {} °/s: a scale-factor error of {} ppm{}",
-                           g(*r.expected_rate_dps, 6),
-                           pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm),
-                           b.valid ? ""
-                                   : " (its uncertainty is not known: the ΔN applied is "
-                                     "not valid outside the calibration's temperatures)");
+        out += fmt::format(
+            " against the commanded {} °/s: a scale-factor error of {}{}",
+            g(*r.expected_rate_dps, 6),
+            b.valid ? pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm) + " ppm"
+                    : fmt::format("about {:.1f} %", f.rates[k]->scale_factor_ppm / 1e4),
+            b.valid ? ""
+                    : " (its uncertainty is not known: the ΔN applied is "
+                      "not valid outside the calibration's temperatures)");
       out += ".";
     }
     out += b.valid ? fmt::format(
@@ -907,11 +909,18 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         "Per run",
         head,
         {},
-        fmt::format(
-            "The mean's error is its own (random); the ΔN applied adds {} to every "
-            "cycle alike (budget below){}.",
-            power_up_text(f.budget),
-            r.expected_rate_dps ? "; the scale-factor error's uncertainty includes both" : "")};
+        f.budget.valid
+            ? fmt::format(
+                  "The mean's error is its own (random, 1 σ); the ΔN applied adds {} (1 σ) to "
+                  "every cycle alike (budget below){}.",
+                  power_up_text(f.budget),
+                  r.expected_rate_dps ? "; the scale-factor error's uncertainty includes both" : "")
+            : fmt::format("The mean's error is its own (random, 1 σ); the ΔN applied has no known "
+                          "uncertainty here: {} (budget below){}.",
+                          power_up_text(f.budget),
+                          r.expected_rate_dps
+                              ? "; the scale-factor error's uncertainty is not known either"
+                              : "")};
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& a = runs[k];
       const auto& s = a.comp.summary;

@@ -409,6 +409,31 @@ TEST(ReportChecks, TheRawSeriesNIsTheSensorsWithItsDeadTimeRemoved) {
   }
 }
 
+// `gyroflip report RUN --calibration cal.json --expected-rate RATE -o OUT`: its index.html.
+std::string compensation_page(const temp_dir& d, const std::string& run, const std::string& rate,
+                              const std::string& out) {
+  const auto r = run_cli({"report", run, "--calibration", d.file("cal.json"), "--expected-rate",
+                          rate, "-o", d.file(out)});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return read_text(d.file(out + "/index.html"));
+}
+
+// `gyroflip calibrate` of simulated runs of `sensor` at 20 degC, one per seed, into cal.json.
+void calibrate_at_20c(const temp_dir& d, const std::string& sensor, const std::string& duration_s,
+                      const std::vector<std::string>& seeds) {
+  std::vector<std::string> cal{"calibrate"};
+  for (const auto& seed : seeds) {
+    const auto f = d.file("c" + seed + ".csv");
+    ASSERT_EQ(run_cli({"simulate", "--sensor", sensor, "--duration", duration_s, "--seed", seed,
+                       "--temp", "20", "-o", f})
+                  .exit_code,
+              0);
+    cal.push_back(f);
+  }
+  cal.insert(cal.end(), {"-o", d.file("cal.json")});
+  ASSERT_EQ(run_cli(cal).exit_code, 0);
+}
+
 // Review R3: a constant dN calibrated at 20 degC (three HZ1 runs) applied to a 0.5 deg/s run at
 // 4 degC. The truth file gives the run's own dN (0.006135 deg/s against the 0.002104 applied: an
 // error of 0.0040 deg/s); the stated uncertainty of the dN applied must cover it at 2 sigma. It
@@ -417,17 +442,7 @@ TEST(ReportChecks, TheRawSeriesNIsTheSensorsWithItsDeadTimeRemoved) {
 // preset states no coefficient (ADXRS150) gets "not valid", not a +-.
 TEST(ReportChecks, AConstantDeltaNFarFromItsTemperatureCarriesATemperatureTerm) {
   temp_dir d;
-  std::vector<std::string> cal{"calibrate"};
-  for (const char* seed : {"1", "2", "3"}) {
-    const auto f = d.file(std::string("c") + seed + ".csv");
-    ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "3600", "--seed", seed,
-                       "--temp", "20", "-o", f})
-                  .exit_code,
-              0);
-    cal.push_back(f);
-  }
-  cal.insert(cal.end(), {"-o", d.file("cal.json")});
-  ASSERT_EQ(run_cli(cal).exit_code, 0);
+  calibrate_at_20c(d, "hz1-90-100a", "3600", {"1", "2", "3"});
   const auto t4 = d.file("t4.csv"), truth = d.file("t4_truth.csv");
   ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "2000", "--seed", "11",
                      "--temp", "4", "--rate-profile", "0.5", "-o", t4, "--truth", truth})
@@ -526,14 +541,34 @@ TEST(ReportChecks, ACommandedRateTheRunCannotMatchIsWarnedAbout) {
   // Re-review of issue 22: a run at exactly its commanded 0.002 deg/s, whose scale-factor error
   // is uncertain by ~75 % (the dN error against so slow a rate), was told its table or sensor
   // was wrong. It is told the rate is too slow for a scale factor, nothing else.
-  const auto slow = simulate(d, "slow.csv", "20", "15", "0.002");
-  const auto r = run_cli({"report", slow, "--calibration", d.file("cal.json"), "--expected-rate",
-                          "0.002", "-o", d.file("slow")});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto page = read_text(d.file("slow/index.html"));
+  const auto page =
+      compensation_page(d, simulate(d, "slow.csv", "20", "15", "0.002"), "0.002", "slow");
   EXPECT_NE(page.find("is too slow to measure a scale factor"), std::string::npos);
   EXPECT_EQ(page.find("opposite sign"), std::string::npos);
   EXPECT_EQ(page.find("times the HZ1-90-100A specification's"), std::string::npos);
+}
+
+// Re-review of issue 22: where no temperature coefficient is known (the ADXRS150) the ΔN's
+// uncertainty is "not valid"; the page said "the ΔN applied adds not valid ... to every cycle
+// alike ... includes both" and printed the scale-factor error as "-46796.2 ppm". Now a sentence
+// for the case and the error rounded, its uncertainty said to be unknown.
+TEST(ReportChecks, AnUnknownTemperatureTermIsSaidInWords) {
+  temp_dir d;
+  calibrate_at_20c(d, "adxrs150", "600", {"6", "41"});
+  const auto t = d.file("t4.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "adxrs150", "--duration", "600", "--seed", "12",
+                     "--temp", "4", "--rate-profile", "0.5", "-o", t})
+                .exit_code,
+            0);
+  const auto page = compensation_page(d, t, "0.5", "rep");
+  EXPECT_EQ(page.find("adds not valid"), std::string::npos);
+  EXPECT_NE(page.find("has no known uncertainty here"), std::string::npos);
+  EXPECT_NE(page.find("the scale-factor error's uncertainty is not known either"),
+            std::string::npos);
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  const std::string text = j["conclusion"];
+  EXPECT_NE(text.find("a scale-factor error of about "), std::string::npos) << text;
+  EXPECT_EQ(text.find(" ppm"), std::string::npos) << text;
 }
 
 // Re-review of issue 22: a dN(T) line applied 16 degC beyond its runs (4-20 degC) quoted its
