@@ -1,5 +1,5 @@
 /// \file
-/// \brief Mean/std and moving-mean extremes (see drift.hpp).
+/// \brief Mean/std, the upper median and moving-mean extremes (see drift.hpp).
 #include "gyroflip/analysis/drift.hpp"
 
 #include <algorithm>
@@ -7,6 +7,13 @@
 #include <cmath>
 
 namespace gyroflip::analysis {
+
+double upper_median(std::vector<double> values) {
+  assert(!values.empty());
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
 
 mean_std mean_and_std(std::span<const double> values) {
   assert(!values.empty());

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
 
 namespace gyroflip::workflow {
@@ -46,9 +47,7 @@ double raw_duty(const recording_run& run, double spacing_s) {
   for (const auto& d : run.dwells)
     if (d.sign > 0) w.push_back(static_cast<double>(d.weight));
   if (w.empty() || !(run.conversion_s > 0.0) || !(spacing_s > 0.0)) return 0.0;
-  auto mid = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
-  std::nth_element(w.begin(), mid, w.end());
-  return std::min(1.0, *mid * run.conversion_s / spacing_s);
+  return std::min(1.0, analysis::upper_median(std::move(w)) * run.conversion_s / spacing_s);
 }
 
 }  // namespace

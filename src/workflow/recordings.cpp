@@ -8,6 +8,7 @@
 #include <system_error>
 #include <utility>
 
+#include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/rig/ad7739.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
@@ -31,10 +32,7 @@ double conversion_time_s(const std::vector<method::row>& rows) {
     const double step = (b.time_s - a.time_s) / static_cast<double>(b.n_avg);
     if (step > 0.0) dt.push_back(step);
   }
-  if (dt.empty()) return 0.0;
-  auto mid = dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2);
-  std::nth_element(dt.begin(), mid, dt.end());
-  return *mid;
+  return dt.empty() ? 0.0 : analysis::upper_median(std::move(dt));
 }
 
 // The conversion time the recording's rig settings give (the AD7739's FW and CHOP at the rig's

@@ -296,9 +296,11 @@ run_result run_one(const job& j) {
     r.rate_mean = m.mean;
     r.rate_std = m.std;
   }
-  if (j.claim) r.claim = claim_of(method::extract_dwells(rec), simple->cycles);
+  std::vector<method::dwell> dwells;
+  if (j.claim || j.keep) dwells = method::extract_dwells(rec);
+  if (j.claim) r.claim = claim_of(dwells, simple->cycles);
   if (j.keep) {
-    r.dwells = method::extract_dwells(rec);
+    r.dwells = std::move(dwells);
     r.simple = std::move(simple->cycles);
     r.abba = std::move(abba->cycles);
   }
@@ -1006,6 +1008,12 @@ struct spread {
   std::size_t runs = 0, missing = 0;
 };
 
+// The median of sorted, non-empty `v` (the mean of the middle two when their number is even).
+double median_of_sorted(const std::vector<double>& v) {
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 spread spread_of(std::vector<double> v) {
   spread s;
   s.runs = v.size();
@@ -1013,8 +1021,7 @@ spread spread_of(std::vector<double> v) {
   s.missing = s.runs - v.size();
   if (v.empty()) return s;
   std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  s.median = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  s.median = median_of_sorted(v);
   s.lo = v.front();
   s.hi = v.back();
   return s;
@@ -1186,8 +1193,7 @@ key_numbers key_numbers_of(const experiment& e, const findings& fd) {
     for (const auto& c : e.claims[f])
       w.push_back(c.window_s.value_or(std::numeric_limits<double>::infinity()));
     std::sort(w.begin(), w.end());
-    const double m =
-        w.size() % 2 == 1 ? w[w.size() / 2] : 0.5 * (w[w.size() / 2 - 1] + w[w.size() / 2]);
+    const double m = median_of_sorted(w);
     if (std::isfinite(m)) k.hz1_window_s[f - 2] = m;
   }
   k.adxrs_adev_gain =

@@ -17,6 +17,13 @@ TEST(Drift, MeanAndStdClosedForm) {
   EXPECT_EQ(mean_and_std(std::vector<double>{3.0}).std, 0.0);
 }
 
+// The element of rank n/2 of the sorted values, whatever their order.
+TEST(Drift, UpperMedianIsTheElementOfRankHalfN) {
+  EXPECT_EQ(upper_median({3.0, 1.0, 2.0}), 2.0);
+  EXPECT_EQ(upper_median({4.0, 1.0, 3.0, 2.0}), 3.0);  // upper of the middle two
+  EXPECT_EQ(upper_median({7.5}), 7.5);
+}
+
 TEST(Drift, MeanAndStdSurvivesLargeOffset) {
   // A naive sum-of-squares loses every digit here; the two-pass form keeps them.
   std::vector<double> v;

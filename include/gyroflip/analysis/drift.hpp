@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace gyroflip::analysis {
 
@@ -23,6 +24,10 @@ struct mean_std {
 /// Two-pass mean and sample standard deviation (no cancellation from running sums).
 /// Precondition: `values` is not empty.
 [[nodiscard]] mean_std mean_and_std(std::span<const double> values);
+
+/// The upper median: the element of rank n/2 once sorted (the median for odd n, the upper of the
+/// middle two for even n), in O(n) (std::nth_element). Precondition: `values` is not empty.
+[[nodiscard]] double upper_median(std::vector<double> values);
 
 /// Extremes of a moving mean.
 struct moving_mean_range {
