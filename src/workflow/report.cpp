@@ -391,15 +391,8 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
   if (!cal.known()) return;
   double outside_c = 0.0, at_c = 0.0;
   for (const auto& a : runs) {
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (const auto& c : a.run.cycles(a.pairing))
-      if (std::isfinite(c.temp_c)) {
-        sum += c.temp_c;
-        ++n;
-      }
-    if (n == 0) continue;
-    const double t = sum / static_cast<double>(n);
+    const double t = a.cal.temp_c;  // the mean of its cycles' temperatures (NaN: none)
+    if (!std::isfinite(t)) continue;
     if (const double out = std::max(cal.lo - t, t - cal.hi); out > outside_c) {
       outside_c = out;
       at_c = t;
