@@ -31,6 +31,7 @@
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/parallel.hpp"
+#include "gyroflip/core/units.hpp"
 #include "gyroflip/core/version.hpp"
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
@@ -1171,6 +1172,11 @@ struct key_numbers {
   std::optional<double> hz1_window_s[2];
   double adxrs_adev_gain = 0.0;  // raw / compensated OADEV at the longest tau, Fig. 4
   double tab4_std_ratio = 0.0;
+  // What the power-on assumptions act on (review R9): the campaigns' mean dN (Tab. 3 20 degC,
+  // Tab. 4; the warm-up leaks into simple pairing) and the raw side of the runs that start warm
+  // (Figs 6 and 10: median raw OADEV at the longest tau).
+  double tab_mean_dps[2] = {0.0, 0.0};
+  double warm_raw_dps[2] = {0.0, 0.0};
 };
 
 key_numbers key_numbers_of(const experiment& e, const findings& fd) {
@@ -1199,6 +1205,11 @@ key_numbers key_numbers_of(const experiment& e, const findings& fd) {
   k.adxrs_adev_gain =
       claim_spread(e, 0, [](const claim_numbers& c) { return c.raw_dps / c.comp_dps; }).median;
   k.tab4_std_ratio = stats_of(e.stds[2]).mean / paper_stats(2, e.a).std;
+  k.tab_mean_dps[0] = stats_of(e.means[0]).mean;
+  k.tab_mean_dps[1] = stats_of(e.means[2]).mean;
+  for (const std::size_t f : {std::size_t{1}, std::size_t{3}})
+    k.warm_raw_dps[f / 2] =
+        claim_spread(e, f, [](const claim_numbers& c) { return c.raw_dps; }).median;
   return k;
 }
 
@@ -1230,13 +1241,16 @@ report::table sensitivity_table(const std::vector<key_numbers>& ks, json& out) {
       "each)",
       {"assumption", "Fig. 4 std / paper", "Tab. 4 std / paper", "4 °C std from 20 °C: miss",
        "Fig. 8 window for 0.002 °/s", "Fig. 10 window for 0.002 °/s", "Fig. 4 raw/compensated ADEV",
-       "tests failed"},
+       "Figs 6 / 10 raw ADEV (°/h)", "mean ΔN, Tab. 3 20 °C / Tab. 4 (°/s)", "tests failed"},
       {},
       "Each row reruns the whole experiment (one campaign, same seeds) with one value "
       "changed; the first row is the baseline. The figure columns are medians over each "
       "figure's simulated runs (a run without such a window counts as longer than any). "
       "Tab. 4 std / paper: against the paper's 0.01626 of its 14 rows, or, in the row without "
-      "the repeated rows, 0.01769 of its 9 distinct rows. A "
+      "the repeated rows, 0.01769 of its 9 distinct rows. Figs 6 / 10 raw ADEV: the median "
+      "raw OADEV at the longest τ of the two figures whose runs start warm (what the time on "
+      "before them moves). Mean ΔN: the campaigns' (fitted targets, shown for what the "
+      "campaigns' warm-up does to them). A "
       "conclusion that holds in every row does not rest on the assumption."};
   out = json::array();
   for (const auto& k : ks) {
@@ -1246,6 +1260,9 @@ report::table sensitivity_table(const std::vector<key_numbers>& ks, json& out) {
     t.rows.push_back({k.name, g(k.fig4_std_ratio, 3), g(k.tab4_std_ratio, 3),
                       fmt::format("{:+.2f} σ", k.oos_std_z), win(k.hz1_window_s[0]),
                       win(k.hz1_window_s[1]), g(k.adxrs_adev_gain, 3),
+                      fmt::format("{} / {}", g(k.warm_raw_dps[0] * units::s_per_h, 3),
+                                  g(k.warm_raw_dps[1] * units::s_per_h, 3)),
+                      fmt::format("{} / {}", g(k.tab_mean_dps[0], 6), g(k.tab_mean_dps[1], 6)),
                       k.predictions_failed == 0 ? "none" : k.failed});
     out.push_back({{"assumption", k.name},
                    {"fig4_std_ratio", k.fig4_std_ratio},
@@ -1254,6 +1271,10 @@ report::table sensitivity_table(const std::vector<key_numbers>& ks, json& out) {
                    {"fig8_window_s", k.hz1_window_s[0] ? json(*k.hz1_window_s[0]) : json(nullptr)},
                    {"fig10_window_s", k.hz1_window_s[1] ? json(*k.hz1_window_s[1]) : json(nullptr)},
                    {"fig4_adev_gain", k.adxrs_adev_gain},
+                   {"fig6_raw_adev_dps", k.warm_raw_dps[0]},
+                   {"fig10_raw_adev_dps", k.warm_raw_dps[1]},
+                   {"tab3_20c_mean_dps", k.tab_mean_dps[0]},
+                   {"tab4_mean_dps", k.tab_mean_dps[1]},
                    {"predictions_failed", k.predictions_failed}});
   }
   return t;
@@ -1442,7 +1463,9 @@ std::string ids_with(const std::vector<prediction>& ps, std::string_view what) {
   return out;
 }
 
-std::string verdict_of(const findings& fd) {
+// `quick`: the verdict of a quick run says so in its own line (review R7): one campaign of runs
+// a quarter as long is a smoke test of the pipeline, not the reproduction.
+std::string verdict_of(const findings& fd, bool quick) {
   const auto count = [](const std::vector<prediction>& ps) {
     return std::count_if(ps.begin(), ps.end(),
                          [](const prediction& p) { return p.pass && !p.inconclusive(); });
@@ -1465,7 +1488,12 @@ std::string verdict_of(const findings& fd) {
                                     {"pass (marginal)", "marginal"}})
     if (const auto l = ids_with(fd.checks, what); !l.empty())
       text += fmt::format("; {}: {}", label, l);
-  return text + ". The calibration targets (fitted) are shown, not judged.";
+  text += ". The calibration targets (fitted) are shown, not judged.";
+  if (quick)
+    text +=
+        " Quick run (runs a quarter as long): a check that the pipeline works, not the "
+        "reproduction; run without the quick option for the verdict.";
+  return text;
 }
 
 // DIR: summary.json, index.html (the tables, the figures numbered as the paper's, the main
@@ -1498,7 +1526,7 @@ status write_page(const reproduce_request& o, report::report_folder& folder, con
   const auto& tb = fd.tables;
   report::section verdict;
   verdict.heading = "Verdict";
-  verdict.paragraphs.push_back(verdict_of(fd));
+  verdict.paragraphs.push_back(verdict_of(fd, o.quick));
   verdict.tables = {tb[0], tb[1], tb[2]};
   page.sections.push_back(std::move(verdict));
   report::section tabs;
@@ -1558,7 +1586,8 @@ status write_page(const reproduce_request& o, report::report_folder& folder, con
                      curves, fmt::format("Allan deviation, raw and compensated: the run of "
                                          "Figs {}/{} ({}, {})",
                                          number_of(p.dwell_id), number_of(p.id), p.part, p.start)),
-                 fmt::format("{}_{}_allan", p.id, p.sensor));
+                 // Not a paper figure number: the paper has no Allan plot (review R16).
+                 fmt::format("allan_{}_{}_before", p.sensor, p.warm ? "on" : "off"));
         !st)
       return st;
   }
@@ -1652,7 +1681,7 @@ result<reproduction> reproduce(const reproduce_request& o, const progress_fn& on
   text += fmt::format("made {} by gyroflip {} (commit {}){}\n", made_utc, version(), build_commit(),
                       o.command.empty() ? std::string() : ": " + o.command);
   for (const auto& t : fd->tables) text += "\n" + report::text(t);
-  text += "\nverdict: " + verdict_of(*fd) + "\n\n";
+  text += "\nverdict: " + verdict_of(*fd, o.quick) + "\n\n";
   for (const auto n : provenance_notes) text += std::string(n) + "\n";
 
   json summary = io::schema_object("reproduce", 4);
