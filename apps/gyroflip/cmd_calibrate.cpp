@@ -40,7 +40,7 @@ std::string summary_text(const io::calibration_record& rec) {
   std::string out;
   fmt::format_to(std::back_inserter(out), "pairing: {}\n", method::to_string(rec.pairing));
   for (const auto& f : rec.files) print_entry(out, f, rec.geometry);
-  if (rec.files.size() > 1) print_entry(out, {"all files", rec.pooled}, rec.geometry);
+  if (rec.files.size() > 1) print_entry(out, {"all files", rec.pooled, std::nullopt}, rec.geometry);
   if (rec.model) {
     const auto& m = *rec.model;
     if (m.degree() == 0) {

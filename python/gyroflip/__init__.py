@@ -370,8 +370,12 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
     latitude (deg) and axis: split dN into its Earth term and g-term (paper eqns 9-10).
     pairing: "abba" (default) or "simple" (the paper's). angle_tolerance_deg: as calibrate().
     degree: an int in 0..6 (as `--degree`). A wrong type raises TypeError naming the argument.
-    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/1: delta_n_dps,
-    stderr_correlated_dps, files, model, sensor, ...) plus "warnings" (what the command prints as
+    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/2: delta_n_dps,
+    stderr_correlated_dps, files, model, sensor, ...) plus "warnings". The top-level delta_n_dps
+    is all cycles pooled (a summary); the dN that compensate() and report() apply is "model"'s
+    (the runs' weighted fit: model["coeffs_dps"][0] for runs at one temperature). Each of "files"
+    names its file's sha256, size_bytes and origin ("simulated", "emulated", "rig", "unknown").
+    The warnings are what the command prints as
     warnings: a rig setting that differs between files, a sensor nobody named, a damaged .gfr
     region skipped). Pass it to compensate(calibration=...); report() takes a calibration file's
     path instead (write the dict with json.dump, or use `gyroflip calibrate -o CAL.json`).

@@ -85,7 +85,7 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
   const auto rc = cycles_of(c, rec.pairing, tol);
   rec.sensor = io::sensor_of({});
   rec.pooled = take(method::calibrate(rc.cycles));
-  rec.files.push_back({arrays_name, rec.pooled});
+  rec.files.push_back({arrays_name, rec.pooled, std::nullopt});
   rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);  // as the CLI
   py::dict d = json_loads(take(io::to_json(rec)));
   for (const auto& cy : rc.cycles)  // the temperature may be absent (NaN)

@@ -128,6 +128,41 @@ status check_model(const std::string& path, const method::delta_n_model& m) {
   return ok();
 }
 
+// A run's source (schema 2): all four keys or none; a SHA-256 of 64 hex digits and a known
+// origin, so a report never shows a provenance the file could not have had.
+status read_source(const std::string& path, const json& f, calibration_entry& e) {
+  if (!f.contains("sha256")) return ok();
+  const auto text = [&](const char* key) -> result<std::string> {
+    const auto it = f.find(key);
+    if (it == f.end() || !it->is_string())
+      return input_error({path},
+                         fmt::format("files: a run with 'sha256' needs a string '{}'", key));
+    return it->get<std::string>();
+  };
+  run_source src;
+  for (auto [key, to] : {std::pair{"sha256", &src.sha256},
+                         {"origin", &src.origin},
+                         {"origin_detail", &src.origin_detail}}) {
+    auto v = text(key);
+    if (!v) return v.err();
+    *to = std::move(*v);
+  }
+  if (src.sha256.size() != 64 ||
+      src.sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
+    return input_error({path}, "files: 'sha256' must be 64 lowercase hex digits");
+  if (src.origin != "simulated" && src.origin != "emulated" && src.origin != "rig" &&
+      src.origin != "unknown")
+    return input_error({path},
+                       "files: 'origin' must be \"simulated\", \"emulated\", \"rig\" "
+                       "or \"unknown\"");
+  const auto size = f.find("size_bytes");
+  if (size == f.end() || !size->is_number_unsigned())
+    return input_error({path}, "files: a run with 'sha256' needs a whole number 'size_bytes'");
+  src.size_bytes = size->get<std::uint64_t>();
+  e.source = std::move(src);
+  return ok();
+}
+
 constexpr std::string_view rig_keys[] = {
     "n_avg", "settle_s",      "positions_deg", "flip",         "filter_word",
     "chop",  "steps_per_rev", "step_rate_sps", "latitude_deg", "axis"};
@@ -202,7 +237,7 @@ double pooled_correlated_stderr(std::span<const calibration_entry> files) {
 }
 
 result<std::string> to_json(const calibration_record& rec) {
-  json j = schema_object("calibration", 1);
+  json j = schema_object("calibration", 2);
   j.update(calibration_fields(rec.pooled, rec.geometry));
   j["pairing"] = method::to_string(rec.pairing);
   j["lat_deg"] = rec.geometry ? json(rec.geometry->lat_deg) : json(nullptr);
@@ -213,6 +248,12 @@ result<std::string> to_json(const calibration_record& rec) {
   for (const auto& f : rec.files) {
     json e = calibration_fields(f.cal, rec.geometry);
     e["file"] = f.file;
+    if (f.source) {
+      e["sha256"] = f.source->sha256;
+      e["size_bytes"] = f.source->size_bytes;
+      e["origin"] = f.source->origin;
+      e["origin_detail"] = f.source->origin_detail;
+    }
     files.push_back(std::move(e));
   }
   j["files"] = std::move(files);
@@ -312,6 +353,7 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
           e.cal.temp_c = f["temp_c"].get<double>();
         if (f.contains("cycles") && f["cycles"].is_number_unsigned())
           e.cal.cycles = f["cycles"].get<std::size_t>();
+        if (auto s = read_source(path, f, e); !s) return s.err();
         if (auto s = check_magnitude(path, "files: delta_n_dps", e.cal.delta_n_dps); !s)
           return s.err();
         if (!(e.cal.stderr_correlated_dps >= 0.0) ||

@@ -62,7 +62,8 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
                   runs.size(), dof, dof == 1 ? "" : "s", rough);
     b.model_dps = worst;
     b.model_note = model->degree() == 0
-                       ? "the weighted mean's error, scaled by the runs' scatter"
+                       ? "the weighted mean's error (each run weighted by 1/(its within-run "
+                         "error)²), scaled by the runs' scatter"
                        : "the dN(T) line's error at the runs' temperatures (largest)";
     b.calibration_dps = worst;
   } else {
@@ -118,11 +119,19 @@ void add_temperature_term(delta_n_budget& b, double outside_c, double lo_c, doub
     return;
   }
   b.temperature_dps = tc * outside_c;
+  // The preset's mean coefficient is not applied as a correction: it is the paper's unit's
+  // (an assumption about this one), and its sign depends on how the sensor is mounted; it
+  // enters the 1-sigma term as if it were a spread of its own size (review N5).
   b.temperature_note = fmt::format(
-      "from the preset's temperature coefficient (assumed): the run lies {:.1f} °C outside the "
-      "calibration's {}; {} °/s per °C (the g-term's coefficient and its spread from one "
-      "power-up to the next, sensor preset {}) × {:.1f} °C",
-      outside_c, span, fmt::format("{:.3g}", tc), preset_name, outside_c);
+      "from the preset's temperature coefficient (assumed, 1 σ): the run lies {:.1f} °C outside "
+      "the calibration's {}; {} °/s per °C (the g-term's coefficient {} and its spread {} from "
+      "one power-up to the next, sensor preset {}, combined) × {:.1f} °C. The coefficient's "
+      "mean alone would move ΔN by {} °/s over this distance (its sign set by the mounting): "
+      "not applied as a correction, counted in the ±",
+      outside_c, span, fmt::format("{:.3g}", tc),
+      fmt::format("{:.3g}", std::abs(preset->g_sens_tc_z_dps_per_g_c)),
+      fmt::format("{:.3g}", preset->g_sens_tc_turn_on_sigma_dps_per_g_c), preset_name, outside_c,
+      fmt::format("{:.2g}", std::abs(preset->g_sens_tc_z_dps_per_g_c) * outside_c));
   b.new_power_up_dps = std::hypot(b.new_power_up_dps, b.temperature_dps);
 }
 

@@ -10,6 +10,7 @@
 #include "gyroflip/core/parallel.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/report/page.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
 namespace gyroflip::workflow {
@@ -79,7 +80,13 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     for (auto& w : rc->warnings) out.warnings.push_back(std::move(w));
     auto cal = method::calibrate(rc->cycles);
     if (!cal) return input_error({file}, cal.err().message);
-    rec.files.push_back({file, *cal});
+    // What the calibration was made of, so a report that applies it can say (review R18).
+    auto id = report::identify_file(file);
+    if (!id) return id.err();
+    auto src = origin_of(file, rc->metadata);
+    src.sha256 = id->sha256;
+    src.size_bytes = id->size_bytes;
+    rec.files.push_back({file, *cal, std::move(src)});
     if (auto s = sensors.add(file, rc->metadata, out.warnings); !s) return s.err();
     all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
   }

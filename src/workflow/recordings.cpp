@@ -8,6 +8,8 @@
 #include <system_error>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/rig/ad7739.hpp"
@@ -93,6 +95,35 @@ std::string metadata_value(std::span<const io::csv_metadata> metadata, std::stri
   for (const auto& e : metadata)
     if (e.key == key) return e.value;
   return {};
+}
+
+io::run_source origin_of(const std::string& file, std::span<const io::csv_metadata> metadata) {
+  io::run_source src;
+  const auto m = [&](std::string_view key) { return metadata_value(metadata, key); };
+  if (!m("gyroflip simulate").empty()) {
+    src.origin = "simulated";
+    src.origin_detail = fmt::format("gyroflip simulate (sensor {}, seed {}, {} s)", m("sensor"),
+                                    m("seed"), m("duration_s"));
+  } else if (const auto e = m("emulated"); !e.empty()) {
+    src.origin = "emulated";
+    src.origin_detail = fmt::format(
+        "a rig recording (.gfr) of {} (device serial {}, firmware {}), not of a real board", e,
+        m("serial"), m("firmware"));
+  } else if (file.ends_with(".gfr")) {
+    src.origin = "rig";
+    src.origin_detail = fmt::format("rig recording (.gfr): device serial {}, firmware {}",
+                                    m("serial"), m("firmware"));
+  } else {
+    src.origin = "unknown";
+    src.origin_detail = "recording (CSV); its metadata names no maker";
+  }
+  return src;
+}
+
+std::string origin_words(const io::run_source& src) {
+  if (src.origin == "simulated" || src.origin == "emulated")
+    return src.origin + ": " + src.origin_detail;
+  return src.origin_detail;
 }
 
 }  // namespace gyroflip::workflow

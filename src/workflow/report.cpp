@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <utility>
 
@@ -45,7 +46,7 @@ constexpr std::array formats{report::image_format::png, report::image_format::sv
 
 // The summary.json layout (schema gyroflip.report/N): 2 since issue 22 (calibration runs carry a
 // residual instead of a compensated mean, the budget, identity, provenance, warnings).
-constexpr int summary_schema = 2;
+constexpr int summary_schema = 3;
 
 // A dN that calls a calibration run not stationary: its g-term beyond this many times the
 // sensor's specified g-sensitivity (at 1 g), or runs whose dN disagree by a chi^2/dof beyond
@@ -89,29 +90,73 @@ struct identity {
   std::vector<std::string> origin;    // per run
   std::size_t simulated = 0;          // runs from gyroflip's simulator or an emulated rig
   std::size_t emulated = 0;           // of them, rig recordings of an emulator
+  std::size_t on_rig = 0;             // rig recordings of a board
 };
 
-// Where a recording came from, from its metadata.
-std::string origin_of(const recording_run& r, bool& simulated) {
-  const auto& m = r.metadata;
-  simulated = false;
-  if (!metadata_value(m, "gyroflip simulate").empty()) {
-    simulated = true;
-    return fmt::format("simulated: gyroflip simulate (sensor {}, seed {}, {} s)",
-                       metadata_value(m, "sensor"), metadata_value(m, "seed"),
-                       metadata_value(m, "duration_s"));
+// What a calibration's runs were, from what `calibrate` recorded of them (schema 2): "3
+// simulated (gyroflip simulate)", ...; `simulated` counts those from the simulator or emulator,
+// `unknown` those it recorded nothing of (a file of schema 1, or runs given as arrays).
+struct calibration_origin {
+  std::size_t runs = 0, simulated = 0, unknown = 0;
+  std::string words;
+};
+
+// The runs a calibration was made of, with what `calibrate` recorded of each (the SHA-256 lets
+// a reader check that they are the files at hand).
+report::table calibration_runs_table(const io::calibration_record& rec) {
+  report::table t{"The calibration's runs (as recorded in the calibration)",
+                  {"run", "file", "T (°C)", "ΔN (°/s)", "origin", "bytes", "SHA-256"},
+                  {},
+                  ""};
+  for (std::size_t k = 0; k < rec.files.size(); ++k) {
+    const auto& e = rec.files[k];
+    t.rows.push_back({std::to_string(k + 1), e.file, g(e.cal.temp_c, 3), g(e.cal.delta_n_dps, 6),
+                      e.source ? origin_words(*e.source) : std::string("not recorded"),
+                      e.source ? std::to_string(e.source->size_bytes) : std::string("–"),
+                      e.source ? e.source->sha256 : std::string("–")});
   }
-  if (const auto e = metadata_value(m, "emulated"); !e.empty()) {
-    simulated = true;
-    return fmt::format(
-        "emulated: a rig recording (.gfr) of {} (device serial {}, firmware {}), "
-        "not of a real board",
-        e, metadata_value(m, "serial"), metadata_value(m, "firmware"));
+  return t;
+}
+
+json calibration_runs_json(const io::calibration_record& rec) {
+  json out = json::array();
+  for (const auto& e : rec.files) {
+    json j = {{"file", e.file}, {"delta_n_dps", e.cal.delta_n_dps}, {"temp_c", num(e.cal.temp_c)}};
+    if (e.source)
+      j.update(json{{"sha256", e.source->sha256},
+                    {"bytes", e.source->size_bytes},
+                    {"origin", e.source->origin},
+                    {"origin_detail", e.source->origin_detail}});
+    out.push_back(std::move(j));
   }
-  if (r.file.ends_with(".gfr"))
-    return fmt::format("rig recording (.gfr): device serial {}, firmware {}",
-                       metadata_value(m, "serial"), metadata_value(m, "firmware"));
-  return "recording (CSV); its metadata names no maker";
+  return out;
+}
+
+calibration_origin calibration_origin_of(const io::calibration_record& rec) {
+  calibration_origin c;
+  c.runs = rec.files.size();
+  std::map<std::string, std::size_t> by;
+  for (const auto& e : rec.files) {
+    if (!e.source) {
+      ++c.unknown;
+      continue;
+    }
+    ++by[e.source->origin];
+    c.simulated += e.source->simulated() ? 1U : 0U;
+  }
+  const std::pair<const char*, const char*> kinds[] = {
+      {"simulated", "simulated (gyroflip simulate)"},
+      {"emulated", "emulated (gyroflip emulate: no real board)"},
+      {"rig", "recorded on a rig (.gfr)"},
+      {"unknown", "CSV recordings whose metadata names no maker"}};
+  for (const auto& [k, w] : kinds)
+    if (by[k] > 0) c.words += fmt::format("{}{} {}", c.words.empty() ? "" : ", ", by[k], w);
+  if (c.unknown > 0)
+    c.words += fmt::format(
+        "{}{} of unrecorded origin (the calibration names no source: made "
+        "before gyroflip recorded it, or from arrays)",
+        c.words.empty() ? "" : ", ", c.unknown);
+  return c;
 }
 
 identity identify(const std::vector<run_analysis>& runs) {
@@ -124,10 +169,11 @@ identity identify(const std::vector<run_analysis>& runs) {
       id.rig = io::sensor_of(m).rig;
     }
     if (const auto s = metadata_value(m, "serial"); !s.empty()) id.serials.insert(s);
-    bool sim = false;
-    id.origin.push_back(origin_of(a.run, sim));
-    id.simulated += sim ? 1 : 0;
-    if (!metadata_value(m, "emulated").empty()) ++id.emulated;
+    const auto src = origin_of(a.run.file, m);
+    id.origin.push_back(origin_words(src));
+    id.simulated += src.simulated() ? 1U : 0U;
+    id.emulated += src.origin == "emulated" ? 1U : 0U;
+    id.on_rig += src.origin == "rig" ? 1U : 0U;
   }
   id.builtin = id.preset.empty() ? nullptr : sensor::find_builtin(id.preset);
   return id;
@@ -603,8 +649,10 @@ json budget_json(const delta_n_budget& b) {
 report::table budget_table(const delta_n_budget& b, bool compensating) {
   const auto v = [](double x) { return std::isfinite(x) ? g(x, 2) : std::string("unknown"); };
   report::table t{
-      compensating ? "Uncertainty of the ΔN applied (from the calibration's runs)"
-                   : "Uncertainty budget of ΔN (°/s, one standard uncertainty)",
+      compensating
+          ? "Uncertainty of the ΔN applied (from the calibration's runs; °/s, one standard "
+            "uncertainty: 1 σ)"
+          : "Uncertainty budget of ΔN (°/s, one standard uncertainty: 1 σ)",
       {"component", "value (°/s)", "what it is"},
       {{"within-run (correlated)", v(b.within_run_dps),
         b.runs == 1
@@ -690,7 +738,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   // says nothing); the runs' model (a weighted mean at one temperature, dN(T) over a span). With
   // a calibration: its dN or dN(T) for every run.
   std::vector<io::calibration_entry> entries;
-  for (const auto& a : runs) entries.push_back({a.run.file, a.cal});
+  for (const auto& a : runs) entries.push_back({a.run.file, a.cal, std::nullopt});
   if (f.given) {
     f.model = f.given->model;
     const auto& rec = *f.given->record;
@@ -744,6 +792,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         "below is the sensor preset's or unknown); calibrate several runs");
 
   // Provenance first: a title, banners and the inputs' identities.
+  const auto cal_origin =
+      f.compensating ? calibration_origin_of(*f.given->record) : calibration_origin{};
   report::page page;
   page.made.command = r.command;
   page.made.made_utc = report::utc_now();
@@ -753,9 +803,18 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     auto in = report::identify_file(inputs[k]);
     if (!in) return in.err();
     in->origin = k < runs.size() ? f.id.origin[k]
-                                 : fmt::format("calibration of {} run{} (gyroflip.calibration)",
-                                               f.given->record->files.size(),
-                                               f.given->record->files.size() == 1 ? "" : "s");
+                                 : fmt::format("calibration (gyroflip.calibration) of {} run{}: {}",
+                                               cal_origin.runs, cal_origin.runs == 1 ? "" : "s",
+                                               cal_origin.words);
+    // A run compensated with a calibration made of it is not an independent test of it.
+    if (k < runs.size() && f.compensating)
+      for (const auto& e : f.given->record->files)
+        if (e.source && e.source->sha256 == in->sha256)
+          f.warnings.push_back(fmt::format(
+              "{}: the same bytes as the calibration's run {} (SHA-256): its dN is part of "
+              "the ΔN applied, so its compensated mean is not an independent test of the "
+              "calibration",
+              runs[k].run.file, e.file));
     page.made.inputs.push_back(std::move(*in));
   }
   const temp_span all_t = runs_temps(runs);
@@ -778,6 +837,12 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         f.id.emulated == 0                ? "simulator"
         : f.id.emulated == f.id.simulated ? "emulator (a rig recording of no real board)"
                                           : "simulator or emulator"));
+  if (cal_origin.simulated > 0)
+    page.banners.push_back(fmt::format(
+        "Simulated calibration: the ΔN applied comes from a calibration of which {} of the {} "
+        "runs came from gyroflip's simulator or emulator (see Inputs and the calibration's "
+        "runs); no sensor was measured for them.",
+        cal_origin.simulated, cal_origin.runs));
 
   // Summary: the conclusion and the warnings.
   report::section top;
@@ -799,7 +864,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                                      : "simulated (gyroflip simulate and emulate)")
                    : (f.id.simulated > 0
                           ? fmt::format("{} of {} runs simulated", f.id.simulated, runs.size())
-                          : "recorded")});
+                      : f.id.on_rig == runs.size() ? "recorded on a rig (.gfr)"
+                      : f.id.on_rig > 0
+                          ? fmt::format("{} of {} runs recorded on a rig (.gfr); the others CSV "
+                                        "recordings whose metadata names no maker",
+                                        f.id.on_rig, runs.size())
+                          : "CSV recordings whose metadata names no maker (origin not known)")});
+  if (f.compensating) idt.rows.push_back({"calibration's runs", cal_origin.words});
   for (const auto& m : f.id.rig) idt.rows.push_back({"rig: " + m.key, m.value});
   idt.rows.push_back({"cycle (measured)", fmt::format("{} s", g(cycle_period_s(runs.front()), 4))});
   idt.rows.push_back({"pairing", std::string(method::to_string(r.pairing))});
@@ -828,6 +899,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     }
   }
   who.tables.push_back(std::move(durations));
+  if (f.compensating) who.tables.push_back(calibration_runs_table(*f.given->record));
   page.sections.push_back(std::move(who));
 
   // dN and its budget, or the compensated rates.
@@ -853,10 +925,19 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                           pm(a.cal.delta_n_dps, a.cal.stderr_correlated_dps), g(s.std_dps, 3),
                           s.drift_dps ? g(*s.drift_dps, 3) : "run too short"});
     }
-    if (f.pooled)
+    if (f.pooled) {
       per.rows.push_back({"all runs (weighted mean)", all_t.text(),
                           pm(f.pooled->first, f.pooled->second), "", ""});
-    else if (f.runs_model)
+      // How the runs are weighted, on the page (review R5): by their within-run errors, which
+      // the runs' scatter may dwarf, so the plain mean is shown beside it.
+      double plain = 0.0;
+      for (const auto& a : runs) plain += a.cal.delta_n_dps / static_cast<double>(runs.size());
+      per.note += fmt::format(
+          " The weighted mean weights each run by 1/(its within-run error)² (the fit of a "
+          "constant ΔN(T)); its ± is scaled by the runs' scatter. The plain mean of the {} runs "
+          "is {} °/s; the run-to-run repeatability below is their plain std.",
+          runs.size(), g(plain, 6));
+    } else if (f.runs_model)
       per.note += fmt::format(
           " The runs span {}: they are not pooled into one mean; ΔN(T) "
           "below.",
@@ -1037,7 +1118,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
              {"description", sensor_words(f.id)},
              {"serials", std::vector<std::string>(f.id.serials.begin(), f.id.serials.end())}}},
            {"simulated_runs", f.id.simulated},
+           {"calibration_simulated_runs", cal_origin.simulated},
            {"inputs", std::move(inj)},
+           {"calibration_runs",
+            f.compensating ? calibration_runs_json(*f.given->record) : json::array()},
            {"runs", json::array()},
            {"budget", budget_json(f.budget)},
            {"warnings", f.warnings},

@@ -1415,7 +1415,7 @@ report::figure table_figure(const experiment& e, std::size_t t) {
       c.delta_n_dps = e.results[i].dn_simple;
       c.stderr_correlated_dps = e.results[i].se_simple;
       c.temp_c = e.results[i].temp_c;
-      runs.push_back({"", c});
+      runs.push_back({"", c, std::nullopt});
     }
   const auto& p = paper_tables[t];
   auto f = report::delta_n_runs_figure(

@@ -46,9 +46,9 @@ TEST(CliSchema, EveryJsonOutputCarriesItsSchemaAndVersion) {
   const auto s2 = d.file("two.csv");
   expect_schema(printed({"earth", "--latitude", "42.6", "--json"}), "gyroflip.earth/1", "earth");
   expect_schema(printed({"sensors", "--json"}), "gyroflip.sensors/1", "sensors");
-  expect_schema(printed({"calibrate", rec, "--json"}), "gyroflip.calibration/1", "calibrate");
+  expect_schema(printed({"calibrate", rec, "--json"}), "gyroflip.calibration/2", "calibrate");
   ASSERT_EQ(run_cli({"calibrate", rec, "-o", cal}).exit_code, 0);
-  expect_schema(json::parse(std::ifstream(cal)), "gyroflip.calibration/1", "calibrate -o");
+  expect_schema(json::parse(std::ifstream(cal)), "gyroflip.calibration/2", "calibrate -o");
   expect_schema(printed({"compensate", rec, "--calibration", cal, "--json"}),
                 "gyroflip.compensate/2", "compensate");
   expect_schema(printed({"adev", s2, "--column", "a", "--json"}), "gyroflip.adev/1", "adev");
@@ -66,7 +66,7 @@ TEST(CliSchema, EveryJsonOutputCarriesItsSchemaAndVersion) {
   // The report folders' summary.json (they need gnuplot to draw their figures).
   if (gyroflip::test::run_program({"gnuplot", "--version"}).exit_code != 0) return;
   ASSERT_EQ(run_cli({"report", rec, "-o", d.file("rep")}).exit_code, 0);
-  expect_schema(json::parse(std::ifstream(d.file("rep/summary.json"))), "gyroflip.report/2",
+  expect_schema(json::parse(std::ifstream(d.file("rep/summary.json"))), "gyroflip.report/3",
                 "report");
   const auto rep = run_cli({"reproduce", "--quick", "-o", d.file("repro")});
   ASSERT_EQ(rep.exit_code, 0) << rep.err;

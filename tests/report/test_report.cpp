@@ -104,7 +104,7 @@ TEST(ReportFigure, PaperFiguresAreGolden) {
     c.delta_n_dps = 0.39 + 0.01 * k;
     c.stderr_correlated_dps = 0.002;
     c.temp_c = 20.0 + 0.5 * k;
-    runs.push_back({"run" + std::to_string(k), c});
+    runs.push_back({"run" + std::to_string(k), c, std::nullopt});
   }
   const auto ft = report::delta_n_runs_figure(runs, "ΔN per run");
   expect_golden(report::script(ft, "runs", formats), "delta_n_runs.gp");

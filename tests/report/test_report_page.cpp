@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gyroflip/report/page.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -487,7 +488,13 @@ TEST(ReportChecks, AConstantDeltaNFarFromItsTemperatureCarriesATemperatureTerm) 
   EXPECT_GT(j["budget"]["temperature_dps"].get<double>(), 0.0);
   EXPECT_LE(std::abs(true_dn - applied), 2.0 * u) << "u " << u;
   const auto html = read_text(d.file("rep/index.html"));
-  EXPECT_NE(html.find("from the preset's temperature coefficient (assumed)"), std::string::npos);
+  // The +- is a standard uncertainty, and the page says so (review N5: the truth lies 1.9 sigma
+  // out, plausible only when the reader knows it is 1 sigma); the preset's mean coefficient is
+  // stated, not applied.
+  EXPECT_NE(html.find("from the preset's temperature coefficient (assumed, 1 σ)"),
+            std::string::npos);
+  EXPECT_NE(html.find("not applied as a correction"), std::string::npos);
+  EXPECT_NE(html.find("one standard uncertainty: 1 σ"), std::string::npos);
   const auto [text, cells] = conclusion_and_tables(html);
   EXPECT_NE(text.find("its temperature term included"), std::string::npos) << text;
   for (const auto& num : numbers_in(text))
@@ -644,17 +651,27 @@ TEST(ReportChecks, ARampAShortRunAndThePooledRunsTemperaturesAreNamed) {
   EXPECT_FALSE(has(jp, "not isothermal")) << jp["warnings"];
 }
 
+// `gyroflip report` of simulated HZ1 runs (name, temperature, seed) into rep/: its index.html.
+struct sim_run {
+  std::string name, temp, seed;
+};
+std::string calibration_page(const temp_dir& d, const std::vector<sim_run>& runs) {
+  std::vector<std::string> args{"report"};
+  for (const auto& r : runs) args.push_back(simulate(d, r.name, r.temp, r.seed));
+  args.insert(args.end(), {"-o", d.file("rep")});
+  const auto r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return read_text(d.file("rep/index.html"));
+}
+
 // Review R4: the conclusion of a dN(T) calibration (HZ1 at 20, 4 and 12 degC: a line of 1 degree
 // of freedom) quoted the error at the worst temperature as the error at the reference
 // temperature. It now gives the table's c_0 error at the temperature it names and the budget's
 // largest for the span; the 1-degree-of-freedom repeatability is warned about (review R5b).
 TEST(ReportChecks, ADeltaNLineIsQuotedAtTheTemperatureItNames) {
   temp_dir d;
-  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "d4.csv", "4", "4"),
-             c = simulate(d, "e12.csv", "12", "5");
-  const auto r = run_cli({"report", a, b, c, "-o", d.file("rep")});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto html = read_text(d.file("rep/index.html"));
+  const auto html =
+      calibration_page(d, {{"a20.csv", "20", "1"}, {"d4.csv", "4", "4"}, {"e12.csv", "12", "5"}});
   const auto rows = table_rows(html, "ΔN(T) = Σ c_k");
   ASSERT_GE(rows.size(), 2u);
   const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
@@ -669,3 +686,74 @@ TEST(ReportChecks, ADeltaNLineIsQuotedAtTheTemperatureItNames) {
 }
 
 }  // namespace
+
+// Review R18: a CSV that names no maker, compensated with a calibration made from simulated runs,
+// was reported as "recorded" without a banner, and cal.json kept no trace of its runs' bytes or
+// origin. The calibration now records each run's SHA-256, size and origin; the report shows them,
+// bannered when any run was simulated, and warns when a run is compensated with a calibration
+// that contains it.
+TEST(ReportChecks, ACalibrationFromSimulatedRunsIsNamedWithItsRunsSources) {
+  temp_dir d;
+  calibrate_at_20c(d, "hz1-90-100a", "600", {"1", "2"});
+  const auto cal = nlohmann::json::parse(read_text(d.file("cal.json")));
+  EXPECT_EQ(cal["schema"], "gyroflip.calibration/2");
+  ASSERT_EQ(cal["files"].size(), 2u);
+  const auto sha_of = [](const std::string& file) {
+    auto s = gyroflip::report::sha256_file(file);
+    EXPECT_TRUE(static_cast<bool>(s));
+    return s ? *s : std::string();
+  };
+  for (const auto& f : cal["files"]) {
+    EXPECT_EQ(f["sha256"], sha_of(f["file"].get<std::string>())) << f;
+    EXPECT_EQ(f["size_bytes"].get<std::uintmax_t>(),
+              std::filesystem::file_size(f["file"].get<std::string>()));
+    EXPECT_EQ(f["origin"], "simulated") << f;
+    EXPECT_NE(f["origin_detail"].get<std::string>().find("seed"), std::string::npos) << f;
+  }
+  // The run: a simulated CSV with its maker's lines removed (as a hand-made CSV would be).
+  const auto sim = simulate(d, "t.csv", "20", "9", "0.5");
+  std::string csv = "# sensor: hz1-90-100a\n";
+  {
+    std::istringstream in(read_text(sim));
+    for (std::string line; std::getline(in, line);)
+      if (line.empty() || line[0] != '#') csv += line + "\n";
+  }
+  std::ofstream(d.file("plain.csv")) << csv;
+  const auto r = run_cli(
+      {"report", d.file("plain.csv"), "--calibration", d.file("cal.json"), "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto html = read_text(d.file("rep/index.html"));
+  EXPECT_NE(html.find("Simulated calibration: the ΔN applied comes from a calibration of which 2 "
+                      "of the 2 runs"),
+            std::string::npos);
+  EXPECT_EQ(html.find("Simulated data:"), std::string::npos);  // the run itself is not known to be
+  EXPECT_NE(html.find("origin not known"), std::string::npos);
+  EXPECT_NE(html.find(cal["files"][0]["sha256"].get<std::string>()), std::string::npos);
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  EXPECT_EQ(j["calibration_simulated_runs"], 2);
+  EXPECT_EQ(j["simulated_runs"], 0);
+  ASSERT_EQ(j["calibration_runs"].size(), 2u);
+  EXPECT_EQ(j["calibration_runs"][1]["sha256"], cal["files"][1]["sha256"]);
+  // A calibration run compensated with its own calibration: not an independent test.
+  const auto self = run_cli(
+      {"report", d.file("c1.csv"), "--calibration", d.file("cal.json"), "-o", d.file("rep_self")});
+  ASSERT_EQ(self.exit_code, 0) << self.err;
+  EXPECT_NE(self.err.find("the same bytes as the calibration's run"), std::string::npos)
+      << self.err;
+  EXPECT_EQ(r.err.find("the same bytes"), std::string::npos) << r.err;
+}
+
+// Review R5: runs at one temperature are pooled by a mean weighted with their within-run errors;
+// the page says so and gives the plain mean beside it.
+TEST(ReportChecks, ThePooledMeansWeightingIsOnThePage) {
+  temp_dir d;
+  const auto html =
+      calibration_page(d, {{"a.csv", "20", "1"}, {"b.csv", "20", "2"}, {"c.csv", "20", "3"}});
+  EXPECT_NE(html.find("weights each run by 1/(its within-run error)²"), std::string::npos);
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  double plain = 0.0;
+  for (const auto& run : j["runs"]) plain += run["delta_n_dps"].get<double>() / 3.0;
+  EXPECT_NE(html.find(fmt::format("The plain mean of the 3 runs is {:.6g} °/s", plain)),
+            std::string::npos)
+      << plain;
+}

@@ -3,6 +3,7 @@
 /// --calibration`): the same JSON object that `calibrate --json` prints (docs/FORMATS.md).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -23,10 +24,25 @@ struct calibration_geometry {
   earth::ned_vector axis;
 };
 
+/// Where one run of a calibration came from, as `calibrate` recorded it (schema 2; absent in
+/// older files): the bytes it read and what the recording's metadata says made it.
+struct run_source {
+  std::string sha256;  ///< of the file's bytes, lowercase hex
+  std::uint64_t size_bytes = 0;
+  /// "simulated" (gyroflip simulate), "emulated" (a rig recording of gyroflip's emulator), "rig"
+  /// (a rig recording of a board) or "unknown" (a CSV whose metadata names no maker).
+  std::string origin;
+  std::string origin_detail;  ///< the same in words (which simulation, which device)
+  [[nodiscard]] bool simulated() const noexcept {
+    return origin == "simulated" || origin == "emulated";
+  }
+};
+
 /// One input file's calibration.
 struct calibration_entry {
   std::string file;
   method::calibration cal;
+  std::optional<run_source> source;
 };
 
 /// Which sensor and rig a recording (or a calibration) belongs to, from the recordings' `# key:
@@ -80,11 +96,12 @@ inline constexpr double min_model_span_c = 2.0;
     std::span<const calibration_entry> runs, std::optional<std::size_t> degree = std::nullopt);
 
 /// JSON text of a calibration (one line, keys as in docs/FORMATS.md; schema
-/// gyroflip.calibration/1 and gyroflip's version, io/schema.hpp).
+/// gyroflip.calibration/2 and gyroflip's version, io/schema.hpp).
 [[nodiscard]] result<std::string> to_json(const calibration_record& rec);
 
-/// Reads a calibration file: its pooled dN, sensor, rig, pairing, model and the runs it was made
-/// of (`files`: dN, correlated error, temperature, cycles). Errors name the file (and the key that
+/// Reads a calibration file (schema 1 or 2): its pooled dN, sensor, rig, pairing, model and the
+/// runs it was made of (`files`: dN, correlated error, temperature, cycles, and from schema 2
+/// each run's SHA-256, size and origin). Errors name the file (and the key that
 /// is wrong).
 [[nodiscard]] result<calibration_record> read_calibration_file(const std::string& path);
 /// The same from the file's text (`path` names it in messages).

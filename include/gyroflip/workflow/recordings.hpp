@@ -11,6 +11,7 @@
 
 #include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/types.hpp"
@@ -47,6 +48,16 @@ struct recording_run {
 /// The value of metadata key `key` (`# key: value`), empty when the recording has none.
 [[nodiscard]] std::string metadata_value(std::span<const io::csv_metadata> metadata,
                                          std::string_view key);
+
+/// Where a recording came from, from its name and metadata (docs/REPORT.md, "Provenance"):
+/// `simulated` (a `# gyroflip simulate` line), `emulated` (a rig recording whose INFO names
+/// gyroflip's emulator), `rig` (any other `.gfr`) or `unknown` (a CSV naming no maker), with
+/// its detail in words; the SHA-256 and size are left empty.
+[[nodiscard]] io::run_source origin_of(const std::string& file,
+                                       std::span<const io::csv_metadata> metadata);
+
+/// The origin as a page says it ("simulated: gyroflip simulate (...)").
+[[nodiscard]] std::string origin_words(const io::run_source& src);
 
 /// Reads a recording (CSV or `.gfr`) whole. Errors: those of the readers and of
 /// io::cycles_of_rows.
