@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/io/csv.hpp"
@@ -289,10 +290,7 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
   const std::size_t n = t.size();
   std::vector<double> d(n - 1);
   for (std::size_t k = 0; k + 1 < n; ++k) d[k] = t[k + 1] - t[k];
-  std::vector<double> sorted = d;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
-                   sorted.end());
-  const double period = sorted[sorted.size() / 2];
+  const double period = analysis::upper_median(d);
   std::vector<std::size_t> gaps;  // k: a gap between samples k and k + 1
   for (std::size_t k = 0; k + 1 < n; ++k) {
     if (d[k] < 0.5 * period)

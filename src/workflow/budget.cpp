@@ -100,11 +100,9 @@ double delta_n_tc_dps_per_c(const sensor::sensor_params& p) noexcept {
   return std::hypot(p.g_sens_tc_z_dps_per_g_c, p.g_sens_tc_turn_on_sigma_dps_per_g_c);  // x 1 g
 }
 
-void add_temperature_term(delta_n_budget& b, double outside_c, double lo_c, double hi_c,
+void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view span,
                           const sensor::sensor_params* preset, const std::string& preset_name) {
   b.outside_c = outside_c;
-  const std::string span = hi_c - lo_c < 0.05 ? fmt::format("{:.1f} °C", lo_c)
-                                              : fmt::format("{:.1f}–{:.1f} °C", lo_c, hi_c);
   const double tc = preset != nullptr ? delta_n_tc_dps_per_c(*preset) : 0.0;
   if (!(tc > 0.0)) {
     b.valid = false;

@@ -457,7 +457,7 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
     b.new_power_up_dps = std::hypot(b.calibration_dps, b.run_to_run_dps);
     return;
   }
-  add_temperature_term(b, outside_c, cal.lo, cal.hi, f.id.builtin ? &f.id.builtin->params : nullptr,
+  add_temperature_term(b, outside_c, cal.text(), f.id.builtin ? &f.id.builtin->params : nullptr,
                        f.id.preset);
 }
 

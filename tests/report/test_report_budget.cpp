@@ -85,7 +85,7 @@ TEST(DeltaNBudget, ATemperatureTermFromThePresetOrNotValid) {
   const auto* hz1 = sensor::find_builtin("hz1-90-100a");
   auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
   const double before = b.new_power_up_dps;
-  workflow::add_temperature_term(b, 16.0, 20.0, 20.0, &hz1->params, "hz1-90-100a");
+  workflow::add_temperature_term(b, 16.0, "20.0 °C", &hz1->params, "hz1-90-100a");
   const double term = std::hypot(4.5e-5, 8.75e-5) * 16.0;
   EXPECT_TRUE(b.valid);
   EXPECT_NEAR(b.temperature_dps, term, 1e-12);
@@ -97,7 +97,7 @@ TEST(DeltaNBudget, ATemperatureTermFromThePresetOrNotValid) {
       << b.temperature_note;
   const auto* adx = sensor::find_builtin("adxrs150");
   auto a = workflow::budget_of(runs, *model, &adx->params, "adxrs150");
-  workflow::add_temperature_term(a, 16.0, 20.0, 20.0, &adx->params, "adxrs150");
+  workflow::add_temperature_term(a, 16.0, "20.0 °C", &adx->params, "adxrs150");
   EXPECT_FALSE(a.valid);
   EXPECT_TRUE(std::isnan(a.new_power_up_dps));
   EXPECT_NE(a.temperature_note.find("not valid outside"), std::string::npos);

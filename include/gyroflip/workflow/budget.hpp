@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
@@ -59,11 +60,11 @@ inline constexpr double outside_calibration_c = 2.0;
 /// (sensor/params.hpp g_sens_tc_z, g_sens_tc_turn_on_sigma); 0 when the preset states neither.
 [[nodiscard]] double delta_n_tc_dps_per_c(const sensor::sensor_params& p) noexcept;
 
-/// Adds the temperature term for a run `outside_c` degC beyond the calibration runs' span
-/// (`lo_c`..`hi_c`) to `b`: delta_n_tc_dps_per_c x distance, combined with the new power-up's
-/// error; without a coefficient (no preset, or one that states none) the budget is marked not
-/// valid instead of printing a +- that does not cover the run.
-void add_temperature_term(delta_n_budget& b, double outside_c, double lo_c, double hi_c,
+/// Adds the temperature term for a run `outside_c` degC beyond the calibration runs' span (named
+/// `span`, as "4.0-20.0 degC") to `b`: delta_n_tc_dps_per_c x distance, combined with the new
+/// power-up's error; without a coefficient (no preset, or one that states none) the budget is
+/// marked not valid instead of printing a +- that does not cover the run.
+void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view span,
                           const sensor::sensor_params* preset, const std::string& preset_name);
 
 /// The turn-on spread of dN a sensor model draws (sensor/params.hpp): the change of the g-term
