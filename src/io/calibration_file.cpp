@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include <fmt/format.h>
 
@@ -128,37 +129,43 @@ status check_model(const std::string& path, const method::delta_n_model& m) {
   return ok();
 }
 
-// A run's source (schema 2): all four keys or none; a SHA-256 of 64 hex digits and a known
-// origin, so a report never shows a provenance the file could not have had.
-status read_source(const std::string& path, const json& f, calibration_entry& e) {
-  if (!f.contains("sha256")) return ok();
-  const auto text = [&](const char* key) -> result<std::string> {
-    const auto it = f.find(key);
-    if (it == f.end() || !it->is_string())
-      return input_error({path},
-                         fmt::format("files: a run with 'sha256' needs a string '{}'", key));
-    return it->get<std::string>();
+// A run's source (schema 2): all four keys or none (a file without one of them is not what
+// calibrate wrote: review D3), a SHA-256 of 64 lowercase hex digits, a known origin, a size a
+// JSON number holds exactly, and a detail of printable text. `at` names the run ("files[2]").
+status read_source(const std::string& path, const std::string& at, const json& f,
+                   calibration_entry& e) {
+  constexpr const char* keys[] = {"sha256", "size_bytes", "origin", "origin_detail"};
+  const auto present =
+      std::count_if(std::begin(keys), std::end(keys), [&](const char* k) { return f.contains(k); });
+  if (present == 0) return ok();
+  const auto bad = [&](std::string_view what) {
+    return input_error({path}, fmt::format("{}: {}", at, what));
   };
+  if (present != 4)
+    return bad(
+        "a run's source needs all of 'sha256', 'size_bytes', 'origin' and "
+        "'origin_detail' (or none)");
+  for (const char* k : {"sha256", "origin", "origin_detail"})
+    if (!f[k].is_string()) return bad(fmt::format("'{}' must be a string", k));
   run_source src;
-  for (auto [key, to] : {std::pair{"sha256", &src.sha256},
-                         {"origin", &src.origin},
-                         {"origin_detail", &src.origin_detail}}) {
-    auto v = text(key);
-    if (!v) return v.err();
-    *to = std::move(*v);
-  }
+  src.sha256 = f["sha256"].get<std::string>();
+  src.origin = f["origin"].get<std::string>();
+  src.origin_detail = f["origin_detail"].get<std::string>();
   if (src.sha256.size() != 64 ||
       src.sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
-    return input_error({path}, "files: 'sha256' must be 64 lowercase hex digits");
+    return bad("'sha256' must be 64 lowercase hex digits");
   if (src.origin != "simulated" && src.origin != "emulated" && src.origin != "rig" &&
       src.origin != "unknown")
-    return input_error({path},
-                       "files: 'origin' must be \"simulated\", \"emulated\", \"rig\" "
-                       "or \"unknown\"");
-  const auto size = f.find("size_bytes");
-  if (size == f.end() || !size->is_number_unsigned())
-    return input_error({path}, "files: a run with 'sha256' needs a whole number 'size_bytes'");
-  src.size_bytes = size->get<std::uint64_t>();
+    return bad("'origin' must be \"simulated\", \"emulated\", \"rig\" or \"unknown\"");
+  if (src.origin_detail.size() > 1000 ||
+      std::any_of(src.origin_detail.begin(), src.origin_detail.end(),
+                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    return bad("'origin_detail' must be one line of at most 1000 bytes");
+  const auto& size = f["size_bytes"];
+  constexpr std::uint64_t max_size = std::uint64_t{1} << 53;  // exact in a JSON double
+  if (!size.is_number_unsigned() || size.get<std::uint64_t>() > max_size)
+    return bad("'size_bytes' must be a whole number of bytes up to 2^53");
+  src.size_bytes = size.get<std::uint64_t>();
   e.source = std::move(src);
   return ok();
 }
@@ -294,6 +301,12 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
   try {
     if (!j.is_object() || !j.contains("delta_n_dps"))
       return input_error({path}, "not a gyroflip calibration (no 'delta_n_dps')");
+    // Files before schema 1 carry none; another schema is another format (review D3).
+    if (const auto sc = j.find("schema"); sc != j.end())
+      if (!sc->is_string() || (*sc != "gyroflip.calibration/1" && *sc != "gyroflip.calibration/2"))
+        return input_error({path}, fmt::format("schema {} is not a gyroflip calibration this "
+                                               "version reads (gyroflip.calibration/1 or /2)",
+                                               printable(sc->dump(), 80)));
     rec.pooled.delta_n_dps = j.at("delta_n_dps").get<double>();
     if (!std::isfinite(rec.pooled.delta_n_dps))
       return input_error({path}, "'delta_n_dps' is not finite");
@@ -340,9 +353,12 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
       rec.model = std::move(model);
     }
     // The runs it was made of (their dN and errors: a report's budget of the dN applied).
-    if (j.contains("files") && j["files"].is_array())
+    if (j.contains("files") && !j["files"].is_array())
+      return input_error({path}, "'files' must be an array of runs");
+    if (j.contains("files"))
       for (const auto& f : j["files"]) {
         calibration_entry e;
+        const std::string at = fmt::format("files[{}]", rec.files.size());
         if (!f.is_object()) return input_error({path}, "files: each run must be an object");
         if (const auto it = f.find("file"); it != f.end() && it->is_string())
           e.file = it->get<std::string>();
@@ -353,7 +369,7 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
           e.cal.temp_c = f["temp_c"].get<double>();
         if (f.contains("cycles") && f["cycles"].is_number_unsigned())
           e.cal.cycles = f["cycles"].get<std::size_t>();
-        if (auto s = read_source(path, f, e); !s) return s.err();
+        if (auto s = read_source(path, at, f, e); !s) return s.err();
         if (auto s = check_magnitude(path, "files: delta_n_dps", e.cal.delta_n_dps); !s)
           return s.err();
         if (!(e.cal.stderr_correlated_dps >= 0.0) ||

@@ -154,6 +154,8 @@ result<std::string> html(const page& p, const std::string& dir) {
       "<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
       escaped(p.title), css, escaped(p.title));
   for (const auto& b : p.banners) out += fmt::format("<p class=\"banner\">{}</p>\n", escaped(b));
+  if (const auto m = modified_build_note(p.made.commit); !m.empty())
+    out += fmt::format("<p class=\"banner\">{}</p>\n", escaped(m));
   for (const auto& s : p.sections) {
     out += fmt::format("<h2>{}</h2>\n", escaped(s.heading));
     for (const auto& para : s.paragraphs) out += fmt::format("<p>{}</p>\n", escaped(para));
@@ -200,6 +202,14 @@ result<input_file> identify_file(const std::string& path) {
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) return io_error(path, ec.message());
   return input_file{path, static_cast<std::uint64_t>(size), *sum, {}};
+}
+
+std::string modified_build_note(std::string_view commit) {
+  if (!commit.ends_with("+modified")) return {};
+  return fmt::format(
+      "Built from a modified source tree (commit {}): the commit does not identify "
+      "the code that made this.",
+      commit);
 }
 
 std::string utc_now() {

@@ -21,7 +21,16 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
                          const sensor::sensor_params* preset, const std::string& preset_name) {
   delta_n_budget b;
   b.runs = runs.size();
-  if (runs.empty()) return b;
+  if (runs.empty()) {
+    constexpr double unknown = std::numeric_limits<double>::quiet_NaN();
+    b.within_run_dps = b.run_to_run_dps = b.calibration_dps = b.new_power_up_dps = unknown;
+    b.temp_c = unknown;
+    b.run_to_run_source = "unknown: the calibration lists no runs";
+    b.model_note = "not known: the calibration lists no runs and states no error";
+    b.valid = false;
+    b.invalid_why = "not known: the calibration lists no runs and states no error";
+    return b;
+  }
   b.within_run_dps = io::pooled_correlated_stderr(runs);
   double t_sum = 0.0;
   std::size_t t_n = 0;

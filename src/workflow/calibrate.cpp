@@ -90,6 +90,11 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     if (auto s = sensors.add(file, rc->metadata, out.warnings); !s) return s.err();
     all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
   }
+  {
+    std::vector<std::string> sums;
+    for (const auto& e : rec.files) sums.push_back(e.source->sha256);
+    if (auto s = check_distinct_recordings(r.files, sums); !s) return s.err();
+  }
   rec.sensor = sensors.sensor();
   if (!rec.sensor->known())
     out.warnings.emplace_back(

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/drift.hpp"
+#include "gyroflip/core/error.hpp"
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/rig/ad7739.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
@@ -107,8 +108,8 @@ io::run_source origin_of(const std::string& file, std::span<const io::csv_metada
   } else if (const auto e = m("emulated"); !e.empty()) {
     src.origin = "emulated";
     src.origin_detail = fmt::format(
-        "a rig recording (.gfr) of {} (device serial {}, firmware {}), not of a real board", e,
-        m("serial"), m("firmware"));
+        "a rig recording{} of {} (device serial {}, firmware {}), not of a real board",
+        file.ends_with(".gfr") ? " (.gfr)" : " exported to CSV", e, m("serial"), m("firmware"));
   } else if (file.ends_with(".gfr")) {
     src.origin = "rig";
     src.origin_detail = fmt::format("rig recording (.gfr): device serial {}, firmware {}",
@@ -118,6 +119,17 @@ io::run_source origin_of(const std::string& file, std::span<const io::csv_metada
     src.origin_detail = "recording (CSV); its metadata names no maker";
   }
   return src;
+}
+
+status check_distinct_recordings(std::span<const std::string> files,
+                                 std::span<const std::string> sha256) {
+  for (std::size_t k = 1; k < files.size() && k < sha256.size(); ++k)
+    for (std::size_t i = 0; i < k; ++i)
+      if (sha256[i] == sha256[k])
+        return input_error({files[k]}, fmt::format("has the same bytes as {} (SHA-256 {}): one "
+                                                   "recording given twice is not two runs",
+                                                   printable(files[i], 200), sha256[k]));
+  return ok();
 }
 
 std::string origin_words(const io::run_source& src) {

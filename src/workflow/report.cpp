@@ -135,6 +135,10 @@ json calibration_runs_json(const io::calibration_record& rec) {
 calibration_origin calibration_origin_of(const io::calibration_record& rec) {
   calibration_origin c;
   c.runs = rec.files.size();
+  if (c.runs == 0) {
+    c.words = "none listed (its ΔN was not made by gyroflip calibrate, or its runs were removed)";
+    return c;
+  }
   std::map<std::string, std::size_t> by;
   for (const auto& e : rec.files) {
     if (!e.source) {
@@ -421,6 +425,67 @@ void check_stationary(const report_request& r, const std::vector<run_analysis>& 
         std::sqrt(f.runs_model->chi2_per_dof), f.runs_model->chi2_per_dof));
 }
 
+// The budget of a calibration file's ΔN. Its runs give it, once the file's ΔN is checked to be
+// theirs: a model that is not their fit (edited by hand, review D4) is warned about, as the
+// budget then describes other numbers than those applied. A file that lists no runs (a ΔN
+// written by hand) gets its own stated error as one run's, with the preset's repeatability, or
+// no ± at all (review D1: it got ±0).
+delta_n_budget calibration_budget(const delta_n_source& given, const identity& id,
+                                  std::vector<std::string>& warnings) {
+  const auto& rec = *given.record;
+  const auto* preset = id.builtin ? &id.builtin->params : nullptr;
+  if (rec.files.empty()) {
+    const bool own =
+        rec.pooled.stderr_correlated_dps > 0.0 && (!rec.model || rec.model->degree() == 0);
+    warnings.push_back(
+        own ? fmt::format(
+                  "{}: the calibration lists no runs: the ΔN applied carries its own stated "
+                  "error ±{} °/s and, for a new power-up, the run-to-run repeatability of "
+                  "the budget below",
+                  given.source, g(rec.pooled.stderr_correlated_dps, 2))
+            : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
+                          "has no known uncertainty",
+                          given.source));
+    if (!own) return budget_of({}, std::nullopt, preset, id.preset);
+    std::vector<io::calibration_entry> one{
+        {"the calibration's stated ΔN", rec.pooled, std::nullopt}};
+    one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
+    return budget_of(one, std::nullopt, preset, id.preset);
+  }
+  const auto differs = [](double a, double b) {
+    return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
+  };
+  if (rec.model) {
+    const auto refit = io::fit_runs_model(rec.files, rec.model->degree());
+    const bool theirs = refit && *refit &&
+                        (*refit)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
+                        std::equal(rec.model->coeffs_dps.begin(), rec.model->coeffs_dps.end(),
+                                   (*refit)->coeffs_dps.begin(),
+                                   [&](double a, double b) { return !differs(a, b); });
+    if (!theirs) {
+      const double se = refit && *refit ? std::sqrt((*refit)->cov.front()) : method::no_value;
+      warnings.push_back(fmt::format(
+          "{}: its ΔN model is not the fit of the {} runs it lists (c₀ {} °/s applied, {} °/s "
+          "from its runs{}): edited by hand or made by other software; the budget below is the "
+          "runs', not the ΔN applied's",
+          given.source, rec.files.size(), g(rec.model->coeffs_dps.front(), 6),
+          refit && *refit ? g((*refit)->coeffs_dps.front(), 6) : std::string("none"),
+          std::isfinite(se) && se > 0.0
+              ? fmt::format(
+                    ", {:.1f} σ apart",
+                    std::abs(rec.model->coeffs_dps.front() - (*refit)->coeffs_dps.front()) / se)
+              : std::string()));
+    }
+  } else if (rec.files.size() == 1 &&
+             differs(rec.pooled.delta_n_dps, rec.files[0].cal.delta_n_dps)) {
+    warnings.push_back(fmt::format(
+        "{}: its ΔN {} °/s is not its one run's {} °/s: edited by hand or made by other "
+        "software; the budget below is the run's",
+        given.source, g(rec.pooled.delta_n_dps, 6), g(rec.files[0].cal.delta_n_dps, 6)));
+  }
+  return budget_of(rec.files, rec.model, preset, id.preset);
+}
+
 // A calibration applied to runs away from its runs' temperatures. A constant dN (review R3): the
 // budget gets the sensor preset's temperature term, or is marked not valid when no coefficient
 // is known. A dN(T) line (re-review): its error is taken at the runs' own temperatures, where it
@@ -463,7 +528,7 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
 
 // "±u °/s" of a new power-up's ΔN, or why there is none.
 std::string power_up_text(const delta_n_budget& b) {
-  if (!b.valid) return "not valid outside the calibration's temperatures";
+  if (!b.valid) return b.invalid_why;
   return fmt::format("±{} °/s{}", g(b.new_power_up_dps, 2),
                      b.outside_c > 0.0 ? ", its temperature term included" : "");
 }
@@ -500,10 +565,10 @@ void check_commanded_rate(const run_analysis& a, double expected_dps, const rate
   // Too slow to say anything about the scale factor: its uncertainty exceeds the tolerance.
   if (spec && 2.0 * u > spec->fraction)
     f.warnings.push_back(fmt::format(
-        "{}: the commanded {} °/s is too slow to measure a scale factor: the ΔN and noise "
-        "uncertainty ±{} °/s is {:.0f} % of it, beyond the {} (a rate above {} °/s would "
-        "resolve it)",
-        a.run.file, g(expected_dps, 6), g(u_dps, 2), 100.0 * u, spec->source,
+        "{}: the commanded {} °/s is too slow to measure a scale factor: twice the ΔN and "
+        "noise uncertainty (2 × ±{} °/s, 2 σ) is {:.1f} % of it, more than the {} (a rate "
+        "above {} °/s would resolve it)",
+        a.run.file, g(expected_dps, 6), g(u_dps, 2), 200.0 * u, spec->source,
         g(2.0 * u_dps / spec->fraction, 2)));
 }
 
@@ -603,16 +668,18 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
             b.valid ? pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm) + " ppm"
                     : fmt::format("about {:.1f} %", f.rates[k]->scale_factor_ppm / 1e4),
             b.valid ? ""
-                    : " (its uncertainty is not known: the ΔN applied is "
-                      "not valid outside the calibration's temperatures)");
+                    : fmt::format(" (its uncertainty is not known: the ΔN applied's ± is {})",
+                                  b.invalid_why));
       out += ".";
     }
     out += b.valid ? fmt::format(
                          " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
                          "not reduce it.",
                          g(b.new_power_up_dps, 2))
-                   : " The ΔN error is not known outside the calibration's temperatures; it is "
-                     "common to every cycle: averaging longer does not reduce it.";
+                   : fmt::format(
+                         " The ΔN applied has no ± here ({}); its error is common to "
+                         "every cycle: averaging longer does not reduce it.",
+                         b.invalid_why);
   }
   // The noise, as the noise table prints it: the same term (B) of both series of the first run.
   const auto* a = &runs.front();
@@ -666,8 +733,7 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
                               "carries as a systematic error (w = r − ΔN, paper eqn 12), the "
                               "same in every cycle",
                               b.outside_c > 0.0 ? " + temperature²" : "")
-                : std::string("not valid outside the calibration's temperatures: no ± covers "
-                              "the run")}},
+                : b.invalid_why + ": no ± covers the run"}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
   if (b.outside_c > 0.0)
@@ -741,9 +807,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   for (const auto& a : runs) entries.push_back({a.run.file, a.cal, std::nullopt});
   if (f.given) {
     f.model = f.given->model;
-    const auto& rec = *f.given->record;
-    f.budget = budget_of(rec.files, rec.model, f.id.builtin ? &f.id.builtin->params : nullptr,
-                         f.id.preset);
+    f.budget = calibration_budget(*f.given, f.id, f.warnings);
     check_calibration_temperature(runs, f);
   } else {
     auto m = io::fit_runs_model(entries);
@@ -816,6 +880,11 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
               "calibration",
               runs[k].run.file, e.file));
     page.made.inputs.push_back(std::move(*in));
+  }
+  {
+    std::vector<std::string> sums;
+    for (std::size_t k = 0; k < runs.size(); ++k) sums.push_back(page.made.inputs[k].sha256);
+    if (auto s = check_distinct_recordings(r.files, sums); !s) return s.err();
   }
   const temp_span all_t = runs_temps(runs);
   const std::string serials = [&] {
@@ -899,7 +968,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     }
   }
   who.tables.push_back(std::move(durations));
-  if (f.compensating) who.tables.push_back(calibration_runs_table(*f.given->record));
+  if (f.compensating && !f.given->record->files.empty())
+    who.tables.push_back(calibration_runs_table(*f.given->record));
   page.sections.push_back(std::move(who));
 
   // dN and its budget, or the compensated rates.

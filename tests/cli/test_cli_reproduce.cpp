@@ -36,7 +36,10 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
   EXPECT_NE(r.out.find("made "), std::string::npos);  // provenance in the text too
   // The verdict line itself says the run was quick (review R7): a quarter-length campaign is a
   // check of the pipeline, not the reproduction.
-  const auto verdict = r.out.substr(r.out.find("\nverdict: "));
+  ASSERT_NE(r.out.find("\nverdict (quick check of the pipeline, not the reproduction): "),
+            std::string::npos)
+      << r.out;
+  const auto verdict = r.out.substr(r.out.find("\nverdict ("));
   EXPECT_NE(verdict.substr(0, verdict.find("\n", 1)).find("Quick run"), std::string::npos)
       << verdict;
   EXPECT_NE(r.out.find("Calibration targets: what the sensor model was fitted to"),
@@ -111,6 +114,7 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
     EXPECT_TRUE(j[k].is_string()) << k;
   EXPECT_NE(j["command"].get<std::string>().find("reproduce --quick"), std::string::npos) << j;
   EXPECT_FALSE(j.contains("sensitivity"));  // not with --quick
+  EXPECT_EQ(j["verdict_scope"], "quick check");
 }
 
 // --campaigns 0 was taken as "the default"; a count outside 1..1000 is refused, before any

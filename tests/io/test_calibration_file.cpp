@@ -56,7 +56,30 @@ TEST(CalibrationFile, AMalformedSourceIsRefusedByName) {
           "'origin' must be");
   refused(R"("sha256": ")" + sha + R"(", "size_bytes": -1, "origin": "rig", "origin_detail": "x")",
           "'size_bytes'");
-  refused(R"("sha256": ")" + sha + R"(", "size_bytes": 1, "origin": "rig")", "'origin_detail'");
+  refused(R"("sha256": ")" + sha +
+              R"(", "size_bytes": 18446744073709551615, "origin": "rig", )"
+              R"("origin_detail": "x")",
+          "up to 2^53");
+  refused(R"("sha256": ")" + sha +
+              R"(", "size_bytes": 1, "origin": "rig", "origin_detail": "a\u0007b")",
+          "one line");
+  // All four or none (review D3: deleting the hash removed the "simulated" banner), and the run
+  // is named.
+  refused(R"("sha256": ")" + sha + R"(", "size_bytes": 1, "origin": "rig")",
+          "files[0]: a run's source needs all");
+  refused(R"("size_bytes": 1, "origin": "simulated", "origin_detail": "x")", "needs all");
+}
+
+TEST(CalibrationFile, AnotherSchemaOrFilesNotAnArrayIsRefused) {
+  for (const char* text : {R"({"schema": "gyroflip.calibration/99", "delta_n_dps": 0.01})",
+                           R"({"schema": "gyroflip.report/3", "delta_n_dps": 0.01})",
+                           R"({"delta_n_dps": 0.01, "files": {}})"}) {
+    const auto r = io::parse_calibration(text, "cal.json");
+    EXPECT_FALSE(r) << text;
+  }
+  for (const char* text :
+       {R"({"schema": "gyroflip.calibration/1", "delta_n_dps": 0.01})", R"({"delta_n_dps": 0.01})"})
+    EXPECT_TRUE(io::parse_calibration(text, "cal.json")) << text;
 }
 
 }  // namespace

@@ -57,14 +57,15 @@ TEST(ReproduceVerdict, HoldsForTheModelAndFailsWhenAPredictionIsBrokenOnPurpose)
       EXPECT_GT(p["u_predicted"].get<double>(), 0.0) << p;
     }
   EXPECT_EQ(summary["verdict"], "reproduced");
-  EXPECT_NE(good->text.find("verdict: reproduced (2 of 2 independent tests of the model hold)"),
+  EXPECT_NE(good->text.find("verdict (quick check of the pipeline, not the reproduction): "
+                            "reproduced (2 of 2 independent tests of the model hold)"),
             std::string::npos)
       << good->text;
   // Outcomes: "inconclusive" when the miss lies within two of its own simulation standard
   // errors of the limit (one quick campaign: the 4 degC std at -1.84 sigma of 2 is, with a
   // simulation error of 0.41 sigma), "pass (marginal)" with less than a fifth of the limit to
   // spare; each named in the verdict.
-  const auto verdict = good->text.substr(good->text.find("\nverdict: "));
+  const auto verdict = good->text.substr(good->text.find("\nverdict ("));
   for (const auto* tests : {&summary["predictions"], &summary["in_sample_tests"]})
     for (const auto& p : *tests) {
       const double score = std::abs(p["score"].get<double>());

@@ -71,6 +71,11 @@ struct page {
 /// The current date and time, ISO 8601 UTC to the second ("2026-11-24T09:15:02Z").
 [[nodiscard]] std::string utc_now();
 
+/// A warning for a build from a tree with uncommitted changes (`commit` ends in "+modified",
+/// cmake/build_commit.cmake): its commit does not identify the code. Empty otherwise. Pages show
+/// it as a banner.
+[[nodiscard]] std::string modified_build_note(std::string_view commit);
+
 /// `t` as plain text: the caption, then the columns padded to their widest cell (by UTF-8 code
 /// points), then the note. What the command line prints of a table the page shows.
 [[nodiscard]] std::string text(const table& t);

@@ -48,6 +48,9 @@ struct delta_n_budget {
   /// false: outside the calibration's temperatures with no coefficient known, so no uncertainty
   /// covers the run (new_power_up_dps is then NaN and the page says "not valid").
   bool valid = true;
+  /// Why there is no +- when !valid, as the page says it (outside the calibration's temperatures
+  /// with no coefficient known, or a calibration that lists no runs and states no error).
+  std::string invalid_why = "not valid outside the calibration's temperatures";
 };
 
 /// Beyond this distance (degC) from the calibration runs' temperatures, a constant dN gets a
@@ -73,8 +76,9 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
 [[nodiscard]] double turn_on_spread_dps(const sensor::sensor_params& p, double temp_c) noexcept;
 
 /// The budget of dN from the runs' calibrations and their model (io::fit_runs_model; none for
-/// one run). `preset` gives the repeatability when the runs cannot (one run, or a fit with no
-/// degrees of freedom); `preset_name` names it in the labels.
+/// one run); no runs: not valid (nothing to take an uncertainty from). `preset` gives the
+/// repeatability when the runs cannot (one run, or a fit with no degrees of freedom); `preset_name`
+/// names it in the labels.
 [[nodiscard]] delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
                                        const std::optional<method::delta_n_model>& model,
                                        const sensor::sensor_params* preset,

@@ -56,6 +56,12 @@ struct recording_run {
 [[nodiscard]] io::run_source origin_of(const std::string& file,
                                        std::span<const io::csv_metadata> metadata);
 
+/// Refuses one recording given twice under two names: `sha256[k]` is `files[k]`'s, and two equal
+/// hashes are the same bytes, not two runs (io::check_distinct_inputs catches the same file by
+/// two paths; a copy has another inode). Errors name both files.
+[[nodiscard]] status check_distinct_recordings(std::span<const std::string> files,
+                                               std::span<const std::string> sha256);
+
 /// The origin as a page says it ("simulated: gyroflip simulate (...)").
 [[nodiscard]] std::string origin_words(const io::run_source& src);
 
