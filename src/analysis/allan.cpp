@@ -352,30 +352,24 @@ result<std::vector<deviation_point>> deviation(dev_kind k, const phase_source& x
   const auto factors = averaging_factors(taus, k, x.size());
   // Rate samples rebuild their phase on every read: the sweep reads each point about ten times
   // (the window and the far streams), thousands of sweeps over a short series (`--taus all`: one
-  // per group of factors) thousands of times. Below 2^24 points (128 MB) the phase is built once
-  // (on all cores) and read as angle samples: the same phase (phase_reader is bit-identical
-  // wherever it starts), so the same sums - bit for bit but for MDEV's exact restarts (~1e-14) -
-  // three times faster at 557 k points with `--taus all`, OADEV octave at 1e6 17 -> 6 ms CPU.
-  // ADEV and HDEV read each point about once: no gain there.
-  constexpr std::size_t materialize_max_points = std::size_t{1} << 24;
+  // per group of factors) thousands of times. Up to 2^22 points (32 MB) the phase is built once
+  // (on all cores, phase_source::build) and read as angle samples with the rate source's block
+  // sums: the same phase (phase_reader is bit-identical wherever it starts), so the same sums bit
+  // for bit; three times faster at 557 k points with `--taus all`, OADEV octave at 1e6 17 -> 4 ms
+  // CPU. Beyond that the built phase no longer stays in the cache (32 MB of L3 on the project's
+  // VM) and each far stream reads it from memory, which costs more than rebuilding it from the
+  // samples in the cache: OADEV octave at 1e7 91 ms CPU built, 65 ms rebuilt; at 5e6 43 vs 30 ms;
+  // even at 2.5e6-4e6 (docs/PERFORMANCE.md). ADEV and HDEV read each point about once: no gain.
+  constexpr std::size_t materialize_max_points = std::size_t{1} << 22;
   if (x.kind() == input_kind::rate && x.size() <= materialize_max_points && !is_extended(k) &&
       k != dev_kind::adev && k != dev_kind::hdev) {
-    // Not zeroed first: every point is written below (a memset of up to 128 MB saved).
+    // Not zeroed first: build() writes every point, each thread the pages it built.
     const auto phase = std::make_unique_for_overwrite<double[]>(x.size());
-    constexpr std::size_t piece = std::size_t{1} << 16;
-    const std::size_t pieces = (x.size() + piece - 1) / piece;
-    const std::size_t workers = detail::worker_count(x.size());
-    std::vector<std::unique_ptr<phase_reader>> readers(workers);
-    detail::for_each_item(pieces, workers, [&](std::size_t w, std::size_t i) {
-      if (!readers[w]) readers[w] = std::make_unique<phase_reader>(x);
-      const std::size_t begin = i * piece;
-      const auto v = readers[w]->read(begin, std::min(piece, x.size() - begin));
-      std::copy(v.begin(), v.end(), phase.get() + begin);
-    });
-    const span_samples samples(std::span<const double>(phase.get(), x.size()));
-    const auto angle = phase_source::make(samples, input_kind::angle, x.tau0_s());
-    if (angle)
-      return collect(k, factors, raw_deviations(k, *angle, factors, on_progress), x.tau0_s());
+    const std::span<double> all(phase.get(), x.size());
+    x.build(all);
+    const span_samples samples(all);
+    const phase_source angle = x.built(samples);
+    return collect(k, factors, raw_deviations(k, angle, factors, on_progress), x.tau0_s());
   }
   return collect(k, factors, raw_deviations(k, x, factors, on_progress), x.tau0_s());
 }
