@@ -233,6 +233,25 @@ std::size_t max_factor(dev_kind k, std::size_t n_phase) {
   }
 }
 
+// ADEV and HDEV of rate samples at octave factors: from block sums, without the phase (one read
+// of the samples; docs/ANALYSIS.md). nullopt where that does not apply (other kinds or factors, a
+// sample or tau0 out of range): the phase path computes the curve or says what is wrong.
+std::optional<result<std::vector<deviation_point>>> from_block_sums(
+    dev_kind k, const sample_source& samples, input_kind in, double tau0_s, const tau_spec& taus,
+    const progress_fn& on_progress) {
+  if (in != input_kind::rate || (k != dev_kind::adev && k != dev_kind::hdev)) return std::nullopt;
+  const std::size_t n_phase = samples.size() + 1;
+  const auto factors = averaging_factors(taus, k, n_phase);
+  if (factors.empty()) return std::nullopt;
+  const auto sums =
+      detail::octave_block_sums(samples, tau0_s, k == dev_kind::adev ? 2 : 3, factors, on_progress);
+  if (!sums) return std::nullopt;
+  std::vector<raw_deviation> raw;
+  for (std::size_t i = 0; i < factors.size(); ++i)
+    raw.push_back(from_sum(k, (*sums)[i], n_phase, factors[i], tau0_s));
+  return collect(k, factors, raw, tau0_s);
+}
+
 }  // namespace
 
 bool is_extended(dev_kind k) noexcept {
@@ -349,33 +368,31 @@ result<std::vector<deviation_point>> deviation(dev_kind k, const phase_source& x
   if (x.size() < 3)
     return runtime_error(
         fmt::format("{} phase points are too few for an Allan deviation", x.size()));
+  // ADEV and HDEV of rate samples from their block sums where they apply (as the sample-source
+  // entry point below): one read of the samples, not the phase decimated point by point.
+  if (auto r = from_block_sums(k, x.samples(), x.kind(), x.tau0_s(), taus, on_progress))
+    return std::move(*r);
   const auto factors = averaging_factors(taus, k, x.size());
   // Rate samples rebuild their phase on every read: the sweep reads each point about ten times
   // (the window and the far streams), thousands of sweeps over a short series (`--taus all`: one
-  // per group of factors) thousands of times. Below 2^24 points (128 MB) the phase is built once
-  // (on all cores) and read as angle samples: the same phase (phase_reader is bit-identical
-  // wherever it starts), so the same sums - bit for bit but for MDEV's exact restarts (~1e-14) -
-  // three times faster at 557 k points with `--taus all`, OADEV octave at 1e6 17 -> 6 ms CPU.
-  // ADEV and HDEV read each point about once: no gain there.
-  constexpr std::size_t materialize_max_points = std::size_t{1} << 24;
+  // per group of factors) thousands of times. Up to 2^22 points (32 MB) the phase is built once
+  // (on all cores, phase_source::build) and read as angle samples with the rate source's block
+  // sums: the same phase (phase_reader is bit-identical wherever it starts), so the same sums bit
+  // for bit; three times faster at 557 k points with `--taus all`, OADEV octave at 1e6 17 -> 4 ms
+  // CPU. Beyond that the built phase no longer stays in the cache (32 MB of L3 on the project's
+  // VM) and each far stream reads it from memory, which costs more than rebuilding it from the
+  // samples in the cache: OADEV octave at 1e7 91 ms CPU built, 65 ms rebuilt; at 5e6 43 vs 30 ms;
+  // even at 2.5e6-4e6 (docs/PERFORMANCE.md). ADEV and HDEV read each point about once: no gain.
+  constexpr std::size_t materialize_max_points = std::size_t{1} << 22;
   if (x.kind() == input_kind::rate && x.size() <= materialize_max_points && !is_extended(k) &&
       k != dev_kind::adev && k != dev_kind::hdev) {
-    // Not zeroed first: every point is written below (a memset of up to 128 MB saved).
+    // Not zeroed first: build() writes every point, each thread the pages it built.
     const auto phase = std::make_unique_for_overwrite<double[]>(x.size());
-    constexpr std::size_t piece = std::size_t{1} << 16;
-    const std::size_t pieces = (x.size() + piece - 1) / piece;
-    const std::size_t workers = detail::worker_count(x.size());
-    std::vector<std::unique_ptr<phase_reader>> readers(workers);
-    detail::for_each_item(pieces, workers, [&](std::size_t w, std::size_t i) {
-      if (!readers[w]) readers[w] = std::make_unique<phase_reader>(x);
-      const std::size_t begin = i * piece;
-      const auto v = readers[w]->read(begin, std::min(piece, x.size() - begin));
-      std::copy(v.begin(), v.end(), phase.get() + begin);
-    });
-    const span_samples samples(std::span<const double>(phase.get(), x.size()));
-    const auto angle = phase_source::make(samples, input_kind::angle, x.tau0_s());
-    if (angle)
-      return collect(k, factors, raw_deviations(k, *angle, factors, on_progress), x.tau0_s());
+    const std::span<double> all(phase.get(), x.size());
+    x.build(all);
+    const span_samples samples(all);
+    const phase_source angle = x.built(samples);
+    return collect(k, factors, raw_deviations(k, angle, factors, on_progress), x.tau0_s());
   }
   return collect(k, factors, raw_deviations(k, x, factors, on_progress), x.tau0_s());
 }
@@ -419,22 +436,7 @@ result<std::vector<deviation_point>> deviation_of_phase(dev_kind k, std::span<co
 result<std::vector<deviation_point>> deviation(dev_kind k, const sample_source& samples,
                                                input_kind in, double tau0_s, const tau_spec& taus,
                                                const progress_fn& on_progress) {
-  // ADEV and HDEV of rate samples at octave factors: from block sums, without the phase. Where
-  // that does not apply (other factors, a sample or tau0 out of range) the phase path computes
-  // the curve or says what is wrong.
-  if (in == input_kind::rate && (k == dev_kind::adev || k == dev_kind::hdev)) {
-    const std::size_t n_phase = samples.size() + 1;
-    const auto factors = averaging_factors(taus, k, n_phase);
-    const std::size_t order = k == dev_kind::adev ? 2 : 3;
-    if (!factors.empty())
-      if (const auto sums =
-              detail::octave_block_sums(samples, tau0_s, order, factors, on_progress)) {
-        std::vector<raw_deviation> raw;
-        for (std::size_t i = 0; i < factors.size(); ++i)
-          raw.push_back(from_sum(k, (*sums)[i], n_phase, factors[i], tau0_s));
-        return collect(k, factors, raw, tau0_s);
-      }
-  }
+  if (auto r = from_block_sums(k, samples, in, tau0_s, taus, on_progress)) return std::move(*r);
   const auto src = phase_source::make(samples, in, tau0_s);
   if (!src) return src.err();
   return deviation(k, *src, taus, on_progress);

@@ -7,7 +7,10 @@
 /// the callers, which keeps the relative rounding of a whole sum at ~1e-13 for any length.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 namespace gyroflip::analysis::detail {
 
@@ -54,6 +57,32 @@ GYROFLIP_KERNEL_CLONES inline double sum_third_differences(const double* x0, con
   return sum_squares(n, [=](std::size_t t) { return x3[t] - 3.0 * x2[t] + 3.0 * x1[t] - x0[t]; });
 }
 
+/// Four doubles as one vector (GCC/Clang vector types: AVX2 in the clones below, SSE2 pairs or
+/// plain code elsewhere).
+using lanes4 = double __attribute__((vector_size(32)));
+
+// Lanes picked from a (0-3) and b (4-7), as one shuffle instruction where the CPU has it.
+#if defined(__clang__)
+#define GYROFLIP_PICK4(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#else
+using picks4 = std::int64_t __attribute__((vector_size(32)));
+#define GYROFLIP_PICK4(a, b, i, j, k, l) __builtin_shuffle(a, b, picks4{i, j, k, l})
+#endif
+
+/// Rows a, b, c, d of a 4 x 4 tile become its columns: unpack low and high pairs, then swap
+/// halves (four and four shuffles). By reference: a 32-byte vector passed by value has another
+/// ABI in the AVX2 clones.
+[[gnu::always_inline]] inline void transpose4(lanes4& a, lanes4& b, lanes4& c, lanes4& d) {
+  const lanes4 t0 = GYROFLIP_PICK4(a, b, 0, 4, 2, 6);  // a0 b0 a2 b2
+  const lanes4 t1 = GYROFLIP_PICK4(a, b, 1, 5, 3, 7);  // a1 b1 a3 b3
+  const lanes4 t2 = GYROFLIP_PICK4(c, d, 0, 4, 2, 6);  // c0 d0 c2 d2
+  const lanes4 t3 = GYROFLIP_PICK4(c, d, 1, 5, 3, 7);  // c1 d1 c3 d3
+  a = GYROFLIP_PICK4(t0, t2, 0, 1, 4, 5);
+  b = GYROFLIP_PICK4(t1, t3, 0, 1, 4, 5);
+  c = GYROFLIP_PICK4(t0, t2, 2, 3, 6, 7);
+  d = GYROFLIP_PICK4(t1, t3, 2, 3, 6, 7);
+}
+
 /// Sum of p[0..n) with four accumulators.
 inline double sum4(const double* p, std::size_t n) {
   double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
@@ -77,33 +106,58 @@ GYROFLIP_KERNEL_CLONES inline void mdev_steps(const double* x0, const double* x1
 
 /// MDEV's slide (SP1065 eqn 14): the inner sum s_t over m second differences moves by
 /// delta_t = d_{t+m} - d_t per step. Returns sum_{t<n} s_t^2 with s_0 = `inner` and leaves s_n
-/// in `inner`. The chain runs as four lanes side by side over quarters of the block, each
+/// in `inner`. The chain runs as eight lanes side by side over eighths of the block, each
 /// started from `inner` plus the (four-accumulator) sums of the deltas before it, so the adds
-/// overlap instead of waiting on one another; the lanes are two-wide vectors (GCC/Clang vector
-/// types: SSE2 on x86-64, plain code elsewhere), each lane computed exactly as alone.
-inline double slide(double& inner, const double* delta, std::size_t n) {
-  using pair = double __attribute__((vector_size(16)));
-  const std::size_t q = n / 4;
-  const double s1 = inner + sum4(delta, q);
-  const double s2 = s1 + sum4(delta + q, q);
-  pair lo = {inner, s1};                        // lanes 0 and 1
-  pair hi = {s2, s2 + sum4(delta + 2 * q, q)};  // lanes 2 and 3
-  pair acc_lo = {0.0, 0.0};
-  pair acc_hi = {0.0, 0.0};
-  for (std::size_t t = 0; t < q; ++t) {
+/// overlap instead of waiting on one another. The lanes are two four-wide vectors, fed four steps
+/// at a time by turning 4 x 4 tiles of deltas (four steps of four lanes) into rows; each lane
+/// computed exactly as alone, so the AVX2 clone and the plain code give the same bits.
+GYROFLIP_KERNEL_CLONES inline double slide(double& inner, const double* delta, std::size_t n) {
+  const std::size_t q = n / 8;
+  std::array<double, 8> start{};
+  start[0] = inner;
+  for (std::size_t l = 1; l < 8; ++l) start[l] = start[l - 1] + sum4(delta + (l - 1) * q, q);
+  lanes4 lo = {start[0], start[1], start[2], start[3]};  // lanes 0-3
+  lanes4 hi = {start[4], start[5], start[6], start[7]};  // lanes 4-7
+  lanes4 acc_lo = {0.0, 0.0, 0.0, 0.0};
+  lanes4 acc_hi = {0.0, 0.0, 0.0, 0.0};
+  const double* d = delta;
+  // One step of all eight lanes: square, then move by the lanes' deltas.
+  const auto step = [&](const lanes4& da, const lanes4& db) {
     acc_lo += lo * lo;
     acc_hi += hi * hi;
-    lo += pair{delta[t], delta[q + t]};
-    hi += pair{delta[2 * q + t], delta[3 * q + t]};
+    lo += da;
+    hi += db;
+  };
+  std::size_t t = 0;
+  lanes4 a0, a1, a2, a3, b0, b1, b2, b3;  // rows: deltas t .. t+3 of lanes 0-3 and 4-7
+  for (; t + 4 <= q; t += 4) {
+    std::memcpy(&a0, d + t, sizeof a0);
+    std::memcpy(&a1, d + q + t, sizeof a1);
+    std::memcpy(&a2, d + 2 * q + t, sizeof a2);
+    std::memcpy(&a3, d + 3 * q + t, sizeof a3);
+    std::memcpy(&b0, d + 4 * q + t, sizeof b0);
+    std::memcpy(&b1, d + 5 * q + t, sizeof b1);
+    std::memcpy(&b2, d + 6 * q + t, sizeof b2);
+    std::memcpy(&b3, d + 7 * q + t, sizeof b3);
+    transpose4(a0, a1, a2, a3);  // a_k: step t + k of lanes 0-3
+    transpose4(b0, b1, b2, b3);
+    step(a0, b0);
+    step(a1, b1);
+    step(a2, b2);
+    step(a3, b3);
   }
-  double s3 = hi[1];
-  double acc3 = acc_hi[1];
-  for (std::size_t t = 4 * q; t < n; ++t) {  // the last lane takes the remainder
-    acc3 += s3 * s3;
-    s3 += delta[t];
+  for (; t < q; ++t)
+    step(lanes4{d[t], d[q + t], d[2 * q + t], d[3 * q + t]},
+         lanes4{d[4 * q + t], d[5 * q + t], d[6 * q + t], d[7 * q + t]});
+  double s7 = hi[3];
+  double acc7 = acc_hi[3];
+  for (t = 8 * q; t < n; ++t) {  // the last lane takes the remainder
+    acc7 += s7 * s7;
+    s7 += delta[t];
   }
-  inner = s3;
-  return (acc_lo[0] + acc_lo[1]) + (acc_hi[0] + acc3);
+  inner = s7;
+  return ((acc_lo[0] + acc_lo[1]) + (acc_lo[2] + acc_lo[3])) +
+         ((acc_hi[0] + acc_hi[1]) + (acc_hi[2] + acc7));
 }
 
 }  // namespace gyroflip::analysis::detail

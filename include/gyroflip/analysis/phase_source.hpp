@@ -7,11 +7,12 @@
 /// points for M samples. The phase is cut into blocks of `block_samples` points; within block b
 /// the sum runs in double from 0, on top of the block's long-double carry
 /// c_b = sum_{i<b L} (y_i - ybar) split into two doubles base + base_err:
-/// x_{bL+j} = (base + (part_j + base_err)) tau0. `make` reads the samples twice (the mean, then
-/// the carries) and keeps per block the carry and the block's phase sum (for MDEV's exact
-/// restarts): 32 bytes per 1024 samples (31 MB at 1e9). A `phase_reader` then rebuilds any range
-/// of x from the carries and the samples, bit-identically wherever it starts. Angle samples are
-/// the phase itself (x_k = sample k, N = M): only the block sums are kept.
+/// x_{bL+j} = (base + (part_j + base_err)) tau0. `make` reads the samples once (per block the sum,
+/// and the running sums about a provisional mean, corrected exactly afterwards) and keeps per block
+/// the carry and the block's phase sum (for MDEV's exact restarts): 32 bytes per 1024 samples (31
+/// MB at 1e9). A `phase_reader` then rebuilds any range of x from the carries and the samples,
+/// bit-identically wherever it starts. Angle samples are the phase itself (x_k = sample k, N = M):
+/// only the block sums are kept.
 ///
 /// Does not compute deviations (allan.hpp) and does not read files (io::series::samples()).
 #pragma once
@@ -43,7 +44,7 @@ class phase_source {
   static constexpr double max_tau0_s = 1e9;
 
   /// Prepares the phase of `samples` (which must outlive the source and every reader). Reads
-  /// all samples once for angle input, twice for rate input, on all cores. Errors: tau0 not
+  /// all samples once, on all cores. Errors: tau0 not
   /// positive and finite; a non-finite sample ("sample K (0-based) is not finite"); rate
   /// samples whose block sums overflow.
   [[nodiscard]] static result<phase_source> make(const sample_source& samples, input_kind in,
@@ -63,6 +64,15 @@ class phase_source {
   /// x_0 terms cancel; subtracting x_0 keeps an angle series with a large offset accurate.
   [[nodiscard]] long double offset_sum(std::size_t begin, std::size_t end,
                                        phase_reader& reader) const;
+
+  /// Rate input: writes the whole phase x[0, N) to `out` (size() doubles) in one pass over the
+  /// samples, on all cores (each thread first-touches the pages it writes); the same bits as a
+  /// phase_reader reads. Angle input: copies the samples.
+  void build(std::span<double> out) const;
+  /// The phase `x` that build() wrote (x.size() == size()) as angle input with this source's
+  /// block sums, without a pass over x: what make(x, angle, tau0) gives, but for the rounding of
+  /// the block sums (those of the rate samples here, so MDEV's restarts are the rate source's).
+  [[nodiscard]] phase_source built(const sample_source& x) const;
 
  private:
   friend class phase_reader;
