@@ -129,6 +129,27 @@ status check_model(const std::string& path, const method::delta_n_model& m) {
   return ok();
 }
 
+// A run's origin in words as the file keeps it: one line (printable(): controls as \xNN, at most
+// 1000 bytes) without the bidirectional controls U+202A..U+202E and U+2066..U+2069 (as \uNNNN),
+// which would reorder a page's text around them.
+std::string plain_line(std::string_view text) {
+  const std::string p = printable(text, 1000);
+  std::string out;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto b = [&](std::size_t k) { return static_cast<unsigned char>(p[k]); };
+    if (b(i) == 0xe2 && i + 2 < p.size() &&
+        ((b(i + 1) == 0x80 && b(i + 2) >= 0xaa && b(i + 2) <= 0xae) ||
+         (b(i + 1) == 0x81 && b(i + 2) >= 0xa6 && b(i + 2) <= 0xa9))) {
+      const unsigned cp = 0x2000u + ((b(i + 1) & 0x3fu) << 6u) + (b(i + 2) & 0x3fu);
+      out += fmt::format("\\u{:04x}", cp);
+      i += 2;
+      continue;
+    }
+    out += p[i];
+  }
+  return out;
+}
+
 // A run's source (schema 2): all four keys or none (a file without one of them is not what
 // calibrate wrote: review D3), a SHA-256 of 64 lowercase hex digits, a known origin, a size a
 // JSON number holds exactly, and a detail of printable text. `at` names the run ("files[2]").
@@ -157,10 +178,12 @@ status read_source(const std::string& path, const std::string& at, const json& f
   if (src.origin != "simulated" && src.origin != "emulated" && src.origin != "rig" &&
       src.origin != "unknown")
     return bad("'origin' must be \"simulated\", \"emulated\", \"rig\" or \"unknown\"");
-  if (src.origin_detail.size() > 1000 ||
-      std::any_of(src.origin_detail.begin(), src.origin_detail.end(),
-                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
-    return bad("'origin_detail' must be one line of at most 1000 bytes");
+  // calibrate writes it as printable ASCII (printable()): anything else was not written by it
+  // and could carry control or bidi characters onto a page.
+  if (src.origin_detail.size() > 1000 || plain_line(src.origin_detail) != src.origin_detail)
+    return bad(
+        "'origin_detail' must be one line of plain text (no control characters), at "
+        "most 1000 bytes");
   const auto& size = f["size_bytes"];
   constexpr std::uint64_t max_size = std::uint64_t{1} << 53;  // exact in a JSON double
   if (!size.is_number_unsigned() || size.get<std::uint64_t>() > max_size)
@@ -259,7 +282,7 @@ result<std::string> to_json(const calibration_record& rec) {
       e["sha256"] = f.source->sha256;
       e["size_bytes"] = f.source->size_bytes;
       e["origin"] = f.source->origin;
-      e["origin_detail"] = f.source->origin_detail;
+      e["origin_detail"] = plain_line(f.source->origin_detail);
     }
     files.push_back(std::move(e));
   }

@@ -94,6 +94,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     std::vector<std::string> sums;
     for (const auto& e : rec.files) sums.push_back(e.source->sha256);
     if (auto s = check_distinct_recordings(r.files, sums); !s) return s.err();
+    if (auto s = check_distinct_runs(rec.files); !s) return s.err();
   }
   rec.sensor = sensors.sensor();
   if (!rec.sensor->known())

@@ -132,6 +132,19 @@ status check_distinct_recordings(std::span<const std::string> files,
   return ok();
 }
 
+status check_distinct_runs(std::span<const io::calibration_entry> runs) {
+  for (std::size_t k = 1; k < runs.size(); ++k)
+    for (std::size_t i = 0; i < k; ++i) {
+      const auto &a = runs[i].cal, &b = runs[k].cal;
+      if (a.cycles == b.cycles && a.delta_n_dps == b.delta_n_dps && a.std_dps == b.std_dps)
+        return input_error({runs[k].file},
+                           fmt::format("gives the same {} cycles as {} (dN and std equal to the "
+                                       "last digit): the same recording twice is not two runs",
+                                       b.cycles, printable(runs[i].file, 200)));
+    }
+  return ok();
+}
+
 std::string origin_words(const io::run_source& src) {
   if (src.origin == "simulated" || src.origin == "emulated")
     return src.origin + ": " + src.origin_detail;

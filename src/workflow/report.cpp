@@ -435,39 +435,63 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
   const auto& rec = *given.record;
   const auto* preset = id.builtin ? &id.builtin->params : nullptr;
   if (rec.files.empty()) {
-    const bool own =
-        rec.pooled.stderr_correlated_dps > 0.0 && (!rec.model || rec.model->degree() == 0);
+    // Its own stated error: the model's (the ΔN applied; the largest over its temperatures for a
+    // line), else the top-level correlated error of a constant.
+    double own_dps = rec.pooled.stderr_correlated_dps;
+    if (rec.model && !rec.model->cov.empty()) {
+      const auto& m = *rec.model;
+      own_dps = m.degree() == 0 || !std::isfinite(m.temp_min_c)
+                    ? std::sqrt(m.cov.front())
+                    : std::max(m.stderr_at(m.temp_min_c), m.stderr_at(m.temp_max_c));
+    }
+    const bool own = std::isfinite(own_dps) && own_dps > 0.0;
     warnings.push_back(
         own ? fmt::format(
                   "{}: the calibration lists no runs: the ΔN applied carries its own stated "
                   "error ±{} °/s and, for a new power-up, the run-to-run repeatability of "
                   "the budget below",
-                  given.source, g(rec.pooled.stderr_correlated_dps, 2))
+                  given.source, g(own_dps, 2))
             : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
                           "has no known uncertainty",
                           given.source));
     if (!own) return budget_of({}, std::nullopt, preset, id.preset);
     std::vector<io::calibration_entry> one{
         {"the calibration's stated ΔN", rec.pooled, std::nullopt}};
+    one.front().cal.stderr_correlated_dps = own_dps;
     one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
     return budget_of(one, std::nullopt, preset, id.preset);
   }
+  // Runs listed twice (the same bytes) are one run (review N3).
+  for (std::size_t k = 1; k < rec.files.size(); ++k)
+    for (std::size_t i = 0; i < k; ++i)
+      if (rec.files[k].source && rec.files[i].source &&
+          rec.files[k].source->sha256 == rec.files[i].source->sha256)
+        warnings.push_back(fmt::format(
+            "{}: its runs {} and {} are the same bytes (SHA-256): one recording counted as two "
+            "runs, so its repeatability is understated",
+            given.source, rec.files[i].file, rec.files[k].file));
   const auto differs = [](double a, double b) {
     return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
   };
+  bool edited = false;  // the ΔN applied is not what its runs give: no ± from them
   if (rec.model) {
     const auto refit = io::fit_runs_model(rec.files, rec.model->degree());
-    const bool theirs = refit && *refit &&
-                        (*refit)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
-                        std::equal(rec.model->coeffs_dps.begin(), rec.model->coeffs_dps.end(),
-                                   (*refit)->coeffs_dps.begin(),
-                                   [&](double a, double b) { return !differs(a, b); });
+    const bool theirs =
+        refit && *refit && !differs(rec.model->t_ref_c, (*refit)->t_ref_c) &&
+        rec.model->cov.size() == (*refit)->cov.size() &&
+        std::equal(rec.model->cov.begin(), rec.model->cov.end(), (*refit)->cov.begin(),
+                   [&](double a, double b) { return !differs(a, b); }) &&
+        (*refit)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
+        std::equal(rec.model->coeffs_dps.begin(), rec.model->coeffs_dps.end(),
+                   (*refit)->coeffs_dps.begin(),
+                   [&](double a, double b) { return !differs(a, b); });
     if (!theirs) {
+      edited = true;
       const double se = refit && *refit ? std::sqrt((*refit)->cov.front()) : method::no_value;
       warnings.push_back(fmt::format(
           "{}: its ΔN model is not the fit of the {} runs it lists (c₀ {} °/s applied, {} °/s "
-          "from its runs{}): edited by hand or made by other software; the budget below is the "
-          "runs', not the ΔN applied's",
+          "from its runs{}): edited by hand or made by other software; the ΔN applied has no "
+          "known uncertainty",
           given.source, rec.files.size(), g(rec.model->coeffs_dps.front(), 6),
           refit && *refit ? g((*refit)->coeffs_dps.front(), 6) : std::string("none"),
           std::isfinite(se) && se > 0.0
@@ -476,14 +500,26 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
                     std::abs(rec.model->coeffs_dps.front() - (*refit)->coeffs_dps.front()) / se)
               : std::string()));
     }
-  } else if (rec.files.size() == 1 &&
-             differs(rec.pooled.delta_n_dps, rec.files[0].cal.delta_n_dps)) {
+  } else if (rec.files.size() > 1) {
+    edited = true;  // calibrate writes a model for several runs
+    warnings.push_back(fmt::format(
+        "{}: it lists {} runs but no ΔN model (calibrate writes one): edited by hand or made "
+        "by other software; the ΔN applied has no known uncertainty",
+        given.source, rec.files.size()));
+  } else if (differs(rec.pooled.delta_n_dps, rec.files[0].cal.delta_n_dps)) {
+    edited = true;
     warnings.push_back(fmt::format(
         "{}: its ΔN {} °/s is not its one run's {} °/s: edited by hand or made by other "
-        "software; the budget below is the run's",
+        "software; the ΔN applied has no known uncertainty",
         given.source, g(rec.pooled.delta_n_dps, 6), g(rec.files[0].cal.delta_n_dps, 6)));
   }
-  return budget_of(rec.files, rec.model, preset, id.preset);
+  auto b = budget_of(rec.files, rec.model, preset, id.preset);
+  if (edited) {
+    b.valid = false;
+    b.new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
+    b.invalid_why = "not known: the calibration's ΔN is not what its runs give";
+  }
+  return b;
 }
 
 // A calibration applied to runs away from its runs' temperatures. A constant dN (review R3): the
@@ -1252,7 +1288,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   }
   if (f.model)
     sj["delta_n_model"] = {{"coeffs_dps", f.model->coeffs_dps},
-                           {"t_ref_c", f.model->t_ref_c},
+                           {"t_ref_c", num(f.model->t_ref_c)},
                            {"degree", f.model->degree()},
                            {"chi2_per_dof", f.model->chi2_per_dof}};
   auto summary_text = io::finite_dump(sj, r.output + "/summary.json");

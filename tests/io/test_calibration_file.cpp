@@ -62,7 +62,10 @@ TEST(CalibrationFile, AMalformedSourceIsRefusedByName) {
           "up to 2^53");
   refused(R"("sha256": ")" + sha +
               R"(", "size_bytes": 1, "origin": "rig", "origin_detail": "a\u0007b")",
-          "one line");
+          "one line of plain text");
+  refused(R"("sha256": ")" + sha +
+              R"(", "size_bytes": 1, "origin": "rig", "origin_detail": "a\u202eb")",
+          "plain text");  // a bidi override would reorder the page around it
   // All four or none (review D3: deleting the hash removed the "simulated" banner), and the run
   // is named.
   refused(R"("sha256": ")" + sha + R"(", "size_bytes": 1, "origin": "rig")",

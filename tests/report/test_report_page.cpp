@@ -800,6 +800,24 @@ TEST(ReportChecks, ACalibrationsDeltaNIsCheckedAgainstItsRuns) {
   EXPECT_NE(edited_err.find("its ΔN model is not the fit of the 2 runs it lists"),
             std::string::npos)
       << edited_err;
+  EXPECT_FALSE(edited_j["budget"]["valid"].get<bool>());  // not the runs' ± (review N4)
+  EXPECT_TRUE(edited_j["budget"]["new_power_up_dps"].is_null());
+  auto moved = cal;
+  moved["model"]["cov"][0] = cal["model"]["cov"][0].get<double>() / 100.0;
+  EXPECT_NE(report_with(moved, "moved").first.find("is not the fit"), std::string::npos);
+  // No runs but a model: the model's own error is the one applied (review N2: not the
+  // top-level within-run error, 11 times smaller).
+  auto model_only = cal;
+  model_only["files"] = nlohmann::json::array();
+  const auto [mo_err, mo_j] = report_with(model_only, "model_only");
+  EXPECT_DOUBLE_EQ(mo_j["budget"]["within_run_dps"].get<double>(),
+                   std::sqrt(cal["model"]["cov"][0].get<double>()));
+  // The same cycles in other bytes (a copy with one more newline): refused by calibrate too.
+  std::ofstream(d.file("nl.csv")) << read_text(d.file("c1.csv")) << "\n";
+  const auto nl =
+      run_cli({"calibrate", d.file("c1.csv"), d.file("nl.csv"), "-o", d.file("nl.json")});
+  EXPECT_EQ(nl.exit_code, 2);
+  EXPECT_NE(nl.err.find("the same recording twice is not two runs"), std::string::npos) << nl.err;
   // One recording under two names: refused, naming both.
   std::filesystem::copy_file(d.file("c1.csv"), d.file("copy.csv"));
   for (const auto& cmd : {std::vector<std::string>{"calibrate", d.file("c1.csv"),
@@ -825,4 +843,36 @@ TEST(ReportPage, AModifiedBuildIsBannered) {
   const auto html = gyroflip::report::html(p, d.path());
   ASSERT_TRUE(html) << html.err().message;
   EXPECT_NE(html->find("<p class=\"banner\">Built from a modified source tree"), std::string::npos);
+}
+
+// Review N1 (fourth review of issue 22): runs without temperatures give a constant ΔN whose
+// t_ref_c is null; the report of a run compensated with it failed ("a computed value is not
+// finite") although compensate took it.
+TEST(ReportChecks, ACalibrationOfRunsWithoutTemperaturesIsApplied) {
+  temp_dir d;
+  std::vector<std::string> cal{"calibrate"};
+  for (const char* seed : {"1", "2"}) {
+    const auto f = simulate(d, std::string("s") + seed + ".csv", "20", seed);
+    std::string plain;
+    std::istringstream in(read_text(f));
+    for (std::string line; std::getline(in, line);) {  // drop the temp_c column (the 4th)
+      if (!line.empty() && line[0] != '#') {
+        std::size_t at = 0;
+        for (int c = 0; c < 3; ++c) at = line.find(',', at) + 1;
+        line.erase(at, line.find(',', at) + 1 - at);
+      }
+      plain += line + "\n";
+    }
+    ASSERT_NE(plain.find("time_s,angle_deg,rate_dps,n_avg"), std::string::npos)
+        << plain.substr(0, 300);
+    std::ofstream(d.file(std::string("n") + seed + ".csv")) << plain;
+    cal.push_back(d.file(std::string("n") + seed + ".csv"));
+  }
+  cal.insert(cal.end(), {"-o", d.file("cal.json")});
+  ASSERT_EQ(run_cli(cal).exit_code, 0);
+  const auto t = simulate(d, "t.csv", "20", "9", "0.5");
+  const auto r = run_cli({"report", t, "--calibration", d.file("cal.json"), "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  EXPECT_TRUE(j["delta_n_model"]["t_ref_c"].is_null());
 }

@@ -62,6 +62,10 @@ struct recording_run {
 [[nodiscard]] status check_distinct_recordings(std::span<const std::string> files,
                                                std::span<const std::string> sha256);
 
+/// Refuses two runs whose cycles give the same dN, std and count to the last bit: the same data
+/// in two files (a `.gfr` and its CSV export, a copy with another newline), not two power-ups.
+[[nodiscard]] status check_distinct_runs(std::span<const io::calibration_entry> runs);
+
 /// The origin as a page says it ("simulated: gyroflip simulate (...)").
 [[nodiscard]] std::string origin_words(const io::run_source& src);
 
