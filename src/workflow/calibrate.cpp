@@ -25,7 +25,7 @@ result<std::optional<method::delta_n_model>> fit_model(
     if (files.size() < 2)
       return parameter_error("degree", "a dN(T) model needs calibrations from several files");
     for (const auto& f : files)
-      if (std::isnan(f.cal.temp_c))
+      if (*r.degree > 0 && std::isnan(f.cal.temp_c))  // a constant needs no temperatures
         return about_parameter(
             input_error({f.file}, "no temp_c column; a dN(T) model needs temperatures"), "degree");
   }

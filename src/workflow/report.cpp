@@ -461,15 +461,24 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
     one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
     return budget_of(one, std::nullopt, preset, id.preset);
   }
-  // Runs listed twice (the same bytes) are one run (review N3).
+  // Runs listed twice (the same bytes, or the same cycles in other bytes) are one run counted
+  // twice: the runs' scatter, and so the ±, is understated (review N3).
+  bool twice = false;
   for (std::size_t k = 1; k < rec.files.size(); ++k)
-    for (std::size_t i = 0; i < k; ++i)
-      if (rec.files[k].source && rec.files[i].source &&
-          rec.files[k].source->sha256 == rec.files[i].source->sha256)
-        warnings.push_back(fmt::format(
-            "{}: its runs {} and {} are the same bytes (SHA-256): one recording counted as two "
-            "runs, so its repeatability is understated",
-            given.source, rec.files[i].file, rec.files[k].file));
+    for (std::size_t i = 0; i < k; ++i) {
+      const auto &a = rec.files[i], &b = rec.files[k];
+      const bool same_bytes = a.source && b.source && a.source->sha256 == b.source->sha256;
+      const bool same_cycles = a.cal.cycles == b.cal.cycles &&
+                               a.cal.delta_n_dps == b.cal.delta_n_dps &&
+                               a.cal.std_dps == b.cal.std_dps;
+      if (!same_bytes && !same_cycles) continue;
+      twice = true;
+      warnings.push_back(fmt::format(
+          "{}: its runs {} and {} are {}: one recording counted as two runs, so the runs' "
+          "scatter understates the repeatability; the ΔN applied has no known uncertainty",
+          given.source, a.file, b.file,
+          same_bytes ? "the same bytes (SHA-256)" : "the same cycles (dN, std and count)"));
+    }
   const auto differs = [](double a, double b) {
     return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
   };
@@ -490,8 +499,8 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
       const double se = refit && *refit ? std::sqrt((*refit)->cov.front()) : method::no_value;
       warnings.push_back(fmt::format(
           "{}: its ΔN model is not the fit of the {} runs it lists (c₀ {} °/s applied, {} °/s "
-          "from its runs{}): edited by hand or made by other software; the ΔN applied has no "
-          "known uncertainty",
+          "from its runs{}; or its t_ref_c or covariance differs): edited by hand or made by "
+          "other software; the ΔN applied has no known uncertainty",
           given.source, rec.files.size(), g(rec.model->coeffs_dps.front(), 6),
           refit && *refit ? g((*refit)->coeffs_dps.front(), 6) : std::string("none"),
           std::isfinite(se) && se > 0.0
@@ -514,10 +523,11 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
         given.source, g(rec.pooled.delta_n_dps, 6), g(rec.files[0].cal.delta_n_dps, 6)));
   }
   auto b = budget_of(rec.files, rec.model, preset, id.preset);
-  if (edited) {
+  if (edited || twice) {
     b.valid = false;
     b.new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
-    b.invalid_why = "not known: the calibration's ΔN is not what its runs give";
+    b.invalid_why = edited ? "not known: the calibration's ΔN is not what its runs give"
+                           : "not known: the calibration counts one recording as two runs";
   }
   return b;
 }
@@ -921,6 +931,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     std::vector<std::string> sums;
     for (std::size_t k = 0; k < runs.size(); ++k) sums.push_back(page.made.inputs[k].sha256);
     if (auto s = check_distinct_recordings(r.files, sums); !s) return s.err();
+    if (auto s = check_distinct_runs(entries); !s) return s.err();
   }
   const temp_span all_t = runs_temps(runs);
   const std::string serials = [&] {

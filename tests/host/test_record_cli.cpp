@@ -372,10 +372,16 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
       continue;
     ++resets;
     std::vector<const rigdata::gfr::record*> next;
-    for (std::size_t k = i + 1; k < f->records.size() && next.size() < 3; ++k)
-      if (f->records[k].type != rigdata::gfr::kind::frame &&
-          f->records[k].type != rigdata::gfr::kind::gap)
-        next.push_back(&f->records[k]);
+    for (std::size_t k = i + 1; k < f->records.size() && next.size() < 3; ++k) {
+      const auto type = f->records[k].type;
+      if (type == rigdata::gfr::kind::frame || type == rigdata::gfr::kind::gap) continue;
+      // A slow answer under load makes the recorder ask for INFO again: each answer is
+      // recorded (a fresh Debian 12 run under load had two), one INFO is what is checked.
+      if (type == rigdata::gfr::kind::info && !next.empty() &&
+          next.back()->type == rigdata::gfr::kind::info)
+        continue;
+      next.push_back(&f->records[k]);
+    }
     ASSERT_EQ(next.size(), 3u);
     EXPECT_EQ(next[0]->type, rigdata::gfr::kind::info);
     ASSERT_EQ(next[1]->type, rigdata::gfr::kind::configure);

@@ -818,6 +818,9 @@ TEST(ReportChecks, ACalibrationsDeltaNIsCheckedAgainstItsRuns) {
       run_cli({"calibrate", d.file("c1.csv"), d.file("nl.csv"), "-o", d.file("nl.json")});
   EXPECT_EQ(nl.exit_code, 2);
   EXPECT_NE(nl.err.find("the same recording twice is not two runs"), std::string::npos) << nl.err;
+  const auto nlr = run_cli({"report", d.file("c1.csv"), d.file("nl.csv"), "-o", d.file("rep_nl")});
+  EXPECT_EQ(nlr.exit_code, 2);  // report too (fifth review)
+  EXPECT_FALSE(std::filesystem::exists(d.file("rep_nl")));
   // One recording under two names: refused, naming both.
   std::filesystem::copy_file(d.file("c1.csv"), d.file("copy.csv"));
   for (const auto& cmd : {std::vector<std::string>{"calibrate", d.file("c1.csv"),
@@ -868,6 +871,9 @@ TEST(ReportChecks, ACalibrationOfRunsWithoutTemperaturesIsApplied) {
     std::ofstream(d.file(std::string("n") + seed + ".csv")) << plain;
     cal.push_back(d.file(std::string("n") + seed + ".csv"));
   }
+  auto constant = cal;  // a constant needs no temperatures, asked for or not
+  constant.insert(constant.end(), {"--degree", "0", "-o", d.file("cal0.json")});
+  EXPECT_EQ(run_cli(constant).exit_code, 0);
   cal.insert(cal.end(), {"-o", d.file("cal.json")});
   ASSERT_EQ(run_cli(cal).exit_code, 0);
   const auto t = simulate(d, "t.csv", "20", "9", "0.5");
