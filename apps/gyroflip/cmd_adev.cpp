@@ -211,8 +211,14 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
                                  const analysis::tau_spec& taus, std::optional<double> level,
                                  const analysis_input& in) {
   const std::string what = in.column == o.in.column ? o.in.file : o.in.file + ":" + in.column;
+  // Noise identification for the bounds, or for the total deviations' bias correction alone
+  // (then at the default level, the bounds not shown): with the curve, which shares its reads.
+  const bool identify = level || o.bias_correction;
   progress bar(fmt::format("{} of {}", o.kind, what), 1000);
-  auto pts = analysis::deviation(kind, in.phase, taus, per_mille(bar));
+  auto pts = identify ? analysis::deviation_with_confidence(
+                            kind, in.phase, taus, level.value_or(0.683), per_mille(bar),
+                            o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32)
+                      : analysis::deviation(kind, in.phase, taus, per_mille(bar));
   bar.finish();
   if (!pts) return pts.err();
   if (std::all_of(pts->begin(), pts->end(), [](const auto& p) { return p.dev == 0.0; }))
@@ -224,16 +230,7 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
   auto dropped = analysis::dropped_factors(taus, *pts, kind, in.phase.size(), in.phase.tau0_s());
   for (const auto& d : dropped)
     warn(fmt::format("{}: averaging factor {} dropped: {}", what, d.m, d.why));
-  // Noise identification for the bounds, or for the total deviations' bias correction alone
-  // (then at the default level, the bounds not shown).
-  if (level || o.bias_correction) {
-    progress ci_bar("noise identification", 1000);
-    analysis::add_confidence(
-        *pts, kind, in.phase, level.value_or(0.683), per_mille(ci_bar),
-        o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
-    ci_bar.finish();
-    if (o.bias_correction) analysis::correct_total_bias(*pts, kind);
-  }
+  if (o.bias_correction) analysis::correct_total_bias(*pts, kind);
   return adev_result{std::move(*pts), std::move(dropped)};
 }
 

@@ -72,10 +72,9 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
     if (!ci && !bias_correction) return analysis::deviation(*k, *src, in, tau0, spec, listen);
     auto phase = analysis::phase_source::make(*src, in, tau0, listen);
     if (!phase) return result<std::vector<analysis::deviation_point>>(phase.err());
-    auto p = analysis::deviation(*k, *phase, spec, listen);
-    if (p && (ci || bias_correction))
-      analysis::add_confidence(*p, *k, *phase, ci.value_or(0.683), listen,
-                               guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
+    auto p = analysis::deviation_with_confidence(
+        *k, *phase, spec, ci.value_or(0.683), listen,
+        guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
     if (p && bias_correction) analysis::correct_total_bias(*p, *k);
     return p;
   });

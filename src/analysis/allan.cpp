@@ -233,18 +233,19 @@ std::size_t max_factor(dev_kind k, std::size_t n_phase) {
   }
 }
 
-// ADEV and HDEV of rate samples at octave factors: from block sums, without the phase (one read
-// of the samples; docs/ANALYSIS.md). nullopt where that does not apply (other kinds or factors, a
-// sample or tau0 out of range): the phase path computes the curve or says what is wrong.
-std::optional<result<std::vector<deviation_point>>> from_block_sums(
+}  // namespace
+
+namespace detail {
+
+std::optional<result<std::vector<deviation_point>>> deviation_from_block_sums(
     dev_kind k, const sample_source& samples, input_kind in, double tau0_s, const tau_spec& taus,
-    const progress_fn& on_progress) {
+    const progress_fn& on_progress, block_heads* heads) {
   if (in != input_kind::rate || (k != dev_kind::adev && k != dev_kind::hdev)) return std::nullopt;
   const std::size_t n_phase = samples.size() + 1;
   const auto factors = averaging_factors(taus, k, n_phase);
   if (factors.empty()) return std::nullopt;
   const auto sums =
-      detail::octave_block_sums(samples, tau0_s, k == dev_kind::adev ? 2 : 3, factors, on_progress);
+      octave_block_sums(samples, tau0_s, k == dev_kind::adev ? 2 : 3, factors, on_progress, heads);
   if (!sums) return std::nullopt;
   std::vector<raw_deviation> raw;
   for (std::size_t i = 0; i < factors.size(); ++i)
@@ -252,7 +253,7 @@ std::optional<result<std::vector<deviation_point>>> from_block_sums(
   return collect(k, factors, raw, tau0_s);
 }
 
-}  // namespace
+}  // namespace detail
 
 bool is_extended(dev_kind k) noexcept {
   switch (k) {
@@ -370,7 +371,8 @@ result<std::vector<deviation_point>> deviation(dev_kind k, const phase_source& x
         fmt::format("{} phase points are too few for an Allan deviation", x.size()));
   // ADEV and HDEV of rate samples from their block sums where they apply (as the sample-source
   // entry point below): one read of the samples, not the phase decimated point by point.
-  if (auto r = from_block_sums(k, x.samples(), x.kind(), x.tau0_s(), taus, on_progress))
+  if (auto r = detail::deviation_from_block_sums(k, x.samples(), x.kind(), x.tau0_s(), taus,
+                                                 on_progress))
     return std::move(*r);
   const auto factors = averaging_factors(taus, k, x.size());
   // Rate samples rebuild their phase on every read: the sweep reads each point about ten times
@@ -436,7 +438,8 @@ result<std::vector<deviation_point>> deviation_of_phase(dev_kind k, std::span<co
 result<std::vector<deviation_point>> deviation(dev_kind k, const sample_source& samples,
                                                input_kind in, double tau0_s, const tau_spec& taus,
                                                const progress_fn& on_progress) {
-  if (auto r = from_block_sums(k, samples, in, tau0_s, taus, on_progress)) return std::move(*r);
+  if (auto r = detail::deviation_from_block_sums(k, samples, in, tau0_s, taus, on_progress))
+    return std::move(*r);
   const auto src = phase_source::make(samples, in, tau0_s);
   if (!src) return src.err();
   return deviation(k, *src, taus, on_progress);

@@ -3,7 +3,9 @@
 #include "gyroflip/analysis/confidence.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 
@@ -11,6 +13,7 @@
 
 #include "decimate.hpp"
 #include "gyroflip/core/error.hpp"
+#include "kernels.hpp"
 #include "parallel.hpp"
 
 namespace gyroflip::analysis {
@@ -206,18 +209,42 @@ constexpr std::size_t points_per_pass = std::size_t{1} << 24;
 // The lag-1 identification on z (the phase decimated by m), which it differences in place.
 constexpr std::size_t lag1_min_points = 30;  // Riley & Greenhall 2004: below, use B1 (SP1065 5.5)
 
-std::optional<int> alpha_lag1(std::vector<double> z) {
+// The lag-1 sums of z about its mean: num = sum_{i < n-1} (z_i - mean)(z_{i+1} - mean), den =
+// sum_{i < n} (z_i - mean)^2, in four lanes each (one vector with AVX2): the sums of 2^20 points
+// at up to seven factors were a tenth of HDEV's whole run on 1e8 samples in one chain each; the
+// lanes change r1 by rounding only.
+struct lag1_terms {
+  double num = 0.0;
+  double den = 0.0;
+};
+
+GYROFLIP_KERNEL_CLONES lag1_terms lag1_sums(const double* z, std::size_t n, double mean) {
+  using detail::lanes4;
+  const lanes4 mv = {mean, mean, mean, mean};
+  lanes4 num = {0.0, 0.0, 0.0, 0.0}, den = num;
+  std::size_t i = 0;
+  lanes4 a, b;
+  for (; i + 5 <= n; i += 4) {  // z_{i+4} exists
+    std::memcpy(&a, z + i, sizeof a);
+    std::memcpy(&b, z + i + 1, sizeof b);
+    a -= mv;
+    b -= mv;
+    den += a * a;
+    num += a * b;
+  }
+  lag1_terms t{(num[0] + num[1]) + (num[2] + num[3]), (den[0] + den[1]) + (den[2] + den[3])};
+  for (; i < n; ++i) {
+    t.den += (z[i] - mean) * (z[i] - mean);
+    if (i + 1 < n) t.num += (z[i] - mean) * (z[i + 1] - mean);
+  }
+  return t;
+}
+
+std::optional<int> alpha_lag1(std::span<double> z) {
   for (int d = 0;; ++d) {
     if (z.size() < lag1_min_points) return std::nullopt;
-    double mean = 0.0;
-    for (double v : z) mean += v;
-    mean /= static_cast<double>(z.size());
-    double num = 0.0;
-    double den = 0.0;
-    for (std::size_t i = 0; i < z.size(); ++i) {
-      den += (z[i] - mean) * (z[i] - mean);
-      if (i + 1 < z.size()) num += (z[i] - mean) * (z[i + 1] - mean);
-    }
+    const double mean = detail::sum4(z.data(), z.size()) / static_cast<double>(z.size());
+    const auto [num, den] = lag1_sums(z.data(), z.size(), mean);
     const double r1 = den > 0.0 ? num / den : 0.0;
     const double rho = r1 / (1.0 + r1);
     if (rho < 0.25 || d >= 2) {
@@ -225,7 +252,7 @@ std::optional<int> alpha_lag1(std::vector<double> z) {
       return std::clamp(alpha, -2, 2);
     }
     for (std::size_t i = 0; i + 1 < z.size(); ++i) z[i] = z[i + 1] - z[i];
-    z.pop_back();
+    z = z.first(z.size() - 1);
   }
 }
 
@@ -245,7 +272,7 @@ constexpr std::size_t b1_min_points = 5;
 // B1 = s^2 / AVAR of the N = z.size() - 1 averages at this tau, between the theoretical values
 // of mu = 1 (RWFM), 0 (FFM), -1 (WFM) and -2 (PM) with geometric-mean boundaries; alpha = -mu - 1,
 // and PM (mu = -2) is returned as 2 for the caller to split with R(n).
-std::optional<int> alpha_b1(const std::vector<double>& z) {
+std::optional<int> alpha_b1(std::span<const double> z) {
   if (z.size() < b1_min_points) return std::nullopt;
   const std::size_t n = z.size() - 1;
   std::vector<double> y(n);
@@ -304,42 +331,24 @@ std::vector<int> alpha_rn(const phase_source& x, const std::vector<std::size_t>&
   return out;
 }
 
-// Noise identification at every factor: the decimated series of as many factors as fit in
-// points_per_pass are collected in one pass over the phase, then identified one by one: lag-1
-// autocorrelation with 30 points or more, the B1 ratio (and R(n) for PM) with 5 to 29.
-std::vector<std::optional<int>> identify(const phase_source& x, const std::vector<std::size_t>& ms,
-                                         const progress_fn& on_progress) {
-  std::vector<std::vector<std::size_t>> passes(1);
-  std::size_t held = 0;
-  for (std::size_t m : ms) {
-    const std::size_t len = std::min(max_points, (x.size() - 1) / m + 1);
-    if (held + len > points_per_pass && !passes.back().empty()) {
-      passes.emplace_back();
-      held = 0;
-    }
-    passes.back().push_back(m);
-    held += len;
-  }
-  std::vector<std::optional<int>> ids;
-  std::vector<char> by_b1;
-  for (std::size_t p = 0; p < passes.size(); ++p) {
-    auto z = detail::decimated_prefixes(x, passes[p], max_points,
-                                        detail::part_progress(on_progress, p, passes.size()));
-    // Each factor's type on its own series, the factors side by side on all cores (lag-1 on up
-    // to 2^20 points each: 0.3 s of 1e8 samples' octave taus on one core).
-    const std::size_t first = ids.size();
-    ids.resize(first + z.size());
-    by_b1.resize(first + z.size());
-    std::size_t held_points = 0;
-    for (const auto& v : z) held_points += v.size();
-    detail::for_each_item(z.size(), detail::worker_count(held_points),
-                          [&](std::size_t, std::size_t i) {
-                            const bool b1 = z[i].size() < lag1_min_points;
-                            by_b1[first + i] = b1 ? 1 : 0;
-                            ids[first + i] = b1 ? alpha_b1(z[i]) : alpha_lag1(std::move(z[i]));
-                          });
-  }
-  // PM read by B1: white or flicker by R(n), for the first max_rn such factors.
+// Each factor's type on its own decimated series (series(i): z of factor i, made on the worker,
+// differenced in place), the factors side by side on all cores (lag-1 on up to 2^20 points each:
+// 0.3 s of 1e8 samples' octave taus on one core): lag-1 autocorrelation with 30 points or more, the
+// B1 ratio with 5 to 29 (by_b1 set).
+template <typename Series>
+void classify(std::size_t count, std::size_t held_points, Series series, std::optional<int>* ids,
+              char* by_b1) {
+  detail::for_each_item(count, detail::worker_count(held_points), [&](std::size_t, std::size_t i) {
+    const std::span<double> z = series(i);
+    const bool b1 = z.size() < lag1_min_points;
+    by_b1[i] = b1 ? 1 : 0;
+    ids[i] = b1 ? alpha_b1(z) : alpha_lag1(z);
+  });
+}
+
+// PM read by B1: white or flicker by R(n), for the first max_rn such factors.
+void split_pm(const phase_source& x, const std::vector<std::size_t>& ms,
+              std::vector<std::optional<int>>& ids, const std::vector<char>& by_b1) {
   std::vector<std::size_t> pm;
   std::vector<std::size_t> pm_m;
   for (std::size_t i = 0; i < ids.size(); ++i)
@@ -353,6 +362,71 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
     }
   const auto rn = alpha_rn(x, pm_m);
   for (std::size_t k = 0; k < pm.size(); ++k) ids[pm[k]] = rn[k];
+}
+
+// Noise identification at every factor: the decimated series of as many factors as fit in
+// points_per_pass are collected in one pass over the phase, then classified.
+std::vector<std::optional<int>> identify(const phase_source& x, const std::vector<std::size_t>& ms,
+                                         const progress_fn& on_progress) {
+  std::vector<std::vector<std::size_t>> passes(1);
+  std::size_t held = 0;
+  for (std::size_t m : ms) {
+    const std::size_t len = std::min(max_points, (x.size() - 1) / m + 1);
+    if (held + len > points_per_pass && !passes.back().empty()) {
+      passes.emplace_back();
+      held = 0;
+    }
+    passes.back().push_back(m);
+    held += len;
+  }
+  std::vector<std::optional<int>> ids(ms.size());
+  std::vector<char> by_b1(ms.size());
+  std::size_t first = 0;
+  for (std::size_t p = 0; p < passes.size(); ++p) {
+    auto z = detail::decimated_prefixes(x, passes[p], max_points,
+                                        detail::part_progress(on_progress, p, passes.size()));
+    std::size_t held_points = 0;
+    for (const auto& v : z) held_points += v.size();
+    classify(
+        z.size(), held_points, [&z](std::size_t i) { return std::span<double>(z[i]); },
+        ids.data() + first, by_b1.data() + first);
+    first += z.size();
+  }
+  split_pm(x, ms, ids, by_b1);
+  return ids;
+}
+
+// As identify, the decimated series made from the block sums a deviation kept (heads; rate
+// input): the same points x_{km}, k < min(max_points, (N-1)/m + 1), to rounding, without a read.
+std::vector<std::optional<int>> identify_from_heads(const phase_source& x,
+                                                    const std::vector<std::size_t>& ms,
+                                                    detail::block_heads& heads) {
+  std::vector<std::size_t> levels;  // each level once (a factor may be asked for twice)
+  for (std::size_t m : ms) levels.push_back(static_cast<std::size_t>(std::countr_zero(m)));
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  std::size_t held_points = 0;
+  for (std::size_t j : levels) held_points += heads.counts[j] + 1;
+  std::vector<std::optional<int>> level_ids(levels.size());
+  std::vector<char> level_b1(levels.size());
+  classify(
+      levels.size(), held_points,
+      [&](std::size_t i) {
+        return detail::decimated_from_heads(heads, levels[i], x.rate_mean(), x.tau0_s());
+      },
+      level_ids.data(), level_b1.data());
+  std::vector<std::optional<int>> ids;
+  std::vector<char> by_b1;
+  for (std::size_t m : ms) {
+    const auto i =
+        static_cast<std::size_t>(std::lower_bound(levels.begin(), levels.end(),
+                                                  static_cast<std::size_t>(std::countr_zero(m))) -
+                                 levels.begin());
+    ids.push_back(level_ids[i]);
+    by_b1.push_back(level_b1[i]);
+  }
+  heads.sums.clear();
+  split_pm(x, ms, ids, by_b1);
   return ids;
 }
 
@@ -501,7 +575,7 @@ std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m
   if (m == 0 || phase.empty()) return std::nullopt;
   std::vector<double> z;
   for (std::size_t i = 0; i < phase.size(); i += m) z.push_back(phase[i]);
-  return alpha_lag1(std::move(z));
+  return alpha_lag1(z);
 }
 
 std::optional<int> noise_alpha(std::span<const double> phase, std::size_t m) {
@@ -574,13 +648,11 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<
     add_confidence(points, k, *src, level, {}, rule);
 }
 
-void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
-                    double level, const progress_fn& on_progress, edf_rule rule) {
-  std::vector<std::size_t> ms;
-  ms.reserve(points.size());
-  for (const auto& p : points) ms.push_back(p.m);
-  const auto ids =
-      x.size() > 0 ? identify(x, ms, on_progress) : std::vector<std::optional<int>>(ms.size());
+namespace {
+
+// Fills the intervals of `points` from the types identified at their factors (ids, in order).
+void fill_intervals(std::vector<deviation_point>& points, dev_kind k, std::size_t n_phase,
+                    const std::vector<std::optional<int>>& ids, double level, edf_rule rule) {
   // Too few points at a tau for any identification: the nearest shorter tau's type.
   std::vector<int> alpha(points.size());
   std::optional<int> last;
@@ -592,8 +664,8 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phas
   for (std::size_t i = 0; i < points.size(); ++i) {
     auto& p = points[i];
     p.alpha = alpha[i];
-    p.edf = edf(k, alpha[i], p.m, x.size());
-    if (rule == edf_rule::guarded) p.edf = guarded_edf(k, alpha, i, p.m, x.size(), p.edf);
+    p.edf = edf(k, alpha[i], p.m, n_phase);
+    if (rule == edf_rule::guarded) p.edf = guarded_edf(k, alpha, i, p.m, n_phase, p.edf);
     if (!(p.edf > 0.0)) {
       p.ci_lo = p.ci_hi = std::numeric_limits<double>::quiet_NaN();
       continue;
@@ -601,6 +673,45 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phas
     p.ci_lo = p.dev * std::sqrt(p.edf / chi2_quantile(1.0 - p_lo, p.edf));
     p.ci_hi = p.dev * std::sqrt(p.edf / chi2_quantile(p_lo, p.edf));
   }
+}
+
+std::vector<std::size_t> factors_of(const std::vector<deviation_point>& points) {
+  std::vector<std::size_t> ms;
+  ms.reserve(points.size());
+  for (const auto& p : points) ms.push_back(p.m);
+  return ms;
+}
+
+}  // namespace
+
+void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
+                    double level, const progress_fn& on_progress, edf_rule rule) {
+  const auto ms = factors_of(points);
+  const auto ids =
+      x.size() > 0 ? identify(x, ms, on_progress) : std::vector<std::optional<int>>(ms.size());
+  fill_intervals(points, k, x.size(), ids, level, rule);
+}
+
+result<std::vector<deviation_point>> deviation_with_confidence(dev_kind k, const phase_source& x,
+                                                               const tau_spec& taus, double level,
+                                                               const progress_fn& on_progress,
+                                                               edf_rule rule) {
+  // ADEV/HDEV of rate samples at octave factors: the block sums' pass keeps the decimated
+  // series' sums too (one read of the samples for the curve and the noise types).
+  if (x.size() >= 3) {
+    detail::block_heads heads;
+    heads.cap = max_points - 1;
+    if (auto r = detail::deviation_from_block_sums(k, x.samples(), x.kind(), x.tau0_s(), taus,
+                                                   on_progress, &heads)) {
+      if (*r)
+        fill_intervals(**r, k, x.size(), identify_from_heads(x, factors_of(**r), heads), level,
+                       rule);
+      return std::move(*r);
+    }
+  }
+  auto points = deviation(k, x, taus, detail::part_progress(on_progress, 0, 2));
+  if (points) add_confidence(*points, k, x, level, detail::part_progress(on_progress, 1, 2), rule);
+  return points;
 }
 
 }  // namespace gyroflip::analysis

@@ -172,7 +172,8 @@ std::vector<long double> decimated_sums(const phase_source& x, std::size_t order
 std::optional<std::vector<long double>> octave_block_sums(const sample_source& y, double tau0_s,
                                                           std::size_t order,
                                                           const std::vector<std::size_t>& factors,
-                                                          const progress_fn& on_progress) {
+                                                          const progress_fn& on_progress,
+                                                          block_heads* heads) {
   const std::size_t n = y.size();
   if (!(tau0_s >= phase_source::min_tau0_s && tau0_s <= phase_source::max_tau0_s) || n == 0 ||
       (order != 2 && order != 3))
@@ -200,6 +201,26 @@ std::optional<std::vector<long double>> octave_block_sums(const sample_source& y
   std::vector<std::vector<double>> buf(workers);
   std::vector<char> bad(chunks, 0);
   const double limit = phase_source::max_sample_magnitude;
+  // Per wanted level the first min(cap, n >> level) block sums, for `heads`; written by the chunk
+  // holding them (levels below kept_level) or from the kept level after the pass.
+  if (heads != nullptr) {
+    heads->offset = c;
+    heads->sums.clear();
+    heads->sums.resize(top + 1);
+    heads->counts.assign(top + 1, 0);
+    for (std::size_t j = 0; j <= top; ++j)
+      if (want[j] != 0) {
+        heads->counts[j] = std::min(heads->cap, n >> j);
+        heads->sums[j] = std::make_unique_for_overwrite<double[]>(heads->counts[j] + 1);
+      }
+  }
+  const auto keep_head = [heads](std::size_t j, std::size_t first, const double* v,
+                                 std::size_t count, double minus) {
+    if (heads == nullptr || !heads->sums[j] || first >= heads->counts[j]) return;
+    double* out = heads->sums[j].get() + first;
+    const std::size_t end = std::min(heads->counts[j] - first, count);
+    for (std::size_t i = 0; i < end; ++i) out[i] = v[i] - minus;
+  };
   for_each_item(
       chunks, workers,
       [&](std::size_t w, std::size_t item) {
@@ -231,6 +252,7 @@ std::optional<std::vector<long double>> octave_block_sums(const sample_source& y
           bad[item] = 1;
           return;
         }
+        keep_head(0, c0, v, len, c);
         note_level(out[0], v, len, order, false);
         for (std::size_t i = 0; i < std::min(order - 1, len); ++i) {
           out[0].first[i] -= c;
@@ -251,6 +273,7 @@ std::optional<std::vector<long double>> octave_block_sums(const sample_source& y
             break;
           }
           note_level(out[j], b.data(), count, order, want[j] != 0);
+          keep_head(j, c0 >> j, b.data(), count, 0.0);
         }
         y.release(c0, c0 + len);
       },
@@ -281,12 +304,29 @@ std::optional<std::vector<long double>> octave_block_sums(const sample_source& y
       for (std::size_t i = 0; i < count; ++i) kept[i] = kept[2 * i] + kept[2 * i + 1];
     }
     if (want[j] != 0) by_level[j] = block_difference_sum(kept.data(), count, order);
+    keep_head(j, 0, kept.data(), count, 0.0);
   }
   std::vector<long double> out;
   const auto t2 = static_cast<long double>(tau0_s) * static_cast<long double>(tau0_s);
   for (std::size_t m : factors)
     out.push_back(t2 * by_level[static_cast<std::size_t>(std::countr_zero(m))]);
   return out;
+}
+
+std::span<double> decimated_from_heads(block_heads& heads, std::size_t level, double mean,
+                                       double tau0_s) {
+  const std::size_t count = heads.counts[level];
+  double* z = heads.sums[level].get();
+  const long double step = static_cast<long double>(std::size_t{1} << level) *
+                           (static_cast<long double>(mean) - heads.offset);  // m (ybar - c)
+  const auto tau0 = static_cast<long double>(tau0_s);
+  long double run = 0.0L;  // sum_{i<k} S_i
+  for (std::size_t k = 0; k <= count; ++k) {
+    const double s = k < count ? z[k] : 0.0;
+    z[k] = static_cast<double>(tau0 * (run - static_cast<long double>(k) * step));
+    run += static_cast<long double>(s);
+  }
+  return {z, count + 1};
 }
 
 std::vector<std::vector<double>> decimated_prefixes(const phase_source& x,

@@ -4,9 +4,12 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
+#include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/phase_source.hpp"
 
 namespace gyroflip::analysis::detail {
@@ -38,9 +41,37 @@ inline std::size_t decimated_terms(std::size_t n_phase, std::size_t m, std::size
 /// Sums in double per 4096 terms, added in long double in chunk order (thread-independent).
 /// nullopt (nothing computed) when a factor is not a power of two, tau0 or a sample is outside
 /// phase_source's limits (a non-finite sample among them): phase_source::make then says why.
+/// With `heads`, also keeps per factor the first block sums the pass forms anyway (see
+/// block_heads), from which the noise identification's decimated phase follows without a read.
+struct block_heads;
 [[nodiscard]] std::optional<std::vector<long double>> octave_block_sums(
     const sample_source& y, double tau0_s, std::size_t order,
-    const std::vector<std::size_t>& factors, const progress_fn& on_progress);
+    const std::vector<std::size_t>& factors, const progress_fn& on_progress,
+    block_heads* heads = nullptr);
+
+/// The first block sums of each factor m = 2^j (a power of two) of rate samples y: S_i = sum of
+/// (y - offset) over block i of m samples, i < min(cap, M/m). The phase decimated by m is their
+/// running sum, x_{km} = tau0 (sum_{i<k} S_i - k m (ybar - offset)) (phase_source's x, the mean
+/// ybar removed): decimated_from_heads. Arrays not zeroed first (their pages are first touched by
+/// the threads that write them), with room for one more point.
+struct block_heads {
+  std::size_t cap = 0;                          ///< in: at most this many sums per factor
+  double offset = 0.0;                          ///< out: the sums are of y - offset
+  std::vector<std::unique_ptr<double[]>> sums;  ///< out: per level j, or null if not asked
+  std::vector<std::size_t> counts;              ///< out: per level j, the sums held
+};
+
+/// Turns level j's sums (block_heads) in place into the decimated phase x_{k 2^j},
+/// k <= counts[j] (long-double running sums: phase_source's points to rounding), and returns it.
+[[nodiscard]] std::span<double> decimated_from_heads(block_heads& heads, std::size_t level,
+                                                     double mean, double tau0_s);
+
+/// ADEV or HDEV (`k`) of rate samples at power-of-two factors from block sums, without the phase
+/// (octave_block_sums; allan.cpp). nullopt where that does not apply (another kind, input or
+/// factor; a sample or tau0 out of range): the phase path computes the curve or says what is wrong.
+[[nodiscard]] std::optional<result<std::vector<deviation_point>>> deviation_from_block_sums(
+    dev_kind k, const sample_source& samples, input_kind in, double tau0_s, const tau_spec& taus,
+    const progress_fn& on_progress, block_heads* heads = nullptr);
 
 /// For every factor m: z_0, z_1, ... (the first min(cap, (N-1)/m + 1) points), all collected in
 /// one pass over the phase. Holds sum over factors of that many doubles.

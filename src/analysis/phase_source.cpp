@@ -28,16 +28,24 @@ constexpr std::size_t block = phase_source::block_points;
 constexpr std::size_t blocks_per_item = 256;  // a work item of the preparing passes: 2 MB input
 
 // Folds each block of `block` samples of y (the last may be shorter) with step(state, value),
-// four blocks side by side; hands each block's final state to out(block index, state).
-template <class State, class Step, class Out>
-void fold_blocks(std::span<const double> y, State init, Step step, Out out) {
+// four blocks side by side (four(p, states) folds four whole blocks from p, as step would: by
+// default with step); hands each block's final state to out(block index, state).
+template <class State, class Step>
+struct step_four {
+  Step step;
+  void operator()(const double* p, std::array<State, 4>& s) const {
+    for (std::size_t i = 0; i < block; ++i)
+      for (std::size_t l = 0; l < 4; ++l) step(s[l], p[l * block + i]);
+  }
+};
+
+template <class State, class Step, class Out, class Four>
+void fold_blocks(std::span<const double> y, State init, Step step, Out out, Four four) {
   const std::size_t full = y.size() / block;
   std::size_t b = 0;
   for (; b + 4 <= full; b += 4) {
     std::array<State, 4> s{init, init, init, init};
-    const double* p = y.data() + b * block;
-    for (std::size_t i = 0; i < block; ++i)
-      for (std::size_t l = 0; l < 4; ++l) step(s[l], p[l * block + i]);
+    four(y.data() + b * block, s);
     for (std::size_t l = 0; l < 4; ++l) out(b + l, s[l]);
   }
   for (; b * block < y.size(); ++b) {
@@ -49,8 +57,9 @@ void fold_blocks(std::span<const double> y, State init, Step step, Out out) {
 
 // fold_blocks over all samples on all cores, in work items of blocks_per_item blocks; each
 // item's samples are released once folded (one pass over a mapped file stays non-resident).
-template <class State, class Step, class Out>
-void fold_all(const sample_source& s, State init, Step step, Out out, const progress_fn& p) {
+template <class State, class Step, class Out, class Four>
+void fold_all(const sample_source& s, State init, Step step, Out out, const progress_fn& p,
+              Four four) {
   const std::size_t n = s.size();
   const std::size_t per_item = blocks_per_item * block;
   const std::size_t items = (n + per_item - 1) / per_item;
@@ -59,8 +68,9 @@ void fold_all(const sample_source& s, State init, Step step, Out out, const prog
       [&](std::size_t, std::size_t item) {
         const std::size_t first = item * per_item;
         const std::size_t last = std::min(n, first + per_item);
-        fold_blocks(s.view(first, last - first), init, step,
-                    [&](std::size_t b, const State& st) { out(item * blocks_per_item + b, st); });
+        fold_blocks(
+            s.view(first, last - first), init, step,
+            [&](std::size_t b, const State& st) { out(item * blocks_per_item + b, st); }, four);
         s.release(first, last);
       },
       p);
@@ -146,6 +156,55 @@ GYROFLIP_KERNEL_CLONES void integrate4(const double* y, double* x, std::size_t c
   }
 }
 
+// prepare_rate's fold of a block: the sum and the largest |v| (the mean, the checks) and, about
+// an offset c, the carry increment sum(v - c) and the sum of the running sums.
+struct rate_fold {
+  double sum = 0.0;
+  double largest = 0.0;  // max |v|: samples beyond max_sample_magnitude are refused
+  double part = 0.0;
+  double parts = 0.0;
+};
+
+// One sample of rate_fold (the scalar step).
+void rate_step(rate_fold& a, double v, double c) {
+  a.sum += v;
+  a.largest = std::max(a.largest, std::abs(v));
+  a.parts += a.part;
+  a.part += v - c;
+}
+
+// rate_step over four whole blocks from y, the blocks as the lanes of one vector fed by 4 x 4
+// tiles turned as in integrate4: each lane does rate_step's operations in its order (max as
+// std::max: the old value unless it is less than |v|, whose -0 and NaN cannot change it), so the
+// same bits; the
+// scalar fold's four chains per block, each an add latency per sample, were half of a rate
+// source's preparing pass.
+GYROFLIP_KERNEL_CLONES void fold_rate4(const double* y, double c, rate_fold* out) {
+  const lanes4 cv = {c, c, c, c};
+  const lanes4 zero = {0.0, 0.0, 0.0, 0.0};
+  lanes4 sum = zero, largest = zero, part = zero, parts = zero;
+  const auto step = [&](const lanes4& v) {
+    sum += v;
+    const lanes4 a = v < zero ? -v : v;
+    largest = largest < a ? a : largest;
+    parts += part;
+    part += v - cv;
+  };
+  lanes4 r0, r1, r2, r3;
+  for (std::size_t i = 0; i < block; i += 4) {
+    std::memcpy(&r0, y + i, sizeof r0);
+    std::memcpy(&r1, y + block + i, sizeof r1);
+    std::memcpy(&r2, y + 2 * block + i, sizeof r2);
+    std::memcpy(&r3, y + 3 * block + i, sizeof r3);
+    transpose4(r0, r1, r2, r3);  // r_k: sample i + k of the four blocks
+    step(r0);
+    step(r1);
+    step(r2);
+    step(r3);
+  }
+  for (std::size_t l = 0; l < 4; ++l) out[l] = {sum[l], largest[l], part[l], parts[l]};
+}
+
 }  // namespace
 
 phase_source::phase_source(const sample_source& samples, input_kind in, double tau0_s) noexcept
@@ -181,17 +240,17 @@ status phase_source::prepare_angle(const progress_fn& on_progress) {
     long double sum = 0.0L;
     double largest = 0.0;  // max |v|: samples beyond max_sample_magnitude are refused
   };
+  const auto step = [x0](fold& a, double v) {
+    a.sum += static_cast<long double>(v) - x0;
+    a.largest = std::max(a.largest, std::abs(v));
+  };
   fold_all(
-      s, fold{},
-      [x0](fold& a, double v) {
-        a.sum += static_cast<long double>(v) - x0;
-        a.largest = std::max(a.largest, std::abs(v));
-      },
+      s, fold{}, step,
       [&](std::size_t b, const fold& a) {
         sum_[b] = a.sum;
         largest[b] = a.largest;
       },
-      on_progress);
+      on_progress, step_four<fold, decltype(step)>{step});
   for (std::size_t b = 0; b < sum_.size(); ++b)
     if (!std::isfinite(sum_[b]) || !(largest[b] <= max_sample_magnitude)) return bad_block(s, b);
   return ok();
@@ -214,22 +273,11 @@ status phase_source::prepare_rate(const progress_fn& on_progress) {
     for (double v : head) acc += static_cast<long double>(v);
     c = static_cast<double>(acc / static_cast<long double>(head.size()));
   }
-  struct fold {
-    double sum = 0.0;
-    double largest = 0.0;  // max |v|: samples beyond max_sample_magnitude are refused
-    double part = 0.0;
-    double parts = 0.0;
-  };
-  std::vector<fold> folds(sample_blocks);
+  std::vector<rate_fold> folds(sample_blocks);
   fold_all(
-      s, fold{},
-      [c](fold& a, double v) {
-        a.sum += v;
-        a.largest = std::max(a.largest, std::abs(v));
-        a.parts += a.part;
-        a.part += v - c;
-      },
-      [&](std::size_t b, const fold& a) { folds[b] = a; }, on_progress);
+      s, rate_fold{}, [c](rate_fold& a, double v) { rate_step(a, v, c); },
+      [&](std::size_t b, const rate_fold& a) { folds[b] = a; }, on_progress,
+      [c](const double* p, std::array<rate_fold, 4>& st) { fold_rate4(p, c, st.data()); });
   long double sum = 0.0L;
   for (std::size_t b = 0; b < sample_blocks; ++b) {
     if (!std::isfinite(folds[b].sum) || !(folds[b].largest <= max_sample_magnitude))

@@ -272,3 +272,84 @@ TEST(Confidence, FewPointNoiseTypeByB1) {
 
 }  // namespace
 }  // namespace gyroflip::analysis
+
+namespace gyroflip::analysis {
+namespace {
+
+// Issue 23: deviation_with_confidence takes ADEV's and HDEV's noise-identification series from
+// the block sums of its one read (rate samples, power-of-two factors). Against the two calls it
+// replaces (the phase decimated point by point): the same curve, the same noise type at every
+// tau (lag-1 on x_{km}, k < 2^20; B1 and R(n) on the last taus), the same EDF and bounds to
+// rounding. Rate series with known types: white rate (alpha 0), its running sum (rate random
+// walk, -2), the first difference of white noise (white PM, 2: R(n) splits it at the last
+// taus); long enough (2^21 + 5 samples) that the first factors reach the 2^20-point cap.
+TEST(Confidence, DeviationWithConfidenceFromBlockSumsEqualsTheTwoCalls) {
+  constexpr std::size_t n = (std::size_t{1} << 21) + 5;
+  sensor::normal_stream g(23, sensor::stream::user);
+  std::vector<double> white(n + 1), walk(n), pm(n);
+  for (auto& v : white) v = 0.3 + g.next();  // an offset: the mean the phase removes
+  double run = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    run += white[i] - 0.3;
+    walk[i] = 1e-3 * run;
+    pm[i] = 0.3 + (white[i + 1] - white[i]);  // the offset: a trend in x unless removed
+  }
+  white.pop_back();
+  const std::vector<std::pair<std::vector<double>*, int>> cases = {
+      {&white, 0}, {&walk, -2}, {&pm, 2}};
+  tau_spec repeated{tau_spec::set::list, {1, 4, 4, 1024, 64}};  // a factor twice, unsorted
+  for (const auto& [y, alpha] : cases) {
+    const span_samples samples(*y);
+    const auto x = *phase_source::make(samples, input_kind::rate, 0.01);
+    for (const auto k : {dev_kind::adev, dev_kind::hdev})
+      for (const auto& spec : {tau_spec{}, repeated}) {
+        auto two = *deviation(k, x, spec);
+        add_confidence(two, k, x, 0.683);
+        const auto one = *deviation_with_confidence(k, x, spec, 0.683);
+        ASSERT_EQ(one.size(), two.size());
+        for (std::size_t i = 0; i < one.size(); ++i) {
+          EXPECT_EQ(one[i].m, two[i].m);
+          EXPECT_EQ(one[i].dev, two[i].dev);
+          EXPECT_EQ(one[i].alpha, two[i].alpha) << "m " << one[i].m << " alpha " << alpha;
+          EXPECT_EQ(one[i].edf, two[i].edf) << "m " << one[i].m;
+          EXPECT_NEAR(one[i].ci_lo / two[i].ci_lo, 1.0, 1e-14);
+          EXPECT_NEAR(one[i].ci_hi / two[i].ci_hi, 1.0, 1e-14);
+        }
+        // The type is the one simulated where lag-1 has 2^20 points.
+        EXPECT_EQ(one.front().alpha, alpha) << to_string(k);
+      }
+  }
+}
+
+// Where the block sums do not apply (angle input, a factor not a power of two, another kind),
+// deviation_with_confidence is the two calls.
+TEST(Confidence, DeviationWithConfidenceElsewhereIsTheTwoCalls) {
+  sensor::normal_stream g(5, sensor::stream::user);
+  std::vector<double> y(50'000);
+  for (auto& v : y) v = g.next();
+  const span_samples samples(y);
+  for (const auto in : {input_kind::rate, input_kind::angle}) {
+    const auto x = *phase_source::make(samples, in, 0.5);
+    for (const auto k : {dev_kind::adev, dev_kind::oadev, dev_kind::hdev, dev_kind::totdev})
+      for (const auto& spec : {tau_spec{}, tau_spec{tau_spec::set::list, {3, 10, 100}}}) {
+        auto two = *deviation(k, x, spec);
+        add_confidence(two, k, x, 0.9, {}, edf_rule::guarded);
+        const auto one = *deviation_with_confidence(k, x, spec, 0.9, {}, edf_rule::guarded);
+        ASSERT_EQ(one.size(), two.size());
+        for (std::size_t i = 0; i < one.size(); ++i) {
+          EXPECT_EQ(one[i].alpha, two[i].alpha);
+          EXPECT_EQ(one[i].edf, two[i].edf);
+          EXPECT_NEAR(one[i].ci_lo / two[i].ci_lo, 1.0, 1e-14);
+          EXPECT_NEAR(one[i].ci_hi / two[i].ci_hi, 1.0, 1e-14);
+        }
+      }
+  }
+  // Errors as deviation(): too few points.
+  const std::vector<double> two_samples{1.0, 2.0};
+  const span_samples short_samples(two_samples);
+  const auto x = *phase_source::make(short_samples, input_kind::angle, 1.0);
+  EXPECT_FALSE(deviation_with_confidence(dev_kind::hdev, x, tau_spec{}, 0.683));
+}
+
+}  // namespace
+}  // namespace gyroflip::analysis

@@ -94,4 +94,15 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phas
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
                     double level, edf_rule rule = edf_rule::stable32);
 
+/// deviation(k, x, taus) with add_confidence(level, rule) on it, in fewer reads of the samples:
+/// ADEV and HDEV of rate samples at power-of-two factors (the block sums' path of deviation())
+/// keep the first 2^20 - 1 block sums S_j of each factor m from their one read, and the noise
+/// identification's decimated phase is their running sum, x_{km} = tau0 sum_{j<k} (S_j - m ybar)
+/// (the same points as add_confidence reads, to rounding): one read of the samples for the curve
+/// and its intervals instead of two. Otherwise the two calls, `on_progress` reporting both.
+/// Errors as deviation().
+[[nodiscard]] result<std::vector<deviation_point>> deviation_with_confidence(
+    dev_kind k, const phase_source& x, const tau_spec& taus, double level,
+    const progress_fn& on_progress = {}, edf_rule rule = edf_rule::stable32);
+
 }  // namespace gyroflip::analysis

@@ -56,6 +56,8 @@ class phase_source {
   [[nodiscard]] double tau0_s() const noexcept { return tau0_s_; }
   [[nodiscard]] input_kind kind() const noexcept { return kind_; }
   [[nodiscard]] const sample_source& samples() const noexcept { return *samples_; }
+  /// Rate input: the mean ybar of the samples, which the phase has removed (0 for angle input).
+  [[nodiscard]] double rate_mean() const noexcept { return mean_; }
   /// Bytes held by the per-block tables (the memory bound besides the readers' buffers).
   [[nodiscard]] std::size_t table_bytes() const noexcept;
 
