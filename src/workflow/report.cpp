@@ -459,7 +459,10 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
         {"the calibration's stated ΔN", rec.pooled, std::nullopt}};
     one.front().cal.stderr_correlated_dps = own_dps;
     one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
-    return budget_of(one, std::nullopt, preset, id.preset);
+    auto b = budget_of(one, std::nullopt, preset, id.preset);
+    b.within_run_note = "the calibration's own stated error (it lists no runs)";
+    b.model_note = "none: the calibration lists no runs";
+    return b;
   }
   // Runs listed twice (the same bytes, or the same cycles in other bytes) are one run counted
   // twice: the runs' scatter, and so the ±, is understated (review N3).
@@ -762,13 +765,13 @@ json budget_json(const delta_n_budget& b) {
 report::table budget_table(const delta_n_budget& b, bool compensating) {
   const auto v = [](double x) { return std::isfinite(x) ? g(x, 2) : std::string("unknown"); };
   report::table t{
-      compensating
-          ? "Uncertainty of the ΔN applied (from the calibration's runs; °/s, one standard "
-            "uncertainty: 1 σ)"
-          : "Uncertainty budget of ΔN (°/s, one standard uncertainty: 1 σ)",
+      compensating ? "Uncertainty of the ΔN applied (from the calibration; °/s, one standard "
+                     "uncertainty: 1 σ)"
+                   : "Uncertainty budget of ΔN (°/s, one standard uncertainty: 1 σ)",
       {"component", "value (°/s)", "what it is"},
       {{"within-run (correlated)", v(b.within_run_dps),
-        b.runs == 1
+        !b.within_run_note.empty() ? b.within_run_note
+        : b.runs == 1
             ? std::string("the run's own error (correlated noise included)")
             : fmt::format("the {} runs' own errors, pooled (correlated noise included)", b.runs)},
        {"run-to-run repeatability", v(b.run_to_run_dps), b.run_to_run_source},

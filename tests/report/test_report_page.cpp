@@ -791,6 +791,9 @@ TEST(ReportChecks, ACalibrationsDeltaNIsCheckedAgainstItsRuns) {
   EXPECT_NEAR(own_j["budget"]["new_power_up_dps"].get<double>(), std::hypot(0.0005, 0.000959),
               1e-9);
   EXPECT_NE(own_err.find("lists no runs"), std::string::npos) << own_err;
+  EXPECT_NE(read_text(d.file("rep_own/index.html"))
+                .find("the calibration's own stated error (it lists no runs)"),
+            std::string::npos);
   // As calibrate wrote it: no complaint; a model edited by hand: named, with how far it is.
   const auto [as_made_err, as_made_j] = report_with(cal, "as_made");
   EXPECT_EQ(as_made_err.find("is not the fit"), std::string::npos) << as_made_err;

@@ -51,6 +51,9 @@ struct delta_n_budget {
   /// Why there is no +- when !valid, as the page says it (outside the calibration's temperatures
   /// with no coefficient known, or a calibration that lists no runs and states no error).
   std::string invalid_why = "not valid outside the calibration's temperatures";
+  /// What the within-run row is when it is not the runs' (a calibration that lists no runs:
+  /// its own stated error); empty: the runs' own errors.
+  std::string within_run_note;
 };
 
 /// Beyond this distance (degC) from the calibration runs' temperatures, a constant dN gets a
