@@ -83,19 +83,11 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     // What the calibration was made of, so a report that applies it can say (review R18).
     auto id = report::identify_file(file);
     if (!id) return id.err();
-    auto src = origin_of(file, rc->metadata);
-    src.sha256 = id->sha256;
-    src.size_bytes = id->size_bytes;
-    rec.files.push_back({file, *cal, std::move(src)});
+    rec.files.push_back({file, *cal, source_of(file, rc->metadata, *id)});
     if (auto s = sensors.add(file, rc->metadata, out.warnings); !s) return s.err();
     all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
   }
-  {
-    std::vector<std::string> sums;
-    for (const auto& e : rec.files) sums.push_back(e.source->sha256);
-    if (auto s = check_distinct_recordings(r.files, sums); !s) return s.err();
-    if (auto s = check_distinct_runs(rec.files); !s) return s.err();
-  }
+  if (auto s = check_distinct_runs(rec.files); !s) return s.err();
   rec.sensor = sensors.sensor();
   if (!rec.sensor->known())
     out.warnings.emplace_back(

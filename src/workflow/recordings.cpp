@@ -121,26 +121,40 @@ io::run_source origin_of(const std::string& file, std::span<const io::csv_metada
   return src;
 }
 
-status check_distinct_recordings(std::span<const std::string> files,
-                                 std::span<const std::string> sha256) {
-  for (std::size_t k = 1; k < files.size() && k < sha256.size(); ++k)
-    for (std::size_t i = 0; i < k; ++i)
-      if (sha256[i] == sha256[k])
-        return input_error({files[k]}, fmt::format("has the same bytes as {} (SHA-256 {}): one "
-                                                   "recording given twice is not two runs",
-                                                   printable(files[i], 200), sha256[k]));
-  return ok();
+io::run_source source_of(const std::string& file, std::span<const io::csv_metadata> metadata,
+                         const report::input_file& bytes) {
+  auto src = origin_of(file, metadata);
+  src.sha256 = bytes.sha256;
+  src.size_bytes = bytes.size_bytes;
+  return src;
+}
+
+repeat repeat_of(const io::calibration_entry& a, const io::calibration_entry& b) {
+  if (a.source && b.source && a.source->sha256 == b.source->sha256) return repeat::same_bytes;
+  if (a.cal.cycles == b.cal.cycles && a.cal.delta_n_dps == b.cal.delta_n_dps &&
+      a.cal.std_dps == b.cal.std_dps)
+    return repeat::same_cycles;
+  return repeat::none;
 }
 
 status check_distinct_runs(std::span<const io::calibration_entry> runs) {
   for (std::size_t k = 1; k < runs.size(); ++k)
     for (std::size_t i = 0; i < k; ++i) {
-      const auto &a = runs[i].cal, &b = runs[k].cal;
-      if (a.cycles == b.cycles && a.delta_n_dps == b.delta_n_dps && a.std_dps == b.std_dps)
-        return input_error({runs[k].file},
-                           fmt::format("gives the same {} cycles as {} (dN and std equal to the "
-                                       "last digit): the same recording twice is not two runs",
-                                       b.cycles, printable(runs[i].file, 200)));
+      const auto& other = printable(runs[i].file, 200);
+      switch (repeat_of(runs[i], runs[k])) {
+        case repeat::none:
+          break;
+        case repeat::same_bytes:
+          return input_error({runs[k].file},
+                             fmt::format("has the same bytes as {} (SHA-256 {}): one recording "
+                                         "given twice is not two runs",
+                                         other, runs[k].source->sha256));
+        case repeat::same_cycles:
+          return input_error({runs[k].file},
+                             fmt::format("gives the same {} cycles as {} (dN and std equal to the "
+                                         "last digit): the same recording twice is not two runs",
+                                         runs[k].cal.cycles, other));
+      }
     }
   return ok();
 }

@@ -470,17 +470,15 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
   for (std::size_t k = 1; k < rec.files.size(); ++k)
     for (std::size_t i = 0; i < k; ++i) {
       const auto &a = rec.files[i], &b = rec.files[k];
-      const bool same_bytes = a.source && b.source && a.source->sha256 == b.source->sha256;
-      const bool same_cycles = a.cal.cycles == b.cal.cycles &&
-                               a.cal.delta_n_dps == b.cal.delta_n_dps &&
-                               a.cal.std_dps == b.cal.std_dps;
-      if (!same_bytes && !same_cycles) continue;
+      const auto rep = repeat_of(a, b);
+      if (rep == repeat::none) continue;
       twice = true;
       warnings.push_back(fmt::format(
           "{}: its runs {} and {} are {}: one recording counted as two runs, so the runs' "
           "scatter understates the repeatability; the ΔN applied has no known uncertainty",
           given.source, a.file, b.file,
-          same_bytes ? "the same bytes (SHA-256)" : "the same cycles (dN, std and count)"));
+          rep == repeat::same_bytes ? "the same bytes (SHA-256)"
+                                    : "the same cycles (dN, std and count)"));
     }
   const auto differs = [](double a, double b) {
     return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
@@ -928,14 +926,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
               "the ΔN applied, so its compensated mean is not an independent test of the "
               "calibration",
               runs[k].run.file, e.file));
+    if (k < runs.size()) entries[k].source = source_of(runs[k].run.file, runs[k].run.metadata, *in);
     page.made.inputs.push_back(std::move(*in));
   }
-  {
-    std::vector<std::string> sums;
-    for (std::size_t k = 0; k < runs.size(); ++k) sums.push_back(page.made.inputs[k].sha256);
-    if (auto s = check_distinct_recordings(r.files, sums); !s) return s.err();
-    if (auto s = check_distinct_runs(entries); !s) return s.err();
-  }
+  if (auto s = check_distinct_runs(entries); !s) return s.err();
   const temp_span all_t = runs_temps(runs);
   const std::string serials = [&] {
     std::string s;

@@ -15,6 +15,7 @@
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/types.hpp"
+#include "gyroflip/report/page.hpp"
 
 namespace gyroflip::workflow {
 
@@ -56,14 +57,20 @@ struct recording_run {
 [[nodiscard]] io::run_source origin_of(const std::string& file,
                                        std::span<const io::csv_metadata> metadata);
 
-/// Refuses one recording given twice under two names: `sha256[k]` is `files[k]`'s, and two equal
-/// hashes are the same bytes, not two runs (io::check_distinct_inputs catches the same file by
-/// two paths; a copy has another inode). Errors name both files.
-[[nodiscard]] status check_distinct_recordings(std::span<const std::string> files,
-                                               std::span<const std::string> sha256);
+/// A recording's source as a calibration keeps it: origin_of, with the SHA-256 and size of its
+/// bytes as report::identify_file found them.
+[[nodiscard]] io::run_source source_of(const std::string& file,
+                                       std::span<const io::csv_metadata> metadata,
+                                       const report::input_file& bytes);
 
-/// Refuses two runs whose cycles give the same dN, std and count to the last bit: the same data
-/// in two files (a `.gfr` and its CSV export, a copy with another newline), not two power-ups.
+/// Why two runs are one recording: the same bytes (both sources name one SHA-256: a copy under
+/// another name, which io::check_distinct_inputs does not see), or the same cycles (dN, std and
+/// count equal to the last bit: a `.gfr` and its CSV export, a copy with another newline).
+enum class repeat { none, same_bytes, same_cycles };
+[[nodiscard]] repeat repeat_of(const io::calibration_entry& a, const io::calibration_entry& b);
+
+/// Refuses runs among which one recording comes twice (repeat_of): not two power-ups. Errors
+/// name both files.
 [[nodiscard]] status check_distinct_runs(std::span<const io::calibration_entry> runs);
 
 /// The origin as a page says it ("simulated: gyroflip simulate (...)").
