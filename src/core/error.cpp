@@ -64,6 +64,37 @@ status check_name_for_json(std::string_view file) {
                      "(rename the file, or leave out the JSON output)");
 }
 
+namespace {
+
+// The code point of the invisible control at text[i] (see visible_controls), or 0. All of them
+// are two- or three-byte UTF-8 sequences.
+unsigned direction_control_at(std::string_view text, std::size_t i) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(text[i + k]); };
+  if (i + 1 < text.size() && b(0) == 0xd8 && b(1) == 0x9c) return 0x061c;
+  if (i + 2 >= text.size()) return 0;
+  const unsigned cp = ((b(0) & 0x0fU) << 12U) | ((b(1) & 0x3fU) << 6U) | (b(2) & 0x3fU);
+  if ((b(0) & 0xf0U) != 0xe0U || (b(1) & 0xc0U) != 0x80U || (b(2) & 0xc0U) != 0x80U) return 0;
+  const bool control = cp == 0x200e || cp == 0x200f || (cp >= 0x2028 && cp <= 0x202e) ||
+                       (cp >= 0x2066 && cp <= 0x2069) || cp == 0xfeff;
+  return control ? cp : 0;
+}
+
+}  // namespace
+
+std::string visible_controls(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (const unsigned cp = direction_control_at(text, i); cp != 0) {
+      out += fmt::format("\\u{:04x}", cp);
+      i += cp == 0x061c ? 1 : 2;
+      continue;
+    }
+    out += text[i];
+  }
+  return out;
+}
+
 std::string printable(std::string_view text, std::size_t max_bytes) {
   std::string out;
   const std::size_t n = std::min(text.size(), max_bytes);
@@ -87,7 +118,7 @@ std::string printable(std::string_view text, std::size_t max_bytes) {
     ++i;
   }
   if (text.size() > i) out += fmt::format("... ({} more bytes)", text.size() - i);
-  return out;
+  return visible_controls(out);
 }
 
 error input_error(const source_location& where, std::string_view what) {

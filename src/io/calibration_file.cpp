@@ -129,25 +129,10 @@ status check_model(const std::string& path, const method::delta_n_model& m) {
   return ok();
 }
 
-// A run's origin in words as the file keeps it: one line (printable(): controls as \xNN, at most
-// 1000 bytes) without the bidirectional controls U+202A..U+202E and U+2066..U+2069 (as \uNNNN),
-// which would reorder a page's text around them.
+// A run's origin in words as the file keeps it: one line (printable(): controls as \xNN, the
+// direction controls that would reorder a page's text around them as \uNNNN, at most 1000 bytes).
 std::string plain_line(std::string_view text) {
-  const std::string p = printable(text, 1000);
-  std::string out;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const auto b = [&](std::size_t k) { return static_cast<unsigned char>(p[k]); };
-    if (b(i) == 0xe2 && i + 2 < p.size() &&
-        ((b(i + 1) == 0x80 && b(i + 2) >= 0xaa && b(i + 2) <= 0xae) ||
-         (b(i + 1) == 0x81 && b(i + 2) >= 0xa6 && b(i + 2) <= 0xa9))) {
-      const unsigned cp = 0x2000u + ((b(i + 1) & 0x3fu) << 6u) + (b(i + 2) & 0x3fu);
-      out += fmt::format("\\u{:04x}", cp);
-      i += 2;
-      continue;
-    }
-    out += p[i];
-  }
-  return out;
+  return printable(text, 1000);
 }
 
 // A run's source (schema 2): all four keys or none (a file without one of them is not what

@@ -24,7 +24,10 @@ namespace gyroflip::report {
 
 namespace {
 
-std::string escaped(std::string_view text) {
+// HTML text of a value that may come from a recording (a name, a header field): markup escaped,
+// the direction controls made visible (visible_controls: they would reorder the page's text).
+std::string escaped(std::string_view raw) {
+  const std::string text = visible_controls(raw);
   std::string out;
   for (const char c : text) {
     switch (c) {

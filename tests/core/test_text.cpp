@@ -49,5 +49,27 @@ TEST(Text, PrintableEscapesControlAndInvalidBytesButKeepsUtf8) {
   EXPECT_FALSE(is_valid_utf8("\xed\xa0\x80"));  // a surrogate
 }
 
+// The direction controls (Trojan Source, CVE-2021-42574) and the line separators are shown, not
+// kept: they would reorder or split a message or a page around them. Other scripts and the
+// joiners they need are kept.
+TEST(Text, DirectionControlsAreMadeVisible) {
+  EXPECT_EQ(visible_controls("a\xe2\x80\xae"
+                             "b\xe2\x80\xac"
+                             "c"),
+            "a\\u202eb\\u202cc");                                               // RLO, PDF
+  EXPECT_EQ(visible_controls("\xe2\x81\xa6x\xe2\x81\xa9"), "\\u2066x\\u2069");  // LRI, PDI
+  EXPECT_EQ(visible_controls("\xe2\x80\x8f\xd8\x9c\xef\xbb\xbf"),
+            "\\u200f\\u061c\\ufeff");  // RLM, ALM, BOM
+  EXPECT_EQ(visible_controls("1\xe2\x80\xa8"
+                             "2\xe2\x80\xa9"),
+            "1\\u20282\\u2029");
+  for (const char* kept : {"\xd7\x90\xd7\x91", "caf\xc3\xa9", "\xe2\x80\x8d", "\xe2\x80\x94",
+                           "\xe2\x80\xa7", "\xe2\x80\xaf", "\xe2\x80", "\xd8"})
+    EXPECT_EQ(visible_controls(kept), kept);  // Hebrew, e-acute, ZWJ, em dash, neighbours, cut
+  EXPECT_EQ(printable("seed: 1\xe2\x80\xae"
+                      "evil"),
+            "seed: 1\\u202eevil");
+}
+
 }  // namespace
 }  // namespace gyroflip::text

@@ -66,6 +66,10 @@ TEST(CalibrationFile, AMalformedSourceIsRefusedByName) {
   refused(R"("sha256": ")" + sha +
               R"(", "size_bytes": 1, "origin": "rig", "origin_detail": "a\u202eb")",
           "plain text");  // a bidi override would reorder the page around it
+  for (const char* mark : {R"(\u200f)", R"(\u061c)", R"(\u2028)", R"(\ufeff)", R"(\u2066)"})
+    refused(R"("sha256": ")" + sha + R"(", "size_bytes": 1, "origin": "rig", "origin_detail": "a)" +
+                mark + R"(b")",
+            "plain text");  // marks, a line separator, a BOM, an isolate (review N6)
   // All four or none (review D3: deleting the hash removed the "simulated" banner), and the run
   // is named.
   refused(R"("sha256": ")" + sha + R"(", "size_bytes": 1, "origin": "rig")",

@@ -885,3 +885,23 @@ TEST(ReportChecks, ACalibrationOfRunsWithoutTemperaturesIsApplied) {
   const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
   EXPECT_TRUE(j["delta_n_model"]["t_ref_c"].is_null());
 }
+
+// Review N6 (a): a recording's own header reaches the page; a direction override in it must not
+// reorder the page's text around it (it is shown as \u202e). summary.json keeps the text as
+// recorded (JSON data, escaped by its readers).
+TEST(ReportPage, DirectionControlsInARecordingAreShownNotObeyed) {
+  temp_dir d;
+  const auto a = simulate(d, "a.csv", "20", "1");
+  const auto b = simulate(d, "b.csv", "20", "2");
+  const std::string rlo = "\xe2\x80\xae";
+  std::string text = read_text(a);
+  const auto at = text.find("# seed: 1\n");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 10, "# seed: 1" + rlo + "evil\xe2\x80\xac\n");
+  std::ofstream(d.file("bidi.csv"), std::ios::binary) << text;
+  const auto r = run_cli({"report", d.file("bidi.csv"), b, "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto html = read_text(d.file("rep/index.html"));
+  EXPECT_EQ(html.find(rlo), std::string::npos);
+  EXPECT_NE(html.find("\\u202eevil\\u202c"), std::string::npos);
+}

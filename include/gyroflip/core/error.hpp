@@ -25,11 +25,18 @@ struct source_location {
   std::size_t column = 0;
 };
 
-/// `text` as it may appear inside a message: bytes outside printable ASCII (control characters,
-/// invalid or any non-ASCII UTF-8) as `\xNN`, and at most `max_bytes` of it, followed by
+/// `text` as it may appear inside a message: control characters and invalid UTF-8 as `\xNN`, the
+/// direction controls as visible_controls() shows them, and at most `max_bytes` of it, followed by
 /// `... (N more bytes)`. User text (a header field, a cell, a file name) goes through this, so
 /// that no message echoes a 1 MiB line or raw control bytes to the terminal.
 [[nodiscard]] std::string printable(std::string_view text, std::size_t max_bytes = 80);
+
+/// `text` with Unicode's invisible direction and line controls shown as `\uNNNN`: the
+/// bidirectional marks, embeddings, overrides and isolates (U+061C, U+200E, U+200F, U+202A..U+202E,
+/// U+2066..U+2069), which reorder the text around them on a page or a terminal (the "Trojan
+/// Source" attack, CVE-2021-42574), the line and paragraph separators U+2028/U+2029 (a second line
+/// inside one), and U+FEFF. Everything else is kept as it is. printable() applies it.
+[[nodiscard]] std::string visible_controls(std::string_view text);
 
 /// True when `text` is valid UTF-8 (RFC 3629: no overlong forms, surrogates or code points
 /// beyond U+10FFFF). JSON strings must be; a file name need not be.
