@@ -359,9 +359,9 @@ void setup_adev(CLI::App& app, action& chosen) {
   add_series_options(sub, o->in);
   sub->add_option("--kind", o->kind,
                   "adev|oadev|mdev|tdev|hdev|ohdev|totdev|mtotdev|ttotdev|htotdev|theo1|pdev|mtie|"
-                  "tierms")
+                  "tierms|gradev (gradev: an empty field or nan is a missing sample)")
       ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev",
-                             "ttotdev", "htotdev", "theo1", "pdev", "mtie", "tierms"}))
+                             "ttotdev", "htotdev", "theo1", "pdev", "mtie", "tierms", "gradev"}))
       ->capture_default_str();
   sub->add_option("--taus", o->taus, "octave|decade|all or averaging factors like 1,2,10")
       ->capture_default_str();

@@ -37,6 +37,16 @@ namespace {
 // `--ci none`: the bound, EDF and noise-type fields are empty (CSV) or null (JSON).
 constexpr const char* csv_header = "tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n";
 
+// What the numbers depend on beyond the data, as `#` lines after `# units` (review L2): the
+// guarded interval rule and the bias correction when asked for (no line: Stable32's rule, no
+// correction; the default output keeps its two header lines).
+std::string csv_settings(const adev_options& o, std::optional<double> level) {
+  std::string s;
+  if (level && o.ci_guard) s += "# ci_rule: guarded\n";
+  if (o.bias_correction) s += "# bias_correction: stable32\n";
+  return s;
+}
+
 // The rows of one curve (no header); `prefix` starts each row (a column's name and a comma).
 std::string csv_rows(const std::vector<analysis::deviation_point>& pts, bool with_ci,
                      const std::string& prefix) {
@@ -89,17 +99,20 @@ nlohmann::json json_of(const adev_options& o, const std::string& column, double 
                       {"edf", or_null(p.edf)},
                       {"n", p.n},
                       {"alpha", or_null(p.alpha)}});
-  return with_schema("adev", 1,
-                     {{"kind", o.kind},
-                      {"input", o.in.input},
-                      {"file", o.in.file},
-                      {"column", column},
-                      {"units", unit_name(o.in)},
-                      {"tau0_s", tau0_s},
-                      {"samples", samples},
-                      {"ci", level ? json(*level) : json(nullptr)},
-                      {"points", std::move(points)},
-                      {"dropped", std::move(gone)}});
+  return with_schema(
+      "adev", 1,
+      {{"kind", o.kind},
+       {"input", o.in.input},
+       {"file", o.in.file},
+       {"column", column},
+       {"units", dev_unit(o.in, o.kind)},
+       {"tau0_s", tau0_s},
+       {"samples", samples},
+       {"ci", level ? json(*level) : json(nullptr)},
+       {"ci_rule", level ? json(o.ci_guard ? "guarded" : "stable32") : json(nullptr)},
+       {"bias_correction", o.bias_correction},
+       {"points", std::move(points)},
+       {"dropped", std::move(gone)}});
 }
 
 }  // namespace
@@ -112,10 +125,23 @@ std::string unit_name(const series_input& in) {
   return std::string(units::unit_name(in.input == "angle", in.units));
 }
 
+std::string dev_unit(const series_input& in, std::string_view kind) {
+  // Time-error statistics are in the angle unit: TDEV = tau MDEV / sqrt(3) (SP1065 eqn 15),
+  // TTOTDEV (eqn 28), MTIE and TIE rms (ITU-T G.810: of x itself); the others in the rate unit.
+  const bool of_angle = kind == "tdev" || kind == "ttotdev" || kind == "mtie" || kind == "tierms";
+  const bool angle_in = in.input == "angle";
+  const std::string u = unit_name(in);
+  if (of_angle == angle_in) return u;
+  if (angle_in) return u + "/s";                                  // deg -> deg/s
+  return u == "deg/s" ? "deg" : u == "rad/s" ? "rad" : u + "*s";  // deg/h*s: deg/3600
+}
+
 namespace {
 
-io::series_options series_options_of(const series_input& in) {
+// `missing_is_nan`: GRADEV's reading, an empty field or nan is a gap (csv_dialect).
+io::series_options series_options_of(const series_input& in, bool missing_is_nan = false) {
   io::series_options so;
+  so.dialect.missing_is_nan = missing_is_nan;
   so.column = in.column;
   so.dataset = in.dataset;
   if (!std::isnan(in.rate_hz)) so.sample_rate_hz = in.rate_hz;
@@ -202,6 +228,13 @@ result<std::vector<analysis_input>> load_series(const series_input& in) {
 
 namespace {
 
+// "No averaging time fits" is about the data given (too short for the taus): an input error
+// naming the file, exit 2, as every other bad input (review L3).
+error too_short_is_bad_input(const error& e, const std::string& what) {
+  if (e.message.starts_with("no averaging time")) return input_error({what}, e.message);
+  return e;
+}
+
 struct adev_result {
   std::vector<analysis::deviation_point> points;
   std::vector<analysis::dropped_factor> dropped;
@@ -220,7 +253,7 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
                             o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32)
                       : analysis::deviation(kind, in.phase, taus, per_mille(bar));
   bar.finish();
-  if (!pts) return pts.err();
+  if (!pts) return too_short_is_bad_input(pts.err(), what);
   if (std::all_of(pts->begin(), pts->end(), [](const auto& p) { return p.dev == 0.0; }))
     warn(
         fmt::format("{}: every deviation is 0: the series is constant (a stuck sensor, a wrong "
@@ -287,7 +320,15 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
                                        win->first, win->second, taus, per_mille(bar));
   bar.finish();
   if (!d) return report(d.err());
-  std::string csv = "start_s,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit_name(o.in));
+  // Factors asked for by name that a window cannot hold: said once (review L4), as for one curve.
+  if (!d->empty()) {
+    const std::size_t window_points = win->first + (o.in.input == "angle" ? 0 : 1);
+    for (const auto& g :
+         analysis::dropped_factors(taus, d->front().curve, kind, window_points, in.series.tau0_s()))
+      warn(fmt::format("{}: averaging factor {} dropped from every window of {} samples: {}",
+                       o.in.file, g.m, win->first, g.why));
+  }
+  std::string csv = "start_s,tau_s,dev,n\n" + fmt::format("# units: {}\n", dev_unit(o.in, o.kind));
   nlohmann::json windows = nlohmann::json::array();
   std::vector<report::allan_curve> curves;
   for (const auto& w : *d) {
@@ -306,7 +347,7 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
     const auto j = with_schema("adev_dynamic", 1,
                                {{"kind", o.kind},
                                 {"file", o.in.file},
-                                {"units", unit_name(o.in)},
+                                {"units", dev_unit(o.in, o.kind)},
                                 {"tau0_s", in.series.tau0_s()},
                                 {"window_s", static_cast<double>(win->first) * in.series.tau0_s()},
                                 {"step_s", static_cast<double>(win->second) * in.series.tau0_s()},
@@ -319,7 +360,7 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
     if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
   if (plot) {
     const std::array formats{plot->format};
-    if (auto s = report::render(report::allan_figure(curves, unit_name(o.in),
+    if (auto s = report::render(report::allan_figure(curves, dev_unit(o.in, o.kind),
                                                      fmt::format("dynamic {} of {}", o.kind,
                                                                  printable(o.in.file, 100))),
                                 plot->dir, plot->stem, formats);
@@ -336,7 +377,7 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
 // `--codev` (GCODEV of two columns) and `--three-cornered-hat` (clocks A, B, C from the columns
 // AB, BC, CA): CSV `clock,tau_s,dev,n` (clock "AB*BC" for the codeviation), or JSON.
 int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::tau_spec& taus,
-              const std::vector<analysis_input>& in) {
+              const std::optional<plot_file>& plot, const std::vector<analysis_input>& in) {
   const std::size_t want = o.codev ? 2 : 3;
   if (in.size() != want)
     return report(usage_error(
@@ -358,25 +399,56 @@ int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::ta
     if (!h) return report(h.err());
     for (std::size_t c = 0; c < 3; ++c) curves.emplace_back(std::string(1, "ABC"[c]), (*h)[c]);
   }
-  std::string csv = "clock,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit_name(o.in));
+  const std::string unit = dev_unit(o.in, o.codev ? "oadev" : o.kind);
+  std::string csv = "clock,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit);
   nlohmann::json j = nlohmann::json::array();
+  std::vector<report::allan_curve> drawn;
   for (const auto& [name, pts] : curves) {
     nlohmann::json points = nlohmann::json::array();
+    std::vector<analysis::deviation_point> resolved;
+    std::string unresolved;
     for (const auto& p : pts) {
-      csv += fmt::format("{},{},{},{}\n", name, p.tau_s, p.dev, p.n);
-      points.push_back({{"tau_s", p.tau_s}, {"m", p.m}, {"dev", p.dev}, {"n", p.n}});
+      // The hat's negative variance estimates (analysis reports them as 0): not a measurement of
+      // zero but a clock below what the comparisons resolve (review L5): an empty field, null.
+      const bool none = o.three_cornered_hat && p.dev == 0.0;
+      csv += none ? fmt::format("{},{},,{}\n", name, p.tau_s, p.n)
+                  : fmt::format("{},{},{},{}\n", name, p.tau_s, p.dev, p.n);
+      points.push_back({{"tau_s", p.tau_s},
+                        {"m", p.m},
+                        {"dev", none ? nlohmann::json(nullptr) : nlohmann::json(p.dev)},
+                        {"n", p.n}});
+      if (none)
+        unresolved += fmt::format("{}{:g}", unresolved.empty() ? "" : ", ", p.tau_s);
+      else
+        resolved.push_back(p);
     }
+    if (!unresolved.empty())
+      warn(
+          fmt::format("clock {}: not resolved at tau = {} s (its variance estimate is negative: "
+                      "the other clocks' noise dominates there); left empty",
+                      name, unresolved));
     j.push_back({{"clock", name}, {"points", std::move(points)}});
+    drawn.push_back({name, std::move(resolved), std::nullopt});
   }
   if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
     return report(s.err());
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, csv); !s) return report(s.err());
+  if (plot) {  // the three clocks in one Allan plot (--codev was refused a plot: it may be < 0)
+    const std::array formats{plot->format};
+    if (auto s = report::render(
+            report::allan_figure(
+                drawn, unit,
+                fmt::format("three-cornered hat ({}) of {}", o.kind, printable(o.in.file, 100))),
+            plot->dir, plot->stem, formats);
+        !s)
+      return report(s.err());
+  }
   if (o.json) {
     auto t = finite_dump(with_schema("adev_curves", 1,
                                      {{"kind", o.codev ? "gcodev" : o.kind},
                                       {"file", o.in.file},
-                                      {"units", unit_name(o.in)},
+                                      {"units", unit},
                                       {"curves", std::move(j)}}),
                          "<stdout>");
     if (!t) return report(t.err());
@@ -387,24 +459,102 @@ int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::ta
   return 0;
 }
 
+// One column's curve, ready to print.
+struct computed {
+  std::string column;
+  adev_result r;
+  std::size_t samples = 0;
+  double tau0_s = 0.0;
+};
+
+// `--kind gradev`: each column read with its gaps (an empty field or nan in a CSV, NaN in a
+// binary file), GRADEV (cross.hpp) of each. The bad-input rules hold for every other field.
+result<std::vector<computed>> gradev_columns(const adev_options& o,
+                                             const analysis::tau_spec& taus) {
+  if (is_rig_recording(o.in.file)) return usage_error("--kind gradev: a CSV or binary file");
+  auto names = column_names(o.in);
+  if (!names) return names.err();
+  const auto so = series_options_of(o.in, true);
+  std::vector<io::series> read;
+  if (names->size() == 1 && o.in.columns.empty()) {
+    auto s = io::read_series(o.in.file, so);
+    if (!s) return s.err();
+    read.push_back(std::move(*s));
+  } else {
+    auto all = io::read_series_columns(o.in.file, so, *names);
+    if (!all) return all.err();
+    read = std::move(*all);
+  }
+  const auto in_kind =
+      o.in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
+  std::vector<computed> out;
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    const auto& col = (*names)[i];
+    const std::string what = names->size() == 1 ? o.in.file : o.in.file + ":" + col;
+    auto pts = analysis::gradev(read[i].values(), in_kind, read[i].tau0_s(), taus);
+    if (!pts) return input_error({what}, pts.err().message);
+    out.push_back(
+        {col, adev_result{std::move(*pts), {}}, read[i].values().size(), read[i].tau0_s()});
+  }
+  return out;
+}
+
+// Options that do not combine are refused, not ignored (review M2).
+status check_combination(const adev_options& o, analysis::dev_kind kind) {
+  const bool multi = o.codev || o.three_cornered_hat;
+  if (o.codev && o.three_cornered_hat)
+    return usage_error("--codev and --three-cornered-hat: give one of them");
+  if (multi && !o.dynamic.empty())
+    return usage_error("--dynamic analyses one column: not with --codev or --three-cornered-hat");
+  if (multi && (o.ci_guard || o.bias_correction))
+    return usage_error(
+        "--codev and --three-cornered-hat give no intervals and no bias correction: leave out "
+        "--ci-guard and --bias-correction");
+  if (!o.dynamic.empty() && (o.ci_guard || o.bias_correction))
+    return usage_error(
+        "--dynamic gives no intervals and no bias correction: leave out --ci-guard and "
+        "--bias-correction");
+  if (o.codev && kind != analysis::dev_kind::oadev)
+    return usage_error(
+        "--codev is the Groslambert codeviation of the overlapping Allan deviation: --kind oadev "
+        "(the default) only");
+  if (o.codev && !o.plot.empty())
+    return usage_error(
+        "--plot: a codeviation may be negative, which a log-log Allan plot cannot draw (write it "
+        "with -o and plot it linearly)");
+  if (o.three_cornered_hat && kind == analysis::dev_kind::mtie)
+    return usage_error(
+        "--three-cornered-hat separates variances that add for independent clocks; MTIE (a "
+        "maximum) does not");
+  return ok();
+}
+
 }  // namespace
 
 int run_adev(const adev_options& o) {
-  const auto kind = analysis::parse_dev_kind(o.kind);
+  // GRADEV is OADEV over the terms without a gap: checked as OADEV, without intervals.
+  const bool gaps = o.kind == "gradev";
+  const auto kind =
+      gaps ? std::optional(analysis::dev_kind::oadev) : analysis::parse_dev_kind(o.kind);
   if (!kind)
     return report(usage_error(
         "--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
-        "htotdev, theo1, pdev, mtie, tierms"));
+        "htotdev, theo1, pdev, mtie, tierms, gradev"));
+  if (gaps && (o.codev || o.three_cornered_hat || !o.dynamic.empty() || o.ci_guard))
+    return report(
+        usage_error("--kind gradev analyses columns with gaps on their own: not with --codev, "
+                    "--three-cornered-hat, --dynamic or --ci-guard (it has no intervals)"));
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
   // The validator (cli.cpp) let through only "none" or a number in (0, 1). Kinds without an EDF
   // (Theo1, PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
-  const std::optional<double> level = o.ci == "none" || !analysis::has_edf(*kind)
+  const std::optional<double> level = o.ci == "none" || gaps || !analysis::has_edf(*kind)
                                           ? std::nullopt
                                           : std::optional<double>(std::stod(o.ci));
   if (o.bias_correction && *kind != analysis::dev_kind::mtotdev &&
       *kind != analysis::dev_kind::ttotdev && *kind != analysis::dev_kind::htotdev)
     return report(usage_error("--bias-correction applies to mtotdev, ttotdev and htotdev only"));
+  if (auto s = check_combination(o, *kind); !s) return report(s.err());
   const auto plot = plot_target(o.plot);
   if (!plot) return report(plot.err());
   // --plot writes its script and one data file per column beside the image: none may be an input.
@@ -425,42 +575,50 @@ int run_adev(const adev_options& o) {
       return report(s.err());
   if (o.json)
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
-  auto inputs = load_series(o.in);
-  if (!inputs) return report(inputs.err());
-  if (o.codev || o.three_cornered_hat) return run_multi(o, *kind, *taus, *inputs);
-  if (!o.dynamic.empty()) {
-    if (inputs->size() != 1) return report(usage_error("--dynamic analyses one column"));
-    return run_dynamic(o, *kind, *taus, *plot, inputs->front());
+  std::vector<computed> done;
+  if (gaps) {
+    auto g = gradev_columns(o, *taus);
+    if (!g) return report(g.err());
+    done = std::move(*g);
+  } else {
+    auto inputs = load_series(o.in);
+    if (!inputs) return report(inputs.err());
+    if (o.codev || o.three_cornered_hat) return run_multi(o, *kind, *taus, *plot, *inputs);
+    if (!o.dynamic.empty()) {
+      if (inputs->size() != 1) return report(usage_error("--dynamic analyses one column"));
+      return run_dynamic(o, *kind, *taus, *plot, inputs->front());
+    }
+    for (const auto& in : *inputs) {
+      auto r = deviation_of(o, *kind, *taus, level, in);
+      if (!r) return report(r.err());
+      done.push_back({in.column, std::move(*r), in.series.samples().size(), in.phase.tau0_s()});
+    }
   }
   // One column: the CSV and JSON of one curve; several: a `column` field in each CSV row and one
   // JSON object per column.
-  const bool several = inputs->size() > 1;
+  const bool several = done.size() > 1;
   // Nothing asked of the output and a person reading it: a table instead of CSV.
   const bool table = !o.json && o.output.empty() && ::isatty(STDOUT_FILENO) == 1;
   std::string csv, tables;
   nlohmann::json per_column = nlohmann::json::array();
   std::vector<report::allan_curve> curves;
-  for (const auto& in : *inputs) {
-    auto r = deviation_of(o, *kind, *taus, level, in);
-    if (!r) return report(r.err());
-    curves.push_back({several ? in.column : o.kind, r->points, std::nullopt});
+  for (const auto& [column, r, samples, tau0_s] : done) {
+    curves.push_back({several ? column : o.kind, r.points, std::nullopt});
     // The header, then the unit of `dev` as metadata (readers skip `#` lines; scripts read line 1),
     // then the rows: with several columns each row starts with its column.
     if (csv.empty())
       csv = std::string(several ? "column," : "") + csv_header +
-            fmt::format("# units: {}\n", unit_name(o.in));
-    csv += csv_rows(r->points, level.has_value(), several ? in.column + "," : "");
+            fmt::format("# units: {}\n", dev_unit(o.in, o.kind)) + csv_settings(o, level);
+    csv += csv_rows(r.points, level.has_value(), several ? column + "," : "");
     if (table)
-      tables +=
-          table_text(r->points, level.has_value(),
-                     fmt::format("{}{}: {} of column {}, {} samples at {:g} Hz{}",
-                                 tables.empty() ? "" : "\n", o.in.file, o.kind, in.column,
-                                 in.series.samples().size(), 1.0 / in.phase.tau0_s(),
-                                 level ? fmt::format(", {:g} % intervals", 100.0 * *level) : ""),
-                     unit_name(o.in));
+      tables += table_text(
+          r.points, level.has_value(),
+          fmt::format("{}{}: {} of column {}, {} samples at {:g} Hz{}", tables.empty() ? "" : "\n",
+                      o.in.file, o.kind, column, samples, 1.0 / tau0_s,
+                      level ? fmt::format(", {:g} % intervals", 100.0 * *level) : ""),
+          dev_unit(o.in, o.kind));
     if (o.json)
-      per_column.push_back(json_of(o, in.column, in.phase.tau0_s(), in.series.samples().size(),
-                                   r->points, r->dropped, level));
+      per_column.push_back(json_of(o, column, tau0_s, samples, r.points, r.dropped, level));
   }
   // Everything is formatted and checked before anything is written (finite_output.hpp).
   if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
@@ -480,8 +638,8 @@ int run_adev(const adev_options& o) {
   if (*plot) {
     const auto title = fmt::format("{} of {}", o.kind, printable(o.in.file, 120));
     const std::array formats{(*plot)->format};
-    if (auto s = report::render(report::allan_figure(curves, unit_name(o.in), title), (*plot)->dir,
-                                (*plot)->stem, formats);
+    if (auto s = report::render(report::allan_figure(curves, dev_unit(o.in, o.kind), title),
+                                (*plot)->dir, (*plot)->stem, formats);
         !s)
       return report(s.err());
   }

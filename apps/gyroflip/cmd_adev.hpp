@@ -4,6 +4,7 @@
 
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "commands.hpp"
@@ -36,6 +37,10 @@ struct series_input {
 [[nodiscard]] double deg_per_unit(const series_input& in);
 /// The samples' unit as written in outputs ("deg/s", "rad/s", "deg/h"; "deg", "rad").
 [[nodiscard]] std::string unit_name(const series_input& in);
+/// The unit of statistic `kind` ("oadev", "mtie", ...) of these samples, as `# units`, JSON
+/// `units` and the plot's axis give it: the rate unit for the frequency-like deviations, the angle
+/// unit for TDEV, TTOTDEV, MTIE and TIE rms ("deg/h*s" for those of deg/h samples).
+[[nodiscard]] std::string dev_unit(const series_input& in, std::string_view kind);
 
 /// A series ready for analysis: the samples and their phase source (which reads them).
 struct analysis_input {

@@ -174,7 +174,14 @@ std::vector<raw_deviation> raw_deviations(dev_kind k, const phase_source& x,
     // The whole phase in memory (8 bytes a point), then each factor by its own algorithm.
     phase_reader r(x);
     const auto all = r.read(0, x.size());
-    const std::vector<double> phase(all.begin(), all.end());
+    std::vector<double> phase(all.begin(), all.end());
+    // The time errors are of x itself (ITU-T G.810): a constant rate offset (a gyro's bias) adds
+    // ybar tau to every TIE, so MTIE and TIE rms of rate samples take back the mean the phase
+    // source removed (review M4: rate and angle input of one record then agree). Every other
+    // statistic differences it away.
+    if ((k == dev_kind::mtie || k == dev_kind::tierms) && x.rate_mean() != 0.0)
+      for (std::size_t i = 0; i < phase.size(); ++i)
+        phase[i] += x.rate_mean() * x.tau0_s() * static_cast<double>(i);
     out.resize(ms.size());
     if (k == dev_kind::theo1) {  // shares one autocorrelation of the phase among its factors
       const auto sums = detail::theo1_sums(phase, ms, p);

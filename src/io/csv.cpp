@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <unistd.h>
 
@@ -349,6 +350,10 @@ error csv_reader::error_at_line(std::string_view what) const {
 
 bool csv_reader::parse_slow(std::size_t i, double& out) {
   std::string_view s = cell(i);
+  if (dialect_.missing_is_nan && (s.empty() || s == "nan" || s == "NaN" || s == "NAN")) {
+    out = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  }
   char buf[64];
   if (dialect_.decimal == ',') {
     // A decimal comma: the number as from_chars reads it. A '.' as well is a thousands mark or

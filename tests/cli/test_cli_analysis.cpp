@@ -305,5 +305,192 @@ TEST(CliNoise, UncompensatedFlipRecordingIsRefusedWithAdvice) {
   EXPECT_EQ(run_cli({"adev", d.file("adxrs150.csv"), "--column", "temp_c"}).exit_code, 0);
 }
 
+// Review of issue 23 (/tmp/rev23b M1): `# units` and JSON `units` give the statistic's unit: the
+// frequency-like deviations in the rate unit, TDEV, TTOTDEV, MTIE and TIE rms in the angle unit.
+TEST(CliAdev, UnitsAreTheStatisticsNotTheSamples) {
+  temp_dir d;
+  const auto y = nbs14_1000();
+  write_text(d.file("y.csv"), csv_of(y, 1.0));
+  const auto units = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args{"adev", d.file("y.csv"), "--taus", "1,2", "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return r.exit_code == 0 ? json::parse(r.out)["units"].get<std::string>() : std::string();
+  };
+  EXPECT_EQ(units({}), "deg/s");
+  EXPECT_EQ(units({"--kind", "mtie"}), "deg");
+  EXPECT_EQ(units({"--kind", "tdev", "--units", "rad/s"}), "rad");
+  EXPECT_EQ(units({"--kind", "tierms", "--units", "deg/h"}), "deg/h*s");
+  EXPECT_EQ(units({"--input", "angle", "--units", "deg"}), "deg/s");
+  EXPECT_EQ(units({"--input", "angle", "--kind", "ttotdev"}), "deg");
+  const auto csv = run_cli({"adev", d.file("y.csv"), "--kind", "tdev"});
+  EXPECT_NE(csv.out.find("\n# units: deg\n"), std::string::npos) << csv.out;
+}
+
+// Review M4: MTIE and TIE rms are of x itself (ITU-T G.810): a constant rate (a gyro's bias)
+// adds bias*tau to every time error, so a rate record and its integrated angle agree.
+TEST(CliAdev, MtieOfARateRecordKeepsItsBiasAndAgreesWithTheAngle) {
+  temp_dir d;
+  auto y = nbs14_1000();
+  for (double& v : y) v = 5.0 + (v - 0.5);  // a 5 deg/s bias on white rate noise
+  std::string angle = "angle_deg\n0\n";
+  double a = 0.0;
+  for (const double v : y) angle += fmt_double(a += v) + "\n";
+  write_text(d.file("rate.csv"), csv_of(y, 1.0));
+  write_text(d.file("angle.csv"), angle);
+  for (const char* kind : {"mtie", "tierms"}) {
+    const auto r =
+        run_cli({"adev", d.file("rate.csv"), "--kind", kind, "--taus", "1,10,100", "--json"});
+    const auto g =
+        run_cli({"adev", d.file("angle.csv"), "--input", "angle", "--column", "angle_deg", "--rate",
+                 "1", "--kind", kind, "--taus", "1,10,100", "--json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ASSERT_EQ(g.exit_code, 0) << g.err;
+    const auto rp = json::parse(r.out)["points"], gp = json::parse(g.out)["points"];
+    ASSERT_EQ(rp.size(), 3u);
+    ASSERT_EQ(gp.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_NEAR(rp[i]["dev"].get<double>() / gp[i]["dev"].get<double>(), 1.0, 1e-7) << kind;
+      // The bias dominates: 5 deg/s over tau, within the noise's share (|y - 5| < 0.5 each).
+      const double tau = rp[i]["tau_s"].get<double>();
+      EXPECT_NEAR(rp[i]["dev"].get<double>(), 5.0 * tau, 0.5 * tau + 1e-9) << kind << " " << tau;
+    }
+  }
+}
+
+// Review H2: GRADEV in the CLI. An empty field or nan is a missing sample for --kind gradev only;
+// without gaps it is OADEV; with them it keeps the terms without a gap.
+TEST(CliAdev, GradevReadsGapsAndEveryOtherKindRefusesThem) {
+  temp_dir d;
+  const auto y = nbs14_1000();
+  write_text(d.file("full.csv"), csv_of(y, 1.0));
+  std::string gappy = "time_s,rate_dps\n";
+  for (std::size_t i = 0; i < y.size(); ++i)
+    gappy += std::to_string(i) + "," +
+             (i == 100   ? std::string()
+              : i == 500 ? "nan"
+                         : fmt_double(y[i])) +
+             "\n";
+  write_text(d.file("gappy.csv"), gappy);
+  const auto full =
+      run_cli({"adev", d.file("full.csv"), "--kind", "gradev", "--taus", "1,4", "--json"});
+  const auto oadev =
+      run_cli({"adev", d.file("full.csv"), "--taus", "1,4", "--ci", "none", "--json"});
+  const auto gap =
+      run_cli({"adev", d.file("gappy.csv"), "--kind", "gradev", "--taus", "1,4", "--json"});
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  ASSERT_EQ(gap.exit_code, 0) << gap.err;
+  const auto fp = json::parse(full.out)["points"], op = json::parse(oadev.out)["points"],
+             gp = json::parse(gap.out)["points"];
+  ASSERT_EQ(fp.size(), 2u);
+  ASSERT_EQ(gp.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(fp[i]["dev"].get<double>() / op[i]["dev"].get<double>(), 1.0, 1e-12);
+    EXPECT_LT(gp[i]["n"].get<std::size_t>(), fp[i]["n"].get<std::size_t>());
+    EXPECT_NEAR(gp[i]["dev"].get<double>() / fp[i]["dev"].get<double>(), 1.0, 0.05);
+    EXPECT_TRUE(gp[i]["ci_lo"].is_null());
+  }
+  const auto refused =
+      run_cli({"adev", d.file("gappy.csv"), "--kind", "oadev", "-o", d.file("o.csv")});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("gappy.csv:102:"), std::string::npos) << refused.err;
+  EXPECT_FALSE(exists(d.file("o.csv")));
+}
+
+// Review M2, L5, L3: options that do not combine are refused (exit 2, nothing written), not
+// ignored; a series too short for every tau is the input's error.
+TEST(CliAdev, OptionsThatDoNotCombineAreRefused) {
+  temp_dir d;
+  const auto y = nbs14_1000();
+  std::string s = "a,b,c\n";
+  for (std::size_t i = 0; i + 2 < y.size(); ++i)
+    s += fmt_double(y[i]) + "," + fmt_double(y[i + 1]) + "," + fmt_double(y[i + 2]) + "\n";
+  write_text(d.file("abc.csv"), s);
+  const std::string f = d.file("abc.csv");
+  const std::vector<std::vector<std::string>> bad = {
+      {"--column", "a,b", "--codev", "--kind", "mtie"},
+      {"--column", "a,b", "--codev", "--plot", d.file("c.png")},
+      {"--column", "a,b", "--codev", "--three-cornered-hat"},
+      {"--column", "a,b", "--codev", "--ci-guard"},
+      {"--column", "a,b,c", "--three-cornered-hat", "--kind", "mtie"},
+      {"--column", "a,b,c", "--three-cornered-hat", "--dynamic", "100"},
+      {"--column", "a", "--dynamic", "100", "--ci-guard"},
+      {"--column", "a", "--kind", "gradev", "--ci-guard"},
+      {"--column", "a", "--kind", "gradev", "--dynamic", "100"},
+  };
+  for (const auto& extra : bad) {
+    std::vector<std::string> args{"adev", f, "--rate", "1", "-o", d.file("o.csv")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << extra[2] << " " << r.err;
+    EXPECT_FALSE(exists(d.file("o.csv")));
+    EXPECT_FALSE(exists(d.file("c.png")));
+  }
+  const auto short_ =
+      run_cli({"adev", f, "--rate", "1", "--column", "a", "--kind", "totdev", "--taus", "5000"});
+  EXPECT_EQ(short_.exit_code, 2);
+  EXPECT_NE(short_.err.find("abc.csv: no averaging time fits"), std::string::npos) << short_.err;
+}
+
+// Review L5, M2: the hat leaves a clock it cannot resolve empty (a negative variance estimate is
+// not a zero), says so, and draws its clocks with --plot.
+TEST(CliAdev, TheHatLeavesUnresolvedClocksEmptyAndDrawsTheRest) {
+  temp_dir d;
+  const auto y = nbs14_1000();
+  // Clock A is perfect, B and C noisy: AB = -B, BC = B - C, CA = C. With independent B and C of
+  // equal size A's estimate is about 0, negative at some taus.
+  std::string s = "ab,bc,ca\n";
+  for (std::size_t i = 0; i + 500 < y.size(); ++i) {
+    const double b = y[i] - 0.5, c = y[i + 500] - 0.5;
+    s += fmt_double(-b) + "," + fmt_double(b - c) + "," + fmt_double(c) + "\n";
+  }
+  write_text(d.file("hat.csv"), s);
+  const auto r = run_cli({"adev", d.file("hat.csv"), "--rate", "1", "--column", "ab,bc,ca",
+                          "--three-cornered-hat", "--taus", "1,2,4,8,16,32", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json::parse(r.out);
+  std::size_t empty = 0;
+  for (const auto& p : j["curves"][0]["points"]) {
+    if (p["dev"].is_null()) {
+      ++empty;
+    } else {
+      EXPECT_GT(p["dev"].get<double>(), 0.0);
+    }
+  }
+  for (const auto& p : j["curves"][1]["points"]) EXPECT_FALSE(p["dev"].is_null());
+  if (empty > 0) {
+    EXPECT_NE(r.err.find("clock A: not resolved"), std::string::npos) << r.err;
+  }
+  if (run_program({"gnuplot", "--version"}).exit_code != 0) return;
+  const auto plot =
+      run_cli({"adev", d.file("hat.csv"), "--rate", "1", "--column", "ab,bc,ca",
+               "--three-cornered-hat", "--plot", d.file("hat.svg"), "-o", d.file("hat_out.csv")});
+  ASSERT_EQ(plot.exit_code, 0) << plot.err;
+  EXPECT_TRUE(exists(d.file("hat.svg")));
+}
+
+// Review L2, L4: what the numbers depend on is in the output; factors no window holds are said.
+TEST(CliAdev, TheIntervalRuleAndBiasCorrectionAreRecorded) {
+  temp_dir d;
+  write_text(d.file("y.csv"), csv_of(nbs14_1000(), 1.0));
+  const auto g = run_cli({"adev", d.file("y.csv"), "--kind", "htotdev", "--taus", "16",
+                          "--bias-correction", "--ci-guard", "--json"});
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_EQ(json::parse(g.out)["ci_rule"], "guarded");
+  EXPECT_EQ(json::parse(g.out)["bias_correction"], true);
+  const auto plain = run_cli({"adev", d.file("y.csv"), "--taus", "16", "--json"});
+  EXPECT_EQ(json::parse(plain.out)["ci_rule"], "stable32");
+  EXPECT_EQ(json::parse(plain.out)["bias_correction"], false);
+  const auto csv = run_cli({"adev", d.file("y.csv"), "--kind", "htotdev", "--taus", "16",
+                            "--bias-correction", "--ci-guard"});
+  EXPECT_NE(csv.out.find("\n# ci_rule: guarded\n# bias_correction: stable32\n"), std::string::npos)
+      << csv.out;
+  const auto dyn = run_cli({"adev", d.file("y.csv"), "--dynamic", "100", "--taus", "1,400"});
+  ASSERT_EQ(dyn.exit_code, 0) << dyn.err;
+  EXPECT_NE(dyn.err.find("averaging factor 400 dropped from every window"), std::string::npos)
+      << dyn.err;
+}
+
 }  // namespace
 }  // namespace gyroflip::test

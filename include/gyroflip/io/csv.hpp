@@ -72,6 +72,9 @@ struct csv_dialect {
   char delimiter = 0;
   char decimal = '.';  ///< '.' or ',' (then the delimiter cannot be ',')
   bool header = true;  ///< false: every line is data; columns are named 1, 2, ...
+  /// An empty field, `nan`, `NaN` or `NAN` is a missing sample, read as NaN (GRADEV's gaps);
+  /// otherwise an error.
+  bool missing_is_nan = false;
 };
 
 /// The delimiter's name for messages ("','", "';'", "tab", "blanks").
