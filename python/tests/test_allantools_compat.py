@@ -287,3 +287,127 @@ def test_total_family_errors_and_counts_as_allantools():
     _, md, _, _ = at.mtotdev(x, rate=1.0, taus=[4.0])
     np.testing.assert_allclose(td, 4.0 * md / np.sqrt(3.0), rtol=1e-12)
     assert at.edf_mtotdev(1001, 100, 1) == pytest.approx(1.2 * 10.01 - 1.4)
+
+
+def test_b1_noise_id_names_each_power_law_noise_at_any_rate():
+    """Kasdin-Walter noise of phase-PSD exponent b (alpha = b + 2) from the module's own Noise, 2^14
+    points: the B1 ratio (with R(n) for PM) names alpha 2, 1, 0, -1, -2 at af = 16, whatever the
+    sample rate (B1 and R(n) are ratios of variances at the same tau)."""
+    for seed in (0, 1):
+        for b in (0, -1, -2, -3, -4):
+            np.random.seed(seed)
+            n = at.Noise(2 ** 14, 1e-20, b)
+            n.generateNoise()
+            x = n.time_series
+            for rate in (1.0, 10.0, 0.1):
+                assert at.b1_noise_id(x, 16, rate) == b + 2, (seed, b, rate)
+            assert at.ci.b1(x, 16, 10.0) == pytest.approx(at.ci.b1(x, 16, 1.0), rel=1e-9)
+    # White FM: B1 = 1 (SP1065 section 5.5.6), within its scatter for 1024 averages.
+    np.random.seed(0)
+    x = np.cumsum(np.random.normal(size=2 ** 14))
+    assert at.ci.b1(x, 16, 1.0) == pytest.approx(1.0, abs=0.1)
+
+
+def test_too_short_data_raise_no_valid_tau_in_every_deviation():
+    """allantools ends every deviation in remove_small_ns, which raises UserWarning when no tau
+    keeps two terms: HDEV and OHDEV of 3 phase points, GRADEV of 2 points or all NaN too."""
+    for call in (lambda: at.hdev(np.array([1.0, 2.0, 4.0])), lambda: at.ohdev(np.array([1.0, 2.0, 4.0])),
+                 lambda: at.hdev(np.array([1.0, 2.0]), data_type="freq"),
+                 lambda: at.hdev(np.arange(4.0) ** 2, taus=[2]), lambda: at.gradev(np.array([1.0, 2.0])),
+                 lambda: at.gradev(np.full(50, np.nan)), lambda: at.htotdev(np.array([])),
+                 lambda: at.gcodev(np.array([1.0, 2.0]), np.array([1.0, 2.0]))):
+        with pytest.raises(at.NoValidTau) as e:
+            call()
+        assert isinstance(e.value, UserWarning)
+
+
+def _second_difference_adev(x, m, stride):
+    """SP1065 eqn 7 (stride m) / eqn 11 (stride 1) on phase x, rate 1, written out."""
+    n = len(range(2 * m, len(x), stride))
+    v = np.array([x[i + 2 * m] - 2 * x[i + m] + x[i] for i in range(0, n * stride, stride)])
+    return np.sqrt(np.sum(v * v) / (2.0 * n)) / m
+
+
+def test_a_bad_phase_sample_blanks_only_the_taus_whose_terms_touch_it():
+    """allantools' ADEV and HDEV take every m-th phase point (stride m) and PDEV never reads the
+    last point: a NaN elsewhere leaves those taus' values; the overlapping statistics read every
+    point, so all their taus are NaN. A single inf gives inf (its squared term), as numpy does."""
+    x = np.cumsum(np.random.default_rng(3).normal(size=40))
+    taus = [1, 2, 3, 4, 6, 8]
+    bad = x.copy()
+    bad[10] = np.nan  # 10 is a multiple of m = 1, 2 only (and 10 <= (n + 1) m for both)
+    _, d, _, n = at.adev(bad, taus=taus)
+    assert np.all(np.isnan(d[:2]))
+    np.testing.assert_allclose(d[2:], [_second_difference_adev(x, m, m) for m in (3, 4, 6, 8)], rtol=1e-12)
+    np.testing.assert_array_equal(n, at.adev(x, taus=taus)[3])
+    _, d, _, _ = at.hdev(bad, taus=taus)
+    assert np.all(np.isnan(d[:2])) and np.all(np.isfinite(d[2:]))
+    assert np.all(np.isnan(at.oadev(bad, taus=taus)[1])) and np.all(np.isnan(at.ohdev(bad, taus=taus)[1]))
+    last = x.copy()
+    last[-1] = np.nan  # 39: a multiple of m = 1, 3 only; m = 2, 4, 6, 8 stop before it
+    _, d, _, _ = at.adev(last, taus=taus)
+    assert np.isnan(d[0]) and np.isnan(d[2]) and np.all(np.isfinite(d[[1, 3, 4, 5]]))
+    np.testing.assert_allclose(d[1], _second_difference_adev(x, 2, 2), rtol=1e-12)
+    _, d, _, _ = at.pdev(last, taus=taus)
+    assert np.isnan(d[0]) and np.all(np.isfinite(d[1:]))  # m = 1 is the OADEV; m > 1 stop at N - 2
+    np.testing.assert_allclose(d[1:], at.pdev(x, taus=taus)[1][1:], rtol=1e-12)  # the last point unread
+    inf = x.copy()
+    inf[5] = np.inf
+    _, d, _, _ = at.oadev(inf, taus=[1, 2])
+    assert list(d) == [np.inf, np.inf]
+    _, d, _, _ = at.adev(inf, taus=[1, 2, 5])
+    assert np.isinf(d[0]) and np.isfinite(d[1]) and np.isinf(d[2])
+
+
+def test_gcodev_takes_input_as_the_deviations_do():
+    """gcodev's data pass through allantools' input_to_phase: end NaN of frequency data trimmed,
+    a NaN inside phase data gives NaN (every term of the overlapping estimator reads each point);
+    float32 taus give float32 results, in gradev too."""
+    rng = np.random.default_rng(6)
+    a = rng.normal(size=300)
+    b = 0.5 * a + rng.normal(size=300)
+    pa, pb = (np.concatenate(([np.nan], v, [np.nan])) for v in (a, b))
+    for u, v in zip(at.gcodev(pa, pb, data_type="freq", taus=[1, 2]), at.gcodev(a, b, data_type="freq", taus=[1, 2])):
+        np.testing.assert_array_equal(u, v)
+    _, g, _, _ = at.gcodev(a, a, data_type="freq", taus=[1, 2])
+    np.testing.assert_allclose(g, at.oadev(a, data_type="freq", taus=[1, 2])[1], rtol=1e-12)  # codev(a, a) = adev
+    inside = a.copy()
+    inside[5] = np.nan
+    t, g, _, n = at.gcodev(inside, b, taus=[1, 2])
+    assert np.all(np.isnan(g)) and list(n) == [298, 296]
+    t32 = np.array([2.0, 4.0], dtype=np.float32)
+    assert all(v.dtype == np.float32 for v in at.gcodev(a, b, taus=t32))
+    t, d, (lo, hi), n = at.gradev(a, taus=t32)
+    assert t.dtype == d.dtype == lo.dtype == hi.dtype == n.dtype == np.float32
+
+
+def test_rates_beyond_the_cores_interval_are_rescaled():
+    """allantools has no bound on the rate: a 1.5 GHz phase record (a time-interval analyser)
+    gives ADEV = SP1065 eqn 7 with tau0 = 1 / rate; the time statistics (TDEV, MTIE, TIERMS) are
+    in phase units and do not change with the rate for phase data; frequency data integrate to
+    phase in units of tau0, so their ADEV does not change and their TDEV scales with tau0."""
+    x = np.cumsum(np.random.default_rng(4).normal(size=400)) * 1e-12
+    for rate in (1.5e9, 1e-12):
+        t, d, _, _ = at.adev(x, rate=rate, taus=np.array([1.0, 4.0]) / rate)
+        np.testing.assert_allclose(t * rate, [1.0, 4.0])
+        np.testing.assert_allclose(d, [_second_difference_adev(x, m, m) * rate for m in (1, 4)], rtol=1e-12)
+        for f in (at.tdev, at.mtie, at.tierms):
+            np.testing.assert_allclose(f(x, rate=rate, taus=[4 / rate])[1], f(x, taus=[4.0])[1], rtol=1e-12)
+        y = np.diff(x)
+        for f, power in ((at.oadev, 0), (at.totdev, 0), (at.tdev, -1), (at.gradev, 0)):
+            np.testing.assert_allclose(f(y, rate=rate, data_type="freq", taus=[4 / rate])[1],
+                                       f(y, data_type="freq", taus=[4.0])[1] * rate ** power, rtol=1e-12)
+    for bad in (0.0, -1.0, float("nan"), "x"):
+        with pytest.raises(at.RateError):
+            at.gcodev(x, x, rate=bad)
+
+
+def test_theo1_and_tierms_errors_as_allantools_computes_them():
+    """allantools' theo1 returns devs / sqrt(N - m) (N phase points; its ns are the (N - m) m / 2
+    inner terms) and tierms zeros (its own TODO); the others devs / sqrt(ns)."""
+    x = np.cumsum(np.random.default_rng(5).normal(size=101))
+    t, d, e, n = at.theo1(x, taus=[2, 4, 10])
+    np.testing.assert_allclose(e, d / np.sqrt(101 - np.array([2, 4, 10])), rtol=1e-15)
+    np.testing.assert_array_equal(n, (101 - t) * t / 2)
+    t, d, e, n = at.tierms(x, taus=[1, 2])
+    assert np.all(d > 0) and list(e) == [0, 0]

@@ -8,10 +8,15 @@ Every deviation takes (data, rate=1.0, data_type="phase", taus=None) and returns
 - taus: None/"octave", "decade", "all", "log10" or taus in seconds (rounded to the nearest
   averaging factor; NaN, non-positive and too long taus dropped). A float32 array of taus gives
   float32 results.
-- errs = devs / sqrt(ns); points with ns <= 1 are dropped; none left raises NoValidTau (a
-  UserWarning, as allantools raises UserWarning).
-- rate must be positive and finite: else RateError, both a ValueError and a RuntimeError (allantools
-  raises RuntimeError for rate 0).
+- errs = devs / sqrt(ns) (theo1: devs / sqrt(N - m), tierms: zeros, as allantools); points with
+  ns <= 1 are dropped; none left, or too few points, raises NoValidTau (a UserWarning, as
+  allantools raises UserWarning).
+- a NaN or inf inside phase data blanks (NaN, or inf as numpy's sums give) only the taus whose
+  terms read it for ADEV, HDEV, PDEV (strided or short of the end, as allantools), all taus for
+  the other statistics and for frequency data.
+- rate must be positive and finite: else RateError, both a ValueError and a RuntimeError
+  (allantools raises RuntimeError for rate 0). Rates outside the core's [1e-9, 1e9] Hz are
+  computed at 1 Hz and rescaled exactly (the deviations are linear in the phase).
 Nothing here imports allantools or scipy.
 """
 
@@ -176,6 +181,73 @@ def remove_small_ns(taus, devs, deverrs, ns):
 # The deviations
 
 
+# The core takes sample intervals in [1e-9, 1e9] s (analysis::check_tau0); allantools has no
+# bound. Outside it the drop-in runs the core at 1 Hz and rescales: every statistic is linear in
+# the phase, the frequency ones (ADEV ... PDEV) scale as 1 / tau0 and the time ones as tau0^0,
+# and frequency data integrate to phase in units of tau0.
+_CORE_RATE_HZ = (1e-9, 1e9)
+_TIME_STATISTICS = ("tdev", "ttotdev", "mtie", "tierms")
+
+
+def _core_rate(rate, data_type, kind):
+    """(the rate the core runs at, the factor its deviations are multiplied by)."""
+    if _CORE_RATE_HZ[0] <= rate <= _CORE_RATE_HZ[1]:
+        return rate, 1.0
+    power = (0 if kind in _TIME_STATISTICS else 1) - (1 if data_type == "freq" else 0)
+    return 1.0, rate ** power
+
+
+def _core(function, *args):
+    """A call into the core, its "too short" errors as NoValidTau (allantools: UserWarning)."""
+    try:
+        return function(*args)
+    except NoValidTau:
+        raise
+    except ValueError as e:
+        text = str(e)
+        if text.startswith("no averaging time") or "too few" in text:
+            raise NoValidTau(text) from None
+        raise
+
+
+# The terms of allantools' difference statistics: coefficients of x[i], x[i + m], x[i + 2m], ...
+_SECOND_DIFFERENCE = (1.0, -2.0, 1.0)
+_THIRD_DIFFERENCE = (-1.0, 3.0, -3.0, 1.0)
+
+
+def _terms(x, m, stride, coefficients):
+    """The difference terms sum_j c_j x[i + j m] for i = 0, stride, 2 stride, ... while
+    i + (len(c) - 1) m < len(x) (SP1065 eqns 7 and 17 with stride m, eqns 11 and 18 with 1)."""
+    last = len(coefficients) - 1
+    n = len(range(last * m, len(x), stride))
+    v = np.zeros(n)
+    for j, c in enumerate(coefficients):
+        v = v + c * x[j * m::stride][:n]
+    return v
+
+
+def _sum_of_terms(kind, x, m):
+    """The sum of squared terms allantools forms for `kind` at factor m on phase x, so that a
+    non-finite sample gives NaN or inf exactly where allantools' does (None: a statistic whose
+    every term is not listed here, taken as NaN)."""
+    if kind in ("adev", "oadev"):
+        v = _terms(x, m, m if kind == "adev" else 1, _SECOND_DIFFERENCE)
+    elif kind in ("hdev", "ohdev"):
+        v = _terms(x, m, m if kind == "hdev" else 1, _THIRD_DIFFERENCE)
+    elif kind == "pdev":
+        if m == 1:
+            return _sum_of_terms("oadev", x, 1)
+        # Vernotte et al. 2016 eqn 4: sum_k ((m - 1)/2 - k)(x[i + k] - x[i + m + k]), i < N - 2m.
+        count = len(x) - 2 * m
+        if count < 1:
+            return 0.0
+        weights = (m - 1) / 2.0 - np.arange(m)
+        v = np.correlate((x[:-m] - x[m:])[:count + m - 1], weights, "valid")
+    else:
+        return None
+    return np.sum(v * v)
+
+
 def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on_freq=False):
     rate = _rate(rate)
     if data_type == "freq":
@@ -186,6 +258,8 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
         n_phase = len(samples)
     else:
         raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
+    if n_phase < 3:
+        raise NoValidTau(f"{n_phase} phase points are too few for a deviation")
     # allantools generates HTOTDEV's taus on the frequency (N - 1 points) with m <= that / 3,
     # MTOTDEV's and TTOTDEV's on the phase with m <= N / 3.
     n_gen = n_phase - 1 if on_freq else n_phase
@@ -194,30 +268,40 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
         warnings.simplefilter("ignore", NoValidTau)
         _, m, t = tau_generator(_length(n_gen), rate, taus, even=even, maximum_m=limit)
     dtype = t.dtype
-    if m.size == 0 or n_phase < 3:
+    if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} phase points for taus {taus!r}")
     # Frequency data go to the core as rate samples (it removes the mean and integrates, as
     # frequency2phase does, without a phase array in Python). The core refuses non-finite
-    # samples; only then are they looked for here: zeroed for the term counts, the deviations NaN
-    # (no pass over the data in the usual case).
+    # samples; only then are they looked for here: zeroed for the core, and each tau whose
+    # terms touch one gets allantools' NaN or inf (all taus for frequency data, whose integral
+    # is NaN from there on). No pass over the data in the usual case.
     factors = [int(v) for v in m]
     kind_in = "rate" if data_type == "freq" else "angle"
-    nan_inside = False
+    core_rate, scale = _core_rate(rate, data_type, kind)
+    finite = True
     try:
-        r = _gyroflip._curve(kind, samples, rate, kind_in, "octave", factors, None, False)
+        r = _core(_gyroflip._curve, kind, samples, core_rate, kind_in, "octave", factors, None, False)
     except ValueError as e:
-        if "not finite" not in str(e):
+        if "not finite" not in str(e) and "infinite" not in str(e):
             raise
-        nan_inside = True
+        finite = False
         work = np.where(np.isfinite(samples), samples, 0.0)
-        r = _gyroflip._curve(kind, work, rate, kind_in, "octave", factors, None, False)
+        r = _core(_gyroflip._curve, kind, work, core_rate, kind_in, "octave", factors, None, False)
     by_m = {int(mm): (d, n) for mm, d, n in zip(r["m"], r["dev"], r["n"])}
-    devs = np.array([by_m.get(int(mm), (0.0, 0))[0] for mm in m], dtype=np.float64)
+    devs = np.array([by_m.get(int(mm), (0.0, 0))[0] for mm in m], dtype=np.float64) * scale
     ns = np.array([by_m.get(int(mm), (0.0, 0))[1] for mm in m], dtype=np.float64)
-    if nan_inside:
-        devs[:] = np.nan
+    if not finite:
+        for i, mm in enumerate(factors):
+            total = None if data_type == "freq" else _sum_of_terms(kind, samples, mm)
+            if total is None or not np.isfinite(total):
+                devs[i] = np.nan if total is None else total
     with np.errstate(divide="ignore", invalid="ignore"):
-        errs = devs / np.sqrt(ns)
+        if kind == "theo1":  # allantools: devs / sqrt(N - m) (ns are its (N - m) m / 2 terms)
+            errs = devs / np.sqrt(n_phase - m.astype(np.float64))
+        elif kind == "tierms":  # allantools returns zeros ("TODO! I THINK THIS IS WRONG!")
+            errs = np.zeros_like(devs)
+        else:
+            errs = devs / np.sqrt(ns)
     taus_out, devs, errs, ns = remove_small_ns(t, devs, errs, ns)
     return (taus_out.astype(dtype), devs.astype(dtype), errs.astype(dtype), ns.astype(dtype))
 
@@ -277,33 +361,46 @@ def mtie_phase_fast(phase, rate=1.0, data_type="phase", taus=None):
 
 
 def _factor_list(n_phase, rate, taus):
-    """The averaging factors (ints) of `taus` for n_phase points; NoValidTau when none fits."""
+    """The averaging factors (ints) of `taus` for n_phase points and their taus (float32 for
+    float32 taus); NoValidTau when none fits."""
+    if n_phase < 3:
+        raise NoValidTau(f"{n_phase} phase points are too few for a deviation")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NoValidTau)
-        _, m, _ = tau_generator(_length(n_phase), rate, taus)
+        _, m, t = tau_generator(_length(n_phase), rate, taus)
     if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} points for taus {taus!r}")
-    return [int(v) for v in m]
+    return [int(v) for v in m], t
+
+
+def _input_samples(data, data_type):
+    """data as a 1-D float64 array, frequency data without their end NaN, and its phase length."""
+    y = _column(data)
+    if data_type == "freq":
+        y = trim_data(y)
+        return y, len(y) + 1
+    if data_type != "phase":
+        raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
+    return y, len(y)
 
 
 def gradev(data, rate=1.0, data_type="phase", taus=None, ci=0.9, noisetype="wp"):
     """Gap-resistant overlapping ADEV: NaN are missing samples, terms touching them left out.
     Returns (taus, devs, [err_lo, err_hi], ns) with the interval at confidence `ci` as distances
-    below and above dev (EDF: edf_simple for noisetype 'wp', 'wf', 'fp', 'ff', 'rf', else N - 1)."""
+    below and above dev (EDF: edf_simple for noisetype 'wp', 'wf', 'fp', 'ff', 'rf', else N - 1;
+    allantools' own error bars differ, docs/python.md)."""
     from .ci import confidence_interval, edf_simple
     rate = _rate(rate)
-    y = _column(data)
-    if data_type == "freq":
-        y = trim_data(y)
-    elif data_type != "phase":
-        raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
-    n_phase = len(y) + (1 if data_type == "freq" else 0)
-    r = _gyroflip._gradev(np.ascontiguousarray(y, dtype=np.float64), rate,
-                          "rate" if data_type == "freq" else "angle", _factor_list(n_phase, rate, taus))
+    y, n_phase = _input_samples(data, data_type)
+    factors, t = _factor_list(n_phase, rate, taus)
+    core_rate, scale = _core_rate(rate, data_type, "oadev")
+    r = _core(_gyroflip._gradev, y, core_rate, "rate" if data_type == "freq" else "angle", factors)
+    keep = np.isin(np.asarray(factors), r["m"])
+    devs = r["dev"] * scale
     alpha = {"wp": 2, "wf": 0, "fp": 1, "ff": -1, "rf": -2}.get(noisetype)
     n_valid = int(np.count_nonzero(~np.isnan(y)))
     lo, hi = [], []
-    for d, mm, n in zip(r["dev"], r["m"], r["n"]):
+    for d, mm, n in zip(devs, r["m"], r["n"]):
         if n > 1:
             e = edf_simple(n_valid, mm, alpha)
             a, b = confidence_interval(d, e, ci)
@@ -312,22 +409,38 @@ def gradev(data, rate=1.0, data_type="phase", taus=None, ci=0.9, noisetype="wp")
         else:
             lo.append(0.0)
             hi.append(0.0)
-    return remove_small_ns(r["tau_s"], r["dev"], [np.array(lo), np.array(hi)],
-                           r["n"].astype(np.float64))
+    dtype = t.dtype
+    taus_out, devs, (lo, hi), ns = remove_small_ns(t[keep], devs, [np.array(lo), np.array(hi)],
+                                                   r["n"].astype(np.float64))
+    return (taus_out.astype(dtype), devs.astype(dtype), [lo.astype(dtype), hi.astype(dtype)],
+            ns.astype(dtype))
 
 
 def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None):
-    """Groslambert codeviation |cov|^(1/2) of two simultaneous series: (taus, devs, errs, ns)."""
+    """Groslambert codeviation |cov|^(1/2) of two simultaneous series: (taus, devs, errs, ns),
+    with the deviations' input rules (end NaN of frequency data trimmed, a NaN inside giving NaN,
+    float32 taus float32 results)."""
     rate = _rate(rate)
-    a, b = _column(data_1), _column(data_2)
-    if data_type not in ("phase", "freq"):
-        raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
-    n_phase = len(a) + (1 if data_type == "freq" else 0)
-    r = _gyroflip._gcodev(a, b, rate, "rate" if data_type == "freq" else "angle",
-                          _factor_list(n_phase, rate, taus))
-    devs = np.abs(r["dev"])
+    a, n_phase = _input_samples(data_1, data_type)
+    b, _ = _input_samples(data_2, data_type)
+    factors, t = _factor_list(n_phase, rate, taus)
+    kind_in = "rate" if data_type == "freq" else "angle"
+    core_rate, scale = _core_rate(rate, data_type, "oadev")
+    finite = np.isfinite(a).all() and np.isfinite(b).all()
+    wa, wb = (a, b) if finite else (np.where(np.isfinite(a), a, 0.0), np.where(np.isfinite(b), b, 0.0))
+    r = _core(_gyroflip._gcodev, wa, wb, core_rate, kind_in, factors)
+    devs = np.abs(r["dev"]) * scale
+    if not finite:  # allantools: NaN or inf where a term touches a non-finite sample
+        for i, mm in enumerate(r["m"]):
+            total = np.nan if data_type == "freq" else np.sum(
+                _terms(a, int(mm), 1, _SECOND_DIFFERENCE) * _terms(b, int(mm), 1, _SECOND_DIFFERENCE))
+            if not np.isfinite(total):
+                devs[i] = np.abs(total)
     ns = r["n"].astype(np.float64)
-    return remove_small_ns(r["tau_s"], devs, devs / np.sqrt(ns), ns)
+    keep = np.isin(np.asarray(factors), r["m"])
+    dtype = t.dtype
+    taus_out, devs, errs, ns = remove_small_ns(t[keep], devs, devs / np.sqrt(ns), ns)
+    return (taus_out.astype(dtype), devs.astype(dtype), errs.astype(dtype), ns.astype(dtype))
 
 
 def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, taus, function):
