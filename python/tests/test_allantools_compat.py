@@ -411,3 +411,35 @@ def test_theo1_and_tierms_errors_as_allantools_computes_them():
     np.testing.assert_array_equal(n, (101 - t) * t / 2)
     t, d, e, n = at.tierms(x, taus=[1, 2])
     assert np.all(d > 0) and list(e) == [0, 0]
+
+
+def test_realtime_auto_afs_grows_the_factors_in_every_class():
+    """allantools' realtime classes with auto_afs=True add the next factor of the grid
+    round(10^k logspace(0, 1, pts_per_decade + 1)) once 2 af + 1 points exist: 200 points give
+    1, 2, 3, 6, 10, 18, 32, 56 (100 needs 201). OHDEV's terms start at 3 af + 1 points, after
+    the factor is there, so its streamed values equal the batch OHDEV."""
+    x = np.cumsum(np.random.default_rng(8).normal(size=200))
+    grid = [1, 2, 3, 6, 10, 18, 32, 56]
+    for cls in (at.oadev_realtime, at.ohdev_realtime, at.tdev_realtime):
+        s = cls(auto_afs=True, pts_per_decade=4)
+        for v in x:
+            s.add_phase(v)
+        assert list(s.taus()) == grid and len(s.devs()) == len(grid), cls.__name__
+    h = at.ohdev_realtime(auto_afs=True, tau0=0.5)
+    for v in x:
+        h.add_phase(v)
+    np.testing.assert_allclose(h.devs(), at.ohdev(x, rate=2.0, taus=np.array(grid) / 2.0)[1], rtol=1e-10)
+    assert at.tdev_realtime(afs=[1, 2]).afs == [1, 2]  # kept as passed
+
+
+def test_confidence_interval_takes_arrays_and_gives_scipys_edge_values():
+    """allantools' confidence_interval is NumPy arithmetic around scipy.stats.chi2.ppf: an array
+    of devs gives arrays; ci = 1 gives chi2.ppf(0) = 0 and ppf(1) = inf, so (0, inf); edf <= 0
+    gives ppf = NaN. edf_simple's flicker-PM form takes np.log of (N - 1)/(2m) < 1: NaN."""
+    lo, hi = at.confidence_interval(np.array([1.0, 2.0]), 10.0, ci=0.9)
+    np.testing.assert_allclose(lo, np.sqrt(10 / 18.307038) * np.array([1, 2]), rtol=1e-6)
+    np.testing.assert_allclose(hi, np.sqrt(10 / 3.940299) * np.array([1, 2]), rtol=1e-6)
+    assert at.confidence_interval(1.0, 10, 1.0) == (0.0, np.inf)
+    for bad in (0.0, -3.0):
+        assert all(np.isnan(v) for v in at.confidence_interval(1.0, bad))
+    assert np.isnan(at.edf_simple(10, 10, 1)) and np.isnan(at.edf_totdev(10, 10, 1))

@@ -11,13 +11,28 @@ from .. import _gyroflip
 ONE_SIGMA_CI = math.erf(1.0 / math.sqrt(2.0))  # 0.6826894921370859
 
 
+def _chi2_quantile(p, edf):
+    """The chi-squared quantile with scipy.stats.chi2.ppf's edge values (allantools calls it):
+    0 at p = 0, inf at p = 1, NaN for edf <= 0 or NaN."""
+    if not edf > 0.0:
+        return math.nan
+    if p <= 0.0:
+        return 0.0
+    if p >= 1.0:
+        return math.inf
+    return _gyroflip._chi2_quantile(p, edf)
+
+
 def confidence_interval(dev, edf, ci=ONE_SIGMA_CI):
-    """(dev_min, dev_max) at two-sided confidence ci for EDF edf (SP1065 eqn 45)."""
+    """(dev_min, dev_max) at two-sided confidence ci for EDF edf (SP1065 eqn 45); dev a number or
+    an array (elementwise, as allantools' NumPy arithmetic), edf a number. ci = 1 gives (0, inf),
+    edf <= 0 (NaN, NaN), as allantools through scipy."""
     lo_p = min(abs(ci), abs(ci - 1.0)) / 2.0
-    hi_p = 1.0 - lo_p
     edf = float(edf)
-    return (math.sqrt(edf * dev * dev / _gyroflip._chi2_quantile(hi_p, edf)),
-            math.sqrt(edf * dev * dev / _gyroflip._chi2_quantile(lo_p, edf)))
+    variance = np.asarray(dev, dtype=float) ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (np.sqrt(edf * variance / _chi2_quantile(1.0 - lo_p, edf)),
+                np.sqrt(edf * variance / _chi2_quantile(lo_p, edf)))
 
 
 def edf_greenhall(alpha, d, m, N, overlapping=False, modified=False, verbose=False):
@@ -52,8 +67,9 @@ def edf_simple(N, m, alpha):
     N, m = float(N), float(m)
     if alpha == 2:
         return (N + 1) * (N - 2 * m) / (2 * (N - m))
-    if alpha == 1:
-        return math.exp(math.sqrt(math.log((N - 1) / (2 * m)) * math.log((2 * m + 1) * (N - 1) / 4)))
+    if alpha == 1:  # NaN (as allantools' np.log) where (N - 1) / (2 m) < 1 < (2 m + 1)(N - 1) / 4
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return float(np.exp(np.sqrt(np.log((N - 1) / (2 * m)) * np.log((2 * m + 1) * (N - 1) / 4))))
     if alpha == 0:
         return (3 * (N - 1) / (2 * m) - 2 * (N - 2) / N) * 4 * m * m / (4 * m * m + 5)
     if alpha == -1:
