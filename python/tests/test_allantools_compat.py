@@ -49,7 +49,9 @@ def test_taus_as_allantools_generates_them(taus, expected):
 
 def test_tau_generator_signature_and_tau_reduction():
     data, m, taus = at.tau_generator(D128, 2.0, taus="octave")
-    assert data is D128 and list(m) == [1, 2, 4, 8, 16, 32, 64] and np.allclose(taus, m / 2.0)
+    assert np.array_equal(data, D128) and list(m) == [1, 2, 4, 8, 16, 32, 64] and np.allclose(taus, m / 2.0)
+    data, _, _ = at.tau_generator([1.0, 2.0, 3.0, 4.0, 5.0], 1.0)
+    assert isinstance(data, np.ndarray)  # allantools returns np.array(data)
     _, m, _ = at.tau_generator(D128, 1.0, taus="all", even=True, maximum_m=10)
     assert list(m) == [2, 4, 6, 8, 10]
     ms, _ = at.tau_reduction(np.arange(1, 43), 1.0, 10)
@@ -104,6 +106,7 @@ def test_trim_data_and_nan_in_frequency_data():
     x = np.array([np.nan, np.nan, 1, 2, 3.4, 2.3, np.nan, 9, 12, 45, np.nan])
     np.testing.assert_array_equal(at.trim_data(x), [1, 2, 3.4, 2.3, np.nan, 9, 12, 45])
     np.testing.assert_array_equal(at.trim_data(D128), D128)
+    assert at.trim_data([np.nan, 1.0, 2.0, np.nan]) == [1.0, 2.0]  # a list stays a list (allantools slices)
     y = np.random.default_rng(2).normal(size=1000)
     padded = np.concatenate(([np.nan] * 3, y, [np.nan] * 2))
     a = at.oadev(y, data_type="freq")
@@ -148,6 +151,10 @@ def test_conversions():
     np.testing.assert_allclose(at.phase2radians([1e-9], 10e6), [2 * np.pi * 1e-2])
     np.testing.assert_allclose(at.frequency2fractional([9.0, 11.0]), [-0.1, 0.1])
     np.testing.assert_allclose(at.frequency2fractional([9.0, 11.0], mean_frequency=9.0), [0, 2 / 9])
+    assert isinstance(at.frequency2fractional([9.0, 11.0]), list)  # allantools: a list comprehension
+    y32 = y.astype(np.float32)  # allantools' NumPy arithmetic keeps float32
+    assert at.frequency2phase(y32, 2.0).dtype == np.float32 and at.phase2frequency(y32, 2.0).dtype == np.float32
+    np.testing.assert_allclose(at.frequency2phase(y32, 2.0), x, rtol=1e-6)
 
 
 def test_confidence_intervals_and_edf():
@@ -443,3 +450,73 @@ def test_confidence_interval_takes_arrays_and_gives_scipys_edge_values():
     for bad in (0.0, -3.0):
         assert all(np.isnan(v) for v in at.confidence_interval(1.0, bad))
     assert np.isnan(at.edf_simple(10, 10, 1)) and np.isnan(at.edf_totdev(10, 10, 1))
+
+
+def test_write_results_writes_allantools_table(tmp_path):
+    """allantools' Dataset.write_results: '#' lines (generator, input data type, input data rate,
+    `key: value` per header_params), a line of column names, then AF, Tau, N, alpha ("NaN"),
+    dev - err/2, dev, dev + err/2 with digits - 1 decimals."""
+    ds = at.Dataset(data=NBS14_PHASE, rate=1.0, data_type="phase", taus=[1, 2])
+    ds.compute("oadev")
+    assert "stat_unc" not in ds.out
+    path = tmp_path / "r.txt"
+    ds.write_results(str(path), digits=5, header_params={"a": 1})
+    lines = path.read_text().splitlines()
+    assert lines[1:4] == ["# Input data type: phase", "# Input data rate: 1.0", "# a: 1"]
+    assert lines[4].split() == ["AF", "Tau", "N", "alpha", "min_oadev", "oadev", "max_oadev"]
+    rows = [line.split() for line in lines[5:]]
+    assert [r[0] for r in rows] == ["1", "2"] and [r[2] for r in rows] == ["8", "6"]
+    assert [r[3] for r in rows] == ["NaN", "NaN"] and rows[0][5] == "9.1229e+01"  # NBS14 91.22945
+    t, d, e, n = (ds.out[k] for k in ("taus", "stat", "stat_err", "stat_n"))
+    table = np.array([[float(v) for v in r[4:7]] for r in rows])
+    np.testing.assert_allclose(table, np.column_stack((d - e / 2, d, d + e / 2)), rtol=1e-4)
+
+
+def test_plot_takes_no_display_first_and_needs_matplotlib(monkeypatch):
+    """allantools' Plot(no_display=False): the one positional argument is no_display
+    (matplotlib.use("Agg")); without matplotlib, RuntimeError("Matplotlib is required ...")."""
+    import types
+    used = []
+    mpl = types.ModuleType("matplotlib")
+    mpl.use = used.append
+    pyplot = types.ModuleType("matplotlib.pyplot")
+
+    class Axes:
+        def __getattr__(self, name):
+            return lambda *a, **k: used.append(name)
+
+    pyplot.subplots = lambda: (object(), Axes())
+    mpl.pyplot = pyplot
+    monkeypatch.setitem(sys.modules, "matplotlib", mpl)
+    monkeypatch.setitem(sys.modules, "matplotlib.pyplot", pyplot)
+    p = at.Plot(True)
+    assert used[0] == "Agg"
+    ds = at.Dataset(data=NBS14_PHASE, taus=[1, 2])
+    ds.compute("adev")
+    p.plot(ds, grid=False)
+    assert used[-1] == "grid"
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(RuntimeError, match="Matplotlib is required"):
+        at.Plot()
+
+
+def test_noise_prefactors_pdev_and_current_constants():
+    """Noise.pdev_from_qd (allantools 2024.04+): PVAR = prefactor^2 tau^c (Vernotte et al. 2016
+    Table I) matches the PDEV of the module's own Kasdin noise at tau = 16 for white PM, white
+    FM, flicker FM and random-walk FM (flicker PM's PVAR has a log tau term the constant leaves
+    out). Flicker FM MVAR = (27/20) ln 2 h_-1 (Benkler et al. 2015 Table 1) and flicker PM AVAR
+    = (3 gamma - ln 2 + 3 ln(2 pi f_h tau)) h_1 / (4 pi^2) (Vernotte Table I), as allantools."""
+    for b, c in ((0, -3), (-2, -1), (-3, 0), (-4, 1)):
+        ratios = []
+        for seed in (0, 1):
+            np.random.seed(seed)
+            n = at.Noise(2 ** 14, 1.0, b)
+            n.generateNoise()
+            _, d, _, _ = at.pdev(n.time_series, taus=[16.0])
+            ratios.append(d[0] / (n.pdev_from_qd() * 16.0 ** (c / 2)))
+        assert np.mean(ratios) == pytest.approx(1.0, abs=0.08), b
+    ffm = at.Noise(8, 1.0, -3)
+    assert ffm.mdev_from_qd() ** 2 == pytest.approx(27 / 20 * np.log(2) * ffm.frequency_psd_from_qd(), rel=1e-12)
+    fpm = at.Noise(8, 1.0, -1)
+    expect = (3 * 0.5772156649015329 - np.log(2) + 3 * np.log(2 * np.pi * 0.5 * 4.0)) / (4 * np.pi ** 2)
+    assert fpm.adev_from_qd(1.0, 4.0) ** 2 == pytest.approx(expect * fpm.frequency_psd_from_qd(), rel=1e-12)

@@ -52,14 +52,6 @@ def _rate(rate):
     return r
 
 
-def _length(n):
-    """A read-only array of n zeros that holds no memory (stride 0): tau_generator needs only the
-    length. np.empty(n) cost 3.5 ms of CPU per 1e6-sample OADEV call (10.6 -> 7.1 ms): its 8 MB,
-    freed again, made the core's own buffers come back as fresh pages (2 165 page faults a call,
-    19 without)."""
-    return np.broadcast_to(np.float64(0.0), (int(n),))
-
-
 def _column(data):
     """data as a 1-D float64 array: (N,) or (N, 1)."""
     a = np.asarray(data, dtype=np.float64)
@@ -71,28 +63,35 @@ def _column(data):
 
 
 def trim_data(x):
-    """x without its leading and trailing NaN (NaN inside stay)."""
-    x = np.asarray(x)
-    if x.size == 0 or (not np.isnan(x[0]) and not np.isnan(x[-1])):
+    """x without its leading and trailing NaN (NaN inside stay): a slice of x, so a list stays a
+    list and an array an array (as allantools)."""
+    a = np.asarray(x, dtype=np.float64) if not isinstance(x, np.ndarray) else x
+    if a.size == 0 or (not np.isnan(a[0]) and not np.isnan(a[-1])):
         return x  # the usual case, without a pass over the data
-    finite = np.flatnonzero(~np.isnan(x))
+    finite = np.flatnonzero(~np.isnan(a))
     if finite.size == 0:
         return x[:0]
     return x[finite[0]:finite[-1] + 1]
 
 
+def _float_dtype(a):
+    """float32 for float32 input (allantools' NumPy arithmetic keeps it), else float64."""
+    return np.float32 if getattr(a, "dtype", None) == np.float32 else np.float64
+
+
 def frequency2phase(freqdata, rate):
     """Phase (s) from fractional frequency: trimmed of end NaN, mean removed, integrated, with a
-    leading 0 (N samples give N + 1 phase points)."""
+    leading 0 (N samples give N + 1 phase points); float32 stays float32."""
     dt = 1.0 / _rate(rate)
     y = trim_data(_column(freqdata))
     y = y - np.nanmean(y) if y.size else y
-    return np.concatenate(([0.0], np.cumsum(y) * dt))
+    return np.concatenate(([0.0], np.cumsum(y) * dt)).astype(_float_dtype(freqdata))
 
 
 def phase2frequency(phase, rate):
-    """Fractional frequency rate * diff(phase) (N phase points give N - 1)."""
-    return _rate(rate) * np.diff(np.asarray(phase, dtype=np.float64))
+    """Fractional frequency rate * diff(phase) (N phase points give N - 1); float32 stays
+    float32."""
+    return (_rate(rate) * np.diff(np.asarray(phase, dtype=np.float64))).astype(_float_dtype(phase))
 
 
 def phase2radians(phasedata, v0):
@@ -101,10 +100,11 @@ def phase2radians(phasedata, v0):
 
 
 def frequency2fractional(frequency, mean_frequency=-1):
-    """Frequency in Hz to fractional frequency about mean_frequency (-1: the data's mean)."""
+    """Frequency in Hz to fractional frequency about mean_frequency (-1: the data's mean), as a
+    list (as allantools)."""
     f = np.asarray(frequency, dtype=np.float64)
     mu = np.mean(f) if mean_frequency == -1 else float(mean_frequency)
-    return (f - mu) / mu
+    return list((f - mu) / mu)  # a list, as allantools' list comprehension
 
 
 def input_to_phase(data, rate, data_type):
@@ -116,12 +116,21 @@ def input_to_phase(data, rate, data_type):
 
 
 def tau_generator(data, rate, taus=None, v=False, even=False, maximum_m=-1):
-    """(data, m, taus): the averaging factors m (float, sorted, unique, 0 < m < len(data),
-    m <= maximum_m unless -1, even only with even=True) for `taus` ("octave" by default, "all",
-    "decade" 1, 2, 4, 10, 20, 40, ..., "log10" about 10 per decade, or taus in seconds) and the
-    taus m / rate. Warns NoValidTau when nothing is left."""
+    """(np.array(data), m, taus): the averaging factors m (float, sorted, unique,
+    0 < m < len(data), m <= maximum_m unless -1, even only with even=True) for `taus` ("octave"
+    by default, "all", "decade" 1, 2, 4, 10, 20, 40, ..., "log10" about 10 per decade, or taus in
+    seconds) and the taus m / rate. Warns NoValidTau when nothing is left (allantools prints a
+    warning)."""
+    m, t = _tau_factors(len(data), rate, taus, v=v, even=even, maximum_m=maximum_m)
+    if m.size == 0:
+        warnings.warn(f"no averaging time fits {len(data)} points for taus {taus!r}", NoValidTau,
+                      stacklevel=2)
+    return np.array(data), m, t
+
+
+def _tau_factors(n, rate, taus, v=False, even=False, maximum_m=-1):
+    """tau_generator's (m, taus) for n points, without the data."""
     rate = _rate(rate)
-    n = len(data)
     if taus is None or (isinstance(taus, list) and len(taus) == 0):
         taus = "octave"
     dtype = taus.dtype if isinstance(taus, np.ndarray) and taus.dtype == np.float32 else np.float64
@@ -149,10 +158,7 @@ def tau_generator(data, rate, taus=None, v=False, even=False, maximum_m=-1):
         m = m[m % 2 == 0]
     if v:
         print("tau_generator:", m)
-    if m.size == 0:
-        warnings.warn(f"no averaging time fits {n} points at rate {rate} for taus {taus!r}", NoValidTau,
-                      stacklevel=2)
-    return data, m, (m / np.asarray(rate, dtype=m.dtype)).astype(m.dtype)
+    return m, (m / np.asarray(rate, dtype=m.dtype)).astype(m.dtype)
 
 
 def tau_reduction(ms, rate, n_per_decade):
@@ -264,9 +270,7 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
     # MTOTDEV's and TTOTDEV's on the phase with m <= N / 3.
     n_gen = n_phase - 1 if on_freq else n_phase
     limit = -1 if maximum_m is None else maximum_m(n_gen)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", NoValidTau)
-        _, m, t = tau_generator(_length(n_gen), rate, taus, even=even, maximum_m=limit)
+    m, t = _tau_factors(n_gen, rate, taus, even=even, maximum_m=limit)
     dtype = t.dtype
     if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} phase points for taus {taus!r}")
@@ -365,9 +369,7 @@ def _factor_list(n_phase, rate, taus):
     float32 taus); NoValidTau when none fits."""
     if n_phase < 3:
         raise NoValidTau(f"{n_phase} phase points are too few for a deviation")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", NoValidTau)
-        _, m, t = tau_generator(_length(n_phase), rate, taus)
+    m, t = _tau_factors(n_phase, rate, taus)
     if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} points for taus {taus!r}")
     return [int(v) for v in m], t
