@@ -520,3 +520,30 @@ def test_noise_prefactors_pdev_and_current_constants():
     fpm = at.Noise(8, 1.0, -1)
     expect = (3 * 0.5772156649015329 - np.log(2) + 3 * np.log(2 * np.pi * 0.5 * 4.0)) / (4 * np.pi ** 2)
     assert fpm.adev_from_qd(1.0, 4.0) ** 2 == pytest.approx(expect * fpm.frequency_psd_from_qd(), rel=1e-12)
+
+
+def test_calc_primitives_take_any_stride_and_keep_single_terms():
+    """allantools' calc_hdev_phase(phase, rate, mj, stride) sums the third differences
+    x[i + 3mj] - 3x[i + 2mj] + 3x[i + mj] - x[i] for i = 0, stride, 2 stride, ...: HDEV = sqrt(
+    sum / (6 n)) / (mj tau0), (0, 0, 1) without a term; its calc_mtotdev_phase keeps n = 1."""
+    x = np.cumsum(np.random.default_rng(1).normal(size=60))
+    for mj, stride, rate in ((4, 2, 1.0), (4, 4, 2.0), (3, 1, 1.0)):
+        v = np.array([x[i + 3 * mj] - 3 * x[i + 2 * mj] + 3 * x[i + mj] - x[i]
+                      for i in range(0, 60 - 3 * mj, stride)])
+        dev, err, n = at.calc_hdev_phase(x, rate, mj, stride)
+        assert n == len(v) and isinstance(n, int)
+        assert dev == pytest.approx(np.sqrt(np.sum(v * v) / (6 * n)) * rate / mj, rel=1e-12)
+        assert err == pytest.approx(dev / np.sqrt(n), rel=1e-12)
+    assert at.calc_hdev_phase(x, 1.0, 30, 1) == (0.0, 0.0, 1)
+    dev, err, n = at.calc_mtotdev_phase(x, 1.0, 20)  # N - 3m + 1 = 1 term
+    assert n == 1 and dev == err > 0
+    # allantools.allantools' calc_adev_phase (stride mj: ADEV, 1: OADEV) and calc_pdev_phase.
+    for mj, stride in ((4, 4), (3, 1), (5, 2)):
+        dev, err, n = at.allantools.calc_adev_phase(x, 1.0, mj, stride)
+        if stride in (1, mj):
+            assert dev == pytest.approx(_second_difference_adev(x, mj, stride), rel=1e-12)
+        assert n == len(range(2 * mj, 60, stride))
+    for mj in (1, 4, 7):
+        dev, err, n = at.allantools.calc_pdev_phase(x, 1.0, mj)
+        t, d, e, ns = at.pdev(x, taus=[mj])
+        assert dev == pytest.approx(d[0], rel=1e-12) and n == ns[0]

@@ -337,23 +337,63 @@ mtie = _make("mtie", "Maximum time interval error")
 tierms = _make("tierms", "Rms time interval error")
 
 
+def calc_adev_phase(phase, rate, mj, stride):
+    """allantools' per-factor primitive (allantools.allantools only): (dev, deverr, n) of the
+    Allan deviation at factor mj from the second differences taken every `stride` points
+    (stride mj: ADEV, SP1065 eqn 7; 1: OADEV, eqn 11); no term: (0.0, 0.0, 1)."""
+    mj = int(mj)
+    v = _terms(_column(phase), mj, int(stride), _SECOND_DIFFERENCE)
+    n = max(len(v), 1)
+    dev = math.sqrt(float(np.sum(v * v)) / (2.0 * n)) * _rate(rate) / mj
+    return dev, dev / math.sqrt(n), n
+
+
+def calc_pdev_phase(phase, rate, mj):
+    """allantools' per-factor primitive (allantools.allantools only): (dev, deverr, M) of the
+    parabolic deviation at factor mj, M = N - 2 mj terms (Vernotte et al. 2016 eqn 4; OADEV at
+    mj = 1); no term: (0, 0, 0)."""
+    mj = int(mj)
+    if mj == 1:
+        return calc_adev_phase(phase, rate, 1, 1)
+    x = _column(phase)
+    count = len(x) - 2 * mj
+    if count < 1:
+        return 0, 0, 0
+    dev = math.sqrt(72.0 * float(_sum_of_terms("pdev", x, mj)) / (count * mj ** 4)) * _rate(rate) / mj
+    return dev, dev / math.sqrt(count), count
+
+
 def calc_hdev_phase(phase, rate, mj, stride):
-    """(dev, deverr, n) of HDEV (stride = mj) or OHDEV (stride = 1) at factor mj."""
-    kind = "ohdev" if int(stride) == 1 else "hdev"
-    t, d, e, n = _deviation(kind, phase, rate, "phase", [int(mj) / _rate(rate)])
-    return float(d[0]), float(e[0]), float(n[0])
+    """allantools' per-factor primitive: (dev, deverr, n) of the Hadamard deviation at factor mj
+    from the third differences taken every `stride` points (stride mj: HDEV, SP1065 eqn 17;
+    1: OHDEV, eqn 18; any other stride as allantools); no term: (0.0, 0.0, 1)."""
+    mj = int(mj)
+    v = _terms(_column(phase), mj, int(stride), _THIRD_DIFFERENCE)
+    n = max(len(v), 1)
+    dev = math.sqrt(float(np.sum(v * v)) / (6.0 * n)) * _rate(rate) / mj
+    return dev, dev / math.sqrt(n), n
+
+
+def _at_factor(kind, samples, rate, data_type, m):
+    """(dev, deverr, n) of one statistic at one factor from the core, n = 1 kept (allantools'
+    calc_* primitives return it)."""
+    core_rate, scale = _core_rate(_rate(rate), data_type, kind)
+    r = _core(_gyroflip._curve, kind, _column(samples), core_rate,
+              "rate" if data_type == "freq" else "angle", "octave", [int(m)], None, False)
+    dev, n = float(r["dev"][0]) * scale, int(r["n"][0])
+    return dev, dev / math.sqrt(n), n
 
 
 def calc_mtotdev_phase(phase, rate, m):
     """(dev, deverr, n) of MTOTDEV at factor m."""
-    t, d, e, n = _deviation("mtotdev", phase, rate, "phase", [int(m) / _rate(rate)])
-    return float(d[0]), float(e[0]), float(n[0])
+    return _at_factor("mtotdev", phase, rate, "phase", m)
 
 
 def calc_htotdev_freq(freq, m):
-    """(dev, deverr, n) of HTOTDEV at factor m (m > 1) on fractional frequency, rate 1."""
-    t, d, e, n = _deviation("htotdev", freq, 1.0, "freq", [float(m)], on_freq=True)
-    return float(d[0]), float(e[0]), float(n[0])
+    """(dev, deverr, n) of HTOTDEV at factor m > 1 on fractional frequency, rate 1 (at m = 1
+    gyroflip's core gives OHDEV, as allantools' htotdev() does; its calc_htotdev_freq(y, 1)
+    evaluates the total formula: docs/python.md)."""
+    return _at_factor("htotdev", freq, 1.0, "freq", m)
 
 
 def mtie_phase_fast(phase, rate=1.0, data_type="phase", taus=None):
