@@ -216,6 +216,18 @@ def _core(function, *args):
         raise
 
 
+def _core_zeroing(function, *arrays):
+    """(function(*arrays) from the core, whether the data were finite): the core refuses a
+    non-finite sample; only then are they looked for, and the call repeated with them zeroed
+    (no pass over the data in the usual case)."""
+    try:
+        return _core(function, *arrays), True
+    except ValueError as e:
+        if "not finite" not in str(e) and "infinite" not in str(e):
+            raise
+    return _core(function, *(np.where(np.isfinite(a), a, 0.0) for a in arrays)), False
+
+
 # The terms of allantools' difference statistics: coefficients of x[i], x[i + m], x[i + 2m], ...
 _SECOND_DIFFERENCE = (1.0, -2.0, 1.0)
 _THIRD_DIFFERENCE = (-1.0, 3.0, -3.0, 1.0)
@@ -275,22 +287,14 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
     if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} phase points for taus {taus!r}")
     # Frequency data go to the core as rate samples (it removes the mean and integrates, as
-    # frequency2phase does, without a phase array in Python). The core refuses non-finite
-    # samples; only then are they looked for here: zeroed for the core, and each tau whose
-    # terms touch one gets allantools' NaN or inf (all taus for frequency data, whose integral
-    # is NaN from there on). No pass over the data in the usual case.
+    # frequency2phase does, without a phase array in Python). Non-finite samples are zeroed for
+    # the core, and each tau whose terms touch one gets allantools' NaN or inf (all taus for
+    # frequency data, whose integral is NaN from there on).
     factors = [int(v) for v in m]
     kind_in = "rate" if data_type == "freq" else "angle"
     core_rate, scale = _core_rate(rate, data_type, kind)
-    finite = True
-    try:
-        r = _core(_gyroflip._curve, kind, samples, core_rate, kind_in, "octave", factors, None, False)
-    except ValueError as e:
-        if "not finite" not in str(e) and "infinite" not in str(e):
-            raise
-        finite = False
-        work = np.where(np.isfinite(samples), samples, 0.0)
-        r = _core(_gyroflip._curve, kind, work, core_rate, kind_in, "octave", factors, None, False)
+    r, finite = _core_zeroing(
+        lambda y: _gyroflip._curve(kind, y, core_rate, kind_in, "octave", factors, None, False), samples)
     by_m = {int(mm): (d, n) for mm, d, n in zip(r["m"], r["dev"], r["n"])}
     devs = np.array([by_m.get(int(mm), (0.0, 0))[0] for mm in m], dtype=np.float64) * scale
     ns = np.array([by_m.get(int(mm), (0.0, 0))[1] for mm in m], dtype=np.float64)
@@ -468,9 +472,7 @@ def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None):
     factors, t = _factor_list(n_phase, rate, taus)
     kind_in = "rate" if data_type == "freq" else "angle"
     core_rate, scale = _core_rate(rate, data_type, "oadev")
-    finite = np.isfinite(a).all() and np.isfinite(b).all()
-    wa, wb = (a, b) if finite else (np.where(np.isfinite(a), a, 0.0), np.where(np.isfinite(b), b, 0.0))
-    r = _core(_gyroflip._gcodev, wa, wb, core_rate, kind_in, factors)
+    r, finite = _core_zeroing(lambda u, v: _gyroflip._gcodev(u, v, core_rate, kind_in, factors), a, b)
     devs = np.abs(r["dev"]) * scale
     if not finite:  # allantools: NaN or inf where a term touches a non-finite sample
         for i, mm in enumerate(r["m"]):
