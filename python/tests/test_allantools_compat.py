@@ -49,7 +49,9 @@ def test_taus_as_allantools_generates_them(taus, expected):
 
 def test_tau_generator_signature_and_tau_reduction():
     data, m, taus = at.tau_generator(D128, 2.0, taus="octave")
-    assert data is D128 and list(m) == [1, 2, 4, 8, 16, 32, 64] and np.allclose(taus, m / 2.0)
+    assert np.array_equal(data, D128) and list(m) == [1, 2, 4, 8, 16, 32, 64] and np.allclose(taus, m / 2.0)
+    data, _, _ = at.tau_generator([1.0, 2.0, 3.0, 4.0, 5.0], 1.0)
+    assert isinstance(data, np.ndarray)  # allantools returns np.array(data)
     _, m, _ = at.tau_generator(D128, 1.0, taus="all", even=True, maximum_m=10)
     assert list(m) == [2, 4, 6, 8, 10]
     ms, _ = at.tau_reduction(np.arange(1, 43), 1.0, 10)
@@ -104,6 +106,7 @@ def test_trim_data_and_nan_in_frequency_data():
     x = np.array([np.nan, np.nan, 1, 2, 3.4, 2.3, np.nan, 9, 12, 45, np.nan])
     np.testing.assert_array_equal(at.trim_data(x), [1, 2, 3.4, 2.3, np.nan, 9, 12, 45])
     np.testing.assert_array_equal(at.trim_data(D128), D128)
+    assert at.trim_data([np.nan, 1.0, 2.0, np.nan]) == [1.0, 2.0]  # a list stays a list (allantools slices)
     y = np.random.default_rng(2).normal(size=1000)
     padded = np.concatenate(([np.nan] * 3, y, [np.nan] * 2))
     a = at.oadev(y, data_type="freq")
@@ -148,6 +151,10 @@ def test_conversions():
     np.testing.assert_allclose(at.phase2radians([1e-9], 10e6), [2 * np.pi * 1e-2])
     np.testing.assert_allclose(at.frequency2fractional([9.0, 11.0]), [-0.1, 0.1])
     np.testing.assert_allclose(at.frequency2fractional([9.0, 11.0], mean_frequency=9.0), [0, 2 / 9])
+    assert isinstance(at.frequency2fractional([9.0, 11.0]), list)  # allantools: a list comprehension
+    y32 = y.astype(np.float32)  # allantools' NumPy arithmetic keeps float32
+    assert at.frequency2phase(y32, 2.0).dtype == np.float32 and at.phase2frequency(y32, 2.0).dtype == np.float32
+    np.testing.assert_allclose(at.frequency2phase(y32, 2.0), x, rtol=1e-6)
 
 
 def test_confidence_intervals_and_edf():
@@ -287,3 +294,256 @@ def test_total_family_errors_and_counts_as_allantools():
     _, md, _, _ = at.mtotdev(x, rate=1.0, taus=[4.0])
     np.testing.assert_allclose(td, 4.0 * md / np.sqrt(3.0), rtol=1e-12)
     assert at.edf_mtotdev(1001, 100, 1) == pytest.approx(1.2 * 10.01 - 1.4)
+
+
+def test_b1_noise_id_names_each_power_law_noise_at_any_rate():
+    """Kasdin-Walter noise of phase-PSD exponent b (alpha = b + 2) from the module's own Noise, 2^14
+    points: the B1 ratio (with R(n) for PM) names alpha 2, 1, 0, -1, -2 at af = 16, whatever the
+    sample rate (B1 and R(n) are ratios of variances at the same tau)."""
+    for seed in (0, 1):
+        for b in (0, -1, -2, -3, -4):
+            np.random.seed(seed)
+            n = at.Noise(2 ** 14, 1e-20, b)
+            n.generateNoise()
+            x = n.time_series
+            for rate in (1.0, 10.0, 0.1):
+                assert at.b1_noise_id(x, 16, rate) == b + 2, (seed, b, rate)
+            assert at.ci.b1(x, 16, 10.0) == pytest.approx(at.ci.b1(x, 16, 1.0), rel=1e-9)
+    # White FM: B1 = 1 (SP1065 section 5.5.6), within its scatter for 1024 averages.
+    np.random.seed(0)
+    x = np.cumsum(np.random.normal(size=2 ** 14))
+    assert at.ci.b1(x, 16, 1.0) == pytest.approx(1.0, abs=0.1)
+
+
+def test_too_short_data_raise_no_valid_tau_in_every_deviation():
+    """allantools ends every deviation in remove_small_ns, which raises UserWarning when no tau
+    keeps two terms: HDEV and OHDEV of 3 phase points, GRADEV of 2 points or all NaN too."""
+    for call in (lambda: at.hdev(np.array([1.0, 2.0, 4.0])), lambda: at.ohdev(np.array([1.0, 2.0, 4.0])),
+                 lambda: at.hdev(np.array([1.0, 2.0]), data_type="freq"),
+                 lambda: at.hdev(np.arange(4.0) ** 2, taus=[2]), lambda: at.gradev(np.array([1.0, 2.0])),
+                 lambda: at.gradev(np.full(50, np.nan)), lambda: at.htotdev(np.array([])),
+                 lambda: at.gcodev(np.array([1.0, 2.0]), np.array([1.0, 2.0]))):
+        with pytest.raises(at.NoValidTau) as e:
+            call()
+        assert isinstance(e.value, UserWarning)
+
+
+def _second_difference_adev(x, m, stride):
+    """SP1065 eqn 7 (stride m) / eqn 11 (stride 1) on phase x, rate 1, written out."""
+    n = len(range(2 * m, len(x), stride))
+    v = np.array([x[i + 2 * m] - 2 * x[i + m] + x[i] for i in range(0, n * stride, stride)])
+    return np.sqrt(np.sum(v * v) / (2.0 * n)) / m
+
+
+def test_a_bad_phase_sample_blanks_only_the_taus_whose_terms_touch_it():
+    """allantools' ADEV and HDEV take every m-th phase point (stride m) and PDEV never reads the
+    last point: a NaN elsewhere leaves those taus' values; the overlapping statistics read every
+    point, so all their taus are NaN. A single inf gives inf (its squared term), as numpy does."""
+    x = np.cumsum(np.random.default_rng(3).normal(size=40))
+    taus = [1, 2, 3, 4, 6, 8]
+    bad = x.copy()
+    bad[10] = np.nan  # 10 is a multiple of m = 1, 2 only (and 10 <= (n + 1) m for both)
+    _, d, _, n = at.adev(bad, taus=taus)
+    assert np.all(np.isnan(d[:2]))
+    np.testing.assert_allclose(d[2:], [_second_difference_adev(x, m, m) for m in (3, 4, 6, 8)], rtol=1e-12)
+    np.testing.assert_array_equal(n, at.adev(x, taus=taus)[3])
+    _, d, _, _ = at.hdev(bad, taus=taus)
+    assert np.all(np.isnan(d[:2])) and np.all(np.isfinite(d[2:]))
+    assert np.all(np.isnan(at.oadev(bad, taus=taus)[1])) and np.all(np.isnan(at.ohdev(bad, taus=taus)[1]))
+    last = x.copy()
+    last[-1] = np.nan  # 39: a multiple of m = 1, 3 only; m = 2, 4, 6, 8 stop before it
+    _, d, _, _ = at.adev(last, taus=taus)
+    assert np.isnan(d[0]) and np.isnan(d[2]) and np.all(np.isfinite(d[[1, 3, 4, 5]]))
+    np.testing.assert_allclose(d[1], _second_difference_adev(x, 2, 2), rtol=1e-12)
+    _, d, _, _ = at.pdev(last, taus=taus)
+    assert np.isnan(d[0]) and np.all(np.isfinite(d[1:]))  # m = 1 is the OADEV; m > 1 stop at N - 2
+    np.testing.assert_allclose(d[1:], at.pdev(x, taus=taus)[1][1:], rtol=1e-12)  # the last point unread
+    inf = x.copy()
+    inf[5] = np.inf
+    _, d, _, _ = at.oadev(inf, taus=[1, 2])
+    assert list(d) == [np.inf, np.inf]
+    _, d, _, _ = at.adev(inf, taus=[1, 2, 5])
+    assert np.isinf(d[0]) and np.isfinite(d[1]) and np.isinf(d[2])
+
+
+def test_gcodev_takes_input_as_the_deviations_do():
+    """gcodev's data pass through allantools' input_to_phase: end NaN of frequency data trimmed,
+    a NaN inside phase data gives NaN (every term of the overlapping estimator reads each point);
+    float32 taus give float32 results, in gradev too."""
+    rng = np.random.default_rng(6)
+    a = rng.normal(size=300)
+    b = 0.5 * a + rng.normal(size=300)
+    pa, pb = (np.concatenate(([np.nan], v, [np.nan])) for v in (a, b))
+    for u, v in zip(at.gcodev(pa, pb, data_type="freq", taus=[1, 2]), at.gcodev(a, b, data_type="freq", taus=[1, 2])):
+        np.testing.assert_array_equal(u, v)
+    _, g, _, _ = at.gcodev(a, a, data_type="freq", taus=[1, 2])
+    np.testing.assert_allclose(g, at.oadev(a, data_type="freq", taus=[1, 2])[1], rtol=1e-12)  # codev(a, a) = adev
+    inside = a.copy()
+    inside[5] = np.nan
+    t, g, _, n = at.gcodev(inside, b, taus=[1, 2])
+    assert np.all(np.isnan(g)) and list(n) == [298, 296]
+    t32 = np.array([2.0, 4.0], dtype=np.float32)
+    assert all(v.dtype == np.float32 for v in at.gcodev(a, b, taus=t32))
+    t, d, (lo, hi), n = at.gradev(a, taus=t32)
+    assert t.dtype == d.dtype == lo.dtype == hi.dtype == n.dtype == np.float32
+
+
+def test_rates_beyond_the_cores_interval_are_rescaled():
+    """allantools has no bound on the rate: a 1.5 GHz phase record (a time-interval analyser)
+    gives ADEV = SP1065 eqn 7 with tau0 = 1 / rate; the time statistics (TDEV, MTIE, TIERMS) are
+    in phase units and do not change with the rate for phase data; frequency data integrate to
+    phase in units of tau0, so their ADEV does not change and their TDEV scales with tau0."""
+    x = np.cumsum(np.random.default_rng(4).normal(size=400)) * 1e-12
+    for rate in (1.5e9, 1e-12):
+        t, d, _, _ = at.adev(x, rate=rate, taus=np.array([1.0, 4.0]) / rate)
+        np.testing.assert_allclose(t * rate, [1.0, 4.0])
+        np.testing.assert_allclose(d, [_second_difference_adev(x, m, m) * rate for m in (1, 4)], rtol=1e-12)
+        for f in (at.tdev, at.mtie, at.tierms):
+            np.testing.assert_allclose(f(x, rate=rate, taus=[4 / rate])[1], f(x, taus=[4.0])[1], rtol=1e-12)
+        y = np.diff(x)
+        for f, power in ((at.oadev, 0), (at.totdev, 0), (at.tdev, -1), (at.gradev, 0)):
+            np.testing.assert_allclose(f(y, rate=rate, data_type="freq", taus=[4 / rate])[1],
+                                       f(y, data_type="freq", taus=[4.0])[1] * rate ** power, rtol=1e-12)
+    for bad in (0.0, -1.0, float("nan"), "x"):
+        with pytest.raises(at.RateError):
+            at.gcodev(x, x, rate=bad)
+
+
+def test_theo1_and_tierms_errors_as_allantools_computes_them():
+    """allantools' theo1 returns devs / sqrt(N - m) (N phase points; its ns are the (N - m) m / 2
+    inner terms) and tierms zeros (its own TODO); the others devs / sqrt(ns)."""
+    x = np.cumsum(np.random.default_rng(5).normal(size=101))
+    t, d, e, n = at.theo1(x, taus=[2, 4, 10])
+    np.testing.assert_allclose(e, d / np.sqrt(101 - np.array([2, 4, 10])), rtol=1e-15)
+    np.testing.assert_array_equal(n, (101 - t) * t / 2)
+    t, d, e, n = at.tierms(x, taus=[1, 2])
+    assert np.all(d > 0) and list(e) == [0, 0]
+
+
+def test_realtime_auto_afs_grows_the_factors_in_every_class():
+    """allantools' realtime classes with auto_afs=True add the next factor of the grid
+    round(10^k logspace(0, 1, pts_per_decade + 1)) once 2 af + 1 points exist: 200 points give
+    1, 2, 3, 6, 10, 18, 32, 56 (100 needs 201). OHDEV's terms start at 3 af + 1 points, after
+    the factor is there, so its streamed values equal the batch OHDEV."""
+    x = np.cumsum(np.random.default_rng(8).normal(size=200))
+    grid = [1, 2, 3, 6, 10, 18, 32, 56]
+    for cls in (at.oadev_realtime, at.ohdev_realtime, at.tdev_realtime):
+        s = cls(auto_afs=True, pts_per_decade=4)
+        for v in x:
+            s.add_phase(v)
+        assert list(s.taus()) == grid and len(s.devs()) == len(grid), cls.__name__
+    h = at.ohdev_realtime(auto_afs=True, tau0=0.5)
+    for v in x:
+        h.add_phase(v)
+    np.testing.assert_allclose(h.devs(), at.ohdev(x, rate=2.0, taus=np.array(grid) / 2.0)[1], rtol=1e-10)
+    assert at.tdev_realtime(afs=[1, 2]).afs == [1, 2]  # kept as passed
+
+
+def test_confidence_interval_takes_arrays_and_gives_scipys_edge_values():
+    """allantools' confidence_interval is NumPy arithmetic around scipy.stats.chi2.ppf: an array
+    of devs gives arrays; ci = 1 gives chi2.ppf(0) = 0 and ppf(1) = inf, so (0, inf); edf <= 0
+    gives ppf = NaN. edf_simple's flicker-PM form takes np.log of (N - 1)/(2m) < 1: NaN."""
+    lo, hi = at.confidence_interval(np.array([1.0, 2.0]), 10.0, ci=0.9)
+    np.testing.assert_allclose(lo, np.sqrt(10 / 18.307038) * np.array([1, 2]), rtol=1e-6)
+    np.testing.assert_allclose(hi, np.sqrt(10 / 3.940299) * np.array([1, 2]), rtol=1e-6)
+    assert at.confidence_interval(1.0, 10, 1.0) == (0.0, np.inf)
+    for bad in (0.0, -3.0):
+        assert all(np.isnan(v) for v in at.confidence_interval(1.0, bad))
+    assert np.isnan(at.edf_simple(10, 10, 1)) and np.isnan(at.edf_totdev(10, 10, 1))
+
+
+def test_write_results_writes_allantools_table(tmp_path):
+    """allantools' Dataset.write_results: '#' lines (generator, input data type, input data rate,
+    `key: value` per header_params), a line of column names, then AF, Tau, N, alpha ("NaN"),
+    dev - err/2, dev, dev + err/2 with digits - 1 decimals."""
+    ds = at.Dataset(data=NBS14_PHASE, rate=1.0, data_type="phase", taus=[1, 2])
+    ds.compute("oadev")
+    assert "stat_unc" not in ds.out
+    path = tmp_path / "r.txt"
+    ds.write_results(str(path), digits=5, header_params={"a": 1})
+    lines = path.read_text().splitlines()
+    assert lines[1:4] == ["# Input data type: phase", "# Input data rate: 1.0", "# a: 1"]
+    assert lines[4].split() == ["AF", "Tau", "N", "alpha", "min_oadev", "oadev", "max_oadev"]
+    rows = [line.split() for line in lines[5:]]
+    assert [r[0] for r in rows] == ["1", "2"] and [r[2] for r in rows] == ["8", "6"]
+    assert [r[3] for r in rows] == ["NaN", "NaN"] and rows[0][5] == "9.1229e+01"  # NBS14 91.22945
+    t, d, e, n = (ds.out[k] for k in ("taus", "stat", "stat_err", "stat_n"))
+    table = np.array([[float(v) for v in r[4:7]] for r in rows])
+    np.testing.assert_allclose(table, np.column_stack((d - e / 2, d, d + e / 2)), rtol=1e-4)
+
+
+def test_plot_takes_no_display_first_and_needs_matplotlib(monkeypatch):
+    """allantools' Plot(no_display=False): the one positional argument is no_display
+    (matplotlib.use("Agg")); without matplotlib, RuntimeError("Matplotlib is required ...")."""
+    import types
+    used = []
+    mpl = types.ModuleType("matplotlib")
+    mpl.use = used.append
+    pyplot = types.ModuleType("matplotlib.pyplot")
+
+    class Axes:
+        def __getattr__(self, name):
+            return lambda *a, **k: used.append(name)
+
+    pyplot.subplots = lambda: (object(), Axes())
+    mpl.pyplot = pyplot
+    monkeypatch.setitem(sys.modules, "matplotlib", mpl)
+    monkeypatch.setitem(sys.modules, "matplotlib.pyplot", pyplot)
+    p = at.Plot(True)
+    assert used[0] == "Agg"
+    ds = at.Dataset(data=NBS14_PHASE, taus=[1, 2])
+    ds.compute("adev")
+    p.plot(ds, grid=False)
+    assert used[-1] == "grid"
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(RuntimeError, match="Matplotlib is required"):
+        at.Plot()
+
+
+def test_noise_prefactors_pdev_and_current_constants():
+    """Noise.pdev_from_qd (allantools 2024.04+): PVAR = prefactor^2 tau^c (Vernotte et al. 2016
+    Table I) matches the PDEV of the module's own Kasdin noise at tau = 16 for white PM, white
+    FM, flicker FM and random-walk FM (flicker PM's PVAR has a log tau term the constant leaves
+    out). Flicker FM MVAR = (27/20) ln 2 h_-1 (Benkler et al. 2015 Table 1) and flicker PM AVAR
+    = (3 gamma - ln 2 + 3 ln(2 pi f_h tau)) h_1 / (4 pi^2) (Vernotte Table I), as allantools."""
+    for b, c in ((0, -3), (-2, -1), (-3, 0), (-4, 1)):
+        ratios = []
+        for seed in (0, 1):
+            np.random.seed(seed)
+            n = at.Noise(2 ** 14, 1.0, b)
+            n.generateNoise()
+            _, d, _, _ = at.pdev(n.time_series, taus=[16.0])
+            ratios.append(d[0] / (n.pdev_from_qd() * 16.0 ** (c / 2)))
+        assert np.mean(ratios) == pytest.approx(1.0, abs=0.08), b
+    ffm = at.Noise(8, 1.0, -3)
+    assert ffm.mdev_from_qd() ** 2 == pytest.approx(27 / 20 * np.log(2) * ffm.frequency_psd_from_qd(), rel=1e-12)
+    fpm = at.Noise(8, 1.0, -1)
+    expect = (3 * 0.5772156649015329 - np.log(2) + 3 * np.log(2 * np.pi * 0.5 * 4.0)) / (4 * np.pi ** 2)
+    assert fpm.adev_from_qd(1.0, 4.0) ** 2 == pytest.approx(expect * fpm.frequency_psd_from_qd(), rel=1e-12)
+
+
+def test_calc_primitives_take_any_stride_and_keep_single_terms():
+    """allantools' calc_hdev_phase(phase, rate, mj, stride) sums the third differences
+    x[i + 3mj] - 3x[i + 2mj] + 3x[i + mj] - x[i] for i = 0, stride, 2 stride, ...: HDEV = sqrt(
+    sum / (6 n)) / (mj tau0), (0, 0, 1) without a term; its calc_mtotdev_phase keeps n = 1."""
+    x = np.cumsum(np.random.default_rng(1).normal(size=60))
+    for mj, stride, rate in ((4, 2, 1.0), (4, 4, 2.0), (3, 1, 1.0)):
+        v = np.array([x[i + 3 * mj] - 3 * x[i + 2 * mj] + 3 * x[i + mj] - x[i]
+                      for i in range(0, 60 - 3 * mj, stride)])
+        dev, err, n = at.calc_hdev_phase(x, rate, mj, stride)
+        assert n == len(v) and isinstance(n, int)
+        assert dev == pytest.approx(np.sqrt(np.sum(v * v) / (6 * n)) * rate / mj, rel=1e-12)
+        assert err == pytest.approx(dev / np.sqrt(n), rel=1e-12)
+    assert at.calc_hdev_phase(x, 1.0, 30, 1) == (0.0, 0.0, 1)
+    dev, err, n = at.calc_mtotdev_phase(x, 1.0, 20)  # N - 3m + 1 = 1 term
+    assert n == 1 and dev == err > 0
+    # allantools.allantools' calc_adev_phase (stride mj: ADEV, 1: OADEV) and calc_pdev_phase.
+    for mj, stride in ((4, 4), (3, 1), (5, 2)):
+        dev, err, n = at.allantools.calc_adev_phase(x, 1.0, mj, stride)
+        if stride in (1, mj):
+            assert dev == pytest.approx(_second_difference_adev(x, mj, stride), rel=1e-12)
+        assert n == len(range(2 * mj, 60, stride))
+    for mj in (1, 4, 7):
+        dev, err, n = at.allantools.calc_pdev_phase(x, 1.0, mj)
+        t, d, e, ns = at.pdev(x, taus=[mj])
+        assert dev == pytest.approx(d[0], rel=1e-12) and n == ns[0]

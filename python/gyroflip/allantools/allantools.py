@@ -8,10 +8,15 @@ Every deviation takes (data, rate=1.0, data_type="phase", taus=None) and returns
 - taus: None/"octave", "decade", "all", "log10" or taus in seconds (rounded to the nearest
   averaging factor; NaN, non-positive and too long taus dropped). A float32 array of taus gives
   float32 results.
-- errs = devs / sqrt(ns); points with ns <= 1 are dropped; none left raises NoValidTau (a
-  UserWarning, as allantools raises UserWarning).
-- rate must be positive and finite: else RateError, both a ValueError and a RuntimeError (allantools
-  raises RuntimeError for rate 0).
+- errs = devs / sqrt(ns) (theo1: devs / sqrt(N - m), tierms: zeros, as allantools); points with
+  ns <= 1 are dropped; none left, or too few points, raises NoValidTau (a UserWarning, as
+  allantools raises UserWarning).
+- a NaN or inf inside phase data blanks (NaN, or inf as numpy's sums give) only the taus whose
+  terms read it for ADEV, HDEV, PDEV (strided or short of the end, as allantools), all taus for
+  the other statistics and for frequency data.
+- rate must be positive and finite: else RateError, both a ValueError and a RuntimeError
+  (allantools raises RuntimeError for rate 0). Rates outside the core's [1e-9, 1e9] Hz are
+  computed at 1 Hz and rescaled exactly (the deviations are linear in the phase).
 Nothing here imports allantools or scipy.
 """
 
@@ -47,14 +52,6 @@ def _rate(rate):
     return r
 
 
-def _length(n):
-    """A read-only array of n zeros that holds no memory (stride 0): tau_generator needs only the
-    length. np.empty(n) cost 3.5 ms of CPU per 1e6-sample OADEV call (10.6 -> 7.1 ms): its 8 MB,
-    freed again, made the core's own buffers come back as fresh pages (2 165 page faults a call,
-    19 without)."""
-    return np.broadcast_to(np.float64(0.0), (int(n),))
-
-
 def _column(data):
     """data as a 1-D float64 array: (N,) or (N, 1)."""
     a = np.asarray(data, dtype=np.float64)
@@ -66,28 +63,35 @@ def _column(data):
 
 
 def trim_data(x):
-    """x without its leading and trailing NaN (NaN inside stay)."""
-    x = np.asarray(x)
-    if x.size == 0 or (not np.isnan(x[0]) and not np.isnan(x[-1])):
+    """x without its leading and trailing NaN (NaN inside stay): a slice of x, so a list stays a
+    list and an array an array (as allantools)."""
+    a = np.asarray(x, dtype=np.float64) if not isinstance(x, np.ndarray) else x
+    if a.size == 0 or (not np.isnan(a[0]) and not np.isnan(a[-1])):
         return x  # the usual case, without a pass over the data
-    finite = np.flatnonzero(~np.isnan(x))
+    finite = np.flatnonzero(~np.isnan(a))
     if finite.size == 0:
         return x[:0]
     return x[finite[0]:finite[-1] + 1]
 
 
+def _float_dtype(a):
+    """float32 for float32 input (allantools' NumPy arithmetic keeps it), else float64."""
+    return np.float32 if getattr(a, "dtype", None) == np.float32 else np.float64
+
+
 def frequency2phase(freqdata, rate):
     """Phase (s) from fractional frequency: trimmed of end NaN, mean removed, integrated, with a
-    leading 0 (N samples give N + 1 phase points)."""
+    leading 0 (N samples give N + 1 phase points); float32 stays float32."""
     dt = 1.0 / _rate(rate)
     y = trim_data(_column(freqdata))
     y = y - np.nanmean(y) if y.size else y
-    return np.concatenate(([0.0], np.cumsum(y) * dt))
+    return np.concatenate(([0.0], np.cumsum(y) * dt)).astype(_float_dtype(freqdata))
 
 
 def phase2frequency(phase, rate):
-    """Fractional frequency rate * diff(phase) (N phase points give N - 1)."""
-    return _rate(rate) * np.diff(np.asarray(phase, dtype=np.float64))
+    """Fractional frequency rate * diff(phase) (N phase points give N - 1); float32 stays
+    float32."""
+    return (_rate(rate) * np.diff(np.asarray(phase, dtype=np.float64))).astype(_float_dtype(phase))
 
 
 def phase2radians(phasedata, v0):
@@ -96,10 +100,11 @@ def phase2radians(phasedata, v0):
 
 
 def frequency2fractional(frequency, mean_frequency=-1):
-    """Frequency in Hz to fractional frequency about mean_frequency (-1: the data's mean)."""
+    """Frequency in Hz to fractional frequency about mean_frequency (-1: the data's mean), as a
+    list (as allantools)."""
     f = np.asarray(frequency, dtype=np.float64)
     mu = np.mean(f) if mean_frequency == -1 else float(mean_frequency)
-    return (f - mu) / mu
+    return list((f - mu) / mu)  # a list, as allantools' list comprehension
 
 
 def input_to_phase(data, rate, data_type):
@@ -111,12 +116,21 @@ def input_to_phase(data, rate, data_type):
 
 
 def tau_generator(data, rate, taus=None, v=False, even=False, maximum_m=-1):
-    """(data, m, taus): the averaging factors m (float, sorted, unique, 0 < m < len(data),
-    m <= maximum_m unless -1, even only with even=True) for `taus` ("octave" by default, "all",
-    "decade" 1, 2, 4, 10, 20, 40, ..., "log10" about 10 per decade, or taus in seconds) and the
-    taus m / rate. Warns NoValidTau when nothing is left."""
+    """(np.array(data), m, taus): the averaging factors m (float, sorted, unique,
+    0 < m < len(data), m <= maximum_m unless -1, even only with even=True) for `taus` ("octave"
+    by default, "all", "decade" 1, 2, 4, 10, 20, 40, ..., "log10" about 10 per decade, or taus in
+    seconds) and the taus m / rate. Warns NoValidTau when nothing is left (allantools prints a
+    warning)."""
+    m, t = _tau_factors(len(data), rate, taus, v=v, even=even, maximum_m=maximum_m)
+    if m.size == 0:
+        warnings.warn(f"no averaging time fits {len(data)} points for taus {taus!r}", NoValidTau,
+                      stacklevel=2)
+    return np.array(data), m, t
+
+
+def _tau_factors(n, rate, taus, v=False, even=False, maximum_m=-1):
+    """tau_generator's (m, taus) for n points, without the data."""
     rate = _rate(rate)
-    n = len(data)
     if taus is None or (isinstance(taus, list) and len(taus) == 0):
         taus = "octave"
     dtype = taus.dtype if isinstance(taus, np.ndarray) and taus.dtype == np.float32 else np.float64
@@ -144,10 +158,7 @@ def tau_generator(data, rate, taus=None, v=False, even=False, maximum_m=-1):
         m = m[m % 2 == 0]
     if v:
         print("tau_generator:", m)
-    if m.size == 0:
-        warnings.warn(f"no averaging time fits {n} points at rate {rate} for taus {taus!r}", NoValidTau,
-                      stacklevel=2)
-    return data, m, (m / np.asarray(rate, dtype=m.dtype)).astype(m.dtype)
+    return m, (m / np.asarray(rate, dtype=m.dtype)).astype(m.dtype)
 
 
 def tau_reduction(ms, rate, n_per_decade):
@@ -176,6 +187,85 @@ def remove_small_ns(taus, devs, deverrs, ns):
 # The deviations
 
 
+# The core takes sample intervals in [1e-9, 1e9] s (analysis::check_tau0); allantools has no
+# bound. Outside it the drop-in runs the core at 1 Hz and rescales: every statistic is linear in
+# the phase, the frequency ones (ADEV ... PDEV) scale as 1 / tau0 and the time ones as tau0^0,
+# and frequency data integrate to phase in units of tau0.
+_CORE_RATE_HZ = (1e-9, 1e9)
+_TIME_STATISTICS = ("tdev", "ttotdev", "mtie", "tierms")
+
+
+def _core_rate(rate, data_type, kind):
+    """(the rate the core runs at, the factor its deviations are multiplied by)."""
+    if _CORE_RATE_HZ[0] <= rate <= _CORE_RATE_HZ[1]:
+        return rate, 1.0
+    power = (0 if kind in _TIME_STATISTICS else 1) - (1 if data_type == "freq" else 0)
+    return 1.0, rate ** power
+
+
+def _core(function, *args):
+    """A call into the core, its "too short" errors as NoValidTau (allantools: UserWarning)."""
+    try:
+        return function(*args)
+    except NoValidTau:
+        raise
+    except ValueError as e:
+        text = str(e)
+        if text.startswith("no averaging time") or "too few" in text:
+            raise NoValidTau(text) from None
+        raise
+
+
+def _core_zeroing(function, *arrays):
+    """(function(*arrays) from the core, whether the data were finite): the core refuses a
+    non-finite sample; only then are they looked for, and the call repeated with them zeroed
+    (no pass over the data in the usual case)."""
+    try:
+        return _core(function, *arrays), True
+    except ValueError as e:
+        if "not finite" not in str(e) and "infinite" not in str(e):
+            raise
+    return _core(function, *(np.where(np.isfinite(a), a, 0.0) for a in arrays)), False
+
+
+# The terms of allantools' difference statistics: coefficients of x[i], x[i + m], x[i + 2m], ...
+_SECOND_DIFFERENCE = (1.0, -2.0, 1.0)
+_THIRD_DIFFERENCE = (-1.0, 3.0, -3.0, 1.0)
+
+
+def _terms(x, m, stride, coefficients):
+    """The difference terms sum_j c_j x[i + j m] for i = 0, stride, 2 stride, ... while
+    i + (len(c) - 1) m < len(x) (SP1065 eqns 7 and 17 with stride m, eqns 11 and 18 with 1)."""
+    last = len(coefficients) - 1
+    n = len(range(last * m, len(x), stride))
+    v = np.zeros(n)
+    for j, c in enumerate(coefficients):
+        v = v + c * x[j * m::stride][:n]
+    return v
+
+
+def _sum_of_terms(kind, x, m):
+    """The sum of squared terms allantools forms for `kind` at factor m on phase x, so that a
+    non-finite sample gives NaN or inf exactly where allantools' does (None: a statistic whose
+    every term is not listed here, taken as NaN)."""
+    if kind in ("adev", "oadev"):
+        v = _terms(x, m, m if kind == "adev" else 1, _SECOND_DIFFERENCE)
+    elif kind in ("hdev", "ohdev"):
+        v = _terms(x, m, m if kind == "hdev" else 1, _THIRD_DIFFERENCE)
+    elif kind == "pdev":
+        if m == 1:
+            return _sum_of_terms("oadev", x, 1)
+        # Vernotte et al. 2016 eqn 4: sum_k ((m - 1)/2 - k)(x[i + k] - x[i + m + k]), i < N - 2m.
+        count = len(x) - 2 * m
+        if count < 1:
+            return 0.0
+        weights = (m - 1) / 2.0 - np.arange(m)
+        v = np.correlate((x[:-m] - x[m:])[:count + m - 1], weights, "valid")
+    else:
+        return None
+    return np.sum(v * v)
+
+
 def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on_freq=False):
     rate = _rate(rate)
     if data_type == "freq":
@@ -186,38 +276,40 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
         n_phase = len(samples)
     else:
         raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
+    if n_phase < 3:
+        raise NoValidTau(f"{n_phase} phase points are too few for a deviation")
     # allantools generates HTOTDEV's taus on the frequency (N - 1 points) with m <= that / 3,
     # MTOTDEV's and TTOTDEV's on the phase with m <= N / 3.
     n_gen = n_phase - 1 if on_freq else n_phase
     limit = -1 if maximum_m is None else maximum_m(n_gen)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", NoValidTau)
-        _, m, t = tau_generator(_length(n_gen), rate, taus, even=even, maximum_m=limit)
+    m, t = _tau_factors(n_gen, rate, taus, even=even, maximum_m=limit)
     dtype = t.dtype
-    if m.size == 0 or n_phase < 3:
+    if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} phase points for taus {taus!r}")
     # Frequency data go to the core as rate samples (it removes the mean and integrates, as
-    # frequency2phase does, without a phase array in Python). The core refuses non-finite
-    # samples; only then are they looked for here: zeroed for the term counts, the deviations NaN
-    # (no pass over the data in the usual case).
+    # frequency2phase does, without a phase array in Python). Non-finite samples are zeroed for
+    # the core, and each tau whose terms touch one gets allantools' NaN or inf (all taus for
+    # frequency data, whose integral is NaN from there on).
     factors = [int(v) for v in m]
     kind_in = "rate" if data_type == "freq" else "angle"
-    nan_inside = False
-    try:
-        r = _gyroflip._curve(kind, samples, rate, kind_in, "octave", factors, None, False)
-    except ValueError as e:
-        if "not finite" not in str(e):
-            raise
-        nan_inside = True
-        work = np.where(np.isfinite(samples), samples, 0.0)
-        r = _gyroflip._curve(kind, work, rate, kind_in, "octave", factors, None, False)
+    core_rate, scale = _core_rate(rate, data_type, kind)
+    r, finite = _core_zeroing(
+        lambda y: _gyroflip._curve(kind, y, core_rate, kind_in, "octave", factors, None, False), samples)
     by_m = {int(mm): (d, n) for mm, d, n in zip(r["m"], r["dev"], r["n"])}
-    devs = np.array([by_m.get(int(mm), (0.0, 0))[0] for mm in m], dtype=np.float64)
+    devs = np.array([by_m.get(int(mm), (0.0, 0))[0] for mm in m], dtype=np.float64) * scale
     ns = np.array([by_m.get(int(mm), (0.0, 0))[1] for mm in m], dtype=np.float64)
-    if nan_inside:
-        devs[:] = np.nan
+    if not finite:
+        for i, mm in enumerate(factors):
+            total = None if data_type == "freq" else _sum_of_terms(kind, samples, mm)
+            if total is None or not np.isfinite(total):
+                devs[i] = np.nan if total is None else total
     with np.errstate(divide="ignore", invalid="ignore"):
-        errs = devs / np.sqrt(ns)
+        if kind == "theo1":  # allantools: devs / sqrt(N - m) (ns are its (N - m) m / 2 terms)
+            errs = devs / np.sqrt(n_phase - m.astype(np.float64))
+        elif kind == "tierms":  # allantools returns zeros ("TODO! I THINK THIS IS WRONG!")
+            errs = np.zeros_like(devs)
+        else:
+            errs = devs / np.sqrt(ns)
     taus_out, devs, errs, ns = remove_small_ns(t, devs, errs, ns)
     return (taus_out.astype(dtype), devs.astype(dtype), errs.astype(dtype), ns.astype(dtype))
 
@@ -249,23 +341,63 @@ mtie = _make("mtie", "Maximum time interval error")
 tierms = _make("tierms", "Rms time interval error")
 
 
+def calc_adev_phase(phase, rate, mj, stride):
+    """allantools' per-factor primitive (allantools.allantools only): (dev, deverr, n) of the
+    Allan deviation at factor mj from the second differences taken every `stride` points
+    (stride mj: ADEV, SP1065 eqn 7; 1: OADEV, eqn 11); no term: (0.0, 0.0, 1)."""
+    mj = int(mj)
+    v = _terms(_column(phase), mj, int(stride), _SECOND_DIFFERENCE)
+    n = max(len(v), 1)
+    dev = math.sqrt(float(np.sum(v * v)) / (2.0 * n)) * _rate(rate) / mj
+    return dev, dev / math.sqrt(n), n
+
+
+def calc_pdev_phase(phase, rate, mj):
+    """allantools' per-factor primitive (allantools.allantools only): (dev, deverr, M) of the
+    parabolic deviation at factor mj, M = N - 2 mj terms (Vernotte et al. 2016 eqn 4; OADEV at
+    mj = 1); no term: (0, 0, 0)."""
+    mj = int(mj)
+    if mj == 1:
+        return calc_adev_phase(phase, rate, 1, 1)
+    x = _column(phase)
+    count = len(x) - 2 * mj
+    if count < 1:
+        return 0, 0, 0
+    dev = math.sqrt(72.0 * float(_sum_of_terms("pdev", x, mj)) / (count * mj ** 4)) * _rate(rate) / mj
+    return dev, dev / math.sqrt(count), count
+
+
 def calc_hdev_phase(phase, rate, mj, stride):
-    """(dev, deverr, n) of HDEV (stride = mj) or OHDEV (stride = 1) at factor mj."""
-    kind = "ohdev" if int(stride) == 1 else "hdev"
-    t, d, e, n = _deviation(kind, phase, rate, "phase", [int(mj) / _rate(rate)])
-    return float(d[0]), float(e[0]), float(n[0])
+    """allantools' per-factor primitive: (dev, deverr, n) of the Hadamard deviation at factor mj
+    from the third differences taken every `stride` points (stride mj: HDEV, SP1065 eqn 17;
+    1: OHDEV, eqn 18; any other stride as allantools); no term: (0.0, 0.0, 1)."""
+    mj = int(mj)
+    v = _terms(_column(phase), mj, int(stride), _THIRD_DIFFERENCE)
+    n = max(len(v), 1)
+    dev = math.sqrt(float(np.sum(v * v)) / (6.0 * n)) * _rate(rate) / mj
+    return dev, dev / math.sqrt(n), n
+
+
+def _at_factor(kind, samples, rate, data_type, m):
+    """(dev, deverr, n) of one statistic at one factor from the core, n = 1 kept (allantools'
+    calc_* primitives return it)."""
+    core_rate, scale = _core_rate(_rate(rate), data_type, kind)
+    r = _core(_gyroflip._curve, kind, _column(samples), core_rate,
+              "rate" if data_type == "freq" else "angle", "octave", [int(m)], None, False)
+    dev, n = float(r["dev"][0]) * scale, int(r["n"][0])
+    return dev, dev / math.sqrt(n), n
 
 
 def calc_mtotdev_phase(phase, rate, m):
     """(dev, deverr, n) of MTOTDEV at factor m."""
-    t, d, e, n = _deviation("mtotdev", phase, rate, "phase", [int(m) / _rate(rate)])
-    return float(d[0]), float(e[0]), float(n[0])
+    return _at_factor("mtotdev", phase, rate, "phase", m)
 
 
 def calc_htotdev_freq(freq, m):
-    """(dev, deverr, n) of HTOTDEV at factor m (m > 1) on fractional frequency, rate 1."""
-    t, d, e, n = _deviation("htotdev", freq, 1.0, "freq", [float(m)], on_freq=True)
-    return float(d[0]), float(e[0]), float(n[0])
+    """(dev, deverr, n) of HTOTDEV at factor m > 1 on fractional frequency, rate 1 (at m = 1
+    gyroflip's core gives OHDEV, as allantools' htotdev() does; its calc_htotdev_freq(y, 1)
+    evaluates the total formula: docs/python.md)."""
+    return _at_factor("htotdev", freq, 1.0, "freq", m)
 
 
 def mtie_phase_fast(phase, rate=1.0, data_type="phase", taus=None):
@@ -277,33 +409,44 @@ def mtie_phase_fast(phase, rate=1.0, data_type="phase", taus=None):
 
 
 def _factor_list(n_phase, rate, taus):
-    """The averaging factors (ints) of `taus` for n_phase points; NoValidTau when none fits."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", NoValidTau)
-        _, m, _ = tau_generator(_length(n_phase), rate, taus)
+    """The averaging factors (ints) of `taus` for n_phase points and their taus (float32 for
+    float32 taus); NoValidTau when none fits."""
+    if n_phase < 3:
+        raise NoValidTau(f"{n_phase} phase points are too few for a deviation")
+    m, t = _tau_factors(n_phase, rate, taus)
     if m.size == 0:
         raise NoValidTau(f"no averaging time fits {n_phase} points for taus {taus!r}")
-    return [int(v) for v in m]
+    return [int(v) for v in m], t
+
+
+def _input_samples(data, data_type):
+    """data as a 1-D float64 array, frequency data without their end NaN, and its phase length."""
+    y = _column(data)
+    if data_type == "freq":
+        y = trim_data(y)
+        return y, len(y) + 1
+    if data_type != "phase":
+        raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
+    return y, len(y)
 
 
 def gradev(data, rate=1.0, data_type="phase", taus=None, ci=0.9, noisetype="wp"):
     """Gap-resistant overlapping ADEV: NaN are missing samples, terms touching them left out.
     Returns (taus, devs, [err_lo, err_hi], ns) with the interval at confidence `ci` as distances
-    below and above dev (EDF: edf_simple for noisetype 'wp', 'wf', 'fp', 'ff', 'rf', else N - 1)."""
+    below and above dev (EDF: edf_simple for noisetype 'wp', 'wf', 'fp', 'ff', 'rf', else N - 1;
+    allantools' own error bars differ, docs/python.md)."""
     from .ci import confidence_interval, edf_simple
     rate = _rate(rate)
-    y = _column(data)
-    if data_type == "freq":
-        y = trim_data(y)
-    elif data_type != "phase":
-        raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
-    n_phase = len(y) + (1 if data_type == "freq" else 0)
-    r = _gyroflip._gradev(np.ascontiguousarray(y, dtype=np.float64), rate,
-                          "rate" if data_type == "freq" else "angle", _factor_list(n_phase, rate, taus))
+    y, n_phase = _input_samples(data, data_type)
+    factors, t = _factor_list(n_phase, rate, taus)
+    core_rate, scale = _core_rate(rate, data_type, "oadev")
+    r = _core(_gyroflip._gradev, y, core_rate, "rate" if data_type == "freq" else "angle", factors)
+    keep = np.isin(np.asarray(factors), r["m"])
+    devs = r["dev"] * scale
     alpha = {"wp": 2, "wf": 0, "fp": 1, "ff": -1, "rf": -2}.get(noisetype)
     n_valid = int(np.count_nonzero(~np.isnan(y)))
     lo, hi = [], []
-    for d, mm, n in zip(r["dev"], r["m"], r["n"]):
+    for d, mm, n in zip(devs, r["m"], r["n"]):
         if n > 1:
             e = edf_simple(n_valid, mm, alpha)
             a, b = confidence_interval(d, e, ci)
@@ -312,22 +455,36 @@ def gradev(data, rate=1.0, data_type="phase", taus=None, ci=0.9, noisetype="wp")
         else:
             lo.append(0.0)
             hi.append(0.0)
-    return remove_small_ns(r["tau_s"], r["dev"], [np.array(lo), np.array(hi)],
-                           r["n"].astype(np.float64))
+    dtype = t.dtype
+    taus_out, devs, (lo, hi), ns = remove_small_ns(t[keep], devs, [np.array(lo), np.array(hi)],
+                                                   r["n"].astype(np.float64))
+    return (taus_out.astype(dtype), devs.astype(dtype), [lo.astype(dtype), hi.astype(dtype)],
+            ns.astype(dtype))
 
 
 def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None):
-    """Groslambert codeviation |cov|^(1/2) of two simultaneous series: (taus, devs, errs, ns)."""
+    """Groslambert codeviation |cov|^(1/2) of two simultaneous series: (taus, devs, errs, ns),
+    with the deviations' input rules (end NaN of frequency data trimmed, a NaN inside giving NaN,
+    float32 taus float32 results)."""
     rate = _rate(rate)
-    a, b = _column(data_1), _column(data_2)
-    if data_type not in ("phase", "freq"):
-        raise ValueError(f"unknown data_type: {data_type!r} (phase or freq)")
-    n_phase = len(a) + (1 if data_type == "freq" else 0)
-    r = _gyroflip._gcodev(a, b, rate, "rate" if data_type == "freq" else "angle",
-                          _factor_list(n_phase, rate, taus))
-    devs = np.abs(r["dev"])
+    a, n_phase = _input_samples(data_1, data_type)
+    b, _ = _input_samples(data_2, data_type)
+    factors, t = _factor_list(n_phase, rate, taus)
+    kind_in = "rate" if data_type == "freq" else "angle"
+    core_rate, scale = _core_rate(rate, data_type, "oadev")
+    r, finite = _core_zeroing(lambda u, v: _gyroflip._gcodev(u, v, core_rate, kind_in, factors), a, b)
+    devs = np.abs(r["dev"]) * scale
+    if not finite:  # allantools: NaN or inf where a term touches a non-finite sample
+        for i, mm in enumerate(r["m"]):
+            total = np.nan if data_type == "freq" else np.sum(
+                _terms(a, int(mm), 1, _SECOND_DIFFERENCE) * _terms(b, int(mm), 1, _SECOND_DIFFERENCE))
+            if not np.isfinite(total):
+                devs[i] = np.abs(total)
     ns = r["n"].astype(np.float64)
-    return remove_small_ns(r["tau_s"], devs, devs / np.sqrt(ns), ns)
+    keep = np.isin(np.asarray(factors), r["m"])
+    dtype = t.dtype
+    taus_out, devs, errs, ns = remove_small_ns(t[keep], devs, devs / np.sqrt(ns), ns)
+    return (taus_out.astype(dtype), devs.astype(dtype), errs.astype(dtype), ns.astype(dtype))
 
 
 def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, taus, function):

@@ -11,13 +11,28 @@ from .. import _gyroflip
 ONE_SIGMA_CI = math.erf(1.0 / math.sqrt(2.0))  # 0.6826894921370859
 
 
+def _chi2_quantile(p, edf):
+    """The chi-squared quantile with scipy.stats.chi2.ppf's edge values (allantools calls it):
+    0 at p = 0, inf at p = 1, NaN for edf <= 0 or NaN."""
+    if not edf > 0.0:
+        return math.nan
+    if p <= 0.0:
+        return 0.0
+    if p >= 1.0:
+        return math.inf
+    return _gyroflip._chi2_quantile(p, edf)
+
+
 def confidence_interval(dev, edf, ci=ONE_SIGMA_CI):
-    """(dev_min, dev_max) at two-sided confidence ci for EDF edf (SP1065 eqn 45)."""
+    """(dev_min, dev_max) at two-sided confidence ci for EDF edf (SP1065 eqn 45); dev a number or
+    an array (elementwise, as allantools' NumPy arithmetic), edf a number. ci = 1 gives (0, inf),
+    edf <= 0 (NaN, NaN), as allantools through scipy."""
     lo_p = min(abs(ci), abs(ci - 1.0)) / 2.0
-    hi_p = 1.0 - lo_p
     edf = float(edf)
-    return (math.sqrt(edf * dev * dev / _gyroflip._chi2_quantile(hi_p, edf)),
-            math.sqrt(edf * dev * dev / _gyroflip._chi2_quantile(lo_p, edf)))
+    variance = np.asarray(dev, dtype=float) ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (np.sqrt(edf * variance / _chi2_quantile(1.0 - lo_p, edf)),
+                np.sqrt(edf * variance / _chi2_quantile(lo_p, edf)))
 
 
 def edf_greenhall(alpha, d, m, N, overlapping=False, modified=False, verbose=False):
@@ -52,8 +67,9 @@ def edf_simple(N, m, alpha):
     N, m = float(N), float(m)
     if alpha == 2:
         return (N + 1) * (N - 2 * m) / (2 * (N - m))
-    if alpha == 1:
-        return math.exp(math.sqrt(math.log((N - 1) / (2 * m)) * math.log((2 * m + 1) * (N - 1) / 4)))
+    if alpha == 1:  # NaN (as allantools' np.log) where (N - 1) / (2 m) < 1 < (2 m + 1)(N - 1) / 4
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return float(np.exp(np.sqrt(np.log((N - 1) / (2 * m)) * np.log((2 * m + 1) * (N - 1) / 4))))
     if alpha == 0:
         return (3 * (N - 1) / (2 * m) - 2 * (N - 2) / N) * 4 * m * m / (4 * m * m + 5)
     if alpha == -1:
@@ -105,10 +121,14 @@ def autocorr_noise_id(x, af, data_type="phase", dmin=0, dmax=2):
 
 
 def b1(x, af, rate):
-    """B1 = standard variance / Allan variance of the frequency averages over af (Barnes)."""
+    """B1 = standard variance / Allan variance of the fractional-frequency averages over af
+    (Barnes 1969; SP1065 section 5.5.6): the frequency of phase x (s) at `rate` Hz is
+    rate * diff(x), the ADEV taken at tau = af / rate, so B1 does not depend on rate.
+    (allantools 2024.06's ci.b1 asks for tau = af * rate and does not scale diff(x) by rate,
+    so it agrees with this one at rate 1 only; docs/python.md.)"""
     from .allantools import adev
     _, devs, _, _ = adev(x, taus=[af / rate], data_type="phase", rate=rate)
-    y = np.diff(x)
+    y = np.diff(np.asarray(x, dtype=float)) * rate
     n = len(y) - len(y) % af
     ya = y[:n].reshape(-1, af).mean(axis=1)
     return float(np.var(ya, ddof=1) / devs[0] ** 2)
@@ -141,17 +161,24 @@ def b1_boundary(b_hi, N):
 
 
 def b1_noise_id(x, af, rate):
-    """alpha from the B1 ratio of phase x at factor af (PM returned as 2; R(n) splits it)."""
+    """gyroflip's own noise identification (allantools 2024.06 has none in its package; its
+    examples/b1_noise_id_figure.py has a b1_noise_id that returns the B1 ratio): alpha 2 (white
+    PM), 1 (flicker PM), 0 (white FM), -1 (flicker FM) or -2 (random-walk FM) of phase x at
+    averaging factor af, the B1 ratio against the boundaries between neighbouring noise types
+    (geometric means of b1_theory for the n = (len(x) - 1) // af averages), then for PM, whose B1
+    is the same for both, R(n) = MVAR / AVAR against rn_boundary (SP1065 section 5.5.6, Howe,
+    Beard, Greenhall & Riley 2000)."""
     b = b1(x, af, rate)
     n = (len(x) - 1) // af
+    # b = alpha - 2 is the phase-PSD exponent; b1_boundary(b_hi) splits b_hi from b_hi - 1.
     for b_hi, alpha in ((-3, -2), (-2, -1), (-1, 0)):
-        if b > b1_boundary(b_hi + 1, n):
+        if b > b1_boundary(b_hi, n):
             return alpha
-    return 2
+    return 1 if rn(x, af, rate) > rn_boundary(af, 0) else 2
 
 
 def rn(x, af, rate):
-    """R(n) = MVAR / AVAR at factor af."""
+    """R(n) = MVAR / AVAR at factor af (tau = af / rate; allantools' ci.rn asks for af * rate)."""
     from .allantools import adev, mdev
     _, a, _, _ = adev(x, taus=[af / rate], data_type="phase", rate=rate)
     _, md, _, _ = mdev(x, taus=[af / rate], data_type="phase", rate=rate)

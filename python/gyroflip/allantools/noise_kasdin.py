@@ -45,21 +45,33 @@ class Noise:
         return {-4: 1.0, -3: 0.0, -2: -1.0, -1: -2.0, 0: -3.0}.get(self.b)
 
     def adev_from_qd(self, tau0=1.0, tau=1.0):
-        """ADEV prefactor (Dawkins, McFerran, Luiten 2007): AVAR = prefactor^2 tau^c."""
+        """ADEV prefactor (Dawkins, McFerran, Luiten 2007; flicker PM with 3 gamma - ln 2 for
+        1.038, Vernotte et al. 2016 Table I, as allantools now uses): AVAR = prefactor^2 tau^c."""
         g = self.phase_psd_from_qd(tau0)
         f_h = 0.5 / tau0
         coeff = {0: 3.0 * f_h / (4.0 * np.pi ** 2),
-                 -1: (1.038 + 3 * np.log(2.0 * np.pi * f_h * tau)) / (4.0 * np.pi ** 2),
+                 -1: (3 * np.euler_gamma - np.log(2) + 3 * np.log(2.0 * np.pi * f_h * tau)) /
+                 (4.0 * np.pi ** 2),
                  -2: 0.5, -3: 2 * np.log(2), -4: 2.0 * np.pi ** 2 / 3.0}[self.b]
         return np.sqrt(coeff * g * (2.0 * np.pi) ** 2)
 
     def mdev_from_qd(self, tau0=1.0, tau=1.0):
-        """MDEV prefactor (Dawkins et al. 2007)."""
+        """MDEV prefactor (Dawkins et al. 2007; flicker FM (27/20) ln 2, Benkler et al. 2015
+        Table 1, as allantools now uses)."""
         g = self.phase_psd_from_qd(tau0)
         coeff = {0: 3.0 / (8.0 * np.pi ** 2),
                  -1: (24.0 * np.log(2) - 9.0 * np.log(3)) / 8.0 / np.pi ** 2,
-                 -2: 0.25, -3: 2.0 * np.log(3.0 * 3.0 ** (11.0 / 16.0) / 4.0),
+                 -2: 0.25, -3: 27.0 / 20.0 * np.log(2),
                  -4: 11.0 / 20.0 * np.pi ** 2}[self.b]
+        return np.sqrt(coeff * g * (2.0 * np.pi) ** 2)
+
+    def pdev_from_qd(self, tau0=1.0, tau=1.0):
+        """PDEV prefactor (Vernotte, Lenczner, Bourgeois & Rubiola 2016, Table I): PVAR =
+        prefactor^2 tau^c, c as c_mvar."""
+        g = self.phase_psd_from_qd(tau0)
+        coeff = {0: 3.0 / (2.0 * np.pi ** 2), -1: (3.0 * np.log(16.0) - 1.0) / (2.0 * np.pi ** 2),
+                 -2: 3.0 / 5.0, -3: 2.0 * (7.0 - np.log(16.0)) / 5.0,
+                 -4: 26.0 / 35.0 * np.pi ** 2}[self.b]
         return np.sqrt(coeff * g * (2.0 * np.pi) ** 2)
 
     def adev(self, tau0, tau):

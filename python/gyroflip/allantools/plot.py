@@ -3,13 +3,18 @@ is made, never by `import gyroflip.allantools` (it is not a dependency of gyrofl
 
 
 class Plot:
-    """plot(dataset, errorbars=False, grid=False, **kwargs), show(), save(filename)."""
+    """Plot(no_display=False), as allantools: plot(dataset, errorbars=False, grid=False,
+    **kwargs), show(), save(filename). Without matplotlib: RuntimeError, as allantools. `ax`
+    (keyword only) draws into an existing matplotlib axes (gyroflip's addition)."""
 
-    def __init__(self, ax=None, no_display=False):
-        import matplotlib  # pylint: disable=import-outside-toplevel
-        if no_display:
-            matplotlib.use("Agg")
-        import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
+    def __init__(self, no_display=False, *, ax=None):
+        try:
+            import matplotlib  # pylint: disable=import-outside-toplevel
+            if no_display:
+                matplotlib.use("Agg")
+            import matplotlib.pyplot as plt  # pylint: disable=import-outside-toplevel
+        except ImportError:
+            raise RuntimeError("Matplotlib is required for plotting") from None
         self.plt = plt
         if ax is None:
             self.fig, self.ax = plt.subplots()
@@ -29,6 +34,8 @@ class Plot:
         if grid:
             self.ax.grid(True, which="minor", ls="-", color="0.65")
             self.ax.grid(True, which="major", ls="-", color="0.25")
+        else:
+            self.ax.grid(False)
 
     def show(self):
         self.plt.show()

@@ -10,7 +10,7 @@ class dev_realtime:  # noqa: N801 (allantools' names)
 
     def __init__(self, afs=[1], tau0=1.0, auto_afs=False, pts_per_decade=4):  # noqa: B006
         self.x = []
-        self.afs = np.array([1]) if auto_afs else np.asarray(afs)
+        self.afs = np.array([1]) if auto_afs else afs  # kept as passed, as allantools
         self.auto_afs = auto_afs
         self.af_taus = np.logspace(0, 1, pts_per_decade + 1)[:-1]
         self.af_idx = 0
@@ -30,6 +30,17 @@ class dev_realtime:  # noqa: N801 (allantools' names)
             self.dev = np.append(self.dev, 0)
             self.af_idx, self.af_decade = idx, decade
 
+    def add_phase(self, xnew):
+        """A phase sample: every factor's terms ending at it, then (auto_afs) the next factor."""
+        self.x.append(xnew)
+        for k, af in enumerate(self.afs):
+            self._add_terms(k, af)
+        if self.auto_afs:
+            self.update_af()
+
+    def _add_terms(self, idx, af):
+        pass
+
     def add_frequency(self, f):
         """A fractional-frequency sample: the phase integrates it (starting at 0)."""
         if not self.x:
@@ -37,7 +48,7 @@ class dev_realtime:  # noqa: N801 (allantools' names)
         self.add_phase(self.x[-1] + f)
 
     def taus(self):
-        return self.tau0 * self.afs
+        return self.tau0 * np.asarray(self.afs)
 
     def add_af(self):
         pass
@@ -64,13 +75,9 @@ class _summed(dev_realtime):
 class oadev_realtime(_summed):  # noqa: N801
     """OADEV: each new point adds the term ending at it to the sum of squares."""
 
-    def add_phase(self, xnew):
-        self.x.append(xnew)
-        for k, af in enumerate(self.afs):
-            if len(self.x) >= 2 * af + 1:
-                self.update_S(k)
-        if self.auto_afs:
-            self.update_af()
+    def _add_terms(self, idx, af):
+        if len(self.x) >= 2 * af + 1:
+            self.update_S(idx)
 
     def update_S(self, idx):  # noqa: N802
         af = int(self.afs[idx])
@@ -85,11 +92,9 @@ class oadev_realtime(_summed):  # noqa: N801
 class ohdev_realtime(_summed):  # noqa: N801
     """OHDEV: the third-difference term ending at each new point."""
 
-    def add_phase(self, xnew):
-        self.x.append(xnew)
-        for k, af in enumerate(self.afs):
-            if len(self.x) > 3 * af:
-                self.update_S(k)
+    def _add_terms(self, idx, af):
+        if len(self.x) > 3 * af:
+            self.update_S(idx)
 
     def update_S(self, idx):  # noqa: N802
         af = int(self.afs[idx])
@@ -113,13 +118,11 @@ class tdev_realtime(_summed):  # noqa: N801
         super().add_af()
         self.So = np.append(self.So, 0)
 
-    def add_phase(self, xnew):
-        self.x.append(xnew)
-        for k, af in enumerate(self.afs):
-            if len(self.x) >= 3 * af + 1:
-                self.update_S(k)
-            elif len(self.x) >= 2 * af + 1:
-                self.update_S3n(k)
+    def _add_terms(self, idx, af):
+        if len(self.x) >= 3 * af + 1:
+            self.update_S(idx)
+        elif len(self.x) >= 2 * af + 1:
+            self.update_S3n(idx)
 
     def update_S3n(self, idx):  # noqa: N802
         af = int(self.afs[idx])
