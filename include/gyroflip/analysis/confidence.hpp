@@ -90,13 +90,14 @@ enum class edf_rule {
   /// No interval narrower than the neighbouring taus allow: the smallest EDF among the types
   /// identified at the tau and at its two neighbours, and a frequency-noise type carried on where
   /// PM is read at a tau longer than one that showed frequency noise. A type misread from few
-  /// points (white FM read as PM on 44 points: EDF 20 000 instead of 130) then cannot give one
+  /// points (white FM read as PM on 44 points: EDF 20 000 instead of ~64) then cannot give one
   /// point a +-0.5 % interval. The noise fit's weights use it (docs/ANALYSIS.md, "The guard").
   guarded,
 };
 
 /// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau
-/// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF by
+/// (noise_alpha for kind k; the nearest shorter tau's type where a tau has too few points or lies
+/// beyond half the kind's all-tau limit), the EDF by
 /// `rule`, bounds at confidence `level` (two-sided; 0.683 = 1 sigma; check_confidence_level) from
 /// SP1065 eqn 45:
 /// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
