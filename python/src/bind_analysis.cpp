@@ -188,14 +188,9 @@ py::list dynamic(const std::string& kind, const f64_array& data, double rate_hz,
 
 // Greenhall & Riley's EDF for (d, overlapping, modified) as SP1065 names the variances.
 double edf_of(int alpha, int d, std::size_t m, std::size_t n, bool overlapping, bool modified) {
-  using analysis::dev_kind;
-  std::optional<dev_kind> k;
-  if (d == 2 && !modified) k = overlapping ? dev_kind::oadev : dev_kind::adev;
-  if (d == 2 && modified && overlapping) k = dev_kind::mdev;
-  if (d == 3 && !modified) k = overlapping ? dev_kind::ohdev : dev_kind::hdev;
-  if (!k || alpha < -4 || alpha > 2 || alpha + 2 * d <= 1)
-    throw py::value_error("no EDF for this (alpha, d, overlapping, modified)");
-  return analysis::edf(*k, alpha, m, n);
+  const auto e = analysis::edf_greenhall(alpha, d, m, n, overlapping, modified);
+  if (!e) throw py::value_error("no EDF for this (alpha, d, overlapping, modified)");
+  return *e;
 }
 
 }  // namespace

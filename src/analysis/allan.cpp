@@ -220,6 +220,10 @@ result<std::vector<deviation_point>> collect(dev_kind k, const std::vector<std::
   return out;
 }
 
+}  // namespace
+
+namespace detail {
+
 std::size_t max_factor(dev_kind k, std::size_t n_phase) {
   const std::size_t span = n_phase - 1;
   switch (k) {
@@ -239,10 +243,6 @@ std::size_t max_factor(dev_kind k, std::size_t n_phase) {
       return span / 4;
   }
 }
-
-}  // namespace
-
-namespace detail {
 
 std::optional<result<std::vector<deviation_point>>> deviation_from_block_sums(
     dev_kind k, const sample_source& samples, input_kind in, double tau0_s, const tau_spec& taus,
@@ -340,7 +340,7 @@ result<tau_spec> parse_tau_spec(std::string_view text) {
 std::vector<std::size_t> averaging_factors(const tau_spec& spec, dev_kind k, std::size_t n_phase) {
   std::vector<std::size_t> out;
   if (n_phase < 3) return out;
-  const std::size_t limit = std::max<std::size_t>(1, max_factor(k, n_phase));
+  const std::size_t limit = std::max<std::size_t>(1, detail::max_factor(k, n_phase));
   switch (spec.kind) {
     case tau_spec::set::octave:
       for (std::size_t m = 1; m <= limit; m *= 2) out.push_back(m);

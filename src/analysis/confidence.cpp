@@ -3,6 +3,7 @@
 #include "gyroflip/analysis/confidence.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -123,27 +124,49 @@ constexpr double j_max = 100.0;
 struct table_ab {
   double a0, a1;
 };
-// Rows alpha = 2, 1, 0, -1, -2; columns d = 1, 2, 3. (0, 0): not defined (alpha + 2d <= 1).
-constexpr table_ab table1[5][3] = {  // modified variances (case 1)
-    {{2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}, {22.0 / 25.0, 2.0 / 3.0}},
-    {{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}},
-    {{1.079, 0.368}, {1.033, 0.607}, {1.184, 0.848}},
-    {{0.0, 0.0}, {1.048, 0.534}, {1.180, 0.816}},
-    {{0.0, 0.0}, {1.302, 0.535}, {1.175, 0.777}}};
-constexpr table_ab table2[5][3] = {  // unmodified variances (cases 2 and 3)
-    {{3.0 / 2.0, 1.0 / 2.0}, {35.0 / 18.0, 1.0}, {231.0 / 100.0, 3.0 / 2.0}},
-    {{78.6, 25.2}, {790.0, 410.0}, {9950.0, 6520.0}},
-    {{2.0 / 3.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}},
-    {{0.0, 0.0}, {0.852, 0.375}, {0.997, 0.617}},
-    {{0.0, 0.0}, {1.079, 0.368}, {1.033, 0.607}}};
-constexpr table_ab table3[3] = {{6.0, 4.0}, {15.23, 12.0}, {47.8, 40.0}};  // flicker PM, b0 b1
+// Rows alpha = 2, 1, 0, -1, -2, -3, -4; columns d = 1, 2, 3 (Greenhall & Riley Tables 1-2; the same
+// in W. J. Riley's CombinedEDF, T1/T2, and allantools' greenhall_table1/2). Only the entries with
+// alpha + 2d > 1 are defined; the others are never read (greenhall_edf checks first).
+constexpr std::size_t table_rows = 7;
+using table_t = std::array<std::array<table_ab, 3>, table_rows>;
+constexpr table_t table1 = {
+    {// modified variances (case 1)
+     {{{2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}, {22.0 / 25.0, 2.0 / 3.0}}},
+     {{{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}}},
+     {{{1.079, 0.368}, {1.033, 0.607}, {1.184, 0.848}}},
+     {{{0.0, 0.0}, {1.048, 0.534}, {1.180, 0.816}}},
+     {{{0.0, 0.0}, {1.302, 0.535}, {1.175, 0.777}}},
+     {{{0.0, 0.0}, {0.0, 0.0}, {1.194, 0.703}}},
+     {{{0.0, 0.0}, {0.0, 0.0}, {1.489, 0.702}}}}};
+constexpr table_t table2 = {
+    {// unmodified variances (cases 2 and 3)
+     {{{3.0 / 2.0, 1.0 / 2.0}, {35.0 / 18.0, 1.0}, {231.0 / 100.0, 3.0 / 2.0}}},
+     {{{78.6, 25.2}, {790.0, 410.0}, {9950.0, 6520.0}}},
+     {{{2.0 / 3.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}}},
+     {{{0.0, 0.0}, {0.852, 0.375}, {0.997, 0.617}}},
+     {{{0.0, 0.0}, {1.079, 0.368}, {1.033, 0.607}}},
+     {{{0.0, 0.0}, {0.0, 0.0}, {1.053, 0.553}}},
+     {{{0.0, 0.0}, {0.0, 0.0}, {1.302, 0.535}}}}};
+constexpr std::array<table_ab, 3> table3 = {
+    {{6.0, 4.0}, {15.23, 12.0}, {47.8, 40.0}}};  // FPM b0 b1
 
-const table_ab& entry(const table_ab (&t)[5][3], int alpha, int d) {
+// Whether Greenhall & Riley define an EDF for (alpha, d): d = 1, 2, 3, alpha = 2 .. -4 and
+// alpha + 2d > 1 (the variance converges).
+bool greenhall_defined(int alpha, int d) {
+  return d >= 1 && d <= 3 && alpha >= -4 && alpha <= 2 && alpha + 2 * d > 1;
+}
+
+// The table entry of (alpha, d); an undefined (alpha, d) reads the zero entry, never past the
+// table.
+table_ab entry(const table_t& t, int alpha, int d) {
+  if (!greenhall_defined(alpha, d)) return {0.0, 0.0};
   return t[static_cast<std::size_t>(2 - alpha)][static_cast<std::size_t>(d - 1)];
 }
 
-double edf_greenhall(int alpha, int d, std::size_t m_int, std::size_t n_phase, bool overlapping,
+// Greenhall & Riley's EDF; 0 (no EDF) where they define none (greenhall_defined).
+double greenhall_edf(int alpha, int d, std::size_t m_int, std::size_t n_phase, bool overlapping,
                      bool modified) {
+  if (!greenhall_defined(alpha, d) || m_int == 0) return 0.0;
   const auto m = static_cast<double>(m_int);
   const auto n = static_cast<double>(n_phase);
   const double f = modified ? 1.0 : m;     // filter factor F
@@ -160,7 +183,7 @@ double edf_greenhall(int alpha, int d, std::size_t m_int, std::size_t n_phase, b
   if (modified) {              // case 1
     if (j <= j_max) return from_sum(j, big_m, s, 1.0, sz(0.0, 1.0, alpha, d));
     if (r > d + 1) {
-      const auto& t = entry(table1, alpha, d);
+      const auto t = entry(table1, alpha, d);
       return 1.0 / ((t.a0 - t.a1 / r) / r);
     }
     return from_sum(j_max, j_max, j_max / r, 1.0, sz(0.0, 1.0, alpha, d));
@@ -171,7 +194,7 @@ double edf_greenhall(int alpha, int d, std::size_t m_int, std::size_t n_phase, b
       return from_sum(j, big_m, s, fm, sz(0.0, fm, alpha, d));
     }
     if (r > d + 1) {
-      const auto& t = entry(table2, alpha, d);
+      const auto t = entry(table2, alpha, d);
       return 1.0 / ((t.a0 - t.a1 / r) / r);
     }
     return from_sum(j_max, j_max, j_max / r, inf, sz(0.0, inf, alpha, d));
@@ -181,7 +204,7 @@ double edf_greenhall(int alpha, int d, std::size_t m_int, std::size_t n_phase, b
     const auto& b = table3[static_cast<std::size_t>(d - 1)];
     const double z0 = b.a0 + b.a1 * std::log(m);
     if (r > d + 1) {
-      const auto& t = entry(table2, alpha, d);
+      const auto t = entry(table2, alpha, d);
       return 1.0 / ((t.a0 - t.a1 / r) / (z0 * z0 * r));
     }
     return from_sum(j_max, j_max, j_max / r, j_max / r, z0);
@@ -268,11 +291,29 @@ double b1_theory(double n, int mu) {
 // Fewer than 5 decimated phase points (4 frequency averages) say nothing about the noise type.
 constexpr std::size_t b1_min_points = 5;
 
+// Stable32's B1 rule, as its tables show it (no published description; docs/ANALYSIS.md, "Noise
+// identification"): the N of B1(N, mu) is the number of averages n for the non-overlapping ADEV
+// and HDEV, and the number of frequency data (N phase points - 1) for every other kind, whose
+// boundaries are then nearly the asymptotic ones (WFM/PM sqrt(2/3)); and a type is identified
+// only up to half the largest factor of the kind's all-tau table (detail::max_factor: N/10 for
+// ADEV and HDEV, N/8 for OADEV, MDEV, TDEV and OHDEV, N/6 for MTOTDEV, TTOTDEV and HTOTDEV, N/4
+// for TOTDEV, N the span of the phase), the last type carried beyond. With both, our types are
+// Stable32's on every B1 row of its nine PHASE.DAT all-tau tables (was 78-87 % of them;
+// MTOTDEV/TTOTDEV 65 %).
+std::size_t b1_theory_count(dev_kind k, std::size_t n_phase) {
+  return k == dev_kind::adev || k == dev_kind::hdev ? 0 : n_phase - 1;
+}
+
+std::size_t identified_up_to(dev_kind k, std::size_t n_phase) {
+  return n_phase > 1 ? detail::max_factor(k, n_phase) / 2 : 0;
+}
+
 // The B1 identification (SP1065 section 5.5, as Stable32 below 30 points): mu from the observed
-// B1 = s^2 / AVAR of the N = z.size() - 1 averages at this tau, between the theoretical values
-// of mu = 1 (RWFM), 0 (FFM), -1 (WFM) and -2 (PM) with geometric-mean boundaries; alpha = -mu - 1,
-// and PM (mu = -2) is returned as 2 for the caller to split with R(n).
-std::optional<int> alpha_b1(std::span<const double> z) {
+// B1 = s^2 / AVAR of the n = z.size() - 1 averages at this tau, between the theoretical values
+// B1(n_theory, mu) of mu = 1 (RWFM), 0 (FFM), -1 (WFM) and -2 (PM) with geometric-mean boundaries;
+// alpha = -mu - 1, and PM (mu = -2) is returned as 2 for the caller to split with R(n). n_theory:
+// see b1_theory_count.
+std::optional<int> alpha_b1(std::span<const double> z, std::size_t n_theory) {
   if (z.size() < b1_min_points) return std::nullopt;
   const std::size_t n = z.size() - 1;
   std::vector<double> y(n);
@@ -288,7 +329,7 @@ std::optional<int> alpha_b1(std::span<const double> z) {
   const double avar = 0.5 * as / static_cast<double>(n - 1);
   if (!(avar > 0.0)) return std::nullopt;
   const double b1 = var / avar;
-  const auto nn = static_cast<double>(n);
+  const auto nn = static_cast<double>(n_theory > 1 ? n_theory : n);
   for (int mu = 1; mu > -2; --mu) {
     const double boundary = std::sqrt(b1_theory(nn, mu) * b1_theory(nn, mu - 1));
     if (b1 > boundary) return -mu - 1;
@@ -336,19 +377,26 @@ std::vector<int> alpha_rn(const phase_source& x, const std::vector<std::size_t>&
 // 0.3 s of 1e8 samples' octave taus on one core): lag-1 autocorrelation with 30 points or more, the
 // B1 ratio with 5 to 29 (by_b1 set).
 template <typename Series>
-void classify(std::size_t count, std::size_t held_points, Series series, std::optional<int>* ids,
-              char* by_b1) {
+void classify(std::size_t count, std::size_t held_points, std::size_t n_theory, Series series,
+              std::optional<int>* ids, char* by_b1) {
   detail::for_each_item(count, detail::worker_count(held_points), [&](std::size_t, std::size_t i) {
     const std::span<double> z = series(i);
     const bool b1 = z.size() < lag1_min_points;
     by_b1[i] = b1 ? 1 : 0;
-    ids[i] = b1 ? alpha_b1(z) : alpha_lag1(z);
+    ids[i] = b1 ? alpha_b1(z, n_theory) : alpha_lag1(z);
   });
 }
 
-// PM read by B1: white or flicker by R(n), for the first max_rn such factors.
-void split_pm(const phase_source& x, const std::vector<std::size_t>& ms,
-              std::vector<std::optional<int>>& ids, const std::vector<char>& by_b1) {
+// Beyond identified_up_to(k) no type (the caller carries the last one); PM read by B1: white or
+// flicker by R(n), for the first max_rn such factors.
+void split_pm(dev_kind k, const phase_source& x, const std::vector<std::size_t>& ms,
+              std::vector<std::optional<int>>& ids, std::vector<char>& by_b1) {
+  const std::size_t up_to = identified_up_to(k, x.size());
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    if (ms[i] > up_to) {
+      ids[i] = std::nullopt;
+      by_b1[i] = 0;
+    }
   std::vector<std::size_t> pm;
   std::vector<std::size_t> pm_m;
   for (std::size_t i = 0; i < ids.size(); ++i)
@@ -361,12 +409,13 @@ void split_pm(const phase_source& x, const std::vector<std::size_t>& ms,
       }
     }
   const auto rn = alpha_rn(x, pm_m);
-  for (std::size_t k = 0; k < pm.size(); ++k) ids[pm[k]] = rn[k];
+  for (std::size_t j = 0; j < pm.size(); ++j) ids[pm[j]] = rn[j];
 }
 
 // Noise identification at every factor: the decimated series of as many factors as fit in
 // points_per_pass are collected in one pass over the phase, then classified.
-std::vector<std::optional<int>> identify(const phase_source& x, const std::vector<std::size_t>& ms,
+std::vector<std::optional<int>> identify(dev_kind k, const phase_source& x,
+                                         const std::vector<std::size_t>& ms,
                                          const progress_fn& on_progress) {
   std::vector<std::vector<std::size_t>> passes(1);
   std::size_t held = 0;
@@ -388,17 +437,18 @@ std::vector<std::optional<int>> identify(const phase_source& x, const std::vecto
     std::size_t held_points = 0;
     for (const auto& v : z) held_points += v.size();
     classify(
-        z.size(), held_points, [&z](std::size_t i) { return std::span<double>(z[i]); },
-        ids.data() + first, by_b1.data() + first);
+        z.size(), held_points, b1_theory_count(k, x.size()),
+        [&z](std::size_t i) { return std::span<double>(z[i]); }, ids.data() + first,
+        by_b1.data() + first);
     first += z.size();
   }
-  split_pm(x, ms, ids, by_b1);
+  split_pm(k, x, ms, ids, by_b1);
   return ids;
 }
 
 // As identify, the decimated series made from the block sums a deviation kept (heads; rate
 // input): the same points x_{km}, k < min(max_points, (N-1)/m + 1), to rounding, without a read.
-std::vector<std::optional<int>> identify_from_heads(const phase_source& x,
+std::vector<std::optional<int>> identify_from_heads(dev_kind k, const phase_source& x,
                                                     const std::vector<std::size_t>& ms,
                                                     detail::block_heads& heads) {
   std::vector<std::size_t> levels;  // each level once (a factor may be asked for twice)
@@ -410,7 +460,7 @@ std::vector<std::optional<int>> identify_from_heads(const phase_source& x,
   std::vector<std::optional<int>> level_ids(levels.size());
   std::vector<char> level_b1(levels.size());
   classify(
-      levels.size(), held_points,
+      levels.size(), held_points, b1_theory_count(k, x.size()),
       [&](std::size_t i) {
         return detail::decimated_from_heads(heads, levels[i], x.rate_mean(), x.tau0_s());
       },
@@ -426,7 +476,7 @@ std::vector<std::optional<int>> identify_from_heads(const phase_source& x,
     by_b1.push_back(level_b1[i]);
   }
   heads.sums.clear();
-  split_pm(x, ms, ids, by_b1);
+  split_pm(k, x, ms, ids, by_b1);
   return ids;
 }
 
@@ -465,7 +515,8 @@ double edf_table5(int alpha, std::size_t m_int, std::size_t n_phase) {
 constexpr std::size_t mtot_greenhall_max_m = 8;
 
 double edf_modified_total(int alpha, std::size_t m, std::size_t n_phase) {
-  if (m <= mtot_greenhall_max_m) return edf_greenhall(alpha, 2, m, n_phase, true, true);
+  if (m <= mtot_greenhall_max_m)
+    return greenhall_edf(std::clamp(alpha, -2, 2), 2, m, n_phase, true, true);
   constexpr double b[5] = {2.16, 1.73, 1.33, 0.92, 0.79};  // alpha 2 .. -2
   constexpr double c[5] = {2.28, 2.99, 1.89, 0.76, 0.37};
   const auto row = static_cast<std::size_t>(2 - std::clamp(alpha, -2, 2));
@@ -513,7 +564,7 @@ double edf_totdev(int alpha, std::size_t m, std::size_t n_phase) {
   } else if (alpha == 1) {
     e = edf_table5(1, m, n_phase);
   } else {
-    e = edf_greenhall(alpha, 2, m, n_phase, true, false);
+    e = greenhall_edf(alpha, 2, m, n_phase, true, false);
   }
   return e > 1.0 ? e : 1.0;
 }
@@ -578,26 +629,32 @@ std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m
   return alpha_lag1(z);
 }
 
-std::optional<int> noise_alpha(std::span<const double> phase, std::size_t m) {
+std::optional<int> noise_alpha(std::span<const double> phase, std::size_t m, dev_kind k) {
   const span_samples samples(phase);
   const auto src = phase_source::make(samples, input_kind::angle, 1.0);
   if (!src || src->size() == 0 || m == 0) return std::nullopt;
-  return identify(*src, {m}, {})[0];
+  return identify(k, *src, {m}, {})[0];
+}
+
+std::optional<double> edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase,
+                                    bool overlapping, bool modified) {
+  if (!greenhall_defined(alpha, d) || m == 0) return std::nullopt;
+  return greenhall_edf(alpha, d, m, n_phase, overlapping, modified);
 }
 
 double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
   switch (k) {
     case dev_kind::adev:
-      return edf_greenhall(alpha, 2, m, n_phase, false, false);
+      return greenhall_edf(alpha, 2, m, n_phase, false, false);
     case dev_kind::oadev:
-      return edf_greenhall(alpha, 2, m, n_phase, true, false);
+      return greenhall_edf(alpha, 2, m, n_phase, true, false);
     case dev_kind::mdev:
     case dev_kind::tdev:
-      return edf_greenhall(alpha, 2, m, n_phase, true, true);
+      return greenhall_edf(alpha, 2, m, n_phase, true, true);
     case dev_kind::hdev:
-      return edf_greenhall(alpha, 3, m, n_phase, false, false);
+      return greenhall_edf(alpha, 3, m, n_phase, false, false);
     case dev_kind::ohdev:
-      return edf_greenhall(alpha, 3, m, n_phase, true, false);
+      return greenhall_edf(alpha, 3, m, n_phase, true, false);
     case dev_kind::totdev:
       return edf_totdev(alpha, m, n_phase);
     case dev_kind::mtotdev:
@@ -688,7 +745,7 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phas
                     double level, const progress_fn& on_progress, edf_rule rule) {
   const auto ms = factors_of(points);
   const auto ids =
-      x.size() > 0 ? identify(x, ms, on_progress) : std::vector<std::optional<int>>(ms.size());
+      x.size() > 0 ? identify(k, x, ms, on_progress) : std::vector<std::optional<int>>(ms.size());
   fill_intervals(points, k, x.size(), ids, level, rule);
 }
 
@@ -704,7 +761,7 @@ result<std::vector<deviation_point>> deviation_with_confidence(dev_kind k, const
     if (auto r = detail::deviation_from_block_sums(k, x.samples(), x.kind(), x.tau0_s(), taus,
                                                    on_progress, &heads)) {
       if (*r)
-        fill_intervals(**r, k, x.size(), identify_from_heads(x, factors_of(**r), heads), level,
+        fill_intervals(**r, k, x.size(), identify_from_heads(k, x, factors_of(**r), heads), level,
                        rule);
       return std::move(*r);
     }

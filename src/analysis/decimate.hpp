@@ -14,6 +14,11 @@
 
 namespace gyroflip::analysis::detail {
 
+/// The largest averaging factor of statistic k for N phase points, as Stable32's all-tau tables
+/// (averaging_factors, allan.hpp): (N-1)/5 ADEV, HDEV; (N-1)/2 TOTDEV; (N-1)/3 MTOTDEV, TTOTDEV,
+/// HTOTDEV; N-1 Theo1, MTIE; (N-1)/4 the others.
+std::size_t max_factor(dev_kind k, std::size_t n_phase);
+
 /// Terms of the non-overlapping `order`-th differences of the phase decimated by m, for N phase
 /// points: (N-1)/m - order + 1 (ADEV, order 2: SP1065 eqn 7; HDEV, order 3: eqn 17), or 0.
 inline std::size_t decimated_terms(std::size_t n_phase, std::size_t m, std::size_t order) {

@@ -37,8 +37,9 @@ bool within(const noise_term& t, double truth) {
 
 // Regression (issue 13 item 14, 2026-11-23): on pure white rate noise (360 000 samples at
 // 100 Hz, 40 seeds), 4 seeds read alpha = 1 or 2 at tau = 81.92 s (44 decimated points); the
-// EDF jumped from ~130 to 805 or 20 000, the interval shrank to +-0.5 %, N came out 8 % low with
-// the truth outside its interval, and a Q that does not exist was "resolved". Now:
+// EDF jumped from ~64 (white FM at m = 8192) to 805 or 20 000, the interval shrank to +-0.5 %
+// (from +-9 %), N came out 8 % low with the truth outside its interval, and a Q that does not
+// exist was "resolved". Now:
 // - no tau's EDF exceeds what the noise types identified at it and its neighbours give there;
 // - N's 1-sigma interval holds the truth for >= 20 of 40 seeds (nominal 27; 20 is 2.6 binomial
 //   standard deviations below);

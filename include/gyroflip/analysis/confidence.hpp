@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -24,12 +25,27 @@ namespace gyroflip::analysis {
 /// are used. Returns nullopt when fewer than 30 decimated points remain (too few to tell).
 [[nodiscard]] std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m);
 
-/// The noise identification `add_confidence` uses at factor m: lag-1 autocorrelation with 30
-/// decimated points or more; with 5 to 29, the B1 ratio (SP1065 section 5.5: standard variance
-/// over Allan variance of the frequency averages at this tau, against Barnes' B1(N, mu) with
-/// geometric-mean boundaries), and for phase noise R(n) = MVAR/AVAR to tell white from flicker
-/// PM, as Stable32 does. nullopt below 5 points.
-[[nodiscard]] std::optional<int> noise_alpha(std::span<const double> phase, std::size_t m);
+/// The noise identification `add_confidence` uses at factor m for statistic k: lag-1
+/// autocorrelation with 30 decimated points or more; with 5 to 29, the B1 ratio (SP1065 section
+/// 5.5: standard variance over Allan variance of the frequency averages at this tau, against
+/// Barnes' B1(N, mu) with geometric-mean boundaries), and for phase noise R(n) = MVAR/AVAR to tell
+/// white from flicker PM, as Stable32 does. Stable32's choices, read from its tables
+/// (docs/ANALYSIS.md, "Noise identification"): N of B1(N, mu) the number of averages for ADEV and
+/// HDEV, the number of frequency data for the other kinds; nullopt (type carried from a shorter
+/// tau) beyond half the kind's largest all-tau factor (span/10 ADEV, HDEV; span/8 OADEV, MDEV,
+/// TDEV, OHDEV; span/6 MTOTDEV, TTOTDEV, HTOTDEV; span/4 TOTDEV). nullopt below 5 points.
+[[nodiscard]] std::optional<int> noise_alpha(std::span<const double> phase, std::size_t m,
+                                             dev_kind k = dev_kind::adev);
+
+/// Greenhall & Riley's EDF ("Uncertainty of stability variances based on finite differences",
+/// PTTI 2003, as Stable32's CombinedEDF) of the d-th difference variance (d = 1 first difference,
+/// 2 Allan, 3 Hadamard), modified (F = 1) or not (F = m), overlapping (stride S = m) or not
+/// (S = 1), at factor m for N phase points and noise alpha: the basic sum up to J_max = 100 terms,
+/// their Tables 1-3 beyond (rows alpha = 2 .. -4). nullopt where they define none: m = 0, d outside
+/// 1..3, alpha outside -4..2, or alpha + 2d <= 1. 0 when N is too short for one term.
+[[nodiscard]] std::optional<double> edf_greenhall(int alpha, int d, std::size_t m,
+                                                  std::size_t n_phase, bool overlapping,
+                                                  bool modified);
 
 /// EDF of statistic `k` at averaging factor m for N phase points and noise `alpha`:
 /// Greenhall & Riley's algorithm ("Uncertainty of stability variances based on finite
@@ -74,13 +90,14 @@ enum class edf_rule {
   /// No interval narrower than the neighbouring taus allow: the smallest EDF among the types
   /// identified at the tau and at its two neighbours, and a frequency-noise type carried on where
   /// PM is read at a tau longer than one that showed frequency noise. A type misread from few
-  /// points (white FM read as PM on 44 points: EDF 20 000 instead of 130) then cannot give one
+  /// points (white FM read as PM on 44 points: EDF 20 000 instead of ~64) then cannot give one
   /// point a +-0.5 % interval. The noise fit's weights use it (docs/ANALYSIS.md, "The guard").
   guarded,
 };
 
 /// Fills `edf`, `alpha`, `ci_lo`, `ci_hi` of every point: noise identified at each tau
-/// (noise_alpha; the nearest shorter tau's type where a tau has too few points), the EDF by
+/// (noise_alpha for kind k; the nearest shorter tau's type where a tau has too few points or lies
+/// beyond half the kind's all-tau limit), the EDF by
 /// `rule`, bounds at confidence `level` (two-sided; 0.683 = 1 sigma; check_confidence_level) from
 /// SP1065 eqn 45:
 /// dev_lo = dev sqrt(edf / chi2(1 - (1 - level)/2, edf)), dev_hi = dev sqrt(edf / chi2((1 -
