@@ -420,6 +420,19 @@ def test_theo1_and_tierms_errors_as_allantools_computes_them():
     assert np.all(d > 0) and list(e) == [0, 0]
 
 
+def test_mtie_and_tierms_of_frequency_data_remove_its_mean_as_frequency2phase_does():
+    """allantools integrates frequency data with frequency2phase, which subtracts the mean first,
+    so a frequency offset leaves its MTIE and TIE rms unchanged (gyroflip's own API keeps it:
+    a bias is a time error)."""
+    y = np.random.default_rng(11).normal(size=2000)
+    for f in (at.mtie, at.tierms):
+        _, d0, _, _ = f(y, data_type="freq", taus=[1, 10, 100])
+        _, d5, _, _ = f(y + 5.0, data_type="freq", taus=[1, 10, 100])
+        _, dp, _, _ = f(at.frequency2phase(y + 5.0, 1.0), data_type="phase", taus=[1, 10, 100])
+        np.testing.assert_allclose(d5, d0, rtol=1e-9)
+        np.testing.assert_allclose(d5, dp, rtol=1e-9)
+
+
 def test_realtime_auto_afs_grows_the_factors_in_every_class():
     """allantools' realtime classes with auto_afs=True add the next factor of the grid
     round(10^k logspace(0, 1, pts_per_decade + 1)) once 2 af + 1 points exist: 200 points give

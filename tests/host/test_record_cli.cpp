@@ -663,12 +663,22 @@ TEST(RecordCli, SigkillAtRandomMomentsLosesNothingSentBeforeIt) {
     const int pid = test::spawn_cli({"record", "--port", emu.pty(), "-o", gfr});
     std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms(rng)));
     // Sent by now, in this recorder's run: the rows after the first cycle-0 A dwell it started.
-    const auto rows = read_log(log);
-    std::set<long long> must;
-    bool in_run = false;
-    for (std::size_t i = before; i < rows.size(); ++i) {
-      in_run = in_run || (rows[i].at(1) == 0 && rows[i].at(2) == 0);
-      if (in_run) must.insert(rows[i].at(3));  // t_start_ticks
+    const auto sent = [&] {
+      const auto rows = read_log(log);
+      std::set<long long> out;
+      bool in_run = false;
+      for (std::size_t i = before; i < rows.size(); ++i) {
+        in_run = in_run || (rows[i].at(1) == 0 && rows[i].at(2) == 0);
+        if (in_run) out.insert(rows[i].at(3));  // t_start_ticks
+      }
+      return out;
+    };
+    // A loaded machine (the sanitizer suite on a fresh CI machine) may start the recorder late:
+    // wait for a few dwells of this run before the kill, so that the check below is never empty.
+    auto must = sent();
+    for (int w = 0; w < 600 && must.size() <= 5; ++w) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      must = sent();
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     kill(pid, SIGKILL);

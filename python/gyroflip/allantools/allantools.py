@@ -292,6 +292,10 @@ def _deviation(kind, data, rate, data_type, taus, maximum_m=None, even=False, on
     # frequency data, whose integral is NaN from there on).
     factors = [int(v) for v in m]
     kind_in = "rate" if data_type == "freq" else "angle"
+    if data_type == "freq" and kind in ("mtie", "tierms") and samples.size:
+        # gyroflip's MTIE and TIE rms keep a rate record's mean (ITU-T G.810); allantools'
+        # frequency2phase removes it first, so the drop-in does too.
+        samples = samples - np.nanmean(samples)
     core_rate, scale = _core_rate(rate, data_type, kind)
     r, finite = _core_zeroing(
         lambda y: _gyroflip._curve(kind, y, core_rate, kind_in, "octave", factors, None, False), samples)

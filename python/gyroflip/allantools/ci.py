@@ -36,9 +36,9 @@ def confidence_interval(dev, edf, ci=ONE_SIGMA_CI):
 
 
 def edf_greenhall(alpha, d, m, N, overlapping=False, modified=False, verbose=False):
-    """Greenhall & Riley's EDF (2003) for noise alpha, difference order d (2 Allan, 3 Hadamard),
-    factor m and N phase points; the variances gyroflip computes (ADEV, OADEV, MDEV, HDEV,
-    OHDEV). Others raise ValueError (allantools: NotImplementedError)."""
+    """Greenhall & Riley's EDF (2003) for noise alpha, difference order d (1, 2 Allan, 3
+    Hadamard), factor m and N phase points, modified or not, overlapping or not. Where the paper
+    defines none (alpha + 2d <= 1, alpha outside -4..2) ValueError (allantools: AssertionError)."""
     e = _gyroflip._edf(int(alpha), int(d), int(m), int(N), bool(overlapping), bool(modified))
     if verbose:
         print("edf_greenhall:", e)
