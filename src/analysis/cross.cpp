@@ -232,16 +232,19 @@ gappy_phase phase_with_gaps(std::span<const double> data, input_kind in, double 
   return p;
 }
 
-// Whether data has a NaN; an error names the first infinite sample or one beyond the magnitude
-// every deviation takes (phase_source::max_sample_magnitude). One vectorisable pass.
-result<bool> has_gaps(std::span<const double> data) {
+// Whether data has a NaN (a missing sample; refused as phase_source::make refuses it unless
+// `missing_allowed`); an error names the first infinite sample or one beyond the magnitude every
+// deviation takes (phase_source::max_sample_magnitude). One vectorisable pass.
+result<bool> check_samples(std::span<const double> data, bool missing_allowed) {
   bool gaps = false;
   bool bad = false;
   for (double v : data) {
     gaps |= std::isnan(v);
     bad |= std::abs(v) > phase_source::max_sample_magnitude;
   }
-  for (std::size_t k = 0; bad && k < data.size(); ++k) {
+  for (std::size_t k = 0; (bad || (gaps && !missing_allowed)) && k < data.size(); ++k) {
+    if (!missing_allowed && !std::isfinite(data[k]))
+      return usage_error(fmt::format("sample {} (0-based) is not finite", k));
     if (std::isinf(data[k]))
       return runtime_error(
           fmt::format("sample {} (0-based) is infinite; a missing sample is NaN", k));
@@ -268,7 +271,7 @@ deviation_point point_of(std::size_t m, double tau0_s, std::size_t n, double var
 result<std::vector<deviation_point>> gradev(std::span<const double> data, input_kind in,
                                             double tau0_s, const tau_spec& taus) {
   if (auto s = check_tau0(tau0_s); !s) return s.err();
-  const auto gaps = has_gaps(data);
+  const auto gaps = check_samples(data, true);
   if (!gaps) return gaps.err();
   const std::size_t n_phase = data.size() + (in == input_kind::rate ? 1 : 0);
   if (n_phase < 3)
@@ -303,23 +306,22 @@ result<std::vector<deviation_point>> gcodev(std::span<const double> a, std::span
         fmt::format("the two series have {} and {} samples; GCODEV needs "
                     "simultaneous samples of one length",
                     a.size(), b.size()));
-  // Each series' checks (finite, magnitude, tau0) are the phase source's, as for OADEV.
-  const span_samples sa(a);
-  const span_samples sb(b);
-  const auto pa = phase_source::make(sa, in, tau0_s);
-  if (!pa) return pa.err();
-  const auto pb = phase_source::make(sb, in, tau0_s);
-  if (!pb) return pb.err();
-  const std::size_t n_phase = pa->size();
-  if (n_phase < 3)
-    return runtime_error(
-        fmt::format("{} phase points are too few for an Allan deviation", n_phase));
-  // Rate input: each phase built once on all cores (phase_source::build, the bits OADEV sums).
-  // Not zeroed first: build() writes every point, each thread the pages it built.
+  // Each series' checks (finite, magnitude, tau0) are OADEV's: the phase source's for rate
+  // input, which then builds each phase once on all cores (phase_source::build, the bits OADEV
+  // sums; not zeroed first: build() writes every point, each thread the pages it built); angle
+  // samples are the phase.
+  if (auto s = check_tau0(tau0_s); !s) return s.err();
+  const std::size_t n_phase = a.size() + (in == input_kind::rate ? 1 : 0);
   std::unique_ptr<double[]> built;
   std::span<const double> xa = a;
   std::span<const double> xb = b;
   if (in == input_kind::rate) {
+    const span_samples sa(a);
+    const span_samples sb(b);
+    const auto pa = phase_source::make(sa, in, tau0_s);
+    if (!pa) return pa.err();
+    const auto pb = phase_source::make(sb, in, tau0_s);
+    if (!pb) return pb.err();
     built = std::make_unique_for_overwrite<double[]>(2 * n_phase);
     const std::span<double> ba(built.get(), n_phase);
     const std::span<double> bb(built.get() + n_phase, n_phase);
@@ -327,7 +329,13 @@ result<std::vector<deviation_point>> gcodev(std::span<const double> a, std::span
     pb->build(bb);
     xa = ba;
     xb = bb;
+  } else {
+    for (const auto x : {a, b})
+      if (auto c = check_samples(x, false); !c) return c.err();
   }
+  if (n_phase < 3)
+    return runtime_error(
+        fmt::format("{} phase points are too few for an Allan deviation", n_phase));
   const auto ms = averaging_factors(taus, dev_kind::oadev, n_phase);
   const auto sums = term_sums<1>(n_phase, ms, [&](std::size_t m, std::size_t i, std::size_t n) {
     return std::array<double, 1>{

@@ -628,9 +628,14 @@ TEST(Cross, GcodevIsTheMeanProductOfTheTwoSecondDifferences) {
   const auto neg = *gcodev(a, minus_a, input_kind::angle, 1.0, spec);
   const auto o = *deviation(dev_kind::oadev, a, input_kind::angle, 1.0, spec);
   for (std::size_t f = 0; f < ms.size(); ++f) EXPECT_NEAR(neg[f].dev / o[f].dev, -1.0, 1e-12);
-  auto bad = b;
-  bad[3] = std::nan("");
-  EXPECT_FALSE(gcodev(a, bad, input_kind::angle, 1.0, spec));
+  // Bad input, as OADEV: a missing or infinite sample, one beyond +-1e100, tau0 out of range.
+  for (const double v : {std::nan(""), HUGE_VAL, 1e101}) {
+    auto bad = b;
+    bad[3] = v;
+    EXPECT_FALSE(gcodev(a, bad, input_kind::angle, 1.0, spec)) << v;
+    EXPECT_FALSE(gcodev(bad, a, input_kind::rate, 1.0, spec)) << v;
+  }
+  EXPECT_FALSE(gcodev(a, b, input_kind::angle, 0.0, spec));
 }
 
 TEST(Cross, GcodevOfASeriesWithItselfIsItsOadevAndThreeCorneredHatRecoversTheClocks) {
