@@ -263,9 +263,12 @@ result<bool> check_samples(std::span<const double> data, bool missing_allowed) {
   return gaps;
 }
 
-// Memory for n doubles, not zeroed, in transparent huge pages where the system gives them on
-// request (Linux madvise): GCODEV of 1e7 rate samples first-touches 160 MB of phase, 40 960 page
-// faults of 4 KiB otherwise, ~15 % of its CPU time (perf, docs/PERFORMANCE.md).
+// Memory for n doubles, not zeroed. Beyond 32 MB in transparent huge pages where the system
+// gives them on request (Linux madvise): GCODEV of 1e7 rate samples first-touches 160 MB of
+// phase, 40 960 page faults of 4 KiB otherwise, ~15 % of its CPU time; below, where the C
+// library may hand back the memory of the last call (glibc's malloc keeps blocks up to 32 MB in
+// its heap once one was freed), huge pages would be cleared afresh on every call (1e6 samples:
+// ~11 % of the call). docs/PERFORMANCE.md, issue 23.
 struct free_memory {
   void operator()(double* p) const noexcept { std::free(p); }
 };
@@ -273,6 +276,12 @@ using doubles = std::unique_ptr<double[], free_memory>;
 
 doubles uninitialised_doubles(std::size_t n) {
   constexpr std::size_t huge_page = std::size_t{1} << 21;
+  constexpr std::size_t huge_from = std::size_t{32} << 20;
+  if (n * sizeof(double) <= huge_from) {
+    auto* p = static_cast<double*>(std::malloc(n * sizeof(double)));
+    if (p == nullptr) throw std::bad_alloc();
+    return doubles(p);
+  }
   const std::size_t bytes = (n * sizeof(double) + huge_page - 1) / huge_page * huge_page;
   auto* p = static_cast<double*>(std::aligned_alloc(huge_page, bytes));
   if (p == nullptr) throw std::bad_alloc();
