@@ -192,77 +192,6 @@ GYROFLIP_KERNEL_CLONES std::array<double, 2> sum_squares_within_runs(const term_
   });
 }
 
-// The phase of gappy data and, per point, a second series for the test of a term: angle input,
-// x with missing points as 0 and `mark` 1 where a point exists, else 0; rate input, x and `mark`
-// the number of missing samples before each point (a term exists where it is the same at both
-// ends).
-struct gappy_phase {
-  std::vector<double> x;
-  std::vector<double> mark;
-};
-
-gappy_phase phase_with_gaps(std::span<const double> data, input_kind in, double tau0_s) {
-  gappy_phase p;
-  if (in == input_kind::angle) {
-    p.x.resize(data.size());
-    p.mark.resize(data.size());
-    for (std::size_t k = 0; k < data.size(); ++k) {
-      const bool missing = std::isnan(data[k]);
-      p.x[k] = missing ? 0.0 : data[k];
-      p.mark[k] = missing ? 0.0 : 1.0;
-    }
-    return p;
-  }
-  long double mean = 0.0L;
-  std::size_t finite = 0;
-  for (double v : data)
-    if (!std::isnan(v)) {
-      mean += static_cast<long double>(v);
-      ++finite;
-    }
-  if (finite > 0) mean /= static_cast<long double>(finite);
-  p.x.assign(data.size() + 1, 0.0);
-  p.mark.assign(data.size() + 1, 0.0);
-  long double acc = 0.0L;
-  double missing = 0.0;
-  for (std::size_t k = 0; k < data.size(); ++k) {
-    if (std::isnan(data[k])) {  // the phase after a missing sample starts a new run
-      missing += 1.0;
-      acc = 0.0L;
-    } else {
-      acc += (static_cast<long double>(data[k]) - mean) * static_cast<long double>(tau0_s);
-    }
-    p.x[k + 1] = static_cast<double>(acc);
-    p.mark[k + 1] = missing;
-  }
-  return p;
-}
-
-// Whether data has a NaN (a missing sample; refused as phase_source::make refuses it unless
-// `missing_allowed`); an error names the first infinite sample or one beyond the magnitude every
-// deviation takes (phase_source::max_sample_magnitude). One vectorisable pass.
-result<bool> check_samples(std::span<const double> data, bool missing_allowed) {
-  bool gaps = false;
-  bool bad = false;
-  for (double v : data) {
-    gaps |= std::isnan(v);
-    bad |= std::abs(v) > phase_source::max_sample_magnitude;
-  }
-  for (std::size_t k = 0; (bad || (gaps && !missing_allowed)) && k < data.size(); ++k) {
-    if (!missing_allowed && !std::isfinite(data[k]))
-      return usage_error(fmt::format("sample {} (0-based) is not finite", k));
-    if (std::isinf(data[k]))
-      return runtime_error(
-          fmt::format("sample {} (0-based) is infinite; a missing sample is NaN", k));
-    if (std::abs(data[k]) > phase_source::max_sample_magnitude)
-      return usage_error(
-          fmt::format("sample {} (0-based) is {:g}, beyond +-{:g}, the largest "
-                      "magnitude the analysis takes",
-                      k, data[k], phase_source::max_sample_magnitude));
-  }
-  return gaps;
-}
-
 // Memory for n doubles, not zeroed. Beyond 32 MB in transparent huge pages where the system
 // gives them on request (Linux madvise): GCODEV of 1e7 rate samples first-touches 160 MB of
 // phase, 40 960 page faults of 4 KiB otherwise, ~15 % of its CPU time; below, where the C
@@ -291,6 +220,87 @@ doubles uninitialised_doubles(std::size_t n) {
   return doubles(p);
 }
 
+// The phase of gappy data and, per point, a second series for the test of a term: angle input,
+// x with missing points as 0 and `mark` 1 where a point exists, else 0; rate input, x and `mark`
+// the number of missing samples before each point (a term exists where it is the same at both
+// ends).
+struct gappy_phase {
+  doubles x_data;
+  doubles mark_data;
+  std::size_t size = 0;
+  [[nodiscard]] std::span<const double> x() const { return {x_data.get(), size}; }
+  [[nodiscard]] std::span<const double> mark() const { return {mark_data.get(), size}; }
+};
+
+result<gappy_phase> phase_with_gaps(std::span<const double> data, input_kind in, double tau0_s) {
+  gappy_phase p;
+  p.size = data.size() + (in == input_kind::rate ? 1 : 0);
+  p.x_data = uninitialised_doubles(p.size);
+  p.mark_data = uninitialised_doubles(p.size);
+  double* x = p.x_data.get();
+  double* mark = p.mark_data.get();
+  if (in == input_kind::angle) {
+    for (std::size_t k = 0; k < data.size(); ++k) {
+      const bool missing = std::isnan(data[k]);
+      x[k] = missing ? 0.0 : data[k];
+      mark[k] = missing ? 0.0 : 1.0;
+    }
+    return p;
+  }
+  // Rate input: a missing sample leaves the phase after it unknown by an offset, which no term
+  // within a gap-free run depends on (nor on a linear trend). So the missing samples are given
+  // the mean of the others (the phase does not drift across a gap) and the whole series is
+  // integrated as OADEV integrates it (phase_source: mean removed, long-double carries, on all
+  // cores); the terms across a gap, which the filling made up, are the ones left out.
+  double sum = 0.0;
+  std::size_t finite = 0;
+  for (double v : data) {
+    const bool missing = std::isnan(v);
+    sum += missing ? 0.0 : v;
+    finite += missing ? 0 : 1;
+  }
+  const double mean = finite > 0 ? sum / static_cast<double>(finite) : 0.0;
+  const auto filled = uninitialised_doubles(data.size());
+  std::size_t missing = 0;
+  mark[0] = 0.0;
+  for (std::size_t k = 0; k < data.size(); ++k) {
+    const bool gap = std::isnan(data[k]);
+    filled[k] = gap ? mean : data[k];
+    missing += gap ? 1 : 0;
+    mark[k + 1] = static_cast<double>(missing);
+  }
+  const span_samples samples(std::span<const double>(filled.get(), data.size()));
+  const auto src = phase_source::make(samples, input_kind::rate, tau0_s);
+  if (!src) return src.err();
+  src->build(std::span<double>(x, p.size));
+  return p;
+}
+
+// Whether data has a NaN (a missing sample; refused as phase_source::make refuses it unless
+// `missing_allowed`); an error names the first infinite sample or one beyond the magnitude every
+// deviation takes (phase_source::max_sample_magnitude). One vectorisable pass.
+result<bool> check_samples(std::span<const double> data, bool missing_allowed) {
+  bool gaps = false;
+  bool bad = false;
+  for (double v : data) {
+    gaps |= std::isnan(v);
+    bad |= std::abs(v) > phase_source::max_sample_magnitude;
+  }
+  for (std::size_t k = 0; (bad || (gaps && !missing_allowed)) && k < data.size(); ++k) {
+    if (!missing_allowed && !std::isfinite(data[k]))
+      return usage_error(fmt::format("sample {} (0-based) is not finite", k));
+    if (std::isinf(data[k]))
+      return runtime_error(
+          fmt::format("sample {} (0-based) is infinite; a missing sample is NaN", k));
+    if (std::abs(data[k]) > phase_source::max_sample_magnitude)
+      return usage_error(
+          fmt::format("sample {} (0-based) is {:g}, beyond +-{:g}, the largest "
+                      "magnitude the analysis takes",
+                      k, data[k], phase_source::max_sample_magnitude));
+  }
+  return gaps;
+}
+
 deviation_point point_of(std::size_t m, double tau0_s, std::size_t n, double var) {
   deviation_point d;
   d.m = m;
@@ -313,11 +323,13 @@ result<std::vector<deviation_point>> gradev(std::span<const double> data, input_
         fmt::format("{} phase points are too few for an Allan deviation", n_phase));
   // Without a gap every term exists: GRADEV is OADEV (SP1065 eqn 11), computed as OADEV is.
   if (!*gaps) return deviation(dev_kind::oadev, data, in, tau0_s, taus);
-  const auto p = phase_with_gaps(data, in, tau0_s);
+  const auto gappy = phase_with_gaps(data, in, tau0_s);
+  if (!gappy) return gappy.err();
+  const auto& p = *gappy;
   const auto ms = averaging_factors(taus, dev_kind::oadev, n_phase);
   const auto sums = term_sums<2>(n_phase, ms, [&](std::size_t m, std::size_t i, std::size_t n) {
-    const auto x = points_at(p.x, m, i);
-    const auto mark = points_at(p.mark, m, i);
+    const auto x = points_at(p.x(), m, i);
+    const auto mark = points_at(p.mark(), m, i);
     return in == input_kind::angle ? sum_squares_of_existing_points(x, mark, n)
                                    : sum_squares_within_runs(x, mark, n);
   });
