@@ -600,7 +600,9 @@ TEST(Cross, GcodevIsTheMeanProductOfTheTwoSecondDifferences) {
   const auto a = walk_phase(n, 71);
   auto b = white_phase(n, 72);
   for (std::size_t i = 0; i < n; ++i) b[i] += 0.3 * a[i];  // correlated: cov > 0
-  const std::vector<std::size_t> ms{1, 5, 64, 999, 40000};
+  // Factors m and 2m are summed together (1 and 2, 64 and 128, 40000 and 80000: not over the
+  // last blocks of 40000, where 80000 has no terms), the others alone.
+  const std::vector<std::size_t> ms{1, 2, 5, 64, 128, 999, 40000, 80000};
   const tau_spec spec{tau_spec::set::list, ms};
   for (const auto in : {input_kind::angle, input_kind::rate}) {
     const auto c = *gcodev(a, b, in, 2.0, spec);
