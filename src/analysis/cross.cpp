@@ -34,11 +34,12 @@ status check_tau0(double tau0_s) {
 // ---- Per-factor sums over the terms of lag 2m -------------------------------------------------
 //
 // GCODEV and GRADEV sum one term per i in [0, N - 2m) for each factor m, as OADEV does, and are
-// organised as OADEV's sweep (sweep.hpp): blocks of 4096 terms summed in double by a four-lane
-// kernel and added in long double (relative rounding ~1e-13 at any length), every factor of a
+// organised as OADEV's sweep (sweep.hpp): blocks of 4096 terms summed in double by eight-lane
+// kernels and added in long double (relative rounding ~1e-13 at any length), every factor of a
 // block while the block's phase is in the cache, chunks of 2^16 terms on all cores, added in
 // chunk order (the same sums for any number of threads). The phase is in memory (the inputs are
-// spans): 1e6 samples, octave taus, GCODEV 55 -> ~6 ms CPU (docs/PERFORMANCE.md, issue 23).
+// spans): 1e6 rate samples, octave taus, GCODEV 51 -> ~7 ms CPU, GRADEV 35 -> ~4 ms
+// (docs/PERFORMANCE.md, "Issue 23: GCODEV and GRADEV").
 
 constexpr std::size_t block_terms = 4096;
 constexpr std::size_t chunk_terms = std::size_t{1} << 16;
@@ -254,6 +255,7 @@ struct free_memory {
 using doubles = std::unique_ptr<double[], free_memory>;
 
 doubles uninitialised_doubles(std::size_t n) {
+  n = std::max<std::size_t>(n, 1);  // malloc(0) may return null
   constexpr std::size_t huge_page = std::size_t{1} << 21;
   constexpr std::size_t huge_from = std::size_t{32} << 20;
   if (n * sizeof(double) <= huge_from) {
