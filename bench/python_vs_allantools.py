@@ -2,7 +2,8 @@
 """Issue 23, section 4: every deviation of `gyroflip.allantools` beside allantools' own, in the
 same process on the same array (data_type="freq", taus="octave"), best of REPEAT calls; and the
 per-call overhead (a 1000-sample call). allantools is timed only when it can be imported
-(PYTHONPATH); gyroflip never imports it otherwise.
+(PYTHONPATH); gyroflip never imports it otherwise. gcodev gets a second array of its own (two series
+of one length), the same for both.
 
 Usage: /usr/bin/python3 bench/python_vs_allantools.py [build/python] [sizes...] [--kinds=a,b,...]
        [--repeat=N]
@@ -26,10 +27,17 @@ def best(f):
     return min(t)
 
 
+def call(module, kind, y, y2):
+    """module.kind on the array(s), data_type="freq", taus="octave"."""
+    f = getattr(module, kind)
+    series = (y, y2) if kind == "gcodev" else (y,)
+    return f(*series, data_type="freq", taus="octave")
+
+
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     kinds = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
-             "htotdev", "theo1", "pdev", "mtie", "tierms"]
+             "htotdev", "theo1", "pdev", "mtie", "tierms", "gcodev", "gradev"]
     global REPEAT
     for a in sys.argv[1:]:
         if a.startswith("--kinds="):
@@ -46,16 +54,18 @@ def main():
     except ImportError:
         theirs = None
     small = np.random.default_rng(2).normal(size=1000)
+    small2 = np.random.default_rng(4).normal(size=1000)
     for k in kinds:
-        t, _ = best(lambda: getattr(ours, k)(small, data_type="freq", taus="octave"))
+        t, _ = best(lambda: call(ours, k, small, small2))
         print(f"overhead {k:8s} N=1e3   gyroflip {t * 1e3:8.3f} ms", flush=True)
     for n in sizes:
         y = np.random.default_rng(1).normal(size=n)
+        y2 = np.random.default_rng(3).normal(size=n)
         for k in kinds:
-            g, g_cpu = best(lambda: getattr(ours, k)(y, data_type="freq", taus="octave"))
+            g, g_cpu = best(lambda: call(ours, k, y, y2))
             a = None
             if theirs is not None and hasattr(theirs, k):
-                a, a_cpu = best(lambda: getattr(theirs, k)(y, data_type="freq", taus="octave"))
+                a, a_cpu = best(lambda: call(theirs, k, y, y2))
             ratio = f"{a / g:6.1f}x (cpu {a_cpu / g_cpu:5.1f}x)" if a else "     -"
             at = f"{a * 1e3:9.2f} ms (cpu {a_cpu * 1e3:9.2f} ms)" if a else "        - "
             print(f"{k:8s} N={n:.0e}  gyroflip {g * 1e3:8.2f} ms (cpu {g_cpu * 1e3:8.2f} ms)  "

@@ -3,6 +3,7 @@
 // Stable32 and allantools compute them) in long double, on series that cross the FFT blocks; and
 // against Stable32's PHASE.DAT tables (values 1e-4, the printed precision; "#" exact) and the
 // published NBS14 values. Bad input: a clear error or no point, never a number from nothing.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -523,6 +524,122 @@ TEST(Cross, GradevWithoutGapsIsOadevAndSkipsTermsAcrossGaps) {
   EXPECT_FALSE(gradev(y, input_kind::rate, 1.0));
   EXPECT_FALSE(gradev(std::vector<double>(50, std::nan("")), input_kind::angle, 1.0));
   EXPECT_FALSE(gradev(std::vector<double>{}, input_kind::angle, 1.0));
+}
+
+// GRADEV's blocked sums on all cores against the terms summed one by one, on a series long
+// enough for several chunks (2^16 terms) with gaps everywhere, for factors that are not powers of
+// two and lengths that are not multiples of the kernel's eight lanes.
+TEST(Cross, GradevWithManyGapsIsTheSumOfTheTermsThatExist) {
+  constexpr std::size_t n = 300001;
+  const auto walk = walk_phase(n, 61);
+  const auto white = white_phase(n, 62);
+  auto x = walk;   // angle: NaN points, ~0.6 % of them
+  auto y = white;  // rate: NaN samples, a few (a term needs a run of 2m + 1 points)
+  test::normal_source g(63);
+  for (std::size_t i = 0; i < n; ++i)
+    if (g() > 2.5) x[i] = std::nan("");
+  for (const std::size_t i : {0u, 1001u, 5003u, 250000u, 299999u}) y[i] = std::nan("");
+  for (std::size_t i = 150000; i < 150300; ++i) x[i] = y[i] = std::nan("");  // one long gap
+  const std::vector<std::size_t> ms{1, 3, 37, 1000, 24577, 70001, 100000};
+  const tau_spec spec{tau_spec::set::list, ms};
+  const double tau0 = 0.01;
+  const auto ga = *gradev(x, input_kind::angle, tau0, spec);
+  const auto gr = *gradev(y, input_kind::rate, tau0, spec);
+  // Rate: x_k = tau0 sum_{j<k} y_j; a term exists when no y in [i, i + 2m) is missing.
+  std::vector<ld> sum(n + 1, 0.0L);
+  std::vector<std::size_t> missing(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    sum[i + 1] = sum[i] + (std::isnan(y[i]) ? 0.0L : static_cast<ld>(y[i]));
+    missing[i + 1] = missing[i] + (std::isnan(y[i]) ? 1 : 0);
+  }
+  // Each factor's point against the terms summed one by one; a factor without terms is left out.
+  const auto check = [&](const std::vector<deviation_point>& got, std::size_t m, ld s,
+                         std::size_t terms, double tol) {
+    const auto it =
+        std::find_if(got.begin(), got.end(), [&](const deviation_point& p) { return p.m == m; });
+    if (terms == 0) {
+      EXPECT_EQ(it, got.end()) << m;
+      return;
+    }
+    ASSERT_NE(it, got.end()) << m;
+    const ld tau = static_cast<ld>(m) * tau0;
+    EXPECT_EQ(it->n, terms) << m;
+    EXPECT_NEAR(it->dev / static_cast<double>(std::sqrt(s / (2 * terms * tau * tau))), 1.0, tol)
+        << m;
+  };
+  std::size_t without_terms = 0;
+  for (const std::size_t m : ms) {
+    ld sa = 0, sr = 0;
+    std::size_t na = 0, nr = 0;
+    for (std::size_t i = 0; i + 2 * m < n; ++i) {
+      const double v = x[i + 2 * m] - 2 * x[i + m] + x[i];
+      if (!std::isnan(v)) {
+        sa += static_cast<ld>(v) * v;
+        ++na;
+      }
+    }
+    for (std::size_t i = 0; i + 2 * m < n + 1; ++i) {
+      if (missing[i + 2 * m] != missing[i]) continue;
+      const ld v = (sum[i + 2 * m] - 2 * sum[i + m] + sum[i]) * tau0;
+      sr += v * v;
+      ++nr;
+    }
+    without_terms += (na == 0 ? 1u : 0u) + (nr == 0 ? 1u : 0u);
+    check(ga, m, sa, na, 1e-11);
+    check(gr, m, sr, nr, 1e-9);
+  }
+  EXPECT_EQ(without_terms, 1u);  // rate, m = 1e5: no run of 2e5 samples between the gaps
+  // Samples beyond the magnitude every deviation takes are refused, gaps or not.
+  y[7] = 1e101;
+  EXPECT_FALSE(gradev(y, input_kind::rate, tau0));
+  EXPECT_FALSE(gradev(std::vector<double>{1.0, 2.0, -1e101, 4.0}, input_kind::angle, tau0));
+}
+
+// GCODEV's blocked products on all cores against the products summed one by one (angle input),
+// and against the phase of the rate samples (rate input); cov(a, -a) = -var(a).
+TEST(Cross, GcodevIsTheMeanProductOfTheTwoSecondDifferences) {
+  constexpr std::size_t n = 200003;
+  const auto a = walk_phase(n, 71);
+  auto b = white_phase(n, 72);
+  for (std::size_t i = 0; i < n; ++i) b[i] += 0.3 * a[i];  // correlated: cov > 0
+  // Factors m and 2m are summed together (1 and 2, 64 and 128, 40000 and 80000: not over the
+  // last blocks of 40000, where 80000 has no terms), the others alone.
+  const std::vector<std::size_t> ms{1, 2, 5, 64, 128, 999, 40000, 80000};
+  const tau_spec spec{tau_spec::set::list, ms};
+  for (const auto in : {input_kind::angle, input_kind::rate}) {
+    const auto c = *gcodev(a, b, in, 2.0, spec);
+    const auto xa = in == input_kind::rate ? phase_from_rate(a, 2.0) : a;
+    const auto xb = in == input_kind::rate ? phase_from_rate(b, 2.0) : b;
+    ASSERT_EQ(c.size(), ms.size());
+    for (std::size_t f = 0; f < ms.size(); ++f) {
+      const std::size_t m = ms[f];
+      ld s = 0;
+      const std::size_t terms = xa.size() - 2 * m;
+      for (std::size_t i = 0; i < terms; ++i)
+        s += static_cast<ld>(xa[i + 2 * m] - 2 * xa[i + m] + xa[i]) *
+             (xb[i + 2 * m] - 2 * xb[i + m] + xb[i]);
+      const ld tau = 2.0L * m;
+      const ld cov = s / (2 * terms * tau * tau);
+      EXPECT_EQ(c[f].n, terms);
+      EXPECT_DOUBLE_EQ(c[f].tau_s, 2.0 * static_cast<double>(m));
+      EXPECT_NEAR(c[f].dev / static_cast<double>(cov < 0 ? -std::sqrt(-cov) : std::sqrt(cov)), 1.0,
+                  1e-9)
+          << m;
+    }
+  }
+  std::vector<double> minus_a(n);
+  for (std::size_t i = 0; i < n; ++i) minus_a[i] = -a[i];
+  const auto neg = *gcodev(a, minus_a, input_kind::angle, 1.0, spec);
+  const auto o = *deviation(dev_kind::oadev, a, input_kind::angle, 1.0, spec);
+  for (std::size_t f = 0; f < ms.size(); ++f) EXPECT_NEAR(neg[f].dev / o[f].dev, -1.0, 1e-12);
+  // Bad input, as OADEV: a missing or infinite sample, one beyond +-1e100, tau0 out of range.
+  for (const double v : {std::nan(""), HUGE_VAL, 1e101}) {
+    auto bad = b;
+    bad[3] = v;
+    EXPECT_FALSE(gcodev(a, bad, input_kind::angle, 1.0, spec)) << v;
+    EXPECT_FALSE(gcodev(bad, a, input_kind::rate, 1.0, spec)) << v;
+  }
+  EXPECT_FALSE(gcodev(a, b, input_kind::angle, 0.0, spec));
 }
 
 TEST(Cross, GcodevOfASeriesWithItselfIsItsOadevAndThreeCorneredHatRecoversTheClocks) {

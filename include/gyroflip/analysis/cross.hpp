@@ -22,8 +22,10 @@ namespace gyroflip::analysis {
 /// points are finite. Rate input: a missing rate sample leaves the phase after it unknown by an
 /// offset, so a term exists when no missing sample lies between its first and last point (each
 /// gap-free run is integrated on its own, its mean removed). Factors as OADEV (m <= (N-1)/4);
-/// points without a term are left out. Errors: an infinite sample, tau0 not positive and finite,
-/// fewer than 3 phase points, no finite sample, no factor with a term.
+/// points without a term are left out. Without a gap every term exists and the curve is OADEV's,
+/// computed as `deviation` does. Errors: an infinite sample, one beyond
+/// phase_source::max_sample_magnitude (as every deviation), tau0 not positive and finite, fewer
+/// than 3 phase points, no finite sample, no factor with a term.
 [[nodiscard]] result<std::vector<deviation_point>> gradev(std::span<const double> data,
                                                           input_kind in, double tau0_s,
                                                           const tau_spec& taus = {});
