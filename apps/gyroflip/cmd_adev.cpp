@@ -81,14 +81,10 @@ std::string table_text(const std::vector<analysis::deviation_point>& pts, bool w
   return s;
 }
 
-nlohmann::json json_of(const adev_options& o, const std::string& column, double tau0_s,
-                       std::size_t samples, const std::vector<analysis::deviation_point>& pts,
-                       const std::vector<analysis::dropped_factor>& dropped,
-                       std::optional<double> level) {
+// The points as JSON; the interval columns are null when no interval was asked for.
+nlohmann::json points_json(const std::vector<analysis::deviation_point>& pts, bool with_ci) {
   using nlohmann::json;
-  const auto or_null = [&level](auto v) { return level ? json(v) : json(nullptr); };
-  json gone = json::array();
-  for (const auto& d : dropped) gone.push_back({{"m", d.m}, {"tau_s", d.tau_s}, {"why", d.why}});
+  const auto or_null = [with_ci](auto v) { return with_ci ? json(v) : json(nullptr); };
   json points = json::array();
   for (const auto& p : pts)
     points.push_back({{"tau_s", p.tau_s},
@@ -99,6 +95,17 @@ nlohmann::json json_of(const adev_options& o, const std::string& column, double 
                       {"edf", or_null(p.edf)},
                       {"n", p.n},
                       {"alpha", or_null(p.alpha)}});
+  return points;
+}
+
+nlohmann::json json_of(const adev_options& o, const std::string& column, double tau0_s,
+                       std::size_t samples, const std::vector<analysis::deviation_point>& pts,
+                       const std::vector<analysis::dropped_factor>& dropped,
+                       std::optional<double> level) {
+  using nlohmann::json;
+  json gone = json::array();
+  for (const auto& d : dropped) gone.push_back({{"m", d.m}, {"tau_s", d.tau_s}, {"why", d.why}});
+  json points = points_json(pts, level.has_value());
   return with_schema(
       "adev", 1,
       {{"kind", o.kind},
@@ -310,14 +317,15 @@ result<std::pair<std::size_t, std::size_t>> dynamic_windows(const std::string& s
 // DAVAR (cross.hpp): one curve per window, as CSV start_s,tau_s,dev,n (or JSON), and with
 // --plot the windows' curves in one Allan plot.
 int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::tau_spec& taus,
-                const std::optional<plot_file>& plot, const analysis_input& in) {
+                std::optional<double> level, const std::optional<plot_file>& plot,
+                const analysis_input& in) {
   const auto win = dynamic_windows(o.dynamic, in.series.tau0_s());
   if (!win) return report(win.err());
   const auto kind_of_input =
       o.in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
   progress bar(fmt::format("dynamic {} of {}", o.kind, o.in.file), 1000);
   auto d = analysis::dynamic_deviation(kind, in.series.values(), kind_of_input, in.series.tau0_s(),
-                                       win->first, win->second, taus, per_mille(bar));
+                                       win->first, win->second, taus, per_mille(bar), level);
   bar.finish();
   if (!d) return report(d.err());
   // Factors asked for by name that a window cannot hold: said once (review L4), as for one curve.
@@ -328,17 +336,20 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
       warn(fmt::format("{}: averaging factor {} dropped from every window of {} samples: {}",
                        o.in.file, g.m, win->first, g.why));
   }
-  std::string csv = "start_s,tau_s,dev,n\n" + fmt::format("# units: {}\n", dev_unit(o.in, o.kind));
+  std::string csv =
+      "start_s," + std::string(csv_header) + fmt::format("# units: {}\n", dev_unit(o.in, o.kind));
   nlohmann::json windows = nlohmann::json::array();
   std::vector<report::allan_curve> curves;
   for (const auto& w : *d) {
-    nlohmann::json pts = nlohmann::json::array();
-    for (const auto& p : w.curve) {
-      csv += fmt::format("{},{},{},{}\n", w.start_s, p.tau_s, p.dev, p.n);
-      pts.push_back({{"tau_s", p.tau_s}, {"m", p.m}, {"dev", p.dev}, {"n", p.n}});
-    }
-    windows.push_back({{"start_s", w.start_s}, {"points", std::move(pts)}});
-    curves.push_back({fmt::format("t = {:g} s", w.start_s), w.curve, std::nullopt});
+    // Each window's points with the intervals of that window (the main curve's columns).
+    csv += csv_rows(w.curve, level.has_value(), fmt::format("{},", w.start_s));
+    windows.push_back(
+        {{"start_s", w.start_s}, {"points", points_json(w.curve, level.has_value())}});
+    // The figure draws the windows' curves without bars (a family of curves; the bars are in
+    // the table).
+    auto bare = w.curve;
+    for (auto& p : bare) p.ci_lo = p.ci_hi = 0.0;
+    curves.push_back({fmt::format("t = {:g} s", w.start_s), std::move(bare), std::nullopt});
   }
   if (auto s = check_finite(csv, o.output.empty() ? "<stdout>" : o.output); !s)
     return report(s.err());
@@ -349,6 +360,7 @@ int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::
                                 {"file", o.in.file},
                                 {"units", dev_unit(o.in, o.kind)},
                                 {"tau0_s", in.series.tau0_s()},
+                                {"ci", level ? nlohmann::json(*level) : nlohmann::json(nullptr)},
                                 {"window_s", static_cast<double>(win->first) * in.series.tau0_s()},
                                 {"step_s", static_cast<double>(win->second) * in.series.tau0_s()},
                                 {"windows", std::move(windows)}});
@@ -512,8 +524,8 @@ status check_combination(const adev_options& o, analysis::dev_kind kind) {
         "--ci-guard and --bias-correction");
   if (!o.dynamic.empty() && (o.ci_guard || o.bias_correction))
     return usage_error(
-        "--dynamic gives no intervals and no bias correction: leave out --ci-guard and "
-        "--bias-correction");
+        "--dynamic gives each window the intervals of the noise type identified in it, and no "
+        "bias correction: leave out --ci-guard and --bias-correction");
   if (o.codev && kind != analysis::dev_kind::oadev)
     return usage_error(
         "--codev is the Groslambert codeviation of the overlapping Allan deviation: --kind oadev "
@@ -586,7 +598,7 @@ int run_adev(const adev_options& o) {
     if (o.codev || o.three_cornered_hat) return run_multi(o, *kind, *taus, *plot, *inputs);
     if (!o.dynamic.empty()) {
       if (inputs->size() != 1) return report(usage_error("--dynamic analyses one column"));
-      return run_dynamic(o, *kind, *taus, *plot, inputs->front());
+      return run_dynamic(o, *kind, *taus, level, *plot, inputs->front());
     }
     for (const auto& in : *inputs) {
       auto r = deviation_of(o, *kind, *taus, level, in);

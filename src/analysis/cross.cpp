@@ -17,6 +17,8 @@
 
 #include <fmt/format.h>
 
+#include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/sample_source.hpp"
 #include "gyroflip/core/error.hpp"
 #include "kernels.hpp"
 #include "parallel.hpp"
@@ -493,7 +495,8 @@ result<std::vector<dynamic_window>> dynamic_deviation(dev_kind k, std::span<cons
                                                       input_kind in, double tau0_s,
                                                       std::size_t window, std::size_t step,
                                                       const tau_spec& taus,
-                                                      const progress_fn& on_progress) {
+                                                      const progress_fn& on_progress,
+                                                      std::optional<double> level) {
   if (window < 3 || window > data.size())
     return parameter_error("window", fmt::format("a window of {} samples does not fit {} samples "
                                                  "(at least 3, at most all)",
@@ -506,7 +509,15 @@ result<std::vector<dynamic_window>> dynamic_deviation(dev_kind k, std::span<cons
   detail::for_each_item(
       count, detail::worker_count(data.size()),
       [&](std::size_t, std::size_t w) {
-        curves[w] = deviation(k, data.subspan(w * step, window), in, tau0_s, taus);
+        const auto part = data.subspan(w * step, window);
+        if (!level) {
+          curves[w] = deviation(k, part, in, tau0_s, taus);
+          return;
+        }
+        const span_samples s(part);
+        auto src = phase_source::make(s, in, tau0_s);
+        curves[w] = src ? deviation_with_confidence(k, *src, taus, *level)
+                        : result<std::vector<deviation_point>>(src.err());
       },
       on_progress);
   std::vector<dynamic_window> out;

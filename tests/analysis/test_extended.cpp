@@ -690,6 +690,23 @@ TEST(Cross, DynamicDeviationIsTheCurveOfEachWindow) {
     EXPECT_EQ(d[w].curve[0].dev, direct[0].dev);
   }
   EXPECT_NEAR(d.back().curve[0].dev / d.front().curve[0].dev, 3.0, 0.3);
+  // With a level, each window's intervals are those of its own curve (review M3).
+  const auto ci =
+      *dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 2000, 1000, {}, {}, 0.683);
+  ASSERT_EQ(ci.size(), d.size());
+  for (const std::size_t w : {std::size_t{0}, std::size_t{8}}) {
+    const span_samples s(std::span<const double>(y).subspan(w * 1000, 2000));
+    const auto src = *phase_source::make(s, input_kind::rate, 0.5);
+    const auto own = *deviation_with_confidence(dev_kind::oadev, src, {}, 0.683);
+    ASSERT_EQ(ci[w].curve.size(), own.size());
+    for (std::size_t i = 0; i < own.size(); ++i) {
+      EXPECT_EQ(ci[w].curve[i].dev, d[w].curve[i].dev);
+      EXPECT_EQ(ci[w].curve[i].ci_lo, own[i].ci_lo);
+      EXPECT_EQ(ci[w].curve[i].ci_hi, own[i].ci_hi);
+      EXPECT_GT(ci[w].curve[i].edf, 0.0);
+      EXPECT_LT(ci[w].curve[i].ci_lo, ci[w].curve[i].dev);
+    }
+  }
   EXPECT_FALSE(dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 20000, 1));
   EXPECT_FALSE(dynamic_deviation(dev_kind::oadev, y, input_kind::rate, 0.5, 100, 0));
 }

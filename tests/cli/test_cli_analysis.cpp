@@ -490,6 +490,18 @@ TEST(CliAdev, TheIntervalRuleAndBiasCorrectionAreRecorded) {
   ASSERT_EQ(dyn.exit_code, 0) << dyn.err;
   EXPECT_NE(dyn.err.find("averaging factor 400 dropped from every window"), std::string::npos)
       << dyn.err;
+  // Review M3: each window's points carry their intervals; --ci none leaves them out.
+  const auto wj = run_cli({"adev", d.file("y.csv"), "--dynamic", "500", "--json"});
+  ASSERT_EQ(wj.exit_code, 0) << wj.err;
+  for (const auto& w : json::parse(wj.out)["windows"])
+    for (const auto& p : w["points"]) {
+      ASSERT_TRUE(p["ci_lo"].is_number()) << p;
+      EXPECT_LT(p["ci_lo"].get<double>(), p["dev"].get<double>());
+      EXPECT_GT(p["ci_hi"].get<double>(), p["dev"].get<double>());
+    }
+  const auto wn = run_cli({"adev", d.file("y.csv"), "--dynamic", "500", "--ci", "none", "--json"});
+  ASSERT_EQ(wn.exit_code, 0) << wn.err;
+  EXPECT_TRUE(json::parse(wn.out)["windows"][0]["points"][0]["ci_lo"].is_null());
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -58,10 +59,13 @@ struct dynamic_window {
 
 /// DAVAR (Galleani & Tavella, "The dynamic Allan variance", IEEE UFFC 56, 2009; Stable32's
 /// dynamic stability): statistic `k` over windows of `window` samples starting every `step`
-/// samples, each with the taus `taus` allows in a window. Errors: window < 3 or beyond the data,
-/// step 0, and those of `deviation` for the first window.
+/// samples, each with the taus `taus` allows in a window. With `level`, each window's points get
+/// their intervals as `deviation_with_confidence` gives them for that window alone (the noise type
+/// identified in the window, the EDF of its N; confidence.hpp). Errors: window < 3 or beyond the
+/// data, step 0, and those of `deviation` for the first window.
 [[nodiscard]] result<std::vector<dynamic_window>> dynamic_deviation(
     dev_kind k, std::span<const double> data, input_kind in, double tau0_s, std::size_t window,
-    std::size_t step, const tau_spec& taus = {}, const progress_fn& on_progress = {});
+    std::size_t step, const tau_spec& taus = {}, const progress_fn& on_progress = {},
+    std::optional<double> level = std::nullopt);
 
 }  // namespace gyroflip::analysis
