@@ -369,7 +369,12 @@ void setup_adev(CLI::App& app, action& chosen) {
                   "two-sided confidence level of the bounds, or none (no noise identification, "
                   "no bounds: fastest)")
       ->check(confidence_level(true))
-      ->capture_default_str();
+      ->default_str("0.683");
+  sub->add_option("--alpha", o->alpha,
+                  "the noise type of the intervals and bias correction at every tau, as "
+                  "Stable32's setting: 2 white PM, 1 flicker PM, 0 white FM, -1 flicker FM, -2 "
+                  "random-walk FM (default: identified at each tau)")
+      ->check(CLI::Range(-2, 2));
   sub->add_flag(
       "--ci-guard", o->ci_guard,
       "no interval narrower than the noise types at the neighbouring taus allow (default: "
@@ -384,7 +389,8 @@ void setup_adev(CLI::App& app, action& chosen) {
                 "clocks A, B, C from three columns --column AB,BC,CA (statistic --kind)");
   sub->add_option("--dynamic", o->dynamic,
                   "WINDOW_S[:STEP_S]: the dynamic deviation (DAVAR), a curve per window of "
-                  "WINDOW_S seconds every STEP_S (default WINDOW_S/4); CSV start_s,tau_s,dev,n");
+                  "WINDOW_S seconds every STEP_S (default WINDOW_S/4); CSV "
+                  "start_s,tau_s,dev,ci_lo,ci_hi,edf,n,alpha");
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->add_option("-o,--output", o->output, "write CSV tau_s,dev,ci_lo,ci_hi,edf,n,alpha here");
   sub->add_option("--plot", o->plot,

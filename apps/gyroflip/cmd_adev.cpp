@@ -38,11 +38,12 @@ namespace {
 constexpr const char* csv_header = "tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n";
 
 // What the numbers depend on beyond the data, as `#` lines after `# units` (review L2): the
-// guarded interval rule and the bias correction when asked for (no line: Stable32's rule, no
-// correction; the default output keeps its two header lines).
+// guarded interval rule, a given noise type and the bias correction when asked for (no line:
+// Stable32's rule, no correction; the default output keeps its two header lines).
 std::string csv_settings(const adev_options& o, std::optional<double> level) {
   std::string s;
   if (level && o.ci_guard) s += "# ci_rule: guarded\n";
+  if (o.alpha) s += fmt::format("# ci_rule: given alpha {}\n", *o.alpha);
   if (o.bias_correction) s += "# bias_correction: stable32\n";
   return s;
 }
@@ -106,20 +107,23 @@ nlohmann::json json_of(const adev_options& o, const std::string& column, double 
   json gone = json::array();
   for (const auto& d : dropped) gone.push_back({{"m", d.m}, {"tau_s", d.tau_s}, {"why", d.why}});
   json points = points_json(pts, level.has_value());
-  return with_schema(
-      "adev", 1,
-      {{"kind", o.kind},
-       {"input", o.in.input},
-       {"file", o.in.file},
-       {"column", column},
-       {"units", dev_unit(o.in, o.kind)},
-       {"tau0_s", tau0_s},
-       {"samples", samples},
-       {"ci", level ? json(*level) : json(nullptr)},
-       {"ci_rule", level ? json(o.ci_guard ? "guarded" : "stable32") : json(nullptr)},
-       {"bias_correction", o.bias_correction},
-       {"points", std::move(points)},
-       {"dropped", std::move(gone)}});
+  return with_schema("adev", 1,
+                     {{"kind", o.kind},
+                      {"input", o.in.input},
+                      {"file", o.in.file},
+                      {"column", column},
+                      {"units", dev_unit(o.in, o.kind)},
+                      {"tau0_s", tau0_s},
+                      {"samples", samples},
+                      {"ci", level ? json(*level) : json(nullptr)},
+                      {"ci_rule", level ? json(o.ci_guard ? "guarded"
+                                               : o.alpha  ? "given"
+                                                          : "stable32")
+                                        : json(nullptr)},
+                      {"alpha_given", o.alpha ? json(*o.alpha) : json(nullptr)},
+                      {"bias_correction", o.bias_correction},
+                      {"points", std::move(points)},
+                      {"dropped", std::move(gone)}});
 }
 
 }  // namespace
@@ -255,16 +259,21 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
   // (then at the default level, the bounds not shown): with the curve, which shares its reads.
   const bool identify = level || o.bias_correction;
   progress bar(fmt::format("{} of {}", o.kind, what), 1000);
-  auto pts = identify ? analysis::deviation_with_confidence(
-                            kind, in.phase, taus, level.value_or(0.683), per_mille(bar),
-                            o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32)
-                      : analysis::deviation(kind, in.phase, taus, per_mille(bar));
+  // A known noise type (--alpha) needs no identification: the curve, then that type's EDF.
+  auto pts = identify && !o.alpha
+                 ? analysis::deviation_with_confidence(
+                       kind, in.phase, taus, level.value_or(0.683), per_mille(bar),
+                       o.ci_guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32)
+                 : analysis::deviation(kind, in.phase, taus, per_mille(bar));
   bar.finish();
   if (!pts) return too_short_is_bad_input(pts.err(), what);
+  if (o.alpha)
+    analysis::add_confidence(*pts, kind, in.phase.size(), level.value_or(0.683), *o.alpha);
   if (std::all_of(pts->begin(), pts->end(), [](const auto& p) { return p.dev == 0.0; }))
     warn(
         fmt::format("{}: every deviation is 0: the series is constant (a stuck sensor, a wrong "
-                    "column?)",
+                    "column?), or its steps are below about 1e-154, whose squares underflow a "
+                    "double (scale the samples)",
                     what));
   // Factors asked for by name but without a single term: say which and why (not silently).
   auto dropped = analysis::dropped_factors(taus, *pts, kind, in.phase.size(), in.phase.tau0_s());
@@ -534,10 +543,28 @@ status check_combination(const adev_options& o, analysis::dev_kind kind) {
     return usage_error(
         "--plot: a codeviation may be negative, which a log-log Allan plot cannot draw (write it "
         "with -o and plot it linearly)");
-  if (o.three_cornered_hat && kind == analysis::dev_kind::mtie)
+  // MTIE is a maximum; TIE rms keeps the pair's mean rate (review M4), whose square does not add
+  // over independent clocks: (fA - fB)(fA - fC) tau^2 would land in clock A's share.
+  if (o.three_cornered_hat &&
+      (kind == analysis::dev_kind::mtie || kind == analysis::dev_kind::tierms))
     return usage_error(
         "--three-cornered-hat separates variances that add for independent clocks; MTIE (a "
-        "maximum) does not");
+        "maximum) and TIE rms (which keeps each pair's frequency offset) do not");
+  if (multi && !o.ci.empty() && o.ci != "none")
+    return usage_error(
+        "--codev and --three-cornered-hat give no intervals: leave out --ci (or give --ci none)");
+  if (o.alpha && (multi || !o.dynamic.empty() || o.ci_guard))
+    return usage_error(
+        "--alpha sets one noise type for one curve's intervals: not with --codev, "
+        "--three-cornered-hat, --dynamic or --ci-guard");
+  if (o.alpha && o.ci == "none" && !o.bias_correction)
+    return usage_error(
+        "--alpha sets the noise type of the intervals and the bias correction: with --ci none "
+        "and no --bias-correction it has nothing to set");
+  if (!analysis::has_edf(kind) && ((!o.ci.empty() && o.ci != "none") || o.alpha))
+    return usage_error(
+        "theo1, pdev, mtie and tierms have no intervals (no EDF checked against a published "
+        "table): leave out --ci and --alpha");
   return ok();
 }
 
@@ -552,17 +579,19 @@ int run_adev(const adev_options& o) {
     return report(usage_error(
         "--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
         "htotdev, theo1, pdev, mtie, tierms, gradev"));
-  if (gaps && (o.codev || o.three_cornered_hat || !o.dynamic.empty() || o.ci_guard))
-    return report(
-        usage_error("--kind gradev analyses columns with gaps on their own: not with --codev, "
-                    "--three-cornered-hat, --dynamic or --ci-guard (it has no intervals)"));
+  if (gaps && (o.codev || o.three_cornered_hat || !o.dynamic.empty() || o.ci_guard || o.alpha ||
+               (!o.ci.empty() && o.ci != "none")))
+    return report(usage_error(
+        "--kind gradev analyses columns with gaps on their own: not with --codev, "
+        "--three-cornered-hat, --dynamic, --ci, --alpha or --ci-guard (it has no intervals)"));
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
   // The validator (cli.cpp) let through only "none" or a number in (0, 1). Kinds without an EDF
   // (Theo1, PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
-  const std::optional<double> level = o.ci == "none" || gaps || !analysis::has_edf(*kind)
-                                          ? std::nullopt
-                                          : std::optional<double>(std::stod(o.ci));
+  const std::optional<double> level =
+      o.ci == "none" || gaps || !analysis::has_edf(*kind)
+          ? std::nullopt
+          : std::optional<double>(o.ci.empty() ? 0.683 : std::stod(o.ci));
   if (o.bias_correction && *kind != analysis::dev_kind::mtotdev &&
       *kind != analysis::dev_kind::ttotdev && *kind != analysis::dev_kind::htotdev)
     return report(usage_error("--bias-correction applies to mtotdev, ttotdev and htotdev only"));

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -57,7 +58,8 @@ struct adev_options {
   series_input in;
   std::string kind = "oadev";
   std::string taus = "octave";
-  std::string ci = "0.683";  ///< two-sided level, or "none"
+  std::string ci;  ///< two-sided level, "none", or empty: not given (0.683 where it applies)
+  std::optional<int> alpha;  ///< a known noise type for the intervals (else identified per tau)
   bool ci_guard = false;     ///< no interval narrower than its neighbours allow (edf_rule::guarded)
   bool bias_correction = false;     ///< Stable32's bias correction of mtotdev/ttotdev/htotdev
   std::string dynamic;              ///< WINDOW_S[:STEP_S]: DAVAR, one curve per sliding window

@@ -26,6 +26,7 @@ import os as _os
 from dataclasses import dataclass as _dataclass
 
 import numpy as _np
+import operator as _operator
 
 from . import _gyroflip
 
@@ -212,7 +213,7 @@ class Deviation:
 
 
 def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683, guard=False,
-              bias_correction=False):
+              bias_correction=False, alpha=None):
     """A deviation of the Allan family with confidence bounds, as `gyroflip adev` computes it.
 
     data: 1-D samples; input="rate" (deg/s, SP1065's frequency) or "angle" (deg, phase). A
@@ -233,6 +234,10 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
       (a guard against a type misread from a few points; `gyroflip adev --ci-guard`).
     bias_correction: MTOTDEV, TTOTDEV, HTOTDEV divided by Stable32's bias factor of the noise type
       identified at each tau (`gyroflip adev --bias-correction`).
+    alpha: a known noise type for the bounds and the bias correction at every tau (2 white PM,
+      1 flicker PM, 0 white FM, -1 flicker FM, -2 random-walk FM; Stable32's manual setting;
+      `gyroflip adev --alpha`) instead of the type identified at each tau, so a tau's bounds and
+      corrected value do not depend on the other taus asked for. Not with guard.
     Returns a Deviation. Releases the GIL; Ctrl-C stops it."""
     rate = _positive_rate(rate)
     y, backed = _samples(data)
@@ -249,8 +254,14 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
             raise ValueError("every tau is shorter than half a sample interval")
     if bias_correction and kind not in ("mtotdev", "ttotdev", "htotdev"):
         raise ValueError("bias_correction applies to mtotdev, ttotdev and htotdev only")
+    if alpha is not None and guard:
+        raise ValueError("alpha gives every tau one noise type: not with guard")
+    if alpha is not None and ci is None and not bias_correction:
+        raise ValueError("alpha sets the noise type of the bounds and the bias correction: "
+                         "with ci=None and no bias_correction it has nothing to set")
     r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed,
-                         bool(guard), bool(bias_correction))
+                         bool(guard), bool(bias_correction),
+                         None if alpha is None else _operator.index(alpha))
     return Deviation(kind=kind, ci=ci, **r)
 
 

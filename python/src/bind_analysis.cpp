@@ -58,12 +58,13 @@ analysis::tau_spec spec_of(const std::string& taus,
 py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
                const std::string& input, const std::string& taus,
                const std::optional<std::vector<std::size_t>>& factors, std::optional<double> ci,
-               bool file_backed, bool guard, bool bias_correction) {
+               bool file_backed, bool guard, bool bias_correction, std::optional<int> alpha) {
   const auto k = analysis::parse_dev_kind(kind);
   if (!k) throw py::value_error("unknown statistic '" + kind + "'");
   const auto in = input_of(input);
   const double tau0 = tau0_of(rate_hz);
   if (ci) check(analysis::check_confidence_level(*ci));
+  if (alpha) check(analysis::check_noise_alpha(*alpha));
   const auto spec = spec_of(taus, factors);
   const auto src = source_of(span_of(data, "data"), file_backed);
   auto pts = without_gil([&](const progress_fn& listen) {
@@ -72,9 +73,12 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
     if (!ci && !bias_correction) return analysis::deviation(*k, *src, in, tau0, spec, listen);
     auto phase = analysis::phase_source::make(*src, in, tau0, listen);
     if (!phase) return result<std::vector<analysis::deviation_point>>(phase.err());
-    auto p = analysis::deviation_with_confidence(
-        *k, *phase, spec, ci.value_or(0.683), listen,
-        guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
+    // A known noise type: the curve, then that type's EDF (no identification).
+    auto p = alpha ? analysis::deviation(*k, *phase, spec, listen)
+                   : analysis::deviation_with_confidence(
+                         *k, *phase, spec, ci.value_or(0.683), listen,
+                         guard ? analysis::edf_rule::guarded : analysis::edf_rule::stable32);
+    if (p && alpha) analysis::add_confidence(*p, *k, phase->size(), ci.value_or(0.683), *alpha);
     if (p && bias_correction) analysis::correct_total_bias(*p, *k);
     return p;
   });
@@ -211,7 +215,8 @@ void bind_analysis(py::module_& m) {
   });
   m.def("_curve", &curve, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
         py::arg("taus"), py::arg("factors"), py::arg("ci"), py::arg("file_backed"),
-        py::arg("guard") = false, py::arg("bias_correction") = false);
+        py::arg("guard") = false, py::arg("bias_correction") = false,
+        py::arg("alpha") = std::nullopt);
   m.def("_noise", &noise, py::arg("data"), py::arg("rate"), py::arg("input"), py::arg("units"),
         py::arg("ci"), py::arg("fit_lo_s"), py::arg("fit_hi_s"), py::arg("abba_cycles"),
         py::arg("name"), py::arg("column"), py::arg("file_backed"));

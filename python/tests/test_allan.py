@@ -235,3 +235,23 @@ def test_htotdev_bias_correction_matches_stable32(vectors):
     np.testing.assert_allclose(d.dev, [r[2] for r in rows], rtol=1e-4)
     with pytest.raises(ValueError):
         gyroflip.deviation(x, "oadev", input="angle", bias_correction=True)
+
+
+# Re-review N-H1 / L6: with the type identified, MTOTDEV's bias-corrected value at AF 170 takes the
+# type carried from the nearest shorter listed tau (Stable32's rule); alpha=0 gives every list
+# Stable32's all-tau value 1.3547e-02 (alpha 0).
+def test_given_alpha_makes_a_tau_independent_of_the_list(vectors):
+    x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
+    carried = gyroflip.deviation(x, "mtotdev", input="angle", taus=[100.0, 170.0],
+                                 bias_correction=True)
+    assert carried.alpha[-1] == 1
+    for taus in ([170.0], [100.0, 170.0], [10.0, 170.0, 180.0]):
+        d = gyroflip.deviation(x, "mtotdev", input="angle", taus=taus, bias_correction=True,
+                               alpha=0)
+        i = list(d.m).index(170)
+        assert d.alpha[i] == 0
+        assert abs(d.dev[i] / 1.3547e-02 - 1.0) < 1e-4
+    with pytest.raises(ValueError):
+        gyroflip.deviation(x, "oadev", input="angle", alpha=3)
+    with pytest.raises(ValueError):
+        gyroflip.deviation(x, "oadev", input="angle", alpha=0, guard=True)

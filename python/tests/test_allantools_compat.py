@@ -162,6 +162,11 @@ def test_confidence_intervals_and_edf():
     # chi-squared 5 % and 95 % points at 10 degrees of freedom: 3.940299, 18.307038.
     np.testing.assert_allclose([lo, hi], [np.sqrt(10 / 18.307038), np.sqrt(10 / 3.940299)], rtol=1e-6)
     assert abs(at.ci.ONE_SIGMA_CI - 0.6826894921370859) < 1e-15
+    # scipy's chi2.ppf outside [0, 1] is NaN: allantools' gradev passes (dev, ci, edf) swapped, so
+    # a level of 50 gives (NaN, NaN) there (re-review N-L3); a level of 3 folds to quantiles 1
+    # and 0: allantools' edf/ppf(0) = inf low, edf/ppf(1) = 0 high.
+    assert all(np.isnan(at.confidence_interval(1.0, 0.9, 50)))
+    assert at.confidence_interval(1.0, 10.0, 3.0) == (np.inf, 0.0)
     np.testing.assert_allclose(at.edf_simple(1001, 1, 0), (3 * 1000 / 2 - 2 * 999 / 1001) * 4 / 9)
     assert at.edf_simple(100, 2, 7) == 99  # unknown noise: N - 1
     assert at.edf_totdev(1001, 10, 0) == pytest.approx(150.15)

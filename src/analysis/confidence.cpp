@@ -741,6 +741,20 @@ std::vector<std::size_t> factors_of(const std::vector<deviation_point>& points) 
 
 }  // namespace
 
+void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::size_t n_phase,
+                    double level, int alpha) {
+  fill_intervals(points, k, n_phase, std::vector<std::optional<int>>(points.size(), alpha), level,
+                 edf_rule::stable32);
+}
+
+status check_noise_alpha(int alpha) {
+  if (alpha >= -2 && alpha <= 2) return ok();
+  return parameter_error("alpha", fmt::format("the noise type alpha must be 2 (white PM), 1 "
+                                              "(flicker PM), 0 (white FM), -1 (flicker FM) or -2 "
+                                              "(random-walk FM); got {}",
+                                              alpha));
+}
+
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phase_source& x,
                     double level, const progress_fn& on_progress, edf_rule rule) {
   const auto ms = factors_of(points);

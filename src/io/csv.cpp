@@ -348,9 +348,23 @@ error csv_reader::error_at_line(std::string_view what) const {
   return input_error({path(), line_}, what);
 }
 
+namespace {
+
+// A missing sample as loggers write one: an empty field or nan in any case, with a sign (C's
+// printf writes a NaN with its sign bit as -nan).
+bool is_missing(std::string_view s) {
+  if (!s.empty() && (s.front() == '-' || s.front() == '+')) s.remove_prefix(1);
+  if (s.empty()) return true;
+  if (s.size() != 3) return false;
+  const auto lower = [](char c) { return static_cast<char>(c | 0x20); };
+  return lower(s[0]) == 'n' && lower(s[1]) == 'a' && lower(s[2]) == 'n';
+}
+
+}  // namespace
+
 bool csv_reader::parse_slow(std::size_t i, double& out) {
   std::string_view s = cell(i);
-  if (dialect_.missing_is_nan && (s.empty() || s == "nan" || s == "NaN" || s == "NAN")) {
+  if (dialect_.missing_is_nan && is_missing(s)) {
     out = std::numeric_limits<double>::quiet_NaN();
     return true;
   }

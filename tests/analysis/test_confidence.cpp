@@ -226,6 +226,31 @@ TEST(Confidence, NoiseTypeIsStable32sOnItsTables) {
   // GPS: DefaultBoundsAreStable32sWhereTheNoiseTypeAgrees counts its rows.
 }
 
+// Re-review L6: a known noise type (Stable32's manual setting) gives every point that type's EDF;
+// on PHASE.DAT's octave OADEV (white FM at every tau in Stable32's table) the bounds are the
+// table's, whatever other taus are listed; a type outside 2..-2 is refused.
+TEST(Confidence, AGivenNoiseTypeGivesTheTablesBoundsAtEveryTau) {
+  const auto x = test::read_values(vectors + "phasedat/PHASE.DAT");
+  const auto rows = test::read_stable32_table(vectors + "phasedat/phase_dat_oadev_octave.txt");
+  auto pts = *deviation(dev_kind::oadev, x, input_kind::angle, 1.0, {});
+  add_confidence(pts, dev_kind::oadev, x.size(), 0.683, 0);
+  ASSERT_EQ(pts.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(pts[i].alpha, 0);
+    EXPECT_EQ(pts[i].edf, edf(dev_kind::oadev, 0, pts[i].m, x.size()));
+    EXPECT_NEAR(pts[i].ci_lo / rows[i].lo, 1.0, 1e-3) << rows[i].af;
+    EXPECT_NEAR(pts[i].ci_hi / rows[i].hi, 1.0, 1e-3) << rows[i].af;
+  }
+  // Flicker PM given instead: a different EDF, so different bounds around the same value.
+  auto fpm = *deviation(dev_kind::oadev, x, input_kind::angle, 1.0, {});
+  add_confidence(fpm, dev_kind::oadev, x.size(), 0.683, 1);
+  EXPECT_NE(fpm.back().edf, pts.back().edf);
+  EXPECT_EQ(fpm.back().dev, pts.back().dev);
+  EXPECT_TRUE(check_noise_alpha(-2));
+  EXPECT_FALSE(check_noise_alpha(3));
+  EXPECT_FALSE(check_noise_alpha(-3));
+}
+
 // Issue 23: the guard of issue 13 item 14 is an option (edf_rule::guarded): never a larger EDF than
 // the default, and the same alpha. On PHASE.DAT's octave taus every type is Stable32's white FM,
 // so the guarded bounds are Stable32's; on its all-tau factors Stable32 itself reads flicker PM

@@ -370,6 +370,7 @@ TEST(CliAdev, GradevReadsGapsAndEveryOtherKindRefusesThem) {
     gappy += std::to_string(i) + "," +
              (i == 100   ? std::string()
               : i == 500 ? "nan"
+              : i == 700 ? "-nan"  // glibc's printf of a NaN with its sign bit (re-review N-L1)
                          : fmt_double(y[i])) +
              "\n";
   write_text(d.file("gappy.csv"), gappy);
@@ -418,6 +419,18 @@ TEST(CliAdev, OptionsThatDoNotCombineAreRefused) {
       {"--column", "a", "--dynamic", "100", "--ci-guard"},
       {"--column", "a", "--kind", "gradev", "--ci-guard"},
       {"--column", "a", "--kind", "gradev", "--dynamic", "100"},
+      // Re-review N-M1, N-L2 and L6: TIE rms keeps each pair's offset (not separable); an
+      // interval level where none is given; a noise type with nothing to set.
+      {"--column", "a,b,c", "--three-cornered-hat", "--kind", "tierms"},
+      {"--column", "a,b", "--codev", "--ci", "0.9"},
+      {"--column", "a,b,c", "--three-cornered-hat", "--ci", "0.683"},
+      {"--column", "a", "--kind", "gradev", "--ci", "0.9"},
+      {"--column", "a", "--kind", "theo1", "--ci", "0.9"},
+      {"--column", "a", "--kind", "mtie", "--alpha", "0"},
+      {"--column", "a", "--alpha", "0", "--ci", "none"},
+      {"--column", "a", "--alpha", "0", "--ci-guard"},
+      {"--column", "a", "--alpha", "0", "--dynamic", "100"},
+      {"--column", "a", "--alpha", "3"},
   };
   for (const auto& extra : bad) {
     std::vector<std::string> args{"adev", f, "--rate", "1", "-o", d.file("o.csv")};
@@ -493,7 +506,8 @@ TEST(CliAdev, TheIntervalRuleAndBiasCorrectionAreRecorded) {
   // Review M3: each window's points carry their intervals; --ci none leaves them out.
   const auto wj = run_cli({"adev", d.file("y.csv"), "--dynamic", "500", "--json"});
   ASSERT_EQ(wj.exit_code, 0) << wj.err;
-  for (const auto& w : json::parse(wj.out)["windows"])
+  const auto wjson = json::parse(wj.out);  // kept: a range-for over a temporary's member dangles
+  for (const auto& w : wjson["windows"])
     for (const auto& p : w["points"]) {
       ASSERT_TRUE(p["ci_lo"].is_number()) << p;
       EXPECT_LT(p["ci_lo"].get<double>(), p["dev"].get<double>());
@@ -502,6 +516,38 @@ TEST(CliAdev, TheIntervalRuleAndBiasCorrectionAreRecorded) {
   const auto wn = run_cli({"adev", d.file("y.csv"), "--dynamic", "500", "--ci", "none", "--json"});
   ASSERT_EQ(wn.exit_code, 0) << wn.err;
   EXPECT_TRUE(json::parse(wn.out)["windows"][0]["points"][0]["ci_lo"].is_null());
+}
+
+// Re-review N-H1 and L6: beyond half the all-tau limit the identified type is the nearest shorter
+// listed tau's, as in Stable32's own tables (MTOTDEV of PHASE.DAT at AF 200: alpha 1 in its
+// decade table, 0 in its all-tau table), so the bias-corrected value there depends on the list;
+// --alpha gives every tau one known type, and the value no longer does. Truth: Stable32 1.53's
+// all-tau bias-corrected MTOTDEV at AF 170, 1.3547e-02 with alpha 0 (tests/vectors/stable32).
+TEST(CliAdev, AGivenNoiseTypeMakesEachTauIndependentOfTheList) {
+  const std::string file = std::string(GYROFLIP_VECTORS_DIR) + "/stable32/phasedat/PHASE.DAT";
+  const auto at_170 = [&](const std::string& taus, bool given) {
+    std::vector<std::string> args{"adev",        file,       "--input", "angle",
+                                  "--units",     "deg",      "--rate",  "1",
+                                  "--no-header", "--column", "1",       "--kind",
+                                  "mtotdev",     "--taus",   taus,      "--bias-correction",
+                                  "--json"};
+    if (given) args.insert(args.end(), {"--alpha", "0"});
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const auto j = json::parse(r.out);
+    for (const auto& p : j["points"])
+      if (p["m"] == 170)
+        return std::pair<double, int>(p["dev"].get<double>(), p["alpha"].get<int>());
+    return std::pair<double, int>(0.0, -9);
+  };
+  // Identified: AF 100 reads flicker PM, carried to 170 (Stable32's rule, its decade table).
+  EXPECT_EQ(at_170("100,170", false).second, 1);
+  EXPECT_NEAR(at_170("100,170", false).first / 1.3547e-02, 1.0 / std::sqrt(0.83 / 0.73), 1e-4);
+  for (const char* taus : {"170", "100,170", "10,170,180", "all"}) {
+    const auto [dev, alpha] = at_170(taus, true);
+    EXPECT_EQ(alpha, 0) << taus;
+    EXPECT_NEAR(dev / 1.3547e-02, 1.0, 1e-4) << taus;
+  }
 }
 
 }  // namespace

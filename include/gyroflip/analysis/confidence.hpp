@@ -111,6 +111,19 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, const phas
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<const double> phase,
                     double level, edf_rule rule = edf_rule::stable32);
 
+/// As add_confidence, with a noise type the caller knows instead of one identified at each tau
+/// (Stable32's manual noise-type setting): every point gets `alpha` (2 white PM, 1 flicker PM,
+/// 0 white FM, -1 flicker FM, -2 random-walk FM; check_noise_alpha) and that type's EDF for
+/// n_phase phase points. The intervals, and correct_total_bias after it, then depend neither on
+/// the identification nor on which other taus were asked for (beyond half the all-tau limit the
+/// identified type is the nearest shorter listed tau's, as in Stable32's tables).
+void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::size_t n_phase,
+                    double level, int alpha);
+
+/// The rule for a known noise type (`alpha` above): one of 2, 1, 0, -1, -2. Error (parameter
+/// `alpha`) otherwise.
+[[nodiscard]] status check_noise_alpha(int alpha);
+
 /// deviation(k, x, taus) with add_confidence(level, rule) on it, in fewer reads of the samples:
 /// ADEV and HDEV of rate samples at power-of-two factors (the block sums' path of deviation())
 /// keep the first 2^20 - 1 block sums S_j of each factor m from their one read, and the noise

@@ -72,8 +72,8 @@ struct csv_dialect {
   char delimiter = 0;
   char decimal = '.';  ///< '.' or ',' (then the delimiter cannot be ',')
   bool header = true;  ///< false: every line is data; columns are named 1, 2, ...
-  /// An empty field, `nan`, `NaN` or `NAN` is a missing sample, read as NaN (GRADEV's gaps);
-  /// otherwise an error.
+  /// An empty field or `nan` in any case, signed or not (`-nan`, as C's printf writes a NaN with
+  /// its sign bit), is a missing sample, read as NaN (GRADEV's gaps); otherwise an error.
   bool missing_is_nan = false;
 };
 

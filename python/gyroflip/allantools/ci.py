@@ -13,8 +13,8 @@ ONE_SIGMA_CI = math.erf(1.0 / math.sqrt(2.0))  # 0.6826894921370859
 
 def _chi2_quantile(p, edf):
     """The chi-squared quantile with scipy.stats.chi2.ppf's edge values (allantools calls it):
-    0 at p = 0, inf at p = 1, NaN for edf <= 0 or NaN."""
-    if not edf > 0.0:
+    0 at p = 0, inf at p = 1, NaN for p outside [0, 1] (as ci > 2 makes it) or edf <= 0 or NaN."""
+    if not edf > 0.0 or not 0.0 <= p <= 1.0:
         return math.nan
     if p <= 0.0:
         return 0.0
@@ -167,7 +167,9 @@ def b1_noise_id(x, af, rate):
     averaging factor af, the B1 ratio against the boundaries between neighbouring noise types
     (geometric means of b1_theory for the n = (len(x) - 1) // af averages), then for PM, whose B1
     is the same for both, R(n) = MVAR / AVAR against rn_boundary (SP1065 section 5.5.6, Howe,
-    Beard, Greenhall & Riley 2000)."""
+    Beard, Greenhall & Riley 2000). At af = 1 MDEV is ADEV, so R(1) = 1 for every noise and says
+    nothing: white and flicker PM cannot be told apart there and PM is returned as flicker PM (1,
+    the type with the smaller EDF: wider intervals); use af >= 2 to split them."""
     b = b1(x, af, rate)
     n = (len(x) - 1) // af
     # b = alpha - 2 is the phase-PSD exponent; b1_boundary(b_hi) splits b_hi from b_hi - 1.
