@@ -563,8 +563,8 @@ status check_combination(const adev_options& o, analysis::dev_kind kind) {
         "and no --bias-correction it has nothing to set");
   if (!analysis::has_edf(kind) && ((!o.ci.empty() && o.ci != "none") || o.alpha))
     return usage_error(
-        "theo1, pdev, mtie and tierms have no intervals (no EDF checked against a published "
-        "table): leave out --ci and --alpha");
+        "pdev, mtie and tierms have no intervals (SP1065 gives them no EDF): leave out --ci and "
+        "--alpha");
   return ok();
 }
 
@@ -587,7 +587,7 @@ int run_adev(const adev_options& o) {
   const auto taus = analysis::parse_tau_spec(o.taus);
   if (!taus) return report(taus.err());
   // The validator (cli.cpp) let through only "none" or a number in (0, 1). Kinds without an EDF
-  // (Theo1, PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
+  // (PDEV, MTIE, TIE rms) have no bounds: as with --ci none.
   const std::optional<double> level =
       o.ci == "none" || gaps || !analysis::has_edf(*kind)
           ? std::nullopt

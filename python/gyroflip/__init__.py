@@ -221,8 +221,8 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
       (np.load(path, mmap_mode="r")) in bounded memory, whatever its length.
     kind: "adev", "oadev", "mdev", "tdev", "hdev", "ohdev" or "totdev" (NIST SP1065 eqns 7, 11,
       14, 15, 17, 18, 25); "mtotdev", "ttotdev", "htotdev", "theo1" (eqns 27-30; Theo1's tau_s is
-      0.75 m tau0), "pdev" (parabolic), "mtie", "tierms" (the angle unit). Theo1, PDEV, MTIE and
-      TIE rms have no bounds (ci_lo, ci_hi NaN).
+      0.75 m tau0), "pdev" (parabolic), "mtie", "tierms" (the angle unit). PDEV, MTIE and TIE rms
+      have no bounds (ci_lo, ci_hi NaN); Theo1's are Howe & Peppler's EDF.
     rate: samples per second (Hz).
     taus: "octave", "decade" (1, 2, 4, 10, 20, 40, ...) or "all" averaging factors, limited as
       Stable32 does (m <= (N-1)/5 for ADEV/HDEV, (N-1)/4 for OADEV/MDEV/TDEV/OHDEV, (N-1)/2

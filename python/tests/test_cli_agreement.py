@@ -203,7 +203,7 @@ def test_extended_kinds_equal_adev_json(exe, series_csv, kind):
     assert [p["m"] for p in cli["points"]] == list(d.m)
     np.testing.assert_array_equal([p["dev"] for p in cli["points"]], d.dev)
     np.testing.assert_array_equal([p["tau_s"] for p in cli["points"]], d.tau_s)
-    if kind in ("mtotdev", "ttotdev", "htotdev"):
+    if kind in ("mtotdev", "ttotdev", "htotdev", "theo1"):
         np.testing.assert_array_equal([p["ci_lo"] for p in cli["points"]], d.ci_lo)
     else:
         assert cli["ci"] is None and all(p["ci_lo"] is None for p in cli["points"])

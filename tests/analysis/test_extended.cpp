@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -442,7 +443,53 @@ TEST(ExtendedStable32, TotalFamilyEdfRules) {
   EXPECT_NEAR(edf(dev_kind::htotdev, -4, 32, n), (1001.0 / 32) / (1.276 + 3.149 * 32 / 1001), 1e-9);
   EXPECT_NEAR(edf(dev_kind::htotdev, 2, 64, n), 1002.0 * (1001 - 128) / (2.0 * (1001 - 64)), 1e-9);
   EXPECT_TRUE(has_edf(dev_kind::htotdev));
-  EXPECT_FALSE(has_edf(dev_kind::theo1));
+  // Theo1 (Howe & Peppler 2003, r = 0.75 m): white FM ((4.1 N + 0.8)/r - (3.1 N + 6.5)/N)
+  // r^1.5/(r^1.5 + 5.2) at m = 100 (r = 75), white PM 0.86 (N+1)(N - 4r/3)/(N - r) r/(r + 1.14).
+  EXPECT_NEAR(edf(dev_kind::theo1, 0, 100, n),
+              ((4.1 * 1001 + 0.8) / 75 - (3.1 * 1001 + 6.5) / 1001) *
+                  (std::pow(75.0, 1.5) / (std::pow(75.0, 1.5) + 5.2)),
+              1e-9);
+  EXPECT_NEAR(edf(dev_kind::theo1, 2, 100, n),
+              0.86 * 1002 * (1001 - 100) / (1001 - 75.0) * 75 / 76.14, 1e-9);
+  EXPECT_TRUE(has_edf(dev_kind::theo1));
+  EXPECT_FALSE(has_edf(dev_kind::pdev));
+  EXPECT_FALSE(has_edf(dev_kind::mtie));
+}
+
+// Issue 23 item 1: Theo1's EDF fits against their own kind of truth, Monte Carlo. 400 phase records
+// of 513 points each (fixed seeds) of white PM, white FM (random-walk phase) and random-walk FM;
+// the empirical EDF 2 E[v]^2 / Var[v] of the Theo1 variance v at m = 4 ... 128 against
+// edf(theo1, alpha, m, N): within 25 % (the empirical EDF's own standard error with 400 records is
+// about 7-10 %; the fits' residuals are Howe's) wherever the EDF is above 5.
+TEST(Confidence, Theo1EdfMatchesMonteCarlo) {
+  constexpr std::size_t n = 513;
+  constexpr std::size_t records = 400;
+  const std::vector<std::size_t> ms{4, 16, 64, 128};
+  const tau_spec list{tau_spec::set::list, ms};
+  for (const int alpha : {2, 0, -2}) {
+    std::vector<double> sum(ms.size()), sum2(ms.size());
+    for (std::size_t r = 0; r < records; ++r) {
+      std::vector<double> x = white_phase(n, 1000 * static_cast<std::uint64_t>(alpha + 3) + r);
+      for (int k = 0; k < (2 - alpha) / 2; ++k) std::partial_sum(x.begin(), x.end(), x.begin());
+      const auto pts = deviation(dev_kind::theo1, x, input_kind::angle, 1.0, list);
+      ASSERT_TRUE(pts);
+      ASSERT_EQ(pts->size(), ms.size());
+      for (std::size_t i = 0; i < ms.size(); ++i) {
+        const double v = (*pts)[i].dev * (*pts)[i].dev;
+        sum[i] += v;
+        sum2[i] += v * v;
+      }
+    }
+    for (std::size_t i = 0; i < ms.size(); ++i) {
+      const double mean = sum[i] / records;
+      const double var = (sum2[i] - records * mean * mean) / (records - 1);
+      const double empirical = 2.0 * mean * mean / var;
+      const double fit = edf(dev_kind::theo1, alpha, ms[i], n);
+      if (fit > 5.0) {
+        EXPECT_NEAR(empirical / fit, 1.0, 0.25) << "alpha " << alpha << " m " << ms[i];
+      }
+    }
+  }
 }
 
 // ---- bad input -------------------------------------------------------------------------------

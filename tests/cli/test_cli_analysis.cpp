@@ -425,7 +425,7 @@ TEST(CliAdev, OptionsThatDoNotCombineAreRefused) {
       {"--column", "a,b", "--codev", "--ci", "0.9"},
       {"--column", "a,b,c", "--three-cornered-hat", "--ci", "0.683"},
       {"--column", "a", "--kind", "gradev", "--ci", "0.9"},
-      {"--column", "a", "--kind", "theo1", "--ci", "0.9"},
+      {"--column", "a", "--kind", "pdev", "--ci", "0.9"},
       {"--column", "a", "--kind", "mtie", "--alpha", "0"},
       {"--column", "a", "--alpha", "0", "--ci", "none"},
       {"--column", "a", "--alpha", "0", "--ci-guard"},

@@ -61,16 +61,17 @@ namespace gyroflip::analysis {
 /// alpha <= 0 from m = 16 on, Howe et al.'s (N/m) / (b0 + b1 m/N) (PTTI 2000; WFM 0.559, 1.004 ...
 /// RRFM 1.276, 3.149), otherwise SP1065 Table 5's OADEV EDF. All at least 1; on PHASE.DAT the
 /// bounds are within 6.5e-4 of Stable32 1.60's wherever the noise type agrees, except HTOTDEV
-/// with flicker PM (docs/ANALYSIS.md, "Intervals of the total family"). 0 for the kinds without
-/// an EDF (has_edf).
+/// with flicker PM (docs/ANALYSIS.md, "Intervals of the total family"). Theo1: Howe & Peppler's
+/// fits in r = 0.75 m (SP1065's Theo1 EDF; 2003), checked against Monte Carlo EDFs, as Stable32's
+/// Theo1 tables print no bounds. 0 for the kinds without an EDF (has_edf).
 [[nodiscard]] double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase);
 
 /// The rule for a confidence level (`--ci`, Python's `ci`): a probability in (0, 1). Error
 /// (parameter `level`) otherwise.
 [[nodiscard]] status check_confidence_level(double level);
 
-/// Whether `edf` gives kind k an EDF (and so bounds): every kind but Theo1, PDEV, MTIE and TIE
-/// rms, for which no EDF could be checked against a published table here.
+/// Whether `edf` gives kind k an EDF (and so bounds): every kind but PDEV, MTIE and TIE rms, for
+/// which SP1065 gives none.
 [[nodiscard]] bool has_edf(dev_kind k) noexcept;
 
 /// Stable32's bias correction of the total deviations, by the noise type identified at each point
