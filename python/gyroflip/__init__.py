@@ -266,11 +266,13 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
 
 
 def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None, step_s=None,
-                      taus="octave"):
+                      taus="octave", ci=0.683):
     """The dynamic deviation (DAVAR; Galleani & Tavella 2009), as `gyroflip adev --dynamic`: the
     curve of statistic `kind` over each window of window_s seconds, one every step_s (default a
     quarter window). Returns a list of dicts with start_s (s from the first sample) and arrays
-    m, tau_s, dev, n."""
+    m, tau_s, dev, n, ci_lo, ci_hi, edf, alpha: each window's bounds at two-sided level ci from
+    the noise type identified in that window and the EDF of its length, as deviation() on the
+    window alone (ci=None, or a kind without an EDF: NaN bounds, alpha 0)."""
     rate = _positive_rate(rate)
     y, _ = _samples(data)
     if window_s is None or not (float(window_s) > 0):
@@ -280,7 +282,8 @@ def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None,
         raise ValueError("step_s must be positive")
     window = max(1, int(round(float(window_s) * rate)))
     step = max(1, int(round(step_s * rate)))
-    return _gyroflip._dynamic(kind, y, rate, input, window, step, taus)
+    return _gyroflip._dynamic(kind, y, rate, input, window, step, taus,
+                              None if ci is None else float(ci))
 
 
 def noise(data, rate=1.0, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,

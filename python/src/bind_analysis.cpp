@@ -172,18 +172,34 @@ py::dict gcodev(const f64_array& a, const f64_array& b, double rate_hz, const st
 
 py::list dynamic(const std::string& kind, const f64_array& data, double rate_hz,
                  const std::string& input, std::size_t window, std::size_t step,
-                 const std::string& taus) {
+                 const std::string& taus, std::optional<double> ci) {
   const auto k = analysis::parse_dev_kind(kind);
   if (!k) throw py::value_error("unknown statistic '" + kind + "'");
+  if (ci) check(analysis::check_confidence_level(*ci));
   const auto spec = take(analysis::parse_tau_spec(taus));
+  // Kinds without an EDF get no interval columns' values (NaN), as deviation() gives them.
+  const auto level = ci && analysis::has_edf(*k) ? ci : std::nullopt;
   auto r = without_gil([&](const progress_fn& listen) {
     return analysis::dynamic_deviation(*k, span_of(data, "data"), input_of(input), tau0_of(rate_hz),
-                                       window, step, spec, listen);
+                                       window, step, spec, listen, level);
   });
   const auto windows = take(std::move(r));
   py::list out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& w : windows) {
     auto d = columns_of(w.curve);
+    std::vector<double> lo, hi, edf;
+    std::vector<std::int64_t> alpha;
+    for (const auto& p : w.curve) {
+      lo.push_back(level ? p.ci_lo : nan);
+      hi.push_back(level ? p.ci_hi : nan);
+      edf.push_back(level ? p.edf : nan);
+      alpha.push_back(level ? p.alpha : 0);
+    }
+    d["ci_lo"] = to_numpy(lo);
+    d["ci_hi"] = to_numpy(hi);
+    d["edf"] = to_numpy(edf);
+    d["alpha"] = to_numpy(alpha);
     d["start_s"] = w.start_s;
     out.append(d);
   }
@@ -204,7 +220,7 @@ void bind_analysis(py::module_& m) {
   m.def("_gcodev", &gcodev, py::arg("a"), py::arg("b"), py::arg("rate"), py::arg("input"),
         py::arg("factors"));
   m.def("_dynamic", &dynamic, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
-        py::arg("window"), py::arg("step"), py::arg("taus"));
+        py::arg("window"), py::arg("step"), py::arg("taus"), py::arg("ci") = std::nullopt);
   m.def("_chi2_quantile", &analysis::chi2_quantile, py::arg("p"), py::arg("dof"));
   m.def("_edf", &edf_of, py::arg("alpha"), py::arg("d"), py::arg("m"), py::arg("n"),
         py::arg("overlapping"), py::arg("modified"));

@@ -233,9 +233,18 @@ def test_dynamic_deviation_equals_adev_dynamic_json(exe, series_csv):
     for c, p in zip(cli["windows"], py):
         assert c["start_s"] == p["start_s"]
         np.testing.assert_array_equal([q["dev"] for q in c["points"]], p["dev"])
+        np.testing.assert_array_equal([q["ci_lo"] for q in c["points"]], p["ci_lo"])
+        np.testing.assert_array_equal([q["alpha"] for q in c["points"]], p["alpha"])
     w = py[3]
-    d = gyroflip.deviation(y[6000:10000], "oadev", rate=100.0, ci=None)
+    d = gyroflip.deviation(y[6000:10000], "oadev", rate=100.0)
     np.testing.assert_array_equal(w["dev"], d.dev)
+    # Each window's bounds are those of deviation() on the window alone (its own noise type, the
+    # EDF of its length); ci=None leaves them NaN.
+    np.testing.assert_allclose(w["ci_lo"], d.ci_lo, rtol=1e-12)
+    np.testing.assert_allclose(w["ci_hi"], d.ci_hi, rtol=1e-12)
+    np.testing.assert_array_equal(w["alpha"], d.alpha)
+    bare = gyroflip.dynamic_deviation(y, "oadev", rate=100.0, window_s=40, step_s=20, ci=None)
+    assert np.all(np.isnan(bare[0]["ci_lo"]))
     with pytest.raises(ValueError):
         gyroflip.dynamic_deviation(y, window_s=1e6, rate=100.0)
 
