@@ -49,15 +49,17 @@ std::string csv_settings(const adev_options& o, std::optional<double> level) {
 }
 
 // The rows of one curve (no header); `prefix` starts each row (a column's name and a comma).
+// with_alpha: the noise type even without intervals (it scaled a bias-corrected value; review L2).
 std::string csv_rows(const std::vector<analysis::deviation_point>& pts, bool with_ci,
-                     const std::string& prefix) {
+                     const std::string& prefix, bool with_alpha = false) {
   std::string s;
   for (const auto& p : pts) {
     if (with_ci) {
       s += prefix + fmt::format("{},{},{},{},{},{},{}\n", p.tau_s, p.dev, p.ci_lo, p.ci_hi, p.edf,
                                 p.n, p.alpha);
     } else {
-      s += prefix + fmt::format("{},{},,,,{},\n", p.tau_s, p.dev, p.n);
+      s += prefix + fmt::format("{},{},,,,{},{}\n", p.tau_s, p.dev, p.n,
+                                with_alpha ? std::to_string(p.alpha) : std::string());
     }
   }
   return s;
@@ -66,7 +68,7 @@ std::string csv_rows(const std::vector<analysis::deviation_point>& pts, bool wit
 // For a person at a terminal: aligned columns with 4 significant digits, the unit in the header,
 // and the averaging factor m; `-o` and `--json` keep every digit.
 std::string table_text(const std::vector<analysis::deviation_point>& pts, bool with_ci,
-                       const std::string& title, const std::string& unit) {
+                       const std::string& title, const std::string& unit, bool with_alpha) {
   std::string s = title + "\n";
   const std::string dev = "dev [" + unit + "]";
   s += fmt::format("{:>11} {:>9} {:>13} {:>11} {:>11} {:>8} {:>9} {:>5}\n", "tau [s]", "m", dev,
@@ -77,13 +79,15 @@ std::string table_text(const std::vector<analysis::deviation_point>& pts, bool w
                        p.tau_s, p.m, p.dev, p.ci_lo, p.ci_hi, p.edf, p.n, p.alpha);
     else
       s += fmt::format("{:>11.4g} {:>9} {:>13.4e} {:>11} {:>11} {:>8} {:>9} {:>5}\n", p.tau_s, p.m,
-                       p.dev, "-", "-", "-", p.n, "-");
+                       p.dev, "-", "-", "-", p.n, with_alpha ? std::to_string(p.alpha) : "-");
   }
   return s;
 }
 
-// The points as JSON; the interval columns are null when no interval was asked for.
-nlohmann::json points_json(const std::vector<analysis::deviation_point>& pts, bool with_ci) {
+// The points as JSON; the interval columns are null when no interval was asked for (alpha too,
+// unless with_alpha: see csv_rows).
+nlohmann::json points_json(const std::vector<analysis::deviation_point>& pts, bool with_ci,
+                           bool with_alpha = false) {
   using nlohmann::json;
   const auto or_null = [with_ci](auto v) { return with_ci ? json(v) : json(nullptr); };
   json points = json::array();
@@ -95,7 +99,7 @@ nlohmann::json points_json(const std::vector<analysis::deviation_point>& pts, bo
                       {"ci_hi", or_null(p.ci_hi)},
                       {"edf", or_null(p.edf)},
                       {"n", p.n},
-                      {"alpha", or_null(p.alpha)}});
+                      {"alpha", with_alpha ? json(p.alpha) : or_null(p.alpha)}});
   return points;
 }
 
@@ -106,7 +110,7 @@ nlohmann::json json_of(const adev_options& o, const std::string& column, double 
   using nlohmann::json;
   json gone = json::array();
   for (const auto& d : dropped) gone.push_back({{"m", d.m}, {"tau_s", d.tau_s}, {"why", d.why}});
-  json points = points_json(pts, level.has_value());
+  json points = points_json(pts, level.has_value(), o.bias_correction);
   return with_schema("adev", 1,
                      {{"kind", o.kind},
                       {"input", o.in.input},
@@ -650,14 +654,14 @@ int run_adev(const adev_options& o) {
     if (csv.empty())
       csv = std::string(several ? "column," : "") + csv_header +
             fmt::format("# units: {}\n", dev_unit(o.in, o.kind)) + csv_settings(o, level);
-    csv += csv_rows(r.points, level.has_value(), several ? column + "," : "");
+    csv += csv_rows(r.points, level.has_value(), several ? column + "," : "", o.bias_correction);
     if (table)
       tables += table_text(
           r.points, level.has_value(),
           fmt::format("{}{}: {} of column {}, {} samples at {:g} Hz{}", tables.empty() ? "" : "\n",
                       o.in.file, o.kind, column, samples, 1.0 / tau0_s,
                       level ? fmt::format(", {:g} % intervals", 100.0 * *level) : ""),
-          dev_unit(o.in, o.kind));
+          dev_unit(o.in, o.kind), o.bias_correction);
     if (o.json)
       per_column.push_back(json_of(o, column, tau0_s, samples, r.points, r.dropped, level));
   }

@@ -543,6 +543,14 @@ TEST(CliAdev, AGivenNoiseTypeMakesEachTauIndependentOfTheList) {
   // Identified: AF 100 reads flicker PM, carried to 170 (Stable32's rule, its decade table).
   EXPECT_EQ(at_170("100,170", false).second, 1);
   EXPECT_NEAR(at_170("100,170", false).first / 1.3547e-02, 1.0 / std::sqrt(0.83 / 0.73), 1e-4);
+  // Review L2: without intervals the type that scaled a bias-corrected value is still reported.
+  const auto bare = run_cli({"adev", file, "--input", "angle", "--units", "deg", "--rate", "1",
+                             "--no-header", "--column", "1", "--kind", "mtotdev", "--taus",
+                             "100,170", "--bias-correction", "--ci", "none", "--json"});
+  ASSERT_EQ(bare.exit_code, 0) << bare.err;
+  const auto bj = json::parse(bare.out);
+  EXPECT_EQ(bj["points"][1]["alpha"], 1);
+  EXPECT_TRUE(bj["points"][1]["ci_lo"].is_null());
   for (const char* taus : {"170", "100,170", "10,170,180", "all"}) {
     const auto [dev, alpha] = at_170(taus, true);
     EXPECT_EQ(alpha, 0) << taus;
