@@ -373,7 +373,8 @@ void setup_adev(CLI::App& app, action& chosen) {
   sub->add_option("--alpha", o->alpha,
                   "the noise type of the intervals and bias correction at every tau, as "
                   "Stable32's setting: 2 white PM, 1 flicker PM, 0 white FM, -1 flicker FM, -2 "
-                  "random-walk FM (default: identified at each tau)")
+                  "random-walk FM (default: identified at each tau, and beyond half the all-tau "
+                  "limit carried from the nearest shorter listed tau, as Stable32)")
       ->check(CLI::Range(-2, 2));
   sub->add_flag(
       "--ci-guard", o->ci_guard,

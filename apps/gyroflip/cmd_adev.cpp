@@ -43,7 +43,8 @@ constexpr const char* csv_header = "tau_s,dev,ci_lo,ci_hi,edf,n,alpha\n";
 std::string csv_settings(const adev_options& o, std::optional<double> level) {
   std::string s;
   if (level && o.ci_guard) s += "# ci_rule: guarded\n";
-  if (o.alpha) s += fmt::format("# ci_rule: given alpha {}\n", *o.alpha);
+  if (level && o.alpha) s += fmt::format("# ci_rule: given alpha {}\n", *o.alpha);
+  if (!level && o.alpha) s += fmt::format("# alpha_given: {}\n", *o.alpha);
   if (o.bias_correction) s += "# bias_correction: stable32\n";
   return s;
 }
@@ -561,6 +562,10 @@ status check_combination(const adev_options& o, analysis::dev_kind kind) {
     return usage_error(
         "--alpha sets one noise type for one curve's intervals: not with --codev, "
         "--three-cornered-hat, --dynamic or --ci-guard");
+  if (o.ci_guard && (o.ci == "none" || !analysis::has_edf(kind)))
+    return usage_error(
+        "--ci-guard guards intervals: not with --ci none, nor with pdev, mtie or tierms (no "
+        "intervals)");
   if (o.alpha && o.ci == "none" && !o.bias_correction)
     return usage_error(
         "--alpha sets the noise type of the intervals and the bias correction: with --ci none "

@@ -254,6 +254,9 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
             raise ValueError("every tau is shorter than half a sample interval")
     if bias_correction and kind not in ("mtotdev", "ttotdev", "htotdev"):
         raise ValueError("bias_correction applies to mtotdev, ttotdev and htotdev only")
+    if alpha is not None and (isinstance(alpha, bool) or kind in ("pdev", "mtie", "tierms")):
+        raise ValueError("alpha is a noise type (2, 1, 0, -1, -2) for the kinds with intervals "
+                         "(not pdev, mtie, tierms)")
     if alpha is not None and guard:
         raise ValueError("alpha gives every tau one noise type: not with guard")
     if alpha is not None and ci is None and not bias_correction:

@@ -412,6 +412,24 @@ void split_pm(dev_kind k, const phase_source& x, const std::vector<std::size_t>&
   for (std::size_t j = 0; j < pm.size(); ++j) ids[pm[j]] = rn[j];
 }
 
+std::vector<std::optional<int>> identify(dev_kind k, const phase_source& x,
+                                         const std::vector<std::size_t>& ms,
+                                         const progress_fn& on_progress);
+
+// Beyond identified_up_to(k) the nearest shorter listed tau's type is carried (Stable32's rule);
+// when no listed tau lies at or below that limit there is none to carry, and the type identified
+// at the limit factor itself (the last factor of the all-tau table that is identified) is used
+// rather than a fixed default (issue 23 review R-M1: white FM was assumed).
+void seed_beyond_limit(dev_kind k, const phase_source& x, const std::vector<std::size_t>& ms,
+                       std::vector<std::optional<int>>& ids) {
+  const std::size_t up_to = identified_up_to(k, x.size());
+  if (up_to == 0 || ms.empty() ||
+      std::any_of(ms.begin(), ms.end(), [up_to](std::size_t m) { return m <= up_to; }))
+    return;
+  const auto at_limit = identify(k, x, {up_to}, {})[0];
+  if (at_limit) ids[0] = at_limit;  // carried on to the others by fill_intervals
+}
+
 // Noise identification at every factor: the decimated series of as many factors as fit in
 // points_per_pass are collected in one pass over the phase, then classified.
 std::vector<std::optional<int>> identify(dev_kind k, const phase_source& x,
@@ -443,6 +461,7 @@ std::vector<std::optional<int>> identify(dev_kind k, const phase_source& x,
     first += z.size();
   }
   split_pm(k, x, ms, ids, by_b1);
+  seed_beyond_limit(k, x, ms, ids);
   return ids;
 }
 
@@ -477,6 +496,7 @@ std::vector<std::optional<int>> identify_from_heads(dev_kind k, const phase_sour
   }
   heads.sums.clear();
   split_pm(k, x, ms, ids, by_b1);
+  seed_beyond_limit(k, x, ms, ids);
   return ids;
 }
 
@@ -736,9 +756,24 @@ void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::span<
 
 namespace {
 
-// Fills the intervals of `points` from the types identified at their factors (ids, in order).
+// Theo1 lives at taus where fewer than lag1_min_points decimated points are left to identify the
+// noise on; there B1 (with Stable32's N, b1_theory_count) cannot reach random-walk FM and often
+// reads flicker FM as white FM or PM: intervals held the truth only ~50 % of the time at 68.3 %
+// (issue 23 review R-H1; 300 records of 513 points). Stable32 prints no Theo1 bounds to follow,
+// so ours take the smallest EDF of the type read and the three FM types there: wider, never
+// narrower than the type's own (Confidence.Theo1BoundsCoverRandomWalkFm).
+double theo1_few_point_edf(int alpha, std::size_t m, std::size_t n_phase) {
+  double e = edf(dev_kind::theo1, alpha, m, n_phase);
+  if ((n_phase - 1) / m + 1 >= lag1_min_points) return e;
+  for (const int fm : {0, -1, -2}) e = std::min(e, edf(dev_kind::theo1, fm, m, n_phase));
+  return e;
+}
+
+// Fills the intervals of `points` from the types identified at their factors (ids, in order);
+// `given`: the types are the caller's (add_confidence with alpha), not identified.
 void fill_intervals(std::vector<deviation_point>& points, dev_kind k, std::size_t n_phase,
-                    const std::vector<std::optional<int>>& ids, double level, edf_rule rule) {
+                    const std::vector<std::optional<int>>& ids, double level, edf_rule rule,
+                    bool given = false) {
   // Too few points at a tau for any identification: the nearest shorter tau's type.
   std::vector<int> alpha(points.size());
   std::optional<int> last;
@@ -750,7 +785,8 @@ void fill_intervals(std::vector<deviation_point>& points, dev_kind k, std::size_
   for (std::size_t i = 0; i < points.size(); ++i) {
     auto& p = points[i];
     p.alpha = alpha[i];
-    p.edf = edf(k, alpha[i], p.m, n_phase);
+    p.edf = k == dev_kind::theo1 && !given ? theo1_few_point_edf(alpha[i], p.m, n_phase)
+                                           : edf(k, alpha[i], p.m, n_phase);
     if (rule == edf_rule::guarded) p.edf = guarded_edf(k, alpha, i, p.m, n_phase, p.edf);
     if (!(p.edf > 0.0)) {
       p.ci_lo = p.ci_hi = std::numeric_limits<double>::quiet_NaN();
@@ -773,7 +809,7 @@ std::vector<std::size_t> factors_of(const std::vector<deviation_point>& points) 
 void add_confidence(std::vector<deviation_point>& points, dev_kind k, std::size_t n_phase,
                     double level, int alpha) {
   fill_intervals(points, k, n_phase, std::vector<std::optional<int>>(points.size(), alpha), level,
-                 edf_rule::stable32);
+                 edf_rule::stable32, true);
 }
 
 status check_noise_alpha(int alpha) {

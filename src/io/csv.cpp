@@ -353,8 +353,8 @@ namespace {
 // A missing sample as loggers write one: an empty field or nan in any case, with a sign (C's
 // printf writes a NaN with its sign bit as -nan).
 bool is_missing(std::string_view s) {
-  if (!s.empty() && (s.front() == '-' || s.front() == '+')) s.remove_prefix(1);
   if (s.empty()) return true;
+  if (s.size() > 1 && (s.front() == '-' || s.front() == '+')) s.remove_prefix(1);
   if (s.size() != 3) return false;
   const auto lower = [](char c) { return static_cast<char>(c | 0x20); };
   return lower(s[0]) == 'n' && lower(s[1]) == 'a' && lower(s[2]) == 'n';

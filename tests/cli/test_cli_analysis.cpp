@@ -397,6 +397,11 @@ TEST(CliAdev, GradevReadsGapsAndEveryOtherKindRefusesThem) {
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("gappy.csv:102:"), std::string::npos) << refused.err;
   EXPECT_FALSE(exists(d.file("o.csv")));
+  // Review R-L1: a lone sign (a truncated write) is not a gap, even for gradev.
+  write_text(d.file("sign.csv"), "time_s,rate_dps\n0,1\n1,2\n2,-\n3,1\n");
+  const auto sign = run_cli({"adev", d.file("sign.csv"), "--kind", "gradev", "--taus", "1"});
+  EXPECT_EQ(sign.exit_code, 2);
+  EXPECT_NE(sign.err.find("sign.csv:4:"), std::string::npos) << sign.err;
 }
 
 // Review M2, L5, L3: options that do not combine are refused (exit 2, nothing written), not
@@ -429,6 +434,8 @@ TEST(CliAdev, OptionsThatDoNotCombineAreRefused) {
       {"--column", "a", "--kind", "mtie", "--alpha", "0"},
       {"--column", "a", "--alpha", "0", "--ci", "none"},
       {"--column", "a", "--alpha", "0", "--ci-guard"},
+      {"--column", "a", "--ci", "none", "--ci-guard"},  // review R-L2: nothing to guard
+      {"--column", "a", "--kind", "mtie", "--ci-guard"},
       {"--column", "a", "--alpha", "0", "--dynamic", "100"},
       {"--column", "a", "--alpha", "3"},
   };
