@@ -35,15 +35,20 @@ def call(module, kind, y, y2):
 
 
 def main():
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    args = [a for a in sys.argv[1:] if not a.startswith("-")]
     kinds = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
              "htotdev", "theo1", "pdev", "mtie", "tierms", "gcodev", "gradev"]
     global REPEAT
     for a in sys.argv[1:]:
         if a.startswith("--kinds="):
             kinds = a.split("=", 1)[1].split(",")
-        if a.startswith("--repeat="):
+        elif a.startswith("--repeat="):
             REPEAT = int(a.split("=", 1)[1])
+        elif a in ("-h", "--help"):
+            print(__doc__)
+            return
+        elif a.startswith("-"):
+            sys.exit(f"python_vs_allantools.py: unknown option {a} (--help)")
     pydir = args[0] if args else os.path.join(os.path.dirname(__file__), "..", "build", "python")
     sizes = [int(float(s)) for s in args[1:]] or [10 ** 6, 10 ** 7]
     sys.path.insert(0, pydir)

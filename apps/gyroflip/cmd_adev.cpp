@@ -322,8 +322,15 @@ result<std::pair<std::size_t, std::size_t>> dynamic_windows(const std::string& s
       !std::isfinite(*st))
     return usage_error("--dynamic takes WINDOW_S or WINDOW_S:STEP_S in seconds (> 0); got " +
                        printable(spec, 60));
+  // Below half a sample a length rounds to none (refused, not made 1); far beyond any series it
+  // is capped before the conversion (a double above 2^64 has no size_t; review E-L4).
+  if (std::round(*w / tau0_s) < 1.0 || std::round(*st / tau0_s) < 1.0)
+    return usage_error(
+        fmt::format("--dynamic {}: the window and the step must each be at least one "
+                    "sample interval ({:g} s)",
+                    printable(spec, 60), tau0_s));
   const auto samples = [tau0_s](double s) {
-    return static_cast<std::size_t>(std::max(1.0, std::round(s / tau0_s)));
+    return static_cast<std::size_t>(std::min(std::round(s / tau0_s), 1e18));
   };
   return std::pair{samples(*w), samples(*st)};
 }
@@ -417,12 +424,12 @@ int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::ta
   if (o.codev) {
     auto c =
         analysis::gcodev(in[0].series.values(), in[1].series.values(), kind_of_input, tau0, taus);
-    if (!c) return report(c.err());
+    if (!c) return report(too_short_is_bad_input(c.err(), o.in.file));
     curves.emplace_back(in[0].column + "*" + in[1].column, std::move(*c));
   } else {
     auto h = analysis::three_cornered_hat(kind, in[0].series.values(), in[1].series.values(),
                                           in[2].series.values(), kind_of_input, tau0, taus);
-    if (!h) return report(h.err());
+    if (!h) return report(too_short_is_bad_input(h.err(), o.in.file));
     for (std::size_t c = 0; c < 3; ++c) curves.emplace_back(std::string(1, "ABC"[c]), (*h)[c]);
   }
   const std::string unit = dev_unit(o.in, o.codev ? "oadev" : o.kind);

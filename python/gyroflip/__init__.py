@@ -27,6 +27,7 @@ from dataclasses import dataclass as _dataclass
 
 import numpy as _np
 import operator as _operator
+import warnings as _warnings
 
 from . import _gyroflip
 
@@ -196,9 +197,10 @@ class Deviation:
     """One statistic's curve. Arrays, one entry per tau:
     tau_s (s), dev (the samples' rate unit, e.g. deg/s; TDEV in the angle unit), ci_lo and
     ci_hi (the bounds at level `ci`, NaN when ci=None), edf (equivalent degrees of freedom),
-    n (terms in the sum, Stable32's "#"), alpha (the identified power-law noise exponent:
-    0 angle random walk, -1 bias instability, -2 rate random walk, 1/2 phase noise), m (the
-    averaging factor)."""
+    n (terms in the sum, Stable32's "#"), alpha (the power-law noise exponent identified or
+    given, as floats: 0 angle random walk, -1 bias instability, -2 rate random walk, 1/2 phase
+    noise; NaN where none was read: ci=None without bias_correction, and pdev, mtie, tierms), m
+    (the averaging factor). ci is None for pdev, mtie and tierms (no EDF)."""
 
     kind: str
     tau_s: _np.ndarray
@@ -221,8 +223,10 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
       (np.load(path, mmap_mode="r")) in bounded memory, whatever its length.
     kind: "adev", "oadev", "mdev", "tdev", "hdev", "ohdev" or "totdev" (NIST SP1065 eqns 7, 11,
       14, 15, 17, 18, 25); "mtotdev", "ttotdev", "htotdev", "theo1" (eqns 27-30; Theo1's tau_s is
-      0.75 m tau0), "pdev" (parabolic), "mtie", "tierms" (the angle unit). PDEV, MTIE and TIE rms
-      have no bounds (ci_lo, ci_hi NaN); Theo1's are Howe & Peppler's EDF.
+      0.75 m tau0; its taus are m / rate as allantools', m even: an odd one is dropped with a
+      UserWarning), "pdev" (parabolic), "mtie", "tierms" (the angle unit). PDEV, MTIE and TIE rms
+      have no bounds (ci_lo, ci_hi, edf, alpha NaN; guard refused); Theo1's are Howe & Peppler's
+      EDF.
     rate: samples per second (Hz).
     taus: "octave", "decade" (1, 2, 4, 10, 20, 40, ...) or "all" averaging factors, limited as
       Stable32 does (m <= (N-1)/5 for ADEV/HDEV, (N-1)/4 for OADEV/MDEV/TDEV/OHDEV, (N-1)/2
@@ -251,7 +255,15 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
             raise ValueError("taus must be 'octave', 'decade', 'all' or positive taus in seconds")
         factors = sorted({int(v) for v in _np.round(t * rate) if v >= 1})
         if not factors:
-            raise ValueError("every tau is shorter than half a sample interval")
+            raise ValueError("every tau is shorter than half a sample interval" if t.size
+                             else "taus is empty: give 'octave', 'decade', 'all' or taus in seconds")
+        odd = [m for m in factors if m % 2] if kind == "theo1" else []
+        if odd and len(odd) == len(factors):
+            raise ValueError(f"theo1 needs even averaging factors (m = tau * rate): {odd} odd")
+        if odd:
+            _warnings.warn(f"theo1 needs even averaging factors (m = tau * rate): {odd} dropped",
+                           UserWarning, stacklevel=2)
+            factors = [m for m in factors if m % 2 == 0]
     if bias_correction and kind not in ("mtotdev", "ttotdev", "htotdev"):
         raise ValueError("bias_correction applies to mtotdev, ttotdev and htotdev only")
     if alpha is not None and (isinstance(alpha, bool) or kind in ("pdev", "mtie", "tierms")):
@@ -265,7 +277,7 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
     r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed,
                          bool(guard), bool(bias_correction),
                          None if alpha is None else _operator.index(alpha))
-    return Deviation(kind=kind, ci=ci, **r)
+    return Deviation(kind=kind, ci=None if kind in ("pdev", "mtie", "tierms") else ci, **r)
 
 
 def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None, step_s=None,
@@ -275,16 +287,19 @@ def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None,
     quarter window). Returns a list of dicts with start_s (s from the first sample) and arrays
     m, tau_s, dev, n, ci_lo, ci_hi, edf, alpha: each window's bounds at two-sided level ci from
     the noise type identified in that window and the EDF of its length, as deviation() on the
-    window alone (ci=None, or a kind without an EDF: NaN bounds, alpha 0)."""
+    window alone (ci=None, or a kind without an EDF: NaN bounds and alpha). window_s and step_s
+    are each at least one sample interval (the CLI's rule)."""
     rate = _positive_rate(rate)
     y, _ = _samples(data)
-    if window_s is None or not (float(window_s) > 0):
+    if window_s is None or not (_np.isfinite(float(window_s)) and float(window_s) > 0):
         raise ValueError("window_s must be a positive number of seconds")
     step_s = float(window_s) / 4.0 if step_s is None else float(step_s)
-    if not step_s > 0:
-        raise ValueError("step_s must be positive")
-    window = max(1, int(round(float(window_s) * rate)))
-    step = max(1, int(round(step_s * rate)))
+    if not (_np.isfinite(step_s) and step_s > 0):
+        raise ValueError("step_s must be a positive number of seconds")
+    window, step = (min(round(float(s) * rate), 10**18) for s in (window_s, step_s))
+    if window < 1 or step < 1:
+        raise ValueError(f"the window and the step must each be at least one sample interval "
+                         f"({1.0 / rate:g} s)")
     return _gyroflip._dynamic(kind, y, rate, input, window, step, taus,
                               None if ci is None else float(ci))
 

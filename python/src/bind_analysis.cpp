@@ -65,6 +65,12 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
   const double tau0 = tau0_of(rate_hz);
   if (ci) check(analysis::check_confidence_level(*ci));
   if (alpha) check(analysis::check_noise_alpha(*alpha));
+  // PDEV, MTIE and TIE rms have no EDF: no interval, no noise type to read (the CLI's nulls).
+  if (!analysis::has_edf(*k)) {
+    if (guard)
+      throw py::value_error("guard applies to the kinds with intervals (not " + kind + ")");
+    ci.reset();
+  }
   const auto spec = spec_of(taus, factors);
   const auto src = source_of(span_of(data, "data"), file_backed);
   auto pts = without_gil([&](const progress_fn& listen) {
@@ -99,7 +105,10 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
   d["edf"] = column([&](const auto& p) { return ci ? p.edf : nan; });
   d["ci_lo"] = column([&](const auto& p) { return ci ? p.ci_lo : nan; });
   d["ci_hi"] = column([&](const auto& p) { return ci ? p.ci_hi : nan; });
-  d["alpha"] = column([&](const auto& p) { return static_cast<std::int64_t>(p.alpha); });
+  // The noise type where one was read or given (bounds or bias correction), else NaN (the CLI's
+  // null; review E-L2).
+  const bool typed = ci || bias_correction;
+  d["alpha"] = column([&](const auto& p) { return typed ? static_cast<double>(p.alpha) : nan; });
   return d;
 }
 
@@ -188,13 +197,12 @@ py::list dynamic(const std::string& kind, const f64_array& data, double rate_hz,
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& w : windows) {
     auto d = columns_of(w.curve);
-    std::vector<double> lo, hi, edf;
-    std::vector<std::int64_t> alpha;
+    std::vector<double> lo, hi, edf, alpha;
     for (const auto& p : w.curve) {
       lo.push_back(level ? p.ci_lo : nan);
       hi.push_back(level ? p.ci_hi : nan);
       edf.push_back(level ? p.edf : nan);
-      alpha.push_back(level ? p.alpha : 0);
+      alpha.push_back(level ? static_cast<double>(p.alpha) : nan);
     }
     d["ci_lo"] = to_numpy(lo);
     d["ci_hi"] = to_numpy(hi);

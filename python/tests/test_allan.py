@@ -237,6 +237,20 @@ def test_htotdev_bias_correction_matches_stable32(vectors):
         gyroflip.deviation(x, "oadev", input="angle", bias_correction=True)
 
 
+
+# Review E-L6: the published bias-corrected values of the 1000-point set (SP1065; Riley, "The
+# calculation of time domain frequency stability"; docs/FACTS.md §6) are white-FM corrected at every
+# tau. At tau = 100 the type read is flicker PM (as in Stable32's tables), so they need alpha=0.
+def test_published_bias_corrected_values_need_white_fm():
+    f = np.array(nbs14_1000())
+    for kind, published in (("htotdev", 0.03058103), ("mtotdev", 0.02287774),
+                            ("ttotdev", 1.320847)):
+        read = gyroflip.deviation(f, kind, taus=[100.0], bias_correction=True, ci=None)
+        given = gyroflip.deviation(f, kind, taus=[100.0], bias_correction=True, ci=None, alpha=0)
+        assert read.alpha[0] == 1 and given.alpha[0] == 0
+        assert abs(given.dev[0] / published - 1.0) < 1e-6, kind
+        assert abs(read.dev[0] / published - 1.0) > 2e-3, kind
+
 # Re-review N-H1 / L6: with the type identified, MTOTDEV's bias-corrected value at AF 170 takes the
 # type carried from the nearest shorter listed tau (Stable32's rule); alpha=0 gives every list
 # Stable32's all-tau value 1.3547e-02 (alpha 0).

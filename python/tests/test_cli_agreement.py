@@ -247,6 +247,10 @@ def test_dynamic_deviation_equals_adev_dynamic_json(exe, series_csv):
     assert np.all(np.isnan(bare[0]["ci_lo"]))
     with pytest.raises(ValueError):
         gyroflip.dynamic_deviation(y, window_s=1e6, rate=100.0)
+    # Review E-L4: below one sample interval refused (was silently one sample), as the CLI.
+    with pytest.raises(ValueError, match="at least one sample interval"):
+        gyroflip.dynamic_deviation(y, window_s=40, step_s=0.004, rate=100.0)
+    assert np.all(np.isnan(gyroflip.dynamic_deviation(y, "mtie", rate=100.0, window_s=40)[0]["alpha"]))
 
 
 def test_codev_and_three_cornered_hat_in_the_cli(exe, tmp_path):

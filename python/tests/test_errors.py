@@ -189,3 +189,28 @@ def test_report_and_calibrate_runs_check_their_arguments(tmp_path):
         with pytest.raises(error, match=match) as e:
             gyroflip.calibrate_runs(**kwargs)
         assert "incompatible function arguments" not in str(e.value)
+
+
+def test_kinds_without_intervals_read_no_noise_type():
+    # Review E-L2: PDEV, MTIE and TIE rms have no EDF; like the CLI's nulls, no level, no type,
+    # and the guard refused (the CLI refuses --ci-guard there).
+    x = np.random.default_rng(3).normal(size=1001)
+    for kind in ("pdev", "mtie", "tierms"):
+        d = gyroflip.deviation(x, kind=kind, input="angle")
+        assert d.ci is None and np.all(np.isnan(d.alpha)) and np.all(np.isnan(d.edf))
+        with pytest.raises(ValueError, match="guard applies to the kinds with intervals"):
+            gyroflip.deviation(x, kind=kind, input="angle", guard=True)
+    assert np.all(np.isnan(gyroflip.deviation(x, input="angle", ci=None).alpha))
+    assert np.all(gyroflip.deviation(x, input="angle").alpha == 2)  # white PM read
+
+
+def test_theo1_odd_factors_are_named():
+    # Review E-L1: an odd factor alone read "series too short"; in a list it vanished silently.
+    x = np.random.default_rng(4).normal(size=1001)
+    with pytest.raises(ValueError, match=r"theo1 needs even averaging factors .*\[9\] odd"):
+        gyroflip.deviation(x, kind="theo1", input="angle", taus=[9])
+    with pytest.warns(UserWarning, match=r"\[9\] dropped"):
+        d = gyroflip.deviation(x, kind="theo1", input="angle", taus=[8, 9, 16])
+    assert list(d.m) == [8, 16]
+    with pytest.raises(ValueError, match="taus is empty"):
+        gyroflip.deviation(x, input="angle", taus=[])

@@ -761,10 +761,14 @@ namespace {
 // reads flicker FM as white FM or PM: intervals held the truth only ~50 % of the time at 68.3 %
 // (issue 23 review R-H1; 300 records of 513 points). Stable32 prints no Theo1 bounds to follow,
 // so ours take the smallest EDF of the type read and the three FM types there: wider, never
-// narrower than the type's own (Confidence.Theo1BoundsCoverRandomWalkFm).
+// narrower than the type's own (Confidence.Theo1BoundsCoverRandomWalkFm). A white-PM reading
+// keeps its own EDF: there frequency noise is not read as white PM (bench/theo1_coverage.py, 300
+// records of 513 and of 10 001 points per FM type, 7 factors each: none), flicker PM seldom (0-8
+// of 300), and random-walk FM's EDF (a few) made white PM's bounds up to 7x too wide where its
+// own is thousands (review E-M1; Confidence.Theo1WhitePmBoundsStayNarrow).
 double theo1_few_point_edf(int alpha, std::size_t m, std::size_t n_phase) {
   double e = edf(dev_kind::theo1, alpha, m, n_phase);
-  if ((n_phase - 1) / m + 1 >= lag1_min_points) return e;
+  if (alpha >= 2 || (n_phase - 1) / m + 1 >= lag1_min_points) return e;
   for (const int fm : {0, -1, -2}) e = std::min(e, edf(dev_kind::theo1, fm, m, n_phase));
   return e;
 }

@@ -521,6 +521,42 @@ TEST(Confidence, Theo1BoundsCoverRandomWalkFm) {
   }
 }
 
+// Issue 23 review E-M1: the few-point rule above gave white PM random-walk FM's EDF (coverage 1.00,
+// bounds up to 7x too wide). A white-PM reading keeps its own EDF: 300 records of 513 points
+// of white PM (fixed seeds), m = 48 and 96 (fewer than 30 decimated points): the interval holds the
+// truth in 58-95 % of them (a third to half of the records read white FM there and keep the wide
+// bounds; 1.00 without the PM rule), and a record read as white PM has an EDF of at least 100 (RW
+// FM's: 11.6 and 4.4).
+TEST(Confidence, Theo1WhitePmBoundsStayNarrow) {
+  constexpr std::size_t n = 513;
+  constexpr std::size_t records = 300;
+  const std::vector<std::size_t> ms{48, 96};
+  std::vector<std::vector<deviation_point>> all;
+  std::vector<double> mean_square(ms.size());
+  for (std::size_t r = 0; r < records; ++r) {
+    const std::vector<double> x = white_phase(n, 9000 + r);
+    auto pts = deviation(dev_kind::theo1, x, input_kind::angle, 1.0, {tau_spec::set::list, ms});
+    ASSERT_TRUE(pts);
+    ASSERT_EQ(pts->size(), ms.size());
+    add_confidence(*pts, dev_kind::theo1, x, 0.683);
+    for (std::size_t i = 0; i < ms.size(); ++i) {
+      mean_square[i] += (*pts)[i].dev * (*pts)[i].dev;
+      if ((*pts)[i].alpha == 2) {
+        EXPECT_GE((*pts)[i].edf, 100.0) << "m " << ms[i];
+      }
+    }
+    all.push_back(std::move(*pts));
+  }
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    const double truth = std::sqrt(mean_square[i] / records);
+    std::size_t held = 0;
+    for (const auto& pts : all) held += pts[i].ci_lo <= truth && truth <= pts[i].ci_hi ? 1U : 0U;
+    const double coverage = static_cast<double>(held) / records;
+    EXPECT_GE(coverage, 0.58) << "m " << ms[i];
+    EXPECT_LE(coverage, 0.95) << "m " << ms[i];
+  }
+}
+
 // Issue 23 review R-M1: a tau beyond the identification limit with no shorter tau listed took white
 // FM (alpha 0) whatever the data; now the type identified at the limit factor. White PM, 1001
 // points: MTOTDEV at m = 200 alone reads white PM, as with m = 1 listed before it.

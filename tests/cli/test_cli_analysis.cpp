@@ -438,6 +438,9 @@ TEST(CliAdev, OptionsThatDoNotCombineAreRefused) {
       {"--column", "a", "--kind", "mtie", "--ci-guard"},
       {"--column", "a", "--alpha", "0", "--dynamic", "100"},
       {"--column", "a", "--alpha", "3"},
+      // Review E-L4: a step (or window) below one sample interval is not silently one sample.
+      {"--column", "a", "--dynamic", "50:0.4"},
+      {"--column", "a", "--dynamic", "0.3"},
   };
   for (const auto& extra : bad) {
     std::vector<std::string> args{"adev", f, "--rate", "1", "-o", d.file("o.csv")};
@@ -451,6 +454,17 @@ TEST(CliAdev, OptionsThatDoNotCombineAreRefused) {
       run_cli({"adev", f, "--rate", "1", "--column", "a", "--kind", "totdev", "--taus", "5000"});
   EXPECT_EQ(short_.exit_code, 2);
   EXPECT_NE(short_.err.find("abc.csv: no averaging time fits"), std::string::npos) << short_.err;
+  // Review E-L4: the same for the codeviation and the hat (they exited 1 without the file).
+  for (const auto& cols : {std::vector<std::string>{"a,b", "--codev"},
+                           std::vector<std::string>{"a,b,c", "--three-cornered-hat"}}) {
+    const auto r =
+        run_cli({"adev", f, "--rate", "1", "--column", cols[0], cols[1], "--taus", "5000"});
+    EXPECT_EQ(r.exit_code, 2) << cols[1];
+    EXPECT_NE(r.err.find("abc.csv: no averaging time fits"), std::string::npos) << r.err;
+  }
+  // A step far beyond the series (1e20 s overflowed a size_t and read as 0 samples): one window.
+  const auto far = run_cli({"adev", f, "--rate", "1", "--column", "a", "--dynamic", "500:1e20"});
+  EXPECT_EQ(far.exit_code, 0) << far.err;
 }
 
 // Review L5, M2: the hat leaves a clock it cannot resolve empty (a negative variance estimate is
