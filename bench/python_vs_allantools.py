@@ -36,21 +36,33 @@ def call(module, kind, y, y2):
 
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("-")]
-    kinds = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
-             "htotdev", "theo1", "pdev", "mtie", "tierms", "gcodev", "gradev"]
+    kinds = None
     global REPEAT
+    known = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
+             "htotdev", "theo1", "pdev", "mtie", "tierms", "gcodev", "gradev"]
     for a in sys.argv[1:]:
         if a.startswith("--kinds="):
             kinds = a.split("=", 1)[1].split(",")
+            if not set(kinds) <= set(known):
+                sys.exit(f"python_vs_allantools.py: --kinds takes some of {','.join(known)}")
         elif a.startswith("--repeat="):
-            REPEAT = int(a.split("=", 1)[1])
+            value = a.split("=", 1)[1]
+            if not value.isdigit() or int(value) < 1:
+                sys.exit("python_vs_allantools.py: --repeat takes a whole number >= 1")
+            REPEAT = int(value)
         elif a in ("-h", "--help"):
             print(__doc__)
             return
         elif a.startswith("-"):
             sys.exit(f"python_vs_allantools.py: unknown option {a} (--help)")
+    kinds = kinds or known
     pydir = args[0] if args else os.path.join(os.path.dirname(__file__), "..", "build", "python")
-    sizes = [int(float(s)) for s in args[1:]] or [10 ** 6, 10 ** 7]
+    try:
+        sizes = [int(float(s)) for s in args[1:]] or [10 ** 6, 10 ** 7]
+    except ValueError:
+        sys.exit("python_vs_allantools.py: sizes are numbers such as 1e6 (--help)")
+    if any(n < 1000 for n in sizes):
+        sys.exit("python_vs_allantools.py: sizes are at least 1000 samples")
     sys.path.insert(0, pydir)
     import numpy as np
     import gyroflip.allantools as ours

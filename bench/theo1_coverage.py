@@ -15,14 +15,22 @@ Defaults: build/python 513 300. Prints one line per (type, m): coverage identifi
 median EDF printed, and the types read."""
 import sys
 
+if any(a.startswith("-") for a in sys.argv[1:]):
+    print(__doc__)
+    sys.exit(0 if sys.argv[1:] in (["-h"], ["--help"]) else 2)
+try:
+    N = int(float(sys.argv[2])) if len(sys.argv) > 2 else 513
+    RECORDS = int(sys.argv[3]) if len(sys.argv) > 3 else 300
+except ValueError:
+    sys.exit("theo1_coverage.py: N and RECORDS are numbers (--help)")
+if N < 64 or RECORDS < 2:
+    sys.exit("theo1_coverage.py: N is at least 64 and RECORDS at least 2 (--help)")
 sys.path.insert(0, sys.argv[1] if len(sys.argv) > 1 else "build/python")
 import numpy as np  # noqa: E402
 
 import gyroflip  # noqa: E402
 from gyroflip.allantools import Noise  # noqa: E402
 
-N = int(float(sys.argv[2])) if len(sys.argv) > 2 else 513
-RECORDS = int(sys.argv[3]) if len(sys.argv) > 3 else 300
 TYPES = {2: "white PM", 1: "flicker PM", 0: "white FM", -1: "flicker FM", -2: "random-walk FM"}
 
 
@@ -64,7 +72,7 @@ def main():
         edf, read = np.array(edf), np.array(read)
         for j, m in enumerate(d.m):
             kinds, counts = np.unique(read[:, j], return_counts=True)
-            types = ", ".join(f"{k}: {c}" for k, c in zip(kinds.tolist(), counts.tolist()))
+            types = ", ".join(f"{k:.0f}: {c}" for k, c in zip(kinds.tolist(), counts.tolist()))
             print(f"N {N} {name:15s} m {m:5d}  coverage {held[j]:.2f} (given type {held_given[j]:.2f})"
                   f"  median EDF {np.median(edf[:, j]):8.1f}  read {{{types}}}")
 

@@ -308,31 +308,19 @@ result<std::optional<plot_file>> plot_target(const std::string& path) {
   return std::optional<plot_file>{plot_file{dir.empty() ? "." : dir, p.stem().string(), *f}};
 }
 
-// `--dynamic WINDOW_S[:STEP_S]`: the window and step in samples (step: a quarter window).
-result<std::pair<std::size_t, std::size_t>> dynamic_windows(const std::string& spec,
-                                                            double tau0_s) {
+// `--dynamic WINDOW_S[:STEP_S]`: the window and step in samples (analysis::dynamic_samples; the
+// step a quarter window when not given) for a series of n samples.
+result<std::pair<std::size_t, std::size_t>> dynamic_windows(const std::string& spec, double tau0_s,
+                                                            std::size_t n) {
   const auto parts = text::split(spec, ':');
   const auto w = parts.empty() ? std::nullopt : text::to_double(parts[0].text);
-  std::optional<double> st;
-  if (parts.size() == 2)
-    st = text::to_double(parts[1].text);
-  else if (w)
-    st = *w / 4.0;
-  if (parts.size() > 2 || !w || !st || !(*w > 0.0) || !(*st > 0.0) || !std::isfinite(*w) ||
-      !std::isfinite(*st))
+  const auto st = parts.size() == 2 ? text::to_double(parts[1].text) : std::nullopt;
+  if (parts.size() > 2 || !w || (parts.size() == 2 && !st))
     return usage_error("--dynamic takes WINDOW_S or WINDOW_S:STEP_S in seconds (> 0); got " +
                        printable(spec, 60));
-  // Below half a sample a length rounds to none (refused, not made 1); far beyond any series it
-  // is capped before the conversion (a double above 2^64 has no size_t; review E-L4).
-  if (std::round(*w / tau0_s) < 1.0 || std::round(*st / tau0_s) < 1.0)
-    return usage_error(
-        fmt::format("--dynamic {}: the window and the step must each be at least one "
-                    "sample interval ({:g} s)",
-                    printable(spec, 60), tau0_s));
-  const auto samples = [tau0_s](double s) {
-    return static_cast<std::size_t>(std::min(std::round(s / tau0_s), 1e18));
-  };
-  return std::pair{samples(*w), samples(*st)};
+  auto r = analysis::dynamic_samples(*w, st, tau0_s, n);
+  if (!r) return usage_error(fmt::format("--dynamic {}: {}", printable(spec, 60), r.err().message));
+  return r;
 }
 
 // DAVAR (cross.hpp): one curve per window, as CSV start_s,tau_s,dev,n (or JSON), and with
@@ -340,7 +328,7 @@ result<std::pair<std::size_t, std::size_t>> dynamic_windows(const std::string& s
 int run_dynamic(const adev_options& o, analysis::dev_kind kind, const analysis::tau_spec& taus,
                 std::optional<double> level, const std::optional<plot_file>& plot,
                 const analysis_input& in) {
-  const auto win = dynamic_windows(o.dynamic, in.series.tau0_s());
+  const auto win = dynamic_windows(o.dynamic, in.series.tau0_s(), in.series.values().size());
   if (!win) return report(win.err());
   const auto kind_of_input =
       o.in.input == "angle" ? analysis::input_kind::angle : analysis::input_kind::rate;
@@ -432,6 +420,11 @@ int run_multi(const adev_options& o, analysis::dev_kind kind, const analysis::ta
     if (!h) return report(too_short_is_bad_input(h.err(), o.in.file));
     for (std::size_t c = 0; c < 3; ++c) curves.emplace_back(std::string(1, "ABC"[c]), (*h)[c]);
   }
+  // A factor of the list without a term: said, as for one curve (review F-L6).
+  for (const auto& d : analysis::dropped_factors(taus, curves.front().second,
+                                                 o.codev ? analysis::dev_kind::oadev : kind,
+                                                 in[0].phase.size(), tau0))
+    warn(fmt::format("{}: averaging factor {} dropped: {}", o.in.file, d.m, d.why));
   const std::string unit = dev_unit(o.in, o.codev ? "oadev" : o.kind);
   std::string csv = "clock,tau_s,dev,n\n" + fmt::format("# units: {}\n", unit);
   nlohmann::json j = nlohmann::json::array();

@@ -271,6 +271,8 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
                          "(not pdev, mtie, tierms)")
     if alpha is not None and guard:
         raise ValueError("alpha gives every tau one noise type: not with guard")
+    if guard and ci is None:
+        raise ValueError("guard guards intervals: not with ci=None")
     if alpha is not None and ci is None and not bias_correction:
         raise ValueError("alpha sets the noise type of the bounds and the bias correction: "
                          "with ci=None and no bias_correction it has nothing to set")
@@ -288,19 +290,14 @@ def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None,
     m, tau_s, dev, n, ci_lo, ci_hi, edf, alpha: each window's bounds at two-sided level ci from
     the noise type identified in that window and the EDF of its length, as deviation() on the
     window alone (ci=None, or a kind without an EDF: NaN bounds and alpha). window_s and step_s
-    are each at least one sample interval (the CLI's rule)."""
+    are rounded to whole samples (halves up) and refused beyond the series, a step below one
+    sample interval too: `adev --dynamic`'s rules, from the library."""
     rate = _positive_rate(rate)
     y, _ = _samples(data)
-    if window_s is None or not (_np.isfinite(float(window_s)) and float(window_s) > 0):
+    if window_s is None:
         raise ValueError("window_s must be a positive number of seconds")
-    step_s = float(window_s) / 4.0 if step_s is None else float(step_s)
-    if not (_np.isfinite(step_s) and step_s > 0):
-        raise ValueError("step_s must be a positive number of seconds")
-    window, step = (min(round(float(s) * rate), 10**18) for s in (window_s, step_s))
-    if window < 1 or step < 1:
-        raise ValueError(f"the window and the step must each be at least one sample interval "
-                         f"({1.0 / rate:g} s)")
-    return _gyroflip._dynamic(kind, y, rate, input, window, step, taus,
+    return _gyroflip._dynamic(kind, y, rate, input, float(window_s),
+                              None if step_s is None else float(step_s), taus,
                               None if ci is None else float(ci))
 
 

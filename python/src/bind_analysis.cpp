@@ -180,7 +180,7 @@ py::dict gcodev(const f64_array& a, const f64_array& b, double rate_hz, const st
 }
 
 py::list dynamic(const std::string& kind, const f64_array& data, double rate_hz,
-                 const std::string& input, std::size_t window, std::size_t step,
+                 const std::string& input, double window_s, std::optional<double> step_s,
                  const std::string& taus, std::optional<double> ci) {
   const auto k = analysis::parse_dev_kind(kind);
   if (!k) throw py::value_error("unknown statistic '" + kind + "'");
@@ -188,9 +188,12 @@ py::list dynamic(const std::string& kind, const f64_array& data, double rate_hz,
   const auto spec = take(analysis::parse_tau_spec(taus));
   // Kinds without an EDF get no interval columns' values (NaN), as deviation() gives them.
   const auto level = ci && analysis::has_edf(*k) ? ci : std::nullopt;
+  const auto y = span_of(data, "data");
+  const double tau0 = tau0_of(rate_hz);
+  const auto [window, step] = take(analysis::dynamic_samples(window_s, step_s, tau0, y.size()));
   auto r = without_gil([&](const progress_fn& listen) {
-    return analysis::dynamic_deviation(*k, span_of(data, "data"), input_of(input), tau0_of(rate_hz),
-                                       window, step, spec, listen, level);
+    return analysis::dynamic_deviation(*k, y, input_of(input), tau0, window, step, spec, listen,
+                                       level);
   });
   const auto windows = take(std::move(r));
   py::list out;
@@ -228,7 +231,7 @@ void bind_analysis(py::module_& m) {
   m.def("_gcodev", &gcodev, py::arg("a"), py::arg("b"), py::arg("rate"), py::arg("input"),
         py::arg("factors"));
   m.def("_dynamic", &dynamic, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
-        py::arg("window"), py::arg("step"), py::arg("taus"), py::arg("ci") = std::nullopt);
+        py::arg("window_s"), py::arg("step_s"), py::arg("taus"), py::arg("ci") = std::nullopt);
   m.def("_chi2_quantile", &analysis::chi2_quantile, py::arg("p"), py::arg("dof"));
   m.def("_edf", &edf_of, py::arg("alpha"), py::arg("d"), py::arg("m"), py::arg("n"),
         py::arg("overlapping"), py::arg("modified"));

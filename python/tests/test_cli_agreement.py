@@ -248,8 +248,13 @@ def test_dynamic_deviation_equals_adev_dynamic_json(exe, series_csv):
     with pytest.raises(ValueError):
         gyroflip.dynamic_deviation(y, window_s=1e6, rate=100.0)
     # Review E-L4: below one sample interval refused (was silently one sample), as the CLI.
-    with pytest.raises(ValueError, match="at least one sample interval"):
+    with pytest.raises(ValueError, match="shorter than one sample interval"):
         gyroflip.dynamic_deviation(y, window_s=40, step_s=0.004, rate=100.0)
+    # Review F-M1: halves round up in both (Python's round() took 12.5 samples to 12, the CLI 13).
+    cli = json.loads(run(exe, "adev", path, "--rate", 100, "--dynamic", "0.5", "--json", "--ci", "none"))
+    py = gyroflip.dynamic_deviation(y, "oadev", rate=100.0, window_s=0.5, ci=None)
+    assert cli["step_s"] == pytest.approx(0.13) and len(cli["windows"]) == len(py)
+    assert [w["start_s"] for w in cli["windows"]] == pytest.approx([w["start_s"] for w in py])
     assert np.all(np.isnan(gyroflip.dynamic_deviation(y, "mtie", rate=100.0, window_s=40)[0]["alpha"]))
 
 

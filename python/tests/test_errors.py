@@ -201,6 +201,8 @@ def test_kinds_without_intervals_read_no_noise_type():
         with pytest.raises(ValueError, match="guard applies to the kinds with intervals"):
             gyroflip.deviation(x, kind=kind, input="angle", guard=True)
     assert np.all(np.isnan(gyroflip.deviation(x, input="angle", ci=None).alpha))
+    with pytest.raises(ValueError, match="guard guards intervals"):  # review F-L2, as the CLI
+        gyroflip.deviation(x, input="angle", ci=None, guard=True)
     assert np.all(gyroflip.deviation(x, input="angle").alpha == 2)  # white PM read
 
 

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <string>
+#include <string_view>
 #include <type_traits>
 
 #if __has_include(<sys/mman.h>)
@@ -489,6 +491,36 @@ result<std::array<std::vector<deviation_point>, 3>> three_cornered_hat(
     }
   }
   return out;
+}
+
+result<std::pair<std::size_t, std::size_t>> dynamic_samples(double window_s,
+                                                            std::optional<double> step_s,
+                                                            double tau0_s, std::size_t n_samples) {
+  const double step = step_s.value_or(window_s / 4.0);
+  const std::string_view step_name = step_s ? "step" : "step (a quarter window)";
+  if (!(window_s > 0.0) || !std::isfinite(window_s))
+    return parameter_error("window_s", "the window must be a positive number of seconds");
+  if (!(step > 0.0) || !std::isfinite(step))
+    return parameter_error("step_s", "the step must be a positive number of seconds");
+  const double length_s = static_cast<double>(n_samples) * tau0_s;
+  // Compared in seconds before any conversion: a length beyond the series has no size_t.
+  if (window_s > length_s)
+    return parameter_error("window_s", fmt::format("a window of {:g} s is longer than the series "
+                                                   "({} samples, {:g} s)",
+                                                   window_s, n_samples, length_s));
+  if (step > length_s)
+    return parameter_error("step_s", fmt::format("a {} of {:g} s is longer than the series ({} "
+                                                 "samples, {:g} s)",
+                                                 step_name, step, n_samples, length_s));
+  // Halves up, the same for every caller (Python's round() would take halves to even).
+  const auto samples = [tau0_s](double s) {
+    return static_cast<std::size_t>(std::floor(s / tau0_s + 0.5));
+  };
+  if (samples(step) < 1)
+    return parameter_error("step_s", fmt::format("a {} of {:g} s is shorter than one sample "
+                                                 "interval ({:g} s)",
+                                                 step_name, step, tau0_s));
+  return std::pair{samples(window_s), samples(step)};
 }
 
 result<std::vector<dynamic_window>> dynamic_deviation(dev_kind k, std::span<const double> data,

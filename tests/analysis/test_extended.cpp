@@ -804,6 +804,34 @@ TEST(Cross, GcodevOfASeriesWithItselfIsItsOadevAndThreeCorneredHatRecoversTheClo
                                   input_kind::rate, 1.0));
 }
 
+// The window and step in samples, the same rule for the CLI and Python (review F-M1: Python's
+// round() took 12.5 samples to 12 and the CLI 13): halves up, lengths compared in seconds before
+// any conversion (1e20 s has no size_t; review E-L4), a step below one sample refused.
+TEST(Cross, DynamicSamplesRoundHalvesUpAndRefuseWhatDoesNotFit) {
+  using P = std::pair<std::size_t, std::size_t>;
+  EXPECT_EQ(dynamic_samples(50.0, std::nullopt, 1.0, 1000).value(), (P{50, 13}));
+  EXPECT_EQ(dynamic_samples(10.0, std::nullopt, 1.0, 1000).value(), (P{10, 3}));
+  EXPECT_EQ(dynamic_samples(50.0, 0.5, 1.0, 1000).value(), (P{50, 1}));
+  EXPECT_EQ(dynamic_samples(1.0, 0.25, 0.1, 1000).value(), (P{10, 3}));
+  EXPECT_EQ(dynamic_samples(1000.0, 1000.0, 1.0, 1000).value(), (P{1000, 1000}));
+  for (const auto& [w, st] : std::vector<std::pair<double, std::optional<double>>>{
+           {50.0, 0.4},
+           {1.0, std::nullopt},
+           {50.0, 1e20},
+           {1e20, std::nullopt},
+           {1000.5, std::nullopt},
+           {0.0, std::nullopt},
+           {-5.0, std::nullopt},
+           {std::nan(""), std::nullopt},
+           {50.0, std::numeric_limits<double>::infinity()}}) {
+    const auto r = dynamic_samples(w, st, 1.0, 1000);
+    EXPECT_FALSE(r) << w;
+    if (!r) {
+      EXPECT_EQ(r.err().code, errc::bad_input) << r.err().message;
+    }
+  }
+}
+
 TEST(Cross, DynamicDeviationIsTheCurveOfEachWindow) {
   auto y = white_phase(10000, 51);
   for (std::size_t i = 5000; i < y.size(); ++i) y[i] *= 3.0;  // the noise triples half way

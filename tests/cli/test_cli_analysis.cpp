@@ -461,10 +461,24 @@ TEST(CliAdev, OptionsThatDoNotCombineAreRefused) {
         run_cli({"adev", f, "--rate", "1", "--column", cols[0], cols[1], "--taus", "5000"});
     EXPECT_EQ(r.exit_code, 2) << cols[1];
     EXPECT_NE(r.err.find("abc.csv: no averaging time fits"), std::string::npos) << r.err;
+    // One factor too long in a list: said, not dropped silently (review F-L6).
+    const auto part =
+        run_cli({"adev", f, "--rate", "1", "--column", cols[0], cols[1], "--taus", "10,5000"});
+    EXPECT_EQ(part.exit_code, 0) << part.err;
+    EXPECT_NE(part.err.find("averaging factor 5000 dropped"), std::string::npos) << part.err;
   }
-  // A step far beyond the series (1e20 s overflowed a size_t and read as 0 samples): one window.
+  // A step far beyond the series (1e20 s overflowed a size_t and read as 0 samples): refused by
+  // name, as a window beyond it; a default step below one sample is named as the default.
   const auto far = run_cli({"adev", f, "--rate", "1", "--column", "a", "--dynamic", "500:1e20"});
-  EXPECT_EQ(far.exit_code, 0) << far.err;
+  EXPECT_EQ(far.exit_code, 2);
+  EXPECT_NE(far.err.find("a step of 1e+20 s is longer than the series (998 samples"),
+            std::string::npos)
+      << far.err;
+  const auto tiny = run_cli({"adev", f, "--rate", "1", "--column", "a", "--dynamic", "1"});
+  EXPECT_EQ(tiny.exit_code, 2);
+  EXPECT_NE(tiny.err.find("a step (a quarter window) of 0.25 s is shorter than one sample"),
+            std::string::npos)
+      << tiny.err;
 }
 
 // Review L5, M2: the hat leaves a clock it cannot resolve empty (a negative variance estimate is

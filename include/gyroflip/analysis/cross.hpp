@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "gyroflip/analysis/allan.hpp"
@@ -56,6 +57,13 @@ struct dynamic_window {
   double start_s = 0.0;
   std::vector<deviation_point> curve;
 };
+
+/// A dynamic deviation's window and step in samples: `window_s` and `step_s` seconds (the step a
+/// quarter window when not given) of a series of `n_samples` samples `tau0_s` apart, each rounded
+/// to the nearest sample (halves up). Errors: not positive and finite, a window or step longer
+/// than the series, a step below one sample (the window's lower limit is dynamic_deviation's).
+[[nodiscard]] result<std::pair<std::size_t, std::size_t>> dynamic_samples(
+    double window_s, std::optional<double> step_s, double tau0_s, std::size_t n_samples);
 
 /// DAVAR (Galleani & Tavella, "The dynamic Allan variance", IEEE UFFC 56, 2009; Stable32's
 /// dynamic stability): statistic `k` over windows of `window` samples starting every `step`
