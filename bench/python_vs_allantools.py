@@ -36,10 +36,10 @@ def call(module, kind, y, y2):
 
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("-")]
-    kinds = None
     global REPEAT
     known = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
              "htotdev", "theo1", "pdev", "mtie", "tierms", "gcodev", "gradev"]
+    kinds = known
     for a in sys.argv[1:]:
         if a.startswith("--kinds="):
             kinds = a.split("=", 1)[1].split(",")
@@ -55,7 +55,6 @@ def main():
             return
         elif a.startswith("-"):
             sys.exit(f"python_vs_allantools.py: unknown option {a} (--help)")
-    kinds = kinds or known
     pydir = args[0] if args else os.path.join(os.path.dirname(__file__), "..", "build", "python")
     try:
         sizes = [int(float(s)) for s in args[1:]] or [10 ** 6, 10 ** 7]

@@ -284,6 +284,11 @@ void setup_calibrate(CLI::App& app, action& chosen) {
           ->capture_default_str();
   sub->add_option("-o,--output", o->output, "write the calibration JSON to this file");
   sub->add_flag("--json", o->json, "print the calibration as one JSON object");
+  sub->add_option("--sensor", o->sensor,
+                  "sensor preset or FILE.toml whose g-sensitivity specification the stationarity "
+                  "test checks (default: the recordings' preset)");
+  sub->add_flag("--strict", o->strict,
+                "refuse a run that fails the stationarity test (exit 2) instead of warning");
   add_angle_tolerance(sub, o->angle_tolerance_deg);
   sub->parse_complete_callback([o, degree] { o->degree_given = degree->count() > 0; });
 }

@@ -1,9 +1,11 @@
 /// \file
 /// \brief `gyroflip calibrate`: dN from stationary recordings (paper eqns 8-11), its Earth and
 /// g terms, and a dN(T) model when recordings at several temperatures are given.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -13,6 +15,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "progress_bar.hpp"
 
@@ -34,27 +37,104 @@ void print_entry(std::string& out, const io::calibration_entry& e,
     fmt::format_to(std::back_inserter(out), "  Earth term {:.6e} deg/s   g term {:.6e} deg/s\n",
                    s.earth_rate_dps, s.g_term_dps);
   }
+  if (e.stationarity)
+    fmt::format_to(std::back_inserter(out), "  stationarity: {}\n", e.stationarity->summary());
 }
 
-std::string summary_text(const io::calibration_record& rec) {
+// The result a user quotes, with the digits its uncertainty supports, and which number is which.
+void print_result(std::string& out, const io::calibration_record& rec,
+                  const workflow::delta_n_budget& b) {
+  const auto o = std::back_inserter(out);
+  const auto two = [](double v) { return fmt::format("{:.2g}", v); };
+  std::string failed;
+  for (const auto& f : rec.files)
+    if (f.stationarity && f.stationarity->failed()) failed += (failed.empty() ? "" : ", ") + f.file;
+  if (!failed.empty())
+    fmt::format_to(o,
+                   "NOT A CALIBRATION: {} failed the stationarity test; the numbers below are "
+                   "the runs' mean r, not the sensor's dN\n",
+                   failed);
+  if (!rec.model) {
+    const auto& c = rec.files.front().cal;
+    fmt::format_to(o, "dN = {} deg/s (one run; its within-run error, correlated noise)\n",
+                   workflow::value_pm(c.delta_n_dps, c.stderr_correlated_dps));
+  } else if (rec.model->degree() == 0) {
+    const auto& m = *rec.model;
+    fmt::format_to(
+        o, "dN over {} runs = {} deg/s (68.3 %{}; {})\n", rec.files.size(),
+        workflow::value_pm(m.coeffs_dps[0], b.calibration_dps),
+        b.coverage_factor > 1.0
+            ? fmt::format(", Student's t for {} degrees of freedom", b.run_to_run_dof)
+            : "",
+        m.random_effects ? "random effects: DerSimonian-Laird, Knapp-Hartung" : "weighted mean");
+  } else {
+    const auto& m = *rec.model;
+    fmt::format_to(o,
+                   "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.6e}], fitted over {:.1f}..{:.1f} "
+                   "degC (random effects), chi2/dof {:.3g}\n"
+                   "  at {:.2f} degC: dN = {} deg/s; anywhere in the range within ±{} deg/s "
+                   "(68.3 %)\n",
+                   m.t_ref_c, fmt::join(m.coeffs_dps, ", "), m.temp_min_c, m.temp_max_c,
+                   m.chi2_per_dof, m.t_ref_c,
+                   workflow::value_pm(m.coeffs_dps[0], m.interval_at(m.t_ref_c)),
+                   two(b.calibration_dps));
+  }
+  if (rec.files.size() > 1) {
+    fmt::format_to(o,
+                   "  between runs: std {} deg/s of the runs' dN{}\n"
+                   "  within runs: {} deg/s (the runs' correlated errors pooled: noise inside the "
+                   "runs, not the error of dN)\n",
+                   two(b.run_to_run_dps),
+                   std::isfinite(b.between_run_dps)
+                       ? fmt::format(" ({} beyond their own noise, random effects' tau)",
+                                     two(b.between_run_dps))
+                       : "",
+                   two(b.within_run_dps));
+  }
+  if (std::isfinite(b.new_power_up_dps))
+    fmt::format_to(o,
+                   "quote: ±{} deg/s for a new power-up (68.3 %): what a rate compensated with "
+                   "this calibration carries in every cycle; ±{} deg/s is how well the "
+                   "calibrated value itself is known\n",
+                   two(b.new_power_up_dps), two(b.calibration_dps));
+  else
+    fmt::format_to(o,
+                   "quote: ±{} deg/s is the calibrated value's own error; how far dN moves from "
+                   "one power-up to the next is unknown (one run, no sensor preset)\n",
+                   two(b.calibration_dps));
+}
+
+// What to do next with a calibration saved as `cal_path` (empty: not saved).
+std::string next_step(const std::string& cal_path) {
+  if (cal_path.empty())
+    return "Next: save it (gyroflip calibrate ... -o cal.json) and compensate a run with it: "
+           "gyroflip compensate RUN.csv --calibration cal.json";
+  return fmt::format("Next: gyroflip compensate RUN.csv --calibration {}", cal_path);
+}
+
+std::string summary_text(const io::calibration_record& rec, const workflow::delta_n_budget& b,
+                         const std::string& cal_path) {
   std::string out;
   fmt::format_to(std::back_inserter(out), "pairing: {}\n", method::to_string(rec.pairing));
   for (const auto& f : rec.files) print_entry(out, f, rec.geometry);
-  if (rec.files.size() > 1) print_entry(out, {"all files", rec.pooled, std::nullopt}, rec.geometry);
-  if (rec.model) {
-    const auto& m = *rec.model;
-    if (m.degree() == 0) {
-      fmt::format_to(std::back_inserter(out),
-                     "dN over {} runs (weighted mean) = {:.6e} +- {:.3e} deg/s, chi2/dof {:.3g}\n",
-                     rec.files.size(), m.coeffs_dps[0], m.stderr_at(0.0), m.chi2_per_dof);
-    } else {
-      fmt::format_to(
-          std::back_inserter(out),
-          "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.6e}], fitted over {:.1f}..{:.1f} degC, chi2/dof "
-          "{:.3g}\n",
-          m.t_ref_c, fmt::join(m.coeffs_dps, ", "), m.temp_min_c, m.temp_max_c, m.chi2_per_dof);
+  print_result(out, rec, b);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& f : rec.files)
+    if (std::isfinite(f.cal.temp_c)) {
+      lo = std::min(lo, f.cal.temp_c);
+      hi = std::max(hi, f.cal.temp_c);
     }
-  }
+  const std::string temps = !(lo <= hi)      ? ""
+                            : hi - lo < 0.05 ? fmt::format("{:.1f} degC", lo)
+                                             : fmt::format("{:.1f}-{:.1f} degC", lo, hi);
+  const bool failed = std::any_of(rec.files.begin(), rec.files.end(), [](const auto& f) {
+    return f.stationarity && f.stationarity->failed();
+  });
+  fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(),
+                 failed ? "Next: calibrate again with the table at rest (nothing turning it, "
+                          "level, no rate input) and check each run's stationarity line"
+                        : next_step(cal_path),
+                 workflow::when_to_recalibrate(b, temps));
   return out;
 }
 
@@ -65,13 +145,21 @@ int run_calibrate(const calibrate_options& o) {
   if (!pairing) return report(usage_error("--pairing must be abba or simple"));
   auto geometry = geometry_option(o.lat_deg, o.axis);
   if (!geometry) return report(geometry.err());
-  if (auto s = io::check_outputs(o.files, std::array{o.output}); !s) return report(s.err());
+  std::vector<std::string> inputs = o.files;
+  if (!o.sensor.empty()) inputs.push_back(o.sensor);  // a TOML preset is an input too
+  if (auto s = io::check_outputs(inputs, std::array{o.output}); !s) return report(s.err());
   workflow::calibrate_request req;
   req.files = o.files;
   req.pairing = *pairing;
   req.angle_tolerance_deg = o.angle_tolerance_deg;
   req.geometry = *geometry;
   if (o.degree_given) req.degree = o.degree;
+  req.strict = o.strict;
+  if (!o.sensor.empty()) {
+    auto p = sensor::load_preset(o.sensor);
+    if (!p) return report(p.err());
+    req.sensor = std::move(*p);
+  }
   progress bar("calibrate", 1000);
   auto res = workflow::calibrate_runs(req, per_mille(bar));
   bar.finish();
@@ -81,7 +169,7 @@ int run_calibrate(const calibrate_options& o) {
   // Formatted and checked (every number finite) before anything is written.
   const auto text = io::to_json(rec);
   if (!text) return report(text.err());
-  const std::string summary = o.json ? *text + "\n" : summary_text(rec);
+  const std::string summary = o.json ? *text + "\n" : summary_text(rec, res->budget, o.output);
   if (auto s = check_finite(summary, "<stdout>"); !s) return report(s.err());
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, *text + "\n"); !s) return report(s.err());

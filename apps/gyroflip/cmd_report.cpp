@@ -32,6 +32,18 @@ int run_report(const report_options& o) {
   req.expected_rate_dps = o.expected_rate_dps;
   req.command = shell_command(o.command_line);
   req.made_by = "gyroflip report";
+  if (o.calibration.empty()) {
+    // The exact commands that turn these runs into a calibration and use it (issue 31).
+    std::vector<std::string> cal{"gyroflip", "calibrate"};
+    cal.insert(cal.end(), o.files.begin(), o.files.end());
+    if (std::isfinite(o.lat_deg)) {
+      cal.insert(cal.end(), {"--latitude", fmt::format("{}", o.lat_deg), "--axis", o.axis});
+    }
+    if (o.pairing != "abba") cal.insert(cal.end(), {"--pairing", o.pairing});
+    cal.insert(cal.end(), {"-o", "cal.json"});
+    req.next_step = fmt::format(
+        "Next: {}, then gyroflip compensate RUN.csv --calibration cal.json.", shell_command(cal));
+  }
   progress bar("report", 1000);
   auto res = workflow::make_report(req, per_mille(bar));
   bar.finish();

@@ -43,6 +43,8 @@ struct calibrate_options {
   bool degree_given = false;
   std::string output;  // -o CAL.json
   bool json = false;
+  std::string sensor;   // --sensor NAME|FILE.toml: the specification the g-term is checked against
+  bool strict = false;  // --strict: refuse a run that is not stationary
 };
 int run_calibrate(const calibrate_options& o);
 

@@ -214,6 +214,10 @@ class Deviation:
     ci: float
 
 
+# The kinds SP1065 gives no EDF (analysis::has_edf): no bounds, no noise type, no level.
+_WITHOUT_EDF = ("pdev", "mtie", "tierms")
+
+
 def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683, guard=False,
               bias_correction=False, alpha=None):
     """A deviation of the Allan family with confidence bounds, as `gyroflip adev` computes it.
@@ -266,7 +270,7 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
             factors = [m for m in factors if m % 2 == 0]
     if bias_correction and kind not in ("mtotdev", "ttotdev", "htotdev"):
         raise ValueError("bias_correction applies to mtotdev, ttotdev and htotdev only")
-    if alpha is not None and (isinstance(alpha, bool) or kind in ("pdev", "mtie", "tierms")):
+    if alpha is not None and (isinstance(alpha, bool) or kind in _WITHOUT_EDF):
         raise ValueError("alpha is a noise type (2, 1, 0, -1, -2) for the kinds with intervals "
                          "(not pdev, mtie, tierms)")
     if alpha is not None and guard:
@@ -279,7 +283,7 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
     r = _gyroflip._curve(kind, y, rate, input, spec, factors, None if ci is None else float(ci), backed,
                          bool(guard), bool(bias_correction),
                          None if alpha is None else _operator.index(alpha))
-    return Deviation(kind=kind, ci=None if kind in ("pdev", "mtie", "tierms") else ci, **r)
+    return Deviation(kind=kind, ci=None if kind in _WITHOUT_EDF else ci, **r)
 
 
 def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None, step_s=None,
@@ -335,7 +339,7 @@ def _columns(time_s, angle_deg, rate_dps, temp_c, n_avg):
 
 
 def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=None, axis=None,
-              pairing="abba", angle_tolerance_deg=0.0):
+              pairing="abba", angle_tolerance_deg=0.0, sensor=None, strict=False):
     """Calibrates dN on a stationary flipping recording (paper eqns 8-11), as `gyroflip calibrate`.
 
     time_s, angle_deg, rate_dps: one value per row (a dwell mean, or a conversion): time (s),
@@ -345,12 +349,17 @@ def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=Non
     latitude (deg) and axis ("north", "east", "up", "down", or "N,E,D"): split dN into its Earth
       term and g-term (paper eqns 9-10). pairing: "abba" (cancels linear drift) or "simple"
       (the paper's).
+    sensor: a preset name or TOML preset file whose g-sensitivity specification the stationarity
+      test checks the g-term against (default: not checked). strict: raise ValueError for a run
+      that fails the stationarity test instead of warning (as `calibrate --strict`).
     Returns the dict `gyroflip calibrate --json` prints (delta_n_dps, stderr_correlated_dps,
-    cycles, temp_c, earth_rate_dps, g_term_dps, ...) plus "cycle_values": arrays time_s, rate_dps
-    (r, paper eqn 7), bias_dps (c), temp_c. Pass the dict to compensate(calibration=...)."""
+    cycles, temp_c, earth_rate_dps, g_term_dps, files[0]["stationarity"], ...) plus "warnings"
+    and "cycle_values": arrays time_s, rate_dps (r, paper eqn 7), bias_dps (c), temp_c. Pass the
+    dict to compensate(calibration=...)."""
     c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg)
     return _gyroflip._calibrate(c, None if latitude is None else float(latitude), axis, pairing,
-                                float(angle_tolerance_deg))
+                                float(angle_tolerance_deg), None if sensor is None else str(sensor),
+                                bool(strict))
 
 
 def _int_arg(name, value, lo, hi):
@@ -388,7 +397,7 @@ def _paths_arg(name, files):
 
 
 def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
-                   angle_tolerance_deg=0.0):
+                   angle_tolerance_deg=0.0, sensor=None, strict=False):
     """Calibrates dN on stationary recordings (CSV or .gfr), as `gyroflip calibrate FILE... --json`
     (the same library call): each run's dN (paper eqns 8-11), all cycles pooled, and with several
     files a dN model (a line over a temperature span of 2 degC or more, else the runs' weighted
@@ -399,10 +408,14 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
     latitude (deg) and axis: split dN into its Earth term and g-term (paper eqns 9-10).
     pairing: "abba" (default) or "simple" (the paper's). angle_tolerance_deg: as calibrate().
     degree: an int in 0..6 (as `--degree`). A wrong type raises TypeError naming the argument.
-    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/2: delta_n_dps,
-    stderr_correlated_dps, files, model, sensor, ...) plus "warnings". The top-level delta_n_dps
-    is all cycles pooled (a summary); the dN that compensate() and report() apply is "model"'s
-    (the runs' weighted fit: model["coeffs_dps"][0] for runs at one temperature). Each of "files"
+    sensor, strict: as calibrate() (`--sensor`, `--strict`); the default specification is the
+      recordings' built-in preset.
+    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/3: delta_n_dps,
+    stderr_correlated_dps, files (each with its "stationarity"), model, uncertainty, sensor, ...)
+    plus "warnings". The top-level delta_n_dps is all cycles pooled (a summary); the dN that
+    compensate() and report() apply is "model"'s (the runs' random-effects fit:
+    model["coeffs_dps"][0] for runs at one temperature); "uncertainty" says what to quote
+    (new_power_up_dps). Each of "files"
     names its file's sha256, size_bytes and origin ("simulated", "emulated", "rig", "unknown").
     The warnings are what the command prints as
     warnings: a rig setting that differs between files, a sensor nobody named, a damaged .gfr
@@ -412,7 +425,8 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
     paths = _paths_arg("files", files)
     return _gyroflip._calibrate_runs(paths, None if latitude is None else _real_arg("latitude", latitude),
                                      axis, pairing, None if degree is None else _int_arg("degree", degree, 0, 6),
-                                     _real_arg("angle_tolerance_deg", angle_tolerance_deg))
+                                     _real_arg("angle_tolerance_deg", angle_tolerance_deg),
+                                     None if sensor is None else str(sensor), bool(strict))
 
 
 def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration=None,
@@ -505,8 +519,18 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
     if pairing != "abba":
         kwargs["pairing"] = pairing
     command = _call_text("report", [files, output], kwargs)
+    # What to do next with calibration runs, in Python's words (the CLI gives its commands).
+    next_step = ""
+    if calibration is None:
+        cal_kwargs = {k: v for k, v in (("latitude", latitude), ("axis", axis)) if v is not None}
+        if pairing != "abba":
+            cal_kwargs["pairing"] = pairing
+        next_step = (f"Next: cal = {_call_text('calibrate_runs', [list(paths)], cal_kwargs)[9:]}, "
+                     "json.dump(cal, open('cal.json', 'w')), then gyroflip.compensate(..., "
+                     "calibration=cal).")
     return _gyroflip._report(paths, output, latitude, axis, "" if calibration is None else calibration,
-                             "" if title is None else str(title), pairing, expected_rate, command)
+                             "" if title is None else str(title), pairing, expected_rate, command,
+                             next_step)
 
 
 def reproduce(quick=False, seed=1, campaigns=None, output=None):

@@ -77,17 +77,36 @@ py::dict cycle_columns(const std::vector<method::cycle>& cycles) {
   return d;
 }
 
+// The sensor whose specification the stationarity test checks (a preset name or TOML file).
+std::optional<sensor::preset> preset_of(const std::optional<std::string>& sensor) {
+  if (!sensor) return std::nullopt;
+  return take(sensor::load_preset(*sensor));
+}
+
 py::dict calibrate(const columns& c, std::optional<double> lat_deg,
-                   const std::optional<std::string>& axis, const std::string& pairing, double tol) {
+                   const std::optional<std::string>& axis, const std::string& pairing, double tol,
+                   const std::optional<std::string>& sensor, bool strict) {
   io::calibration_record rec;
   rec.pairing = pairing_of(pairing);
   rec.geometry = geometry_of(lat_deg, axis);
+  const auto preset = preset_of(sensor);
   const auto rc = cycles_of(c, rec.pairing, tol);
   rec.sensor = io::sensor_of({});
   rec.pooled = take(method::calibrate(rc.cycles));
-  rec.files.push_back({arrays_name, rec.pooled, std::nullopt});
+  // The stationarity test, as the CLI's (workflow::calibrate_runs).
+  const auto st = method::check_stationarity(
+      rc.cycles, rec.pooled,
+      workflow::stationarity_inputs_of(rec.pairing, preset ? &*preset : nullptr, rec.geometry));
+  std::vector<std::string> warnings;
+  if (st.failed()) {
+    const auto w = workflow::stationarity_warning(arrays_name, st);
+    if (strict) throw py::value_error(w);
+    warnings.push_back(w);
+  }
+  rec.files.push_back({arrays_name, rec.pooled, std::nullopt, st});
   rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);  // as the CLI
   py::dict d = json_loads(take(io::to_json(rec)));
+  d["warnings"] = warnings;
   for (const auto& cy : rc.cycles)  // the temperature may be absent (NaN)
     check(io::check_finite(std::array{cy.time_s, cy.rate_dps, cy.bias_dps}, "calibrate"));
   d["cycle_values"] = cycle_columns(rc.cycles);
@@ -97,8 +116,11 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
 // The same as `gyroflip calibrate FILE... --json` (workflow::calibrate_runs), with the warnings.
 py::dict calibrate_runs(const std::vector<std::string>& files, std::optional<double> lat_deg,
                         const std::optional<std::string>& axis, const std::string& pairing,
-                        std::optional<std::size_t> degree, double tol) {
+                        std::optional<std::size_t> degree, double tol,
+                        const std::optional<std::string>& sensor, bool strict) {
   workflow::calibrate_request req;
+  req.sensor = preset_of(sensor);
+  req.strict = strict;
   req.files = files;
   req.pairing = pairing_of(pairing);
   req.geometry = geometry_of(lat_deg, axis);
@@ -219,9 +241,10 @@ void bind_method(py::module_& m) {
       .def(py::init<f64_array, f64_array, f64_array, std::optional<f64_array>,
                     std::optional<f64_array>>());
   m.def("_calibrate", &calibrate, py::arg("columns"), py::arg("latitude"), py::arg("axis"),
-        py::arg("pairing"), py::arg("angle_tolerance_deg"));
+        py::arg("pairing"), py::arg("angle_tolerance_deg"), py::arg("sensor"), py::arg("strict"));
   m.def("_calibrate_runs", &calibrate_runs, py::arg("files"), py::arg("latitude"), py::arg("axis"),
-        py::arg("pairing"), py::arg("degree"), py::arg("angle_tolerance_deg"));
+        py::arg("pairing"), py::arg("degree"), py::arg("angle_tolerance_deg"), py::arg("sensor"),
+        py::arg("strict"));
   m.def("_compensate", &compensate, py::arg("columns"), py::arg("delta_n_dps"),
         py::arg("calibration_json"), py::arg("pairing"), py::arg("drift_window_s"),
         py::arg("angle_tolerance_deg"));

@@ -21,8 +21,9 @@ py::dict report(const std::vector<std::string>& files, const std::string& output
                 std::optional<double> lat_deg, const std::optional<std::string>& axis,
                 const std::string& calibration, const std::string& title,
                 const std::string& pairing, std::optional<double> expected_rate_dps,
-                const std::string& command) {
+                const std::string& command, const std::string& next_step) {
   workflow::report_request req;
+  req.next_step = next_step;
   req.files = files;
   req.output = output;
   req.geometry = geometry_of(lat_deg, axis);
@@ -62,7 +63,7 @@ py::dict reproduce(bool quick, std::uint64_t seed, std::optional<std::size_t> ca
 void bind_workflow(py::module_& m) {
   m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),
         py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
-        py::arg("expected_rate"), py::arg("command"));
+        py::arg("expected_rate"), py::arg("command"), py::arg("next_step"));
   m.def("_reproduce", &reproduce, py::arg("quick"), py::arg("seed"), py::arg("campaigns"),
         py::arg("output"), py::arg("command"));
 }

@@ -669,6 +669,66 @@ double chi2_quantile(double p, double dof) {
   return x;
 }
 
+namespace {
+
+// Continued fraction of the incomplete beta (A&S 26.5.8), modified Lentz's method.
+double beta_fraction(double a, double b, double x) {
+  constexpr double tiny = 1e-300;
+  double c = 1.0;
+  double d = 1.0 - (a + b) * x / (a + 1.0);
+  d = 1.0 / (std::abs(d) < tiny ? tiny : d);
+  double h = d;
+  for (int m = 1; m <= 400; ++m) {
+    const double md = m;
+    for (const double num : {md * (b - md) * x / ((a + 2 * md - 1) * (a + 2 * md)),
+                             -(a + md) * (a + b + md) * x / ((a + 2 * md) * (a + 2 * md + 1))}) {
+      d = 1.0 + num * d;
+      d = 1.0 / (std::abs(d) < tiny ? tiny : d);
+      c = 1.0 + num / c;
+      if (std::abs(c) < tiny) c = tiny;
+      h *= d * c;
+    }
+    if (std::abs(d * c - 1.0) < 1e-15) break;
+  }
+  return h;
+}
+
+// Regularised incomplete beta I_x(a, b).
+double beta_i(double a, double b, double x) {
+  if (x <= 0.0) return 0.0;
+  if (x >= 1.0) return 1.0;
+  const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) +
+                                a * std::log(x) + b * std::log1p(-x));
+  // The fraction converges fast for x < (a + 1)/(a + b + 2); else use the symmetry.
+  if (x < (a + 1.0) / (a + b + 2.0)) return front * beta_fraction(a, b, x) / a;
+  return 1.0 - front * beta_fraction(b, a, 1.0 - x) / b;
+}
+
+// P(T <= t) for t >= 0, Student's t with nu degrees of freedom (A&S 26.7.1).
+double student_t_cdf(double t, double nu) {
+  return 1.0 - 0.5 * beta_i(0.5 * nu, 0.5, nu / (nu + t * t));
+}
+
+}  // namespace
+
+double student_t_quantile(double p, double dof) {
+  if (p == 0.5) return 0.0;
+  if (p < 0.5) return -student_t_quantile(1.0 - p, dof);
+  double lo = 0.0;
+  double hi = 1.0;
+  while (student_t_cdf(hi, dof) < p && hi < 1e300) hi *= 2.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (student_t_cdf(mid, dof) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double t_one_sigma(double dof) {
+  if (!(dof > 0.0)) return 1.0;
+  return student_t_quantile(0.5 * (1.0 + std::erf(1.0 / std::sqrt(2.0))), dof);
+}
+
 std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m) {
   if (m == 0 || phase.empty()) return std::nullopt;
   std::vector<double> z;

@@ -178,6 +178,84 @@ status read_source(const std::string& path, const std::string& at, const json& f
   return ok();
 }
 
+json stationarity_json(const method::stationarity& st) {
+  if (!st.checked) return {{"checked", false}, {"why_not", st.why_not}};
+  json j = {{"checked", true},
+            {"stationary", !st.failed()},
+            {"scatter_ratio", st.scatter_ratio},
+            {"scatter_limit", st.scatter_limit},
+            {"drift_statistic", st.drift_statistic},
+            {"drift_limit", st.drift_limit_value},
+            {"step_dps", st.step_dps},
+            {"step_time_s", st.step_time_s},
+            {"step_limit_dps", st.step_limit_dps},
+            {"scatter_failed", st.scatter_failed},
+            {"drift_failed", st.drift_failed},
+            {"g_term", nullptr},
+            {"failures", st.failures()}};
+  if (st.g_checked)
+    j["g_term"] = {{"g_term_dps", st.g_term_dps},       {"exact", st.g_exact},
+                   {"limit_dps", st.g_limit_dps},       {"margin_dps", st.g_margin_dps},
+                   {"source", plain_line(st.g_source)}, {"failed", st.g_failed}};
+  return j;
+}
+
+// A run's stationarity test as calibrate wrote it (schema 3); absent: not checked (older files).
+status read_stationarity(const std::string& path, const std::string& at, const json& f,
+                         calibration_entry& e) {
+  const auto it = f.find("stationarity");
+  if (it == f.end()) return ok();
+  const json& j = *it;
+  const auto bad = [&](std::string_view what) {
+    return input_error({path}, fmt::format("{}: 'stationarity' {}", at, what));
+  };
+  if (!j.is_object() || !j.contains("checked") || !j["checked"].is_boolean())
+    return bad("must be an object with a boolean 'checked'");
+  method::stationarity st;
+  st.checked = j["checked"].get<bool>();
+  if (!st.checked) {
+    if (j.contains("why_not") && j["why_not"].is_string())
+      st.why_not = plain_line(j["why_not"].get<std::string>());
+    e.stationarity = std::move(st);
+    return ok();
+  }
+  const auto number = [&](const char* key, double& out) {
+    if (!j.contains(key) || !j[key].is_number()) return false;
+    out = j[key].get<double>();
+    return std::isfinite(out) && std::abs(out) <= max_magnitude;
+  };
+  const auto flag = [&](const json& o, const char* key, bool& out) {
+    if (!o.contains(key) || !o[key].is_boolean()) return false;
+    out = o[key].get<bool>();
+    return true;
+  };
+  if (!number("scatter_ratio", st.scatter_ratio) || !number("scatter_limit", st.scatter_limit) ||
+      !number("drift_statistic", st.drift_statistic) ||
+      !number("drift_limit", st.drift_limit_value) || !number("step_dps", st.step_dps) ||
+      !number("step_time_s", st.step_time_s) || !number("step_limit_dps", st.step_limit_dps) ||
+      !flag(j, "scatter_failed", st.scatter_failed) || !flag(j, "drift_failed", st.drift_failed))
+    return bad("needs the finite statistics and verdicts calibrate writes");
+  if (j.contains("g_term") && !j["g_term"].is_null()) {
+    const json& g = j["g_term"];
+    if (!g.is_object() || !g.contains("g_term_dps") || !g["g_term_dps"].is_number() ||
+        !g.contains("limit_dps") || !g["limit_dps"].is_number() || !flag(g, "exact", st.g_exact) ||
+        !flag(g, "failed", st.g_failed))
+      return bad("'g_term' needs 'g_term_dps', 'limit_dps', 'exact' and 'failed'");
+    st.g_checked = true;
+    st.g_term_dps = g["g_term_dps"].get<double>();
+    st.g_limit_dps = g["limit_dps"].get<double>();
+    if (g.contains("margin_dps") && g["margin_dps"].is_number())
+      st.g_margin_dps = g["margin_dps"].get<double>();
+    if (g.contains("source") && g["source"].is_string())
+      st.g_source = plain_line(g["source"].get<std::string>());
+  }
+  // The verdict written must be the verdicts' (a file edited to read "stationary" is not).
+  if (j.contains("stationary") && (!j["stationary"].is_boolean() || j["stationary"] == st.failed()))
+    return bad("'stationary' contradicts its own verdicts");
+  e.stationarity = std::move(st);
+  return ok();
+}
+
 constexpr std::string_view rig_keys[] = {
     "n_avg", "settle_s",      "positions_deg", "flip",         "filter_word",
     "chop",  "steps_per_rev", "step_rate_sps", "latitude_deg", "axis"};
@@ -234,7 +312,8 @@ result<std::optional<method::delta_n_model>> fit_runs_model(std::span<const cali
   } else {
     for (auto& p : pts) p.temp_c = 0.0;  // a constant needs no temperature
   }
-  auto m = method::fit_delta_n_model(pts, degree.value_or(span_c >= min_model_span_c ? 1 : 0));
+  auto m =
+      method::fit_delta_n_random_effects(pts, degree.value_or(span_c >= min_model_span_c ? 1 : 0));
   if (!m) return m.err();
   if (!all_have_temp) m->t_ref_c = m->temp_min_c = m->temp_max_c = method::no_value;
   return std::optional<method::delta_n_model>{std::move(*m)};
@@ -252,7 +331,7 @@ double pooled_correlated_stderr(std::span<const calibration_entry> files) {
 }
 
 result<std::string> to_json(const calibration_record& rec) {
-  json j = schema_object("calibration", 2);
+  json j = schema_object("calibration", 3);
   j.update(calibration_fields(rec.pooled, rec.geometry));
   j["pairing"] = method::to_string(rec.pairing);
   j["lat_deg"] = rec.geometry ? json(rec.geometry->lat_deg) : json(nullptr);
@@ -269,6 +348,7 @@ result<std::string> to_json(const calibration_record& rec) {
       e["origin"] = f.source->origin;
       e["origin_detail"] = plain_line(f.source->origin_detail);
     }
+    if (f.stationarity) e["stationarity"] = stationarity_json(*f.stationarity);
     files.push_back(std::move(e));
   }
   j["files"] = std::move(files);
@@ -286,7 +366,23 @@ result<std::string> to_json(const calibration_record& rec) {
                   {"t_ref_c", number_or_null(m.t_ref_c)},
                   {"cov", m.cov},
                   {"temp_range_c", {number_or_null(m.temp_min_c), number_or_null(m.temp_max_c)}},
-                  {"chi2_per_dof", m.chi2_per_dof}};
+                  {"chi2_per_dof", m.chi2_per_dof},
+                  {"fit", m.random_effects ? "random_effects" : "weighted"},
+                  {"dof", m.dof},
+                  {"between_run_var_dps2", number_or_null(m.between_run_var_dps2)}};
+  }
+  if (rec.uncertainty) {
+    const auto& u = *rec.uncertainty;
+    j["uncertainty"] = {{"quote", "new_power_up_dps"},
+                        {"new_power_up_dps", number_or_null(u.new_power_up_dps)},
+                        {"calibrated_dps", number_or_null(u.calibrated_dps)},
+                        {"repeatability_dps", number_or_null(u.repeatability_dps)},
+                        {"repeatability_measured", u.repeatability_measured},
+                        {"repeatability_source", plain_line(u.repeatability_source)},
+                        {"between_run_dps", number_or_null(u.between_run_dps)},
+                        {"coverage_factor", u.coverage_factor},
+                        {"dof", u.dof},
+                        {"level", 0.683}};
   }
   // Every number finite, or no calibration file (finite_output.hpp).
   return finite_dump(j, "calibration");
@@ -311,9 +407,10 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
       return input_error({path}, "not a gyroflip calibration (no 'delta_n_dps')");
     // Files before schema 1 carry none; another schema is another format (review D3).
     if (const auto sc = j.find("schema"); sc != j.end())
-      if (!sc->is_string() || (*sc != "gyroflip.calibration/1" && *sc != "gyroflip.calibration/2"))
+      if (!sc->is_string() || (*sc != "gyroflip.calibration/1" && *sc != "gyroflip.calibration/2" &&
+                               *sc != "gyroflip.calibration/3"))
         return input_error({path}, fmt::format("schema {} is not a gyroflip calibration this "
-                                               "version reads (gyroflip.calibration/1 or /2)",
+                                               "version reads (gyroflip.calibration/1 to /3)",
                                                printable(sc->dump(), 80)));
     rec.pooled.delta_n_dps = j.at("delta_n_dps").get<double>();
     if (!std::isfinite(rec.pooled.delta_n_dps))
@@ -352,6 +449,21 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
       }
       if (m.contains("chi2_per_dof") && m["chi2_per_dof"].is_number())
         model.chi2_per_dof = m["chi2_per_dof"].get<double>();
+      // Schema 3: the random-effects fit, its degrees of freedom and between-run variance.
+      if (m.contains("fit")) {
+        if (!m["fit"].is_string() || (m["fit"] != "random_effects" && m["fit"] != "weighted"))
+          return input_error({path}, "model 'fit' must be \"random_effects\" or \"weighted\"");
+        model.random_effects = m["fit"] == "random_effects";
+      }
+      if (m.contains("dof") && m["dof"].is_number_unsigned())
+        model.dof = std::min<std::size_t>(m["dof"].get<std::size_t>(), 1000000);
+      if (m.contains("between_run_var_dps2") && m["between_run_var_dps2"].is_number())
+        model.between_run_var_dps2 = m["between_run_var_dps2"].get<double>();
+      if (model.random_effects && model.dof == 0 &&
+          model.cov.size() == model.coeffs_dps.size() * model.coeffs_dps.size() &&
+          std::any_of(model.cov.begin(), model.cov.end(), [](double c) { return c != 0.0; }))
+        return input_error(
+            {path}, "model: a random-effects fit without degrees of freedom has no covariance");
       if (model.coeffs_dps.size() > 1 && !std::isfinite(model.t_ref_c))
         return input_error({path}, "model of degree >= 1 needs a finite 't_ref_c'");
       for (double c : model.coeffs_dps)
@@ -378,6 +490,7 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
         if (f.contains("cycles") && f["cycles"].is_number_unsigned())
           e.cal.cycles = f["cycles"].get<std::size_t>();
         if (auto s = read_source(path, at, f, e); !s) return s.err();
+        if (auto s = read_stationarity(path, at, f, e); !s) return s.err();
         if (auto s = check_magnitude(path, "files: delta_n_dps", e.cal.delta_n_dps); !s)
           return s.err();
         if (!(e.cal.stderr_correlated_dps >= 0.0) ||

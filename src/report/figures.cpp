@@ -160,13 +160,13 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
   }
   series fit = points_of("fitted ΔN(T)", 1);
   fit.how = series::style::lines;
-  series band = points_of("± 1 standard error", 1);
+  series band = points_of("68.3 % interval", 1);
   band.how = series::style::band;
   const double lo = model.temp_min_c, hi = model.temp_max_c;
   const double pad = std::max(0.5, 0.05 * (hi - lo));
   for (int k = 0; k <= 100; ++k) {
     const double t = lo - pad + (hi - lo + 2.0 * pad) * k / 100.0;
-    const double v = model.eval(t), se = model.stderr_at(t);
+    const double v = model.eval(t), se = model.interval_at(t);
     fit.x.push_back(t);
     fit.y.push_back(v);
     band.x.push_back(t);

@@ -16,7 +16,7 @@ using P = sensor_params;
 
 // Every range is finite: within them the simulator's arithmetic cannot overflow, and they are
 // wider than any real MEMS or quartz rate sensor (docs/SIMULATOR.md, "Limits").
-const std::array<field_info, 30> table{{
+const std::array<field_info, 32> table{{
     {"range_dps", "deg/s", "saturation of the sensed rate", &P::range_dps, 1e-6, 1e6},
     {"scale_factor_v_per_dps", "V/(deg/s)", "nominal scale factor", &P::scale_factor_v_per_dps,
      1e-9, 100.0},
@@ -72,6 +72,12 @@ const std::array<field_info, 30> table{{
     {"g_sens_tc_turn_on_sigma_dps_per_g_c", "deg/s/g/degC",
      "std of the per-power-up change of g_sens_tc_z", &P::g_sens_tc_turn_on_sigma_dps_per_g_c, 0.0,
      1e2},
+    {"g_sens_spec_max_dps_per_g", "deg/s/g",
+     "specification: guaranteed maximum g-sensitivity (0 = not stated; not simulated)",
+     &P::g_sens_spec_max_dps_per_g, 0.0, 1e3},
+    {"g_sens_spec_typ_dps_per_g", "deg/s/g",
+     "specification: typical g-sensitivity (0 = not stated; not simulated)",
+     &P::g_sens_spec_typ_dps_per_g, 0.0, 1e3},
     {"cross_axis_y", "-", "cross-axis sensitivity to rate about sensor y", &P::cross_axis_y, -1.0,
      1.0},
     {"cross_axis_z", "-", "cross-axis sensitivity to rate about sensor z", &P::cross_axis_z, -1.0,

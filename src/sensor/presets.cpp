@@ -64,6 +64,8 @@ std::vector<preset> build() {
            "fitted to paper Tab. 4: its 14 runs' dN scatter by 0.01626 deg/s (std), 30x their "
            "within-run error; a change of the g-term at each power-up is the reading that "
            "explains it (8 % of the datasheet's 0.2 deg/s/g; assumption)"},
+          {"g_sens_spec_typ_dps_per_g", 0.2,
+           "datasheet [U] 0.2 deg/s/g typical, no maximum stated (FACTS §4.1, not verified)"},
           {"cross_axis_y", 0.02, "assumption (imusim: 5 % 3-sigma for ADXRS300 [V])"},
       }));
   v.push_back(make(
@@ -105,6 +107,8 @@ std::vector<preset> build() {
            "fitted to paper Tab. 3: at ~4 degC the std is 0.001697 = sqrt(0.000959^2 + (16 degC "
            "x 8.75e-5)^2): the turn-on change reaches the temperature coefficient too "
            "(assumption)"},
+          {"g_sens_spec_max_dps_per_g", 0.06,
+           "specification < 0.06 deg/s/g (paper Tab. 2, FACTS §4.2)"},
           {"cross_axis_y", 0.01, "assumption"},
       }));
   return v;

@@ -113,6 +113,14 @@ status compensate_run(run_analysis& a, const method::delta_n_model& model) {
   a.comp_noise = noise_of(y, tc, a.pairing == method::pairing::abba ? tc : 0.0);
   a.raw_noise = noise_of(y0, mean_step(t0), 0.0);
   a.raw_duty = raw_duty(a.run, mean_step(t0));
+  // The paper's own metric, raw beside compensated, at windows a reader can compare.
+  a.drifts.clear();
+  for (const double w : drift_windows_s) {
+    const auto c = analysis::moving_mean_extremes(t, y, w);
+    const auto r = analysis::moving_mean_extremes(t0, y0, w);
+    if (!c || !r || w > 0.5 * a.comp.summary.duration_s) continue;
+    a.drifts.push_back({w, r->range(), c->range()});
+  }
   return ok();
 }
 

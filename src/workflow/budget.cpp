@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "gyroflip/analysis/confidence.hpp"
+
 namespace gyroflip::workflow {
 
 double turn_on_spread_dps(const sensor::sensor_params& p, double temp_c) noexcept {
@@ -55,11 +57,19 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
       const double d =
           r.cal.delta_n_dps - (model->degree() == 0 ? plain_mean : model->eval(r.cal.temp_c));
       ss += d * d;
-      worst = std::max(worst, model->stderr_at(r.cal.temp_c));
+      worst = std::max(worst, model->interval_at(r.cal.temp_c));
     }
     b.run_to_run_dps = std::sqrt(ss / static_cast<double>(dof));
     b.run_to_run_measured = true;
     b.run_to_run_dof = dof;
+    // A random-effects fit's intervals take Student's t for its degrees of freedom, and so does
+    // a new power-up's (its repeatability is estimated from as few runs): measured coverage
+    // 0.67-0.97 for 2-13 runs (docs/METHOD-NOTES.md, "Pooling runs").
+    b.coverage_factor =
+        model->random_effects ? analysis::t_one_sigma(static_cast<double>(dof)) : 1.0;
+    b.between_run_dps = std::isfinite(model->between_run_var_dps2)
+                            ? std::sqrt(model->between_run_var_dps2)
+                            : std::numeric_limits<double>::quiet_NaN();
     const std::string rough =
         dof == 1 ? "; 1 degree of freedom: this std is itself uncertain by about 70 %" : "";
     b.run_to_run_source =
@@ -70,11 +80,27 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
                   "freedom){}",
                   runs.size(), dof, dof == 1 ? "" : "s", rough);
     b.model_dps = worst;
-    b.model_note = model->degree() == 0
-                       ? "the weighted mean's error (each run weighted by 1/(its within-run "
-                         "error)²), scaled by the runs' scatter"
-                       : "the dN(T) line's error at the runs' temperatures (largest)";
+    const std::string t_words =
+        b.coverage_factor > 1.0
+            ? fmt::format(", × {:.3g} (Student's t, {} degree{} of freedom) for a 68.3 % interval",
+                          b.coverage_factor, dof, dof == 1 ? "" : "s")
+            : "";
+    b.model_note =
+        !model->random_effects
+            ? (model->degree() == 0
+                   ? "the weighted mean's error (each run weighted by 1/(its within-run "
+                     "error)²), scaled by the runs' scatter"
+                   : "the dN(T) line's error at the runs' temperatures (largest)")
+            : fmt::format(
+                  "{} (random effects: each run weighted by 1/(its within-run error² + the "
+                  "between-run variance), DerSimonian–Laird; Knapp–Hartung error{})",
+                  model->degree() == 0 ? "the runs' mean"
+                                       : "the dN(T) line at the runs' "
+                                         "temperatures (largest)",
+                  t_words);
     b.calibration_dps = worst;
+    b.new_power_up_dps = std::hypot(b.calibration_dps, b.coverage_factor * b.run_to_run_dps);
+    return b;
   } else {
     if (preset != nullptr) {
       b.run_to_run_dps = turn_on_spread_dps(*preset, b.temp_c);
@@ -142,13 +168,24 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
   b.new_power_up_dps = std::hypot(b.new_power_up_dps, b.temperature_dps);
 }
 
-std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name) {
-  // The specifications' own numbers (FACTS §4.1, §4.2).
-  if (preset_name == "adxrs150")
-    return g_spec{0.2, "ADXRS150 datasheet, 0.2 °/s/g typical (FACTS §4.1, not verified)"};
-  if (preset_name == "hz1-90-100a")
-    return g_spec{0.06, "HZ1-90-100A specification, < 0.06 °/s/g (paper Tab. 2, FACTS §4.2)"};
+std::optional<method::g_term_spec> g_term_spec_of(const sensor::preset& p) {
+  const auto& q = p.params;
+  if (q.g_sens_spec_max_dps_per_g > 0.0)
+    return method::g_term_spec{
+        q.g_sens_spec_max_dps_per_g, 0.0,
+        fmt::format("{}: maximum {} °/s/g; {}", p.name, q.g_sens_spec_max_dps_per_g,
+                    p.source_of("g_sens_spec_max_dps_per_g"))};
+  if (q.g_sens_spec_typ_dps_per_g > 0.0)
+    return method::g_term_spec{
+        0.0, q.g_sens_spec_typ_dps_per_g,
+        fmt::format("{}: {:g} × typical {} °/s/g; {}", p.name, method::g_term_spec::typical_factor,
+                    q.g_sens_spec_typ_dps_per_g, p.source_of("g_sens_spec_typ_dps_per_g"))};
   return std::nullopt;
+}
+
+std::optional<method::g_term_spec> g_sensitivity_spec(const std::string& preset_name) {
+  const auto* p = sensor::find_builtin(preset_name);
+  return p != nullptr ? g_term_spec_of(*p) : std::nullopt;
 }
 
 std::optional<scale_factor_spec> scale_factor_tolerance(const std::string& preset_name) {
@@ -160,6 +197,51 @@ std::optional<scale_factor_spec> scale_factor_tolerance(const std::string& prese
     return scale_factor_spec{
         0.02, "HZ1-90-100A specification's scale-factor tolerance ±2 % (paper Tab. 2, FACTS §4.2)"};
   return std::nullopt;
+}
+
+std::string value_pm(double v, double u) {
+  if (!std::isfinite(v)) return "–";
+  if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.6g}", v);
+  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  return fmt::format("{:.{}f} ± {:.{}f}", v, decimals, u, decimals);
+}
+
+std::string value_pm_dph(double v_dps, double u_dps) {
+  return value_pm(v_dps * 3600.0, u_dps * 3600.0) + " °/h";
+}
+
+std::string delta_n_meaning() {
+  return "ΔN is the part of the flipped half-difference r = (y₀ − y₁₈₀)/2 that is not the "
+         "input rate: the Earth's rate along the sensitive axis plus the g-sensitivity term, "
+         "which reverse with the flip as a rate does (paper eqns 7–11). A rate measured by "
+         "flipping is r − ΔN (eqn 12); an error in ΔN stays in every cycle of it.";
+}
+
+std::string when_to_recalibrate(const delta_n_budget& b, const std::string& temps) {
+  std::string out;
+  if (std::isfinite(b.run_to_run_dps) && std::isfinite(b.new_power_up_dps)) {
+    out = fmt::format(
+        "Recalibrate: ΔN moves by about {} °/s (1 σ, {}) from one power-up to the next, so a "
+        "rate compensated with this calibration after a new power-up carries ±{} °/s (68.3 %; "
+        "the calibrated value's own error is ±{} °/s). ",
+        fmt::format("{:.2g}", b.run_to_run_dps),
+        b.run_to_run_measured ? "measured on these runs" : "the sensor preset's, not measured",
+        fmt::format("{:.2g}", b.new_power_up_dps), fmt::format("{:.2g}", b.calibration_dps));
+    if (b.run_to_run_dps > 2.0 * b.within_run_dps)
+      out += fmt::format(
+          "To do better, calibrate again after each power-up (a run like these gives ±{} °/s). ",
+          fmt::format("{:.2g}", b.within_run_dps));
+  } else {
+    out =
+        "Recalibrate: how far ΔN moves from one power-up to the next is unknown (one run, no "
+        "sensor preset): calibrate over several power-ups before relying on it. ";
+  }
+  if (!temps.empty())
+    out += fmt::format(
+        "Outside {} (by more than {:g} °C) calibrate again, or at several "
+        "temperatures for ΔN(T).",
+        temps, outside_calibration_c);
+  return out;
 }
 
 }  // namespace gyroflip::workflow

@@ -34,6 +34,27 @@ result<std::optional<method::delta_n_model>> fit_model(
 
 }  // namespace
 
+method::stationarity_inputs stationarity_inputs_of(
+    method::pairing p, const sensor::preset* preset,
+    const std::optional<io::calibration_geometry>& geometry) {
+  method::stationarity_inputs in;
+  in.pair = p;
+  if (preset != nullptr) in.spec = g_term_spec_of(*preset);
+  if (geometry) {
+    in.lat_deg = geometry->lat_deg;
+    in.axis = geometry->axis;
+  }
+  return in;
+}
+
+std::string stationarity_warning(const std::string& file, const method::stationarity& st) {
+  std::string s =
+      fmt::format("{}: not a stationary run, so its mean r is not the sensor's dN: ", file);
+  const auto f = st.failures();
+  for (std::size_t k = 0; k < f.size(); ++k) s += (k ? "; " : "") + f[k];
+  return s;
+}
+
 status one_sensor::add(const std::string& file, std::span<const io::csv_metadata> metadata,
                        std::vector<std::string>& warnings) {
   const auto sr = io::sensor_of(metadata);
@@ -72,6 +93,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   rec.geometry = r.geometry;
   std::vector<method::cycle> all;
   one_sensor sensors("calibrate");
+  const sensor::preset* preset = nullptr;
   for (std::size_t k = 0; k < r.files.size(); ++k) {
     const auto& file = r.files[k];
     auto rc = read_cycles(file, r.pairing, part_progress(on_progress, k, r.files.size()),
@@ -80,10 +102,22 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     for (auto& w : rc->warnings) out.warnings.push_back(std::move(w));
     auto cal = method::calibrate(rc->cycles);
     if (!cal) return input_error({file}, cal.err().message);
+    // The specification: the sensor given, else the recording's built-in preset by name (one
+    // sensor for every file: one_sensor refuses a second).
+    if (k == 0)
+      preset =
+          r.sensor ? &*r.sensor : sensor::find_builtin(metadata_value(rc->metadata, "sensor_name"));
+    const auto st = method::check_stationarity(
+        rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));
+    if (st.failed()) {
+      if (r.strict)
+        return input_error({file}, stationarity_warning(file, st).substr(file.size() + 2));
+      out.warnings.push_back(stationarity_warning(file, st));
+    }
     // What the calibration was made of, so a report that applies it can say (review R18).
     auto id = report::identify_file(file);
     if (!id) return id.err();
-    rec.files.push_back({file, *cal, source_of(file, rc->metadata, *id)});
+    rec.files.push_back({file, *cal, source_of(file, rc->metadata, *id), st});
     if (auto s = sensors.add(file, rc->metadata, out.warnings); !s) return s.err();
     all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
   }
@@ -100,6 +134,12 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   auto model = fit_model(r, rec.files);
   if (!model) return model.err();
   rec.model = std::move(*model);
+  out.budget = budget_of(rec.files, rec.model, preset != nullptr ? &preset->params : nullptr,
+                         preset != nullptr ? preset->name : std::string());
+  const auto& b = out.budget;
+  rec.uncertainty = io::calibration_uncertainty{
+      b.calibration_dps, b.run_to_run_dps,   b.run_to_run_measured, b.run_to_run_source,
+      b.between_run_dps, b.new_power_up_dps, b.coverage_factor,     b.run_to_run_dof};
   return out;
 }
 

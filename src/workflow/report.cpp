@@ -5,6 +5,8 @@
 /// figures per run and the provenance; summary.json holds the same numbers.
 #include "gyroflip/workflow/report.hpp"
 
+#include "gyroflip/analysis/confidence.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -299,6 +301,25 @@ report::table noise_table(const std::vector<run_analysis>& runs) {
   return t;
 }
 
+// The paper's own metric, raw beside compensated: the range of the moving mean at each stated
+// window that fits twice into the run (issue 31).
+report::table drift_table(const std::vector<run_analysis>& runs) {
+  report::table t{
+      "Drift: range (max − min) of the moving mean, raw 0° dwell means against the "
+      "compensated rate (°/h)",
+      {"run", "window (s)", "raw (°/h)", "compensated (°/h)"},
+      {},
+      "The paper's metric for its \"bias drift\" (its window is not stated). Unlike B, "
+      "these are measured, not fitted: they compare even where B is only an upper "
+      "limit."};
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    for (const auto& d : runs[k].drifts)
+      t.rows.push_back({fmt::format("{}: {}", k + 1, runs[k].run.file),
+                        fmt::format("{:.0f}", d.window_s), g(d.raw_dps * units::dph_per_dps, 3),
+                        g(d.comp_dps * units::dph_per_dps, 3)});
+  return t;
+}
+
 // The pairing comparison the reader would otherwise misread (docs/METHOD-NOTES.md).
 report::section pairing_section(const std::vector<run_analysis>& runs) {
   report::section s;
@@ -369,10 +390,21 @@ std::pair<double, double> applied_range(const compensation& c) {
   return {lo, hi};
 }
 
-std::string applied_text(const compensation& c) {
+// `v` with the decimals its uncertainty `u` supports (value_pm's rule), without the ±; six
+// significant digits without a usable u.
+std::string to_decimals_of(double v, double u) {
+  if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
+  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  return fmt::format("{:.{}f}", v, decimals);
+}
+
+// The ΔN applied to a run, with the digits the ΔN's uncertainty `u_dps` supports (issue 31:
+// "0.00326975" at a temperature where no run was taken).
+std::string applied_text(const compensation& c, double u_dps) {
   const auto [lo, hi] = applied_range(c);
-  return hi - lo <= 1e-12 * std::max(1.0, std::abs(hi)) ? g(lo, 6)
-                                                        : fmt::format("{}…{}", g(lo, 5), g(hi, 5));
+  return hi - lo <= 1e-12 * std::max(1.0, std::abs(hi))
+             ? to_decimals_of(lo, u_dps)
+             : fmt::format("{}…{}", to_decimals_of(lo, u_dps), to_decimals_of(hi, u_dps));
 }
 
 // Everything the page and summary.json say, computed once.
@@ -386,27 +418,26 @@ struct findings {
   std::optional<std::pair<double, double>> pooled;  // one temperature: weighted mean and error
   std::vector<std::string> warnings;
   std::vector<std::optional<rate_check>> rates;
+  /// Runs that failed the stationarity test: the report's own calibration runs, or the runs a
+  /// given calibration names (what calibrate recorded of them).
+  std::vector<std::string> not_stationary;
+  /// A given calibration written before the test (its runs not checked).
+  bool calibration_unchecked = false;
 };
 
-// The calibration runs' warnings: a run that cannot have been stationary, runs that disagree.
-void check_stationary(const report_request& r, const std::vector<run_analysis>& runs, findings& f) {
-  const auto spec = g_sensitivity_spec(f.id.preset);
-  const double w_e = earth::earth_rate_wgs84_dps;
-  for (const auto& a : runs) {
-    if (!spec) break;
-    // The g-term: exactly with the geometry, else at least |dN| - W_E (any axis).
-    const double g_term =
-        r.geometry ? std::abs(method::split_delta_n(a.cal.delta_n_dps, r.geometry->lat_deg,
-                                                    r.geometry->axis)
-                                  .g_term_dps)
-                   : std::max(0.0, std::abs(a.cal.delta_n_dps) - w_e);
-    if (g_term > g_term_beyond_spec * spec->dps_per_g)
-      f.warnings.push_back(fmt::format(
-          "{}: dN = {} °/s means a g-term of {}{} °/s, {:.0f} times the {} at 1 g: this run was "
-          "not a stationary calibration (a rate input, a tilted or moving rig?); its dN is not "
-          "the sensor's",
-          a.run.file, g(a.cal.delta_n_dps, 6), r.geometry ? "" : "at least ", g(g_term, 3),
-          g_term / spec->dps_per_g, spec->source));
+// The calibration runs' warnings: a run that was not stationary (the library's one test, as
+// calibrate makes it: method::check_stationarity), runs that disagree.
+void check_stationary(const report_request& r, const std::vector<run_analysis>& runs, findings& f,
+                      std::vector<io::calibration_entry>& entries) {
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto& a = runs[k];
+    const auto st =
+        method::check_stationarity(a.run.cycles(a.pairing), a.cal,
+                                   stationarity_inputs_of(a.pairing, f.id.builtin, r.geometry));
+    entries[k].stationarity = st;
+    if (!st.failed()) continue;
+    f.warnings.push_back(stationarity_warning(a.run.file, st));
+    f.not_stationary.push_back(a.run.file);
   }
   for (const auto& a : runs) {
     const auto t = cycle_temps(a.run.cycles(a.pairing));
@@ -417,12 +448,38 @@ void check_stationary(const report_request& r, const std::vector<run_analysis>& 
           "steady temperature",
           a.run.file, t.text(), isothermal_span_c));
   }
+}
+
+// Runs that scatter far beyond their own errors were not made under the same conditions.
+void check_runs_agree(findings& f) {
   if (f.runs_model && f.runs_model->chi2_per_dof > max_chi2_per_dof)
     f.warnings.push_back(fmt::format(
         "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {:.3g}; the paper's own "
         "runs scatter 14–30 times theirs): they were not made under the same stationary "
         "conditions, and the pooled dN means little",
         std::sqrt(f.runs_model->chi2_per_dof), f.runs_model->chi2_per_dof));
+}
+
+// The runs a given calibration was made of, as calibrate tested them (schema 3): a failed run
+// makes its ΔN not the sensor's; a file written before the test says its runs are not checked.
+void check_calibration_runs_stationary(const delta_n_source& given, findings& f) {
+  if (!given.record) return;
+  for (const auto& e : given.record->files) {
+    if (!e.stationarity) {
+      f.calibration_unchecked = true;
+      continue;
+    }
+    if (!e.stationarity->failed()) continue;
+    f.not_stationary.push_back(e.file);
+    f.warnings.push_back(
+        fmt::format("{}: its run {}", given.source, stationarity_warning(e.file, *e.stationarity)));
+  }
+  if (f.calibration_unchecked)
+    f.warnings.push_back(fmt::format(
+        "{}: its runs were not checked for stationarity (a calibration written before gyroflip "
+        "tested it): recalibrate, or run `gyroflip calibrate` again on its runs, to know that "
+        "its ΔN is the sensor's",
+        given.source));
 }
 
 // The budget of a calibration file's ΔN. Its runs give it, once the file's ΔN is checked to be
@@ -442,7 +499,7 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
       const auto& m = *rec.model;
       own_dps = m.degree() == 0 || !std::isfinite(m.temp_min_c)
                     ? std::sqrt(m.cov.front())
-                    : std::max(m.stderr_at(m.temp_min_c), m.stderr_at(m.temp_max_c));
+                    : std::max(m.interval_at(m.temp_min_c), m.interval_at(m.temp_max_c));
     }
     const bool own = std::isfinite(own_dps) && own_dps > 0.0;
     warnings.push_back(
@@ -456,7 +513,7 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
                           given.source));
     if (!own) return budget_of({}, std::nullopt, preset, id.preset);
     std::vector<io::calibration_entry> one{
-        {"the calibration's stated ΔN", rec.pooled, std::nullopt}};
+        {"the calibration's stated ΔN", rec.pooled, std::nullopt, std::nullopt}};
     one.front().cal.stderr_correlated_dps = own_dps;
     one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
     auto b = budget_of(one, std::nullopt, preset, id.preset);
@@ -559,14 +616,14 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
   if (!(outside_c > outside_calibration_c)) return;
   auto& b = f.budget;
   if (rec.model && rec.model->degree() > 0) {
-    const double se = rec.model->stderr_at(at_c);
+    const double se = rec.model->interval_at(at_c);
     if (!(std::isfinite(se) && se > b.model_dps)) return;
     b.model_dps = b.calibration_dps = se;
     b.model_note = fmt::format(
         "the dN(T) line's error at the run's {:.1f} °C, extrapolated {:.1f} °C beyond its runs' "
         "{}",
         at_c, outside_c, cal.text());
-    b.new_power_up_dps = std::hypot(b.calibration_dps, b.run_to_run_dps);
+    b.new_power_up_dps = std::hypot(b.calibration_dps, b.coverage_factor * b.run_to_run_dps);
     return;
   }
   add_temperature_term(b, outside_c, cal.text(), f.id.builtin ? &f.id.builtin->params : nullptr,
@@ -619,6 +676,89 @@ void check_commanded_rate(const run_analysis& a, double expected_dps, const rate
         g(2.0 * u_dps / spec->fraction, 2)));
 }
 
+// B of the compensated rate beside the raw's when both are resolved; otherwise say that upper
+// limits are no comparison and compare what was resolved: the lowest OADEV and the drift at the
+// stated windows (issue 31: "B < 1.45 °/h against < 11.2 °/h" read as an improvement).
+std::string noise_sentence(const run_analysis& a) {
+  if (!a.comp_noise || !noise_fitted(*a.comp_noise)) return "";
+  const auto& bc = a.comp_noise->terms.bias_instability;
+  const bool raw = a.raw_noise && noise_fitted(*a.raw_noise);
+  if (raw && bc.resolved && a.raw_noise->terms.bias_instability.resolved)
+    return fmt::format(
+        " The compensated rate's bias instability B is {} °/h against {} °/h for the raw 0° "
+        "dwell means (without flipping) ({}, noise table).",
+        term(bc, units::dph_per_dps), term(a.raw_noise->terms.bias_instability, units::dph_per_dps),
+        a.run.file);
+  std::string out = fmt::format(" The compensated rate's bias instability B is {} °/h",
+                                term(bc, units::dph_per_dps));
+  const auto* br = raw ? &a.raw_noise->terms.bias_instability : nullptr;
+  if (br != nullptr)
+    out += fmt::format(" against the raw 0° dwell means' {} °/h", term(*br, units::dph_per_dps));
+  // An upper limit below the other's resolved interval is still a comparison: a lower bound of
+  // the improvement. Two upper limits, or a resolved B against a bound, are none.
+  if (br != nullptr && !bc.resolved && br->resolved && br->lo > bc.hi)
+    out += fmt::format(
+        " (noise table): its upper limit lies below the raw's lower bound {} °/h, an "
+        "improvement, though B itself is not resolved.",
+        g(br->lo * units::dph_per_dps, 3));
+  else
+    out +=
+        " (noise table): an upper limit is not a resolved B, so these are no measure of the "
+        "improvement.";
+  const auto lowest = [](const analysis::noise_analysis& n) {
+    return *std::min_element(n.oadev.begin(), n.oadev.end(),
+                             [](const auto& x, const auto& y) { return x.dev < y.dev; });
+  };
+  if (raw && !a.comp_noise->oadev.empty() && !a.raw_noise->oadev.empty()) {
+    const auto c = lowest(*a.comp_noise), w = lowest(*a.raw_noise);
+    out += fmt::format(
+        " What was resolved: the lowest OADEV is {} °/h at τ = {} s compensated against {} °/h "
+        "at τ = {} s raw",
+        g(c.dev * units::dph_per_dps, 3), g(c.tau_s, 3), g(w.dev * units::dph_per_dps, 3),
+        g(w.tau_s, 3));
+    for (const auto& d : a.drifts)
+      out +=
+          fmt::format("; the range of the {:.0f}-s moving mean {} °/h against {} °/h", d.window_s,
+                      g(d.comp_dps * units::dph_per_dps, 3), g(d.raw_dps * units::dph_per_dps, 3));
+    out += fmt::format(" ({}, noise and drift tables).", a.run.file);
+  }
+  return out;
+}
+
+// The ΔN error in B's unit, where both appear (issue 31: B < 1.7 °/h quoted beside a systematic
+// ΔN error of ±3.5 °/h).
+std::string delta_n_in_dph(const delta_n_budget& b, const run_analysis& a) {
+  if (!std::isfinite(b.new_power_up_dps) || !a.comp_noise || !noise_fitted(*a.comp_noise))
+    return "";
+  const auto& bc = a.comp_noise->terms.bias_instability;
+  const double u_dph = b.new_power_up_dps * units::dph_per_dps;
+  const double b_dph = (bc.resolved ? bc.value : bc.hi) * units::dph_per_dps;
+  return fmt::format(
+      " In B's unit the ΔN error is ±{} °/h, a constant in every cycle that no averaging "
+      "removes{}.",
+      g(u_dph, 2),
+      u_dph > b_dph ? "; it is larger than B: the calibration, not the sensor's noise, limits "
+                      "the compensated mean"
+                    : "");
+}
+
+// A dN(T) coefficient as the ΔN(T) table and the conclusion print it: with the digits its
+// 68.3 % interval supports (issue 31: "0.00326975 ± 0.000812"); c0 without degrees of freedom
+// takes the budget's error (the preset's spread).
+struct coefficient_text {
+  std::string value;
+  double se = 0.0, interval = 0.0;
+};
+coefficient_text coefficient_of(const method::delta_n_model& m, std::size_t k,
+                                const delta_n_budget& b) {
+  const std::size_t n = m.coeffs_dps.size();
+  const double se = std::sqrt(m.cov[k * n + k]);
+  const double t = m.random_effects ? analysis::t_one_sigma(static_cast<double>(m.dof)) : 1.0;
+  const double u = k == 0 && !(se > 0.0) ? b.calibration_dps : t * se;
+  const auto both = value_pm(m.coeffs_dps[k], u);
+  return {both.substr(0, both.find(" ±")), se, u};
+}
+
 // The conclusion, written from the numbers the tables show.
 std::string conclusion(const report_request& r, const std::vector<run_analysis>& runs,
                        const findings& f) {
@@ -630,12 +770,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     for (const auto& a : runs) s = std::max(s, a.comp.summary.std_dps);
     return s;
   }();
+  std::string failed;
+  for (const auto& n : f.not_stationary) failed += (failed.empty() ? "" : ", ") + n;
   if (!f.compensating) {
     std::string value;
     if (f.pooled) {
-      value =
-          fmt::format("{} °/s (weighted mean of {} runs at {})",
-                      pm(f.pooled->first, f.pooled->second), runs.size(), runs_temps(runs).text());
+      value = fmt::format("{} °/s (the mean of {} runs at {}; random effects, 68.3 %)",
+                          value_pm(f.pooled->first, f.pooled->second), runs.size(),
+                          runs_temps(runs).text());
     } else if (f.runs_model && f.runs_model->degree() > 0) {
       // The numbers as the ΔN(T) and budget tables print them. A slope is stated only when it
       // is resolved: degrees of freedom left and at least 2 standard errors from zero.
@@ -643,17 +785,18 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const std::size_t n = m.coeffs_dps.size();
       const std::size_t dof = runs.size() > n ? runs.size() - n : 0;
       const double slope = m.coeffs_dps[1], u = std::sqrt(m.cov[n + 1]);
+      const auto c0 = coefficient_of(m, 0, b), c1 = coefficient_of(m, 1, b);
       // With degrees of freedom: the error at the temperature named (the table's c_0) and the
       // largest over the runs' temperatures (the budget's), review R4.
       value = dof == 0
                   ? fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
-                                g(m.coeffs_dps[0], 6), g(b.calibration_dps, 2), m.t_ref_c,
-                                runs.size(), m.temp_min_c, m.temp_max_c)
+                                c0.value, g(c0.interval, 2), m.t_ref_c, runs.size(), m.temp_min_c,
+                                m.temp_max_c)
                   : fmt::format(
-                        "{} ± {} °/s at {:.2f} °C, ± {} °/s anywhere in {:.1f}–{:.1f} °C (ΔN(T) of "
-                        "{} runs)",
-                        g(m.coeffs_dps[0], 6), g(std::sqrt(m.cov[0]), 3), m.t_ref_c,
-                        g(b.calibration_dps, 2), m.temp_min_c, m.temp_max_c, runs.size());
+                        "{} ± {} °/s at {:.2f} °C, ± {} °/s anywhere in {:.1f}–{:.1f} °C (ΔN(T) "
+                        "of {} runs)",
+                        c0.value, g(c0.interval, 2), m.t_ref_c, g(b.calibration_dps, 2),
+                        m.temp_min_c, m.temp_max_c, runs.size());
       if (dof == 0)
         value += fmt::format(
             "; how it changes with temperature is not resolved: {} runs for {} coefficients "
@@ -661,17 +804,27 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
             runs.size(), n);
       else if (std::abs(slope) < 2.0 * u)
         value += fmt::format(
-            "; how it changes with temperature is not resolved: the slope {} ± {} °/s per °C is "
-            "below 2 standard errors",
-            g(slope, 6), g(u, 3));
+            "; how it changes with temperature is not resolved: the slope {} ± {} °/s per °C "
+            "(standard error) is below 2 standard errors",
+            c1.value, g(u, 3));
       else
-        value += fmt::format(", changing by {} ± {} °/s per °C", g(slope, 6), g(u, 3));
+        value +=
+            fmt::format(", changing by {} ± {} °/s per °C (68.3 %)", c1.value, g(c1.interval, 2));
     } else {
       const auto& c = runs.front().cal;
       value = fmt::format("{} °/s (one run of {}, within-run error)",
-                          pm(c.delta_n_dps, c.stderr_correlated_dps), minutes(c.duration_s));
+                          value_pm(c.delta_n_dps, c.stderr_correlated_dps), minutes(c.duration_s));
     }
-    out = fmt::format("ΔN of this {} is {}.", sensor, value);
+    // A run that was not stationary gives no ΔN of the sensor (issue 31): the numbers are said
+    // as what they are, never headlined.
+    out = failed.empty()
+              ? fmt::format("ΔN of this {} is {}.", sensor, value)
+              : fmt::format(
+                    "These runs give no ΔN of this {}: {} failed the stationarity test "
+                    "(warnings below), so their mean r, {}, is not the sensor's ΔN. Calibrate "
+                    "again with the table at rest.",
+                    sensor, failed, value);
+    out += " " + delta_n_meaning();
     if (r.geometry) {
       const auto s = method::split_delta_n(runs.front().cal.delta_n_dps, r.geometry->lat_deg,
                                            r.geometry->axis);
@@ -680,17 +833,10 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           "g-term.",
           g(s.earth_rate_dps, 6), r.geometry->lat_deg, g(s.g_term_dps, 4));
     }
-    if (std::isfinite(b.new_power_up_dps)) {
-      out += fmt::format(
-          " For a new power-up its uncertainty is ±{} °/s: the repeatability from one power-up "
-          "to the next is {} °/s ({}) and the calibrated value's error {} °/s.",
-          g(b.new_power_up_dps, 2), g(b.run_to_run_dps, 2),
-          b.run_to_run_measured ? "measured on these runs" : "the sensor preset's, not measured",
-          g(b.calibration_dps, 2));
-    } else {
-      out +=
-          " Its repeatability from one power-up to the next is unknown (one run, no sensor "
-          "preset): calibrate over several power-ups before relying on it.";
+    if (failed.empty()) {
+      const auto t = runs_temps(runs);
+      out += " " + when_to_recalibrate(b, t.known() ? t.text() : std::string());
+      if (!r.next_step.empty()) out += " " + r.next_step;
     }
     out += fmt::format(
         " With ΔN removed, the rate's per-cycle standard deviation is up to {} °/s (a std, not "
@@ -700,10 +846,21 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
     std::string applied;
     for (std::size_t k = 0; k < runs.size(); ++k)
-      applied +=
-          fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file, applied_text(runs[k].comp));
-    out = fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up {}).",
-                      f.given->source, applied, power_up_text(b));
+      applied += fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
+                             applied_text(runs[k].comp, b.new_power_up_dps));
+    if (!failed.empty())
+      out = fmt::format(
+          "The calibration {} is not the sensor's: its run{} {} failed the stationarity test "
+          "(warnings below), so the ΔN applied, and every rate below, is off by an amount no "
+          "± here covers. ",
+          f.given->source, f.not_stationary.size() == 1 ? "" : "s", failed);
+    else if (f.calibration_unchecked)
+      out = fmt::format(
+          "The calibration {} was written before gyroflip tested its runs for stationarity: "
+          "that its ΔN is the sensor's is not checked. ",
+          f.given->source);
+    out += fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up {}).",
+                       f.given->source, applied, power_up_text(b));
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
@@ -729,15 +886,8 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                          b.invalid_why);
   }
   // The noise, as the noise table prints it: the same term (B) of both series of the first run.
-  const auto* a = &runs.front();
-  if (a->comp_noise && noise_fitted(*a->comp_noise)) {
-    out += fmt::format(" The compensated rate's bias instability B is {} °/h",
-                       term(a->comp_noise->terms.bias_instability, units::dph_per_dps));
-    if (a->raw_noise && noise_fitted(*a->raw_noise))
-      out += fmt::format(" against {} °/h for the raw 0° dwell means (without flipping)",
-                         term(a->raw_noise->terms.bias_instability, units::dph_per_dps));
-    out += fmt::format(" ({}, noise table).", a->run.file);
-  }
+  out += noise_sentence(runs.front());
+  out += delta_n_in_dph(b, runs.front());
   out += f.warnings.empty() ? " Nothing in the runs looks wrong."
                             : fmt::format(" Watch: {} warning{} below.", f.warnings.size(),
                                           f.warnings.size() == 1 ? "" : "s");
@@ -762,31 +912,52 @@ json budget_json(const delta_n_budget& b) {
 
 report::table budget_table(const delta_n_budget& b, bool compensating) {
   const auto v = [](double x) { return std::isfinite(x) ? g(x, 2) : std::string("unknown"); };
+  // The same in B's unit, so that a reader compares the ΔN error with the noise terms (issue 31).
+  const auto h = [](double x) {
+    return std::isfinite(x) ? g(x * units::dph_per_dps, 2) : std::string("–");
+  };
+  const std::string level =
+      b.coverage_factor > 1.0
+          ? fmt::format(
+                "68.3 % intervals: 1 σ, × Student's t {:.3g} for the runs' {} degree{} "
+                "of freedom",
+                b.coverage_factor, b.run_to_run_dof, b.run_to_run_dof == 1 ? "" : "s")
+          : "one standard uncertainty: 1 σ";
   report::table t{
-      compensating ? "Uncertainty of the ΔN applied (from the calibration; °/s, one standard "
-                     "uncertainty: 1 σ)"
-                   : "Uncertainty budget of ΔN (°/s, one standard uncertainty: 1 σ)",
-      {"component", "value (°/s)", "what it is"},
-      {{"within-run (correlated)", v(b.within_run_dps),
+      compensating ? fmt::format("Uncertainty of the ΔN applied (from the calibration; {})", level)
+                   : fmt::format("Uncertainty budget of ΔN ({})", level),
+      {"component", "value (°/s)", "value (°/h)", "what it is"},
+      {{"within-run (correlated)", v(b.within_run_dps), h(b.within_run_dps),
         !b.within_run_note.empty() ? b.within_run_note
         : b.runs == 1
             ? std::string("the run's own error (correlated noise included)")
             : fmt::format("the {} runs' own errors, pooled (correlated noise included)", b.runs)},
-       {"run-to-run repeatability", v(b.run_to_run_dps), b.run_to_run_source},
-       {"dN(T) model", b.model_dps ? v(*b.model_dps) : std::string("–"), b.model_note},
-       {"calibrated ΔN", v(b.calibration_dps), "the error of the calibrated value"},
+       {"run-to-run repeatability", v(b.run_to_run_dps), h(b.run_to_run_dps), b.run_to_run_source},
+       {"dN(T) model", b.model_dps ? v(*b.model_dps) : std::string("–"),
+        b.model_dps ? h(*b.model_dps) : std::string("–"), b.model_note},
+       {"calibrated ΔN", v(b.calibration_dps), h(b.calibration_dps),
+        "the error of the calibrated value"},
        {"ΔN of a new power-up", b.valid ? v(b.new_power_up_dps) : std::string("not valid"),
-        b.valid ? fmt::format("√(calibrated² + repeatability²{}): what a compensated rate "
+        b.valid ? h(b.new_power_up_dps) : std::string("–"),
+        b.valid ? fmt::format("√(calibrated² + {}repeatability²{}): what a compensated rate "
                               "carries as a systematic error (w = r − ΔN, paper eqn 12), the "
-                              "same in every cycle",
-                              b.outside_c > 0.0 ? " + temperature²" : "")
+                              "same in every cycle; the number to quote",
+                              b.coverage_factor > 1.0 ? "(t × " : "",
+                              std::string(b.coverage_factor > 1.0 ? ")" : "") +
+                                  (b.outside_c > 0.0 ? " + temperature²" : ""))
                 : b.invalid_why + ": no ± covers the run"}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
+  if (std::isfinite(b.between_run_dps))
+    t.rows.insert(t.rows.begin() + 2,
+                  {"between-run (random effects)", v(b.between_run_dps), h(b.between_run_dps),
+                   "the runs' scatter beyond their own noise (√τ², DerSimonian–Laird): a change "
+                   "of ΔN at each power-up"});
   if (b.outside_c > 0.0)
     t.rows.insert(t.rows.end() - 1,
                   {"temperature (outside the calibration's)",
-                   b.valid ? v(b.temperature_dps) : std::string("not known"), b.temperature_note});
+                   b.valid ? v(b.temperature_dps) : std::string("not known"),
+                   b.valid ? h(b.temperature_dps) : std::string("–"), b.temperature_note});
   return t;
 }
 
@@ -851,21 +1022,23 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   // says nothing); the runs' model (a weighted mean at one temperature, dN(T) over a span). With
   // a calibration: its dN or dN(T) for every run.
   std::vector<io::calibration_entry> entries;
-  for (const auto& a : runs) entries.push_back({a.run.file, a.cal, std::nullopt});
+  for (const auto& a : runs) entries.push_back({a.run.file, a.cal, std::nullopt, std::nullopt});
   if (f.given) {
     f.model = f.given->model;
     f.budget = calibration_budget(*f.given, f.id, f.warnings);
     check_calibration_temperature(runs, f);
+    check_calibration_runs_stationary(*f.given, f);
   } else {
+    check_stationary(r, runs, f, entries);
     auto m = io::fit_runs_model(entries);
     if (!m) return m.err();
     f.runs_model = *m;
     if (f.runs_model && f.runs_model->degree() > 0) f.model = f.runs_model;
     if (f.runs_model && f.runs_model->degree() == 0)
-      f.pooled = std::pair{f.runs_model->coeffs_dps[0], f.runs_model->stderr_at(0.0)};
+      f.pooled = std::pair{f.runs_model->coeffs_dps[0], f.runs_model->interval_at(0.0)};
     f.budget = budget_of(entries, f.runs_model, f.id.builtin ? &f.id.builtin->params : nullptr,
                          f.id.preset);
-    check_stationary(r, runs, f);
+    check_runs_agree(f);
   }
   for (auto& a : runs) {
     const auto model = f.given ? f.given->model : method::constant_model(a.cal.delta_n_dps);
@@ -1040,17 +1213,21 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                           s.drift_dps ? g(*s.drift_dps, 3) : "run too short"});
     }
     if (f.pooled) {
-      per.rows.push_back({"all runs (weighted mean)", all_t.text(),
-                          pm(f.pooled->first, f.pooled->second), "", ""});
-      // How the runs are weighted, on the page (review R5): by their within-run errors, which
-      // the runs' scatter may dwarf, so the plain mean is shown beside it.
+      const bool re = f.runs_model && f.runs_model->random_effects;
+      per.rows.push_back({re ? "all runs (random-effects mean)" : "all runs (weighted mean)",
+                          all_t.text(), pm(f.pooled->first, f.pooled->second), "", ""});
+      // How the runs are weighted, on the page (review R5, issue 31): each by its within-run
+      // error and the runs' scatter beyond it, so the plain mean is shown beside it.
       double plain = 0.0;
       for (const auto& a : runs) plain += a.cal.delta_n_dps / static_cast<double>(runs.size());
       per.note += fmt::format(
-          " The weighted mean weights each run by 1/(its within-run error)² (the fit of a "
-          "constant ΔN(T)); its ± is scaled by the runs' scatter. The plain mean of the {} runs "
-          "is {} °/s; the run-to-run repeatability below is their plain std.",
-          runs.size(), g(plain, 6));
+          " The runs' mean weights each run by 1/(its within-run error² + τ²), τ = {} °/s their "
+          "scatter beyond their own errors (random effects, DerSimonian–Laird): when τ dwarfs "
+          "the within-run errors, as every power-up's own g-term makes it, this is the plain "
+          "mean. Its ± is a 68.3 % interval (Knapp–Hartung, Student's t). The plain mean of the "
+          "{} runs is {} °/s; the run-to-run repeatability below is their plain std.",
+          g(std::sqrt(std::max(0.0, f.runs_model->between_run_var_dps2)), 2), runs.size(),
+          g(plain, 6));
     } else if (f.runs_model)
       per.note += fmt::format(
           " The runs span {}: they are not pooled into one mean; ΔN(T) "
@@ -1114,7 +1291,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       const auto& s = a.comp.summary;
       std::vector<std::string> row{fmt::format("{}: {}", k + 1, a.run.file),
                                    g(a.cal.temp_c, 3),
-                                   applied_text(a.comp),
+                                   applied_text(a.comp, f.budget.new_power_up_dps),
                                    pm(s.mean_dps, s.stderr_correlated_dps),
                                    g(s.std_dps, 3),
                                    s.drift_dps ? g(*s.drift_dps, 3) : "–"};
@@ -1137,16 +1314,17 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     report::table mt{
         fmt::format("ΔN(T) = Σ c_k (T − {:.2f} °C)^k, fitted over {:.1f}–{:.1f} °C", m.t_ref_c,
                     m.temp_min_c, m.temp_max_c),
-        {"k", "c_k (°/s per °C^k)", "standard error"},
+        {"k", "c_k (°/s per °C^k)", "standard error", "68.3 % interval (±)"},
         {},
         pts > n ? fmt::format("{} runs, {} degrees of freedom, χ²/dof {}", pts, pts - n,
                               g(m.chi2_per_dof, 3))
                 : fmt::format("{} runs for {} coefficients: 0 degrees of freedom; the errors "
                               "below are the runs' own only and understate the truth",
                               pts, n)};
-    for (std::size_t k = 0; k < n; ++k)
-      mt.rows.push_back(
-          {std::to_string(k), g(m.coeffs_dps[k], 6), g(std::sqrt(m.cov[k * n + k]), 3)});
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto c = coefficient_of(m, k, f.budget);
+      mt.rows.push_back({std::to_string(k), c.value, g(c.se, 3), g(c.interval, 2)});
+    }
     main.tables.push_back(std::move(mt));
   }
   if (!f.compensating && runs.size() > 1) {
@@ -1168,6 +1346,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   report::section noise;
   noise.heading = "Noise";
   noise.tables.push_back(noise_table(runs));
+  if (auto d = drift_table(runs); !d.rows.empty()) noise.tables.push_back(std::move(d));
   page.sections.push_back(std::move(noise));
   page.sections.push_back(pairing_section(runs));
 

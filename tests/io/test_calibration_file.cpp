@@ -29,7 +29,7 @@ io::calibration_record two_runs() {
 TEST(CalibrationFile, EachRunsSourceIsWrittenAndReadBack) {
   const auto text = io::to_json(two_runs());
   ASSERT_TRUE(text) << text.err().message;
-  EXPECT_NE(text->find("\"schema\":\"gyroflip.calibration/2\""), std::string::npos) << *text;
+  EXPECT_NE(text->find("\"schema\":\"gyroflip.calibration/3\""), std::string::npos) << *text;
   const auto back = io::parse_calibration(*text, "cal.json");
   ASSERT_TRUE(back) << back.err().message;
   ASSERT_EQ(back->files.size(), 2u);

@@ -32,11 +32,16 @@ TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {
   const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
   EXPECT_TRUE(b.run_to_run_measured);
   EXPECT_NEAR(b.run_to_run_dps, 0.01, 1e-9);
-  // The weighted mean's error scaled by the scatter: std / sqrt(n).
+  // Random effects with equal errors: the plain mean, its error std / sqrt(n) (Knapp-Hartung),
+  // and both intervals 68.3 %: Student's t for 2 degrees of freedom, 1.3213 (issue 31).
   ASSERT_TRUE(b.model_dps.has_value());
-  EXPECT_NEAR(*b.model_dps, 0.01 / std::sqrt(3.0), 1e-6);
+  const double t2 = 1.3212773729262555;  // (2p - 1)/sqrt(2p(1 - p)), p = Phi(1)
+  EXPECT_NEAR(b.coverage_factor, t2, 1e-9);
+  EXPECT_NEAR(*b.model_dps, t2 * 0.01 / std::sqrt(3.0), 1e-9);
   EXPECT_NEAR(b.calibration_dps, *b.model_dps, 1e-12);
-  EXPECT_NEAR(b.new_power_up_dps, std::hypot(0.01 / std::sqrt(3.0), 0.01), 1e-6);
+  EXPECT_NEAR(b.new_power_up_dps, t2 * std::hypot(0.01 / std::sqrt(3.0), 0.01), 1e-9);
+  // The between-run std beyond the runs' own noise: sqrt(0.01^2 - 1e-4^2).
+  EXPECT_NEAR(b.between_run_dps, std::sqrt(1e-4 - 1e-8), 1e-12);
   EXPECT_NEAR(b.within_run_dps, io::pooled_correlated_stderr(runs), 1e-15);
 }
 

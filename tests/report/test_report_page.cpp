@@ -131,8 +131,7 @@ TEST(ReportPage, RateTablePageStructureIsGolden) {
   // The same run passed as a calibration: not stationary, warned about on the page.
   const auto w = run_cli({"report", t, "-o", d.file("rep2")});
   ASSERT_EQ(w.exit_code, 0) << w.err;
-  EXPECT_NE(read_text(d.file("rep2/index.html")).find("was not a stationary calibration"),
-            std::string::npos);
+  EXPECT_NE(read_text(d.file("rep2/index.html")).find("not a stationary run"), std::string::npos);
 }
 
 TEST(ReportPage, ReproducePageStructureIsGolden) {
@@ -484,7 +483,9 @@ TEST(ReportChecks, AConstantDeltaNFarFromItsTemperatureCarriesATemperatureTerm) 
   const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
   const double applied = j["runs"][0]["compensated"]["delta_n_applied_min_dps"];
   const double u = j["budget"]["new_power_up_dps"];
-  EXPECT_NEAR(true_dn - applied, 0.0040, 0.0001);  // the reviewer's numbers
+  // The reviewer's numbers were 0.0040 with the weighted mean of the three runs (0.002104 applied);
+  // their random-effects mean (issue 31) is nearer their plain mean: 0.0036.
+  EXPECT_NEAR(true_dn - applied, 0.00364, 0.0001);
   EXPECT_TRUE(j["budget"]["valid"].get<bool>());
   EXPECT_NEAR(j["budget"]["outside_calibration_c"].get<double>(), 16.0, 0.1);
   EXPECT_GT(j["budget"]["temperature_dps"].get<double>(), 0.0);
@@ -496,7 +497,7 @@ TEST(ReportChecks, AConstantDeltaNFarFromItsTemperatureCarriesATemperatureTerm) 
   EXPECT_NE(html.find("from the preset's temperature coefficient (assumed, 1 σ)"),
             std::string::npos);
   EXPECT_NE(html.find("not applied as a correction"), std::string::npos);
-  EXPECT_NE(html.find("one standard uncertainty: 1 σ"), std::string::npos);
+  EXPECT_NE(html.find("68.3 % intervals: 1 σ, × Student's t"), std::string::npos) << html;
   const auto [text, cells] = conclusion_and_tables(html);
   EXPECT_NE(text.find("its temperature term included"), std::string::npos) << text;
   for (const auto& num : numbers_in(text))
@@ -646,7 +647,7 @@ TEST(ReportChecks, ARampAShortRunAndThePooledRunsTemperaturesAreNamed) {
   const auto a = simulate(d, "a20.csv", "20", "1"), w = simulate(d, "w219.csv", "21.9", "31");
   const auto jp = warnings_of({a, w}, "pooled");
   const std::string text = jp["conclusion"];
-  EXPECT_NE(text.find("weighted mean of 2 runs at 20.0–21.9 °C"), std::string::npos) << text;
+  EXPECT_NE(text.find("the mean of 2 runs at 20.0–21.9 °C"), std::string::npos) << text;
   // Review R16: the per-cycle scatter is a std, and the conclusion says so.
   EXPECT_NE(text.find("per-cycle standard deviation is up to"), std::string::npos) << text;
   EXPECT_EQ(text.find("scatters by up to"), std::string::npos) << text;
@@ -678,7 +679,8 @@ TEST(ReportChecks, ADeltaNLineIsQuotedAtTheTemperatureItNames) {
   ASSERT_GE(rows.size(), 2u);
   const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
   const std::string text = j["conclusion"];
-  EXPECT_NE(text.find(rows[0][1] + " ± " + rows[0][2] + " °/s at 12.00 °C, ± "), std::string::npos)
+  // c_0 as the table prints it, with its 68.3 % interval (issue 31: the digits it supports).
+  EXPECT_NE(text.find(rows[0][1] + " ± " + rows[0][3] + " °/s at 12.00 °C, ± "), std::string::npos)
       << text;
   EXPECT_NE(text.find("anywhere in 4.0–20.0 °C"), std::string::npos) << text;
   bool flagged = false;
@@ -698,7 +700,7 @@ TEST(ReportChecks, ACalibrationFromSimulatedRunsIsNamedWithItsRunsSources) {
   temp_dir d;
   calibrate_at_20c(d, "hz1-90-100a", "600", {"1", "2"});
   const auto cal = nlohmann::json::parse(read_text(d.file("cal.json")));
-  EXPECT_EQ(cal["schema"], "gyroflip.calibration/2");
+  EXPECT_EQ(cal["schema"], "gyroflip.calibration/3");
   ASSERT_EQ(cal["files"].size(), 2u);
   const auto sha_of = [](const std::string& file) {
     auto s = gyroflip::report::sha256_file(file);
@@ -745,13 +747,14 @@ TEST(ReportChecks, ACalibrationFromSimulatedRunsIsNamedWithItsRunsSources) {
   EXPECT_EQ(r.err.find("the same bytes"), std::string::npos) << r.err;
 }
 
-// Review R5: runs at one temperature are pooled by a mean weighted with their within-run errors;
-// the page says so and gives the plain mean beside it.
+// Review R5: runs at one temperature are pooled by a weighted mean; the page says how and gives
+// the plain mean beside it. Issue 31: the weights hold the runs' scatter (random effects).
 TEST(ReportChecks, ThePooledMeansWeightingIsOnThePage) {
   temp_dir d;
   const auto html =
       calibration_page(d, {{"a.csv", "20", "1"}, {"b.csv", "20", "2"}, {"c.csv", "20", "3"}});
-  EXPECT_NE(html.find("weights each run by 1/(its within-run error)²"), std::string::npos);
+  EXPECT_NE(html.find("weights each run by 1/(its within-run error² + τ²)"), std::string::npos);
+  EXPECT_NE(html.find("all runs (random-effects mean)"), std::string::npos);
   const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
   double plain = 0.0;
   for (const auto& run : j["runs"]) plain += run["delta_n_dps"].get<double>() / 3.0;

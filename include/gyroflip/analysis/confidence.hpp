@@ -17,6 +17,17 @@ namespace gyroflip::analysis {
 /// steps safeguarded by bisection (relative accuracy ~1e-12).
 [[nodiscard]] double chi2_quantile(double p, double dof);
 
+/// Quantile of Student's t distribution with `dof` > 0 degrees of freedom at probability `p` in
+/// (0, 1): the t CDF from the regularised incomplete beta, 1 - I_x(dof/2, 1/2)/2 with x = dof/(dof
+/// + t^2) (Abramowitz & Stegun 26.7.1 and 26.5.8, its continued fraction by Lentz's method),
+/// inverted by bisection to 1e-12 relative. Used for the 68.3 % intervals of a few runs' dN.
+[[nodiscard]] double student_t_quantile(double p, double dof);
+
+/// Student's t at the one-sigma probability 0.841345 (Phi(1)): the factor that turns a standard
+/// error with `dof` degrees of freedom into a 68.3 % two-sided interval half-width (1.8373 for 1,
+/// 1.3213 for 2, -> 1 as dof grows). 1 for dof = 0 (no degrees of freedom: not an interval).
+[[nodiscard]] double t_one_sigma(double dof);
+
 /// Power-law noise exponent alpha (S_y ~ f^alpha: 2 WPM, 1 FPM, 0 WFM, -1 FFM, -2 RWFM; for a
 /// gyro 0 is angle random walk, -1 bias instability, -2 rate random walk) at averaging factor m,
 /// by the lag-1 autocorrelation method (Riley & Greenhall 2004; SP1065 section 5.6): the phase

@@ -15,6 +15,7 @@
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
+#include "gyroflip/method/stationarity.hpp"
 
 namespace gyroflip::io {
 
@@ -43,6 +44,9 @@ struct calibration_entry {
   std::string file;
   method::calibration cal;
   std::optional<run_source> source;
+  /// The run's stationarity test (method/stationarity.hpp) as calibrate made it (schema 3);
+  /// nullopt: not checked (a file written before the test existed).
+  std::optional<method::stationarity> stationarity = std::nullopt;
 };
 
 /// Which sensor and rig a recording (or a calibration) belongs to, from the recordings' `# key:
@@ -64,6 +68,19 @@ struct sensor_record {
 [[nodiscard]] std::vector<std::string> rig_differences(const sensor_record& a,
                                                        const sensor_record& b);
 
+/// What a user quotes from a calibration (workflow::budget_of's numbers, schema 3; absent in
+/// older files): +- are 68.3 % intervals (Student's t for few runs).
+struct calibration_uncertainty {
+  double calibrated_dps = 0.0;     ///< how well the calibrated dN (mean or dN(T)) is known
+  double repeatability_dps = 0.0;  ///< one power-up to the next (std; NaN: unknown)
+  bool repeatability_measured = false;
+  std::string repeatability_source;
+  double between_run_dps = 0.0;   ///< random effects' tau (NaN: not estimated)
+  double new_power_up_dps = 0.0;  ///< what a compensated rate carries (NaN: unknown)
+  double coverage_factor = 1.0;   ///< Student's t applied
+  std::size_t dof = 0;
+};
+
 /// Everything a calibration run produced.
 struct calibration_record {
   /// The sensor and rig of the calibration's recordings; nullopt for files written before
@@ -73,7 +90,8 @@ struct calibration_record {
   method::calibration pooled;  ///< all cycles of all files together
   std::optional<calibration_geometry> geometry;
   std::vector<calibration_entry> files;
-  std::optional<method::delta_n_model> model;  ///< dN(T), when several files were given
+  std::optional<method::delta_n_model> model;          ///< dN(T), when several files were given
+  std::optional<calibration_uncertainty> uncertainty;  ///< written by calibrate (schema 3)
 };
 
 /// The pooled mean's correlated standard error from the files' own (independent runs):
@@ -96,10 +114,10 @@ inline constexpr double min_model_span_c = 2.0;
     std::span<const calibration_entry> runs, std::optional<std::size_t> degree = std::nullopt);
 
 /// JSON text of a calibration (one line, keys as in docs/FORMATS.md; schema
-/// gyroflip.calibration/2 and gyroflip's version, io/schema.hpp).
+/// gyroflip.calibration/3 and gyroflip's version, io/schema.hpp).
 [[nodiscard]] result<std::string> to_json(const calibration_record& rec);
 
-/// Reads a calibration file (schema 1 or 2): its pooled dN, sensor, rig, pairing, model and the
+/// Reads a calibration file (schema 1 to 3): its pooled dN, sensor, rig, pairing, model and the
 /// runs it was made of (`files`: dN, correlated error, temperature, cycles, and from schema 2
 /// each run's SHA-256, size and origin). Errors name the file (and the key that
 /// is wrong).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -29,12 +30,24 @@ struct delta_n_model {
   double temp_min_c = 0.0;         ///< temperature range the fit covers
   double temp_max_c = 0.0;
   double chi2_per_dof = 0.0;  ///< fit quality (0 when there are no degrees of freedom)
+  /// How the runs were pooled: true for fit_delta_n_random_effects (between-run variance
+  /// estimated, Knapp-Hartung covariance), false for the within-error weighted fit (files
+  /// before schema 3, a `--delta-n`).
+  bool random_effects = false;
+  /// The between-run variance tau^2 of dN about the model ((deg/s)^2; DerSimonian-Laird), NaN
+  /// when not estimated.
+  double between_run_var_dps2 = std::numeric_limits<double>::quiet_NaN();
+  std::size_t dof = 0;  ///< runs less coefficients (0: the model passes through its runs)
 
   [[nodiscard]] std::size_t degree() const noexcept { return coeffs_dps.size() - 1; }
   /// dN at `temp_c` (deg/s). For degree 0 the temperature is not used (may be NaN).
   [[nodiscard]] double eval(double temp_c) const noexcept;
   /// Standard error of dN(temp_c) from the coefficient covariance (deg/s).
   [[nodiscard]] double stderr_at(double temp_c) const noexcept;
+  /// Half-width of the 68.3 % interval of dN(temp_c) (deg/s): stderr_at x Student's t for `dof`
+  /// (analysis::t_one_sigma) for a random-effects fit, stderr_at otherwise (older fits have
+  /// no dof).
+  [[nodiscard]] double interval_at(double temp_c) const;
 };
 
 /// A constant dN with its standard error (from `--delta-n` or a one-file calibration).
@@ -47,5 +60,23 @@ struct delta_n_model {
 /// temperatures than degree + 1, non-finite input, degree > 6.
 [[nodiscard]] result<delta_n_model> fit_delta_n_model(std::span<const delta_n_point> points,
                                                       std::size_t degree);
+
+/// The random-effects fit of dN(T) to several runs (issue 31): each run's dN scatters about the
+/// model by its within-run error v_i = stderr_i^2 and by a between-run variance tau^2 (a
+/// per-power-up change, paper Tab. 3/4: runs scatter 14-30 times their own errors).
+/// tau^2 by the method of moments of DerSimonian & Laird (1986, Controlled Clinical Trials 7,
+/// 177-188), in its meta-regression form (the method-of-moments estimator of metafor's
+/// rma(method = "DL"), Viechtbauer 2010, J. Stat. Softw. 36(3)): tau^2 = max(0, (Q - (k - p)) /
+/// (sum w - tr((X'WX)^-1 X'W^2X))), Q the weighted residual sum of squares with w = 1/v. The
+/// coefficients are weighted by 1/(v_i + tau^2), and their covariance is Knapp & Hartung's
+/// (2003, Statistics in Medicine 22, 2693-2710): (X'W*X)^-1 times q = sum w*_i r_i^2 / (k - p),
+/// whose 68.3 % interval takes Student's t with k - p degrees of freedom (interval_at). Measured
+/// coverage of that interval: 0.67-0.69 for 2-13 runs with tau from 0 to 10 within-run errors
+/// (docs/METHOD-NOTES.md, "Pooling runs"), where the weighted fit's Birge-scaled error covers
+/// 0.44-0.73. When tau^2 dwarfs the within-run errors the mean is the runs' plain mean and the
+/// slope the ordinary least-squares slope. Without degrees of freedom (k = p) there is no tau^2
+/// and no error: the covariance is 0 and dof 0. Errors: those of fit_delta_n_model.
+[[nodiscard]] result<delta_n_model> fit_delta_n_random_effects(
+    std::span<const delta_n_point> points, std::size_t degree);
 
 }  // namespace gyroflip::method

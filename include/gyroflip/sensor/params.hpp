@@ -51,6 +51,12 @@ struct sensor_params {
   // scatter 14-30 times their own errors). Drawn once per run, like turn_on_bias_sigma_dps.
   double g_sens_turn_on_sigma_dps_per_g = 0.0;       ///< std of the change of g_sens_z
   double g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0;  ///< std of the change of g_sens_tc_z
+  // The g-sensitivity a specification states (not simulated: what a calibration's g-term is
+  // checked against, method/stationarity.hpp). A guaranteed maximum ("< 0.06 deg/s/g") and a
+  // typical value ("0.2 deg/s/g typ.") are different promises, so they are separate; 0 = not
+  // stated.
+  double g_sens_spec_max_dps_per_g = 0.0;  ///< guaranteed maximum |g-sensitivity| (deg/s/g)
+  double g_sens_spec_typ_dps_per_g = 0.0;  ///< typical |g-sensitivity| (deg/s/g)
   // Cross-axis sensitivity: sensed rate = w_x + c_y w_y + c_z w_z.
   double cross_axis_y = 0.0;  ///< (-)
   double cross_axis_z = 0.0;  ///< (-)

@@ -26,6 +26,18 @@ struct pairing_stats {
   std::optional<analysis::deviation_point> oadev_at_common_tau;
 };
 
+/// Windows (s) at which a run's drift (range of the moving mean, the paper's metric) is given
+/// raw beside compensated: each that fits at least twice into the run.
+inline constexpr double drift_windows_s[] = {100.0, 1000.0};
+
+/// The range of the moving mean over `window_s` of the raw sensor (0 deg dwell means) and of
+/// the compensated rate (deg/s).
+struct drift_pair {
+  double window_s = 0.0;
+  double raw_dps = 0.0;
+  double comp_dps = 0.0;
+};
+
 struct run_analysis {
   recording_run run;
   method::pairing pairing = method::pairing::abba;
@@ -41,6 +53,7 @@ struct run_analysis {
   /// White rate noise averaged over a share d of each spacing tau0 looks, at tau0 and beyond,
   /// like white noise of N / sqrt(d): the sensor's own N is the fitted N times sqrt(d).
   double raw_duty = 0.0;
+  std::vector<drift_pair> drifts;  ///< after compensate_run, at drift_windows_s
 };
 
 /// True when `a` holds fitted IEEE 952 terms (not only the deviation curve).

@@ -6,6 +6,7 @@
 /// value and for the dN of a new power-up, which is what a compensated rate inherits.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -13,7 +14,9 @@
 
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
+#include "gyroflip/method/stationarity.hpp"
 #include "gyroflip/sensor/params.hpp"
+#include "gyroflip/sensor/presets.hpp"
 
 namespace gyroflip::workflow {
 
@@ -28,6 +31,12 @@ struct delta_n_budget {
   /// std of 1 degree of freedom is uncertain by 1/sqrt(2) (~70 %) and is flagged.
   std::size_t run_to_run_dof = 0;
   std::string run_to_run_source;  ///< what it is and where it comes from
+  /// Student's t at 68.3 % for the runs' degrees of freedom (1: not a random-effects fit, or no
+  /// degrees of freedom): the calibrated value's and a new power-up's +- are 68.3 % intervals.
+  double coverage_factor = 1.0;
+  /// The between-run std of dN the random-effects fit estimated (sqrt of its tau^2; NaN when
+  /// not estimated). Below run_to_run_dps, which also holds the runs' own noise.
+  double between_run_dps = std::numeric_limits<double>::quiet_NaN();
   /// The dN(T) (or weighted-mean) model's standard error at the runs' temperatures (largest);
   /// empty without a model or when it is not determined (model_note says why).
   std::optional<double> model_dps;
@@ -35,7 +44,8 @@ struct delta_n_budget {
   /// The error of the calibrated dN value (the model's, else the one run's within-run error,
   /// or, for a fit without degrees of freedom, within-run and repeatability combined).
   double calibration_dps = 0.0;
-  /// A new power-up's dN about the calibrated value: sqrt(calibration^2 + run_to_run^2). A rate
+  /// A new power-up's dN about the calibrated value: sqrt(calibration^2 + (coverage_factor x
+  /// run_to_run)^2), a 68.3 % interval. A rate
   /// compensated with this calibration carries it as a systematic error (paper eqn 12).
   double new_power_up_dps = 0.0;
   double temp_c = 0.0;  ///< the temperature the preset's spread is evaluated at
@@ -87,13 +97,12 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
                                        const sensor::sensor_params* preset,
                                        const std::string& preset_name);
 
-/// The g-sensitivity a sensor's specification allows (deg/s/g) and its source, for the presets
-/// whose datasheet states one; nullopt otherwise (docs/FACTS.md §4-5).
-struct g_spec {
-  double dps_per_g = 0.0;
-  std::string source;
-};
-[[nodiscard]] std::optional<g_spec> g_sensitivity_spec(const std::string& preset_name);
+/// The g-sensitivity a sensor's specification states (sensor_params g_sens_spec_max/typ, with
+/// their sources), as the stationarity test takes it; nullopt when the preset states neither.
+[[nodiscard]] std::optional<method::g_term_spec> g_term_spec_of(const sensor::preset& p);
+
+/// The same for a built-in preset's name; nullopt for another name (docs/FACTS.md §4-5).
+[[nodiscard]] std::optional<method::g_term_spec> g_sensitivity_spec(const std::string& preset_name);
 
 /// The scale-factor tolerance a sensor's specification states (a fraction: 0.02 is +-2 %) and its
 /// source, for the presets whose datasheet gives one; nullopt otherwise (docs/FACTS.md §4).
@@ -103,5 +112,20 @@ struct scale_factor_spec {
 };
 [[nodiscard]] std::optional<scale_factor_spec> scale_factor_tolerance(
     const std::string& preset_name);
+
+/// `v` with the decimals that show its uncertainty `u` to two significant digits ("0.00327 ±
+/// 0.00081", never "0.00326975 ± 0.000812"); without a usable u, 6 significant digits.
+[[nodiscard]] std::string value_pm(double v, double u);
+
+/// The same in degrees per hour, as the noise terms are quoted ("11.8 ± 2.9 °/h").
+[[nodiscard]] std::string value_pm_dph(double v_dps, double u_dps);
+
+/// What dN is, in plain words (paper eqns 7-12), for a calibration's page and its text.
+[[nodiscard]] std::string delta_n_meaning();
+
+/// When to calibrate again, from the budget: the power-up repeatability (measured or the
+/// preset's) against the calibrated value's error, and the temperatures the runs covered
+/// (`temps`, as "20.0 °C" or "4.0-20.0 °C"; empty: not known).
+[[nodiscard]] std::string when_to_recalibrate(const delta_n_budget& b, const std::string& temps);
 
 }  // namespace gyroflip::workflow

@@ -14,7 +14,10 @@
 #include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/method/stationarity.hpp"
 #include "gyroflip/method/types.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/budget.hpp"
 
 namespace gyroflip::workflow {
 
@@ -26,12 +29,33 @@ struct calibrate_request {
   /// Degree of the dN(T) polynomial; nullopt: io::fit_runs_model's rule (a line over a
   /// temperature span of 2 degC or more, else the runs' weighted mean).
   std::optional<std::size_t> degree;
+  /// The sensor whose specification the stationarity test's g-term is checked against
+  /// (`calibrate --sensor NAME|FILE.toml`); nullopt: the recordings' built-in preset by name
+  /// (`# sensor_name:`), if any.
+  std::optional<sensor::preset> sensor;
+  /// Refuse a run that fails the stationarity test (bad input, naming the run and the statistic)
+  /// instead of warning (`calibrate --strict`).
+  bool strict = false;
 };
 
 struct calibrate_result {
   io::calibration_record record;      ///< what `calibrate -o` writes (io::to_json)
   std::vector<std::string> warnings;  ///< `FILE: what`, for the caller to show
+  /// What a user should quote (the same numbers `report` puts in its budget): the calibrated
+  /// value's error, the repeatability, a new power-up's error.
+  delta_n_budget budget;
 };
+
+/// The stationarity test's inputs for a run: the pairing, the specification of `preset` (none:
+/// the g-term is not checked) and the geometry (none: a lower bound of the g-term).
+[[nodiscard]] method::stationarity_inputs stationarity_inputs_of(
+    method::pairing p, const sensor::preset* preset,
+    const std::optional<io::calibration_geometry>& geometry);
+
+/// The warning (or, `strict`, the error) for a run that failed the test: `FILE: not a stationary
+/// run, so its mean r is not the sensor's dN: <the failed statistics>`.
+[[nodiscard]] std::string stationarity_warning(const std::string& file,
+                                               const method::stationarity& st);
 
 /// The one-sensor check of several recordings, file by file (what calibrate_runs and
 /// make_report both run): each recording's sensor and rig from its metadata (io::sensor_of);
@@ -54,7 +78,9 @@ class one_sensor {
   std::optional<io::sensor_record> sensor_;
 };
 
-/// Calibrates each file (method::calibrate of its cycles), pools all cycles (the pooled
+/// Calibrates each file (method::calibrate of its cycles) and tests that it was stationary
+/// (method::check_stationarity: a failing run is a warning, or with `strict` an error), pools all
+/// cycles (the pooled
 /// correlated error from the files' own: io::pooled_correlated_stderr) and fits the dN model of
 /// several files (io::fit_runs_model). The sensor and rig come from the recordings' metadata
 /// (one_sensor: two sensors are refused, a rig setting or power-on time that differs between

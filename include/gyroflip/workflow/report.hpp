@@ -27,6 +27,10 @@ struct report_request {
   /// and scale-factor error against it. Non-zero, within the simulator's rate bound.
   std::optional<double> expected_rate_dps;
   std::string command;  ///< the command (or call) exactly as run, for the provenance
+  /// What to do next, in the front end's words (the CLI: the exact `calibrate -o` and
+  /// `compensate` commands for these files; Python: the calls); empty: not said. The
+  /// conclusion of a calibration quotes it unless a run failed the stationarity test.
+  std::string next_step;
   std::string made_by = "gyroflip report";  ///< who made the folder (its list's first line)
 };
 

@@ -1,0 +1,68 @@
+#!/usr/bin/env python3
+"""The stationarity test (issue 31, method/stationarity.hpp) on the simulator: how often it calls a
+stationary calibration run non-stationary (false alarms), and whether it catches the issue's
+non-stationary runs (detections). Every run goes through gyroflip.calibrate, the library call
+`gyroflip calibrate` makes, with the sensor's specification.
+
+Stationary runs: both presets, cold (sensor just powered, warm-up drift) and warm (30 min on
+before), abba and simple pairing, 600 s and 5400 s. Non-stationary: a constant input of 0.5 and
+0.1 deg/s, a zero-mean sine of 0.5 deg/s over 500 s and of 0.02 deg/s, a ramp of the input.
+
+Usage: python3 bench/stationarity_null.py [BUILD/python] [--seeds=N]
+Prints the share of runs failing, per case, with the statistics' largest values."""
+import argparse
+import os
+import sys
+
+
+def parse(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("pydir", nargs="?",
+                    default=os.path.join(os.path.dirname(__file__), "..", "build", "python"))
+    ap.add_argument("--seeds", type=int, default=50)
+    o = ap.parse_args(argv)
+    return o.pydir, o.seeds
+
+
+def run(gyroflip, sensor, seed, duration, pairing, on_before, rate="0"):
+    rec = gyroflip.simulate(sensor, duration_s=duration, seed=seed, temp=20, rate=rate,
+                            power_on_before_s=on_before)
+    cal = gyroflip.calibrate(rec["time_s"], rec["angle_deg"], rec["rate_dps"], rec["temp_c"],
+                             rec["n_avg"], latitude=42.6, axis="north", pairing=pairing,
+                             sensor=sensor)
+    return cal["files"][0]["stationarity"]
+
+
+def main():
+    pydir, seeds = parse(sys.argv[1:])
+    sys.path.insert(0, pydir)
+    import gyroflip
+    print(f"{seeds} seeds per row; latitude 42.6, axis north, 20 degC")
+    print(f"{'case':58s} failed   max scatter  max drift")
+    cases = []
+    for sensor in ("hz1-90-100a", "adxrs150"):
+        for on_before in (0.0, 1800.0):
+            for pairing in ("abba", "simple"):
+                for duration in (600.0, 5400.0):
+                    cases.append((f"stationary {sensor} {'cold' if on_before == 0 else 'warm'} "
+                                  f"{pairing} {duration:.0f} s", sensor, duration, pairing,
+                                  on_before, "0"))
+    for rate in ("0.5", "0.1", "sine:0.5:0.002", "sine:0.02:0.002", "ramp:0:0.05:1800"):
+        cases.append((f"input {rate} hz1-90-100a abba 1800 s", "hz1-90-100a", 1800.0, "abba",
+                      1800.0, rate))
+    for name, sensor, duration, pairing, on_before, rate in cases:
+        failed = 0
+        worst_s = worst_d = 0.0
+        for seed in range(1, seeds + 1):
+            st = run(gyroflip, sensor, seed, duration, pairing, on_before, rate)
+            failed += not st["stationary"]
+            worst_s = max(worst_s, st["scatter_ratio"] / st["scatter_limit"])
+            worst_d = max(worst_d, st["drift_statistic"] / st["drift_limit"])
+        print(f"{name:58s} {failed / seeds:6.3f}   {worst_s:10.3f}  {worst_d:9.3f}", flush=True)
+    print("(max scatter, max drift: the largest statistic over its limit; above 1 fails, the drift "
+          "only when its step also exceeds 3 correlated errors)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,110 @@
+/// \file
+/// \brief Is a calibration run stationary? The one test `calibrate`, `report`, Python and the
+/// recorder use before a run's mean r is called the sensor's dN (paper eqns 8-11 hold only for
+/// w_in = 0). Three statistics, each against a stated limit (docs/METHOD-NOTES.md,
+/// "Stationarity"):
+///
+/// - **scatter**: the per-cycle std of r against the white noise of the same dwells, read from
+///   the half-sum c at the shortest averaging time (an input rate enters r, not c; the bias
+///   enters c, not r). Under white dwell noise r's and c's noise have one distribution whatever
+///   the pairing (each is the same linear combination of the dwells, with signs), so
+///   std(r) / ADEV_c(tau0) is the pairing's white-noise ratio (`white_std_over_adev`).
+/// - **drift or step**: the largest partial sum of r - mean(r) (the OLS-CUSUM of Ploberger and
+///   Krämer 1992, Econometrica 60(2) 271-285), scaled by r's long-run std at short averaging
+///   times; under stationarity it tends to sup|Brownian bridge| (Kolmogorov's distribution). A
+///   failure also needs the level change at the split to exceed the run's own correlated error
+///   (so noise that the stated error of dN already covers is not called a drift).
+/// - **g-term**: the g-term (dN less the Earth rate; without a geometry at least |dN| - W_E)
+///   against what the sensor's specification allows at 1 g (a guaranteed maximum, or three times a
+///   typical value), less three correlated errors.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/earth/earth.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/types.hpp"
+
+namespace gyroflip::method {
+
+/// std(r) / ADEV_r(tau0) of a pairing's cycle series under white dwell noise (its noise
+/// transfer at the shortest tau): simple 1; abba sqrt(20/14) = 1.195 (interior cycles: r =
+/// (3 z_a + 3 z_b + z_prev + z_next)/8, var 20/64, lag-1 covariance 6/64; docs/METHOD-NOTES.md).
+[[nodiscard]] double white_std_over_adev(pairing p) noexcept;
+
+/// Fewest cycles the test runs on (fewer: `checked` false).
+inline constexpr std::size_t min_stationarity_cycles = 16;
+
+/// Limit of the drift statistic: P(sup|Brownian bridge| > 2.4) = 2e-5 asymptotically; measured
+/// on white cycle series with the long-run std estimated (bench/stationarity_null.py): at most
+/// 7e-4 for 40 to 5000 cycles, either pairing.
+inline constexpr double drift_limit = 2.4;
+
+/// Averaging factor (cycles) of the long-run std that scales the drift statistic: long enough
+/// for abba's lag-1 correlation, short enough that a drift or step barely enters it.
+inline constexpr std::size_t drift_scale_cycles = 16;
+
+/// The specification the g-term is checked against (deg/s at 1 g): a guaranteed maximum, or a
+/// typical value (then the limit is `typical_factor` times it: a unit at twice its datasheet's
+/// typical value is not unusual, the paper's ADXRS150 is). No limit: the g-term is not checked.
+struct g_term_spec {
+  double max_dps = 0.0;  ///< guaranteed maximum at 1 g (0: none)
+  double typ_dps = 0.0;  ///< typical at 1 g (0: none)
+  std::string source;    ///< where the figure comes from, for messages
+  static constexpr double typical_factor = 3.0;
+  [[nodiscard]] double limit_dps() const noexcept {
+    return max_dps > 0.0 ? max_dps : typical_factor * typ_dps;
+  }
+};
+
+/// What the test needs besides the cycles.
+struct stationarity_inputs {
+  pairing pair = pairing::abba;
+  std::optional<g_term_spec> spec;  ///< none: the g-term is not checked
+  /// The geometry (latitude, sensitive axis at 0 deg): the g-term exactly; none: at least
+  /// |dN| - W_E (any axis).
+  std::optional<double> lat_deg;
+  std::optional<earth::ned_vector> axis;
+};
+
+/// The test's statistics and verdicts. Every statistic is finite when `checked`.
+struct stationarity {
+  bool checked = false;  ///< false: too few cycles (why_not says so) or a file that predates it
+  std::string why_not;   ///< why it was not checked
+  double scatter_ratio = 0.0;    ///< std(r) / (white_std_over_adev x ADEV_c(tau0)); ~1 stationary
+  double scatter_limit = 0.0;    ///< max(1.25, 1 + 7/sqrt(n)) (null sd ~1.1/sqrt(n), measured)
+  double drift_statistic = 0.0;  ///< max_k |S_k| / (n x se_16), S_k partial sums of r - mean
+  double drift_limit_value = drift_limit;
+  double step_dps = 0.0;        ///< mean of r after the CUSUM's split less before it
+  double step_time_s = 0.0;     ///< time of the split (the cycle after it)
+  double step_limit_dps = 0.0;  ///< 3 x the run's correlated error of dN
+  bool g_checked = false;       ///< a specification was given
+  bool g_exact = false;         ///< the geometry was given (else a lower bound)
+  double g_term_dps = 0.0;      ///< |g-term| (or its lower bound)
+  double g_limit_dps = 0.0;     ///< the specification's limit at 1 g
+  double g_margin_dps = 0.0;    ///< 3 x the correlated error, taken off the g-term first
+  std::string g_source;
+  bool scatter_failed = false;
+  bool drift_failed = false;
+  bool g_failed = false;
+  [[nodiscard]] bool failed() const noexcept {
+    return checked && (scatter_failed || drift_failed || g_failed);
+  }
+  /// One sentence per failed statistic, with its value and limit (empty when none failed).
+  [[nodiscard]] std::vector<std::string> failures() const;
+  /// One line: "stationary (scatter 0.96 <= 1.25, drift 0.7 <= 2.4, g-term ...)" or the failures.
+  [[nodiscard]] std::string summary() const;
+};
+
+/// The stationarity test of one calibration run (see the file comment) from its cycles and their
+/// calibration (`calibrate(cycles)`). Total: fewer than min_stationarity_cycles gives
+/// `checked` false. Used by `gyroflip calibrate`, `report`, Python's `calibrate` and `record`.
+[[nodiscard]] stationarity check_stationarity(std::span<const cycle> cycles, const calibration& cal,
+                                              const stationarity_inputs& in);
+
+}  // namespace gyroflip::method

@@ -1,0 +1,137 @@
+/// \file
+/// \brief Pooling runs by random effects (issue 31, method/delta_n_model.hpp): the BCG trials'
+/// published DerSimonian-Laird values (tests/vectors/metafor-bcg/PROVENANCE.md), closed forms for
+/// equal within-run errors, and Student's t (analysis/confidence.hpp) against its closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/method/delta_n_model.hpp"
+
+namespace gyroflip::method {
+namespace {
+
+struct trial {
+  double tpos, tneg, cpos, cneg, ablat_deg;
+};
+
+// Colditz et al. 1994 as metafor's dat.bcg (PROVENANCE.md).
+const trial bcg_trials[] = {
+    {4, 119, 11, 128, 44},       {6, 300, 29, 274, 55},        {3, 228, 11, 209, 42},
+    {62, 13536, 248, 12619, 52}, {33, 5036, 47, 5761, 13},     {180, 1361, 372, 1079, 44},
+    {8, 2537, 10, 619, 19},      {505, 87886, 499, 87892, 13}, {29, 7470, 45, 7232, 27},
+    {17, 1699, 65, 1600, 42},    {186, 50448, 141, 27197, 18}, {5, 2493, 3, 2338, 33},
+    {27, 16886, 29, 17825, 33}};
+
+// The log risk ratios with their standard errors, latitude as the "temperature".
+std::vector<delta_n_point> bcg_points() {
+  std::vector<delta_n_point> out;
+  for (const auto& t : bcg_trials) {
+    const double y = std::log((t.tpos / (t.tpos + t.tneg)) / (t.cpos / (t.cpos + t.cneg)));
+    const double v = 1 / t.tpos - 1 / (t.tpos + t.tneg) + 1 / t.cpos - 1 / (t.cpos + t.cneg);
+    out.push_back({t.ablat_deg, y, std::sqrt(v)});
+  }
+  return out;
+}
+
+TEST(Pooling, DerSimonianLairdReproducesMetaforOnTheBcgTrials) {
+  const auto pts = bcg_points();
+  // The fixed-effect fit (the weighted fit of before issue 31) and its Q.
+  const auto fe = fit_delta_n_model(pts, 0);
+  ASSERT_TRUE(fe);
+  EXPECT_NEAR(fe->coeffs_dps[0], -0.4303, 1e-4);
+  EXPECT_NEAR(fe->chi2_per_dof * 12.0, 152.2330, 1e-4);
+  const auto re = fit_delta_n_random_effects(pts, 0);
+  ASSERT_TRUE(re);
+  EXPECT_TRUE(re->random_effects);
+  EXPECT_EQ(re->dof, 12U);
+  EXPECT_NEAR(re->coeffs_dps[0], -0.7141, 1e-4);
+  EXPECT_NEAR(re->between_run_var_dps2, 0.3088, 1e-4);
+  // Knapp-Hartung's error (metafor's test = "knha"); the z-based one is 0.17874.
+  EXPECT_NEAR(re->stderr_at(0.0), 0.18069662833554745, 1e-12);
+  EXPECT_NEAR(re->interval_at(0.0), 0.18069662833554745 * analysis::t_one_sigma(12.0), 1e-12);
+}
+
+TEST(Pooling, MetaRegressionOnLatitudeAsMetafor) {
+  const auto re = fit_delta_n_random_effects(bcg_points(), 1);
+  ASSERT_TRUE(re);
+  EXPECT_NEAR(re->t_ref_c, 33.46153846153846, 1e-12);
+  EXPECT_NEAR(re->between_run_var_dps2, 0.0633, 1e-4);  // as metafor prints it
+  EXPECT_NEAR(re->between_run_var_dps2, 0.0633005024264148, 1e-12);
+  EXPECT_NEAR(re->coeffs_dps[0], -0.71849485, 1e-8);
+  EXPECT_NEAR(re->coeffs_dps[1], -0.02922874, 1e-8);
+  ASSERT_EQ(re->cov.size(), 4U);
+  EXPECT_NEAR(re->cov[0], 0.014256331205093679, 1e-12);
+  EXPECT_NEAR(re->cov[1], 1.463995108036354e-4, 1e-13);
+  EXPECT_NEAR(re->cov[3], 6.300796692144152e-5, 1e-14);
+  EXPECT_EQ(re->dof, 11U);
+}
+
+// Equal within-run errors v: tau^2 = s^2 - v (the runs' sample variance less their own), the mean
+// is the plain mean and its error s/sqrt(k), whatever v.
+TEST(Pooling, EqualWithinRunErrorsGiveThePlainMeanAndItsStandardError) {
+  const std::vector<double> dn = {3.2e-3, 2.0e-3, 3.1e-3, 2.6e-3};
+  const double v_se = 1e-4;
+  std::vector<delta_n_point> pts;
+  for (double x : dn) pts.push_back({20.0, x, v_se});
+  const auto re = fit_delta_n_random_effects(pts, 0);
+  ASSERT_TRUE(re);
+  double mean = 0.0, ss = 0.0;
+  for (double x : dn) mean += x / 4.0;
+  for (double x : dn) ss += (x - mean) * (x - mean);
+  const double s2 = ss / 3.0;
+  EXPECT_NEAR(re->coeffs_dps[0], mean, 1e-15);
+  EXPECT_NEAR(re->between_run_var_dps2, s2 - v_se * v_se, 1e-18);
+  EXPECT_NEAR(re->stderr_at(0.0), std::sqrt(s2 / 4.0), 1e-15);
+  // The weighted fit of before scaled its 1/sqrt(sum w) by the Birge ratio: the same here.
+  // With unequal errors it is not (the next test).
+}
+
+// The issue's case: runs scattering far beyond their own errors, with unequal errors. The
+// weighted mean follows the most precise run; random effects give (nearly) the plain mean.
+TEST(Pooling, RunsScatteringBeyondTheirErrorsArePooledNearTheirPlainMean) {
+  const std::vector<delta_n_point> pts = {
+      {20.0, 3.4e-3, 4e-5}, {20.0, 2.0e-3, 1.2e-4}, {20.0, 3.2e-3, 9e-5}};
+  const auto fe = fit_delta_n_model(pts, 0);
+  const auto re = fit_delta_n_random_effects(pts, 0);
+  ASSERT_TRUE(fe && re);
+  const double plain = (3.4e-3 + 2.0e-3 + 3.2e-3) / 3.0;
+  EXPECT_GT(std::abs(fe->coeffs_dps[0] - plain), 3e-4);  // the weighted mean is pulled to 3.4e-3
+  EXPECT_LT(std::abs(re->coeffs_dps[0] - plain), 3e-5);
+  EXPECT_GT(std::sqrt(re->between_run_var_dps2), 6e-4);
+}
+
+TEST(Pooling, AModelThroughItsRunsHasNoErrorAndNoDegreesOfFreedom) {
+  const std::vector<delta_n_point> pts = {{4.0, 3.8e-3, 1e-4}, {20.0, 3.1e-3, 1e-4}};
+  const auto re = fit_delta_n_random_effects(pts, 1);
+  ASSERT_TRUE(re);
+  EXPECT_EQ(re->dof, 0U);
+  EXPECT_EQ(re->stderr_at(10.0), 0.0);
+  EXPECT_TRUE(std::isnan(re->between_run_var_dps2));
+  EXPECT_NEAR(re->eval(4.0), 3.8e-3, 1e-15);
+}
+
+// Student's t against its closed forms: nu = 1 is Cauchy, t = tan(pi (p - 1/2)); nu = 2 has
+// t = (2p - 1)/sqrt(2 p (1 - p)); and the printed tables (NIST/SEMATECH e-Handbook 1.3.6.7.2).
+TEST(StudentT, QuantilesMatchClosedFormsAndTables) {
+  for (double p : {0.6, 0.8413447460685429, 0.975, 0.999}) {
+    EXPECT_NEAR(analysis::student_t_quantile(p, 1.0), std::tan(std::numbers::pi * (p - 0.5)),
+                1e-9 * std::tan(std::numbers::pi * (p - 0.5)));
+    EXPECT_NEAR(analysis::student_t_quantile(p, 2.0), (2 * p - 1) / std::sqrt(2 * p * (1 - p)),
+                1e-10);
+  }
+  EXPECT_NEAR(analysis::student_t_quantile(0.975, 10.0), 2.228, 1e-3);
+  EXPECT_NEAR(analysis::student_t_quantile(0.975, 30.0), 2.042, 1e-3);
+  EXPECT_NEAR(analysis::student_t_quantile(0.95, 5.0), 2.015, 1e-3);
+  EXPECT_NEAR(analysis::student_t_quantile(0.025, 4.0), -2.776, 1e-3);
+  EXPECT_NEAR(analysis::t_one_sigma(1.0), 1.8373, 1e-4);
+  EXPECT_NEAR(analysis::t_one_sigma(2.0), 1.3213, 1e-4);
+  EXPECT_NEAR(analysis::t_one_sigma(1e6), 1.0, 1e-5);
+  EXPECT_EQ(analysis::t_one_sigma(0.0), 1.0);
+}
+
+}  // namespace
+}  // namespace gyroflip::method

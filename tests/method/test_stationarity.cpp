@@ -1,0 +1,144 @@
+/// \file
+/// \brief The stationarity test of a calibration run (issue 31, method/stationarity.hpp) on
+/// synthetic dwells with known truth: stationary runs pass at both pairings over fixed seeds; a
+/// constant input beyond the specification fails the g-term, a varying input the scatter, a step
+/// the drift; each statistic against its limit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <vector>
+
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/pairing.hpp"
+#include "gyroflip/method/stationarity.hpp"
+#include "gyroflip/sensor/random.hpp"
+
+namespace gyroflip::method {
+namespace {
+
+struct run_truth {
+  double delta_n_dps = 3.1e-3;  // Earth + g-term
+  double noise_dps = 6.4e-3;    // white noise of a dwell mean (the HZ1's at 0.512 s)
+  double bias_dps = 0.05;       // does not reverse
+  double bias_drift_dps_per_s = 2e-6;
+  std::function<double(double)> input_dps = [](double) { return 0.0; };
+  std::size_t dwells = 2000;  // 1000 cycles of 1.79 s
+};
+
+// Dwells as the rig makes them: y = s (w_in + dN) + b(t) + noise, s = +1 at 0 deg, -1 at 180.
+std::vector<dwell> dwells_of(const run_truth& t, std::uint64_t seed) {
+  sensor::normal_stream noise(seed, sensor::stream::user);
+  std::vector<dwell> out;
+  for (std::size_t k = 0; k < t.dwells; ++k) {
+    dwell d;
+    d.sign = k % 2 == 0 ? 1 : -1;
+    d.time_s = 0.895 * static_cast<double>(k);
+    d.rate_dps = d.sign * (t.input_dps(d.time_s) + t.delta_n_dps) + t.bias_dps +
+                 t.bias_drift_dps_per_s * d.time_s + t.noise_dps * noise.next();
+    d.weight = 256;
+    out.push_back(d);
+  }
+  return out;
+}
+
+stationarity check(const run_truth& t, std::uint64_t seed, pairing p,
+                   std::optional<g_term_spec> spec = std::nullopt) {
+  const auto cycles = pair_cycles(dwells_of(t, seed), p);
+  const auto cal = calibrate(cycles);
+  EXPECT_TRUE(cal);
+  stationarity_inputs in;
+  in.pair = p;
+  in.spec = spec;
+  return check_stationarity(cycles, *cal, in);
+}
+
+const g_term_spec hz1_spec{0.06, 0.0, "HZ1-90-100A < 0.06 deg/s/g"};
+
+TEST(Stationarity, StationaryRunsPassAtBothPairings) {
+  for (const auto p : {pairing::simple, pairing::abba})
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      const auto st = check(run_truth{}, seed, p, hz1_spec);
+      ASSERT_TRUE(st.checked);
+      EXPECT_FALSE(st.failed()) << "seed " << seed << ": " << st.summary();
+      // The scatter ratio is 1 for white dwell noise, whatever the pairing (its transfer).
+      EXPECT_NEAR(st.scatter_ratio, 1.0, 0.15) << seed;
+    }
+}
+
+TEST(Stationarity, TheWhiteNoiseTransferOfEachPairing) {
+  EXPECT_EQ(white_std_over_adev(pairing::simple), 1.0);
+  EXPECT_NEAR(white_std_over_adev(pairing::abba), std::sqrt(20.0 / 14.0), 1e-15);
+  // Measured: the mean over 20 seeds is 1 within its standard error (~0.035/sqrt(20)).
+  for (const auto p : {pairing::simple, pairing::abba}) {
+    double sum = 0.0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed)
+      sum += check(run_truth{}, seed, p).scatter_ratio;
+    EXPECT_NEAR(sum / 20.0, 1.0, 0.03);
+  }
+}
+
+TEST(Stationarity, AConstantInputBeyondTheSpecificationFailsTheGTerm) {
+  run_truth t;
+  t.input_dps = [](double) { return 0.1; };  // 1.7 x the HZ1's 0.06 deg/s/g (issue 31)
+  const auto st = check(t, 3, pairing::abba, hz1_spec);
+  EXPECT_TRUE(st.g_failed) << st.summary();
+  EXPECT_FALSE(st.scatter_failed);  // a constant rate does not scatter: only the g-term sees it
+  EXPECT_FALSE(st.drift_failed);
+  EXPECT_NEAR(st.g_term_dps, 0.1 + 3.1e-3 - 4.178074e-3, 1e-3);  // at least |dN| - W_E
+  // Without a specification it cannot be seen: the test says it did not check.
+  const auto none = check(t, 3, pairing::abba);
+  EXPECT_FALSE(none.g_checked);
+  EXPECT_FALSE(none.failed());
+  // A typical value allows three times it: 0.1 is within 3 x 0.06 typical.
+  EXPECT_FALSE(check(t, 3, pairing::abba, g_term_spec{0.0, 0.06, "typ"}).g_failed);
+}
+
+TEST(Stationarity, AZeroMeanSineFailsTheScatter) {
+  run_truth t;
+  t.input_dps = [](double s) { return 0.5 * std::sin(2.0 * std::numbers::pi * 0.002 * s); };
+  const auto st = check(t, 4, pairing::abba, hz1_spec);
+  EXPECT_TRUE(st.scatter_failed) << st.summary();
+  EXPECT_GT(st.scatter_ratio, 50.0);
+  EXPECT_FALSE(st.failures().empty());
+}
+
+TEST(Stationarity, AStepInRFailsTheDriftAndASmallOneDoesNot) {
+  run_truth t;
+  t.input_dps = [](double s) { return s > 600.0 ? 3e-3 : 0.0; };  // ~20 correlated errors
+  const auto st = check(t, 5, pairing::abba, hz1_spec);
+  EXPECT_TRUE(st.drift_failed) << st.summary();
+  EXPECT_NEAR(st.step_dps, 3e-3, 6e-4);
+  EXPECT_NEAR(st.step_time_s, 600.0, 60.0);
+  EXPECT_FALSE(st.scatter_failed);
+  run_truth small = t;
+  small.input_dps = [](double s) { return s > 600.0 ? 1e-4 : 0.0; };  // below the noise
+  EXPECT_FALSE(check(small, 5, pairing::abba, hz1_spec).drift_failed);
+  // A linear drift of r (a g-term moving with temperature) by 2e-3 over the run.
+  run_truth ramp = t;
+  ramp.input_dps = [](double s) { return 2e-3 * s / 1790.0; };
+  EXPECT_TRUE(check(ramp, 6, pairing::simple, hz1_spec).drift_failed);
+}
+
+TEST(Stationarity, TooFewCyclesAreNotChecked) {
+  run_truth t;
+  t.dwells = 2 * (min_stationarity_cycles - 1);
+  const auto st = check(t, 1, pairing::simple, hz1_spec);
+  EXPECT_FALSE(st.checked);
+  EXPECT_FALSE(st.failed());
+  EXPECT_NE(st.summary().find("not checked"), std::string::npos);
+}
+
+TEST(Stationarity, NoiseFreeDwellsGiveFiniteStatistics) {
+  run_truth t;
+  t.noise_dps = 0.0;
+  t.bias_drift_dps_per_s = 0.0;
+  const auto st = check(t, 1, pairing::simple, hz1_spec);
+  EXPECT_TRUE(std::isfinite(st.scatter_ratio));
+  EXPECT_TRUE(std::isfinite(st.drift_statistic));
+  EXPECT_FALSE(st.failed()) << st.summary();
+}
+
+}  // namespace
+}  // namespace gyroflip::method
