@@ -6,7 +6,8 @@ non-stationary runs (detections). Every run goes through gyroflip.calibrate, the
 
 Stationary runs: both presets, cold (sensor just powered, warm-up drift) and warm (30 min on
 before), abba and simple pairing, 600 s and 5400 s. Non-stationary: a constant input of 0.5 and
-0.1 deg/s, a zero-mean sine of 0.5 deg/s over 500 s and of 0.02 deg/s, a ramp of the input.
+0.1 deg/s, a zero-mean sine of 0.5 deg/s over 500 s and of 0.02 deg/s, a step of 0.003 deg/s
+halfway.
 
 Usage: python3 bench/stationarity_null.py [BUILD/python] [--seeds=N]
 Prints the share of runs failing, per case, with the statistics' largest values."""
@@ -48,7 +49,7 @@ def main():
                     cases.append((f"stationary {sensor} {'cold' if on_before == 0 else 'warm'} "
                                   f"{pairing} {duration:.0f} s", sensor, duration, pairing,
                                   on_before, "0"))
-    for rate in ("0.5", "0.1", "sine:0.5:0.002", "sine:0.02:0.002", "ramp:0:0.05:1800"):
+    for rate in ("0.5", "0.1", "sine:0.5:0.002", "sine:0.02:0.002", "steps:0:0,900:0.003"):
         cases.append((f"input {rate} hz1-90-100a abba 1800 s", "hz1-90-100a", 1800.0, "abba",
                       1800.0, rate))
     for name, sensor, duration, pairing, on_before, rate in cases:
