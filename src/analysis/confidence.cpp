@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <optional>
 
 #include <fmt/format.h>
@@ -667,6 +668,47 @@ double chi2_quantile(double p, double dof) {
     x = next;
   }
   return x;
+}
+
+namespace {
+
+// P(|T| <= t) for Student's t with whole `nu` degrees of freedom (Abramowitz & Stegun 26.7.3 for
+// odd nu, 26.7.4 for even nu), through theta = atan(t / sqrt(nu)).
+double student_t_central(double theta, std::size_t nu) {
+  const double c = std::cos(theta), s = std::sin(theta), c2 = c * c;
+  if (nu % 2 == 0) {
+    double term = 1.0, sum = 1.0;
+    for (std::size_t k = 2; k + 2 <= nu; k += 2) {
+      term *= c2 * static_cast<double>(k - 1) / static_cast<double>(k);
+      sum += term;
+    }
+    return s * sum;
+  }
+  double sum = 0.0;
+  if (nu > 1) {
+    double term = c;
+    sum = c;
+    for (std::size_t k = 3; k + 2 <= nu; k += 2) {
+      term *= c2 * static_cast<double>(k - 1) / static_cast<double>(k);
+      sum += term;
+    }
+  }
+  return 2.0 / std::numbers::pi * (theta + s * sum);
+}
+
+}  // namespace
+
+double student_t_quantile(double p, std::size_t dof) {
+  if (!(p > 0.0 && p < 1.0) || dof == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double central = std::abs(2.0 * p - 1.0);  // P(|T| <= t) at the quantile
+  // The central probability grows with theta in [0, pi/2): bisection on theta.
+  double lo = 0.0, hi = std::numbers::pi / 2.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (student_t_central(mid, dof) < central ? lo : hi) = mid;
+  }
+  const double t = std::sqrt(static_cast<double>(dof)) * std::tan(0.5 * (lo + hi));
+  return p < 0.5 ? -t : t;
 }
 
 std::optional<int> noise_alpha_lag1(std::span<const double> phase, std::size_t m) {

@@ -17,6 +17,12 @@ namespace gyroflip::analysis {
 /// steps safeguarded by bisection (relative accuracy ~1e-12).
 [[nodiscard]] double chi2_quantile(double p, double dof);
 
+/// Quantile of Student's t distribution with `dof` >= 1 (whole) degrees of freedom at probability
+/// `p` in (0, 1), by bisection on its exact distribution function for whole degrees of freedom
+/// (Abramowitz & Stegun, Handbook of Mathematical Functions, 26.7.3 and 26.7.4); absolute
+/// accuracy ~1e-12. t(0.975, 10) = 2.228 (NIST/SEMATECH e-Handbook, §1.3.6.7.2).
+[[nodiscard]] double student_t_quantile(double p, std::size_t dof);
+
 /// Power-law noise exponent alpha (S_y ~ f^alpha: 2 WPM, 1 FPM, 0 WFM, -1 FFM, -2 RWFM; for a
 /// gyro 0 is angle random walk, -1 bias instability, -2 rate random walk) at averaging factor m,
 /// by the lag-1 autocorrelation method (Riley & Greenhall 2004; SP1065 section 5.6): the phase
