@@ -219,7 +219,8 @@ TEST(ReproduceCli, ABadSensorModelIsRefusedBeforeAnySimulation) {
 
 // Seed 1, ten campaigns: every test holds but the HZ1's 4 degC std from the 20-degC-only model,
 // which lies at -1.98 sigma of its 2-sigma limit within twice its simulation error (0.15 sigma):
-// the verdict is "inconclusive" and says that more campaigns decide it.
+// the verdict is "inconclusive" (without the simulation's error it would lie at about -1.99
+// sigma: the paper's 4 degC spread is at the edge of what its 20 degC spread predicts).
 TEST(ReproduceCli, TenCampaignsKeepTheFitAndTheirVerdictSaysWhatItCovers) {
   temp_dir d;
   const auto r = run_cli({"reproduce", "--campaigns", "10", "--seed", "1", "-o", d.file("r")});

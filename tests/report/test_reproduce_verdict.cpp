@@ -129,7 +129,7 @@ TEST(ReproduceVerdict, CountsTheOutOfSampleTestsAndNamesItsScope) {
         "one-sided (N = 0.05/√2)",
         "the HZ1's 4 °C mean and spread of ΔN from a model fitted at 20 °C alone",
         "each table's runs from the others", "the compensated means of Figs 4, 6 and 10",
-        "Inconclusive (the seed decides it: more campaigns decide it)",
+        "Inconclusive (within twice its simulation error of its limit: the seed decides it)",
         "Not tested: the values the presets were fitted to",
         "Fig. 8: compensated mean (°/s) (compared with data it was fitted to",
         "Only illustrated: the main claim"})
