@@ -66,6 +66,9 @@ bool is_suffix(std::string_view word) {
 bool is_prefix(std::string_view word) {
   static constexpr std::string_view marks[] = {"±", "<", ">", "≤", "≥", "≈", "~",
                                                "×", "=", "−", "→", "+", "-"};
+  // A word that ends in a relation too ("P(≥ 2)").
+  for (const std::string_view end : {"≤", "≥", "<", ">", "="})
+    if (word.size() > end.size() && word.ends_with(end)) return true;
   return std::find(std::begin(marks), std::end(marks), word) != std::end(marks);
 }
 
