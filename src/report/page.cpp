@@ -89,6 +89,8 @@ bool has_break_inside(std::string_view word) {
 // A token longer than any column can hold (a path, a hash, a command): the only words that may
 // break anywhere (class "brk").
 constexpr std::size_t longest_unbroken = 40;
+// The longest interval in brackets kept on one line.
+constexpr std::size_t short_interval = 24;
 
 // HTML text of `raw` that breaks lines between words only, never inside one: "compensat ed",
 // "18 00 s" and "inconclusiv e" were words broken to fit a column (review of issue 31). Words
@@ -105,6 +107,13 @@ std::string wrapped(std::string_view raw) {
   std::string out;
   for (std::size_t k = 0; k < words.size();) {
     std::size_t last = k;  // the group is words[k..last]
+    // An interval stays whole ("[0.488, 0.551]", at most `short_interval` bytes).
+    if (words[k].starts_with('[') && words[k].find(']') == std::string_view::npos) {
+      std::size_t end = k, bytes = words[k].size();
+      while (end + 1 < words.size() && words[end].find(']') == std::string_view::npos)
+        bytes += 1 + words[++end].size();
+      if (words[end].find(']') != std::string_view::npos && bytes <= short_interval) last = end;
+    }
     // A relation also stays with a short name before it ("P < 0.01", "N = 0.05").
     while (last + 1 < words.size() &&
            (is_prefix(words[last]) || is_suffix(words[last + 1]) ||

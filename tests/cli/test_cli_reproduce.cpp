@@ -22,7 +22,7 @@
 
 namespace {
 
-using gyroflip::test::read_text;
+using gyroflip::test::read_page;
 using gyroflip::test::run_cli;
 using gyroflip::test::temp_dir;
 using nlohmann::json;
@@ -182,7 +182,7 @@ TEST(ReproduceCli, AGivenSensorModelGoesThroughTheSameTests) {
   EXPECT_EQ(j["given_sensor_models"][0]["sensor"], "hz1-90-100a");
   EXPECT_EQ(j["given_sensor_models"][0]["sha256"].get<std::string>().size(), 64u);
   EXPECT_NE(r.out.find("given sensor model: HZ1-90-100A (" + toml), std::string::npos) << r.out;
-  const auto html = read_text(d.file("r/index.html"));
+  const auto html = read_page(d.file("r/index.html"));
   EXPECT_NE(html.find("given models of the HZ1-90-100A</h1>"), std::string::npos);
   EXPECT_NE(html.find(j["given_sensor_models"][0]["sha256"].get<std::string>()), std::string::npos);
   EXPECT_NE(html.find("Given sensor model: the HZ1-90-100A of " + toml), std::string::npos);

@@ -26,6 +26,7 @@
 
 namespace {
 
+using gyroflip::test::read_page;
 using gyroflip::test::read_text;
 using gyroflip::test::run_cli;
 using gyroflip::test::temp_dir;
@@ -36,15 +37,6 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
   for (auto at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
     s.replace(at, from.size(), to);
   return s;
-}
-
-// A page's HTML without the no-break spans its text is set in (report/page.cpp, issue 31): the
-// text as written, for finding a phrase in it.
-std::string read_page(const std::string& path) {
-  auto html = read_text(path);
-  for (const std::string tag : {"<span class=\"nw\">", "<span class=\"brk\">", "</span>"})
-    html = replaced(html, tag, "");
-  return html;
 }
 
 // The text between `open`'s end and the next `close` (tags inside removed).
