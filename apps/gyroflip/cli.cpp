@@ -438,6 +438,10 @@ void setup_reproduce(CLI::App& app, action& chosen, const std::vector<std::strin
   sub->add_option("--campaigns", o->campaigns,
                   "campaigns with new seeds, for each figure's ensemble mean and spread "
                   "(default 10; 1 with --quick)");
+  sub->add_option("--sensor", o->sensors,
+                  "NAME=FILE.toml: put a sensor model to the paper's tests instead of the preset "
+                  "NAME (adxrs150 or hz1-90-100a); repeatable")
+      ->type_name("NAME=FILE");
 }
 
 void setup_noise(CLI::App& app, action& chosen) {

@@ -66,6 +66,7 @@ struct reproduce_options {
   std::string output;  // -o DIR: summary.json
   std::uint64_t seed = 1;
   std::optional<std::size_t> campaigns;   // none: 10 (1 with --quick)
+  std::vector<std::string> sensors;       // NAME=FILE.toml: a sensor model instead of a preset
   std::vector<std::string> command_line;  // as typed, for the page's provenance
 };
 int run_reproduce(const reproduce_options& o);

@@ -40,6 +40,7 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
     {"column", "--column"},
     {"expected_rate_dps", "--expected-rate"},
     {"campaigns", "--campaigns"},
+    {"sensors", "--sensor"},
 };
 
 }  // namespace

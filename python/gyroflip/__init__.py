@@ -533,7 +533,7 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
                              next_step)
 
 
-def reproduce(quick=False, seed=1, campaigns=None, output=None):
+def reproduce(quick=False, seed=1, campaigns=None, output=None, sensors=None):
     """The paper's experiment on the simulator, as `gyroflip reproduce` (the same library call,
     docs/REPRODUCE.md): the campaigns of Tab. 3/4 and the runs of Figs 3-10 on every core, set
     beside the paper's numbers.
@@ -541,8 +541,13 @@ def reproduce(quick=False, seed=1, campaigns=None, output=None):
     quick: one campaign of runs a quarter as long. seed: the first campaign's seed, an int in
       0..2**64-1. campaigns: how many campaigns, an int in 1..1000 (default 10, 1 with quick).
       output: a report folder for the page, its figures and summary.json (as `-o DIR`), or None.
+      sensors: a dict {NAME: FILE.toml} (as `--sensor NAME=FILE.toml`): put a sensor model to
+      the paper's tests instead of the preset NAME ("adxrs150" or "hz1-90-100a"); nothing of it
+      was fitted here, so its tables and per-cycle noise are tests of it.
     A float, str or bool where an int is expected raises TypeError, an int out of range
-    ValueError, each naming the argument (never truncated or parsed).
+    ValueError, each naming the argument (never truncated or parsed); a sensor name that is not
+    one of the paper's raises ValueError, a TOML file that cannot be read or parsed an error
+    naming its file, line and column.
     Returns summary.json as a dict (schema gyroflip.reproduce/N) plus "text", the comparison the
     command prints. Releases the GIL; Ctrl-C stops it."""
     if not isinstance(quick, bool):
@@ -550,7 +555,20 @@ def reproduce(quick=False, seed=1, campaigns=None, output=None):
     seed = _int_arg("seed", seed, 0, 2**64 - 1)
     campaigns = None if campaigns is None else _int_arg("campaigns", campaigns, 1, 1000)
     output = None if output is None else _path_arg("output", output)
+    if sensors is None:
+        sensors = {}
+    if not isinstance(sensors, dict):
+        raise TypeError("sensors must be a dict {name: TOML file}, e.g. {'hz1-90-100a': "
+                        f"'my_hz1.toml'}}, not {type(sensors).__name__}")
+    files = []
+    for name, path in sensors.items():
+        if not isinstance(name, str):
+            raise TypeError(f"sensors: a name must be a str, not {type(name).__name__} ({name!r})")
+        files.append((name, _path_arg(f"sensors[{name!r}]", path)))
     kwargs = {k: v for k, v in (("quick", quick), ("seed", seed), ("campaigns", campaigns),
                                 ("output", output)) if v is not None and v is not False and not (k == "seed" and v == 1)}
+    if files:
+        kwargs["sensors"] = dict(files)
     command = _call_text("reproduce", [], kwargs)
-    return _gyroflip._reproduce(bool(quick), seed, campaigns, "" if output is None else output, command)
+    return _gyroflip._reproduce(bool(quick), seed, campaigns, "" if output is None else output,
+                                files, command)

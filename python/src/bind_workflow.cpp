@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -42,12 +43,15 @@ py::dict report(const std::vector<std::string>& files, const std::string& output
 }
 
 py::dict reproduce(bool quick, std::uint64_t seed, std::optional<std::size_t> campaigns,
-                   const std::string& output, const std::string& command) {
+                   const std::string& output,
+                   const std::vector<std::pair<std::string, std::string>>& sensors,
+                   const std::string& command) {
   workflow::reproduce_request req;
   req.quick = quick;
   req.seed = seed;
   req.campaigns = campaigns;
   req.output = output;
+  for (const auto& [name, path] : sensors) req.sensor_files.push_back({name, path});
   req.command = command;
   req.made_by = "gyroflip.reproduce (Python)";
   auto run =
@@ -65,7 +69,7 @@ void bind_workflow(py::module_& m) {
         py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
         py::arg("expected_rate"), py::arg("command"), py::arg("next_step"));
   m.def("_reproduce", &reproduce, py::arg("quick"), py::arg("seed"), py::arg("campaigns"),
-        py::arg("output"), py::arg("command"));
+        py::arg("output"), py::arg("sensors"), py::arg("command"));
 }
 
 }  // namespace gyroflip::python

@@ -26,6 +26,8 @@ constexpr std::pair<const char*, const char*> argument_of_parameter[] = {
     {"taus", "taus"},
     {"settle_s", "settle_s"},
     {"angle_tolerance_deg", "angle_tolerance_deg"},
+    {"sensors", "sensors"},
+    {"campaigns", "campaigns"},
 };
 
 }  // namespace

@@ -168,6 +168,23 @@ def test_reproduce_refuses_a_campaign_count_outside_its_range():
             gyroflip.reproduce(quick=True, campaigns=k)
 
 
+def test_reproduce_puts_a_given_sensor_model_to_the_tests_as_the_cli(exe, tmp_path):
+    """sensors={NAME: FILE.toml} is `--sensor NAME=FILE.toml` (issue 31): the same tests, the same
+    text; an HZ1 with 3 times its ARW fails its noise tests (it read "reproduced" before)."""
+    toml = tmp_path / "hz1_3x.toml"
+    toml.write_text('name = "hz1-3x-arw"\nbase = "hz1-90-100a"\narw_dps_rthz = 0.0138\n')
+    cli = run(exe, "reproduce", "--quick", "--sensor", f"hz1-90-100a={toml}")
+    py = gyroflip.reproduce(quick=True, sensors={"hz1-90-100a": toml})
+    assert py["verdict"] == "NOT reproduced" and not py["reproduced"]
+    assert [p["id"] for p in py["predictions"] if p["outcome"] == "FAIL"] == ["fig8_std", "fig10_std"]
+    model = py["given_sensor_models"][0]
+    assert model["sensor"] == "hz1-90-100a" and model["file"] == str(toml) and len(model["sha256"]) == 64
+    assert py["command"] == f"python3: gyroflip.reproduce(quick=True, sensors={{'hz1-90-100a': '{toml}'}})"
+    def body(text):
+        return [l for l in text.splitlines() if not l.startswith("made ")]
+    assert body(py["text"]) == body(cli)
+
+
 def test_simulate_equals_the_cli_file(exe, tmp_path):
     out = tmp_path / "sim.csv"
     run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 120, "--seed", 5, "--temp", 4,

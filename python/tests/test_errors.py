@@ -153,6 +153,12 @@ def test_every_number_python_returns_is_finite_within_the_bounds():
     ({"seed": -1}, ValueError, r"seed must be an int in 0\.\.18446744073709551615 \(got -1\)"),
     ({"seed": 2**70}, ValueError, r"seed must be an int in 0\.\."),
     ({"quick": "yes"}, TypeError, r"quick must be a bool"),
+    ({"sensors": ["hz1-90-100a"]}, TypeError, r"sensors must be a dict \{name: TOML file\}"),
+    ({"sensors": {1: "x.toml"}}, TypeError, r"sensors: a name must be a str, not int"),
+    ({"sensors": {"hz1-90-100a": 3}}, TypeError, r"sensors\['hz1-90-100a'\] must be a path"),
+    ({"sensors": {"adxrs300": "x.toml"}}, ValueError,
+     r"'adxrs300' is not one of the paper's sensors \(adxrs150, hz1-90-100a\) \(argument sensors\)"),
+    ({"sensors": {"adxrs150": "/nonexistent/x.toml"}}, OSError, r"/nonexistent/x\.toml"),
 ])
 def test_reproduce_checks_its_arguments_before_the_library(kwargs, error, match):
     """Review of issue 22, R10: campaigns=1.5 ran 1 campaign, '2' ran 2, seed=-1 gave pybind's

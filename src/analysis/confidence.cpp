@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <optional>
 
 #include <fmt/format.h>
@@ -712,6 +713,7 @@ double student_t_cdf(double t, double nu) {
 }  // namespace
 
 double student_t_quantile(double p, double dof) {
+  if (!(p > 0.0 && p < 1.0) || !(dof > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   if (p == 0.5) return 0.0;
   if (p < 0.5) return -student_t_quantile(1.0 - p, dof);
   double lo = 0.0;

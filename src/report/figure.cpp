@@ -91,8 +91,8 @@ std::string plot_clause(const series& s, const std::string& file) {
   const auto c = color(s.color);
   switch (s.how) {
     case series::style::points:
-      return fmt::format("{} using 1:2 with points pt 7 ps 0.5 lc rgb '{}' {}", gp_string(file), c,
-                         title);
+      return fmt::format("{} using 1:2 with points {} lc rgb '{}' {}", gp_string(file),
+                         s.open ? "pt 6 ps 1.3 lw 1.5" : "pt 7 ps 0.5", c, title);
     case series::style::lines:
       return fmt::format("{} using 1:2 with lines lw 2 {}lc rgb '{}' {}", gp_string(file),
                          s.dashed ? "dt 2 " : "", c, title);
@@ -117,7 +117,6 @@ set style line 100 lc rgb '#d9d9d9' lw 1
 set grid xtics ytics mxtics mytics ls 100, ls 100
 set border 3 lw 1.2
 set tics nomirror out
-set key below left vertical maxrows 3 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set mxtics
 set mytics
 )";
@@ -133,6 +132,91 @@ std::string terminal(image_format f) {
       return "set terminal pdfcairo size 7in,4.3in font 'DejaVu Sans,10' enhanced";
   }
   return {};
+}
+
+}  // namespace
+
+namespace {
+
+// Code points of UTF-8 text.
+std::size_t code_points(std::string_view s) {
+  std::size_t n = 0;
+  for (const char c : s)
+    if ((static_cast<unsigned char>(c) & 0xC0U) != 0x80U) ++n;
+  return n;
+}
+
+// The widest line of a title or a key, in characters: the PDF's 7-in width holds ~90 of DejaVu
+// Sans 10 pt (the PNG's 1100 px ~135 of 12 pt), so a longer title line was clipped (the Tab.
+// 3/4 figures' second line, review of issue 31).
+constexpr std::size_t line_chars = 88;
+
+// `text` broken at spaces into lines of at most line_chars characters (a longer word alone),
+// never between a number and its unit ("2.19 °/h") or a sign and its number ("< 4.33").
+std::vector<std::string> lines_of(std::string_view text) {
+  std::vector<std::string> words;
+  bool glue_next = false;
+  for (std::size_t at = 0; at <= text.size();) {
+    const auto end = std::min(text.find(' ', at), text.size());
+    const auto word = text.substr(at, end - at);
+    at = end + 1;
+    if (word.empty()) continue;
+    const bool unit = word.starts_with("°") || word.starts_with("%") || word.starts_with("σ");
+    const bool relation = word == "<" || word == ">" || word == "±" || word == "≤" || word == "≥" ||
+                          word == "=" || word == "≈";
+    // A relation stays with a short name before it too ("K < 4.33").
+    const bool after_name = relation && !words.empty() && code_points(words.back()) <= 3;
+    if (!words.empty() && (glue_next || unit || after_name)) {
+      words.back() += ' ';
+      words.back() += word;
+    } else {
+      words.emplace_back(word);
+    }
+    glue_next = relation;
+  }
+  std::vector<std::string> out;
+  std::string line;
+  for (const auto& word : words) {
+    if (!line.empty() && code_points(line) + 1 + code_points(word) > line_chars) {
+      out.push_back(line);
+      line.clear();
+    }
+    if (!line.empty()) line += ' ';
+    line += word;
+  }
+  if (!line.empty()) out.push_back(line);
+  return out;
+}
+
+// A gnuplot double-quoted string: backslashes and quotes escaped, line breaks as "\n".
+std::string gp_text(std::string_view text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// The key below the plot, in as many columns as fit its longest entry (each ~8 characters
+// more than its text: sample and gaps), so that it never runs off the image.
+std::string key_line(const figure& f) {
+  std::size_t entries = 0, longest = 0;
+  for (const auto& s : f.data)
+    if (!s.title.empty() && has_points(s)) {
+      ++entries;
+      longest = std::max(longest, code_points(s.title));
+    }
+  const std::size_t columns =
+      std::clamp<std::size_t>(line_chars / (longest + 8), 1, std::max<std::size_t>(entries, 1));
+  return fmt::format(
+      "set key below left vertical maxrows {} width 2 box lc rgb '#bbbbbb' samplen 2 spacing "
+      "1.1\n",
+      std::max<std::size_t>(1, (entries + columns - 1) / columns));
 }
 
 }  // namespace
@@ -159,16 +243,19 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
       "and run again with: gnuplot {}.gp\n",
       f.title, stem, stem);
   s += style;
-  const std::string title = f.caption.empty() ? f.title : f.title + "\\n" + f.caption;
-  // A double-quoted title, for its line break: backslashes and quotes escaped.
-  std::string escaped;
-  for (const char c : title) {
-    if (c == '"') escaped += '\\';
-    escaped += c;
-  }
-  fmt::format_to(std::back_inserter(s), "set title \"{}\" noenhanced\n", escaped);
+  s += key_line(f);
+  // The title and its caption, each broken into lines that fit the image.
+  std::string title;
+  for (const auto* part : {&f.title, &f.caption})
+    for (const auto& line : lines_of(*part)) {
+      if (!title.empty()) title += '\n';
+      title += line;
+    }
+  fmt::format_to(std::back_inserter(s), "set title {} noenhanced\n", gp_text(title));
+  // The x label with an empty line under it: gnuplot places the key below as if the tic labels
+  // were one plain line, and the 10^k labels' superscripts pushed the label into the key.
   fmt::format_to(std::back_inserter(s), "set xlabel {} noenhanced\nset ylabel {} noenhanced\n",
-                 gp_string(f.x.label), gp_string(f.y.label));
+                 gp_text(f.x.label + "\n"), gp_string(f.y.label));
   for (const auto* a : {&f.x, &f.y}) {
     const char name = a == &f.x ? 'x' : 'y';
     if (a->log)
@@ -176,6 +263,8 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
                      name);
     if (a->tic_step > 0.0)
       fmt::format_to(std::back_inserter(s), "set {}tics {}\n", name, a->tic_step);
+    if (std::isfinite(a->from) && std::isfinite(a->to))
+      fmt::format_to(std::back_inserter(s), "set {}range [{}:{}]\n", name, a->from, a->to);
   }
   // Points at the extremes of a linear y axis would sit on the frame, half clipped (the paper's
   // 0.00107 on Tab. 3's 4 degC figure): 5 % of room above and below.
@@ -183,11 +272,13 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
   int label = 1;
   for (const auto& n : f.notes) {
     if (!std::isfinite(n.x) || !std::isfinite(n.y)) continue;
+    // A short tag beside its point, in its curve's colour, level with it (the text's full
+    // reading is the key's).
     fmt::format_to(std::back_inserter(s),
-                   "set label {} {} at {},{} {}point pt 6 ps 1.6 lw 2 offset {},0.8 front "
-                   "noenhanced\n",
-                   label++, gp_string(n.text), n.x, n.y, n.text_left ? "right " : "",
-                   n.text_left ? -1 : 1);
+                   "set label {} {} at {},{} {} front tc rgb '{}' point pt 6 ps 1.6 lw 2 lc rgb "
+                   "'{}' offset {},0 noenhanced\n",
+                   label++, gp_string(n.text), n.x, n.y, n.text_left ? "right" : "left",
+                   color(n.color), color(n.color), n.text_left ? -1.2 : 1.2);
   }
   std::string plot;
   for (std::size_t k = 0; k < f.data.size(); ++k) {

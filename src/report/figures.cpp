@@ -99,7 +99,10 @@ figure bias_figure(std::span<const method::cycle> cycles, const std::string& tit
 figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const std::string& title) {
   figure f;
   f.title = title;
-  f.x = {"run", false, std::ceil(static_cast<double>(runs.size()) / 20.0)};
+  // Runs 1..n with half a run of room at each end: the frame cut the first and the last runs'
+  // error bars in half (review of issue 31).
+  f.x = {"run", false, std::ceil(static_cast<double>(runs.size()) / 20.0), 0.5,
+         static_cast<double>(runs.size()) + 0.5};
   f.y = {"ΔN (°/s)", false};
   series s = points_of("ΔN ± correlated standard error", 0);
   s.how = series::style::errorbars;
@@ -261,10 +264,24 @@ figure allan_plot(std::span<const allan_curve> curves, const term_units& u,
       }
       f.data.push_back(std::move(l));
     };
-    const std::string n_text = fmt::format("N = {} {}", g3(t.arw.value * u.n_factor), u.n_unit);
+    // Read-off points on the lines, where each equals its coefficient (N at n_tau, K at
+    // k_tau), "extrapolated" when that tau lies outside this curve's data; B on its flicker
+    // floor 0.664 B at the tau where the fitted curve is lowest (inside the data by
+    // construction). Each line's key entry says where it is read; the point on the plot
+    // carries only the term's letter, in the curve's colour (whole sentences beside the points
+    // collided with each other and with the data: review of issue 31).
+    const auto inside = [&](double tau) { return tau >= tau_lo * 0.999 && tau <= tau_hi * 1.001; };
+    const auto read = [&](double tau, const std::string& at) {
+      return fmt::format("at τ = {}{}", at, inside(tau) ? "" : ", extrapolated");
+    };
+    const double tau_b = std::clamp(t.fit_min_tau_s, tau_lo, tau_hi);
+    const std::string n_text = fmt::format("N = {} {} ({})", g3(t.arw.value * u.n_factor), u.n_unit,
+                                           read(u.n_tau_s, u.n_at));
     const std::string b_text =
-        fmt::format("B = {} {}", g3(t.bias_instability.value * u.b_factor), u.b_unit);
-    const std::string k_text = fmt::format("K = {} {}", g3(t.rrw.value * u.k_factor), u.k_unit);
+        fmt::format("B = {} {} (floor 0.664 B {})", g3(t.bias_instability.value * u.b_factor),
+                    u.b_unit, read(tau_b, fmt::format("{} s", g3(tau_b))));
+    const std::string k_text = fmt::format("K = {} {} ({})", g3(t.rrw.value * u.k_factor), u.k_unit,
+                                           read(u.k_tau_s, u.k_at));
     if (t.arw.resolved) line(n_text, [&](double tau) { return k * t.arw.value / std::sqrt(tau); });
     if (t.bias_instability.resolved)
       line(b_text, [&](double) { return k * floor_factor * t.bias_instability.value; });
@@ -276,25 +293,16 @@ figure allan_plot(std::span<const allan_curve> curves, const term_units& u,
     if (t.rate_ramp.resolved)
       line(fmt::format("R = {}", g3(t.rate_ramp.value)),
            [&](double tau) { return k * t.rate_ramp.value * tau / std::numbers::sqrt2; });
-    // Read-off points on the lines, where each equals its coefficient (N at n_tau, K at k_tau),
-    // marked "extrapolated" when that tau lies outside this curve's data; B on its flicker floor
-    // 0.664 B at the tau where the fitted curve is lowest (inside the data by construction).
-    const auto inside = [&](double tau) { return tau >= tau_lo * 0.999 && tau <= tau_hi * 1.001; };
-    const auto mark = [&](const std::string& text, double tau, const std::string& at, double y) {
-      // Text to the left of a point in the right half of the plot, so that it stays on it.
-      f.notes.push_back(
-          {tau, y,
-           fmt::format("{}{} at τ = {}{}", who, text, at, inside(tau) ? "" : " (extrapolated)"),
-           tau > std::sqrt(from * to)});
+    const auto mark = [&](const char* letter, double tau, double y) {
+      // With several fitted curves, the first one's letters left of their points and the
+      // others' right (two curves read at one tau stay apart); with one, the letter left of a
+      // point in the right half of the plot, so that it stays on it.
+      const bool left = fitted > 1 ? col == 0 : tau > std::sqrt(from * to);
+      f.notes.push_back({tau, y, letter, left, col});
     };
-    if (t.arw.resolved) mark(n_text, u.n_tau_s, u.n_at, k * t.arw.value / std::sqrt(u.n_tau_s));
-    if (t.bias_instability.resolved) {
-      const double tau_b = std::clamp(t.fit_min_tau_s, tau_lo, tau_hi);
-      mark(b_text + " (floor 0.664 B)", tau_b, fmt::format("{} s", g3(tau_b)),
-           k * floor_factor * t.bias_instability.value);
-    }
-    if (t.rrw.resolved)
-      mark(k_text, u.k_tau_s, u.k_at, k * t.rrw.value * std::sqrt(u.k_tau_s / 3.0));
+    if (t.arw.resolved) mark("N", u.n_tau_s, k * t.arw.value / std::sqrt(u.n_tau_s));
+    if (t.bias_instability.resolved) mark("B", tau_b, k * floor_factor * t.bias_instability.value);
+    if (t.rrw.resolved) mark("K", u.k_tau_s, k * t.rrw.value * std::sqrt(u.k_tau_s / 3.0));
     // Upper limits are not drawn (a line or point would read as a value); the caption names them.
     for (const auto& [sym, term, factor, unit] :
          {std::tuple{"N", &t.arw, u.n_factor, &u.n_unit},

@@ -50,6 +50,97 @@ std::string escaped(std::string_view raw) {
   return out;
 }
 
+// A word that must stay with the one before it: a unit or a mark written after a number
+// ("18 s", "2 σ", "40 %", "20 °C", "0.05 °/s/√Hz"), trailing punctuation aside.
+bool is_suffix(std::string_view word) {
+  while (!word.empty() && std::string_view(",;:.)]}").find(word.back()) != std::string_view::npos)
+    word.remove_suffix(1);
+  static constexpr std::string_view units[] = {"s",  "h", "min", "ms", "Hz", "ppm", "g",
+                                               "dB", "V", "mV",  "µV", "σ",  "%",   "‰"};
+  return word.starts_with("°") || word.starts_with("%") || word.starts_with("σ") ||
+         std::find(std::begin(units), std::end(units), word) != std::end(units);
+}
+
+// A word that must stay with the one after it: a sign or a relation written before a number
+// ("± 0.002", "≤ 2 σ", "< 1.45", "= 0.05").
+bool is_prefix(std::string_view word) {
+  static constexpr std::string_view marks[] = {"±", "<", ">", "≤", "≥", "≈", "~",
+                                               "×", "=", "−", "→", "+", "-"};
+  // A word that ends in a relation too ("P(≥ 2)").
+  for (const std::string_view end : {"≤", "≥", "<", ">", "="})
+    if (word.size() > end.size() && word.ends_with(end)) return true;
+  return std::find(std::begin(marks), std::end(marks), word) != std::end(marks);
+}
+
+// A relation between a name and a value ("P < 0.01", "N = 0.05").
+bool is_relation(std::string_view word) {
+  for (const std::string_view mark : {"<", ">", "≤", "≥", "=", "≈"})
+    if (word == mark) return true;
+  return false;
+}
+
+// A character after which a browser may break a line inside a word (a hyphen, a dash, a slash).
+bool has_break_inside(std::string_view word) {
+  for (const std::string_view mark : {"-", "–", "—", "/", "‐", "?", "!"})
+    if (word.find(mark) != std::string_view::npos) return true;
+  return false;
+}
+
+// A token longer than any column can hold (a path, a hash, a command): the only words that may
+// break anywhere (class "brk").
+constexpr std::size_t longest_unbroken = 40;
+// The longest interval in brackets kept on one line.
+constexpr std::size_t short_interval = 24;
+
+// HTML text of `raw` that breaks lines between words only, never inside one: "compensat ed",
+// "18 00 s" and "inconclusiv e" were words broken to fit a column (review of issue 31). Words
+// are kept whole, with their units and signs ("18 s", "± 0.002", "≤ 2 σ"), by no-break spans
+// around the groups that need one; a browser breaks between the groups. A word longer than
+// `longest_unbroken` (a path, a hash) may still break anywhere, as the page's CSS says.
+std::string wrapped(std::string_view raw) {
+  std::vector<std::string_view> words;
+  for (std::size_t at = 0; at <= raw.size();) {
+    const auto end = std::min(raw.find(' ', at), raw.size());
+    if (end > at) words.push_back(raw.substr(at, end - at));
+    at = end + 1;
+  }
+  std::string out;
+  for (std::size_t k = 0; k < words.size();) {
+    std::size_t last = k;  // the group is words[k..last]
+    // An interval stays whole ("[0.488, 0.551]", at most `short_interval` bytes).
+    if (words[k].starts_with('[') && words[k].find(']') == std::string_view::npos) {
+      std::size_t end = k, bytes = words[k].size();
+      while (end + 1 < words.size() && words[end].find(']') == std::string_view::npos)
+        bytes += 1 + words[++end].size();
+      if (words[end].find(']') != std::string_view::npos && bytes <= short_interval) last = end;
+    }
+    // A relation also stays with a short name before it ("P < 0.01", "N = 0.05").
+    while (last + 1 < words.size() &&
+           (is_prefix(words[last]) || is_suffix(words[last + 1]) ||
+            (is_relation(words[last + 1]) && words[last].size() <= 3)) &&
+           words[last + 1].size() <= longest_unbroken)
+      ++last;
+    std::string group;
+    bool whole = last > k;
+    for (std::size_t j = k; j <= last; ++j) {
+      if (j > k) group += ' ';
+      group += escaped(words[j]);
+      whole = whole || has_break_inside(words[j]);
+    }
+    if (!out.empty()) out += ' ';
+    const bool long_word = last == k && words[k].size() > longest_unbroken;
+    if (long_word || whole) {
+      out += long_word ? "<span class=\"brk\">" : "<span class=\"nw\">";
+      out += group;
+      out += "</span>";
+    } else {
+      out += group;
+    }
+    k = last + 1;
+  }
+  return out;
+}
+
 // RFC 4648 base64, for the data: URIs of the embedded images.
 std::string base64(std::string_view bytes) {
   constexpr std::string_view abc =
@@ -76,8 +167,11 @@ std::string base64(std::string_view bytes) {
   return out;
 }
 
-// The page's style. Tables never leave the page: they take at most its width, long words (file
-// names, hashes) break anywhere, and print smaller (@media print); wide tables scroll on screen.
+// The page's style. Tables never leave the page: they take at most its width and wrap their
+// cells between words, never inside one (no-break groups, class "nw"); only words longer than
+// any column (file names, hashes: class "brk", and the provenance) break anywhere; they print
+// smaller (@media print). Checked in Chromium at 1280 and 900 px
+// (tests/report/check_report_page.py).
 constexpr std::string_view css =
     R"(body{font-family:"DejaVu Sans",Arial,sans-serif;max-width:62em;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
 h1{font-size:1.6em;border-bottom:2px solid #0072B2;padding-bottom:.2em}
@@ -89,7 +183,7 @@ h2{font-size:1.25em;margin-top:2em;color:#0072B2}
 table{border-collapse:collapse;font-size:.88em;max-width:100%}
 caption{text-align:left;font-weight:bold;padding:.3em 0}
 th,td{border:1px solid #ccc;padding:.25em .5em;text-align:right;vertical-align:top}
-td.n{white-space:nowrap}td.t{text-align:left;overflow-wrap:anywhere;min-width:6em}th.t{text-align:left}
+td.t{text-align:left;min-width:5em}th.t{text-align:left}.nw{white-space:nowrap}.brk{overflow-wrap:anywhere;word-break:break-all}
 th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}
 .note{font-size:.85em;color:#444;margin:.2em 0 0}
 figure{margin:1em 0 2em}figure img{width:100%;height:auto;border:1px solid #eee}
@@ -110,25 +204,25 @@ bool is_number(std::string_view c) {
 
 void put_table(std::string& out, const table& t) {
   out +=
-      fmt::format("<div class=\"tablebox\">\n<table>\n<caption>{}</caption>\n", escaped(t.caption));
+      fmt::format("<div class=\"tablebox\">\n<table>\n<caption>{}</caption>\n", wrapped(t.caption));
   if (!t.header.empty()) {  // a table of key-value rows has none
     out += "<tr>";
     for (std::size_t k = 0; k < t.header.size(); ++k) {
       // A column of text has its heading on the left, as its cells.
       bool text = false;
       for (const auto& r : t.rows) text = text || (k < r.size() && !is_number(r[k]));
-      out += fmt::format("<th{}>{}</th>", text ? " class=\"t\"" : "", escaped(t.header[k]));
+      out += fmt::format("<th{}>{}</th>", text ? " class=\"t\"" : "", wrapped(t.header[k]));
     }
     out += "</tr>\n";
   }
   for (const auto& r : t.rows) {
     out += "<tr>";
     for (const auto& c : r)
-      out += fmt::format("<td class=\"{}\">{}</td>", is_number(c) ? "n" : "t", escaped(c));
+      out += fmt::format("<td class=\"{}\">{}</td>", is_number(c) ? "n" : "t", wrapped(c));
     out += "</tr>\n";
   }
   out += "</table>\n";
-  if (!t.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", escaped(t.note));
+  if (!t.note.empty()) out += fmt::format("<p class=\"note\">{}</p>\n", wrapped(t.note));
   out += "</div>\n";
 }
 
@@ -155,16 +249,16 @@ result<std::string> html(const page& p, const std::string& dir) {
   out += fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
-      escaped(p.title), css, escaped(p.title));
-  for (const auto& b : p.banners) out += fmt::format("<p class=\"banner\">{}</p>\n", escaped(b));
+      escaped(p.title), css, wrapped(p.title));
+  for (const auto& b : p.banners) out += fmt::format("<p class=\"banner\">{}</p>\n", wrapped(b));
   if (const auto m = modified_build_note(p.made.commit); !m.empty())
-    out += fmt::format("<p class=\"banner\">{}</p>\n", escaped(m));
+    out += fmt::format("<p class=\"banner\">{}</p>\n", wrapped(m));
   for (const auto& s : p.sections) {
-    out += fmt::format("<h2>{}</h2>\n", escaped(s.heading));
-    for (const auto& para : s.paragraphs) out += fmt::format("<p>{}</p>\n", escaped(para));
+    out += fmt::format("<h2>{}</h2>\n", wrapped(s.heading));
+    for (const auto& para : s.paragraphs) out += fmt::format("<p>{}</p>\n", wrapped(para));
     if (!s.warnings.empty()) {
       out += "<div class=\"warn\"><ul>\n";
-      for (const auto& w : s.warnings) out += fmt::format("<li>{}</li>\n", escaped(w));
+      for (const auto& w : s.warnings) out += fmt::format("<li>{}</li>\n", wrapped(w));
       out += "</ul></div>\n";
     }
     for (const auto& t : s.tables) put_table(out, t);
@@ -174,8 +268,8 @@ result<std::string> html(const page& p, const std::string& dir) {
       out += fmt::format(
           "<figure>\n<img alt=\"{}\" src=\"data:image/png;base64,{}\">\n"
           "<figcaption>{}{}</figcaption>\n</figure>\n",
-          escaped(f.title), base64(img->data()), escaped(f.title),
-          f.caption.empty() ? "" : ": " + escaped(f.caption));
+          escaped(f.title), base64(img->data()), wrapped(f.title),
+          f.caption.empty() ? "" : ": " + wrapped(f.caption));
     }
   }
   const auto& m = p.made;

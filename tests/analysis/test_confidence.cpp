@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -90,6 +91,26 @@ TEST(Confidence, Chi2Quantiles) {
   EXPECT_NEAR(chi2_quantile(0.975, 1), 5.023886, 1e-6);
   EXPECT_NEAR(chi2_quantile(0.5, 1), 0.4549364, 1e-7);
   EXPECT_NEAR(chi2_quantile(0.5, 2), 2.0 * std::log(2.0), 1e-12);  // exponential median
+}
+
+// Student's t quantiles against published tables (NIST/SEMATECH e-Handbook §1.3.6.7.2, upper
+// critical values; Abramowitz & Stegun Table 26.10) and closed forms: nu = 1 is Cauchy
+// (tan(pi (p - 1/2))), nu = 2 has t = (2p - 1) sqrt(2 / (4p(1 - p))).
+TEST(Confidence, StudentTQuantiles) {
+  const double t975[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                         2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086};
+  for (std::size_t nu = 1; nu <= 20; ++nu)
+    EXPECT_NEAR(student_t_quantile(0.975, static_cast<double>(nu)), t975[nu - 1], 5e-4) << nu;
+  EXPECT_NEAR(student_t_quantile(0.995, 10), 3.169, 5e-4);
+  EXPECT_NEAR(student_t_quantile(0.9995, 5), 6.869, 5e-4);
+  EXPECT_NEAR(student_t_quantile(0.999, 30), 3.385, 5e-4);
+  EXPECT_NEAR(student_t_quantile(0.9, 1), std::tan(std::numbers::pi * 0.4), 1e-9);
+  const double p = 0.99;
+  EXPECT_NEAR(student_t_quantile(p, 2), (2 * p - 1) * std::sqrt(2.0 / (4 * p * (1 - p))), 1e-9);
+  EXPECT_NEAR(student_t_quantile(0.025, 7), -student_t_quantile(0.975, 7), 1e-12);
+  EXPECT_NEAR(student_t_quantile(0.5, 4), 0.0, 1e-12);
+  EXPECT_TRUE(std::isnan(student_t_quantile(1.0, 4)));
+  EXPECT_TRUE(std::isnan(student_t_quantile(0.9, 0)));
 }
 
 TEST(Confidence, PhaseDatAllKindsMatchStable32) {

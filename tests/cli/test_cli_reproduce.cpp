@@ -1,10 +1,12 @@
-// `gyroflip reproduce` (issues 10, 22): the paper's campaign on the simulator. The quick run's
-// outputs and keys (tests of the model apart from the consistency checks and the calibration
-// targets, the main claim, the figures
-// numbered as the paper's); the full ensemble keeps the fit to Tab. 3/4 (a regression on seed 1:
-// the turn-on g-term variation fitted to the paper must keep the simulated spread at the
-// paper's), its predictions hold and the sensitivity study covers every assumed value; and the
-// new sensor parameters are visible in `gyroflip sensors`.
+// `gyroflip reproduce` (issues 10, 22, 31): the paper's campaign on the simulator. The quick run's
+// outputs and keys (the tests of the model's predictions apart from the comparisons with fitted
+// data and the calibration targets, the main claim with raw beside compensated drift, every
+// campaign's numbers in summary.json, the figures numbered as the paper's); the full ensemble
+// keeps the fit to Tab. 3/4 (a regression on seed 1: the turn-on g-term variation fitted to the
+// paper must keep the simulated spread at the paper's) and the sensitivity study covers every
+// assumed value, the ARW convention and 1.79 s per position among them; `--sensor NAME=FILE.toml`
+// puts a user's model to the same tests; and the new sensor parameters are visible in
+// `gyroflip sensors`.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -20,6 +22,7 @@
 
 namespace {
 
+using gyroflip::test::read_page;
 using gyroflip::test::run_cli;
 using gyroflip::test::temp_dir;
 using nlohmann::json;
@@ -30,8 +33,8 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
   const auto r = run_cli({"reproduce", "--quick", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Tab. 3, HZ1-90-100A, 4 °C, 13 runs"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("Independent tests of the model (the verdict)"), std::string::npos);
-  EXPECT_NE(r.out.find("Tests of the model's assumptions on the paper's own data (in-sample"),
+  EXPECT_NE(r.out.find("Tests of the model's predictions (the verdict)"), std::string::npos);
+  EXPECT_NE(r.out.find("Shown, not counted: a comparison with data the model was fitted to"),
             std::string::npos);
   EXPECT_NE(r.out.find("made "), std::string::npos);  // provenance in the text too
   // The verdict line itself says the run was quick (review R7): a quarter-length campaign is a
@@ -45,11 +48,20 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
   EXPECT_NE(r.out.find("Calibration targets: what the sensor model was fitted to"),
             std::string::npos);
   const auto j = json::parse(std::ifstream(out + "/summary.json"));
+  EXPECT_EQ(j["schema"], "gyroflip.reproduce/5");
   ASSERT_EQ(j["tables"].size(), 3u);
   for (const auto& t : j["tables"]) {
     for (const char* k :
          {"sensor", "temp_c", "runs", "mean_dps", "std_dps", "paper_mean_dps", "paper_std_dps"})
       EXPECT_TRUE(t.contains(k)) << k;
+    // Every campaign's numbers: its mean and std of dN are its runs' (issue 31).
+    ASSERT_EQ(t["per_campaign"].size(), 1u) << t;
+    const auto& c = t["per_campaign"][0];
+    ASSERT_EQ(c["runs"].size(), t["runs"].get<std::size_t>()) << c;
+    double sum = 0.0;
+    for (const auto& run : c["runs"]) sum += run["delta_n_dps"].get<double>();
+    EXPECT_NEAR(sum / static_cast<double>(c["runs"].size()), c["mean_dps"].get<double>(), 1e-12);
+    EXPECT_NEAR(c["mean_dps"].get<double>(), t["mean_dps"].get<double>(), 1e-15);
     // One quick campaign: within a factor 2 of the paper (sampling error ~20-40 %).
     EXPECT_GT(t["std_ratio"].get<double>(), 0.5) << t;
     EXPECT_LT(t["std_ratio"].get<double>(), 2.0) << t;
@@ -70,9 +82,11 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
                         "fig5_adxrs150_outputs", "fig7_hz1-90-100a_outputs",
                         "fig10_hz1-90-100a_compensated", "allan_hz1-90-100a_off_before"})
     EXPECT_TRUE(std::filesystem::exists(out + "/figures/" + std::string(f) + ".png")) << f;
+  ASSERT_EQ(j["tab3_4c_from_20c_model"].size(), 1u);
+  EXPECT_EQ(j["tab3_4c_from_20c_model"][0]["runs"].size(), 13u);
   // The verdict is the predictions': none of them is a calibration target.
-  ASSERT_EQ(j["predictions"].size(), 2u);
-  ASSERT_EQ(j["in_sample_tests"].size(), 9u);
+  ASSERT_EQ(j["predictions"].size(), 10u);
+  ASSERT_EQ(j["not_counted"].size(), 1u);
   bool all = true;
   for (const auto& p : j["predictions"]) {
     all = all && p["pass"].get<bool>();
@@ -99,9 +113,26 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
     within(a["compensated_dps"].get<double>(), a["runs_compensated_dps"]);
     within(a["raw_dps"].get<double>() / a["compensated_dps"].get<double>(), a["runs_ratio"]);
   }
+  // Raw beside compensated drift for each window (the paper's own comparison): the raw drift of
+  // a sensor that is not flipped is larger at every window.
   for (const auto& row : j["claim"]["drift"])
-    for (const char* f : {"fig4", "fig6", "fig8", "fig10"})
-      if (row[f].is_number()) within(row[f].get<double>(), row[std::string(f) + "_runs"]);
+    for (const std::string f : {"fig4", "fig6", "fig8", "fig10"}) {
+      ASSERT_TRUE(row.contains("raw_" + f)) << row;
+      if (row[f].is_number()) within(row[f].get<double>(), row[f + "_runs"]);
+      if (row["raw_" + f].is_number()) {
+        within(row["raw_" + f].get<double>(), row["raw_" + f + "_runs"]);
+        EXPECT_GT(row["raw_" + f].get<double>(), row[f].get<double>()) << row;
+      }
+    }
+  EXPECT_NE(r.out.find("The main claim: drift against the averaging window, ADXRS150"),
+            std::string::npos);
+  EXPECT_NE(r.out.find("Fig. 7 raw (0°)"), std::string::npos);
+  for (const auto& f : j["figures"]) {
+    ASSERT_EQ(f["runs"].size(), 8u) << f;
+    EXPECT_NEAR(f["runs"][0]["std_dps"].get<double>(), f["std_dps"].get<double>(),
+                1e-12 * f["std_dps"].get<double>())
+        << f;
+  }
   for (const char* f : {"fig8", "fig10"}) {
     const auto& w = j["claim"]["window_for_claim_runs"][f];
     EXPECT_EQ(w["runs"].get<int>(), 8) << w;
@@ -129,21 +160,89 @@ TEST(ReproduceCli, ACampaignCountOutsideItsRangeIsRefused) {
   }
 }
 
-TEST(ReproduceCli, TenCampaignsKeepTheFitAndThePredictionsHold) {
+// --sensor NAME=FILE.toml (issue 31): a user's model goes through the same tests as the preset,
+// and, given, is fitted to nothing: an HZ1 with 3 times its ARW fails its noise tests (it read
+// "reproduced" before). The file is named on the page's provenance with its SHA-256 and in
+// summary.json; the page's title and a banner say which model was given.
+TEST(ReproduceCli, AGivenSensorModelGoesThroughTheSameTests) {
+  temp_dir d;
+  const auto toml = d.file("hz1_3x.toml");
+  std::ofstream(toml) << "name = \"hz1-3x-arw\"\nbase = \"hz1-90-100a\"\narw_dps_rthz = 0.0138\n";
+  const auto r =
+      run_cli({"reproduce", "--quick", "--sensor", "hz1-90-100a=" + toml, "-o", d.file("r")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json::parse(std::ifstream(d.file("r/summary.json")));
+  EXPECT_EQ(j["verdict"], "NOT reproduced");
+  EXPECT_FALSE(j["reproduced"].get<bool>());
+  json failed = json::array();
+  for (const auto& p : j["predictions"])
+    if (p["outcome"] == "FAIL") failed.push_back(p["id"]);
+  EXPECT_EQ(failed, json({"fig8_std", "fig10_std"})) << j["predictions"];
+  ASSERT_EQ(j["given_sensor_models"].size(), 1u);
+  EXPECT_EQ(j["given_sensor_models"][0]["sensor"], "hz1-90-100a");
+  EXPECT_EQ(j["given_sensor_models"][0]["sha256"].get<std::string>().size(), 64u);
+  EXPECT_NE(r.out.find("given sensor model: HZ1-90-100A (" + toml), std::string::npos) << r.out;
+  const auto html = read_page(d.file("r/index.html"));
+  EXPECT_NE(html.find("given models of the HZ1-90-100A</h1>"), std::string::npos);
+  EXPECT_NE(html.find(j["given_sensor_models"][0]["sha256"].get<std::string>()), std::string::npos);
+  EXPECT_NE(html.find("Given sensor model: the HZ1-90-100A of " + toml), std::string::npos);
+}
+
+// A model named other than the paper's sensors, given twice, a built-in name for a file, an
+// option without '=', a missing file, and a TOML error: each refused (exit 2) before any
+// simulation, naming the option or the file (and line), with no folder.
+TEST(ReproduceCli, ABadSensorModelIsRefusedBeforeAnySimulation) {
+  temp_dir d;
+  const auto good = d.file("good.toml"), bad = d.file("bad.toml");
+  std::ofstream(good) << "name = \"x\"\nbase = \"adxrs150\"\n";
+  std::ofstream(bad) << "name = \"x\"\nbase = \"adxrs150\"\narw_dps_rthz = \"loud\"\n";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"--sensor", "adxrs300=" + good}, "'adxrs300' is not one of the paper's sensors"},
+      {{"--sensor", "adxrs150=" + good, "--sensor", "adxrs150=" + good}, "given twice"},
+      {{"--sensor", "adxrs150=hz1-90-100a"}, "a TOML file is expected"},
+      {{"--sensor", good}, "expected NAME=FILE.toml"},
+      {{"--sensor", "adxrs150=" + d.file("none.toml")}, d.file("none.toml")},
+      {{"--sensor", "adxrs150=" + bad}, bad + ":3:"}};
+  for (const auto& [args, message] : cases) {
+    std::vector<std::string> cmd{"reproduce", "--quick", "-o", d.file("r")};
+    cmd.insert(cmd.end(), args.begin(), args.end());
+    const auto r = run_cli(cmd);
+    EXPECT_EQ(r.exit_code, 2) << message << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    if (message.find("NAME=FILE") != std::string::npos ||
+        message.find("twice") != std::string::npos) {
+      EXPECT_NE(r.err.find("(option --sensor)"), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(std::filesystem::exists(d.file("r"))) << message;
+  }
+}
+
+// Seed 1, ten campaigns: every test holds but the HZ1's 4 degC std from the 20-degC-only model,
+// which lies at -1.98 sigma of its 2-sigma limit within twice its simulation error (0.15 sigma):
+// the verdict is "inconclusive" (without the simulation's error it would lie at about -1.99
+// sigma: the paper's 4 degC spread is at the edge of what its 20 degC spread predicts).
+TEST(ReproduceCli, TenCampaignsKeepTheFitAndTheirVerdictSaysWhatItCovers) {
   temp_dir d;
   const auto r = run_cli({"reproduce", "--campaigns", "10", "--seed", "1", "-o", d.file("r")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("verdict: reproduced (2 of 2 independent tests of the model hold)"),
+  EXPECT_NE(r.out.find("verdict: inconclusive: 9 of 10 tests of the model's predictions hold."),
             std::string::npos)
       << r.out;
   const auto j = json::parse(std::ifstream(d.file("r/summary.json")));
+  json not_passed = json::array();
+  for (const auto& p : j["predictions"])
+    if (p["outcome"] != "pass" && p["outcome"] != "pass (marginal)") not_passed.push_back(p["id"]);
+  EXPECT_EQ(not_passed, json({"tab3_4c_std_from_20c"}));
+  ASSERT_EQ(j["tables"][0]["per_campaign"].size(), 10u);
+  ASSERT_EQ(j["tab3_4c_from_20c_model"].size(), 10u);
+  ASSERT_EQ(j["figures"][0]["runs"].size(), 10u);
   // The fit (a regression): ensemble means within 15 %, stds within 25 % of the paper's.
   for (const auto& t : j["tables"]) {
     EXPECT_NEAR(t["mean_ratio"].get<double>(), 1.0, 0.15) << t;
     EXPECT_NEAR(t["std_ratio"].get<double>(), 1.0, 0.25) << t;
   }
   // The sensitivity study: the baseline and every assumed value changed.
-  ASSERT_EQ(j["sensitivity"].size(), 11u);
+  ASSERT_EQ(j["sensitivity"].size(), 13u);
   // Every row can move a column (review R9): the time on before the warm-start figures moves
   // their raw side, and the campaigns' warm-up their mean dN (fitted targets, shown not judged).
   const auto& base = j["sensitivity"][0];
@@ -158,7 +257,29 @@ TEST(ReproduceCli, TenCampaignsKeepTheFitAndThePredictionsHold) {
     if (name.starts_with("campaign runs on 5 min")) {
       EXPECT_GT(std::max(moved("tab3_20c_mean_dps"), moved("tab4_mean_dps")), 0.0) << row;
     }
+    // The ADXRS150's datasheet density read as N (not N/sqrt 2): its per-cycle std grows by
+    // sqrt 2 and fails the verdict's noise tests (review of issue 31: +39 %, +43 %).
+    if (name.starts_with("ADXRS150 datasheet density read as N")) {
+      EXPECT_NEAR(row["fig4_std_ratio"].get<double>() / base["fig4_std_ratio"].get<double>(),
+                  std::sqrt(2.0), 0.05)
+          << row;
+      EXPECT_GT(row["fig4_std_ratio"].get<double>(), 1.15) << row;
+      EXPECT_GT(row["fig6_std_ratio"].get<double>(), 1.15) << row;
+      EXPECT_EQ(row["verdict"], "NOT reproduced") << row;
+    }
+    // 1.79 s per position (a cycle of two positions, 256 conversions per dwell): the per-cycle
+    // std stays (the same dwells), half as many cycles per second need a moving mean about
+    // twice as long for 0.002 deg/s (review of issue 31: ~310 s -> ~590 s).
+    if (name.starts_with("1.79 s per position")) {
+      EXPECT_NEAR(moved("fig4_std_ratio"), 0.0, 0.05) << row;
+      EXPECT_GT(row["fig8_window_s"].get<double>(), 1.5 * base["fig8_window_s"].get<double>());
+      EXPECT_GT(row["fig10_window_s"].get<double>(), 1.5 * base["fig10_window_s"].get<double>());
+    }
   }
+  const std::string headline = j["headline"];
+  EXPECT_NE(headline.find("read as N = 0.05 the per-cycle std of Figs 4/6 misses by +"),
+            std::string::npos)
+      << headline;
   // "0.002 deg/s over 2.5 h": the HZ1 runs reach it from some averaging window on.
   EXPECT_TRUE(j["claim"]["window_for_claim_s"]["fig8"].is_number());
   EXPECT_TRUE(j["claim"]["window_for_claim_s"]["fig10"].is_number());

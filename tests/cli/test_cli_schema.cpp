@@ -70,7 +70,7 @@ TEST(CliSchema, EveryJsonOutputCarriesItsSchemaAndVersion) {
                 "report");
   const auto rep = run_cli({"reproduce", "--quick", "-o", d.file("repro")});
   ASSERT_EQ(rep.exit_code, 0) << rep.err;
-  expect_schema(json::parse(std::ifstream(d.file("repro/summary.json"))), "gyroflip.reproduce/4",
+  expect_schema(json::parse(std::ifstream(d.file("repro/summary.json"))), "gyroflip.reproduce/5",
                 "reproduce");
 }
 

@@ -1,11 +1,16 @@
 #!/usr/bin/env python3
 """Renders both pages, `gyroflip report`'s and `gyroflip reproduce --quick`'s, in headless
-Chromium (issues 10, 22) and checks what a reader would see: a screenshot that is not blank,
-every image loaded, no console error, nothing wider than the window (tables stay on the page),
-no preformatted text; and the rest of the report folder (summary.json's numbers equal
+Chromium (issues 10, 22, 31) and checks what a reader would see: a screenshot that is not blank,
+every image loaded, no console error, no preformatted text; at 1280 and at 900 px no table that
+scrolls sideways and nothing wider than the window, and no word broken inside (a line break in
+"compensat ed", "18 00 s" or "inconclusiv e": every run of non-blank characters must lie on one
+line; only the provenance and the words marked "brk", paths and hashes longer than any column,
+may break anywhere); and the rest of the report folder (summary.json's numbers equal
 `calibrate --json`'s, report.pdf is a PDF, each figure has its gnuplot script, data and three
 images). Exit 77 (skipped) without chromium.
-Usage: check_report_page.py GYROFLIP_EXE"""
+Usage: check_report_page.py GYROFLIP_EXE
+       check_report_page.py --layout PAGE.html...   (the width checks alone, on pages made already)
+With GYROFLIP_SCREENSHOTS=DIR set, a screenshot of each page at each width is kept in DIR."""
 import json
 import os
 import shutil
@@ -14,6 +19,7 @@ import subprocess
 import sys
 import tempfile
 import zlib
+from html import unescape
 
 
 def browser():
@@ -24,11 +30,79 @@ def browser():
 
 
 def chromium(exe, tmp, *args):
+    """Headless Chromium with a fresh profile and nothing that reaches the network."""
     profile = tempfile.mkdtemp(dir=tmp)
-    return subprocess.run([exe, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                           "--no-first-run", "--disable-background-networking",
-                           f"--user-data-dir={profile}", *args],
-                          capture_output=True, text=True, timeout=120)
+    try:
+        return subprocess.run([exe, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                               "--disable-dev-shm-usage", "--no-first-run",
+                               "--disable-background-networking", "--disable-component-update",
+                               "--disable-sync", f"--user-data-dir={profile}", *args],
+                              capture_output=True, text=True, timeout=120)
+    finally:
+        shutil.rmtree(profile, ignore_errors=True)
+
+
+# Run after the page's layout: each table box that scrolls sideways (its caption and widths), the
+# page's own overflow, and each word (a run of non-blank characters in one text node) whose
+# pieces lie on more than one line: a line break inside it. The provenance (paths, hashes, the
+# command) and spans of class "brk" may break anywhere.
+LAYOUT_PROBE = r"""<script>
+window.addEventListener('load', () => {
+  const d = document.documentElement,
+        out = {page: d.scrollWidth - d.clientWidth, height: d.scrollHeight, tables: [], words: []};
+  for (const box of document.querySelectorAll('.tablebox'))
+    if (box.scrollWidth > box.clientWidth + 1)
+      out.tables.push((box.querySelector('caption') || box).textContent.slice(0, 90) +
+                      ' (' + box.scrollWidth + ' px in ' + box.clientWidth + ')');
+  for (const t of document.querySelectorAll('table'))
+    if (t.getBoundingClientRect().right > d.clientWidth + 1)
+      out.tables.push('wider than the window: ' + t.querySelector('caption').textContent.slice(0, 90));
+  const walk = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+  for (let n = walk.nextNode(); n; n = walk.nextNode()) {
+    const el = n.parentElement;
+    if (el.closest('.prov, .brk, script, style')) continue;
+    for (const m of n.textContent.matchAll(/\S+/g)) {
+      const r = document.createRange();
+      r.setStart(n, m.index);
+      r.setEnd(n, m.index + m[0].length);
+      const rects = [...r.getClientRects()].filter(q => q.width > 0);
+      const lines = rects.filter((q, i) => rects.slice(0, i).every(p => q.top >= p.bottom - 1 || q.bottom <= p.top + 1));
+      if (lines.length > 1) out.words.push(m[0]);
+    }
+  }
+  const p = document.createElement('div');
+  p.id = 'layout-probe';
+  p.textContent = JSON.stringify(out);
+  document.body.appendChild(p);
+});
+</script></body>"""
+
+
+def check_layout(exe, tmp, index, width, shots=None):
+    """At a window `width` px wide: no table that scrolls sideways, nothing wider than the window,
+    no word broken inside. Raises AssertionError naming each. With `shots`, a screenshot of the
+    whole page at that width is kept there."""
+    html = open(index, encoding="utf-8").read()
+    probe = os.path.join(os.path.dirname(index), f"probe{width}.html")
+    open(probe, "w", encoding="utf-8").write(html.replace("</body>", LAYOUT_PROBE))
+    try:
+        dom = chromium(exe, tmp, f"--window-size={width},1000", "--virtual-time-budget=10000",
+                       "--run-all-compositor-stages-before-draw", "--dump-dom", "file://" + probe).stdout
+    finally:
+        os.remove(probe)
+    start = dom.find('<div id="layout-probe">')
+    assert start >= 0, f"the layout probe did not run at {width} px: {dom[-300:]}"
+    found = json.loads(unescape(dom[start + len('<div id="layout-probe">'):dom.index("</div>", start)]))
+    problems = [f"a table scrolls sideways: {t}" for t in found["tables"]]
+    if found["page"] > 0:
+        problems.append(f"the page is {found['page']} px wider than the window")
+    problems += [f"a word is broken across lines: {w!r}" for w in found["words"]]
+    if shots:
+        name = os.path.basename(os.path.dirname(index)) or "page"
+        height = max(1000, min(30000, found["height"]))
+        chromium(exe, tmp, f"--window-size={width},{height}", "--virtual-time-budget=10000",
+                 f"--screenshot={os.path.join(shots, f'{name}_{width}.png')}", "file://" + index)
+    assert not problems, f"{index} at {width} px:\n  " + "\n  ".join(problems)
 
 
 def png_busy_fraction(path):
@@ -79,15 +153,32 @@ def check_page(exe, tmp, index, images):
     assert r.returncode == 0 and not console, console or r.stderr[-500:]
     busy = png_busy_fraction(shot)
     assert busy > 0.01, f"the screenshot is blank ({busy:.4f}; a blank page gives 0.0003)"
+
+    # At a laptop's width and at a narrow window's (review of issue 31: tables scrolled at both).
+    for width in (1280, 900):
+        check_layout(exe, tmp, index, width, os.environ.get("GYROFLIP_SCREENSHOTS"))
     return busy
 
 
 def main():
-    gf = os.path.abspath(sys.argv[1])
     exe = browser()
     if exe is None:
         print("chromium not installed: skipped")
         return 77
+    if sys.argv[1] == "--layout":
+        failed = 0
+        with tempfile.TemporaryDirectory() as tmp:
+            for page in sys.argv[2:]:
+                for width in (1280, 900):
+                    try:
+                        check_layout(exe, tmp, os.path.abspath(page), width,
+                                     os.environ.get("GYROFLIP_SCREENSHOTS"))
+                        print(f"{page} at {width} px: ok")
+                    except AssertionError as e:
+                        failed += 1
+                        print(e)
+        return 1 if failed else 0
+    gf = os.path.abspath(sys.argv[1])
     with tempfile.TemporaryDirectory() as tmp:
         def run(*args):
             subprocess.run([gf, *args], check=True, cwd=tmp, capture_output=True, text=True)

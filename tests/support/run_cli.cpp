@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include "support/temp_dir.hpp"
 
@@ -92,6 +93,14 @@ std::string read_text(const std::string& path) {
   std::ostringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+std::string read_page(const std::string& path) {
+  std::string html = read_text(path);
+  for (const std::string_view tag : {"<span class=\"nw\">", "<span class=\"brk\">", "</span>"})
+    for (auto at = html.find(tag); at != std::string::npos; at = html.find(tag, at))
+      html.erase(at, tag.size());
+  return html;
 }
 
 void write_text(const std::string& path, const std::string& text) {

@@ -28,6 +28,10 @@ int wait_cli(int pid);
 /// Reads a whole file (empty string if missing).
 std::string read_text(const std::string& path);
 
+/// A report page's HTML without the no-break spans its text is set in (report/page.cpp, issue
+/// 31): the text as written, for finding a phrase in it.
+std::string read_page(const std::string& path);
+
 /// Writes a whole file.
 void write_text(const std::string& path, const std::string& text);
 

@@ -8,6 +8,7 @@
 /// program; the library never links a plotting library.
 #pragma once
 
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -34,19 +35,27 @@ struct series {
   /// errorbars: a thin line through the points, for the points of one curve (an Allan curve);
   /// never for independent values (runs), which are not a series in time.
   bool joined = false;
+  /// points: larger open circles (values set beside the data, as a paper's), not small dots.
+  bool open = false;
 };
 
 struct axis {
   std::string label;  ///< with its unit, e.g. "time (s)"
   bool log = false;
   double tic_step = 0.0;  ///< > 0: tics every this much (whole run numbers: 1); 0: gnuplot's
+  /// Both finite: the axis spans [from, to] (runs 1..n: [0.5, n + 0.5], so that the first and
+  /// last runs' error bars are not cut by the frame); else gnuplot's autoscale.
+  double from = std::numeric_limits<double>::quiet_NaN();
+  double to = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// A point with a text beside it (the read-off points of the Allan plot).
+/// A point with a short text beside it (the read-off points of the Allan plot: "N", "B", "K";
+/// what they read is in the key, where it hides no data).
 struct annotation {
   double x = 0.0, y = 0.0;
   std::string text;
-  bool text_left = false;  ///< the text ends at the point (near the right edge) instead of starting
+  bool text_left = false;  ///< the text ends left of the point instead of starting right of it
+  int color = 6;           ///< the point's and the text's colour (palette index; 6 black)
 };
 
 struct figure {

@@ -5,13 +5,14 @@ set style line 100 lc rgb '#d9d9d9' lw 1
 set grid xtics ytics mxtics mytics ls 100, ls 100
 set border 3 lw 1.2
 set tics nomirror out
-set key below left vertical maxrows 3 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set mxtics
 set mytics
+set key below left vertical maxrows 1 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set title "ΔN per run\n3 runs: mean 0.4 °/s, std 0.01 °/s" noenhanced
-set xlabel 'run' noenhanced
+set xlabel "run\n" noenhanced
 set ylabel 'ΔN (°/s)' noenhanced
 set xtics 1
+set xrange [0.5:3.5]
 set offsets 0, 0, graph 0.05, graph 0.05
 
 set terminal svg size 1100,680 font 'DejaVu Sans,12' enhanced background rgb 'white'

@@ -5,11 +5,11 @@ set style line 100 lc rgb '#d9d9d9' lw 1
 set grid xtics ytics mxtics mytics ls 100, ls 100
 set border 3 lw 1.2
 set tics nomirror out
-set key below left vertical maxrows 3 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set mxtics
 set mytics
+set key below left vertical maxrows 1 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
 set title "Output at 0° and 180°" noenhanced
-set xlabel 'time (s)' noenhanced
+set xlabel "time (s)\n" noenhanced
 set ylabel 'dwell mean (°/s)' noenhanced
 set offsets 0, 0, graph 0.05, graph 0.05
 
