@@ -70,7 +70,7 @@ std::vector<sent_dwell> read_log(const std::string& path) {
   std::getline(in, line);
   std::vector<sent_dwell> rows;
   while (std::getline(in, line))
-    if (auto c = split(line); c.size() == 19) rows.push_back({c});
+    if (auto c = split(line); c.size() == 20) rows.push_back({c});
   return rows;
 }
 
