@@ -191,15 +191,16 @@ void setup_emulate(CLI::App& app, action& chosen) {
                   "AT:FOR - AT device s after the first START the line vanishes for FOR device s "
                   "(repeatable; the rig runs on, its output is lost)");
   sub->add_option("--fault-lose-reply", o->fault_lose_reply,
-                  "CMD:N - the reply (ACK or NAK) to the Nth CMD frame the device takes is lost "
-                  "on the line (CMD: ping, configure, start, stop, ...; comma-separated)")
+                  "CMD:N or CMD:N-M - the reply (ACK or NAK; a PING's INFO too) to the Nth (to "
+                  "Mth) CMD frame the device takes is lost on the line (CMD: ping, configure, "
+                  "start, stop, ...; comma-separated)")
       ->delimiter(',');
   sub->add_option("--fault-reset-before", o->fault_reset_before,
-                  "CMD:N - reset the firmware just before it takes the Nth CMD frame "
-                  "(comma-separated)")
+                  "CMD:N or CMD:N-M - reset the firmware just before it takes the Nth (to Mth) "
+                  "CMD frame (comma-separated)")
       ->delimiter(',');
   sub->add_flag("--fault-lose-boot-info", o->fault_lose_boot_info,
-                "the INFO each reset's boot sends is lost on the line (the reset goes unseen)");
+                "the INFO each boot sends is lost on the line (a reset goes unseen)");
   sub->add_option("--serial", o->serial,
                   "the emulated board's serial number in its INFO (0: a random one, so that no "
                   "two emulators look like one board)")

@@ -191,7 +191,14 @@ struct fault_plan {
   // retries counted): the reply lost, or the firmware reset just before it takes the frame. They
   // hit a moment of a session deliberately (a START whose ACK is lost and whose retry meets a
   // rebooted device) where a time would hit it by luck.
-  std::vector<std::pair<std::uint8_t, unsigned>> lose_reply, reset_before;
+  struct command_range {
+    std::uint8_t type = 0;
+    unsigned first = 0, last = 0;  // the command's frames first..last the device takes
+    [[nodiscard]] bool has(std::uint8_t t, unsigned k) const {
+      return t == type && k >= first && k <= last;
+    }
+  };
+  std::vector<command_range> lose_reply, reset_before;
   bool lose_boot_info = false;
 };
 
@@ -207,22 +214,31 @@ std::optional<std::uint8_t> command_type(const std::string& name) {
   return std::nullopt;
 }
 
-result<std::vector<std::pair<std::uint8_t, unsigned>>> command_faults(
-    const std::vector<std::string>& specs, const char* option) {
-  std::vector<std::pair<std::uint8_t, unsigned>> out;
+// CMD:N or CMD:N-M (a command's Nth frame, or its Nth to Mth, as the device takes them).
+result<std::vector<fault_plan::command_range>> command_faults(const std::vector<std::string>& specs,
+                                                              const char* option) {
+  std::vector<fault_plan::command_range> out;
+  const auto whole = [](const std::string& t) -> double {
+    const auto v = text::to_double(t);
+    return v && *v >= 1.0 && *v <= 1e6 && *v == std::floor(*v) ? *v : 0.0;
+  };
   for (const std::string& spec : specs) {
     const auto colon = spec.find(':');
     const auto type = command_type(spec.substr(0, colon));
-    double n = 0.0;
-    if (colon != std::string::npos)
-      if (const auto v = text::to_double(spec.substr(colon + 1))) n = *v;
-    if (!type || !(n >= 1.0 && n <= 1e6) || n != std::floor(n))
+    double first = 0.0, last = 0.0;
+    if (colon != std::string::npos) {
+      const std::string n = spec.substr(colon + 1);
+      const auto dash = n.find('-');
+      first = whole(n.substr(0, dash));
+      last = dash == std::string::npos ? first : whole(n.substr(dash + 1));
+    }
+    if (!type || first == 0.0 || last < first)
       return usage_error(fmt::format(
-          "{}: CMD:N, CMD one of ping, configure, start, stop, home, set_delta_n, calibrate, "
-          "resend and N the command's frame the device takes, counted from 1 (retries "
-          "included); got {}",
+          "{}: CMD:N or CMD:N-M, CMD one of ping, configure, start, stop, home, set_delta_n, "
+          "calibrate, resend and N (to M) the command's frames the device takes, counted from 1 "
+          "(retries included); got {}",
           option, spec));
-    out.emplace_back(*type, static_cast<unsigned>(n));
+    out.push_back({*type, static_cast<unsigned>(first), static_cast<unsigned>(last)});
   }
   return out;
 }
@@ -270,33 +286,38 @@ class command_faults_on_line {
       if (!decoder_.push(p[i])) continue;
       const protocol::frame& f = decoder_.current();
       const unsigned k = ++taken_[f.type];
-      const std::pair<std::uint8_t, unsigned> at{f.type, k};
-      if (std::find(plan_.reset_before.begin(), plan_.reset_before.end(), at) !=
-          plan_.reset_before.end())
-        reset = true;
-      if (std::find(plan_.lose_reply.begin(), plan_.lose_reply.end(), at) != plan_.lose_reply.end())
-        lose_.emplace_back(f.type, f.seq);
+      const auto named = [&](const std::vector<fault_plan::command_range>& v) {
+        return std::any_of(v.begin(), v.end(), [&](const auto& r) { return r.has(f.type, k); });
+      };
+      if (named(plan_.reset_before)) reset = true;
+      if (named(plan_.lose_reply)) lose_.emplace_back(f.type, f.seq);
     }
     return reset;
   }
-  // Whether the device's frame `f` is the reply a --fault-lose-reply names (each one once).
+  // Whether the device's frame `f` is the reply a --fault-lose-reply names (each one once; a
+  // PING's reply is its ACK and the INFO right after it).
   bool lose(const protocol::frame& f) {
     std::uint16_t of = 0;
     std::uint8_t of_type = 0;
     protocol::ack_msg a;
     protocol::nak_msg k;
+    protocol::info_msg info;
     if (f.as(a)) {
       of = a.seq;
       of_type = a.of_type;
     } else if (f.as(k)) {
       of = k.seq;
       of_type = k.of_type;
+    } else if (f.seq != 0 && f.as(info) && lose_info_ != 0) {
+      --lose_info_;
+      return true;
     } else {
       return false;
     }
     const auto it = std::find(lose_.begin(), lose_.end(), std::pair{of_type, of});
     if (it == lose_.end()) return false;
     lose_.erase(it);
+    if (of_type == static_cast<std::uint8_t>(protocol::msg::ping)) ++lose_info_;
     return true;
   }
 
@@ -305,6 +326,7 @@ class command_faults_on_line {
   protocol::stream_decoder decoder_{true};
   std::map<std::uint8_t, unsigned> taken_;
   std::vector<std::pair<std::uint8_t, std::uint16_t>> lose_;  // (command type, its id)
+  unsigned lose_info_ = 0;  // INFOs of PINGs whose ACK was lost, still to come
 };
 
 // Makes the frame in `wire` (its wire bytes, with the runs around it) arrive damaged beyond the
@@ -472,7 +494,8 @@ int run_emulate(const emulate_options& o) {
   pace pacer(speed > 0.0 ? speed : faulty ? max_faulty_speed : 0.0);
   // The host's bytes to the device (waiting up to `wait_ms` for them).
   command_faults_on_line commands(*plan);
-  bool lose_next_boot_info = false;  // a reset's boot INFO is still to come (and be lost)
+  // A boot's INFO is still to come (and to be lost): the first boot's, then each reset's.
+  bool lose_next_boot_info = plan->lose_boot_info;
   const auto reset = [&] {
     emu.reset();
     monitor.frames().reset_sequence();  // the rebooted device numbers its frames from 0

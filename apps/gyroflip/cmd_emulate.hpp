@@ -31,7 +31,7 @@ struct emulate_options {
   std::vector<std::string> fault_lose_reply;
   /// CMD:N: the firmware is reset just before it takes the Nth frame of command CMD
   std::vector<std::string> fault_reset_before;
-  bool fault_lose_boot_info = false;  ///< the INFO a reset's boot sends is lost
+  bool fault_lose_boot_info = false;  ///< the INFO each boot sends is lost
   std::uint32_t serial = 0;           ///< the board's serial number (INFO); 0: a random one
   double duration_s = 0.0;            ///< simulated seconds to run (0: until SIGINT/SIGTERM)
   double power_on_before_s = 0.0;
