@@ -130,10 +130,8 @@ class receive_window {
     return missing_.erase(s) != 0 ? arrival::recovered : arrival::repeat;
   }
   /// Up to `max` missing sequence numbers not asked for within `interval_s`, oldest first;
-  /// each is marked asked. `counts`: the ask counts towards giving the number up (false while
-  /// the line is silent: a device that is not running on, an emulator stopped, still holds
-  /// what it held).
-  std::vector<std::uint16_t> due(double interval_s, bool counts, std::size_t max) {
+  /// each is marked asked.
+  std::vector<std::uint16_t> due(double interval_s, std::size_t max) {
     std::vector<std::uint16_t> out;
     const auto now = steady::now();
     for (auto& [s, m] : missing_) {
@@ -141,7 +139,7 @@ class receive_window {
       if (m.last != steady::time_point{} &&
           std::chrono::duration<double>(now - m.last).count() < interval_s)
         continue;
-      if (counts) ++m.asked;
+      ++m.asked;
       m.last = now;
       out.push_back(static_cast<std::uint16_t>(s));
     }
@@ -161,6 +159,8 @@ class receive_window {
   }
   /// The number after the highest seen.
   [[nodiscard]] std::uint16_t next() const { return static_cast<std::uint16_t>(highest_ + 1); }
+  /// The highest number seen, unwrapped.
+  [[nodiscard]] std::uint64_t highest() const noexcept { return highest_; }
   [[nodiscard]] bool started() const noexcept { return have_; }
   /// Gives up everything older than `oldest` (the oldest frame the device still holds), and
   /// what was asked for `max_asks` times: how many.
@@ -179,7 +179,7 @@ class receive_window {
 
  private:
   struct miss {
-    int asked = 0;  // asks made while the line was not silent
+    int asked = 0;
     steady::time_point last{};
   };
   // The 64-bit number nearest the highest seen with these low 16 bits.
@@ -279,7 +279,9 @@ class session {
   [[nodiscard]] double port_poll_s() const { return std::clamp(0.2 / device_speed_, 0.002, 0.2); }
   // Nothing at all arrived for longer than 0.15 s of ours and 1.2 STATUS periods of the
   // device's: it is not running on (an emulator stopped, a device hung), as opposed to a line
-  // that loses its frames. RESEND and probes then go at most every 0.15 s, and count nothing.
+  // that loses its frames. Missing frames are then not asked for (nothing would answer, and a
+  // backlog of RESENDs answered at once when it runs again would flood the line), and a probe
+  // goes at most every 0.5 s of ours.
   [[nodiscard]] bool line_silent() const {
     const double period_s = running_.status_period_ms != 0 ? running_.status_period_ms / 1e3 : 1.0;
     const double quiet_s = std::max(0.15, 1.2 * period_s / device_speed_);
@@ -355,6 +357,12 @@ class session {
   // plausible number a damaged frame's header named (frames the old boot sent and the line lost).
   std::uint32_t bad_at_last_good_ = 0;
   std::int32_t damaged_ahead_ = 0;
+  // ... and what it sent while the line was gone, from its frame rate (frames per second of
+  // ours since its first frame heard): nothing of those frames reached the line.
+  bool since_link_loss_ = false;
+  bool have_rate_ = false;
+  steady::time_point rate_at_{};
+  std::uint64_t rate_seq_ = 0;
   // Data time (--duration): the device-clock span of each segment's dwells, summed.
   double data_closed_s_ = 0.0;
   bool seg_started_ = false;
@@ -554,9 +562,19 @@ status session::note_reset() {
   // What the old boot still owed, and what it sent after the last frame heard of it and the
   // line damaged (each damaged frame, or the frames a damaged header numbered; the new boot's
   // first frames may be among them: a GAP counts at least what was lost).
-  const std::size_t tail = std::max<std::size_t>(dec_.counts().bad() - bad_at_last_good_,
-                                                 static_cast<std::size_t>(damaged_ahead_));
+  std::size_t tail = std::max<std::size_t>(dec_.counts().bad() - bad_at_last_good_,
+                                           static_cast<std::size_t>(damaged_ahead_));
   damaged_ahead_ = 0;
+  // A reset found after the line was gone: the old boot sent on while nothing could arrive, for
+  // as long as it ran after its last frame heard (at most until now). Counted at its frame rate:
+  // an upper bound (it may have reset earlier).
+  if (since_link_loss_ && have_rate_ && last_fresh_ > rate_at_ && window_.highest() > rate_seq_) {
+    const double per_s = static_cast<double>(window_.highest() - rate_seq_) /
+                         std::chrono::duration<double>(last_fresh_ - rate_at_).count();
+    const double gone_s = std::chrono::duration<double>(steady::now() - last_fresh_).count();
+    tail += static_cast<std::size_t>(std::ceil(std::min(per_s * gone_s, 65535.0)));
+  }
+  have_rate_ = false;
   if (auto s = note_lost(window_.give_up_all() + tail); !s) return s;
   window_.reset();
   dec_.frames().reset_sequence();
@@ -738,6 +756,12 @@ status session::pump(int timeout_ms) {
     if (arrived == receive_window::arrival::recovered) ++recovered_;
     if (arrived == receive_window::arrival::fresh) {
       last_fresh_ = steady::now();
+      if (!have_rate_) {
+        have_rate_ = true;
+        rate_at_ = last_fresh_;
+        rate_seq_ = window_.highest();
+      }
+      since_link_loss_ = false;
       damaged_ahead_ = std::max(0, damaged_ahead_ - std::max(0, ahead));
     }
     bad_at_last_good_ = dec_.counts().bad();
@@ -756,12 +780,11 @@ status session::pump(int timeout_ms) {
   return ok();
 }
 
-// RESEND for what is missing and due (receive_window::due).
+// RESEND for what is missing and due (receive_window::due); nothing while the line is silent.
 status session::request_missing() {
+  if (line_silent()) return ok();
   for (;;) {
-    const bool silent = line_silent();
-    const auto due =
-        window_.due(silent ? 0.15 : resend_interval_s(), !silent, p::resend_msg::max_seqs);
+    const auto due = window_.due(resend_interval_s(), p::resend_msg::max_seqs);
     if (due.empty()) return ok();
     p::resend_msg m;
     m.count = static_cast<std::uint8_t>(due.size());
@@ -789,12 +812,12 @@ status session::probe() {
     return std::chrono::duration<double>(now - t).count() * device_speed_;
   };
   // At least 10 ms of ours too: an emulator flat out would otherwise be "quiet" while this
-  // process merely waits for the disk. A silent line is asked at most every 0.15 s of ours (a
+  // process merely waits for the disk. A silent line is probed at most every 0.5 s of ours (a
   // stopped emulator is not flooded).
   const bool quiet =
       since(last_fresh_) >= 1.2 * period_s && now - last_fresh_ >= std::chrono::milliseconds(10);
   if (!quiet || since(last_probe_) < 0.3) return ok();
-  if (line_silent() && now - last_probe_ < std::chrono::milliseconds(150)) return ok();
+  if (line_silent() && now - last_probe_ < std::chrono::milliseconds(500)) return ok();
   last_probe_ = now;
   p::resend_msg m;
   m.count = 4;
@@ -991,6 +1014,7 @@ result<bool> session::reconnect(steady::time_point lost_at) {
   port_.reset();
   identified_ = false;
   waiting_for_port_ = true;
+  since_link_loss_ = true;
   lost_at_ = lost_at;
   const auto until = lost_at + std::chrono::duration<double>(c_.reconnect_timeout_s);
   while (steady::now() < until && !stop_) {

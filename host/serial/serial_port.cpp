@@ -14,10 +14,10 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
-#include <climits>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
 #include <fmt/format.h>
@@ -111,12 +111,10 @@ result<port_lock> port_lock::take(const std::string& key, const std::string& pat
 }
 
 result<port_lock> port_lock::of_name(const std::string& path) {
-  std::string abs = path;
-  if (!path.empty() && path.front() != '/') {
-    char cwd[PATH_MAX];
-    if (::getcwd(cwd, sizeof cwd) != nullptr) abs = std::string(cwd) + "/" + path;
-  }
-  return take("name:" + abs, path);
+  std::error_code ec;
+  auto abs = std::filesystem::absolute(path, ec);
+  if (ec) abs = path;
+  return take("name:" + abs.lexically_normal().string(), path);
 }
 
 result<std::string> port_lock::device_key(const std::string& path) {
