@@ -312,68 +312,70 @@ class session {
   p::stream_decoder dec_{true};  // retransmitted (older) frames are handed out too
   p::frame_decoder old_dec_;     // the same bytes as protocol v1 framed them (foreign devices)
   receive_window window_;
-  std::uint32_t noted_bad_ = 0;
-  std::uint16_t seq_ = 0;
-  bool recording_ = false;  // a START was acknowledged: the run is on
-  bool ever_started_ = false;
-  bool stopping_ = false;
-  bool waiting_info_ = false;
-  std::optional<p::info_msg> info_;      // the session's device (serial, boot count)
-  std::optional<p::info_msg> got_info_;  // the INFO a PING brought
-  // The line's frames are the session device's: false from a (re)opened port until an INFO
-  // names the board (its serial). Nothing of the line is stored before.
-  bool identified_ = false;
-  steady::time_point lost_at_{};  // when the port was lost (the GAP's milliseconds)
-  bool identify_record_ = false;  // the INFO that identified the board goes into the file
-  std::uint64_t epoch_ = 0;       // device resets seen: a command is of one epoch
-  bool reset_seen_ = false;       // the device rebooted: re-home, re-configure, START
-  bool need_info_ = false;        // ... and its INFO is still to be recorded
-  bool restart_ = false;          // the last command was cut short by a reset
-  int restart_failures_ = 0;      // start attempts in a row that failed (no dwell since)
-  bool device_idle_ = false;      // a STATUS said idle while we record
-  std::uint32_t last_uptime_ = 0;
-  bool have_uptime_ = false;
-  std::uint32_t speed_uptime_ = 0;  // the device_speed_ estimate's start
-  steady::time_point speed_at_{};
+  std::optional<p::info_msg> info_;               // the session's device (serial, boot count)
+  std::optional<p::info_msg> got_info_;           // the INFO a PING brought
+  std::optional<error> fatal_;                    // a reason to end the run found while reading
+  steady::time_point lost_at_{};                  // when the port was lost (the GAP's milliseconds)
+  std::uint64_t epoch_ = 0;                       // device resets seen: a command is of one epoch
+  steady::time_point speed_at_{};                 // the device_speed_ estimate's start
   double device_speed_ = 1.0;                     // device seconds per wall second
   steady::time_point last_fresh_{};               // a new frame of the device arrived
   steady::time_point last_byte_ = steady::now();  // any byte arrived
   steady::time_point last_probe_{};
-  // The command waiting for its reply.
-  std::optional<std::uint16_t> reply_seq_;
-  std::uint8_t reply_type_ = 0;
-  std::uint64_t reply_epoch_ = 0;
-  on_ack reply_then_ = on_ack::none;
-  std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
-  bool replied_ = false;
-  bool resend_now_ = false;  // the device said our command arrived damaged
-  // This boot's CONFIGURE acknowledged (the first ACK's number), and a START sent for it whose
-  // ACK has not come: a frame of a run after that number says the START began the run.
-  std::optional<std::uint16_t> configured_at_;
-  bool start_in_flight_ = false;
-  bool run_evidence_ = false;
-  std::optional<std::uint16_t> start_ack_seq_;
-  // What a reset costs: damaged frames since the last good one of the boot, and the highest
-  // plausible number a damaged frame's header named (frames the old boot sent and the line lost).
-  std::uint32_t bad_at_last_good_ = 0;
-  std::int32_t damaged_ahead_ = 0;
-  // ... and what it sent while the line was gone, from its frame rate (frames per second of
-  // ours since its first frame heard): nothing of those frames reached the line.
-  bool since_link_loss_ = false;
-  bool have_rate_ = false;
+  std::uint64_t reply_epoch_ = 0;  // the epoch of the command waiting for its reply
+  // What a reset costs besides the numbers still missing: what the old boot sent while the
+  // line was gone, from its frame rate (frames per second of ours since its first frame
+  // heard): nothing of those frames reached the line.
   steady::time_point rate_at_{};
   std::uint64_t rate_seq_ = 0;
   // Data time (--duration): the device-clock span of each segment's dwells, summed.
   double data_closed_s_ = 0.0;
-  bool seg_started_ = false;
-  std::uint32_t seg_max_end_ = 0;
   std::uint64_t seg_span_ticks_ = 0;
-  bool waiting_for_port_ = false;
-  bool link_down_ = false;      // the last error came from the port, not the file
-  std::optional<error> fatal_;  // a reason to end the run found while reading
   std::uint64_t recovered_ = 0, lost_ = 0;
   steady::time_point t0_ = steady::now();
   steady::time_point last_tick_ = steady::now();
+
+  std::uint32_t noted_bad_ = 0;
+  int restart_failures_ = 0;  // start attempts in a row that failed (no dwell since)
+  std::uint32_t last_uptime_ = 0;
+  std::uint32_t speed_uptime_ = 0;  // the device_speed_ estimate's start
+  on_ack reply_then_ = on_ack::none;
+  // ... and the damaged frames since the boot's last good one, and the highest plausible number
+  // a damaged frame's header named (frames the old boot sent and the line lost).
+  std::uint32_t bad_at_last_good_ = 0;
+  std::int32_t damaged_ahead_ = 0;
+  std::uint32_t seg_max_end_ = 0;
+  std::uint16_t seq_ = 0;
+  // The command waiting for its reply.
+  std::optional<std::uint16_t> reply_seq_;
+  // This boot's CONFIGURE acknowledged (the first ACK's number), and a START sent for it whose
+  // ACK has not come: a frame of a run after that number says the START began the run.
+  std::optional<std::uint16_t> configured_at_;
+  std::optional<std::uint16_t> start_ack_seq_;
+  std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
+  std::uint8_t reply_type_ = 0;
+  bool start_in_flight_ = false;
+  bool run_evidence_ = false;
+  bool replied_ = false;
+  bool resend_now_ = false;  // the device said our command arrived damaged
+  bool recording_ = false;   // a START was acknowledged: the run is on
+  bool ever_started_ = false;
+  bool stopping_ = false;
+  bool waiting_info_ = false;
+  // The line's frames are the session device's: false from a (re)opened port until an INFO
+  // names the board (its serial). Nothing of the line is stored before.
+  bool identified_ = false;
+  bool identify_record_ = false;  // the INFO that identified the board goes into the file
+  bool reset_seen_ = false;       // the device rebooted: re-home, re-configure, START
+  bool need_info_ = false;        // ... and its INFO is still to be recorded
+  bool restart_ = false;          // the last command was cut short by a reset
+  bool device_idle_ = false;      // a STATUS said idle while we record
+  bool have_uptime_ = false;
+  bool since_link_loss_ = false;  // the line was gone: the rate above counts what it lost
+  bool have_rate_ = false;
+  bool seg_started_ = false;
+  bool waiting_for_port_ = false;
+  bool link_down_ = false;  // the last error came from the port, not the file
 };
 
 status session::append(gfr::kind k, std::span<const std::uint8_t> body) {

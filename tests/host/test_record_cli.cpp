@@ -545,6 +545,7 @@ TEST(RecordCli, AResetAtAnyMomentOfStartingARunNeverMislabels) {
     test::temp_dir dir;
     const faulted_run r =
         record_against(dir, "--speed 50 --seed 43 " + faults, {"--duration", "25"});
+    std::printf("%s: exit %d, %s\n", faults.c_str(), r.rec.exit_code, recorded(r.c).c_str());
     ASSERT_EQ(r.rec.exit_code, 0) << r.rec.err;
     ASSERT_TRUE(r.run);
     EXPECT_EQ(r.c.mislabelled, 0u) << recorded(r.c);
@@ -754,6 +755,7 @@ TEST(RecordCli, TheDurationCountsDataNotTheTimeBetweenSegments) {
   double data_s = 0.0;
   for (const auto& [seg, s] : span)
     data_s += (s.second - s.first) / static_cast<double>(run->info.tick_hz);
+  std::printf("--duration 20: %.2f s of data in %zu segments\n", data_s, span.size());
   EXPECT_GE(data_s, 20.0 - 1.0);  // less a dwell (the last may end just past it)
   EXPECT_LE(data_s, 20.0 + 2.0);
 }
@@ -879,7 +881,7 @@ TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
           mnt + "/run.gfr; echo \"rc=$?\"; ls -l " + mnt + "; " + GYROFLIP_EXE + " export " + mnt +
           "/run.gfr -o " + dir.path() + "/run.csv; echo \"export=$?\"",
       limited);
-  EXPECT_NE(r.out.find("rc=1"), std::string::npos) << r.out << r.err;
+  EXPECT_NE(r.out.find("rc=1\n"), std::string::npos) << r.out << r.err;
   EXPECT_NE(r.err.find(limited ? "File too large" : "No space left on device"), std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("export=0"), std::string::npos) << r.out << r.err;  // what fit reads back
@@ -893,7 +895,7 @@ TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
                     std::string(GYROFLIP_EXE) + " record --port " + emu.pty() +
                         " --duration 10 -o " + mnt + "/run.gfr; echo \"rc=$?\"; ls " + mnt,
                     limited);
-  EXPECT_NE(f.out.find("rc=1"), std::string::npos) << f.out << f.err;
+  EXPECT_NE(f.out.find("rc=1\n"), std::string::npos) << f.out << f.err;
   EXPECT_EQ(f.out.find("run.gfr"), std::string::npos) << f.out;
 }
 
@@ -911,7 +913,7 @@ TEST(RecordCli, AFileSizeLimitEndsTheRunAsAFullDisk) {
            std::string(GYROFLIP_EXE) + " record --port " + emu.pty() +
            " --raw --duration 3000 -o " + gfr + "; echo rc=$?"});
   if (r.out.find("rc=skip") != std::string::npos) GTEST_SKIP() << "no prlimit";
-  EXPECT_NE(r.out.find("rc=1"), std::string::npos) << r.out << r.err;
+  EXPECT_NE(r.out.find("rc=1\n"), std::string::npos) << r.out << r.err;
   EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
   const auto ex = run_cli({"export", gfr, "-o", dir.path() + "/run.csv"});
   EXPECT_EQ(ex.exit_code, 0) << ex.err;
