@@ -1031,7 +1031,12 @@ result<bool> session::reconnect(steady::time_point lost_at) {
       port_.reset();
       continue;
     }
-    if (!reset_seen_ && !need_info_ && info->config == running_ && !device_idle_) return true;
+    if (!reset_seen_ && !need_info_ && info->config == running_ && !device_idle_) {
+      // What the device sent meanwhile is asked for now: its history is device time, and at an
+      // emulator's 50x the few ms of a round trip count.
+      (void)request_missing();
+      return true;
+    }
     if (auto s = handle_reset(); !s) {
       if (fatal_) return false;
       if (!link_down_ && !restart_) return s.err();
