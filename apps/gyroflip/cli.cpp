@@ -190,7 +190,20 @@ void setup_emulate(CLI::App& app, action& chosen) {
   sub->add_option("--fault-unplug", o->fault_unplug,
                   "AT:FOR - AT device s after the first START the line vanishes for FOR device s "
                   "(repeatable; the rig runs on, its output is lost)");
-  sub->add_option("--serial", o->serial, "the emulated board's serial number (in its INFO)")
+  sub->add_option("--fault-lose-reply", o->fault_lose_reply,
+                  "CMD:N or CMD:N-M - the reply (ACK or NAK; a PING's INFO too) to the Nth (to "
+                  "Mth) CMD frame the device takes is lost on the line (CMD: ping, configure, "
+                  "start, stop, ...; comma-separated)")
+      ->delimiter(',');
+  sub->add_option("--fault-reset-before", o->fault_reset_before,
+                  "CMD:N or CMD:N-M - reset the firmware just before it takes the Nth (to Mth) "
+                  "CMD frame (comma-separated)")
+      ->delimiter(',');
+  sub->add_flag("--fault-lose-boot-info", o->fault_lose_boot_info,
+                "the INFO each boot sends is lost on the line (a reset goes unseen)");
+  sub->add_option("--serial", o->serial,
+                  "the emulated board's serial number in its INFO (0: a random one, so that no "
+                  "two emulators look like one board)")
       ->capture_default_str();
   sub->add_option("--duration", o->duration_s, "simulated seconds to run (0: until stopped)")
       ->capture_default_str();

@@ -13,7 +13,9 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <map>
 #include <optional>
+#include <random>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -71,7 +73,7 @@ class sent_log {
     std::fputs(
         "seq,cycle,position,t_start_ticks,t_end_ticks,n,code_sum,code_min,code_max,n_temp,"
         "temp_sum,ax_high_ticks,ax_period_ticks,ay_high_ticks,ay_period_ticks,flags,sent_time_s,"
-        "hit,table_deg\n",
+        "hit,table_deg,boot\n",
         f);
     return sent_log(f, path);
   }
@@ -85,13 +87,14 @@ class sent_log {
   // Rows are flushed as they are written: a reader (a crash test) sees what was sent.
   // `hit`: a fault touched the frame or the line was gone; `table_deg`: where the table truly
   // stood during the dwell.
-  status add(const protocol::frame& fr, double time_s, bool hit, double table_deg) {
+  // `boot`: the firmware's boot (1 at the first; its numbering starts again at each).
+  status add(const protocol::frame& fr, double time_s, bool hit, double table_deg, unsigned boot) {
     protocol::dwell_msg d;
     if (f_ == nullptr || !fr.as(d)) return ok();
-    fmt::print(f_, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6f},{},{:.4f}\n", fr.seq,
+    fmt::print(f_, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6f},{},{:.4f},{}\n", fr.seq,
                d.cycle, d.position, d.t_start_ticks, d.t_end_ticks, d.n, d.code_sum, d.code_min,
                d.code_max, d.n_temp, d.temp_sum, d.ax_high_ticks, d.ax_period_ticks,
-               d.ay_high_ticks, d.ay_period_ticks, d.flags, time_s, hit ? 1 : 0, table_deg);
+               d.ay_high_ticks, d.ay_period_ticks, d.flags, time_s, hit ? 1 : 0, table_deg, boot);
     if (std::fflush(f_) != 0 || std::ferror(f_)) return io_error(path_, "write failed");
     return ok();
   }
@@ -117,7 +120,11 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   if (!coil) return coil.err();
   c.sim.coil = *coil;
   c.sim.seed = o.seed;
+  // A board of its own: two emulators never share a serial unless told to, so a recorder that
+  // finds another one on its line (a pty path reused) refuses it instead of taking it for the
+  // same board rebooted (docs/RECORDER.md).
   c.serial = o.serial;
+  while (c.serial == 0) c.serial = std::random_device{}();
   return c;
 }
 
@@ -180,7 +187,61 @@ class first_sight {
 struct fault_plan {
   std::vector<double> reset_at_s;                 // ascending
   std::vector<std::pair<double, double>> unplug;  // (device time, device seconds), ascending
+  // Faults tied to the host's commands (CMD:N, the Nth frame of that command the device takes,
+  // retries counted): the reply lost, or the firmware reset just before it takes the frame. They
+  // hit a moment of a session deliberately (a START whose ACK is lost and whose retry meets a
+  // rebooted device) where a time would hit it by luck.
+  struct command_range {
+    std::uint8_t type = 0;
+    unsigned first = 0, last = 0;  // the command's frames first..last the device takes
+    [[nodiscard]] bool has(std::uint8_t t, unsigned k) const {
+      return t == type && k >= first && k <= last;
+    }
+  };
+  std::vector<command_range> lose_reply, reset_before;
+  bool lose_boot_info = false;
 };
+
+// A command's name as the options write it (docs/PROTOCOL.md's message names).
+std::optional<std::uint8_t> command_type(const std::string& name) {
+  static const std::pair<const char*, protocol::msg> names[] = {
+      {"ping", protocol::msg::ping},           {"configure", protocol::msg::configure},
+      {"start", protocol::msg::start},         {"stop", protocol::msg::stop},
+      {"home", protocol::msg::home},           {"set_delta_n", protocol::msg::set_delta_n},
+      {"calibrate", protocol::msg::calibrate}, {"resend", protocol::msg::resend}};
+  for (const auto& [n, t] : names)
+    if (name == n) return static_cast<std::uint8_t>(t);
+  return std::nullopt;
+}
+
+// CMD:N or CMD:N-M (a command's Nth frame, or its Nth to Mth, as the device takes them).
+result<std::vector<fault_plan::command_range>> command_faults(const std::vector<std::string>& specs,
+                                                              const char* option) {
+  std::vector<fault_plan::command_range> out;
+  const auto whole = [](const std::string& t) -> double {
+    const auto v = text::to_double(t);
+    return v && *v >= 1.0 && *v <= 1e6 && *v == std::floor(*v) ? *v : 0.0;
+  };
+  for (const std::string& spec : specs) {
+    const auto colon = spec.find(':');
+    const auto type = command_type(spec.substr(0, colon));
+    double first = 0.0, last = 0.0;
+    if (colon != std::string::npos) {
+      const std::string n = spec.substr(colon + 1);
+      const auto dash = n.find('-');
+      first = whole(n.substr(0, dash));
+      last = dash == std::string::npos ? first : whole(n.substr(dash + 1));
+    }
+    if (!type || first == 0.0 || last < first)
+      return usage_error(fmt::format(
+          "{}: CMD:N or CMD:N-M, CMD one of ping, configure, start, stop, home, set_delta_n, "
+          "calibrate, resend and N (to M) the command's frames the device takes, counted from 1 "
+          "(retries included); got {}",
+          option, spec));
+    out.push_back({*type, static_cast<unsigned>(first), static_cast<unsigned>(last)});
+  }
+  return out;
+}
 
 result<fault_plan> fault_plan_of(const emulate_options& o) {
   fault_plan f;
@@ -202,7 +263,85 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
   }
   std::sort(f.reset_at_s.begin(), f.reset_at_s.end(), std::greater<>());  // due ones at the back
   std::sort(f.unplug.begin(), f.unplug.end(), std::greater<>());
+  auto lose = command_faults(o.fault_lose_reply, "--fault-lose-reply");
+  if (!lose) return lose.err();
+  f.lose_reply = std::move(*lose);
+  auto reset = command_faults(o.fault_reset_before, "--fault-reset-before");
+  if (!reset) return reset.err();
+  f.reset_before = std::move(*reset);
+  f.lose_boot_info = o.fault_lose_boot_info;
   return f;
+}
+
+// The commands the device takes, as the host's bytes reach it: the Nth frame of a command
+// (retries counted) is where --fault-reset-before and --fault-lose-reply act.
+class command_faults_on_line {
+ public:
+  explicit command_faults_on_line(const fault_plan& plan) : plan_(plan) {}
+  // Feeds the host's bytes before the device gets them; true when the firmware is to be reset
+  // before it takes them.
+  bool take(const std::uint8_t* p, std::size_t n) {
+    bool reset = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!decoder_.push(p[i])) continue;
+      const protocol::frame& f = decoder_.current();
+      const unsigned k = ++taken_[f.type];
+      const auto named = [&](const std::vector<fault_plan::command_range>& v) {
+        return std::any_of(v.begin(), v.end(), [&](const auto& r) { return r.has(f.type, k); });
+      };
+      if (named(plan_.reset_before)) reset = true;
+      if (named(plan_.lose_reply)) lose_.emplace_back(f.type, f.seq);
+    }
+    return reset;
+  }
+  // Whether the device's frame `f` is the reply a --fault-lose-reply names (each one once; a
+  // PING's reply is its ACK and the INFO right after it).
+  bool lose(const protocol::frame& f) {
+    std::uint16_t of = 0;
+    std::uint8_t of_type = 0;
+    protocol::ack_msg a;
+    protocol::nak_msg k;
+    protocol::info_msg info;
+    if (f.as(a)) {
+      of = a.seq;
+      of_type = a.of_type;
+    } else if (f.as(k)) {
+      of = k.seq;
+      of_type = k.of_type;
+    } else if (f.seq != 0 && f.as(info) && lose_info_ != 0) {
+      --lose_info_;
+      return true;
+    } else {
+      return false;
+    }
+    const auto it = std::find(lose_.begin(), lose_.end(), std::pair{of_type, of});
+    if (it == lose_.end()) return false;
+    lose_.erase(it);
+    if (of_type == static_cast<std::uint8_t>(protocol::msg::ping)) ++lose_info_;
+    return true;
+  }
+
+ private:
+  const fault_plan& plan_;
+  protocol::stream_decoder decoder_{true};
+  std::map<std::uint8_t, unsigned> taken_;
+  std::vector<std::pair<std::uint8_t, std::uint16_t>> lose_;  // (command type, its id)
+  unsigned lose_info_ = 0;  // INFOs of PINGs whose ACK was lost, still to come
+};
+
+// Makes the frame in `wire` (its wire bytes, with the runs around it) arrive damaged beyond the
+// line code's correction: two bits of one of its bytes inverted, whose nibble is not F (an
+// uncorrectable byte is read as F; docs/PROTOCOL.md), so its CRC fails and the reader drops it.
+// The byte count and the runs stay as they were: the frame after it arrives.
+void damage_frame(std::vector<std::uint8_t>& wire) {
+  std::size_t first = 0, last = wire.size();
+  while (first < wire.size() && wire[first] == 0x00) ++first;
+  while (last > first && wire[last - 1] == 0x00) --last;
+  for (std::size_t i = first + (last - first) / 2; i < last; ++i)
+    if (wire[i] != 0xFF) {
+      wire[i] = static_cast<std::uint8_t>(wire[i] ^ 0x03u);
+      return;
+    }
 }
 
 // A symbolic link that names the line while it is there, as udev's /dev/serial/by-id names an
@@ -337,7 +476,8 @@ int run_emulate(const emulate_options& o) {
   // number goes out: a DWELL that did not fit the transmit ring goes out first from the history.
   protocol::stream_decoder monitor{true};
   first_sight logged;
-  std::vector<std::uint8_t> to_device, out;
+  std::vector<std::uint8_t> to_device, out, frame_wire;
+  std::uint64_t frames_named = 0;  // frames lost by --fault-lose-reply or --fault-lose-boot-info
   std::uint8_t buf[4096];
   constexpr std::uint32_t chunk_ticks = host::emulator::tick_hz / 100;  // 10 ms of device time
   const auto wall_start = steady::now();
@@ -353,11 +493,22 @@ int run_emulate(const emulate_options& o) {
   const bool faulty = o.fault_ber > 0.0 || o.fault_drop > 0.0 || !plan->unplug.empty();
   pace pacer(speed > 0.0 ? speed : faulty ? max_faulty_speed : 0.0);
   // The host's bytes to the device (waiting up to `wait_ms` for them).
+  command_faults_on_line commands(*plan);
+  // A boot's INFO is still to come (and to be lost): the first boot's, then each reset's.
+  bool lose_next_boot_info = plan->lose_boot_info;
+  const auto reset = [&] {
+    emu.reset();
+    monitor.frames().reset_sequence();  // the rebooted device numbers its frames from 0
+    logged.reset();
+    lose_next_boot_info = plan->lose_boot_info;
+  };
   const auto exchange = [&](int wait_ms) -> status {
     if (line && to_device.empty()) {
       auto r = line->read(buf, sizeof buf, wait_ms);
       if (!r) return r.err();
       to_device.assign(buf, buf + *r);
+      // A command the firmware is to meet rebooted: the reset comes before it takes the bytes.
+      if (commands.take(to_device.data(), to_device.size())) reset();
     } else if (wait_ms > 0) {
       std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms));
     }
@@ -376,9 +527,7 @@ int run_emulate(const emulate_options& o) {
     const double run_s = run_start_s ? emu.time_s() - *run_start_s : -1.0;
     if (!plan->reset_at_s.empty() && run_s >= plan->reset_at_s.back()) {
       plan->reset_at_s.pop_back();
-      emu.reset();
-      monitor.frames().reset_sequence();  // the rebooted device numbers its frames from 0
-      logged.reset();
+      reset();
     }
     if (line && !plan->unplug.empty() && run_s >= plan->unplug.back().first) {
       back_at_s = emu.time_s() + plan->unplug.back().second;
@@ -397,22 +546,38 @@ int run_emulate(const emulate_options& o) {
       line.emplace(std::move(*l));
     }
     emu.run(chunk_ticks);
-    // Device to host: the log sees the clean stream, the line the faulty one (or nothing).
+    // Device to host: the log sees the clean stream, the line the faulty one (or nothing). The
+    // bytes of a frame wait in `frame_wire` until it is whole: a frame a fault names (a reply,
+    // a boot's INFO) goes out damaged.
     out.clear();
     for (std::size_t n; (n = emu.receive(buf, sizeof buf)) > 0;)
       for (std::size_t i = 0; i < n; ++i) {
         std::uint8_t b = 0;
-        if (faults.pass(buf[i], b)) out.push_back(b);
+        // What the device sends while the line is gone is lost (the faults' draws go on).
+        if (faults.pass(buf[i], b) && line) frame_wire.push_back(b);
         // A frame is lost if any of its bytes went out while the line was gone: one that
         // straddles the replug arrives without its head.
         frame_unplugged = frame_unplugged || !line;
         if (!monitor.push(buf[i])) continue;
-        const bool lost = frame_unplugged || faults.last_frame_hit();
+        const protocol::frame& fr = monitor.current();
+        bool named = commands.lose(fr);
+        if (lose_next_boot_info && fr.type == static_cast<std::uint8_t>(protocol::msg::info) &&
+            fr.seq == 0) {
+          named = true;
+          lose_next_boot_info = false;
+        }
+        if (named) {
+          damage_frame(frame_wire);
+          ++frames_named;
+        }
+        out.insert(out.end(), frame_wire.begin(), frame_wire.end());
+        frame_wire.clear();
+        const bool lost = named || frame_unplugged || faults.last_frame_hit();
         if (frame_unplugged) ++frames_unplugged;
         frame_unplugged = false;
         if (!logged.take(monitor.current().seq)) continue;
-        if (auto s =
-                log->add(monitor.current(), emu.time_s(), lost, emu.last_conversion_table_deg());
+        if (auto s = log->add(monitor.current(), emu.time_s(), lost,
+                              emu.last_conversion_table_deg(), emu.boots());
             !s)
           return report(s.err());
       }
@@ -436,10 +601,11 @@ int run_emulate(const emulate_options& o) {
   const double wall_s = std::chrono::duration<double>(steady::now() - wall_start).count();
   const host::link_fault_counts& k = faults.counts();
   fmt::print(stderr,
-             "gyroflip emulate: {:.1f} s simulated in {:.1f} s; {} frames sent, {} hit by faults "
-             "({} bits flipped, {} bytes dropped), {} while the line was gone\n",
-             emu.time_s(), wall_s, k.frames, k.frames_hit, k.bits_flipped, k.bytes_dropped,
-             frames_unplugged);
+             "gyroflip emulate: board serial {}; {:.1f} s simulated in {:.1f} s; {} frames sent, "
+             "{} hit by faults ({} bits flipped, {} bytes dropped), {} while the line was gone, {} "
+             "lost as the fault options named\n",
+             emu.config().serial, emu.time_s(), wall_s, k.frames, k.frames_hit, k.bits_flipped,
+             k.bytes_dropped, frames_unplugged, frames_named);
   return 0;
 }
 

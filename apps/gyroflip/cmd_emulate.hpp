@@ -27,8 +27,13 @@ struct emulate_options {
   std::string link;  ///< a symbolic link kept pointing at the line while it is there
   std::vector<double> fault_reset_at_s;   ///< device times of firmware resets
   std::vector<std::string> fault_unplug;  ///< AT_S:FOR_S, the line gone for FOR_S device s
-  std::uint32_t serial = 1;               ///< the emulated board's serial number (INFO)
-  double duration_s = 0.0;                ///< simulated seconds to run (0: until SIGINT/SIGTERM)
+  /// CMD:N: the device's reply (ACK or NAK) to the Nth frame of command CMD it takes is lost
+  std::vector<std::string> fault_lose_reply;
+  /// CMD:N: the firmware is reset just before it takes the Nth frame of command CMD
+  std::vector<std::string> fault_reset_before;
+  bool fault_lose_boot_info = false;  ///< the INFO each boot sends is lost
+  std::uint32_t serial = 0;           ///< the board's serial number (INFO); 0: a random one
+  double duration_s = 0.0;            ///< simulated seconds to run (0: until SIGINT/SIGTERM)
   double power_on_before_s = 0.0;
   int filter_word = 94;
   bool no_chop = false;

@@ -121,6 +121,10 @@ int run_record(const record_options& o) {
   c.command_line = o.command_line;
 
   const std::atomic<bool>& stop = catch_stop_signals({SIGINT, SIGTERM, SIGHUP});
+  // A file size limit (ulimit -f) is a full disk: the write fails (EFBIG) and the run ends as
+  // on ENOSPC - STOP to the device, a message, the file readable - instead of the default
+  // action of SIGXFSZ, which kills the recorder mid-run without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
 
   const bool tty = isatty(STDERR_FILENO) != 0;
   bool drawn = false;

@@ -277,6 +277,7 @@ void device::handle(const protocol::frame& f) {
       if (const status s = protocol::check_configure(m, facts_.mclk_hz); s != status::ok)
         return nak(f, s);
       cfg_ = m;
+      configured_ = true;
       apply_adc_config();
       return ack(f);
     }
@@ -284,7 +285,12 @@ void device::handle(const protocol::frame& f) {
       protocol::start_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
       if (fault) return nak(f, status::hw_fault);
-      if (m.config_crc != protocol::configure_crc(cfg_)) return nak(f, status::config_mismatch);
+      // Only a configuration a host sent since this boot: a rebooted device does not know where
+      // its table stands, and a START retried from before the reset (its first ACK lost) would
+      // start the boot's default configuration unhomed. A host's CONFIGURE either homes first
+      // (cfg_home) or is the host saying the table stands at position 0 (docs/PROTOCOL.md).
+      if (!configured_ || m.config_crc != protocol::configure_crc(cfg_))
+        return nak(f, status::config_mismatch);
       if (idle) start_run(false);
       return ack(f);
     }

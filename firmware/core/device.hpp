@@ -139,6 +139,9 @@ class device {
   board_facts facts_;
   ad7739::driver adc_;
   protocol::configure_msg cfg_{};
+  // A host sent CONFIGURE since this boot: only then is START taken (a START retried from
+  // before a reset names a configuration the rebooted device was never sent; docs/PROTOCOL.md).
+  bool configured_ = false;
   protocol::device_state state_ = protocol::device_state::idle;
   phase phase_ = phase::idle;
   uint8_t adc_revision_ = 0;

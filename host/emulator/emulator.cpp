@@ -211,7 +211,11 @@ std::int32_t emulator::source(void* ctx, std::uint8_t ch, std::uint32_t /*index*
 void emulator::run(std::uint32_t n) {
   for (std::uint32_t i = 0; i < n; ++i) {
     p_->dev->poll();
-    ++ticks_;
+    // A busy wait (the ADC's reset and self-calibration, at a boot or a CONFIGURE) moves the
+    // board's clock within a pass: the device's time is the board's and never goes back (it
+    // was set back to the pass count, and a STATUS sent after such a wait said the uptime went
+    // back: a recorder took that for a reset).
+    ticks_ += static_cast<std::uint32_t>(p_->board.now - static_cast<std::uint32_t>(ticks_)) + 1u;
     p_->board.now = static_cast<std::uint32_t>(ticks_);
     if (ticks_ >= next_idle_sample_) {
       // No conversion for two windows: the gyro still runs (a turn, a pause, idle).

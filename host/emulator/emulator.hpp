@@ -72,6 +72,8 @@ class emulator {
   std::size_t receive(std::uint8_t* out, std::size_t cap);
 
   [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }
+  /// How often the firmware booted (1 at the first boot; INFO's boot_count).
+  [[nodiscard]] std::uint16_t boots() const noexcept { return boots_; }
   [[nodiscard]] double time_s() const noexcept { return static_cast<double>(ticks_) / tick_hz; }
   [[nodiscard]] const fw::device& device() const noexcept;
   /// The table's angle (deg, in [0, 360)) now.

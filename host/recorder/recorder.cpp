@@ -111,6 +111,10 @@ class receive_window {
     have_ = false;
     missing_.clear();
   }
+  /// Where `seq` stands against the highest number seen: > 0 ahead, <= 0 at or behind it.
+  [[nodiscard]] std::int32_t distance(std::uint16_t seq) const {
+    return static_cast<std::int16_t>(static_cast<std::uint16_t>(seq - highest_));
+  }
   arrival arrive(std::uint16_t seq) {
     if (!have_) {
       have_ = true;
@@ -132,7 +136,8 @@ class receive_window {
     const auto now = steady::now();
     for (auto& [s, m] : missing_) {
       if (out.size() == max) break;
-      if (m.asked != 0 && std::chrono::duration<double>(now - m.last).count() < interval_s)
+      if (m.last != steady::time_point{} &&
+          std::chrono::duration<double>(now - m.last).count() < interval_s)
         continue;
       ++m.asked;
       m.last = now;
@@ -154,6 +159,8 @@ class receive_window {
   }
   /// The number after the highest seen.
   [[nodiscard]] std::uint16_t next() const { return static_cast<std::uint16_t>(highest_ + 1); }
+  /// The highest number seen, unwrapped.
+  [[nodiscard]] std::uint64_t highest() const noexcept { return highest_; }
   [[nodiscard]] bool started() const noexcept { return have_; }
   /// Gives up everything older than `oldest` (the oldest frame the device still holds), and
   /// what was asked for `max_asks` times: how many.
@@ -177,19 +184,30 @@ class receive_window {
   };
   // The 64-bit number nearest the highest seen with these low 16 bits.
   [[nodiscard]] std::uint64_t unwrap(std::uint16_t seq) const {
-    const auto d = static_cast<std::int16_t>(static_cast<std::uint16_t>(seq - highest_));
-    return static_cast<std::uint64_t>(static_cast<std::int64_t>(highest_) + d);
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(highest_) + distance(seq));
   }
   bool have_ = false;
   std::uint64_t highest_ = 0;
   std::map<std::uint64_t, miss> missing_;
 };
 
+// A non-data frame (INFO, STATUS, ACK, NAK, GONE, RAW) is sent once, in the order of its
+// number: one whose number is not past every number heard from this boot comes from another
+// boot. So does a frame far ahead of them: the recorder reads all the time, and a boot's frames
+// do not run thousands of numbers ahead of what it heard (a long stall of the recorder only
+// costs a re-homing; docs/RECORDER.md).
+constexpr std::int32_t max_plausible_ahead = 2048;
+
 class session {
  public:
-  session(const recorder_config& c, gfr::writer w, const std::atomic<bool>& stop,
-          const recorder_progress_fn& fn)
-      : c_(c), file_(std::move(w)), stop_(stop), on_progress_(fn), live_(c.output, false) {
+  session(const recorder_config& c, gfr::writer w, port_lock name_lock,
+          const std::atomic<bool>& stop, const recorder_progress_fn& fn)
+      : c_(c),
+        file_(std::move(w)),
+        name_lock_(std::move(name_lock)),
+        stop_(stop),
+        on_progress_(fn),
+        live_(c.output, false) {
     // A fresh command numbering for every session: a command the device remembers from another
     // run is never taken for a retry of this one's.
     std::random_device rd;
@@ -199,22 +217,26 @@ class session {
   result<recorder_result> run();
 
  private:
+  // What an acknowledged command leaves in the file, written when its ACK is read (so that a
+  // reset seen in the same read comes after it).
+  enum class on_ack { none, configure, start };
+
   // The link.
   status open_port();
   template <class M>
   status send(const M& m, std::uint16_t seq);
   status pump(int timeout_ms);
   status on_frame(const p::frame& f);
-  status on_info(const p::frame& f);
-  [[nodiscard]] bool says_reset(const p::frame& f) const;
+  status on_info(const p::frame& f, const p::info_msg& m);
+  status identify(const p::info_msg& m);
+  [[nodiscard]] bool says_reset(const p::frame& f, bool identifying) const;
   status note_reset();
-  [[nodiscard]] bool started_after_reboot(const p::frame& f) const;
   result<p::info_msg> ping();
   template <class M>
-  status command(const M& m, const char* name);
+  status command(const M& m, const char* name, on_ack then = on_ack::none);
   status start_run();
   status begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc);
-  status request_missing(double interval_s);
+  status request_missing();
   status keep_up();
   status probe();
   status drain_missing();
@@ -223,16 +245,19 @@ class session {
   result<recorder_result> finish(gfr::stop_reason why);
   // The file.
   status append(gfr::kind k, std::span<const std::uint8_t> body = {});
+  status append_frame(const p::frame& f);
   status append_gap(gfr::gap_reason r, std::uint32_t count);
   // The STOP record with its reason, then the file closed (synced).
   status close_file(gfr::stop_reason why);
   status note_lost(std::size_t n);
   status note_corrupt();
+  void note_dwell_time(const p::frame& f);
+  void close_segment();
   status tick();
   [[nodiscard]] recorder_status status_now() const;
-  [[nodiscard]] double elapsed_s() const {
-    const auto& d = live_.run().dwells;
-    return d.empty() ? 0.0 : d.back().time_s;
+  [[nodiscard]] double data_s() const {
+    const double hz = info_ && info_->tick_hz != 0 ? info_->tick_hz : 1.0;
+    return data_closed_s_ + static_cast<double>(seg_span_ticks_) / hz;
   }
   // A missing frame is asked for again every 0.15 s of the device's time (a round trip on the
   // line is tens of ms): its history (~6 s) allows ~40 tries. It is given up when STATUS says
@@ -245,6 +270,23 @@ class session {
   [[nodiscard]] int read_wait_ms() const {
     return static_cast<int>(std::clamp(resend_interval_s() * 1e3, 1.0, 20.0));
   }
+  // How long a PING waits for its INFO, and how often a vanished port is looked for: the rig's
+  // times, shorter in wall time when its clock runs faster (the device's history is device
+  // time: a 3-s unplug of an emulator at 50x must be over in 60 ms of ours to lose nothing).
+  [[nodiscard]] double ping_wait_s() const {
+    return std::clamp(c_.reply_timeout_s / 4 / device_speed_, 0.05, c_.reply_timeout_s / 4);
+  }
+  [[nodiscard]] double port_poll_s() const { return std::clamp(0.2 / device_speed_, 0.002, 0.2); }
+  // Nothing at all arrived for longer than 0.15 s of ours and 1.2 STATUS periods of the
+  // device's: it is not running on (an emulator stopped, a device hung), as opposed to a line
+  // that loses its frames. Missing frames are then not asked for (nothing would answer, and a
+  // backlog of RESENDs answered at once when it runs again would flood the line), and a probe
+  // goes at most every 0.5 s of ours.
+  [[nodiscard]] bool line_silent() const {
+    const double period_s = running_.status_period_ms != 0 ? running_.status_period_ms / 1e3 : 1.0;
+    const double quiet_s = std::max(0.15, 1.2 * period_s / device_speed_);
+    return std::chrono::duration<double>(steady::now() - last_byte_).count() > quiet_s;
+  }
   [[nodiscard]] std::uint64_t host_us() const {
     return static_cast<std::uint64_t>(
         std::chrono::duration_cast<std::chrono::microseconds>(steady::now() - t0_).count());
@@ -256,6 +298,8 @@ class session {
   const recorder_config& c_;
   p::configure_msg running_ = c_.rig.to_configure();  // what the device runs with
   gfr::writer file_;
+  port_lock name_lock_;                   // the port's name, held all session
+  std::optional<port_lock> device_lock_;  // the device it named at the last open
   const std::atomic<bool>& stop_;
   const recorder_progress_fn& on_progress_;
   rigdata::rig_run_builder live_;
@@ -268,36 +312,70 @@ class session {
   p::stream_decoder dec_{true};  // retransmitted (older) frames are handed out too
   p::frame_decoder old_dec_;     // the same bytes as protocol v1 framed them (foreign devices)
   receive_window window_;
-  std::uint32_t noted_bad_ = 0;
-  std::uint16_t seq_ = 0;
-  bool recording_ = false;  // a START was acknowledged: the run is on
-  bool stopping_ = false;
-  bool waiting_info_ = false;
-  std::optional<p::info_msg> info_;      // the session's device (serial, boot count)
-  std::optional<p::info_msg> got_info_;  // the INFO a PING brought
-  bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
-  int restart_failures_ = 0;             // handle_reset() failed this many times in a row
-  bool restate_start_ = false;           // the run's START was the new boot's: say so again
-  bool need_info_ = false;               // ... and its INFO is still to be recorded
-  bool device_idle_ = false;             // a STATUS said idle while we record
-  std::uint32_t last_uptime_ = 0;
-  bool have_uptime_ = false;
-  std::uint32_t speed_uptime_ = 0;  // the device_speed_ estimate's start
-  steady::time_point speed_at_{};
-  double device_speed_ = 1.0;        // device seconds per wall second
-  steady::time_point last_fresh_{};  // a new frame of the device arrived
+  std::optional<p::info_msg> info_;               // the session's device (serial, boot count)
+  std::optional<p::info_msg> got_info_;           // the INFO a PING brought
+  std::optional<error> fatal_;                    // a reason to end the run found while reading
+  steady::time_point lost_at_{};                  // when the port was lost (the GAP's milliseconds)
+  std::uint64_t epoch_ = 0;                       // device resets seen: a command is of one epoch
+  steady::time_point speed_at_{};                 // the device_speed_ estimate's start
+  double device_speed_ = 1.0;                     // device seconds per wall second
+  steady::time_point last_fresh_{};               // a new frame of the device arrived
+  steady::time_point last_byte_ = steady::now();  // any byte arrived
   steady::time_point last_probe_{};
-  std::optional<std::uint16_t> reply_seq_;
-  std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
-  bool replied_ = false;
-  bool resend_now_ = false;  // the device said our command arrived damaged
-  std::optional<std::uint16_t> start_ack_seq_;
-  bool waiting_for_port_ = false;
-  bool link_down_ = false;      // the last error came from the port, not the file
-  std::optional<error> fatal_;  // a reason to end the run found while reading
+  std::uint64_t reply_epoch_ = 0;  // the epoch of the command waiting for its reply
+  // What a reset costs besides the numbers still missing: what the old boot sent while the
+  // line was gone, from its frame rate (frames per second of ours since its first frame
+  // heard): nothing of those frames reached the line.
+  steady::time_point rate_at_{};
+  std::uint64_t rate_seq_ = 0;
+  // Data time (--duration): the device-clock span of each segment's dwells, summed.
+  double data_closed_s_ = 0.0;
+  std::uint64_t seg_span_ticks_ = 0;
   std::uint64_t recovered_ = 0, lost_ = 0;
   steady::time_point t0_ = steady::now();
   steady::time_point last_tick_ = steady::now();
+
+  std::uint32_t noted_bad_ = 0;
+  int restart_failures_ = 0;  // start attempts in a row that failed (no dwell since)
+  std::uint32_t last_uptime_ = 0;
+  std::uint32_t speed_uptime_ = 0;  // the device_speed_ estimate's start
+  on_ack reply_then_ = on_ack::none;
+  // ... and the damaged frames since the boot's last good one, and the highest plausible number
+  // a damaged frame's header named (frames the old boot sent and the line lost).
+  std::uint32_t bad_at_last_good_ = 0;
+  std::int32_t damaged_ahead_ = 0;
+  std::uint32_t seg_max_end_ = 0;
+  std::uint16_t seq_ = 0;
+  // The command waiting for its reply.
+  std::optional<std::uint16_t> reply_seq_;
+  // This boot's CONFIGURE acknowledged (the first ACK's number), and a START sent for it whose
+  // ACK has not come: a frame of a run after that number says the START began the run.
+  std::optional<std::uint16_t> configured_at_;
+  std::optional<std::uint16_t> start_ack_seq_;
+  std::optional<std::uint8_t> reply_nak_;  // reason, when the reply was a NAK
+  std::uint8_t reply_type_ = 0;
+  bool start_in_flight_ = false;
+  bool run_evidence_ = false;
+  bool replied_ = false;
+  bool resend_now_ = false;  // the device said our command arrived damaged
+  bool recording_ = false;   // a START was acknowledged: the run is on
+  bool ever_started_ = false;
+  bool stopping_ = false;
+  bool waiting_info_ = false;
+  // The line's frames are the session device's: false from a (re)opened port until an INFO
+  // names the board (its serial). Nothing of the line is stored before.
+  bool identified_ = false;
+  bool identify_record_ = false;  // the INFO that identified the board goes into the file
+  bool reset_seen_ = false;       // the device rebooted: re-home, re-configure, START
+  bool need_info_ = false;        // ... and its INFO is still to be recorded
+  bool restart_ = false;          // the last command was cut short by a reset
+  bool device_idle_ = false;      // a STATUS said idle while we record
+  bool have_uptime_ = false;
+  bool since_link_loss_ = false;  // the line was gone: the rate above counts what it lost
+  bool have_rate_ = false;
+  bool seg_started_ = false;
+  bool waiting_for_port_ = false;
+  bool link_down_ = false;  // the last error came from the port, not the file
 };
 
 status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
@@ -309,6 +387,15 @@ status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
     if (auto row = rigdata::dwell_row(dw[dwells_seen_]))
       stream_.push(*row, [this](const method::cycle& cy) { cycles_.push_back(cy); });
   return ok();
+}
+
+status session::append_frame(const p::frame& f) {
+  std::uint8_t body[3 + p::max_payload];
+  p::writer w{body, sizeof body};
+  w.u8(f.type);
+  w.u16(f.seq);
+  std::copy_n(f.payload, f.length, w.take(f.length));
+  return append(gfr::kind::frame, {body, w.n});
 }
 
 status session::close_file(gfr::stop_reason why) {
@@ -341,11 +428,37 @@ status session::note_corrupt() {
   return append_gap(gfr::gap_reason::corrupt, n);
 }
 
+// A DWELL of the run in the current segment: its span on the device clock grows (32-bit ticks
+// unwrapped from one dwell to the next; one sent again is inside the span already).
+void session::note_dwell_time(const p::frame& f) {
+  p::dwell_msg d;
+  if (!recording_ || !start_ack_seq_ || !f.as(d) ||
+      static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *start_ack_seq_)) <= 0)
+    return;
+  if (!seg_started_) {
+    seg_started_ = true;
+    seg_max_end_ = d.t_start_ticks;
+  }
+  const auto ahead = static_cast<std::int32_t>(d.t_end_ticks - seg_max_end_);
+  if (ahead > 0) {
+    seg_span_ticks_ += static_cast<std::uint32_t>(ahead);
+    seg_max_end_ = d.t_end_ticks;
+  }
+  restart_failures_ = 0;  // the device runs: a later restart starts its count again
+}
+
+// The segment ends (a reset, a new START): its data time is kept, the next one starts at 0.
+void session::close_segment() {
+  data_closed_s_ = data_s();
+  seg_started_ = false;
+  seg_span_ticks_ = 0;
+}
+
 // What the run looks like now (the progress report and the result).
 recorder_status session::status_now() const {
   recorder_status st;
   const auto& run = live_.run();
-  st.elapsed_s = elapsed_s();
+  st.elapsed_s = data_s();
   st.duration_s = c_.duration_s;
   st.dwells = run.dwells.size();
   st.cycles = cycles_.size();
@@ -377,10 +490,20 @@ status session::tick() {
   return ok();
 }
 
+// Opens the port and holds the device it names now: a name that points elsewhere after a
+// replug (a link to a new pty) takes that device's lock too.
 status session::open_port() {
+  auto key = port_lock::device_key(c_.port);
+  if (!key) return key.err();
+  if (!device_lock_ || device_lock_->key() != *key) {
+    auto lock = port_lock::take(*key, c_.port);
+    if (!lock) return lock.err();
+    device_lock_.emplace(std::move(*lock));
+  }
   auto port = serial_port::open(c_.port, c_.baud);
   if (!port) return port.err();
   port_.emplace(std::move(*port));
+  identified_ = false;  // whoever answers on it is not known yet
   return ok();
 }
 
@@ -393,16 +516,22 @@ status session::send(const M& m, std::uint16_t seq) {
   return s;
 }
 
-// Whether frame `f` says the device restarted since the session's INFO: its boot INFO (number
-// 0: a boot's first frame), an INFO or STATUS with another boot count, or a STATUS whose uptime
-// went back (a power-on restarts the count and the clock). One reset at a time: a second one
-// during the first one's handling shows in the next STATUS.
-bool session::says_reset(const p::frame& f) const {
-  if (!info_ || reset_seen_) return false;
+// Whether frame `f` (of the identified board) says the device restarted since the session's
+// INFO: its boot INFO (number 0: a boot's first frame), an INFO or STATUS with another boot
+// count, a STATUS whose uptime went back (a power-on restarts the count and the clock), or a
+// frame numbered where this boot's cannot be (max_plausible_ahead). Until the new boot's INFO
+// is in, its frames say nothing more.
+bool session::says_reset(const p::frame& f, bool identifying) const {
+  if (!info_ || need_info_) return false;
+  if (window_.started()) {
+    // The INFO that names the board after a reconnect may be far ahead: the device ran on.
+    const std::int32_t d = window_.distance(f.seq);
+    if ((d > max_plausible_ahead && !identifying) || (d <= 0 && !p::kept_for_resend(f.type)))
+      return true;
+  }
   if (f.type == static_cast<std::uint8_t>(p::msg::info)) {
     p::info_msg m;
-    return f.as(m) && m.serial == info_->serial &&
-           (f.seq == 0 || m.boot_count != info_->boot_count);
+    return f.as(m) && (f.seq == 0 || m.boot_count != info_->boot_count);
   }
   if (f.type == static_cast<std::uint8_t>(p::msg::status)) {
     p::status_msg m;
@@ -414,39 +543,55 @@ bool session::says_reset(const p::frame& f) const {
   return false;
 }
 
-// A STATUS of another boot that is running, sent after our START's ACK: the device rebooted
-// before the START (a rebooted device is idle until started, and only the recorder starts it; a
-// reboot between CONFIGURE and START would have refused START for its configuration), so the
-// START it acknowledged began this run (its INFO, sent at the boot, was lost).
-bool session::started_after_reboot(const p::frame& f) const {
-  if (f.type != static_cast<std::uint8_t>(p::msg::status) || !start_ack_seq_) return false;
-  p::status_msg m;
-  return f.as(m) && m.boot_count != info_->boot_count &&
-         m.state == static_cast<std::uint8_t>(p::device_state::running) &&
-         static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *start_ack_seq_)) > 0;
-}
-
 // The device restarted: what it owed is lost (a GAP with their count: its history went with its
 // RAM), its numbering starts again, and its INFO (the boot's, or a PING's) goes into the file
-// after the gap.
+// after the gap. A command in flight is void (command() sees the epoch change): a command
+// retried after a reset is not the same command.
 status session::note_reset() {
+  // A START whose ACK never came but whose run the old boot showed: its frames are that run's
+  // (they follow this boot's CONFIGURE, after which the device was idle until the START).
+  if (start_in_flight_ && run_evidence_ && configured_at_ && !recording_)
+    if (auto s = begin_recording(*configured_at_, p::configure_crc(running_)); !s) return s;
+  ++epoch_;
   reset_seen_ = true;
   need_info_ = true;
-  if (auto s = note_lost(window_.give_up_all()); !s) return s;
+  recording_ = false;
+  start_in_flight_ = run_evidence_ = false;
+  configured_at_.reset();
+  start_ack_seq_.reset();
+  have_uptime_ = false;
+  close_segment();
+  // What the old boot still owed, and what it sent after the last frame heard of it and the
+  // line damaged (each damaged frame, or the frames a damaged header numbered; the new boot's
+  // first frames may be among them: a GAP counts at least what was lost).
+  std::size_t tail = std::max<std::size_t>(dec_.counts().bad() - bad_at_last_good_,
+                                           static_cast<std::size_t>(damaged_ahead_));
+  damaged_ahead_ = 0;
+  // A reset found after the line was gone: the old boot sent on while nothing could arrive, for
+  // as long as it ran after its last frame heard (at most until now). Counted at its frame rate:
+  // an upper bound (it may have reset earlier).
+  if (since_link_loss_ && have_rate_ && last_fresh_ > rate_at_ && window_.highest() > rate_seq_) {
+    const double per_s = static_cast<double>(window_.highest() - rate_seq_) /
+                         std::chrono::duration<double>(last_fresh_ - rate_at_).count();
+    const double gone_s = std::chrono::duration<double>(steady::now() - last_fresh_).count();
+    tail += static_cast<std::size_t>(std::ceil(std::min(per_s * gone_s, 65535.0)));
+  }
+  have_rate_ = false;
+  if (auto s = note_lost(window_.give_up_all() + tail); !s) return s;
   window_.reset();
   dec_.frames().reset_sequence();
   return append_gap(gfr::gap_reason::device_reset, 0);
 }
 
-// An INFO: the session's device (after a reset, the new session's INFO), or another device.
-status session::on_info(const p::frame& f) {
-  p::info_msg m;
-  if (!f.as(m)) return ok();
-  if (waiting_info_) {
-    got_info_ = m;
-    waiting_info_ = false;
+// The board is named by an INFO after the port was (re)opened (the link-lost GAP goes first): the
+// same serial goes on; another board, there or at any time, is refused and nothing of it is stored.
+status session::identify(const p::info_msg& m) {
+  if (!identified_) {  // after a reconnect: how long the line was gone
+    waiting_for_port_ = false;
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(steady::now() - lost_at_);
+    if (auto s = append_gap(gfr::gap_reason::link_lost, static_cast<std::uint32_t>(ms.count())); !s)
+      return s;
   }
-  if (!info_) return ok();
   if (m.serial != info_->serial) {
     fatal_ = runtime_error(
         fmt::format("{}: another device answered (serial {} instead of {}): it is not recorded "
@@ -454,8 +599,22 @@ status session::on_info(const p::frame& f) {
                     c_.port, m.serial, info_->serial, c_.output));
     return ok();
   }
-  if (!need_info_) return ok();  // a late answer to a PING
-  need_info_ = false;
+  identified_ = true;
+  identify_record_ = true;
+  // Damage before the board was named is counted from here (its frames come back on RESEND).
+  bad_at_last_good_ = dec_.counts().bad();
+  return ok();
+}
+
+// An INFO of the identified board: the answer to a PING, a boot's (a reset), or the one that
+// identified it after a reconnect; each of the last two goes into the file as an INFO record.
+status session::on_info(const p::frame& f, const p::info_msg& m) {
+  if (waiting_info_) {
+    got_info_ = m;
+    waiting_info_ = false;
+  }
+  if (!need_info_ && !identify_record_) return append_frame(f);  // a PING's answer
+  need_info_ = identify_record_ = false;
   info_ = m;
   return append(gfr::kind::info, payload_of(m));
 }
@@ -468,20 +627,45 @@ status session::on_frame(const p::frame& f) {
     const bool is_ack = f.as(a);
     const bool is_nak = !is_ack && f.as(n);
     const std::uint16_t of = is_ack ? a.seq : n.seq;
-    if (reply_seq_ && of == *reply_seq_) {
-      if (is_nak && n.reason == static_cast<std::uint8_t>(p::status::crc_mismatch)) {
-        resend_now_ = true;  // our command arrived damaged: send it again at once
-      } else if (is_ack || is_nak) {
-        replied_ = true;
-        if (is_nak) reply_nak_ = n.reason;
-        // Where the run began: the first ACK's number, also when only a retry's ACK came.
-        if (is_ack && a.of_type == static_cast<std::uint8_t>(p::msg::start))
-          start_ack_seq_ = a.at_seq;
-      }
+    const std::uint8_t of_type = is_ack ? a.of_type : n.of_type;
+    // Only a reply of this boot to the command waiting: one from before a reset answered
+    // another command.
+    if (!(reply_seq_ && of == *reply_seq_ && of_type == reply_type_ && reply_epoch_ == epoch_))
+      return ok();
+    if (is_nak && n.reason == static_cast<std::uint8_t>(p::status::crc_mismatch)) {
+      resend_now_ = true;  // our command arrived damaged: send it again at once
+      return ok();
     }
+    if (is_nak && n.reason == static_cast<std::uint8_t>(p::status::config_mismatch) &&
+        of_type == static_cast<std::uint8_t>(p::msg::start)) {
+      // The device no longer has the configuration this boot acknowledged: it rebooted (its
+      // boot's frames were all lost). The START is void; the run restarts homed.
+      return note_reset();
+    }
+    if (!is_ack && !is_nak) return ok();
+    replied_ = true;
+    if (is_nak) {
+      reply_nak_ = n.reason;
+      return ok();
+    }
+    // What the command leaves in the file, now: a reset read next comes after it.
+    if (reply_then_ == on_ack::configure) {
+      configured_at_ = a.at_seq;
+      return append(gfr::kind::configure, payload_of(running_));
+    }
+    // Where the run began: the first ACK's number, also when only a retry's ACK came.
+    if (reply_then_ == on_ack::start) return begin_recording(a.at_seq, p::configure_crc(running_));
     return ok();
   }
-  if (type == p::msg::info) return on_info(f);
+  // A run going on after this boot's CONFIGURE while our START waits for its ACK: the START
+  // began it (the device was idle after CONFIGURE, and only this recorder starts it).
+  const bool after_configure =
+      configured_at_ &&
+      static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *configured_at_)) > 0;
+  if (start_in_flight_ && after_configure &&
+      (type == p::msg::dwell || type == p::msg::raw || type == p::msg::compensated))
+    run_evidence_ = true;
+  if (type == p::msg::dwell) note_dwell_time(f);
   if (type == p::msg::gone) {
     p::gone_msg g;
     if (!f.as(g)) return ok();
@@ -492,6 +676,10 @@ status session::on_frame(const p::frame& f) {
   if (type == p::msg::status) {
     p::status_msg m;
     if (!f.as(m)) return ok();
+    if (start_in_flight_ && after_configure &&
+        (m.state == static_cast<std::uint8_t>(p::device_state::running) ||
+         m.state == static_cast<std::uint8_t>(p::device_state::homing)))
+      run_evidence_ = true;
     // How fast the device's clock runs against ours (1 for a rig, more for an emulator at
     // --speed): a RESEND is repeated after a device-time interval, not a wall-clock one. Taken
     // over at least 50 ms of ours (STATUS frames read in one go would say "infinitely fast").
@@ -521,7 +709,7 @@ status session::on_frame(const p::frame& f) {
   return ok();
 }
 
-// Reads what arrives within `timeout_ms`; stores every new valid frame of the device.
+// Reads what arrives within `timeout_ms`; stores every new valid frame of the identified board.
 status session::pump(int timeout_ms) {
   std::uint8_t in[4096];
   auto got = port_->read(in, sizeof in, timeout_ms);
@@ -529,48 +717,76 @@ status session::pump(int timeout_ms) {
     link_down_ = true;
     return got.err();
   }
-  for (std::size_t i = 0; i < *got; ++i) {
+  if (*got != 0) last_byte_ = steady::now();
+  for (std::size_t i = 0; i < *got && !fatal_; ++i) {
     if (!info_) static_cast<void>(old_dec_.push(in[i]));  // a v1 device's frames, counted
-    if (!dec_.push(in[i])) continue;
-    const auto& f = dec_.current();
-    if (says_reset(f)) {
-      if (started_after_reboot(f)) {
-        // Nothing owed is lost and nothing needs starting: the file only has to say that the
-        // run's frames are the new boot's (GAP reset, its INFO, the START again).
-        reset_seen_ = true;
-        need_info_ = true;
-        restate_start_ = true;
-        if (auto s = append_gap(gfr::gap_reason::device_reset, 0); !s) return s;
-      } else if (auto s = note_reset(); !s) {
-        return s;
+    if (!dec_.push(in[i])) {
+      // A damaged frame whose header still reads: how far past the highest number heard it
+      // claims to be (a frame of this boot the line lost, if a reset follows).
+      std::uint8_t type = 0;
+      std::uint16_t seq = 0;
+      p::status why = p::status::ok;
+      if (dec_.frames().take_bad_header(&type, &seq, &why) && identified_ && window_.started()) {
+        const std::int32_t d = window_.distance(seq);
+        if (d > 0 && d <= 64) damaged_ahead_ = std::max(damaged_ahead_, d);
       }
+      continue;
     }
-    const auto arrived = info_ ? window_.arrive(f.seq) : receive_window::arrival::fresh;
+    const auto& f = dec_.current();
+    p::info_msg m;
+    const bool is_info = f.type == static_cast<std::uint8_t>(p::msg::info) && f.as(m);
+    const bool identifying = !identified_;
+    if (identifying) {
+      // Before the board is named, nothing of the line is stored or believed: a frame of another
+      // board with the same boot count would pass for ours.
+      if (!is_info) continue;
+      if (!info_) {  // the handshake: run() checks it and names the session's board
+        if (waiting_info_) got_info_ = m;
+        waiting_info_ = false;
+        continue;
+      }
+      if (auto s = identify(m); !s) return s;
+      if (fatal_) return ok();
+    } else if (is_info && m.serial != info_->serial) {
+      if (auto s = identify(m); !s) return s;  // refused: another board
+      return ok();
+    }
+    if (says_reset(f, identifying))
+      if (auto s = note_reset(); !s) return s;
+    const std::int32_t ahead = window_.started() ? window_.distance(f.seq) : 0;
+    const auto arrived = window_.arrive(f.seq);
     if (arrived == receive_window::arrival::recovered) ++recovered_;
-    if (arrived == receive_window::arrival::fresh) last_fresh_ = steady::now();
-    if (info_ && arrived != receive_window::arrival::repeat) {
-      std::uint8_t body[3 + p::max_payload];
-      p::writer w{body, sizeof body};
-      w.u8(f.type);
-      w.u16(f.seq);
-      std::copy_n(f.payload, f.length, w.take(f.length));
-      if (auto s = append(gfr::kind::frame, {body, w.n}); !s) return s;
+    if (arrived == receive_window::arrival::fresh) {
+      last_fresh_ = steady::now();
+      if (!have_rate_) {
+        have_rate_ = true;
+        rate_at_ = last_fresh_;
+        rate_seq_ = window_.highest();
+      }
+      since_link_loss_ = false;
+      damaged_ahead_ = std::max(0, damaged_ahead_ - std::max(0, ahead));
     }
-    // A STATUS or INFO says something now even when its number looks old (a rebooted device
-    // counts from 0 again).
+    bad_at_last_good_ = dec_.counts().bad();
+    if (is_info) {
+      if (auto s = on_info(f, m); !s) return s;
+      continue;
+    }
+    if (arrived != receive_window::arrival::repeat)
+      if (auto s = append_frame(f); !s) return s;
+    // A STATUS says something now even when its number looks old.
     if (arrived != receive_window::arrival::repeat ||
-        f.type == static_cast<std::uint8_t>(p::msg::status) ||
-        f.type == static_cast<std::uint8_t>(p::msg::info))
+        f.type == static_cast<std::uint8_t>(p::msg::status))
       if (auto s = on_frame(f); !s) return s;
   }
-  if (info_) return note_corrupt();
+  if (identified_) return note_corrupt();
   return ok();
 }
 
-// RESEND for what is missing and was not asked for within `interval_s`.
-status session::request_missing(double interval_s) {
+// RESEND for what is missing and due (receive_window::due); nothing while the line is silent.
+status session::request_missing() {
+  if (line_silent()) return ok();
   for (;;) {
-    const auto due = window_.due(interval_s, p::resend_msg::max_seqs);
+    const auto due = window_.due(resend_interval_s(), p::resend_msg::max_seqs);
     if (due.empty()) return ok();
     p::resend_msg m;
     m.count = static_cast<std::uint8_t>(due.size());
@@ -581,7 +797,8 @@ status session::request_missing(double interval_s) {
 
 // What the recorder does between reads: RESEND what is missing, and probe a quiet device.
 status session::keep_up() {
-  if (auto s = request_missing(resend_interval_s()); !s) return s;
+  if (!identified_) return ok();
+  if (auto s = request_missing(); !s) return s;
   return probe();
 }
 
@@ -597,10 +814,12 @@ status session::probe() {
     return std::chrono::duration<double>(now - t).count() * device_speed_;
   };
   // At least 10 ms of ours too: an emulator flat out would otherwise be "quiet" while this
-  // process merely waits for the disk.
+  // process merely waits for the disk. A silent line is probed at most every 0.5 s of ours (a
+  // stopped emulator is not flooded).
   const bool quiet =
       since(last_fresh_) >= 1.2 * period_s && now - last_fresh_ >= std::chrono::milliseconds(10);
   if (!quiet || since(last_probe_) < 0.3) return ok();
+  if (line_silent() && now - last_probe_ < std::chrono::milliseconds(500)) return ok();
   last_probe_ = now;
   p::resend_msg m;
   m.count = 4;
@@ -614,72 +833,97 @@ status session::probe() {
 status session::drain_missing() {
   const auto until = steady::now() + std::chrono::duration<double>(c_.drain_s);
   while (window_.missing() != 0 && steady::now() < until && port_) {
-    if (auto s = request_missing(0.1); !s) break;
+    if (auto s = request_missing(); !s) break;
     if (auto s = pump(50); !s) break;
   }
   return note_lost(window_.give_up_all());
 }
 
-// PING until an INFO comes (a noisy line may take several tries). A device of protocol version 1
-// is told by its frames as v1 framed them (no line code): three of them agreeing on a version,
-// and no frame of ours.
+// PING until an INFO comes. A device that answers (valid frames arrive) but whose INFO the line
+// keeps damaging is asked up to 100 times (the 81-byte INFO arrives whole 13 % of the time at a
+// bit error rate of 2e-2: 12 tries fail one time in five, 100 one time in a million); a try ends
+// early when a damaged frame came after the PING (its INFO, most likely). Nothing valid at all:
+// 12 tries. A device of protocol version 1 is told by its frames as v1 framed them (no line
+// code): three of them agreeing on a version, and no frame of ours.
 result<p::info_msg> session::ping() {
-  constexpr int attempts = 12;
+  constexpr int quiet_attempts = 12;
+  constexpr int answering_attempts = 100;
   const std::uint32_t good_before = dec_.counts().good;
   const std::uint64_t bytes_before = dec_.line().corrected + dec_.line().uncorrectable;
-  for (int k = 0; k < attempts; ++k) {
+  const double wait_s = ping_wait_s();
+  int k = 0;
+  for (; k < (dec_.counts().good != good_before ? answering_attempts : quiet_attempts); ++k) {
     if (stop_) return interrupted();
     got_info_.reset();
     waiting_info_ = true;
     if (auto s = send(p::ping_msg{}, seq_++); !s) return s.err();
-    const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 4);
+    const auto sent = steady::now();
+    const auto until = sent + std::chrono::duration<double>(wait_s);
+    const std::uint32_t bad_at_send = dec_.counts().bad();
     while (!got_info_ && steady::now() < until) {
       if (stop_) return interrupted();
-      if (auto s = pump(20); !s) return s.err();
+      if (auto s = pump(std::clamp(static_cast<int>(wait_s * 1e3 / 5), 1, 20)); !s) return s.err();
+      if (fatal_) return *fatal_;
       if (old_dec_.counts().bad_version >= 3 && dec_.counts().good == good_before)
         return foreign_protocol(c_.port, old_dec_.counts().foreign_version);
+      if (dec_.counts().bad() != bad_at_send &&
+          steady::now() - sent >= std::chrono::duration<double>(std::min(wait_s, 0.05)))
+        break;  // damaged on the way: ask again now
     }
     if (got_info_) break;
   }
   waiting_info_ = false;
   if (got_info_) return *got_info_;
-  const double waited = attempts * c_.reply_timeout_s / 4;
+  const double waited = k * wait_s;
   if (dec_.counts().bad() != 0 || dec_.line().uncorrectable != 0 ||
       dec_.line().corrected + dec_.line().uncorrectable != bytes_before)
     return runtime_error(fmt::format(
-        "{}: bytes arrive but no valid reply to PING came within {:g} s ({} damaged frames): "
-        "a wrong baud rate, a very noisy line, or not a gyroflip rig",
-        c_.port, waited, dec_.counts().bad()));
+        "{}: bytes arrive but no valid reply to {} PINGs came within {:.3g} s ({} damaged "
+        "frames): a wrong baud rate, a very noisy line, or not a gyroflip rig",
+        c_.port, k, waited, dec_.counts().bad()));
   return runtime_error(fmt::format(
-      "{}: no reply to PING within {:g} s (nothing arrived): is the rig connected, powered and "
+      "{}: no reply to PING within {:.3g} s (nothing arrived): is the rig connected, powered and "
       "running its firmware?",
       c_.port, waited));
 }
 
 // Sends a command until the device answers it. Every try carries the same sequence number (the
 // command's id): the device executes it once and acknowledges each try; a NAK saying it arrived
-// damaged makes the next try go at once.
+// damaged makes the next try go at once. A reset seen meanwhile ends it (restart_): a command
+// retried after a reset is not the same command; the caller homes, configures and starts again.
 template <class M>
-status session::command(const M& m, const char* name) {
+status session::command(const M& m, const char* name, on_ack then) {
   constexpr int attempts = 8;
   const std::uint16_t id = seq_++;
+  restart_ = false;
   replied_ = false;
   reply_nak_.reset();
   reply_seq_ = id;
+  reply_type_ = static_cast<std::uint8_t>(M::type);
+  reply_epoch_ = epoch_;
+  reply_then_ = then;
+  const auto done = [&] { reply_seq_.reset(); };
   for (int k = 0; k < attempts && !replied_; ++k) {
     resend_now_ = false;
-    if (auto s = send(m, id); !s) return s;
+    if (auto s = send(m, id); !s) return done(), s;
     const auto until = steady::now() + std::chrono::duration<double>(c_.reply_timeout_s / 4);
     while (!replied_ && !resend_now_ && steady::now() < until) {
       // Ctrl-C while starting a run ends it at once (the STOP that ends a run is not cut short).
-      if (stop_ && !stopping_) return interrupted();
-      if (auto s = pump(read_wait_ms()); !s) return s;
+      if (stop_ && !stopping_) return done(), interrupted();
+      if (auto s = pump(read_wait_ms()); !s) return done(), s;
+      if (fatal_) return done(), *fatal_;
+      if (epoch_ != reply_epoch_) {
+        restart_ = true;
+        done();
+        return runtime_error(
+            fmt::format("{}: the device restarted while {} waited for its answer", c_.port, name));
+      }
       // The run may already be going (a START whose ACK was lost): what is lost meanwhile is
       // asked for now, while the device still has it.
-      if (auto s = keep_up(); !s) return s;
+      if (auto s = keep_up(); !s) return done(), s;
     }
   }
-  reply_seq_.reset();
+  done();
   if (!replied_)
     return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port,
                                      name, 2 * c_.reply_timeout_s));
@@ -689,47 +933,52 @@ status session::command(const M& m, const char* name) {
   return ok();
 }
 
-// STOP (a run left from before), CONFIGURE, START naming that configuration; each step stored
-// once the device agreed. After a reset the table is homed first: the rebooted firmware counts
+// STOP (a run left from before), CONFIGURE, START naming that configuration; each stored once the
+// device agreed (on_frame). After a reset the table is homed first: the rebooted firmware counts
 // its steps from wherever the table stands.
 status session::start_run() {
   recording_ = false;
+  device_idle_ = false;
   if (reset_seen_) running_.flags |= p::cfg_home;
   reset_seen_ = false;
-  device_idle_ = false;
+  configured_at_.reset();
   if (auto s = command(p::stop_msg{}, "STOP"); !s) return s;
-  if (auto s = command(running_, "CONFIGURE"); !s) return s;
-  if (auto s = append(gfr::kind::configure, payload_of(running_)); !s) return s;
+  if (auto s = command(running_, "CONFIGURE", on_ack::configure); !s) return s;
   p::start_msg start;
   start.config_crc = p::configure_crc(running_);
   start_ack_seq_.reset();
-  if (auto s = command(start, "START"); !s) return s;
-  return begin_recording(start_ack_seq_.value_or(0), start.config_crc);
+  start_in_flight_ = true;
+  run_evidence_ = false;
+  auto s = command(start, "START", on_ack::start);
+  start_in_flight_ = false;
+  // No ACK came through, but the device shows the run: the START began it.
+  if (!s && !restart_ && !reply_nak_ && run_evidence_ && configured_at_ && !recording_)
+    return begin_recording(*configured_at_, start.config_crc);
+  return s;
 }
 
-// START was acknowledged by the device's frame `ack_seq`: its frames after that one are the new
-// run's (the START record says so; frames that came before the ACK are already stored).
+// START was acknowledged by the device's frame `ack_seq` (or its run began after this boot's
+// CONFIGURE, number `ack_seq`): the boot's frames after that one are the new run's (the START
+// record says so; frames that came before the record are stored already).
 status session::begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc) {
   std::uint8_t b[4];
   p::writer w{b, sizeof b};  // little-endian, as every record body
   w.u16(ack_seq);
   w.u16(config_crc);
   if (auto s = append(gfr::kind::start, b); !s) return s;
+  close_segment();
   recording_ = true;
+  ever_started_ = true;
+  start_ack_seq_ = ack_seq;
+  start_in_flight_ = false;
   device_idle_ = false;
   return ok();
 }
 
-// The device rebooted (its INFO said so, or its STATUS went idle or back in time): what it still
-// owed is lost, the run goes on after a homing and the same configuration.
+// The device rebooted (its INFO said so, or its STATUS went idle or back in time, or a frame
+// came from another boot): what it still owed is lost, the run goes on after a homing and the
+// same configuration. A device that went idle in the same boot is only started again.
 status session::handle_reset() {
-  if (restate_start_) {
-    auto info = ping();  // its INFO goes into the file (need_info_)
-    if (!info) return info.err();
-    restate_start_ = false;
-    reset_seen_ = false;
-    return begin_recording(*start_ack_seq_, p::configure_crc(running_));
-  }
   if (need_info_ || (!reset_seen_ && device_idle_)) {
     // The reset's INFO was lost; or an idle device, rebooted (its INFO and STATUS lost) or
     // stopped by itself. Its INFO tells which.
@@ -760,42 +1009,50 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
 }
 
 // The port failed (an unplugged adapter): keep the file, wait for the device path to come back,
-// and go on where the device is; a device that rebooted meanwhile is started again, another one
-// is refused. False: the port did not come back in time, or a stop was asked for meanwhile.
+// name the board on it before anything of it is stored, and go on where the device is; a device
+// that rebooted meanwhile is started again, another one is refused. False: the port did not come
+// back in time, or a stop was asked for meanwhile.
 result<bool> session::reconnect(steady::time_point lost_at) {
   port_.reset();
+  identified_ = false;
   waiting_for_port_ = true;
+  since_link_loss_ = true;
+  lost_at_ = lost_at;
   const auto until = lost_at + std::chrono::duration<double>(c_.reconnect_timeout_s);
-  const auto gap = [&]() {
-    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(steady::now() - lost_at);
-    return append_gap(gfr::gap_reason::link_lost, static_cast<std::uint32_t>(ms.count()));
-  };
   while (steady::now() < until && !stop_) {
     if (auto s = tick(); !s) return s.err();
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    std::this_thread::sleep_for(std::chrono::duration<double>(port_poll_s()));
     if (!open_port()) continue;
     link_down_ = false;
-    auto info = ping();
+    auto info = ping();        // identifies the board (pump): the link-lost GAP, then its INFO
+    if (fatal_) return false;  // another board: the main loop closes the file with the reason
     if (!info) {
       if (!link_down_ && info.err().code == errc::bad_input) return info.err();
       port_.reset();
       continue;
     }
-    waiting_for_port_ = false;
-    if (auto s = gap(); !s) return s.err();
-    if (fatal_) return false;  // the main loop closes the file with the reason
-    if (!reset_seen_ && info->config == running_ && !device_idle_) return true;
+    if (!reset_seen_ && !need_info_ && info->config == running_ && !device_idle_) {
+      // What the device sent meanwhile is asked for now: its history is device time, and at an
+      // emulator's 50x the few ms of a round trip count.
+      (void)request_missing();
+      return true;
+    }
     if (auto s = handle_reset(); !s) {
-      if (!link_down_) return s.err();
+      if (fatal_) return false;
+      if (!link_down_ && !restart_) return s.err();
+      if (restart_) return true;  // another reset meanwhile: the main loop starts again
       port_.reset();
-      lost_at = steady::now();
+      identified_ = false;
+      lost_at_ = steady::now();
       waiting_for_port_ = true;
       continue;
     }
     return true;
   }
   waiting_for_port_ = false;
-  if (auto s = gap(); !s) return s.err();
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(steady::now() - lost_at_);
+  if (auto s = append_gap(gfr::gap_reason::link_lost, static_cast<std::uint32_t>(ms.count())); !s)
+    return s.err();
   return false;
 }
 
@@ -812,9 +1069,9 @@ result<recorder_result> session::run() {
   if (!info) return info.err();
   if (info->protocol != p::protocol_version) return foreign_protocol(c_.port, info->protocol);
   info_ = *info;
+  identified_ = true;
   if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
-  if (auto s = start_run(); !s) return s.err();
-  (void)file_.sync();
+  bool need_start = true;
   while (true) {
     if (fatal_) {
       // Another device: leave it alone; close the file with its reason.
@@ -822,23 +1079,36 @@ result<recorder_result> session::run() {
       return *fatal_;
     }
     if (stop_) return finish(gfr::stop_reason::signal);
-    if (c_.duration_s > 0 && elapsed_s() >= c_.duration_s)
-      return finish(gfr::stop_reason::duration);
+    if (c_.duration_s > 0 && data_s() >= c_.duration_s) return finish(gfr::stop_reason::duration);
     bool lost = !port_;
-    if (!lost && (reset_seen_ || device_idle_)) {
+    if (!lost && (need_start || reset_seen_ || device_idle_ || need_info_)) {
       link_down_ = false;
-      if (auto s = handle_reset(); !s) {
-        if (!link_down_) {
+      if (auto s = need_start && !reset_seen_ && !need_info_ ? start_run() : handle_reset(); !s) {
+        if (fatal_) continue;
+        if (link_down_) {
+          lost = true;
+        } else if (restart_) {
+          // A reset while starting: start again, homed. A device that resets at every start
+          // ends the run after 10 tries without a dwell.
+          if (++restart_failures_ >= 10) {
+            (void)close_file(gfr::stop_reason::device_failed);
+            return s.err();
+          }
+          continue;
+        } else if (!ever_started_) {
+          return s.err();  // nothing recorded: a refused configuration, a mute device
+        } else {
           // A command went unanswered (a noisy line, another reset meanwhile): try again from
-          // the top; after three whole attempts end the run, the file closed with its reason.
+          // the top, homed; after three whole attempts end the run, the file closed with its
+          // reason.
           reset_seen_ = true;
           if (++restart_failures_ < 3) continue;
           (void)close_file(gfr::stop_reason::device_failed);
           return s.err();
         }
-        lost = true;
       } else {
-        restart_failures_ = 0;
+        need_start = false;
+        (void)file_.sync();
       }
     }
     if (!lost) {
@@ -873,15 +1143,22 @@ result<recorder_result> session::run() {
 result<recorder_result> record(const recorder_config& cfg, const std::atomic<bool>& stop,
                                const recorder_progress_fn& on_progress) {
   if (auto s = cfg.rig.check(); !s) return s.err();  // before the file or the port
+  // The port's name, held until the end, also while the port is gone: a second recorder is
+  // refused before it makes a file.
+  auto lock = port_lock::of_name(cfg.port);
+  if (!lock) return lock.err();
   auto w = gfr::writer::create(cfg.output);
   if (!w) return w.err();
-  auto r = session(cfg, std::move(*w), stop, on_progress).run();
+  auto r = session(cfg, std::move(*w), std::move(*lock), stop, on_progress).run();
   // Nothing recorded yet (no reply, another protocol, a refused configuration, a full disk at
-  // the start): no file.
+  // the start): no file. A file that holds a run, or a dwell of one, is kept.
   if (!r) {
     auto f = gfr::read(cfg.output);
-    const bool started = f && std::any_of(f->records.begin(), f->records.end(),
-                                          [](auto& x) { return x.type == gfr::kind::start; });
+    const bool started = f && std::any_of(f->records.begin(), f->records.end(), [](auto& x) {
+                           return x.type == gfr::kind::start ||
+                                  (x.type == gfr::kind::frame && !x.body.empty() &&
+                                   x.body[0] == static_cast<std::uint8_t>(p::msg::dwell));
+                         });
     if (!started) std::remove(cfg.output.c_str());
   }
   return r;

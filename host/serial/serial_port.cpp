@@ -3,14 +3,24 @@
 /// section 1: an asynchronous read or write, `run_for` the timeout, then `cancel`.
 #include "host/serial/serial_port.hpp"
 
+#include <fcntl.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <termios.h>
+#include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include <asio/io_context.hpp>
 #include <asio/read.hpp>
@@ -47,7 +57,88 @@ void run_with_timeout(asio::io_context& io, asio::serial_port& port, int timeout
   io.run();
 }
 
+// Where lock files go: the first folder that exists and is writable (FHS: /run/lock, its
+// older name /var/lock; /tmp where neither is).
+std::string lock_folder() {
+  for (const char* d : {"/run/lock", "/var/lock", "/tmp"})
+    if (::access(d, W_OK | X_OK) == 0) return d;
+  return "/tmp";
+}
+
+// A file name for `key`: the characters of a name kept, the others as %XX; a long key by its
+// FNV-1a hash (a name is at most NAME_MAX bytes).
+std::string lock_file_name(const std::string& key) {
+  std::string out;
+  for (const char ch : key) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (std::isalnum(c) != 0 || c == '.' || c == '-' || c == '_')
+      out += ch;
+    else
+      out += fmt::format("%{:02X}", c);
+  }
+  if (out.size() > 180) {
+    std::uint64_t h = 14695981039346656037ULL;
+    for (const char ch : key) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ULL;
+    out = fmt::format("hash-{:016x}", h);
+  }
+  return "gyroflip-record." + out + ".lock";
+}
+
 }  // namespace
+
+result<port_lock> port_lock::take(const std::string& key, const std::string& path) {
+  const std::string file = lock_folder() + "/" + lock_file_name(key);
+  const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
+  if (fd < 0)
+    return io_error(file, std::string("cannot open the port's lock: ") + std::strerror(errno));
+  // Everyone may take the lock whoever made the file (a umask would take that right away).
+  (void)::fchmod(fd, 0666);
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int e = errno;
+    char pid[32] = {};
+    const ssize_t n = ::pread(fd, pid, sizeof pid - 1, 0);
+    ::close(fd);
+    if (e != EWOULDBLOCK) return io_error(file, std::string("cannot lock: ") + std::strerror(e));
+    const std::string who = n > 0 ? fmt::format(", process {}", std::strtol(pid, nullptr, 10)) : "";
+    return runtime_error(
+        fmt::format("{}: in use by another program (a gyroflip record{}; {})", path, who, file));
+  }
+  const std::string me = std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, me.data(), me.size(), 0) < 0) {
+    // The lock holds without its note of who holds it.
+  }
+  return port_lock(fd, key);
+}
+
+result<port_lock> port_lock::of_name(const std::string& path) {
+  std::error_code ec;
+  auto abs = std::filesystem::absolute(path, ec);
+  if (ec) abs = path;
+  return take("name:" + abs.lexically_normal().string(), path);
+}
+
+result<std::string> port_lock::device_key(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    return io_error(path, std::string("cannot open: ") + std::strerror(errno));
+  if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))
+    return fmt::format("device:{}:{}", major(st.st_rdev), minor(st.st_rdev));
+  return fmt::format("file:{}:{}", st.st_dev, st.st_ino);
+}
+
+port_lock::port_lock(port_lock&& o) noexcept
+    : fd_(std::exchange(o.fd_, -1)), key_(std::move(o.key_)) {}
+port_lock& port_lock::operator=(port_lock&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(o.fd_, -1);
+    key_ = std::move(o.key_);
+  }
+  return *this;
+}
+port_lock::~port_lock() {
+  if (fd_ >= 0) ::close(fd_);
+}
 
 result<serial_port> serial_port::open(const std::string& path, std::uint32_t baud) {
   auto p = std::make_unique<impl>(path);

@@ -14,6 +14,37 @@
 
 namespace gyroflip::host {
 
+/// A port's lock, held by one gyroflip recorder for its whole session, also while the port is
+/// gone (an unplugged adapter, an emulator's pty that comes back): a second recorder is refused
+/// at once even then, and cannot take the line while the first one reconnects. An advisory lock
+/// (flock) on a file in /run/lock (else /var/lock, else /tmp), whose content is the holder's
+/// process id; the kernel releases it when the holder ends, however it ends (the file stays:
+/// removing a lock file races with the next taker). docs/RECORDER.md.
+class port_lock {
+ public:
+  /// The lock of the name `path` as given, made absolute (a symbolic link and its target are
+  /// two names: see `device_key`). Refused with "in use by another program (a gyroflip record,
+  /// process N)".
+  [[nodiscard]] static result<port_lock> of_name(const std::string& path);
+  /// The key of the device `path` names now (its device number, so every name of it), or of
+  /// the file when it is no device; for `take`.
+  [[nodiscard]] static result<std::string> device_key(const std::string& path);
+  /// The lock of `key`; `path` names the port in the refusal.
+  [[nodiscard]] static result<port_lock> take(const std::string& key, const std::string& path);
+  port_lock(port_lock&& o) noexcept;
+  port_lock& operator=(port_lock&& o) noexcept;
+  port_lock(const port_lock&) = delete;
+  port_lock& operator=(const port_lock&) = delete;
+  ~port_lock();
+  /// What the lock is on (a name, or `device MAJOR:MINOR`).
+  [[nodiscard]] const std::string& key() const noexcept { return key_; }
+
+ private:
+  port_lock(int fd, std::string key) : fd_(fd), key_(std::move(key)) {}
+  int fd_ = -1;
+  std::string key_;
+};
+
 class serial_port {
  public:
   /// Opens `path` raw 8N1, no flow control, at `baud` b/s (a pty accepts and ignores it), held

@@ -46,7 +46,8 @@ std::map<unsigned, log_row> read_log(const std::string& path) {
     log_row r;
     std::vector<std::string> cells;
     while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    EXPECT_EQ(cells.size(), 19u) << line;
+    EXPECT_EQ(cells.size(), 20u) << line;
+    EXPECT_EQ(cells[19], "1") << line;  // the first boot: no reset in these runs
     for (size_t i = 1; i < 16; ++i) r.v.push_back(std::stoll(cells[i]));
     r.hit = cells[17] == "1";
     // Where the table truly stood during the dwell: the position the DWELL names.

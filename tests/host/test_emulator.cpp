@@ -28,11 +28,17 @@ struct client {
   std::vector<p::dwell_msg> dwells;
   std::vector<p::info_msg> infos;
   std::vector<uint16_t> acks;
+  std::vector<p::nak_msg> naks;
+  std::vector<p::status_msg> statuses;
 
   template <class M>
   void send(const M& m) {
+    send_as(m, seq++);
+  }
+  template <class M>
+  void send_as(const M& m, uint16_t id) {
     uint8_t buf[p::max_wire_bytes];
-    const size_t n = p::encode_wire(m, seq++, buf, sizeof buf, true);
+    const size_t n = p::encode_wire(m, id, buf, sizeof buf, true);
     ASSERT_GT(n, 0u);
     ASSERT_EQ(e.send(buf, n), n);
   }
@@ -48,6 +54,10 @@ struct client {
         if (f.as(d)) dwells.push_back(d);
         if (f.as(info)) infos.push_back(info);
         if (f.as(ack)) acks.push_back(ack.seq);
+        p::nak_msg nak;
+        if (f.as(nak)) naks.push_back(nak);
+        p::status_msg st;
+        if (f.as(st)) statuses.push_back(st);
       }
   }
   /// START naming the device's configuration.
@@ -289,6 +299,77 @@ TEST(Emulator, TheCoilsHeatTheGyroOnlyWhileTheFirmwareEnergisesThem) {
   // Released: the coils are on for the turns and settling, ~40 % of the cycle.
   EXPECT_GT(last_temp_c[1] - 20.0, 0.2 * 2.0);
   EXPECT_LT(last_temp_c[1] - 20.0, 0.6 * 2.0);
+}
+
+// A rebooted device does not know where its table stands: it takes START only for a
+// configuration a host sent since the boot (issue 32). A START retried from before a reset
+// (its first ACK lost) names the boot's default configuration, which `record` sends too when
+// nothing is changed: the device refuses it (NAK config_mismatch) and stays idle, where it
+// used to start unhomed. A CONFIGURE of the new boot makes START work again.
+TEST(Emulator, StartIsTakenOnlyForAConfigurationSentSinceTheBoot) {
+  auto made = host::emulator::make(paper_rig(5));
+  ASSERT_TRUE(made) << made.err().message;
+  host::emulator& e = **made;
+  client c(e);
+  e.boot();
+  c.run_s(0.1);
+  const auto config_mismatch = static_cast<uint8_t>(p::status::config_mismatch);
+  c.start(p::configure_msg{});  // the boot's own configuration, sent by no host
+  c.run_s(0.2);
+  ASSERT_EQ(c.naks.size(), 1u);
+  EXPECT_EQ(c.naks[0].reason, config_mismatch);
+  EXPECT_EQ(e.device().state(), p::device_state::idle);
+  c.send(p::configure_msg{});
+  c.run_s(0.1);
+  p::start_msg start;
+  start.config_crc = p::configure_crc(p::configure_msg{});
+  const uint16_t id = c.seq++;
+  c.send_as(start, id);
+  c.run_s(0.2);
+  EXPECT_EQ(e.device().state(), p::device_state::running);
+  EXPECT_EQ(c.acks.back(), id);
+  // The START's ACK is lost, the device resets, the host retries with the same id.
+  e.reset();
+  c.decoder.frames().reset_sequence();  // the rebooted device numbers its frames from 0
+  c.run_s(0.1);
+  c.send_as(start, id);
+  c.run_s(2.0);
+  ASSERT_EQ(c.naks.size(), 2u);
+  EXPECT_EQ(c.naks[1].seq, id);
+  EXPECT_EQ(c.naks[1].reason, config_mismatch);
+  EXPECT_EQ(e.device().state(), p::device_state::idle);
+  const std::size_t dwells = c.dwells.size();
+  c.send(p::configure_msg{});
+  c.start(p::configure_msg{});
+  c.run_s(2.0);
+  EXPECT_EQ(e.device().state(), p::device_state::running);
+  EXPECT_GT(c.dwells.size(), dwells);
+}
+
+// The device's clock never goes back: a busy wait of its boot or of a CONFIGURE (the ADC's
+// reset and self-calibration) moves the board's clock within one pass, and the emulator's time
+// follows it (it used to set the clock back to its pass count, and a STATUS after a reset said
+// the uptime went back: a recorder took that for another reset).
+TEST(Emulator, TheDevicesClockNeverGoesBack) {
+  auto made = host::emulator::make(paper_rig(6));
+  ASSERT_TRUE(made) << made.err().message;
+  host::emulator& e = **made;
+  client c(e);
+  e.boot();
+  c.run_s(1.5);
+  for (int k = 0; k < 3; ++k) {
+    e.reset();
+    c.decoder.frames().reset_sequence();
+    c.send(p::stop_msg{});  // answered in the first pass after the boot's waits
+    c.run_s(0.01);
+    c.send(p::configure_msg{});
+    c.send(p::stop_msg{});
+    c.run_s(1.2);
+  }
+  ASSERT_GE(c.statuses.size(), 8u);
+  for (std::size_t i = 1; i < c.statuses.size(); ++i)
+    EXPECT_GE(c.statuses[i].uptime_ticks, c.statuses[i - 1].uptime_ticks) << i;
+  EXPECT_GE(e.ticks(), c.statuses.back().uptime_ticks);
 }
 
 }  // namespace

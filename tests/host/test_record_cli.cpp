@@ -70,7 +70,7 @@ std::vector<sent_dwell> read_log(const std::string& path) {
   std::getline(in, line);
   std::vector<sent_dwell> rows;
   while (std::getline(in, line))
-    if (auto c = split(line); c.size() == 19) rows.push_back({c});
+    if (auto c = split(line); c.size() == 20) rows.push_back({c});
   return rows;
 }
 
@@ -332,24 +332,30 @@ INSTANTIATE_TEST_SUITE_P(Faults, LinkFigures,
                          figure_name);
 
 // An unplugged adapter for 3 s of the rig's time: the recorder finds the line again and asks for
-// what the rig sent meanwhile; all of it is still in the device's history (6 s).
+// what the rig sent meanwhile; all of it is still in the device's history (6 s). Also at 50x:
+// the port is looked for again within the device's time, not every 200 ms of ours (10 s of an
+// emulator's at 50x: it lost 3 dwells; issue 32).
 TEST(RecordCli, AThreeSecondUnplugLosesNothing) {
-  test::temp_dir dir;
-  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
-  const std::string link = dir.path() + "/rig";
-  emulator_process emu(dir.path(),
-                       "--speed 5 --seed 23 --fault-unplug 20:3 --link " + link + " --log " + log);
-  const auto rec = run_cli(
-      {"record", "--port", link, "--duration", "60", "--reconnect-timeout", "20", "-o", gfr});
-  ASSERT_EQ(rec.exit_code, 0) << rec.err;
-  auto run = rigdata::read_rig_run(gfr);
-  ASSERT_TRUE(run) << run.err().message;
-  EXPECT_EQ(run->link_losses, 1u);
-  const comparison c = compare(*run, sent_by_start(log));
-  std::printf("unplug 3 s: %s\n", recorded(c).c_str());
-  EXPECT_EQ(c.lost, 0u) << recorded(c);
-  EXPECT_GT(c.stored, 50u);
-  EXPECT_EQ(run->lost_dwells, 0u);
+  for (const char* speed : {"5", "50"}) {
+    SCOPED_TRACE(speed);
+    test::temp_dir dir;
+    const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+    const std::string link = dir.path() + "/rig";
+    emulator_process emu(dir.path(), std::string("--speed ") + speed +
+                                         " --seed 23 --fault-unplug 20:3 --link " + link +
+                                         " --log " + log);
+    const auto rec = run_cli(
+        {"record", "--port", link, "--duration", "60", "--reconnect-timeout", "20", "-o", gfr});
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    auto run = rigdata::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    EXPECT_EQ(run->link_losses, 1u);
+    const comparison c = compare(*run, sent_by_start(log));
+    std::printf("unplug 3 s at --speed %s: %s\n", speed, recorded(c).c_str());
+    EXPECT_EQ(c.lost, 0u) << recorded(c);
+    EXPECT_GT(c.stored, 50u);
+    EXPECT_EQ(run->lost_dwells, 0u);
+  }
 }
 
 TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
@@ -402,6 +408,8 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
   const comparison c = compare(*run, sent_by_start(log));
   EXPECT_EQ(c.mislabelled, 0u);
   EXPECT_EQ(c.lost_not_hit, 0u) << recorded(c);
+  // Every dwell sent is in the file or in a GAP count (the reset's too).
+  EXPECT_LE(c.lost, run->missing_frames) << recorded(c);
   const auto cal = run_cli({"calibrate", gfr, "--json"});
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   expect_calibrates_to_truth(nlohmann::json::parse(cal.out), 13);
@@ -430,6 +438,344 @@ TEST(RecordCli, ResetStormsNeverMislabelADwell) {
     EXPECT_EQ(c.mislabelled, 0u) << recorded(c);
     EXPECT_GE(run->device_resets, 7u);
     EXPECT_GT(c.stored, 300u) << recorded(c);
+    // What a reset cost is counted: every dwell sent is in the file or in a GAP count.
+    EXPECT_LE(c.lost, run->missing_frames) << recorded(c);
+  }
+}
+
+// One recording against an emulator with `faults`, compared with what the device sent.
+struct faulted_run {
+  test::cli_result rec;
+  std::optional<rigdata::rig_run> run;
+  comparison c;
+  std::vector<sent_dwell> sent;
+  std::string gfr;
+};
+faulted_run record_against(const test::temp_dir& dir, const std::string& emulate_args,
+                           std::vector<std::string> record_args) {
+  faulted_run r;
+  const std::string log = dir.path() + "/sent.csv";
+  r.gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), emulate_args + " --log " + log);
+  std::vector<std::string> args = {"record", "--port", emu.pty(), "-o", r.gfr};
+  args.insert(args.end(), record_args.begin(), record_args.end());
+  r.rec = run_cli(args);
+  if (!test::exists(r.gfr)) return r;
+  auto run = rigdata::read_rig_run(r.gfr);
+  EXPECT_TRUE(run) << run.err().message;
+  if (!run) return r;
+  r.run = std::move(*run);
+  r.sent = read_log(log);
+  r.c = compare(*r.run, sent_by_start(log));
+  return r;
+}
+
+// The issue-32 window, hit on purpose: START's ACK is lost, the device resets, and the retry of
+// START (same id) meets the rebooted device. It used to start there on its defaults, unhomed,
+// and its dwells were stored under the user's angle table (14 of 38 runs at BER 2e-2: dN of the
+// wrong sign); with --home the retry got NAK and the whole file was deleted although the device
+// had run. Now: the rebooted device refuses a START before a CONFIGURE of its own boot; the
+// recorder takes a reset seen during a command (or that NAK) as the end of that command, homes,
+// configures and starts again; the run the lost ACK began is recorded (its START record names
+// the CONFIGURE's ACK); nothing is mislabelled and every dwell is in the file or counted.
+TEST(RecordCli, AStartRetriedAfterAResetNeverLabelsAnUnhomedRun) {
+  struct variant {
+    std::string faults;
+    std::vector<std::string> record;
+  };
+  const std::vector<variant> variants = {
+      // the retry meets the rebooted device, whose boot INFO arrives first
+      {"--fault-lose-reply start:1 --fault-reset-before start:2", {}},
+      // ... and its boot INFO lost too: the retry's NAK is the first word of the new boot
+      {"--fault-lose-reply start:1 --fault-reset-before start:2 --fault-lose-boot-info", {}},
+      // the reset seen while START waits for its answer (1.2 device s = 24 ms at 50x; the retry
+      // goes after 500 ms)
+      {"--fault-lose-reply start:1 --fault-reset-at 1.2", {}},
+      // the user's configuration homes too
+      {"--fault-lose-reply start:1 --fault-reset-before start:2 --fault-lose-boot-info",
+       {"--home"}},
+  };
+  for (const variant& v : variants) {
+    SCOPED_TRACE(v.faults + (v.record.empty() ? "" : " (record --home)"));
+    test::temp_dir dir;
+    std::vector<std::string> args = {"--duration", "30"};
+    args.insert(args.end(), v.record.begin(), v.record.end());
+    const faulted_run r = record_against(dir, "--speed 50 --seed 41 " + v.faults, args);
+    ASSERT_EQ(r.rec.exit_code, 0) << r.rec.err;
+    ASSERT_TRUE(r.run);
+    EXPECT_EQ(r.c.mislabelled, 0u) << recorded(r.c);
+    EXPECT_LE(r.c.lost, r.run->missing_frames) << recorded(r.c);
+    EXPECT_EQ(r.run->outside_runs, 0u);
+    EXPECT_EQ(r.run->unknown_config, 0u);
+    EXPECT_GE(r.run->device_resets, 1u);
+    // The first boot's run, begun by the START whose ACK was lost, is in the file, labelled.
+    std::set<long long> stored;
+    for (const auto& d : r.run->dwells) stored.insert(d.d.t_start_ticks);
+    std::size_t first_boot = 0, first_boot_stored = 0;
+    for (const auto& row : r.sent)
+      if (row.cells.at(19) == "1") {
+        ++first_boot;
+        first_boot_stored += stored.count(row.at(3));
+      }
+    EXPECT_GE(first_boot, 1u);
+    EXPECT_EQ(first_boot_stored, first_boot);
+    EXPECT_GT(r.c.stored, 25u) << recorded(r.c);
+  }
+}
+
+// The same moments for every command that starts a run, and a restart's own START: a reset
+// just before the device takes a command (its boot INFO lost, so the recorder learns of it only
+// from what the new boot answers), or a reply lost and the retry meeting the rebooted device.
+// The recorder must see each for what it is: no mislabelled dwell, none unlabelled, every dwell
+// in the file or counted.
+TEST(RecordCli, AResetAtAnyMomentOfStartingARunNeverMislabels) {
+  for (const std::string faults : {
+           "--fault-reset-before ping:1",
+           "--fault-reset-before stop:1 --fault-lose-boot-info",
+           "--fault-reset-before configure:1 --fault-lose-boot-info",
+           "--fault-lose-reply configure:1 --fault-reset-before configure:2 --fault-lose-boot-info",
+           "--fault-lose-reply stop:1 --fault-reset-before stop:2 --fault-lose-boot-info",
+           "--fault-reset-before start:1 --fault-lose-boot-info",
+           // a reset mid-run, then the restart's START loses its ACK and its retry meets another
+           // rebooted device
+           "--fault-reset-at 10 --fault-lose-reply start:2 --fault-reset-before start:3 "
+           "--fault-lose-boot-info",
+       }) {
+    SCOPED_TRACE(faults);
+    test::temp_dir dir;
+    const faulted_run r =
+        record_against(dir, "--speed 50 --seed 43 " + faults, {"--duration", "25"});
+    std::printf("%s: exit %d, %s\n", faults.c_str(), r.rec.exit_code, recorded(r.c).c_str());
+    ASSERT_EQ(r.rec.exit_code, 0) << r.rec.err;
+    ASSERT_TRUE(r.run);
+    EXPECT_EQ(r.c.mislabelled, 0u) << recorded(r.c);
+    EXPECT_LE(r.c.lost, r.run->missing_frames) << recorded(r.c);
+    EXPECT_EQ(r.run->outside_runs, 0u);
+    EXPECT_GE(r.run->device_resets, 1u);
+    EXPECT_GT(r.c.stored, 20u) << recorded(r.c);
+  }
+}
+
+// The INFO records and INFO frames of a recording: the serials they name.
+std::set<std::uint32_t> serials_in(const std::string& gfr) {
+  std::set<std::uint32_t> out;
+  auto f = rigdata::gfr::read(gfr);
+  EXPECT_TRUE(f) << f.err().message;
+  if (!f) return out;
+  for (const auto& r : f->records) {
+    const bool frame = r.type == rigdata::gfr::kind::frame && !r.body.empty() &&
+                       r.body[0] == static_cast<std::uint8_t>(p::msg::info);
+    if (r.type != rigdata::gfr::kind::info && !frame) continue;
+    const std::size_t at = frame ? 3 : 0;
+    const p::frame fr{static_cast<std::uint8_t>(p::msg::info), 0, r.body.data() + at,
+                      r.body.size() - at};
+    p::info_msg m;
+    EXPECT_TRUE(fr.as(m));
+    out.insert(m.serial);
+  }
+  return out;
+}
+
+// STATUS frames of a recording whose device clock went back, or ran ahead of the host's by more
+// than `speed` times the host time since the boot's first STATUS (plus 1 s), with no reset
+// between: frames of another board (an emulator at another speed, on since another time) taken
+// for the recording board's.
+std::size_t status_clock_jumps(const std::string& gfr, double speed) {
+  auto f = rigdata::gfr::read(gfr);
+  EXPECT_TRUE(f) << f.err().message;
+  if (!f) return 0;
+  std::size_t n = 0;
+  bool have = false;
+  std::uint64_t first_us = 0;
+  std::uint32_t first_uptime = 0, last_uptime = 0;
+  for (const auto& r : f->records) {
+    if (r.type == rigdata::gfr::kind::gap &&
+        r.body.at(0) == static_cast<std::uint8_t>(rigdata::gfr::gap_reason::device_reset))
+      have = false;
+    if (r.type != rigdata::gfr::kind::frame ||
+        r.body.at(0) != static_cast<std::uint8_t>(p::msg::status))
+      continue;
+    const p::frame fr{r.body[0], 0, r.body.data() + 3, r.body.size() - 3};
+    p::status_msg st;
+    if (!fr.as(st)) continue;
+    if (!have) {
+      have = true;
+      first_us = r.host_time_us;
+      first_uptime = st.uptime_ticks;
+    }
+    const double device_s = static_cast<std::int32_t>(st.uptime_ticks - first_uptime) / 32768.0;
+    const double host_s = static_cast<double>(r.host_time_us - first_us) * 1e-6;
+    if (st.uptime_ticks < last_uptime || device_s > speed * host_s + 1.0) ++n;
+    last_uptime = st.uptime_ticks;
+  }
+  return n;
+}
+
+// Records of a recording after its first GAP (link lost), but its STOP.
+std::size_t records_after_link_loss(const std::string& gfr) {
+  auto f = rigdata::gfr::read(gfr);
+  EXPECT_TRUE(f) << f.err().message;
+  if (!f) return 0;
+  std::size_t n = 0;
+  bool after = false;
+  for (const auto& r : f->records) {
+    if (after && r.type != rigdata::gfr::kind::stop) ++n;
+    after =
+        after || (r.type == rigdata::gfr::kind::gap &&
+                  r.body.at(0) == static_cast<std::uint8_t>(rigdata::gfr::gap_reason::link_lost));
+  }
+  return n;
+}
+
+// A recorder waiting for its pty (/dev/pts/N, the emulator gone) must not adopt the next
+// emulator the kernel gives that number (issue 32: A's 60 dwells and B's 79 went into one
+// file). Emulators have serials of their own (random unless --serial), so B's INFO names another
+// board: refused, exit 1, and nothing of B is stored (nothing is before its INFO identified it).
+TEST(RecordCli, ARecorderWaitingForItsPtyDoesNotAdoptTheNextEmulatorOnIt) {
+  test::temp_dir dir;
+  const std::string gfr = dir.path() + "/run.gfr", log = dir.path() + "/a.csv";
+  test::temp_dir bdir;
+  // A sends few frames, B many (as in AnotherDeviceAfterAReconnectIsRefused).
+  auto a = std::make_unique<emulator_process>(dir.path(), "--speed 1 --seed 45 --log " + log);
+  const std::string path = a->pty();
+  const int pid = test::spawn_cli(
+      {"record", "--port", path, "--duration", "600", "--reconnect-timeout", "15", "-o", gfr});
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+  a.reset();  // A goes; its pty number is free
+  // B, on the same number (the lowest free: another test may take it first; then try again).
+  std::unique_ptr<emulator_process> b;
+  for (int k = 0; k < 20 && (!b || b->pty() != path); ++k) {
+    b.reset();
+    b = std::make_unique<emulator_process>(bdir.path(), "--speed 200 --seed 46");
+  }
+  if (b->pty() != path) {
+    kill(pid, SIGTERM);
+    test::wait_cli(pid);
+    GTEST_SKIP() << "no emulator got " << path << " again";
+  }
+  EXPECT_EQ(test::wait_cli(pid), 1);
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::device_changed);
+  EXPECT_EQ(serials_in(gfr).size(), 1u);  // A's only
+  EXPECT_EQ(records_after_link_loss(gfr), 0u);
+  EXPECT_EQ(status_clock_jumps(gfr, 1.0), 0u);
+  const comparison c = compare(*run, sent_by_start(log));  // every dwell stored is A's
+  EXPECT_GE(c.stored, 2u);
+}
+
+// One recorder per port, also while it reconnects (issue 32: a second recorder won the port
+// while the first waited for it, 1 of 5 tries, and the first lost 39 of 63 dwells): the first
+// holds a lock on the port's name for its whole run. Every try of a second recorder, while the
+// line is gone and after it came back, is refused at once ("in use by another program"); the
+// first loses nothing.
+TEST(RecordCli, ASecondRecorderCannotTakeThePortWhileTheFirstReconnects) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/one.gfr";
+  const std::string link = dir.path() + "/rig";
+  emulator_process emu(dir.path(),
+                       "--speed 5 --seed 47 --fault-unplug 10:3 --link " + link + " --log " + log);
+  const int pid = test::spawn_cli(
+      {"record", "--port", link, "--duration", "30", "--reconnect-timeout", "20", "-o", gfr});
+  struct stat st {};
+  for (int k = 0; k < 500 && ::lstat(link.c_str(), &st) == 0; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_NE(::lstat(link.c_str(), &st), 0) << "the line did not go";
+  // Tries while the line is gone, and three after it came back (however slow the machine).
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  int tries = 0, while_gone = 0, after_back = 0;
+  while (after_back < 3 && std::chrono::steady_clock::now() < until) {
+    const bool gone = ::lstat(link.c_str(), &st) != 0;
+    (gone ? while_gone : after_back) += 1;
+    const std::string two = dir.path() + "/two" + std::to_string(tries++) + ".gfr";
+    const auto second = run_cli({"record", "--port", link, "--duration", "5", "-o", two});
+    EXPECT_EQ(second.exit_code, 1) << second.err;
+    EXPECT_NE(second.err.find("in use by another program"), std::string::npos) << second.err;
+    EXPECT_FALSE(test::exists(two));
+  }
+  EXPECT_GE(while_gone, 1);
+  EXPECT_EQ(after_back, 3);
+  EXPECT_EQ(test::wait_cli(pid), 0);
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->link_losses, 1u);
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_EQ(c.lost, 0u) << recorded(c);
+  EXPECT_GT(c.stored, 25u);
+}
+
+// An emulator stopped (SIGSTOP, Ctrl-Z) still holds what it sent: the recorder asks for it at a
+// rig's pace meanwhile and gives nothing up (it used to ask every 3 ms at 50x and count each
+// ask: hundreds of RESENDs, answered by a flood of GONEs after SIGCONT that took the line, and
+// 3 dwells and 316 frames given up as lost in a run like this one).
+TEST(RecordCli, AStoppedEmulatorLosesNothingAndIsNotBlamed) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), "--speed 50 --seed 3 --fault-ber 1e-2 --log " + log);
+  const int pid = test::spawn_cli({"record", "--port", emu.pty(), "--duration", "200", "-o", gfr});
+  for (int k = 0; k < 400 && read_log(log).size() <= 10; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  for (int k = 0; k < 2; ++k) {
+    kill(emu.pid(), SIGSTOP);
+    std::this_thread::sleep_for(std::chrono::seconds(5));
+    kill(emu.pid(), SIGCONT);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  EXPECT_EQ(test::wait_cli(pid), 0);
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  const comparison c = compare(*run, sent_by_start(log));
+  std::printf("stopped twice for 5 s: %s, %llu frames given up\n", recorded(c).c_str(),
+              static_cast<unsigned long long>(run->missing_frames));
+  EXPECT_EQ(c.lost, 0u) << recorded(c);
+  EXPECT_EQ(c.mislabelled, 0u);
+  // What the line itself lost (STATUS and ACK frames are not sent again): ~50 in 200 s at this
+  // BER; the flood made it 300 to 900.
+  EXPECT_LT(run->missing_frames, 150u);
+}
+
+// --duration is data: the device-clock span of the recording's segments, not the time between
+// them (issue 32: a reset while the line was gone for 10 s counted those 10 s, so a "20 s"
+// recording held 15 s of data). docs/RECORDER.md.
+TEST(RecordCli, TheDurationCountsDataNotTheTimeBetweenSegments) {
+  test::temp_dir dir;
+  const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
+  const std::string faults = "--fault-unplug 5:10 --fault-reset-at 8";
+  emulator_process emu(dir.path(), "--speed 4 --seed 49 " + faults + " --link " + link);
+  const auto rec = run_cli(
+      {"record", "--port", link, "--duration", "20", "--reconnect-timeout", "20", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->device_resets, 1u);
+  std::map<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>> span;  // segment: first, last
+  for (const auto& d : run->dwells) {
+    auto [it, fresh] = span.try_emplace(d.segment, d.d.t_start_ticks, d.d.t_end_ticks);
+    if (!fresh) it->second.second = d.d.t_end_ticks;
+  }
+  ASSERT_EQ(span.size(), 2u);
+  double data_s = 0.0;
+  for (const auto& [seg, s] : span)
+    data_s += (s.second - s.first) / static_cast<double>(run->info.tick_hz);
+  std::printf("--duration 20: %.2f s of data in %zu segments\n", data_s, span.size());
+  EXPECT_GE(data_s, 20.0 - 1.0);  // less a dwell (the last may end just past it)
+  EXPECT_LE(data_s, 20.0 + 2.0);
+}
+
+// A handshake on a very noisy line gets through: the device answers (its frames arrive) but its
+// 81-byte INFO arrives whole only 13 % of the time at BER 2e-2 (16 % at byte drops 1e-2): 12
+// PINGs failed about one time in five (issue 32: 1 in 31 at drops 1e-2); a device that answers
+// is asked up to 100 times. On purpose: the boot's INFO and the answers to the first 20 PINGs
+// lost (the device's STATUS frames arrive); then one run on each noisy line.
+TEST(RecordCli, AHandshakeOnAVeryNoisyLineGetsThrough) {
+  for (const std::string faults : {"--fault-lose-boot-info --fault-lose-reply ping:1-20",
+                                   "--fault-ber 2e-2", "--fault-drop 1e-2"}) {
+    SCOPED_TRACE(faults);
+    test::temp_dir dir;
+    emulator_process emu(dir.path(), "--speed 50 --seed 51 " + faults);
+    const auto rec =
+        run_cli({"record", "--port", emu.pty(), "--duration", "3", "-o", dir.path() + "/h.gfr"});
+    EXPECT_EQ(rec.exit_code, 0) << rec.err;
   }
 }
 
@@ -454,19 +800,27 @@ TEST(RecordCli, APortThatStaysAwayEndsTheRunWithACompleteFile) {
 TEST(RecordCli, AnotherDeviceAfterAReconnectIsRefused) {
   test::temp_dir dir;
   const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
+  // The first board sent few frames, the second (faster) many: its numbers run ahead of the
+  // first's, so that they pass for the first board's next ones unless its INFO is awaited.
   auto first = std::make_unique<emulator_process>(dir.path(),
-                                                  "--speed 20 --seed 29 --serial 7 --link " + link);
+                                                  "--speed 1 --seed 29 --serial 7 --link " + link);
   const int pid = test::spawn_cli(
       {"record", "--port", link, "--duration", "600", "--reconnect-timeout", "20", "-o", gfr});
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000));
   first.reset();  // the first board goes
-  emulator_process second(dir.path(), "--speed 20 --seed 30 --serial 8 --link " + link);
+  emulator_process second(dir.path(), "--speed 200 --seed 30 --serial 8 --link " + link);
   EXPECT_EQ(test::wait_cli(pid), 1);
   auto run = rigdata::read_rig_run(gfr);
   ASSERT_TRUE(run) << run.err().message;
   EXPECT_EQ(run->info.serial, 7u);
-  EXPECT_GT(run->dwells.size(), 5u);
+  EXPECT_GE(run->dwells.size(), 2u);
   EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::device_changed);
+  // Nothing of the second board is in the file: not its INFO, not a frame it sent before it (its
+  // STATUS frames of the same boot count passed for the first board's, their clock 16 s on
+  // after 0.3 s).
+  EXPECT_EQ(serials_in(gfr), std::set<std::uint32_t>{7u});
+  EXPECT_EQ(records_after_link_loss(gfr), 0u);
+  EXPECT_EQ(status_clock_jumps(gfr, 1.0), 0u);
 }
 
 // One recorder per port: a second one is refused at once, and the first records on, losing
@@ -493,9 +847,9 @@ TEST(RecordCli, ASecondRecorderOnThePortIsRefusedAndTheFirstLosesNothing) {
 
 // Runs `sh -c` with a small tmpfs of `size` bytes mounted at `mnt` (a private mount namespace),
 // then `body`; where mounting is not allowed (a container, a chroot without the right), `body` runs
-// with the record's file size limited to the same size instead (prlimit, SIGXFSZ ignored): its
-// writes then fail with EFBIG where the filesystem's fail with ENOSPC, the recorder's path is the
-// same. `limited` tells which.
+// with the record's file size limited to the same size instead (prlimit; the recorder ignores
+// SIGXFSZ itself): its writes then fail with EFBIG where the filesystem's fail with ENOSPC, the
+// recorder's path is the same. `limited` tells which.
 test::cli_result on_small_disk(const std::string& mnt, const std::string& size,
                                const std::string& prep, const std::string& body, bool& limited) {
   const std::string mounted =
@@ -512,7 +866,7 @@ test::cli_result on_small_disk(const std::string& mnt, const std::string& size,
   std::string b = body;
   const std::string rec = std::string(GYROFLIP_EXE) + " record ";
   b.replace(b.find(rec), rec.size(), "prlimit --fsize=" + size + " " + rec);
-  return test::run_program({"sh", "-c", "trap '' XFSZ; " + prep + b});
+  return test::run_program({"sh", "-c", prep + b});
 }
 
 // A full disk (a 48 KiB filesystem the test makes): the run ends with exit 1 naming it, the
@@ -529,7 +883,7 @@ TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
           mnt + "/run.gfr; echo \"rc=$?\"; ls -l " + mnt + "; " + GYROFLIP_EXE + " export " + mnt +
           "/run.gfr -o " + dir.path() + "/run.csv; echo \"export=$?\"",
       limited);
-  EXPECT_NE(r.out.find("rc=1"), std::string::npos) << r.out << r.err;
+  EXPECT_NE(r.out.find("rc=1\n"), std::string::npos) << r.out << r.err;
   EXPECT_NE(r.err.find(limited ? "File too large" : "No space left on device"), std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("export=0"), std::string::npos) << r.out << r.err;  // what fit reads back
@@ -543,8 +897,30 @@ TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
                     std::string(GYROFLIP_EXE) + " record --port " + emu.pty() +
                         " --duration 10 -o " + mnt + "/run.gfr; echo \"rc=$?\"; ls " + mnt,
                     limited);
-  EXPECT_NE(f.out.find("rc=1"), std::string::npos) << f.out << f.err;
+  EXPECT_NE(f.out.find("rc=1\n"), std::string::npos) << f.out << f.err;
   EXPECT_EQ(f.out.find("run.gfr"), std::string::npos) << f.out;
+}
+
+// A file size limit (ulimit -f, prlimit --fsize) is a full disk: SIGXFSZ used to kill the
+// recorder mid-run without a word and without STOP to the device (exit 153); now its write fails
+// with EFBIG and the run ends as on a full disk: exit 1 naming the error, and what was written
+// reads back.
+TEST(RecordCli, AFileSizeLimitEndsTheRunAsAFullDisk) {
+  test::temp_dir dir;
+  emulator_process emu(dir.path(), "--speed max --seed 33");
+  const std::string gfr = dir.path() + "/run.gfr";
+  const auto r = test::run_program(
+      {"sh", "-c",
+       "command -v prlimit >/dev/null || { echo rc=skip; exit 0; }; prlimit --fsize=49152 " +
+           std::string(GYROFLIP_EXE) + " record --port " + emu.pty() +
+           " --raw --duration 3000 -o " + gfr + "; echo rc=$?"});
+  if (r.out.find("rc=skip") != std::string::npos) GTEST_SKIP() << "no prlimit";
+  EXPECT_NE(r.out.find("rc=1\n"), std::string::npos) << r.out << r.err;
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  const auto ex = run_cli({"export", gfr, "-o", dir.path() + "/run.csv"});
+  EXPECT_EQ(ex.exit_code, 0) << ex.err;
+  const std::string csv = test::read_text(dir.path() + "/run.csv");
+  EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
 }
 
 TEST(RecordCli, RefusesWhatItCouldNotRecordOrReadBack) {
@@ -606,6 +982,12 @@ TEST(RecordCli, EmulatorFaultOptionsAreCheckedAndItsLinkNeverReplacesAFile) {
                                               {"--fault-unplug", "x:1"},
                                               {"--fault-reset-at", "-1"},
                                               {"--fault-reset-at", "nan"},
+                                              {"--fault-lose-reply", "start"},
+                                              {"--fault-lose-reply", "start:0"},
+                                              {"--fault-lose-reply", "start:1.5"},
+                                              {"--fault-reset-before", "dwell:1"},
+                                              {"--fault-reset-before", ":2"},
+                                              {"--fault-reset-before", "ping:3-2"},
                                               {"--link", mine}}) {
     std::vector<std::string> args{"emulate", "--pty", "--duration", "1"};
     args.insert(args.end(), bad.begin(), bad.end());

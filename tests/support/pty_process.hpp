@@ -21,6 +21,8 @@ class pty_process {
   [[nodiscard]] const std::string& pty() const noexcept { return pty_; }
   /// Everything it printed so far (stdout, then stderr).
   [[nodiscard]] std::string output() const;
+  /// Its process id (for SIGSTOP and SIGCONT), or -1 when it did not start.
+  [[nodiscard]] int pid() const noexcept { return pid_; }
 
  private:
   std::string out_, err_, pty_;

@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""A rig recording against the emulator's truth (docs/RELIABILITY.md).
+
+    python3 bench/rig_truth.py GYROFLIP RUN.gfr SENT.csv
+
+GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--log` of the
+`gyroflip emulate` the recording was made from. Prints one JSON object:
+
+  sent         DWELLs the device sent (every row of SENT.csv)
+  in_file      of them, stored in RUN.gfr (a FRAME record with the same boot's number, cycle,
+               position, n and code sum)
+  exported     rows of `export` (each matched to the DWELL it came from by its number, cycle,
+               position and value: a number restarts at each boot)
+  mislabelled  exported rows whose angle is not where the table truly stood (SENT.csv's
+               table_deg)
+  unlabelled   DWELLs in the file that `export` does not use (a run whose start or homing is
+               not known, a step fault)
+  not_in_file  DWELLs sent and not stored
+  gap_missing  frames the file's GAP records count as lost
+  counted      not_in_file <= gap_missing: every DWELL sent is in the file or in a GAP count
+  foreign      exported rows that match no DWELL sent (must be 0)
+  resets       device resets the file records (GAP reset)
+  start_unacked  runs whose START ACK never reached the recorder (the START record names the
+               CONFIGURE's ACK: the device showed the run, or it reset before a retry)
+
+Exit 0 when mislabelled == 0, foreign == 0 and counted; else 1.
+"""
+import csv
+import io
+import json
+import struct
+import subprocess
+import sys
+
+LSB_V = 5.0 / 16777216.0  # AD7739 +-2.5 V over 2^24 codes (INFO range 4)
+
+
+def gfr_records(path):
+    """(kind, body) of every intact record, in file order."""
+    data = open(path, "rb").read()
+    i = 16
+    while i + 8 <= len(data):
+        length, check = struct.unpack_from("<II", data, i)
+        if length ^ 0xFFFFFFFF != check or i + 8 + length + 4 > len(data):
+            break
+        yield data[i + 8], data[i + 17 : i + 8 + length]
+        i += 8 + length + 4
+
+
+def stored_dwells(path):
+    """The file's DWELL frames as (seq, cycle, position, n, code_sum), its GAP missing count,
+    META's scale factor, its resets and its START records without their ACK."""
+    dwells, gap_missing, scale = set(), 0, None
+    resets, start_acks, unacked = 0, set(), 0
+    for kind, body in gfr_records(path):
+        if kind == 6 and body[0] == 3:
+            resets += 1
+            start_acks = set()
+        elif kind == 5 and body[0] == 0x14 and body[5] == 0x22:
+            start_acks.add(struct.unpack_from("<H", body, 6)[0])  # ACK of START: its at_seq
+        elif kind == 4 and len(body) >= 2:
+            unacked += 0 if struct.unpack_from("<H", body, 0)[0] in start_acks else 1
+        if kind == 1:
+            scale = json.loads(body.decode("utf-8", "replace"))["scale_factor_v_per_dps"]
+        elif kind == 5 and body[0] == 0x10:
+            seq = body[1] | body[2] << 8
+            p = body[3:]
+            cycle, position = struct.unpack_from("<IB", p, 0)
+            n = struct.unpack_from("<H", p, 14)[0]
+            code_sum = int.from_bytes(p[16:22], "little", signed=True)
+            dwells.add((seq, cycle, position, n, code_sum))
+        elif kind == 6 and body[0] == 2:
+            gap_missing += struct.unpack_from("<I", body, 1)[0]
+    return dwells, gap_missing, scale, resets, unacked
+
+
+def compare(gyroflip, gfr, sent_csv):
+    sent = list(csv.DictReader(open(sent_csv)))
+    dwells, gap_missing, scale, resets, unacked = stored_dwells(gfr)
+    out = subprocess.run([gyroflip, "export", gfr, "-o", "-"], capture_output=True, text=True)
+    if out.returncode != 0:
+        raise SystemExit(f"export {gfr}: {out.stderr}")
+    rows = [l for l in out.stdout.splitlines() if not l.startswith("#")]
+    exported = list(csv.DictReader(io.StringIO("\n".join(rows))))
+    by_key = {}
+    for s in sent:
+        by_key.setdefault((int(s["seq"]), int(s["cycle"]), int(s["position"])), []).append(s)
+    key = lambda s: (int(s["seq"]), int(s["cycle"]), int(s["position"]), int(s["n"]),
+                     int(s["code_sum"]))
+    in_file = [s for s in sent if key(s) in dwells]
+    mislabelled = foreign = unlabelled_exported = 0
+    for r in exported:
+        k = (int(r["seq"]), int(r["cycle"]), int(r["position"]))
+        rate = float(r["rate_dps"])
+        match = [s for s in by_key.get(k, [])
+                 if abs(int(s["code_sum"]) / int(s["n"]) * LSB_V / scale - rate) <=
+                 1e-12 * max(1.0, abs(rate))]
+        if not match:
+            foreign += 1
+            continue
+        if r["angle_deg"] == "":
+            unlabelled_exported += 1
+        elif abs(float(r["angle_deg"]) - float(match[0]["table_deg"])) > 1e-6:
+            mislabelled += 1
+    labelled = len(exported) - foreign - unlabelled_exported
+    not_in_file = len(sent) - len(in_file)
+    return {
+        "sent": len(sent),
+        "in_file": len(in_file),
+        "exported": len(exported),
+        "mislabelled": mislabelled,
+        "unlabelled": len(in_file) - labelled,
+        "not_in_file": not_in_file,
+        "gap_missing": gap_missing,
+        "counted": not_in_file <= gap_missing,
+        "foreign": foreign,
+        "resets": resets,
+        "start_unacked": unacked,
+    }
+
+
+def main():
+    if len(sys.argv) != 4 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        return 0 if len(sys.argv) == 2 else 2
+    r = compare(*sys.argv[1:])
+    print(json.dumps(r))
+    return 0 if r["mislabelled"] == 0 and r["foreign"] == 0 and r["counted"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
