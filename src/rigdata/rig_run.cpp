@@ -451,6 +451,10 @@ result<rig_run> rig_run_builder::finish() && {
     std::optional<std::uint64_t> after_seq;
     std::optional<protocol::configure_msg> config;  // empty: not known
     bool usable = true;
+    // The positions per cycle its dwells are numbered by (the configuration in force, when its
+    // own is not known): for its time only, which a run not labelled still gives the file.
+    std::uint8_t positions = 2;
+    bool timing_only = false;  // dwells of a boot whose START and its ACK are lost
   };
   const auto config_at = [&](std::size_t event_index) -> const protocol::configure_msg& {
     const event& c = events_[event_index];
@@ -507,6 +511,11 @@ result<rig_run> rig_run_builder::finish() && {
       }
       if (!m.config) ++unknown_config_runs;
       if (marks[i] != mark::none) m.usable = false;
+      if (m.config) {
+        m.positions = m.config->n_positions;
+      } else if (st.config_event != npos) {
+        m.positions = config_at(st.config_event).n_positions;
+      }
       runs.push_back(m);
     } else if (e.type == ev::ack_start && marks[i] == mark::none) {
       // The START record follows its ACK within a few records: lost when damage follows the
@@ -530,6 +539,7 @@ result<rig_run> rig_run_builder::finish() && {
       if (c != npos && events_[c].type == ev::configure && !damage_between(c, i) &&
           session_of[c] == m.session)
         m.config = config_at(c);
+      if (c != npos) m.positions = config_at(c).n_positions;
       if (!m.config) ++unknown_config_runs;
       runs.push_back(m);
       ++run_.rebuilt_starts;
@@ -570,6 +580,7 @@ result<rig_run> rig_run_builder::finish() && {
     return best;
   };
   std::vector<std::vector<std::size_t>> members(runs.size());
+  std::map<std::size_t, std::vector<std::size_t>> orphans;  // per boot
   for (std::size_t i = 0; i < n_ev; ++i) {
     if (events_[i].type != ev::dwell) continue;
     switch (marks[i]) {
@@ -590,6 +601,7 @@ result<rig_run> rig_run_builder::finish() && {
       ++run_.unidentified;  // a boot no reset announced, never set up by the recorder
     } else if (!k && epoch_of[i] > sessions[session_of[i]].epoch) {
       ++run_.unknown_config;  // its START (and the ACK of it) lies in a damaged region
+      orphans[session_of[i]].push_back(i);
     } else if (!k) {
       ++run_.outside_runs;
     } else if (!runs[*k].usable) {
@@ -599,13 +611,30 @@ result<rig_run> rig_run_builder::finish() && {
     }
   }
 
+  // A boot's dwells whose START and its ACK are lost are not labelled, but their clock still
+  // times the file: a run of their own, for time only.
+  for (auto& [session, v] : orphans) {
+    run_mark m;
+    m.session = session;
+    m.event = v.front();
+    m.timing_only = true;
+    runs.push_back(m);
+    members.push_back(std::move(v));
+  }
+  std::vector<std::size_t> order(runs.size());
+  for (std::size_t r = 0; r < runs.size(); ++r) order[r] = r;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return runs[a].event < runs[b].event; });
+
   // 7. Each run's dwells in sequence order, timed on the device's clock unwrapped into 64 bits.
+  // A run whose dwells are not labelled (its angle table not known) still places the runs after
+  // it in time, so that damage does not move them.
   run_.dwells.clear();
   double last_end_s = 0.0;
   std::uint64_t last_host_us = 0;
   bool any = false;
   std::size_t unknown_positions = 0, went_backwards = 0, borrowed_info = 0;
-  for (std::size_t r = 0; r < runs.size(); ++r) {
+  for (const std::size_t r : order) {
     auto& v = members[r];
     if (v.empty()) continue;
     std::stable_sort(v.begin(), v.end(),
@@ -614,25 +643,24 @@ result<rig_run> rig_run_builder::finish() && {
     v.erase(std::unique(v.begin(), v.end(),
                         [&](std::size_t a, std::size_t b) { return seq_of[a] == seq_of[b]; }),
             v.end());
-    if (!runs[r].config) {
-      run_.unknown_config += v.size();
-      continue;
-    }
+    const bool label = runs[r].config.has_value();
+    if (!label && !runs[r].timing_only) run_.unknown_config += v.size();
     const auto info_index = info_for(runs[r].session);
     if (!info_index) {
-      run_.unconverted += v.size();
+      if (label) run_.unconverted += v.size();
       continue;
     }
-    if (sessions[runs[r].session].info == npos) borrowed_info += v.size();
+    if (label && sessions[runs[r].session].info == npos) borrowed_info += v.size();
     const protocol::info_msg& info = infos_[*info_index];
     const double hz = info.tick_hz;
     const double lsb_v = adc_lsb_v(info.range);
-    const protocol::configure_msg& cfg = *runs[r].config;
+    const protocol::configure_msg cfg = runs[r].config.value_or(protocol::configure_msg{});
+    const std::uint64_t positions = label ? cfg.n_positions : runs[r].positions;
     const auto msg = [&](std::size_t i) -> const protocol::dwell_msg& {
       return dwell_msgs_[events_[i].index];
     };
     const auto k_of = [&](const protocol::dwell_msg& d) {
-      return std::uint64_t{cfg.n_positions} * d.cycle + d.position;
+      return positions * d.cycle + d.position;
     };
     // Ticks per dwell: the median step between neighbours (a 32-bit step is exact while it is
     // shorter than 2^31 ticks: 18 h at 32 768 Hz, 36 min at 1 MHz).
@@ -646,7 +674,7 @@ result<rig_run> rig_run_builder::finish() && {
     }
     const double ticks_per_dwell = median(std::move(per_dwell));
     std::map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::int32_t>>> pend;
-    if (with_conversions_ && cfg.n_avg != 0) {
+    if (label && with_conversions_ && cfg.n_avg != 0) {
       for (std::size_t i = 0; i < n_ev; ++i) {
         if (events_[i].type != ev::raw || marks[i] != mark::none) continue;
         if (session_of[i] != runs[r].session || run_of(i) != r) continue;
@@ -659,13 +687,17 @@ result<rig_run> rig_run_builder::finish() && {
       }
     }
     // A later run continues after the last one by the host's gap between them.
+    // Time 0 is the start of the first run's first dwell (cycle 0, position 0): where that dwell
+    // is lost (on the line, or in damage), as many of the run's steps before its first one read,
+    // so that a dwell lost does not move every time of the file.
     const double offset_s =
         any ? last_end_s + static_cast<double>(events_[v.front()].host_us - last_host_us) * 1e-6
-            : 0.0;
+            : ticks_per_dwell * static_cast<double>(k_of(msg(v.front()))) / hz;
     std::int64_t start_ticks = 0;  // from the run's first dwell
     std::uint32_t prev_raw = msg(v.front()).t_start_ticks;
     std::uint64_t prev_k = k_of(msg(v.front()));
     std::uint64_t expected_k = 0, seen = 0;
+    bool timed = false;  // a dwell of this run set the time the next run continues from
     constexpr double wrap = 4294967296.0;
     for (std::size_t j = 0; j < v.size(); ++j) {
       const std::size_t i = v[j];
@@ -680,6 +712,7 @@ result<rig_run> rig_run_builder::finish() && {
                                 static_cast<std::int64_t>(wraps) * (std::int64_t{1} << 32);
       const auto length = static_cast<std::int32_t>(d.t_end_ticks - d.t_start_ticks);
       if (j != 0 && (step < 0 || length < 0)) {
+        if (!label) break;  // counted already; its clock times nothing after this
         // Times that go back: not this run's clock (a reset no record says, or damage). What
         // follows is not placed on it.
         went_backwards += v.size() - j;
@@ -692,8 +725,10 @@ result<rig_run> rig_run_builder::finish() && {
         break;
       }
       if (j == 0 && length < 0) {
-        ++went_backwards;
-        ++run_.unknown_boot;
+        if (label) {
+          ++went_backwards;
+          ++run_.unknown_boot;
+        }
         continue;
       }
       start_ticks += j == 0 ? 0 : step;
@@ -701,6 +736,12 @@ result<rig_run> rig_run_builder::finish() && {
       prev_k = k_of(d);
       const double t0 = offset_s + static_cast<double>(start_ticks) / hz;
       const double t1 = offset_s + static_cast<double>(start_ticks + length) / hz;
+      if (!label) {
+        last_end_s = t1;
+        last_host_us = events_[i].host_us;
+        timed = true;
+        continue;
+      }
       rig_dwell rd = physical(d, cfg, lsb_v, t0, t1);
       rd.seq = events_[i].seq16;
       rd.segment = static_cast<std::uint32_t>(r);
@@ -736,11 +777,12 @@ result<rig_run> rig_run_builder::finish() && {
       ++seen;
       last_end_s = t1;
       last_host_us = events_[i].host_us;
+      timed = true;
       run_.dwells.push_back(rd);
     }
     run_.lost_dwells += expected_k - std::min(expected_k, seen);
     for (const auto& [k, codes] : pend) run_.unplaced_conversions += codes.size();
-    any = true;
+    any = any || timed;
   }
   // The last INFO of the file's board, and the configuration in force at the end.
   for (const auto& m : infos_)

@@ -184,10 +184,11 @@ class generator {
     d.code_sum = 256 * code(rng_);
     d.n_temp = 4;
     d.temp_sum = 4 * 4300 + static_cast<std::int32_t>(code(rng_) / 100);
+    const double start_s = device_s_ - segment_s_;
+    advance(length_s);  // the device sends a DWELL when it ends
     const std::uint16_t s = seq_;
     const bytes body = frame_body(p::msg::dwell, payload_of(d));
-    out_.dwells.push_back(
-        {boot_, s, d.cycle, d.position, d.position == 0 ? 0.0 : 180.0, device_s_ - segment_s_});
+    out_.dwells.push_back({boot_, s, d.cycle, d.position, d.position == 0 ? 0.0 : 180.0, start_s});
     if (std::find(o_.lost.begin(), o_.lost.end(), j) != o_.lost.end()) {
       out_.dwells.pop_back();
       lost_pending_ = true;
@@ -198,7 +199,7 @@ class generator {
       record(gfr::kind::frame, body);
       flush_late();
     }
-    advance(o_.dwell_s);
+    advance(o_.dwell_s - length_s);
     if (lost_pending_) {
       record(gfr::kind::gap, gap_body(gfr::gap_reason::missing, 1));
       lost_pending_ = false;
@@ -304,8 +305,11 @@ void trial(const truth& t, const bytes& damaged, std::uint64_t lo, std::uint64_t
     if (g != got.end() && g->second->angle_deg == d->angle_deg &&
         same_value(g->second->rate_dps, d->rate_dps) && same_value(g->second->temp_c, d->temp_c)) {
       ++recovered;
-      tally.max_time_shift_s =
-          std::max(tally.max_time_shift_s, std::fabs(g->second->time_s - d->time_s));
+      if (const double shift = std::fabs(g->second->time_s - d->time_s);
+          shift > tally.max_time_shift_s) {
+        tally.max_time_shift_s = shift;
+        tally.max_time_shift_at = what;
+      }
     }
   }
   for (const auto& [key, g] : got) {

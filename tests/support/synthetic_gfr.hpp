@@ -87,6 +87,7 @@ struct damage_tally {
   std::size_t recovered = 0;
   std::size_t mislabelled = 0;
   double max_time_shift_s = 0.0;   ///< largest |time_s| change of a recovered dwell
+  std::string max_time_shift_at;   ///< the trial that had it
   std::vector<std::string> notes;  ///< what went wrong in which trial (first few)
 };
 
