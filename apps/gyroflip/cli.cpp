@@ -365,7 +365,8 @@ void add_series_options(CLI::App* sub, series_input& in) {
       ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
       ->capture_default_str();
   sub->add_option("--gaps", in.gaps,
-                  "gaps in the time stamps: error, or split (analyse the longest gap-free run)")
+                  "gaps in the time stamps (a .gfr: lost dwells): error, or split (analyse the "
+                  "longest gap-free run)")
       ->check(CLI::IsMember({"error", "split"}))
       ->capture_default_str();
 }
@@ -377,7 +378,8 @@ void setup_adev(CLI::App& app, action& chosen) {
   add_series_options(sub, o->in);
   sub->add_option("--kind", o->kind,
                   "adev|oadev|mdev|tdev|hdev|ohdev|totdev|mtotdev|ttotdev|htotdev|theo1|pdev|mtie|"
-                  "tierms|gradev (gradev: an empty field or nan is a missing sample)")
+                  "tierms|gradev (gradev: an empty field or nan is a missing sample; a .gfr's "
+                  "lost dwells too)")
       ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev",
                              "ttotdev", "htotdev", "theo1", "pdev", "mtie", "tierms", "gradev"}))
       ->capture_default_str();

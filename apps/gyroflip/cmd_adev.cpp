@@ -222,7 +222,7 @@ result<std::vector<analysis_input>> load_series(const series_input& in) {
   const auto so = series_options_of(in);
   std::vector<io::series> read;
   if (names->size() == 1 && in.columns.empty()) {
-    auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column)
+    auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column, so.gaps)
                                        : io::read_series(in.file, so);
     if (!s) return s.err();
     read.push_back(std::move(*s));
@@ -497,12 +497,18 @@ struct computed {
 // binary file), GRADEV (cross.hpp) of each. The bad-input rules hold for every other field.
 result<std::vector<computed>> gradev_columns(const adev_options& o,
                                              const analysis::tau_spec& taus) {
-  if (is_rig_recording(o.in.file)) return usage_error("--kind gradev: a CSV or binary file");
   auto names = column_names(o.in);
   if (!names) return names.err();
   const auto so = series_options_of(o.in, true);
   std::vector<io::series> read;
-  if (names->size() == 1 && o.in.columns.empty()) {
+  if (is_rig_recording(o.in.file)) {
+    // A rig recording's lost dwells are gaps on its grid of cycles.
+    if (names->size() != 1 || !o.in.columns.empty())
+      return usage_error("several columns: a CSV file only");
+    auto s = read_rig_series(o.in.file, o.in.column, so.gaps, true);
+    if (!s) return s.err();
+    read.push_back(std::move(*s));
+  } else if (names->size() == 1 && o.in.columns.empty()) {
     auto s = io::read_series(o.in.file, so);
     if (!s) return s.err();
     read.push_back(std::move(*s));

@@ -133,6 +133,15 @@ int run_export(const export_options& o) {
   auto run = rigdata::read_rig_run(o.file, o.raw, o.strict);
   if (!run) return report(run.err());
   for (const auto& w : run->warnings) warn(w);
+  // Dwells the file holds but no run of the device can be established for: with none left to
+  // write, an empty CSV would look like a recording of nothing (issue 32: one bit in START).
+  const std::size_t held = run->outside_runs + run->unknown_config + run->unidentified +
+                           run->other_board + run->unknown_boot + run->unconverted;
+  if (run->dwells.empty() && held != 0)
+    return report(input_error(
+        {o.file}, fmt::format("none of its {} dwells can be placed in a run of its board with "
+                              "their angles (the warnings above say why): nothing written",
+                              held)));
   if (run->lost_dwells != 0)
     warn(
         fmt::format("{}: {} dwells never arrived (the device no longer had them when they were "

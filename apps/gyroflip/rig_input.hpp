@@ -25,7 +25,15 @@ namespace gyroflip::app {
 /// compensated rate up to the constant dN, which no deviation sees), `bias_dps` the per-cycle
 /// half-sum (the sensor's bias), `dwell_dps` the dwell means as they are (they switch with the
 /// angle). One sample per cycle (per dwell), on the cycles' own grid.
-[[nodiscard]] result<io::series> read_rig_series(const std::string& path,
-                                                 const std::string& column);
+///
+/// A dwell that never arrived (or has no value: no conversion, a step fault), and the time
+/// between two runs of the device (a reset), are gaps on that grid, as a CSV's missing time
+/// stamps are (docs/FORMATS.md, "Time stamps"): `gaps` error names the first and the ways on;
+/// split analyses the longest gap-free stretch of cycles; `bridge` (GRADEV, `--kind gradev`) puts
+/// every stretch on one grid with NaN for what is missing. Either says how much it split off or
+/// bridged (a note).
+[[nodiscard]] result<io::series> read_rig_series(const std::string& path, const std::string& column,
+                                                 io::gap_policy gaps = io::gap_policy::error,
+                                                 bool bridge = false);
 
 }  // namespace gyroflip::app

@@ -3,10 +3,12 @@
 #include "gyroflip/rigdata/gfr.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <utility>
 
 #include <fcntl.h>
@@ -48,7 +50,7 @@ std::vector<std::uint8_t> file_header() {
 }
 
 bool known_kind(std::uint8_t k) {
-  return k >= static_cast<std::uint8_t>(kind::meta) && k <= static_cast<std::uint8_t>(kind::stop);
+  return k >= static_cast<std::uint8_t>(kind::meta) && k <= static_cast<std::uint8_t>(kind::copy);
 }
 
 error at_record(const std::string& name, std::size_t n, const std::string& what) {
@@ -62,27 +64,6 @@ error write_error(const std::string& path, const std::string& what, int err) {
   if (err == ENOSPC || err == EDQUOT || err == EIO || err == EFBIG)
     return runtime_error(path + ": " + m);
   return io_error(path, m);
-}
-
-status check_file_header(std::span<const std::uint8_t> b, const std::string& name) {
-  if (b.size() < magic.size() || std::memcmp(b.data(), magic.data(), magic.size()) != 0)
-    return at_record(name, 0,
-                     "not a gyroflip rig recording (the file does not start with the "
-                     ".gfr magic bytes)");
-  if (b.size() < file_header_bytes)
-    return at_record(
-        name, 0,
-        fmt::format("the file header is cut short ({} of {} bytes)", b.size(), file_header_bytes));
-  if (load_le(b.data() + 12, 4) != crc32(b.first(12)))
-    return at_record(name, 0, "file header checksum mismatch (the file is damaged)");
-  const auto version = static_cast<std::uint16_t>(load_le(b.data() + 8, 2));
-  if (version > format_version)
-    return at_record(name, 0,
-                     fmt::format("format version {} is newer than this gyroflip reads "
-                                 "({}): update gyroflip",
-                                 version, format_version));
-  if (version == 0) return at_record(name, 0, "format version 0 does not exist");
-  return ok();
 }
 
 }  // namespace
@@ -101,38 +82,292 @@ std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept {
 
 namespace {
 
-// The record at `at` when it is intact: its length (with length field, check and CRC), else 0.
-std::size_t intact_record(std::span<const std::uint8_t> b, std::size_t at) {
+// CRC-32's table (reflected polynomial 0xEDB88320, zlib's): the register's step over one byte.
+constexpr std::array<std::uint32_t, 256> crc_table = [] {
+  std::array<std::uint32_t, 256> t{};
+  for (std::uint32_t i = 0; i < 256; ++i) {
+    std::uint32_t c = i;
+    for (int k = 0; k < 8; ++k) c = (c & 1U) != 0 ? 0xEDB88320U ^ (c >> 1) : c >> 1;
+    t[i] = c;
+  }
+  return t;
+}();
+
+// The bit of `n` message bytes (byte index x 8 + bit, LSB first) whose flip changes the CRC-32 by
+// `syndrome`, if one does. CRC-32 is linear: crc(m ^ e) ^ crc(m) is the register run over `e`
+// from 0 without the final inversion, which for one set bit is the table entry of its byte
+// followed by a zero byte per byte after it. The polynomial's order is 2^32 - 1, so no two bits
+// of a message shorter than 2^32 bits share a syndrome (a record is at most 1 MiB).
+std::optional<std::size_t> flipped_bit(std::size_t n, std::uint32_t syndrome) {
+  std::array<std::uint32_t, 8> r{};
+  for (std::size_t b = 0; b < 8; ++b) r[b] = crc_table[std::size_t{1} << b];
+  for (std::size_t j = n; j-- > 0;) {
+    for (std::size_t b = 0; b < 8; ++b)
+      if (r[b] == syndrome) return j * 8 + b;
+    for (auto& x : r) x = crc_table[x & 0xFFU] ^ (x >> 8);
+  }
+  return std::nullopt;
+}
+
+// The one bit of a checked block (`n` message bytes, then its stored little-endian CRC-32) whose
+// flip explains a CRC mismatch `syndrome` (computed ^ stored), if one does: a bit of the stored
+// CRC itself (a syndrome of one bit), else one of the message.
+std::optional<std::size_t> bit_to_repair(std::size_t n, std::uint32_t syndrome) {
+  if (std::popcount(syndrome) == 1)
+    return n * 8 + static_cast<std::size_t>(std::countr_zero(syndrome));
+  return flipped_bit(n, syndrome);
+}
+
+// A record found at an offset: its whole length (length words, kind, time, body, CRC), and the
+// bit (from its start) that was flipped, when it was repaired.
+struct found {
+  std::size_t whole = 0;
+  std::optional<std::size_t> bit;
+};
+
+// The record at `at`: intact, or with `repair` one whose single flipped bit its CRC locates (a
+// bit of a length word too: the other word gives the length). Else whole = 0.
+found record_at(std::span<const std::uint8_t> b, std::size_t at, bool repair) {
   const std::size_t left = b.size() - at;
-  if (left < record_overhead) return 0;
-  const std::uint64_t len = load_le(b.data() + at, 4);
-  if ((len ^ 0xFFFFFFFFU) != load_le(b.data() + at + 4, 4)) return 0;
-  if (len < 9 || len - 9 > max_body) return 0;
-  const std::size_t whole = static_cast<std::size_t>(len) + 12;
-  if (whole > left) return 0;
-  const auto rec = b.subspan(at, whole);
-  if (load_le(rec.data() + whole - 4, 4) != crc32(rec.first(whole - 4))) return 0;
-  return known_kind(rec[8]) ? whole : 0;
+  if (left < record_overhead) return {};
+  const auto l0 = static_cast<std::uint32_t>(load_le(b.data() + at, 4));
+  const auto l1 = static_cast<std::uint32_t>(load_le(b.data() + at + 4, 4) ^ 0xFFFFFFFFU);
+  const bool agree = l0 == l1;
+  if (!agree && (!repair || std::popcount(l0 ^ l1) != 1)) return {};
+  for (const std::uint32_t len : {l0, l1}) {
+    if (len < 9 || len - 9 > max_body) continue;
+    const std::size_t whole = static_cast<std::size_t>(len) + 12;
+    if (whole > left) continue;
+    const auto rec = b.subspan(at, whole);
+    const auto stored = static_cast<std::uint32_t>(load_le(rec.data() + whole - 4, 4));
+    const std::uint32_t syndrome = crc32(rec.first(whole - 4)) ^ stored;
+    if (syndrome == 0) {
+      if (agree && known_kind(rec[8])) return {whole, std::nullopt};
+      continue;
+    }
+    if (!repair) continue;
+    const auto bit = bit_to_repair(whole - 4, syndrome);
+    if (!bit) continue;
+    // The bit must explain everything found: the disagreeing length words (it lies in one of
+    // them), or nothing there when they agree; and the record it gives must be of a known kind.
+    const bool in_length = *bit < 64;
+    if (in_length == agree) continue;
+    std::uint8_t kind_byte = rec[8];
+    if (*bit / 8 == 8) kind_byte = static_cast<std::uint8_t>(kind_byte ^ (1U << (*bit % 8)));
+    if (!known_kind(kind_byte)) continue;
+    return {whole, bit};
+  }
+  return {};
 }
 
 bool all_zero(std::span<const std::uint8_t> b) {
   return std::all_of(b.begin(), b.end(), [](std::uint8_t v) { return v == 0; });
 }
 
+// Whether what follows a repaired record is what follows a record: the end, zeros to the end,
+// or another record (intact or itself repairable).
+bool followed_well(std::span<const std::uint8_t> b, std::size_t at) {
+  if (at >= b.size() || all_zero(b.subspan(at))) return true;
+  return record_at(b, at, true).whole != 0;
+}
+
+// The file header: checked, or repaired (one flipped bit), or - when it is beyond repair but
+// intact records follow - read past. `version` 0 when it cannot be trusted.
+status read_file_header(std::span<const std::uint8_t> b, const std::string& name, file& out) {
+  const bool magic_ok =
+      b.size() >= magic.size() && std::memcmp(b.data(), magic.data(), magic.size()) == 0;
+  if (magic_ok && b.size() < file_header_bytes)
+    return at_record(
+        name, 0,
+        fmt::format("the file header is cut short ({} of {} bytes)", b.size(), file_header_bytes));
+  std::array<std::uint8_t, file_header_bytes> h{};
+  if (b.size() >= file_header_bytes) {
+    std::copy_n(b.begin(), file_header_bytes, h.begin());
+    const std::uint32_t syndrome =
+        crc32(std::span(h).first(12)) ^ static_cast<std::uint32_t>(load_le(h.data() + 12, 4));
+    if (syndrome != 0) {
+      if (const auto bit = bit_to_repair(12, syndrome)) {
+        h[*bit / 8] = static_cast<std::uint8_t>(h[*bit / 8] ^ (1U << (*bit % 8)));
+        if (std::memcmp(h.data(), magic.data(), magic.size()) == 0) {
+          out.warnings.push_back(
+              fmt::format("{}: record 0: one flipped bit of the file header (offset {}) repaired",
+                          name, *bit / 8));
+          ++out.repaired;
+          out.version = static_cast<std::uint16_t>(load_le(h.data() + 8, 2));
+        }
+      }
+    } else if (magic_ok) {
+      out.version = static_cast<std::uint16_t>(load_le(h.data() + 8, 2));
+    }
+  }
+  if (out.version != 0) {
+    if (out.version > format_version)
+      return at_record(name, 0,
+                       fmt::format("format version {} is newer than this gyroflip reads "
+                                   "({}): update gyroflip",
+                                   out.version, format_version));
+    return ok();
+  }
+  // Beyond repair: a recording whose first bytes are damaged still has its records (some
+  // intact one: the chance that other bytes pass a record's length check and CRC-32 is 2^-64).
+  bool records = false;
+  for (std::size_t at = file_header_bytes; at < b.size() && !records; ++at)
+    records = record_at(b, at, false).whole != 0;
+  if (!records) {
+    if (!magic_ok)
+      return at_record(name, 0,
+                       "not a gyroflip rig recording (the file does not start with the "
+                       ".gfr magic bytes)");
+    if (b.size() >= file_header_bytes && load_le(b.data() + 8, 2) == 0)
+      return at_record(name, 0, "format version 0 does not exist");
+    return at_record(name, 0, "file header checksum mismatch (the file is damaged)");
+  }
+  out.warnings.push_back(fmt::format(
+      "{}: record 0: the file header is damaged beyond repair; its records are read (the format "
+      "version is told by them)",
+      name));
+  return ok();
+}
+
+// A COPY record's original, when its body holds one.
+std::optional<record> original_of(const record& c) {
+  if (c.body.size() < copy_header_bytes) return std::nullopt;
+  const std::uint8_t k = c.body[8];
+  if (!known_kind(k) || static_cast<kind>(k) == kind::copy) return std::nullopt;
+  record r;
+  r.offset = load_le(c.body.data(), 8);
+  r.type = static_cast<kind>(k);
+  r.host_time_us = load_le(c.body.data() + 9, 8);
+  r.body.assign(c.body.begin() + copy_header_bytes, c.body.end());
+  r.number = c.number;
+  r.restored = true;
+  return r;
+}
+
+// Puts back, from their COPY records, the records of damaged regions; checks the copies of
+// intact ones; drops the COPY records; and finds the damaged regions left (bytes no record
+// covers).
+void merge_copies(file& out, const std::string& name, std::size_t end) {
+  std::vector<record> copies;
+  std::vector<record> recs;
+  for (auto& r : out.records) (r.type == kind::copy ? copies : recs).push_back(std::move(r));
+  // The bytes each record read covers, the copies' own included.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> spans;
+  for (const auto& r : recs)
+    spans.emplace_back(r.offset, r.offset + record_overhead + r.body.size());
+  for (const auto& c : copies)
+    spans.emplace_back(c.offset, c.offset + record_overhead + c.body.size());
+  std::sort(spans.begin(), spans.end());
+  const auto covered_by_record = [&](std::uint64_t o) {
+    return std::any_of(recs.begin(), recs.end(), [&](const record& r) { return r.offset == o; });
+  };
+  std::vector<record> put_back;
+  for (const auto& c : copies) {
+    auto o = original_of(c);
+    if (!o) {
+      out.warnings.push_back(fmt::format(
+          "{}: record {}: a COPY record that holds no record; ignored", name, c.number));
+      continue;
+    }
+    const auto same = std::find_if(recs.begin(), recs.end(),
+                                   [&](const record& r) { return r.offset == o->offset; });
+    if (same != recs.end()) {
+      if (same->type != o->type || same->host_time_us != o->host_time_us || same->body != o->body)
+        out.warnings.push_back(
+            fmt::format("{}: record {}: the COPY of record {} differs from it; the record is read",
+                        name, c.number, same->number));
+      continue;
+    }
+    // The original must lie in bytes no record read covers (a damaged region).
+    const std::uint64_t o_end = o->offset + record_overhead + o->body.size();
+    const bool inside_damage = o->offset >= file_header_bytes && o_end <= end &&
+                               std::none_of(spans.begin(), spans.end(), [&](const auto& s) {
+                                 return s.first < o_end && o->offset < s.second;
+                               });
+    if (!inside_damage || covered_by_record(o->offset) ||
+        std::any_of(put_back.begin(), put_back.end(),
+                    [&](const record& r) { return r.offset == o->offset; })) {
+      if (!inside_damage)
+        out.warnings.push_back(fmt::format(
+            "{}: record {}: a COPY of a record at offset {}, where no record was damaged; ignored",
+            name, c.number, o->offset));
+      continue;
+    }
+    out.warnings.push_back(fmt::format(
+        "{}: record {}: the damaged record at offset {} ({}) is put back from its copy", name,
+        c.number, o->offset, o->type == kind::meta ? "META" : "a record the others depend on"));
+    put_back.push_back(std::move(*o));
+  }
+  out.restored = put_back.size();
+  for (auto& r : put_back) {
+    spans.emplace_back(r.offset, r.offset + record_overhead + r.body.size());
+    recs.push_back(std::move(r));
+  }
+  std::sort(recs.begin(), recs.end(),
+            [](const record& a, const record& b) { return a.offset < b.offset; });
+  std::sort(spans.begin(), spans.end());
+  // Damaged regions: bytes between the header and `end` that no record covers.
+  out.damaged.clear();
+  std::uint64_t at = file_header_bytes;
+  for (const auto& [lo, hi] : spans) {
+    if (lo > at) {
+      const auto next =
+          std::lower_bound(recs.begin(), recs.end(), lo,
+                           [](const record& r, std::uint64_t o) { return r.offset < o; });
+      out.damaged.push_back({at, lo - at, static_cast<std::size_t>(next - recs.begin())});
+    }
+    at = std::max(at, hi);
+  }
+  out.records = std::move(recs);
+}
+
 }  // namespace
 
+bool is_copied(kind k, std::span<const std::uint8_t> body) noexcept {
+  switch (k) {
+    case kind::meta:
+    case kind::info:
+    case kind::configure:
+    case kind::start:
+      return true;
+    case kind::gap:
+      return !body.empty() && (body[0] == static_cast<std::uint8_t>(gap_reason::device_reset) ||
+                               body[0] == static_cast<std::uint8_t>(gap_reason::link_lost));
+    default:
+      return false;
+  }
+}
+
 result<file> parse(std::span<const std::uint8_t> b, const std::string& name, bool strict) {
-  if (auto s = check_file_header(b, name); !s) return s.err();
   file out;
+  if (auto s = read_file_header(b, name, out); !s) return s.err();
+  if (strict && out.version == 0) return at_record(name, 0, "the file header is damaged");
+  if (strict && out.repaired != 0) return at_record(name, 0, "the file header has a flipped bit");
   std::size_t at = file_header_bytes;
+  std::size_t end = b.size();  // where the records end (a torn or zero tail after)
   for (std::size_t n = 1; at < b.size(); ++n) {
-    if (const std::size_t whole = intact_record(b, at); whole != 0) {
-      const auto rec = b.subspan(at, whole);
-      if (n == 1 && static_cast<kind>(rec[8]) != kind::meta)
-        return at_record(name, n, "the first record is not META");
-      out.records.push_back({static_cast<kind>(rec[8]), load_le(rec.data() + 9, 8),
-                             std::vector<std::uint8_t>(rec.begin() + 17, rec.end() - 4)});
-      at += whole;
+    if (const found f = record_at(b, at, true);
+        f.whole != 0 && (!f.bit || followed_well(b, at + f.whole))) {
+      std::vector<std::uint8_t> rec(b.begin() + static_cast<std::ptrdiff_t>(at),
+                                    b.begin() + static_cast<std::ptrdiff_t>(at + f.whole));
+      if (f.bit) {
+        if (strict)
+          return at_record(name, n, fmt::format("one flipped bit at offset {}", at + *f.bit / 8));
+        rec[*f.bit / 8] = static_cast<std::uint8_t>(rec[*f.bit / 8] ^ (1U << (*f.bit % 8)));
+        out.warnings.push_back(fmt::format(
+            "{}: record {}: one flipped bit at offset {} repaired (its CRC-32 locates it)", name, n,
+            at + *f.bit / 8));
+        ++out.repaired;
+      }
+      record r;
+      r.type = static_cast<kind>(rec[8]);
+      r.host_time_us = load_le(rec.data() + 9, 8);
+      r.body.assign(rec.begin() + 17, rec.end() - 4);
+      r.offset = at;
+      r.number = n;
+      r.repaired = f.bit.has_value();
+      out.records.push_back(std::move(r));
+      at += f.whole;
       continue;
     }
     const std::size_t left = b.size() - at;
@@ -148,19 +383,18 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
       out.warnings.push_back(fmt::format(
           "{}: record {}: the last {} bytes are zeros (a power loss during writing); ignored", name,
           n, left));
+      end = at;
       break;
     }
-    // META holds the conversion to physical units: without it nothing reads.
-    if (n == 1)
-      return at_record(name, 1, "the META record is damaged (its checksum does not match)");
     std::size_t next = at + 1;
-    while (next < b.size() && intact_record(b, next) == 0) ++next;
+    while (next < b.size() && record_at(b, next, true).whole == 0) ++next;
     if (next >= b.size()) {
       // Nothing intact after it: a record cut off while it was written (a hard stop).
       out.warnings.push_back(fmt::format(
           "{}: record {}: the last {} bytes are a record cut off while it was written (the "
           "recorder was stopped hard); ignored",
           name, n, left));
+      end = at;
       break;
     }
     if (strict)
@@ -173,8 +407,17 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
         name, n, next - at, at, next - 1));
     at = next;
   }
-  if (out.records.empty())
+  merge_copies(out, name, end);
+  if (out.records.empty() && out.damaged.empty())
     return at_record(name, 1, "no META record: the recorder stopped before it wrote anything");
+  if (out.records.empty() || out.records.front().type != kind::meta) {
+    // META holds the conversion to physical units: without it nothing reads.
+    if (!out.damaged.empty() && out.damaged.front().offset == file_header_bytes)
+      return at_record(name, 1,
+                       "the META record is damaged (its checksum does not match) and the file "
+                       "holds no intact copy of it");
+    return at_record(name, out.records.front().number, "the first record is not META");
+  }
   return out;
 }
 
@@ -232,7 +475,9 @@ writer::writer(writer&& o) noexcept
     : fd_(std::exchange(o.fd_, -1)),
       path_(std::move(o.path_)),
       bytes_(o.bytes_),
-      buf_(std::move(o.buf_)) {}
+      last_host_us_(o.last_host_us_),
+      buf_(std::move(o.buf_)),
+      pending_(std::move(o.pending_)) {}
 
 writer& writer::operator=(writer&& o) noexcept {
   if (this != &o) {
@@ -240,7 +485,9 @@ writer& writer::operator=(writer&& o) noexcept {
     fd_ = std::exchange(o.fd_, -1);
     path_ = std::move(o.path_);
     bytes_ = o.bytes_;
+    last_host_us_ = o.last_host_us_;
     buf_ = std::move(o.buf_);
+    pending_ = std::move(o.pending_);
   }
   return *this;
 }
@@ -250,6 +497,31 @@ writer::~writer() {
 }
 
 status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::uint8_t> body) {
+  if (k == kind::copy) return runtime_error("COPY records are the .gfr writer's own");
+  const std::uint64_t offset = bytes_;
+  if (auto s = write_record(k, host_time_us, body); !s) return s;
+  if (is_copied(k, body)) pending_.push_back({offset, k, host_time_us, {body.begin(), body.end()}});
+  return write_copies(host_time_us, false);
+}
+
+// The copies due: those whose original lies copy_distance bytes back (all: at close).
+status writer::write_copies(std::uint64_t host_time_us, bool all) {
+  while (!pending_.empty() && (all || bytes_ - pending_.front().offset >= copy_distance)) {
+    const pending_copy& p = pending_.front();
+    std::vector<std::uint8_t> body;
+    body.reserve(copy_header_bytes + p.body.size());
+    put_u64(body, p.offset);
+    body.push_back(static_cast<std::uint8_t>(p.type));
+    put_u64(body, p.host_time_us);
+    body.insert(body.end(), p.body.begin(), p.body.end());
+    if (auto s = write_record(kind::copy, host_time_us, body); !s) return s;
+    pending_.erase(pending_.begin());
+  }
+  return ok();
+}
+
+status writer::write_record(kind k, std::uint64_t host_time_us,
+                            std::span<const std::uint8_t> body) {
   if (body.size() > max_body) return runtime_error("a .gfr record body over 1 MiB");
   buf_.clear();
   const auto len = static_cast<std::uint32_t>(body.size() + 9);
@@ -269,6 +541,7 @@ status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::u
     done += static_cast<std::size_t>(n);
   }
   bytes_ += buf_.size();
+  last_host_us_ = host_time_us;
   return ok();
 }
 
@@ -279,7 +552,10 @@ status writer::sync() {
 
 status writer::close() {
   if (fd_ < 0) return ok();
-  auto s = sync();
+  // The copies still due go in before the end (a killed writer leaves them out: its last
+  // records have none).
+  auto s = write_copies(last_host_us_, true);
+  if (s) s = sync();
   const int rc = ::close(std::exchange(fd_, -1));
   if (!s) return s;
   if (rc != 0) return io_error(path_, std::string("close: ") + std::strerror(errno));

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -96,40 +98,31 @@ rig_run_builder::rig_run_builder(std::string path, bool with_conversions)
   run_.path = std::move(path);
 }
 
-// Sequence numbers within one device session, unwrapped in file order: a frame sent again
-// arrives within 32 768 numbers of the newest one.
-std::uint64_t rig_run_builder::unwrap(std::uint16_t seq) {
-  if (!have_seq_) {
-    have_seq_ = true;
-    highest_seq_ = (std::uint64_t{1} << 32) + seq;
-    return highest_seq_;
-  }
-  const auto d = static_cast<std::int16_t>(static_cast<std::uint16_t>(seq - highest_seq_));
-  const auto s = static_cast<std::uint64_t>(static_cast<std::int64_t>(highest_seq_) + d);
-  highest_seq_ = std::max(highest_seq_, s);
-  return s;
-}
-
-double rig_run_builder::angle_of(const protocol::configure_msg& c, std::uint8_t pos) const {
-  if (pos >= c.n_positions || pos >= protocol::max_positions) return method::no_value;
-  return c.pos_cdeg[pos] / 100.0;
-}
-
 rig_dwell rig_run_builder::physical(const protocol::dwell_msg& d, const protocol::configure_msg& c,
-                                    double t0_s, double t1_s) const {
+                                    double lsb_v, double t0_s, double t1_s) const {
   rig_dwell r;
   r.d = d;
   r.time_s = 0.5 * (t0_s + t1_s);
-  r.angle_deg = angle_of(c, d.position);
+  r.angle_deg = d.position < c.n_positions && d.position < protocol::max_positions
+                    ? c.pos_cdeg[d.position] / 100.0
+                    : method::no_value;  // not in the angle table: never guessed
   r.rate_dps =
       d.n == 0 ? method::no_value
-               : static_cast<double>(d.code_sum) / d.n * lsb_v_ / run_.units.scale_factor_v_per_dps;
+               : static_cast<double>(d.code_sum) / d.n * lsb_v / run_.units.scale_factor_v_per_dps;
   if (d.n_temp != 0)
-    r.temp_c = static_cast<double>(d.temp_sum) / d.n_temp * lsb_v_ / run_.units.temp_v_per_c +
+    r.temp_c = static_cast<double>(d.temp_sum) / d.n_temp * lsb_v / run_.units.temp_v_per_c +
                run_.units.temp_at_0v_c;
   r.accel_x_g = accel_g(d.ax_high_ticks, d.ax_period_ticks);
   r.accel_y_g = accel_g(d.ay_high_ticks, d.ay_period_ticks);
   return r;
+}
+
+void rig_run_builder::add_damage(const gfr::damaged_region& d) {
+  event e;
+  e.type = ev::damage;
+  e.record = d.before;
+  events_.push_back(e);
+  ++run_.damaged_regions;
 }
 
 status rig_run_builder::add(const gfr::record& r, std::size_t n) {
@@ -145,61 +138,98 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
     run_.units = *u;
     return ok();
   }
+  const auto push = [&](ev t, std::size_t index, std::optional<std::uint16_t> seq = {}) {
+    event e;
+    e.type = t;
+    e.record = n;
+    e.host_us = r.host_time_us;
+    e.seq16 = seq.value_or(0);
+    e.has_seq = seq.has_value();
+    e.index = static_cast<std::uint32_t>(index);
+    events_.push_back(e);
+  };
   switch (r.type) {
     case gfr::kind::meta:
       return bad("a second META record");
-    case gfr::kind::info:
-      if (!decode_info(r.body, run_.info)) return bad("INFO body does not decode");
-      if (run_.info.tick_hz == 0) return bad("INFO gives a tick rate of 0");
-      have_info_ = true;
-      lsb_v_ = adc_lsb_v(run_.info.range);
-      run_.config = run_.info.config;
+    case gfr::kind::copy:
+      return ok();  // gfr::parse has put back what it copies
+    case gfr::kind::info: {
+      protocol::info_msg m;
+      if (!decode_info(r.body, m)) return bad("INFO body does not decode");
+      if (m.tick_hz == 0) return bad("INFO gives a tick rate of 0");
+      if (infos_.empty() || m.serial == infos_.front().serial) {
+        have_info_ = true;
+        run_.info = m;
+        lsb_v_ = adc_lsb_v(m.range);
+        run_.config = m.config;
+      }
+      infos_.push_back(m);
+      push(ev::info, infos_.size() - 1);
+      config_event_ = events_.size() - 1;
       return ok();
-    case gfr::kind::configure:
-      if (!decode(r.body, run_.config)) return bad("CONFIGURE body does not decode");
-      if (run_.config.n_positions < 2 || run_.config.n_positions > protocol::max_positions)
-        return bad(fmt::format("CONFIGURE with {} positions", run_.config.n_positions));
+    }
+    case gfr::kind::configure: {
+      protocol::configure_msg c;
+      if (!decode(r.body, c)) return bad("CONFIGURE body does not decode");
+      if (c.n_positions < 2 || c.n_positions > protocol::max_positions)
+        return bad(fmt::format("CONFIGURE with {} positions", c.n_positions));
+      run_.config = c;
+      configs_.push_back(c);
+      push(ev::configure, configs_.size() - 1);
+      config_event_ = events_.size() - 1;
       return ok();
+    }
     case gfr::kind::start: {
       if (r.body.size() != 0 && r.body.size() != 2 && r.body.size() != 4)
         return bad("START record of the wrong size");
-      start_mark m{session_, std::nullopt, n, r.host_time_us, run_.config};
-      if (r.body.size() >= 2)
-        m.after_seq = unwrap(static_cast<std::uint16_t>(r.body[0] | (r.body[1] << 8)));
-      // Format 3: the CRC of the configuration the device started with. A damaged CONFIGURE
-      // record leaves an older one (or INFO's) in force here: its angle table would label the
-      // run's dwells wrongly, so the run's angles are unknown instead.
-      if (r.body.size() == 4)
-        m.config_known = protocol::configure_crc(run_.config) ==
-                         static_cast<std::uint16_t>(r.body[2] | (r.body[3] << 8));
+      start_seen m;
+      m.config_event = config_event_;
+      // Format 3: the CRC of the configuration the device started with.
+      if (r.body.size() == 4) m.crc = static_cast<std::uint16_t>(r.body[2] | (r.body[3] << 8));
       starts_.push_back(m);
+      std::optional<std::uint16_t> ack;
+      if (r.body.size() >= 2) ack = static_cast<std::uint16_t>(r.body[0] | (r.body[1] << 8));
+      push(ev::start, starts_.size() - 1, ack);
       return ok();
     }
     case gfr::kind::frame: {
       if (r.body.size() < 3) return bad("frame record shorter than its header");
-      if (!have_info_) return bad("a device frame before the device's INFO");
       ++run_.frames;
       // u8 type, u16 seq (little-endian), payload: the frame as the decoder gave it.
       const auto seq = static_cast<std::uint16_t>(r.body[1] | (r.body[2] << 8));
       const protocol::frame fr{r.body[0], seq, r.body.data() + 3, r.body.size() - 3};
-      const std::uint64_t s = unwrap(seq);
-      if (fr.type == static_cast<std::uint8_t>(protocol::msg::dwell)) {
+      const auto type = static_cast<protocol::msg>(fr.type);
+      if (type == protocol::msg::dwell) {
         protocol::dwell_msg d;
         if (!fr.as(d)) return bad("DWELL body does not decode");
-        arrivals_.push_back({d, session_, s, seq, n, r.host_time_us, run_.config});
+        dwell_msgs_.push_back(d);
+        push(ev::dwell, dwell_msgs_.size() - 1, seq);
+        if (!have_info_) return ok();  // no clock yet: not in the live view
         // The live view: arrival order, ticks continued from the last dwell.
         if (!live_started_) live_last_ = d.t_start_ticks;
         live_started_ = true;
         live_s_ += static_cast<std::int32_t>(d.t_end_ticks - live_last_) /
                    static_cast<double>(run_.info.tick_hz);
         live_last_ = d.t_end_ticks;
-        run_.dwells.push_back(physical(d, run_.config, live_s_, live_s_));
+        run_.dwells.push_back(physical(d, run_.config, lsb_v_, live_s_, live_s_));
         run_.dwells.back().seq = seq;
-      } else if (fr.type == static_cast<std::uint8_t>(protocol::msg::raw)) {
+        run_.dwells.back().record = n;
+      } else if (type == protocol::msg::raw) {
         protocol::raw_msg m;
         if (!fr.as(m) || m.count > protocol::raw_msg::max_codes)
           return bad("RAW body does not decode");
-        if (with_conversions_) raws_.push_back({m, session_, s, n});
+        if (with_conversions_) raws_.push_back(m);
+        push(with_conversions_ ? ev::raw : ev::other, raws_.size() - 1, seq);
+      } else if (protocol::status_msg m; type == protocol::msg::status && fr.as(m)) {
+        statuses_.push_back({m.boot_count, m.uptime_ticks});
+        push(ev::status, statuses_.size() - 1, seq);
+      } else if (protocol::ack_msg a;
+                 type == protocol::msg::ack && fr.as(a) &&
+                 a.of_type == static_cast<std::uint8_t>(protocol::msg::start)) {
+        ack_at_.push_back(a.at_seq);
+        push(ev::ack_start, ack_at_.size() - 1, seq);
+      } else {
+        push(ev::other, 0, seq);
       }
       return ok();
     }
@@ -216,12 +246,12 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
           run_.missing_frames += count;
           return ok();
         case gfr::gap_reason::device_reset:
-          ++run_.device_resets;
-          ++session_;  // the rebooted device numbers its frames from 0 again
-          have_seq_ = false;
+          ++run_.device_resets;  // the rebooted device numbers its frames from 0 again
+          push(ev::gap_reset, 0);
           return ok();
         case gfr::gap_reason::link_lost:
           ++run_.link_losses;
+          push(ev::gap_link, count);
           return ok();
       }
       return bad("gap record of an unknown reason");
@@ -236,133 +266,567 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
   return bad("unknown record kind");
 }
 
-// The RAW codes of dwell k = n_positions cycle + position are the run's gyro conversions
-// k n_avg .. (k+1) n_avg - 1 (a RDY timeout uses an index too: docs/PROTOCOL.md, RAW); each is
-// placed at the end of its conversion period within the dwell.
-void rig_run_builder::place(
-    const rig_dwell& r, double t0_s, double t1_s,
-    std::map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::int32_t>>>& pend,
-    const protocol::configure_msg& cfg) {
-  const std::uint16_t n_avg = cfg.n_avg;
-  const std::uint64_t k = std::uint64_t{cfg.n_positions} * r.d.cycle + r.d.position;
-  const auto it = pend.find(k);
-  if (it == pend.end()) return;
-  for (const auto& [j, code] : it->second) {
-    rig_conversion c;
-    c.time_s = t0_s + (t1_s - t0_s) * (j + 1) / n_avg;
-    c.angle_deg = r.angle_deg;
-    c.code = code;
-    c.rate_dps = code * lsb_v_ / run_.units.scale_factor_v_per_dps;
-    run_.conversions.push_back(c);
-  }
-  pend.erase(it);
+namespace {
+
+constexpr std::size_t npos = static_cast<std::size_t>(-1);
+
+// A STATUS uptime that went back (a restarted clock), not a 32-bit wrap: the recorder's test.
+bool went_back(std::uint32_t now, std::uint32_t before) {
+  return now < before && before - now < 0x80000000U;
 }
 
+// Why a frame of the file is not used.
+enum class mark : std::uint8_t { none, reconnect, other_board, unknown_boot };
+
+// A device boot as the reader establishes it.
+struct boot_session {
+  std::size_t info = npos;        // its INFO (index into the INFOs), when the file has it
+  std::size_t info_event = npos;  // where that INFO is
+  std::optional<std::uint16_t> boot;
+  bool unannounced = false;  // began with no reset recorded and no damage to have lost one
+  bool saw_setup = false;    // a CONFIGURE or START of it was seen
+  std::size_t epoch = 0;     // damaged regions before it began (its reset's, when inferred)
+};
+
+// The median of `v` (empty: 0).
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
 result<rig_run> rig_run_builder::finish() && {
-  // Each dwell's run: the last START of its device session whose acknowledgement it follows.
-  std::vector<std::vector<const arrival*>> runs(starts_.size());
-  const auto run_of = [&](std::uint32_t session, std::uint64_t seq,
-                          std::size_t record) -> std::optional<std::size_t> {
-    for (std::size_t i = starts_.size(); i-- > 0;) {
-      const start_mark& m = starts_[i];
-      if (m.session != session) continue;
-      if (m.after_seq ? seq > *m.after_seq : record > m.record) return i;
+  const std::size_t n_ev = events_.size();
+  std::vector<mark> marks(n_ev, mark::none);
+  std::vector<std::size_t> session_of(n_ev, 0);
+  std::vector<std::size_t> epoch_of(n_ev, 0);
+  const auto is_frame = [](ev t) {
+    return t == ev::dwell || t == ev::raw || t == ev::status || t == ev::ack_start ||
+           t == ev::other;
+  };
+
+  // 1. A reconnected line: frames stored after the port was lost (the link GAP's time less its
+  // milliseconds) and before that GAP, written once the recorder knew the device again, arrived
+  // before it was identified: which board sent them is not known.
+  for (std::size_t g = 0; g < n_ev; ++g) {
+    if (events_[g].type != ev::gap_link) continue;
+    const std::uint64_t ms = events_[g].index;
+    const std::uint64_t lost_at = events_[g].host_us - std::min(events_[g].host_us, ms * 1000);
+    for (std::size_t i = g; i-- > 0;) {
+      if (events_[i].type == ev::damage) continue;
+      if (events_[i].host_us < lost_at || events_[i].type == ev::gap_link) break;
+      if (is_frame(events_[i].type)) marks[i] = mark::reconnect;
+    }
+  }
+  // 2. Another board: everything after an INFO of another serial than the file's first INFO,
+  // until an INFO of that board again.
+  if (!infos_.empty()) {
+    const std::uint32_t serial = infos_.front().serial;
+    bool other = false;
+    for (std::size_t i = 0; i < n_ev; ++i) {
+      if (events_[i].type == ev::info) other = infos_[events_[i].index].serial != serial;
+      if (other && events_[i].type != ev::damage) marks[i] = mark::other_board;
+    }
+  }
+
+  // 3. Device boots: a reset GAP starts a new one; so does an INFO or STATUS of another boot
+  // (or a STATUS whose clock went back) where none was recorded. With damage between the last
+  // sign of the old boot and the first of the new one, the reset's GAP was lost there; without,
+  // nothing says which device sent what came between, nor that the new boot was set up.
+  std::vector<boot_session> sessions(1);
+  std::size_t cur = 0, epoch = 0, last_ev = 0;
+  // The last STATUS's uptime in this boot (have_uptime: there is one).
+  std::uint32_t last_uptime = 0;
+  bool have_uptime = false;
+  std::vector<std::size_t> inferred_at;  // records where a lost reset was found
+  const auto split = [&](std::size_t e, std::optional<std::uint16_t> boot) {
+    boot_session s;
+    s.boot = boot;
+    s.unannounced = epoch_of[last_ev] == epoch;
+    s.epoch = epoch_of[last_ev];  // what lies after the region its reset was lost in is damaged
+    if (!s.unannounced) inferred_at.push_back(events_[e].record);
+    for (std::size_t i = last_ev + 1; i < e; ++i) {
+      if (session_of[i] != cur || events_[i].type == ev::damage) continue;
+      if (epoch_of[i] == epoch && !s.unannounced) {
+        session_of[i] = sessions.size();  // after the last damaged region: the new boot's
+      } else if (epoch_of[i] != epoch_of[last_ev] || s.unannounced) {
+        if (marks[i] == mark::none) marks[i] = mark::unknown_boot;
+      }
+    }
+    sessions.push_back(s);
+    cur = sessions.size() - 1;
+    last_ev = e;
+  };
+  for (std::size_t i = 0; i < n_ev; ++i) {
+    const event& e = events_[i];
+    if (e.type == ev::damage) ++epoch;
+    epoch_of[i] = epoch;
+    session_of[i] = cur;
+    if (marks[i] == mark::reconnect || marks[i] == mark::other_board) continue;
+    switch (e.type) {
+      case ev::gap_reset:
+        sessions.emplace_back().epoch = epoch;
+        cur = sessions.size() - 1;
+        session_of[i] = cur;
+        last_ev = i;
+        have_uptime = false;
+        break;
+      case ev::info: {
+        const auto& m = infos_[e.index];
+        boot_session& s = sessions[cur];
+        if (s.info == npos && (!s.boot || !s.saw_setup || *s.boot == m.boot_count)) {
+          s.info = e.index;
+          s.info_event = i;
+          s.boot = m.boot_count;
+          last_ev = i;
+          have_uptime = false;  // what came before its INFO may be of a boot before it
+        } else if (s.boot && *s.boot == m.boot_count) {
+          last_ev = i;  // the same boot again (an INFO after a reconnect)
+        } else {
+          split(i, m.boot_count);
+          session_of[i] = cur;
+          sessions[cur].info = e.index;
+          sessions[cur].info_event = i;
+          have_uptime = false;
+        }
+        break;
+      }
+      case ev::configure:
+      case ev::start:
+        sessions[cur].saw_setup = true;
+        break;
+      case ev::status: {
+        const status_seen& st = statuses_[e.index];
+        boot_session& s = sessions[cur];
+        if (!s.boot && !s.saw_setup) {  // before the boot is identified: its INFO decides
+          last_uptime = st.uptime_ticks;
+          have_uptime = true;
+          break;
+        }
+        if (!s.boot) s.boot = st.boot;  // its INFO is lost: its own STATUS says which boot
+        if (st.boot != *s.boot || (have_uptime && went_back(st.uptime_ticks, last_uptime))) {
+          split(i, st.boot);
+          session_of[i] = cur;
+        } else {
+          last_ev = i;
+        }
+        last_uptime = st.uptime_ticks;
+        have_uptime = true;
+        break;
+      }
+      default:
+        break;
+    }
+  }
+  run_.inferred_resets = inferred_at.size();
+
+  // 4. Sequence numbers, unwrapped per boot in file order (a frame sent again arrives within
+  // 32 768 numbers of the newest one); a START's ACK number with them.
+  std::vector<std::uint64_t> seq_of(n_ev, 0);
+  {
+    std::vector<std::optional<std::uint64_t>> highest(sessions.size());
+    for (std::size_t i = 0; i < n_ev; ++i) {
+      const event& e = events_[i];
+      if (!e.has_seq || marks[i] == mark::reconnect || marks[i] == mark::other_board) continue;
+      auto& h = highest[session_of[i]];
+      if (!h) {
+        h = (std::uint64_t{1} << 32) + e.seq16;
+        seq_of[i] = *h;
+        continue;
+      }
+      const auto d = static_cast<std::int16_t>(static_cast<std::uint16_t>(e.seq16 - *h));
+      seq_of[i] = static_cast<std::uint64_t>(static_cast<std::int64_t>(*h) + d);
+      h = std::max(*h, seq_of[i]);
+    }
+  }
+
+  // 5. The runs: each START record, and a START lost in damage rebuilt from the ACK the device
+  // sent for it (stored as a frame).
+  struct run_mark {
+    std::size_t session = 0;
+    std::size_t event = 0;  // where it stands (for files of format 1: its frames follow it)
+    std::optional<std::uint64_t> after_seq;
+    std::optional<protocol::configure_msg> config;  // empty: not known
+    bool usable = true;
+    // The positions per cycle its dwells are numbered by (the configuration in force, when its
+    // own is not known): for its time only, which a run not labelled still gives the file.
+    std::uint8_t positions = 2;
+    bool timing_only = false;  // dwells of a boot whose START and its ACK are lost
+  };
+  const auto config_at = [&](std::size_t event_index) -> const protocol::configure_msg& {
+    const event& c = events_[event_index];
+    return c.type == ev::info ? infos_[c.index].config : configs_[c.index];
+  };
+  const auto damage_between = [&](std::size_t a, std::size_t b) {
+    return a != npos && epoch_of[a] != epoch_of[b];
+  };
+  const auto same_table = [](const protocol::configure_msg& x, const protocol::configure_msg& y) {
+    if (x.n_positions != y.n_positions) return false;
+    for (std::size_t k = 0; k < x.n_positions && k < protocol::max_positions; ++k)
+      if (x.pos_cdeg[k] != y.pos_cdeg[k]) return false;
+    return true;
+  };
+  std::vector<run_mark> runs;
+  // ACK numbers the START records name, with their boots.
+  std::vector<std::pair<std::size_t, std::uint16_t>> start_acks;
+  for (std::size_t i = 0; i < n_ev; ++i)
+    if (events_[i].type == ev::start && events_[i].has_seq)
+      start_acks.emplace_back(session_of[i], events_[i].seq16);
+  std::size_t unknown_config_runs = 0;
+  for (std::size_t i = 0; i < n_ev; ++i) {
+    const event& e = events_[i];
+    if (e.type == ev::start && marks[i] == mark::other_board) {
+      continue;  // another board's run: its dwells are counted apart
+    } else if (e.type == ev::start) {
+      run_mark m;
+      m.session = session_of[i];
+      m.event = i;
+      if (e.has_seq) m.after_seq = seq_of[i];
+      const start_seen& st = starts_[e.index];
+      if (st.config_event != npos) {
+        const auto& in_force = config_at(st.config_event);
+        if (st.crc ? protocol::configure_crc(in_force) == *st.crc
+                   : !damage_between(st.config_event, i))
+          m.config = in_force;
+      }
+      // A damaged CONFIGURE record leaves an older one (or INFO's) in force: its angle table
+      // would label the run's dwells wrongly (a swapped 180,0 table turns the sign of dN). The
+      // configuration the START names may still be in the file (the same CONFIGURE is sent after
+      // every reset): taken when every configuration of the file with its CRC has one angle
+      // table - the device's own START check is this CRC.
+      if (!m.config && st.crc) {
+        std::optional<protocol::configure_msg> found;
+        bool agree = true;
+        for (std::size_t j = 0; j < n_ev && agree; ++j) {
+          if (events_[j].type != ev::configure && events_[j].type != ev::info) continue;
+          const auto& c = config_at(j);
+          if (protocol::configure_crc(c) != *st.crc) continue;
+          if (found && !same_table(*found, c)) agree = false;
+          if (!found) found = c;
+        }
+        if (agree) m.config = found;
+      }
+      if (!m.config) ++unknown_config_runs;
+      if (marks[i] != mark::none) m.usable = false;
+      if (m.config) {
+        m.positions = m.config->n_positions;
+      } else if (st.config_event != npos) {
+        m.positions = config_at(st.config_event).n_positions;
+      }
+      runs.push_back(m);
+    } else if (e.type == ev::ack_start && marks[i] == mark::none) {
+      // The START record follows its ACK within a few records: lost when damage follows the
+      // ACK before the next record of the recorder's own and no START names this ACK.
+      const std::uint16_t at = ack_at_[e.index];
+      const std::pair<std::size_t, std::uint16_t> named{session_of[i], at};
+      if (std::find(start_acks.begin(), start_acks.end(), named) != start_acks.end()) continue;
+      std::size_t j = i + 1;
+      while (j < n_ev && is_frame(events_[j].type)) ++j;
+      if (j >= n_ev || events_[j].type != ev::damage) continue;
+      start_acks.push_back(named);
+      run_mark m;
+      m.session = session_of[i];
+      m.event = j;
+      m.after_seq =
+          seq_of[i] - static_cast<std::uint16_t>(static_cast<std::uint16_t>(e.seq16 - at));
+      // Its configuration: the CONFIGURE before the ACK, when no damage lies between them.
+      std::size_t c = npos;
+      for (std::size_t k = i; k-- > 0 && c == npos;)
+        if (events_[k].type == ev::configure || events_[k].type == ev::info) c = k;
+      if (c != npos && events_[c].type == ev::configure && !damage_between(c, i) &&
+          session_of[c] == m.session)
+        m.config = config_at(c);
+      if (c != npos) m.positions = config_at(c).n_positions;
+      if (!m.config) ++unknown_config_runs;
+      runs.push_back(m);
+      ++run_.rebuilt_starts;
+    }
+  }
+  std::stable_sort(runs.begin(), runs.end(),
+                   [](const run_mark& a, const run_mark& b) { return a.event < b.event; });
+  // A boot that began with no reset recorded is set up again only after its INFO: a run it
+  // started before (with no identification) is not labelled.
+  for (auto& m : runs) {
+    const boot_session& s = sessions[m.session];
+    if (s.unannounced && (s.info_event == npos || s.info_event > m.event)) m.usable = false;
+  }
+
+  // 6. Each dwell's run: the last START of its boot whose acknowledgement it follows.
+  const auto run_of = [&](std::size_t i) -> std::optional<std::size_t> {
+    for (std::size_t k = runs.size(); k-- > 0;) {
+      const run_mark& m = runs[k];
+      if (m.session != session_of[i]) continue;
+      if (m.after_seq ? seq_of[i] > *m.after_seq : i > m.event) return k;
     }
     return std::nullopt;
   };
-  for (const arrival& a : arrivals_) {
-    if (auto i = run_of(a.session, a.seq, a.record)) {
-      runs[*i].push_back(&a);
-    } else {
+  // The INFO that converts a boot's dwells: its own, else (lost in damage) the nearest INFO
+  // of the same board - tick rate and ADC range are the firmware's.
+  const auto info_for = [&](std::size_t session) -> std::optional<std::size_t> {
+    if (sessions[session].info != npos) return sessions[session].info;
+    std::optional<std::size_t> best;
+    for (std::size_t d = 1; d < sessions.size() && !best; ++d) {
+      if (session >= d && sessions[session - d].info != npos) best = sessions[session - d].info;
+      if (!best && session + d < sessions.size() && sessions[session + d].info != npos)
+        best = sessions[session + d].info;
+    }
+    if (!best) {
+      for (std::size_t k = 0; k < infos_.size() && !best; ++k)
+        if (infos_[k].serial == infos_.front().serial) best = k;
+    }
+    return best;
+  };
+  std::vector<std::vector<std::size_t>> members(runs.size());
+  std::map<std::size_t, std::vector<std::size_t>> orphans;  // per boot
+  for (std::size_t i = 0; i < n_ev; ++i) {
+    if (events_[i].type != ev::dwell) continue;
+    switch (marks[i]) {
+      case mark::reconnect:
+        ++run_.unidentified;
+        continue;
+      case mark::other_board:
+        ++run_.other_board;
+        continue;
+      case mark::unknown_boot:
+        ++run_.unknown_boot;
+        continue;
+      case mark::none:
+        break;
+    }
+    const auto k = run_of(i);
+    if (!k && sessions[session_of[i]].unannounced) {
+      ++run_.unidentified;  // a boot no reset announced, never set up by the recorder
+    } else if (!k && epoch_of[i] > sessions[session_of[i]].epoch) {
+      ++run_.unknown_config;  // its START (and the ACK of it) lies in a damaged region
+      orphans[session_of[i]].push_back(i);
+    } else if (!k) {
       ++run_.outside_runs;
+    } else if (!runs[*k].usable) {
+      ++run_.unidentified;
+    } else {
+      members[*k].push_back(i);
     }
   }
+
+  // A boot's dwells whose START and its ACK are lost are not labelled, but their clock still
+  // times the file: a run of their own, for time only.
+  for (auto& [session, v] : orphans) {
+    run_mark m;
+    m.session = session;
+    m.event = v.front();
+    m.timing_only = true;
+    runs.push_back(m);
+    members.push_back(std::move(v));
+  }
+  std::vector<std::size_t> order(runs.size());
+  for (std::size_t r = 0; r < runs.size(); ++r) order[r] = r;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return runs[a].event < runs[b].event; });
+
+  // 7. Each run's dwells in sequence order, timed on the device's clock unwrapped into 64 bits.
+  // A run whose dwells are not labelled (its angle table not known) still places the runs after
+  // it in time, so that damage does not move them.
   run_.dwells.clear();
   double last_end_s = 0.0;
   std::uint64_t last_host_us = 0;
   bool any = false;
-  std::size_t unknown_positions = 0;
-  for (std::size_t i = 0; i < runs.size(); ++i) {
-    auto& v = runs[i];
+  std::size_t unknown_positions = 0, went_backwards = 0, borrowed_info = 0;
+  for (const std::size_t r : order) {
+    auto& v = members[r];
     if (v.empty()) continue;
-    std::sort(v.begin(), v.end(),
-              [](const arrival* a, const arrival* b) { return a->seq < b->seq; });
+    std::stable_sort(v.begin(), v.end(),
+                     [&](std::size_t a, std::size_t b) { return seq_of[a] < seq_of[b]; });
     // Repeats of a frame (stored twice) are read once.
     v.erase(std::unique(v.begin(), v.end(),
-                        [](const arrival* a, const arrival* b) { return a->seq == b->seq; }),
+                        [&](std::size_t a, std::size_t b) { return seq_of[a] == seq_of[b]; }),
             v.end());
-    if (!starts_[i].config_known) {
-      run_.unknown_config += v.size();
+    const bool label = runs[r].config.has_value();
+    if (!label && !runs[r].timing_only) run_.unknown_config += v.size();
+    const auto info_index = info_for(runs[r].session);
+    if (!info_index) {
+      if (label) run_.unconverted += v.size();
       continue;
     }
-    const protocol::configure_msg& cfg = starts_[i].config;
+    if (label && sessions[runs[r].session].info == npos) borrowed_info += v.size();
+    const protocol::info_msg& info = infos_[*info_index];
+    const double hz = info.tick_hz;
+    const double lsb_v = adc_lsb_v(info.range);
+    const protocol::configure_msg cfg = runs[r].config.value_or(protocol::configure_msg{});
+    const std::uint64_t positions = label ? cfg.n_positions : runs[r].positions;
+    const auto msg = [&](std::size_t i) -> const protocol::dwell_msg& {
+      return dwell_msgs_[events_[i].index];
+    };
+    const auto k_of = [&](const protocol::dwell_msg& d) {
+      return positions * d.cycle + d.position;
+    };
+    // Ticks per dwell: the median step between neighbours (a 32-bit step is exact while it is
+    // shorter than 2^31 ticks: 18 h at 32 768 Hz, 36 min at 1 MHz).
+    std::vector<double> per_dwell;
+    for (std::size_t j = 1; j < v.size(); ++j) {
+      const auto& a = msg(v[j - 1]);
+      const auto& b = msg(v[j]);
+      const auto dt = static_cast<std::int32_t>(b.t_start_ticks - a.t_start_ticks);
+      if (k_of(b) > k_of(a) && dt > 0)
+        per_dwell.push_back(static_cast<double>(dt) / static_cast<double>(k_of(b) - k_of(a)));
+    }
+    const double ticks_per_dwell = median(std::move(per_dwell));
     std::map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::int32_t>>> pend;
-    if (with_conversions_ && cfg.n_avg != 0) {
-      const std::uint64_t after = starts_[i].after_seq.value_or(0);
-      for (const raw_block& b : raws_) {
-        if (b.session != starts_[i].session || b.seq <= after) continue;
-        if (run_of(b.session, b.seq, b.record) != i) continue;
-        for (std::uint8_t k = 0; k < b.m.count; ++k) {
-          const std::uint64_t index = std::uint64_t{b.m.first_index} + k;
+    if (label && with_conversions_ && cfg.n_avg != 0) {
+      for (std::size_t i = 0; i < n_ev; ++i) {
+        if (events_[i].type != ev::raw || marks[i] != mark::none) continue;
+        if (session_of[i] != runs[r].session || run_of(i) != r) continue;
+        const protocol::raw_msg& b = raws_[events_[i].index];
+        for (std::uint8_t k = 0; k < b.count; ++k) {
+          const std::uint64_t index = std::uint64_t{b.first_index} + k;
           pend[index / cfg.n_avg].emplace_back(static_cast<std::uint32_t>(index % cfg.n_avg),
-                                               b.m.code(k));
+                                               b.code(k));
         }
       }
     }
-    // Device ticks (u32, wrapping) continued into one count in sequence order; a later run
-    // continues after the last one by the host's gap between them.
-    const std::uint32_t origin = v.front()->d.t_start_ticks;
+    // A later run continues after the last one by the host's gap between them.
+    // Time 0 is the start of the first run's first dwell (cycle 0, position 0): where that dwell
+    // is lost (on the line, or in damage), as many of the run's steps before its first one read,
+    // so that a dwell lost does not move every time of the file.
     const double offset_s =
-        any ? last_end_s + static_cast<double>(v.front()->host_us - last_host_us) * 1e-6 : 0.0;
-    std::int32_t prev_start = -1;
+        any ? last_end_s + static_cast<double>(events_[v.front()].host_us - last_host_us) * 1e-6
+            : ticks_per_dwell * static_cast<double>(k_of(msg(v.front()))) / hz;
+    std::int64_t start_ticks = 0;  // from the run's first dwell
+    std::uint32_t prev_raw = msg(v.front()).t_start_ticks;
+    std::uint64_t prev_k = k_of(msg(v.front()));
     std::uint64_t expected_k = 0, seen = 0;
-    for (const arrival* a : v) {
-      const double hz = run_.info.tick_hz;
-      const std::int32_t t0 = static_cast<std::int32_t>(a->d.t_start_ticks - origin);
-      const std::int32_t t1 = static_cast<std::int32_t>(a->d.t_end_ticks - origin);
-      if (t0 < prev_start || t1 < t0)
-        return input_error({run_.path},
-                           fmt::format("record {}: DWELL of cycle {} position {} starts at "
-                                       "device tick {}, before the dwell before it: its times go "
-                                       "backwards (the file is damaged)",
-                                       a->record, a->d.cycle, a->d.position, a->d.t_start_ticks));
-      prev_start = t0;
-      rig_dwell r = physical(a->d, cfg, offset_s + t0 / hz, offset_s + t1 / hz);
-      r.seq = a->seq16;
-      r.segment = static_cast<std::uint32_t>(i);
-      if (std::isfinite(r.temp_c) &&
-          !within(r.temp_c, io::recording_reader::min_temp_c, io::recording_reader::max_temp_c))
-        return input_error({run_.path},
-                           fmt::format("record {}: a dwell's temperature is {:.6g} degC, outside "
-                                       "what a recording may hold ({} to {} degC): the "
-                                       "temperature conversion (META) or the file is wrong",
-                                       a->record, r.temp_c, io::recording_reader::min_temp_c,
-                                       io::recording_reader::max_temp_c));
-      if (!std::isfinite(r.angle_deg)) {
+    bool timed = false;  // a dwell of this run set the time the next run continues from
+    constexpr double wrap = 4294967296.0;
+    for (std::size_t j = 0; j < v.size(); ++j) {
+      const std::size_t i = v[j];
+      const protocol::dwell_msg& d = msg(i);
+      // The step from the dwell before: its 32-bit difference plus the whole wraps of the
+      // counter that make it closest to the dwells between them at the run's pace.
+      const std::uint32_t step32 = d.t_start_ticks - prev_raw;
+      const double expect =
+          ticks_per_dwell * (static_cast<double>(k_of(d)) - static_cast<double>(prev_k));
+      const double wraps = std::round((expect - static_cast<double>(step32)) / wrap);
+      const std::int64_t step = static_cast<std::int64_t>(step32) +
+                                static_cast<std::int64_t>(wraps) * (std::int64_t{1} << 32);
+      const auto length = static_cast<std::int32_t>(d.t_end_ticks - d.t_start_ticks);
+      if (j != 0 && (step < 0 || length < 0)) {
+        if (!label) break;  // counted already; its clock times nothing after this
+        // Times that go back: not this run's clock (a reset no record says, or damage). What
+        // follows is not placed on it.
+        went_backwards += v.size() - j;
+        run_.unknown_boot += v.size() - j;
+        run_.warnings.push_back(fmt::format(
+            "{}: record {}: DWELL of cycle {} position {} starts at device tick {}, before the "
+            "dwell before it: its times go backwards; it and the {} dwells after it in its run "
+            "are not used",
+            run_.path, events_[i].record, d.cycle, d.position, d.t_start_ticks, v.size() - j - 1));
+        break;
+      }
+      if (j == 0 && length < 0) {
+        if (label) {
+          ++went_backwards;
+          ++run_.unknown_boot;
+        }
+        continue;
+      }
+      start_ticks += j == 0 ? 0 : step;
+      prev_raw = d.t_start_ticks;
+      prev_k = k_of(d);
+      const double t0 = offset_s + static_cast<double>(start_ticks) / hz;
+      const double t1 = offset_s + static_cast<double>(start_ticks + length) / hz;
+      if (!label) {
+        last_end_s = t1;
+        last_host_us = events_[i].host_us;
+        timed = true;
+        continue;
+      }
+      rig_dwell rd = physical(d, cfg, lsb_v, t0, t1);
+      rd.seq = events_[i].seq16;
+      rd.segment = static_cast<std::uint32_t>(r);
+      rd.record = events_[i].record;
+      rd.index = k_of(d);
+      if (std::isfinite(rd.temp_c) &&
+          !within(rd.temp_c, io::recording_reader::min_temp_c, io::recording_reader::max_temp_c))
+        return input_error(
+            {run_.path}, fmt::format("record {}: a dwell's temperature is {:.6g} degC, outside "
+                                     "what a recording may hold ({} to {} degC): the "
+                                     "temperature conversion (META) or the file is wrong",
+                                     events_[i].record, rd.temp_c, io::recording_reader::min_temp_c,
+                                     io::recording_reader::max_temp_c));
+      if (!std::isfinite(rd.angle_deg)) {
         ++unknown_positions;  // not in the angle table: never guessed
         continue;
       }
-      if (with_conversions_) place(r, offset_s + t0 / hz, offset_s + t1 / hz, pend, cfg);
-      const std::uint64_t k = std::uint64_t{cfg.n_positions} * a->d.cycle + a->d.position;
-      expected_k = std::max(expected_k, k + 1);
+      // The RAW codes of dwell k = n_positions cycle + position are the run's gyro
+      // conversions k n_avg .. (k+1) n_avg - 1 (a RDY timeout uses an index too:
+      // docs/PROTOCOL.md, RAW); each is placed at the end of its conversion period.
+      if (const auto it = pend.find(k_of(d)); it != pend.end()) {
+        for (const auto& [index, code] : it->second) {
+          rig_conversion c;
+          c.time_s = t0 + (t1 - t0) * (index + 1) / cfg.n_avg;
+          c.angle_deg = rd.angle_deg;
+          c.code = code;
+          c.rate_dps = code * lsb_v / run_.units.scale_factor_v_per_dps;
+          run_.conversions.push_back(c);
+        }
+        pend.erase(it);
+      }
+      expected_k = std::max(expected_k, k_of(d) + 1);
       ++seen;
-      last_end_s = offset_s + t1 / hz;
-      last_host_us = a->host_us;
-      run_.dwells.push_back(r);
+      last_end_s = t1;
+      last_host_us = events_[i].host_us;
+      timed = true;
+      run_.dwells.push_back(rd);
     }
     run_.lost_dwells += expected_k - std::min(expected_k, seen);
     for (const auto& [k, codes] : pend) run_.unplaced_conversions += codes.size();
-    any = true;
+    any = any || timed;
   }
-  if (unknown_positions != 0)
+  // The last INFO of the file's board, and the configuration in force at the end.
+  for (const auto& m : infos_)
+    if (m.serial == infos_.front().serial) run_.info = m;
+
+  // What could not be established, one warning per reason.
+  const auto say = [&](std::size_t n, const std::string& what) {
+    if (n != 0) run_.warnings.push_back(fmt::format("{}: {} {}", run_.path, n, what));
+  };
+  say(unknown_positions,
+      "dwells name a position outside their configuration's angle table: not used");
+  say(run_.unknown_config,
+      "dwells belong to a run whose configuration (its angle table) is not in the file (the "
+      "CONFIGURE record before its START, or the START, is damaged or missing): not used");
+  say(run_.unidentified,
+      "dwells came from a device that was not identified (stored after the port was lost and "
+      "before the recorder knew the device again, or after a STATUS of another device boot with "
+      "no reset recorded: another board, or a reset the recorder missed): not used");
+  if (run_.other_board != 0 && !infos_.empty()) {
+    std::uint32_t other = 0;
+    for (const auto& m : infos_)
+      if (m.serial != infos_.front().serial) other = m.serial;
+    say(run_.other_board,
+        fmt::format("dwells came from another board (serial {}; this file's board is {}): not "
+                    "used",
+                    other, infos_.front().serial));
+  }
+  say(run_.unknown_boot - went_backwards,
+      "dwells lie between damaged regions of the file, one of which held a device reset: which "
+      "boot sent them cannot be established: not used");
+  say(run_.unconverted,
+      "dwells have no intact INFO of their board in the file (its tick rate and ADC range "
+      "convert them): not used");
+  say(borrowed_info,
+      "dwells of a device boot whose INFO record is damaged are converted with the tick rate and "
+      "ADC range of another INFO of the same board");
+  for (const std::size_t at : inferred_at)
     run_.warnings.push_back(fmt::format(
-        "{}: {} dwells name a position outside their configuration's angle table: not used",
-        run_.path, unknown_positions));
-  if (run_.unknown_config != 0)
-    run_.warnings.push_back(fmt::format(
-        "{}: {} dwells belong to a run whose configuration (its angle table) is not in the file "
-        "(the CONFIGURE record before its START is damaged or missing): not used",
-        run_.path, run_.unknown_config));
+        "{}: record {}: the device had restarted (another boot count, or its clock back) and the "
+        "record of the reset is lost in a damaged region before it: a new device boot begins "
+        "there",
+        run_.path, at));
+  say(run_.rebuilt_starts,
+      "START records lost in damaged regions were rebuilt from the ACK the device sent for them");
   const auto off_pair = std::count_if(run_.dwells.begin(), run_.dwells.end(), [](const auto& d) {
     return d.angle_deg != 0.0 && d.angle_deg != 180.0;
   });
@@ -372,25 +836,30 @@ result<rig_run> rig_run_builder::finish() && {
         "(calibrate, compensate, adev, noise, report) pair A = 0 with B = 180 and leave them "
         "out; export writes every dwell",
         run_.path, off_pair));
-  if (run_.outside_runs != 0)
-    run_.warnings.push_back(fmt::format(
-        "{}: {} dwells arrived outside an acknowledged run (a run the device had before the "
-        "recorder's START): not used",
-        run_.path, run_.outside_runs));
+  say(run_.outside_runs,
+      "dwells arrived outside an acknowledged run (a run the device had before the recorder's "
+      "START): not used");
   if (!run_.stop)
     run_.warnings.push_back(fmt::format(
         "{}: the recording has no STOP record: the recorder ended without closing it (a kill or "
         "a power loss); everything up to its last record is read",
         run_.path));
+  static_cast<void>(unknown_config_runs);
   return std::move(run_);
 }
 
 result<rig_run> interpret(const gfr::file& f, const std::string& path, bool with_conversions) {
   rig_run_builder b(path, with_conversions);
-  for (std::size_t i = 0; i < f.records.size(); ++i)
-    if (auto s = b.add(f.records[i], i + 1); !s) return s.err();
+  std::size_t d = 0;
+  for (std::size_t i = 0; i < f.records.size(); ++i) {
+    for (; d < f.damaged.size() && f.damaged[d].before <= i; ++d) b.add_damage(f.damaged[d]);
+    if (auto s = b.add(f.records[i], f.records[i].number); !s) return s.err();
+  }
+  for (; d < f.damaged.size(); ++d) b.add_damage(f.damaged[d]);
   auto run = std::move(b).finish();
   if (!run) return run.err();
+  run->repaired_records = f.repaired;
+  run->restored_records = f.restored;
   run->warnings.insert(run->warnings.begin(), f.warnings.begin(), f.warnings.end());
   return run;
 }

@@ -1,7 +1,8 @@
-// The .gfr recording format (issues 9 and 21, docs/FORMATS.md "Rig recording"): what the writer
-// appends reads back; a cut anywhere in the last record is a torn tail that is skipped with a
-// warning; a damaged record in the middle is skipped with a warning naming it and the bytes, and
-// every intact record around it reads; never a silently different record.
+// The .gfr recording format (issues 9, 21 and 32, docs/FORMATS.md "Rig recording"): what the
+// writer appends reads back; a cut anywhere in the last record is a torn tail that is skipped
+// with a warning; a flipped bit anywhere is repaired and named; a damaged record in the middle
+// is skipped with a warning naming it and the bytes, and every intact record around it reads;
+// never a silently different record.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -63,66 +64,57 @@ TEST(Gfr, ARecordingIsNeverOverwritten) {
   EXPECT_NE(w.err().message.find("never overwritten"), std::string::npos);
 }
 
+// The writer closes the file with COPY records of META and START (format 5): the last record is
+// START's copy; whatever is cut of it, the four records read.
 TEST(Gfr, EveryCutInTheLastRecordIsATornTailSkippedWithAWarning) {
   gyroflip::test::temp_dir dir;
   const bytes whole = sample(dir.path() + "/a.gfr");
-  const std::size_t last = gfr::record_overhead + 5;  // the GAP record
+  const std::size_t last = gfr::record_overhead + gfr::copy_header_bytes;  // START's COPY
   for (std::size_t cut = 1; cut < last; ++cut) {
     SCOPED_TRACE(cut);
     const bytes b(whole.begin(), whole.end() - static_cast<std::ptrdiff_t>(cut));
     auto f = gfr::parse(b, "a.gfr");
     ASSERT_TRUE(f) << f.err().message;
-    EXPECT_EQ(f->records.size(), 3u);
+    EXPECT_EQ(f->records.size(), 4u);
     ASSERT_EQ(f->warnings.size(), 1u);
-    EXPECT_NE(f->warnings[0].find("a.gfr: record 4: "), std::string::npos) << f->warnings[0];
+    EXPECT_NE(f->warnings[0].find("a.gfr: record 6: "), std::string::npos) << f->warnings[0];
+    EXPECT_NE(f->warnings[0].find("cut off"), std::string::npos) << f->warnings[0];
   }
 }
 
-// Every single-bit flip anywhere: in the header or in META an error naming it; anywhere else the
-// damaged record is skipped with one warning naming it (or, in the last record, a torn tail) and
-// every other record reads - never a file that reads as if whole but with another record.
-TEST(Gfr, EveryBitFlipIsFoundAndNamed) {
+// Every single-bit flip anywhere - the file header, a length word, the kind, the time, the body,
+// the CRC, a COPY record - is repaired (CRC-32 locates it) with one warning naming it, and the
+// records read are the written ones; --strict refuses the file instead (issue 32: one bit in
+// META or a reset GAP lost the whole file).
+TEST(Gfr, EveryBitFlipIsRepairedAndNamed) {
   gyroflip::test::temp_dir dir;
   const bytes whole = sample(dir.path() + "/a.gfr");
   const auto original = gfr::parse(whole, "a.gfr");
   ASSERT_TRUE(original);
-  const std::size_t meta_end = gfr::file_header_bytes + gfr::record_overhead + 31;
   for (std::size_t i = 0; i < whole.size(); ++i)
     for (int bit = 0; bit < 8; ++bit) {
       bytes b = whole;
       b[i] = static_cast<std::uint8_t>(b[i] ^ (1u << bit));
       auto f = gfr::parse(b, "a.gfr");
       SCOPED_TRACE(i * 8 + static_cast<std::size_t>(bit));
-      if (i < gfr::file_header_bytes) {
-        ASSERT_FALSE(f);
-        EXPECT_EQ(f.err().message.rfind("a.gfr: record 0: ", 0), 0u) << f.err().message;
-        continue;
-      }
-      if (i < meta_end) {
-        ASSERT_FALSE(f);
-        EXPECT_EQ(f.err().message.rfind("a.gfr: record 1: ", 0), 0u) << f.err().message;
-        continue;
-      }
       ASSERT_TRUE(f) << f.err().message;
-      EXPECT_EQ(f->records.size(), 3u);
+      ASSERT_EQ(f->records.size(), original->records.size());
+      for (std::size_t k = 0; k < f->records.size(); ++k) {
+        EXPECT_EQ(f->records[k].type, original->records[k].type);
+        EXPECT_EQ(f->records[k].host_time_us, original->records[k].host_time_us);
+        EXPECT_EQ(f->records[k].body, original->records[k].body);
+      }
+      EXPECT_EQ(f->repaired, 1u);
       ASSERT_EQ(f->warnings.size(), 1u);
-      EXPECT_NE(f->warnings[0].find("a.gfr: record "), std::string::npos) << f->warnings[0];
-      for (const auto& r : f->records) {  // the intact ones, unchanged
-        bool found = false;
-        for (const auto& o : original->records)
-          found = found || (o.type == r.type && o.body == r.body);
-        EXPECT_TRUE(found);
-      }
-      // --strict keeps the old refusal for damage in the middle.
-      if (i < whole.size() - (gfr::record_overhead + 5)) {
-        auto strict = gfr::parse(b, "a.gfr", true);
-        EXPECT_FALSE(strict);
-      }
+      EXPECT_NE(f->warnings[0].find("flipped bit"), std::string::npos) << f->warnings[0];
+      EXPECT_NE(f->warnings[0].find("repaired"), std::string::npos) << f->warnings[0];
+      EXPECT_FALSE(gfr::parse(b, "a.gfr", true));
     }
 }
 
 // What a power loss leaves: the file's size grew but its last blocks were never written (zeros).
-// And one flipped bit in the middle of a long file: every record before and after it reads.
+// And two flipped bits in one record in the middle of a long file (beyond repair): every record
+// before and after it reads.
 TEST(Gfr, ZerosAtTheEndAndADamagedRecordInTheMiddleLoseOnlyThemselves) {
   gyroflip::test::temp_dir dir;
   const std::string path = dir.path() + "/long.gfr";
@@ -144,12 +136,15 @@ TEST(Gfr, ZerosAtTheEndAndADamagedRecordInTheMiddleLoseOnlyThemselves) {
   EXPECT_NE(z->warnings[0].find("zeros"), std::string::npos) << z->warnings[0];
   bytes flipped = b;
   flipped[b.size() / 2] ^= 0x10;
+  flipped[b.size() / 2 + 1] ^= 0x01;
   auto f = gfr::parse(flipped, "f.gfr");
   ASSERT_TRUE(f) << f.err().message;
   EXPECT_EQ(f->records.size(), 200u);
   ASSERT_EQ(f->warnings.size(), 1u);
   EXPECT_NE(f->warnings[0].find("damaged bytes"), std::string::npos) << f->warnings[0];
   EXPECT_EQ(f->records.back().host_time_us, 200u);
+  ASSERT_EQ(f->damaged.size(), 1u);
+  EXPECT_EQ(f->damaged[0].bytes, gfr::record_overhead + 6);
 }
 
 // Two recordings joined (`cat a.gfr b.gfr`), and a folder named like a recording: plain errors.
@@ -180,9 +175,9 @@ TEST(Gfr, HeaderProblemsSayWhatIsWrong) {
                 .find("record 0: the file header is "
                       "cut short"),
             std::string::npos);
-  bytes magic = whole;
-  magic[1] = 'X';
-  EXPECT_NE(message(magic).find("record 0: not a gyroflip rig recording"), std::string::npos);
+  const std::string text = "time_s,angle_deg,rate_dps\n0,0,1\n1,180,2\n";
+  EXPECT_NE(message(bytes(text.begin(), text.end())).find("record 0: not a gyroflip rig recording"),
+            std::string::npos);
   EXPECT_NE(message({}).find("record 0: not a gyroflip rig recording"), std::string::npos);
   // A newer version with a correct header checksum.
   bytes future = whole;
@@ -196,6 +191,18 @@ TEST(Gfr, HeaderProblemsSayWhatIsWrong) {
   // Only the header: no META.
   EXPECT_NE(message(bytes(whole.begin(), whole.begin() + 16)).find("record 1: no META"),
             std::string::npos);
+  // A header damaged beyond repair (here: its first 16 bytes zeroed) before intact records: a
+  // recording whose first bytes are lost, read with a warning.
+  bytes lost = whole;
+  std::fill(lost.begin(), lost.begin() + 16, std::uint8_t{0});
+  auto f = gfr::parse(lost, "x.gfr");
+  ASSERT_TRUE(f) << f.err().message;
+  EXPECT_EQ(f->records.size(), 4u);
+  EXPECT_EQ(f->version, 0u);
+  ASSERT_FALSE(f->warnings.empty());
+  EXPECT_NE(f->warnings[0].find("record 0: the file header is damaged"), std::string::npos)
+      << f->warnings[0];
+  EXPECT_FALSE(gfr::parse(lost, "x.gfr", true));
 }
 
 TEST(Gfr, Crc32IsTheStandardOne) {
@@ -312,9 +319,9 @@ TEST(RigRun, InfoTellsAnEmulatorFromABoardAndOldInfoStillReads) {
 }
 
 // The .gfr reader holds a recording to the CSV reader's bounds (issue 20): META's conversion of
-// device units, each dwell's temperature, device times that go backwards; a dwell at a position
-// its angle table does not have is not used (never taken for 180 deg). Each error names the file
-// and the record.
+// device units, each dwell's temperature; device times that go backwards and a dwell at a
+// position its angle table does not have are not used (never taken for 180 deg). Each error and
+// warning names the file and the record.
 TEST(RigRun, TheReaderChecksEveryFieldAgainstTheRecordingBounds) {
   gyroflip::test::temp_dir dir;
   const std::string good_meta =
@@ -340,9 +347,19 @@ TEST(RigRun, TheReaderChecksEveryFieldAgainstTheRecordingBounds) {
   e = error_of("slope.gfr",
                R"({"scale_factor_v_per_dps":0.0125,"temp_v_per_c":1e-6,"temp_at_0v_c":20})", fine);
   EXPECT_NE(e.find("record 5: a dwell's temperature"), std::string::npos) << e;
-  e = error_of("back.gfr", good_meta, {{0, 0, 1000}, {0, 1, 2000}, {1, 0, 1500}, {1, 1, 4000}});
-  EXPECT_NE(e.find("record 7: DWELL of cycle 1 position 0"), std::string::npos) << e;
-  EXPECT_NE(e.find("backwards"), std::string::npos) << e;
+  // Device times that go back within a run: not this run's clock; what follows is left out
+  // with a warning naming the record (issue 32: no longer the whole file).
+  auto back = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/back.gfr", good_meta,
+                {{0, 0, 1000}, {0, 1, 2000}, {1, 0, 1500}, {1, 1, 4000}}));
+  ASSERT_TRUE(back) << back.err().message;
+  EXPECT_EQ(back->dwells.size(), 2u);
+  EXPECT_EQ(back->unknown_boot, 2u);
+  bool said = false;
+  for (const auto& w : back->warnings)
+    said = said || (w.find("record 7: DWELL of cycle 1 position 0") != std::string::npos &&
+                    w.find("backwards") != std::string::npos);
+  EXPECT_TRUE(said);
 
   auto odd = gyroflip::rigdata::read_rig_run(
       recording(dir.path() + "/odd.gfr", good_meta, {{0, 0, 1000}, {0, 5, 2000}, {1, 0, 3000}}));

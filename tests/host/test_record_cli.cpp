@@ -1087,15 +1087,16 @@ TEST(RecordCli, ADamagedFileSaysWhereAndReadsWhatIsIntact) {
   struct damage {
     std::string name, bytes, says;
   };
-  std::string flipped_header = whole, magic = whole, future = whole;
-  flipped_header[9] = static_cast<char>(flipped_header[9] ^ 0x10);
-  magic[0] = 'G';
-  future[8] = 9;  // version 9 (its header checksum no longer matches either: both are named)
+  std::string future = whole;
+  future[8] = 9;  // version 9, with its header checksum: a newer gyroflip's file
+  const std::uint32_t crc = rigdata::gfr::crc32(
+      std::span(reinterpret_cast<const std::uint8_t*>(future.data()), std::size_t{12}));
+  for (std::size_t k = 0; k < 4; ++k) future[12 + k] = static_cast<char>(crc >> (8 * k));
   const std::vector<damage> cases = {
       {"truncated", whole.substr(0, 11), "record 0: the file header is cut short"},
-      {"flipped_header", flipped_header, "record 0: file header checksum mismatch"},
-      {"magic", magic, "record 0: not a gyroflip rig recording"},
-      {"future", future, "record 0: file header checksum mismatch"},
+      {"not_a_recording", "time_s,angle_deg,rate_dps\n0,0,1\n",
+       "record 0: not a gyroflip rig recording"},
+      {"future", future, "record 0: format version 9 is newer"},
       {"joined", whole + whole, "two .gfr files were joined"},
   };
   for (const auto& c : cases) {
@@ -1112,8 +1113,22 @@ TEST(RecordCli, ADamagedFileSaysWhereAndReadsWhatIsIntact) {
       EXPECT_FALSE(test::exists(out));
     }
   }
-  // A bit flipped in the middle: every intact record reads, with a warning naming the damaged
-  // one; --strict refuses. adev and noise show the warning too.
+  // A damaged file header (issue 32): one flipped bit is repaired, more is read past; both named.
+  std::string flipped_header = whole, magic = whole;
+  flipped_header[9] = static_cast<char>(flipped_header[9] ^ 0x10);
+  magic[0] = 'G';
+  for (const auto& [name, bytes, says] :
+       std::vector<damage>{{"flipped_header", flipped_header, "record 0: one flipped bit"},
+                           {"magic", magic, "record 0: the file header is damaged"}}) {
+    const std::string path = dir.path() + "/" + name + ".gfr";
+    test::write_text(path, bytes);
+    const auto r = run_cli({"export", path, "-o", dir.path() + "/" + name + ".csv"});
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << name << ": " << r.err;
+  }
+  // Bits flipped in the middle: one is repaired, two in one record are a damaged region skipped
+  // up to the next intact record; every intact record reads, with a warning naming the damage;
+  // --strict refuses. adev and noise show the warning too.
   // The bit is in a STATUS frame's record (a damaged DWELL would leave a gap in the series,
   // which adev refuses: that is the gap test's).
   std::size_t flip_at = std::string::npos;
@@ -1131,20 +1146,26 @@ TEST(RecordCli, ADamagedFileSaysWhereAndReadsWhatIsIntact) {
     }
   }
   ASSERT_NE(flip_at, std::string::npos);
-  std::string flipped_body = whole;
-  flipped_body[flip_at] = static_cast<char>(flipped_body[flip_at] ^ 0x01);
-  const std::string fb = dir.path() + "/flipped_body.gfr";
-  test::write_text(fb, flipped_body);
-  for (const auto& cmd : {std::vector<std::string>{"export", fb, "-o", dir.path() + "/fb.csv"},
-                          std::vector<std::string>{"adev", fb, "-o", dir.path() + "/fb_adev.csv"},
-                          std::vector<std::string>{"noise", fb}}) {
-    const auto r = run_cli(cmd);
-    EXPECT_EQ(r.exit_code, 0) << cmd[0] << ": " << r.err;
-    EXPECT_NE(r.err.find("damaged bytes"), std::string::npos) << cmd[0] << ": " << r.err;
+  for (const int bits : {1, 2}) {
+    std::string flipped_body = whole;
+    for (int b = 0; b < bits; ++b)
+      flipped_body[flip_at + static_cast<std::size_t>(b)] =
+          static_cast<char>(flipped_body[flip_at + static_cast<std::size_t>(b)] ^ 0x01);
+    const std::string fb = dir.path() + "/flipped_body.gfr";
+    test::write_text(fb, flipped_body);
+    const char* says = bits == 1 ? "flipped bit" : "damaged bytes";
+    for (const auto& cmd : {std::vector<std::string>{"export", fb, "-o", dir.path() + "/fb.csv"},
+                            std::vector<std::string>{"adev", fb, "-o", dir.path() + "/fb_adev.csv"},
+                            std::vector<std::string>{"noise", fb}}) {
+      const auto r = run_cli(cmd);
+      EXPECT_EQ(r.exit_code, 0) << cmd[0] << ": " << r.err;
+      EXPECT_NE(r.err.find(says), std::string::npos) << cmd[0] << ": " << r.err;
+    }
+    const auto strict = run_cli({"export", fb, "--strict", "-o", dir.path() + "/fs.csv"});
+    EXPECT_EQ(strict.exit_code, 2) << strict.err;
+    EXPECT_FALSE(test::exists(dir.path() + "/fs.csv"));
+    std::remove(fb.c_str());
   }
-  const auto strict = run_cli({"export", fb, "--strict", "-o", dir.path() + "/fs.csv"});
-  EXPECT_EQ(strict.exit_code, 2) << strict.err;
-  EXPECT_FALSE(test::exists(dir.path() + "/fs.csv"));
   // Zeros at the end (a power loss) and a torn last record (a killed recorder): read, warned.
   for (const std::string& tail :
        {whole + std::string(8, '\0'), whole.substr(0, whole.size() - 3)}) {

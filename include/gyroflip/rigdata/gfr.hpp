@@ -1,10 +1,13 @@
 /// \file
 /// \brief The `.gfr` recording (docs/FORMATS.md, "Rig recording"): a 16-byte file header, then
 /// append-only records, each length-prefixed and CRC-32 checked, written as they happen so that
-/// whatever reached the file before a crash reads back. The writer appends and syncs; the reader
-/// checks every byte, ignores a torn last record (a writer killed mid-write) and zeros at the end
-/// (a power loss), and reads every intact record around a damaged region, with a warning for
-/// each region it skips.
+/// whatever reached the file before a crash reads back. The writer appends and syncs, and writes
+/// a second copy of each record the reading of the others depends on (META, INFO, CONFIGURE,
+/// START, a reset or link GAP) 16 KiB further on (format 5). The reader checks every byte,
+/// repairs a record with one flipped bit (CRC-32 locates it), ignores a torn last record (a
+/// writer killed mid-write) and zeros at the end (a power loss), reads every intact record around
+/// a damaged region, with a warning for each region it skips, and puts back a damaged record
+/// from its copy.
 #pragma once
 
 #include <array>
@@ -20,11 +23,12 @@ namespace gyroflip::rigdata::gfr {
 
 /// PNG-style magic: a non-ASCII first byte, then CR LF, ^Z and LF catch text-mode transfers.
 inline constexpr std::array<std::uint8_t, 8> magic = {0x89, 'G', 'F', 'R', '\r', '\n', 0x1A, '\n'};
-/// 4: INFO bodies carry the device's `board` (a real board or an emulator; 3 and older: INFO of
+/// 5: COPY records (a second copy of the records the others depend on). 4: INFO bodies carry
+/// the device's `board` (a real board or an emulator; 3 and older: INFO of
 /// protocol 2's first layout, 80 bytes, without it). 3: START records carry the CRC of the
 /// configuration started (2: the device frame that acknowledged them only; 1: empty START
 /// bodies; all read too).
-inline constexpr std::uint16_t format_version = 4;
+inline constexpr std::uint16_t format_version = 5;
 /// magic, u16 version, u16 reserved (0), u32 CRC-32 of the 12 bytes before it.
 inline constexpr std::size_t file_header_bytes = 16;
 /// u32 length L (of kind, time and body), u32 L XOR 0xFFFFFFFF (a damaged length is told from a
@@ -45,7 +49,20 @@ enum class kind : std::uint8_t {
   frame = 5,      ///< u8 type, u16 seq, payload: a valid device frame as received
   gap = 6,        ///< u8 gap_reason, u32 count: what was lost or happened between frames
   stop = 7,       ///< u8 stop_reason: the recorder ended the run (the file is complete)
+  copy = 8,       ///< u64 the file offset of the record it copies, u8 its kind, u64 its host
+                  ///< time, its body (format 5; the reader puts a damaged original back from it)
 };
+
+/// A COPY record's body before the copied body: offset, kind, host time.
+inline constexpr std::size_t copy_header_bytes = 8 + 1 + 8;
+/// How far (bytes of the file) after its original the writer puts a copy: a damaged region
+/// shorter than this (a 4 KiB page, a few sectors) never takes a record and its copy.
+inline constexpr std::uint64_t copy_distance = 16 * 1024;
+
+/// Whether the writer keeps a copy of a record of kind `k` with `body`: META, INFO, CONFIGURE,
+/// START, and GAP records of a device reset or a lost port (what the reading of the others
+/// depends on; docs/FORMATS.md).
+[[nodiscard]] bool is_copied(kind k, std::span<const std::uint8_t> body) noexcept;
 
 enum class gap_reason : std::uint8_t {
   corrupt = 1,       ///< frames dropped by the decoder (COBS, length, CRC, version, type)
@@ -69,19 +86,39 @@ struct record {
   kind type = kind::meta;
   std::uint64_t host_time_us = 0;  ///< microseconds since the recording started (host clock)
   std::vector<std::uint8_t> body;
+  std::uint64_t offset = 0;  ///< where it starts in the file
+  std::size_t number = 0;    ///< its number in the file (1: META); a restored one: its copy's
+  bool repaired = false;     ///< one flipped bit was put right (its CRC-32 located it)
+  bool restored = false;     ///< read from its COPY record (the original is damaged)
+};
+
+/// Bytes of the file between two records that are no record (damage the reader skipped).
+struct damaged_region {
+  std::uint64_t offset = 0;
+  std::uint64_t bytes = 0;
+  std::size_t before = 0;  ///< index in file::records of the first record after it
 };
 
 /// Every record of a file plus what the reader noticed.
 struct file {
   std::vector<record> records;
-  std::vector<std::string> warnings;  ///< `FILE: record N: ...`, e.g. a torn last record
+  std::vector<std::string> warnings;    ///< `FILE: record N: ...`, e.g. a torn last record
+  std::vector<damaged_region> damaged;  ///< in file order, after repairs and restores
+  std::size_t repaired = 0;             ///< records with one flipped bit put right
+  std::size_t restored = 0;             ///< damaged records put back from their copies
+  std::uint16_t version = 0;            ///< the header's format version (0: header damaged)
 };
 
 /// Reads and checks a whole `.gfr` file. Errors name the file and the record (`FILE: record N:
-/// what`; record 0 is the file header): not a regular file, wrong magic, a newer format
-/// version, two recordings joined into one file. A damaged region (a flipped bit, a damaged
-/// length, an unknown kind) is skipped up to the next intact record, with a warning that names
-/// the record number and the bytes skipped; with `strict` it is an error instead.
+/// what`; record 0 is the file header): not a regular file, not a recording (no magic and no
+/// intact record), a newer format version, two recordings joined into one file, META damaged
+/// with no copy. A record with one flipped bit anywhere (its length words, kind, time, body or
+/// CRC) is repaired: CRC-32's single-bit syndromes are distinct for any record length up to
+/// 2^32 bits, so the bit is located, never guessed; the record after it must then be intact. A
+/// damaged file header is repaired the same way, or read past when intact records follow. Other
+/// damage (several bits, zeros) is skipped up to the next intact record, with a warning that
+/// names the record number and the bytes skipped, and a record damaged there is put back from
+/// its COPY when the file has one. With `strict` any damage is an error instead.
 [[nodiscard]] result<file> read(const std::string& path, bool strict = false);
 /// The same from bytes in memory (`name` is used in messages): the fuzz target's entry.
 [[nodiscard]] result<file> parse(std::span<const std::uint8_t> bytes, const std::string& name,
@@ -100,9 +137,12 @@ class writer {
   writer& operator=(const writer&) = delete;
   ~writer();
 
+  /// Appends one record (not a COPY: the writer makes those itself), then the copies that are
+  /// due: each copied record (is_copied) again once copy_distance bytes follow it.
   [[nodiscard]] status append(kind k, std::uint64_t host_time_us,
                               std::span<const std::uint8_t> body);
   [[nodiscard]] status sync();
+  /// Writes the copies still due, syncs and closes.
   [[nodiscard]] status close();
   [[nodiscard]] std::uint64_t bytes() const noexcept { return bytes_; }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
@@ -111,8 +151,20 @@ class writer {
   writer(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
   int fd_ = -1;
   std::string path_;
+  // A record whose copy is still to be written (is_copied): its offset, kind, time and body.
+  struct pending_copy {
+    std::uint64_t offset = 0;
+    kind type = kind::meta;
+    std::uint64_t host_time_us = 0;
+    std::vector<std::uint8_t> body;
+  };
+  [[nodiscard]] status write_record(kind k, std::uint64_t host_time_us,
+                                    std::span<const std::uint8_t> body);
+  [[nodiscard]] status write_copies(std::uint64_t host_time_us, bool all);
   std::uint64_t bytes_ = 0;
+  std::uint64_t last_host_us_ = 0;
   std::vector<std::uint8_t> buf_;
+  std::vector<pending_copy> pending_;
 };
 
 /// CRC-32 (ISO-HDLC, zlib's) of `bytes`.

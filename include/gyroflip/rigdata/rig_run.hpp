@@ -8,11 +8,15 @@
 /// later ones: the reader orders each run's dwells by their sequence numbers. A run (segment)
 /// holds the device's frames after the ACK of its START (the START record names that frame), in
 /// the device session (between two reboots) it was started in; a dwell's position is an index
-/// into the angle table of the CONFIGURE in force, never guessed.
+/// into the angle table of the CONFIGURE in force, never guessed. Device time is unwrapped into
+/// 64 bits (days at any tick rate). What cannot be established - which board sent a frame (a
+/// reconnected line before the device was identified, another serial, a STATUS of another boot
+/// with no reset recorded), which boot (damage between two of them), which configuration - is
+/// never guessed: those dwells are counted and left out, with a warning each (docs/FORMATS.md).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,9 +54,12 @@ struct rig_dwell {
   protocol::dwell_msg d;
   std::uint16_t seq = 0;
   std::uint32_t segment = 0;  ///< which run of the device (a new one after each START)
-  double time_s = 0.0;        ///< middle of the dwell: device clock, continued across segments
-  double angle_deg = 0.0;     ///< the angle table's angle of its position
-  double rate_dps = 0.0;      ///< mean gyro code x LSB / scale factor (NaN when n = 0)
+  std::size_t record = 0;     ///< the FRAME record it was read from (its number in the file)
+  /// Its place in its run: n_positions x cycle + position (a missing index: a lost dwell).
+  std::uint64_t index = 0;
+  double time_s = 0.0;     ///< middle of the dwell: device clock, continued across segments
+  double angle_deg = 0.0;  ///< the angle table's angle of its position
+  double rate_dps = 0.0;   ///< mean gyro code x LSB / scale factor (NaN when n = 0)
   double temp_c = method::no_value;     ///< NaN without temperature conversions
   double accel_x_g = method::no_value;  ///< NaN when no PWM period was captured
   double accel_y_g = method::no_value;
@@ -85,72 +92,93 @@ struct rig_run {
   /// DWELLs of a run whose configuration is not in the file (its CONFIGURE record damaged):
   /// their angles are unknown, so they are not used.
   std::size_t unknown_config = 0;
+  /// DWELLs of a board not identified: stored after the port was lost and before the recorder
+  /// knew the device again (a reconnect), or after a STATUS of another boot with no reset
+  /// recorded (another board, or a reset the recorder did not see): not used.
+  std::size_t unidentified = 0;
+  std::size_t other_board = 0;  ///< DWELLs after an INFO of another serial: not used
+  /// DWELLs whose device boot cannot be established (stored between two damaged regions, one of
+  /// which held the reset), or whose device times go backwards within their run: not used.
+  std::size_t unknown_boot = 0;
+  /// DWELLs with no intact INFO in the file to convert them (tick rate, ADC range): not used.
+  std::size_t unconverted = 0;
+  std::size_t damaged_regions = 0;       ///< regions of the file no record could be read from
+  std::size_t repaired_records = 0;      ///< records with one flipped bit put right (CRC-32)
+  std::size_t restored_records = 0;      ///< damaged records put back from their COPY
+  std::size_t inferred_resets = 0;       ///< device resets whose GAP record was lost in damage
+  std::size_t rebuilt_starts = 0;        ///< START records lost in damage, rebuilt from their ACK
   std::optional<gfr::stop_reason> stop;  ///< empty: the recorder did not end the file itself
   std::vector<std::string> warnings;     ///< `FILE: ...` for the caller to show
 };
 
 /// Builds a rig run record by record: the reader's and the live recorder's one interpretation.
 /// While records come in, run() holds the dwells in arrival order (a live view); finish() puts
-/// them in order and checks them.
+/// them in order, places each in its device boot and run, and checks them.
 class rig_run_builder {
  public:
   /// `with_conversions`: place every RAW code too. The first record must be META.
   rig_run_builder(std::string path, bool with_conversions);
-  /// Takes record `n` (1-based, for messages). Errors: `FILE: record N: what`.
+  /// Takes record `n` (its number in the file, for messages). Errors: `FILE: record N: what`.
   [[nodiscard]] status add(const gfr::record& r, std::size_t n);
+  /// Bytes of the file before the next record were damaged beyond reading (gfr::file::damaged):
+  /// what lies on either side of them may belong to different device boots.
+  void add_damage(const gfr::damaged_region& d);
   /// The run so far.
   [[nodiscard]] const rig_run& run() const noexcept { return run_; }
-  /// Ends the run: dwells ordered and timed, RAW codes placed, lost dwells counted. Errors:
-  /// a dwell's temperature outside what a recording may hold, device times that go backwards.
+  /// Ends the run: dwells ordered and timed, RAW codes placed, lost dwells counted, what cannot
+  /// be placed counted and left out. Errors: a dwell's temperature outside what a recording may
+  /// hold.
   [[nodiscard]] result<rig_run> finish() &&;
 
  private:
-  // A dwell as it arrived: its device session, sequence number (unwrapped) and record.
-  struct arrival {
-    protocol::dwell_msg d;
-    std::uint32_t session = 0;
-    std::uint64_t seq = 0;
-    std::uint16_t seq16 = 0;
+  // What a record said, in file order, for finish().
+  enum class ev : std::uint8_t {
+    info,
+    configure,
+    start,
+    dwell,
+    raw,
+    status,
+    ack_start,
+    other,
+    gap_reset,
+    gap_link,
+    damage
+  };
+  struct event {
+    ev type = ev::other;
     std::size_t record = 0;
     std::uint64_t host_us = 0;
-    protocol::configure_msg config;  // the configuration in force when it arrived
+    std::uint16_t seq16 = 0;  // a frame's sequence number; a START's ACK number (has_seq)
+    bool has_seq = false;
+    std::uint32_t index = 0;  // into the vector of its type; a link GAP: its milliseconds
   };
-  struct raw_block {
-    protocol::raw_msg m;
-    std::uint32_t session = 0;
-    std::uint64_t seq = 0;
-    std::size_t record = 0;
+  struct status_seen {
+    std::uint16_t boot = 0;
+    std::uint32_t uptime_ticks = 0;
   };
-  // A START: its session, the sequence number after which its frames begin (or the record
-  // position, for a file of format 1), the configuration it started.
-  struct start_mark {
-    std::uint32_t session = 0;
-    std::optional<std::uint64_t> after_seq;
-    std::size_t record = 0;
-    std::uint64_t host_us = 0;
-    protocol::configure_msg config;
-    bool config_known = true;  // the START's configuration CRC matches `config` (format 3)
+  struct start_seen {
+    std::optional<std::uint16_t> crc;  // the configuration's CRC (format 3)
+    std::size_t config_event = 0;      // the CONFIGURE or INFO event in force (npos: none)
   };
 
-  [[nodiscard]] std::uint64_t unwrap(std::uint16_t seq);
-  [[nodiscard]] double angle_of(const protocol::configure_msg& c, std::uint8_t pos) const;
   [[nodiscard]] rig_dwell physical(const protocol::dwell_msg& d, const protocol::configure_msg& c,
-                                   double t0_s, double t1_s) const;
-  void place(const rig_dwell& r, double t0_s, double t1_s,
-             std::map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::int32_t>>>& pend,
-             const protocol::configure_msg& cfg);
+                                   double lsb_v, double t0_s, double t1_s) const;
 
   rig_run run_;
   bool with_conversions_;
   bool have_meta_ = false;
   bool have_info_ = false;
   double lsb_v_ = 0.0;
-  std::uint32_t session_ = 0;
-  bool have_seq_ = false;
-  std::uint64_t highest_seq_ = 0;
-  std::vector<arrival> arrivals_;
-  std::vector<raw_block> raws_;
-  std::vector<start_mark> starts_;
+  std::size_t config_event_ = static_cast<std::size_t>(-1);
+  std::vector<event> events_;
+  std::vector<protocol::info_msg> infos_;
+  std::vector<protocol::configure_msg> configs_;
+  std::vector<start_seen> starts_;
+  std::vector<protocol::dwell_msg> dwell_msgs_;
+  std::vector<protocol::raw_msg> raws_;
+  std::vector<status_seen> statuses_;
+  std::vector<std::uint16_t> ack_at_;
   // The live view's clock: device ticks continued in arrival order.
   std::uint32_t live_last_ = 0;
   bool live_started_ = false;

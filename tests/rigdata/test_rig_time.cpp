@@ -1,0 +1,90 @@
+// Device time in a rig recording (issue 32 item 2): the device's 32-bit tick counter wraps
+// (2^31 ticks are 18.2 h at 32 768 Hz, 36 min on the 1-MHz QEMU image); Allan runs of 24-72 h
+// are normal. The reader unwraps it into 64 bits: a 3-day run reads, exports, calibrates and
+// reaches Python with every dwell at its time on the device's clock.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "gyroflip/rigdata/rig_run.hpp"
+#include "support/run_cli.hpp"
+#include "support/synthetic_gfr.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+
+using gyroflip::test::synthetic_options;
+
+// Every dwell read back lies at its truth: the middle of the dwell (its length is 0.6 of the
+// spacing) on the device's clock from the first dwell; `tol_s` is the clock's resolution.
+void expect_on_clock(const gyroflip::rigdata::rig_run& run,
+                     const gyroflip::test::synthetic_recording& rec, double dwell_s, double tol_s) {
+  ASSERT_EQ(run.dwells.size(), rec.dwells.size());
+  for (std::size_t i = 0; i < rec.dwells.size(); ++i) {
+    const double truth_s = rec.dwells[i].device_s + 0.3 * dwell_s;
+    ASSERT_NEAR(run.dwells[i].time_s, truth_s, tol_s) << "dwell " << i;
+    ASSERT_EQ(run.dwells[i].angle_deg, rec.dwells[i].angle_deg) << "dwell " << i;
+  }
+}
+
+// Three days at the board's 32 768 Hz, the counter starting 10 s before its wrap: 8.5e9 ticks,
+// the 32-bit difference from the start wraps (2^31) after 18.2 h and the counter itself three
+// times. A dwell every 9 s, a STATUS a minute (28 800 dwells, 3.6 MB: a second to read).
+TEST(RigTime, AThreeDayRunReadsOnTheDevicesClock) {
+  gyroflip::test::temp_dir dir;
+  synthetic_options o;
+  o.tick_hz = 32768;
+  o.dwell_s = 9.0;
+  o.dwells = 28800;
+  o.status_period_s = 60.0;
+  o.first_tick = 0xFFFFFFFFU - 10U * 32768U;
+  o.late_every = 0;
+  const std::string path = dir.file("three_days.gfr");
+  const auto rec = gyroflip::test::make_synthetic_recording(o, path);
+  auto run = gyroflip::rigdata::read_rig_run(path);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->lost_dwells, 0u);
+  expect_on_clock(*run, rec, o.dwell_s, 2.0 / 32768);
+  EXPECT_GT(run->dwells.back().time_s, 3 * 86400.0 - 10.0);
+
+  // export writes them (shortest round-trip decimals), calibrate takes them.
+  const std::string csv = dir.file("three_days.csv");
+  const auto e = gyroflip::test::run_cli({"export", path, "-o", csv});
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  std::istringstream in(gyroflip::test::read_text(csv));
+  std::string line, last;
+  std::size_t rows = 0;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#' && line[0] != 't') {
+      ++rows;
+      last = line;
+    }
+  EXPECT_EQ(rows, rec.dwells.size());
+  EXPECT_NEAR(std::stod(last.substr(0, last.find(','))), rec.dwells.back().device_s + 2.7, 1e-4);
+  const auto c = gyroflip::test::run_cli({"calibrate", path, "--json"});
+  EXPECT_EQ(c.exit_code, 0) << c.err;
+}
+
+// The QEMU image's 1-MHz clock wraps its 32 bits every 71.6 min. 5 000 dwells (75 min) lost
+// inside one run: the dwells after them are 75 min later, not 75 - 71.6 min (the 32-bit
+// difference alone says 3.4 min); the counter's wraps are those that fit the run's own pace.
+TEST(RigTime, AnHourAndAQuarterLostOnTheMegahertzClockStaysThatLong) {
+  gyroflip::test::temp_dir dir;
+  synthetic_options o;
+  o.tick_hz = 1000000;
+  o.dwell_s = 0.9;
+  o.dwells = 5400;
+  o.status_period_s = 30.0;
+  for (std::size_t j = 200; j < 5200; ++j) o.lost.push_back(j);
+  const std::string path = dir.file("qemu.gfr");
+  const auto rec = gyroflip::test::make_synthetic_recording(o, path);
+  auto run = gyroflip::rigdata::read_rig_run(path);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->lost_dwells, 5000u);
+  expect_on_clock(*run, rec, o.dwell_s, 2e-6);
+}
+
+}  // namespace
