@@ -204,7 +204,9 @@ TEST(BoardPositions, ThreePositionsAreVisitedInTableOrder) {
 }
 
 // Steps the rig one tick at a time and counts the gyro conversions that ended with motor 0's
-// coils energised, until `dwells` DWELLs arrived.
+// coils energised, until `dwells` DWELLs arrived. A conversion that ends in a tick ended with
+// the coils as they stood before that tick's poll (a poll that reads the dwell's last result
+// may begin the next turn at once).
 struct coil_count {
   uint32_t conversions = 0, energised = 0;
 };
@@ -212,12 +214,13 @@ coil_count run_counting_coils(rig& r, size_t dwells) {
   coil_count n;
   uint32_t done = r.board.adc.conversions(0);
   for (uint32_t t = 0; t < 3'000'000 && r.count<dwell_msg>() < dwells; ++t) {
+    const bool energised = r.board.motors.energised(0);
     r.dev.poll();
     ++r.board.now;
     const uint32_t now_done = r.board.adc.conversions(0);
     if (now_done != done) {
       n.conversions += now_done - done;
-      n.energised += r.board.motors.energised(0) ? now_done - done : 0;
+      n.energised += energised ? now_done - done : 0;
       done = now_done;
     }
     if ((t & 255u) == 0) r.drain();
