@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/core/nv_record.hpp"
 #include "firmware/drivers/stepper/stepper.hpp"
 #include "firmware/ports/msp430f149/selftest.hpp"
 #include "firmware/ports/msp430f149/sim_layout.hpp"
@@ -557,7 +558,7 @@ std::vector<std::string> sim_devices(bool watchdog) {
 // holds anything at power-up), through `boots` resets (each to the script's stop tick), and
 // reads the last boot's measurements.
 board_run run_board(const std::vector<std::uint8_t>& script, std::uint32_t ram_seed, int boots = 1,
-                    bool watchdog = true) {
+                    bool watchdog = true, const std::vector<std::string>& before_reset = {}) {
   test::temp_dir tmp;
   std::vector<std::uint8_t> ram(0x800);
   std::mt19937 g(ram_seed);
@@ -572,6 +573,7 @@ board_run run_board(const std::vector<std::uint8_t>& script, std::uint32_t ram_s
              {"prog " + sim_elf, "load_raw " + tmp.file("ram.bin") + " 0x200",
               "load_raw " + tmp.file("script.bin") + " " + std::to_string(sl::script_addr),
               "setbreak sim_done"});
+  cmd.insert(cmd.end(), before_reset.begin(), before_reset.end());
   for (int b = 0; b < boots; ++b) cmd.insert(cmd.end(), {"reset", "run"});
   if (watchdog) cmd.emplace_back("simio info wd");
   cmd.insert(cmd.end(), {"save_raw " + std::to_string(sl::stats_addr) + " 256 " + tmp.file("stats"),
@@ -860,6 +862,40 @@ TEST(Msp430Board, APowerUpFromRandomRamIsAPowerUpAndAResetCountsOn) {
       }
     }
   }
+}
+
+// The lab's record of the board's serial (firmware/ports/msp430f149/board_record.py, Intel HEX
+// for information-flash segment B) is nv_record.hpp's record, and the image reports it in INFO
+// as the board's (stored bit 0); without it the serial is 0, "not programmed".
+TEST(Msp430Board, TheLabsSerialRecordIsTheSerialInInfo) {
+  const std::string tool =
+      std::string(GYROFLIP_SOURCE_DIR) + "/firmware/ports/msp430f149/board_record.py";
+  test::temp_dir tmp;
+  const auto made = test::run_program({"python3", tool, "0x0F149123", "-o", tmp.file("board.hex")});
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  std::ifstream in(tmp.file("board.hex"));
+  std::string line;
+  std::getline(in, line);
+  ASSERT_GE(line.size(), 11u + 20u);
+  EXPECT_EQ(line.substr(1, 8), "0A100000");  // 10 bytes at 0x1000
+  std::uint8_t want[fw::nv::record_bytes];
+  fw::nv::encode(fw::nv::kind_board_serial, 0x0F149123u, want);
+  for (std::size_t i = 0; i < fw::nv::record_bytes; ++i)
+    EXPECT_EQ(std::stoul(line.substr(9 + 2 * i, 2), nullptr, 16), want[i]) << i;
+  const auto bad = test::run_program({"python3", tool, "0"});
+  EXPECT_EQ(bad.exit_code, 2);
+
+  const auto script = script_bytes({}, 1000);
+  const auto with = run_board(script, 5, 1, true, {"load " + tmp.file("board.hex")});
+  const auto frames = frames_of(with.tx);
+  ASSERT_FALSE(frames.empty()) << with.log;
+  const auto info = frames.front().as<protocol::info_msg>();
+  EXPECT_EQ(info.serial, 0x0F149123u);
+  EXPECT_EQ(info.stored & protocol::info_serial_stored, protocol::info_serial_stored);
+  const auto without = run_board(script, 5, 1, true, {"fill 0x1000 256 0xff"});
+  const auto none = frames_of(without.tx).front().as<protocol::info_msg>();
+  EXPECT_EQ(none.serial, 0u);
+  EXPECT_EQ(none.stored, 0u);
 }
 
 }  // namespace
