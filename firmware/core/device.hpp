@@ -95,9 +95,10 @@ class device {
   /// Interrupt entry, the step timer (hal_ops::step_timer) at tick `now`: takes the step that is
   /// due and returns true with `*next_due` when the port should arm the timer again.
   bool on_step_timer(uint32_t now, uint32_t* next_due);
-  /// Interrupt entry, the ADC's /RDY (hal::rdy_irq) at tick `now`: reads the result of the
-  /// conversion in progress and starts the dwell's next one at once, so that conversions follow
-  /// each other at the ADC's pace, not the main loop's.
+  /// Interrupt entry, the ADC's /RDY (hal::rdy_irq) at tick `now` (only its low 16 bits are
+  /// used: a conversion's times are 16-bit tick differences, so a port may pass its timer's
+  /// count alone): starts the dwell's next conversion at once and reads the result of the one
+  /// that ended, so that conversions follow each other at the ADC's pace, not the main loop's.
   void on_rdy(uint32_t now);
 
   [[nodiscard]] protocol::device_state state() const { return state_; }

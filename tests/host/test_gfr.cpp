@@ -312,7 +312,8 @@ TEST(RigRun, InfoTellsAnEmulatorFromABoardAndOldInfoStillReads) {
   v02.erase(v02.begin() + 26);  // the 80-byte INFO of firmware 0.2
   for (const bytes* old : {&v02, &v03}) {
     auto o = gyroflip::rigdata::read_rig_run(
-        recording(dir.path() + "/old.gfr", meta, d, nullptr, std::nullopt, old));
+        recording(dir.path() + "/old" + std::to_string(old->size()) + ".gfr", meta, d, nullptr,
+                  std::nullopt, old));
     ASSERT_TRUE(o) << o.err().message;
     EXPECT_EQ(o->info.serial, 4711u);
     EXPECT_EQ(o->info.config.pos_cdeg[1], 9000);

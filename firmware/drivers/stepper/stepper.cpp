@@ -83,15 +83,17 @@ bool mover::cruising(uint16_t k) const {
 void mover::refill(const ramp_plan& p, uint8_t max_new) {
   // The interval of step k leads to step k + 1: needed for k = 0 .. total - 2; the cruise's are
   // not queued (take_step uses cruise_ticks_).
+  const uint32_t n = uint32_t{total_} - seg_base_;
   for (uint8_t added = 0; added < max_new && queued_ + 1u < total_;) {
-    if (cruising(queued_)) {  // past the whole cruise at once: kk up to n - 1 - j_top
+    const uint16_t k = queued_;
+    if (cruising(k)) {  // past the whole cruise at once: kk up to n - 1 - j_top
       queued_ = static_cast<uint16_t>(total_ - ramp_steps_);
       continue;
     }
     ++added;
     const uint8_t tail = tail_;
     if (static_cast<uint8_t>(tail - shared(head_)) >= queue_len) return;
-    const uint32_t t = interval(p, uint32_t{queued_} - seg_base_, uint32_t{total_} - seg_base_);
+    const uint32_t t = interval(p, uint32_t{k} - seg_base_, n);
     queue_[tail % queue_len] = static_cast<uint16_t>(t > 0xFFFFu ? 0xFFFFu : t);
     fw::barrier();  // the interval is in place before the index publishes it
     ++queued_;

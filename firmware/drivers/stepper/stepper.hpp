@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 
+#include "firmware/util/intmath.hpp"
 #include "firmware/util/shared.hpp"
 
 namespace gyroflip::stepper {
@@ -55,22 +56,10 @@ struct ramp {
 /// Ticks from step k to step k+1 at `tick_hz` (rounded to nearest, at least 1).
 [[nodiscard]] uint32_t step_interval(const ramp& r, uint32_t k, uint32_t n, uint32_t tick_hz);
 
-/// floor(sqrt(v)) of a 32-bit value, the bit-by-bit method (Warren, Hacker's Delight, 2nd ed.,
-/// Fig. 11-4): 16 rounds of 32-bit adds and shifts, no multiplication or division.
+/// floor(sqrt(v)) of a 32-bit value: 16 rounds of 32-bit adds and shifts, no multiplication or
+/// division (fw::isqrt_bits).
 [[nodiscard]] constexpr uint32_t isqrt32(uint32_t v) {
-  uint32_t root = 0;
-  uint32_t bit = uint32_t{1} << 30;
-  while (bit > v) bit >>= 2;
-  while (bit != 0) {
-    if (v >= root + bit) {
-      v -= root + bit;
-      root = (root >> 1) + bit;
-    } else {
-      root >>= 1;
-    }
-    bit >>= 2;
-  }
-  return root;
+  return fw::isqrt_bits<uint32_t>(v);
 }
 static_assert(isqrt32(0) == 0 && isqrt32(24) == 4 && isqrt32(25) == 5 &&
               isqrt32(0xFFFFFFFFu) == 0xFFFFu);

@@ -187,7 +187,12 @@ fw::status spi_transfer(void*, const uint8_t* tx, uint8_t* rx, size_t n) {
 #if GYROFLIP_F149_SIM
   static_cast<void>(spi_guard);
   const uint16_t t0 = sim::tbr();
-  for (size_t i = 0; i < n; ++i) rx[i] = sim::adc_byte(tx[i]);
+  sim::spi_from = t0;
+  for (size_t i = 0; i < n; ++i) {
+    sim::spi_bytes = static_cast<uint8_t>(i + 1);
+    rx[i] = sim::adc_byte(tx[i]);
+  }
+  sim::spi_bytes = 0;
   // The stand-in's time out, the board's SPI time in (sim_board.hpp).
   sim::stub_counts = static_cast<uint16_t>(sim::stub_counts + (sim::tbr() - t0) -
                                            n * sim::board_spi_counts_per_byte);
@@ -525,7 +530,8 @@ __attribute__((interrupt(PORT2_VECTOR))) void isr_port2() {
   const bool rdy = (P2IFG & 0x01u) != 0;
   P2IFG = 0;
   if (!rdy) return;
-  const uint32_t now = now_ticks();
+  // The conversion times are 16-bit tick differences: TAR alone, no overflow count to combine.
+  const uint16_t now = read_tar();
   enable_interrupts();
   dev.on_rdy(now);
 }
@@ -554,7 +560,7 @@ __attribute__((interrupt(TIMERA0_VECTOR))) void isr_timer_a0() {
 #if GYROFLIP_F149_SIM
   const uint16_t t0 = sim::isr_begin();
   if (sim::adc_conversion_done()) {
-    const uint32_t now = now_ticks();
+    const uint16_t now = read_tar();
     enable_interrupts();  // as isr_port2 on the board
     dev.on_rdy(now);
   }

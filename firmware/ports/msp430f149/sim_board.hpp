@@ -57,6 +57,9 @@ inline uint16_t tbr() {
 // added back.
 uint16_t stub_counts = 0;
 constexpr uint16_t board_spi_counts_per_byte = 5;  // 40 MCLK cycles
+// The SPI transfer in progress (main.cpp spi_transfer): since when, and bytes so far (0: none).
+uint16_t spi_from = 0;
+uint8_t spi_bytes = 0;
 
 // ---- the serial line ---------------------------------------------------------------------
 // The line's interrupt runs only while a byte moves (as the USART's do on the board): a byte
@@ -185,8 +188,32 @@ inline bool adc_rdy_low() {
   return adc.ready != 0 || adc.cal_ready;
 }
 
+// The last conversion's end, for the restart figure (w_restart_*).
+struct restart_mark {
+  bool waiting = false;
+  uint16_t from = 0;  // Timer_B
+  uint16_t stub = 0;  // stub_counts then
+  uint32_t tick = 0;
+};
+restart_mark restart;
+
 inline void adc_start(uint8_t ch, bool convert) {
   const uint32_t now = isr_ticks();
+  if (convert && restart.waiting && now - restart.tick < 2u * adc.conv_ticks[ch]) {
+    const uint16_t at = tbr();
+    const uint16_t raw = static_cast<uint16_t>(at - restart.from);
+    // The stand-in's time in this transfer so far out, the board's SPI bytes in.
+    const uint16_t open =
+        spi_bytes == 0
+            ? 0
+            : static_cast<uint16_t>(at - spi_from - spi_bytes * board_spi_counts_per_byte);
+    const uint16_t stub = static_cast<uint16_t>(stub_counts - restart.stub + open);
+    const uint16_t own = raw > stub ? static_cast<uint16_t>(raw - stub) : 0;
+    if (own > stats()[sl::w_restart_max]) stats()[sl::w_restart_max] = own;
+    put32(sl::w_restart_sum_lo, get32(sl::w_restart_sum_lo) + own);
+    stats()[sl::w_restarts] = static_cast<uint16_t>(stats()[sl::w_restarts] + 1);
+  }
+  restart.waiting = false;
   adc.busy = true;
   adc.busy_ch = ch;
   adc.busy_convert = convert;
@@ -211,6 +238,7 @@ inline bool adc_conversion_done() {
   if (adc.busy_convert) {
     adc.ready = static_cast<uint8_t>(adc.ready | (1u << adc.busy_ch));
     adc.result_at = adc.log_at;
+    restart = {true, tbr(), stub_counts, isr_ticks()};
   } else {
     adc.cal_ready = true;  // no result: the data register keeps the last conversion's
   }

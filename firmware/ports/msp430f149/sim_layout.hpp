@@ -54,6 +54,12 @@ enum word : uint8_t {
   w_script_next,       ///< the next script event (events delivered)
   w_poll_max_from_lo,  ///< the tick the longest pass began
   w_poll_max_from_hi,
+  /// From a conversion's end (/RDY) to the start of the dwell's next one, the firmware's own time
+  /// (Timer_B counts): the longest, the sum and the number of such restarts.
+  w_restart_max,
+  w_restart_sum_lo,
+  w_restart_sum_hi,
+  w_restarts,
   w_count,
 };
 /// A pass longer than this (Timer_B counts: 1 ms at 5.5296 MHz) is counted in w_polls_over.
