@@ -3,6 +3,7 @@
 /// sequencer.cpp.
 #include "firmware/core/device.hpp"
 
+#include "firmware/core/nv_record.hpp"
 #include "firmware/core/timebase.hpp"
 #include "firmware/protocol/crc16.hpp"
 
@@ -12,28 +13,48 @@ using protocol::status;
 
 void device::boot(const boot_info& b) {
   boot_ = b;
+  if (boot_.keep != nullptr) *boot_.keep = retained_counters{};
   hw_.watchdog_kick();
+  load_records();
   write_port();
   const status s = adc_.reset();
+  // The AD7739 after its reset: nothing is sent to it for adc_reset_wait_ms.
+  const uint32_t t0 = hw_.ticks();
+  const uint32_t wait = ms_to_ticks(adc_reset_wait_ms, hw_.tick_hz);
+  while (hw_.ticks() - t0 < wait) hw_.busy_wait();
   if (s == status::ok) adc_.read_revision(&adc_revision_);
+  apply_timing();
+  last_status_ = last_ticks_ = hw_.ticks();
+  // INFO is the boot's first frame (number 0); what went wrong comes after it.
+  send_info();
   if (s != status::ok || adc_revision_ == 0x00 || adc_revision_ == 0xFF)
     error(status::bus_error, protocol::error_source::adc, adc_revision_);
-  apply_adc_config();
-  last_status_ = last_ticks_ = hw_.ticks();
   check_clocks(last_ticks_);
-  send_info();
+  if (state_ != protocol::device_state::fault) begin_calibration(then::idle, last_ticks_);
   transmit();
 }
 
 void device::poll() {
-  receive();
+  // A pass does one heavy thing: a command (its answer coded and queued), or the sequencer's
+  // work (a dwell's report, a turn's start), or a STATUS; the next pass does what was left, so
+  // that no pass lasts longer than the UART's receive queue holds (docs/PERFORMANCE.md). The
+  // sequencer is never skipped twice in a row, so a stream of commands cannot stall it.
+  const bool commanded = receive() && facts_.short_passes;
   const uint32_t now = hw_.ticks();
   check_clocks(now);
-  step_sequencer(now);
-  if (cfg_.status_period_ms != 0 && now - last_status_ >= status_ticks_) {
+  bool busy = commanded;
+  if (!commanded || sequencer_waited_) {
+    busy = step_sequencer(now) || busy;
+    sequencer_waited_ = false;
+  } else {
+    sequencer_waited_ = true;
+  }
+  if (!(busy && facts_.short_passes) && cfg_.status_period_ms != 0 &&
+      now - last_status_ >= status_ticks_) {
     last_status_ = now;
     send_status();
   }
+  if (delta_n_dirty_ && phase_ == phase::idle) save_delta_n();
   transmit();
   // The watchdog is fed only while the sequencer keeps its deadlines: a state machine that
   // stopped acting (a lost deadline, corrupted state) resets the device instead of idling on.
@@ -69,24 +90,34 @@ bool device::on_schedule(uint32_t now) const {
   switch (phase_) {
     case phase::idle:
       return true;
+    case phase::calibrating:
+      return !cal_waiting_ || !overdue(cal_since_ + 4 * conv_ticks_ + 1);
     case phase::homing:
       return !overdue(next_home_step_);
     case phase::turning:
-      return !mover_.busy() || !overdue(mover_.next_due());
+      // Stuck is judged by the steps made, not by how far the schedule is behind: a turn that
+      // paused and resumed with a new ramp (a late main loop) is making progress.
+      return !overdue(last_progress_);
     case phase::settling:
       return !overdue(phase_start_ + settle_ticks_);
-    case phase::gyro:
-    case phase::temp:
-      return !converting_ || !overdue(conv_start_ + timeout_ticks_);
+    case phase::acquiring: {
+      if (!shared(converting_)) return true;
+      return conv_age(now) <= timeout_ticks_ + stall_ticks;
+    }
   }
   return false;
 }
 
-void device::receive() {
+bool device::receive() {
   uint8_t b = 0;
-  // A bounded number per pass, so a flooded line cannot starve the sequencer.
+  // A bounded number per pass, so a flooded line cannot starve the sequencer, and one command
+  // at most: a pass's work stays that of one command (a PING's INFO: ~12 000 MCLK cycles on the
+  // MSP430F149), and the bytes behind it wait in the UART's queue for the next pass.
   for (int i = 0; i < 64 && hw_.uart_read(&b); ++i) {
-    if (rx_.push(b)) handle(rx_.current());
+    if (rx_.push(b)) {
+      handle(rx_.current());
+      return true;
+    }
     uint8_t type = 0;
     uint16_t seq = 0;
     status why = status::ok;
@@ -95,11 +126,14 @@ void device::receive() {
     if (rx_.frames().take_bad_header(&type, &seq, &why) && type >= 0x20 && type <= 0x3F)
       nak_raw(type, seq, why);
   }
+  return false;
 }
 
+// Wire bytes to the UART while it takes them, at most tx_per_poll a pass: a UART that drains
+// as fast as the bytes are coded would otherwise keep the pass here until the ring is empty.
 void device::transmit() {
   uint8_t b = 0;
-  while (tx_.peek(&b)) {
+  for (int i = 0; i < tx_per_poll && tx_.peek(&b); ++i) {
     const uint8_t nib =
         tx_low_nibble_ ? static_cast<uint8_t>(b & 0x0Fu) : static_cast<uint8_t>(b >> 4);
     if (!hw_.uart_write(protocol::hamming84_encode(nib))) return;
@@ -114,13 +148,25 @@ bool device::queue(uint8_t type, size_t payload_len, bool droppable) {
   uint8_t* raw = scratch_ + protocol::detail::stage;
   const size_t raw_len = protocol::detail::seal_raw(type, tx_seq_++, payload_len, raw);
   if (raw_len != 0 && protocol::kept_for_resend(type)) history_.store(raw, raw_len);
-  return queue_staged(raw_len, droppable);
+  const bool queued = queue_staged(raw_len, droppable);
+  // What the next boot reports of this one (INFO prev_next_seq, prev_dwells).
+  if (boot_.keep != nullptr) {
+    boot_.keep->next_seq = tx_seq_;
+    if (type == static_cast<uint8_t>(protocol::msg::dwell)) ++boot_.keep->dwells;
+  }
+  return queued;
 }
 
 // The frame staged at scratch_ + stage: COBS in place, then into the ring, whole or not at
 // all, followed by the zero bytes of the line's run after it (each goes out as 2 zero wire
 // bytes: line.hpp).
 bool device::queue_staged(size_t raw_len, bool droppable) {
+  // Room first: encoding a frame that cannot go now would only cost time (a RESEND of many). A
+  // frame takes at least raw_len + 1 COBS bytes and 2 of its run after it.
+  if (tx_.free() < raw_len + 1 + 2 + (droppable ? tx_reserve_bytes : 0)) {
+    if (stat_.frames_dropped != 0xFFFF) ++stat_.frames_dropped;
+    return false;
+  }
   const size_t n = protocol::detail::cobs_frame(raw_len, scratch_, sizeof scratch_);
   const size_t cobs = n == 0 ? 0 : n - 1;  // without COBS's own 0x00
   const size_t zeros = cobs == 0 ? 0 : protocol::run_after(scratch_[cobs - 1]) / 2;
@@ -166,13 +212,15 @@ void device::error(status code, protocol::error_source what, uint32_t value) {
   send(e);
 }
 
+// INFO: the head, then the configuration in force written straight from cfg_ (no second copy of
+// it on the stack: the F149's RAM).
 void device::send_info() {
-  protocol::info_msg m;
+  protocol::info_head m;
   m.fw_major = fw_version_major;
   m.fw_minor = fw_version_minor;
   m.fw_patch = fw_version_patch;
   m.protocol = protocol::protocol_version;
-  m.serial = facts_.serial;
+  m.serial = serial_;
   m.mclk_hz = facts_.mclk_hz;
   m.tick_hz = hw_.tick_hz;
   m.adc_revision = adc_revision_;
@@ -183,14 +231,20 @@ void device::send_info() {
   m.boot_count = boot_.boot_count;
   m.history_bytes = static_cast<uint16_t>(history_bytes);
   m.board = static_cast<uint8_t>(facts_.board);
-  m.config = cfg_;
-  send(m);
+  m.stored = stored_;
+  m.delta_n_q8 = delta_n_q8_;
+  m.prev_next_seq = boot_.prev.next_seq;
+  m.prev_dwells = boot_.prev.dwells;
+  protocol::writer w{scratch_ + protocol::detail::stage + protocol::header_bytes, max_sent_payload};
+  m.put_head(w);
+  cfg_.put(w);
+  if (w.ok) queue(static_cast<uint8_t>(protocol::msg::info), w.n, false);
 }
 
 void device::send_status() {
   stat_.state = static_cast<uint8_t>(state_);
   stat_.uptime_ticks = hw_.ticks();
-  const protocol::decoder_counts& c = rx_.counts();
+  const auto& c = rx_.counts();
   stat_.rx_frames_ok = static_cast<uint16_t>(c.good);
   stat_.rx_errors = static_cast<uint16_t>(c.bad());
   stat_.line_corrected = static_cast<uint16_t>(rx_.line().corrected);
@@ -207,19 +261,28 @@ void device::send_status() {
 void device::resend(const protocol::frame& f) {
   protocol::resend_msg m;
   if (!f.as(m)) return nak(f, status::bad_frame);
-  protocol::gone_msg gone;
+  // The numbers no longer held, as a mask over m.seqs (not a second message on the stack: the
+  // F149's RAM); GONE is written from it (gone_msg's layout: u8 count, u16 each).
+  uint16_t gone = 0;
+  uint8_t n_gone = 0;
   for (uint8_t i = 0; i < m.count; ++i) {
     // A number not yet sent (a host probing past what it heard): nothing to say about it.
     if (static_cast<int16_t>(static_cast<uint16_t>(m.seqs[i] - tx_seq_)) >= 0) continue;
     uint8_t* raw = scratch_ + protocol::detail::stage;
-    const size_t len = history_.find(m.seqs[i], raw, protocol::max_frame);
+    const size_t len = history_.find(m.seqs[i], raw, sizeof scratch_ - protocol::detail::stage - 1);
     if (len == 0) {
-      gone.seqs[gone.count++] = m.seqs[i];
+      gone = static_cast<uint16_t>(gone | (1u << i));
+      ++n_gone;
     } else if (queue_staged(len, false) && stat_.retransmits != 0xFFFF) {
       ++stat_.retransmits;
     }
   }
-  if (gone.count != 0) send(gone);
+  if (n_gone == 0) return;
+  protocol::writer w{scratch_ + protocol::detail::stage + protocol::header_bytes, max_sent_payload};
+  w.u8(n_gone);
+  for (uint8_t i = 0; i < m.count; ++i)
+    if ((gone & (1u << i)) != 0) w.u16(m.seqs[i]);
+  if (w.ok) queue(static_cast<uint8_t>(protocol::msg::gone), w.n, false);
 }
 
 bool device::repeated_command(const protocol::frame& f) {
@@ -256,6 +319,36 @@ bool device::method_pair() const {
   return c.n_positions == 2 && (d == 18000 || d == -18000);
 }
 
+// CONFIGURE: its own function, so that handle()'s frame does not hold a configuration on the
+// stack under every other command's path (the F149's RAM).
+// CONFIGURE decodes straight into cfg_, the configuration in force kept meanwhile in the frame
+// scratch as its CONFIGURE payload and put back when the new one is refused (a second
+// configuration on the stack would not fit the F149's RAM).
+void device::configure(const protocol::frame& f) {
+  const bool idle = state_ == protocol::device_state::idle;
+  const bool fault = state_ == protocol::device_state::fault;
+  if (f.length != protocol::configure_payload) return nak(f, status::bad_frame);
+  if (!idle) return nak(f, fault ? status::hw_fault : status::busy);
+  protocol::writer saved{scratch_, sizeof scratch_};
+  cfg_.put(saved);
+  status s = f.as(cfg_) ? protocol::check_configure(cfg_, facts_.mclk_hz) : status::bad_frame;
+  // What this board can produce: its top step rate, and a start rate whose interval fits the
+  // step timer's 16 bits.
+  if (s == status::ok && (cfg_.step_rate_sps > facts_.max_step_rate_sps ||
+                          hw_.tick_hz / cfg_.start_rate_sps > 0xFFFFu))
+    s = status::bad_arg;
+  if (s != status::ok) {
+    protocol::reader back{scratch_, saved.n};
+    cfg_.get(back);
+    return nak(f, s);
+  }
+  configured_ = true;  // START needs a configuration of this boot (docs/PROTOCOL.md)
+  timing_stale_ = true;
+  set_coils(false);
+  begin_calibration(then::idle, hw_.ticks());
+  return ack(f);
+}
+
 void device::handle(const protocol::frame& f) {
   const auto type = static_cast<protocol::msg>(f.type);
   // PING and RESEND change nothing: answered every time. Every other command runs once.
@@ -270,17 +363,8 @@ void device::handle(const protocol::frame& f) {
       ack(f);
       return send_info();
     }
-    case protocol::msg::configure: {
-      protocol::configure_msg m;
-      if (!f.as(m)) return nak(f, status::bad_frame);
-      if (!idle) return nak(f, fault ? status::hw_fault : status::busy);
-      if (const status s = protocol::check_configure(m, facts_.mclk_hz); s != status::ok)
-        return nak(f, s);
-      cfg_ = m;
-      configured_ = true;
-      apply_adc_config();
-      return ack(f);
-    }
+    case protocol::msg::configure:
+      return configure(f);
     case protocol::msg::start: {
       protocol::start_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
@@ -298,6 +382,9 @@ void device::handle(const protocol::frame& f) {
       protocol::stop_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
       if (!fault) stop_run();
+      // A dN set during the run goes to the information flash now, before the answer (the host
+      // waits for it, so nothing arrives while the flash holds the CPU).
+      if (delta_n_dirty_) save_delta_n();
       ack(f);
       return send_status();
     }
@@ -308,6 +395,7 @@ void device::handle(const protocol::frame& f) {
       home_then_run_ = false;
       state_ = protocol::device_state::homing;
       phase_ = phase::homing;
+      converting_ = false;
       home_steps_ = 0;
       home_closed_ = false;
       next_home_step_ = hw_.ticks();
@@ -317,7 +405,11 @@ void device::handle(const protocol::frame& f) {
     case protocol::msg::set_delta_n: {
       protocol::set_delta_n_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
+      if (m.delta_n_q8 != delta_n_q8_) delta_n_dirty_ = true;
       delta_n_q8_ = m.delta_n_q8;
+      // Idle: saved before the ACK (the host waits for it: nothing arrives while the flash holds
+      // the CPU). Running: at the run's end.
+      if (delta_n_dirty_ && idle && phase_ == phase::idle) save_delta_n();
       return ack(f);
     }
     case protocol::msg::calibrate: {
@@ -334,6 +426,35 @@ void device::handle(const protocol::frame& f) {
     default:
       return nak(f, status::not_supported);
   }
+}
+
+void device::load_records() {
+  uint8_t rec[nv::record_bytes];
+  uint32_t v = 0;
+  serial_ = facts_.serial;
+  stored_ = boot_.prev_valid ? protocol::info_prev_valid : 0;
+  if (hw_.nv_read(nv_board, rec, sizeof rec) && nv::decode(rec, nv::kind_board_serial, &v)) {
+    serial_ = v;
+    stored_ |= protocol::info_serial_stored;
+  }
+  if (hw_.nv_read(nv_delta_n, rec, sizeof rec) && nv::decode(rec, nv::kind_delta_n, &v)) {
+    delta_n_q8_ = static_cast<int32_t>(v);
+    stored_ |= protocol::info_delta_n_stored;
+  }
+}
+
+// The dN in force to the information flash (the MSP430F149 holds the CPU for ~15 ms while it
+// erases and writes the segment: only while idle, and never while the host may be sending).
+void device::save_delta_n() {
+  delta_n_dirty_ = false;
+  uint8_t rec[nv::record_bytes];
+  nv::encode(nv::kind_delta_n, static_cast<uint32_t>(delta_n_q8_), rec);
+  if (!hw_.nv_write(nv_delta_n, rec, sizeof rec)) return;
+  uint8_t back[nv::record_bytes];
+  uint32_t v = 0;
+  if (!hw_.nv_read(nv_delta_n, back, sizeof back) || !nv::decode(back, nv::kind_delta_n, &v) ||
+      static_cast<int32_t>(v) != delta_n_q8_)
+    error(status::hw_fault, protocol::error_source::configuration, nv_delta_n);
 }
 
 }  // namespace gyroflip::fw

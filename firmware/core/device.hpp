@@ -24,7 +24,7 @@
 namespace gyroflip::fw {
 
 inline constexpr uint8_t fw_version_major = 0;
-inline constexpr uint8_t fw_version_minor = 3;
+inline constexpr uint8_t fw_version_minor = 4;
 inline constexpr uint8_t fw_version_patch = 0;
 
 /// Transmit ring, in bytes of the COBS stream (each goes out as two wire bytes): a RAW frame
@@ -42,11 +42,22 @@ static_assert(tx_ring_bytes >=
 /// 2 KB of RAM leave (docs/PERFORMANCE.md): 7 DWELLs (57 B each with its length byte), i.e.
 /// 6 s of the paper's rig (a dwell every ~0.9 s), or 4.5 s with COMPENSATED on.
 inline constexpr size_t history_bytes = 400;
+/// Wire bytes a main-loop pass hands to the UART at most (1.4 ms of line at 115 200 b/s; passes
+/// come every ~0.3 ms on the MSP430F149, so the line rarely waits for the loop).
+inline constexpr int tx_per_poll = 16;
+/// The longest payload the device sends: a RAW block of 32 codes (INFO is 92 bytes).
+inline constexpr size_t max_sent_payload = protocol::raw_payload(protocol::raw_msg::max_codes);
 /// The longest command frame (CONFIGURE, 54 B of payload) as COBS bytes: the receive buffer.
 inline constexpr size_t max_command_cobs = 64;
 /// A wait the sequencer should have ended this long ago means it is stuck: the watchdog is no
-/// longer fed (ticks).
+/// longer fed (ticks). A turn is stuck when no step was made for this long.
 inline constexpr uint32_t stall_ticks = 8192;
+/// Conversion results the /RDY interrupt may hold for the main loop: it starts the next
+/// conversion only while two places are free, so the ADC is never further ahead than this.
+inline constexpr uint8_t adc_queue_len = 4;
+/// The AD7739 after its reset: registers are not accessed before this (docs/HARDWARE.md, "The
+/// AD7739 as the firmware uses it").
+inline constexpr uint32_t adc_reset_wait_ms = 1;
 /// Polls without the tick counter moving before the tick clock (the 32 768 Hz crystal on the
 /// MSP430F149) is declared failed: a pass takes at least ~100 MCLK cycles, so >= 0.36 s at
 /// 5.5296 MHz, thousands of tick periods.
@@ -56,9 +67,15 @@ inline constexpr uint32_t home_debounce_ticks = 66;  // 2 ms at 32 768 Hz
 
 /// What a port tells the core about its board.
 struct board_facts {
+  /// The serial when the board has no record of its own (hal_ops::nv_read, nv_board).
   uint32_t serial = 0;
   uint32_t mclk_hz = ad7739::mclk_hz_nominal;                   ///< the AD7739's master clock
   protocol::board_kind board = protocol::board_kind::hardware;  ///< INFO's `board`
+  /// The highest top step rate the board's CPU and timer keep (CONFIGURE above: NAK bad_arg).
+  uint16_t max_step_rate_sps = protocol::max_step_rate_sps;
+  /// A main-loop pass does one heavy thing at most (a command's answer, a dwell's report, a
+  /// STATUS): on a microcontroller whose UART receive queue holds a few milliseconds.
+  bool short_passes = false;
 };
 
 class device {
@@ -75,6 +92,15 @@ class device {
   /// the watchdog (fed only while the sequencer keeps its deadlines).
   void poll();
 
+  /// Interrupt entry, the step timer (hal_ops::step_timer) at tick `now`: takes the step that is
+  /// due and returns true with `*next_due` when the port should arm the timer again.
+  bool on_step_timer(uint32_t now, uint32_t* next_due);
+  /// Interrupt entry, the ADC's /RDY (hal::rdy_irq) at tick `now` (only its low 16 bits are
+  /// used: a conversion's times are 16-bit tick differences, so a port may pass its timer's
+  /// count alone): starts the dwell's next conversion at once and reads the result of the one
+  /// that ended, so that conversions follow each other at the ADC's pace, not the main loop's.
+  void on_rdy(uint32_t now);
+
   [[nodiscard]] protocol::device_state state() const { return state_; }
   [[nodiscard]] const protocol::configure_msg& config() const { return cfg_; }
   [[nodiscard]] const protocol::status_msg& counters() const { return stat_; }
@@ -82,16 +108,23 @@ class device {
   [[nodiscard]] int32_t delta_n_q8() const { return delta_n_q8_; }
   /// The sequencer kept its deadlines at the last poll (what feeds the watchdog).
   [[nodiscard]] bool healthy() const { return healthy_; }
+  /// Times a turn paused because the main loop fell behind its steps and resumed with a new
+  /// ramp from standstill (stepper::mover::rebase).
+  [[nodiscard]] uint16_t step_rebases() const { return mover_.rebases(); }
 
  private:
-  enum class phase : uint8_t { idle, homing, turning, settling, gyro, temp };
+  enum class phase : uint8_t { idle, calibrating, homing, turning, settling, acquiring };
+  /// What follows the ADC's calibration: nothing (boot, CONFIGURE), or a run.
+  enum class then : uint8_t { idle, run };
 
   // link
-  void receive();
+  /// Received bytes; true when a command frame was handled.
+  bool receive();
   void handle(const protocol::frame& f);
+  [[gnu::noinline]] void configure(const protocol::frame& f);
   bool repeated_command(const protocol::frame& f);
   void remember_reply(const protocol::frame& f, bool acked, protocol::status why);
-  void resend(const protocol::frame& f);
+  [[gnu::noinline]] void resend(const protocol::frame& f);
   void transmit();
   /// Queues message `m` whole, or drops it (counted); RAW (`droppable`) only while the ring
   /// keeps tx_reserve_bytes free for the frames that must not be lost. Data frames (DWELL,
@@ -99,7 +132,7 @@ class device {
   template <class M>
   bool send(const M& m, bool droppable = false) {
     protocol::writer w{scratch_ + protocol::detail::stage + protocol::header_bytes,
-                       protocol::max_payload};
+                       max_sent_payload};
     m.put(w);
     return w.ok && queue(static_cast<uint8_t>(M::type), w.n, droppable);
   }
@@ -117,23 +150,38 @@ class device {
   [[nodiscard]] bool on_schedule(uint32_t now) const;
 
   // sequencer
-  void apply_adc_config();
+  void apply_timing();
+  void begin_calibration(then next, uint32_t now);
+  void step_calibration(uint32_t now);
   void start_run(bool by_calibrate);
+  void begin_run(uint32_t now);
   void stop_run();
   void begin_turn(uint8_t to_position, uint32_t now);
+  void step_turn(uint32_t now);
   void begin_dwell(uint32_t now);
-  void step_sequencer(uint32_t now);
+  /// True when the step did a heavy part of the sequence (a report, a turn's start, a dwell's
+  /// start).
+  bool step_sequencer(uint32_t now);
   void step_homing(uint32_t now);
-  void step_conversion(uint32_t now, bool gyro);
-  void take_result(uint32_t now, bool gyro, uint8_t ch);
+  bool step_acquisition(uint32_t now);
+  void start_conversion(uint32_t now);
+  bool start_next(uint32_t now);
+  void account(uint32_t result);
+  void push_result(uint8_t kind, int32_t code, uint8_t st);
+  void missing(uint8_t flag);
   void capture_pwm();
   void finish_dwell(uint32_t now);
   void process_pair(const protocol::dwell_msg& d);
   void flush_raw();
-  [[nodiscard]] stepper::ramp ramp() const;
   void set_coils(bool on);
   void write_port();
   [[nodiscard]] bool method_pair() const;
+  [[nodiscard]] uint8_t channel_of(uint16_t attempt) const;
+  [[nodiscard]] uint16_t conv_age(uint32_t now) const;
+
+  // non-volatile records
+  void load_records();
+  void save_delta_n();
 
   const hal& hw_;
   board_facts facts_;
@@ -148,11 +196,14 @@ class device {
   boot_info boot_{};
 
   // link state
-  protocol::basic_stream_decoder<max_command_cobs> rx_{true};  // repeats: a retried command
+  // Repeats delivered (a retried command); counts in 16 bits, as STATUS carries them.
+  protocol::basic_stream_decoder<max_command_cobs, uint16_t> rx_{true};
   byte_ring<tx_ring_bytes> tx_;
   bool tx_low_nibble_ = false;  // the ring's first byte is half sent
   frame_history<history_bytes> history_;
-  uint8_t scratch_[protocol::max_wire] = {};
+  // Frames are staged and encoded here: sized for the longest frame the device sends (RAW of 32
+  // codes), not the protocol's longest (the F149's RAM: docs/PERFORMANCE.md).
+  uint8_t scratch_[protocol::detail::stage + protocol::wire_bytes(max_sent_payload)] = {};
   uint16_t tx_seq_ = 0;
   protocol::status_msg stat_{};
   uint32_t last_status_ = 0;
@@ -168,6 +219,8 @@ class device {
 
   // health
   bool healthy_ = true;
+  bool sequencer_waited_ = false;  // the last pass handled a command and skipped the sequencer
+  uint32_t last_progress_ = 0;     // a turn's last step (the watchdog judges a turn by its steps)
   uint32_t last_ticks_ = 0;
   uint32_t polls_same_tick_ = 0;
   uint8_t clock_faults_reported_ = 0;
@@ -175,11 +228,22 @@ class device {
   // motion
   stepper::motor motors_[2];
   stepper::mover mover_;
+  stepper::ramp_plan plan_{};    // the configuration's ramp (apply_timing)
+  uint32_t home_interval_ = 1;   // ticks between homing steps (the start rate)
+  uint16_t seen_steps_ = 0;      // the turn's steps at the last poll
+  bool step_irq_armed_ = false;  // the step timer runs this turn (ports with one)
   uint32_t home_steps_ = 0;
   uint32_t next_home_step_ = 0;
   uint32_t home_closed_since_ = 0;
   bool home_closed_ = false;
   bool home_then_run_ = false;
+
+  // the ADC's calibration (CONFIGURE, START, boot): one step per poll, never a blocking wait
+  then after_cal_ = then::idle;
+  bool timing_stale_ = false;  // CONFIGURE took a configuration: apply_timing in the next pass
+  uint8_t cal_step_ = 0;       // channel (bit 1) and zero/full (bit 0); 4 when done
+  bool cal_waiting_ = false;
+  uint32_t cal_since_ = 0;
 
   // acquisition
   uint32_t conv_ticks_ = 1;     // one conversion, in ticks (rounded up)
@@ -187,10 +251,20 @@ class device {
   uint32_t settle_ticks_ = 0;   // the configuration's settle_ms and status_period_ms, in ticks
   uint32_t status_ticks_ = 0;
   uint32_t phase_start_ = 0;
-  uint32_t conv_start_ = 0;
+  bool coils_released_ = false;  // settling: the coils are off for its second half
+  // Shared with on_rdy (the /RDY interrupt): written by the main loop only in a critical section
+  // or while no conversion runs (on_rdy acts only while one does).
   bool converting_ = false;
-  uint16_t attempts_ = 0;
-  uint8_t position_ = 0;  // index into the angle table
+  uint16_t conv_start_ = 0;  // tick (low 16 bits) the running conversion started
+  uint16_t planned_ = 0;     // conversions of this dwell: n_avg gyro, then n_temp temperature
+  uint16_t started_ = 0;     // conversions started (or failed to start) so far
+  // A result for the main loop: the 24-bit code, and in the top byte its kind (bits 7:6) and the
+  // channel status's NOREF and OVR bits (sequencer.cpp).
+  uint32_t results_[adc_queue_len] = {};
+  uint8_t res_head_ = 0;   // main loop
+  uint8_t res_tail_ = 0;   // on_rdy
+  uint16_t attempts_ = 0;  // outcomes accounted by the main loop
+  uint8_t position_ = 0;   // index into the angle table
   uint32_t gyro_index_ = 0;
   bool fault_reported_ = false;  // one ERROR per dwell for its RDY timeouts or start failures
   protocol::dwell_msg dwell_{};
@@ -205,6 +279,11 @@ class device {
   bool stop_after_cal_ = false;
   bool cal_wait_a_ = false;  // a calibration counts whole cycles that start after CALIBRATE
   bool step_fault_ = false;  // homing failed: flag the next dwell
+
+  // non-volatile records and retained counters (INFO)
+  uint8_t stored_ = 0;          // protocol::info_stored bits
+  uint32_t serial_ = 0;         // the board's record, or facts_.serial
+  bool delta_n_dirty_ = false;  // dN changed: saved when the device is next idle
 };
 
 }  // namespace gyroflip::fw

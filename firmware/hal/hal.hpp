@@ -53,12 +53,43 @@ struct hal_ops {
   /// protocol::clock_fault bits of the oscillator faults the port has seen since boot (a
   /// crystal that failed to start or stopped).
   uint8_t (*clock_faults)(void* ctx);
+
+  // Optional operations: null when the port has none (the core then does the work in poll()).
+  /// Arms the step timer: the port calls device::on_step_timer at tick `due` (at once when that
+  /// has passed); `arm` false disarms it. Null: poll() takes the steps that are due.
+  void (*step_timer)(void* ctx, bool arm, uint32_t due);
+  /// Enters (true) or leaves (false) a section no interrupt that calls into the core may enter
+  /// (not nested). Null: the port has no such interrupt.
+  void (*critical)(void* ctx, bool enter);
+  /// Non-volatile record `id` (nv_board, nv_delta_n; the MSP430F149's information flash): reads
+  /// `n` bytes; false when the port keeps none.
+  bool (*nv_read)(void* ctx, uint8_t id, uint8_t* buf, size_t n);
+  /// Replaces record `id` with `n` bytes (erases its segment first); false on failure.
+  bool (*nv_write)(void* ctx, uint8_t id, const uint8_t* buf, size_t n);
+};
+
+/// Non-volatile records (hal_ops::nv_read): the board's own serial, written once by the lab that
+/// builds it (docs/HARDWARE.md, "Bring-up"), and the dN in force, written by the device.
+inline constexpr uint8_t nv_board = 0;
+inline constexpr uint8_t nv_delta_n = 1;
+
+/// What a port keeps, for the core, in memory a reset does not clear (the MSP430F149's .noinit
+/// RAM): the running boot's next frame number and its DWELLs so far, which the next boot
+/// reports in INFO (prev_next_seq, prev_dwells) so that a host can count what it never got.
+struct retained_counters {
+  uint16_t next_seq = 0;
+  uint32_t dwells = 0;
 };
 
 /// What a port tells the core at boot: why the device started and how often it did.
 struct boot_info {
   uint8_t reset_cause = 0;  ///< a protocol::reset_cause value
   uint16_t boot_count = 0;  ///< starts since power-on, kept in memory a reset does not clear
+  /// The previous boot's counters (valid when `prev_valid`: a reset that kept RAM).
+  bool prev_valid = false;
+  retained_counters prev{};
+  /// Where the port keeps this boot's counters (null: nowhere).
+  retained_counters* keep = nullptr;
 };
 
 /// A port's hardware: the operations and their context.
@@ -66,6 +97,8 @@ struct hal {
   const hal_ops* ops;
   void* ctx;
   uint32_t tick_hz;  ///< rate of ticks()
+  /// The port calls device::on_rdy from the ADC's /RDY interrupt (false: poll() does).
+  bool rdy_irq = false;
 
   status spi_transfer(const uint8_t* tx, uint8_t* rx, size_t n) const {
     return ops->spi_transfer(ctx, tx, rx, n);
@@ -82,6 +115,19 @@ struct hal {
   void busy_wait() const { ops->busy_wait(ctx); }
   [[nodiscard]] uint16_t stack_free() const { return ops->stack_free(ctx); }
   [[nodiscard]] uint8_t clock_faults() const { return ops->clock_faults(ctx); }
+  [[nodiscard]] bool has_step_timer() const { return ops->step_timer != nullptr; }
+  void step_timer(bool arm, uint32_t due) const {
+    if (ops->step_timer != nullptr) ops->step_timer(ctx, arm, due);
+  }
+  void critical(bool enter) const {
+    if (ops->critical != nullptr) ops->critical(ctx, enter);
+  }
+  bool nv_read(uint8_t id, uint8_t* buf, size_t n) const {
+    return ops->nv_read != nullptr && ops->nv_read(ctx, id, buf, n);
+  }
+  bool nv_write(uint8_t id, const uint8_t* buf, size_t n) const {
+    return ops->nv_write != nullptr && ops->nv_write(ctx, id, buf, n);
+  }
 };
 
 }  // namespace gyroflip::fw

@@ -25,7 +25,10 @@ inline constexpr uint16_t max_status_period_ms = 60000;
 /// 115200 b/s, 8N1: 10 bits on the line per byte.
 inline constexpr uint32_t link_bytes_per_s = 115200 / 10;
 
-/// Payload bytes of each device-to-host message (their layouts in messages.hpp).
+/// Payload bytes of each device-to-host message (their layouts in messages.hpp), and of
+/// CONFIGURE.
+inline constexpr uint32_t configure_payload = 54;
+inline constexpr uint32_t info_payload = 92;
 inline constexpr uint32_t dwell_payload = 49;
 inline constexpr uint32_t status_payload = 39;
 inline constexpr uint32_t compensated_payload = 13;

@@ -22,7 +22,7 @@ size_t seal_raw(uint8_t type, uint16_t seq, size_t len, uint8_t* raw) {
 }
 
 size_t cobs_frame(size_t raw_len, uint8_t* out, size_t cap) {
-  if (raw_len == 0 || raw_len > max_frame || cap < max_wire) return 0;
+  if (raw_len == 0 || raw_len > max_frame || cap < stage + cobs_max_encoded(raw_len) + 1) return 0;
   const size_t n = cobs_encode(out + stage, raw_len, out, cap - 1);
   if (n == 0) return 0;
   out[n] = 0;

@@ -79,27 +79,30 @@ struct frame {
 /// Counts of a decoder. Every delimiter that ends at least one byte adds exactly one to `good`
 /// or to one of the bad counts; `duplicates` (good frames not handed out again) and `missing`
 /// come from the sequence numbers of good frames.
-struct decoder_counts {
-  uint32_t good = 0;            ///< valid frames (well formed, CRC correct), duplicates included
-  uint32_t bad_cobs = 0;        ///< not valid COBS (corruption)
-  uint32_t bad_length = 0;      ///< shorter than header and CRC, or the length field disagrees
-  uint32_t bad_version = 0;     ///< another protocol version
-  uint32_t unknown_type = 0;    ///< a message this version does not have
-  uint32_t crc_errors = 0;      ///< CRC mismatch (corruption, or another layout of the message)
-  uint32_t too_long = 0;        ///< more bytes than the largest frame before a delimiter
-  uint32_t duplicates = 0;      ///< good frames that repeat an earlier sequence number
-  uint32_t missing = 0;         ///< sequence numbers skipped (frames lost on the way)
+template <class C = uint32_t>
+struct basic_decoder_counts {
+  C good = 0;                   ///< valid frames (well formed, CRC correct), duplicates included
+  C bad_cobs = 0;               ///< not valid COBS (corruption)
+  C bad_length = 0;             ///< shorter than header and CRC, or the length field disagrees
+  C bad_version = 0;            ///< another protocol version
+  C unknown_type = 0;           ///< a message this version does not have
+  C crc_errors = 0;             ///< CRC mismatch (corruption, or another layout of the message)
+  C too_long = 0;               ///< more bytes than the largest frame before a delimiter
+  C duplicates = 0;             ///< good frames that repeat an earlier sequence number
+  C missing = 0;                ///< sequence numbers skipped (frames lost on the way)
   uint8_t foreign_version = 0;  ///< version byte of the last frame of another version (0: none)
   [[nodiscard]] uint32_t bad() const {
-    return bad_cobs + bad_length + bad_version + unknown_type + crc_errors + too_long;
+    return uint32_t{bad_cobs} + bad_length + bad_version + unknown_type + crc_errors + too_long;
   }
 };
+/// The counts in 32 bits (a host); a device may count in 16 (its STATUS carries 16 bits of each).
+using decoder_counts = basic_decoder_counts<>;
 
 /// Byte-at-a-time frame decoder holding frames of up to `Cap` bytes of COBS (a device that only
 /// takes short commands keeps a small buffer). A frame whose sequence number repeats one of the
 /// last 32768 (a retransmission, a duplicated packet) is counted and, by default, not handed out
 /// again; a forward jump counts the skipped numbers as missing.
-template <size_t Cap>
+template <size_t Cap, class C = uint32_t>
 class basic_frame_decoder {
  public:
   constexpr basic_frame_decoder() = default;
@@ -125,7 +128,7 @@ class basic_frame_decoder {
     return good;
   }
   [[nodiscard]] const frame& current() const { return frame_; }
-  [[nodiscard]] const decoder_counts& counts() const { return counts_; }
+  [[nodiscard]] const basic_decoder_counts<C>& counts() const { return counts_; }
   /// Forgets the sequence history (after a device reset: its numbering starts again).
   void reset_sequence() { have_seq_ = false; }
   /// The type and sequence number of the last frame dropped for its CRC (or an unknown type)
@@ -184,7 +187,7 @@ class basic_frame_decoder {
         frame_ = frame{buf_[1], seq, buf_ + header_bytes, buf_[4]};
         return true;  // the numbering goes on from the newest frame
       }
-      counts_.missing += gap - 1u;
+      counts_.missing = static_cast<C>(counts_.missing + (gap - 1u));
     }
     have_seq_ = true;
     last_seq_ = seq;
@@ -203,7 +206,7 @@ class basic_frame_decoder {
   uint16_t bad_seq_ = 0;
   status bad_why_ = status::ok;
   frame frame_{};
-  decoder_counts counts_{};
+  basic_decoder_counts<C> counts_{};
 };
 
 /// The decoder of any frame (a host's).

@@ -26,11 +26,28 @@ namespace gyroflip::protocol {
 /// The codeword of a nibble: bits 0-3 the nibble d0..d3, bits 4-7 the parities
 /// p0 = d1^d2^d3, p1 = d0^d2^d3, p2 = d0^d1^d3, p3 = d0^d1^d2 (the extended Hamming code in
 /// systematic form: every nonzero codeword has weight 4 or 8, so any two differ in >= 4 bits).
-[[nodiscard]] constexpr uint8_t hamming84_encode(uint8_t nibble) {
+[[nodiscard]] constexpr uint8_t hamming84_codeword(uint8_t nibble) {
   const unsigned d0 = nibble & 1u, d1 = (nibble >> 1) & 1u, d2 = (nibble >> 2) & 1u,
                  d3 = (nibble >> 3) & 1u;
   const unsigned p0 = d1 ^ d2 ^ d3, p1 = d0 ^ d2 ^ d3, p2 = d0 ^ d1 ^ d3, p3 = d0 ^ d1 ^ d2;
   return static_cast<uint8_t>((nibble & 0x0Fu) | (p0 << 4) | (p1 << 5) | (p2 << 6) | (p3 << 7));
+}
+namespace detail {
+struct hamming84_codewords {
+  uint8_t v[16];
+};
+constexpr hamming84_codewords make_hamming84_codewords() {
+  hamming84_codewords t{};
+  for (uint8_t n = 0; n < 16; ++n) t.v[n] = hamming84_codeword(n);
+  return t;
+}
+// The 16 codewords as a table (16 bytes of flash): a device codes every byte it sends, and the
+// formula's shifts cost the MSP430 ~100 cycles a nibble, a fifth of the line's byte time.
+inline constexpr hamming84_codewords hamming84_words = make_hamming84_codewords();
+}  // namespace detail
+/// The codeword of `nibble` (its low 4 bits).
+[[nodiscard]] constexpr uint8_t hamming84_encode(uint8_t nibble) {
+  return detail::hamming84_words.v[nibble & 0x0Fu];
 }
 
 /// What a wire byte decodes to: the nibble (0..15), with hamming84_corrected set when one bit
@@ -120,15 +137,18 @@ template <class M>
 inline constexpr size_t max_wire_bytes = line_bytes(max_payload) + run_before_command;
 
 /// What the line decoder saw.
-struct line_counts {
-  uint32_t corrected = 0;      ///< wire bytes with one bit wrong, corrected
-  uint32_t uncorrectable = 0;  ///< wire bytes with two or more bits wrong (their frame is lost)
-  uint32_t realigned = 0;      ///< nibble phase found wrong at a frame boundary (a lost byte)
+template <class C = uint32_t>
+struct basic_line_counts {
+  C corrected = 0;      ///< wire bytes with one bit wrong, corrected
+  C uncorrectable = 0;  ///< wire bytes with two or more bits wrong (their frame is lost)
+  C realigned = 0;      ///< nibble phase found wrong at a frame boundary (a lost byte)
 };
+using line_counts = basic_line_counts<>;
 
 /// Wire bytes in, frames out: the line decoder (above) feeding a frame decoder of `Cap` bytes.
-/// A frame is handed out as soon as its delimiter run is 4 nibbles long.
-template <size_t Cap>
+/// A frame is handed out as soon as its delimiter run is 4 nibbles long. Counts are of type `C`
+/// (a device counts in 16 bits: RAM).
+template <size_t Cap, class C = uint32_t>
 class basic_stream_decoder {
  public:
   constexpr basic_stream_decoder() = default;
@@ -163,11 +183,11 @@ class basic_stream_decoder {
     return nibble(n) || got;
   }
   [[nodiscard]] const frame& current() const { return frames_.current(); }
-  [[nodiscard]] const decoder_counts& counts() const { return frames_.counts(); }
-  [[nodiscard]] const line_counts& line() const { return line_; }
+  [[nodiscard]] const basic_decoder_counts<C>& counts() const { return frames_.counts(); }
+  [[nodiscard]] const basic_line_counts<C>& line() const { return line_; }
   /// The frame layer (its sequence history, the header of its last bad frame).
-  [[nodiscard]] basic_frame_decoder<Cap>& frames() { return frames_; }
-  [[nodiscard]] const basic_frame_decoder<Cap>& frames() const { return frames_; }
+  [[nodiscard]] basic_frame_decoder<Cap, C>& frames() { return frames_; }
+  [[nodiscard]] const basic_frame_decoder<Cap, C>& frames() const { return frames_; }
 
  private:
   bool nibble(uint8_t n) {
@@ -208,8 +228,8 @@ class basic_stream_decoder {
     return got;
   }
 
-  basic_frame_decoder<Cap> frames_;
-  line_counts line_;
+  basic_frame_decoder<Cap, C> frames_;
+  basic_line_counts<C> line_;
   uint8_t zeros_ = 0;        // zero nibbles in the current run (saturating)
   bool lo_ = false;          // the next nibble is a low nibble
   uint8_t hi_ = 0;           // the pending high nibble

@@ -48,7 +48,7 @@ void configure_msg::get(reader& r) {
   status_period_ms = r.u16();
 }
 
-void info_msg::put(writer& w) const {
+void info_head::put_head(writer& w) const {
   w.u8(fw_major);
   w.u8(fw_minor);
   w.u8(fw_patch);
@@ -64,10 +64,13 @@ void info_msg::put(writer& w) const {
   w.u16(boot_count);
   w.u16(history_bytes);
   w.u8(board);
-  config.put(w);
+  w.u8(stored);
+  w.i32(delta_n_q8);
+  w.u16(prev_next_seq);
+  w.u32(prev_dwells);
 }
 
-void info_msg::get(reader& r) {
+void info_head::get_head(reader& r) {
   fw_major = r.u8();
   fw_minor = r.u8();
   fw_patch = r.u8();
@@ -83,7 +86,10 @@ void info_msg::get(reader& r) {
   boot_count = r.u16();
   history_bytes = r.u16();
   board = r.u8();
-  config.get(r);
+  stored = r.u8();
+  delta_n_q8 = r.i32();
+  prev_next_seq = r.u16();
+  prev_dwells = r.u32();
 }
 
 void dwell_msg::put(writer& w) const {

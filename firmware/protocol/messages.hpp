@@ -126,6 +126,18 @@ enum class board_kind : uint8_t {
   qemu = 2,           ///< the Cortex-M3 image under QEMU
 };
 
+/// Bits of `info_msg::stored`.
+enum info_stored : uint8_t {
+  /// `serial` is the board's own, read from its information flash with a good CRC (else the
+  /// port's default: 0 on the MSP430F149, "not programmed").
+  info_serial_stored = 0x01,
+  /// The dN in force at boot came from the information flash (a good record; else 0).
+  info_delta_n_stored = 0x02,
+  /// `prev_next_seq` and `prev_dwells` are the previous boot's (a reset that kept RAM); clear
+  /// after a power-up, when they are 0 and unknown.
+  info_prev_valid = 0x04,
+};
+
 /// Bits of `status_msg::clock_faults` (and ERROR clock values).
 enum clock_fault : uint8_t {
   clock_xt2 = 0x01,    ///< the high-frequency crystal (MCLK, SMCLK: UART baud, SPI) failed
@@ -166,15 +178,9 @@ struct configure_msg {
   bool operator==(const configure_msg&) const = default;
 };
 
-/// INFO / HELLO (device to host): at boot and in reply to PING.
-struct info_msg {
-  static constexpr msg type = msg::info;
-  static constexpr const char* layout =
-      "info:u8 fw_major;u8 fw_minor;u8 fw_patch;u8 protocol;u32 serial;u32 mclk_hz;"
-      "u32 tick_hz;u8 adc_revision;u16 max_n_avg;u8 max_raw_codes;u8 range;u8 reset_cause;"
-      "u16 boot_count;u16 history_bytes;u8 board;configure";
-  static constexpr uint8_t crc_extra =
-      static_cast<uint8_t>(layout_seed(layout) ^ configure_msg::crc_extra);
+/// INFO's fields before the configuration (a device fills these and writes the configuration in
+/// force after them, without a second copy of it on its stack).
+struct info_head {
   uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0, protocol = 0;
   uint32_t serial = 0;
   uint32_t mclk_hz = 0;        ///< AD7739 master clock
@@ -187,9 +193,36 @@ struct info_msg {
   uint16_t boot_count = 0;     ///< starts since power-on (wraps); a change means it rebooted
   uint16_t history_bytes = 0;  ///< size of the retransmit history (docs/PROTOCOL.md, RESEND)
   uint8_t board = 0;           ///< a board_kind value: a real board, or an emulator
-  configure_msg config;        ///< the configuration in force
-  void put(writer& w) const;
-  void get(reader& r);
+  uint8_t stored = 0;      ///< info_stored bits: where serial, dN and the prev_ fields came from
+  int32_t delta_n_q8 = 0;  ///< the dN in force (SET_DELTA_N, CALIBRATE, or the stored one)
+  /// The previous boot's next sequence number and the DWELLs it sent (valid with
+  /// info_prev_valid: a reset that kept RAM): a host counts what it never received of them.
+  uint16_t prev_next_seq = 0;
+  uint32_t prev_dwells = 0;
+  void put_head(writer& w) const;
+  void get_head(reader& r);
+  bool operator==(const info_head&) const = default;
+};
+
+/// INFO / HELLO (device to host): at boot and in reply to PING.
+struct info_msg : info_head {
+  static constexpr msg type = msg::info;
+  static constexpr const char* layout =
+      "info:u8 fw_major;u8 fw_minor;u8 fw_patch;u8 protocol;u32 serial;u32 mclk_hz;"
+      "u32 tick_hz;u8 adc_revision;u16 max_n_avg;u8 max_raw_codes;u8 range;u8 reset_cause;"
+      "u16 boot_count;u16 history_bytes;u8 board;u8 stored;i32 delta_n_q8;u16 prev_next_seq;"
+      "u32 prev_dwells;configure";
+  static constexpr uint8_t crc_extra =
+      static_cast<uint8_t>(layout_seed(layout) ^ configure_msg::crc_extra);
+  configure_msg config;  ///< the configuration in force
+  void put(writer& w) const {
+    put_head(w);
+    config.put(w);
+  }
+  void get(reader& r) {
+    get_head(r);
+    config.get(r);
+  }
   bool operator==(const info_msg&) const = default;
 };
 

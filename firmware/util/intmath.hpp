@@ -7,11 +7,13 @@
 
 namespace gyroflip::fw {
 
-/// floor(sqrt(v)), the bit-by-bit method (Warren, Hacker's Delight, 2nd ed., Fig. 11-4): no
-/// multiplication or division, exact for every input.
-[[nodiscard]] constexpr uint64_t isqrt(uint64_t v) {
-  uint64_t root = 0;
-  uint64_t bit = uint64_t{1} << 62;
+/// floor(sqrt(v)) of an unsigned value of any width, the bit-by-bit method (Warren, Hacker's
+/// Delight, 2nd ed., Fig. 11-4): no multiplication or division, exact for every input; one round
+/// per two bits of U.
+template <class U>
+[[nodiscard]] constexpr U isqrt_bits(U v) {
+  U root = 0;
+  U bit = U{1} << (8 * sizeof(U) - 2);
   while (bit > v) bit >>= 2;
   while (bit != 0) {
     if (v >= root + bit) {
@@ -23,6 +25,10 @@ namespace gyroflip::fw {
     bit >>= 2;
   }
   return root;
+}
+/// floor(sqrt(v)) of a 64-bit value (isqrt_bits).
+[[nodiscard]] constexpr uint64_t isqrt(uint64_t v) {
+  return isqrt_bits<uint64_t>(v);
 }
 
 /// num / den rounded to nearest, halves away from zero (den > 0): the rounding of

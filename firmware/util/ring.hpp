@@ -16,7 +16,11 @@ class byte_ring {
   /// Appends all `n` bytes, or none when they do not fit.
   bool push(const uint8_t* p, size_t n) {
     if (n > free()) return false;
-    for (size_t i = 0; i < n; ++i) buf_[wrap(head_ + count_ + i)] = p[i];
+    size_t at = wrap(head_ + count_);
+    for (size_t i = 0; i < n; ++i) {
+      buf_[at] = p[i];
+      if (++at == N) at = 0;
+    }
     count_ += n;
     return true;
   }

@@ -2,6 +2,7 @@
 /// \brief The cycle layout in conversion slots (see schedule.hpp).
 #include "gyroflip/rig/schedule.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "gyroflip/core/error.hpp"
@@ -63,9 +64,38 @@ result<schedule> schedule::make(const schedule_params& s, const stepper_params& 
     for (int i = 0; i < s.n_avg; ++i) out.phases_.push_back({angle_deg, 0.0, false, slot});
   };
   dwell(s.pos_a_deg, 0);
+  const std::size_t turn_ab_at = out.phases_.size();
   add_turn(out.phases_, s.pos_a_deg, *turn_ab, 1.0, s.settle_s, t_conv_s);
+  const std::size_t dwell_b_at = out.phases_.size();
   dwell(s.pos_a_deg + ab, 1);
+  const std::size_t turn_ba_at = out.phases_.size();
   add_turn(out.phases_, s.pos_a_deg + ab, *turn_ba, s.one_way ? 1.0 : -1.0, s.settle_s, t_conv_s);
+  if (s.settle.on()) {
+    // Each turn's residual runs from its last step to the next turn's start (the cycle wraps:
+    // the B -> A turn's runs through the dwell at A that opens the cycle).
+    const double release =
+        s.release_before_dwell_s < 0.0 ? s.settle_s / 2.0 : s.release_before_dwell_s;
+    const std::size_t n = out.phases_.size();
+    const auto add_residual = [&](std::size_t turn_at, std::size_t dwell_at, double duration,
+                                  int dir, std::size_t until) {
+      const double t_last = static_cast<double>(turn_at) * t_conv_s + duration;
+      double t_dwell = static_cast<double>(dwell_at) * t_conv_s;
+      if (dwell_at < turn_at) t_dwell += static_cast<double>(n) * t_conv_s;  // the next cycle's
+      const double t_release = std::max(t_last, t_dwell - release) - t_last;
+      for (std::size_t k = turn_at; k != until; k = (k + 1) % n) {
+        double t0 = static_cast<double>(k) * t_conv_s - t_last;
+        if (k < turn_at) t0 += static_cast<double>(n) * t_conv_s;  // wrapped past the cycle's end
+        const double t1 = t0 + t_conv_s;
+        const double a0 = s.settle.residual_deg(t0, t_release, dir);
+        const double a1 = s.settle.residual_deg(t1, t_release, dir);
+        // The rate only: the dwell keeps its table position's label (a residual of a fraction of
+        // a step changes the Earth and gravity terms by parts in 10^5).
+        out.phases_[k].table_rate_dps += (a1 - a0) / t_conv_s;
+      }
+    };
+    add_residual(turn_ab_at, dwell_b_at, turn_ab->duration_s(), 1, turn_ba_at);
+    add_residual(turn_ba_at, 0, turn_ba->duration_s(), s.one_way ? 1 : -1, turn_ab_at);
+  }
   return out;
 }
 

@@ -63,6 +63,12 @@ status check_ranges(const simulation_config& c) {
                                        "table holds {}",
                                        c.rig.positions_deg.size()));
   if (auto s = c.rig.check(c.adc.mclk_hz); !s) return s;
+  const settle_model& m = c.settle;
+  const auto finite = [](double v) { return std::isfinite(v); };
+  if (!finite(m.ring_deg) || !finite(m.release_deg) || !(m.ring_tau_s > 0.0) ||
+      !(m.release_tau_s > 0.0) || !(m.ring_hz >= 0.0) || !finite(m.ring_hz) ||
+      !finite(c.release_before_dwell_s))
+    return parameter_error("settle", "the settle model: finite angles, time constants > 0");
   return ok();
 }
 
@@ -83,7 +89,10 @@ result<simulator> simulator::make(const simulation_config& c) {
   const double t_conv = adc->conversion_time_s();
   auto g = sensor::gyro::make(c.sensor, t_conv, c.power_on_before_s, c.seed);
   if (!g) return g.err();
-  auto s = schedule::make(c.rig.schedule(c.flip), c.rig.stepper(), t_conv);
+  schedule_params sched_p = c.rig.schedule(c.flip);
+  sched_p.settle = c.settle;
+  sched_p.release_before_dwell_s = c.release_before_dwell_s;
+  auto s = schedule::make(sched_p, c.rig.stepper(), t_conv);
   if (!s) return s.err();
   auto geo = rig_geometry::make(c.lat_deg, c.axis, c.table_axis);
   if (!geo) return geo.err();

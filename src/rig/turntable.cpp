@@ -47,6 +47,14 @@ result<turn_profile> turn_profile::make(const stepper_params& p, double angle_de
   return tp;
 }
 
+double settle_model::residual_deg(double t_s, double t_release_s, int dir) const noexcept {
+  if (t_s <= 0.0) return 0.0;
+  constexpr double two_pi = 6.283185307179586;
+  double a = ring_deg * std::exp(-t_s / ring_tau_s) * std::cos(two_pi * ring_hz * t_s);
+  if (t_s > t_release_s) a -= release_deg * (1.0 - std::exp(-(t_s - t_release_s) / release_tau_s));
+  return dir * a;
+}
+
 double turn_profile::angle_at(double t_s) const noexcept {
   if (t_s <= 0.0) return 0.0;
   if (t_s >= duration_s()) return angle_deg();

@@ -37,14 +37,21 @@ bool decode(const std::vector<std::uint8_t>& body, M& m) {
   return protocol::frame{static_cast<std::uint8_t>(M::type), 0, body.data(), body.size()}.as(m);
 }
 
-// INFO as stored: files of format 3 and older hold the 80-byte INFO without `board` (firmware
-// 0.2), which came before the configuration; their board is not known (read as 0, a board).
+// INFO as stored: older firmware's INFO lacks fields that came before the configuration, read
+// as 0. The 80-byte INFO of firmware 0.2 (files of format 3 and older) has no `board` (board
+// unknown: read as 0, a board); the 81-byte INFO of firmware 0.3 has no `stored`, `delta_n_q8`,
+// `prev_next_seq` and `prev_dwells` (firmware 0.4, issue 32: nothing stored, previous boot
+// unknown).
 bool decode_info(const std::vector<std::uint8_t>& body, protocol::info_msg& m) {
   constexpr std::size_t board_at = 26;
+  constexpr std::size_t stored_at = 27;
   constexpr std::size_t without_board = 80;
-  if (body.size() != without_board) return decode(body, m);
+  constexpr std::size_t without_stored = 81;
+  constexpr std::size_t stored_fields = 11;  // u8 stored, i32, u16, u32
+  if (body.size() != without_board && body.size() != without_stored) return decode(body, m);
   std::vector<std::uint8_t> b(body);
-  b.insert(b.begin() + board_at, std::uint8_t{0});
+  if (b.size() == without_board) b.insert(b.begin() + board_at, std::uint8_t{0});
+  b.insert(b.begin() + stored_at, stored_fields, std::uint8_t{0});
   return decode(b, m);
 }
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "firmware/core/nv_record.hpp"
 #include "firmware/harness.hpp"
 
 namespace {
@@ -204,7 +205,9 @@ TEST(BoardPositions, ThreePositionsAreVisitedInTableOrder) {
 }
 
 // Steps the rig one tick at a time and counts the gyro conversions that ended with motor 0's
-// coils energised, until `dwells` DWELLs arrived.
+// coils energised, until `dwells` DWELLs arrived. A conversion that ends in a tick ended with
+// the coils as they stood before that tick's poll (a poll that reads the dwell's last result
+// may begin the next turn at once).
 struct coil_count {
   uint32_t conversions = 0, energised = 0;
 };
@@ -212,12 +215,13 @@ coil_count run_counting_coils(rig& r, size_t dwells) {
   coil_count n;
   uint32_t done = r.board.adc.conversions(0);
   for (uint32_t t = 0; t < 3'000'000 && r.count<dwell_msg>() < dwells; ++t) {
+    const bool energised = r.board.motors.energised(0);
     r.dev.poll();
     ++r.board.now;
     const uint32_t now_done = r.board.adc.conversions(0);
     if (now_done != done) {
       n.conversions += now_done - done;
-      n.energised += r.board.motors.energised(0) ? now_done - done : 0;
+      n.energised += energised ? now_done - done : 0;
       done = now_done;
     }
     if ((t & 255u) == 0) r.drain();
@@ -386,6 +390,208 @@ TEST(BoardInfo, ResetCauseBootCountAndStackMargin) {
   const auto st = r.last<protocol::status_msg>();
   EXPECT_EQ(st.stack_free, 321u);
   EXPECT_EQ(st.boot_count, 7u);
+}
+
+// ---- issue 32: the firmware's timing and its records ----------------------------------------
+
+// INFO is the boot's first frame, number 0, even when the boot finds the ADC missing (it was
+// number 3 behind the ADC's ERRORs); the ERROR follows it.
+TEST(BoardInfo, InfoIsTheBootsFirstFrameEvenWhenTheAdcFails) {
+  fw::testing::code_source src;
+  fw::model::host_board board{&fw::testing::code_source::call, &src};
+  board.spi_fails = true;
+  fw::device dev{board.hw(), fw::board_facts{}};
+  dev.boot({static_cast<uint8_t>(protocol::reset_cause::power_on), 1});
+  protocol::stream_decoder d{true};
+  std::vector<std::pair<uint8_t, uint16_t>> got;
+  for (int t = 0; t < 3000; ++t, ++board.now) {
+    dev.poll();
+    uint8_t buf[512];
+    const size_t n = board.host_receive(buf, sizeof buf);
+    for (size_t i = 0; i < n; ++i)
+      if (d.push(buf[i])) got.emplace_back(d.current().type, d.current().seq);
+  }
+  ASSERT_GE(got.size(), 2u);
+  EXPECT_EQ(got[0], std::make_pair(static_cast<uint8_t>(protocol::msg::info), uint16_t{0}));
+  EXPECT_EQ(got[1].first, static_cast<uint8_t>(protocol::msg::error));
+}
+
+// A CONFIGURE is answered within the pass that reads it: the ADC's self-calibration that follows
+// runs one step per pass (a blocking calibration held one pass for up to 4 conversion times per
+// step, 79 ms on the F149, longer than its UART's receive queue lasts). The host port's busy
+// wait advances the virtual clock, so a blocking wait shows as ticks spent inside one poll.
+TEST(BoardAdc, ConfigureAndItsCalibrationNeverHoldAPass) {
+  rig r;
+  const auto before = r.count<protocol::ack_msg>();
+  r.send(quick_config(8));
+  uint32_t longest = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const uint32_t t0 = r.board.now;
+    r.dev.poll();
+    longest = std::max(longest, r.board.now - t0);
+    ++r.board.now;
+  }
+  r.drain();
+  EXPECT_EQ(longest, 0u) << "a pass waited on the ADC";
+  EXPECT_EQ(r.count<protocol::ack_msg>(), before + 1);
+  // And the calibration did happen: zero and full scale on both channels, in that order.
+  r.start();
+  ASSERT_TRUE(r.run_until([&] { return r.count<dwell_msg>() >= 2; }, 200000));
+  EXPECT_EQ(r.all<dwell_msg>()[0].flags, 0u);
+}
+
+// The rates a board cannot produce are refused: the MSP430F149's top rate (2 000 steps/s: its
+// step interrupt and the main loop's interval computation) and a start rate whose interval does
+// not fit the step timer's 16 bits.
+TEST(BoardRates, ARateTheBoardCannotProduceIsRefused) {
+  fw::testing::code_source src;
+  fw::model::host_board board{&fw::testing::code_source::call, &src};
+  fw::board_facts facts;
+  facts.max_step_rate_sps = 2000;
+  fw::device dev{board.hw(), facts};
+  dev.boot();
+  protocol::stream_decoder d{true};
+  const auto answer = [&](const configure_msg& c, uint16_t seq) {
+    uint8_t buf[protocol::max_wire_bytes];
+    board.host_send(buf, protocol::encode_wire(c, seq, buf, sizeof buf, true));
+    for (int t = 0; t < 2000; ++t, ++board.now) {
+      dev.poll();
+      uint8_t out[512];
+      const size_t n = board.host_receive(out, sizeof out);
+      for (size_t i = 0; i < n; ++i)
+        if (d.push(out[i]) && d.current().type != static_cast<uint8_t>(protocol::msg::info))
+          return d.current().type;
+    }
+    return uint8_t{0};
+  };
+  configure_msg ok = quick_config(8);
+  ok.step_rate_sps = 2000;
+  EXPECT_EQ(answer(ok, 1), static_cast<uint8_t>(protocol::msg::ack));
+  configure_msg fast = ok;
+  fast.step_rate_sps = 2001;
+  EXPECT_EQ(answer(fast, 2), static_cast<uint8_t>(protocol::msg::nak));
+  EXPECT_EQ(dev.config(), ok) << "a refused CONFIGURE left the configuration in force";
+}
+
+// The coils hold the table for the first half of the settling time and are off for the second,
+// so the rotor's move to its unpowered rest is over before the first conversion (they were
+// switched off 0.2 ms before it: a settle residual whose sign follows the turn's direction,
+// which back-and-forth turns put into dN; docs/FIRMWARE.md).
+TEST(BoardCoils, ReleasedHalfwayThroughTheSettlingTime) {
+  rig r;
+  configure_msg c = quick_config(8);
+  c.settle_ms = 80;  // 2622 ticks
+  configure(r, c);
+  r.start();
+  // The tick the coils went off before each dwell's first conversion.
+  uint32_t off_at = 0;
+  bool was_on = false;
+  std::vector<uint32_t> off_before_dwell;
+  uint32_t done = r.board.adc.conversions(0);
+  for (uint32_t t = 0; t < 400000 && off_before_dwell.size() < 4; ++t) {
+    r.dev.poll();
+    ++r.board.now;
+    const bool on = r.board.motors.energised(0);
+    if (was_on && !on) off_at = r.board.now;
+    was_on = on;
+    const uint32_t n = r.board.adc.conversions(0);
+    if (n != done && n % 8 == 1) off_before_dwell.push_back(r.board.now - off_at);
+    done = n;
+  }
+  ASSERT_EQ(off_before_dwell.size(), 4u);
+  for (const uint32_t d : off_before_dwell) {
+    EXPECT_GE(d, 1311u + 66u) << "released less than half the settling time before the dwell";
+    EXPECT_LE(d, 1311u + 66u + 10u);
+  }
+}
+
+// The board's serial and the dN in force come from its non-volatile records (the F149's
+// information flash) with their CRC, are reported in INFO, and the dN a host sets is written
+// there (while idle) and is the one in force after a reset; a damaged record is not used.
+TEST(BoardRecords, SerialAndDeltaNComeFromTheBoardsRecordsAndOutliveAReset) {
+  fw::testing::code_source src;
+  fw::model::host_board board{&fw::testing::code_source::call, &src};
+  fw::nv::encode(fw::nv::kind_board_serial, 0x0F149123u, board.nv[fw::nv_board]);
+  protocol::stream_decoder d{true};
+  std::vector<protocol::info_msg> infos;
+  const auto run = [&](fw::device& dev, int ticks) {
+    for (int t = 0; t < ticks; ++t, ++board.now) {
+      dev.poll();
+      uint8_t out[512];
+      const size_t n = board.host_receive(out, sizeof out);
+      for (size_t i = 0; i < n; ++i)
+        if (d.push(out[i]) && d.current().type == static_cast<uint8_t>(protocol::msg::info)) {
+          protocol::info_msg m;
+          if (d.current().as(m)) infos.push_back(m);
+        }
+    }
+  };
+  {
+    fw::device dev{board.hw(), fw::board_facts{77u}};
+    dev.boot();
+    run(dev, 1000);
+    ASSERT_EQ(infos.size(), 1u);
+    EXPECT_EQ(infos[0].serial, 0x0F149123u);
+    EXPECT_EQ(infos[0].stored, protocol::info_serial_stored);
+    EXPECT_EQ(infos[0].delta_n_q8, 0);
+    protocol::set_delta_n_msg s;
+    s.delta_n_q8 = -12345;
+    uint8_t buf[protocol::max_wire_bytes];
+    board.host_send(buf, protocol::encode_wire(s, 5, buf, sizeof buf, true));
+    run(dev, 1000);
+    EXPECT_EQ(board.nv_writes, 1u);
+    EXPECT_EQ(dev.delta_n_q8(), -12345);
+  }
+  {
+    fw::device dev{board.hw(), fw::board_facts{77u}};  // the reset: a new device, the same flash
+    dev.boot();
+    run(dev, 1000);
+    ASSERT_EQ(infos.size(), 2u);
+    EXPECT_EQ(infos[1].delta_n_q8, -12345);
+    EXPECT_EQ(infos[1].stored, protocol::info_serial_stored | protocol::info_delta_n_stored);
+    EXPECT_EQ(dev.delta_n_q8(), -12345);
+  }
+  board.nv[fw::nv_board][5] ^= 0x01;    // one bit of the serial's record
+  board.nv[fw::nv_delta_n][9] ^= 0x80;  // one bit of the dN record's CRC
+  {
+    fw::device dev{board.hw(), fw::board_facts{77u}};
+    dev.boot();
+    run(dev, 1000);
+    ASSERT_EQ(infos.size(), 3u);
+    EXPECT_EQ(infos[2].serial, 77u) << "a damaged record is not the board's serial";
+    EXPECT_EQ(infos[2].stored, 0u);
+    EXPECT_EQ(infos[2].delta_n_q8, 0);
+  }
+}
+
+// The counters a port keeps through a reset (the F149's .noinit RAM): the next boot's INFO says
+// how many frames and DWELLs the boot before sent, so a host can count what it never got.
+TEST(BoardInfo, ThePreviousBootsFramesAndDwellsComeWithTheNextInfo) {
+  fw::retained_counters kept;
+  uint16_t sent_seq = 0;
+  uint32_t sent_dwells = 0;
+  {
+    rig r;
+    fw::boot_info b{static_cast<uint8_t>(protocol::reset_cause::power_on), 1};
+    b.keep = &kept;
+    r.dev.boot(b);
+    r.run(1000);  // its INFO leaves first (17 ms of line)
+    configure(r, quick_config(8));
+    r.start();
+    ASSERT_TRUE(r.run_until([&] { return r.count<dwell_msg>() >= 5; }, 400000));
+    sent_dwells = static_cast<uint32_t>(r.count<dwell_msg>());
+    sent_seq = static_cast<uint16_t>(r.frames.back().seq + 1);
+  }
+  EXPECT_EQ(kept.dwells, sent_dwells);
+  EXPECT_GE(kept.next_seq, sent_seq);  // frames queued but not yet out count as sent
+  rig r2;
+  fw::boot_info b{static_cast<uint8_t>(protocol::reset_cause::reset_pin), 2, true, kept};
+  r2.dev.boot(b);
+  r2.run(1000);
+  const auto info = r2.last<protocol::info_msg>();
+  EXPECT_EQ(info.stored & protocol::info_prev_valid, protocol::info_prev_valid);
+  EXPECT_EQ(info.prev_dwells, kept.dwells);
+  EXPECT_EQ(info.prev_next_seq, kept.next_seq);
 }
 
 }  // namespace

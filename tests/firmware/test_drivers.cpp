@@ -188,30 +188,77 @@ TEST(Stepper, TwoMotorsOnOnePortKeepTheirNibbles) {
   EXPECT_EQ(stepper::port_byte(low, high), low.nibble() | (high.nibble() << 4));
 }
 
+// Drives a move as a port without a step timer does (device::step_turn): the queue refilled,
+// the step taken when due, one per poll; returns the ticks of the steps.
+std::vector<uint32_t> run_move(stepper::mover& mv, const stepper::ramp_plan& p, host_board& b,
+                               stepper::motor& flip, stepper::motor& other, stepper::follower rule,
+                               uint32_t poll_every = 1, std::size_t max_steps = 1u << 20) {
+  std::vector<uint32_t> at;
+  for (int guard = 0; mv.busy() && at.size() < max_steps && guard < 10000000;
+       ++guard, b.now += poll_every) {
+    mv.refill(p);
+    if (mv.paused()) mv.rebase(b.now, p);
+    if (static_cast<int32_t>(b.now - mv.next_due()) < 0) continue;
+    uint32_t next = 0;
+    mv.take_step(flip, other, rule, b.now, &next);
+    b.hw().stepper_port(stepper::port_byte(flip, other));
+    at.push_back(b.now);
+  }
+  return at;
+}
+
 TEST(Stepper, AHalfTurnIsHalfARevolutionOfSteps) {
   code_list src{{0}};
   host_board b(&code_list::call, &src);
   stepper::motor flip;
   stepper::motor other;
   stepper::mover mv;
-  const stepper::ramp r{100, 400, 2000};
+  const auto plan = stepper::make_plan({100, 400, 2000}, host_board::tick_hz);
   flip.energised = other.energised = true;  // coils on at their phase first (no step)
   b.hw().stepper_port(stepper::port_byte(flip, other));
-  mv.begin(100, b.now);  // 180 deg of a 200-step motor
-  while (mv.poll(b.now, r, host_board::tick_hz, flip, other, stepper::follower::opposite)) {
-    b.hw().stepper_port(stepper::port_byte(flip, other));
-    ++b.now;
-  }
-  b.hw().stepper_port(stepper::port_byte(flip, other));
+  mv.begin(100, b.now, plan);  // 180 deg of a 200-step motor
+  run_move(mv, plan, b, flip, other, stepper::follower::opposite);
   EXPECT_EQ(mv.steps_done(), 100u);
   EXPECT_EQ(b.motors.position[0], 100);
   EXPECT_EQ(b.motors.position[1], -100);
   EXPECT_EQ(b.motors.bad_transitions, 0u);
+  EXPECT_EQ(mv.rebases(), 0u);
 }
 
-TEST(Stepper, ALatePollStillTakesOneStepAtATime) {
-  // A main loop that looks only every 1000 ticks (steps are due every ~80): each poll takes one
-  // step, so the port never skips a phase, and the move still completes.
+// The intervals the device computes per step in 32 bits (ramp_plan) are the reference formula's
+// (64-bit square root, step_interval) for every step of every move: random ramps over the whole
+// CONFIGURE range, both tick rates of the ports.
+TEST(Stepper, PlanIntervalsEqualTheReferenceFormula) {
+  std::uint32_t x = 7;
+  const auto next = [&] {
+    x = x * 1664525u + 1013904223u;
+    return x >> 8;
+  };
+  int moves = 0;
+  for (const std::uint32_t tick_hz : {32768u, 1000000u}) {
+    for (int i = 0; i < 400; ++i) {
+      const auto top = static_cast<std::uint16_t>(1 + next() % 5000);
+      const auto start = static_cast<std::uint16_t>(1 + next() % top);
+      const auto accel =
+          static_cast<std::uint16_t>(i % 5 == 0 ? 1 + next() % 20 : 1 + next() % 65535);
+      const stepper::ramp r{start, top, accel};
+      const auto plan = stepper::make_plan(r, tick_hz);
+      const std::uint32_t n = i % 7 == 0 ? 1 + next() % 65535 : 1 + next() % 4000;
+      const std::uint32_t stride = n > 5000 ? 37 : 1;
+      for (std::uint32_t k = 0; k < n; k += stride)
+        ASSERT_EQ(stepper::interval(plan, k, n), stepper::step_interval(r, k, n, tick_hz))
+            << "ramp " << start << " " << top << " " << accel << ", step " << k << " of " << n;
+      ++moves;
+    }
+  }
+  EXPECT_EQ(moves, 800);
+}
+
+// A main loop that looks only every 1000 ticks (steps are due every ~80) and then every tick
+// again: each late poll takes one step and times the next from then, so the port never skips a
+// phase and the late steps never come in a burst once the polls are frequent again (the
+// review of issue 32: a late mover caught up at the poll rate).
+TEST(Stepper, ALatePollTakesOneStepAndTheNextComesAnIntervalLater) {
   code_list src{{0}};
   host_board b(&code_list::call, &src);
   stepper::motor flip;
@@ -219,17 +266,51 @@ TEST(Stepper, ALatePollStillTakesOneStepAtATime) {
   flip.energised = true;
   b.hw().stepper_port(stepper::port_byte(flip, other));
   stepper::mover mv;
-  mv.begin(-50, 0);
-  uint32_t polls = 0;
-  for (uint32_t t = 0; mv.busy(); t += 1000, ++polls) {
-    const uint32_t before = mv.steps_done();
-    mv.poll(t, {100, 400, 2000}, host_board::tick_hz, flip, other, stepper::follower::off);
-    EXPECT_LE(mv.steps_done() - before, 1u);
-    b.hw().stepper_port(stepper::port_byte(flip, other));
-  }
-  EXPECT_EQ(polls, 50u);
+  const auto plan = stepper::make_plan({100, 400, 2000}, host_board::tick_hz);
+  mv.begin(-50, 0, plan);
+  const auto late = run_move(mv, plan, b, flip, other, stepper::follower::off, 1000, 20);
+  ASSERT_EQ(late.size(), 20u);  // 20 polls of the 1000-tick loop took 20 steps
+  for (std::size_t i = 1; i < late.size(); ++i) EXPECT_EQ(late[i] - late[i - 1], 1000u);
+  // Then the loop is fast again: the remaining 30 steps keep at least the cruise interval.
+  const auto fast = run_move(mv, plan, b, flip, other, stepper::follower::off, 1);
+  ASSERT_EQ(fast.size(), 30u);
+  EXPECT_GE(fast.front() - late.back(), plan.cruise_ticks);
+  for (std::size_t i = 1; i < fast.size(); ++i)
+    EXPECT_GE(fast[i] - fast[i - 1], plan.cruise_ticks) << i;
   EXPECT_EQ(b.motors.position[0], -50);
   EXPECT_EQ(b.motors.bad_transitions, 0u);
+}
+
+// A consumer (the step timer's interrupt) that finds no interval queued pauses the move; the
+// main loop then starts a new ramp from standstill for the steps left: the first interval after
+// the pause is the start rate's, never the top rate's.
+TEST(Stepper, AStarvedMoveResumesWithANewRampFromStandstill) {
+  stepper::motor flip;
+  stepper::motor other;
+  stepper::mover mv;
+  const stepper::ramp r{100, 400, 2000};
+  const auto plan = stepper::make_plan(r, 32768);
+  mv.begin(200, 0, plan);  // the queue holds queue_len intervals
+  uint32_t now = 0;
+  uint32_t next = 0;
+  int taken = 0;
+  while (mv.take_step(flip, other, stepper::follower::off, now, &next)) {
+    now = next;
+    ++taken;
+  }
+  EXPECT_EQ(taken, stepper::mover::queue_len);  // one more step, then no interval queued
+  EXPECT_TRUE(mv.paused());
+  EXPECT_EQ(mv.steps_done(), stepper::mover::queue_len + 1u);
+  now += 5000;  // the main loop comes back late
+  mv.rebase(now, plan);
+  EXPECT_FALSE(mv.paused());
+  EXPECT_EQ(mv.next_due(), now);
+  ASSERT_TRUE(mv.take_step(flip, other, stepper::follower::off, now, &next));
+  const std::uint32_t left = 200 - stepper::mover::queue_len - 1;
+  EXPECT_EQ(next - now, stepper::step_interval(r, 0, left, 32768));  // the start rate's
+  EXPECT_EQ(next - now, 328u);                                       // 32768 / 100
+  EXPECT_EQ(mv.rebases(), 1u);
+  EXPECT_EQ(flip.position, stepper::mover::queue_len + 2);
 }
 
 TEST(Stepper, RampTimingMatchesTheTrapezoid) {

@@ -11,15 +11,21 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "firmware/core/nv_record.hpp"
+#include "firmware/drivers/stepper/stepper.hpp"
 #include "firmware/ports/msp430f149/selftest.hpp"
+#include "firmware/ports/msp430f149/sim_layout.hpp"
+#include "firmware/protocol/line.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -33,6 +39,7 @@ const std::string image_dir = GYROFLIP_F149_DIR;
 const std::string shipped_elf = image_dir + "/gyroflip_f149.elf";
 const std::string shipped_hex = image_dir + "/gyroflip_f149.hex";
 const std::string selftest_elf = image_dir + "/gyroflip_f149_selftest.elf";
+const std::string sim_elf = image_dir + "/gyroflip_f149_sim.elf";
 
 // ---- the simulator -----------------------------------------------------------------------
 
@@ -146,7 +153,7 @@ std::vector<out> run_on_msp430(const std::vector<vec>& v) {
     std::ofstream(tmp.file("in.bin"), std::ios::binary)
         .write(reinterpret_cast<const char*>(in.data()), static_cast<std::streamsize>(in.size()));
     const auto log =
-        mspdebug({"prog " + selftest_elf,
+        mspdebug({"simio add hwmult mul", "prog " + selftest_elf,
                   "load_raw " + tmp.file("in.bin") + " " + std::to_string(st::in_addr),
                   "setbreak selftest_done", "run",
                   "save_raw " + std::to_string(st::out_addr) + " " +
@@ -433,11 +440,11 @@ TEST(Msp430Sim, ShippedImageBootsIntoItsMainLoopWithinTheWatchdog) {
   const auto e = read_elf(shipped_elf);
   const std::string poll = "_ZN8gyroflip2fw6device4pollEv";
   ASSERT_TRUE(e.symbols.count(poll));
-  const auto log =
-      mspdebug({"simio add tracer tr 65536", "simio add wdt wd", "simio add timer ta 3",
-                "simio config ta irq0 6", "simio config ta irq1 5", "prog " + shipped_hex,
-                "sym import " + shipped_elf, "reset", "simio config tr clear", "setbreak " + poll,
-                "run", "regs", "simio info wd", "simio info tr"});
+  const auto log = mspdebug(
+      {"simio add tracer tr 65536", "simio add wdt wd", "simio add hwmult mul",
+       "simio add timer ta 3", "simio config ta irq0 6", "simio config ta irq1 5",
+       "prog " + shipped_hex, "sym import " + shipped_elf, "reset", "simio config tr clear",
+       "setbreak " + poll, "run", "regs", "simio info wd", "simio info tr"});
   // (No std::regex: GCC 12's <regex> warns maybe-uninitialized under the sanitizers' -O1.)
   const std::size_t pc_at = log.find("( PC: ");
   ASSERT_NE(pc_at, std::string::npos) << log;
@@ -476,6 +483,433 @@ TEST(Msp430Sim, ShippedImageBootsIntoItsMainLoopWithinTheWatchdog) {
       "msp430f149 boot: %.0f MCLK cycles to the main loop (%.2f ms at 5.5296 MHz); "
       "longest watchdog gap %.0f cycles (%.1f %% of its interval)\n",
       cycles_to_main, cycles_to_main / 5529.6, gap, 100 * gap / interval_mclk);
+}
+
+// ---- the shipped code at board speed (issue 32) ------------------------------------------
+//
+// gyroflip_f149_sim.elf is main.cpp with the simulator's stand-ins (firmware/ports/msp430f149/
+// sim_board.hpp): the serial line on a timer at Timer_B's address (SMCLK / 8, a byte every 480
+// MCLK cycles as at 115 200 b/s on the board) and the AD7739 answering its SPI bytes, its /RDY
+// a Timer_A compare at the conversion's end. The simulator's ACLK is MCLK / 256 (the board's:
+// MCLK / 168.75): tick-timed figures are the board's, CPU work is counted in MCLK cycles and
+// converted at the board's 5.5296 MHz.
+
+namespace sl = fw::simboard;
+constexpr double board_mclk_hz = 5529600.0;
+
+struct sim_event {
+  std::uint32_t at_tick;
+  std::vector<std::uint8_t> bytes;
+};
+
+template <class M>
+std::vector<std::uint8_t> wire(const M& m, std::uint16_t seq) {
+  std::vector<std::uint8_t> b(protocol::max_wire_bytes);
+  b.resize(protocol::encode_wire(m, seq, b.data(), b.size(), true));
+  return b;
+}
+
+std::vector<std::uint8_t> script_bytes(const std::vector<sim_event>& ev, std::uint32_t stop) {
+  std::vector<std::uint8_t> s;
+  const auto u16 = [&](std::uint32_t v) {
+    s.push_back(static_cast<std::uint8_t>(v));
+    s.push_back(static_cast<std::uint8_t>(v >> 8));
+  };
+  u16(static_cast<std::uint32_t>(ev.size()));
+  u16(stop & 0xFFFF);
+  u16(stop >> 16);
+  for (const auto& e : ev) {
+    u16(e.at_tick & 0xFFFF);
+    u16(e.at_tick >> 16);
+    u16(static_cast<std::uint32_t>(e.bytes.size()));
+    s.insert(s.end(), e.bytes.begin(), e.bytes.end());
+    if (s.size() % 2 != 0) s.push_back(0);
+  }
+  return s;
+}
+
+struct board_run {
+  std::string log;
+  std::vector<std::uint16_t> stats;
+  std::vector<std::uint8_t> tx, convs, ports;
+  [[nodiscard]] std::uint32_t word32(int w) const {
+    return stats.at(static_cast<std::size_t>(w)) |
+           (std::uint32_t{stats.at(static_cast<std::size_t>(w) + 1)} << 16);
+  }
+  /// MCLK cycles of a figure in Timer_B counts.
+  [[nodiscard]] double cycles(int w) const { return 8.0 * stats.at(static_cast<std::size_t>(w)); }
+};
+
+// The simulator's devices: Timer_A (ticks, the step timer, the ADC's /RDY), a second timer at
+// Timer_B's registers (TBCTL 0x180, TBIV 0x11E, vectors 0xFFFA and 0xFFF8), and the watchdog.
+// mspdebug 0.22's watchdog never clears its counter (simio_wdt.c masks WDTCNTCL off before it
+// tests it), so it resets every 32 768 ACLK ticks (1 s) however the code feeds it: a run longer
+// than that leaves it out and checks the image's own record of the gaps between kicks.
+std::vector<std::string> sim_devices(bool watchdog) {
+  std::vector<std::string> d{
+      "simio add hwmult mul",     "simio add timer ta 3",    "simio config ta irq0 6",
+      "simio config ta irq1 5",   "simio add timer tb 7",    "simio config tb base 0x180",
+      "simio config tb iv 0x11e", "simio config tb irq0 13", "simio config tb irq1 12"};
+  if (watchdog) d.emplace_back("simio add wdt wd");
+  return d;
+}
+
+// Runs the simulator image from a power-up with RAM filled from `ram_seed` (the F149's RAM
+// holds anything at power-up), through `boots` resets (each to the script's stop tick), and
+// reads the last boot's measurements.
+board_run run_board(const std::vector<std::uint8_t>& script, std::uint32_t ram_seed, int boots = 1,
+                    bool watchdog = true, const std::vector<std::string>& before_reset = {}) {
+  test::temp_dir tmp;
+  std::vector<std::uint8_t> ram(0x800);
+  std::mt19937 g(ram_seed);
+  for (auto& b : ram) b = static_cast<std::uint8_t>(g());
+  std::ofstream(tmp.file("ram.bin"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(ram.data()), static_cast<std::streamsize>(ram.size()));
+  std::ofstream(tmp.file("script.bin"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(script.data()),
+             static_cast<std::streamsize>(script.size()));
+  auto cmd = sim_devices(watchdog);
+  cmd.insert(cmd.end(),
+             {"prog " + sim_elf, "load_raw " + tmp.file("ram.bin") + " 0x200",
+              "load_raw " + tmp.file("script.bin") + " " + std::to_string(sl::script_addr),
+              "setbreak sim_done"});
+  cmd.insert(cmd.end(), before_reset.begin(), before_reset.end());
+  for (int b = 0; b < boots; ++b) cmd.insert(cmd.end(), {"reset", "run"});
+  if (watchdog) cmd.emplace_back("simio info wd");
+  cmd.insert(cmd.end(), {"save_raw " + std::to_string(sl::stats_addr) + " 256 " + tmp.file("stats"),
+                         "save_raw " + std::to_string(sl::tx_log_addr) + " " +
+                             std::to_string(sl::tx_log_cap) + " " + tmp.file("tx"),
+                         "save_raw " + std::to_string(sl::conv_log_addr) + " " +
+                             std::to_string(8 * sl::conv_log_cap) + " " + tmp.file("convs"),
+                         "save_raw " + std::to_string(sl::port_log_addr) + " " +
+                             std::to_string(4 * sl::port_log_cap) + " " + tmp.file("ports")});
+  board_run r;
+  r.log = mspdebug(cmd);
+  const auto st = read_bytes(tmp.file("stats"));
+  for (std::size_t i = 0; i + 1 < st.size(); i += 2)
+    r.stats.push_back(static_cast<std::uint16_t>(st[i] | (st[i + 1] << 8)));
+  if (r.stats.size() < sl::w_count) r.stats.assign(sl::w_count, 0);
+  r.tx = read_bytes(tmp.file("tx"));
+  r.tx.resize(std::min<std::size_t>(r.tx.size(), r.stats[sl::w_tx_bytes]));
+  r.convs = read_bytes(tmp.file("convs"));
+  r.convs.resize(std::min<std::size_t>(r.convs.size(), 8u * r.stats[sl::w_convs]));
+  r.ports = read_bytes(tmp.file("ports"));
+  r.ports.resize(std::min<std::size_t>(r.ports.size(), 4u * r.stats[sl::w_port_writes]));
+  return r;
+}
+
+struct sent_frame {
+  std::uint8_t type;
+  std::uint16_t seq;
+  std::vector<std::uint8_t> payload;
+  template <class M>
+  [[nodiscard]] M as() const {
+    protocol::frame f{type, seq, payload.data(), payload.size()};
+    M m;
+    EXPECT_TRUE(f.as(m)) << "frame " << seq << " of type " << int{type};
+    return m;
+  }
+};
+
+std::vector<sent_frame> frames_of(const std::vector<std::uint8_t>& tx) {
+  protocol::stream_decoder d{true};
+  std::vector<sent_frame> got;
+  for (const auto b : tx)
+    if (d.push(b)) {
+      const auto& f = d.current();
+      got.push_back({f.type, f.seq, {f.payload, f.payload + f.length}});
+    }
+  return got;
+}
+
+// The steps of motor 0 (the port's low nibble) with their ticks, from the port log.
+struct step_at {
+  std::uint32_t tick;
+  int dir;
+  std::uint8_t late;
+};
+std::vector<step_at> steps_of(const std::vector<std::uint8_t>& ports, int* bad) {
+  std::vector<step_at> got;
+  int phase = -1;
+  std::uint32_t tick = 0;
+  std::uint16_t last = 0;
+  *bad = 0;
+  for (std::size_t i = 0; i + 3 < ports.size(); i += 4) {
+    const auto lo = static_cast<std::uint16_t>(ports[i] | (ports[i + 1] << 8));
+    tick += static_cast<std::uint16_t>(lo - last);  // consecutive writes: < 65 536 ticks apart
+    last = lo;
+    const std::uint8_t nib = ports[i + 2] & 0x0F;
+    int ph = -1;
+    for (int k = 0; k < 4; ++k)
+      if (stepper::full_step[k] == nib) ph = k;
+    if (nib != 0 && ph < 0) ++*bad;
+    if (ph < 0) continue;
+    if (phase >= 0 && ph != phase) {
+      const int d = (ph - phase + 4) % 4;
+      if (d == 2) ++*bad;
+      got.push_back({tick, d == 1 ? 1 : -1, ports[i + 3]});
+    }
+    phase = ph;
+  }
+  return got;
+}
+
+// The geared table of the review: 3 200 steps per revolution, a 1 600-step half turn, at the
+// board's top rate (2 000 steps/s) with a 99-step ramp from 200 steps/s at 20 000 steps/s^2.
+protocol::configure_msg geared_config() {
+  protocol::configure_msg c;
+  c.n_avg = 32;
+  c.n_temp = 2;
+  c.steps_per_rev = 3200;
+  c.pos_steps[1] = 1600;
+  c.start_rate_sps = 200;
+  c.step_rate_sps = 2000;
+  c.ramp_sps2 = 20000;
+  c.status_period_ms = 1000;
+  return c;
+}
+
+// From a power-up with random RAM, CONFIGURE (the geared table), START, then a PING every 0.2 s
+// and a RESEND of 16 numbers (a worst-case command) while the table turns there and back and
+// the dwells convert: the shipped code's step instants keep the ramp to a tick, conversions
+// follow each other at the ADC's pace, no main-loop pass comes near what the receive queue
+// holds, and the watchdog is never starved (the review of issue 32: ~15 200 cycles per step
+// interval, the turn fell behind, the watchdog reset the device mid-turn, every turn).
+TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStayShort) {
+  const auto cfg = geared_config();
+  std::vector<sim_event> ev;
+  ev.push_back({3277, wire(cfg, 100)});
+  protocol::start_msg start;
+  start.config_crc = protocol::configure_crc(cfg);
+  ev.push_back({6554, wire(start, 101)});
+  std::uint16_t seq = 102;
+  for (std::uint32_t t = 9830; t < 80000; t += 6554) {
+    if (t == 9830 + 5 * 6554) {
+      protocol::resend_msg rs;
+      rs.count = 16;
+      for (std::uint8_t i = 0; i < 16; ++i) rs.seqs[i] = static_cast<std::uint16_t>(2 + i);
+      ev.push_back({t, wire(rs, seq++)});
+    } else {
+      ev.push_back({t, wire(protocol::ping_msg{}, seq++)});
+    }
+  }
+  const std::uint32_t stop = 84000;  // 2.56 s
+  // GYROFLIP_SIM_SCRIPT=FILE writes the host's script, to run the image by hand with mspdebug
+  // (docs/PERFORMANCE.md, "Timing on the chip").
+  if (const char* e = std::getenv("GYROFLIP_SIM_SCRIPT")) {
+    const auto b = script_bytes(ev, stop);
+    std::ofstream(e, std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+  }
+  const auto r = run_board(script_bytes(ev, stop), 3201, 1, false);
+  ASSERT_EQ(r.stats[sl::w_done], 1u) << r.log;
+  ASSERT_LT(r.stats[sl::w_tx_bytes], sl::tx_log_cap) << "the transmit log is full";
+
+  // The frames: INFO first (number 0), a power-up; every command answered; DWELLs exact.
+  const auto frames = frames_of(r.tx);
+  ASSERT_FALSE(frames.empty());
+  EXPECT_EQ(frames.front().type, static_cast<std::uint8_t>(protocol::msg::info));
+  EXPECT_EQ(frames.front().seq, 0u);
+  const auto info = frames.front().as<protocol::info_msg>();
+  EXPECT_EQ(info.reset_cause, static_cast<std::uint8_t>(protocol::reset_cause::power_on));
+  EXPECT_EQ(info.boot_count, 1u);
+  EXPECT_EQ(info.stored & protocol::info_prev_valid, 0u);
+  int acks = 0;
+  std::vector<protocol::dwell_msg> dwells;
+  std::set<std::uint16_t> dwell_seqs;  // a DWELL sent again on RESEND counts once
+  for (const auto& f : frames) {
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::ack)) ++acks;
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::nak)) ADD_FAILURE() << "a NAK";
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::dwell) &&
+        dwell_seqs.insert(f.seq).second)
+      dwells.push_back(f.as<protocol::dwell_msg>());
+  }
+  std::string seen;
+  for (const auto& f : frames) {
+    seen += " " + std::to_string(f.type) + "/" + std::to_string(f.seq);
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::status)) {
+      const auto st = f.as<protocol::status_msg>();
+      seen += "(dropped " + std::to_string(st.frames_dropped) + ")";
+    }
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::error)) {
+      const auto e = f.as<protocol::error_msg>();
+      seen += "(" + std::to_string(e.code) + "," + std::to_string(e.what) + "," +
+              std::to_string(e.value) + ")";
+    }
+  }
+  EXPECT_GE(acks, static_cast<int>(ev.size()) - 2)
+      << seen;  // the RESEND is answered by frames, not ACK
+  ASSERT_GE(dwells.size(), 3u) << "A, B and A again";
+  std::uint32_t gyro_index = 0, temp_index = 0;
+  for (const auto& d : dwells) {
+    EXPECT_EQ(d.n, cfg.n_avg);
+    EXPECT_EQ(d.n_temp, cfg.n_temp);
+    EXPECT_EQ(d.flags, 0u) << "dwell " << d.cycle << "/" << int{d.position};
+    std::int64_t sum = 0;
+    for (int i = 0; i < cfg.n_avg; ++i) sum += sl::code_of(0, gyro_index++);
+    std::int32_t temp = 0;
+    for (int i = 0; i < cfg.n_temp; ++i) temp += sl::code_of(1, temp_index++);
+    EXPECT_EQ(d.code_sum, sum) << "dwell at " << d.t_start_ticks << ": off by "
+                               << (d.code_sum - sum) << " codes";
+    EXPECT_EQ(d.temp_sum, temp) << seen;
+  }
+
+  // The turns: 1 600 steps there and back, every interval the ramp's within a tick.
+  int bad = 0;
+  const auto steps = steps_of(r.ports, &bad);
+  EXPECT_EQ(bad, 0);
+  ASSERT_GE(steps.size(), 3200u) << "first turn ends at "
+                                 << steps[std::min<std::size_t>(1599, steps.size() - 1)].tick
+                                 << ", last step at " << steps.back().tick;
+  const auto plan =
+      stepper::make_plan({cfg.start_rate_sps, cfg.step_rate_sps, cfg.ramp_sps2}, 32768);
+  int worst = 0;
+  for (std::size_t turn = 0; turn < 2; ++turn) {
+    const std::size_t first = turn * 1600;
+    for (std::size_t k = 0; k + 1 < 1600; ++k) {
+      ASSERT_EQ(steps[first + k].dir, turn == 0 ? 1 : -1);
+      const auto got = static_cast<int>(steps[first + k + 1].tick - steps[first + k].tick);
+      const auto want =
+          static_cast<int>(stepper::interval(plan, static_cast<std::uint32_t>(k), 1600));
+      worst = std::max(worst, std::abs(got - want));
+    }
+    const auto total = steps[first + 1599].tick - steps[first].tick;
+    std::uint32_t want_total = 0;
+    for (std::uint32_t k = 0; k + 1 < 1600; ++k) want_total += stepper::interval(plan, k, 1600);
+    EXPECT_LE(std::max(total, want_total) - std::min(total, want_total), 1u) << "turn " << turn;
+  }
+  EXPECT_LE(worst, 1) << "a step interval off the ramp by more than one tick";
+
+  // Conversions: each starts within a tick of the last one's end.
+  const auto u32 = [&](std::size_t at) {
+    return static_cast<std::uint32_t>(r.convs[at] | (r.convs[at + 1] << 8) |
+                                      (r.convs[at + 2] << 16) |
+                                      (std::uint32_t{r.convs[at + 3]} << 24));
+  };
+  const std::size_t n_conv = r.convs.size() / 8;
+  ASSERT_GE(n_conv, 3u * (cfg.n_avg + cfg.n_temp));
+  const std::uint32_t conv_ticks = 66;  // FW 94 with chop: 1.9989 ms, rounded up
+  std::uint32_t longest = 0;
+  std::uint64_t in_dwell = 0, gaps = 0;
+  for (std::size_t i = 0; i + 1 < n_conv; ++i) {
+    const std::uint32_t gap = u32(8 * (i + 1)) - u32(8 * i);
+    if (gap > 2 * conv_ticks) continue;  // the next dwell
+    longest = std::max(longest, gap);
+    in_dwell += gap;
+    ++gaps;
+  }
+  // The simulator's tick holds 256 MCLK cycles. The next conversion starts in /RDY's interrupt,
+  // ~3 ticks on average after the conversion time (the interrupt's latency, and the stand-in's
+  // SPI); when two results already wait for the main loop it starts when the loop takes them
+  // (within a pass: up to ~8 ticks). The main loop's passes last up to ~110 ticks here.
+  const double period_ms =
+      1000.0 * static_cast<double>(in_dwell) / static_cast<double>(gaps) / 32768.0;
+  EXPECT_LE(longest, conv_ticks + 8) << "a conversion waited for the main loop";
+  EXPECT_LT(period_ms, 1000.0 * (conv_ticks + 4) / 32768.0);
+
+  // The main loop's passes and the interrupts, in MCLK cycles at the board's clock.
+  const double poll_ms = 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz;
+  const double isr_us = 1e6 * r.cycles(sl::w_isr_max) / board_mclk_hz;
+  const double adc_isr_us = 1e6 * r.cycles(sl::w_adc_isr_max) / board_mclk_hz;
+  // The 96-byte receive queue holds 8.3 ms of line.
+  EXPECT_LT(poll_ms, 7.0) << "a main-loop pass near what the receive queue holds";
+  EXPECT_EQ(r.stats[sl::w_rx_lost], 0u);
+  EXPECT_LT(r.stats[sl::w_rx_max_fill], 48u);
+  // Below two byte times of the UART (174 us): no received byte is overrun behind a step.
+  EXPECT_LT(isr_us, 150.0);
+  // On the board: the conversion time plus the firmware's restart (from /RDY to the next mode
+  // write, its own MCLK cycles: the simulator's ticks hold more cycles than the board's).
+  ASSERT_GT(r.stats[sl::w_restarts], 0u);
+  const double restart_mean_us =
+      1e6 * 8.0 * r.word32(sl::w_restart_sum_lo) / r.stats[sl::w_restarts] / board_mclk_hz;
+  const double restart_max_us = 1e6 * r.cycles(sl::w_restart_max) / board_mclk_hz;
+  const double t_conv_ms = 1e3 * ad7739::conversion_mclk(true, 94) / ad7739::mclk_hz_nominal;
+  EXPECT_LT(restart_max_us, 400.0) << "a conversion waited for the main loop";
+  std::printf(
+      "msp430f149 conversion restart: %u restarts, mean %.1f us, longest %.1f us: a conversion "
+      "every %.3f ms on the board on average (%.3f ms at most; the conversion %.4f ms)\n",
+      r.stats[sl::w_restarts], restart_mean_us, restart_max_us, t_conv_ms + restart_mean_us / 1e3,
+      t_conv_ms + restart_max_us / 1e3, t_conv_ms);
+  const std::uint32_t wd_gap = r.word32(sl::w_wd_gap_lo);
+  EXPECT_LT(wd_gap, 3277u) << "the watchdog went unfed for 0.1 s";
+  EXPECT_LE(r.stats[sl::w_step_late_max], 2u);
+  const double cycle_s = (dwells[2].t_start_ticks - dwells[0].t_start_ticks) / 32768.0;
+  std::printf(
+      "msp430f149 at board speed: step intervals within %d tick of the ramp over 2 x 1600 steps "
+      "at up to 2000 steps/s; conversion period %.3f ms (longest gap %u ticks); longest main-loop "
+      "pass %.0f MCLK cycles = %.3f ms at 5.5296 MHz (%u passes over 1 ms of %u); longest step "
+      "interrupt %.0f cycles = %.1f us, conversion interrupt %.0f cycles = %.1f us "
+      "(interruptible); "
+      "the longest pass from tick %u to %u; receive queue at most %u of 96 bytes, %u lost; longest "
+      "watchdog gap %u ticks = %.1f ms; a cycle of the geared table %.3f s\n",
+      worst, period_ms, longest, r.cycles(sl::w_poll_max), poll_ms, r.word32(sl::w_polls_over_lo),
+      r.word32(sl::w_polls_lo), r.cycles(sl::w_isr_max), isr_us, r.cycles(sl::w_adc_isr_max),
+      adc_isr_us, r.word32(sl::w_poll_max_from_lo), r.word32(sl::w_poll_max_at_lo),
+      r.stats[sl::w_rx_max_fill], r.stats[sl::w_rx_lost], wd_gap, 1000.0 * wd_gap / 32768.0,
+      cycle_s);
+}
+
+// A power-up leaves the F149's RAM random: the device must say power-on and count from 1 every
+// time (clang had shrunk the 16-bit check word to a byte: "reset pin" and a garbage count 255
+// times in 256). A reset that keeps RAM is the reset pin, the count goes on, and INFO carries the
+// previous boot's frame number and DWELL count.
+TEST(Msp430Board, APowerUpFromRandomRamIsAPowerUpAndAResetCountsOn) {
+  const auto script = script_bytes({}, 1000);  // to ~30 ms after boot: INFO is out
+  for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+    SCOPED_TRACE("RAM seed " + std::to_string(seed));
+    for (int boots = 1; boots <= 2; ++boots) {
+      const auto r = run_board(script, seed, boots);
+      const auto frames = frames_of(r.tx);
+      ASSERT_FALSE(frames.empty()) << r.log;
+      ASSERT_EQ(frames.front().type, static_cast<std::uint8_t>(protocol::msg::info));
+      EXPECT_EQ(frames.front().seq, 0u);
+      const auto info = frames.front().as<protocol::info_msg>();
+      EXPECT_EQ(info.boot_count, static_cast<unsigned>(boots));
+      EXPECT_EQ(info.reset_cause,
+                static_cast<std::uint8_t>(boots == 1 ? protocol::reset_cause::power_on
+                                                     : protocol::reset_cause::reset_pin));
+      EXPECT_EQ((info.stored & protocol::info_prev_valid) != 0, boots == 2);
+      if (boots == 2) {
+        // The first boot sent INFO and the ADC's calibration: two frames at least, no DWELL.
+        EXPECT_GE(info.prev_next_seq, 1u);
+        EXPECT_EQ(info.prev_dwells, 0u);
+      }
+    }
+  }
+}
+
+// The lab's record of the board's serial (firmware/ports/msp430f149/board_record.py, Intel HEX
+// for information-flash segment B) is nv_record.hpp's record, and the image reports it in INFO
+// as the board's (stored bit 0); without it the serial is 0, "not programmed".
+TEST(Msp430Board, TheLabsSerialRecordIsTheSerialInInfo) {
+  const std::string tool =
+      std::string(GYROFLIP_SOURCE_DIR) + "/firmware/ports/msp430f149/board_record.py";
+  test::temp_dir tmp;
+  const auto made = test::run_program({"python3", tool, "0x0F149123", "-o", tmp.file("board.hex")});
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  std::ifstream in(tmp.file("board.hex"));
+  std::string line;
+  std::getline(in, line);
+  ASSERT_GE(line.size(), 11u + 20u);
+  EXPECT_EQ(line.substr(1, 8), "0A100000");  // 10 bytes at 0x1000
+  std::uint8_t want[fw::nv::record_bytes];
+  fw::nv::encode(fw::nv::kind_board_serial, 0x0F149123u, want);
+  for (std::size_t i = 0; i < fw::nv::record_bytes; ++i)
+    EXPECT_EQ(std::stoul(line.substr(9 + 2 * i, 2), nullptr, 16), want[i]) << i;
+  const auto bad = test::run_program({"python3", tool, "0"});
+  EXPECT_EQ(bad.exit_code, 2);
+
+  const auto script = script_bytes({}, 1000);
+  const auto with = run_board(script, 5, 1, true, {"load " + tmp.file("board.hex")});
+  const auto frames = frames_of(with.tx);
+  ASSERT_FALSE(frames.empty()) << with.log;
+  const auto info = frames.front().as<protocol::info_msg>();
+  EXPECT_EQ(info.serial, 0x0F149123u);
+  EXPECT_EQ(info.stored & protocol::info_serial_stored, protocol::info_serial_stored);
+  const auto without = run_board(script, 5, 1, true, {"fill 0x1000 256 0xff"});
+  const auto none = frames_of(without.tx).front().as<protocol::info_msg>();
+  EXPECT_EQ(none.serial, 0u);
+  EXPECT_EQ(none.stored, 0u);
 }
 
 }  // namespace

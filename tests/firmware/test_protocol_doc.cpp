@@ -67,7 +67,7 @@ TEST(ProtocolDoc, ExampleFramesAreTheEncodersBytes) {
   calibrate_msg k;
   k.cycles = 100;
   info_msg i;
-  i.fw_minor = 3;
+  i.fw_minor = 4;
   i.protocol = 2;
   i.serial = 0x0F149001;
   i.mclk_hz = 6144000;
@@ -79,6 +79,8 @@ TEST(ProtocolDoc, ExampleFramesAreTheEncodersBytes) {
   i.reset_cause = 1;
   i.boot_count = 1;
   i.history_bytes = 400;
+  i.stored = info_serial_stored | info_delta_n_stored;
+  i.delta_n_q8 = 791;
   dwell_msg w;
   w.cycle = 7;
   w.position = 1;

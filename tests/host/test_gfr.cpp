@@ -275,7 +275,8 @@ std::string recording(const std::string& path, const std::string& meta,
 
 // INFO names what sent it (issue 22, review R6): a recording of the emulator says so in its
 // metadata, a board's does not; a file of format 3 (firmware 0.2: INFO of 80 bytes, no board
-// byte before the configuration) still reads, with its configuration where it was.
+// byte before the configuration) and one of firmware 0.3 (81 bytes, no stored/dN/previous-boot
+// fields, issue 32) still read, with their configuration where it was.
 TEST(RigRun, InfoTellsAnEmulatorFromABoardAndOldInfoStillReads) {
   namespace p = gyroflip::protocol;
   gyroflip::test::temp_dir dir;
@@ -295,7 +296,7 @@ TEST(RigRun, InfoTellsAnEmulatorFromABoardAndOldInfoStillReads) {
   info.board = static_cast<std::uint8_t>(p::board_kind::host_emulator);
   info.config.pos_cdeg[1] = 9000;  // a table that tells where the configuration was read from
   const bytes emu = payload(info);
-  ASSERT_EQ(emu.size(), 81u);
+  ASSERT_EQ(emu.size(), 92u);
   auto e = gyroflip::rigdata::read_rig_run(
       recording(dir.path() + "/emu.gfr", meta, d, nullptr, std::nullopt, &emu));
   ASSERT_TRUE(e) << e.err().message;
@@ -308,14 +309,30 @@ TEST(RigRun, InfoTellsAnEmulatorFromABoardAndOldInfoStillReads) {
   ASSERT_TRUE(b) << b.err().message;
   EXPECT_EQ(emulated_of(*b), "(none)");
 
-  bytes old = board;
-  old.erase(old.begin() + 26);  // the 80-byte INFO of firmware 0.2
-  auto o = gyroflip::rigdata::read_rig_run(
-      recording(dir.path() + "/old.gfr", meta, d, nullptr, std::nullopt, &old));
-  ASSERT_TRUE(o) << o.err().message;
-  EXPECT_EQ(o->info.serial, 4711u);
-  EXPECT_EQ(o->info.config.pos_cdeg[1], 9000);
-  EXPECT_EQ(emulated_of(*o), "(none)");
+  info.stored = p::info_serial_stored;
+  info.delta_n_q8 = -77;
+  const bytes with_stored = payload(info);
+  bytes v03 = with_stored;
+  v03.erase(v03.begin() + 27, v03.begin() + 38);  // the 81-byte INFO of firmware 0.3
+  ASSERT_EQ(v03.size(), 81u);
+  bytes v02 = v03;
+  v02.erase(v02.begin() + 26);  // the 80-byte INFO of firmware 0.2
+  for (const bytes* old : {&v02, &v03}) {
+    auto o = gyroflip::rigdata::read_rig_run(
+        recording(dir.path() + "/old" + std::to_string(old->size()) + ".gfr", meta, d, nullptr,
+                  std::nullopt, old));
+    ASSERT_TRUE(o) << o.err().message;
+    EXPECT_EQ(o->info.serial, 4711u);
+    EXPECT_EQ(o->info.config.pos_cdeg[1], 9000);
+    EXPECT_EQ(o->info.stored, 0u);
+    EXPECT_EQ(o->info.delta_n_q8, 0);
+    EXPECT_EQ(emulated_of(*o), "(none)");
+  }
+  auto n = gyroflip::rigdata::read_rig_run(
+      recording(dir.path() + "/new.gfr", meta, d, nullptr, std::nullopt, &with_stored));
+  ASSERT_TRUE(n) << n.err().message;
+  EXPECT_EQ(n->info.stored, p::info_serial_stored);
+  EXPECT_EQ(n->info.delta_n_q8, -77);
 }
 
 // The .gfr reader holds a recording to the CSV reader's bounds (issue 20): META's conversion of

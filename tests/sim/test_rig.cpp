@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gyroflip/rig/ad7739.hpp"
@@ -188,7 +190,10 @@ TEST(Schedule, PaperCycleOfAbout179Seconds) {
   EXPECT_EQ(a, 256);
   EXPECT_EQ(b, 256);
   EXPECT_EQ(moving, 2 * 151);
-  EXPECT_FALSE(schedule::make({256, 0.1, 0.0, 0.0}, stepper_params{}, tc).ok());
+  schedule_params same{};
+  same.settle_s = 0.1;
+  same.pos_a_deg = same.pos_b_deg = 0.0;
+  EXPECT_FALSE(schedule::make(same, stepper_params{}, tc).ok());
 }
 
 // A noiseless sensor so that the flip algebra can be checked to ADC precision.
@@ -245,6 +250,51 @@ TEST(Simulator, FlipHalfDifferenceRecoversDeltaNAndHalfSumTheBias) {
     EXPECT_NEAR(r, 0.39522 * (1.0 + sf_err), 2e-5);
     EXPECT_NEAR(c, 0.25, 2e-5);
   }
+}
+
+// The settle residual (issue 32): the table's move when the coils are released before a dwell
+// (an assumed 0.1 step against the turn, 5 ms) and its ring-down after the last step (0.2 step,
+// 60 Hz, 10 ms) are sensed through the gyro's cross-axis sensitivity to the table's rate. With
+// back-and-forth turns and the coils released 0.2 ms before the first conversion (the firmware
+// before issue 32), the release's whole move falls in the dwell (the gyro's 18-Hz output filter
+// delays the 0.2 ms that came before) with opposite signs at A and B: r, and so dN, is off by
+// c_y x 0.18 deg / T_dwell (the HZ1-90-100A: 3.5e-3 deg/s, more than its dN of 3.1e-3). Released
+// halfway through the 80 ms of settling (the firmware now), what reaches the dwell is the filter's
+// memory of a move that ended ~35 ms before, 2.2 % of it; turning one way, r is as without it and
+// c (the bias) takes the move instead.
+TEST(Simulator, TheSettleResidualEntersDeltaNOnlyWhenReleasedAtTheDwellAndTurningBack) {
+  const auto case_rc = [](double release_before_s, bool one_way, bool settle_on) {
+    auto c = noiseless(40.0, "hz1-90-100a");
+    c.sensor.bias_dps = 0.0;
+    c.rig.one_way = one_way;
+    if (settle_on) c.settle = {0.36, 60.0, 0.010, 0.18, 0.005};
+    c.release_before_dwell_s = release_before_s;
+    const auto rows = dwells(c);
+    double r = 0.0, bias = 0.0;
+    int n = 0;
+    for (std::size_t i = 2; i + 1 < rows.size(); i += 2, ++n) {  // from the second cycle
+      r += (rows[i].rate_dps - rows[i + 1].rate_dps) / 2.0;
+      bias += (rows[i].rate_dps + rows[i + 1].rate_dps) / 2.0;
+    }
+    return std::pair<double, double>{r / n, bias / n};
+  };
+  const double t_dwell = 256 * 1.99886e-3;
+  const double cy = sensor::find_builtin("hz1-90-100a")->params.cross_axis_y;
+  const double move = cy * 0.18 / t_dwell;  // deg/s
+  const auto base = case_rc(-1.0, false, false);
+  const auto old = case_rc(0.0002, false, true);
+  const auto now = case_rc(-1.0, false, true);
+  const auto base_1w = case_rc(-1.0, true, false);
+  const auto old_1w = case_rc(0.0002, true, true);
+  EXPECT_NEAR(old.first - base.first, move, 0.03 * move);
+  EXPECT_NEAR(old.second - base.second, 0.0, 1e-3 * move);
+  EXPECT_LT(std::abs(now.first - base.first), 0.03 * move);
+  EXPECT_NEAR(old_1w.first - base_1w.first, 0.0, 1e-3 * move);
+  EXPECT_NEAR(std::abs(old_1w.second - base_1w.second), move, 0.03 * move);
+  std::printf(
+      "settle residual in dN (HZ1-90-100A, c_y %.3f): released 0.2 ms before the dwell "
+      "%.3g deg/s (back and forth), halfway through settling %.3g, one way %.3g; dN %.4g\n",
+      cy, old.first - base.first, now.first - base.first, old_1w.first - base_1w.first, base.first);
 }
 
 TEST(Simulator, RateTableInputReversesAndTemperatureMovesG) {

@@ -71,6 +71,13 @@ status driver::self_calibrate(uint8_t ch, uint32_t timeout_ticks) {
   return status::ok;
 }
 
+status driver::start_calibration(uint8_t ch, bool full_scale) {
+  if (ch > 7) return status::bad_arg;
+  const uint8_t v = static_cast<uint8_t>(
+      (full_scale ? mode_adc_full_self_cal : mode_adc_zero_self_cal) | mode_24bit);
+  return write_reg(static_cast<uint8_t>(reg_mode + ch), &v, 1);
+}
+
 status driver::start_single(uint8_t ch) {
   if (ch > 7) return status::bad_arg;
   const uint8_t v = mode_single | mode_24bit | mode_dump;

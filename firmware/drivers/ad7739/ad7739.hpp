@@ -31,6 +31,9 @@ class driver {
   /// ADC zero-scale then full-scale self-calibration on channel `ch` (the data sheet's order),
   /// each waiting at most `timeout_ticks` for RDY; status::timeout when it does not come.
   status self_calibrate(uint8_t ch, uint32_t timeout_ticks);
+  /// Starts one step of the self-calibration on channel `ch` without waiting: zero scale, or
+  /// full scale (`full_scale`); /RDY falls when it is done (the data sheet's order: zero first).
+  status start_calibration(uint8_t ch, bool full_scale);
   /// Starts one conversion on channel `ch`, 24-bit result, in dump mode (mode register MD = 010,
   /// 24/16 BIT and DUMP set): a data read then begins with the channel status.
   status start_single(uint8_t ch);

@@ -113,10 +113,12 @@ uint8_t no_clock_faults(void*) {
   return 0;
 }
 
-constexpr fw::hal_ops ops = {spi_transfer, spi_select,    rdy_low,        stepper_port, home_switch,
-                             pwm_capture,  uart_read,     uart_write,     ticks,        nothing,
-                             nothing,      stack_unknown, no_clock_faults};
-constexpr fw::hal hal{&ops, nullptr, tick_hz};
+// No step timer, no interrupts, no non-volatile store: the core works from its main loop.
+constexpr fw::hal_ops ops = {
+    spi_transfer,    spi_select, rdy_low, stepper_port, home_switch, pwm_capture,
+    uart_read,       uart_write, ticks,   nothing,      nothing,     stack_unknown,
+    no_clock_faults, nullptr,    nullptr, nullptr,      nullptr};
+constexpr fw::hal hal{&ops, nullptr, tick_hz, false};
 constinit fw::device dev(hal, fw::board_facts{0x51AB0001u, ad7739::mclk_hz_nominal,
                                               protocol::board_kind::qemu});
 

@@ -11,7 +11,7 @@ host_board& self(void* c) {
 }  // namespace
 
 host_board::host_board(ad7739_model::source_fn source, void* ctx, uint32_t mclk_hz)
-    : adc(tick_hz, mclk_hz, source, ctx), hal_{&ops_, this, tick_hz} {}
+    : adc(tick_hz, mclk_hz, source, ctx), hal_{&ops_, this, tick_hz, false} {}
 
 size_t host_board::host_receive(uint8_t* out, size_t cap) {
   size_t n = 0;
@@ -105,6 +105,21 @@ uint16_t host_board::stack_free_op(void* c) {
 
 uint8_t host_board::clock_faults_op(void* c) {
   return self(c).clock_faults;
+}
+
+bool host_board::nv_read(void* c, uint8_t id, uint8_t* buf, size_t n) {
+  host_board& b = self(c);
+  if (id > 1 || n > nv_record_cap) return false;
+  for (size_t i = 0; i < n; ++i) buf[i] = b.nv[id][i];
+  return true;
+}
+
+bool host_board::nv_write(void* c, uint8_t id, const uint8_t* buf, size_t n) {
+  host_board& b = self(c);
+  if (id > 1 || n > nv_record_cap) return false;
+  for (size_t i = 0; i < nv_record_cap; ++i) b.nv[id][i] = i < n ? buf[i] : 0xFF;
+  ++b.nv_writes;
+  return true;
 }
 
 void host_board::busy_wait(void* c) {

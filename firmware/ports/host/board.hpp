@@ -79,6 +79,15 @@ class host_board {
   /// Bytes the device sent that did not fit the host's queue (a test reads often enough).
   uint32_t tx_overflow = 0;
 
+  /// The non-volatile records (hal_ops::nv_read: the board's information flash), erased (0xFF)
+  /// until written; they outlive the device object, as flash outlives a reset.
+  static constexpr size_t nv_record_cap = 16;
+  uint8_t nv[2][nv_record_cap] = {{0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF,
+                                   0xFF, 0xFF, 0xFF, 0xFF, 0xFF},
+                                  {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF,
+                                   0xFF, 0xFF, 0xFF, 0xFF, 0xFF}};
+  uint32_t nv_writes = 0;
+
  private:
   static status spi_transfer(void* c, const uint8_t* tx, uint8_t* rx, size_t n);
   static void spi_select(void* c, bool on);
@@ -93,10 +102,13 @@ class host_board {
   static void busy_wait(void* c);
   static uint16_t stack_free_op(void* c);
   static uint8_t clock_faults_op(void* c);
-  static constexpr hal_ops ops_ = {spi_transfer,   spi_select,    rdy_low,   stepper_port,
-                                   home_switch,    pwm_capture,   uart_read, uart_write,
-                                   ticks,          watchdog_kick, busy_wait, stack_free_op,
-                                   clock_faults_op};
+  static bool nv_read(void* c, uint8_t id, uint8_t* buf, size_t n);
+  static bool nv_write(void* c, uint8_t id, const uint8_t* buf, size_t n);
+  // No step timer and no interrupts: the core takes steps and results in poll().
+  static constexpr hal_ops ops_ = {
+      spi_transfer,    spi_select, rdy_low, stepper_port,  home_switch, pwm_capture,
+      uart_read,       uart_write, ticks,   watchdog_kick, busy_wait,   stack_free_op,
+      clock_faults_op, nullptr,    nullptr, nv_read,       nv_write};
 
   hal hal_;
   byte_ring<1024> rx_;

@@ -29,9 +29,15 @@ struct schedule_params {
   /// true: B -> A turns on the same way round (360 - (B - A) degrees, through a rotary joint);
   /// false: back by B - A, as the device turns unless told otherwise (configure_msg cfg_one_way).
   bool one_way = false;
+  /// The table after each turn (turntable.hpp; off by default) and when the device releases the
+  /// coils before a dwell's first conversion: a negative value is half the settling time before
+  /// it (the firmware's: docs/FIRMWARE.md), 0.0002 the firmware before issue 32.
+  settle_model settle;
+  double release_before_dwell_s = -1.0;
 };
 
-/// One conversion slot of the cycle.
+/// One conversion slot of the cycle. With a settle model, a slot after a turn (settling, and
+/// the dwell that follows) carries the residual's rate and angle.
 struct phase {
   double angle_deg = 0.0;       ///< table angle at mid-conversion (deg, unwrapped)
   double table_rate_dps = 0.0;  ///< mean table rate over the conversion (deg/s)

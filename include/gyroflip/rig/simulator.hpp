@@ -67,6 +67,10 @@ struct simulation_config {
   double duration_s = 3600.0;  ///< run length (s)
   double power_on_before_s = 0.0;  ///< sensor on this long before t = 0 (s)
   coil_heating coil;               ///< the coils' heat (off by default)
+  /// The table's settling after each turn and when the coils are released before a dwell
+  /// (turntable.hpp, schedule.hpp; off by default): docs/SIMULATOR.md §4, "Settling".
+  settle_model settle;
+  double release_before_dwell_s = -1.0;
   std::uint64_t seed = 1;
 };
 

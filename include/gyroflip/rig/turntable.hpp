@@ -25,6 +25,26 @@ struct stepper_params {
   double accel_sps2 = 2000.0;     ///< ramp (steps/s^2)
 };
 
+/// What the table does after a turn's last step (docs/SIMULATOR.md §4, "Settling"; a model with
+/// assumed figures, off by default). While the coils hold it, it rings about its new position,
+/// damped: ring_deg e^(-t/ring_tau_s) cos(2 pi ring_hz t), in the direction it arrived. When the
+/// coils are released (at t_release after the last step) the rotor leaves its energised rest for
+/// its unpowered one: a move of release_deg against the direction it came from (the load's
+/// friction left it lagging the field), first order with release_tau_s. The gyro integrates
+/// whatever of either is left when a dwell begins; with back-and-forth turns their signs differ
+/// at A and B, so they enter r (and dN) instead of cancelling in it; one-way turns put them in c.
+struct settle_model {
+  double ring_deg = 0.0;         ///< ring-down amplitude after the last step (deg)
+  double ring_hz = 60.0;         ///< its frequency (Hz)
+  double ring_tau_s = 0.02;      ///< its decay time constant (s)
+  double release_deg = 0.0;      ///< the move when the coils are released (deg)
+  double release_tau_s = 0.005;  ///< its time constant (s)
+  [[nodiscard]] bool on() const noexcept { return ring_deg != 0.0 || release_deg != 0.0; }
+  /// Angle (deg) from the nominal final position at `t_s` after the last step of a turn in
+  /// direction `dir` (+1 or -1), the coils released at `t_release_s` (infinity: held).
+  [[nodiscard]] double residual_deg(double t_s, double t_release_s, int dir) const noexcept;
+};
+
 class turn_profile {
  public:
   /// A turn of `angle_deg` (deg, > 0) with `p`. Errors: invalid parameters, angle not a
