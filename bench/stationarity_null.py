@@ -9,8 +9,11 @@ before), abba and simple pairing, 600 s and 5400 s. Non-stationary: a constant i
 0.1 deg/s, a zero-mean sine of 0.5 deg/s over 500 s and of 0.02 deg/s, a step of 0.003 deg/s
 halfway.
 
-Usage: python3 bench/stationarity_null.py [BUILD/python] [--seeds=N]
-Prints the share of runs failing, per case, with the statistics' largest values."""
+Usage: python3 bench/stationarity_null.py [BUILD/python] [--seeds=N] [--looks]
+Prints the share of runs failing, per case, with the statistics' largest values. With --looks,
+the recorder's live test instead: each stationary run tested at the cycle counts `record` tests
+it at (40, then 25 % more each time, method::next_stationarity_look, and at the end), a run
+failing when any look fails."""
 import argparse
 import os
 import sys
@@ -22,8 +25,50 @@ def parse(argv):
     ap.add_argument("pydir", nargs="?",
                     default=os.path.join(os.path.dirname(__file__), "..", "build", "python"))
     ap.add_argument("--seeds", type=int, default=50)
+    ap.add_argument("--looks", action="store_true")
     o = ap.parse_args(argv)
-    return o.pydir, o.seeds
+    return o.pydir, o.seeds, o.looks
+
+
+def looks_of(n_cycles):
+    """The recorder's schedule (method::next_stationarity_look): 40, then 25 % more, and the end."""
+    out, n = [], 40
+    while n < n_cycles:
+        out.append(n)
+        n = max(n + 1, (n * 5 + 3) // 4)
+    return out + [n_cycles]
+
+
+def run_looks(gyroflip, sensor, seed, duration, on_before):
+    """Any of the recorder's looks at a growing abba run failing."""
+    rec = gyroflip.simulate(sensor, duration_s=duration, seed=seed, temp=20, rate="0",
+                            power_on_before_s=on_before)
+    rows = len(rec["time_s"])
+    # abba: one cycle per two dwells (rows)
+    for n in looks_of(rows // 2):
+        k = 2 * n
+        cal = gyroflip.calibrate(rec["time_s"][:k], rec["angle_deg"][:k], rec["rate_dps"][:k],
+                                 rec["temp_c"][:k], rec["n_avg"][:k], latitude=42.6,
+                                 axis="north", pairing="abba", sensor=sensor)
+        if not cal["files"][0]["stationarity"]["stationary"]:
+            return True, n
+    return False, rows // 2
+
+
+def main_looks(gyroflip, seeds):
+    print(f"{seeds} seeds per row; the recorder's looks; latitude 42.6, axis north, 20 degC")
+    print(f"{'case':48s} looks  runs failing any look")
+    for sensor in ("hz1-90-100a", "adxrs150"):
+        for on_before in (0.0, 1800.0):
+            for duration in (1800.0, 14400.0):
+                failed = 0
+                for seed in range(1, seeds + 1):
+                    f, _ = run_looks(gyroflip, sensor, seed, duration, on_before)
+                    failed += f
+                n = len(looks_of(int(duration / 1.79)))
+                name = (f"stationary {sensor} {'cold' if on_before == 0 else 'warm'} "
+                        f"{duration:.0f} s")
+                print(f"{name:48s} {n:5d}  {failed / seeds:.3f}", flush=True)
 
 
 def run(gyroflip, sensor, seed, duration, pairing, on_before, rate="0"):
@@ -36,9 +81,11 @@ def run(gyroflip, sensor, seed, duration, pairing, on_before, rate="0"):
 
 
 def main():
-    pydir, seeds = parse(sys.argv[1:])
+    pydir, seeds, looks = parse(sys.argv[1:])
     sys.path.insert(0, pydir)
     import gyroflip
+    if looks:
+        return main_looks(gyroflip, seeds)
     print(f"{seeds} seeds per row; latitude 42.6, axis north, 20 degC")
     print(f"{'case':58s} failed   max scatter  max drift")
     cases = []

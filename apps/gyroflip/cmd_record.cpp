@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/calibrate.hpp"
 #include "host/recorder/recorder.hpp"
 #include "stop_signal.hpp"
 
@@ -47,6 +48,14 @@ void draw(const host::recorder_status& s) {
   std::fflush(stderr);
 }
 
+// The live stationarity test as the progress lines carry it (null before its first look).
+nlohmann::json stationarity_json(const std::optional<method::stationarity>& st) {
+  if (!st) return nullptr;
+  return {{"checked", st->checked},
+          {"stationary", !st->failed()},
+          {"summary", st->checked ? st->summary() : st->why_not}};
+}
+
 nlohmann::json json_of(const host::recorder_status& s) {
   const auto or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; };
   return {{"elapsed_s", s.elapsed_s},
@@ -64,7 +73,8 @@ nlohmann::json json_of(const host::recorder_status& s) {
           {"delta_n_se_dps", or_null(s.delta_n_se_dps)},
           {"temp_c", or_null(s.temp_c)},
           {"bytes", s.bytes},
-          {"waiting_for_port", s.waiting_for_port}};
+          {"waiting_for_port", s.waiting_for_port},
+          {"stationarity", stationarity_json(s.stationarity)}};
 }
 
 const char* reason_text(rigdata::gfr::stop_reason r) {
@@ -117,6 +127,9 @@ int run_record(const record_options& o) {
   c.units.temp_v_per_c = o.temp_mv_per_c * 1e-3;
   c.units.temp_at_0v_c = o.temp_at_0v_c;
   c.reconnect_timeout_s = o.reconnect_timeout_s;
+  // The run is tested as it grows, against the sensor's noise and specification: a turning
+  // table or a moving bench is told while it can still be fixed (issue 31).
+  c.stationarity = workflow::stationarity_inputs_of(method::pairing::abba, &*preset, {});
   c.software_version = GYROFLIP_VERSION;
   c.command_line = o.command_line;
 
@@ -128,7 +141,14 @@ int run_record(const record_options& o) {
 
   const bool tty = isatty(STDERR_FILENO) != 0;
   bool drawn = false;
+  bool warned = false;  // the live stationarity warning is given once
   const auto progress = [&](const host::recorder_status& s) {
+    if (!warned && s.stationarity && s.stationarity->failed()) {
+      warned = true;
+      if (drawn) std::fputs("\r\033[K", stderr);
+      std::fprintf(stderr, "gyroflip record: warning: after %zu cycles, %s\n", s.cycles,
+                   workflow::stationarity_warning(o.output, *s.stationarity).c_str());
+    }
     if (o.json_progress) {
       fmt::print("{}\n", json_of(s).dump());
       std::fflush(stdout);
@@ -148,6 +168,11 @@ int run_record(const record_options& o) {
                static_cast<unsigned long long>(s.frames_corrupt),
                static_cast<unsigned long long>(s.frames_recovered),
                static_cast<unsigned long long>(s.frames_lost), s.elapsed_s, reason_text(r->reason));
+  if (s.stationarity && s.stationarity->checked)
+    std::fprintf(stderr, "gyroflip record: %s: %s\n", o.output.c_str(),
+                 s.stationarity->failed()
+                     ? workflow::stationarity_warning(o.output, *s.stationarity).c_str()
+                     : s.stationarity->summary().c_str());
   if (r->reason == rigdata::gfr::stop_reason::link_lost)
     return report(runtime_error(
         fmt::format("{}: the port did not come back within {:g} s; {} is complete up to the loss",

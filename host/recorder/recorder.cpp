@@ -22,6 +22,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/flip_stream.hpp"
+#include "gyroflip/method/stationarity.hpp"
 #include "host/serial/serial_port.hpp"
 
 namespace gyroflip::host {
@@ -255,6 +256,7 @@ class session {
   void close_segment();
   status tick();
   [[nodiscard]] recorder_status status_now() const;
+  void look(bool last);
   [[nodiscard]] double data_s() const {
     const double hz = info_ && info_->tick_hz != 0 ? info_->tick_hz : 1.0;
     return data_closed_s_ + static_cast<double>(seg_span_ticks_) / hz;
@@ -307,6 +309,8 @@ class session {
   method::flip_stream stream_{method::pairing::abba};
   std::vector<method::cycle> cycles_;
   std::size_t dwells_seen_ = 0;
+  std::optional<method::stationarity> stationarity_;  // the last live test (look())
+  std::size_t next_look_ = method::first_live_look_cycles;
 
   std::optional<serial_port> port_;
   p::stream_decoder dec_{true};  // retransmitted (older) frames are handed out too
@@ -477,7 +481,18 @@ recorder_status session::status_now() const {
   st.temp_c = run.dwells.empty() ? method::no_value : run.dwells.back().temp_c;
   st.bytes = file_.bytes();
   st.waiting_for_port = waiting_for_port_;
+  st.stationarity = stationarity_;
   return st;
+}
+
+// The live stationarity test (recorder_config::stationarity), when the cycles reach the next
+// look, or at the end (`last`).
+void session::look(bool last) {
+  if (!c_.stationarity || (!last && cycles_.size() < next_look_)) return;
+  const auto cal = method::calibrate(cycles_);
+  if (!cal) return;
+  stationarity_ = method::check_stationarity(cycles_, *cal, *c_.stationarity);
+  next_look_ = method::next_stationarity_look(cycles_.size());
 }
 
 // About once a second: sync the file (what was acknowledged survives a power loss) and report.
@@ -486,6 +501,7 @@ status session::tick() {
   if (now - last_tick_ < std::chrono::seconds(1)) return ok();
   last_tick_ = now;
   if (auto s = file_.sync(); !s) return s;
+  look(false);
   if (on_progress_) on_progress_(status_now());
   return ok();
 }
@@ -1003,6 +1019,7 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
   if (auto s = close_file(why); !s) return s.err();
   recorder_result r;
   r.reason = why;
+  look(true);
   r.last = status_now();
   if (on_progress_) on_progress_(r.last);
   return r;

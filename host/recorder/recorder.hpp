@@ -11,11 +11,13 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "firmware/protocol/messages.hpp"
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/method/stationarity.hpp"
 #include "gyroflip/rig/rig_config.hpp"
 #include "gyroflip/rigdata/gfr.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
@@ -33,6 +35,10 @@ struct recorder_config {
   double reply_timeout_s = 2.0;     ///< how long a command's ACK (or INFO) is waited for
   /// How long the end of a run waits for frames still asked for again (RESEND).
   double drain_s = 2.0;
+  /// The stationarity test run on the cycles as they arrive (method::check_stationarity, abba
+  /// pairing): at 40 cycles, then at every 25 % more (method::next_stationarity_look), and at
+  /// the end. None: not run.
+  std::optional<method::stationarity_inputs> stationarity;
   // Host metadata for META.
   std::string software_version;
   std::vector<std::string> command_line;
@@ -56,6 +62,8 @@ struct recorder_status {
   double temp_c = 0.0;          ///< last dwell's temperature (NaN without)
   std::uint64_t bytes = 0;      ///< of the file
   bool waiting_for_port = false;
+  /// The last stationarity test of the cycles so far (none before the first, or when not asked).
+  std::optional<method::stationarity> stationarity;
 };
 
 using recorder_progress_fn = std::function<void(const recorder_status&)>;

@@ -154,4 +154,9 @@ std::string stationarity::summary() const {
   return s;
 }
 
+std::size_t next_stationarity_look(std::size_t n_cycles) noexcept {
+  if (n_cycles < first_live_look_cycles) return first_live_look_cycles;
+  return std::max(n_cycles + 1, (n_cycles * 5 + 3) / 4);
+}
+
 }  // namespace gyroflip::method

@@ -130,6 +130,18 @@ TEST(Stationarity, TooFewCyclesAreNotChecked) {
   EXPECT_NE(st.summary().find("not checked"), std::string::npos);
 }
 
+// The recorder's live looks: 40 cycles, then 25 % more each time (rounded up), so a 3-day run
+// (145 000 cycles of 1.79 s) is tested 37 times, not at every cycle.
+TEST(Stationarity, TheRecordersLooksGrowGeometrically) {
+  EXPECT_EQ(next_stationarity_look(0), 40u);
+  EXPECT_EQ(next_stationarity_look(39), 40u);
+  EXPECT_EQ(next_stationarity_look(40), 50u);
+  EXPECT_EQ(next_stationarity_look(50), 63u);  // 62.5 up
+  std::size_t looks = 0;
+  for (std::size_t n = 40; n <= 145000; n = next_stationarity_look(n)) ++looks;
+  EXPECT_EQ(looks, 37u);
+}
+
 TEST(Stationarity, NoiseFreeDwellsGiveFiniteStatistics) {
   run_truth t;
   t.noise_dps = 0.0;

@@ -132,8 +132,7 @@ TEST(ReportPage, RateTablePageStructureIsGolden) {
   // The same run passed as a calibration: not stationary, warned about on the page.
   const auto w = run_cli({"report", t, "-o", d.file("rep2")});
   ASSERT_EQ(w.exit_code, 0) << w.err;
-  EXPECT_NE(read_page(d.file("rep2/index.html")).find("not a stationary run"),
-            std::string::npos);
+  EXPECT_NE(read_page(d.file("rep2/index.html")).find("not a stationary run"), std::string::npos);
 }
 
 TEST(ReportPage, ReproducePageStructureIsGolden) {

@@ -18,10 +18,11 @@ namespace gyroflip::analysis {
 [[nodiscard]] double chi2_quantile(double p, double dof);
 
 /// Quantile of Student's t distribution with `dof` > 0 degrees of freedom at probability `p` in
-/// (0, 1) (NaN outside, or for dof <= 0): the t CDF from the regularised incomplete beta, 1 - I_x(dof/2, 1/2)/2 with x = dof/(dof
-/// + t^2) (Abramowitz & Stegun 26.7.1 and 26.5.8, its continued fraction by Lentz's method),
-/// inverted by bisection to 1e-12 relative. Used for the 68.3 % intervals of a few runs' dN and the
-/// reproduction's family-wise limits; t(0.975, 10) = 2.228 (NIST/SEMATECH e-Handbook, §1.3.6.7.2).
+/// (0, 1) (NaN outside, or for dof <= 0): the t CDF from the regularised incomplete beta,
+/// 1 - I_x(dof/2, 1/2)/2 with x = dof/(dof + t^2) (Abramowitz & Stegun 26.7.1 and 26.5.8, its
+/// continued fraction by Lentz's method), inverted by bisection to 1e-12 relative. Used for the
+/// 68.3 % intervals of a few runs' dN and the reproduction's family-wise limits; t(0.975, 10) =
+/// 2.228 (NIST/SEMATECH e-Handbook, §1.3.6.7.2).
 [[nodiscard]] double student_t_quantile(double p, double dof);
 
 /// Student's t at the one-sigma probability 0.841345 (Phi(1)): the factor that turns a standard

@@ -101,6 +101,18 @@ struct stationarity {
   [[nodiscard]] std::string summary() const;
 };
 
+/// The cycle count of a growing run's next test after one at `n_cycles` (the recorder's live
+/// check): first_live_look_cycles, then 25 % more each time. A test at every new cycle would
+/// make the run's false-alarm rate grow with its length; looks spaced geometrically make it
+/// grow with its logarithm (about 40 looks in a 3-day run; measured in bench/stationarity_null.py
+/// --looks, docs/PERFORMANCE.md).
+/// The recorder's first look: the drift limit is calibrated from 40 cycles on (below, the
+/// long-run std rests on averages of 2-4 cycles and the statistic's tail is heavier: looks at 20
+/// cycles gave 2 % false alarms on cold HZ1 runs, bench/stationarity_null.py --looks).
+inline constexpr std::size_t first_live_look_cycles = 40;
+
+[[nodiscard]] std::size_t next_stationarity_look(std::size_t n_cycles) noexcept;
+
 /// The stationarity test of one calibration run (see the file comment) from its cycles and their
 /// calibration (`calibrate(cycles)`). Total: fewer than min_stationarity_cycles gives
 /// `checked` false. Used by `gyroflip calibrate`, `report`, Python's `calibrate` and `record`.
