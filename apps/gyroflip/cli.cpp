@@ -323,6 +323,8 @@ void setup_compensate(CLI::App& app, action& chosen) {
   sub->add_option("--drift-window", o->drift_window_s, "moving-mean window for drift_dps (s)")
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print a JSON summary");
+  sub->add_flag("--strict", o->strict,
+                "refuse a calibration made of a run that failed the stationarity test (exit 2)");
   add_angle_tolerance(sub, o->angle_tolerance_deg);
   sub->parse_complete_callback([dn, cal] {
     if (dn->count() + cal->count() != 1) throw CLI::RequiredError("--delta-n or --calibration");

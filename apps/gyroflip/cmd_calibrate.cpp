@@ -91,6 +91,7 @@ void print_result(std::string& out, const io::calibration_record& rec,
                        : "",
                    two(b.within_run_dps));
   }
+  if (!failed.empty()) return;  // nothing to quote (review of issue 31)
   if (std::isfinite(b.new_power_up_dps))
     fmt::format_to(o,
                    "quote: ±{} deg/s for a new power-up (68.3 %): what a rate compensated with "
@@ -130,11 +131,33 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
   const bool failed = std::any_of(rec.files.begin(), rec.files.end(), [](const auto& f) {
     return f.stationarity && f.stationarity->failed();
   });
-  fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(),
-                 failed ? "Next: calibrate again with the table at rest (nothing turning it, "
-                          "level, no rate input) and check each run's stationarity line"
-                        : next_step(cal_path),
-                 workflow::when_to_recalibrate(b, temps));
+  if (!failed) {
+    // What the test cannot see (review of issue 31: 0.01 deg/s on an HZ1 passed as its dN).
+    double g_limit = 0.0;
+    for (const auto& f : rec.files)
+      if (f.stationarity && f.stationarity->g_checked)
+        g_limit = std::max(g_limit, f.stationarity->g_limit_dps);
+    if (g_limit > 0.0)
+      fmt::format_to(std::back_inserter(out),
+                     "The stationarity test cannot see a constant input below {:.2g} deg/s (the "
+                     "sensor's g-term limit): it reads as dN; make sure the table was at rest\n",
+                     g_limit);
+    fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(),
+                   next_step(cal_path), workflow::when_to_recalibrate(b, temps));
+    return out;
+  }
+  // The runs that passed still calibrate: the exact command without the failed ones.
+  std::string good;
+  for (const auto& f : rec.files)
+    if (!(f.stationarity && f.stationarity->failed())) good += " " + f.file;
+  fmt::format_to(std::back_inserter(out),
+                 "{}\nNext: calibrate again with the table at rest (nothing turning it, level, no "
+                 "rate input) and check each run's stationarity line{}\n",
+                 workflow::delta_n_meaning(),
+                 good.empty()
+                     ? std::string()
+                     : fmt::format("; or leave the failed runs out: gyroflip calibrate{}{}", good,
+                                   cal_path.empty() ? "" : " -o " + cal_path));
   return out;
 }
 

@@ -63,8 +63,8 @@ int run_compensate(const compensate_options& o) {
                                   : workflow::delta_n_of_file(o.calibration);
   if (!dn) return report(dn.err());
   if (o.calibration.empty()) dn->source = "--delta-n";
-  workflow::compensate_request req{o.file, std::move(*dn), std::nullopt, o.angle_tolerance_deg,
-                                   o.drift_window_s};
+  workflow::compensate_request req{
+      o.file, std::move(*dn), std::nullopt, o.angle_tolerance_deg, o.drift_window_s, o.strict};
   if (!o.pairing.empty()) {
     req.pairing = method::parse_pairing(o.pairing);
     if (!req.pairing) return report(usage_error("--pairing must be abba or simple"));

@@ -146,7 +146,8 @@ int run_record(const record_options& o) {
     if (!warned && s.stationarity && s.stationarity->failed()) {
       warned = true;
       if (drawn) std::fputs("\r\033[K", stderr);
-      std::fprintf(stderr, "gyroflip record: warning: after %zu cycles, %s\n", s.cycles,
+      std::fprintf(stderr, "gyroflip record: warning: after %zu cycles, %s\n",
+                   s.stationarity->cycles,
                    workflow::stationarity_warning(o.output, *s.stationarity).c_str());
     }
     if (o.json_progress) {
@@ -169,10 +170,10 @@ int run_record(const record_options& o) {
                static_cast<unsigned long long>(s.frames_recovered),
                static_cast<unsigned long long>(s.frames_lost), s.elapsed_s, reason_text(r->reason));
   if (s.stationarity && s.stationarity->checked)
-    std::fprintf(stderr, "gyroflip record: %s: %s\n", o.output.c_str(),
+    std::fprintf(stderr, "gyroflip record: %s\n",
                  s.stationarity->failed()
                      ? workflow::stationarity_warning(o.output, *s.stationarity).c_str()
-                     : s.stationarity->summary().c_str());
+                     : (o.output + ": " + s.stationarity->summary()).c_str());
   if (r->reason == rigdata::gfr::stop_reason::link_lost)
     return report(runtime_error(
         fmt::format("{}: the port did not come back within {:g} s; {} is complete up to the loss",

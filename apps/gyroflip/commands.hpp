@@ -80,6 +80,7 @@ struct compensate_options {
   std::string output;  // -o OUT.csv; empty: stdout unless --json
   bool json = false;
   double drift_window_s = 100.0;
+  bool strict = false;  // --strict: refuse a calibration made of a run that is not stationary
 };
 int run_compensate(const compensate_options& o);
 

@@ -430,7 +430,8 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
 
 
 def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration=None,
-               delta_n_dps=None, pairing=None, drift_window_s=100.0, angle_tolerance_deg=0.0):
+               delta_n_dps=None, pairing=None, drift_window_s=100.0, angle_tolerance_deg=0.0,
+               strict=False):
     """Compensates a flipping recording (paper eqn 12), as `gyroflip compensate`.
 
     The columns as for calibrate(). calibration: a calibrate() result, or the path of a
@@ -440,7 +441,10 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
     Returns a dict of arrays, one per cycle: time_s, rate_dps (the input rate w_in), bias_dps
     (the bias the flip removed), temp_c, delta_n_dps (what was subtracted); and "summary", the
     object `gyroflip compensate --json` prints (schema gyroflip.compensate/2: cycles, mean_dps,
-    std_dps, stderr_dps, stderr_correlated_dps, drift_dps, delta_n, ...)."""
+    std_dps, stderr_dps, stderr_correlated_dps, drift_dps, delta_n, ...), and "warnings": a
+    calibration made of a run that failed the stationarity test (its dN is not the sensor's), or
+    of runs never tested (a file from before the test). strict=True raises ValueError for the
+    first instead (as `gyroflip compensate --strict`)."""
     text = None
     if calibration is not None:
         if isinstance(calibration, dict):
@@ -451,7 +455,7 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
                 text = f.read().decode("utf-8", errors="replace")
     c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg)
     return _gyroflip._compensate(c, None if delta_n_dps is None else float(delta_n_dps), text, pairing,
-                                 float(drift_window_s), float(angle_tolerance_deg))
+                                 float(drift_window_s), float(angle_tolerance_deg), bool(strict))
 
 
 def simulate(sensor, duration_s=3600.0, seed=1, latitude=42.6, axis="north", n_avg=256,

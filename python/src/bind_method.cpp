@@ -149,8 +149,10 @@ workflow::delta_n_source delta_n_of(std::optional<double> delta_n_dps,
 
 py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
                     const std::optional<std::string>& calibration_json,
-                    const std::optional<std::string>& pairing, double drift_window_s, double tol) {
+                    const std::optional<std::string>& pairing, double drift_window_s, double tol,
+                    bool strict) {
   const auto dn = delta_n_of(delta_n_dps, calibration_json);
+  const auto runs = take(workflow::check_calibration_runs(dn, strict));
   const auto p = pairing ? pairing_of(*pairing) : dn.pairing.value_or(method::pairing::abba);
   check(method::check_drift_window(drift_window_s));
   const auto rc = cycles_of(c, p, tol);
@@ -168,6 +170,7 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   res["delta_n_dps"] = column(comp.cycles, &cc::delta_n_dps);
   res["summary"] = json_loads(
       take(io::finite_dump(workflow::compensation_json(comp, arrays_name, dn, p), "compensate")));
+  res["warnings"] = runs.warnings;
   return res;
 }
 
@@ -247,7 +250,7 @@ void bind_method(py::module_& m) {
         py::arg("strict"));
   m.def("_compensate", &compensate, py::arg("columns"), py::arg("delta_n_dps"),
         py::arg("calibration_json"), py::arg("pairing"), py::arg("drift_window_s"),
-        py::arg("angle_tolerance_deg"));
+        py::arg("angle_tolerance_deg"), py::arg("strict"));
   m.def("_read_recording", &read_recording, py::arg("path"), py::arg("angle_tolerance_deg"));
   m.def("_simulate", &simulate, py::arg("sensor"), py::arg("duration_s"), py::arg("seed"),
         py::arg("latitude"), py::arg("axis"), py::arg("n_avg"), py::arg("settle_s"),

@@ -222,3 +222,20 @@ def test_theo1_odd_factors_are_named():
     assert list(d.m) == [8, 16]
     with pytest.raises(ValueError, match="taus is empty"):
         gyroflip.deviation(x, input="angle", taus=[])
+
+
+# Review of issue 31: compensate applied a calibration its own file marks as not stationary
+# without a word. It warns (in "warnings"), and strict=True refuses it, as `compensate --strict`.
+def test_compensate_warns_about_and_strict_refuses_a_calibration_of_a_turning_run():
+    def run(rate, seed):
+        rec = gyroflip.simulate("hz1-90-100a", duration_s=600, seed=seed, temp=20, rate=rate)
+        return (rec["time_s"], rec["angle_deg"], rec["rate_dps"], rec["temp_c"], rec["n_avg"])
+    still, turning = run("0", 32), run("0.5", 31)
+    bad = gyroflip.calibrate(*turning, sensor="hz1-90-100a")
+    assert not bad["files"][0]["stationarity"]["stationary"]
+    r = gyroflip.compensate(*still, calibration=bad)
+    assert any("not a stationary run" in w and "g-term" in w for w in r["warnings"]), r["warnings"]
+    with pytest.raises(ValueError, match="not a stationary run"):
+        gyroflip.compensate(*still, calibration=bad, strict=True)
+    good = gyroflip.calibrate(*still, sensor="hz1-90-100a")
+    assert gyroflip.compensate(*still, calibration=good, strict=True)["warnings"] == []

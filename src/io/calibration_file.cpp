@@ -184,6 +184,9 @@ json stationarity_json(const method::stationarity& st) {
             {"stationary", !st.failed()},
             {"scatter_ratio", st.scatter_ratio},
             {"scatter_limit", st.scatter_limit},
+            {"scatter_low_limit", st.scatter_low_limit},
+            {"cycles", st.cycles},
+            {"temp_span_c", st.temp_span_c},
             {"drift_statistic", st.drift_statistic},
             {"drift_limit", st.drift_limit_value},
             {"step_dps", st.step_dps},
@@ -235,6 +238,20 @@ status read_stationarity(const std::string& path, const std::string& at, const j
       !number("step_time_s", st.step_time_s) || !number("step_limit_dps", st.step_limit_dps) ||
       !flag(j, "scatter_failed", st.scatter_failed) || !flag(j, "drift_failed", st.drift_failed))
     return bad("needs the finite statistics and verdicts calibrate writes");
+  // Ratios, limits and errors are not negative (a hand-edited file is refused, not recomputed).
+  for (const double v : {st.scatter_ratio, st.scatter_limit, st.drift_statistic,
+                         st.drift_limit_value, st.step_limit_dps})
+    if (v < 0.0) return bad("has a negative statistic, limit or error");
+  // Written since the lower scatter limit (absent in the first schema-3 files: 0, not checked).
+  if (j.contains("scatter_low_limit") &&
+      (!number("scatter_low_limit", st.scatter_low_limit) || st.scatter_low_limit < 0.0))
+    return bad("'scatter_low_limit' must be a finite number >= 0");
+  if (j.contains("temp_span_c") && (!number("temp_span_c", st.temp_span_c) || st.temp_span_c < 0.0))
+    return bad("'temp_span_c' must be a finite number >= 0");
+  if (j.contains("cycles")) {
+    if (!j["cycles"].is_number_unsigned()) return bad("'cycles' must be a whole number");
+    st.cycles = j["cycles"].get<std::size_t>();
+  }
   if (j.contains("g_term") && !j["g_term"].is_null()) {
     const json& g = j["g_term"];
     if (!g.is_object() || !g.contains("g_term_dps") || !g["g_term_dps"].is_number() ||

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -73,6 +74,7 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
                                 const stationarity_inputs& in) {
   stationarity out;
   const std::size_t n = cycles.size();
+  out.cycles = n;
   if (n < min_stationarity_cycles) {
     out.why_not = fmt::format("{} cycles: the test needs at least {}", n, min_stationarity_cycles);
     return out;
@@ -93,7 +95,16 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
   const double rounding = 1e-12 * (std::abs(mean) + std::abs(mean_of(c)));
   out.scatter_ratio = white > rounding ? std_r / white : (std_r > rounding ? 1e300 : 1.0);
   out.scatter_limit = std::max(1.25, 1.0 + 7.0 / std::sqrt(nd));
-  out.scatter_failed = out.scatter_ratio > out.scatter_limit;
+  out.scatter_low_limit = 0.75 * std::max(0.0, 1.0 - 3.0 / std::sqrt(nd));
+  out.scatter_failed =
+      out.scatter_ratio > out.scatter_limit || out.scatter_ratio < out.scatter_low_limit;
+  double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
+  for (const auto& cy : cycles)
+    if (std::isfinite(cy.temp_c)) {
+      t_lo = std::min(t_lo, cy.temp_c);
+      t_hi = std::max(t_hi, cy.temp_c);
+    }
+  out.temp_span_c = t_lo <= t_hi ? t_hi - t_lo : 0.0;
   // Drift or step: the CUSUM scaled by r's long-run std at short averaging times.
   const std::size_t m = std::clamp<std::size_t>(n / 8, 1, drift_scale_cycles);
   const double long_run_var = oavar(r, m) * static_cast<double>(m);
@@ -118,17 +129,28 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
 
 std::vector<std::string> stationarity::failures() const {
   std::vector<std::string> out;
-  if (scatter_failed)
+  if (scatter_failed && scatter_ratio > scatter_limit)
     out.push_back(fmt::format(
         "its per-cycle scatter is {} times the sensor's white noise in the same dwells (limit "
         "{}): the input rate was not constant",
         num(scatter_ratio), num(scatter_limit)));
+  if (scatter_failed && scatter_ratio < scatter_low_limit)
+    out.push_back(fmt::format(
+        "its per-cycle scatter is only {} of the sensor's white noise in the same dwells (lower "
+        "limit {}): the half-sum c scatters more than the dwells' noise, as an input that "
+        "alternates with the turns does (a vibration or oscillation of the table)",
+        num(scatter_ratio), num(scatter_low_limit)));
   if (drift_failed)
     out.push_back(fmt::format(
         "r drifts or steps by {} °/s at t = {:.0f} s (CUSUM {} > {}; beyond 3 correlated errors, "
-        "{} °/s)",
+        "{} °/s){}",
         num(step_dps), step_time_s, num(drift_statistic), num(drift_limit_value),
-        num(step_limit_dps)));
+        num(step_limit_dps),
+        temp_span_c > 1.0
+            ? fmt::format("; the temperature moved {:.1f} °C over the run, and ΔN follows it: "
+                          "calibrate at a steady temperature, or fit ΔN(T) over runs at several",
+                          temp_span_c)
+            : std::string()));
   if (g_failed)
     out.push_back(fmt::format(
         "its g-term is {}{} °/s, {} times the limit {} °/s at 1 g ({}), beyond 3 correlated "

@@ -12,6 +12,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
 namespace gyroflip::workflow {
@@ -69,6 +70,31 @@ status check_calibration_fits(const std::string& file, const delta_n_source& dn,
         "depends on temperature (calibrate at several temperatures for a dN(T) model)",
         file, sum / static_cast<double>(n), cal.pooled.temp_c));
   return ok();
+}
+
+result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, bool strict) {
+  calibration_runs_check out;
+  if (!dn.record) return out;
+  for (const auto& e : dn.record->files) {
+    if (!e.stationarity) {
+      out.unchecked = true;
+      continue;
+    }
+    if (!e.stationarity->failed()) continue;
+    if (strict)
+      return input_error({dn.source}, fmt::format("its run {}; refused (strict)",
+                                                  stationarity_warning(e.file, *e.stationarity)));
+    out.failed.push_back(e.file);
+    out.warnings.push_back(
+        fmt::format("{}: its run {}", dn.source, stationarity_warning(e.file, *e.stationarity)));
+  }
+  if (out.unchecked)
+    out.warnings.push_back(fmt::format(
+        "{}: its runs were not checked for stationarity (a calibration written before gyroflip "
+        "tested it): recalibrate, or run `gyroflip calibrate` again on its runs, to know that "
+        "its ΔN is the sensor's",
+        dn.source));
+  return out;
 }
 
 result<delta_n_source> delta_n_of_value(double delta_n_dps) {
@@ -131,6 +157,9 @@ result<compensate_result> compensate_file(const compensate_request& r,
   for (auto& w : rc->warnings) out.warnings.push_back(std::move(w));
   if (auto s = check_calibration_fits(r.file, dn, rc->metadata, rc->cycles, out.warnings); !s)
     return s.err();
+  auto runs = check_calibration_runs(dn, r.strict);
+  if (!runs) return runs.err();
+  for (auto& w : runs->warnings) out.warnings.push_back(std::move(w));
   if (dn.model.degree() > 0 && !rc->has_temp)
     return input_error({r.file},
                        "no temp_c column, but the calibration's dN(T) model needs temperatures");

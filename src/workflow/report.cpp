@@ -463,23 +463,11 @@ void check_runs_agree(findings& f) {
 // The runs a given calibration was made of, as calibrate tested them (schema 3): a failed run
 // makes its ΔN not the sensor's; a file written before the test says its runs are not checked.
 void check_calibration_runs_stationary(const delta_n_source& given, findings& f) {
-  if (!given.record) return;
-  for (const auto& e : given.record->files) {
-    if (!e.stationarity) {
-      f.calibration_unchecked = true;
-      continue;
-    }
-    if (!e.stationarity->failed()) continue;
-    f.not_stationary.push_back(e.file);
-    f.warnings.push_back(
-        fmt::format("{}: its run {}", given.source, stationarity_warning(e.file, *e.stationarity)));
-  }
-  if (f.calibration_unchecked)
-    f.warnings.push_back(fmt::format(
-        "{}: its runs were not checked for stationarity (a calibration written before gyroflip "
-        "tested it): recalibrate, or run `gyroflip calibrate` again on its runs, to know that "
-        "its ΔN is the sensor's",
-        given.source));
+  auto runs = check_calibration_runs(given, false);  // never an error without strict
+  if (!runs) return;
+  f.calibration_unchecked = runs->unchecked;
+  for (auto& n : runs->failed) f.not_stationary.push_back(std::move(n));
+  for (auto& w : runs->warnings) f.warnings.push_back(std::move(w));
 }
 
 // The budget of a calibration file's ΔN. Its runs give it, once the file's ΔN is checked to be
@@ -887,7 +875,9 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
   }
   // The noise, as the noise table prints it: the same term (B) of both series of the first run.
   out += noise_sentence(runs.front());
-  out += delta_n_in_dph(b, runs.front());
+  // A ΔN that is not the sensor's has no error to compare with B (review of issue 31: "±3.5 °/h"
+  // beside a ΔN 1800 °/h off).
+  if (f.not_stationary.empty()) out += delta_n_in_dph(b, runs.front());
   out += f.warnings.empty() ? " Nothing in the runs looks wrong."
                             : fmt::format(" Watch: {} warning{} below.", f.warnings.size(),
                                           f.warnings.size() == 1 ? "" : "s");
@@ -1111,10 +1101,17 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   }();
   page.title = !r.title.empty()
                    ? r.title
-                   : fmt::format("{}{}: {} {} run{}, {}", part_of(f.id),
+                   : fmt::format("{}{}: {} {} {}, {}", part_of(f.id),
                                  serials.empty() ? std::string() : " serial " + serials,
-                                 f.compensating ? "compensated" : "ΔN calibration from",
-                                 runs.size(), runs.size() == 1 ? "" : "s", all_t.text());
+                                 f.compensating             ? "compensated"
+                                 : f.not_stationary.empty() ? "ΔN calibration from"
+                                                            : "no ΔN calibration:",
+                                 runs.size(),
+                                 f.compensating || f.not_stationary.empty()
+                                     ? (runs.size() == 1 ? "run" : "runs")
+                                     : (runs.size() == 1 ? "run, not stationary"
+                                                         : "runs, not all stationary"),
+                                 all_t.text());
   if (f.id.simulated > 0)
     page.banners.push_back(fmt::format(
         "Simulated data: {} of the {} recordings came from gyroflip's {} (see Inputs); "

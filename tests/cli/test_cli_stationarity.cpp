@@ -65,9 +65,50 @@ TEST(CliStationarity, TheIssuesRunsAreWarnedAboutRefusedWithStrictAndRecorded) {
     EXPECT_FALSE(exists(d.file("bad.json")));
     EXPECT_NE(strict.err.find(c.statistic), std::string::npos) << strict.err;
   }
-  // The human text does not call the turning run's mean the sensor's dN.
+  // The human text does not call the turning run's mean the sensor's dN, gives nothing to quote,
+  // and with a good run among the failed ones names the command without them.
   const auto text = run_cli({"calibrate", turning});
   EXPECT_NE(text.out.find("NOT A CALIBRATION"), std::string::npos) << text.out;
+  EXPECT_EQ(text.out.find("quote:"), std::string::npos) << text.out;
+  const auto mixed = run_cli({"calibrate", still, turning});
+  EXPECT_NE(mixed.out.find("leave the failed runs out: gyroflip calibrate " + still + "\n"),
+            std::string::npos)
+      << mixed.out;
+}
+
+// Review of issue 31: `compensate` applied a calibration its own file marks as not stationary,
+// without a word; a hand-edited negative statistic was read.
+TEST(CliStationarity, CompensateWarnsAboutAndStrictRefusesACalibrationOfATurningRun) {
+  temp_dir d;
+  const auto still = simulate(d, "still.csv", "32", "0");
+  const auto turning = simulate(d, "turning.csv", "31", "0.5");
+  ASSERT_EQ(run_cli({"calibrate", turning, "-o", d.file("bad.json")}).exit_code, 0);
+  const auto warned = run_cli({"compensate", still, "--calibration", d.file("bad.json"), "--json"});
+  ASSERT_EQ(warned.exit_code, 0) << warned.err;
+  EXPECT_NE(warned.err.find(d.file("bad.json") + ": its run " + turning + ": not a stationary run"),
+            std::string::npos)
+      << warned.err;
+  const auto strict = run_cli({"compensate", still, "--calibration", d.file("bad.json"), "--strict",
+                               "-o", d.file("out.csv")});
+  EXPECT_EQ(strict.exit_code, 2) << strict.err;
+  EXPECT_NE(strict.err.find("g-term"), std::string::npos) << strict.err;
+  EXPECT_FALSE(exists(d.file("out.csv")));
+  // A good calibration passes --strict without a warning.
+  ASSERT_EQ(run_cli({"calibrate", still, "-o", d.file("good.json")}).exit_code, 0);
+  const auto good = run_cli({"compensate", still, "--calibration", d.file("good.json"), "--strict",
+                             "-o", d.file("good.csv")});
+  EXPECT_EQ(good.exit_code, 0) << good.err;
+  EXPECT_EQ(good.err.find("stationary"), std::string::npos) << good.err;
+  // calibrate says what its test cannot see: a constant input below the g-term limit.
+  EXPECT_NE(run_cli({"calibrate", still}).out.find("cannot see a constant input below 0.06 deg/s"),
+            std::string::npos);
+  // A negative statistic in the file is refused, naming the file.
+  auto cal = json::parse(read_text(d.file("good.json")));
+  cal["files"][0]["stationarity"]["drift_statistic"] = -1.0;
+  write_text(d.file("edited.json"), cal.dump());
+  const auto edited = run_cli({"compensate", still, "--calibration", d.file("edited.json")});
+  EXPECT_EQ(edited.exit_code, 2) << edited.err;
+  EXPECT_NE(edited.err.find("negative"), std::string::npos) << edited.err;
 }
 
 TEST(CliStationarity, AReportNeverVouchesForACalibrationOfATurningRun) {

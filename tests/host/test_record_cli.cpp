@@ -26,6 +26,7 @@
 
 #include "firmware/protocol/frame.hpp"
 #include "gyroflip/io/series.hpp"
+#include "gyroflip/method/stationarity.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
@@ -220,6 +221,14 @@ TEST(RecordCli, ATurningTableIsToldWhileItRecords) {
     };
     if (turning) {
       EXPECT_EQ(warned("warning: after "), 1u) << rec.err;  // once, at the first failed look
+      // ... naming the cycles the failed look tested (a look runs at the first progress tick
+      // past 40, 50, 63, ... cycles, or at the end), not the count when it was printed
+      const auto at = rec.err.find("warning: after ");
+      ASSERT_NE(at, std::string::npos);
+      const auto n = std::stoul(rec.err.substr(at + 15));
+      EXPECT_GE(n, method::first_live_look_cycles) << rec.err;
+      EXPECT_LE(n, lines.back()["cycles"].get<std::size_t>()) << rec.err;
+      EXPECT_EQ(rec.err.find(gfr + ": " + gfr), std::string::npos) << rec.err;  // named once
       EXPECT_NE(rec.err.find(gfr + ": not a stationary run"), std::string::npos) << rec.err;
       EXPECT_NE(rec.err.find("g-term"), std::string::npos) << rec.err;
     } else {

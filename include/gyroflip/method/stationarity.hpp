@@ -74,10 +74,17 @@ struct stationarity_inputs {
 
 /// The test's statistics and verdicts. Every statistic is finite when `checked`.
 struct stationarity {
-  bool checked = false;  ///< false: too few cycles (why_not says so) or a file that predates it
-  std::string why_not;   ///< why it was not checked
-  double scatter_ratio = 0.0;    ///< std(r) / (white_std_over_adev x ADEV_c(tau0)); ~1 stationary
-  double scatter_limit = 0.0;    ///< max(1.25, 1 + 7/sqrt(n)) (null sd ~1.1/sqrt(n), measured)
+  bool checked = false;    ///< false: too few cycles (why_not says so) or a file that predates it
+  std::string why_not;     ///< why it was not checked
+  std::size_t cycles = 0;  ///< cycles tested
+  double scatter_ratio = 0.0;  ///< std(r) / (white_std_over_adev x ADEV_c(tau0)); ~1 stationary
+  double scatter_limit = 0.0;  ///< max(1.25, 1 + 7/sqrt(n)) (null sd ~1.1/sqrt(n), measured)
+  /// The lower limit, 0.75 (1 - 3/sqrt(n)): an input alternating with the turns (a vibration
+  /// near the cycle's harmonics) enters the half-sum c, the noise reference, and drives the
+  /// ratio far below 1; the bias's flicker lowers it a little (stationary runs: >= 0.58 at 67
+  /// cycles, >= 0.86 at 3000, measured).
+  double scatter_low_limit = 0.0;
+  double temp_span_c = 0.0;      ///< the run's temperature range (0 without temperatures)
   double drift_statistic = 0.0;  ///< max_k |S_k| / (n x se_16), S_k partial sums of r - mean
   double drift_limit_value = drift_limit;
   double step_dps = 0.0;        ///< mean of r after the CUSUM's split less before it

@@ -59,12 +59,28 @@ struct compensation {
                                                      const method::delta_n_model& model,
                                                      double drift_window_s, std::string_view what);
 
+/// The runs a calibration was made of, as `calibrate` tested them (schema 3).
+struct calibration_runs_check {
+  std::vector<std::string> failed;    ///< runs that failed the stationarity test
+  bool unchecked = false;             ///< some run has no test (a file written before it)
+  std::vector<std::string> warnings;  ///< one per failed run, one for unchecked runs
+};
+
+/// Checks that a calibration's ΔN is the sensor's: every run it was made of passed the
+/// stationarity test (method::check_stationarity, as recorded by `calibrate`). A run that failed
+/// is a warning naming the calibration, the run and the statistic; with `strict` an input error
+/// instead (a calibration of a turning table applied is w_in off by the table's rate). A ΔN
+/// given as a number has no runs: nothing to check. Used by `compensate`, `report` and Python.
+[[nodiscard]] result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn,
+                                                                    bool strict);
+
 struct compensate_request {
   std::string file;  ///< the recording (CSV or `.gfr`)
   delta_n_source delta_n;
   std::optional<method::pairing> pairing;  ///< default: the calibration's, else abba
   double angle_tolerance_deg = 0.0;
   double drift_window_s = method::drift_window_default_s;
+  bool strict = false;  ///< refuse a calibration made of a run that is not stationary
 };
 
 struct compensate_result {
