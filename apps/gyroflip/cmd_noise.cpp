@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <utility>
@@ -70,7 +71,7 @@ result<analysis::tau_range> fit_range(const std::string& spec) {
   const auto v = text::to_doubles(spec, ':');
   if (!v || v->size() != 2)
     return usage_error("--fit-taus: LO:HI in seconds, 0 <= LO < HI; got " + spec);
-  const analysis::tau_range r{(*v)[0], (*v)[1]};
+  const analysis::tau_range r{(*v)[0], (*v)[1], false};  // a given range is fitted as given
   if (auto s = analysis::check_fit_range(r); !s) return s.err();
   return r;
 }
@@ -115,21 +116,38 @@ void append_text(std::string& text, const noise_options& o, const column_noise& 
                  "intervals)\n",
                  o.in.file, printable(c.column, 60), c.samples, 1.0 / c.tau0_s, unit_name(o.in),
                  100.0 * f.level);
-  fmt::format_to(
-      out, "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz) = {} rad/s/sqrt(Hz)\n",
-      show(f.arw, k * units::deg_rth_per_deg_rts), also(f.arw, k), also(f.arw, k_rad));
-  fmt::format_to(
-      out, "  bias instability  B    {} deg/h   = {} rad/s   ({} {:.4g} deg/h at tau {:g} s)\n",
-      show(f.bias_instability, k * units::dph_per_dps), also(f.bias_instability, k_rad),
-      f.bias_floor_reached ? "OADEV floor" : "no floor: OADEV still falls, last",
-      f.bias_floor_dev * k * units::dph_per_dps, f.bias_floor_tau_s);
+  fmt::format_to(out,
+                 "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz) = {} rad/s/sqrt(Hz)"
+                 " (two-sided density; one-sided sqrt(2) N = {} deg/s/sqrt(Hz))\n",
+                 show(f.arw, k * units::deg_rth_per_deg_rts), also(f.arw, k), also(f.arw, k_rad),
+                 also(analysis::noise_term{f.arw.resolved, std::numbers::sqrt2 * f.arw.value, 0.0,
+                                           std::numbers::sqrt2 * f.arw.hi},
+                      k));
+  if (std::isfinite(c.result.adev_1s))
+    fmt::format_to(
+        out,
+        "                         ADEV(1 s) {:.4g} deg/sqrt(h) (ADEV at tau {:g} s x "
+        "sqrt(tau): the datasheet reading), {:.4g} less the other fitted terms there\n",
+        c.result.adev_1s * std::sqrt(c.result.adev_1s_tau_s) * k * units::deg_rth_per_deg_rts,
+        c.result.adev_1s_tau_s, c.result.adev_1s_arw * k * units::deg_rth_per_deg_rts);
+  const double floor_dph = f.bias_floor_dev * k * units::dph_per_dps;
+  fmt::format_to(out,
+                 "  bias instability  B    {} deg/h (IEEE 952 fit)   = {} rad/s;  floor/0.664 "
+                 "{:.4g} deg/h;  datasheet \"bias stability\" (raw floor) {:.4g} deg/h at tau {:g} "
+                 "s{}\n",
+                 show(f.bias_instability, k * units::dph_per_dps), also(f.bias_instability, k_rad),
+                 floor_dph / 0.6643, floor_dph, f.bias_floor_tau_s,
+                 f.bias_floor_reached ? "" : " (no floor: OADEV still falls)");
   fmt::format_to(out, "  rate random walk  K    {} deg/h/sqrt(h)   = {} rad/s^2/sqrt(Hz)\n",
                  show(f.rrw, k * units::dph_rth_per_dps_rts), also(f.rrw, k_rad));
   fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, k));
   fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n",
                  show(f.rate_ramp, k * units::dph2_per_dps2));
-  fmt::format_to(out, "  fit chi2/dof {:.3g}{}\n", f.chi2_per_dof,
-                 o.fit_taus.empty() ? "" : " over tau " + o.fit_taus + " s");
+  fmt::format_to(out,
+                 "  fit over tau {:g} to {:g} s{}, chi2/dof {:.3g}; intervals include the spread "
+                 "over {} fit ranges\n",
+                 f.fit_tau_lo_s, f.fit_tau_hi_s, o.fit_taus.empty() ? "" : " (--fit-taus)",
+                 f.chi2_per_dof, f.fit_ranges);
   const auto& r = c.result.readoffs;
   const auto line = [](const std::optional<double>& v, double to, double tau, const char* slope) {
     return v ? fmt::format("{:.4g} (slope {} at tau {:.3g} s)", *v * to, slope, tau)
