@@ -22,6 +22,7 @@
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/noise_report.hpp"
+#include "gyroflip/report/figures.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
@@ -91,7 +92,7 @@ result<column_noise> noise_of(const noise_options& o, const analysis::tau_range&
     if (m.key == "pairing" && m.value == "abba" && o.in.input == "rate")
       c.series.abba_cycle_s = c.tau0_s;
   progress bar("noise of " + o.in.file, 1000);
-  auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar));
+  auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar), o.long_taus);
   bar.finish();
   // Too few points for the fit is a property of this input (too short a series): name it.
   if (!a)
@@ -233,6 +234,26 @@ int run_noise(const noise_options& o) {
   // Checked before the files are read.
   const auto range = fit_range(o.fit_taus);
   if (!range) return report(range.err());
+  const auto plot = plot_target(o.plot);
+  if (!plot) return report(plot.err());
+  if (*plot) {
+    if (o.plot_units != "deg/h" && o.plot_units != "deg/s" && o.plot_units != "rad/s")
+      return report(usage_error("--plot-units must be deg/h, deg/s or rad/s; got " +
+                                printable(o.plot_units, 40)));
+    // The script and one data file per series (curve, its lines, its long taus) beside the
+    // image: none may be an input, nor a file the user changed.
+    auto names = column_names(o.in);
+    if (!names) return report(names.err());
+    const std::size_t series = 7 * names->size();
+    const std::array format{(*plot)->format};
+    if (auto s =
+            io::check_outputs(std::array{o.in.file},
+                              report::rendered_files((*plot)->dir, (*plot)->stem, series, format));
+        !s)
+      return report(s.err());
+    if (auto s = report::check_rendered_files((*plot)->dir, (*plot)->stem, series); !s)
+      return report(s.err());
+  }
   auto inputs = load_series(o.in);
   if (!inputs) return report(inputs.err());
   std::vector<column_noise> all;
@@ -261,6 +282,33 @@ int run_noise(const noise_options& o) {
     if (auto s = write_kalibr(o, all); !s) return report(s.err());
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, file_text); !s) return report(s.err());
+  if (*plot) {
+    // One curve per column, in deg/s (the figure converts to --plot-units).
+    std::vector<report::allan_curve> curves;
+    for (const auto& c : all) {
+      report::allan_curve curve{c.column, c.result.oadev, c.result.terms, c.result.long_oadev};
+      for (auto* v : {&curve.points, &curve.beyond})
+        for (auto& p : *v) {
+          p.dev *= c.deg_per_unit;
+          p.ci_lo *= c.deg_per_unit;
+          p.ci_hi *= c.deg_per_unit;
+        }
+      for (auto* t : {&curve.terms->quantization, &curve.terms->arw, &curve.terms->bias_instability,
+                      &curve.terms->rrw, &curve.terms->rate_ramp}) {
+        t->value *= c.deg_per_unit;
+        t->lo *= c.deg_per_unit;
+        t->hi *= c.deg_per_unit;
+      }
+      curves.push_back(std::move(curve));
+    }
+    const auto title =
+        o.title.empty() ? fmt::format("Allan deviation of {}", printable(o.in.file, 120)) : o.title;
+    auto fig = report::noise_figure(curves, o.plot_units, title);
+    if (!fig) return report(fig.err());
+    const std::array formats{(*plot)->format};
+    if (auto s = report::render(*fig, (*plot)->dir, (*plot)->stem, formats); !s)
+      return report(s.err());
+  }
   if (o.json) {
     if (auto s = print_json(j); !s) return report(s.err());
     return 0;
