@@ -477,6 +477,15 @@ void setup_noise(CLI::App& app, action& chosen) {
   sub->add_option("--kalibr", o->kalibr,
                   "also write Kalibr's IMU noise YAML (gyroscope_noise_density, "
                   "gyroscope_random_walk in rad units, not inflated)");
+  sub->add_option("--plot", o->plot,
+                  "draw the Allan curves with bounds, fitted term lines and read-off points to "
+                  "FILE.png, .svg or .pdf (gnuplot; FILE.gp and its data beside it)");
+  sub->add_option("--plot-units", o->plot_units, "the plot's unit: deg/h, deg/s or rad/s")
+      ->capture_default_str();
+  sub->add_option("--title", o->title, "the plot's title (default: Allan deviation of FILE)");
+  sub->add_flag("--long-taus", o->long_taus,
+                "also OADEV beyond Stable32's m <= (N-1)/4 up to (N-1)/2 (as MATLAB and "
+                "allantools): in the plot and JSON long_oadev, never fitted");
 }
 
 }  // namespace

@@ -203,14 +203,14 @@ result<analysis_input> prepare(io::series s, const series_input& in, const std::
   return analysis_input{std::move(s), std::move(*phase), column};
 }
 
+}  // namespace
+
 result<std::vector<std::string>> column_names(const series_input& in) {
   if (in.columns == "all-numeric") return io::numeric_columns(in.file, series_options_of(in));
   std::vector<std::string> names;
   for (const auto& t : text::split(in.column, ',')) names.emplace_back(t.text);
   return names;
 }
-
-}  // namespace
 
 result<std::vector<analysis_input>> load_series(const series_input& in) {
   if (in.input == "angle" && in.units == "deg/h")
@@ -286,26 +286,6 @@ result<adev_result> deviation_of(const adev_options& o, analysis::dev_kind kind,
     warn(fmt::format("{}: averaging factor {} dropped: {}", what, d.m, d.why));
   if (o.bias_correction) analysis::correct_total_bias(*pts, kind);
   return adev_result{std::move(*pts), std::move(dropped)};
-}
-
-// `--plot FILE.png|.svg|.pdf`: the folder, the stem and the format (nullopt without --plot).
-struct plot_file {
-  std::string dir, stem;
-  report::image_format format;
-};
-result<std::optional<plot_file>> plot_target(const std::string& path) {
-  if (path.empty()) return std::optional<plot_file>{};
-  const std::filesystem::path p(path);
-  const auto ext = p.extension().string();
-  const std::optional<report::image_format> f =
-      ext == ".png"   ? std::optional(report::image_format::png)
-      : ext == ".svg" ? std::optional(report::image_format::svg)
-      : ext == ".pdf" ? std::optional(report::image_format::pdf)
-                      : std::nullopt;
-  if (!f || p.stem().empty())
-    return usage_error("--plot must name a .png, .svg or .pdf file; got " + printable(path));
-  const auto dir = p.parent_path().string();
-  return std::optional<plot_file>{plot_file{dir.empty() ? "." : dir, p.stem().string(), *f}};
 }
 
 // `--dynamic WINDOW_S[:STEP_S]`: the window and step in samples (analysis::dynamic_samples; the
@@ -707,6 +687,22 @@ int run_adev(const adev_options& o) {
     fmt::print("{}", csv);
   }
   return 0;
+}
+
+// `--plot FILE.png|.svg|.pdf`: the folder, the stem and the format (nullopt without --plot).
+result<std::optional<plot_file>> plot_target(const std::string& path) {
+  if (path.empty()) return std::optional<plot_file>{};
+  const std::filesystem::path p(path);
+  const auto ext = p.extension().string();
+  const std::optional<report::image_format> f =
+      ext == ".png"   ? std::optional(report::image_format::png)
+      : ext == ".svg" ? std::optional(report::image_format::svg)
+      : ext == ".pdf" ? std::optional(report::image_format::pdf)
+                      : std::nullopt;
+  if (!f || p.stem().empty())
+    return usage_error("--plot must name a .png, .svg or .pdf file; got " + printable(path));
+  const auto dir = p.parent_path().string();
+  return std::optional<plot_file>{plot_file{dir.empty() ? "." : dir, p.stem().string(), *f}};
 }
 
 }  // namespace gyroflip::app

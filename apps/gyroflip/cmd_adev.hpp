@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "gyroflip/analysis/phase_source.hpp"
 #include "gyroflip/io/series.hpp"
+#include "gyroflip/report/figure.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
@@ -75,9 +76,24 @@ int run_adev(const adev_options& o);
 
 namespace gyroflip::app {
 
+/// The names of the columns `in` asks for (`--columns all-numeric`: read from the file).
+[[nodiscard]] result<std::vector<std::string>> column_names(const series_input& in);
+
+/// `--plot FILE.png|.svg|.pdf` of adev and noise: the folder, the stem and the format.
+struct plot_file {
+  std::string dir, stem;
+  report::image_format format;
+};
+/// The plot file `path` names (nullopt for ""); a usage error for another suffix.
+[[nodiscard]] result<std::optional<plot_file>> plot_target(const std::string& path);
+
 struct noise_options {
   series_input in;
-  double ci = 0.683;  ///< two-sided confidence level of the terms' intervals
+  std::string plot;                  ///< FILE.png|.svg|.pdf: the Allan plot with the fitted terms
+  std::string plot_units = "deg/h";  ///< deg/h, deg/s or rad/s
+  std::string title;                 ///< the plot's title (default: the file's name)
+  bool long_taus = false;            ///< also OADEV up to m <= (N-1)/2, shown not fitted
+  double ci = 0.683;                 ///< two-sided confidence level of the terms' intervals
   bool json = false;
   std::string kalibr;    ///< write Kalibr's IMU noise YAML here
   std::string fit_taus;  ///< LO:HI (s): the range the model is fitted to (empty: all)

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <utility>
@@ -21,6 +22,7 @@
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/noise_report.hpp"
+#include "gyroflip/report/figures.hpp"
 #include "progress_bar.hpp"
 
 namespace gyroflip::app {
@@ -70,7 +72,7 @@ result<analysis::tau_range> fit_range(const std::string& spec) {
   const auto v = text::to_doubles(spec, ':');
   if (!v || v->size() != 2)
     return usage_error("--fit-taus: LO:HI in seconds, 0 <= LO < HI; got " + spec);
-  const analysis::tau_range r{(*v)[0], (*v)[1]};
+  const analysis::tau_range r{(*v)[0], (*v)[1], false};  // a given range is fitted as given
   if (auto s = analysis::check_fit_range(r); !s) return s.err();
   return r;
 }
@@ -90,7 +92,7 @@ result<column_noise> noise_of(const noise_options& o, const analysis::tau_range&
     if (m.key == "pairing" && m.value == "abba" && o.in.input == "rate")
       c.series.abba_cycle_s = c.tau0_s;
   progress bar("noise of " + o.in.file, 1000);
-  auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar));
+  auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar), o.long_taus);
   bar.finish();
   // Too few points for the fit is a property of this input (too short a series): name it.
   if (!a)
@@ -115,21 +117,38 @@ void append_text(std::string& text, const noise_options& o, const column_noise& 
                  "intervals)\n",
                  o.in.file, printable(c.column, 60), c.samples, 1.0 / c.tau0_s, unit_name(o.in),
                  100.0 * f.level);
-  fmt::format_to(
-      out, "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz) = {} rad/s/sqrt(Hz)\n",
-      show(f.arw, k * units::deg_rth_per_deg_rts), also(f.arw, k), also(f.arw, k_rad));
-  fmt::format_to(
-      out, "  bias instability  B    {} deg/h   = {} rad/s   ({} {:.4g} deg/h at tau {:g} s)\n",
-      show(f.bias_instability, k * units::dph_per_dps), also(f.bias_instability, k_rad),
-      f.bias_floor_reached ? "OADEV floor" : "no floor: OADEV still falls, last",
-      f.bias_floor_dev * k * units::dph_per_dps, f.bias_floor_tau_s);
+  fmt::format_to(out,
+                 "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz) = {} rad/s/sqrt(Hz)"
+                 " (two-sided density; one-sided sqrt(2) N = {} deg/s/sqrt(Hz))\n",
+                 show(f.arw, k * units::deg_rth_per_deg_rts), also(f.arw, k), also(f.arw, k_rad),
+                 also(analysis::noise_term{f.arw.resolved, std::numbers::sqrt2 * f.arw.value, 0.0,
+                                           std::numbers::sqrt2 * f.arw.hi},
+                      k));
+  if (std::isfinite(c.result.adev_1s))
+    fmt::format_to(
+        out,
+        "                         ADEV(1 s) {:.4g} deg/sqrt(h) (ADEV at tau {:g} s x "
+        "sqrt(tau): the datasheet reading), {:.4g} less the other fitted terms there\n",
+        c.result.adev_1s * std::sqrt(c.result.adev_1s_tau_s) * k * units::deg_rth_per_deg_rts,
+        c.result.adev_1s_tau_s, c.result.adev_1s_arw * k * units::deg_rth_per_deg_rts);
+  const double floor_dph = f.bias_floor_dev * k * units::dph_per_dps;
+  fmt::format_to(out,
+                 "  bias instability  B    {} deg/h (IEEE 952 fit)   = {} rad/s;  floor/0.664 "
+                 "{:.4g} deg/h;  datasheet \"bias stability\" (raw floor) {:.4g} deg/h at tau {:g} "
+                 "s{}\n",
+                 show(f.bias_instability, k * units::dph_per_dps), also(f.bias_instability, k_rad),
+                 floor_dph / 0.6643, floor_dph, f.bias_floor_tau_s,
+                 f.bias_floor_reached ? "" : " (no floor: OADEV still falls)");
   fmt::format_to(out, "  rate random walk  K    {} deg/h/sqrt(h)   = {} rad/s^2/sqrt(Hz)\n",
                  show(f.rrw, k * units::dph_rth_per_dps_rts), also(f.rrw, k_rad));
   fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, k));
   fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n",
                  show(f.rate_ramp, k * units::dph2_per_dps2));
-  fmt::format_to(out, "  fit chi2/dof {:.3g}{}\n", f.chi2_per_dof,
-                 o.fit_taus.empty() ? "" : " over tau " + o.fit_taus + " s");
+  fmt::format_to(out,
+                 "  fit over tau {:g} to {:g} s{}, chi2/dof {:.3g}; intervals include the spread "
+                 "over {} fit ranges\n",
+                 f.fit_tau_lo_s, f.fit_tau_hi_s, o.fit_taus.empty() ? "" : " (--fit-taus)",
+                 f.chi2_per_dof, f.fit_ranges);
   const auto& r = c.result.readoffs;
   const auto line = [](const std::optional<double>& v, double to, double tau, const char* slope) {
     return v ? fmt::format("{:.4g} (slope {} at tau {:.3g} s)", *v * to, slope, tau)
@@ -215,6 +234,26 @@ int run_noise(const noise_options& o) {
   // Checked before the files are read.
   const auto range = fit_range(o.fit_taus);
   if (!range) return report(range.err());
+  const auto plot = plot_target(o.plot);
+  if (!plot) return report(plot.err());
+  if (*plot) {
+    if (o.plot_units != "deg/h" && o.plot_units != "deg/s" && o.plot_units != "rad/s")
+      return report(usage_error("--plot-units must be deg/h, deg/s or rad/s; got " +
+                                printable(o.plot_units, 40)));
+    // The script and one data file per series (curve, its lines, its long taus) beside the
+    // image: none may be an input, nor a file the user changed.
+    auto names = column_names(o.in);
+    if (!names) return report(names.err());
+    const std::size_t series = 7 * names->size();
+    const std::array format{(*plot)->format};
+    if (auto s =
+            io::check_outputs(std::array{o.in.file},
+                              report::rendered_files((*plot)->dir, (*plot)->stem, series, format));
+        !s)
+      return report(s.err());
+    if (auto s = report::check_rendered_files((*plot)->dir, (*plot)->stem, series); !s)
+      return report(s.err());
+  }
   auto inputs = load_series(o.in);
   if (!inputs) return report(inputs.err());
   std::vector<column_noise> all;
@@ -243,6 +282,33 @@ int run_noise(const noise_options& o) {
     if (auto s = write_kalibr(o, all); !s) return report(s.err());
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, file_text); !s) return report(s.err());
+  if (*plot) {
+    // One curve per column, in deg/s (the figure converts to --plot-units).
+    std::vector<report::allan_curve> curves;
+    for (const auto& c : all) {
+      report::allan_curve curve{c.column, c.result.oadev, c.result.terms, c.result.long_oadev};
+      for (auto* v : {&curve.points, &curve.beyond})
+        for (auto& p : *v) {
+          p.dev *= c.deg_per_unit;
+          p.ci_lo *= c.deg_per_unit;
+          p.ci_hi *= c.deg_per_unit;
+        }
+      for (auto* t : {&curve.terms->quantization, &curve.terms->arw, &curve.terms->bias_instability,
+                      &curve.terms->rrw, &curve.terms->rate_ramp}) {
+        t->value *= c.deg_per_unit;
+        t->lo *= c.deg_per_unit;
+        t->hi *= c.deg_per_unit;
+      }
+      curves.push_back(std::move(curve));
+    }
+    const auto title =
+        o.title.empty() ? fmt::format("Allan deviation of {}", printable(o.in.file, 120)) : o.title;
+    auto fig = report::noise_figure(curves, o.plot_units, title);
+    if (!fig) return report(fig.err());
+    const std::array formats{(*plot)->format};
+    if (auto s = report::render(*fig, (*plot)->dir, (*plot)->stem, formats); !s)
+      return report(s.err());
+  }
   if (o.json) {
     if (auto s = print_json(j); !s) return report(s.err());
     return 0;

@@ -305,11 +305,14 @@ def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None,
                               None if ci is None else float(ci))
 
 
-def noise(data, rate=1.0, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,
+def noise(data, rate, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,
           name="<array>", column="data"):
     """The IEEE 952 noise terms of a static gyro record, fitted to its OADEV (as `gyroflip noise`).
 
-    data: 1-D samples at `rate` Hz; input="rate" or "angle".
+    data: 1-D samples at `rate` Hz; input="rate" or "angle". `rate` has no default: a default of
+      1 Hz silently made every term of a 100 Hz record wrong (ARW 10x), so it must be given.
+    By default the short taus a low-pass (anti-alias) filter or a spectral line shaped are left
+    out of the fit ("short_taus_left_out"); fit_taus fits a range as given.
     units: the samples' unit: "deg/s" (default for a rate), "rad/s", "deg/h"; "deg" (default
       for an angle) or "rad". Every term is reported in degree units and in radians.
     ci: confidence level of the intervals. fit_taus: (lo, hi) in seconds, the taus fitted.

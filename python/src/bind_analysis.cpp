@@ -134,7 +134,10 @@ py::object noise(const f64_array& data, double rate_hz, const std::string& input
   auto a = without_gil([&](const progress_fn& listen) {
     auto phase = analysis::phase_source::make(*src, in, tau0, listen);
     if (!phase) return result<analysis::noise_analysis>(phase.err());
-    return analysis::analyse_noise(*phase, ci, {fit_lo_s, fit_hi_s}, r.series, listen);
+    // The default range (fit_taus None) leaves the short taus a filter or line shaped out; a
+    // given range is fitted as given (the CLI's --fit-taus).
+    const bool given = fit_lo_s > 0.0 || std::isfinite(fit_hi_s);
+    return analysis::analyse_noise(*phase, ci, {fit_lo_s, fit_hi_s, !given}, r.series, listen);
   });
   r.result = take(std::move(a));
   return json_loads(take(io::finite_dump(io::noise_json(r), "noise")));

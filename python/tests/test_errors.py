@@ -139,6 +139,9 @@ def test_every_number_python_returns_is_finite_within_the_bounds():
             gyroflip.noise(y, rate=100.0, fit_taus=(lo, hi))
     with pytest.raises(ValueError, match=r"\(argument ci\)"):
         gyroflip.noise(y, rate=100.0, ci=float("nan"))
+    # Issue 34 item 6: no silent 1 Hz (the ARW of a 100 Hz record came out 10x off).
+    with pytest.raises(TypeError, match="rate"):
+        gyroflip.noise(y)
 
 
 @pytest.mark.parametrize("kwargs, error, match", [

@@ -2,7 +2,9 @@
 /// \brief One series' noise analysis (noise.hpp).
 #include "gyroflip/analysis/noise.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include <fmt/format.h>
@@ -21,8 +23,43 @@ status check_fit_range(const tau_range& range) {
                                                  range.lo_s, range.hi_s));
 }
 
+namespace {
+
+// Widens each resolved term of `main` by the fit-range systematic: the readings `alts` of the
+// same data over other reasonable ranges. In the squared coefficient c: half the spread of the
+// readings (main included) is added in quadrature to the standard error (z sd = hi^2 - c, as
+// fit_noise_terms made the interval), and the interval is then widened to hold every reading.
+void add_range_systematic(noise_terms& main, const std::vector<noise_terms>& alts) {
+  const double z = std::sqrt(chi2_quantile(main.level, 1.0));
+  const auto widen = [&](noise_term noise_terms::*member) {
+    noise_term& t = main.*member;
+    if (!t.resolved) return;
+    double lo = t.value, hi = t.value;
+    for (const auto& a : alts)
+      if ((a.*member).resolved) {
+        lo = std::min(lo, (a.*member).value);
+        hi = std::max(hi, (a.*member).value);
+      }
+    t.range_lo = lo;
+    t.range_hi = hi;
+    const double c = t.value * t.value;
+    const double z_sd = std::max(t.hi * t.hi - c, 0.0);
+    const double half_spread = 0.5 * (hi * hi - lo * lo);
+    const double z_total = std::hypot(z_sd, z * half_spread);
+    t.lo = std::min(std::sqrt(std::max(c - z_total, 0.0)), lo);
+    t.hi = std::max(std::sqrt(c + z_total), hi);
+  };
+  for (auto m : {&noise_terms::quantization, &noise_terms::arw, &noise_terms::bias_instability,
+                 &noise_terms::rrw, &noise_terms::rate_ramp})
+    widen(m);
+  main.fit_ranges = 1 + alts.size();
+}
+
+}  // namespace
+
 result<noise_analysis> analyse_noise(const phase_source& x, double level, const tau_range& range,
-                                     const noise_series& series, const progress_fn& on_progress) {
+                                     const noise_series& series, const progress_fn& on_progress,
+                                     bool long_taus) {
   if (auto s = check_confidence_level(level); !s) return s.err();
   if (auto s = check_fit_range(range); !s) return s.err();
   auto pts = deviation(dev_kind::oadev, x, {}, on_progress);
@@ -34,9 +71,66 @@ result<noise_analysis> analyse_noise(const phase_source& x, double level, const 
   std::vector<deviation_point> fitted;
   for (const auto& p : *pts)
     if (p.tau_s >= range.lo_s && p.tau_s <= range.hi_s) fitted.push_back(p);
+  noise_analysis a;
+  // The abba cycle series has a known short-tau shape, which its ARW basis models.
+  if (range.detect_shaping && series.abba_cycle_s <= 0.0) {
+    a.shaping = detect_short_tau_shaping(fitted);
+    fitted.erase(fitted.begin(), fitted.begin() + static_cast<std::ptrdiff_t>(a.shaping.points));
+  }
   auto fit = fit_noise_terms(fitted, level, series);
   if (!fit) return fit.err();
-  noise_analysis a;
+  // The fit-range systematic: the same fit without the one or two shortest taus, and without
+  // the longest (a few clusters), where at least 4 points remain.
+  std::vector<noise_terms> alts;
+  const auto n = fitted.size();
+  for (const auto& [skip_lo, skip_hi] :
+       {std::pair<std::size_t, std::size_t>{1, 0}, {2, 0}, {0, 1}, {1, 1}}) {
+    if (n < skip_lo + skip_hi + 4) continue;
+    const std::span<const deviation_point> sub(fitted.data() + skip_lo, n - skip_lo - skip_hi);
+    if (auto f = fit_noise_terms(sub, level, series)) alts.push_back(std::move(*f));
+  }
+  add_range_systematic(*fit, alts);
+  if (a.shaping.points > 0)
+    fit->notes.push_back(fmt::format(
+        "the {} shortest taus (to {:g} s) are left out of the fit: the curve there is shaped by "
+        "{} (a concave kink, {:.1f} standard errors), which none of the five terms makes; "
+        "--fit-taus LO:HI fits a range as given",
+        a.shaping.points, a.shaping.kink_tau_s,
+        a.shaping.cause == "line" ? "a spectral line (a sinusoid's bumps)"
+                                  : "the sensor's low-pass (anti-alias) filter",
+        a.shaping.kink_z));
+  // ADEV(1 s): the datasheet's ARW reading, beside the fitted N.
+  const double m1 = std::round(1.0 / x.tau0_s());
+  if (m1 >= 1.0 && 2.0 * m1 < static_cast<double>(x.size())) {
+    const auto m = static_cast<std::size_t>(m1);
+    const auto at =
+        std::find_if(pts->begin(), pts->end(), [&](const deviation_point& p) { return p.m == m; });
+    if (at != pts->end()) {
+      a.adev_1s = at->dev;
+    } else if (auto one = deviation(dev_kind::oadev, x, tau_spec{tau_spec::set::list, {m}});
+               one && !one->empty()) {
+      a.adev_1s = one->front().dev;
+    }
+    a.adev_1s_tau_s = m1 * x.tau0_s();
+    const double t = a.adev_1s_tau_s;
+    const auto sq = [](const noise_term& term) {
+      return term.resolved ? term.value * term.value : 0.0;
+    };
+    const double others = 3.0 * sq(fit->quantization) / (t * t) +
+                          2.0 * std::numbers::ln2 / std::numbers::pi * sq(fit->bias_instability) +
+                          sq(fit->rrw) * t / 3.0 + sq(fit->rate_ramp) * t * t / 2.0;
+    a.adev_1s_arw = std::sqrt(std::max(a.adev_1s * a.adev_1s - others, 0.0) * t);
+  }
+  if (long_taus && !pts->empty() && x.size() >= 3) {
+    std::vector<std::size_t> more;
+    for (std::size_t m = 2 * pts->back().m; 2 * m + 1 <= x.size(); m *= 2) more.push_back(m);
+    if (!more.empty()) {
+      auto extra = deviation(dev_kind::oadev, x, tau_spec{tau_spec::set::list, more});
+      if (!extra) return extra.err();
+      add_confidence(*extra, dev_kind::oadev, x, level, {}, edf_rule::guarded);
+      a.long_oadev = std::move(*extra);
+    }
+  }
   a.readoffs = read_off_terms(*pts);
   a.oadev = std::move(*pts);
   a.terms = std::move(*fit);

@@ -139,6 +139,58 @@ double correlation(int alpha, double d) {
   return row[i - 1] + f * (row[i] - row[i - 1]);
 }
 
+}  // namespace
+
+short_tau_shaping detect_short_tau_shaping(std::span<const deviation_point> pts) {
+  short_tau_shaping out;
+  const std::size_t n = pts.size();
+  if (n < 7) return out;
+  for (const auto& p : pts)
+    if (!(p.edf >= 1.0 && p.dev > 0.0 && std::isfinite(p.dev))) return out;
+  // The first local minimum: beyond it the curve is the long-tau terms' and few clusters'.
+  std::size_t floor = 0;
+  while (floor + 1 < n && pts[floor + 1].dev < pts[floor].dev) ++floor;
+  const auto slope = [&](std::size_t i) {
+    return std::log(pts[i + 1].dev / pts[i].dev) / std::log(pts[i + 1].tau_s / pts[i].tau_s);
+  };
+  constexpr double z_min = 3.5;
+  std::size_t last_convex = 0;  // a strong convex kink after a concave one: bumps, not a roll-off
+  bool seen_concave = false;
+  for (std::size_t j = 1; j + 1 < n && j + 1 < floor && n - (j + 1) >= 4; ++j) {
+    const double l1 = std::log(pts[j].tau_s / pts[j - 1].tau_s);
+    const double l2 = std::log(pts[j + 1].tau_s / pts[j].tau_s);
+    const double kink = slope(j - 1) - slope(j);
+    const std::array<double, 3> a{-1.0 / l1, 1.0 / l1 + 1.0 / l2, -1.0 / l2};
+    double var = 0.0;
+    for (std::size_t p = 0; p < 3; ++p)
+      for (std::size_t q = 0; q < 3; ++q) {
+        const auto& u = pts[j - 1 + p];
+        const auto& v = pts[j - 1 + q];
+        const double d = std::abs(std::log2(v.tau_s / u.tau_s));
+        const double rho = std::sqrt(correlation(u.alpha, d) * correlation(v.alpha, d));
+        var += a[p] * a[q] * rho / (2.0 * std::sqrt(u.edf * v.edf));
+      }
+    const double z = kink / std::sqrt(std::max(var, 1e-300));
+    if (z <= -z_min && kink < -0.1 && seen_concave) last_convex = j;
+    if (z >= z_min && slope(j - 1) < -0.25) {
+      seen_concave = true;
+      out.points = j + 1;
+      out.kink_tau_s = pts[j].tau_s;
+      out.kink_z = z;
+    }
+  }
+  if (out.points > 0) {
+    // A slope steeper than white noise's among the points left out, or bumps: a line.
+    bool steep = false;
+    for (std::size_t i = 0; i + 1 < out.points; ++i) steep = steep || slope(i) < -0.75;
+    const bool alternating = last_convex > 0 && last_convex < out.points;
+    out.cause = alternating || steep ? "line" : "filter";
+  }
+  return out;
+}
+
+namespace {
+
 // Standard errors of the coefficients of `f` (terms in `mask`) by the sandwich
 // inv (A^T W S W A) inv, where W are the fit's (diagonal) weights and S the covariance of the
 // AVAR estimates: chi-squared variances 2 model^2/edf correlated between taus as above (the
@@ -252,6 +304,10 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   out.bias_instability = make_term(f.c[2], sd[2], z);
   out.rrw = make_term(f.c[3], sd[3], z);
   out.rate_ramp = make_term(f.c[4], sd[4], z);
+  for (auto* t : {&out.quantization, &out.arw, &out.bias_instability, &out.rrw, &out.rate_ramp})
+    t->range_lo = t->range_hi = t->value;
+  out.fit_tau_lo_s = p.front().tau_s;
+  out.fit_tau_hi_s = p.back().tau_s;
   // The bias-instability floor is the first local minimum of OADEV: later minima at long tau
   // rest on a handful of clusters (ADIS16405 X: 2 % lower at 1311 s than at 82 s, +-40 %).
   auto floor = p.begin();

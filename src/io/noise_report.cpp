@@ -2,6 +2,8 @@
 /// \brief The noise report's JSON object (noise_report.hpp).
 #include "gyroflip/io/noise_report.hpp"
 
+#include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -23,6 +25,9 @@ void put(json& j, const std::string& key, const analysis::noise_term& t, double 
     j[key] = t.value * to_unit;
     j[key + "_lo"] = t.lo * to_unit;
     j[key + "_hi"] = t.hi * to_unit;
+    // The readings over the alternative fit ranges, which [lo, hi] includes.
+    j[key + "_range_lo"] = t.range_lo * to_unit;
+    j[key + "_range_hi"] = t.range_hi * to_unit;
   } else {
     j[key] = nullptr;
     j[key + "_upper"] = t.hi * to_unit;
@@ -72,6 +77,40 @@ json noise_json(const noise_report& r) {
                       {"ci_hi", p.ci_hi},
                       {"edf", p.edf}});
   j["oadev"] = std::move(points);
+  // Beyond Stable32's m <= (N-1)/4, with long_taus: shown, never fitted.
+  json long_points = json::array();
+  for (const auto& p : c.long_oadev)
+    long_points.push_back({{"tau_s", p.tau_s},
+                           {"dev", p.dev},
+                           {"ci_lo", p.ci_lo},
+                           {"ci_hi", p.ci_hi},
+                           {"edf", p.edf}});
+  j["long_oadev"] = std::move(long_points);
+  j["fit_tau_lo_s"] = f.fit_tau_lo_s;
+  j["fit_tau_hi_s"] = f.fit_tau_hi_s;
+  j["fit_ranges"] = f.fit_ranges;
+  j["fit_min_tau_s"] = f.fit_min_tau_s;
+  j["short_taus_left_out"] = c.shaping.points == 0 ? json(nullptr)
+                                                   : json{{"points", c.shaping.points},
+                                                          {"cause", c.shaping.cause},
+                                                          {"to_tau_s", c.shaping.kink_tau_s},
+                                                          {"z", c.shaping.kink_z}};
+  // The datasheet's ARW reading, ADEV(1 s) sqrt(1 s), beside the fitted N.
+  const bool has_1s = std::isfinite(c.adev_1s);
+  j["adev_1s_tau_s"] = has_1s ? json(c.adev_1s_tau_s) : json(nullptr);
+  j["adev_1s_dps"] = has_1s ? json(c.adev_1s * k) : json(nullptr);
+  j["adev_1s_deg_rth"] =
+      has_1s ? json(c.adev_1s * std::sqrt(c.adev_1s_tau_s) * k * units::deg_rth_per_deg_rts)
+             : json(nullptr);
+  j["adev_1s_less_terms_deg_rth"] =
+      has_1s ? json(c.adev_1s_arw * k * units::deg_rth_per_deg_rts) : json(nullptr);
+  // N is the two-sided density (S(f) = N^2, ADEV = N/sqrt(tau)); a one-sided density is sqrt(2) N.
+  j["arw_density"] = "two-sided";
+  if (f.arw.resolved) j["arw_one_sided_dps_rthz"] = std::numbers::sqrt2 * f.arw.value * k;
+  // B in three conventions: the IEEE 952 fit (the headline), the first floor / 0.6643, and the
+  // raw floor that datasheets quote as "in-run bias stability".
+  j["bias_instability_convention"] = "IEEE 952 fit";
+  j["bias_floor_over_0664_deg_h"] = f.bias_floor_dev * k * units::dph_per_dps / 0.6643;
   json misfit = json::array();
   for (const auto& m : f.misfit)
     misfit.push_back({{"tau_s", m.tau_s},

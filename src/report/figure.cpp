@@ -205,6 +205,9 @@ std::string gp_text(std::string_view text) {
 // The key below the plot, in as many columns as fit its longest entry (each ~8 characters
 // more than its text: sample and gaps), so that it never runs off the image.
 std::string key_line(const figure& f) {
+  if (f.key_inside)
+    return "set key inside bottom left vertical opaque box lc rgb '#bbbbbb' samplen 2 spacing "
+           "1.0 font ',10'\n";
   std::size_t entries = 0, longest = 0;
   for (const auto& s : f.data)
     if (!s.title.empty() && has_points(s)) {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/drift.hpp"
+#include "gyroflip/core/error.hpp"
 #include "gyroflip/core/units.hpp"
 
 namespace gyroflip::report {
@@ -220,6 +221,7 @@ figure allan_plot(std::span<const allan_curve> curves, const term_units& u,
       from = std::min(from, p.tau_s);
       to = std::max(to, p.tau_s);
     }
+    for (const auto& p : c.beyond) to = std::max(to, p.tau_s);
     if (c.terms && !c.points.empty())
       for (const auto& [resolved, tau] : {std::pair{c.terms->arw.resolved, u.n_tau_s},
                                           std::pair{c.terms->rrw.resolved, u.k_tau_s}})
@@ -245,6 +247,18 @@ figure allan_plot(std::span<const allan_curve> curves, const term_units& u,
       s.y_hi.push_back((p.ci_hi > 0.0 ? p.ci_hi : p.dev) * k);
     }
     f.data.push_back(std::move(s));
+    if (!c.beyond.empty()) {
+      series b = points_of(col == 0 ? "open: beyond Stable32's m ≤ (N−1)/4" : "", col);
+      b.how = series::style::errorbars;
+      b.open = true;
+      for (const auto& p : c.beyond) {
+        b.x.push_back(p.tau_s);
+        b.y.push_back(p.dev * k);
+        b.y_lo.push_back((p.ci_lo > 0.0 ? p.ci_lo : p.dev) * k);
+        b.y_hi.push_back((p.ci_hi > 0.0 ? p.ci_hi : p.dev) * k);
+      }
+      f.data.push_back(std::move(b));
+    }
     if (!c.terms || c.points.empty()) continue;
     // This curve's fitted terms, in its colour, dashed, named after it when several are fitted.
     const auto& t = *c.terms;
@@ -348,6 +362,39 @@ figure gyro_allan_figure(std::span<const allan_curve> curves_dps, const std::str
   u.n_at = "1 h";
   u.k_at = "3 h";
   return allan_plot(curves_dps, u, title);
+}
+
+result<figure> noise_figure(std::span<const allan_curve> curves_dps, const std::string& unit,
+                            const std::string& title) {
+  figure f;
+  if (unit == "deg/h") {
+    f = gyro_allan_figure(curves_dps, title);
+  } else if (unit == "deg/s") {
+    f = allan_figure(curves_dps, "°/s", title);
+  } else if (unit == "rad/s") {
+    term_units u;
+    u.dev_unit = "rad/s";
+    u.dev_scale = units::rad_per_deg;
+    u.n_unit = "rad/s/√Hz";
+    u.b_unit = "rad/s";
+    u.k_unit = "rad/s²/√Hz";
+    u.n_factor = u.b_factor = u.k_factor = units::rad_per_deg;
+    u.n_at = "1 s";
+    u.k_at = "3 s";
+    f = allan_plot(curves_dps, u, title);
+  } else {
+    return usage_error("--plot-units must be deg/h, deg/s or rad/s; got " + unit);
+  }
+  f.key_inside = true;
+  for (const auto& c : curves_dps)
+    if (!c.beyond.empty() && !c.points.empty()) {
+      f.caption += fmt::format(
+          "{}Stable32 stops at τ = {} s (m ≤ (N−1)/4); open points to "
+          "m ≤ (N−1)/2, as MATLAB and allantools, rest on few terms",
+          f.caption.empty() ? "" : "; ", g3(c.points.back().tau_s));
+      break;
+    }
+  return f;
 }
 
 }  // namespace gyroflip::report

@@ -9,11 +9,14 @@
 
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/analysis/noise.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
 #include "gyroflip/analysis/readoffs.hpp"
+#include "gyroflip/analysis/sample_source.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/sensor/error_terms.hpp"
 #include "gyroflip/sensor/random.hpp"
+#include "support/synth.hpp"
 #include "support/temp_dir.hpp"
 
 namespace gyroflip::analysis {
@@ -33,6 +36,89 @@ noise_terms fit_rate(const std::vector<double>& y, double tau0_s, double level =
 // The truth lies inside the reported interval.
 bool within(const noise_term& t, double truth) {
   return t.resolved && t.lo <= truth && truth <= t.hi;
+}
+
+// The whole analysis (analyse_noise) of rate samples y at tau0_s.
+noise_analysis analyse(const std::vector<double>& y, double tau0_s, bool detect = true) {
+  const span_samples src(y);
+  const auto x = phase_source::make(src, input_kind::rate, tau0_s);
+  EXPECT_TRUE(x);
+  tau_range r;
+  r.detect_shaping = detect;
+  auto a = analyse_noise(*x, 0.683, r);
+  EXPECT_TRUE(a) << a.err().message;
+  return *a;
+}
+
+// Issue 34 item 1: records through the simulator's sensor with an ADIS16405-like anti-alias
+// filter (first-order low-pass at 28 Hz, 100 Hz samples: lag-1 correlation 0.17, first-octave
+// slope -0.33 where the real ADIS16405 shows -0.31), N = 0.04 deg/s/sqrt(Hz) (2.4 deg/sqrt(h)),
+// B = 0.008 deg/s, 2^19 samples, 8 fixed seeds (bench/noise_fit_coverage.cpp runs 200). The
+// default fit leaves the filtered short taus out: N within 2 % of the truth in >= 7 of 8 seeds,
+// its interval holding the truth in >= 6. With every tau fitted (the fit before issue 34, and
+// detect_shaping false) N is 3-4 % low in every seed: >= 7 of 8 beyond 2 %.
+TEST(NoiseFit, DefaultFitLeavesTheFilteredShortTausOut) {
+  constexpr double n_true = 0.04, b_true = 0.008;
+  int within2 = 0, inside = 0, old_beyond2 = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const auto y = test::static_gyro_rates(n_true, b_true, 0.0, 28.0, 0.01, 1u << 19, seed);
+    const auto a = analyse(y, 0.01);
+    EXPECT_GE(a.shaping.points, 2u) << seed;
+    EXPECT_EQ(a.shaping.cause, "filter") << seed;
+    EXPECT_FALSE(a.terms.quantization.resolved) << seed;
+    within2 += std::abs(a.terms.arw.value / n_true - 1.0) <= 0.02;
+    inside += within(a.terms.arw, n_true);
+    // The interval holds every reading of the other fit ranges.
+    EXPECT_EQ(a.terms.fit_ranges, 5u);
+    EXPECT_LE(a.terms.arw.lo, a.terms.arw.range_lo);
+    EXPECT_LE(a.terms.arw.range_lo, a.terms.arw.value);
+    EXPECT_LE(a.terms.arw.value, a.terms.arw.range_hi);
+    EXPECT_LE(a.terms.arw.range_hi, a.terms.arw.hi);
+    const auto old = analyse(y, 0.01, false);
+    EXPECT_EQ(old.shaping.points, 0u);
+    old_beyond2 += old.terms.arw.value < 0.98 * n_true;
+  }
+  EXPECT_GE(within2, 7);
+  EXPECT_GE(inside, 6);
+  EXPECT_GE(old_beyond2, 7);
+}
+
+// A 20 Hz line at 100 Hz (as on the ADIS16405's Z axis): octave taus fall alternately on its
+// bumps (ADEV 0.37, 0.36, 0.19, 0.15 deg/s at 0.01 ... 0.08 s, the ADIS16405 Z's 0.38 at
+// 0.02 s), which the fit over every tau cannot describe. The default fit leaves those taus out:
+// no Q, N within 2 %.
+TEST(NoiseFit, ASpectralLineIsNotReadAsQuantisation) {
+  constexpr double n_true = 0.04;
+  const auto y = test::static_gyro_rates(n_true, 0.008, 0.0, 28.0, 0.01, 1u << 19, 3, 0.4, 20.0);
+  const auto old = analyse(y, 0.01, false);
+  // Every tau fitted: N 3 % high, chi2/dof 9 (on the real ADIS16405 Z a Q 10x too large).
+  EXPECT_GT(std::abs(old.terms.arw.value / n_true - 1.0), 0.02);
+  EXPECT_GT(old.terms.chi2_per_dof, 4.0);
+  const auto a = analyse(y, 0.01);
+  EXPECT_EQ(a.shaping.cause, "line");
+  EXPECT_FALSE(a.terms.quantization.resolved);
+  EXPECT_NEAR(a.terms.arw.value / n_true, 1.0, 0.02);
+}
+
+// A real quantisation term (white angle noise, ADEV slope -1) bends the curve the convex way:
+// nothing is left out and Q is resolved near its truth.
+TEST(NoiseFit, RealQuantisationIsKept) {
+  constexpr double n_true = 0.005, q_true = 2e-3, dt = 0.01;
+  sensor::normal_stream white(5, sensor::stream::user);
+  sensor::normal_stream angle(5, static_cast<sensor::stream>(17));
+  std::vector<double> y(1u << 18);
+  // White angle noise e of std q sqrt(3)... : AVAR 3 sigma_e^2 / tau^2 = 3 Q^2 / tau^2.
+  double e_prev = q_true * angle.next();
+  for (auto& v : y) {
+    const double e = q_true * angle.next();
+    v = n_true / std::sqrt(dt) * white.next() + (e - e_prev) / dt;
+    e_prev = e;
+  }
+  const auto a = analyse(y, dt);
+  EXPECT_EQ(a.shaping.points, 0u);
+  ASSERT_TRUE(a.terms.quantization.resolved);
+  EXPECT_NEAR(a.terms.quantization.value / q_true, 1.0, 0.1);
+  EXPECT_TRUE(within(a.terms.arw, n_true));
 }
 
 // Regression (issue 13 item 14, 2026-11-23): on pure white rate noise (360 000 samples at
@@ -182,6 +268,16 @@ TEST(NoiseFit, Adis16405FromSharedIfPresent) {
     if (a == 0) {
       EXPECT_FALSE(f.rrw.resolved);  // rate random walk is not resolved on X
     }
+    // Issue 34 item 1, the default analysis: X and Y leave the filtered short taus out (the fit
+    // over all taus was 5.8 % below ADEV(1 s) on X), Z the 20 Hz line's (read as a Q 10x the
+    // real one before). N's interval holds ADEV(1 s) less the other fitted terms there.
+    const auto n = analyse(std::vector<double>(s->values().begin(), s->values().end()), 0.01);
+    EXPECT_EQ(n.shaping.cause, a == 2 ? "line" : "filter");
+    EXPECT_FALSE(n.terms.quantization.resolved);
+    EXPECT_NEAR(n.adev_1s_tau_s, 1.0, 1e-12);
+    EXPECT_LE(n.terms.arw.lo, n.adev_1s_arw);
+    EXPECT_GE(n.terms.arw.hi, n.adev_1s_arw);
+    EXPECT_NEAR(n.terms.arw.value / n.adev_1s, 1.0, 0.03);
   }
 }
 

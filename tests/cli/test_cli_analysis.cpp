@@ -222,6 +222,48 @@ TEST(CliNoise, JsonKeysAndWhiteNoiseArw) {
   EXPECT_EQ(run_cli({"noise", d.file("w.npy"), "--rate", "100", "--ci", "1.5"}).exit_code, 2);
 }
 
+// Issue 34 item 2: `noise --plot` draws every column's curve with its fitted lines, in deg/h by
+// default, the key inside the frame, the given title; --long-taus adds the points to
+// m <= (N-1)/2 (open, not fitted) and says where Stable32 stops; a unit it cannot draw is usage.
+TEST(CliNoise, PlotDrawsEveryColumnWithTheKeyInside) {
+  temp_dir d;
+  normal_source n(8);
+  std::string csv = "time_s,gx_dps,gy_dps\n";
+  for (int k = 0; k < 20000; ++k) {
+    char row[96];
+    std::snprintf(row, sizeof row, "%.2f,%.9g,%.9g\n", k * 0.01, 0.05 * n(), 0.07 * n());
+    csv += row;
+  }
+  write_text(d.file("g.csv"), csv);
+  const auto r = run_cli({"noise", d.file("g.csv"), "--columns", "all-numeric", "--plot",
+                          d.file("fig.svg"), "--title", "two axes", "--long-taus", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(exists(d.file("fig.svg")));
+  const auto gp = read_text(d.file("fig.gp"));
+  EXPECT_NE(gp.find("set key inside"), std::string::npos);
+  EXPECT_NE(gp.find("two axes"), std::string::npos);
+  EXPECT_NE(gp.find("Allan deviation (°/h)"), std::string::npos);
+  EXPECT_NE(gp.find("gx_dps: N = "), std::string::npos);
+  EXPECT_NE(gp.find("gy_dps: N = "), std::string::npos);
+  EXPECT_NE(gp.find("Stable32 stops"), std::string::npos);
+  const auto j = json::parse(r.out);
+  for (const auto& c : j["columns"]) {
+    ASSERT_FALSE(c["long_oadev"].empty());
+    // Beyond (N-1)/4 and within (N-1)/2 of the 20 001 phase points.
+    EXPECT_GT(c["long_oadev"].back()["tau_s"].get<double>(),
+              c["oadev"].back()["tau_s"].get<double>());
+    EXPECT_LE(c["long_oadev"].back()["tau_s"].get<double>(), 100.0);
+  }
+  const auto rad = run_cli({"noise", d.file("g.csv"), "--column", "gx_dps", "--plot",
+                            d.file("r.png"), "--plot-units", "rad/s"});
+  ASSERT_EQ(rad.exit_code, 0) << rad.err;
+  EXPECT_NE(read_text(d.file("r.gp")).find("Allan deviation (rad/s)"), std::string::npos);
+  EXPECT_EQ(run_cli({"noise", d.file("g.csv"), "--plot", d.file("x.png"), "--plot-units", "mg"})
+                .exit_code,
+            2);
+  EXPECT_EQ(run_cli({"noise", d.file("g.csv"), "--plot", d.file("x.txt")}).exit_code, 2);
+}
+
 // Regression (issue 13 item 15, 2026-11-23): the demo printed `B 3.854 [3.149, 4.449] deg/h (OADEV
 // floor ... at tau 229 s)` for the abba-compensated simulated run, whose OADEV still falls at its
 // last point, while the same run compensated with the simple pairing is white. Now the abba

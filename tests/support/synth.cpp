@@ -1,10 +1,36 @@
 #include "support/synth.hpp"
 
 #include <cmath>
+#include <numbers>
+
+#include "gyroflip/sensor/gyro.hpp"
 
 #include <fmt/format.h>
 
 namespace gyroflip::test {
+
+std::vector<double> static_gyro_rates(double arw_dps_rthz, double b_dps, double k_dps_rts,
+                                      double bandwidth_hz, double dt_s, std::size_t n,
+                                      std::uint64_t seed, double line_dps, double line_hz) {
+  sensor::sensor_params p;
+  p.arw_dps_rthz = arw_dps_rthz;
+  p.bias_instability_dps = b_dps;
+  p.flicker_tau_min_s = 2.0 * dt_s;  // flicker down to the shortest taus fitted
+  p.flicker_tau_max_s = 1e4;
+  p.rrw_dps_per_rts = k_dps_rts;
+  p.bandwidth_hz = bandwidth_hz;
+  p.range_dps = 1e6;  // never saturates
+  auto g = sensor::gyro::make(p, dt_s, 0.0, seed);
+  std::vector<double> y(n);
+  if (!g) return {};
+  const double phase = 0.7 * static_cast<double>(seed % 9);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = (static_cast<double>(k) + 0.5) * dt_s;
+    const double line = line_dps * std::sin(2.0 * std::numbers::pi * line_hz * t + phase);
+    y[k] = g->sample(t, p.temp_ref_c, line).v_rel / p.scale_factor_v_per_dps;
+  }
+  return y;
+}
 
 std::vector<method::row> synth_rows(const synth_spec& s) {
   normal_source noise(s.seed);

@@ -34,6 +34,17 @@ std::vector<method::row> synth_rows(const synth_spec& s);
 /// CSV text of rows (columns time_s,angle_deg,rate_dps[,temp_c],n_avg; `# ` metadata first).
 std::string to_csv(const std::vector<method::row>& rows, bool with_temp);
 
+/// A static gyro record through the simulator's sensor (sensor/gyro.hpp): `n` rate samples
+/// (deg/s) every `dt_s` of a sensor with noise terms N (`arw_dps_rthz`), B (`b_dps`, its
+/// Gauss-Markov flicker bank from 2 dt to 1e4 s, so that
+/// its floor holds at every tau fitted), K (`k_dps_rts`) and a first-order low-pass of
+/// corner `bandwidth_hz` (0: none), at rest at its reference temperature, plus a sinusoid of
+/// amplitude `line_dps` at `line_hz` (a spectral line; 0: none). Known truth for the noise fit.
+std::vector<double> static_gyro_rates(double arw_dps_rthz, double b_dps, double k_dps_rts,
+                                      double bandwidth_hz, double dt_s, std::size_t n,
+                                      std::uint64_t seed, double line_dps = 0.0,
+                                      double line_hz = 0.0);
+
 /// A deterministic N(0,1) source: the simulator's generator on its first free stream
 /// (sensor/random.hpp; never std::normal_distribution, which differs between platforms).
 class normal_source {

@@ -28,6 +28,22 @@ struct noise_term {
   double value = 0.0;     ///< coefficient in the term's base unit (see noise_terms)
   double lo = 0.0;        ///< lower end of the interval (resolved terms)
   double hi = 0.0;        ///< upper end; for unresolved terms the upper limit
+  /// The lowest and highest value the term takes over the alternative fit ranges (the default
+  /// range with one or two more short taus left out, and with the longest tau left out;
+  /// analyse_noise): the fit-range systematic, which [lo, hi] includes. Equal to `value` when
+  /// only one range was fitted or no alternative resolved the term.
+  double range_lo = 0.0, range_hi = 0.0;
+};
+
+/// Where the shortest taus of an Allan curve are shaped by something that is not one of the five
+/// IEEE 952 terms (detect_short_tau_shaping).
+struct short_tau_shaping {
+  std::size_t points = 0;  ///< leading points left out of the fit (0: none)
+  /// "filter": the sensor's low-pass (anti-alias) roll-off, the curve below the N/sqrt(tau) line
+  /// and bending down to it; "line": a spectral line (a sinusoid's bumps, alternating kinks).
+  std::string cause;
+  double kink_tau_s = 0.0;  ///< tau of the last significant concave kink (the last point left out)
+  double kink_z = 0.0;      ///< its significance (kink / standard error)
 };
 
 /// A point where the fitted model leaves the measured point's interval.
@@ -54,6 +70,9 @@ struct noise_terms {
   double chi2_per_dof = 0.0;         ///< weighted fit quality
   double level = 0.683;              ///< two-sided confidence level of the intervals
   std::vector<std::string> notes;    ///< terms not resolved, and why
+  double fit_tau_lo_s = 0.0;         ///< the shortest tau fitted
+  double fit_tau_hi_s = 0.0;         ///< the longest tau fitted
+  std::size_t fit_ranges = 1;        ///< ranges fitted for the fit-range systematic (1: none)
 };
 
 /// What the analysed series is, where that changes the model.
@@ -64,6 +83,18 @@ struct noise_series {
   /// uses; without it the 44 % deficit at tau = T reads as a bias-instability floor.
   double abba_cycle_s = 0.0;
 };
+
+/// The leading points of `pts` (OADEV at octave taus with EDF and alpha, increasing tau) that the
+/// five-term model cannot describe. Every term's tau*AVAR is a power of tau with a non-negative
+/// coefficient, so the model's log-log curve is convex: the slope of its ADEV never decreases
+/// with tau. A decreasing slope (a concave kink at point j: slope(j-1, j) - slope(j, j+1) > 0)
+/// is shaped by something else: a low-pass filter (the curve rises from below to the N line,
+/// first-octave slope -0.31 instead of -1/2 on the ADIS16405) or a spectral line (bumps that
+/// alternate). Kinks are tested against their standard error (Var ln sigma = 1/(2 edf), the
+/// octaves correlated as in the fit's sandwich); the points up to the last kink with z >= 3.5
+/// whose left segment still falls steeper than -1/4 and that lies before the first local minimum
+/// are left out, keeping at least 4 points. docs/ANALYSIS.md, "Short taus shaped by the filter".
+[[nodiscard]] short_tau_shaping detect_short_tau_shaping(std::span<const deviation_point> pts);
 
 /// Fits the IEEE 952 terms to OADEV points carrying EDF and alpha (add_confidence), with
 /// intervals at two-sided confidence `level` in (0, 1) (0.683 = 1 sigma). Needs >= 3 points.

@@ -21,11 +21,12 @@ struct slope_readoffs {
   /// +1/2; empty when the curve never rises.
   std::optional<double> rrw;
   double rrw_from_tau_s = 0.0;
-  /// B = floor / 0.6643 (flicker floor sqrt(2 ln 2 / pi) B): the lowest point of the curve.
+  /// B = floor / 0.6643 (flicker floor sqrt(2 ln 2 / pi) B): the curve's first local minimum
+  /// (a later one at long tau rests on a few clusters), or its last point when it still falls.
   double bias_instability = 0.0;
   double floor_tau_s = 0.0;
   double floor_dev = 0.0;
-  /// True when the lowest point has a higher point after it (a real minimum), false when the
+  /// True when the floor point has a higher point after it (a real minimum), false when the
   /// curve still falls at its longest tau (B is then an upper bound).
   bool floor_is_minimum = false;
 };

@@ -64,6 +64,9 @@ struct figure {
   axis x, y;
   std::vector<series> data;
   std::vector<annotation> notes;
+  /// The key inside the frame, at its bottom left, opaque (the noise figure: an Allan curve
+  /// leaves that corner empty); otherwise below the plot, where it hides no data.
+  bool key_inside = false;
 };
 
 /// The Okabe-Ito palette, in the order figures use it (hex RGB).

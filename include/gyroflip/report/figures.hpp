@@ -53,6 +53,9 @@ struct allan_curve {
   std::string name;
   std::vector<analysis::deviation_point> points;
   std::optional<analysis::noise_terms> terms;
+  /// Points beyond Stable32's m <= (N-1)/4, up to (N-1)/2 (noise --long-taus): drawn open, not
+  /// joined, not fitted.
+  std::vector<analysis::deviation_point> beyond = {};
 };
 
 /// Log-log deviation against tau with confidence bars for every curve; for the first curve with
@@ -69,5 +72,13 @@ struct allan_curve {
 /// that every number on the plot is the table's number (IEEE 952 Annex C; FACTS §7).
 [[nodiscard]] figure gyro_allan_figure(std::span<const allan_curve> curves_dps,
                                        const std::string& title);
+
+/// The deliverable figure of `gyroflip noise --plot` (issue 34 item 2): every curve (one per
+/// axis, in deg/s) with its bounds, its fitted term lines and read-off marks, in `unit`: "deg/h"
+/// (N in deg/sqrt(h) read at 1 h, K in deg/h/sqrt(h) at 3 h: gyro_allan_figure's), "deg/s" or
+/// "rad/s" (N read at 1 s, K at 3 s); the key inside the frame; points beyond Stable32's limit
+/// open, with the limit's tau in the caption. Error (usage) for another unit.
+[[nodiscard]] result<figure> noise_figure(std::span<const allan_curve> curves_dps,
+                                          const std::string& unit, const std::string& title);
 
 }  // namespace gyroflip::report
