@@ -129,7 +129,7 @@ void rig_run_builder::add_damage(const gfr::damaged_region& d) {
   e.type = ev::damage;
   e.record = d.before;
   events_.push_back(e);
-  ++run_.damaged_regions;
+  if (!d.again) ++run_.damaged_regions;
 }
 
 status rig_run_builder::add(const gfr::record& r, std::size_t n) {
@@ -697,8 +697,11 @@ result<rig_run> rig_run_builder::finish() && {
     // Time 0 is the start of the first run's first dwell (cycle 0, position 0): where that dwell
     // is lost (on the line, or in damage), as many of the run's steps before its first one read,
     // so that a dwell lost does not move every time of the file.
+    // (Host times are differences of a steady clock: a later run's first dwell arrives after the
+    // last one's, or with it; never a negative gap.)
+    const std::uint64_t host_now = events_[v.front()].host_us;
     const double offset_s =
-        any ? last_end_s + static_cast<double>(events_[v.front()].host_us - last_host_us) * 1e-6
+        any ? last_end_s + static_cast<double>(host_now - std::min(host_now, last_host_us)) * 1e-6
             : ticks_per_dwell * static_cast<double>(k_of(msg(v.front()))) / hz;
     std::int64_t start_ticks = 0;  // from the run's first dwell
     std::uint32_t prev_raw = msg(v.front()).t_start_ticks;

@@ -233,6 +233,62 @@ TEST(RigRecovery, RandomFlipsAndZeroedRegionsRecoverEveryIntactDwell) {
   }
 }
 
+// A block of the file written twice, or two blocks swapped (a copy or a filesystem's error),
+// invented a device boot (the clock "went back", so a reset record was "lost"), exported dwells
+// twice at times of 2^64 us, and called intact dwells "never arrived" (review of issue 32,
+// finding 1). The writer's host clock never goes back: repeats are read once, records out of
+// place in the order of their host times. The fixed-seed form of bench/gfr_recovery --dups
+// --swaps: every intact dwell recovered, none mislabelled, none twice, none timed outside the
+// recording, none counted lost.
+TEST(RigRecovery, RepeatedOrSwappedBlocksAreReadInTheirOrder) {
+  for (const bool copies : {true, false}) {
+    SCOPED_TRACE(copies ? "format 5" : "format 4");
+    gyroflip::test::temp_dir dir;
+    const auto rec = gyroflip::test::make_synthetic_recording(longer(copies), dir.file("l.gfr"));
+    damage_tally t;
+    gyroflip::test::repeat_trials(rec.bytes, 30, 4096, 51, t);
+    gyroflip::test::swap_trials(rec.bytes, 30, 4096, 52, t);
+    std::cout << (copies ? "format 5: " : "format 4: ") << t.recovered << " of " << t.intact
+              << " intact dwells recovered, " << t.mislabelled << " mislabelled, " << t.repeated
+              << " twice, " << t.beyond_span << " outside the span, " << t.false_lost
+              << " counted lost\n";
+    EXPECT_EQ(t.trials, 60u);
+    EXPECT_EQ(t.unreadable, 0u);
+    EXPECT_EQ(t.recovered, t.intact);
+    EXPECT_EQ(t.mislabelled, 0u);
+    EXPECT_EQ(t.repeated, 0u);
+    EXPECT_EQ(t.beyond_span, 0u);
+    EXPECT_EQ(t.false_lost, 0u);
+    for (const auto& n : t.notes) ADD_FAILURE() << n;
+  }
+}
+
+// The review's case: a block written twice right after itself. Read once, with one warning
+// that counts the repeats and names the first one's offset.
+TEST(RigRecovery, ARepeatedBlockIsReadOnceWithAWarning) {
+  gyroflip::test::temp_dir dir;
+  const auto rec = gyroflip::test::make_synthetic_recording(longer(true), dir.file("l.gfr"));
+  const auto clean = read(rec.bytes);
+  const std::size_t at = 20000, len = 3618;
+  bytes b(rec.bytes.begin(), rec.bytes.begin() + at + len);
+  b.insert(b.end(), rec.bytes.begin() + at, rec.bytes.begin() + at + len);
+  b.insert(b.end(), rec.bytes.begin() + at + len, rec.bytes.end());
+  auto f = gfr::parse(b, "r.gfr");
+  ASSERT_TRUE(f) << f.err().message;
+  EXPECT_GT(f->repeats, 10u);
+  EXPECT_EQ(f->misplaced, 0u);
+  const auto run = read(b);
+  EXPECT_TRUE(same_dwells(run, clean));
+  EXPECT_EQ(run.device_resets, clean.device_resets);
+  EXPECT_EQ(run.inferred_resets, 0u);
+  EXPECT_EQ(run.lost_dwells, clean.lost_dwells);
+  bool told = false;
+  for (const auto& w : f->warnings)
+    told = told || w.find("records repeat records read before them") != std::string::npos;
+  EXPECT_TRUE(told);
+  EXPECT_FALSE(gfr::parse(b, "r.gfr", true));
+}
+
 // One bit in START made `export` write 0 rows with exit 0; a recording none of whose dwells can
 // be labelled is now refused, naming why, and nothing is written.
 TEST(RigRecovery, ExportRefusesARecordingWithNoDwellItCanLabel) {
