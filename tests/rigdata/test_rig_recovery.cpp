@@ -6,6 +6,7 @@
 // The small fixed-seed form of bench/gfr_recovery (docs/RELIABILITY.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -287,6 +288,77 @@ TEST(RigRecovery, ARepeatedBlockIsReadOnceWithAWarning) {
     told = told || w.find("records repeat records read before them") != std::string::npos;
   EXPECT_TRUE(told);
   EXPECT_FALSE(gfr::parse(b, "r.gfr", true));
+}
+
+// A file cut before a late START record (its replies lost, the recorder retrying while the
+// device ran) lost every dwell stored before it: "arrived outside an acknowledged run" (review of
+// issue 32, finding 4). The firmware starts only with the configuration in force, which only an
+// acknowledged CONFIGURE changes, and refuses CONFIGURE while running: dwells after the ACK of a
+// CONFIGURE of their boot, with no other CONFIGURE acknowledged since, are labelled by it. Never
+// when another CONFIGURE was acknowledged (its record not written) or its record is missing.
+TEST(RigRecovery, DwellsOfAStartNotInTheFileAreLabelledByTheirBootsConfigure) {
+  gyroflip::test::temp_dir dir;
+  auto o = small(false);
+  o.link_losses_after.clear();
+  const auto rec = gyroflip::test::make_synthetic_recording(o, dir.file("s.gfr"));
+  const auto f = gfr::parse(rec.bytes, "s.gfr");
+  ASSERT_TRUE(f);
+  const auto clean = read(rec.bytes);
+  ASSERT_EQ(clean.dwells.size(), rec.dwells.size());
+  // The file without the records `drop` (indices into its records), and with `extra` in place of
+  // the first of them.
+  const auto without = [&](std::vector<std::size_t> drop, const bytes& extra = {}) {
+    bytes b(rec.bytes.begin(), rec.bytes.begin() + gfr::file_header_bytes);
+    for (std::size_t i = 0; i < f->records.size(); ++i) {
+      const auto& r = f->records[i];
+      if (std::find(drop.begin(), drop.end(), i) != drop.end()) {
+        if (i == drop.front()) b.insert(b.end(), extra.begin(), extra.end());
+        continue;
+      }
+      const auto at = static_cast<std::ptrdiff_t>(r.offset);
+      b.insert(b.end(), rec.bytes.begin() + at,
+               rec.bytes.begin() + at +
+                   static_cast<std::ptrdiff_t>(gfr::record_overhead + r.body.size()));
+    }
+    return b;
+  };
+  std::vector<std::size_t> starts, configures;
+  for (std::size_t i = 0; i < f->records.size(); ++i) {
+    if (f->records[i].type == gfr::kind::start) starts.push_back(i);
+    if (f->records[i].type == gfr::kind::configure) configures.push_back(i);
+  }
+  ASSERT_EQ(starts.size(), 2u);
+  for (const std::size_t nth : {0u, 1u}) {
+    SCOPED_TRACE(nth);
+    const auto run = read(without({starts[nth]}));
+    EXPECT_TRUE(same_dwells(run, clean));
+    EXPECT_EQ(run.outside_runs, 0u);
+    EXPECT_GT(run.by_configure, 0u);
+  }
+  {
+    SCOPED_TRACE("its CONFIGURE record missing too");
+    const auto run = read(without({configures[0], starts[0]}));
+    EXPECT_EQ(run.by_configure, 0u);
+    for (const auto& d : run.dwells) EXPECT_EQ(d.segment, run.dwells.front().segment);
+    EXPECT_GT(run.outside_runs, 0u);
+  }
+  {
+    SCOPED_TRACE(
+        "another CONFIGURE acknowledged (the ACK of START's place), its record not written");
+    const std::size_t ack = starts[0] - 1;
+    auto body = f->records[ack].body;  // u8 type, u16 seq, ACK payload
+    gyroflip::protocol::ack_msg a;
+    ASSERT_TRUE((gyroflip::protocol::frame{body[0], 0, body.data() + 3, body.size() - 3}.as(a)));
+    a.of_type = static_cast<std::uint8_t>(gyroflip::protocol::msg::configure);
+    const auto payload = gyroflip::test::payload_of(a);
+    body.resize(3);
+    body.insert(body.end(), payload.begin(), payload.end());
+    const auto run =
+        read(without({ack, starts[0]}, gyroflip::test::encode_record(
+                                           gfr::kind::frame, f->records[ack].host_time_us, body)));
+    EXPECT_EQ(run.by_configure, 0u);
+    EXPECT_GT(run.outside_runs, 0u);
+  }
 }
 
 // One bit in START made `export` write 0 rows with exit 0; a recording none of whose dwells can
