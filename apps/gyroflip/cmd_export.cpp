@@ -142,11 +142,18 @@ int run_export(const export_options& o) {
         {o.file}, fmt::format("none of its {} dwells can be placed in a run of its board with "
                               "their angles (the warnings above say why): nothing written",
                               held)));
-  if (run->lost_dwells != 0)
+  // A dwell missing from a file with damaged regions may have been stored in one of them: it
+  // is not said to have never arrived.
+  if (run->lost_dwells != 0 && run->damaged_regions == 0)
     warn(
         fmt::format("{}: {} dwells never arrived (the device no longer had them when they were "
                     "asked for again); the gap records count them",
                     o.file, run->lost_dwells));
+  else if (run->lost_dwells != 0)
+    warn(
+        fmt::format("{}: {} dwells are missing: lost on the line (the gap records count those) "
+                    "or stored in the {} damaged regions of the file",
+                    o.file, run->lost_dwells, run->damaged_regions));
   if (o.raw && run->conversions.empty())
     return report(input_error(
         {o.file}, "no RAW conversions in this recording (record with --raw to keep them)"));

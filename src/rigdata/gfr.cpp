@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 
 #include <fcntl.h>
@@ -22,6 +23,8 @@
 namespace gyroflip::rigdata::gfr {
 
 namespace {
+
+constexpr std::size_t npos_index = static_cast<std::size_t>(-1);
 
 void put_u16(std::vector<std::uint8_t>& b, std::uint16_t v) {
   b.push_back(static_cast<std::uint8_t>(v));
@@ -278,24 +281,31 @@ void merge_copies(file& out, const std::string& name, std::size_t end) {
                         name, c.number, same->number));
       continue;
     }
-    // The original must lie in bytes no record read covers (a damaged region).
+    // The original lies in bytes no record read covers (a damaged region), or where other
+    // records were read (a block of the file moved there), and is not read intact elsewhere (a
+    // block moved, or bytes repeated before it: its offset changed).
     const std::uint64_t o_end = o->offset + record_overhead + o->body.size();
-    const bool inside_damage = o->offset >= file_header_bytes && o_end <= end &&
-                               std::none_of(spans.begin(), spans.end(), [&](const auto& s) {
-                                 return s.first < o_end && o->offset < s.second;
-                               });
-    if (!inside_damage || covered_by_record(o->offset) ||
+    const bool in_file = o->offset >= file_header_bytes && o_end <= end;
+    const bool inside_damage =
+        in_file && std::none_of(spans.begin(), spans.end(), [&](const auto& s) {
+          return s.first < o_end && o->offset < s.second;
+        });
+    const bool read_elsewhere = std::any_of(recs.begin(), recs.end(), [&](const record& r) {
+      return r.host_time_us == o->host_time_us && r.type == o->type && r.body == o->body;
+    });
+    if (!in_file || read_elsewhere || covered_by_record(o->offset) ||
         std::any_of(put_back.begin(), put_back.end(),
                     [&](const record& r) { return r.offset == o->offset; })) {
-      if (!inside_damage)
+      if (!in_file && !read_elsewhere)
         out.warnings.push_back(fmt::format(
-            "{}: record {}: a COPY of a record at offset {}, where no record was damaged; ignored",
+            "{}: record {}: a COPY of a record at offset {}, outside the records read; ignored",
             name, c.number, o->offset));
       continue;
     }
-    out.warnings.push_back(fmt::format(
-        "{}: record {}: the damaged record at offset {} ({}) is put back from its copy", name,
-        c.number, o->offset, o->type == kind::meta ? "META" : "a record the others depend on"));
+    out.warnings.push_back(
+        fmt::format("{}: record {}: the {} record at offset {} ({}) is put back from its copy",
+                    name, c.number, inside_damage ? "damaged" : "displaced", o->offset,
+                    o->type == kind::meta ? "META" : "a record the others depend on"));
     put_back.push_back(std::move(*o));
   }
   out.restored = put_back.size();
@@ -319,6 +329,112 @@ void merge_copies(file& out, const std::string& name, std::size_t end) {
     at = std::max(at, hi);
   }
   out.records = std::move(recs);
+}
+
+// Records in the order the writer appended them. The writer's host clock is a steady clock, so
+// host times never go back in a file as written: a record that repeats one read before it (the
+// same kind, host time and body) is a block written twice, and is read once; records whose host
+// times go back are out of place (blocks moved or swapped), and are read in the order of their
+// host times. A damaged region among records out of place may have held records of both of its
+// neighbours' places: it stands after the one before it and before the one after it.
+void put_in_order(file& out, const std::string& name) {
+  auto& recs = out.records;
+  const auto body_hash = [](const record& r) {
+    return (std::uint64_t{crc32(r.body)} << 32) ^ r.host_time_us ^
+           (std::uint64_t{static_cast<std::uint8_t>(r.type)} << 56);
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> seen;
+  std::vector<std::size_t> kept_before(recs.size() + 1, 0);  // records kept before each index
+  std::vector<record> kept;
+  kept.reserve(recs.size());
+  std::optional<std::uint64_t> first_repeat;
+  for (std::size_t i = 0; i < recs.size(); ++i) {
+    kept_before[i] = kept.size();
+    auto& same = seen[body_hash(recs[i])];
+    const bool repeat = std::any_of(same.begin(), same.end(), [&](std::size_t k) {
+      return kept[k].type == recs[i].type && kept[k].host_time_us == recs[i].host_time_us &&
+             kept[k].body == recs[i].body;
+    });
+    if (repeat) {
+      ++out.repeats;
+      if (!first_repeat) first_repeat = recs[i].offset;
+      continue;
+    }
+    same.push_back(kept.size());
+    kept.push_back(std::move(recs[i]));
+  }
+  kept_before[recs.size()] = kept.size();
+  for (auto& d : out.damaged) d.before = kept_before[d.before];
+  recs = std::move(kept);
+  if (out.repeats != 0)
+    out.warnings.push_back(fmt::format(
+        "{}: {} records repeat records read before them (the same kind, host time and body; the "
+        "first at offset {}: a block of the file written twice); each is read once",
+        name, out.repeats, *first_repeat));
+  const bool in_order = std::is_sorted(recs.begin(), recs.end(), [](const auto& a, const auto& b) {
+    return a.host_time_us < b.host_time_us;
+  });
+  if (in_order) return;
+  // The records in place: the longest run in file order whose host times never go back
+  // (patience sorting); the others are out of place.
+  const std::size_t n = recs.size();
+  std::vector<std::size_t> tails, prev(n, npos_index);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto it =
+        std::upper_bound(tails.begin(), tails.end(), recs[i].host_time_us,
+                         [&](std::uint64_t t, std::size_t k) { return t < recs[k].host_time_us; });
+    if (it != tails.begin()) prev[i] = *(it - 1);
+    if (it == tails.end()) {
+      tails.push_back(i);
+    } else {
+      *it = i;
+    }
+  }
+  std::vector<bool> in_place(n, false);
+  for (std::size_t k = tails.empty() ? npos_index : tails.back(); k != npos_index; k = prev[k])
+    in_place[k] = true;
+  for (std::size_t i = 0; i < n;) {
+    if (in_place[i]) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < n && !in_place[j]) ++j;
+    out.misplaced += j - i;
+    out.warnings.push_back(fmt::format(
+        "{}: record {}: {} records at offsets {}..{} are out of place (their host times go back: "
+        "a block of the file was moved); they are read in the order of their host times",
+        name, recs[i].number, j - i, recs[i].offset,
+        recs[j - 1].offset + record_overhead + recs[j - 1].body.size() - 1));
+    i = j;
+  }
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return recs[a].host_time_us < recs[b].host_time_us;
+  });
+  std::vector<std::size_t> pos(n);
+  for (std::size_t k = 0; k < n; ++k) pos[order[k]] = k;
+  std::vector<damaged_region> damaged;
+  for (const auto& d : out.damaged) {
+    const std::size_t after_prev = d.before == 0 ? 0 : pos[d.before - 1] + 1;
+    const std::size_t before_next = d.before >= n ? n : pos[d.before];
+    damaged_region a = d;
+    a.before = after_prev;
+    damaged.push_back(a);
+    if (before_next != after_prev) {
+      a.before = before_next;
+      a.again = true;
+      damaged.push_back(a);
+    }
+  }
+  std::stable_sort(damaged.begin(), damaged.end(),
+                   [](const auto& a, const auto& b) { return a.before < b.before; });
+  out.damaged = std::move(damaged);
+  std::vector<record> sorted;
+  sorted.reserve(n);
+  for (const std::size_t k : order) sorted.push_back(std::move(recs[k]));
+  recs = std::move(sorted);
 }
 
 }  // namespace
@@ -408,6 +524,9 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
     at = next;
   }
   merge_copies(out, name, end);
+  put_in_order(out, name);
+  if (strict && (out.repeats != 0 || out.misplaced != 0))
+    return at_record(name, 0, "records repeated or out of place (a block of the file moved)");
   if (out.records.empty() && out.damaged.empty())
     return at_record(name, 1, "no META record: the recorder stopped before it wrote anything");
   if (out.records.empty() || out.records.front().type != kind::meta) {
@@ -498,6 +617,10 @@ writer::~writer() {
 
 status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::uint8_t> body) {
   if (k == kind::copy) return runtime_error("COPY records are the .gfr writer's own");
+  // Host times strictly increase from record to record (one in the same microsecond as the one
+  // before it is stamped a microsecond later): the reader puts records moved in a damaged file
+  // back in their order by them, which a tie would leave open.
+  if (bytes_ > file_header_bytes && host_time_us <= last_host_us_) host_time_us = last_host_us_ + 1;
   const std::uint64_t offset = bytes_;
   if (auto s = write_record(k, host_time_us, body); !s) return s;
   if (is_copied(k, body)) pending_.push_back({offset, k, host_time_us, {body.begin(), body.end()}});

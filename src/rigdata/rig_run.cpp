@@ -129,7 +129,7 @@ void rig_run_builder::add_damage(const gfr::damaged_region& d) {
   e.type = ev::damage;
   e.record = d.before;
   events_.push_back(e);
-  ++run_.damaged_regions;
+  if (!d.again) ++run_.damaged_regions;
 }
 
 status rig_run_builder::add(const gfr::record& r, std::size_t n) {
@@ -235,6 +235,10 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
                  a.of_type == static_cast<std::uint8_t>(protocol::msg::start)) {
         ack_at_.push_back(a.at_seq);
         push(ev::ack_start, ack_at_.size() - 1, seq);
+      } else if (protocol::ack_msg c;
+                 type == protocol::msg::ack && fr.as(c) &&
+                 c.of_type == static_cast<std::uint8_t>(protocol::msg::configure)) {
+        push(ev::ack_configure, 0, seq);
       } else {
         push(ev::other, 0, seq);
       }
@@ -312,7 +316,7 @@ result<rig_run> rig_run_builder::finish() && {
   std::vector<std::size_t> epoch_of(n_ev, 0);
   const auto is_frame = [](ev t) {
     return t == ev::dwell || t == ev::raw || t == ev::status || t == ev::ack_start ||
-           t == ev::other;
+           t == ev::ack_configure || t == ev::other;
   };
 
   // 1. A reconnected line: frames stored after the port was lost (the link GAP's time less its
@@ -586,6 +590,46 @@ result<rig_run> rig_run_builder::finish() && {
     }
     return best;
   };
+  // A dwell of no START in the file (one cut off before its record was written): the device
+  // starts only with the configuration in force, which only a CONFIGURE it acknowledges changes,
+  // and refuses CONFIGURE while it runs (docs/PROTOCOL.md). So a dwell sent after the ACK of a
+  // CONFIGURE of its boot, with no other CONFIGURE acknowledged since, is of a run of that
+  // configuration. Established only when the CONFIGURE record, the ACK frame before it and the
+  // dwell lie in one boot with no damage between them (damage could hide another CONFIGURE or
+  // a reset) and the boot was set up by the recorder.
+  // The CONFIGURE record nearest before each event with no damage or other boot between, and
+  // the ACK frame the recorder wrote it on; the ACKs of CONFIGURE of each boot by number.
+  std::vector<std::size_t> cfg_before(n_ev, npos);
+  std::map<std::size_t, std::vector<std::uint64_t>> cfg_acks;
+  for (std::size_t i = 0, cur_cfg = npos; i < n_ev; ++i) {
+    if (i > 0 && (epoch_of[i] != epoch_of[i - 1] || session_of[i] != session_of[i - 1]))
+      cur_cfg = npos;
+    cfg_before[i] = cur_cfg;
+    if (events_[i].type == ev::configure) cur_cfg = marks[i] == mark::none ? i : npos;
+    if (events_[i].type == ev::ack_configure && marks[i] == mark::none)
+      cfg_acks[session_of[i]].push_back(seq_of[i]);
+  }
+  for (auto& [s, v] : cfg_acks) std::sort(v.begin(), v.end());
+  const auto configured_before = [&](std::size_t i) -> std::optional<std::size_t> {
+    const std::size_t c = cfg_before[i];
+    if (c == npos) return std::nullopt;
+    const std::size_t s = session_of[i];
+    const boot_session& b = sessions[s];
+    if (b.unannounced && (b.info_event == npos || b.info_event > c)) return std::nullopt;
+    // Its ACK: the frame before the record (the recorder writes the record on it).
+    std::size_t a = c;
+    while (a-- > 0 && events_[a].type != ev::ack_configure)
+      if (!is_frame(events_[a].type)) return std::nullopt;
+    if (a == npos || session_of[a] != s || epoch_of[a] != epoch_of[i] || marks[a] != mark::none ||
+        !(seq_of[a] < seq_of[i]))
+      return std::nullopt;
+    // No other CONFIGURE acknowledged between that ACK and the dwell, in the device's numbering.
+    const auto& acks = cfg_acks[s];
+    const auto next = std::upper_bound(acks.begin(), acks.end(), seq_of[a]);
+    if (next != acks.end() && *next < seq_of[i]) return std::nullopt;
+    return c;
+  };
+  std::map<std::size_t, std::vector<std::size_t>> by_configure;  // per CONFIGURE event
   std::vector<std::vector<std::size_t>> members(runs.size());
   std::map<std::size_t, std::vector<std::size_t>> orphans;  // per boot
   for (std::size_t i = 0; i < n_ev; ++i) {
@@ -610,7 +654,11 @@ result<rig_run> rig_run_builder::finish() && {
       ++run_.unknown_config;  // its START (and the ACK of it) lies in a damaged region
       orphans[session_of[i]].push_back(i);
     } else if (!k) {
-      ++run_.outside_runs;
+      if (const auto c = configured_before(i)) {
+        by_configure[*c].push_back(i);  // its START record is not in the file
+      } else {
+        ++run_.outside_runs;
+      }
     } else if (!runs[*k].usable) {
       ++run_.unidentified;
     } else {
@@ -618,6 +666,30 @@ result<rig_run> rig_run_builder::finish() && {
     }
   }
 
+  for (auto& [c, v] : by_configure) {
+    run_mark m;
+    m.session = session_of[c];
+    m.event = c;
+    m.config = configs_[events_[c].index];
+    m.positions = m.config->n_positions;
+    run_.by_configure += v.size();
+    runs.push_back(m);
+    members.push_back(std::move(v));
+  }
+  if (!by_configure.empty()) {  // runs numbered (segment) in file order
+    std::vector<std::size_t> by_event(runs.size());
+    for (std::size_t r = 0; r < runs.size(); ++r) by_event[r] = r;
+    std::stable_sort(by_event.begin(), by_event.end(),
+                     [&](std::size_t a, std::size_t b) { return runs[a].event < runs[b].event; });
+    std::vector<run_mark> sorted_runs;
+    std::vector<std::vector<std::size_t>> sorted_members;
+    for (const std::size_t r : by_event) {
+      sorted_runs.push_back(runs[r]);
+      sorted_members.push_back(std::move(members[r]));
+    }
+    runs = std::move(sorted_runs);
+    members = std::move(sorted_members);
+  }
   // A boot's dwells whose START and its ACK are lost are not labelled, but their clock still
   // times the file: a run of their own, for time only.
   for (auto& [session, v] : orphans) {
@@ -697,8 +769,11 @@ result<rig_run> rig_run_builder::finish() && {
     // Time 0 is the start of the first run's first dwell (cycle 0, position 0): where that dwell
     // is lost (on the line, or in damage), as many of the run's steps before its first one read,
     // so that a dwell lost does not move every time of the file.
+    // (Host times are differences of a steady clock: a later run's first dwell arrives after the
+    // last one's, or with it; never a negative gap.)
+    const std::uint64_t host_now = events_[v.front()].host_us;
     const double offset_s =
-        any ? last_end_s + static_cast<double>(events_[v.front()].host_us - last_host_us) * 1e-6
+        any ? last_end_s + static_cast<double>(host_now - std::min(host_now, last_host_us)) * 1e-6
             : ticks_per_dwell * static_cast<double>(k_of(msg(v.front()))) / hz;
     std::int64_t start_ticks = 0;  // from the run's first dwell
     std::uint32_t prev_raw = msg(v.front()).t_start_ticks;
@@ -832,6 +907,10 @@ result<rig_run> rig_run_builder::finish() && {
         "record of the reset is lost in a damaged region before it: a new device boot begins "
         "there",
         run_.path, at));
+  say(run_.by_configure,
+      "dwells of a run whose START record is not in the file (the file ends, or is damaged, "
+      "before it) are labelled by the CONFIGURE their device boot acknowledged before them (a "
+      "device starts only with the configuration in force: docs/PROTOCOL.md)");
   say(run_.rebuilt_starts,
       "START records lost in damaged regions were rebuilt from the ACK the device sent for them");
   const auto off_pair = std::count_if(run_.dwells.begin(), run_.dwells.end(), [](const auto& d) {

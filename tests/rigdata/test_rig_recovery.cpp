@@ -6,6 +6,7 @@
 // The small fixed-seed form of bench/gfr_recovery (docs/RELIABILITY.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -230,6 +231,133 @@ TEST(RigRecovery, RandomFlipsAndZeroedRegionsRecoverEveryIntactDwell) {
       EXPECT_EQ(t.recovered, t.intact);
       for (const auto& n : t.notes) ADD_FAILURE() << n;
     }
+  }
+}
+
+// A block of the file written twice, or two blocks swapped (a copy or a filesystem's error),
+// invented a device boot (the clock "went back", so a reset record was "lost"), exported dwells
+// twice at times of 2^64 us, and called intact dwells "never arrived" (review of issue 32,
+// finding 1). The writer's host clock never goes back: repeats are read once, records out of
+// place in the order of their host times. The fixed-seed form of bench/gfr_recovery --dups
+// --swaps: every intact dwell recovered, none mislabelled, none twice, none timed outside the
+// recording, none counted lost.
+TEST(RigRecovery, RepeatedOrSwappedBlocksAreReadInTheirOrder) {
+  for (const bool copies : {true, false}) {
+    SCOPED_TRACE(copies ? "format 5" : "format 4");
+    gyroflip::test::temp_dir dir;
+    const auto rec = gyroflip::test::make_synthetic_recording(longer(copies), dir.file("l.gfr"));
+    damage_tally t;
+    gyroflip::test::repeat_trials(rec.bytes, 30, 4096, 51, t);
+    gyroflip::test::swap_trials(rec.bytes, 30, 4096, 52, t);
+    std::cout << (copies ? "format 5: " : "format 4: ") << t.recovered << " of " << t.intact
+              << " intact dwells recovered, " << t.mislabelled << " mislabelled, " << t.repeated
+              << " twice, " << t.beyond_span << " outside the span, " << t.false_lost
+              << " counted lost\n";
+    EXPECT_EQ(t.trials, 60u);
+    EXPECT_EQ(t.unreadable, 0u);
+    EXPECT_EQ(t.recovered, t.intact);
+    EXPECT_EQ(t.mislabelled, 0u);
+    EXPECT_EQ(t.repeated, 0u);
+    EXPECT_EQ(t.beyond_span, 0u);
+    EXPECT_EQ(t.false_lost, 0u);
+    for (const auto& n : t.notes) ADD_FAILURE() << n;
+  }
+}
+
+// The review's case: a block written twice right after itself. Read once, with one warning
+// that counts the repeats and names the first one's offset.
+TEST(RigRecovery, ARepeatedBlockIsReadOnceWithAWarning) {
+  gyroflip::test::temp_dir dir;
+  const auto rec = gyroflip::test::make_synthetic_recording(longer(true), dir.file("l.gfr"));
+  const auto clean = read(rec.bytes);
+  const std::size_t at = 20000, len = 3618;
+  bytes b(rec.bytes.begin(), rec.bytes.begin() + at + len);
+  b.insert(b.end(), rec.bytes.begin() + at, rec.bytes.begin() + at + len);
+  b.insert(b.end(), rec.bytes.begin() + at + len, rec.bytes.end());
+  auto f = gfr::parse(b, "r.gfr");
+  ASSERT_TRUE(f) << f.err().message;
+  EXPECT_GT(f->repeats, 10u);
+  EXPECT_EQ(f->misplaced, 0u);
+  const auto run = read(b);
+  EXPECT_TRUE(same_dwells(run, clean));
+  EXPECT_EQ(run.device_resets, clean.device_resets);
+  EXPECT_EQ(run.inferred_resets, 0u);
+  EXPECT_EQ(run.lost_dwells, clean.lost_dwells);
+  bool told = false;
+  for (const auto& w : f->warnings)
+    told = told || w.find("records repeat records read before them") != std::string::npos;
+  EXPECT_TRUE(told);
+  EXPECT_FALSE(gfr::parse(b, "r.gfr", true));
+}
+
+// A file cut before a late START record (its replies lost, the recorder retrying while the
+// device ran) lost every dwell stored before it: "arrived outside an acknowledged run" (review of
+// issue 32, finding 4). The firmware starts only with the configuration in force, which only an
+// acknowledged CONFIGURE changes, and refuses CONFIGURE while running: dwells after the ACK of a
+// CONFIGURE of their boot, with no other CONFIGURE acknowledged since, are labelled by it. Never
+// when another CONFIGURE was acknowledged (its record not written) or its record is missing.
+TEST(RigRecovery, DwellsOfAStartNotInTheFileAreLabelledByTheirBootsConfigure) {
+  gyroflip::test::temp_dir dir;
+  auto o = small(false);
+  o.link_losses_after.clear();
+  const auto rec = gyroflip::test::make_synthetic_recording(o, dir.file("s.gfr"));
+  const auto f = gfr::parse(rec.bytes, "s.gfr");
+  ASSERT_TRUE(f);
+  const auto clean = read(rec.bytes);
+  ASSERT_EQ(clean.dwells.size(), rec.dwells.size());
+  // The file without the records `drop` (indices into its records), and with `extra` in place of
+  // the first of them.
+  const auto without = [&](std::vector<std::size_t> drop, const bytes& extra = {}) {
+    bytes b(rec.bytes.begin(), rec.bytes.begin() + gfr::file_header_bytes);
+    for (std::size_t i = 0; i < f->records.size(); ++i) {
+      const auto& r = f->records[i];
+      if (std::find(drop.begin(), drop.end(), i) != drop.end()) {
+        if (i == drop.front()) b.insert(b.end(), extra.begin(), extra.end());
+        continue;
+      }
+      const auto at = static_cast<std::ptrdiff_t>(r.offset);
+      b.insert(b.end(), rec.bytes.begin() + at,
+               rec.bytes.begin() + at +
+                   static_cast<std::ptrdiff_t>(gfr::record_overhead + r.body.size()));
+    }
+    return b;
+  };
+  std::vector<std::size_t> starts, configures;
+  for (std::size_t i = 0; i < f->records.size(); ++i) {
+    if (f->records[i].type == gfr::kind::start) starts.push_back(i);
+    if (f->records[i].type == gfr::kind::configure) configures.push_back(i);
+  }
+  ASSERT_EQ(starts.size(), 2u);
+  for (const std::size_t nth : {0u, 1u}) {
+    SCOPED_TRACE(nth);
+    const auto run = read(without({starts[nth]}));
+    EXPECT_TRUE(same_dwells(run, clean));
+    EXPECT_EQ(run.outside_runs, 0u);
+    EXPECT_GT(run.by_configure, 0u);
+  }
+  {
+    SCOPED_TRACE("its CONFIGURE record missing too");
+    const auto run = read(without({configures[0], starts[0]}));
+    EXPECT_EQ(run.by_configure, 0u);
+    for (const auto& d : run.dwells) EXPECT_EQ(d.segment, run.dwells.front().segment);
+    EXPECT_GT(run.outside_runs, 0u);
+  }
+  {
+    SCOPED_TRACE(
+        "another CONFIGURE acknowledged (the ACK of START's place), its record not written");
+    const std::size_t ack = starts[0] - 1;
+    auto body = f->records[ack].body;  // u8 type, u16 seq, ACK payload
+    gyroflip::protocol::ack_msg a;
+    ASSERT_TRUE((gyroflip::protocol::frame{body[0], 0, body.data() + 3, body.size() - 3}.as(a)));
+    a.of_type = static_cast<std::uint8_t>(gyroflip::protocol::msg::configure);
+    const auto payload = gyroflip::test::payload_of(a);
+    body.resize(3);
+    body.insert(body.end(), payload.begin(), payload.end());
+    const auto run =
+        read(without({ack, starts[0]}, gyroflip::test::encode_record(
+                                           gfr::kind::frame, f->records[ack].host_time_us, body)));
+    EXPECT_EQ(run.by_configure, 0u);
+    EXPECT_GT(run.outside_runs, 0u);
   }
 }
 

@@ -3,7 +3,9 @@
 #include "support/synthetic_gfr.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <optional>
 #include <random>
@@ -93,6 +95,10 @@ class generator {
     if (w_) {
       static_cast<void>(w_->append(k, host_us_, body));
     } else {
+      // As the recorder's clock does (a write between two records): never two in a microsecond.
+      if (any_record_ && host_us_ <= last_us_) host_us_ = last_us_ + 1;
+      any_record_ = true;
+      last_us_ = host_us_;
       const bytes r = encode_record(k, host_us_, body);
       file_.insert(file_.end(), r.begin(), r.end());
     }
@@ -217,6 +223,8 @@ class generator {
   std::string path_;
   synthetic_recording out_;
   std::uint64_t host_us_ = 0;
+  std::uint64_t last_us_ = 0;
+  bool any_record_ = false;
   std::uint16_t seq_ = 0;
   std::uint16_t command_ = 40000;
   std::uint16_t boot_count_ = 1;
@@ -285,20 +293,33 @@ truth truth_of(const bytes& file) {
   return t;
 }
 
-// One trial: `damaged` is `file` with bytes [lo, hi) changed.
-void trial(const truth& t, const bytes& damaged, std::uint64_t lo, std::uint64_t hi,
+// Whether a record spanning [first, second) of the undamaged file is intact in a damaged one.
+using intact_test = std::function<bool(std::pair<std::uint64_t, std::uint64_t>)>;
+
+// One trial: `damaged` is `file` changed; a dwell whose record passes `is_intact` is intact.
+void trial(const truth& t, const bytes& damaged, const intact_test& is_intact,
            const std::string& what, damage_tally& tally) {
   ++tally.trials;
   const reading r = read_bytes(damaged);
-  std::size_t intact = 0, recovered = 0, mislabelled = 0;
+  std::size_t intact = 0, recovered = 0, mislabelled = 0, repeated = 0, beyond = 0;
   std::map<std::string, const rigdata::rig_dwell*> got;
-  if (r.run)
-    for (const auto& d : r.run->dwells) got[key_of(r, d)] = &d;
+  double first_s = 0.0, last_s = 0.0;
+  if (t.clean.run && !t.clean.run->dwells.empty()) {
+    first_s = t.clean.run->dwells.front().time_s;
+    last_s = t.clean.run->dwells.back().time_s;
+  }
+  if (r.run) {
+    for (const auto& d : r.run->dwells) {
+      const auto [it, fresh] = got.emplace(key_of(r, d), &d);
+      if (!fresh) ++repeated;
+      // (A tick's rounding of a run's first dwell lost: well within a millisecond.)
+      if (!(d.time_s >= first_s - 1e-3 && d.time_s <= last_s + 1e-3)) ++beyond;
+    }
+  }
   for (const auto& [key, d] : t.dwell_of) {
     const auto sp = t.spans.find(key);
     const bool untouched =
-        sp != t.spans.end() && std::any_of(sp->second.begin(), sp->second.end(),
-                                           [&](auto s) { return s.second <= lo || s.first >= hi; });
+        sp != t.spans.end() && std::any_of(sp->second.begin(), sp->second.end(), is_intact);
     if (!untouched) continue;
     ++intact;
     const auto g = got.find(key);
@@ -318,14 +339,34 @@ void trial(const truth& t, const bytes& damaged, std::uint64_t lo, std::uint64_t
         !same_value(g->rate_dps, d->second->rate_dps) || !same_value(g->temp_c, d->second->temp_c))
       ++mislabelled;
   }
+  std::size_t false_lost = 0;
+  if (r.run && t.clean.run) {
+    const std::size_t touched = t.dwell_of.size() - intact;
+    const std::size_t may = t.clean.run->lost_dwells + touched;
+    if (r.run->lost_dwells > may) false_lost = r.run->lost_dwells - may;
+  }
   if (!r.run) ++tally.unreadable;
   tally.intact += intact;
   tally.recovered += recovered;
   tally.mislabelled += mislabelled;
-  if ((recovered != intact || mislabelled != 0) && tally.notes.size() < 20)
-    tally.notes.push_back(fmt::format("{}: {} of {} intact dwells, {} mislabelled{}{}", what,
-                                      recovered, intact, mislabelled, r.error.empty() ? "" : ": ",
-                                      r.error));
+  tally.repeated += repeated;
+  tally.beyond_span += beyond;
+  tally.false_lost += false_lost;
+  if ((recovered != intact || mislabelled != 0 || repeated != 0 || beyond != 0 ||
+       false_lost != 0) &&
+      tally.notes.size() < 20)
+    tally.notes.push_back(fmt::format(
+        "{}: {} of {} intact dwells, {} mislabelled, {} twice, {} beyond the span, {} falsely "
+        "lost{}{}",
+        what, recovered, intact, mislabelled, repeated, beyond, false_lost,
+        r.error.empty() ? "" : ": ", r.error));
+}
+
+// One trial: `damaged` is `file` with bytes [lo, hi) changed.
+void trial(const truth& t, const bytes& damaged, std::uint64_t lo, std::uint64_t hi,
+           const std::string& what, damage_tally& tally) {
+  trial(
+      t, damaged, [&](auto s) { return s.second <= lo || s.first >= hi; }, what, tally);
 }
 
 }  // namespace
@@ -379,6 +420,54 @@ void zero_trials(const bytes& file, std::size_t regions, std::size_t max_bytes, 
     std::fill(d.begin() + static_cast<std::ptrdiff_t>(lo),
               d.begin() + static_cast<std::ptrdiff_t>(lo + len), std::uint8_t{0});
     trial(tr, d, lo, lo + len, fmt::format("zeros at {}..{}", lo, lo + len - 1), t);
+  }
+}
+
+void repeat_trials(const bytes& file, std::size_t trials, std::size_t max_bytes, std::uint64_t seed,
+                   damage_tally& t) {
+  const truth tr = truth_of(file);
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> length(1, max_bytes);
+  std::uniform_int_distribution<std::size_t> at(gfr::file_header_bytes, file.size() - 2);
+  for (std::size_t n = 0; n < trials; ++n) {
+    const std::size_t lo = at(rng);
+    const std::size_t len = std::min(length(rng), file.size() - lo);
+    bytes d(file.begin(), file.begin() + static_cast<std::ptrdiff_t>(lo + len));
+    d.insert(d.end(), file.begin() + static_cast<std::ptrdiff_t>(lo),
+             file.begin() + static_cast<std::ptrdiff_t>(lo + len));
+    d.insert(d.end(), file.begin() + static_cast<std::ptrdiff_t>(lo + len), file.end());
+    // A record that holds the whole block, and more on both sides, is cut by the repeat.
+    trial(
+        tr, d, [&](auto s) { return !(s.first < lo && s.second > lo + len); },
+        fmt::format("{} bytes at {} twice", len, lo), t);
+  }
+}
+
+void swap_trials(const bytes& file, std::size_t trials, std::size_t max_bytes, std::uint64_t seed,
+                 damage_tally& t) {
+  const truth tr = truth_of(file);
+  std::mt19937_64 rng(seed);
+  const std::size_t top = std::min(max_bytes, (file.size() - gfr::file_header_bytes) / 2);
+  std::uniform_int_distribution<std::size_t> length(std::min<std::size_t>(512, top), top);
+  for (std::size_t n = 0; n < trials; ++n) {
+    const std::size_t len = length(rng);
+    const std::size_t a = std::uniform_int_distribution<std::size_t>(gfr::file_header_bytes,
+                                                                     file.size() - 2 * len)(rng);
+    const std::size_t b =
+        std::uniform_int_distribution<std::size_t>(a + len, file.size() - len)(rng);
+    bytes d = file;
+    std::copy_n(file.begin() + static_cast<std::ptrdiff_t>(b), len,
+                d.begin() + static_cast<std::ptrdiff_t>(a));
+    std::copy_n(file.begin() + static_cast<std::ptrdiff_t>(a), len,
+                d.begin() + static_cast<std::ptrdiff_t>(b));
+    const std::array<std::uint64_t, 4> cuts{a, a + len, b, b + len};
+    trial(
+        tr, d,
+        [&](auto s) {
+          return std::none_of(cuts.begin(), cuts.end(),
+                              [&](std::uint64_t c) { return s.first < c && c < s.second; });
+        },
+        fmt::format("{} bytes at {} and {} swapped", len, a, b), t);
   }
 }
 

@@ -86,6 +86,12 @@ struct damage_tally {
   std::size_t intact = 0;
   std::size_t recovered = 0;
   std::size_t mislabelled = 0;
+  std::size_t repeated = 0;  ///< dwells the damaged reading has more than once
+  /// Dwells the damaged reading times outside the undamaged reading's span (first to last dwell)
+  std::size_t beyond_span = 0;
+  /// Dwells the damaged reading counts as lost on the line beyond the undamaged reading's count
+  /// and the dwells whose records the damage touched (a claim "never arrived" that is false)
+  std::size_t false_lost = 0;
   double max_time_shift_s = 0.0;   ///< largest |time_s| change of a recovered dwell
   std::string max_time_shift_at;   ///< the trial that had it
   std::vector<std::string> notes;  ///< what went wrong in which trial (first few)
@@ -96,6 +102,15 @@ void flip_trials(const std::vector<std::uint8_t>& file, std::size_t flips, std::
                  damage_tally& t);
 /// `regions` trials of one zeroed region each, 1 to `max_bytes` long, at offsets from `seed`.
 void zero_trials(const std::vector<std::uint8_t>& file, std::size_t regions, std::size_t max_bytes,
+                 std::uint64_t seed, damage_tally& t);
+/// `trials` trials of one block of 1 to `max_bytes` bytes written twice (repeated right after
+/// itself, as bench/gfr_recovery --dups): a dwell is intact unless its record holds the whole
+/// block and more on both sides (bytes repeated inside it).
+void repeat_trials(const std::vector<std::uint8_t>& file, std::size_t trials, std::size_t max_bytes,
+                   std::uint64_t seed, damage_tally& t);
+/// `trials` trials of two blocks of equal length (512 to `max_bytes` bytes) exchanged: a dwell
+/// is intact when its record lies wholly inside or wholly outside each block.
+void swap_trials(const std::vector<std::uint8_t>& file, std::size_t trials, std::size_t max_bytes,
                  std::uint64_t seed, damage_tally& t);
 
 }  // namespace gyroflip::test

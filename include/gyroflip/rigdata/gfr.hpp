@@ -97,16 +97,22 @@ struct damaged_region {
   std::uint64_t offset = 0;
   std::uint64_t bytes = 0;
   std::size_t before = 0;  ///< index in file::records of the first record after it
+  /// The same region again: records were read in another order than the file's (records out of
+  /// place), and what it held may belong both after the record before it and before the record
+  /// after it; counted once.
+  bool again = false;
 };
 
 /// Every record of a file plus what the reader noticed.
 struct file {
-  std::vector<record> records;
+  std::vector<record> records;          ///< in the order they were written (their host times)
   std::vector<std::string> warnings;    ///< `FILE: record N: ...`, e.g. a torn last record
-  std::vector<damaged_region> damaged;  ///< in file order, after repairs and restores
+  std::vector<damaged_region> damaged;  ///< in reading order, after repairs and restores
   std::size_t repaired = 0;             ///< records with one flipped bit put right
   std::size_t restored = 0;             ///< damaged records put back from their copies
-  std::uint16_t version = 0;            ///< the header's format version (0: header damaged)
+  std::size_t repeats = 0;    ///< records dropped as exact repeats of one read before them
+  std::size_t misplaced = 0;  ///< records out of place (their host time goes back), reordered
+  std::uint16_t version = 0;  ///< the header's format version (0: header damaged)
 };
 
 /// Reads and checks a whole `.gfr` file. Errors name the file and the record (`FILE: record N:
@@ -118,7 +124,11 @@ struct file {
 /// damaged file header is repaired the same way, or read past when intact records follow. Other
 /// damage (several bits, zeros) is skipped up to the next intact record, with a warning that
 /// names the record number and the bytes skipped, and a record damaged there is put back from
-/// its COPY when the file has one. With `strict` any damage is an error instead.
+/// its COPY when the file has one. The writer appends in the order of its host clock (a steady
+/// clock): a record that repeats one read before it (kind, host time and body: a block of the
+/// file written twice) is dropped, and records whose host times go back (blocks of the file moved
+/// or swapped) are read in the order of their host times, with a warning naming their offsets.
+/// With `strict` any damage is an error instead.
 [[nodiscard]] result<file> read(const std::string& path, bool strict = false);
 /// The same from bytes in memory (`name` is used in messages): the fuzz target's entry.
 [[nodiscard]] result<file> parse(std::span<const std::uint8_t> bytes, const std::string& name,
@@ -138,7 +148,9 @@ class writer {
   ~writer();
 
   /// Appends one record (not a COPY: the writer makes those itself), then the copies that are
-  /// due: each copied record (is_copied) again once copy_distance bytes follow it.
+  /// due: each copied record (is_copied) again once copy_distance bytes follow it. Host times
+  /// strictly increase: a record not later than the one before it is stamped a microsecond
+  /// after it (its COPY records keep its time).
   [[nodiscard]] status append(kind k, std::uint64_t host_time_us,
                               std::span<const std::uint8_t> body);
   [[nodiscard]] status sync();

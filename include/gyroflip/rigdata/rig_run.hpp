@@ -102,11 +102,15 @@ struct rig_run {
   std::size_t unknown_boot = 0;
   /// DWELLs with no intact INFO in the file to convert them (tick rate, ADC range): not used.
   std::size_t unconverted = 0;
-  std::size_t damaged_regions = 0;       ///< regions of the file no record could be read from
-  std::size_t repaired_records = 0;      ///< records with one flipped bit put right (CRC-32)
-  std::size_t restored_records = 0;      ///< damaged records put back from their COPY
-  std::size_t inferred_resets = 0;       ///< device resets whose GAP record was lost in damage
-  std::size_t rebuilt_starts = 0;        ///< START records lost in damage, rebuilt from their ACK
+  std::size_t damaged_regions = 0;   ///< regions of the file no record could be read from
+  std::size_t repaired_records = 0;  ///< records with one flipped bit put right (CRC-32)
+  std::size_t restored_records = 0;  ///< damaged records put back from their COPY
+  std::size_t inferred_resets = 0;   ///< device resets whose GAP record was lost in damage
+  std::size_t rebuilt_starts = 0;    ///< START records lost in damage, rebuilt from their ACK
+  /// DWELLs of a run whose START record is not in the file (cut off before it was written),
+  /// labelled by the CONFIGURE their boot acknowledged before them: a device starts only with the
+  /// configuration in force, and only a CONFIGURE it acknowledges changes it (docs/PROTOCOL.md).
+  std::size_t by_configure = 0;
   std::optional<gfr::stop_reason> stop;  ///< empty: the recorder did not end the file itself
   std::vector<std::string> warnings;     ///< `FILE: ...` for the caller to show
 };
@@ -140,6 +144,7 @@ class rig_run_builder {
     raw,
     status,
     ack_start,
+    ack_configure,
     other,
     gap_reset,
     gap_link,
