@@ -142,7 +142,18 @@ int run_record(const record_options& o) {
   const bool tty = isatty(STDERR_FILENO) != 0;
   bool drawn = false;
   bool warned = false;  // the live stationarity warning is given once
+  bool warned_serial = false;
   const auto progress = [&](const host::recorder_status& s) {
+    if (!warned_serial && s.serial && *s.serial == 0) {
+      warned_serial = true;
+      if (drawn) std::fputs("\r\033[K", stderr);
+      std::fprintf(stderr,
+                   "gyroflip record: warning: %s: the board has no serial (0: its information "
+                   "flash holds no serial record), so another board of serial 0 connected while "
+                   "the line is gone would be taken for a reset of this one; store one "
+                   "(docs/HARDWARE.md, bring-up step 5)\n",
+                   o.port.c_str());
+    }
     if (!warned && s.stationarity && s.stationarity->failed()) {
       warned = true;
       if (drawn) std::fputs("\r\033[K", stderr);

@@ -171,6 +171,17 @@ result<io::series> read_rig_series(const std::string& path, const std::string& c
   std::vector<samples> parts;
   for (const auto& s : stretches) parts.push_back(samples_of(s, column));
   std::erase_if(parts, [](const samples& p) { return p.values.empty(); });
+  // One stretch with samples: no gap between samples to speak of (the others held too few
+  // dwells for a sample; review of issue 32: "0 gaps" was refused as a gap).
+  if (parts.size() == 1 && !bridge) {
+    samples& p = parts.front();
+    note(
+        fmt::format("{}: {} of its {} stretches between lost dwells held no whole sample; the "
+                    "other is analysed",
+                    path, stretches.size() - 1, stretches.size()));
+    return io::series_of_samples(path, std::move(p.values), p.time_s, std::move(p.angle_deg),
+                                 rigdata::csv_metadata(*run));
+  }
   std::vector<double> steps;
   for (const auto& p : parts)
     for (std::size_t k = 1; k < p.time_s.size(); ++k)
@@ -205,7 +216,7 @@ result<io::series> read_rig_series(const std::string& path, const std::string& c
   if (gaps == io::gap_policy::error)
     return input_error(
         {path}, fmt::format("{}, the first after time_s {:.6g}: give --gaps split to analyse the "
-                            "longest gap-free stretch, or --kind gradev to bridge them",
+                            "longest gap-free stretch (adev also: --kind gradev to bridge them)",
                             where, parts.front().time_s.back()));
   samples& p = parts[longest];
   note(

@@ -482,6 +482,7 @@ recorder_status session::status_now() const {
   st.bytes = file_.bytes();
   st.waiting_for_port = waiting_for_port_;
   st.stationarity = stationarity_;
+  if (info_) st.serial = info_->serial;
   return st;
 }
 

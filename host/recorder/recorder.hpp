@@ -62,6 +62,9 @@ struct recorder_status {
   double temp_c = 0.0;          ///< last dwell's temperature (NaN without)
   std::uint64_t bytes = 0;      ///< of the file
   bool waiting_for_port = false;
+  /// The board's serial (none before its INFO). 0 is an MSP430F149 whose information flash holds
+  /// no serial record: another board of serial 0 after a reconnect cannot be told from it.
+  std::optional<std::uint32_t> serial;
   /// The last stationarity test of the cycles so far (none before the first, or when not asked).
   std::optional<method::stationarity> stationarity;
 };

@@ -169,7 +169,7 @@ std::string base64(std::string_view bytes) {
 
 // The page's style. Tables never leave the page: they take at most its width and wrap their
 // cells between words, never inside one (no-break groups, class "nw"); only words longer than
-// any column (file names, hashes: class "brk", and the provenance) break anywhere; they print
+// any column (file names, hashes, in the provenance too: class "brk") break anywhere; they print
 // smaller (@media print). Checked in Chromium at 1280 and 900 px
 // (tests/report/check_report_page.py).
 constexpr std::string_view css =
@@ -188,7 +188,7 @@ th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}
 .note{font-size:.85em;color:#444;margin:.2em 0 0}
 figure{margin:1em 0 2em}figure img{width:100%;height:auto;border:1px solid #eee}
 figcaption{font-size:.9em;color:#444}
-.prov{font-size:.85em;color:#444}.prov td{overflow-wrap:anywhere;word-break:break-all}code{font-size:.95em;overflow-wrap:anywhere}
+.prov{font-size:.85em;color:#444}.prov td{overflow-wrap:break-word}code{font-size:.95em;overflow-wrap:anywhere}
 @page{size:A4;margin:14mm}
 @media print{body{margin:0;max-width:none;font-size:10pt}h2,caption{break-after:avoid}figure,tr{break-inside:avoid}.tablebox{overflow:visible}table{font-size:8pt}th,td{padding:.15em .3em}}
 )";

@@ -4,8 +4,8 @@ Chromium (issues 10, 22, 31) and checks what a reader would see: a screenshot th
 every image loaded, no console error, no preformatted text; at 1280 and at 900 px no table that
 scrolls sideways and nothing wider than the window, and no word broken inside (a line break in
 "compensat ed", "18 00 s" or "inconclusiv e": every run of non-blank characters must lie on one
-line; only the provenance and the words marked "brk", paths and hashes longer than any column,
-may break anywhere); and the rest of the report folder (summary.json's numbers equal
+line; only the words marked "brk", paths and hashes longer than any column, may break anywhere,
+in the provenance too: "see d 1" and "10013 9" were found there); and the rest of the report folder (summary.json's numbers equal
 `calibrate --json`'s, report.pdf is a PDF, each figure has its gnuplot script, data and three
 images). Exit 77 (skipped) without chromium.
 Usage: check_report_page.py GYROFLIP_EXE
@@ -44,8 +44,8 @@ def chromium(exe, tmp, *args):
 
 # Run after the page's layout: each table box that scrolls sideways (its caption and widths), the
 # page's own overflow, and each word (a run of non-blank characters in one text node) whose
-# pieces lie on more than one line: a line break inside it. The provenance (paths, hashes, the
-# command) and spans of class "brk" may break anywhere.
+# pieces lie on more than one line: a line break inside it. Only spans of class "brk" (paths,
+# hashes, longer than any column) may break anywhere.
 LAYOUT_PROBE = r"""<script>
 window.addEventListener('load', () => {
   const d = document.documentElement,
@@ -60,7 +60,7 @@ window.addEventListener('load', () => {
   const walk = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
   for (let n = walk.nextNode(); n; n = walk.nextNode()) {
     const el = n.parentElement;
-    if (el.closest('.prov, .brk, script, style')) continue;
+    if (el.closest('.brk, script, style')) continue;
     for (const m of n.textContent.matchAll(/\S+/g)) {
       const r = document.createRange();
       r.setStart(n, m.index);
