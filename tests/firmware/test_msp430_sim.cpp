@@ -485,6 +485,38 @@ TEST(Msp430Sim, ShippedImageBootsIntoItsMainLoopWithinTheWatchdog) {
       cycles_to_main, cycles_to_main / 5529.6, gap, 100 * gap / interval_mclk);
 }
 
+// The HAL's calls that hold interrupts off for a moment (uart_write, pwm_capture) leave them as
+// they found them: called with interrupts off (from a critical section or a handler) they do not
+// switch them on (before issue 32's review they ended with `eint` whatever the caller had). The
+// shipped image's own functions, called in the simulator with the status register's GIE off and
+// on, returning to a breakpoint.
+TEST(Msp430Sim, HalCallsLeaveTheInterruptStateAsTheyFoundIt) {
+  const auto e = read_elf(shipped_elf);
+  const auto address_of = [&](const std::string& part) {
+    for (const auto& [name, at] : e.symbols)
+      if (name.find(part) != std::string::npos) return at;
+    ADD_FAILURE() << part << " is not in " << shipped_elf;
+    return std::uint32_t{0};
+  };
+  constexpr unsigned gie = 0x0008;  // SR bit 3 (SLAU049 §3.2.3)
+  for (const char* fn : {"10uart_writeEPvh", "11pwm_captureEPvh"}) {
+    const std::uint32_t at = address_of(fn);
+    for (const unsigned sr_in : {0u, gie}) {
+      // A return address (0x0900, free RAM, a breakpoint) on the stack; R12 the context, R13 the
+      // byte or axis, R14 where pwm_capture writes its period.
+      const auto log = mspdebug({"prog " + shipped_elf, "set SP 0x9f0", "mw 0x9f0 0x00 0x09",
+                                 "set R12 0", "set R13 0x41", "set R14 0x800",
+                                 "set SR " + std::to_string(sr_in), "set PC " + std::to_string(at),
+                                 "setbreak 0x0900", "run", "regs"});
+      const std::size_t pc = log.rfind("( PC: "), sr = log.rfind("( SR: ");
+      ASSERT_NE(sr, std::string::npos) << log;
+      EXPECT_EQ(std::stoul(log.substr(pc + 6), nullptr, 16), 0x0900u) << fn << " did not return";
+      EXPECT_EQ(std::stoul(log.substr(sr + 6), nullptr, 16) & gie, sr_in)
+          << fn << " called with GIE " << (sr_in != 0 ? "on" : "off");
+    }
+  }
+}
+
 // ---- the shipped code at board speed (issue 32) ------------------------------------------
 //
 // gyroflip_f149_sim.elf is main.cpp with the simulator's stand-ins (firmware/ports/msp430f149/

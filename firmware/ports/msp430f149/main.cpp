@@ -239,12 +239,12 @@ bool home_switch(void*) {
 }
 bool pwm_capture(void*, uint8_t axis, fw::pwm_period* out) {
   volatile pwm_axis& s = pwm_axes[axis & 1u];
-  disable_interrupts();
+  const bool on = interrupts_off();  // and back as they were: a caller may hold them off
   const bool ready = s.ready;
   out->high_ticks = s.out_high;
   out->period_ticks = s.out_period;
   s.ready = false;
-  enable_interrupts();
+  interrupts_restore(on);
   return ready;
 }
 bool uart_read(void*, uint8_t* b) {
@@ -255,7 +255,7 @@ bool uart_read(void*, uint8_t* b) {
 }
 // Queues a wire byte for the transmit interrupt; the first byte after an idle line starts it.
 bool uart_write(void*, uint8_t b) {
-  disable_interrupts();
+  const bool on = interrupts_off();  // and back as they were: a caller may hold them off
   bool queued = true;
   if (tx_idle) {
     tx_idle = false;
@@ -269,7 +269,7 @@ bool uart_write(void*, uint8_t b) {
       tx_head = next;
     }
   }
-  enable_interrupts();
+  interrupts_restore(on);
   return queued;
 }
 uint32_t ticks(void*) {
