@@ -504,10 +504,10 @@ TEST(Msp430Sim, HalCallsLeaveTheInterruptStateAsTheyFoundIt) {
     for (const unsigned sr_in : {0u, gie}) {
       // A return address (0x0900, free RAM, a breakpoint) on the stack; R12 the context, R13 the
       // byte or axis, R14 where pwm_capture writes its period.
-      const auto log = mspdebug({"prog " + shipped_elf, "set SP 0x9f0", "mw 0x9f0 0x00 0x09",
-                                 "set R12 0", "set R13 0x41", "set R14 0x800",
-                                 "set SR " + std::to_string(sr_in), "set PC " + std::to_string(at),
-                                 "setbreak 0x0900", "run", "regs"});
+      const auto log =
+          mspdebug({"prog " + shipped_elf, "set SP 0x9f0", "mw 0x9f0 0x00 0x09", "set R12 0",
+                    "set R13 0x41", "set R14 0x800", "set SR " + std::to_string(sr_in),
+                    "set PC " + std::to_string(at), "setbreak 0x0900", "run", "regs"});
       const std::size_t pc = log.rfind("( PC: "), sr = log.rfind("( SR: ");
       ASSERT_NE(sr, std::string::npos) << log;
       EXPECT_EQ(std::stoul(log.substr(pc + 6), nullptr, 16), 0x0900u) << fn << " did not return";
