@@ -556,6 +556,12 @@ __attribute__((interrupt(TIMERB0_VECTOR))) void isr_timer_b0() {
   sim::line_tick();
 #endif
 }
+#if GYROFLIP_F149_SIM
+// The board's clock ratio (sim_board.hpp): a simulated timer's CCR0 on an unused vector.
+__attribute__((interrupt(COMPARATORA_VECTOR))) void isr_sim_clock_ratio() {
+  sim::steal();
+}
+#endif
 __attribute__((interrupt(TIMERA0_VECTOR))) void isr_timer_a0() {
 #if GYROFLIP_F149_SIM
   const uint16_t t0 = sim::isr_begin();
@@ -596,6 +602,7 @@ void firmware_main() {
     const uint16_t t0 = sim::poll_begin();
     dev.poll();
     sim::poll_end(t0, now_ticks());
+    sim::steps_seen(dev.step_rebases());
 #else
     dev.poll();
 #endif
