@@ -867,7 +867,7 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
       "every %.3f ms on the board on average (%.3f ms at most; the conversion %.4f ms)\n",
       r.stats[sl::w_restarts], restart_mean_us, restart_max_us, t_conv_ms + restart_mean_us / 1e3,
       t_conv_ms + restart_max_us / 1e3, t_conv_ms);
-  // The board's clock ratio: the stand-in took 87.25 of every 256 cycles of the run.
+  // The board's clock ratio: the stand-ins took 87.25 of every 256 cycles of the run.
   const double stolen_share = 8.0 * r.word32(sl::w_stolen_lo) / (256.0 * stop);
   EXPECT_NEAR(stolen_share, 87.25 / 256, 0.01);
   const std::uint32_t wd_gap = r.word32(sl::w_wd_gap_lo);
@@ -899,11 +899,7 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
 // 32's second review: a PING's 31 000-cycle pass emptied the queue at the top of the ramp and
 // the turn restarted its ramp from standstill; at the board's clock ratio the main loop fed only
 // two intervals a pass and fell behind at the top of every ramp).
-// NOT YET PASSING (issue 32 item 6, helper-10's handover): the PING + RESEND delivered back to
-// back at the second turn's ramp top still leaves the main loop ~10 ms without topping up the
-// queue (a turn restarts its ramp); the single PING and the single RESEND windows pass. Enable
-// when fixed: `--gtest_also_run_disabled_tests --gtest_filter='*CommandsAtTheTop*'`.
-TEST(Msp430Board, DISABLED_CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
+TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
   const auto cfg = geared_config();
   protocol::start_msg start;
   start.config_crc = protocol::configure_crc(cfg);

@@ -425,6 +425,7 @@ constexpr uint16_t steal_period = 128;  // Timer_B counts: 1 024 cycles, four si
 uint16_t steal_last = 0;                // Timer_B at the handler's last read
 uint16_t steal_span = 0;                // its last run's own counts (interrupts within left out)
 uint16_t steal_pre = 0;                 // the interrupts' counts within its last run
+uint16_t steal_stub_at = 0;             // stub_counts at its last run
 int32_t steal_debt = 0;                 // counts owed, in 1/64 count
 // The firmware's time since the handler last ran owes 33/64 of itself (349/675 = 87.25 : 168.75,
 // within 0.3 %); the handler's own time pays 64 a count. It burns with interrupts on: the
@@ -444,18 +445,23 @@ inline void steal() {
   const uint16_t pre0 = isr_counts;
   enable_interrupts();  // the firmware's interrupts preempt all of it
   const uint16_t took = static_cast<uint16_t>(steal_span + steal_overhead);
+  // The stand-ins' time (not the board's: the line's and the AD7739's work in their handlers)
+  // is taken from the firmware's share like the loop's own.
+  const uint16_t stub = static_cast<uint16_t>(stub_counts - steal_stub_at);
+  steal_stub_at = stub_counts;
   uint16_t own = static_cast<uint16_t>(entry - steal_last + steal_pre);
-  own = own > steal_overhead ? static_cast<uint16_t>(own - steal_overhead) : 0;
+  own = own > steal_overhead + stub ? static_cast<uint16_t>(own - steal_overhead - stub) : 0;
   if (own > 900) own = 900;  // (the image holds interrupts off for less)
-  uint16_t pay = took > 500 ? 500 : took;
+  const uint16_t paid = static_cast<uint16_t>(took + stub);
+  uint16_t pay = paid > 500 ? 500 : paid;
   __asm__("rla %0\n rla %0\n rla %0\n rla %0\n rla %0\n rla %0" : "+r"(pay));
   steal_debt += times33(own);
   steal_debt -= pay;
   stolen = static_cast<uint16_t>(stolen + took);
   volatile uint16_t* w = stats() + sl::w_stolen_lo;
-  const uint16_t lo = static_cast<uint16_t>(w[0] + took);
+  const uint16_t lo = static_cast<uint16_t>(w[0] + paid);
   w[0] = lo;
-  if (lo < took) w[1] = static_cast<uint16_t>(w[1] + 1);
+  if (lo < paid) w[1] = static_cast<uint16_t>(w[1] + 1);
   uint16_t burn = 0;
   if (steal_debt > 0) {
     uint16_t d = steal_debt > 32767 ? uint16_t{32767} : static_cast<uint16_t>(steal_debt);
