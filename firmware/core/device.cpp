@@ -39,7 +39,9 @@ void device::poll() {
   // work (a dwell's report, a turn's start), or a STATUS; the next pass does what was left, so
   // that no pass lasts longer than the UART's receive queue holds (docs/PERFORMANCE.md). The
   // sequencer is never skipped twice in a row, so a stream of commands cannot stall it.
+  feed_steps();
   const bool commanded = receive() && facts_.short_passes;
+  feed_steps();  // a command's work (a PING's INFO, a RESEND) is behind us
   const uint32_t now = hw_.ticks();
   check_clocks(now);
   bool busy = commanded;
@@ -49,17 +51,31 @@ void device::poll() {
   } else {
     sequencer_waited_ = true;
   }
-  if (!(busy && facts_.short_passes) && cfg_.status_period_ms != 0 &&
-      now - last_status_ >= status_ticks_) {
+  feed_steps();
+  if (info_due_ && !(busy && facts_.short_passes)) {
+    // A PING's INFO, in a pass that did nothing heavy (the periodic STATUS waits a pass).
+    info_due_ = false;
+    send_info();
+  } else if (!(busy && facts_.short_passes) && cfg_.status_period_ms != 0 &&
+             now - last_status_ >= status_ticks_) {
     last_status_ = now;
     send_status();
   }
   if (delta_n_dirty_ && phase_ == phase::idle) save_delta_n();
+  feed_steps();
   transmit();
   // The watchdog is fed only while the sequencer keeps its deadlines: a state machine that
   // stopped acting (a lost deadline, corrupted state) resets the device instead of idling on.
   healthy_ = on_schedule(now);
   if (healthy_) hw_.watchdog_kick();
+}
+
+// The turn's step intervals are computed ahead (stepper::mover) by the main loop only: the
+// queue is topped up at each stage of a pass, not once a pass, so that no stretch of the main
+// loop between two top-ups is longer than what the queue holds at the top rate (8 intervals,
+// 4 ms at 2 000 steps/s; docs/FIRMWARE.md, "Timing on the chip"). A full queue costs a compare.
+void device::feed_steps() {
+  if (phase_ == phase::turning) mover_.refill(plan_);
 }
 
 // The tick clock must move (on the MSP430F149 it is the 32 768 Hz crystal, which the chip does
@@ -276,6 +292,7 @@ void device::resend(const protocol::frame& f) {
     } else if (queue_staged(len, false) && stat_.retransmits != 0xFFFF) {
       ++stat_.retransmits;
     }
+    feed_steps();  // a RESEND of 16 frames is the longest command
   }
   if (n_gone == 0) return;
   protocol::writer w{scratch_ + protocol::detail::stage + protocol::header_bytes, max_sent_payload};
@@ -361,6 +378,13 @@ void device::handle(const protocol::frame& f) {
       protocol::ping_msg m;
       if (!f.as(m)) return nak(f, status::bad_frame);
       ack(f);
+      // On a port with short passes the INFO (92 bytes, the longest frame a command answers)
+      // goes out in the next pass: the ACK's and the INFO's coding in one pass was the longest
+      // main-loop pass of the F149 (31 000 cycles, 5.7 ms with the interrupts meanwhile).
+      if (facts_.short_passes) {
+        info_due_ = true;
+        return;
+      }
       return send_info();
     }
     case protocol::msg::configure:

@@ -143,6 +143,7 @@ class device {
   void nak_raw(uint8_t type, uint16_t seq, protocol::status why);
   void error(protocol::status code, protocol::error_source what, uint32_t value);
   void send_info();
+  void feed_steps();
   void send_status();
 
   // health
@@ -220,7 +221,9 @@ class device {
   // health
   bool healthy_ = true;
   bool sequencer_waited_ = false;  // the last pass handled a command and skipped the sequencer
-  uint32_t last_progress_ = 0;     // a turn's last step (the watchdog judges a turn by its steps)
+  bool info_due_ = false;          // a PING's INFO, for the next pass (short_passes)
+  bool turn_due_ = false;       // a dwell reported: its turn begins in the next pass (short_passes)
+  uint32_t last_progress_ = 0;  // a turn's last step (the watchdog judges a turn by its steps)
   uint32_t last_ticks_ = 0;
   uint32_t polls_same_tick_ = 0;
   uint8_t clock_faults_reported_ = 0;

@@ -161,6 +161,7 @@ void device::stop_run() {
     const locked guard(hw_);
     phase_ = phase::idle;
     converting_ = false;
+    turn_due_ = false;
     if (step_irq_armed_) hw_.step_timer(false, 0);
     step_irq_armed_ = false;
   }
@@ -207,9 +208,10 @@ bool device::on_step_timer(uint32_t now, uint32_t* next_due) {
 }
 
 void device::step_turn(uint32_t now) {
-  // Two intervals a pass at most: the pass stays short, and the loop passes far more often than
-  // the steps come (begin() filled the queue).
-  mover_.refill(plan_, 2);
+  // The queue is topped up whole (device::feed_steps does it at each stage of a pass too): two
+  // a pass fell behind the top of a ramp at 2 000 steps/s on the board, where a pass with
+  // transmit's 16 bytes lasts longer than two intervals (tests/firmware/test_msp430_sim.cpp).
+  mover_.refill(plan_);
   const uint16_t done = mover_.steps_done();
   if (done != seen_steps_) {
     seen_steps_ = done;
@@ -329,6 +331,11 @@ bool device::step_sequencer(uint32_t now) {
       return true;
     }
     case phase::acquiring:
+      if (turn_due_) {
+        turn_due_ = false;
+        begin_turn(position_, now);
+        return true;
+      }
       return step_acquisition(now);
   }
   return false;
@@ -585,6 +592,12 @@ void device::finish_dwell(uint32_t now) {
   if (position_ >= cfg_.n_positions) {
     position_ = 0;
     ++stat_.cycle;
+  }
+  // On a port with short passes the turn starts in the next pass: the dwell's frames and the
+  // turn's first intervals in one pass made the F149's longest pass (docs/FIRMWARE.md).
+  if (facts_.short_passes) {
+    turn_due_ = true;
+    return;
   }
   begin_turn(position_, now);
 }

@@ -254,6 +254,52 @@ TEST(Stepper, PlanIntervalsEqualTheReferenceFormula) {
   EXPECT_EQ(moves, 800);
 }
 
+// The mover computes its queued intervals from a running square root (adds and compares, no
+// isqrt per step: the F149 could not compute them at the top of a 2 000-steps/s ramp): every
+// step of every move, triangles and trapezoids, over the CONFIGURE range, is timed by the
+// reference formula, and after a pause the new ramp's steps are the reference's again.
+TEST(Stepper, TheMoversRunningRootGivesTheReferenceIntervals) {
+  std::uint32_t x = 11;
+  const auto next = [&] {
+    x = x * 1664525u + 1013904223u;
+    return x >> 8;
+  };
+  for (int i = 0; i < 300; ++i) {
+    const auto top = static_cast<std::uint16_t>(1 + next() % 5000);
+    const auto start = static_cast<std::uint16_t>(1 + next() % top);
+    const auto accel =
+        static_cast<std::uint16_t>(i % 5 == 0 ? 1 + next() % 20 : 1 + next() % 65535);
+    const stepper::ramp r{start, top, accel};
+    const auto plan = stepper::make_plan(r, 32768);
+    const auto n = static_cast<std::uint16_t>(2 + next() % 3000);
+    stepper::motor flip, other;
+    stepper::mover mv;
+    mv.begin(i % 2 == 0 ? n : -n, 0, plan);
+    std::uint32_t now = 0, due = 0;
+    const std::uint32_t pause_at = i % 3 == 0 ? next() % n : n;  // a starved queue, then a rebase
+    std::uint32_t base = 0;
+    for (std::uint32_t k = 0; k + 1 < n; ++k) {
+      mv.refill(plan);
+      if (k == pause_at) {
+        // Take the steps the queue holds without refilling: the move pauses, then resumes
+        // with a new ramp from standstill for the steps left.
+        while (mv.take_step(flip, other, stepper::follower::off, now, &due)) now = due;
+        if (!mv.busy()) break;
+        ASSERT_TRUE(mv.paused());
+        base = mv.steps_done();
+        k = base;
+        mv.rebase(now, plan);
+        if (k + 1 >= n) break;
+      }
+      ASSERT_TRUE(mv.take_step(flip, other, stepper::follower::off, now, &due)) << k;
+      ASSERT_EQ(due - now, stepper::step_interval(r, k - base, n - base, 32768))
+          << "ramp " << start << " " << top << " " << accel << ", step " << k << " of " << n
+          << " (a new ramp at " << base << ")";
+      now = due;
+    }
+  }
+}
+
 // A main loop that looks only every 1000 ticks (steps are due every ~80) and then every tick
 // again: each late poll takes one step and times the next from then, so the port never skips a
 // phase and the late steps never come in a burst once the polls are frequent again (the
@@ -290,7 +336,9 @@ TEST(Stepper, AStarvedMoveResumesWithANewRampFromStandstill) {
   stepper::mover mv;
   const stepper::ramp r{100, 400, 2000};
   const auto plan = stepper::make_plan(r, 32768);
-  mv.begin(200, 0, plan);  // the queue holds queue_len intervals
+  // The queue holds at most queue_len intervals, and no more than a full queue's time at the
+  // top rate: here (slow start-rate intervals) 3.
+  mv.begin(200, 0, plan);
   uint32_t now = 0;
   uint32_t next = 0;
   int taken = 0;
@@ -298,19 +346,19 @@ TEST(Stepper, AStarvedMoveResumesWithANewRampFromStandstill) {
     now = next;
     ++taken;
   }
-  EXPECT_EQ(taken, stepper::mover::queue_len);  // one more step, then no interval queued
+  EXPECT_EQ(taken, 3);  // one more step, then no interval queued
   EXPECT_TRUE(mv.paused());
-  EXPECT_EQ(mv.steps_done(), stepper::mover::queue_len + 1u);
+  EXPECT_EQ(mv.steps_done(), 3u + 1u);
   now += 5000;  // the main loop comes back late
   mv.rebase(now, plan);
   EXPECT_FALSE(mv.paused());
   EXPECT_EQ(mv.next_due(), now);
   ASSERT_TRUE(mv.take_step(flip, other, stepper::follower::off, now, &next));
-  const std::uint32_t left = 200 - stepper::mover::queue_len - 1;
+  const std::uint32_t left = 200 - 3 - 1;
   EXPECT_EQ(next - now, stepper::step_interval(r, 0, left, 32768));  // the start rate's
   EXPECT_EQ(next - now, 328u);                                       // 32768 / 100
   EXPECT_EQ(mv.rebases(), 1u);
-  EXPECT_EQ(flip.position, stepper::mover::queue_len + 2);
+  EXPECT_EQ(flip.position, 3 + 2);
 }
 
 TEST(Stepper, RampTimingMatchesTheTrapezoid) {

@@ -485,6 +485,38 @@ TEST(Msp430Sim, ShippedImageBootsIntoItsMainLoopWithinTheWatchdog) {
       cycles_to_main, cycles_to_main / 5529.6, gap, 100 * gap / interval_mclk);
 }
 
+// The HAL's calls that hold interrupts off for a moment (uart_write, pwm_capture) leave them as
+// they found them: called with interrupts off (from a critical section or a handler) they do not
+// switch them on (before issue 32's review they ended with `eint` whatever the caller had). The
+// shipped image's own functions, called in the simulator with the status register's GIE off and
+// on, returning to a breakpoint.
+TEST(Msp430Sim, HalCallsLeaveTheInterruptStateAsTheyFoundIt) {
+  const auto e = read_elf(shipped_elf);
+  const auto address_of = [&](const std::string& part) {
+    for (const auto& [name, at] : e.symbols)
+      if (name.find(part) != std::string::npos) return at;
+    ADD_FAILURE() << part << " is not in " << shipped_elf;
+    return std::uint32_t{0};
+  };
+  constexpr unsigned gie = 0x0008;  // SR bit 3 (SLAU049 §3.2.3)
+  for (const char* fn : {"10uart_writeEPvh", "11pwm_captureEPvh"}) {
+    const std::uint32_t at = address_of(fn);
+    for (const unsigned sr_in : {0u, gie}) {
+      // A return address (0x0900, free RAM, a breakpoint) on the stack; R12 the context, R13 the
+      // byte or axis, R14 where pwm_capture writes its period.
+      const auto log =
+          mspdebug({"prog " + shipped_elf, "set SP 0x9f0", "mw 0x9f0 0x00 0x09", "set R12 0",
+                    "set R13 0x41", "set R14 0x800", "set SR " + std::to_string(sr_in),
+                    "set PC " + std::to_string(at), "setbreak 0x0900", "run", "regs"});
+      const std::size_t pc = log.rfind("( PC: "), sr = log.rfind("( SR: ");
+      ASSERT_NE(sr, std::string::npos) << log;
+      EXPECT_EQ(std::stoul(log.substr(pc + 6), nullptr, 16), 0x0900u) << fn << " did not return";
+      EXPECT_EQ(std::stoul(log.substr(sr + 6), nullptr, 16) & gie, sr_in)
+          << fn << " called with GIE " << (sr_in != 0 ? "on" : "off");
+    }
+  }
+}
+
 // ---- the shipped code at board speed (issue 32) ------------------------------------------
 //
 // gyroflip_f149_sim.elf is main.cpp with the simulator's stand-ins (firmware/ports/msp430f149/
@@ -547,9 +579,12 @@ struct board_run {
 // than that leaves it out and checks the image's own record of the gaps between kicks.
 std::vector<std::string> sim_devices(bool watchdog) {
   std::vector<std::string> d{
-      "simio add hwmult mul",     "simio add timer ta 3",    "simio config ta irq0 6",
-      "simio config ta irq1 5",   "simio add timer tb 7",    "simio config tb base 0x180",
-      "simio config tb iv 0x11e", "simio config tb irq0 13", "simio config tb irq1 12"};
+      "simio add hwmult mul", "simio add timer ta 3", "simio config ta irq0 6",
+      "simio config ta irq1 5", "simio add timer tb 7", "simio config tb base 0x180",
+      "simio config tb iv 0x11e", "simio config tb irq0 13", "simio config tb irq1 12",
+      // The board's clock ratio (sim_board.hpp): a timer at 0x1C0 on the Comparator_A vector.
+      "simio add timer tc 3", "simio config tc base 0x1c0", "simio config tc iv 0x1de",
+      "simio config tc irq0 11", "simio config tc irq1 7"};
   if (watchdog) d.emplace_back("simio add wdt wd");
   return d;
 }
@@ -776,9 +811,10 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
     const auto total = steps[first + 1599].tick - steps[first].tick;
     std::uint32_t want_total = 0;
     for (std::uint32_t k = 0; k + 1 < 1600; ++k) want_total += stepper::interval(plan, k, 1600);
-    EXPECT_LE(std::max(total, want_total) - std::min(total, want_total), 1u) << "turn " << turn;
+    EXPECT_LE(std::max(total, want_total) - std::min(total, want_total), 3u) << "turn " << turn;
   }
-  EXPECT_LE(worst, 1) << "a step interval off the ramp by more than one tick";
+  EXPECT_LE(worst, 2) << "a step interval off the ramp by more than two ticks";
+  EXPECT_EQ(r.stats[sl::w_rebases], 0u) << "a turn ran dry and restarted its ramp";
 
   // Conversions: each starts within a tick of the last one's end.
   const auto u32 = [&](std::size_t at) {
@@ -805,14 +841,15 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
   const double period_ms =
       1000.0 * static_cast<double>(in_dwell) / static_cast<double>(gaps) / 32768.0;
   EXPECT_LE(longest, conv_ticks + 8) << "a conversion waited for the main loop";
-  EXPECT_LT(period_ms, 1000.0 * (conv_ticks + 4) / 32768.0);
+  EXPECT_LT(period_ms, 1000.0 * (conv_ticks + 6) / 32768.0);
 
   // The main loop's passes and the interrupts, in MCLK cycles at the board's clock.
   const double poll_ms = 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz;
   const double isr_us = 1e6 * r.cycles(sl::w_isr_max) / board_mclk_hz;
   const double adc_isr_us = 1e6 * r.cycles(sl::w_adc_isr_max) / board_mclk_hz;
-  // The 96-byte receive queue holds 8.3 ms of line.
-  EXPECT_LT(poll_ms, 7.0) << "a main-loop pass near what the receive queue holds";
+  // The 96-byte receive queue holds 8.3 ms of line (passes at the board's clock ratio, with the
+  // interrupts' load of the board: ~7.0 ms at most).
+  EXPECT_LT(poll_ms, 7.5) << "a main-loop pass near what the receive queue holds";
   EXPECT_EQ(r.stats[sl::w_rx_lost], 0u);
   EXPECT_LT(r.stats[sl::w_rx_max_fill], 48u);
   // Below two byte times of the UART (174 us): no received byte is overrun behind a step.
@@ -830,9 +867,12 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
       "every %.3f ms on the board on average (%.3f ms at most; the conversion %.4f ms)\n",
       r.stats[sl::w_restarts], restart_mean_us, restart_max_us, t_conv_ms + restart_mean_us / 1e3,
       t_conv_ms + restart_max_us / 1e3, t_conv_ms);
+  // The board's clock ratio: the stand-ins took 87.25 of every 256 cycles of the run.
+  const double stolen_share = 8.0 * r.word32(sl::w_stolen_lo) / (256.0 * stop);
+  EXPECT_NEAR(stolen_share, 87.25 / 256, 0.01);
   const std::uint32_t wd_gap = r.word32(sl::w_wd_gap_lo);
   EXPECT_LT(wd_gap, 3277u) << "the watchdog went unfed for 0.1 s";
-  EXPECT_LE(r.stats[sl::w_step_late_max], 2u);
+  EXPECT_LE(r.stats[sl::w_step_late_max], 4u);
   const double cycle_s = (dwells[2].t_start_ticks - dwells[0].t_start_ticks) / 32768.0;
   std::printf(
       "msp430f149 at board speed: step intervals within %d tick of the ramp over 2 x 1600 steps "
@@ -849,12 +889,123 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
       cycle_s);
 }
 
+// Commands timed on purpose to land where the step queue is needed most, at the board's top
+// rate (2 000 steps/s, the highest the F149 accepts): the last 8 steps of each turn's ramp up
+// and the first of its ramp down, where the intervals are computed ahead and the queue covers
+// 8 x 0.5 ms. A first run without commands gives the step instants (the steps are timer-driven:
+// a second run that keeps up has the same ones); the second delivers a PING (ACK, then the
+// 92-byte INFO), a RESEND of 16 numbers, and both back to back, each finishing its last byte
+// at one of those windows. Every interval stays on the ramp, no turn runs dry (before issue
+// 32's second review: a PING's 31 000-cycle pass emptied the queue at the top of the ramp and
+// the turn restarted its ramp from standstill; at the board's clock ratio the main loop fed only
+// two intervals a pass and fell behind at the top of every ramp).
+TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
+  const auto cfg = geared_config();
+  protocol::start_msg start;
+  start.config_crc = protocol::configure_crc(cfg);
+  const std::vector<sim_event> setup{{3277, wire(cfg, 100)}, {6554, wire(start, 101)}};
+  const std::uint32_t stop = 84000;
+  const auto plan =
+      stepper::make_plan({cfg.start_rate_sps, cfg.step_rate_sps, cfg.ramp_sps2}, 32768);
+  const std::uint32_t ramp = plan.ramp_steps;  // 99 steps below the top rate
+  ASSERT_EQ(ramp, 99u);
+  const auto quiet = run_board(script_bytes(setup, stop), 41, 1, false);
+  int bad = 0;
+  const auto ref = steps_of(quiet.ports, &bad);
+  ASSERT_GE(ref.size(), 3200u) << quiet.log;
+  // The windows: 8 steps before each ramp's top, the first ramp-down step, for both turns.
+  std::vector<std::uint32_t> windows;
+  for (std::size_t turn = 0; turn < 2; ++turn) {
+    windows.push_back(ref[1600 * turn + ramp - 8].tick);
+    windows.push_back(ref[1600 * turn + 1600 - ramp].tick);
+  }
+  protocol::resend_msg rs;
+  rs.count = 16;
+  for (std::uint8_t i = 0; i < 16; ++i) rs.seqs[i] = static_cast<std::uint16_t>(2 + i);
+  // A byte every 91 Timer_B counts: 728 simulator cycles, 2.84 ticks.
+  const auto ending_at = [](std::uint32_t tick, const std::vector<std::uint8_t>& b) {
+    return sim_event{tick - static_cast<std::uint32_t>(b.size() * 728 / 256), b};
+  };
+  auto ev = setup;
+  std::uint16_t seq = 102;
+  const auto ping = [&] { return wire(protocol::ping_msg{}, seq++); };
+  const auto resend = [&] { return wire(rs, seq++); };
+  ev.push_back(ending_at(windows[0], ping()));
+  ev.push_back(ending_at(windows[1], resend()));
+  auto both = ping();
+  const auto more = resend();
+  both.insert(both.end(), more.begin(), more.end());
+  ev.push_back(ending_at(windows[2], both));
+  ev.push_back(ending_at(windows[3], ping()));
+  const auto r = run_board(script_bytes(ev, stop), 41, 1, false);
+  ASSERT_EQ(r.stats[sl::w_done], 1u) << r.log;
+  const auto steps = steps_of(r.ports, &bad);
+  EXPECT_EQ(bad, 0);
+  ASSERT_GE(steps.size(), 3200u);
+  EXPECT_EQ(r.stats[sl::w_rebases], 0u) << "a turn ran dry and restarted its ramp";
+  int worst = 0;
+  for (std::size_t turn = 0; turn < 2; ++turn)
+    for (std::size_t k = 0; k + 1 < 1600; ++k) {
+      const std::size_t i = 1600 * turn + k;
+      const auto got = static_cast<int>(steps[i + 1].tick - steps[i].tick);
+      const auto want =
+          static_cast<int>(stepper::interval(plan, static_cast<std::uint32_t>(k), 1600));
+      worst = std::max(worst, std::abs(got - want));
+      if (std::abs(got - want) > 2)
+        ADD_FAILURE() << "turn " << turn << " step " << k << " at tick " << steps[i].tick << ": "
+                      << got << " ticks, the ramp's " << want;
+    }
+  EXPECT_LE(worst, 2) << "a step interval off the ramp";
+  // Every command answered: 2 PINGs' ACKs and INFOs, and the third PING's.
+  int acks = 0, infos = 0;
+  for (const auto& f : frames_of(r.tx)) {
+    acks += f.type == static_cast<std::uint8_t>(protocol::msg::ack) ? 1 : 0;
+    infos += f.type == static_cast<std::uint8_t>(protocol::msg::info) ? 1 : 0;
+  }
+  EXPECT_EQ(acks, 2 + 3) << "CONFIGURE, START and three PINGs";
+  EXPECT_EQ(infos, 1 + 3) << "the boot's and three PINGs'";
+  EXPECT_EQ(r.stats[sl::w_rx_lost], 0u);
+  std::printf(
+      "msp430f149 commands at the top of the ramp (ticks %u %u %u %u): step intervals within %d "
+      "tick of the ramp, %u turns restarted; longest pass %.0f MCLK cycles = %.3f ms\n",
+      windows[0], windows[1], windows[2], windows[3], worst, r.stats[sl::w_rebases],
+      r.cycles(sl::w_poll_max), 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz);
+}
+
+// The paper's cycle on the board (item 2 of issue 32's review): the default configuration (the
+// paper's: 256 gyro and 4 temperature conversions a dwell, FW 94 with chop, a 100-step half turn
+// at 200 -> 400 steps/s, 80-ms settling), from START, measured at the board's clock ratio: the
+// cycle is the time between the starts of the first and the third dwell (A, B, A).
+TEST(Msp430Board, ThePapersCycleMeasuredAtBoardSpeed) {
+  protocol::configure_msg cfg;
+  protocol::start_msg start;
+  start.config_crc = protocol::configure_crc(cfg);
+  const std::vector<sim_event> ev{{3277, wire(cfg, 100)}, {6554, wire(start, 101)}};
+  const auto r = run_board(script_bytes(ev, 150000), 7, 1, false);  // 4.6 s
+  ASSERT_EQ(r.stats[sl::w_done], 1u) << r.log;
+  std::vector<protocol::dwell_msg> dwells;
+  for (const auto& f : frames_of(r.tx))
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::dwell))
+      dwells.push_back(f.as<protocol::dwell_msg>());
+  ASSERT_GE(dwells.size(), 3u);
+  for (const auto& d : dwells) EXPECT_EQ(d.n, 256u);
+  const double cycle_s = (dwells[2].t_start_ticks - dwells[0].t_start_ticks) / 32768.0;
+  const double dwell_s = (dwells[0].t_end_ticks - dwells[0].t_start_ticks) / 32768.0;
+  // 2 x 260 conversions of 2.0 ms at least, and the firmware's restarts; the paper: 1.79 s.
+  EXPECT_GT(cycle_s, 2 * 260 * 1.9989e-3);
+  EXPECT_LT(cycle_s, 2.0);
+  std::printf(
+      "msp430f149 the paper's cycle at board speed: %.3f s (a dwell of 260 conversions "
+      "%.3f s: %.3f ms a conversion; the paper 1.79 s)\n",
+      cycle_s, dwell_s, 1000.0 * dwell_s / 260);
+}
+
 // A power-up leaves the F149's RAM random: the device must say power-on and count from 1 every
 // time (clang had shrunk the 16-bit check word to a byte: "reset pin" and a garbage count 255
 // times in 256). A reset that keeps RAM is the reset pin, the count goes on, and INFO carries the
 // previous boot's frame number and DWELL count.
 TEST(Msp430Board, APowerUpFromRandomRamIsAPowerUpAndAResetCountsOn) {
-  const auto script = script_bytes({}, 1000);  // to ~30 ms after boot: INFO is out
+  const auto script = script_bytes({}, 2000);  // to ~60 ms after boot: INFO is out
   for (std::uint32_t seed = 1; seed <= 12; ++seed) {
     SCOPED_TRACE("RAM seed " + std::to_string(seed));
     for (int boots = 1; boots <= 2; ++boots) {
@@ -899,7 +1050,7 @@ TEST(Msp430Board, TheLabsSerialRecordIsTheSerialInInfo) {
   const auto bad = test::run_program({"python3", tool, "0"});
   EXPECT_EQ(bad.exit_code, 2);
 
-  const auto script = script_bytes({}, 1000);
+  const auto script = script_bytes({}, 2000);
   const auto with = run_board(script, 5, 1, true, {"load " + tmp.file("board.hex")});
   const auto frames = frames_of(with.tx);
   ASSERT_FALSE(frames.empty()) << with.log;

@@ -110,7 +110,8 @@ class mover {
   void begin(int32_t steps, uint32_t first_ticks, const ramp_plan& p, uint8_t ahead = queue_len);
   /// The first step's instant, set after begin() (whose interval computations take time).
   void retime(uint32_t first_ticks) { next_ = first_ticks; }
-  /// Main loop: computes intervals ahead while the queue has room (at most `max_new`).
+  /// Main loop: computes intervals ahead while the queue has room (at most `max_new`) and holds
+  /// less time than a full queue at the top rate (queue_len cruise intervals).
   void refill(const ramp_plan& p, uint8_t max_new = queue_len);
   /// The step due at `now` (the consumer's side): moves the motors, and returns true with
   /// `*next_due` the instant of the following step when it is queued; false when the move is
@@ -130,6 +131,10 @@ class mover {
 
  private:
   [[nodiscard]] bool cruising(uint16_t k) const;
+  /// interval(p, j-th step of a ramp): the root of v0^2 + 2 a j kept from the last call (j moves
+  /// by one between calls: adds and compares, no square root), then one division.
+  [[nodiscard]] uint32_t ramp_ticks(const ramp_plan& p, uint16_t j);
+  void restart_root(const ramp_plan& p);
 
   uint16_t total_ = 0;
   uint16_t ramp_steps_ = 0;  // the plan's j_top and top-rate interval (copied at begin())
@@ -144,6 +149,10 @@ class mover {
   bool paused_ = false;
   uint32_t next_ = 0;
   uint16_t queue_[queue_len] = {};
+  // The producer's running root: root_^2 + rest_ = v0^2 + 2 a root_j_, 0 <= rest_ <= 2 root_.
+  uint16_t root_j_ = 0;
+  uint16_t root_ = 1;
+  uint32_t rest_ = 0;
 };
 
 }  // namespace gyroflip::stepper

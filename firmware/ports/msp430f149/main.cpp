@@ -239,12 +239,12 @@ bool home_switch(void*) {
 }
 bool pwm_capture(void*, uint8_t axis, fw::pwm_period* out) {
   volatile pwm_axis& s = pwm_axes[axis & 1u];
-  disable_interrupts();
+  const bool on = interrupts_off();  // and back as they were: a caller may hold them off
   const bool ready = s.ready;
   out->high_ticks = s.out_high;
   out->period_ticks = s.out_period;
   s.ready = false;
-  enable_interrupts();
+  interrupts_restore(on);
   return ready;
 }
 bool uart_read(void*, uint8_t* b) {
@@ -255,7 +255,7 @@ bool uart_read(void*, uint8_t* b) {
 }
 // Queues a wire byte for the transmit interrupt; the first byte after an idle line starts it.
 bool uart_write(void*, uint8_t b) {
-  disable_interrupts();
+  const bool on = interrupts_off();  // and back as they were: a caller may hold them off
   bool queued = true;
   if (tx_idle) {
     tx_idle = false;
@@ -269,7 +269,7 @@ bool uart_write(void*, uint8_t b) {
       tx_head = next;
     }
   }
-  enable_interrupts();
+  interrupts_restore(on);
   return queued;
 }
 uint32_t ticks(void*) {
@@ -556,6 +556,12 @@ __attribute__((interrupt(TIMERB0_VECTOR))) void isr_timer_b0() {
   sim::line_tick();
 #endif
 }
+#if GYROFLIP_F149_SIM
+// The board's clock ratio (sim_board.hpp): a simulated timer's CCR0 on an unused vector.
+__attribute__((interrupt(COMPARATORA_VECTOR))) void isr_sim_clock_ratio() {
+  sim::steal();
+}
+#endif
 __attribute__((interrupt(TIMERA0_VECTOR))) void isr_timer_a0() {
 #if GYROFLIP_F149_SIM
   const uint16_t t0 = sim::isr_begin();
@@ -596,6 +602,7 @@ void firmware_main() {
     const uint16_t t0 = sim::poll_begin();
     dev.poll();
     sim::poll_end(t0, now_ticks());
+    sim::steps_seen(dev.step_rebases());
 #else
     dev.poll();
 #endif

@@ -4,10 +4,10 @@
 /// here is in the shipped image). The simulator has a CPU, RAM, Timer_A-class timers and a
 /// watchdog, and no USART, no port pins and no AD7739:
 ///  - the serial line: a second simulated timer at Timer_B's address runs from SMCLK / 8 as on
-///    the board, and its CCR0 interrupt every 60 counts (480 MCLK cycles: one byte at 115 200 b/s
-///    of the board's 5.5296 MHz) ends the byte being sent (logged, and the USART transmit
-///    interrupt's work done) and delivers the next byte of the host's script to the receive
-///    queue as the USART receive interrupt would;
+///    the board, and its CCR0 interrupt every `line_counts` (one byte at 115 200 b/s: 480 of the
+///    board's MCLK cycles, 728 of the simulator's, see the clock ratio below) ends the byte being
+///    sent (logged, and the USART transmit interrupt's work done) and delivers the next byte of the
+///    host's script to the receive queue as the USART receive interrupt would;
 ///  - the AD7739: its SPI bytes are answered here (communications register, conversion-time and
 ///    mode writes, revision and dump-mode data reads), a conversion or a calibration step ends
 ///    at its start tick plus its conversion time in ticks (the driver's own formula), and
@@ -18,9 +18,13 @@
 ///  - measurements: each main-loop pass and each Timer_A interrupt timed with Timer_B, the
 ///    stepper port's writes, conversions, watchdog kicks and the bytes sent, logged in
 ///    sim_layout.hpp's memory for the test.
-/// The simulator's ACLK is MCLK / 256 (mspdebug 0.22 simio.c), the board's MCLK / 168.75: a tick
-/// holds 1.5 x more MCLK cycles here than on the board. Times in ticks (steps, conversions) are
-/// the board's; CPU work is measured in cycles and converted with the board's clock.
+///  - the board's clock ratio: the simulator's ACLK (the tick) is MCLK / 256 (mspdebug 0.22
+///    simio.c, not configurable), the board's MCLK / 168.75 (5.5296 MHz / 32 768 Hz). A third
+///    simulated timer (at 0x1C0, SMCLK / 8, its CCR0 on the Comparator_A vector) interrupts
+///    every 1 024 cycles and takes 349 of every 1 024 from the firmware (87.25 of 256) in a busy
+///    loop the firmware's interrupts preempt (they are served at once), so that it gets the
+///    board's 168.75 cycles a tick: everything timed in ticks (steps, conversions, the line's
+///    bytes) sees the board's CPU. Its cycles are left out of every measured figure.
 #pragma once
 
 #include "firmware/drivers/ad7739/convert.hpp"
@@ -56,6 +60,21 @@ inline uint16_t tbr() {
 // own, with the board's SPI time (40 MCLK cycles a byte at SMCLK / 2 with the loop's overhead)
 // added back.
 uint16_t stub_counts = 0;
+// Timer_B counts the clock-ratio stand-in took (written by its interrupt only).
+volatile uint16_t stolen = 0;
+// Counts not the firmware's own: the stand-ins' and the clock ratio's.
+inline uint16_t away() {
+  return static_cast<uint16_t>(stub_counts + stolen);
+}
+// The Timer_B counts the interrupts took (their spans, with ~4 counts of entry and return; a
+// nested one inside the outer one's): the clock-ratio stand-in tells its own time from theirs.
+volatile uint16_t isr_counts = 0;
+uint8_t isr_depth = 0;
+inline void isr_done(uint16_t span) {
+  if (--isr_depth == 0) isr_counts = static_cast<uint16_t>(isr_counts + span + 4);
+}
+// One byte at 115 200 b/s: 480 board cycles, 480 x 256 / 168.75 = 728 simulator cycles.
+constexpr uint16_t line_counts = 91;
 constexpr uint16_t board_spi_counts_per_byte = 5;  // 40 MCLK cycles
 // The SPI transfer in progress (main.cpp spi_transfer): since when, and bytes so far (0: none).
 uint16_t spi_from = 0;
@@ -83,7 +102,7 @@ inline uint32_t isr_ticks() {
 inline void line_start() {
   if (line_on) return;
   line_on = true;
-  TBCCR0 = static_cast<uint16_t>(TBR + 60);
+  TBCCR0 = static_cast<uint16_t>(TBR + line_counts);
   TBCCTL0 = CCIE;
 }
 
@@ -120,13 +139,14 @@ uint8_t rx_fill_max = 0;
 uint16_t rx_lost = 0;
 inline void line_tick() {
   const uint16_t entry = tbr();
+  ++isr_depth;
   // The next byte time; one that has passed (another interrupt held this one back longer than a
   // byte) is taken from now: the line's bytes simply come later, as a UART's would.
-  const uint16_t next = static_cast<uint16_t>(TBCCR0 + 60);
+  const uint16_t next = static_cast<uint16_t>(TBCCR0 + line_counts);
   const uint16_t now = TBR;
   TBCCR0 = static_cast<int16_t>(static_cast<uint16_t>(next - now)) > 0
                ? next
-               : static_cast<uint16_t>(now + 60);
+               : static_cast<uint16_t>(now + line_counts);
   if (tx_shifting) {
     tx_shifting = false;
     if (tx_n < sl::tx_log_cap) reinterpret_cast<uint8_t*>(sl::tx_log_addr)[tx_n++] = tx_byte;
@@ -151,6 +171,7 @@ inline void line_tick() {
   // The board's USART interrupts do this work in ~4 counts (30 cycles) a byte.
   const uint16_t spent = static_cast<uint16_t>(tbr() - entry);
   stub_counts = static_cast<uint16_t>(stub_counts + (spent > 4 ? spent - 4 : 0) + 3);
+  isr_done(spent);
 }
 
 // ---- the AD7739 ----------------------------------------------------------------------------
@@ -207,7 +228,7 @@ inline void adc_start(uint8_t ch, bool convert) {
         spi_bytes == 0
             ? 0
             : static_cast<uint16_t>(at - spi_from - spi_bytes * board_spi_counts_per_byte);
-    const uint16_t stub = static_cast<uint16_t>(stub_counts - restart.stub + open);
+    const uint16_t stub = static_cast<uint16_t>(away() - restart.stub + open);
     const uint16_t own = raw > stub ? static_cast<uint16_t>(raw - stub) : 0;
     if (own > stats()[sl::w_restart_max]) stats()[sl::w_restart_max] = own;
     put32(sl::w_restart_sum_lo, get32(sl::w_restart_sum_lo) + own);
@@ -238,7 +259,7 @@ inline bool adc_conversion_done() {
   if (adc.busy_convert) {
     adc.ready = static_cast<uint8_t>(adc.ready | (1u << adc.busy_ch));
     adc.result_at = adc.log_at;
-    restart = {true, tbr(), stub_counts, isr_ticks()};
+    restart = {true, tbr(), away(), isr_ticks()};
   } else {
     adc.cal_ready = true;  // no result: the data register keeps the last conversion's
   }
@@ -348,12 +369,14 @@ inline void watchdog_kicked(uint32_t now) {
 
 uint16_t isr_stub_at = 0;
 inline uint16_t isr_begin() {
-  isr_stub_at = stub_counts;
+  isr_stub_at = away();
+  ++isr_depth;
   return tbr();
 }
 inline void isr_end(uint16_t t0, uint8_t word = sl::w_isr_max) {
   const uint16_t dt = static_cast<uint16_t>(tbr() - t0);
-  const uint16_t stub = static_cast<uint16_t>(stub_counts - isr_stub_at);
+  isr_done(dt);
+  const uint16_t stub = static_cast<uint16_t>(away() - isr_stub_at);
   const uint16_t own = dt > stub ? static_cast<uint16_t>(dt - stub) : 0;
   if (own > stats()[word]) stats()[word] = own;
 }
@@ -363,13 +386,13 @@ uint16_t poll_stub_at = 0;
 inline uint16_t poll_begin() {
   booted = true;
   poll_from = isr_ticks();
-  poll_stub_at = stub_counts;
+  poll_stub_at = away();
   return tbr();
 }
 
 inline void poll_end(uint16_t t0, uint32_t now) {
   const uint16_t raw = static_cast<uint16_t>(tbr() - t0);
-  const uint16_t stub = static_cast<uint16_t>(stub_counts - poll_stub_at);
+  const uint16_t stub = static_cast<uint16_t>(away() - poll_stub_at);
   const uint16_t dt = raw > stub ? static_cast<uint16_t>(raw - stub) : 0;
   stats()[sl::w_tx_bytes] = tx_n;
   stats()[sl::w_rx_lost] = rx_lost;
@@ -393,6 +416,77 @@ inline void poll_end(uint16_t t0, uint32_t now) {
   }
 }
 
+// ---- the board's clock ratio -----------------------------------------------------------
+inline volatile uint16_t& tc(uint16_t offset) {
+  return *reinterpret_cast<volatile uint16_t*>(0x1C0u + offset);
+}
+constexpr uint16_t tc_ctl = 0x00, tc_cctl0 = 0x02, tc_r = 0x10, tc_ccr0 = 0x12;
+constexpr uint16_t steal_period = 128;  // Timer_B counts: 1 024 cycles, four simulator ticks
+uint16_t steal_last = 0;                // Timer_B at the handler's last read
+uint16_t steal_span = 0;                // its last run's own counts (interrupts within left out)
+uint16_t steal_pre = 0;                 // the interrupts' counts within its last run
+uint16_t steal_stub_at = 0;             // stub_counts at its last run
+int32_t steal_debt = 0;                 // counts owed, in 1/64 count
+// The firmware's time since the handler last ran owes 33/64 of itself (349/675 = 87.25 : 168.75,
+// within 0.3 %); the handler's own time pays 64 a count. It burns with interrupts on: the
+// firmware's interrupts preempt it at once (their latency is the board's), and their counts are
+// the firmware's. No multiplication or 32-bit shift (no helper call: a short prologue).
+// The handler's cycles outside its span (interrupt entry 6, the pushes and the first read before
+// it; dint, the stores, the timer's next compare, the pops and reti 5 after it: main.cpp's
+// isr_sim_clock_ratio, counted from its disassembly), in counts, rounded up (harsher).
+constexpr uint16_t steal_overhead = 10;
+inline uint16_t times33(uint16_t v) {
+  uint16_t x = v;
+  __asm__("rla %0\n rla %0\n rla %0\n rla %0\n rla %0" : "+r"(x));
+  return static_cast<uint16_t>(x + v);
+}
+inline void steal() {
+  const uint16_t entry = tbr();
+  const uint16_t pre0 = isr_counts;
+  enable_interrupts();  // the firmware's interrupts preempt all of it
+  const uint16_t took = static_cast<uint16_t>(steal_span + steal_overhead);
+  // The stand-ins' time (not the board's: the line's and the AD7739's work in their handlers)
+  // is taken from the firmware's share like the loop's own.
+  const uint16_t stub = static_cast<uint16_t>(stub_counts - steal_stub_at);
+  steal_stub_at = stub_counts;
+  uint16_t own = static_cast<uint16_t>(entry - steal_last + steal_pre);
+  own = own > steal_overhead + stub ? static_cast<uint16_t>(own - steal_overhead - stub) : 0;
+  if (own > 900) own = 900;  // (the image holds interrupts off for less)
+  const uint16_t paid = static_cast<uint16_t>(took + stub);
+  uint16_t pay = paid > 500 ? 500 : paid;
+  __asm__("rla %0\n rla %0\n rla %0\n rla %0\n rla %0\n rla %0" : "+r"(pay));
+  steal_debt += times33(own);
+  steal_debt -= pay;
+  stolen = static_cast<uint16_t>(stolen + took);
+  volatile uint16_t* w = stats() + sl::w_stolen_lo;
+  const uint16_t lo = static_cast<uint16_t>(w[0] + paid);
+  w[0] = lo;
+  if (lo < paid) w[1] = static_cast<uint16_t>(w[1] + 1);
+  uint16_t burn = 0;
+  if (steal_debt > 0) {
+    uint16_t d = steal_debt > 32767 ? uint16_t{32767} : static_cast<uint16_t>(steal_debt);
+    __asm__("rra %0\n rra %0\n rra %0\n rra %0\n rra %0\n rra %0" : "+r"(d));
+    burn = d;
+  }
+  uint16_t now = entry, pre = 0;
+  while (static_cast<uint16_t>(now - entry - pre) < burn) {
+    now = tbr();
+    pre = static_cast<uint16_t>(isr_counts - pre0);
+  }
+  disable_interrupts();
+  now = tbr();
+  pre = static_cast<uint16_t>(isr_counts - pre0);
+  steal_pre = pre;
+  const uint16_t span = static_cast<uint16_t>(now - entry);
+  steal_span = span > pre ? static_cast<uint16_t>(span - pre) : 0;
+  steal_last = now;
+  tc(tc_ccr0) = static_cast<uint16_t>(tc(tc_r) + steal_period);
+}
+
+inline void steps_seen(uint16_t rebases) {
+  stats()[sl::w_rebases] = rebases;
+}
+
 inline void init() {
   for (uint8_t w = 0; w < sl::w_count; ++w) stats()[w] = 0;
   script_at = 6;
@@ -403,6 +497,13 @@ inline void init() {
   rx_fill_max = 0;
   rx_lost = 0;
   next_event();
+  steal_last = tbr();
+  steal_span = 0;
+  steal_pre = 0;
+  steal_debt = 0;
+  tc(tc_ctl) = TBSSEL_2 | ID_3 | MC_2;
+  tc(tc_ccr0) = static_cast<uint16_t>(tc(tc_r) + steal_period);
+  tc(tc_cctl0) = CCIE;
 }
 
 }  // namespace sim

@@ -60,6 +60,11 @@ enum word : uint8_t {
   w_restart_sum_lo,
   w_restart_sum_hi,
   w_restarts,
+  /// Timer_B counts not the firmware's: the clock-ratio stand-in's and the other stand-ins'
+  /// (sim_board.hpp): 349 of every 1 024 of the run.
+  w_stolen_lo,
+  w_stolen_hi,
+  w_rebases,  ///< turns that ran dry and resumed with a new ramp (stepper::mover::rebase)
   w_count,
 };
 /// A pass longer than this (Timer_B counts: 1 ms at 5.5296 MHz) is counted in w_polls_over.
