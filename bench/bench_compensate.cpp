@@ -11,9 +11,9 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
-#include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/method/flip_stream.hpp"
+#include "gyroflip/workflow/recordings.hpp"
 
 namespace {
 
@@ -90,7 +90,7 @@ void BM_CompensateFromCsv(benchmark::State& state) {
   }
   const auto dn = gyroflip::method::constant_model(0.0123);
   for (auto _ : state) {
-    auto rc = gyroflip::io::read_cycles(path, gyroflip::method::pairing::abba);
+    auto rc = gyroflip::workflow::read_cycles(path, gyroflip::method::pairing::abba);
     if (!rc) {
       state.SkipWithError(rc.err().message.c_str());
       break;

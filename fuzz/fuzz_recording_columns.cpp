@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gyroflip/io/recording.hpp"
+#include "gyroflip/method/cycles.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
@@ -27,6 +28,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (navg) c.n_avg = col(temp ? 4 : 3);
   const auto r = gyroflip::io::rows_of_columns(c, tol);
   if (!r) return 0;
-  (void)gyroflip::io::cycles_of_rows("<arrays>", *r, gyroflip::method::pairing::abba, {});
+  (void)gyroflip::method::cycles_of_rows("<arrays>", *r, gyroflip::method::pairing::abba);
   return 0;
 }

@@ -11,8 +11,10 @@
 
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/method/cycles.hpp"
 #include "gyroflip/method/flip_stream.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
+#include "gyroflip/workflow/recordings.hpp"
 
 namespace gyroflip::app {
 
@@ -20,18 +22,10 @@ bool is_rig_recording(const std::string& path) {
   return path.ends_with(".gfr");
 }
 
-result<io::recording_cycles> read_recording_cycles(const std::string& path, method::pairing p,
-                                                   const progress_fn& on_progress,
-                                                   double angle_tolerance_deg) {
-  // A rig recording's positions come from the device's step count, not an encoder.
-  if (!is_rig_recording(path)) return io::read_cycles(path, p, on_progress, angle_tolerance_deg);
-  auto run = rigdata::read_rig_run(path);
-  if (!run) return run.err();
-  const auto rows = rigdata::dwell_rows(*run);
-  auto rc = io::cycles_of_rows(path, rows, p, rigdata::csv_metadata(*run));
-  if (!rc) return rc.err();
-  rc->warnings = run->warnings;
-  return rc;
+result<method::recording_cycles> read_recording_cycles(const std::string& path, method::pairing p,
+                                                       const progress_fn& on_progress,
+                                                       double angle_tolerance_deg) {
+  return workflow::read_cycles(path, p, on_progress, angle_tolerance_deg);
 }
 
 namespace {
@@ -157,7 +151,7 @@ result<io::series> read_rig_series(const std::string& path, const std::string& c
         angle_deg.push_back(r.angle_deg);
       }
     } else {
-      auto rc = io::cycles_of_rows(path, rows, method::pairing::abba, {});
+      auto rc = method::cycles_of_rows(path, rows, method::pairing::abba);
       if (!rc) return rc.err();
       for (const auto& c : rc->cycles) {
         values.push_back(column == "rate_dps" ? c.rate_dps : c.bias_dps);

@@ -7,8 +7,8 @@
 
 #include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
-#include "gyroflip/io/recording.hpp"
 #include "gyroflip/io/series.hpp"
+#include "gyroflip/method/cycles.hpp"
 
 namespace gyroflip::app {
 
@@ -16,10 +16,9 @@ namespace gyroflip::app {
 [[nodiscard]] bool is_rig_recording(const std::string& path);
 
 /// The cycles of a CSV recording or of a `.gfr` rig recording's dwells.
-[[nodiscard]] result<io::recording_cycles> read_recording_cycles(const std::string& path,
-                                                                 method::pairing p,
-                                                                 const progress_fn& on_progress,
-                                                                 double angle_tolerance_deg = 0.0);
+[[nodiscard]] result<method::recording_cycles> read_recording_cycles(
+    const std::string& path, method::pairing p, const progress_fn& on_progress,
+    double angle_tolerance_deg = 0.0);
 
 /// A `.gfr` recording as a series: `rate_dps` the per-cycle half-difference r (the flip-
 /// compensated rate up to the constant dN, which no deviation sees), `bias_dps` the per-cycle

@@ -20,11 +20,14 @@
 #include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/compensation.hpp"
+#include "gyroflip/method/cycles.hpp"
+#include "gyroflip/method/runs.hpp"
 #include "gyroflip/rig/simulator.hpp"
-#include "gyroflip/rigdata/rig_run.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/compensate.hpp"
+#include "gyroflip/workflow/recordings.hpp"
 #include "gyroflip/workflow/simulate.hpp"
 
 namespace gyroflip::python {
@@ -45,7 +48,7 @@ struct columns {
   std::optional<f64_array> temp_c, n_avg;
 };
 
-io::recording_cycles cycles_of(const columns& c, method::pairing p, double tol) {
+method::recording_cycles cycles_of(const columns& c, method::pairing p, double tol) {
   io::recording_columns rc{span_of(c.time_s, "time_s"),
                            span_of(c.angle_deg, "angle_deg"),
                            span_of(c.rate_dps, "rate_dps"),
@@ -54,7 +57,7 @@ io::recording_cycles cycles_of(const columns& c, method::pairing p, double tol) 
   if (c.temp_c) rc.temp_c = span_of(*c.temp_c, "temp_c");
   if (c.n_avg) rc.n_avg = span_of(*c.n_avg, "n_avg");
   const auto rows = take(io::rows_of_columns(rc, tol));
-  auto cycles = take(io::cycles_of_rows(arrays_name, rows, p, {}));
+  auto cycles = take(method::cycles_of_rows(arrays_name, rows, p));
   cycles.has_temp = c.temp_c.has_value();
   return cycles;
 }
@@ -104,7 +107,8 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
     warnings.push_back(w);
   }
   rec.files.push_back({arrays_name, rec.pooled, std::nullopt, st});
-  rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);  // as the CLI
+  rec.pooled.stderr_correlated_dps =
+      method::pooled_correlated_stderr(workflow::calibrations_of(rec.files));  // as the CLI
   py::dict d = json_loads(take(io::to_json(rec)));
   d["warnings"] = warnings;
   for (const auto& cy : rc.cycles)  // the temperature may be absent (NaN)

@@ -312,41 +312,6 @@ method::delta_n_model delta_n_model_of(const calibration_record& rec) {
   return method::constant_model(rec.pooled.delta_n_dps, rec.pooled.stderr_correlated_dps);
 }
 
-result<std::optional<method::delta_n_model>> fit_runs_model(std::span<const calibration_entry> runs,
-                                                            std::optional<std::size_t> degree) {
-  if (runs.size() < 2) return std::optional<method::delta_n_model>{};
-  std::vector<method::delta_n_point> pts;
-  bool all_have_temp = true;
-  for (const auto& r : runs) {
-    all_have_temp = all_have_temp && !std::isnan(r.cal.temp_c);
-    pts.push_back({r.cal.temp_c, r.cal.delta_n_dps, r.cal.stderr_correlated_dps});
-  }
-  double span_c = 0.0;
-  if (all_have_temp) {
-    const auto [lo, hi] = std::minmax_element(
-        pts.begin(), pts.end(), [](const auto& a, const auto& b) { return a.temp_c < b.temp_c; });
-    span_c = hi->temp_c - lo->temp_c;
-  } else {
-    for (auto& p : pts) p.temp_c = 0.0;  // a constant needs no temperature
-  }
-  auto m =
-      method::fit_delta_n_random_effects(pts, degree.value_or(span_c >= min_model_span_c ? 1 : 0));
-  if (!m) return m.err();
-  if (!all_have_temp) m->t_ref_c = m->temp_min_c = m->temp_max_c = method::no_value;
-  return std::optional<method::delta_n_model>{std::move(*m)};
-}
-
-double pooled_correlated_stderr(std::span<const calibration_entry> files) {
-  double num = 0.0;
-  double n = 0.0;
-  for (const auto& f : files) {
-    const double ni = static_cast<double>(f.cal.cycles);
-    num += ni * ni * f.cal.stderr_correlated_dps * f.cal.stderr_correlated_dps;
-    n += ni;
-  }
-  return std::sqrt(num) / n;
-}
-
 result<std::string> to_json(const calibration_record& rec) {
   json j = schema_object("calibration", 3);
   j.update(calibration_fields(rec.pooled, rec.geometry));

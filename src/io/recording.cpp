@@ -1,5 +1,5 @@
 /// \file
-/// \brief Recording reader and whole-file cycle extraction (see recording.hpp).
+/// \brief Recording reader (see recording.hpp).
 #include "gyroflip/io/recording.hpp"
 
 #include <cmath>
@@ -8,8 +8,6 @@
 #include <fmt/format.h>
 
 #include "gyroflip/core/error.hpp"
-#include "gyroflip/method/calibration.hpp"
-#include "gyroflip/method/flip_stream.hpp"
 
 namespace gyroflip::io {
 namespace {
@@ -149,75 +147,15 @@ csv_reader::step recording_reader::next(method::row& out) {
   return csv_reader::step::row;
 }
 
-namespace {
-
-// The checks every source of rows shares: data at all, both orientations, enough cycles.
-status check_cycles(const recording_cycles& rc, const method::flip_stream& stream,
-                    method::pairing p) {
-  const auto& path = rc.path;
-  if (rc.rows == 0) return input_error({path}, "no data rows after the header");
-  if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)
-    return input_error(
-        {path}, fmt::format("the table never turns (every row is at {} deg): the method needs "
-                            "dwells at both 0 and 180 deg (an unflipped recording is for adev and "
-                            "noise, not for calibrate or compensate)",
-                            stream.dwells_at_0() == 0 ? 180 : 0));
-  if (rc.cycles.size() < method::min_cycles)
-    return input_error(
-        {path}, fmt::format("only {} cycle{} ({} dwells) with pairing '{}'; at least {} are needed",
-                            rc.cycles.size(), rc.cycles.size() == 1 ? "" : "s", rc.dwells,
-                            method::to_string(p), method::min_cycles));
-  return ok();
-}
-
-}  // namespace
-
-result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
-                                     const progress_fn& on_progress, double angle_tolerance_deg) {
-  auto reader = recording_reader::open(path, angle_tolerance_deg);
-  if (!reader) return reader.err();
-  recording_cycles rc;
-  rc.path = path;
-  rc.has_temp = reader->has_temp();
-  rc.metadata = reader->metadata();
-  method::flip_stream stream(p);
-  const auto keep = [&rc](const method::cycle& c) { rc.cycles.push_back(c); };
-  method::row r;
-  while (true) {
-    const auto s = reader->next(r);
+result<std::size_t> recording_reader::read(std::span<method::row> out) {
+  std::size_t n = 0;
+  while (n < out.size()) {
+    const auto s = next(out[n]);
     if (s == csv_reader::step::end) break;
-    if (s == csv_reader::step::failed) return reader->last_error();
-    ++rc.rows;
-    stream.push(r, keep);
-    // Every 4096 rows: a report costs a call through std::function.
-    if (on_progress && (rc.rows & 4095U) == 0)
-      on_progress(static_cast<std::size_t>(reader->bytes_done()),
-                  static_cast<std::size_t>(reader->bytes_total()));
+    if (s == csv_reader::step::failed) return error_;
+    ++n;
   }
-  stream.flush(keep);
-  rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
-  rc.warnings = reader->warnings();
-  if (auto s = check_cycles(rc, stream, p); !s) return s.err();
-  return rc;
-}
-
-result<recording_cycles> cycles_of_rows(const std::string& path, std::span<const method::row> rows,
-                                        method::pairing p, std::vector<csv_metadata> metadata) {
-  recording_cycles rc;
-  rc.path = path;
-  rc.metadata = std::move(metadata);
-  rc.has_temp = !rows.empty();
-  method::flip_stream stream(p);
-  const auto keep = [&rc](const method::cycle& c) { rc.cycles.push_back(c); };
-  for (const auto& r : rows) {
-    rc.has_temp = rc.has_temp && !std::isnan(r.temp_c);
-    stream.push(r, keep);
-  }
-  stream.flush(keep);
-  rc.rows = rows.size();
-  rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
-  if (auto s = check_cycles(rc, stream, p); !s) return s.err();
-  return rc;
+  return n;
 }
 
 result<std::vector<method::row>> rows_of_columns(const recording_columns& c,

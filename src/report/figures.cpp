@@ -12,6 +12,7 @@
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/units.hpp"
+#include "gyroflip/method/runs.hpp"
 
 namespace gyroflip::report {
 
@@ -127,7 +128,7 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
     }
   // Runs at different temperatures are not one population: no pooled mean +- std over them
   // (review of issue 22, R16; ΔN(T) has its own figure).
-  if (t_hi - t_lo >= io::min_model_span_c) {
+  if (t_hi - t_lo >= method::min_model_span_c) {
     f.caption = fmt::format(
         "{} runs over {:.1f}–{:.1f} °C: ΔN depends on temperature, so no pooled mean ± std is "
         "drawn (see ΔN(T))",

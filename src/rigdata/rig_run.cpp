@@ -990,28 +990,4 @@ std::vector<io::csv_metadata> csv_metadata(const rig_run& run) {
   return m;
 }
 
-result<recording_rows> read_recording_rows(const std::string& path, double angle_tolerance_deg) {
-  recording_rows out;
-  if (path.ends_with(".gfr")) {
-    auto run = read_rig_run(path);
-    if (!run) return run.err();
-    out.rows = dwell_rows(*run);
-    out.metadata = csv_metadata(*run);
-    out.warnings = run->warnings;
-    return out;
-  }
-  auto reader = io::recording_reader::open(path, angle_tolerance_deg);
-  if (!reader) return reader.err();
-  method::row r;
-  for (;;) {
-    const auto step = reader->next(r);
-    if (step == io::csv_reader::step::failed) return reader->last_error();
-    if (step == io::csv_reader::step::end) break;
-    out.rows.push_back(r);
-  }
-  out.metadata = reader->metadata();
-  out.warnings = reader->warnings();
-  return out;
-}
-
 }  // namespace gyroflip::rigdata

@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/method/runs.hpp"
+#include "gyroflip/workflow/recordings.hpp"
 
 namespace gyroflip::workflow {
 
@@ -33,7 +35,7 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
     b.invalid_why = "not known: the calibration lists no runs and states no error";
     return b;
   }
-  b.within_run_dps = io::pooled_correlated_stderr(runs);
+  b.within_run_dps = method::pooled_correlated_stderr(calibrations_of(runs));
   double t_sum = 0.0;
   std::size_t t_n = 0;
   for (const auto& r : runs)

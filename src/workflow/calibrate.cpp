@@ -10,6 +10,7 @@
 #include "gyroflip/core/parallel.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/page.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
@@ -17,8 +18,8 @@ namespace gyroflip::workflow {
 
 namespace {
 
-// With several files there is always a model (io::fit_runs_model); a chosen degree needs several
-// files with temperatures.
+// With several files there is always a model (method::fit_runs_model); a chosen degree needs
+// several files with temperatures.
 result<std::optional<method::delta_n_model>> fit_model(
     const calibrate_request& r, const std::vector<io::calibration_entry>& files) {
   if (r.degree) {
@@ -29,7 +30,7 @@ result<std::optional<method::delta_n_model>> fit_model(
         return about_parameter(
             input_error({f.file}, "no temp_c column; a dN(T) model needs temperatures"), "degree");
   }
-  return io::fit_runs_model(files, r.degree);
+  return method::fit_runs_model(calibrations_of(files), r.degree);
 }
 
 }  // namespace
@@ -130,7 +131,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   auto pooled = method::calibrate(all);
   if (!pooled) return pooled.err();
   rec.pooled = *pooled;
-  rec.pooled.stderr_correlated_dps = io::pooled_correlated_stderr(rec.files);
+  rec.pooled.stderr_correlated_dps = method::pooled_correlated_stderr(calibrations_of(rec.files));
   auto model = fit_model(r, rec.files);
   if (!model) return model.err();
   rec.model = std::move(*model);

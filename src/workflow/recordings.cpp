@@ -12,17 +12,14 @@
 
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/method/cycles.hpp"
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/rig/ad7739.hpp"
-#include "gyroflip/rigdata/rig_run.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
 
 namespace gyroflip::workflow {
 
 namespace {
-
-bool is_rig_recording(const std::string& path) {
-  return path.ends_with(".gfr");
-}
 
 // The median spacing per conversion of consecutive rows at the same orientation (0: none).
 double conversion_time_s(const std::vector<method::row>& rows) {
@@ -55,16 +52,13 @@ double conversion_time_of_settings(std::span<const io::csv_metadata> metadata) {
 
 }  // namespace
 
-result<io::recording_cycles> read_cycles(const std::string& path, method::pairing p,
-                                         const progress_fn& on_progress,
-                                         double angle_tolerance_deg) {
+result<method::recording_cycles> read_cycles(const std::string& path, method::pairing p,
+                                             const progress_fn& on_progress,
+                                             double angle_tolerance_deg) {
   // A CSV recording may be far larger than memory: streamed. A rig recording holds dwells.
-  if (!is_rig_recording(path)) return io::read_cycles(path, p, on_progress, angle_tolerance_deg);
-  auto rr = rigdata::read_recording_rows(path, angle_tolerance_deg);
-  if (!rr) return rr.err();
-  auto rc = io::cycles_of_rows(path, rr->rows, p, std::move(rr->metadata));
-  if (rc) rc->warnings = std::move(rr->warnings);
-  return rc;
+  auto source = rigdata::open_recording(path, angle_tolerance_deg);
+  if (!source) return source.err();
+  return method::read_cycles(**source, p, on_progress);
 }
 
 result<recording_run> run_of_rows(const std::string& name, std::vector<method::row> rows,
@@ -75,7 +69,7 @@ result<recording_run> run_of_rows(const std::string& name, std::vector<method::r
   r.conversion_s = conversion_time_s(rows);
   if (r.conversion_s == 0.0) r.conversion_s = conversion_time_of_settings(metadata);
   for (const auto p : {method::pairing::simple, method::pairing::abba}) {
-    auto c = io::cycles_of_rows(name, rows, p, metadata);
+    auto c = method::cycles_of_rows(name, rows, p, metadata);
     if (!c) return c.err();
     r.has_temp = c->has_temp;
     (p == method::pairing::abba ? r.abba : r.simple) = std::move(c->cycles);
@@ -157,6 +151,13 @@ status check_distinct_runs(std::span<const io::calibration_entry> runs) {
       }
     }
   return ok();
+}
+
+std::vector<method::calibration> calibrations_of(std::span<const io::calibration_entry> runs) {
+  std::vector<method::calibration> out;
+  out.reserve(runs.size());
+  for (const auto& r : runs) out.push_back(r.cal);
+  return out;
 }
 
 std::string origin_words(const io::run_source& src) {

@@ -27,6 +27,7 @@
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/figures.hpp"
 #include "gyroflip/report/folder.hpp"
 #include "gyroflip/report/page.hpp"
@@ -530,7 +531,7 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
   };
   bool edited = false;  // the ΔN applied is not what its runs give: no ± from them
   if (rec.model) {
-    const auto refit = io::fit_runs_model(rec.files, rec.model->degree());
+    const auto refit = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
     const bool theirs =
         refit && *refit && !differs(rec.model->t_ref_c, (*refit)->t_ref_c) &&
         rec.model->cov.size() == (*refit)->cov.size() &&
@@ -1020,7 +1021,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     check_calibration_runs_stationary(*f.given, f);
   } else {
     check_stationary(r, runs, f, entries);
-    auto m = io::fit_runs_model(entries);
+    auto m = method::fit_runs_model(calibrations_of(entries));
     if (!m) return m.err();
     f.runs_model = *m;
     if (f.runs_model && f.runs_model->degree() > 0) f.model = f.runs_model;

@@ -41,6 +41,7 @@
 #include "gyroflip/io/schema.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/compensation.hpp"
+#include "gyroflip/method/cycles.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/report/figures.hpp"
@@ -289,8 +290,8 @@ run_result run_one(const job& j) {
   }
   r.truth = sim->truth.delta_n_dps;
   const auto rec = recording_rows(sim->rows);
-  auto simple = io::cycles_of_rows(j.sensor, rec, method::pairing::simple, {});
-  auto abba = io::cycles_of_rows(j.sensor, rec, method::pairing::abba, {});
+  auto simple = method::cycles_of_rows(j.sensor, rec, method::pairing::simple);
+  auto abba = method::cycles_of_rows(j.sensor, rec, method::pairing::abba);
   if (!simple || !abba) {
     r.error = !simple ? simple.err().message : abba.err().message;
     return r;

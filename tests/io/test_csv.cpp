@@ -108,6 +108,7 @@ TEST(AtomicFile, NothingAppearsUntilCommit) {
 }  // namespace gyroflip::io
 
 #include "gyroflip/io/recording.hpp"
+#include "gyroflip/workflow/recordings.hpp"
 
 namespace gyroflip::io {
 namespace {
@@ -121,7 +122,7 @@ TEST(Recording, MinimalThreeColumnsAnyOrderExtraColumnsIgnored) {
     text += std::to_string(k % 2 == 0 ? 0.5 : -0.3) + ",x," + (k % 2 == 0 ? "0" : "180") + "," +
             std::to_string(k) + "\n";
   test::write_text(d.file("min.csv"), text);
-  const auto rc = read_cycles(d.file("min.csv"), method::pairing::simple);
+  const auto rc = workflow::read_cycles(d.file("min.csv"), method::pairing::simple);
   ASSERT_TRUE(rc) << rc.err().message;
   EXPECT_FALSE(rc->has_temp);
   ASSERT_EQ(rc->cycles.size(), 5u);

@@ -8,6 +8,7 @@
 
 #include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/workflow/recordings.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -53,7 +54,7 @@ TEST(RecordingMutations, EveryCorruptionEndsInCyclesOrALocatedError) {
   for (int i = 0; i < 3000; ++i) {
     test::write_text(path, mutate(good, rng));
     for (auto p : {method::pairing::abba, method::pairing::simple}) {
-      const auto r = read_cycles(path, p);
+      const auto r = workflow::read_cycles(path, p);
       if (r) {
         EXPECT_GE(r->cycles.size(), method::min_cycles);
       } else {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "gyroflip/io/recording.hpp"
+#include "gyroflip/method/cycles.hpp"
 
 namespace {
 
@@ -71,7 +72,7 @@ TEST(RowsOfColumns, CyclesEqualThoseOfTheSameCsvRows) {
   const auto rows = rows_of_columns({t, a, r, {}, {}});
   ASSERT_TRUE(rows);
   const auto c =
-      gyroflip::io::cycles_of_rows("<arrays>", *rows, gyroflip::method::pairing::abba, {});
+      gyroflip::method::cycles_of_rows("<arrays>", *rows, gyroflip::method::pairing::abba);
   ASSERT_TRUE(c) << c.err().message;
   for (const auto& cy : c->cycles) EXPECT_NEAR(cy.rate_dps, 0.4, 1e-12);  // abba cancels the ramp
 }

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/method/runs.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/budget.hpp"
+#include "gyroflip/workflow/recordings.hpp"
 
 namespace gyroflip {
 namespace {
@@ -25,7 +27,7 @@ io::calibration_entry run(double dn_dps, double err_dps, double temp_c) {
 TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {
   // Equal errors: the weighted mean is the plain mean, the scatter the sample std (0.01).
   const std::vector runs{run(0.40, 1e-4, 20.0), run(0.41, 1e-4, 20.0), run(0.42, 1e-4, 20.0)};
-  const auto model = io::fit_runs_model(runs);
+  const auto model = method::fit_runs_model(workflow::calibrations_of(runs));
   ASSERT_TRUE(model && model->has_value());
   const auto* hz1 = sensor::find_builtin("hz1-90-100a");
   ASSERT_NE(hz1, nullptr);
@@ -42,7 +44,8 @@ TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {
   EXPECT_NEAR(b.new_power_up_dps, t2 * std::hypot(0.01 / std::sqrt(3.0), 0.01), 1e-9);
   // The between-run std beyond the runs' own noise: sqrt(0.01^2 - 1e-4^2).
   EXPECT_NEAR(b.between_run_dps, std::sqrt(1e-4 - 1e-8), 1e-12);
-  EXPECT_NEAR(b.within_run_dps, io::pooled_correlated_stderr(runs), 1e-15);
+  EXPECT_NEAR(b.within_run_dps, method::pooled_correlated_stderr(workflow::calibrations_of(runs)),
+              1e-15);
 }
 
 TEST(DeltaNBudget, OneRunTakesThePresetsTurnOnSpreadAndSaysSo) {
@@ -67,7 +70,7 @@ TEST(DeltaNBudget, OneRunTakesThePresetsTurnOnSpreadAndSaysSo) {
 
 TEST(DeltaNBudget, ALineThroughTwoRunsIsFlaggedNotShownAsExact) {
   const std::vector runs{run(0.40, 1e-4, 4.0), run(0.42, 1e-4, 20.0)};
-  const auto model = io::fit_runs_model(runs);
+  const auto model = method::fit_runs_model(workflow::calibrations_of(runs));
   ASSERT_TRUE(model && model->has_value() && (*model)->degree() == 1);
   const auto* hz1 = sensor::find_builtin("hz1-90-100a");
   const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
@@ -85,7 +88,7 @@ TEST(DeltaNBudget, ALineThroughTwoRunsIsFlaggedNotShownAsExact) {
 // 16 degC, added in quadrature; ADXRS150 (no coefficient): not valid, no number.
 TEST(DeltaNBudget, ATemperatureTermFromThePresetOrNotValid) {
   const std::vector runs{run(0.0030, 1e-4, 20.0), run(0.0031, 1e-4, 20.0)};
-  const auto model = io::fit_runs_model(runs);
+  const auto model = method::fit_runs_model(workflow::calibrations_of(runs));
   ASSERT_TRUE(model && model->has_value());
   const auto* hz1 = sensor::find_builtin("hz1-90-100a");
   auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
@@ -113,7 +116,7 @@ TEST(DeltaNBudget, ATemperatureTermFromThePresetOrNotValid) {
 TEST(DeltaNBudget, TheRunsStdIsTheirPlainStdAndOneDegreeOfFreedomIsFlagged) {
   const std::vector runs{run(0.0026233, 1.403e-4, 20.0), run(0.0036824, 1.170e-4, 20.0),
                          run(0.0011830, 8.059e-5, 20.0)};
-  const auto model = io::fit_runs_model(runs);
+  const auto model = method::fit_runs_model(workflow::calibrations_of(runs));
   ASSERT_TRUE(model && model->has_value());
   const auto* hz1 = sensor::find_builtin("hz1-90-100a");
   const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
@@ -127,7 +130,7 @@ TEST(DeltaNBudget, TheRunsStdIsTheirPlainStdAndOneDegreeOfFreedomIsFlagged) {
   EXPECT_EQ(b.run_to_run_source.find("70 %"), std::string::npos);
   // Two runs (the review's ADXRS150 pair): |difference| / sqrt(2), 1 degree of freedom, flagged.
   const std::vector two{run(0.41494, 2e-4, 20.0), run(0.39844, 1e-4, 20.0)};
-  const auto m2 = io::fit_runs_model(two);
+  const auto m2 = method::fit_runs_model(workflow::calibrations_of(two));
   ASSERT_TRUE(m2 && m2->has_value());
   const auto* adx = sensor::find_builtin("adxrs150");
   const auto b2 = workflow::budget_of(two, *m2, &adx->params, "adxrs150");

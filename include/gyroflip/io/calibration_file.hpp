@@ -94,24 +94,9 @@ struct calibration_record {
   std::optional<calibration_uncertainty> uncertainty;  ///< written by calibrate (schema 3)
 };
 
-/// The pooled mean's correlated standard error from the files' own (independent runs):
-/// se = sqrt(sum (n_i se_i)^2) / sum n_i, n_i the files' cycles.
-[[nodiscard]] double pooled_correlated_stderr(std::span<const calibration_entry> files);
-
 /// The dN a calibration subtracts: its dN(T) model when it has one, else its pooled dN as a
 /// constant (with the pooled correlated standard error).
 [[nodiscard]] method::delta_n_model delta_n_model_of(const calibration_record& rec);
-
-/// Runs' temperatures spanning at least this much (degC) get a dN(T) line by default.
-inline constexpr double min_model_span_c = 2.0;
-
-/// The dN model of several runs (`calibrate FILE...`): degree `degree` when given, else 1 when
-/// the runs' temperatures span min_model_span_c or more and 0 otherwise (the weighted mean, with
-/// the run-to-run scatter in its error: paper Tab. 3's repeat runs at one temperature). Runs
-/// without a temperature give a constant whose temperatures are NaN. Fewer than two runs: no
-/// model. Errors: those of method::fit_delta_n_model.
-[[nodiscard]] result<std::optional<method::delta_n_model>> fit_runs_model(
-    std::span<const calibration_entry> runs, std::optional<std::size_t> degree = std::nullopt);
 
 /// JSON text of a calibration (one line, keys as in docs/FORMATS.md; schema
 /// gyroflip.calibration/3 and gyroflip's version, io/schema.hpp).

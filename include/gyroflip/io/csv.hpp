@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/metadata.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/mapped_file.hpp"
 
@@ -58,10 +59,7 @@ inline bool parse_plain_decimal(const char* b, const char* e, double& out) noexc
 }  // namespace detail
 
 /// One `# key: value` comment line found before the header.
-struct csv_metadata {
-  std::string key;
-  std::string value;
-};
+using csv_metadata = metadata_entry;
 
 /// How a file's fields are written (docs/FORMATS.md, "CSV rules"): what loggers write besides
 /// gyroflip's own comma-separated files with a header.

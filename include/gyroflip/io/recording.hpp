@@ -1,6 +1,6 @@
 /// \file
-/// \brief Reader of recordings in the gyroflip CSV format (docs/FORMATS.md): validated rows,
-/// and the cycles of a whole file.
+/// \brief Reader of recordings in the gyroflip CSV format (docs/FORMATS.md): validated rows, as
+/// a method::row_source (the pairing pipeline, method/cycles.hpp, reads them).
 #pragma once
 
 #include <cstddef>
@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/csv.hpp"
+#include "gyroflip/method/row_source.hpp"
 #include "gyroflip/method/types.hpp"
 
 namespace gyroflip::io {
@@ -19,7 +19,7 @@ namespace gyroflip::io {
 /// Streams the rows of a recording, checking each one: `time_s` finite and non-decreasing,
 /// `angle_deg` 0 or 180 (within a tolerance; empty = table turning), `rate_dps` finite, `temp_c`
 /// finite when the column exists, `n_avg` a whole number >= 1 (default 1).
-class recording_reader {
+class recording_reader final : public method::row_source {
  public:
   /// Temperatures a recording may hold (degC): absolute zero to 1000 degC.
   static constexpr double min_temp_c = -273.15;
@@ -38,15 +38,21 @@ class recording_reader {
   [[nodiscard]] csv_reader::step next(method::row& out);
   [[nodiscard]] const error& last_error() const noexcept { return error_; }
 
-  [[nodiscard]] bool has_temp() const noexcept { return has_temp_; }
-  /// Warnings about rows that were read (`FILE:LINE: what`), e.g. a last line without newline.
-  [[nodiscard]] const std::vector<std::string>& warnings() const noexcept { return warnings_; }
-  [[nodiscard]] const std::vector<csv_metadata>& metadata() const noexcept {
+  // method::row_source: the next rows (next() a block at a time), the file's path, whether it
+  // has a temp_c column, its `# key: value` lines, warnings about rows read (`FILE:LINE: what`,
+  // e.g. a last line without newline), bytes read of the file's size.
+  [[nodiscard]] result<std::size_t> read(std::span<method::row> out) override;
+  [[nodiscard]] const std::string& name() const noexcept override { return csv_.path(); }
+  [[nodiscard]] bool has_temp() const noexcept override { return has_temp_; }
+  [[nodiscard]] std::span<const csv_metadata> metadata() const noexcept override {
     return csv_.metadata();
   }
+  [[nodiscard]] std::span<const std::string> warnings() const noexcept override {
+    return warnings_;
+  }
+  [[nodiscard]] std::uint64_t done() const noexcept override { return csv_.bytes_done(); }
+  [[nodiscard]] std::uint64_t total() const noexcept override { return csv_.bytes_total(); }
   [[nodiscard]] const std::string& path() const noexcept { return csv_.path(); }
-  [[nodiscard]] std::uint64_t bytes_done() const noexcept { return csv_.bytes_done(); }
-  [[nodiscard]] std::uint64_t bytes_total() const noexcept { return csv_.bytes_total(); }
 
  private:
   // cppcheck-suppress passedByValue ; sink parameter, moved from
@@ -61,31 +67,6 @@ class recording_reader {
   error error_{errc::bad_input, {}};
   std::vector<std::string> warnings_;
 };
-
-/// The cycles of one recording plus what was seen while reading it.
-struct recording_cycles {
-  std::string path;
-  std::vector<method::cycle> cycles;
-  std::size_t rows = 0;
-  std::size_t dwells = 0;
-  bool has_temp = false;
-  std::vector<csv_metadata> metadata;
-  std::vector<std::string> warnings;  ///< `FILE:LINE: what`, for the caller to show
-};
-
-/// Reads a whole recording and forms its cycles with pairing `p`; `on_progress(bytes read,
-/// bytes total)` now and then (may be empty). Errors: any bad row, a single orientation, fewer
-/// than method::min_cycles cycles.
-[[nodiscard]] result<recording_cycles> read_cycles(const std::string& path, method::pairing p,
-                                                   const progress_fn& on_progress = {},
-                                                   double angle_tolerance_deg = 0.0);
-
-/// The cycles of rows from another source (a rig recording read back), with the same checks as
-/// read_cycles; `path` names the source in messages. Rows must be valid recording rows.
-[[nodiscard]] result<recording_cycles> cycles_of_rows(const std::string& path,
-                                                      std::span<const method::row> rows,
-                                                      method::pairing p,
-                                                      std::vector<csv_metadata> metadata);
 
 /// An encoder's angle (deg) as a position of the table: 0 within `tol` of 0 (or 360), 180 within
 /// `tol` of 180, else nullopt.

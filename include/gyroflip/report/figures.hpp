@@ -37,8 +37,8 @@ namespace gyroflip::report {
 
 /// dN of each run (index 1..n) with its correlated standard error (runs are independent: not
 /// joined), and the runs' mean with +- one sample std as a band: the paper's Tab. 3 and 4 as a
-/// figure. Runs whose temperatures span io::min_model_span_c or more are said to be pooled across
-/// that span in the caption.
+/// figure. Runs whose temperatures span method::min_model_span_c or more are said to be pooled
+/// across that span in the caption.
 [[nodiscard]] figure delta_n_runs_figure(std::span<const io::calibration_entry> runs,
                                          const std::string& title);
 

@@ -211,15 +211,4 @@ class rig_run_builder {
 /// The `# key: value` metadata a recording CSV of this run carries (sensor, serial, ...).
 [[nodiscard]] std::vector<io::csv_metadata> csv_metadata(const rig_run& run);
 
-/// The rows of a recording: a `.gfr` rig recording's dwells (dwell_rows), or a CSV recording's
-/// rows (io::recording_reader, encoder angles within `angle_tolerance_deg`), with its metadata
-/// and the reader's warnings. Used by the CLI's report and the Python module.
-struct recording_rows {
-  std::vector<method::row> rows;
-  std::vector<io::csv_metadata> metadata;
-  std::vector<std::string> warnings;
-};
-[[nodiscard]] result<recording_rows> read_recording_rows(const std::string& path,
-                                                         double angle_tolerance_deg = 0.0);
-
 }  // namespace gyroflip::rigdata

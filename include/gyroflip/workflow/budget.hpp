@@ -22,7 +22,7 @@ namespace gyroflip::workflow {
 
 struct delta_n_budget {
   std::size_t runs = 0;
-  /// Within-run (correlated) error of the runs' dN pooled (io::pooled_correlated_stderr).
+  /// Within-run (correlated) error of the runs' dN pooled (method::pooled_correlated_stderr).
   double within_run_dps = 0.0;
   /// Repeatability of dN from one power-up to the next (one sample std); NaN when unknown.
   double run_to_run_dps = 0.0;
@@ -88,7 +88,7 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
 /// sqrt(s_g^2 + (s_tc (T - T_ref))^2) deg/s (docs/REPRODUCE.md, "The run-to-run spread").
 [[nodiscard]] double turn_on_spread_dps(const sensor::sensor_params& p, double temp_c) noexcept;
 
-/// The budget of dN from the runs' calibrations and their model (io::fit_runs_model; none for
+/// The budget of dN from the runs' calibrations and their model (method::fit_runs_model; none for
 /// one run); no runs: not valid (nothing to take an uncertainty from). `preset` gives the
 /// repeatability when the runs cannot (one run, or a fit with no degrees of freedom); `preset_name`
 /// names it in the labels.

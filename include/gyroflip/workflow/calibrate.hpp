@@ -26,7 +26,7 @@ struct calibrate_request {
   method::pairing pairing = method::pairing::abba;
   double angle_tolerance_deg = 0.0;  ///< encoder angles this close to 0/180 read as them
   std::optional<io::calibration_geometry> geometry;  ///< to split dN into Earth and g terms
-  /// Degree of the dN(T) polynomial; nullopt: io::fit_runs_model's rule (a line over a
+  /// Degree of the dN(T) polynomial; nullopt: method::fit_runs_model's rule (a line over a
   /// temperature span of 2 degC or more, else the runs' weighted mean).
   std::optional<std::size_t> degree;
   /// The sensor whose specification the stationarity test's g-term is checked against
@@ -81,8 +81,8 @@ class one_sensor {
 /// Calibrates each file (method::calibrate of its cycles) and tests that it was stationary
 /// (method::check_stationarity: a failing run is a warning, or with `strict` an error), pools all
 /// cycles (the pooled
-/// correlated error from the files' own: io::pooled_correlated_stderr) and fits the dN model of
-/// several files (io::fit_runs_model). The sensor and rig come from the recordings' metadata
+/// correlated error from the files' own: method::pooled_correlated_stderr) and fits the dN model of
+/// several files (method::fit_runs_model). The sensor and rig come from the recordings' metadata
 /// (one_sensor: two sensors are refused, a rig setting or power-on time that differs between
 /// files is warned about), and so is a sensor nobody named. Progress: one part per file. Errors: no
 /// file, a file given twice (by any name), a file name that JSON cannot carry, a bad recording

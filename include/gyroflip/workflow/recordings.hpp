@@ -13,20 +13,22 @@
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/io/csv.hpp"
-#include "gyroflip/io/recording.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/cycles.hpp"
 #include "gyroflip/method/types.hpp"
 #include "gyroflip/report/page.hpp"
 
 namespace gyroflip::workflow {
 
-/// The cycles of a recording with pairing `p`: a CSV recording read in one streamed pass
-/// (io::read_cycles; `on_progress` in bytes), or a `.gfr` rig recording's dwells
-/// (rigdata::read_recording_rows; positions from the device's step count, so the angle
-/// tolerance does not apply). The reader's warnings (a damaged region skipped) are in
-/// `warnings`. Errors: those of the readers, fewer than method::min_cycles cycles.
-[[nodiscard]] result<io::recording_cycles> read_cycles(const std::string& path, method::pairing p,
-                                                       const progress_fn& on_progress = {},
-                                                       double angle_tolerance_deg = 0.0);
+/// The cycles of a recording with pairing `p` (method::read_cycles on rigdata::open_recording):
+/// a CSV recording read in one streamed pass (`on_progress` in bytes), or a `.gfr` rig
+/// recording's dwells (positions from the device's step count, so the angle tolerance does not
+/// apply). The reader's warnings (a damaged region skipped) are in `warnings`. Errors: those of
+/// the readers, fewer than method::min_cycles cycles.
+[[nodiscard]] result<method::recording_cycles> read_cycles(const std::string& path,
+                                                           method::pairing p,
+                                                           const progress_fn& on_progress = {},
+                                                           double angle_tolerance_deg = 0.0);
 
 /// One recording read whole: its dwells and its cycles by both pairings (paper eqn 7 and abba).
 struct recording_run {
@@ -73,11 +75,15 @@ enum class repeat { none, same_bytes, same_cycles };
 /// name both files.
 [[nodiscard]] status check_distinct_runs(std::span<const io::calibration_entry> runs);
 
+/// The runs' calibrations, for the method's statistics over runs (method/runs.hpp).
+[[nodiscard]] std::vector<method::calibration> calibrations_of(
+    std::span<const io::calibration_entry> runs);
+
 /// The origin as a page says it ("simulated: gyroflip simulate (...)").
 [[nodiscard]] std::string origin_words(const io::run_source& src);
 
 /// Reads a recording (CSV or `.gfr`) whole. Errors: those of the readers and of
-/// io::cycles_of_rows.
+/// method::cycles_of_rows.
 [[nodiscard]] result<recording_run> read_run(const std::string& path,
                                              double angle_tolerance_deg = 0.0);
 

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "gyroflip/analysis/allan.hpp"
-#include "gyroflip/io/recording.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/cycles.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
 
@@ -36,7 +36,7 @@ int main() {
   for (const auto& r : rows)
     rec.push_back(
         {r.time_s, r.angle_deg, r.rate_dps, r.temp_c, static_cast<std::uint32_t>(r.n_avg)});
-  const auto cycles = io::cycles_of_rows("simulated", rec, method::pairing::abba, {});
+  const auto cycles = method::cycles_of_rows("simulated", rec, method::pairing::abba);
   if (!cycles) return 1;
   const auto cal = method::calibrate(cycles->cycles);
   if (!cal) return 1;
