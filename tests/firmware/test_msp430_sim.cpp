@@ -811,9 +811,9 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
     const auto total = steps[first + 1599].tick - steps[first].tick;
     std::uint32_t want_total = 0;
     for (std::uint32_t k = 0; k + 1 < 1600; ++k) want_total += stepper::interval(plan, k, 1600);
-    EXPECT_LE(std::max(total, want_total) - std::min(total, want_total), 3u) << "turn " << turn;
+    EXPECT_LE(std::max(total, want_total) - std::min(total, want_total), 1u) << "turn " << turn;
   }
-  EXPECT_LE(worst, 2) << "a step interval off the ramp by more than two ticks";
+  EXPECT_LE(worst, 1) << "a step interval off the ramp by more than one tick";
   EXPECT_EQ(r.stats[sl::w_rebases], 0u) << "a turn ran dry and restarted its ramp";
 
   // Conversions: each starts within a tick of the last one's end.
@@ -841,7 +841,7 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
   const double period_ms =
       1000.0 * static_cast<double>(in_dwell) / static_cast<double>(gaps) / 32768.0;
   EXPECT_LE(longest, conv_ticks + 8) << "a conversion waited for the main loop";
-  EXPECT_LT(period_ms, 1000.0 * (conv_ticks + 6) / 32768.0);
+  EXPECT_LT(period_ms, 1000.0 * (conv_ticks + 5) / 32768.0);
 
   // The main loop's passes and the interrupts, in MCLK cycles at the board's clock.
   const double poll_ms = 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz;
@@ -872,7 +872,7 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
   EXPECT_NEAR(stolen_share, 87.25 / 256, 0.01);
   const std::uint32_t wd_gap = r.word32(sl::w_wd_gap_lo);
   EXPECT_LT(wd_gap, 3277u) << "the watchdog went unfed for 0.1 s";
-  EXPECT_LE(r.stats[sl::w_step_late_max], 4u);
+  EXPECT_LE(r.stats[sl::w_step_late_max], 2u);
   const double cycle_s = (dwells[2].t_start_ticks - dwells[0].t_start_ticks) / 32768.0;
   std::printf(
       "msp430f149 at board speed: step intervals within %d tick of the ramp over 2 x 1600 steps "
@@ -951,11 +951,11 @@ TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
       const auto want =
           static_cast<int>(stepper::interval(plan, static_cast<std::uint32_t>(k), 1600));
       worst = std::max(worst, std::abs(got - want));
-      if (std::abs(got - want) > 2)
+      if (std::abs(got - want) > 1)
         ADD_FAILURE() << "turn " << turn << " step " << k << " at tick " << steps[i].tick << ": "
                       << got << " ticks, the ramp's " << want;
     }
-  EXPECT_LE(worst, 2) << "a step interval off the ramp";
+  EXPECT_LE(worst, 1) << "a step interval off the ramp";
   // Every command answered: 2 PINGs' ACKs and INFOs, and the third PING's.
   int acks = 0, infos = 0;
   for (const auto& f : frames_of(r.tx)) {
