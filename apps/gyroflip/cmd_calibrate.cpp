@@ -70,7 +70,8 @@ void print_result(std::string& out, const io::calibration_record& rec,
   } else {
     const auto& m = *rec.model;
     fmt::format_to(o,
-                   "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.6e}], fitted over {:.1f}..{:.1f} "
+                   "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.3g}] (full digits: -o, --json), fitted "
+                   "over {:.1f}..{:.1f} "
                    "degC (random effects), chi2/dof {:.3g}\n"
                    "  at {:.2f} degC: dN = {} deg/s; anywhere in the range within ±{} deg/s "
                    "(68.3 %)\n",

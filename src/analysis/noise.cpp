@@ -34,7 +34,8 @@ void add_range_systematic(noise_terms& main, const std::vector<noise_terms>& alt
   const auto widen = [&](noise_term noise_terms::*member) {
     noise_term& t = main.*member;
     if (!t.resolved) return;
-    double lo = t.value, hi = t.value;
+    double lo = t.value;
+    double hi = lo;
     for (const auto& a : alts)
       if ((a.*member).resolved) {
         lo = std::min(lo, (a.*member).value);

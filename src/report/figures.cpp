@@ -18,6 +18,13 @@ namespace gyroflip::report {
 
 namespace {
 
+// `v` to two significant digits of `u` (its error), as workflow::value_pm writes numbers.
+std::string to_digits_of(double v, double u) {
+  if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.4g}", v);
+  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  return fmt::format("{:.{}f}", v, decimals);
+}
+
 // The flicker floor of AVAR: sigma = sqrt(2 ln 2 / pi) B (IEEE 952 Annex C; FACTS §7).
 const double floor_factor = std::sqrt(2.0 * std::numbers::ln2 / std::numbers::pi);
 
@@ -136,7 +143,11 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
     f.data = {s};
     return f;
   }
-  f.caption = fmt::format("{} runs: mean {:.6g} °/s, std {:.3g} °/s", values.size(), ms.mean, sd);
+  // The mean to the digits its standard error supports (review of issue 31: "mean 0.004548, std
+  // 0.00157" for 13 runs).
+  const double se = sd / std::sqrt(static_cast<double>(values.size()));
+  f.caption = fmt::format("{} runs: mean {} °/s, std {:.2g} °/s", values.size(),
+                          to_digits_of(ms.mean, se), sd);
   const double x0 = 0.5, x1 = static_cast<double>(runs.size()) + 0.5;
   series band = points_of("mean ± std", 1);
   band.how = series::style::band;

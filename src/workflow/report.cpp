@@ -930,12 +930,11 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
         "the error of the calibrated value"},
        {"ΔN of a new power-up", b.valid ? v(b.new_power_up_dps) : std::string("not valid"),
         b.valid ? h(b.new_power_up_dps) : std::string("–"),
-        b.valid ? fmt::format("√(calibrated² + {}repeatability²{}): what a compensated rate "
+        b.valid ? fmt::format("√(calibrated² + {}²{}): what a compensated rate "
                               "carries as a systematic error (w = r − ΔN, paper eqn 12), the "
                               "same in every cycle; the number to quote",
-                              b.coverage_factor > 1.0 ? "(t × " : "",
-                              std::string(b.coverage_factor > 1.0 ? ")" : "") +
-                                  (b.outside_c > 0.0 ? " + temperature²" : ""))
+                              b.coverage_factor > 1.0 ? "(t × repeatability)" : "repeatability",
+                              b.outside_c > 0.0 ? " + temperature²" : "")
                 : b.invalid_why + ": no ± covers the run"}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
@@ -1321,7 +1320,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                               pts, n)};
     for (std::size_t k = 0; k < n; ++k) {
       const auto c = coefficient_of(m, k, f.budget);
-      mt.rows.push_back({std::to_string(k), c.value, g(c.se, 3), g(c.interval, 2)});
+      mt.rows.push_back({std::to_string(k), c.value, g(c.se, 2), g(c.interval, 2)});
     }
     main.tables.push_back(std::move(mt));
   }

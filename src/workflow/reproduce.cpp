@@ -622,7 +622,8 @@ std::string seconds(double s) {
 }
 
 std::string pct(double sim, double paper) {
-  return fmt::format("{:+.0f} %", 100.0 * (sim / paper - 1.0));
+  const double d = std::round(100.0 * (sim / paper - 1.0));
+  return d == 0.0 ? std::string("0 %") : fmt::format("{:+.0f} %", d);  // never "-0 %"
 }
 
 // The figure number in an id ("fig10" -> "10").
@@ -1574,7 +1575,7 @@ std::array<report::table, 2> sensitivity_tables(const std::vector<key_numbers>& 
         {k.name, win(k.hz1_window_s[0]), win(k.hz1_window_s[1]), g(k.adxrs_adev_gain, 3),
          fmt::format("{} / {}", g(k.warm_raw_dps[0] * units::s_per_h, 3),
                      g(k.warm_raw_dps[1] * units::s_per_h, 3)),
-         fmt::format("{} / {}", g(k.tab_mean_dps[0], 6), g(k.tab_mean_dps[1], 6))});
+         fmt::format("{} / {}", g(k.tab_mean_dps[0], 4), g(k.tab_mean_dps[1], 4))});
     out.push_back({{"assumption", k.name},
                    {"fig4_std_ratio", k.fig_std_ratio[0]},
                    {"fig6_std_ratio", k.fig_std_ratio[1]},
