@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/drift.hpp"
+#include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/method/runs.hpp"
@@ -21,7 +22,7 @@ namespace {
 // `v` to two significant digits of `u` (its error), as workflow::value_pm writes numbers.
 std::string to_digits_of(double v, double u) {
   if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.4g}", v);
-  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  const int decimals = decimals_of_error(u);
   return fmt::format("{:.{}f}", v, decimals);
 }
 

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/core/digits.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
@@ -204,7 +205,7 @@ std::optional<scale_factor_spec> scale_factor_tolerance(const std::string& prese
 std::string value_pm(double v, double u) {
   if (!std::isfinite(v)) return "–";
   if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.6g}", v);
-  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  const int decimals = decimals_of_error(u);
   return fmt::format("{:.{}f} ± {:.{}f}", v, decimals, u, decimals);
 }
 

@@ -6,6 +6,7 @@
 #include "gyroflip/workflow/report.hpp"
 
 #include "gyroflip/analysis/confidence.hpp"
+#include "gyroflip/core/digits.hpp"
 
 #include <algorithm>
 #include <array>
@@ -76,7 +77,7 @@ std::string g(double v, int digits = 4) {
 // u = 1.2e-5), as "v ± u"; without a usable u, 6 significant digits.
 std::string pm(double v, double u) {
   if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
-  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  const int decimals = decimals_of_error(u);
   return fmt::format("{:.{}f} ± {:.{}f}", v, decimals, u, decimals);
 }
 
@@ -395,7 +396,7 @@ std::pair<double, double> applied_range(const compensation& c) {
 // significant digits without a usable u.
 std::string to_decimals_of(double v, double u) {
   if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
-  const int decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+  const int decimals = decimals_of_error(u);
   return fmt::format("{:.{}f}", v, decimals);
 }
 
