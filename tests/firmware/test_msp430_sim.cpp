@@ -818,9 +818,8 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
 
   // Conversions: each starts within a tick of the last one's end.
   const auto u32 = [&](std::size_t at) {
-    return static_cast<std::uint32_t>(r.convs[at] | (r.convs[at + 1] << 8) |
-                                      (r.convs[at + 2] << 16) |
-                                      (std::uint32_t{r.convs[at + 3]} << 24));
+    return std::uint32_t{r.convs[at]} | (std::uint32_t{r.convs[at + 1]} << 8) |
+           (std::uint32_t{r.convs[at + 2]} << 16) | (std::uint32_t{r.convs[at + 3]} << 24);
   };
   const std::size_t n_conv = r.convs.size() / 8;
   ASSERT_GE(n_conv, 3u * (cfg.n_avg + cfg.n_temp));
