@@ -331,9 +331,7 @@ void device::remember_reply(const protocol::frame& f, bool acked, status why) {
 }
 
 bool device::method_pair() const {
-  const protocol::configure_msg& c = cfg_;
-  const int32_t d = int32_t{c.pos_cdeg[1]} - c.pos_cdeg[0];
-  return c.n_positions == 2 && (d == 18000 || d == -18000);
+  return protocol::is_method_pair(cfg_);
 }
 
 // CONFIGURE: its own function, so that handle()'s frame does not hold a configuration on the

@@ -107,9 +107,7 @@ inline constexpr uint32_t compensated_payload = 13;
       return status::bad_arg;
     }
   }
-  const int32_t half =
-      c.pos_cdeg[1] > c.pos_cdeg[0] ? c.pos_cdeg[1] - c.pos_cdeg[0] : c.pos_cdeg[0] - c.pos_cdeg[1];
-  const bool pair = c.n_positions == 2 && half == centidegrees_per_turn / 2;
+  const bool pair = is_method_pair(c);
   const bool ok = c.n_avg >= 1 && c.n_temp <= max_n_temp && c.step_rate_sps >= 1 &&
                   c.step_rate_sps <= max_step_rate_sps && c.start_rate_sps >= 1 &&
                   c.start_rate_sps <= c.step_rate_sps && c.ramp_sps2 >= 1 &&

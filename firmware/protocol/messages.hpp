@@ -178,6 +178,16 @@ struct configure_msg {
   bool operator==(const configure_msg&) const = default;
 };
 
+/// Whether an angle table is the method's pair (docs/METHOD-NOTES.md): two positions 180 deg
+/// apart, the only table whose cycles the device compensates on board. The one rule of the
+/// device (COMPENSATE and its cycles) and of the host's rig settings (rig::rig_config, which
+/// `simulate`, `emulate` and `record` check), in hundredths of a degree as the device keeps them.
+constexpr bool is_method_pair(const configure_msg& c) {
+  const int32_t d = int32_t{c.pos_cdeg[1]} - int32_t{c.pos_cdeg[0]};
+  const int32_t half = centidegrees_per_turn / 2;
+  return c.n_positions == 2 && (d == half || d == -half);
+}
+
 /// INFO's fields before the configuration (a device fills these and writes the configuration in
 /// force after them, without a second copy of it on its stack).
 struct info_head {

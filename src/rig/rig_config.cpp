@@ -104,15 +104,11 @@ status rig_config::check(double mclk_hz) const {
   if (!in(gyro_channel, 0, 3) || !in(temp_channel, 0, 3) || gyro_channel == temp_channel)
     return parameter_error("gyro_channel", "the gyro and temperature channels: two of 0..3");
   if (auto s = check_positions(*this); !s) return s;
-  const auto pair = [&] {
-    return positions_deg.size() == 2 &&
-           std::abs(std::abs(positions_deg[1] - positions_deg[0]) - 180.0) < 1e-9;
-  };
-  if (compensate && !pair())
+  const auto m = to_configure();
+  if (compensate && !protocol::is_method_pair(m))
     return parameter_error("compensate",
                            "on-board compensation needs the method's pair: two positions 180 deg "
                            "apart");
-  const auto m = to_configure();
   const auto mclk = static_cast<std::uint32_t>(std::lround(mclk_hz));
   if (const auto bps = protocol::worst_bytes_per_s(m, mclk); bps > protocol::link_bytes_per_s)
     return parameter_error(

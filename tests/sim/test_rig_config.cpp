@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "firmware/protocol/budget.hpp"
 #include "gyroflip/rig/rig_config.hpp"
@@ -190,6 +191,38 @@ TEST(RigConfig, TheSimulatorTurnsBackOrOneWayAsConfigured) {
   const auto e = simulator::make(c);
   ASSERT_FALSE(e);
   EXPECT_EQ(e.err().parameter, "n_avg");
+}
+
+}  // namespace
+}  // namespace gyroflip::rig
+
+namespace gyroflip::rig {
+namespace {
+
+// "Is this the method's pair?" has one rule (protocol::is_method_pair): the host's settings
+// (rig_config, which simulate, emulate and record check) and the device's CONFIGURE check agree
+// on every table, so on-board compensation is refused or taken alike on both sides. Tables
+// chosen around the rule's edges: a swapped pair, a pair off 0, one step short of 180 deg, three
+// positions holding a pair.
+TEST(RigConfig, OnBoardCompensationTakesTheOnePairRuleOfTheDevice) {
+  struct table {
+    std::vector<double> deg;
+    bool pair;
+  };
+  const std::vector<table> tables{{{0.0, 180.0}, true},        {{180.0, 0.0}, true},
+                                  {{90.0, 270.0}, true},       {{271.8, 91.8}, true},
+                                  {{0.0, 178.2}, false},       {{0.0, 90.0}, false},
+                                  {{0.0, 180.0, 90.0}, false}, {{45.0, 225.0, 0.0}, false}};
+  for (const auto& t : tables) {
+    rig_config c;
+    c.positions_deg = t.deg;
+    c.compensate = true;
+    const auto m = c.to_configure();
+    EXPECT_EQ(protocol::is_method_pair(m), t.pair) << t.deg[0] << "," << t.deg[1];
+    EXPECT_EQ(static_cast<bool>(c.check()), t.pair) << t.deg[0] << "," << t.deg[1];
+    EXPECT_EQ(protocol::check_configure(m, 6'144'000) == protocol::status::ok, t.pair)
+        << t.deg[0] << "," << t.deg[1];
+  }
 }
 
 }  // namespace
