@@ -348,7 +348,9 @@ class session {
   // a damaged frame's header named (frames the old boot sent and the line lost).
   std::uint32_t bad_at_last_good_ = 0;
   std::int32_t damaged_ahead_ = 0;
-  std::uint32_t seg_max_end_ = 0;
+  std::uint32_t seg_max_end_ = 0;         // the latest dwell end of the segment (device ticks)
+  std::int64_t seg_max_end_off_ = 0;      // ... and its place from the segment's first dwell end
+  std::int64_t seg_min_start_off_ = 0;    // the earliest dwell start, placed the same way
   std::uint16_t seq_ = 0;
   // The command waiting for its reply.
   std::optional<std::uint16_t> reply_seq_;
@@ -433,25 +435,38 @@ status session::note_corrupt() {
 }
 
 // A DWELL of the run in the current segment: its span on the device clock grows (32-bit ticks
-// unwrapped from one dwell to the next; one sent again is inside the span already).
+// unwrapped against the latest end seen; one sent again is inside the span already, one that
+// comes back on RESEND from before the first one seen widens it). The run's dwells count from
+// the START (or, while START's ACK is awaited, from this boot's CONFIGURE: the device was idle
+// from it until the START began the run, whose ACK may never come): a recording of "600 s"
+// holds 600 s of dwells whatever their START's replies did (issue 32).
 void session::note_dwell_time(const p::frame& f) {
   p::dwell_msg d;
-  if (!recording_ || !start_ack_seq_ || !f.as(d) ||
-      static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *start_ack_seq_)) <= 0)
-    return;
+  const auto after = [&](const std::optional<std::uint16_t>& at) {
+    return at && static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *at)) > 0;
+  };
+  const bool of_run =
+      (recording_ && after(start_ack_seq_)) || (start_in_flight_ && after(configured_at_));
+  if (!of_run || !f.as(d)) return;
   if (!seg_started_) {
     seg_started_ = true;
-    seg_max_end_ = d.t_start_ticks;
+    seg_max_end_ = d.t_end_ticks;
+    seg_max_end_off_ = 0;
+    seg_min_start_off_ = -static_cast<std::int64_t>(d.t_end_ticks - d.t_start_ticks);
   }
-  const auto ahead = static_cast<std::int32_t>(d.t_end_ticks - seg_max_end_);
-  if (ahead > 0) {
-    seg_span_ticks_ += static_cast<std::uint32_t>(ahead);
+  const std::int64_t end_off =
+      seg_max_end_off_ + static_cast<std::int32_t>(d.t_end_ticks - seg_max_end_);
+  const std::int64_t start_off = end_off - static_cast<std::int64_t>(d.t_end_ticks - d.t_start_ticks);
+  if (end_off > seg_max_end_off_) {
+    seg_max_end_off_ = end_off;
     seg_max_end_ = d.t_end_ticks;
   }
+  seg_min_start_off_ = std::min(seg_min_start_off_, start_off);
+  seg_span_ticks_ = static_cast<std::uint64_t>(seg_max_end_off_ - seg_min_start_off_);
   restart_failures_ = 0;  // the device runs: a later restart starts its count again
 }
 
-// The segment ends (a reset, a new START): its data time is kept, the next one starts at 0.
+// The segment ends (a reset, a restart): its data time is kept, the next one starts at 0.
 void session::close_segment() {
   data_closed_s_ = data_s();
   seg_started_ = false;
@@ -954,6 +969,7 @@ status session::command(const M& m, const char* name, on_ack then) {
 // device agreed (on_frame). After a reset the table is homed first: the rebooted firmware counts
 // its steps from wherever the table stands.
 status session::start_run() {
+  close_segment();  // the dwells from here on are the new run's
   recording_ = false;
   device_idle_ = false;
   if (reset_seen_) running_.flags |= p::cfg_home;
@@ -983,7 +999,6 @@ status session::begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc)
   w.u16(ack_seq);
   w.u16(config_crc);
   if (auto s = append(gfr::kind::start, b); !s) return s;
-  close_segment();
   recording_ = true;
   ever_started_ = true;
   start_ack_seq_ = ack_seq;
