@@ -23,8 +23,9 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
                GAP (missing) records count, less the frames of other kinds (STATUS, ACK ...)
                the boot numbered and the file does not hold (each number from the lowest the
                file holds of the boot to the highest its stored frames or sent DWELLs reach
-               that is neither stored nor a DWELL sent): a GAP count that covers a lost STATUS
-               does not cover a lost DWELL
+               that is neither stored nor a DWELL sent, less one for each INFO record after the
+               boot's first frame: an INFO frame received is stored as a record, without its
+               number): a GAP count that covers a lost STATUS does not cover a lost DWELL
   uncounted    DWELLs short of a GAP count, summed over the boots where they are
   boot_mismatch  stored DWELLs in a file segment other than their boot's (a reset the file
                does not record; must be 0)
@@ -64,12 +65,12 @@ def stored_dwells(path):
     its DWELL keys and its GAP missing count."""
     dwells, gap_missing, scale = set(), 0, None
     resets, start_acks, unacked = 0, set(), 0
-    segments = [{"seqs": set(), "dwells": set(), "gap": 0}]
+    segments = [{"seqs": set(), "dwells": set(), "gap": 0, "infos": 0}]
     for kind, body in gfr_records(path):
         if kind == 6 and body[0] == 3:
             resets += 1
             start_acks = set()
-            segments.append({"seqs": set(), "dwells": set(), "gap": 0})
+            segments.append({"seqs": set(), "dwells": set(), "gap": 0, "infos": 0})
         elif kind == 5 and body[0] == 0x14 and body[5] == 0x22:
             start_acks.add(struct.unpack_from("<H", body, 6)[0])  # ACK of START: its at_seq
         elif kind == 4 and len(body) >= 2:
@@ -84,6 +85,8 @@ def stored_dwells(path):
             code_sum = int.from_bytes(p[16:22], "little", signed=True)
             dwells.add((seq, cycle, position, n, code_sum))
             segments[-1]["dwells"].add((seq, cycle, position, n, code_sum))
+        if kind == 2 and segments[-1]["seqs"]:
+            segments[-1]["infos"] += 1  # an INFO frame received, stored as a record: its number
         if kind == 5 and len(body) >= 3:
             segments[-1]["seqs"].add(body[1] | body[2] << 8)
         if kind == 6 and body[0] == 2:
@@ -99,7 +102,7 @@ def uncounted_by_boot(sent, segments, key):
     boots = sorted({int(s["boot"]) for s in sent} | set(range(1, len(segments) + 1)))
     for b in boots:
         seg = segments[b - 1] if b - 1 < len(segments) else {"seqs": set(), "dwells": set(),
-                                                            "gap": 0}
+                                                            "gap": 0, "infos": 0}
         mine = [s for s in sent if int(s["boot"]) == b]
         lost = [s for s in mine if key(s) not in seg["dwells"]]
         mismatch += sum(1 for s in lost if any(key(s) in o["dwells"] for o in segments))
@@ -107,7 +110,7 @@ def uncounted_by_boot(sent, segments, key):
         top = max(seg["seqs"] | dwell_seqs, default=-1)
         low = min(seg["seqs"], default=top + 1)
         other_lost = sum(1 for q in range(low, top + 1)
-                         if q not in seg["seqs"] and q not in dwell_seqs)
+                         if q not in seg["seqs"] and q not in dwell_seqs) - seg["infos"]
         uncounted += max(0, len(lost) - max(0, seg["gap"] - other_lost))
     return uncounted, mismatch
 

@@ -1029,6 +1029,8 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
     (void)command(p::stop_msg{}, "STOP");
     (void)drain_missing();
     (void)pump(100);
+    // A number skipped by the last frames read is lost too: counted (it used to be in no GAP).
+    (void)note_lost(window_.give_up_all());
   } else {
     (void)note_lost(window_.give_up_all());
   }

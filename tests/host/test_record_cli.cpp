@@ -604,6 +604,33 @@ TEST(RecordCli, AResetAtAnyMomentOfStartingARunNeverMislabels) {
   }
 }
 
+// `record` homes through CONFIGURE (cfg_home), never HOME, so `--fault-lose-reply home:1` with
+// `record --home` never fired (review of issue 32): `home` now counts a homing CONFIGURE. Here
+// the homing CONFIGURE's reply is lost and its retry meets the rebooted device: both options act
+// (the emulator says one reply lost, the file one reset) and nothing is mislabelled.
+TEST(RecordCli, HomeFaultsActOnTheHomingConfigure) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), "--speed 50 --seed 45 --fault-lose-reply home:1 "
+                                   "--fault-reset-before home:2 --log " + log);
+  const auto rec =
+      run_cli({"record", "--port", emu.pty(), "--home", "--duration", "20", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  ::kill(emu.pid(), SIGTERM);  // its summary line names what the fault options lost
+  std::string said;
+  for (int k = 0; k < 100 && said.find("fault options named") == std::string::npos; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    said = emu.output();
+  }
+  EXPECT_NE(said.find(" 1 lost as the fault options named"), std::string::npos) << said;
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_GE(run->device_resets, 1u);
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_EQ(c.mislabelled, 0u) << recorded(c);
+  EXPECT_GT(c.stored, 10u) << recorded(c);
+}
+
 // The INFO records and INFO frames of a recording: the serials they name.
 std::set<std::uint32_t> serials_in(const std::string& gfr) {
   std::set<std::uint32_t> out;
