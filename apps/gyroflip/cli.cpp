@@ -202,9 +202,9 @@ void setup_emulate(CLI::App& app, action& chosen) {
   sub->add_flag("--fault-lose-boot-info", o->fault_lose_boot_info,
                 "the INFO each boot sends is lost on the line (a reset goes unseen)");
   sub->add_option("--serial", o->serial,
-                  "the emulated board's serial number in its INFO (0: a random one, so that no "
-                  "two emulators look like one board)")
-      ->capture_default_str();
+                  "the emulated board's serial number in its INFO (default: a random non-zero "
+                  "one, so that no two emulators look like one board; 0: a board whose "
+                  "information flash holds no serial record)");
   sub->add_option("--duration", o->duration_s, "simulated seconds to run (0: until stopped)")
       ->capture_default_str();
   sub->add_option("--power-on-before", o->power_on_before_s,

@@ -123,8 +123,8 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   // A board of its own: two emulators never share a serial unless told to, so a recorder that
   // finds another one on its line (a pty path reused) refuses it instead of taking it for the
   // same board rebooted (docs/RECORDER.md).
-  c.serial = o.serial;
-  while (c.serial == 0) c.serial = std::random_device{}();
+  c.serial = o.serial.value_or(0);
+  while (!o.serial && c.serial == 0) c.serial = std::random_device{}();
   return c;
 }
 

@@ -935,6 +935,52 @@ TEST(RecordCli, AnotherDeviceAfterAReconnectIsRefused) {
   EXPECT_EQ(status_clock_jumps(gfr, 1.0), 0u);
 }
 
+// A board of serial 0 (no serial record in its information flash) cannot be told from another
+// one by its INFO (review of issue 32: `record` only warned, and a second board of serial 0 on
+// the line after a reconnect was taken for the first one rebooted). After a reconnect it is
+// taken only when it continues the recording: the same boot, its frame numbers and clock ahead
+// (docs/RECORDER.md, "A board without a serial"). The same board unplugged for 3 s goes on and
+// loses nothing; another board of serial 0 ends the file, exit 1, nothing of it stored.
+TEST(RecordCli, ABoardWithoutASerialIsTakenBackOnlyWhenItContinuesTheRecording) {
+  {
+    test::temp_dir dir;
+    const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+    const std::string link = dir.path() + "/rig";
+    emulator_process emu(dir.path(), "--speed 5 --seed 23 --serial 0 --fault-unplug 20:3 --link " +
+                                         link + " --log " + log);
+    const auto rec = run_cli(
+        {"record", "--port", link, "--duration", "40", "--reconnect-timeout", "20", "-o", gfr});
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    auto run = rigdata::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    EXPECT_EQ(run->info.serial, 0u);
+    EXPECT_EQ(run->link_losses, 1u);
+    EXPECT_EQ(run->device_resets, 0u);
+    const comparison c = compare(*run, sent_by_start(log));
+    EXPECT_EQ(c.lost, 0u) << recorded(c);
+    EXPECT_GT(c.stored, 35u) << recorded(c);
+  }
+  {
+    test::temp_dir dir;
+    const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
+    auto first = std::make_unique<emulator_process>(
+        dir.path(), "--speed 1 --seed 29 --serial 0 --link " + link);
+    const int pid = test::spawn_cli(
+        {"record", "--port", link, "--duration", "600", "--reconnect-timeout", "20", "-o", gfr});
+    std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+    first.reset();  // the first board goes; another one of serial 0 comes, the same boot count
+    emulator_process second(dir.path(), "--speed 200 --seed 30 --serial 0 --link " + link);
+    EXPECT_EQ(test::wait_cli(pid), 1);
+    auto run = rigdata::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::device_changed);
+    EXPECT_EQ(run->device_resets, 0u);
+    EXPECT_GE(run->dwells.size(), 2u);
+    EXPECT_EQ(records_after_link_loss(gfr), 0u);
+    EXPECT_EQ(status_clock_jumps(gfr, 1.0), 0u);
+  }
+}
+
 // One recorder per port: a second one is refused at once, and the first records on, losing
 // nothing.
 TEST(RecordCli, ASecondRecorderOnThePortIsRefusedAndTheFirstLosesNothing) {
