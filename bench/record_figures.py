@@ -62,6 +62,8 @@ def one_run(gyroflip, seed, emulate_args, record_args, duration, folder):
     if not os.path.exists(gfr):
         return {"exit": rec.returncode, "error": rec.stderr.strip(), "wall_s": wall}
     r = rig_truth.compare(gyroflip, gfr, log)
+    said = rec.stderr.rpartition(" over ")[2].split(" s")[0]  # "... over 60.6 s: ..."
+    r["said_s"] = float(said) if said.replace(".", "", 1).isdigit() else None
     r["exit"] = rec.returncode
     r["wall_s"] = wall
     if rec.returncode != 0:
@@ -89,7 +91,8 @@ def main():
     for index, faults in enumerate(a.faults):
         total = {"runs": 0, "sent": 0, "in_file": 0, "exported": 0, "mislabelled": 0,
                  "unlabelled": 0, "not_in_file": 0, "resets": 0, "start_unacked": 0,
-                 "uncounted_runs": 0, "failed_runs": 0}
+                 "uncounted_runs": 0, "failed_runs": 0, "over_10pct": 0, "max_data_ratio": 0.0,
+                 "said_off": 0}
         for seed in seeds:
             extra = []
             if a.reset_at:
@@ -124,6 +127,12 @@ def main():
                       "resets", "start_unacked"):
                 total[k] += r[k]
             total["uncounted_runs"] += 0 if r["counted"] else 1
+            ratio = r["data_s"] / a.duration
+            total["over_10pct"] += 1 if ratio > 1.1 else 0
+            total["max_data_ratio"] = round(max(total["max_data_ratio"], ratio), 3)
+            # what record said against what the file holds (to its printed 0.1 s)
+            total["said_off"] += 0 if r["said_s"] is not None and \
+                abs(r["said_s"] - r["data_s"]) <= 0.05 else 1
             total["failed_runs"] += 1 if r["exit"] != 0 else 0
             bad = bad or failed
         print(f"TOTAL {a.emulate} {faults}: {total}", flush=True)

@@ -30,6 +30,9 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
   boot_mismatch  stored DWELLs in a file segment other than their boot's (a reset the file
                does not record; must be 0)
   foreign      exported rows that match no DWELL sent (must be 0)
+  data_s       the data `export` gives: per run (its `segment`), from its first dwell's start to
+               its last one's end on the device's clock (the DWELL frames' ticks), summed (what
+               `record --duration` counts, docs/RECORDER.md)
   resets       device resets the file records (GAP reset)
   start_unacked  runs whose START ACK never reached the recorder (the START record names the
                CONFIGURE's ACK: the device showed the run, or it reset before a retry)
@@ -66,7 +69,10 @@ def stored_dwells(path):
     dwells, gap_missing, scale = set(), 0, None
     resets, start_acks, unacked = 0, set(), 0
     segments = [{"seqs": set(), "dwells": set(), "gap": 0, "infos": 0}]
+    ticks, tick_hz = {}, None
     for kind, body in gfr_records(path):
+        if kind == 2 and tick_hz is None and len(body) >= 16:
+            tick_hz = struct.unpack_from("<I", body, 12)[0]  # INFO: fw 3, protocol, serial, mclk
         if kind == 6 and body[0] == 3:
             resets += 1
             start_acks = set()
@@ -84,6 +90,7 @@ def stored_dwells(path):
             n = struct.unpack_from("<H", p, 14)[0]
             code_sum = int.from_bytes(p[16:22], "little", signed=True)
             dwells.add((seq, cycle, position, n, code_sum))
+            ticks[(seq, cycle, position, n, code_sum)] = struct.unpack_from("<II", p, 6)
             segments[-1]["dwells"].add((seq, cycle, position, n, code_sum))
         if kind == 2 and segments[-1]["seqs"]:
             segments[-1]["infos"] += 1  # an INFO frame received, stored as a record: its number
@@ -92,7 +99,7 @@ def stored_dwells(path):
         if kind == 6 and body[0] == 2:
             gap_missing += struct.unpack_from("<I", body, 1)[0]
             segments[-1]["gap"] += struct.unpack_from("<I", body, 1)[0]
-    return dwells, gap_missing, scale, resets, unacked, segments
+    return dwells, gap_missing, scale, resets, unacked, segments, ticks, tick_hz or 32768
 
 
 def uncounted_by_boot(sent, segments, key):
@@ -117,7 +124,7 @@ def uncounted_by_boot(sent, segments, key):
 
 def compare(gyroflip, gfr, sent_csv):
     sent = list(csv.DictReader(open(sent_csv)))
-    dwells, gap_missing, scale, resets, unacked, segments = stored_dwells(gfr)
+    dwells, gap_missing, scale, resets, unacked, segments, ticks, tick_hz = stored_dwells(gfr)
     out = subprocess.run([gyroflip, "export", gfr, "-o", "-"], capture_output=True, text=True)
     if out.returncode != 0:
         raise SystemExit(f"export {gfr}: {out.stderr}")
@@ -130,6 +137,7 @@ def compare(gyroflip, gfr, sent_csv):
                      int(s["code_sum"]))
     in_file = [s for s in sent if key(s) in dwells]
     mislabelled = foreign = unlabelled_exported = 0
+    spans = {}  # per run (export's segment): first dwell start, last dwell end (device ticks)
     for r in exported:
         k = (int(r["seq"]), int(r["cycle"]), int(r["position"]))
         rate = float(r["rate_dps"])
@@ -139,6 +147,10 @@ def compare(gyroflip, gfr, sent_csv):
         if not match:
             foreign += 1
             continue
+        t = ticks.get(key(match[0]))  # the stored frame's clock: its boot's, not a namesake's
+        if t is not None:
+            lo, hi = spans.get(r["segment"], (t[0], t[1]))
+            spans[r["segment"]] = (min(lo, t[0]), max(hi, t[1]))
         if r["angle_deg"] == "":
             unlabelled_exported += 1
         elif abs(float(r["angle_deg"]) - float(match[0]["table_deg"])) > 1e-6:
@@ -146,6 +158,7 @@ def compare(gyroflip, gfr, sent_csv):
     labelled = len(exported) - foreign - unlabelled_exported
     not_in_file = len(sent) - len(in_file)
     uncounted, boot_mismatch = uncounted_by_boot(sent, segments, key)
+    data_s = sum(((hi - lo) & 0xFFFFFFFF) / tick_hz for lo, hi in spans.values())
     return {
         "sent": len(sent),
         "in_file": len(in_file),
@@ -160,6 +173,7 @@ def compare(gyroflip, gfr, sent_csv):
         "foreign": foreign,
         "resets": resets,
         "start_unacked": unacked,
+        "data_s": round(data_s, 3),
     }
 
 

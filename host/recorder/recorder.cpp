@@ -867,8 +867,11 @@ status session::pump(int timeout_ms) {
       }
       since_link_loss_ = false;
       damaged_ahead_ = std::max(0, damaged_ahead_ - std::max(0, ahead));
+      // Only a new highest frame says the damaged ones before it were no later frames of this
+      // boot: one sent again (RESEND) after them does not (review of issue 32: a DWELL damaged
+      // just before a reset, then an older frame resent, and the reset's GAP counted nothing).
+      bad_at_last_good_ = dec_.counts().bad();
     }
-    bad_at_last_good_ = dec_.counts().bad();
     if (is_info) {
       if (auto s = on_info(f, m); !s) return s;
       continue;
@@ -1023,6 +1026,14 @@ status session::command(const M& m, const char* name, on_ack then) {
       // The run may already be going (a START whose ACK was lost): what is lost meanwhile is
       // asked for now, while the device still has it.
       if (auto s = keep_up(); !s) return done(), s;
+      // ... and it may hold the whole --duration before an ACK comes (8 tries of 0.5 s are 200 s
+      // of an emulator at 50x): the run ends at its duration, not after the last try (review of
+      // issue 32: 75.9 s stored for --duration 60 with START's replies lost on a BER 1e-2 line).
+      // start_run() writes the START record the device's frames prove.
+      if (start_in_flight_ && run_evidence_ && c_.duration_s > 0 && data_s() >= c_.duration_s)
+        return done(), runtime_error(fmt::format("{}: the duration was recorded while {} waited "
+                                                 "for its answer",
+                                                 c_.port, name));
     }
   }
   done();
