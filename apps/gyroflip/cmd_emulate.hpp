@@ -35,7 +35,7 @@ struct emulate_options {
   /// The board's serial number (INFO); none: a random non-zero one. 0 is a board whose
   /// information flash holds no serial record (docs/RECORDER.md, "A board without a serial").
   std::optional<std::uint32_t> serial;
-  double duration_s = 0.0;            ///< simulated seconds to run (0: until SIGINT/SIGTERM)
+  double duration_s = 0.0;  ///< simulated seconds to run (0: until SIGINT/SIGTERM)
   double power_on_before_s = 0.0;
   int filter_word = 94;
   bool no_chop = false;

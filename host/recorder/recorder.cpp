@@ -350,9 +350,9 @@ class session {
   // a damaged frame's header named (frames the old boot sent and the line lost).
   std::uint32_t bad_at_last_good_ = 0;
   std::int32_t damaged_ahead_ = 0;
-  std::uint32_t seg_max_end_ = 0;         // the latest dwell end of the segment (device ticks)
-  std::int64_t seg_max_end_off_ = 0;      // ... and its place from the segment's first dwell end
-  std::int64_t seg_min_start_off_ = 0;    // the earliest dwell start, placed the same way
+  std::uint32_t seg_max_end_ = 0;       // the latest dwell end of the segment (device ticks)
+  std::int64_t seg_max_end_off_ = 0;    // ... and its place from the segment's first dwell end
+  std::int64_t seg_min_start_off_ = 0;  // the earliest dwell start, placed the same way
   std::uint16_t seq_ = 0;
   // The command waiting for its reply.
   std::optional<std::uint16_t> reply_seq_;
@@ -377,11 +377,11 @@ class session {
   // (check_unserialled); only then does its INFO name it.
   bool clock_continues_ = false;
   steady::time_point last_uptime_at_{};  // when last_uptime_ arrived
-  bool identify_record_ = false;  // the INFO that identified the board goes into the file
-  bool reset_seen_ = false;       // the device rebooted: re-home, re-configure, START
-  bool need_info_ = false;        // ... and its INFO is still to be recorded
-  bool restart_ = false;          // the last command was cut short by a reset
-  bool device_idle_ = false;      // a STATUS said idle while we record
+  bool identify_record_ = false;         // the INFO that identified the board goes into the file
+  bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
+  bool need_info_ = false;               // ... and its INFO is still to be recorded
+  bool restart_ = false;                 // the last command was cut short by a reset
+  bool device_idle_ = false;             // a STATUS said idle while we record
   bool have_uptime_ = false;
   bool since_link_loss_ = false;  // the line was gone: the rate above counts what it lost
   bool have_rate_ = false;
@@ -462,7 +462,8 @@ void session::note_dwell_time(const p::frame& f) {
   }
   const std::int64_t end_off =
       seg_max_end_off_ + static_cast<std::int32_t>(d.t_end_ticks - seg_max_end_);
-  const std::int64_t start_off = end_off - static_cast<std::int64_t>(d.t_end_ticks - d.t_start_ticks);
+  const std::int64_t start_off =
+      end_off - static_cast<std::int64_t>(d.t_end_ticks - d.t_start_ticks);
   if (end_off > seg_max_end_off_) {
     seg_max_end_off_ = end_off;
     seg_max_end_ = d.t_end_ticks;
@@ -661,8 +662,9 @@ status session::check_unserialled(const p::frame& f) {
     return refuse_unserialled(fmt::format("its frame numbers went back ({} after {})", f.seq,
                                           static_cast<std::uint16_t>(window_.highest())));
   if (!have_uptime_)
-    return refuse_unserialled("no STATUS of this boot came before the line was lost to compare its "
-                              "clock with");
+    return refuse_unserialled(
+        "no STATUS of this boot came before the line was lost to compare its "
+        "clock with");
   const std::uint32_t ran = m.uptime_ticks - last_uptime_;
   const double ran_s = ran / hz;
   const double gone_s =
@@ -671,8 +673,8 @@ status session::check_unserialled(const p::frame& f) {
     return refuse_unserialled(fmt::format(
         "its clock does not continue the recording's board's ({} after {} s of the device, the "
         "line gone for about {:.1f} s)",
-        ran >= 0x80000000u ? "went back" : fmt::format("ran {:.1f} s", ran_s),
-        last_uptime_ / hz, gone_s));
+        ran >= 0x80000000u ? "went back" : fmt::format("ran {:.1f} s", ran_s), last_uptime_ / hz,
+        gone_s));
   clock_continues_ = true;
   return ok();
 }
@@ -680,11 +682,11 @@ status session::check_unserialled(const p::frame& f) {
 // A board of serial 0 that does not continue the recording after a reconnect: the link-lost GAP,
 // then the run ends (the main loop writes STOP: another device), nothing of it stored.
 status session::refuse_unserialled(const std::string& why) {
-  if (auto s = append_gap(gfr::gap_reason::link_lost,
-                          static_cast<std::uint32_t>(
-                              std::chrono::duration_cast<std::chrono::milliseconds>(
-                                  steady::now() - lost_at_)
-                                  .count()));
+  if (auto s = append_gap(
+          gfr::gap_reason::link_lost,
+          static_cast<std::uint32_t>(
+              std::chrono::duration_cast<std::chrono::milliseconds>(steady::now() - lost_at_)
+                  .count()));
       !s)
     return s;
   waiting_for_port_ = false;

@@ -611,8 +611,10 @@ TEST(RecordCli, AResetAtAnyMomentOfStartingARunNeverMislabels) {
 TEST(RecordCli, HomeFaultsActOnTheHomingConfigure) {
   test::temp_dir dir;
   const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
-  emulator_process emu(dir.path(), "--speed 50 --seed 45 --fault-lose-reply home:1 "
-                                   "--fault-reset-before home:2 --log " + log);
+  emulator_process emu(dir.path(),
+                       "--speed 50 --seed 45 --fault-lose-reply home:1 "
+                       "--fault-reset-before home:2 --log " +
+                           log);
   const auto rec =
       run_cli({"record", "--port", emu.pty(), "--home", "--duration", "20", "-o", gfr});
   ASSERT_EQ(rec.exit_code, 0) << rec.err;
