@@ -874,6 +874,23 @@ TEST(RecordCli, TheDurationCountsTheDwellsOfAStartWhoseRepliesWereLost) {
   EXPECT_GE(data_s, 60.0 - 1.0);
   EXPECT_LE(data_s, 60.0 + 2.0);
   EXPECT_NEAR(printed_s(r.rec.err), data_s, 0.051) << r.rec.err;
+
+  // Every reply to START lost: the recorder retries 8 times, 0.5 s apart (200 s of the device at
+  // 50x), while the run its first try began goes on. The run ends at its duration all the same
+  // (it used to end after the last try: ~190 s for --duration 30).
+  test::temp_dir dir2;
+  const faulted_run all_lost = record_against(
+      dir2, "--speed 50 --seed 3001 --fault-lose-reply start:1-8", {"--duration", "30"});
+  ASSERT_EQ(all_lost.rec.exit_code, 0) << all_lost.rec.err;
+  ASSERT_TRUE(all_lost.run);
+  EXPECT_EQ(all_lost.c.mislabelled, 0u) << recorded(all_lost.c);
+  const auto [all_lost_s, all_lost_segments] = data_s_of(*all_lost.run);
+  std::printf("--duration 30, every START reply lost: %.2f s of data, %.2f s said\n", all_lost_s,
+              printed_s(all_lost.rec.err));
+  EXPECT_EQ(all_lost_segments, 1u);
+  EXPECT_GE(all_lost_s, 30.0 - 1.0);
+  EXPECT_LE(all_lost_s, 30.0 + 2.0);
+  EXPECT_NEAR(printed_s(all_lost.rec.err), all_lost_s, 0.051) << all_lost.rec.err;
 }
 
 // A handshake on a very noisy line gets through: the device answers (its frames arrive) but its
