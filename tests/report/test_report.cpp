@@ -6,12 +6,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/figures.hpp"
 #include "gyroflip/report/page.hpp"
 #include "support/run_cli.hpp"
@@ -117,6 +119,78 @@ TEST(ReportFigure, PaperFiguresAreGolden) {
   EXPECT_EQ(spread.data.size(), 1u);
   EXPECT_NE(spread.caption.find("over 4.0–20.0 °C"), std::string::npos) << spread.caption;
   EXPECT_NE(spread.caption.find("no pooled mean ± std"), std::string::npos) << spread.caption;
+}
+
+// The ΔN(T) figure's bands say what they hold (review of issue 31: the line's interval was
+// labelled as if it held the runs, and 3 of 5 runs lay outside it). Simulated campaigns of 5
+// runs over 10-30 degC with known truth, scattering 5 times their own errors from one power-up
+// to the next (fixed seed): a new run at a random temperature lies in the band labelled as a new
+// run's at its 68 % (the band read off the figure's own data, interpolated), and the true line
+// in the band labelled as the fit's. Tolerance: 800 campaigns give a binomial std of 0.016;
+// +-0.05 is 3 of it. The fit's band holds far fewer new runs: that is why the labels matter.
+TEST(ReportFigure, DeltaNTemperatureBandsHoldWhatTheirLabelsSay) {
+  std::mt19937_64 rng(31);
+  std::normal_distribution<double> z;
+  std::uniform_real_distribution<double> u01;
+  const auto truth = [](double t_c) { return 3.0e-3 - 5.0e-5 * (t_c - 20.0); };
+  const double se = 1e-4, tau = 5e-4;
+  const std::string fit_label = "ΔN(T) fit, 68 %";
+  const std::string run_label = "a new power-up's run, 68 % (prediction)";
+  // The band's half-width about its centre at t_c, by linear interpolation of its points.
+  const auto inside = [](const report::series& b, double t_c, double v) {
+    const auto it = std::lower_bound(b.x.begin(), b.x.end(), t_c);
+    const auto j = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(
+        it - b.x.begin(), 1, static_cast<std::ptrdiff_t>(b.x.size()) - 1));
+    const double w = (t_c - b.x[j - 1]) / (b.x[j] - b.x[j - 1]);
+    const double lo = b.y_lo[j - 1] + w * (b.y_lo[j] - b.y_lo[j - 1]);
+    const double hi = b.y_hi[j - 1] + w * (b.y_hi[j] - b.y_hi[j - 1]);
+    return v >= lo && v <= hi;
+  };
+  int n = 0, run_in_run_band = 0, run_in_fit_band = 0, line_in_fit_band = 0;
+  for (int k = 0; k < 800; ++k) {
+    std::vector<io::calibration_entry> runs;
+    for (int i = 0; i < 5; ++i) {
+      method::calibration c;
+      c.temp_c = 10.0 + 5.0 * i;
+      c.delta_n_dps = truth(c.temp_c) + tau * z(rng) + se * z(rng);
+      c.stderr_correlated_dps = se;
+      runs.push_back({"run" + std::to_string(i), c, std::nullopt});
+    }
+    std::vector<method::calibration> cals;
+    for (const auto& r : runs) cals.push_back(r.cal);
+    const auto m = method::fit_runs_model(cals);
+    ASSERT_TRUE(m && *m);
+    const auto f = report::delta_n_temperature_figure(runs, **m, "ΔN against temperature");
+    const auto band = [&](const std::string& title) {
+      const auto it = std::find_if(f.data.begin(), f.data.end(), [&](const report::series& s) {
+        return s.title == title && s.how == report::series::style::band;
+      });
+      return it == f.data.end() ? nullptr : &*it;
+    };
+    const auto* fit_band = band(fit_label);
+    const auto* run_band = band(run_label);
+    ASSERT_NE(fit_band, nullptr) << "no band labelled " << fit_label;
+    ASSERT_NE(run_band, nullptr) << "no band labelled " << run_label;
+    const double t_c = 10.0 + 20.0 * u01(rng);
+    const double fresh = truth(t_c) + tau * z(rng) + se * z(rng);
+    ++n;
+    run_in_run_band += inside(*run_band, t_c, fresh);
+    run_in_fit_band += inside(*fit_band, t_c, fresh);
+    line_in_fit_band += inside(*fit_band, t_c, truth(t_c));
+    if (k == 0) {
+      const std::vector formats{report::image_format::svg};
+      const auto gp = report::script(f, "dt", formats);
+      EXPECT_NE(gp.find("title '" + fit_label + "'"), std::string::npos) << gp;
+      // gnuplot doubles a quote inside a quoted string.
+      EXPECT_NE(gp.find("title 'a new power-up''s run, 68 % (prediction)'"), std::string::npos)
+          << gp;
+      EXPECT_NE(f.caption.find("the prediction band holds 68 % of new runs"), std::string::npos)
+          << f.caption;
+    }
+  }
+  EXPECT_NEAR(run_in_run_band / static_cast<double>(n), 0.683, 0.05);
+  EXPECT_NEAR(line_in_fit_band / static_cast<double>(n), 0.683, 0.05);
+  EXPECT_LT(run_in_fit_band / static_cast<double>(n), 0.45);
 }
 
 TEST(ReportFigure, RendersPngSvgPdfAndLeavesNothingElse) {
