@@ -594,6 +594,14 @@ std::vector<std::string> sim_devices(bool watchdog) {
 // reads the last boot's measurements.
 board_run run_board(const std::vector<std::uint8_t>& script, std::uint32_t ram_seed, int boots = 1,
                     bool watchdog = true, const std::vector<std::string>& before_reset = {}) {
+  // The image's flash (its code and .data's load image, which a reset copies again) ends below
+  // the simulator-only memory the stand-ins write (sim_layout.hpp).
+  for (const auto& seg : read_elf(sim_elf).loads) {
+    if (seg.paddr >= 0x1100 && seg.paddr < 0xFFE0) {
+      EXPECT_LE(seg.paddr + seg.bytes.size(), sl::stats_addr)
+          << "the simulator image overlaps its logs";
+    }
+  }
   test::temp_dir tmp;
   std::vector<std::uint8_t> ram(0x800);
   std::mt19937 g(ram_seed);
@@ -966,9 +974,11 @@ TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
   EXPECT_EQ(r.stats[sl::w_rx_lost], 0u);
   std::printf(
       "msp430f149 commands at the top of the ramp (ticks %u %u %u %u): step intervals within %d "
-      "tick of the ramp, %u turns restarted; longest pass %.0f MCLK cycles = %.3f ms\n",
+      "tick of the ramp, %u turns restarted; longest pass %.0f MCLK cycles = %.3f ms (ticks %u "
+      "to %u)\n",
       windows[0], windows[1], windows[2], windows[3], worst, r.stats[sl::w_rebases],
-      r.cycles(sl::w_poll_max), 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz);
+      r.cycles(sl::w_poll_max), 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz,
+      r.word32(sl::w_poll_max_from_lo), r.word32(sl::w_poll_max_at_lo));
 }
 
 // The paper's cycle on the board (item 2 of issue 32's review): the default configuration (the
