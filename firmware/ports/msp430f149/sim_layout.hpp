@@ -24,7 +24,8 @@ inline constexpr uint16_t conv_log_cap = 256;
 /// Stepper-port writes: u16 tick (low word), u8 port value, u8 lateness of the step interrupt
 /// (ticks after its compare; 0xFF for a write that is not a step).
 inline constexpr uint16_t port_log_addr = 0xC000;
-static_assert(tx_log_addr + tx_log_cap <= conv_log_addr && conv_log_addr + 8u * conv_log_cap <= port_log_addr);
+static_assert(tx_log_addr + tx_log_cap <= conv_log_addr &&
+              conv_log_addr + 8u * conv_log_cap <= port_log_addr);
 inline constexpr uint16_t port_log_cap = 3328;
 /// What the host sends: u16 count, u16 stop tick (low, high), then `count` events of u16 tick
 /// (low, high), u16 length, `length` wire bytes, padded to an even length. The line delivers an
