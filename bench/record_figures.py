@@ -3,13 +3,16 @@
 the emulator's log of what the device sent (bench/rig_truth.py; docs/RELIABILITY.md).
 
     python3 bench/record_figures.py [--gyroflip PATH] [--seeds FIRST-LAST] [--duration S]
-        [--emulate "ARGS"] [--record "ARGS"] FAULTS...
+        [--emulate "ARGS"] [--record "ARGS"] [--reset-at LO-HI] [--keep DIR] FAULTS...
 
 Each FAULTS is a string of emulator fault options (e.g. "--fault-ber 2e-2"); each seed runs once
 per FAULTS, one emulator and one recorder at a time (a recorder waiting for /dev/pts/N could
 adopt the next emulator on that path). Prints one line per run and a total per FAULTS; exit 1
 when any run mislabelled a dwell, exported one the device never sent, or lost one that no GAP
-counts.
+counts. The folder of every such run (rec.gfr, the emulator's sent.csv, both programs' stderr
+and the commands) is kept in DIR (--keep, default ./record-figures-kept/FAULTS-INDEX/SEED-N),
+never deleted: a rare failure is worth its evidence. `--reset-at LO-HI` gives each seed its own
+`--fault-reset-at`, drawn uniformly in [LO, HI] from the seed (the same seed, the same time).
 
 The issue-32 figure (docs/RELIABILITY.md): a reset 1.2 device seconds after the first START, on
 a line that damages START's ACK often enough that a retry meets the rebooted device:
@@ -19,6 +22,8 @@ a line that damages START's ACK often enough that a retry meets the rebooted dev
 """
 import argparse
 import os
+import random
+import shutil
 import shlex
 import signal
 import subprocess
@@ -33,25 +38,32 @@ import rig_truth  # noqa: E402
 def one_run(gyroflip, seed, emulate_args, record_args, duration, folder):
     log = os.path.join(folder, "sent.csv")
     gfr = os.path.join(folder, "rec.gfr")
-    emu = subprocess.Popen(
-        [gyroflip, "emulate", "--pty", "--seed", str(seed), "--log", log] + emulate_args,
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    emu_cmd = [gyroflip, "emulate", "--pty", "--seed", str(seed), "--log", log] + emulate_args
+    emu_err = open(os.path.join(folder, "emulate.stderr"), "w")
+    emu = subprocess.Popen(emu_cmd, stdout=subprocess.PIPE, stderr=emu_err, text=True)
     try:
         line = emu.stdout.readline()
         pty = line.strip().split(" on ")[-1]
         if not pty.startswith("/"):
-            raise SystemExit(f"emulate printed no line: {line!r} {emu.stderr.read()}")
+            raise SystemExit(f"emulate printed no line: {line!r}")
+        rec_cmd = [gyroflip, "record", "--port", pty, "--duration", str(duration), "-o", gfr] + \
+            record_args
+        with open(os.path.join(folder, "commands.txt"), "w") as f:
+            f.write(shlex.join(emu_cmd) + "\n" + shlex.join(rec_cmd) + "\n")
         t0 = time.monotonic()
-        rec = subprocess.run(
-            [gyroflip, "record", "--port", pty, "--duration", str(duration), "-o", gfr] +
-            record_args, capture_output=True, text=True, timeout=600)
+        rec = subprocess.run(rec_cmd, capture_output=True, text=True, timeout=600)
         wall = time.monotonic() - t0
+        with open(os.path.join(folder, "record.stderr"), "w") as f:
+            f.write(rec.stderr)
     finally:
         emu.send_signal(signal.SIGTERM)
         emu.wait(timeout=10)
+        emu_err.close()
     if not os.path.exists(gfr):
         return {"exit": rec.returncode, "error": rec.stderr.strip(), "wall_s": wall}
     r = rig_truth.compare(gyroflip, gfr, log)
+    said = rec.stderr.rpartition(" over ")[2].split(" s")[0]  # "... over 60.6 s: ..."
+    r["said_s"] = float(said) if said.replace(".", "", 1).isdigit() else None
     r["exit"] = rec.returncode
     r["wall_s"] = wall
     if rec.returncode != 0:
@@ -67,20 +79,45 @@ def main():
     ap.add_argument("--duration", type=float, default=120)
     ap.add_argument("--emulate", default="--speed 50", help="emulator options of every run")
     ap.add_argument("--record", default="", help="recorder options of every run")
+    ap.add_argument("--reset-at", default="",
+                    help="LO-HI: each seed's own --fault-reset-at, uniform in [LO, HI] by seed")
+    ap.add_argument("--keep", default="record-figures-kept",
+                    help="folder where the runs that failed a check are kept")
     ap.add_argument("faults", nargs="+", help="emulator fault options, one string per set")
     a = ap.parse_args()
     first, _, last = a.seeds.partition("-")
     seeds = range(int(first), int(last or first) + 1)
     bad = False
-    for faults in a.faults:
+    for index, faults in enumerate(a.faults):
         total = {"runs": 0, "sent": 0, "in_file": 0, "exported": 0, "mislabelled": 0,
                  "unlabelled": 0, "not_in_file": 0, "resets": 0, "start_unacked": 0,
-                 "uncounted_runs": 0, "failed_runs": 0}
+                 "uncounted_runs": 0, "failed_runs": 0, "over_10pct": 0, "max_data_ratio": 0.0,
+                 "said_off": 0}
         for seed in seeds:
-            with tempfile.TemporaryDirectory(prefix="gyroflip-figures-") as d:
-                r = one_run(a.gyroflip, seed, shlex.split(a.emulate) + shlex.split(faults),
+            extra = []
+            if a.reset_at:
+                lo, _, hi = a.reset_at.partition("-")
+                t = random.Random(seed).uniform(float(lo), float(hi or lo))
+                extra = ["--fault-reset-at", f"{t:.4f}"]
+            d = tempfile.mkdtemp(prefix="gyroflip-figures-")
+            try:
+                r = one_run(a.gyroflip, seed, shlex.split(a.emulate) + shlex.split(faults) + extra,
                             shlex.split(a.record), a.duration, d)
-            print(f"{faults} seed {seed}: {r}", flush=True)
+            except Exception as e:  # noqa: BLE001 (kept with its folder)
+                r = {"error": repr(e)}
+            print(f"{faults} {' '.join(extra)} seed {seed}: {r}", flush=True)
+            failed = "sent" not in r or r["mislabelled"] != 0 or r["foreign"] != 0 or \
+                not r["counted"]
+            if failed:
+                kept = os.path.join(a.keep, f"{index}", f"{seed}")
+                n = 0
+                while os.path.exists(f"{kept}-{n}"):
+                    n += 1
+                os.makedirs(os.path.dirname(kept), exist_ok=True)
+                shutil.move(d, f"{kept}-{n}")
+                print(f"  kept in {kept}-{n}", flush=True)
+            else:
+                shutil.rmtree(d)
             total["runs"] += 1
             if "sent" not in r:
                 total["failed_runs"] += 1
@@ -90,8 +127,14 @@ def main():
                       "resets", "start_unacked"):
                 total[k] += r[k]
             total["uncounted_runs"] += 0 if r["counted"] else 1
+            ratio = r["data_s"] / a.duration
+            total["over_10pct"] += 1 if ratio > 1.1 else 0
+            total["max_data_ratio"] = round(max(total["max_data_ratio"], ratio), 3)
+            # what record said against what the file holds (to its printed 0.1 s)
+            total["said_off"] += 0 if r["said_s"] is not None and \
+                abs(r["said_s"] - r["data_s"]) <= 0.05 else 1
             total["failed_runs"] += 1 if r["exit"] != 0 else 0
-            bad = bad or r["mislabelled"] != 0 or r["foreign"] != 0 or not r["counted"]
+            bad = bad or failed
         print(f"TOTAL {a.emulate} {faults}: {total}", flush=True)
     return 1 if bad else 0
 

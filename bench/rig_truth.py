@@ -17,8 +17,22 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
                not known, a step fault)
   not_in_file  DWELLs sent and not stored
   gap_missing  frames the file's GAP records count as lost
-  counted      not_in_file <= gap_missing: every DWELL sent is in the file or in a GAP count
+  counted      every DWELL sent is in the file or in a GAP count, boot by boot: for each of the
+               device's boots (SENT.csv's `boot`; in the file, the segments between GAP reset
+               records, in order), the DWELLs of that boot not stored <= the frames the boot's
+               GAP (missing) records count, less the frames of other kinds (STATUS, ACK ...)
+               the boot numbered and the file does not hold (each number from the lowest the
+               file holds of the boot to the highest its stored frames or sent DWELLs reach
+               that is neither stored nor a DWELL sent, less one for each INFO record after the
+               boot's first frame: an INFO frame received is stored as a record, without its
+               number): a GAP count that covers a lost STATUS does not cover a lost DWELL
+  uncounted    DWELLs short of a GAP count, summed over the boots where they are
+  boot_mismatch  stored DWELLs in a file segment other than their boot's (a reset the file
+               does not record; must be 0)
   foreign      exported rows that match no DWELL sent (must be 0)
+  data_s       the data `export` gives: per run (its `segment`), from its first dwell's start to
+               its last one's end on the device's clock (the DWELL frames' ticks), summed (what
+               `record --duration` counts, docs/RECORDER.md)
   resets       device resets the file records (GAP reset)
   start_unacked  runs whose START ACK never reached the recorder (the START record names the
                CONFIGURE's ACK: the device showed the run, or it reset before a retry)
@@ -49,13 +63,20 @@ def gfr_records(path):
 
 def stored_dwells(path):
     """The file's DWELL frames as (seq, cycle, position, n, code_sum), its GAP missing count,
-    META's scale factor, its resets and its START records without their ACK."""
+    META's scale factor, its resets and its START records without their ACK; and per segment
+    (boots in file order: the GAP reset records part them) the sequence numbers of its frames,
+    its DWELL keys and its GAP missing count."""
     dwells, gap_missing, scale = set(), 0, None
     resets, start_acks, unacked = 0, set(), 0
+    segments = [{"seqs": set(), "dwells": set(), "gap": 0, "infos": 0}]
+    ticks, tick_hz = {}, None
     for kind, body in gfr_records(path):
+        if kind == 2 and tick_hz is None and len(body) >= 16:
+            tick_hz = struct.unpack_from("<I", body, 12)[0]  # INFO: fw 3, protocol, serial, mclk
         if kind == 6 and body[0] == 3:
             resets += 1
             start_acks = set()
+            segments.append({"seqs": set(), "dwells": set(), "gap": 0, "infos": 0})
         elif kind == 5 and body[0] == 0x14 and body[5] == 0x22:
             start_acks.add(struct.unpack_from("<H", body, 6)[0])  # ACK of START: its at_seq
         elif kind == 4 and len(body) >= 2:
@@ -69,14 +90,41 @@ def stored_dwells(path):
             n = struct.unpack_from("<H", p, 14)[0]
             code_sum = int.from_bytes(p[16:22], "little", signed=True)
             dwells.add((seq, cycle, position, n, code_sum))
-        elif kind == 6 and body[0] == 2:
+            ticks[(seq, cycle, position, n, code_sum)] = struct.unpack_from("<II", p, 6)
+            segments[-1]["dwells"].add((seq, cycle, position, n, code_sum))
+        if kind == 2 and segments[-1]["seqs"]:
+            segments[-1]["infos"] += 1  # an INFO frame received, stored as a record: its number
+        if kind == 5 and len(body) >= 3:
+            segments[-1]["seqs"].add(body[1] | body[2] << 8)
+        if kind == 6 and body[0] == 2:
             gap_missing += struct.unpack_from("<I", body, 1)[0]
-    return dwells, gap_missing, scale, resets, unacked
+            segments[-1]["gap"] += struct.unpack_from("<I", body, 1)[0]
+    return dwells, gap_missing, scale, resets, unacked, segments, ticks, tick_hz or 32768
+
+
+def uncounted_by_boot(sent, segments, key):
+    """DWELLs sent and neither stored nor in a GAP count of their own boot (docstring: counted),
+    summed over the boots; and the stored DWELLs found in another boot's segment."""
+    uncounted = mismatch = 0
+    boots = sorted({int(s["boot"]) for s in sent} | set(range(1, len(segments) + 1)))
+    for b in boots:
+        seg = segments[b - 1] if b - 1 < len(segments) else {"seqs": set(), "dwells": set(),
+                                                            "gap": 0, "infos": 0}
+        mine = [s for s in sent if int(s["boot"]) == b]
+        lost = [s for s in mine if key(s) not in seg["dwells"]]
+        mismatch += sum(1 for s in lost if any(key(s) in o["dwells"] for o in segments))
+        dwell_seqs = {int(s["seq"]) for s in mine}
+        top = max(seg["seqs"] | dwell_seqs, default=-1)
+        low = min(seg["seqs"], default=top + 1)
+        other_lost = sum(1 for q in range(low, top + 1)
+                         if q not in seg["seqs"] and q not in dwell_seqs) - seg["infos"]
+        uncounted += max(0, len(lost) - max(0, seg["gap"] - other_lost))
+    return uncounted, mismatch
 
 
 def compare(gyroflip, gfr, sent_csv):
     sent = list(csv.DictReader(open(sent_csv)))
-    dwells, gap_missing, scale, resets, unacked = stored_dwells(gfr)
+    dwells, gap_missing, scale, resets, unacked, segments, ticks, tick_hz = stored_dwells(gfr)
     out = subprocess.run([gyroflip, "export", gfr, "-o", "-"], capture_output=True, text=True)
     if out.returncode != 0:
         raise SystemExit(f"export {gfr}: {out.stderr}")
@@ -89,6 +137,7 @@ def compare(gyroflip, gfr, sent_csv):
                      int(s["code_sum"]))
     in_file = [s for s in sent if key(s) in dwells]
     mislabelled = foreign = unlabelled_exported = 0
+    spans = {}  # per run (export's segment): first dwell start, last dwell end (device ticks)
     for r in exported:
         k = (int(r["seq"]), int(r["cycle"]), int(r["position"]))
         rate = float(r["rate_dps"])
@@ -98,12 +147,18 @@ def compare(gyroflip, gfr, sent_csv):
         if not match:
             foreign += 1
             continue
+        t = ticks.get(key(match[0]))  # the stored frame's clock: its boot's, not a namesake's
+        if t is not None:
+            lo, hi = spans.get(r["segment"], (t[0], t[1]))
+            spans[r["segment"]] = (min(lo, t[0]), max(hi, t[1]))
         if r["angle_deg"] == "":
             unlabelled_exported += 1
         elif abs(float(r["angle_deg"]) - float(match[0]["table_deg"])) > 1e-6:
             mislabelled += 1
     labelled = len(exported) - foreign - unlabelled_exported
     not_in_file = len(sent) - len(in_file)
+    uncounted, boot_mismatch = uncounted_by_boot(sent, segments, key)
+    data_s = sum(((hi - lo) & 0xFFFFFFFF) / tick_hz for lo, hi in spans.values())
     return {
         "sent": len(sent),
         "in_file": len(in_file),
@@ -112,10 +167,13 @@ def compare(gyroflip, gfr, sent_csv):
         "unlabelled": len(in_file) - labelled,
         "not_in_file": not_in_file,
         "gap_missing": gap_missing,
-        "counted": not_in_file <= gap_missing,
+        "counted": uncounted == 0 and boot_mismatch == 0,
+        "uncounted": uncounted,
+        "boot_mismatch": boot_mismatch,
         "foreign": foreign,
         "resets": resets,
         "start_unacked": unacked,
+        "data_s": round(data_s, 3),
     }
 
 

@@ -1,6 +1,7 @@
-# Writes OUT (a C++ fragment) with the git commit the build is configured from: `abc123...` (40 hex),
-# `+modified` when the tree differs from it, `unknown` outside a git checkout. The file is
-# rewritten only when that changes, so a build without a new commit rebuilds nothing.
+# Writes OUT (a C++ fragment) with the git commit the build is made from: `abc123...` (40 hex),
+# `+modified` when the tracked files differ from it (staged or not; untracked files are not
+# looked at), `unknown` outside a git checkout. Run at every build (build_commit_target.cmake);
+# the file is rewritten only when that changes, so a build without a change rebuilds nothing.
 #   cmake -DSRC=<source dir> -DOUT=<file> -P build_commit.cmake
 set(commit unknown)
 find_program(GIT git)

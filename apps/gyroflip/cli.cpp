@@ -14,6 +14,7 @@
 #include "cli.hpp"
 #include "cmd_adev.hpp"
 #include "cmd_emulate.hpp"
+#include "cmd_plan.hpp"
 #include "cmd_record.hpp"
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
@@ -202,9 +203,9 @@ void setup_emulate(CLI::App& app, action& chosen) {
   sub->add_flag("--fault-lose-boot-info", o->fault_lose_boot_info,
                 "the INFO each boot sends is lost on the line (a reset goes unseen)");
   sub->add_option("--serial", o->serial,
-                  "the emulated board's serial number in its INFO (0: a random one, so that no "
-                  "two emulators look like one board)")
-      ->capture_default_str();
+                  "the emulated board's serial number in its INFO (default: a random non-zero "
+                  "one, so that no two emulators look like one board; 0: a board whose "
+                  "information flash holds no serial record)");
   sub->add_option("--duration", o->duration_s, "simulated seconds to run (0: until stopped)")
       ->capture_default_str();
   sub->add_option("--power-on-before", o->power_on_before_s,
@@ -491,6 +492,31 @@ void setup_noise(CLI::App& app, action& chosen) {
                 "allantools): in the plot and JSON long_oadev, never fitted");
 }
 
+void setup_plan(CLI::App& app, action& chosen) {
+  auto* sub = app.add_subcommand(
+      "plan",
+      "the dwell and flip period that minimise a run's error for a dead time (docs/PLANNER.md)");
+  auto o = bind<plan_options>(sub, chosen, run_plan);
+  sub->add_option("--sensor", o->sensor, "the noise of a preset: adxrs150|hz1-90-100a|FILE.toml");
+  sub->add_option("--static", o->in.file,
+                  "or the noise fitted to a static record (as gyroflip noise reads it: CSV, .npy, "
+                  "raw float64, HDF5)");
+  sub->add_option("--column", o->in.column, "the static record's column")->capture_default_str();
+  sub->add_option("--rate", o->in.rate_hz, "the static record's sample rate (Hz); default: time_s");
+  sub->add_option("--units", o->in.units, "unit of the static record: deg/s, rad/s or deg/h")
+      ->check(CLI::IsMember({"deg/s", "rad/s", "deg/h"}))
+      ->capture_default_str();
+  sub->add_option("--dead-time", o->dead_s, "time lost per turn: turn + settle (s)")
+      ->required()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--duration", o->duration_s, "run length (s)")->capture_default_str();
+  sub->add_option("--min-dwell", o->min_dwell_s, "shortest dwell considered (s)")
+      ->capture_default_str();
+  sub->add_option("--max-dwell", o->max_dwell_s,
+                  "longest dwell considered (s; default a quarter of the run)");
+  sub->add_flag("--json", o->json, "print one JSON object");
+}
+
 }  // namespace
 
 int run_cli(int argc, char** argv) {
@@ -509,6 +535,7 @@ int run_cli(int argc, char** argv) {
   setup_compensate(app, chosen);
   setup_adev(app, chosen);
   setup_noise(app, chosen);
+  setup_plan(app, chosen);
   setup_report(app, chosen, std::vector<std::string>(argv, argv + argc));
   setup_reproduce(app, chosen, std::vector<std::string>(argv, argv + argc));
   // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for

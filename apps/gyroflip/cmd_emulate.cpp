@@ -123,8 +123,8 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   // A board of its own: two emulators never share a serial unless told to, so a recorder that
   // finds another one on its line (a pty path reused) refuses it instead of taking it for the
   // same board rebooted (docs/RECORDER.md).
-  c.serial = o.serial;
-  while (c.serial == 0) c.serial = std::random_device{}();
+  c.serial = o.serial.value_or(0);
+  while (!o.serial && c.serial == 0) c.serial = std::random_device{}();
   return c;
 }
 
@@ -285,12 +285,22 @@ class command_faults_on_line {
     for (std::size_t i = 0; i < n; ++i) {
       if (!decoder_.push(p[i])) continue;
       const protocol::frame& f = decoder_.current();
-      const unsigned k = ++taken_[f.type];
-      const auto named = [&](const std::vector<fault_plan::command_range>& v) {
-        return std::any_of(v.begin(), v.end(), [&](const auto& r) { return r.has(f.type, k); });
-      };
-      if (named(plan_.reset_before)) reset = true;
-      if (named(plan_.lose_reply)) lose_.emplace_back(f.type, f.seq);
+      // A CONFIGURE that asks for homing (cfg_home: `record --home`, a restart after a reset)
+      // is the host's homing command too: `home:N` counts it (HOME itself is not what `record`
+      // sends).
+      protocol::configure_msg c;
+      const bool homes = f.as(c) && (c.flags & protocol::cfg_home) != 0;
+      bool lose = false;
+      for (const std::uint8_t as : {f.type, static_cast<std::uint8_t>(protocol::msg::home)}) {
+        if (as != f.type && !homes) continue;
+        const unsigned k = ++taken_[as];
+        const auto named = [&](const std::vector<fault_plan::command_range>& v) {
+          return std::any_of(v.begin(), v.end(), [&](const auto& r) { return r.has(as, k); });
+        };
+        reset = reset || named(plan_.reset_before);
+        lose = lose || named(plan_.lose_reply);
+      }
+      if (lose) lose_.emplace_back(f.type, f.seq);
     }
     return reset;
   }

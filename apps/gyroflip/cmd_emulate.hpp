@@ -32,8 +32,10 @@ struct emulate_options {
   /// CMD:N: the firmware is reset just before it takes the Nth frame of command CMD
   std::vector<std::string> fault_reset_before;
   bool fault_lose_boot_info = false;  ///< the INFO each boot sends is lost
-  std::uint32_t serial = 0;           ///< the board's serial number (INFO); 0: a random one
-  double duration_s = 0.0;            ///< simulated seconds to run (0: until SIGINT/SIGTERM)
+  /// The board's serial number (INFO); none: a random non-zero one. 0 is a board whose
+  /// information flash holds no serial record (docs/RECORDER.md, "A board without a serial").
+  std::optional<std::uint32_t> serial;
+  double duration_s = 0.0;  ///< simulated seconds to run (0: until SIGINT/SIGTERM)
   double power_on_before_s = 0.0;
   int filter_word = 94;
   bool no_chop = false;

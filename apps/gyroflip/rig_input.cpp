@@ -39,12 +39,25 @@ struct stretch {
   std::uint32_t segment = 0;
   std::vector<method::row> rows;
 };
+double median_of(std::vector<double> d);
+
 std::vector<stretch> stretches_of(const rigdata::rig_run& run, const position_table& table,
                                   const method::flip_pair& pair) {
   const auto in_pair = [&](const rigdata::rig_dwell& d) {
     const auto p = table.index_of(d.angle_deg);
     return p && pair.holds(*p);
   };
+  // The run's cadence: the median time from a dwell to the next one of its run. Consecutive
+  // places more than 1.5 of it apart (the device stood still: a stall, a restarted conversion)
+  // are a gap too: a stretch is gap-free in time, not only in places (review of issue 32: a
+  // stretch with a 3-s pause was handed on as uniform, its series' step taken as its span over
+  // its count, and `noise --gaps split` refused it as off its grid or kept a small stretch).
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < run.dwells.size(); ++k)
+    if (run.dwells[k].segment == run.dwells[k - 1].segment &&
+        run.dwells[k].index == run.dwells[k - 1].index + 1)
+      steps.push_back(run.dwells[k].time_s - run.dwells[k - 1].time_s);
+  const double cadence_s = median_of(std::move(steps));
   // Per run of the device: its first position of the pair (where a cycle's pair begins).
   std::vector<std::uint8_t> first(run.dwells.empty() ? 0 : run.dwells.back().segment + 1, 255);
   for (const auto& d : run.dwells)
@@ -55,7 +68,8 @@ std::vector<stretch> stretches_of(const rigdata::rig_run& run, const position_ta
   for (const auto& d : run.dwells) {
     const auto row = rigdata::dwell_row(d, table);
     const bool pair_angle = in_pair(d);
-    if (prev == nullptr || prev->segment != d.segment || d.index != prev->index + 1)
+    if (prev == nullptr || prev->segment != d.segment || d.index != prev->index + 1 ||
+        (cadence_s > 0.0 && d.time_s - prev->time_s > 1.5 * cadence_s))
       out.push_back({d.segment, {}});
     if (pair_angle && !row) {
       prev = nullptr;  // no value where the method needs one: a gap

@@ -56,6 +56,8 @@ void device::poll() {
     // A PING's INFO, in a pass that did nothing heavy (the periodic STATUS waits a pass).
     info_due_ = false;
     send_info();
+  } else if (resend_due_ && !(busy && facts_.short_passes) && answer_resend(resend_per_poll)) {
+    // Frames a RESEND asked for, a few a pass (the STATUS waits a pass).
   } else if (!(busy && facts_.short_passes) && cfg_.status_period_ms != 0 &&
              now - last_status_ >= status_ticks_) {
     last_status_ = now;
@@ -271,9 +273,11 @@ void device::send_status() {
   send(stat_);
 }
 
-// RESEND: each frame still in the history goes out again with its own sequence number; the
-// others are named in one GONE. A frame that does not fit the ring now is skipped (the host
-// asks again).
+// RESEND: each frame still in the history is marked there, and goes out again with its own
+// sequence number (answer_resend: on a port with short passes resend_per_poll a pass, from the
+// next pass on, so that the loop keeps draining the receive queue and feeding the steps); the
+// others are named in one GONE, at once. A marked frame waits while the ring has no room for it
+// and the live frames' reserve; a RESEND while marked frames wait adds its own.
 void device::resend(const protocol::frame& f) {
   protocol::resend_msg m;
   if (!f.as(m)) return nak(f, status::bad_frame);
@@ -284,22 +288,41 @@ void device::resend(const protocol::frame& f) {
   for (uint8_t i = 0; i < m.count; ++i) {
     // A number not yet sent (a host probing past what it heard): nothing to say about it.
     if (static_cast<int16_t>(static_cast<uint16_t>(m.seqs[i] - tx_seq_)) >= 0) continue;
-    uint8_t* raw = scratch_ + protocol::detail::stage;
-    const size_t len = history_.find(m.seqs[i], raw, sizeof scratch_ - protocol::detail::stage - 1);
-    if (len == 0) {
+    if (history_.mark(m.seqs[i])) {
+      resend_due_ = true;
+    } else {
       gone = static_cast<uint16_t>(gone | (1u << i));
       ++n_gone;
-    } else if (queue_staged(len, false) && stat_.retransmits != 0xFFFF) {
-      ++stat_.retransmits;
     }
-    feed_steps();  // a RESEND of 16 frames is the longest command
   }
+  if (!facts_.short_passes) answer_resend(static_cast<int>(m.count));
   if (n_gone == 0) return;
   protocol::writer w{scratch_ + protocol::detail::stage + protocol::header_bytes, max_sent_payload};
   w.u8(n_gone);
   for (uint8_t i = 0; i < m.count; ++i)
     if ((gone & (1u << i)) != 0) w.u16(m.seqs[i]);
   if (w.ok) queue(static_cast<uint8_t>(protocol::msg::gone), w.n, false);
+}
+
+bool device::answer_resend(int n) {
+  bool sent = false;
+  for (int k = 0; k < n && resend_due_; ++k) {
+    const size_t len = history_.marked();
+    if (len == 0) {
+      resend_due_ = false;
+      break;
+    }
+    // The frame's COBS bytes (at most len + 1 here) and its run (at most 5 ring bytes), with the
+    // reserve the live DWELL, COMPENSATED and STATUS keep: a resent frame yields to them.
+    if (tx_.free() < len + 1 + 5 + tx_reserve_bytes) break;
+    uint8_t* raw = scratch_ + protocol::detail::stage;
+    if (history_.take_marked(raw, sizeof scratch_ - protocol::detail::stage - 1) == len &&
+        queue_staged(len, false) && stat_.retransmits != 0xFFFF)
+      ++stat_.retransmits;
+    sent = true;
+    feed_steps();
+  }
+  return sent;
 }
 
 bool device::repeated_command(const protocol::frame& f) {

@@ -29,7 +29,7 @@ inline constexpr uint8_t fw_version_patch = 0;
 
 /// Transmit ring, in bytes of the COBS stream (each goes out as two wire bytes): a RAW frame
 /// (112 B with its delimiters) plus the reserve below, plus room for what is still going out.
-inline constexpr size_t tx_ring_bytes = 352;
+inline constexpr size_t tx_ring_bytes = 320;
 /// Room a RAW frame must leave in the ring for a DWELL, a COMPENSATED and a STATUS (RAW is
 /// dropped first when the link falls behind; a RAW block every 64 ms leaves time to send them).
 inline constexpr size_t tx_reserve_bytes = (protocol::line_bytes(protocol::dwell_payload) +
@@ -42,6 +42,13 @@ static_assert(tx_ring_bytes >=
 /// 2 KB of RAM leave (docs/PERFORMANCE.md): 7 DWELLs (57 B each with its length byte), i.e.
 /// 6 s of the paper's rig (a dwell every ~0.9 s), or 4.5 s with COMPENSATED on.
 inline constexpr size_t history_bytes = 400;
+/// Frames a RESEND asked for that a main-loop pass sends again at most on a port with short
+/// passes (board_facts::short_passes): each costs ~5 000 MCLK cycles on the MSP430F149 (the
+/// history's copy, COBS, the ring), and a RESEND of 16 answered in one pass was its longest
+/// (20-27 ms, beyond the receive queue's 8.3 ms: docs/PERFORMANCE.md, "Timing on the chip").
+inline constexpr int resend_per_poll = 1;
+static_assert(protocol::header_bytes + protocol::dwell_payload + protocol::crc_bytes <=
+              frame_history<history_bytes>::max_frame);
 /// Wire bytes a main-loop pass hands to the UART at most (1.4 ms of line at 115 200 b/s; passes
 /// come every ~0.3 ms on the MSP430F149, so the line rarely waits for the loop).
 inline constexpr int tx_per_poll = 16;
@@ -125,6 +132,9 @@ class device {
   bool repeated_command(const protocol::frame& f);
   void remember_reply(const protocol::frame& f, bool acked, protocol::status why);
   [[gnu::noinline]] void resend(const protocol::frame& f);
+  /// Sends again up to `n` of the frames RESEND marked in the history, while the ring keeps
+  /// tx_reserve_bytes free for the live frames; true when it sent one.
+  bool answer_resend(int n);
   void transmit();
   /// Queues message `m` whole, or drops it (counted); RAW (`droppable`) only while the ring
   /// keeps tx_reserve_bytes free for the frames that must not be lost. Data frames (DWELL,
@@ -222,6 +232,7 @@ class device {
   bool healthy_ = true;
   bool sequencer_waited_ = false;  // the last pass handled a command and skipped the sequencer
   bool info_due_ = false;          // a PING's INFO, for the next pass (short_passes)
+  bool resend_due_ = false;        // frames marked in the history by RESEND wait to go out
   bool turn_due_ = false;       // a dwell reported: its turn begins in the next pass (short_passes)
   uint32_t last_progress_ = 0;  // a turn's last step (the watchdog judges a turn by its steps)
   uint32_t last_ticks_ = 0;

@@ -237,6 +237,8 @@ class session {
   status on_frame(const p::frame& f);
   status on_info(const p::frame& f, const p::info_msg& m);
   status identify(const p::info_msg& m);
+  status check_unserialled(const p::frame& f);
+  status refuse_unserialled(const std::string& why);
   [[nodiscard]] bool says_reset(const p::frame& f, bool identifying) const;
   status note_reset();
   result<p::info_msg> ping();
@@ -357,7 +359,9 @@ class session {
   // a damaged frame's header named (frames the old boot sent and the line lost).
   std::uint32_t bad_at_last_good_ = 0;
   std::int32_t damaged_ahead_ = 0;
-  std::uint32_t seg_max_end_ = 0;
+  std::uint32_t seg_max_end_ = 0;       // the latest dwell end of the segment (device ticks)
+  std::int64_t seg_max_end_off_ = 0;    // ... and its place from the segment's first dwell end
+  std::int64_t seg_min_start_off_ = 0;  // the earliest dwell start, placed the same way
   std::uint16_t seq_ = 0;
   // The command waiting for its reply.
   std::optional<std::uint16_t> reply_seq_;
@@ -378,11 +382,15 @@ class session {
   // The line's frames are the session device's: false from a (re)opened port until an INFO
   // names the board (its serial). Nothing of the line is stored before.
   bool identified_ = false;
-  bool identify_record_ = false;  // the INFO that identified the board goes into the file
-  bool reset_seen_ = false;       // the device rebooted: re-home, re-configure, START
-  bool need_info_ = false;        // ... and its INFO is still to be recorded
-  bool restart_ = false;          // the last command was cut short by a reset
-  bool device_idle_ = false;      // a STATUS said idle while we record
+  // A board of serial 0 after a reconnect: its STATUS continued the recording's boot and clock
+  // (check_unserialled); only then does its INFO name it.
+  bool clock_continues_ = false;
+  steady::time_point last_uptime_at_{};  // when last_uptime_ arrived
+  bool identify_record_ = false;         // the INFO that identified the board goes into the file
+  bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
+  bool need_info_ = false;               // ... and its INFO is still to be recorded
+  bool restart_ = false;                 // the last command was cut short by a reset
+  bool device_idle_ = false;             // a STATUS said idle while we record
   bool have_uptime_ = false;
   bool since_link_loss_ = false;  // the line was gone: the rate above counts what it lost
   bool have_rate_ = false;
@@ -444,25 +452,39 @@ status session::note_corrupt() {
 }
 
 // A DWELL of the run in the current segment: its span on the device clock grows (32-bit ticks
-// unwrapped from one dwell to the next; one sent again is inside the span already).
+// unwrapped against the latest end seen; one sent again is inside the span already, one that
+// comes back on RESEND from before the first one seen widens it). The run's dwells count from
+// the START (or, while START's ACK is awaited, from this boot's CONFIGURE: the device was idle
+// from it until the START began the run, whose ACK may never come): a recording of "600 s"
+// holds 600 s of dwells whatever their START's replies did (issue 32).
 void session::note_dwell_time(const p::frame& f) {
   p::dwell_msg d;
-  if (!recording_ || !start_ack_seq_ || !f.as(d) ||
-      static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *start_ack_seq_)) <= 0)
-    return;
+  const auto after = [&](const std::optional<std::uint16_t>& at) {
+    return at && static_cast<std::int16_t>(static_cast<std::uint16_t>(f.seq - *at)) > 0;
+  };
+  const bool of_run =
+      (recording_ && after(start_ack_seq_)) || (start_in_flight_ && after(configured_at_));
+  if (!of_run || !f.as(d)) return;
   if (!seg_started_) {
     seg_started_ = true;
-    seg_max_end_ = d.t_start_ticks;
+    seg_max_end_ = d.t_end_ticks;
+    seg_max_end_off_ = 0;
+    seg_min_start_off_ = -static_cast<std::int64_t>(d.t_end_ticks - d.t_start_ticks);
   }
-  const auto ahead = static_cast<std::int32_t>(d.t_end_ticks - seg_max_end_);
-  if (ahead > 0) {
-    seg_span_ticks_ += static_cast<std::uint32_t>(ahead);
+  const std::int64_t end_off =
+      seg_max_end_off_ + static_cast<std::int32_t>(d.t_end_ticks - seg_max_end_);
+  const std::int64_t start_off =
+      end_off - static_cast<std::int64_t>(d.t_end_ticks - d.t_start_ticks);
+  if (end_off > seg_max_end_off_) {
+    seg_max_end_off_ = end_off;
     seg_max_end_ = d.t_end_ticks;
   }
+  seg_min_start_off_ = std::min(seg_min_start_off_, start_off);
+  seg_span_ticks_ = static_cast<std::uint64_t>(seg_max_end_off_ - seg_min_start_off_);
   restart_failures_ = 0;  // the device runs: a later restart starts its count again
 }
 
-// The segment ends (a reset, a new START): its data time is kept, the next one starts at 0.
+// The segment ends (a reset, a restart): its data time is kept, the next one starts at 0.
 void session::close_segment() {
   data_closed_s_ = data_s();
   seg_started_ = false;
@@ -532,6 +554,7 @@ status session::open_port() {
   if (!port) return port.err();
   port_.emplace(std::move(*port));
   identified_ = false;  // whoever answers on it is not known yet
+  clock_continues_ = false;
   return ok();
 }
 
@@ -634,6 +657,58 @@ status session::identify(const p::info_msg& m) {
   return ok();
 }
 
+// A board of serial 0 cannot be told from another board of serial 0 by its INFO. After a
+// reconnect it is taken for the recording's board only when it continues it: the same boot count,
+// frame numbers past the highest heard, and a STATUS whose clock ran on from the last one heard
+// by about the time the line was gone (at most twice that, and 5 s, more). Anything else ends
+// the recording, nothing of that board stored (docs/RECORDER.md, "A board without a serial").
+status session::check_unserialled(const p::frame& f) {
+  p::status_msg m;
+  if (f.type != static_cast<std::uint8_t>(p::msg::status) || !f.as(m)) return ok();
+  const double hz = info_->tick_hz != 0 ? info_->tick_hz : 1.0;
+  if (m.boot_count != info_->boot_count)
+    return refuse_unserialled(fmt::format("its boot count is {}, the recording's board's {}",
+                                          m.boot_count, info_->boot_count));
+  if (window_.started() && window_.distance(f.seq) <= 0)
+    return refuse_unserialled(fmt::format("its frame numbers went back ({} after {})", f.seq,
+                                          static_cast<std::uint16_t>(window_.highest())));
+  if (!have_uptime_)
+    return refuse_unserialled(
+        "no STATUS of this boot came before the line was lost to compare its "
+        "clock with");
+  const std::uint32_t ran = m.uptime_ticks - last_uptime_;
+  const double ran_s = ran / hz;
+  const double gone_s =
+      std::chrono::duration<double>(steady::now() - last_uptime_at_).count() * device_speed_;
+  if (ran >= 0x80000000u || ran_s > 2.0 * gone_s + 5.0)
+    return refuse_unserialled(fmt::format(
+        "its clock does not continue the recording's board's ({} after {} s of the device, the "
+        "line gone for about {:.1f} s)",
+        ran >= 0x80000000u ? "went back" : fmt::format("ran {:.1f} s", ran_s), last_uptime_ / hz,
+        gone_s));
+  clock_continues_ = true;
+  return ok();
+}
+
+// A board of serial 0 that does not continue the recording after a reconnect: the link-lost GAP,
+// then the run ends (the main loop writes STOP: another device), nothing of it stored.
+status session::refuse_unserialled(const std::string& why) {
+  if (auto s = append_gap(
+          gfr::gap_reason::link_lost,
+          static_cast<std::uint32_t>(
+              std::chrono::duration_cast<std::chrono::milliseconds>(steady::now() - lost_at_)
+                  .count()));
+      !s)
+    return s;
+  waiting_for_port_ = false;
+  fatal_ = runtime_error(fmt::format(
+      "{}: after the line came back, a board without a serial (0) answered and {}: it cannot be "
+      "told from another board of serial 0, so it is not recorded into the same file; {} is "
+      "complete up to here (store a serial in the board: docs/HARDWARE.md, bring-up step 5)",
+      c_.port, why, c_.output));
+  return ok();
+}
+
 // An INFO of the identified board: the answer to a PING, a boot's (a reset), or the one that
 // identified it after a reconnect; each of the last two goes into the file as an INFO record.
 status session::on_info(const p::frame& f, const p::info_msg& m) {
@@ -724,6 +799,7 @@ status session::on_frame(const p::frame& f) {
     }
     have_uptime_ = true;
     last_uptime_ = m.uptime_ticks;
+    last_uptime_at_ = now;
     // Idle while recording: but only a STATUS the device sent after it acknowledged START
     // (one sent just before is still on its way when the run has begun).
     const bool after_start =
@@ -767,11 +843,22 @@ status session::pump(int timeout_ms) {
     if (identifying) {
       // Before the board is named, nothing of the line is stored or believed: a frame of another
       // board with the same boot count would pass for ours.
-      if (!is_info) continue;
+      const bool unserialled = info_ && info_->serial == 0;
+      if (!is_info) {
+        if (unserialled && !clock_continues_)
+          if (auto s = check_unserialled(f); !s || fatal_) return s;
+        continue;
+      }
       if (!info_) {  // the handshake: run() checks it and names the session's board
         if (waiting_info_) got_info_ = m;
         waiting_info_ = false;
         continue;
+      }
+      if (unserialled && m.serial == 0) {
+        if (m.boot_count != info_->boot_count)
+          return refuse_unserialled(fmt::format("its boot count is {}, the recording's board's {}",
+                                                m.boot_count, info_->boot_count));
+        if (!clock_continues_) continue;  // its clock first: its next STATUS
       }
       if (auto s = identify(m); !s) return s;
       if (fatal_) return ok();
@@ -793,8 +880,11 @@ status session::pump(int timeout_ms) {
       }
       since_link_loss_ = false;
       damaged_ahead_ = std::max(0, damaged_ahead_ - std::max(0, ahead));
+      // Only a new highest frame says the damaged ones before it were no later frames of this
+      // boot: one sent again (RESEND) after them does not (review of issue 32: a DWELL damaged
+      // just before a reset, then an older frame resent, and the reset's GAP counted nothing).
+      bad_at_last_good_ = dec_.counts().bad();
     }
-    bad_at_last_good_ = dec_.counts().bad();
     if (is_info) {
       if (auto s = on_info(f, m); !s) return s;
       continue;
@@ -949,6 +1039,14 @@ status session::command(const M& m, const char* name, on_ack then) {
       // The run may already be going (a START whose ACK was lost): what is lost meanwhile is
       // asked for now, while the device still has it.
       if (auto s = keep_up(); !s) return done(), s;
+      // ... and it may hold the whole --duration before an ACK comes (8 tries of 0.5 s are 200 s
+      // of an emulator at 50x): the run ends at its duration, not after the last try (review of
+      // issue 32: 75.9 s stored for --duration 60 with START's replies lost on a BER 1e-2 line).
+      // start_run() writes the START record the device's frames prove.
+      if (start_in_flight_ && run_evidence_ && c_.duration_s > 0 && data_s() >= c_.duration_s)
+        return done(), runtime_error(fmt::format("{}: the duration was recorded while {} waited "
+                                                 "for its answer",
+                                                 c_.port, name));
     }
   }
   done();
@@ -965,6 +1063,7 @@ status session::command(const M& m, const char* name, on_ack then) {
 // device agreed (on_frame). After a reset the table is homed first: the rebooted firmware counts
 // its steps from wherever the table stands.
 status session::start_run() {
+  close_segment();  // the dwells from here on are the new run's
   recording_ = false;
   device_idle_ = false;
   if (reset_seen_) running_.flags |= p::cfg_home;
@@ -994,7 +1093,6 @@ status session::begin_recording(std::uint16_t ack_seq, std::uint16_t config_crc)
   w.u16(ack_seq);
   w.u16(config_crc);
   if (auto s = append(gfr::kind::start, b); !s) return s;
-  close_segment();
   recording_ = true;
   ever_started_ = true;
   start_ack_seq_ = ack_seq;
@@ -1025,6 +1123,8 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
     (void)command(p::stop_msg{}, "STOP");
     (void)drain_missing();
     (void)pump(100);
+    // A number skipped by the last frames read is lost too: counted (it used to be in no GAP).
+    (void)note_lost(window_.give_up_all());
   } else {
     (void)note_lost(window_.give_up_all());
   }

@@ -37,7 +37,7 @@ __all__ = [
     "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
     "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "calibrate_runs",
-    "compensate", "simulate", "read_recording", "report", "reproduce", "__version__",
+    "compensate", "simulate", "read_recording", "report", "reproduce", "plan", "__version__",
 ]
 
 
@@ -493,6 +493,23 @@ def _call_text(name, args, kwargs):
     """The call as written, for a report's provenance: gyroflip.NAME(args, key=value, ...)."""
     words = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items()]
     return f"python3: gyroflip.{name}({', '.join(words)})"
+
+
+def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration=3600.0,
+         min_dwell=0.01, max_dwell=None):
+    """The dwell and flip period that minimise a run's error for a dead time (as `gyroflip plan`).
+
+    dead_time: seconds lost per turn (turn + settle). The noise comes from either `sensor` (a
+    preset name such as "adxrs150", or a TOML preset file) or `static`: 1-D rate samples of the
+    sensor at rest at `rate` Hz in `units` ("deg/s", "rad/s", "deg/h"), whose IEEE 952 fit over
+    the taus from `min_dwell` on is used. duration: the run's length (s). Returns a dict with the
+    keys of `gyroflip plan --json`: dwell_s, period_s, predicted_sigma_dps,
+    sigma_without_dead_time_dps, conversions_per_dwell, closed_form, reference_dwell (the
+    paper's 0.512 s), by_dwell and by_duration (lists of points), notes. docs/PLANNER.md."""
+    data = None if static is None else _samples(static, "static")[0]
+    return _gyroflip._plan(sensor, data, None if rate is None else float(rate), str(units),
+                           float(dead_time), float(duration), float(min_dwell),
+                           0.0 if max_dwell is None else float(max_dwell))
 
 
 def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba",

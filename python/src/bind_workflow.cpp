@@ -2,6 +2,7 @@
 /// \brief The experiments for Python, the CLI's workflow calls (workflow/*.hpp): `_report` (the
 /// report folder) and `_reproduce` (the paper's experiment). Results are the CLI's JSON objects
 /// (its summary.json), parsed.
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -9,8 +10,15 @@
 #include <vector>
 
 #include <pybind11/stl.h>
+#include <nlohmann/json.hpp>
 
 #include "common.hpp"
+#include "gyroflip/analysis/sample_source.hpp"
+#include "gyroflip/core/units.hpp"
+#include "gyroflip/io/finite_output.hpp"
+#include "gyroflip/rig/ad7739.hpp"
+#include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/plan.hpp"
 #include "gyroflip/workflow/report.hpp"
 #include "gyroflip/workflow/reproduce.hpp"
 
@@ -62,9 +70,51 @@ py::dict reproduce(bool quick, std::uint64_t seed, std::optional<std::size_t> ca
   return d;
 }
 
+// gyroflip.plan: the CLI's `plan` (workflow::plan): a preset's noise, or a static record's fit.
+py::object plan(const std::optional<std::string>& sensor, const std::optional<f64_array>& data,
+                std::optional<double> rate_hz, const std::string& unit, double dead_s,
+                double duration_s, double min_dwell_s, double max_dwell_s) {
+  if (sensor.has_value() == data.has_value())
+    raise(usage_error("plan: give either sensor (a preset name or TOML file) or static (samples)"));
+  workflow::plan_request req;
+  req.dead_s = dead_s;
+  req.duration_s = duration_s;
+  req.limits.min_dwell_s = min_dwell_s;
+  req.limits.max_dwell_s = max_dwell_s;
+  req.conversion_s = rig::conversion_time_s(rig::ad7739_config{});
+  std::vector<std::string> notes;
+  if (sensor) {
+    const auto p = take(sensor::load_preset(*sensor));
+    req.noise = workflow::plan_noise_of(p.params);
+    req.noise_source = "sensor " + p.name;
+  } else {
+    if (!rate_hz || !(*rate_hz > 0.0) || !std::isfinite(*rate_hz))
+      raise(parameter_error("rate", "a static record needs its sample rate in Hz (> 0)"));
+    const auto y = span_of(*data, "static");
+    const analysis::span_samples src(y);
+    const double tau0 = 1.0 / *rate_hz;
+    const double k = units::deg_per_unit(unit);
+    auto noise = without_gil([&](const progress_fn& listen) -> result<method::plan_noise> {
+      auto phase = analysis::phase_source::make(src, analysis::input_kind::rate, tau0, listen);
+      if (!phase) return phase.err();
+      return workflow::plan_noise_of_record(*phase, k, min_dwell_s, notes);
+    });
+    req.noise = take(std::move(noise));
+    req.noise_source = "the noise fit of the static record";
+    req.static_samples = y;
+    req.static_tau0_s = tau0;
+    req.static_dps_per_unit = k;
+  }
+  auto r = take(workflow::plan(req));
+  r.notes.insert(r.notes.begin(), notes.begin(), notes.end());
+  return json_loads(take(io::finite_dump(workflow::plan_json(r), "plan")));
+}
+
 }  // namespace
 
 void bind_workflow(py::module_& m) {
+  m.def("_plan", &plan, py::arg("sensor"), py::arg("static"), py::arg("rate"), py::arg("units"),
+        py::arg("dead_time"), py::arg("duration"), py::arg("min_dwell"), py::arg("max_dwell"));
   m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),
         py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
         py::arg("expected_rate"), py::arg("command"), py::arg("next_step"));

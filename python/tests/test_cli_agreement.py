@@ -307,3 +307,32 @@ def test_codev_and_three_cornered_hat_in_the_cli(exe, tmp_path):
     bad = subprocess.run([exe, "adev", str(path), "--rate", "1", "--column", "ab", "--codev"],
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "two columns" in bad.stderr
+
+
+def test_plan_agrees_with_the_cli(exe):
+    """gyroflip.plan gives what `gyroflip plan --json` prints, for a preset."""
+    cli = json.loads(run(exe, "plan", "--sensor", "hz1-90-100a", "--dead-time", 0.4,
+                         "--duration", 7200, "--json"))
+    py = gyroflip.plan(0.4, sensor="hz1-90-100a", duration=7200)
+    for key in ("dwell_s", "period_s", "predicted_sigma_dps", "sigma_without_dead_time_dps"):
+        assert py[key] == cli[key], key
+    assert py["schema"] == "gyroflip.plan/1"
+
+
+def test_plan_of_a_static_record_finds_the_white_noise_limit():
+    """White noise only: the best dwell is the longest the run allows relative to the dead time,
+    and the error approaches N sqrt((tau + d) / (tau T)) (docs/PLANNER.md)."""
+    rng = np.random.default_rng(7)
+    n_true, rate = 0.01, 100.0
+    y = rng.standard_normal(200_000) * n_true * np.sqrt(rate)
+    p = gyroflip.plan(0.4, static=y, rate=rate, duration=3600.0)
+    tau, d, T = p["dwell_s"], 0.4, 3600.0
+    assert p["predicted_sigma_dps"] > 0
+    # N recovered within a few per cent; the error follows the white-noise form at the plan
+    assert abs(p["noise"]["arw_dps_rthz"] / n_true - 1) < 0.05
+    want = p["noise"]["arw_dps_rthz"] * np.sqrt((tau + d) / (tau * T))
+    assert abs(p["predicted_sigma_dps"] / want - 1) < 0.1
+    with pytest.raises(ValueError):
+        gyroflip.plan(0.4, static=y)  # no rate
+    with pytest.raises(ValueError):
+        gyroflip.plan(0.4)  # no noise source

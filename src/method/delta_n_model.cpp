@@ -47,6 +47,12 @@ double delta_n_model::interval_at(double temp_c) const {
   return random_effects ? analysis::t_one_sigma(static_cast<double>(dof)) * se : se;
 }
 
+double delta_n_model::new_run_interval_at(double temp_c) const {
+  if (!std::isfinite(new_run_var_dps2)) return std::numeric_limits<double>::quiet_NaN();
+  const double se = stderr_at(temp_c);
+  return analysis::t_one_sigma(static_cast<double>(dof)) * std::sqrt(se * se + new_run_var_dps2);
+}
+
 delta_n_model constant_model(double delta_n_dps, double stderr_dps) {
   delta_n_model m;
   m.coeffs_dps = {delta_n_dps};
@@ -165,6 +171,11 @@ result<delta_n_model> fit_delta_n_random_effects(std::span<const delta_n_point> 
   const double q = re->chi2 / static_cast<double>(m.dof);
   m.cov = re->cov;
   for (double& c : m.cov) c *= q;
+  // A new run: weight 1/(tau^2 + v) with v the runs' mean within-run variance, on the same
+  // scale q (equal weights of 1: q itself, the residual variance of ordinary least squares).
+  double v_mean = 0.0;
+  for (const double v : d.v) v_mean += v / static_cast<double>(k);
+  m.new_run_var_dps2 = weighted ? q * (tau2 + v_mean) : q;
   if (!weighted) {
     tau2 = q;  // equal weights of 1: q is the residual variance, all of it between runs
   }

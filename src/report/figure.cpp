@@ -10,8 +10,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -236,6 +239,210 @@ std::string_view suffix(image_format f) noexcept {
   return "png";
 }
 
+namespace {
+
+// Where a read-off letter goes (review of issue 31: the Allan plot's "B" sat on the raw curve's
+// last point and the line into it). The plot is modelled in pixels of the PNG: its frame about
+// 988 x 379 px (measured with GPVAL_TERM_* for a 5-row key and a 4-line title; a smaller frame
+// is tried too, and a larger one, so that the choice holds for other keys and titles), a
+// character 10 x 18.6 px (GPVAL_TERM_HCHAR/VCHAR of pngcairo at 12 pt), axes spanning their
+// range (plot_ranges). A letter's box must stay clear of every data point, error bar and data
+// line, of the other marks and of the letters placed before it.
+struct frame_model {
+  double width_px, height_px;
+};
+constexpr frame_model frames[] = {{988.0, 379.0}, {860.0, 290.0}, {1000.0, 470.0}};
+constexpr double char_w_px = 10.0, char_h_px = 18.6;
+
+struct box {
+  double x0, y0, x1, y1;  // pixels, y up
+};
+
+struct axis_map {
+  double lo, hi;
+  bool log;
+  [[nodiscard]] double frac(double v) const {
+    return log ? std::log10(v / lo) / std::log10(hi / lo) : (v - lo) / (hi - lo);
+  }
+};
+
+bool segment_hits(const box& b, double ax, double ay, double bx, double by) {
+  // Liang-Barsky clipping of the segment against the box.
+  double t0 = 0.0, t1 = 1.0;
+  const double dx = bx - ax, dy = by - ay;
+  const double p[4] = {-dx, dx, -dy, dy};
+  const double q[4] = {ax - b.x0, b.x1 - ax, ay - b.y0, b.y1 - ay};
+  for (int i = 0; i < 4; ++i) {
+    if (p[i] == 0.0) {
+      if (q[i] < 0.0) return false;
+    } else {
+      const double t = q[i] / p[i];
+      if (p[i] < 0.0)
+        t0 = std::max(t0, t);
+      else
+        t1 = std::min(t1, t);
+      if (t0 > t1) return false;
+    }
+  }
+  return true;
+}
+
+bool circle_hits(const box& b, double cx, double cy, double r) {
+  const double dx = std::max({b.x0 - cx, 0.0, cx - b.x1});
+  const double dy = std::max({b.y0 - cy, 0.0, cy - b.y1});
+  return dx * dx + dy * dy < r * r;
+}
+
+// The box of a label's text at (px, py) with offset (dx, dy) characters, aligned `align`.
+box text_box(double px, double py, const std::string& text, double dx, double dy, int align) {
+  // Characters, not bytes: a UTF-8 continuation byte is no character.
+  double n = 0.0;
+  for (const char c : text) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80 ? 1.0 : 0.0;
+  const double w = n * char_w_px * 0.8, h = char_h_px * 0.8;
+  const double ax = px + dx * char_w_px, ay = py + dy * char_h_px;
+  const double x0 = align < 0 ? ax - w : align > 0 ? ax : ax - w / 2.0;
+  return {x0, ay - h / 2.0, x0 + w, ay + h / 2.0};
+}
+
+struct placement {
+  double dx, dy;
+  int align;  // -1: text ends at the anchor (gnuplot "right"), 1: starts there ("left"), 0: centred
+};
+
+// The positions tried, nearest first, the preferred side first.
+std::vector<placement> candidates(bool left) {
+  const double s = left ? -1.0 : 1.0;
+  const int a = left ? -1 : 1;
+  return {{1.2 * s, 0.0, a}, {-1.2 * s, 0.0, -a}, {0.0, 1.1, 0},       {0.0, -1.1, 0},
+          {1.0 * s, 1.0, a}, {1.0 * s, -1.0, a},  {-1.0 * s, 1.0, -a}, {-1.0 * s, -1.0, -a},
+          {0.0, 2.0, 0},     {0.0, -2.0, 0},      {2.5 * s, 0.0, a},   {-2.5 * s, 0.0, -a},
+          {2.0 * s, 2.0, a}, {2.0 * s, -2.0, a},  {-2.0 * s, 2.0, -a}, {-2.0 * s, -2.0, -a}};
+}
+
+}  // namespace
+
+plot_ranges ranges_of(const figure& f) {
+  plot_ranges r;
+  for (const auto* a : {&f.x, &f.y}) {
+    const bool is_x = a == &f.x;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    const auto take = [&](double v) {
+      if (std::isfinite(v) && (!a->log || v > 0.0)) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+    };
+    for (const auto& s : f.data)
+      for (std::size_t i = 0; i < usable(s); ++i) {
+        if (!finite_point(s, i)) continue;
+        if (is_x) {
+          take(s.x[i]);
+        } else {
+          take(s.y[i]);
+          if (has_bounds(s)) {
+            take(s.y_lo[i]);
+            take(s.y_hi[i]);
+          }
+        }
+      }
+    for (const auto& n : f.notes)
+      if (std::isfinite(n.x) && std::isfinite(n.y)) take(is_x ? n.x : n.y);
+    if (std::isfinite(a->from) && std::isfinite(a->to)) {
+      lo = a->from;
+      hi = a->to;
+    } else if (!(lo < hi)) {
+      lo = hi = std::numeric_limits<double>::quiet_NaN();
+    } else if (a->log) {
+      // Whole decades, as gnuplot's autoscale of a log axis with a tic at each decade.
+      lo = std::pow(10.0, std::floor(std::log10(lo) + 1e-9));
+      hi = std::pow(10.0, std::ceil(std::log10(hi) - 1e-9));
+    }
+    (is_x ? r.x_lo : r.y_lo) = lo;
+    (is_x ? r.x_hi : r.y_hi) = hi;
+  }
+  return r;
+}
+
+std::vector<label_place> place_labels(const figure& f) {
+  std::vector<label_place> out;
+  const auto r = ranges_of(f);
+  const bool mapped = std::isfinite(r.x_lo) && std::isfinite(r.y_lo);
+  std::vector<std::pair<std::size_t, box>> placed;  // earlier letters, per frame model
+  for (std::size_t k = 0; k < f.notes.size(); ++k) {
+    const auto& n = f.notes[k];
+    const auto options = candidates(n.text_left);
+    label_place best{options[0].dx, options[0].dy, options[0].align};
+    if (mapped && std::isfinite(n.x) && std::isfinite(n.y)) {
+      const axis_map mx{r.x_lo, r.x_hi, f.x.log}, my{r.y_lo, r.y_hi, f.y.log};
+      // The first candidate clear of everything in every frame model; failing that, the first
+      // clear of the data alone.
+      int fallback = -1;
+      bool found = false;
+      for (std::size_t c = 0; c < options.size() && !found; ++c) {
+        bool clear_data = true, clear_all = true;
+        for (std::size_t fm = 0; fm < std::size(frames); ++fm) {
+          const auto& fr = frames[fm];
+          const auto px = [&](double x) { return mx.frac(x) * fr.width_px; };
+          const auto py = [&](double y) { return my.frac(y) * fr.height_px; };
+          const box b0 =
+              text_box(px(n.x), py(n.y), n.text, options[c].dx, options[c].dy, options[c].align);
+          const box b{b0.x0 - 2.0, b0.y0 - 2.0, b0.x1 + 2.0, b0.y1 + 2.0};
+          // Inside the frame.
+          if (b.x0 < 0.0 || b.x1 > fr.width_px || b.y0 < 0.0 || b.y1 > fr.height_px)
+            clear_all = clear_data = false;
+          for (const auto& s : f.data) {
+            const bool data = s.how == series::style::errorbars || s.how == series::style::points;
+            if (s.how == series::style::band) continue;
+            std::size_t prev = usable(s);
+            for (std::size_t i = 0; i < usable(s); ++i) {
+              if (!finite_point(s, i) || (f.x.log && s.x[i] <= 0.0) || (f.y.log && s.y[i] <= 0.0))
+                continue;
+              const double x = px(s.x[i]), y = py(s.y[i]);
+              bool hit = false;
+              if (data) {
+                hit = circle_hits(b, x, y, 5.0);
+                if (has_bounds(s) && s.y_lo[i] > 0.0 && s.y_hi[i] > 0.0)
+                  hit = hit || segment_hits(b, x, py(s.y_lo[i]), x, py(s.y_hi[i]));
+              }
+              if (prev < usable(s) && (s.how == series::style::lines || s.joined))
+                hit = hit || segment_hits(b, px(s.x[prev]), py(s.y[prev]), x, y);
+              prev = i;
+              if (hit) {
+                clear_all = false;
+                if (data) clear_data = false;
+              }
+            }
+          }
+          for (std::size_t j = 0; j < f.notes.size(); ++j)
+            if (j != k && std::isfinite(f.notes[j].x) && std::isfinite(f.notes[j].y) &&
+                circle_hits(b, px(f.notes[j].x), py(f.notes[j].y), 8.0))
+              clear_all = false;
+          for (const auto& [fm_placed, pb] : placed)
+            if (fm_placed == fm && pb.x0 < b.x1 && b.x0 < pb.x1 && pb.y0 < b.y1 && b.y0 < pb.y1)
+              clear_all = false;
+        }
+        if (clear_all) {
+          best = {options[c].dx, options[c].dy, options[c].align};
+          found = true;
+        } else if (clear_data && fallback < 0) {
+          fallback = static_cast<int>(c);
+        }
+      }
+      if (!found && fallback >= 0) {
+        const auto& o = options[static_cast<std::size_t>(fallback)];
+        best = {o.dx, o.dy, o.align};
+      }
+      for (std::size_t fm = 0; fm < std::size(frames); ++fm) {
+        const auto& fr = frames[fm];
+        placed.emplace_back(fm, text_box(mx.frac(n.x) * fr.width_px, my.frac(n.y) * fr.height_px,
+                                         n.text, best.dx, best.dy, best.align));
+      }
+    }
+    out.push_back(best);
+  }
+  return out;
+}
+
 std::span<const std::string_view> palette() noexcept {
   return okabe_ito;
 }
@@ -272,16 +479,31 @@ std::string script(const figure& f, std::string_view stem, std::span<const image
   // Points at the extremes of a linear y axis would sit on the frame, half clipped (the paper's
   // 0.00107 on Tab. 3's 4 degC figure): 5 % of room above and below.
   if (!f.y.log) s += "set offsets 0, 0, graph 0.05, graph 0.05\n";
+  // Marks with letters: the axes' ranges fixed (the letters are placed against them), and each
+  // letter beside its point where it covers no data (place_labels; the text's full reading is
+  // the key's).
+  if (!f.notes.empty()) {
+    const auto r = ranges_of(f);
+    for (const auto& [name, lo, hi, a] :
+         {std::tuple{'x', r.x_lo, r.x_hi, &f.x}, std::tuple{'y', r.y_lo, r.y_hi, &f.y}})
+      if (std::isfinite(lo) && std::isfinite(hi) &&
+          !(std::isfinite(a->from) && std::isfinite(a->to)))
+        fmt::format_to(std::back_inserter(s), "set {}range [{}:{}]\n", name, lo, hi);
+  }
+  const auto places = place_labels(f);
   int label = 1;
-  for (const auto& n : f.notes) {
+  for (std::size_t k = 0; k < f.notes.size(); ++k) {
+    const auto& n = f.notes[k];
     if (!std::isfinite(n.x) || !std::isfinite(n.y)) continue;
-    // A short tag beside its point, in its curve's colour, level with it (the text's full
-    // reading is the key's).
+    const auto& p = places[k];
     fmt::format_to(std::back_inserter(s),
                    "set label {} {} at {},{} {} front tc rgb '{}' point pt 6 ps 1.6 lw 2 lc rgb "
-                   "'{}' offset {},0 noenhanced\n",
-                   label++, gp_string(n.text), n.x, n.y, n.text_left ? "right" : "left",
-                   color(n.color), color(n.color), n.text_left ? -1.2 : 1.2);
+                   "'{}' offset {},{} noenhanced\n",
+                   label++, gp_string(n.text), n.x, n.y,
+                   p.align < 0   ? "right"
+                   : p.align > 0 ? "left"
+                                 : "center",
+                   color(n.color), color(n.color), p.dx, p.dy);
   }
   std::string plot;
   for (std::size_t k = 0; k < f.data.size(); ++k) {

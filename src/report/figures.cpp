@@ -169,7 +169,6 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
                                   const method::delta_n_model& model, const std::string& title) {
   figure f;
   f.title = title;
-  f.caption = fmt::format("ΔN(T), degree {}, about {:.1f} °C", model.degree(), model.t_ref_c);
   f.x = {"temperature (°C)", false};
   f.y = {"ΔN (°/s)", false};
   series s = points_of("runs (± correlated standard error)", 0);
@@ -180,23 +179,43 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
     s.y_lo.push_back(r.cal.delta_n_dps - r.cal.stderr_correlated_dps);
     s.y_hi.push_back(r.cal.delta_n_dps + r.cal.stderr_correlated_dps);
   }
+  // Two bands, each named for what it holds (review of issue 31: the fitted line's interval was
+  // labelled as if it held the runs, and 3 of 5 runs lay outside it): the line's own 68.3 %
+  // interval, which holds the true ΔN(T), and the prediction band of a new run (a new power-up's
+  // ΔN as a run like these measures it: the between-run change and the run's own error), which
+  // holds 68.3 % of new runs (delta_n_model::new_run_interval_at).
   series fit = points_of("fitted ΔN(T)", 1);
   fit.how = series::style::lines;
-  series band = points_of("68.3 % interval", 1);
+  series band = points_of("ΔN(T) fit, 68 %", 1);
   band.how = series::style::band;
+  series runs_band = points_of("a new power-up's run, 68 % (prediction)", 4);
+  runs_band.how = series::style::band;
   const double lo = model.temp_min_c, hi = model.temp_max_c;
   const double pad = std::max(0.5, 0.05 * (hi - lo));
   for (int k = 0; k <= 100; ++k) {
     const double t = lo - pad + (hi - lo + 2.0 * pad) * k / 100.0;
-    const double v = model.eval(t), se = model.interval_at(t);
+    const double v = model.eval(t), se = model.interval_at(t), pred = model.new_run_interval_at(t);
     fit.x.push_back(t);
     fit.y.push_back(v);
     band.x.push_back(t);
     band.y.push_back(v);
     band.y_lo.push_back(v - se);
     band.y_hi.push_back(v + se);
+    if (std::isfinite(pred)) {
+      runs_band.x.push_back(t);
+      runs_band.y.push_back(v);
+      runs_band.y_lo.push_back(v - pred);
+      runs_band.y_hi.push_back(v + pred);
+    }
   }
-  f.data = {band, fit, s};
+  f.caption = fmt::format("ΔN(T), degree {}, about {:.1f} °C", model.degree(), model.t_ref_c);
+  if (runs_band.x.empty()) {
+    f.caption += "; no prediction band (the runs' scatter about the line is not estimated)";
+    f.data = {band, fit, s};
+  } else {
+    f.caption += "; the prediction band holds 68 % of new runs (the fitted runs more often)";
+    f.data = {runs_band, band, fit, s};
+  }
   return f;
 }
 

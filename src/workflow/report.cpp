@@ -73,14 +73,6 @@ std::string g(double v, int digits = 4) {
   return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
 }
 
-// `v` with the decimals that show its uncertainty `u` to two significant digits (0.500099 with
-// u = 1.2e-5), as "v ± u"; without a usable u, 6 significant digits.
-std::string pm(double v, double u) {
-  if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
-  const int decimals = decimals_of_error(u);
-  return fmt::format("{:.{}f} ± {:.{}f}", v, decimals, u, decimals);
-}
-
 json num(double v) {
   return std::isfinite(v) ? json(v) : json(nullptr);
 }
@@ -345,7 +337,7 @@ report::section pairing_section(const std::vector<run_analysis>& runs) {
       const auto& at = p.oadev_at_common_tau;
       t.rows.push_back({fmt::format("{}: {}", k + 1, runs[k].run.file),
                         p.pairing == method::pairing::simple ? "simple (paper)" : "abba",
-                        std::to_string(c.cycles), pm(c.delta_n_dps, c.stderr_correlated_dps),
+                        std::to_string(c.cycles), value_pm(c.delta_n_dps, c.stderr_correlated_dps),
                         g(c.std_dps, 3), g(c.stderr_correlated_dps, 3),
                         at ? fmt::format("{} at {} s", g(at->dev, 3), g(at->tau_s, 3)) : "–"});
     }
@@ -854,13 +846,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
-                         pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
+                         value_pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
       if (f.rates[k])
         out += fmt::format(
             " against the commanded {} °/s: a scale-factor error of {}{}",
             g(*r.expected_rate_dps, 6),
-            b.valid ? pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm) + " ppm"
-                    : fmt::format("about {:.1f} %", f.rates[k]->scale_factor_ppm / 1e4),
+            b.valid
+                ? value_pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm) + " ppm"
+                : fmt::format("about {:.1f} %", f.rates[k]->scale_factor_ppm / 1e4),
             b.valid ? ""
                     : fmt::format(" (its uncertainty is not known: the ΔN applied's ± is {})",
                                   b.invalid_why));
@@ -1207,13 +1200,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       const auto& a = runs[k];
       const auto& s = a.comp.summary;
       per.rows.push_back({fmt::format("{}: {}", k + 1, a.run.file), g(a.cal.temp_c, 3),
-                          pm(a.cal.delta_n_dps, a.cal.stderr_correlated_dps), g(s.std_dps, 3),
+                          value_pm(a.cal.delta_n_dps, a.cal.stderr_correlated_dps), g(s.std_dps, 3),
                           s.drift_dps ? g(*s.drift_dps, 3) : "run too short"});
     }
     if (f.pooled) {
       const bool re = f.runs_model && f.runs_model->random_effects;
       per.rows.push_back({re ? "all runs (random-effects mean)" : "all runs (weighted mean)",
-                          all_t.text(), pm(f.pooled->first, f.pooled->second), "", ""});
+                          all_t.text(), value_pm(f.pooled->first, f.pooled->second), "", ""});
       // How the runs are weighted, on the page (review R5, issue 31): each by its within-run
       // error and the runs' scatter beyond it, so the plain mean is shown beside it.
       double plain = 0.0;
@@ -1290,14 +1283,14 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       std::vector<std::string> row{fmt::format("{}: {}", k + 1, a.run.file),
                                    g(a.cal.temp_c, 3),
                                    applied_text(a.comp, f.budget.new_power_up_dps),
-                                   pm(s.mean_dps, s.stderr_correlated_dps),
+                                   value_pm(s.mean_dps, s.stderr_correlated_dps),
                                    g(s.std_dps, 3),
                                    s.drift_dps ? g(*s.drift_dps, 3) : "–"};
       if (f.rates[k]) {
         row.push_back(g(*r.expected_rate_dps, 6));
-        row.push_back(pm(f.rates[k]->error_dps,
-                         std::hypot(s.stderr_correlated_dps, f.budget.new_power_up_dps)));
-        row.push_back(pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
+        row.push_back(value_pm(f.rates[k]->error_dps,
+                               std::hypot(s.stderr_correlated_dps, f.budget.new_power_up_dps)));
+        row.push_back(value_pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
       }
       per.rows.push_back(std::move(row));
     }

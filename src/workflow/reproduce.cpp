@@ -50,6 +50,7 @@
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/analyse.hpp"
+#include "gyroflip/workflow/budget.hpp"
 #include "gyroflip/workflow/compensate.hpp"
 #include "gyroflip/workflow/simulate.hpp"
 
@@ -622,6 +623,12 @@ std::string seconds(double s) {
   return s >= 100.0 && s < 1e6 ? fmt::format("{:.0f}", s) : g(s, 3);
 }
 
+// "v ± u" with the decimals u supports (workflow::value_pm); v alone, to 3 digits, when there is
+// no u to show (a value taken as exact, as the paper's printed figure means): never "± 0".
+std::string pm_text(double v, double u) {
+  return std::isfinite(u) && u > 0.0 ? workflow::value_pm(v, u) : g(v, 3);
+}
+
 std::string pct(double sim, double paper) {
   const double d = std::round(100.0 * (sim / paper - 1.0));
   return d == 0.0 ? std::string("0 %") : fmt::format("{:+.0f} %", d);  // never "-0 %"
@@ -717,8 +724,8 @@ prediction z_prediction(std::string id, std::string quantity, std::string basis,
   p.score = u > 0.0 ? (pred - obs) / u : std::numeric_limits<double>::infinity();
   p.limit = max_z;
   p.pass = std::abs(p.score) <= max_z;
-  p.shown_predicted = fmt::format("{} ± {}", g(pred, 3), g(u_pred, 2));
-  p.shown_observed = fmt::format("{} ± {}", g(obs, 3), g(u_obs, 2));
+  p.shown_predicted = pm_text(pred, u_pred);
+  p.shown_observed = pm_text(obs, u_obs);
   p.miss = score_text(p.score, max_z, " σ");
   return p;
 }
@@ -965,10 +972,15 @@ test_sets tests_of(const experiment& e) {
     const double n = static_cast<double>(rows_of(t, e.a).size());
     const auto m = stats_of(e.means[t]), sd = stats_of(e.stds[t]);
     const std::string basis = "the given model (not fitted here): a value the preset was fitted to";
-    // The paper's sampling errors (n runs) and the simulation's (k campaigns).
+    // The paper's sampling errors (n runs) and the simulation's: the mean of k campaigns of n
+    // runs each has the standard error s / sqrt(n k), s the runs' std within their campaigns
+    // (pooled: the root mean of the campaigns' variances). The spread of the campaigns' means
+    // over sqrt(k) was 0 for one campaign (--quick: "0.00319 ± 0", review of issue 31).
+    double var_within = 0.0;
+    for (const double s : e.stds[t]) var_within += s * s / static_cast<double>(e.stds[t].size());
     auto pm = z_prediction(std::string(paper_tables[t].id) + "_mean",
                            fmt::format("{}: mean ΔN (°/s)", paper_tables[t].label), basis, m.mean,
-                           m.std / std::sqrt(k), ps.mean, ps.std / std::sqrt(n));
+                           std::sqrt(var_within / (n * k)), ps.mean, ps.std / std::sqrt(n));
     auto pd = z_prediction(std::string(paper_tables[t].id) + "_std",
                            fmt::format("{}: std of ΔN (°/s)", paper_tables[t].label), basis,
                            sd.mean, sd.mean / std::sqrt(2.0 * (n - 1.0) * k), ps.std,
@@ -1066,7 +1078,7 @@ test_sets tests_of(const experiment& e) {
     // The simulated mean's own error (R runs) moves the score.
     p.sim_shift = u > 0.0 ? s.std / std::sqrt(reps) / u : 0.0;
     p.pass = std::abs(p.score) <= t;
-    p.shown_predicted = fmt::format("{} ± {}", g(s.mean, 3), g(u, 2));
+    p.shown_predicted = pm_text(s.mean, u);
     p.shown_observed = g(pf.mean_dps, 4);
     p.miss = score_text(p.score, t, " σ");
     if (in_sample) {
@@ -1190,7 +1202,7 @@ report::table tables_table(const experiment& e, json& out) {
     const auto em = stats_of(e.means[g_]), es = stats_of(e.stds[g_]);
     const std::size_t n = rows_of(g_, e.a).size();
     const auto with_spread = [k](double v, double spread, int digits) {
-      return k > 1 ? fmt::format("{} ± {}", g(v, digits), g(spread, 2)) : g(v, digits);
+      return k > 1 && spread > 0.0 ? workflow::value_pm(v, spread) : g(v, digits);
     };
     t.rows.push_back({fmt::format("{}, {} runs", p.label, n), with_spread(em.mean, em.std, 5),
                       g(ps.mean, 6), pct(em.mean, ps.mean), with_spread(es.mean, es.std, 4),

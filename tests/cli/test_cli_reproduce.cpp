@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -186,6 +187,25 @@ TEST(ReproduceCli, AGivenSensorModelGoesThroughTheSameTests) {
   EXPECT_NE(html.find("given models of the HZ1-90-100A</h1>"), std::string::npos);
   EXPECT_NE(html.find(j["given_sensor_models"][0]["sha256"].get<std::string>()), std::string::npos);
   EXPECT_NE(html.find("Given sensor model: the HZ1-90-100A of " + toml), std::string::npos);
+  // Every ± is a real standard error (review of issue 31: "0.00319 ± 0" for the mean of one
+  // --quick campaign, the spread of one campaign mean): the mean of k campaigns of n runs has
+  // s / sqrt(n k), s the runs' pooled std within their campaigns, and nothing prints "± 0".
+  for (const auto& t : j["tables"]) {
+    if (t["sensor"] != "hz1-90-100a") continue;
+    double var = 0.0;
+    for (const auto& c : t["per_campaign"])
+      var += std::pow(c["std_dps"].get<double>(), 2) / static_cast<double>(t["campaigns"]);
+    const double se = std::sqrt(var / (t["runs"].get<double>() * t["campaigns"].get<double>()));
+    const auto p = std::find_if(
+        j["predictions"].begin(), j["predictions"].end(),
+        [&](const json& q) { return q["id"] == t["id"].get<std::string>() + "_mean"; });
+    ASSERT_NE(p, j["predictions"].end()) << t["id"];
+    EXPECT_GT(se, 0.0);
+    EXPECT_NEAR((*p)["u_predicted"].get<double>(), se, 1e-12 * se) << t["id"];
+  }
+  const std::regex zero("± 0(?![.0-9])");
+  EXPECT_FALSE(std::regex_search(r.out, zero)) << r.out;
+  EXPECT_FALSE(std::regex_search(html, zero));
 }
 
 // A model named other than the paper's sensors, given twice, a built-in name for a file, an

@@ -594,6 +594,14 @@ std::vector<std::string> sim_devices(bool watchdog) {
 // reads the last boot's measurements.
 board_run run_board(const std::vector<std::uint8_t>& script, std::uint32_t ram_seed, int boots = 1,
                     bool watchdog = true, const std::vector<std::string>& before_reset = {}) {
+  // The image's flash (its code and .data's load image, which a reset copies again) ends below
+  // the simulator-only memory the stand-ins write (sim_layout.hpp).
+  for (const auto& seg : read_elf(sim_elf).loads) {
+    if (seg.paddr >= 0x1100 && seg.paddr < 0xFFE0) {
+      EXPECT_LE(seg.paddr + seg.bytes.size(), sl::stats_addr)
+          << "the simulator image overlaps its logs";
+    }
+  }
   test::temp_dir tmp;
   std::vector<std::uint8_t> ram(0x800);
   std::mt19937 g(ram_seed);
@@ -898,7 +906,8 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
 // 32's second review: a PING's 31 000-cycle pass emptied the queue at the top of the ramp and
 // the turn restarted its ramp from standstill; at the board's clock ratio the main loop fed only
 // two intervals a pass and fell behind at the top of every ramp).
-TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
+// `trailing` PINGs follow each burst back to back (the host sending behind it).
+void commands_at_the_top_of_the_ramp(int trailing) {
   const auto cfg = geared_config();
   protocol::start_msg start;
   start.config_crc = protocol::configure_crc(cfg);
@@ -922,20 +931,31 @@ TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
   rs.count = 16;
   for (std::uint8_t i = 0; i < 16; ++i) rs.seqs[i] = static_cast<std::uint16_t>(2 + i);
   // A byte every 91 Timer_B counts: 728 simulator cycles, 2.84 ticks.
-  const auto ending_at = [](std::uint32_t tick, const std::vector<std::uint8_t>& b) {
-    return sim_event{tick - static_cast<std::uint32_t>(b.size() * 728 / 256), b};
-  };
   auto ev = setup;
   std::uint16_t seq = 102;
   const auto ping = [&] { return wire(protocol::ping_msg{}, seq++); };
   const auto resend = [&] { return wire(rs, seq++); };
-  ev.push_back(ending_at(windows[0], ping()));
-  ev.push_back(ending_at(windows[1], resend()));
+  const auto trailed = [&](std::vector<std::uint8_t> b) {
+    for (int i = 0; i < trailing; ++i) {
+      const auto p = ping();
+      b.insert(b.end(), p.begin(), p.end());
+    }
+    return b;
+  };
+  const auto ending_before = [&](std::uint32_t tick, const std::vector<std::uint8_t>& head,
+                                 std::vector<std::uint8_t> all) {
+    return sim_event{tick - static_cast<std::uint32_t>(head.size() * 728 / 256), std::move(all)};
+  };
+  const auto p0 = ping();
+  ev.push_back(ending_before(windows[0], p0, trailed(p0)));
+  const auto r1 = resend();
+  ev.push_back(ending_before(windows[1], r1, trailed(r1)));
   auto both = ping();
   const auto more = resend();
   both.insert(both.end(), more.begin(), more.end());
-  ev.push_back(ending_at(windows[2], both));
-  ev.push_back(ending_at(windows[3], ping()));
+  ev.push_back(ending_before(windows[2], both, trailed(both)));
+  const auto p3 = ping();
+  ev.push_back(ending_before(windows[3], p3, trailed(p3)));
   const auto r = run_board(script_bytes(ev, stop), 41, 1, false);
   ASSERT_EQ(r.stats[sl::w_done], 1u) << r.log;
   const auto steps = steps_of(r.ports, &bad);
@@ -961,14 +981,36 @@ TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
     acks += f.type == static_cast<std::uint8_t>(protocol::msg::ack) ? 1 : 0;
     infos += f.type == static_cast<std::uint8_t>(protocol::msg::info) ? 1 : 0;
   }
-  EXPECT_EQ(acks, 2 + 3) << "CONFIGURE, START and three PINGs";
-  EXPECT_EQ(infos, 1 + 3) << "the boot's and three PINGs'";
-  EXPECT_EQ(r.stats[sl::w_rx_lost], 0u);
+  EXPECT_EQ(acks, 2 + 3 + 4 * trailing) << "CONFIGURE, START and every PING";
+  // PINGs back to back may share the INFO that answers them (device::info_due_).
+  EXPECT_GE(infos, 1 + 3) << "the boot's and one a burst";
+  EXPECT_EQ(r.stats[sl::w_rx_lost], 0u) << "received bytes lost";
+  // No pass outlasts what the receive queue holds at the line rate (96 bytes of 86.8 us) when
+  // the host sends behind it.
+  const double poll_ms = 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz;
+  if (trailing > 0) {
+    EXPECT_LT(poll_ms, 96 * 10 / 115.2) << "a pass longer than the receive queue";
+  }
   std::printf(
       "msp430f149 commands at the top of the ramp (ticks %u %u %u %u): step intervals within %d "
-      "tick of the ramp, %u turns restarted; longest pass %.0f MCLK cycles = %.3f ms\n",
+      "tick of the ramp, %u turns restarted; longest pass %.0f MCLK cycles = %.3f ms (ticks %u "
+      "to %u)\n",
       windows[0], windows[1], windows[2], windows[3], worst, r.stats[sl::w_rebases],
-      r.cycles(sl::w_poll_max), 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz);
+      r.cycles(sl::w_poll_max), 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz,
+      r.word32(sl::w_poll_max_from_lo), r.word32(sl::w_poll_max_at_lo));
+}
+
+TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
+  commands_at_the_top_of_the_ramp(0);
+}
+
+// Issue 32, section 6, open: the same bursts with three PINGs back to back behind each. FAILS
+// today (longest pass ~12 ms at the top of turn 2's ramp against the queue's 8.3 ms, ~51 bytes
+// lost and 2 PINGs unanswered): the ramp's interval computation at 2 000 steps/s leaves the main
+// loop little time, and a pass with a command's work lumps the steps' catch-up into itself
+// (docs/PERFORMANCE.md, "Timing on the chip"). Enabled when the pass is bounded.
+TEST(Msp430Board, DISABLED_BurstsWithTheHostSendingBehindThemLoseNothing) {
+  commands_at_the_top_of_the_ramp(3);
 }
 
 // The paper's cycle on the board (item 2 of issue 32's review): the default configuration (the

@@ -607,6 +607,35 @@ TEST(RecordCli, AResetAtAnyMomentOfStartingARunNeverMislabels) {
   }
 }
 
+// `record` homes through CONFIGURE (cfg_home), never HOME, so `--fault-lose-reply home:1` with
+// `record --home` never fired (review of issue 32): `home` now counts a homing CONFIGURE. Here
+// the homing CONFIGURE's reply is lost and its retry meets the rebooted device: both options act
+// (the emulator says one reply lost, the file one reset) and nothing is mislabelled.
+TEST(RecordCli, HomeFaultsActOnTheHomingConfigure) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(),
+                       "--speed 50 --seed 45 --fault-lose-reply home:1 "
+                       "--fault-reset-before home:2 --log " +
+                           log);
+  const auto rec =
+      run_cli({"record", "--port", emu.pty(), "--home", "--duration", "20", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  ::kill(emu.pid(), SIGTERM);  // its summary line names what the fault options lost
+  std::string said;
+  for (int k = 0; k < 100 && said.find("fault options named") == std::string::npos; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    said = emu.output();
+  }
+  EXPECT_NE(said.find(" 1 lost as the fault options named"), std::string::npos) << said;
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_GE(run->device_resets, 1u);
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_EQ(c.mislabelled, 0u) << recorded(c);
+  EXPECT_GT(c.stored, 10u) << recorded(c);
+}
+
 // The INFO records and INFO frames of a recording: the serials they name.
 std::set<std::uint32_t> serials_in(const std::string& gfr) {
   std::set<std::uint32_t> out;
@@ -788,6 +817,27 @@ TEST(RecordCli, AStoppedEmulatorLosesNothingAndIsNotBlamed) {
 // --duration is data: the device-clock span of the recording's segments, not the time between
 // them (issue 32: a reset while the line was gone for 10 s counted those 10 s, so a "20 s"
 // recording held 15 s of data). docs/RECORDER.md.
+// The data a recording holds: each segment's dwells from the first one's start to the last
+// one's end, on the device's clock, summed over the segments (docs/RECORDER.md, "Decisions").
+std::pair<double, std::size_t> data_s_of(const rigdata::rig_run& run) {
+  std::map<std::uint32_t, std::pair<long long, long long>> span;  // segment: first, last tick
+  for (const auto& d : run.dwells) {
+    auto [it, fresh] = span.try_emplace(d.segment, d.d.t_start_ticks, d.d.t_end_ticks);
+    it->second.first = std::min<long long>(it->second.first, d.d.t_start_ticks);
+    it->second.second = std::max<long long>(it->second.second, d.d.t_end_ticks);
+  }
+  double data_s = 0.0;
+  for (const auto& [seg, s] : span)
+    data_s += static_cast<double>(s.second - s.first) / static_cast<double>(run.info.tick_hz);
+  return {data_s, span.size()};
+}
+
+// The seconds `record` says it recorded ("... over 60.6 s: ...").
+double printed_s(const std::string& err) {
+  const auto at = err.find(" over ");
+  return at == std::string::npos ? -1.0 : std::stod(err.substr(at + 6));
+}
+
 TEST(RecordCli, TheDurationCountsDataNotTheTimeBetweenSegments) {
   test::temp_dir dir;
   const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
@@ -799,18 +849,51 @@ TEST(RecordCli, TheDurationCountsDataNotTheTimeBetweenSegments) {
   auto run = rigdata::read_rig_run(gfr);
   ASSERT_TRUE(run) << run.err().message;
   EXPECT_EQ(run->device_resets, 1u);
-  std::map<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>> span;  // segment: first, last
-  for (const auto& d : run->dwells) {
-    auto [it, fresh] = span.try_emplace(d.segment, d.d.t_start_ticks, d.d.t_end_ticks);
-    if (!fresh) it->second.second = d.d.t_end_ticks;
-  }
-  ASSERT_EQ(span.size(), 2u);
-  double data_s = 0.0;
-  for (const auto& [seg, s] : span)
-    data_s += (s.second - s.first) / static_cast<double>(run->info.tick_hz);
-  std::printf("--duration 20: %.2f s of data in %zu segments\n", data_s, span.size());
+  const auto [data_s, segments] = data_s_of(*run);
+  ASSERT_EQ(segments, 2u);
+  std::printf("--duration 20: %.2f s of data in %zu segments\n", data_s, segments);
   EXPECT_GE(data_s, 20.0 - 1.0);  // less a dwell (the last may end just past it)
   EXPECT_LE(data_s, 20.0 + 2.0);
+  EXPECT_NEAR(printed_s(rec.err), data_s, 0.051) << rec.err;
+}
+
+// The same when START's replies are lost (issue 32 review): the dwells of a run whose START was
+// not yet acknowledged are data too. With START's first three replies lost and a reset before
+// the second, `--duration 60` used to record 111.8 s (24.0 + 88.9 s in two segments) and print
+// 62.7 s: the first boot's run, begun by a START never acknowledged, and the dwells before the
+// retried START's ACK were not counted (36 of 112 runs more than 10 % over, up to 1.86x).
+TEST(RecordCli, TheDurationCountsTheDwellsOfAStartWhoseRepliesWereLost) {
+  test::temp_dir dir;
+  const faulted_run r = record_against(
+      dir, "--speed 50 --seed 3001 --fault-lose-reply start:1-3 --fault-reset-before start:2",
+      {"--duration", "60"});
+  ASSERT_EQ(r.rec.exit_code, 0) << r.rec.err;
+  ASSERT_TRUE(r.run);
+  EXPECT_EQ(r.c.mislabelled, 0u) << recorded(r.c);
+  const auto [data_s, segments] = data_s_of(*r.run);
+  std::printf("--duration 60, START's replies lost: %.2f s of data in %zu segments, %.2f s said\n",
+              data_s, segments, printed_s(r.rec.err));
+  EXPECT_EQ(segments, 2u);
+  EXPECT_GE(data_s, 60.0 - 1.0);
+  EXPECT_LE(data_s, 60.0 + 2.0);
+  EXPECT_NEAR(printed_s(r.rec.err), data_s, 0.051) << r.rec.err;
+
+  // Every reply to START lost: the recorder retries 8 times, 0.5 s apart (200 s of the device at
+  // 50x), while the run its first try began goes on. The run ends at its duration all the same
+  // (it used to end after the last try: ~190 s for --duration 30).
+  test::temp_dir dir2;
+  const faulted_run all_lost = record_against(
+      dir2, "--speed 50 --seed 3001 --fault-lose-reply start:1-8", {"--duration", "30"});
+  ASSERT_EQ(all_lost.rec.exit_code, 0) << all_lost.rec.err;
+  ASSERT_TRUE(all_lost.run);
+  EXPECT_EQ(all_lost.c.mislabelled, 0u) << recorded(all_lost.c);
+  const auto [all_lost_s, all_lost_segments] = data_s_of(*all_lost.run);
+  std::printf("--duration 30, every START reply lost: %.2f s of data, %.2f s said\n", all_lost_s,
+              printed_s(all_lost.rec.err));
+  EXPECT_EQ(all_lost_segments, 1u);
+  EXPECT_GE(all_lost_s, 30.0 - 1.0);
+  EXPECT_LE(all_lost_s, 30.0 + 2.0);
+  EXPECT_NEAR(printed_s(all_lost.rec.err), all_lost_s, 0.051) << all_lost.rec.err;
 }
 
 // A handshake on a very noisy line gets through: the device answers (its frames arrive) but its
@@ -872,6 +955,52 @@ TEST(RecordCli, AnotherDeviceAfterAReconnectIsRefused) {
   EXPECT_EQ(serials_in(gfr), std::set<std::uint32_t>{7u});
   EXPECT_EQ(records_after_link_loss(gfr), 0u);
   EXPECT_EQ(status_clock_jumps(gfr, 1.0), 0u);
+}
+
+// A board of serial 0 (no serial record in its information flash) cannot be told from another
+// one by its INFO (review of issue 32: `record` only warned, and a second board of serial 0 on
+// the line after a reconnect was taken for the first one rebooted). After a reconnect it is
+// taken only when it continues the recording: the same boot, its frame numbers and clock ahead
+// (docs/RECORDER.md, "A board without a serial"). The same board unplugged for 3 s goes on and
+// loses nothing; another board of serial 0 ends the file, exit 1, nothing of it stored.
+TEST(RecordCli, ABoardWithoutASerialIsTakenBackOnlyWhenItContinuesTheRecording) {
+  {
+    test::temp_dir dir;
+    const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+    const std::string link = dir.path() + "/rig";
+    emulator_process emu(dir.path(), "--speed 5 --seed 23 --serial 0 --fault-unplug 20:3 --link " +
+                                         link + " --log " + log);
+    const auto rec = run_cli(
+        {"record", "--port", link, "--duration", "40", "--reconnect-timeout", "20", "-o", gfr});
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    auto run = rigdata::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    EXPECT_EQ(run->info.serial, 0u);
+    EXPECT_EQ(run->link_losses, 1u);
+    EXPECT_EQ(run->device_resets, 0u);
+    const comparison c = compare(*run, sent_by_start(log));
+    EXPECT_EQ(c.lost, 0u) << recorded(c);
+    EXPECT_GT(c.stored, 35u) << recorded(c);
+  }
+  {
+    test::temp_dir dir;
+    const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
+    auto first = std::make_unique<emulator_process>(
+        dir.path(), "--speed 1 --seed 29 --serial 0 --link " + link);
+    const int pid = test::spawn_cli(
+        {"record", "--port", link, "--duration", "600", "--reconnect-timeout", "20", "-o", gfr});
+    std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+    first.reset();  // the first board goes; another one of serial 0 comes, the same boot count
+    emulator_process second(dir.path(), "--speed 200 --seed 30 --serial 0 --link " + link);
+    EXPECT_EQ(test::wait_cli(pid), 1);
+    auto run = rigdata::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::device_changed);
+    EXPECT_EQ(run->device_resets, 0u);
+    EXPECT_GE(run->dwells.size(), 2u);
+    EXPECT_EQ(records_after_link_loss(gfr), 0u);
+    EXPECT_EQ(status_clock_jumps(gfr, 1.0), 0u);
+  }
 }
 
 // One recorder per port: a second one is refused at once, and the first records on, losing

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "gyroflip/analysis/confidence.hpp"
@@ -112,6 +113,71 @@ TEST(Pooling, AModelThroughItsRunsHasNoErrorAndNoDegreesOfFreedom) {
   EXPECT_EQ(re->stderr_at(10.0), 0.0);
   EXPECT_TRUE(std::isnan(re->between_run_var_dps2));
   EXPECT_NEAR(re->eval(4.0), 3.8e-3, 1e-15);
+}
+
+// A new run's prediction interval, closed form: with no within-run errors (at rounding level)
+// the fit is ordinary least squares and the interval the textbook one, t s sqrt(1 + 1/n + (x0 -
+// xbar)^2 / Sxx) (NIST/SEMATECH e-Handbook 4.5.2.2 for the form; t at 68.3 %). Points (0, 0),
+// (1, 1), (2, 3): slope 1.5, residuals 1/6, -1/3, 1/6, s^2 = 1/6 on 1 degree of freedom.
+TEST(Pooling, ANewRunsIntervalIsTheLeastSquaresPredictionIntervalWithoutWithinRunErrors) {
+  const std::vector<delta_n_point> pts = {{0.0, 0.0, 0.0}, {1.0, 1.0, 0.0}, {2.0, 3.0, 0.0}};
+  const auto re = fit_delta_n_random_effects(pts, 1);
+  ASSERT_TRUE(re);
+  const double t = analysis::t_one_sigma(1.0);
+  EXPECT_NEAR(re->new_run_interval_at(1.0), t * std::sqrt(1.0 / 6.0 * (1.0 + 1.0 / 3.0)), 1e-12);
+  EXPECT_NEAR(re->new_run_interval_at(3.0), t * std::sqrt(1.0 / 6.0 * (1.0 + 1.0 / 3.0 + 2.0)),
+              1e-12);
+  EXPECT_NEAR(re->interval_at(3.0), t * std::sqrt(1.0 / 6.0 * (1.0 / 3.0 + 2.0)), 1e-12);
+  // Without degrees of freedom there is nothing to predict from.
+  const std::vector<delta_n_point> two = {{4.0, 3.8e-3, 1e-4}, {20.0, 3.1e-3, 1e-4}};
+  EXPECT_TRUE(std::isnan(fit_delta_n_random_effects(two, 1)->new_run_interval_at(10.0)));
+}
+
+// Simulated runs with known truth (dN_i = line + u_i + e_i, u_i ~ N(0, tau^2), e_i ~ N(0, se_i^2),
+// se_i uniform in 0.5-1.5 units; fixed seed): a new run, drawn the same way at a random
+// temperature, falls in its 68.3 % prediction interval at that rate, where the line's own
+// interval (which holds the line) holds far fewer new runs once the runs scatter. Tolerance:
+// 1500 campaigns give a binomial std of 0.012; +-0.04 is 3.3 of it. Measured over 4000
+// campaigns per cell, 2-13 runs, tau 0-10 units: 0.669-0.703 (docs/METHOD-NOTES.md).
+TEST(Pooling, ANewRunFallsInItsPredictionIntervalAtItsRate) {
+  std::mt19937_64 rng(31);
+  std::normal_distribution<double> z;
+  std::uniform_real_distribution<double> u01;
+  struct cell {
+    std::size_t degree, runs;
+    double tau;
+  };
+  for (const auto& c : {cell{0, 3, 0.0}, cell{1, 5, 3.0}, cell{0, 13, 1.0}, cell{1, 4, 10.0}}) {
+    const auto truth = [&](double t_c) { return 3.0 - 0.2 * (t_c - 20.0); };
+    const auto run_at = [&](double t_c) -> delta_n_point {
+      const double se = 0.5 + u01(rng);
+      return {t_c, truth(t_c) + c.tau * z(rng) + se * z(rng), se};
+    };
+    int n = 0, in_pred = 0, in_line = 0, line_in_line = 0;
+    for (int k = 0; k < 1500; ++k) {
+      std::vector<delta_n_point> pts;
+      for (std::size_t i = 0; i < c.runs; ++i)  // a constant: runs at one temperature
+        pts.push_back(run_at(c.degree == 0 ? 20.0
+                                           : 15.0 + 10.0 * static_cast<double>(i) /
+                                                        static_cast<double>(c.runs - 1)));
+      const auto m = fit_delta_n_random_effects(pts, c.degree);
+      ASSERT_TRUE(m);
+      const double t_c = c.degree == 0 ? 20.0 : 15.0 + 10.0 * u01(rng);
+      const auto fresh = run_at(t_c);
+      const double miss = std::abs(fresh.delta_n_dps - m->eval(t_c));
+      ++n;
+      in_pred += miss <= m->new_run_interval_at(t_c);
+      in_line += miss <= m->interval_at(t_c);
+      line_in_line += std::abs(truth(t_c) - m->eval(t_c)) <= m->interval_at(t_c);
+    }
+    const double pred = in_pred / static_cast<double>(n);
+    const double line = line_in_line / static_cast<double>(n);
+    EXPECT_NEAR(pred, 0.683, 0.04) << c.degree << " " << c.runs << " " << c.tau;
+    EXPECT_NEAR(line, 0.683, 0.04) << c.degree << " " << c.runs << " " << c.tau;
+    if (c.tau >= 3.0) {
+      EXPECT_LT(in_line / static_cast<double>(n), 0.5) << c.runs << " " << c.tau;
+    }
+  }
 }
 
 // Student's t against its closed forms: nu = 1 is Cauchy, t = tan(pi (p - 1/2)); nu = 2 has

@@ -1,6 +1,7 @@
 // The dN uncertainty budget of the report (workflow/budget.hpp, issue 22): each component
 // against its closed form on made-up runs whose numbers are known.
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -22,6 +23,23 @@ io::calibration_entry run(double dn_dps, double err_dps, double temp_c) {
   e.cal.temp_c = temp_c;
   e.cal.cycles = 1000;
   return e;
+}
+
+// The one "v ± u" of the report, the budget and the calibrate text (the report's own copy, which
+// printed "nan ± u", is gone; review of issue 31): u to two significant digits and v to the same
+// decimals; without a usable u, v to 6 digits; a non-finite v is "–" whatever u is (a report
+// never prints nan).
+TEST(ValuePm, DigitsOfTheErrorAndNeverNan) {
+  const double nan = std::nan("");
+  EXPECT_EQ(workflow::value_pm(0.00326975, 0.000812), "0.00327 ± 0.00081");
+  EXPECT_EQ(workflow::value_pm(0.500099, 1.2e-5), "0.500099 ± 0.000012");
+  EXPECT_EQ(workflow::value_pm(123.456, 35.0), "123 ± 35");
+  EXPECT_EQ(workflow::value_pm(0.00326975, 0.0), "0.00326975");
+  EXPECT_EQ(workflow::value_pm(0.00326975, nan), "0.00326975");
+  EXPECT_EQ(workflow::value_pm(nan, 0.1), "–");
+  EXPECT_EQ(workflow::value_pm(std::numeric_limits<double>::infinity(), 0.1), "–");
+  EXPECT_EQ(workflow::value_pm(nan, nan), "–");
+  EXPECT_EQ(workflow::value_pm_dph(1e-3, 2.5e-4), "3.60 ± 0.90 °/h");
 }
 
 TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {

@@ -50,4 +50,33 @@ TEST(RigGaps, ALostDwellIsAGapOnTheGridOfCycles) {
   EXPECT_NE(dwells.err.find("grid of dwells"), std::string::npos) << dwells.err;
 }
 
+// A device that stood still between two consecutive dwells (3 s: a stall, a restarted
+// conversion; the synthetic recording's lost port) leaves no place missing but a gap in time
+// (review of issue 32: `noise --gaps split` on such a recording, of format 4 or 5, refused it as
+// "off the uniform grid", the stretch's step taken as its span over its count, or kept a small
+// stretch). A stretch is gap-free in time too: 190 cycles, the pause, 110 cycles.
+TEST(RigGaps, ADeviceThatStoodStillIsAGapInTime) {
+  for (const bool copies : {false, true}) {
+    SCOPED_TRACE(copies ? "format 5" : "format 4");
+    gyroflip::test::temp_dir dir;
+    gyroflip::test::synthetic_options o;
+    o.dwells = 600;
+    o.link_losses_after = {379};
+    o.copies = copies;
+    const std::string path = dir.file("still.gfr");
+    static_cast<void>(gyroflip::test::make_synthetic_recording(o, path));
+    const auto named = run_cli({"adev", path});
+    EXPECT_EQ(named.exit_code, 2);
+    EXPECT_NE(named.err.find("1 gap in its grid of cycles (1 of 301 samples missing; 0 dwells "
+                             "lost)"),
+              std::string::npos)
+        << named.err;
+    const auto noise = run_cli({"noise", path, "--gaps", "split"});
+    EXPECT_EQ(noise.exit_code, 0) << noise.err;
+    EXPECT_NE(noise.err.find("analysed the longest gap-free stretch: 190 of 301"),
+              std::string::npos)
+        << noise.err;
+  }
+}
+
 }  // namespace

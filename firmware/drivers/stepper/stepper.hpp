@@ -134,6 +134,9 @@ class mover {
   /// interval(p, j-th step of a ramp): the root of v0^2 + 2 a j kept from the last call (j moves
   /// by one between calls: adds and compares, no square root), then one division.
   [[nodiscard]] uint32_t ramp_ticks(const ramp_plan& p, uint16_t j);
+  /// ticks_at(p.tick_hz, v): from the last interval (t_) with a product and a few adds when the
+  /// rate moved little since (a running root's step), else one division.
+  [[nodiscard]] uint32_t ticks_near(const ramp_plan& p, uint16_t v);
   void restart_root(const ramp_plan& p);
 
   uint16_t total_ = 0;
@@ -152,7 +155,8 @@ class mover {
   // The producer's running root: root_^2 + rest_ = v0^2 + 2 a root_j_, 0 <= rest_ <= 2 root_.
   uint16_t root_j_ = 0;
   uint16_t root_ = 1;
-  uint32_t rest_ = 0;
+  uint16_t rest_ = 0;
+  uint16_t t_ = 0;  // the producer's last interval (0: none, or above 16 bits)
 };
 
 }  // namespace gyroflip::stepper

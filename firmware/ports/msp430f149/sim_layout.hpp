@@ -1,7 +1,9 @@
 /// \file
 /// \brief Where the MSP430F149 image built for mspdebug's simulator (GYROFLIP_F149_SIM,
 /// sim_board.hpp) keeps what a test reads and writes: memory the simulator has and the F149 does
-/// not (the simulator's 64 KB are all RAM), above the image's code. Every field is 16 bits (a
+/// not (the simulator's 64 KB are all RAM), above the image's code and its .data's load image (the
+/// test checks that the image ends below stats_addr: a reset copies .data from there again).
+/// Every field is 16 bits (a
 /// 32-bit value is two: low word first), little-endian, so the host reads it by offset.
 /// Freestanding: tests/firmware/test_msp430_sim.cpp includes it.
 #pragma once
@@ -11,17 +13,19 @@
 namespace gyroflip::fw::simboard {
 
 /// Figures the image measures (all 16-bit words; see `word`).
-inline constexpr uint16_t stats_addr = 0xA000;
+inline constexpr uint16_t stats_addr = 0xA800;
 /// Bytes the device sent on its serial line, in order (line-coded wire bytes).
-inline constexpr uint16_t tx_log_addr = 0xA100;
+inline constexpr uint16_t tx_log_addr = 0xA900;
 inline constexpr uint16_t tx_log_cap = 0x0F00;
 /// Conversions: per conversion started, u32 start tick and u32 tick its result was read (0 when
 /// never read).
-inline constexpr uint16_t conv_log_addr = 0xB000;
-inline constexpr uint16_t conv_log_cap = 512;
+inline constexpr uint16_t conv_log_addr = 0xB800;
+inline constexpr uint16_t conv_log_cap = 256;
 /// Stepper-port writes: u16 tick (low word), u8 port value, u8 lateness of the step interrupt
 /// (ticks after its compare; 0xFF for a write that is not a step).
 inline constexpr uint16_t port_log_addr = 0xC000;
+static_assert(tx_log_addr + tx_log_cap <= conv_log_addr &&
+              conv_log_addr + 8u * conv_log_cap <= port_log_addr);
 inline constexpr uint16_t port_log_cap = 3328;
 /// What the host sends: u16 count, u16 stop tick (low, high), then `count` events of u16 tick
 /// (low, high), u16 length, `length` wire bytes, padded to an even length. The line delivers an

@@ -38,6 +38,11 @@ struct delta_n_model {
   /// when not estimated.
   double between_run_var_dps2 = std::numeric_limits<double>::quiet_NaN();
   std::size_t dof = 0;  ///< runs less coefficients (0: the model passes through its runs)
+  /// The variance of a new run's dN about the true dN(T) ((deg/s)^2): a new power-up's
+  /// between-run change and that run's within-run error (the runs' mean), on Knapp-Hartung's
+  /// scale: q (tau^2 + mean v_i) (fit_delta_n_random_effects). NaN when not estimated (no degrees
+  /// of freedom, a weighted fit, a model read from a file).
+  double new_run_var_dps2 = std::numeric_limits<double>::quiet_NaN();
 
   [[nodiscard]] std::size_t degree() const noexcept { return coeffs_dps.size() - 1; }
   /// dN at `temp_c` (deg/s). For degree 0 the temperature is not used (may be NaN).
@@ -48,6 +53,15 @@ struct delta_n_model {
   /// (analysis::t_one_sigma) for a random-effects fit, stderr_at otherwise (older fits have
   /// no dof).
   [[nodiscard]] double interval_at(double temp_c) const;
+  /// Half-width of the 68.3 % prediction interval of the dN that a new run (a new power-up,
+  /// measured like the fitted runs) gives at `temp_c`, about eval(temp_c) (deg/s): Student's t
+  /// for `dof` (analysis::t_one_sigma) x sqrt(stderr_at^2 + new_run_var_dps2), the prediction
+  /// interval of a weighted regression whose weights 1/(v_i + tau^2) are known up to
+  /// Knapp-Hartung's scale q (Higgins, Thompson & Spiegelhalter 2009, J. R. Stat. Soc. A 172,
+  /// 137-159, sec. 5, for a new study's tau^2 + se^2). Where interval_at holds the true line,
+  /// this holds a new run: the runs the model was fitted to lie inside it more often (their own
+  /// residuals are smaller than a new run's by their leverage). NaN without new_run_var_dps2.
+  [[nodiscard]] double new_run_interval_at(double temp_c) const;
 };
 
 /// A constant dN with its standard error (from `--delta-n` or a one-file calibration).
@@ -70,7 +84,8 @@ struct delta_n_model {
 /// (sum w - tr((X'WX)^-1 X'W^2X))), Q the weighted residual sum of squares with w = 1/v. The
 /// coefficients are weighted by 1/(v_i + tau^2), and their covariance is Knapp & Hartung's
 /// (2003, Statistics in Medicine 22, 2693-2710): (X'W*X)^-1 times q = sum w*_i r_i^2 / (k - p),
-/// whose 68.3 % interval takes Student's t with k - p degrees of freedom (interval_at). Measured
+/// whose 68.3 % interval takes Student's t with k - p degrees of freedom (interval_at); a new
+/// run's variance about the line is q (tau^2 + the runs' mean v_i) (new_run_interval_at). Measured
 /// coverage of that interval: 0.67-0.69 for 2-13 runs with tau from 0 to 10 within-run errors
 /// (docs/METHOD-NOTES.md, "Pooling runs"), where the weighted fit's Birge-scaled error covers
 /// 0.44-0.73. When tau^2 dwarfs the within-run errors the mean is the runs' plain mean and the

@@ -72,6 +72,27 @@ struct figure {
 /// The Okabe-Ito palette, in the order figures use it (hex RGB).
 [[nodiscard]] std::span<const std::string_view> palette() noexcept;
 
+/// The axes' ranges a figure with marks is drawn with: an axis's own [from, to] when given, else
+/// its data's (points, error bars, marks), a log axis widened to whole decades. NaN for an axis
+/// without data.
+struct plot_ranges {
+  double x_lo = 0.0, x_hi = 0.0, y_lo = 0.0, y_hi = 0.0;
+};
+[[nodiscard]] plot_ranges ranges_of(const figure& f);
+
+/// Where each mark's text goes, in gnuplot's terms: an offset from its point in characters and the
+/// text's alignment there (-1 ends at it, 1 starts at it, 0 centred).
+struct label_place {
+  double dx = 0.0, dy = 0.0;
+  int align = 1;
+};
+
+/// For each of f.notes, the nearest place beside its point (its preferred side first, then the
+/// other, above, below, diagonals, farther) where its text covers no data point, error bar or
+/// data line, no fitted line, no other mark and no letter placed before it, in a model of the
+/// PNG's frame and font (several frame sizes); failing that, the nearest clear of the data.
+[[nodiscard]] std::vector<label_place> place_labels(const figure& f);
+
 /// The gnuplot script of `f` for the images `stem`.<format> and data files `stem`_K.dat (K from
 /// 1; names relative to the script's folder). Non-finite points are left out of the data.
 [[nodiscard]] std::string script(const figure& f, std::string_view stem,

@@ -4,8 +4,8 @@
 /// the dwell values at 0 and 180 deg over time (the paper's Figs 3/5/7/9), the compensated
 /// output with its mean and std (Figs 4/6/8/10), the bias estimate c(t) (which the paper does
 /// not show), dN per run with mean +- std (Tab. 3/4 as a figure), dN against temperature with
-/// the fitted dN(T) and its band, and the Allan plot with bounds, the fitted IEEE 952 lines and
-/// their read-off points.
+/// the fitted dN(T), its interval and a new run's prediction band, and the Allan plot with
+/// bounds, the fitted IEEE 952 lines and their read-off points.
 #pragma once
 
 #include <optional>
@@ -47,7 +47,9 @@ namespace gyroflip::report {
                                          const std::string& title);
 
 /// dN of each run against its mean temperature (bars: correlated standard error), the fitted
-/// dN(T) and its +- one-standard-error band (delta_n_model::stderr_at).
+/// dN(T), its 68 % interval (delta_n_model::interval_at: holds the true line) and, when the
+/// model estimates it, the 68 % prediction band of a new run (delta_n_model::new_run_interval_at:
+/// holds a new power-up's run), each labelled with what it holds.
 [[nodiscard]] figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
                                                 const method::delta_n_model& model,
                                                 const std::string& title);

@@ -15,7 +15,9 @@ set logscale x 10
 set format x '10^{%L}'
 set logscale y 10
 set format y '10^{%L}'
-set label 1 'N' at 1,0.01 left front tc rgb '#0072B2' point pt 6 ps 1.6 lw 2 lc rgb '#0072B2' offset 1.2,0 noenhanced
+set xrange [1:10000]
+set yrange [0.0001:0.1]
+set label 1 'N' at 1,0.01 left front tc rgb '#0072B2' point pt 6 ps 1.6 lw 2 lc rgb '#0072B2' offset 1,1 noenhanced
 
 set terminal pngcairo size 1100,680 font 'DejaVu Sans,12' enhanced
 set output 'allan.png'

@@ -1,0 +1,23 @@
+/// \file
+/// \brief `gyroflip plan`: options and entry point.
+#pragma once
+
+#include <limits>
+#include <string>
+
+#include "cmd_adev.hpp"
+
+namespace gyroflip::app {
+
+struct plan_options {
+  std::string sensor;  ///< --sensor NAME|FILE.toml (or a static record)
+  series_input in;     ///< --static FILE with its column and rate
+  double dead_s = std::numeric_limits<double>::quiet_NaN();  ///< --dead-time (required)
+  double duration_s = 3600.0;
+  double min_dwell_s = 0.01;
+  double max_dwell_s = 0.0;  ///< 0: a quarter of the run
+  bool json = false;
+};
+int run_plan(const plan_options& o);
+
+}  // namespace gyroflip::app

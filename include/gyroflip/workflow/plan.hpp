@@ -1,0 +1,87 @@
+/// \file
+/// \brief The flip-period planner as `gyroflip plan` and `gyroflip.plan` run it: the noise terms
+/// from a sensor preset or a static record's fit, the plan (method/plan.hpp), the dwell as the
+/// rig's conversions per dwell, and for a static record its own gap two-sample variance at the
+/// plan beside the model's. docs/PLANNER.md.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "gyroflip/analysis/noise_fit.hpp"
+#include "gyroflip/analysis/phase_source.hpp"
+#include "gyroflip/core/result.hpp"
+#include "gyroflip/method/plan.hpp"
+#include "gyroflip/sensor/params.hpp"
+
+namespace gyroflip::workflow {
+
+/// The planner's noise from a preset's parameters (its IEEE 952 coefficients as they are).
+[[nodiscard]] method::plan_noise plan_noise_of(const sensor::sensor_params& p) noexcept;
+
+/// The planner's noise from fitted terms: resolved terms at their value, unresolved ones left out
+/// (`notes` names each with its upper limit). An upper limit taken as a value would plan against
+/// noise the record only failed to exclude: a short record's K limit alone can halve the dwell.
+[[nodiscard]] method::plan_noise plan_noise_of(const analysis::noise_terms& t,
+                                               std::vector<std::string>& notes);
+
+/// The planner's noise from a static record: the IEEE 952 fit of its OADEV (analyse_noise) over
+/// the taus from `min_dwell_s` on (the dwells a plan considers; below, an anti-alias filter
+/// shapes the curve), in deg/s with `dps_per_unit` per unit of the samples, then as above.
+/// Errors: those of analyse_noise (too short a record).
+[[nodiscard]] result<method::plan_noise> plan_noise_of_record(const analysis::phase_source& x,
+                                                              double dps_per_unit,
+                                                              double min_dwell_s,
+                                                              std::vector<std::string>& notes);
+
+/// The two-sample variance of dwell means of m samples whose starts are `spacing` samples apart
+/// (spacing >= m), estimated from `samples` (rate, every start overlapping; SP1065's overlapping
+/// estimator with a gap): what a flip run with that dwell and dead time would see of the bias.
+/// Empty when the record holds fewer than 2 such pairs.
+[[nodiscard]] std::optional<double> gap_avar_of(std::span<const double> samples, std::size_t m,
+                                                std::size_t spacing);
+
+struct plan_request {
+  method::plan_noise noise;
+  std::string noise_source;  ///< where the terms come from ("preset adxrs150", "fit of FILE")
+  double dead_s = 0.0;       ///< turn + settle per turn (s)
+  double duration_s = 3600.0;
+  method::plan_limits limits;
+  /// The rig's conversion time (s) for the dwell as a whole count of conversions; 0: not asked.
+  double conversion_s = 0.0;
+  /// A static record's rate samples and their spacing: its own gap variance at the plan.
+  std::span<const double> static_samples;
+  double static_tau0_s = 0.0;
+  double static_dps_per_unit = 1.0;  ///< deg/s per unit of the static samples
+  /// A dwell to compare with (s; 0: none): the paper's 256 conversions, 0.512 s, by default.
+  double reference_dwell_s = 0.512;
+};
+
+struct plan_result {
+  method::flip_plan plan;
+  method::plan_noise noise;
+  std::string noise_source;
+  std::size_t conversions_per_dwell = 0;  ///< round(dwell / conversion time); 0: not asked
+  /// The record's gap two-sample variance at (dwell, dwell + dead) over the model's (static
+  /// record only, when it is long enough).
+  std::optional<double> record_over_model;
+  /// The predicted error at plan_request::reference_dwell_s (deg/s; 0 when none was given).
+  double reference_dwell_s = 0.0;
+  double reference_sigma_dps = 0.0;
+  std::vector<std::string> notes;  ///< assumptions and cautions, for the reader
+};
+
+/// Plans the dwell (method::plan_flip) and adds what the rig and the record say. Errors: those of
+/// plan_flip.
+[[nodiscard]] result<plan_result> plan(const plan_request& r);
+
+/// The plan as `gyroflip plan --json` prints it and `gyroflip.plan` returns it (schema
+/// gyroflip.plan/1): dwell_s, period_s, predicted_sigma_dps, the closed form, the paper's dwell,
+/// the curves by_dwell and by_duration, notes.
+[[nodiscard]] nlohmann::json plan_json(const plan_result& r);
+
+}  // namespace gyroflip::workflow

@@ -1,0 +1,57 @@
+# The commit a build names follows the tree at build time, not only at configure time (review of
+# issue 31: a binary built from an edited tree said "built from commit X", the parent). A
+# throw-away git repository with a project that uses cmake/build_commit_target.cmake as
+# src/core does: configured clean, then a tracked file edited and the project built again without
+# configuring: the commit must say "+modified"; restored, it must not; a build with no change
+# must not rewrite the file (nothing would be recompiled).
+#   cmake -DSRC=<gyroflip source> -DWORK=<scratch dir> -DGEN=<generator> -P test_build_commit.cmake
+find_program(GIT git)
+if(NOT GIT)
+  message("git not found: skipped")
+  return()
+endif()
+file(REMOVE_RECURSE ${WORK})
+set(repo ${WORK}/repo)
+set(bin ${WORK}/build)
+file(MAKE_DIRECTORY ${repo})
+file(WRITE ${repo}/CMakeLists.txt "cmake_minimum_required(VERSION 3.20)
+project(commit_probe NONE)
+include(${SRC}/cmake/build_commit_target.cmake)
+gyroflip_build_commit(probe_commit \${CMAKE_BINARY_DIR}/commit.inc)
+add_custom_target(probe ALL DEPENDS probe_commit)
+")
+file(WRITE ${repo}/a.txt "one\n")
+function(run)
+  execute_process(COMMAND ${ARGN} WORKING_DIRECTORY ${repo} RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                  ERROR_VARIABLE out)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${ARGN} failed (${rc}): ${out}")
+  endif()
+endfunction()
+run(${GIT} init -q .)
+run(${GIT} -c user.name=t -c user.email=t@t add CMakeLists.txt a.txt)
+run(${GIT} -c user.name=t -c user.email=t@t commit -q -m one)
+execute_process(COMMAND ${GIT} rev-parse HEAD WORKING_DIRECTORY ${repo} OUTPUT_VARIABLE head
+                OUTPUT_STRIP_TRAILING_WHITESPACE)
+run(${CMAKE_COMMAND} -S ${repo} -B ${bin} -G ${GEN})
+function(expect_commit what)
+  run(${CMAKE_COMMAND} --build ${bin})
+  file(READ ${bin}/commit.inc text)
+  if(NOT text MATCHES "GYROFLIP_BUILD_COMMIT \"${what}\"")
+    message(FATAL_ERROR "expected commit ${what}, the build wrote: ${text}")
+  endif()
+endfunction()
+expect_commit("${head}")
+file(WRITE ${repo}/a.txt "two\n")  # an edit after configuring, no reconfigure
+expect_commit("${head}\\+modified")
+run(${GIT} checkout -q -- a.txt)
+expect_commit("${head}")
+file(TIMESTAMP ${bin}/commit.inc before "%s")
+execute_process(COMMAND ${CMAKE_COMMAND} -E sleep 1.1)
+expect_commit("${head}")
+file(TIMESTAMP ${bin}/commit.inc after "%s")
+if(NOT before STREQUAL after)
+  message(FATAL_ERROR "a build with nothing changed rewrote commit.inc (${before} -> ${after})")
+endif()
+file(REMOVE_RECURSE ${WORK})
+message("build commit follows the tree: ok")
