@@ -366,9 +366,9 @@ constexpr fw::hal hal{&ops, nullptr, 32768, true};
 // Constant-initialised: no constructor runs at start-up (startup.cpp). The serial 0 means "not
 // programmed": a board's own is in its information flash (docs/HARDWARE.md, "Bring-up").
 // The top step rate the board produces: limits.hpp (docs/PERFORMANCE.md, "Timing on the chip").
-constinit fw::device dev(hal, fw::board_facts{0, ad7739::mclk_hz_nominal,
-                                              protocol::board_kind::hardware,
-                                              fw::msp430f149::max_step_rate_sps, true});
+constinit fw::device dev(hal,
+                         fw::board_facts{0, ad7739::mclk_hz_nominal, protocol::board_kind::hardware,
+                                         fw::msp430f149::max_step_rate_sps, true});
 
 // Why this start: WDTIFG survives the PUC a watchdog overflow (or a watchdog key violation)
 // causes and is cleared by a power-on reset (SLAU049 §10.2); the F149 has no flag for its reset
