@@ -12,10 +12,13 @@
 #include <optional>
 #include <random>
 #include <thread>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "firmware/ports/msp430f149/limits.hpp"
+#include "firmware/protocol/budget.hpp"
 #include "firmware/protocol/frame.hpp"
 #include "firmware/protocol/line.hpp"
 #include "firmware/protocol/status.hpp"
@@ -1042,6 +1045,12 @@ status session::command(const M& m, const char* name, on_ack then) {
   if (!replied_)
     return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port,
                                      name, 2 * c_.reply_timeout_s));
+  if constexpr (std::is_same_v<M, p::configure_msg>) {
+    if (reply_nak_)
+      return input_error({c_.port},
+                         fmt::format("the device refused {}: {}", name,
+                                     configure_refusal(m, info_ ? &*info_ : nullptr, *reply_nak_)));
+  }
   if (reply_nak_)
     return input_error({c_.port},
                        fmt::format("the device refused {}: {}", name, status_name(*reply_nak_)));
@@ -1257,6 +1266,27 @@ result<recorder_result> session::run() {
 }
 
 }  // namespace
+
+std::string configure_refusal(const p::configure_msg& c, const p::info_msg* device,
+                              std::uint8_t reason) {
+  std::string why = status_name(reason);
+  if (device == nullptr || reason != static_cast<std::uint8_t>(p::status::bad_arg)) return why;
+  if (p::check_configure(c, device->mclk_hz) != p::status::ok) return why;
+  // What the board itself cannot do (device::configure: board_facts::max_step_rate_sps and the
+  // step timer's 16 bits).
+  if (device->board == static_cast<std::uint8_t>(p::board_kind::hardware) &&
+      c.step_rate_sps > fw::msp430f149::max_step_rate_sps)
+    return fmt::format(
+        "{}: the top step rate {} steps/s is above the {} steps/s an MSP430F149 board produces "
+        "(--step-rate; docs/FIRMWARE.md, \"Rates the board can produce\")",
+        why, c.step_rate_sps, fw::msp430f149::max_step_rate_sps);
+  if (c.start_rate_sps != 0 && device->tick_hz / c.start_rate_sps > 0xFFFFu)
+    return fmt::format(
+        "{}: the start rate {} steps/s is below the {} steps/s the board's 16-bit step timer "
+        "times at {} ticks/s (--start-rate)",
+        why, c.start_rate_sps, device->tick_hz / 0xFFFFu + 1, device->tick_hz);
+  return why;
+}
 
 result<recorder_result> record(const recorder_config& cfg, const std::atomic<bool>& stop,
                                const recorder_progress_fn& on_progress) {

@@ -86,4 +86,12 @@ struct recorder_result {
                                              const std::atomic<bool>& stop,
                                              const recorder_progress_fn& on_progress = {});
 
+/// Why a device refused CONFIGURE `c` with NAK `reason`, in words, naming the limit the
+/// configuration passed where the host knows it (the device reports no limits of its own in INFO:
+/// docs/PROTOCOL.md): the top step rate of the board `device` names (an MSP430F149 board:
+/// firmware/ports/msp430f149/limits.hpp, the image's own constant), and the slowest start rate
+/// its 16-bit step timer times at its tick rate. Without `device`, the reason's name.
+[[nodiscard]] std::string configure_refusal(const protocol::configure_msg& c,
+                                            const protocol::info_msg* device, std::uint8_t reason);
+
 }  // namespace gyroflip::host

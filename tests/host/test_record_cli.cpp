@@ -24,12 +24,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "firmware/ports/msp430f149/limits.hpp"
 #include "firmware/protocol/frame.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/method/stationarity.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
+#include "host/recorder/recorder.hpp"
 #include "support/pty_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -1115,6 +1117,43 @@ TEST(RecordCli, RefusesWhatItCouldNotRecordOrReadBack) {
     EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
     EXPECT_FALSE(test::exists("x.gfr"));
   }
+}
+
+// A CONFIGURE the board refuses for a rate it cannot produce is named with the board's limit
+// (the MSP430F149 image's own constant, which it applies: Msp430Board.
+// ACONFIGUREAboveTheBoardsTopRateIsRefused), not "a value out of range" alone.
+TEST(RecordCli, ARefusedRateIsNamedWithTheBoardsLimit) {
+  p::info_msg board;
+  board.board = static_cast<std::uint8_t>(p::board_kind::hardware);
+  board.tick_hz = 32768;
+  board.mclk_hz = ad7739::mclk_hz_nominal;
+  const auto bad_arg = static_cast<std::uint8_t>(p::status::bad_arg);
+  p::configure_msg c;
+  c.step_rate_sps = static_cast<std::uint16_t>(fw::msp430f149::max_step_rate_sps + 1);
+  const std::string said = host::configure_refusal(c, &board, bad_arg);
+  EXPECT_NE(said.find("top step rate " + std::to_string(c.step_rate_sps) + " steps/s"),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find(std::to_string(fw::msp430f149::max_step_rate_sps) +
+                      " steps/s an MSP430F149 board produces"),
+            std::string::npos)
+      << said;
+  // At the limit, or from another kind of device, the board's limit is not what refused it.
+  auto emulator = board;
+  emulator.board = static_cast<std::uint8_t>(p::board_kind::host_emulator);
+  EXPECT_EQ(host::configure_refusal(c, &emulator, bad_arg), "a value out of range");
+  EXPECT_EQ(host::configure_refusal(c, nullptr, bad_arg), "a value out of range");
+  EXPECT_EQ(host::configure_refusal(c, &board, static_cast<std::uint8_t>(p::status::busy)), "busy");
+  c.step_rate_sps = fw::msp430f149::max_step_rate_sps;
+  EXPECT_EQ(host::configure_refusal(c, &board, bad_arg), "a value out of range");
+  // A start rate slower than a 16-bit step timer times at the device's tick rate (the QEMU
+  // image's 1 MHz: 1 000 000 / 65 535 -> 16 steps/s at least).
+  auto qemu = board;
+  qemu.board = static_cast<std::uint8_t>(p::board_kind::qemu);
+  qemu.tick_hz = 1000000;
+  c.start_rate_sps = 15;
+  const std::string slow = host::configure_refusal(c, &qemu, bad_arg);
+  EXPECT_NE(slow.find("start rate 15 steps/s is below the 16 steps/s"), std::string::npos) << slow;
 }
 
 // The handshake's errors say what happened: Ctrl-C is an interruption, not a rig that does not
