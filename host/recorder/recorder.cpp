@@ -372,11 +372,11 @@ class session {
   // The line's frames are the session device's: false from a (re)opened port until an INFO
   // names the board (its serial). Nothing of the line is stored before.
   bool identified_ = false;
-  bool identify_record_ = false;         // the INFO that identified the board goes into the file
-  bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
-  bool need_info_ = false;               // ... and its INFO is still to be recorded
-  bool restart_ = false;                 // the last command was cut short by a reset
-  bool device_idle_ = false;             // a STATUS said idle while we record
+  bool identify_record_ = false;  // the INFO that identified the board goes into the file
+  bool reset_seen_ = false;       // the device rebooted: re-home, re-configure, START
+  bool need_info_ = false;        // ... and its INFO is still to be recorded
+  bool restart_ = false;          // the last command was cut short by a reset
+  bool device_idle_ = false;      // a STATUS said idle while we record
   bool have_uptime_ = false;
   bool since_link_loss_ = false;  // the line was gone: the rate above counts what it lost
   bool have_rate_ = false;

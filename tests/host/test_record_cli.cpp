@@ -996,8 +996,8 @@ TEST(RecordCli, ABoardWithoutASerialEndsTheRecordingWhenItsLineIsLost) {
     const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
     const std::string log = dir.path() + "/a.csv", link_b = dir.path() + "/rig-b";
     emulator_process b(dir.path(), "--speed 5 --seed 30 --serial 0 --link " + link_b);
-    const int pid_b = test::spawn_cli({"record", "--port", link_b, "--duration", "600", "-o",
-                                       dir.path() + "/b.gfr"});
+    const int pid_b = test::spawn_cli(
+        {"record", "--port", link_b, "--duration", "600", "-o", dir.path() + "/b.gfr"});
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
     auto a = std::make_unique<emulator_process>(
         dir.path(), "--speed 5 --seed 29 --serial 0 --link " + link + " --log " + log);
