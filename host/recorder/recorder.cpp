@@ -907,14 +907,24 @@ result<p::info_msg> session::ping() {
   const std::uint32_t good_before = dec_.counts().good;
   const std::uint64_t bytes_before = dec_.line().corrected + dec_.line().uncorrectable;
   const double wait_s = ping_wait_s();
+  // A stopped or slow peer is not a dead line: the PINGs go on for as long, in wall time, as 12
+  // take at the rig's own clock (12 x reply_timeout_s / 4: 6 s), also when the device's clock
+  // runs faster (second review of issue 32: at an emulator's 50x the 12 tries took 0.6 s, and an
+  // emulator stopped for 3 s just after a reset ended the run). Past the quick tries a PING goes
+  // every 0.5 s at most, as keep_up()'s probe of a silent line (a stopped device is not flooded).
+  const auto t0 = steady::now();
+  const auto patience = std::chrono::duration<double>(quiet_attempts * c_.reply_timeout_s / 4);
   int k = 0;
-  for (; k < (dec_.counts().good != good_before ? answering_attempts : quiet_attempts); ++k) {
+  for (; k < (dec_.counts().good != good_before ? answering_attempts : quiet_attempts) ||
+         steady::now() - t0 < patience;
+       ++k) {
     if (stop_) return interrupted();
     got_info_.reset();
     waiting_info_ = true;
     if (auto s = send(p::ping_msg{}, seq_++); !s) return s.err();
     const auto sent = steady::now();
-    const auto until = sent + std::chrono::duration<double>(wait_s);
+    const double try_s = k < quiet_attempts ? wait_s : std::max(wait_s, 0.5);
+    const auto until = sent + std::chrono::duration<double>(try_s);
     const std::uint32_t bad_at_send = dec_.counts().bad();
     while (!got_info_ && steady::now() < until) {
       if (stop_) return interrupted();
@@ -930,7 +940,7 @@ result<p::info_msg> session::ping() {
   }
   waiting_info_ = false;
   if (got_info_) return *got_info_;
-  const double waited = k * wait_s;
+  const double waited = std::chrono::duration<double>(steady::now() - t0).count();
   if (dec_.counts().bad() != 0 || dec_.line().uncorrectable != 0 ||
       dec_.line().corrected + dec_.line().uncorrectable != bytes_before)
     return runtime_error(fmt::format(
