@@ -63,7 +63,7 @@ struct recorder_status {
   std::uint64_t bytes = 0;      ///< of the file
   bool waiting_for_port = false;
   /// The board's serial (none before its INFO). 0 is an MSP430F149 whose information flash holds
-  /// no serial record: another board of serial 0 after a reconnect cannot be told from it.
+  /// no serial record: it cannot be told from another board, so a lost line ends its recording.
   std::optional<std::uint32_t> serial;
   /// The last stationarity test of the cycles so far (none before the first, or when not asked).
   std::optional<method::stationarity> stationarity;
