@@ -101,11 +101,7 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
       rc.cycles, rec.pooled,
       workflow::stationarity_inputs_of(rec.pairing, preset ? &*preset : nullptr, rec.geometry));
   std::vector<std::string> warnings;
-  if (st.failed()) {
-    const auto w = workflow::stationarity_warning(arrays_name, st);
-    if (strict) throw py::value_error(w);
-    warnings.push_back(w);
-  }
+  check(workflow::admit_run(arrays_name, st, strict, warnings));
   rec.files.push_back({arrays_name, rec.pooled, std::nullopt, st});
   rec.pooled.stderr_correlated_dps =
       method::pooled_correlated_stderr(workflow::calibrations_of(rec.files));  // as the CLI

@@ -242,3 +242,17 @@ def test_compensate_warns_about_and_strict_refuses_a_calibration_of_a_turning_ru
         gyroflip.compensate(*still, calibration=bad, strict=True)
     good = gyroflip.calibrate(*still, sensor="hz1-90-100a")
     assert gyroflip.compensate(*still, calibration=good, strict=True)["warnings"] == []
+
+
+# Review of issue 31 (H1): without a specification the g-term is not checked, and a run on a
+# turning table returned stationary True with no warning, and strict=True accepted it.
+def test_calibrate_without_a_sensor_warns_that_the_g_term_was_not_checked():
+    rec = gyroflip.simulate("hz1-90-100a", duration_s=600, seed=31, temp=20, rate="0.5")
+    turning = (rec["time_s"], rec["angle_deg"], rec["rate_dps"], rec["temp_c"], rec["n_avg"])
+    r = gyroflip.calibrate(*turning)
+    assert any("<arrays>: its g-term was not checked" in w and "sensor=" in w
+               for w in r["warnings"]), r["warnings"]
+    with pytest.raises(ValueError, match="g-term was not checked"):
+        gyroflip.calibrate(*turning, strict=True)
+    with pytest.raises(ValueError, match="its g-term is"):
+        gyroflip.calibrate(*turning, sensor="hz1-90-100a", strict=True)

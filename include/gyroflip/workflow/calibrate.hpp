@@ -57,6 +57,13 @@ struct calibrate_result {
 [[nodiscard]] std::string stationarity_warning(const std::string& file,
                                                const method::stationarity& st);
 
+/// What calibrate (CLI and Python) does with a run's test: a failed run is a warning
+/// (stationarity_warning), and so is a run whose g-term was not checked (`FILE: its g-term was not
+/// checked ...`, method::stationarity::caveats); with `strict` either is an input error naming the
+/// file, so that a strict calibration is only made of runs the test vouches for.
+[[nodiscard]] status admit_run(const std::string& file, const method::stationarity& st, bool strict,
+                               std::vector<std::string>& warnings);
+
 /// The one-sensor check of several recordings, file by file (what calibrate_runs and
 /// make_report both run): each recording's sensor and rig from its metadata (io::sensor_of);
 /// a second sensor is refused (`FILE: recorded with sensor ..., but FIRST with ...: <task> one
