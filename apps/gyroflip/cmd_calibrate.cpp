@@ -198,6 +198,7 @@ int run_calibrate(const calibrate_options& o) {
   req.geometry = *geometry;
   if (o.degree_given) req.degree = o.degree;
   req.strict = o.strict;
+  req.sensor_hint = "`calibrate --sensor NAME|FILE.toml`";
   if (!o.sensor.empty()) {
     auto p = sensor::load_preset(o.sensor);
     if (!p) return report(p.err());

@@ -172,7 +172,7 @@ std::vector<std::string> stationarity::caveats() const {
   return {
       "its g-term was not checked (no sensor specification), so a constant input rate of any "
       "size passes the scatter and drift tests and enters dN whole (a turning or tilted table); "
-      "check it by naming the sensor: `calibrate --sensor NAME|FILE.toml` (Python: sensor=)"};
+      "check it by naming the sensor's specification (a built-in preset or a TOML preset file)"};
 }
 
 stationarity stationarity::rejudged() const {

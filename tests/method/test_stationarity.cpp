@@ -104,7 +104,7 @@ TEST(Stationarity, WithoutASpecificationARunIsNotVouchedFor) {
   EXPECT_FALSE(none.failed());
   EXPECT_FALSE(none.vouched());
   ASSERT_EQ(none.caveats().size(), 1U);
-  EXPECT_NE(none.caveats()[0].find("--sensor NAME|FILE.toml"), std::string::npos);
+  EXPECT_NE(none.caveats()[0].find("naming the sensor's specification"), std::string::npos);
   EXPECT_EQ(none.summary().rfind("stationary (", 0), std::string::npos) << none.summary();
   const auto still = check(run_truth{}, 3, pairing::abba, hz1_spec);
   EXPECT_TRUE(still.vouched()) << still.summary();
