@@ -8,8 +8,9 @@ the emulator's log of what the device sent (bench/rig_truth.py; docs/RELIABILITY
 Each FAULTS is a string of emulator fault options (e.g. "--fault-ber 2e-2"); each seed runs once
 per FAULTS, one emulator and one recorder at a time (a recorder waiting for /dev/pts/N could
 adopt the next emulator on that path). Prints one line per run and a total per FAULTS; exit 1
-when any run mislabelled a dwell, exported one the device never sent, or lost one that no GAP
-counts. The folder of every such run (rec.gfr, the emulator's sent.csv, both programs' stderr
+when any run mislabelled a dwell, exported one the device never sent or one twice, gave a time_s
+that does not follow the device's clock within its run, or lost one that no GAP counts (boots
+paired with the file's segments by INFO's boot count). The folder of every such run (rec.gfr, the emulator's sent.csv, both programs' stderr
 and the commands) is kept in DIR (--keep, default ./record-figures-kept/FAULTS-INDEX/SEED-N),
 never deleted: a rare failure is worth its evidence. `--reset-at LO-HI` gives each seed its own
 `--fault-reset-at`, drawn uniformly in [LO, HI] from the seed (the same seed, the same time).
@@ -92,7 +93,7 @@ def main():
         total = {"runs": 0, "sent": 0, "in_file": 0, "exported": 0, "mislabelled": 0,
                  "unlabelled": 0, "not_in_file": 0, "resets": 0, "start_unacked": 0,
                  "uncounted_runs": 0, "failed_runs": 0, "over_10pct": 0, "max_data_ratio": 0.0,
-                 "said_off": 0}
+                 "said_off": 0, "duplicates": 0, "time_inconsistent": 0}
         for seed in seeds:
             extra = []
             if a.reset_at:
@@ -107,7 +108,7 @@ def main():
                 r = {"error": repr(e)}
             print(f"{faults} {' '.join(extra)} seed {seed}: {r}", flush=True)
             failed = "sent" not in r or r["mislabelled"] != 0 or r["foreign"] != 0 or \
-                not r["counted"]
+                not r["counted"] or r["duplicates"] != 0 or r["time_inconsistent"] != 0
             if failed:
                 kept = os.path.join(a.keep, f"{index}", f"{seed}")
                 n = 0
@@ -124,7 +125,7 @@ def main():
                 bad = True
                 continue
             for k in ("sent", "in_file", "exported", "mislabelled", "unlabelled", "not_in_file",
-                      "resets", "start_unacked"):
+                      "resets", "start_unacked", "duplicates", "time_inconsistent"):
                 total[k] += r[k]
             total["uncounted_runs"] += 0 if r["counted"] else 1
             ratio = r["data_s"] / a.duration

@@ -19,7 +19,10 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
   gap_missing  frames the file's GAP records count as lost
   counted      every DWELL sent is in the file or in a GAP count, boot by boot: for each of the
                device's boots (SENT.csv's `boot`; in the file, the segments between GAP reset
-               records, in order), the DWELLs of that boot not stored <= the frames the boot's
+               records, each paired with its boot by the boot count of its first INFO record, so
+               that a boot that left no trace in the file (two resets close together, a reset
+               before the run started) does not shift the pairing; a segment without an INFO
+               record takes the next boot in order), the DWELLs of that boot not stored <= the frames the boot's
                GAP (missing) records count, less the frames of other kinds (STATUS, ACK ...)
                the boot numbered and the file does not hold (each number from the lowest the
                file holds of the boot to the highest its stored frames or sent DWELLs reach
@@ -30,6 +33,10 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
   boot_mismatch  stored DWELLs in a file segment other than their boot's (a reset the file
                does not record; must be 0)
   foreign      exported rows that match no DWELL sent (must be 0)
+  duplicates   exported rows of a DWELL sent that an earlier row already gave (must be 0)
+  time_inconsistent  exported rows whose time_s is not the run's (export's `segment`) first
+               row's plus the device's clock since its start, within 2 ticks (must be 0)
+  max_time_dev_s  the largest such deviation, s
   data_s       the data `export` gives: per run (its `segment`), from its first dwell's start to
                its last one's end on the device's clock (the DWELL frames' ticks), summed (what
                `record --duration` counts, docs/RECORDER.md)
@@ -37,7 +44,7 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
   start_unacked  runs whose START ACK never reached the recorder (the START record names the
                CONFIGURE's ACK: the device showed the run, or it reset before a retry)
 
-Exit 0 when mislabelled == 0, foreign == 0 and counted; else 1.
+Exit 0 when mislabelled, foreign, duplicates and time_inconsistent are 0 and counted; else 1.
 """
 import csv
 import io
@@ -68,7 +75,7 @@ def stored_dwells(path):
     its DWELL keys and its GAP missing count."""
     dwells, gap_missing, scale = set(), 0, None
     resets, start_acks, unacked = 0, set(), 0
-    segments = [{"seqs": set(), "dwells": set(), "gap": 0, "infos": 0}]
+    segments = [{"seqs": set(), "dwells": set(), "gap": 0, "infos": 0, "boot": None}]
     ticks, tick_hz = {}, None
     for kind, body in gfr_records(path):
         if kind == 2 and tick_hz is None and len(body) >= 16:
@@ -76,7 +83,7 @@ def stored_dwells(path):
         if kind == 6 and body[0] == 3:
             resets += 1
             start_acks = set()
-            segments.append({"seqs": set(), "dwells": set(), "gap": 0, "infos": 0})
+            segments.append({"seqs": set(), "dwells": set(), "gap": 0, "infos": 0, "boot": None})
         elif kind == 5 and body[0] == 0x14 and body[5] == 0x22:
             start_acks.add(struct.unpack_from("<H", body, 6)[0])  # ACK of START: its at_seq
         elif kind == 4 and len(body) >= 2:
@@ -92,6 +99,8 @@ def stored_dwells(path):
             dwells.add((seq, cycle, position, n, code_sum))
             ticks[(seq, cycle, position, n, code_sum)] = struct.unpack_from("<II", p, 6)
             segments[-1]["dwells"].add((seq, cycle, position, n, code_sum))
+        if kind == 2 and segments[-1]["boot"] is None and len(body) >= 24:
+            segments[-1]["boot"] = struct.unpack_from("<H", body, 22)[0]  # INFO's boot count
         if kind == 2 and segments[-1]["seqs"]:
             segments[-1]["infos"] += 1  # an INFO frame received, stored as a record: its number
         if kind == 5 and len(body) >= 3:
@@ -102,17 +111,33 @@ def stored_dwells(path):
     return dwells, gap_missing, scale, resets, unacked, segments, ticks, tick_hz or 32768
 
 
+def segments_by_boot(segments):
+    """The file's segments merged per boot count: a segment's boot is its first INFO record's
+    boot count; one without takes the boot after the previous segment's."""
+    by_boot, last = {}, 0
+    for seg in segments:
+        boot = seg["boot"] if seg["boot"] is not None else last + 1
+        last = boot
+        m = by_boot.setdefault(boot, {"seqs": set(), "dwells": set(), "gap": 0, "infos": 0})
+        for k in ("seqs", "dwells"):
+            m[k] |= seg[k]
+        for k in ("gap", "infos"):
+            m[k] += seg[k]
+    return by_boot
+
+
 def uncounted_by_boot(sent, segments, key):
     """DWELLs sent and neither stored nor in a GAP count of their own boot (docstring: counted),
     summed over the boots; and the stored DWELLs found in another boot's segment."""
     uncounted = mismatch = 0
-    boots = sorted({int(s["boot"]) for s in sent} | set(range(1, len(segments) + 1)))
-    for b in boots:
-        seg = segments[b - 1] if b - 1 < len(segments) else {"seqs": set(), "dwells": set(),
-                                                            "gap": 0, "infos": 0}
+    by_boot = segments_by_boot(segments)
+    empty = {"seqs": set(), "dwells": set(), "gap": 0, "infos": 0}
+    for b in sorted({int(s["boot"]) for s in sent}):
+        seg = by_boot.get(b, empty)
         mine = [s for s in sent if int(s["boot"]) == b]
         lost = [s for s in mine if key(s) not in seg["dwells"]]
-        mismatch += sum(1 for s in lost if any(key(s) in o["dwells"] for o in segments))
+        mismatch += sum(1 for s in lost
+                        if any(key(s) in o["dwells"] for ob, o in by_boot.items() if ob != b))
         dwell_seqs = {int(s["seq"]) for s in mine}
         top = max(seg["seqs"] | dwell_seqs, default=-1)
         low = min(seg["seqs"], default=top + 1)
@@ -138,6 +163,9 @@ def compare(gyroflip, gfr, sent_csv):
     in_file = [s for s in sent if key(s) in dwells]
     mislabelled = foreign = unlabelled_exported = 0
     spans = {}  # per run (export's segment): first dwell start, last dwell end (device ticks)
+    seen, duplicates = set(), 0
+    offsets, time_bad, max_dev = {}, 0, 0.0  # per run: time_s less the device clock
+    wrap_s = 2.0**32 / tick_hz
     for r in exported:
         k = (int(r["seq"]), int(r["cycle"]), int(r["position"]))
         rate = float(r["rate_dps"])
@@ -147,6 +175,16 @@ def compare(gyroflip, gfr, sent_csv):
         if not match:
             foreign += 1
             continue
+        sent_key = (match[0]["boot"],) + key(match[0])
+        duplicates += sent_key in seen
+        seen.add(sent_key)
+        off = float(r["time_s"]) - int(match[0]["t_start_ticks"]) / tick_hz
+        if r["segment"] in offsets:  # the clock's 32-bit wrap is no deviation
+            dev = abs((off - offsets[r["segment"]] + wrap_s / 2) % wrap_s - wrap_s / 2)
+            max_dev = max(max_dev, dev)
+            time_bad += dev > 2.0 / tick_hz
+        else:
+            offsets[r["segment"]] = off
         t = ticks.get(key(match[0]))  # the stored frame's clock: its boot's, not a namesake's
         if t is not None:
             lo, hi = spans.get(r["segment"], (t[0], t[1]))
@@ -171,6 +209,9 @@ def compare(gyroflip, gfr, sent_csv):
         "uncounted": uncounted,
         "boot_mismatch": boot_mismatch,
         "foreign": foreign,
+        "duplicates": duplicates,
+        "time_inconsistent": time_bad,
+        "max_time_dev_s": round(max_dev, 6),
         "resets": resets,
         "start_unacked": unacked,
         "data_s": round(data_s, 3),
@@ -183,7 +224,8 @@ def main():
         return 0 if len(sys.argv) == 2 else 2
     r = compare(*sys.argv[1:])
     print(json.dumps(r))
-    return 0 if r["mislabelled"] == 0 and r["foreign"] == 0 and r["counted"] else 1
+    ok = r["mislabelled"] == 0 and r["foreign"] == 0 and r["counted"]
+    return 0 if ok and r["duplicates"] == 0 and r["time_inconsistent"] == 0 else 1
 
 
 if __name__ == "__main__":

@@ -191,6 +191,11 @@ void setup_emulate(CLI::App& app, action& chosen) {
   sub->add_option("--fault-unplug", o->fault_unplug,
                   "AT:FOR - AT device s after the first START the line vanishes for FOR device s "
                   "(repeatable; the rig runs on, its output is lost)");
+  sub->add_option(
+      "--fault-stall", o->fault_stall,
+      "AT:FOR - after the first frame it sends from AT device s after the first START on, "
+      "the emulator stops for FOR wall s, as under SIGSTOP: it neither reads nor "
+      "sends, then catches up (repeatable)");
   sub->add_option("--fault-lose-reply", o->fault_lose_reply,
                   "CMD:N or CMD:N-M - the reply (ACK or NAK; a PING's INFO too) to the Nth (to "
                   "Mth) CMD frame the device takes is lost on the line (CMD: ping, configure, "

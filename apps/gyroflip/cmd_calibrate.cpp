@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "finite_output.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/sensor/presets.hpp"
@@ -133,16 +134,34 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
     return f.stationarity && f.stationarity->failed();
   });
   if (!failed) {
-    // What the test cannot see (review of issue 31: 0.01 deg/s on an HZ1 passed as its dN).
+    // What the test cannot see (review of issue 31: 0.01 deg/s on an HZ1 passed as its dN): a
+    // constant input below the g-term limit (plus the Earth rate without the geometry: the g-term
+    // is then only bounded below by |dN| - W_E), and inputs that enter r as a constant.
     double g_limit = 0.0;
+    bool exact = true, unchecked = false;
     for (const auto& f : rec.files)
-      if (f.stationarity && f.stationarity->g_checked)
+      if (f.stationarity && f.stationarity->g_checked) {
         g_limit = std::max(g_limit, f.stationarity->g_limit_dps);
-    if (g_limit > 0.0)
+        exact = exact && f.stationarity->g_exact;
+      } else if (f.stationarity && f.stationarity->checked) {
+        unchecked = true;
+      }
+    const char* constant_like =
+        "; nor does it see a zero-mean vibration at an even harmonic of the flip frequency "
+        "(2/cycle, 4/cycle ...) or a repeatable motion after each turn (--one-way): they enter r "
+        "as a constant";
+    if (unchecked)
       fmt::format_to(std::back_inserter(out),
-                     "The stationarity test cannot see a constant input below {:.2g} deg/s (the "
-                     "sensor's g-term limit): it reads as dN; make sure the table was at rest\n",
-                     g_limit);
+                     "NOT VOUCHED FOR: the g-term was not checked (no sensor specification): a "
+                     "constant input of any size reads as dN; give --sensor NAME|FILE.toml{}\n",
+                     constant_like);
+    else if (g_limit > 0.0)
+      fmt::format_to(std::back_inserter(out),
+                     "The stationarity test cannot see a constant input below {:#.2g} deg/s (the "
+                     "sensor's g-term limit {:#.2g}{}): it reads as dN; make sure the table was "
+                     "at rest{}\n",
+                     g_limit + (exact ? 0.0 : earth::earth_rate_wgs84_dps), g_limit,
+                     exact ? "" : " plus the Earth rate, without --latitude/--axis", constant_like);
     fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(),
                    next_step(cal_path), workflow::when_to_recalibrate(b, temps));
     return out;
@@ -179,6 +198,7 @@ int run_calibrate(const calibrate_options& o) {
   req.geometry = *geometry;
   if (o.degree_given) req.degree = o.degree;
   req.strict = o.strict;
+  req.sensor_hint = "`calibrate --sensor NAME|FILE.toml`";
   if (!o.sensor.empty()) {
     auto p = sensor::load_preset(o.sensor);
     if (!p) return report(p.err());

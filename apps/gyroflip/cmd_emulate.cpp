@@ -187,6 +187,10 @@ class first_sight {
 struct fault_plan {
   std::vector<double> reset_at_s;                 // ascending
   std::vector<std::pair<double, double>> unplug;  // (device time, device seconds), ascending
+  // The emulator stops for a while of wall time right after the next frame it sends from that
+  // device time on, as under SIGSTOP: it neither reads nor sends, then catches up with the wall
+  // clock (a stopped or descheduled peer, not a dead line).
+  std::vector<std::pair<double, double>> stall;  // (device time, wall seconds), ascending
   // Faults tied to the host's commands (CMD:N, the Nth frame of that command the device takes,
   // retries counted): the reply lost, or the firmware reset just before it takes the frame. They
   // hit a moment of a session deliberately (a START whose ACK is lost and whose retry meets a
@@ -261,6 +265,17 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
           u);
     f.unplug.emplace_back((*v)[0], (*v)[1]);
   }
+  for (const std::string& u : o.fault_stall) {
+    const auto v = text::to_doubles(u, ':');
+    if (!v || v->size() != 2 || !((*v)[0] > 0.0 && (*v)[0] <= 1e7) ||
+        !((*v)[1] > 0.0 && (*v)[1] <= 60.0))
+      return usage_error(
+          "--fault-stall: AT:FOR, AT device s into the run in (0, 1e7], FOR wall s in (0, 60]; "
+          "got " +
+          u);
+    f.stall.emplace_back((*v)[0], (*v)[1]);
+  }
+  std::sort(f.stall.begin(), f.stall.end(), std::greater<>());
   std::sort(f.reset_at_s.begin(), f.reset_at_s.end(), std::greater<>());  // due ones at the back
   std::sort(f.unplug.begin(), f.unplug.end(), std::greater<>());
   auto lose = command_faults(o.fault_lose_reply, "--fault-lose-reply");
@@ -492,6 +507,7 @@ int run_emulate(const emulate_options& o) {
   constexpr std::uint32_t chunk_ticks = host::emulator::tick_hz / 100;  // 10 ms of device time
   const auto wall_start = steady::now();
   double back_at_s = 0.0;  // while the line is gone: the device time it comes back
+  double stall_s = 0.0;    // a --fault-stall due: its wall seconds (0: none)
   std::uint64_t frames_unplugged = 0;
   bool frame_unplugged = false;  // a byte of the frame being sent went out while the line was gone
   std::optional<double> run_start_s;  // device time of the first run: faults count from it
@@ -538,6 +554,10 @@ int run_emulate(const emulate_options& o) {
     if (!plan->reset_at_s.empty() && run_s >= plan->reset_at_s.back()) {
       plan->reset_at_s.pop_back();
       reset();
+    }
+    if (stall_s == 0.0 && !plan->stall.empty() && run_s >= plan->stall.back().first) {
+      stall_s = plan->stall.back().second;
+      plan->stall.pop_back();
     }
     if (line && !plan->unplug.empty() && run_s >= plan->unplug.back().first) {
       back_at_s = emu.time_s() + plan->unplug.back().second;
@@ -596,6 +616,13 @@ int run_emulate(const emulate_options& o) {
       auto w = line->write(out.data() + done, out.size() - done, 100);
       if (!w) return report(w.err());
       done += *w;
+    }
+    // A stall due: right after the next frame went out (a peer stopped just after it spoke).
+    if (stall_s > 0.0 && line && !out.empty()) {
+      const auto until = steady::now() + std::chrono::duration<double>(stall_s);
+      stall_s = 0.0;
+      while (!stop_requested && steady::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     // Pace: wait for the host's bytes until the wall clock has caught up with the device's time
     // (pacer). At max speed, the reader's pace besides: the device's time waits while more than

@@ -79,7 +79,6 @@ int run_plan(const plan_options& o) {
   req.limits.max_dwell_s = o.max_dwell_s;
   req.conversion_s = rig::conversion_time_s(rig::ad7739_config{});
   std::vector<analysis_input> inputs;
-  std::vector<std::string> notes;
   if (!o.sensor.empty()) {
     auto p = sensor::load_preset(o.sensor);
     if (!p) return report(p.err());
@@ -90,7 +89,7 @@ int run_plan(const plan_options& o) {
     if (!in) return report(in.err());
     inputs = std::move(*in);
     auto t = workflow::plan_noise_of_record(inputs.front().phase, deg_per_unit(o.in), o.min_dwell_s,
-                                            notes);
+                                            req.notes);
     if (!t) return report(input_error({o.in.file}, t.err().message));
     req.noise = *t;
     req.noise_source = "the noise fit of " + printable(o.in.file, 200);
@@ -100,7 +99,6 @@ int run_plan(const plan_options& o) {
   }
   auto r = workflow::plan(req);
   if (!r) return report(r.err());
-  r->notes.insert(r->notes.begin(), notes.begin(), notes.end());
   const auto s =
       o.json ? print_json(workflow::plan_json(*r)) : print_checked(plan_text(*r), "<stdout>");
   if (!s) return report(s.err());

@@ -149,8 +149,8 @@ int run_record(const record_options& o) {
       if (drawn) std::fputs("\r\033[K", stderr);
       std::fprintf(stderr,
                    "gyroflip record: warning: %s: the board has no serial (0: its information "
-                   "flash holds no serial record): after a lost line it is taken back only if "
-                   "its boot and clock continue, else the recording ends there; store one "
+                   "flash holds no serial record): after a lost line it cannot be told from "
+                   "another board, so the recording will end there; store one "
                    "(docs/HARDWARE.md, bring-up step 5)\n",
                    o.port.c_str());
     }

@@ -12,10 +12,13 @@
 #include <optional>
 #include <random>
 #include <thread>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "firmware/ports/msp430f149/limits.hpp"
+#include "firmware/protocol/budget.hpp"
 #include "firmware/protocol/frame.hpp"
 #include "firmware/protocol/line.hpp"
 #include "firmware/protocol/status.hpp"
@@ -237,8 +240,7 @@ class session {
   status on_frame(const p::frame& f);
   status on_info(const p::frame& f, const p::info_msg& m);
   status identify(const p::info_msg& m);
-  status check_unserialled(const p::frame& f);
-  status refuse_unserialled(const std::string& why);
+  error end_unserialled();
   [[nodiscard]] bool says_reset(const p::frame& f, bool identifying) const;
   status note_reset();
   result<p::info_msg> ping();
@@ -382,15 +384,11 @@ class session {
   // The line's frames are the session device's: false from a (re)opened port until an INFO
   // names the board (its serial). Nothing of the line is stored before.
   bool identified_ = false;
-  // A board of serial 0 after a reconnect: its STATUS continued the recording's boot and clock
-  // (check_unserialled); only then does its INFO name it.
-  bool clock_continues_ = false;
-  steady::time_point last_uptime_at_{};  // when last_uptime_ arrived
-  bool identify_record_ = false;         // the INFO that identified the board goes into the file
-  bool reset_seen_ = false;              // the device rebooted: re-home, re-configure, START
-  bool need_info_ = false;               // ... and its INFO is still to be recorded
-  bool restart_ = false;                 // the last command was cut short by a reset
-  bool device_idle_ = false;             // a STATUS said idle while we record
+  bool identify_record_ = false;  // the INFO that identified the board goes into the file
+  bool reset_seen_ = false;       // the device rebooted: re-home, re-configure, START
+  bool need_info_ = false;        // ... and its INFO is still to be recorded
+  bool restart_ = false;          // the last command was cut short by a reset
+  bool device_idle_ = false;      // a STATUS said idle while we record
   bool have_uptime_ = false;
   bool since_link_loss_ = false;  // the line was gone: the rate above counts what it lost
   bool have_rate_ = false;
@@ -554,7 +552,6 @@ status session::open_port() {
   if (!port) return port.err();
   port_.emplace(std::move(*port));
   identified_ = false;  // whoever answers on it is not known yet
-  clock_continues_ = false;
   return ok();
 }
 
@@ -657,56 +654,23 @@ status session::identify(const p::info_msg& m) {
   return ok();
 }
 
-// A board of serial 0 cannot be told from another board of serial 0 by its INFO. After a
-// reconnect it is taken for the recording's board only when it continues it: the same boot count,
-// frame numbers past the highest heard, and a STATUS whose clock ran on from the last one heard
-// by about the time the line was gone (at most twice that, and 5 s, more). Anything else ends
-// the recording, nothing of that board stored (docs/RECORDER.md, "A board without a serial").
-status session::check_unserialled(const p::frame& f) {
-  p::status_msg m;
-  if (f.type != static_cast<std::uint8_t>(p::msg::status) || !f.as(m)) return ok();
-  const double hz = info_->tick_hz != 0 ? info_->tick_hz : 1.0;
-  if (m.boot_count != info_->boot_count)
-    return refuse_unserialled(fmt::format("its boot count is {}, the recording's board's {}",
-                                          m.boot_count, info_->boot_count));
-  if (window_.started() && window_.distance(f.seq) <= 0)
-    return refuse_unserialled(fmt::format("its frame numbers went back ({} after {})", f.seq,
-                                          static_cast<std::uint16_t>(window_.highest())));
-  if (!have_uptime_)
-    return refuse_unserialled(
-        "no STATUS of this boot came before the line was lost to compare its "
-        "clock with");
-  const std::uint32_t ran = m.uptime_ticks - last_uptime_;
-  const double ran_s = ran / hz;
-  const double gone_s =
-      std::chrono::duration<double>(steady::now() - last_uptime_at_).count() * device_speed_;
-  if (ran >= 0x80000000u || ran_s > 2.0 * gone_s + 5.0)
-    return refuse_unserialled(fmt::format(
-        "its clock does not continue the recording's board's ({} after {} s of the device, the "
-        "line gone for about {:.1f} s)",
-        ran >= 0x80000000u ? "went back" : fmt::format("ran {:.1f} s", ran_s), last_uptime_ / hz,
-        gone_s));
-  clock_continues_ = true;
-  return ok();
-}
-
-// A board of serial 0 that does not continue the recording after a reconnect: the link-lost GAP,
-// then the run ends (the main loop writes STOP: another device), nothing of it stored.
-status session::refuse_unserialled(const std::string& why) {
-  if (auto s = append_gap(
-          gfr::gap_reason::link_lost,
-          static_cast<std::uint32_t>(
-              std::chrono::duration_cast<std::chrono::milliseconds>(steady::now() - lost_at_)
-                  .count()));
-      !s)
-    return s;
-  waiting_for_port_ = false;
-  fatal_ = runtime_error(fmt::format(
-      "{}: after the line came back, a board without a serial (0) answered and {}: it cannot be "
-      "told from another board of serial 0, so it is not recorded into the same file; {} is "
-      "complete up to here (store a serial in the board: docs/HARDWARE.md, bring-up step 5)",
-      c_.port, why, c_.output));
-  return ok();
+// A board of serial 0 cannot be told from another board of serial 0: two of them powered up
+// together have the same boot count, frame numbers and clock (review of issue 32: swapped cables,
+// the second board taken for the first 5 times of 5). After its line is lost the recording ends:
+// the link-lost GAP, what the window still missed counted lost, a STOP record (link lost), exit 1
+// naming why; nothing that answers afterwards is stored (docs/RECORDER.md, "A board without a
+// serial").
+error session::end_unserialled() {
+  port_.reset();
+  identified_ = false;
+  (void)note_lost(window_.give_up_all());
+  (void)append_gap(gfr::gap_reason::link_lost, 0);
+  (void)close_file(gfr::stop_reason::link_lost);
+  return runtime_error(fmt::format(
+      "{}: the line was lost and the board has no serial: after a lost line it cannot be told "
+      "from another board, so the recording ends here; {} is complete up to the loss (store a "
+      "serial in the board: docs/HARDWARE.md, bring-up step 5)",
+      c_.port, c_.output));
 }
 
 // An INFO of the identified board: the answer to a PING, a boot's (a reset), or the one that
@@ -799,7 +763,6 @@ status session::on_frame(const p::frame& f) {
     }
     have_uptime_ = true;
     last_uptime_ = m.uptime_ticks;
-    last_uptime_at_ = now;
     // Idle while recording: but only a STATUS the device sent after it acknowledged START
     // (one sent just before is still on its way when the run has begun).
     const bool after_start =
@@ -843,22 +806,11 @@ status session::pump(int timeout_ms) {
     if (identifying) {
       // Before the board is named, nothing of the line is stored or believed: a frame of another
       // board with the same boot count would pass for ours.
-      const bool unserialled = info_ && info_->serial == 0;
-      if (!is_info) {
-        if (unserialled && !clock_continues_)
-          if (auto s = check_unserialled(f); !s || fatal_) return s;
-        continue;
-      }
+      if (!is_info) continue;
       if (!info_) {  // the handshake: run() checks it and names the session's board
         if (waiting_info_) got_info_ = m;
         waiting_info_ = false;
         continue;
-      }
-      if (unserialled && m.serial == 0) {
-        if (m.boot_count != info_->boot_count)
-          return refuse_unserialled(fmt::format("its boot count is {}, the recording's board's {}",
-                                                m.boot_count, info_->boot_count));
-        if (!clock_continues_) continue;  // its clock first: its next STATUS
       }
       if (auto s = identify(m); !s) return s;
       if (fatal_) return ok();
@@ -969,14 +921,24 @@ result<p::info_msg> session::ping() {
   const std::uint32_t good_before = dec_.counts().good;
   const std::uint64_t bytes_before = dec_.line().corrected + dec_.line().uncorrectable;
   const double wait_s = ping_wait_s();
+  // A stopped or slow peer is not a dead line: the PINGs go on for as long, in wall time, as 12
+  // take at the rig's own clock (12 x reply_timeout_s / 4: 6 s), also when the device's clock
+  // runs faster (second review of issue 32: at an emulator's 50x the 12 tries took 0.6 s, and an
+  // emulator stopped for 3 s just after a reset ended the run). Past the quick tries a PING goes
+  // every 0.5 s at most, as keep_up()'s probe of a silent line (a stopped device is not flooded).
+  const auto t0 = steady::now();
+  const auto patience = std::chrono::duration<double>(quiet_attempts * c_.reply_timeout_s / 4);
   int k = 0;
-  for (; k < (dec_.counts().good != good_before ? answering_attempts : quiet_attempts); ++k) {
+  for (; k < (dec_.counts().good != good_before ? answering_attempts : quiet_attempts) ||
+         steady::now() - t0 < patience;
+       ++k) {
     if (stop_) return interrupted();
     got_info_.reset();
     waiting_info_ = true;
     if (auto s = send(p::ping_msg{}, seq_++); !s) return s.err();
     const auto sent = steady::now();
-    const auto until = sent + std::chrono::duration<double>(wait_s);
+    const double try_s = k < quiet_attempts ? wait_s : std::max(wait_s, 0.5);
+    const auto until = sent + std::chrono::duration<double>(try_s);
     const std::uint32_t bad_at_send = dec_.counts().bad();
     while (!got_info_ && steady::now() < until) {
       if (stop_) return interrupted();
@@ -992,7 +954,7 @@ result<p::info_msg> session::ping() {
   }
   waiting_info_ = false;
   if (got_info_) return *got_info_;
-  const double waited = k * wait_s;
+  const double waited = std::chrono::duration<double>(steady::now() - t0).count();
   if (dec_.counts().bad() != 0 || dec_.line().uncorrectable != 0 ||
       dec_.line().corrected + dec_.line().uncorrectable != bytes_before)
     return runtime_error(fmt::format(
@@ -1053,6 +1015,12 @@ status session::command(const M& m, const char* name, on_ack then) {
   if (!replied_)
     return runtime_error(fmt::format("{}: the device did not acknowledge {} within {:g} s", c_.port,
                                      name, 2 * c_.reply_timeout_s));
+  if constexpr (std::is_same_v<M, p::configure_msg>) {
+    if (reply_nak_)
+      return input_error({c_.port},
+                         fmt::format("the device refused {}: {}", name,
+                                     configure_refusal(m, info_ ? &*info_ : nullptr, *reply_nak_)));
+  }
   if (reply_nak_)
     return input_error({c_.port},
                        fmt::format("the device refused {}: {}", name, status_name(*reply_nak_)));
@@ -1257,6 +1225,7 @@ result<recorder_result> session::run() {
         lost = true;
       }
     }
+    if (lost && info_->serial == 0) return end_unserialled();
     if (lost) {
       auto back = reconnect(steady::now());
       if (!back) return back.err();
@@ -1268,6 +1237,27 @@ result<recorder_result> session::run() {
 }
 
 }  // namespace
+
+std::string configure_refusal(const p::configure_msg& c, const p::info_msg* device,
+                              std::uint8_t reason) {
+  std::string why = status_name(reason);
+  if (device == nullptr || reason != static_cast<std::uint8_t>(p::status::bad_arg)) return why;
+  if (p::check_configure(c, device->mclk_hz) != p::status::ok) return why;
+  // What the board itself cannot do (device::configure: board_facts::max_step_rate_sps and the
+  // step timer's 16 bits).
+  if (device->board == static_cast<std::uint8_t>(p::board_kind::hardware) &&
+      c.step_rate_sps > fw::msp430f149::max_step_rate_sps)
+    return fmt::format(
+        "{}: the top step rate {} steps/s is above the {} steps/s an MSP430F149 board produces "
+        "(--step-rate; docs/FIRMWARE.md, \"Rates the board can produce\")",
+        why, c.step_rate_sps, fw::msp430f149::max_step_rate_sps);
+  if (c.start_rate_sps != 0 && device->tick_hz / c.start_rate_sps > 0xFFFFu)
+    return fmt::format(
+        "{}: the start rate {} steps/s is below the {} steps/s the board's 16-bit step timer "
+        "times at {} ticks/s (--start-rate)",
+        why, c.start_rate_sps, device->tick_hz / 0xFFFFu + 1, device->tick_hz);
+  return why;
+}
 
 result<recorder_result> record(const recorder_config& cfg, const std::atomic<bool>& stop,
                                const recorder_progress_fn& on_progress) {

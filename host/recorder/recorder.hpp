@@ -63,7 +63,7 @@ struct recorder_status {
   std::uint64_t bytes = 0;      ///< of the file
   bool waiting_for_port = false;
   /// The board's serial (none before its INFO). 0 is an MSP430F149 whose information flash holds
-  /// no serial record: another board of serial 0 after a reconnect cannot be told from it.
+  /// no serial record: it cannot be told from another board, so a lost line ends its recording.
   std::optional<std::uint32_t> serial;
   /// The last stationarity test of the cycles so far (none before the first, or when not asked).
   std::optional<method::stationarity> stationarity;
@@ -85,5 +85,13 @@ struct recorder_result {
 [[nodiscard]] result<recorder_result> record(const recorder_config& cfg,
                                              const std::atomic<bool>& stop,
                                              const recorder_progress_fn& on_progress = {});
+
+/// Why a device refused CONFIGURE `c` with NAK `reason`, in words, naming the limit the
+/// configuration passed where the host knows it (the device reports no limits of its own in INFO:
+/// docs/PROTOCOL.md): the top step rate of the board `device` names (an MSP430F149 board:
+/// firmware/ports/msp430f149/limits.hpp, the image's own constant), and the slowest start rate
+/// its 16-bit step timer times at its tick rate. Without `device`, the reason's name.
+[[nodiscard]] std::string configure_refusal(const protocol::configure_msg& c,
+                                            const protocol::info_msg* device, std::uint8_t reason);
 
 }  // namespace gyroflip::host

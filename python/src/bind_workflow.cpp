@@ -82,7 +82,6 @@ py::object plan(const std::optional<std::string>& sensor, const std::optional<f6
   req.limits.min_dwell_s = min_dwell_s;
   req.limits.max_dwell_s = max_dwell_s;
   req.conversion_s = rig::conversion_time_s(rig::ad7739_config{});
-  std::vector<std::string> notes;
   if (sensor) {
     const auto p = take(sensor::load_preset(*sensor));
     req.noise = workflow::plan_noise_of(p.params);
@@ -97,7 +96,7 @@ py::object plan(const std::optional<std::string>& sensor, const std::optional<f6
     auto noise = without_gil([&](const progress_fn& listen) -> result<method::plan_noise> {
       auto phase = analysis::phase_source::make(src, analysis::input_kind::rate, tau0, listen);
       if (!phase) return phase.err();
-      return workflow::plan_noise_of_record(*phase, k, min_dwell_s, notes);
+      return workflow::plan_noise_of_record(*phase, k, min_dwell_s, req.notes);
     });
     req.noise = take(std::move(noise));
     req.noise_source = "the noise fit of the static record";
@@ -106,7 +105,6 @@ py::object plan(const std::optional<std::string>& sensor, const std::optional<f6
     req.static_dps_per_unit = k;
   }
   auto r = take(workflow::plan(req));
-  r.notes.insert(r.notes.begin(), notes.begin(), notes.end());
   return json_loads(take(io::finite_dump(workflow::plan_json(r), "plan")));
 }
 

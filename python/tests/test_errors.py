@@ -259,3 +259,17 @@ def test_a_table_line_gives_positions_by_index(tmp_path):
     with pytest.raises(ValueError, match=r"bad.csv:4:3: angle 180 deg is not supported: only 0 "
                                          r"and 90"):
         gyroflip.read_recording(bad)
+
+
+# Review of issue 31 (H1): without a specification the g-term is not checked, and a run on a
+# turning table returned stationary True with no warning, and strict=True accepted it.
+def test_calibrate_without_a_sensor_warns_that_the_g_term_was_not_checked():
+    rec = gyroflip.simulate("hz1-90-100a", duration_s=600, seed=31, temp=20, rate="0.5")
+    turning = (rec["time_s"], rec["angle_deg"], rec["rate_dps"], rec["temp_c"], rec["n_avg"])
+    r = gyroflip.calibrate(*turning)
+    assert any("<arrays>: its g-term was not checked" in w and "sensor=" in w
+               for w in r["warnings"]), r["warnings"]
+    with pytest.raises(ValueError, match="g-term was not checked"):
+        gyroflip.calibrate(*turning, strict=True)
+    with pytest.raises(ValueError, match="its g-term is"):
+        gyroflip.calibrate(*turning, sensor="hz1-90-100a", strict=True)

@@ -194,6 +194,7 @@ json stationarity_json(const method::stationarity& st) {
             {"step_limit_dps", st.step_limit_dps},
             {"scatter_failed", st.scatter_failed},
             {"drift_failed", st.drift_failed},
+            {"temp_failed", st.temp_failed},
             {"g_term", nullptr},
             {"failures", st.failures()}};
   if (st.g_checked)
@@ -248,6 +249,9 @@ status read_stationarity(const std::string& path, const std::string& at, const j
     return bad("'scatter_low_limit' must be a finite number >= 0");
   if (j.contains("temp_span_c") && (!number("temp_span_c", st.temp_span_c) || st.temp_span_c < 0.0))
     return bad("'temp_span_c' must be a finite number >= 0");
+  // Written since the isothermal rule joined the test (absent: not judged, false).
+  if (j.contains("temp_failed") && !flag(j, "temp_failed", st.temp_failed))
+    return bad("'temp_failed' must be a boolean");
   if (j.contains("cycles")) {
     if (!j["cycles"].is_number_unsigned()) return bad("'cycles' must be a whole number");
     st.cycles = j["cycles"].get<std::size_t>();

@@ -105,6 +105,7 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
       t_hi = std::max(t_hi, cy.temp_c);
     }
   out.temp_span_c = t_lo <= t_hi ? t_hi - t_lo : 0.0;
+  out.temp_failed = out.temp_span_c > isothermal_span_c;
   // Drift or step: the CUSUM scaled by r's long-run std at short averaging times.
   const std::size_t m = std::clamp<std::size_t>(n / 8, 1, drift_scale_cycles);
   const double long_run_var = oavar(r, m) * static_cast<double>(m);
@@ -151,6 +152,12 @@ std::vector<std::string> stationarity::failures() const {
                           "calibrate at a steady temperature, or fit ΔN(T) over runs at several",
                           temp_span_c)
             : std::string()));
+  if (temp_failed)
+    out.push_back(fmt::format(
+        "the temperature moved {:.1f} °C during the run: not isothermal (more than {:g} °C), "
+        "so its dN is a mean over temperatures and no dN(T) can place it; calibrate at a steady "
+        "temperature",
+        temp_span_c, isothermal_span_c));
   if (g_failed)
     out.push_back(fmt::format(
         "its g-term is {}{} °/s, {} times the limit {} °/s at 1 g ({}), beyond 3 correlated "
@@ -158,6 +165,24 @@ std::vector<std::string> stationarity::failures() const {
         g_exact ? "" : "at least ", num(g_term_dps), num(g_term_dps / g_limit_dps),
         num(g_limit_dps), g_source));
   return out;
+}
+
+std::vector<std::string> stationarity::caveats() const {
+  if (!checked || failed() || g_checked) return {};
+  return {
+      "its g-term was not checked (no sensor specification), so a constant input rate of any "
+      "size passes the scatter and drift tests and enters dN whole (a turning or tilted table); "
+      "check it by naming the sensor's specification (a built-in preset or a TOML preset file)"};
+}
+
+stationarity stationarity::rejudged() const {
+  stationarity s = *this;
+  if (!checked) return s;
+  s.scatter_failed = scatter_ratio > scatter_limit || scatter_ratio < scatter_low_limit;
+  s.drift_failed = drift_statistic > drift_limit_value && std::abs(step_dps) > step_limit_dps;
+  s.g_failed = g_checked && g_term_dps - g_margin_dps > g_limit_dps;
+  s.temp_failed = temp_span_c > isothermal_span_c;
+  return s;
 }
 
 std::string stationarity::summary() const {
@@ -168,11 +193,13 @@ std::string stationarity::summary() const {
     for (std::size_t k = 0; k < f.size(); ++k) s += (k ? "; " : "") + f[k];
     return s;
   }
-  std::string s = fmt::format("stationary (scatter {} <= {}, drift {} <= {}", num(scatter_ratio),
-                              num(scatter_limit), num(drift_statistic), num(drift_limit_value));
+  std::string s = fmt::format("{} (scatter {} <= {}, drift {} <= {}",
+                              g_checked ? "stationary" : "stationary in scatter and drift only",
+                              num(scatter_ratio), num(scatter_limit), num(drift_statistic),
+                              num(drift_limit_value));
   s += g_checked ? fmt::format(", g-term {}{} °/s <= {} °/s)",
                                g_exact ? "" : ">= ", num(g_term_dps), num(g_limit_dps))
-                 : ", g-term not checked: no specification)";
+                 : "; g-term NOT checked: no specification, a constant input of any size passes)";
   return s;
 }
 

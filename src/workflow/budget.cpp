@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -28,7 +29,8 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   b.runs = runs.size();
   if (runs.empty()) {
     constexpr double unknown = std::numeric_limits<double>::quiet_NaN();
-    b.within_run_dps = b.run_to_run_dps = b.calibration_dps = b.new_power_up_dps = unknown;
+    b.within_run_dps = b.single_run_dps = b.run_to_run_dps = b.calibration_dps =
+        b.new_power_up_dps = unknown;
     b.temp_c = unknown;
     b.run_to_run_source = "unknown: the calibration lists no runs";
     b.model_note = "not known: the calibration lists no runs and states no error";
@@ -37,6 +39,13 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
     return b;
   }
   b.within_run_dps = method::pooled_correlated_stderr(calibrations_of(runs));
+  {
+    std::vector<double> own;
+    for (const auto& r : runs) own.push_back(r.cal.stderr_correlated_dps);
+    std::sort(own.begin(), own.end());
+    const std::size_t h = own.size() / 2;
+    b.single_run_dps = own.size() % 2 ? own[h] : 0.5 * (own[h - 1] + own[h]);
+  }
   double t_sum = 0.0;
   std::size_t t_n = 0;
   for (const auto& r : runs)
@@ -230,10 +239,11 @@ std::string when_to_recalibrate(const delta_n_budget& b, const std::string& temp
         fmt::format("{:.2g}", b.run_to_run_dps),
         b.run_to_run_measured ? "measured on these runs" : "the sensor preset's, not measured",
         fmt::format("{:.2g}", b.new_power_up_dps), fmt::format("{:.2g}", b.calibration_dps));
-    if (b.run_to_run_dps > 2.0 * b.within_run_dps)
+    if (b.run_to_run_dps > 2.0 * b.single_run_dps)
       out += fmt::format(
-          "To do better, calibrate again after each power-up (a run like these gives ±{} °/s). ",
-          fmt::format("{:.2g}", b.within_run_dps));
+          "To do better, calibrate again after each power-up (one run like these gives ±{} °/s, "
+          "the median of their own errors). ",
+          fmt::format("{:.2g}", b.single_run_dps));
   } else {
     out =
         "Recalibrate: how far ΔN moves from one power-up to the next is unknown (one run, no "

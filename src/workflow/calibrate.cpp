@@ -56,6 +56,22 @@ std::string stationarity_warning(const std::string& file, const method::stationa
   return s;
 }
 
+status admit_run(const std::string& file, const method::stationarity& st, bool strict,
+                 std::vector<std::string>& warnings, const std::string& sensor_hint) {
+  if (st.failed()) {
+    if (strict) return input_error({file}, stationarity_warning(file, st).substr(file.size() + 2));
+    warnings.push_back(stationarity_warning(file, st));
+  }
+  for (auto c : st.caveats()) {
+    if (!sensor_hint.empty()) c += ": " + sensor_hint;
+    if (strict)
+      return input_error({file}, c + "; refused (strict): a strict calibration needs the g-term "
+                                     "checked");
+    warnings.push_back(fmt::format("{}: {}", file, c));
+  }
+  return ok();
+}
+
 status one_sensor::add(const std::string& file, std::span<const io::csv_metadata> metadata,
                        std::vector<std::string>& warnings) {
   const auto sr = io::sensor_of(metadata);
@@ -110,11 +126,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
           r.sensor ? &*r.sensor : sensor::find_builtin(metadata_value(rc->metadata, "sensor_name"));
     const auto st = method::check_stationarity(
         rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));
-    if (st.failed()) {
-      if (r.strict)
-        return input_error({file}, stationarity_warning(file, st).substr(file.size() + 2));
-      out.warnings.push_back(stationarity_warning(file, st));
-    }
+    if (auto s = admit_run(file, st, r.strict, out.warnings, r.sensor_hint); !s) return s.err();
     // What the calibration was made of, so a report that applies it can say (review R18).
     auto id = report::identify_file(file);
     if (!id) return id.err();

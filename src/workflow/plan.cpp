@@ -71,6 +71,7 @@ result<plan_result> plan(const plan_request& r) {
   out.plan = std::move(*p);
   out.noise = r.noise;
   out.noise_source = r.noise_source;
+  out.notes = r.notes;
   out.reference_dwell_s = r.reference_dwell_s;
   if (r.reference_dwell_s > 0.0)
     out.reference_sigma_dps = std::sqrt(

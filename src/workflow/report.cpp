@@ -57,10 +57,6 @@ constexpr int summary_schema = 3;
 // max_chi2_per_dof (the paper's own runs scatter 14-30 times their errors: chi^2/dof 200-900).
 constexpr double g_term_beyond_spec = 3.0;
 constexpr double max_chi2_per_dof = 1e4;
-// A calibration run whose temperature moves more than this (degC) is not isothermal (review R17):
-// its dN is a mean over temperatures no dN(T) sees; the HZ1's dN moves 9e-5 deg/s over 2 degC
-// (paper Tab. 3), about a 1-h run's within-run error.
-constexpr double isothermal_span_c = 2.0;
 // Fewer cycles than this give no usable correlated standard error (review R11): the std of n
 // cycles has a relative error of 1/sqrt(2 (n - 1)) (13 % at 30) before the correlation of
 // neighbouring cycles is estimated from blocks of them; the paper's runs have 3000-6700 cycles.
@@ -419,8 +415,8 @@ struct findings {
   bool calibration_unchecked = false;
 };
 
-// The calibration runs' warnings: a run that was not stationary (the library's one test, as
-// calibrate makes it: method::check_stationarity), runs that disagree.
+// The calibration runs' warnings: a run that was not stationary or not isothermal (the library's
+// one test, as calibrate makes it: method::check_stationarity).
 void check_stationary(const report_request& r, const std::vector<run_analysis>& runs, findings& f,
                       std::vector<io::calibration_entry>& entries) {
   for (std::size_t k = 0; k < runs.size(); ++k) {
@@ -432,15 +428,6 @@ void check_stationary(const report_request& r, const std::vector<run_analysis>& 
     if (!st.failed()) continue;
     f.warnings.push_back(stationarity_warning(a.run.file, st));
     f.not_stationary.push_back(a.run.file);
-  }
-  for (const auto& a : runs) {
-    const auto t = cycle_temps(a.run.cycles(a.pairing));
-    if (t.known() && t.hi - t.lo > isothermal_span_c)
-      f.warnings.push_back(fmt::format(
-          "{}: the temperature moved over {} during the run: not isothermal (more than {:g} °C), "
-          "so its dN is a mean over temperatures and no dN(T) can place it; calibrate at a "
-          "steady temperature",
-          a.run.file, t.text(), isothermal_span_c));
   }
 }
 
@@ -932,8 +919,15 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
                 : b.invalid_why + ": no ± covers the run"}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
+  // What one run gives on its own (the pooled error above is k runs together, review of issue 31).
+  if (b.runs > 1)
+    t.rows.insert(t.rows.begin() + 1,
+                  {"one run's own error", v(b.single_run_dps), h(b.single_run_dps),
+                   fmt::format("the median of the {} runs' own errors: what one run like these "
+                               "gives, e.g. a recalibration after each power-up",
+                               b.runs)});
   if (std::isfinite(b.between_run_dps))
-    t.rows.insert(t.rows.begin() + 2,
+    t.rows.insert(t.rows.begin() + (b.runs > 1 ? 3 : 2),
                   {"between-run (random effects)", v(b.between_run_dps), h(b.between_run_dps),
                    "the runs' scatter beyond their own noise (√τ², DerSimonian–Laird): a change "
                    "of ΔN at each power-up"});
@@ -1023,6 +1017,14 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     f.budget = budget_of(entries, f.runs_model, f.id.builtin ? &f.id.builtin->params : nullptr,
                          f.id.preset);
     check_runs_agree(f);
+  }
+  // Runs that failed the stationarity test give no ΔN of the sensor, so no ± covers what it is
+  // used for: the budget is not valid and nothing is "the number to quote" (review of issue 31).
+  if (!f.not_stationary.empty()) {
+    f.budget.valid = false;
+    f.budget.invalid_why = f.given
+                               ? "not known: the calibration's runs failed the stationarity test"
+                               : "not known: the runs failed the stationarity test";
   }
   for (auto& a : runs) {
     const auto model = f.given ? f.given->model : method::constant_model(a.cal.delta_n_dps);

@@ -3,6 +3,7 @@
 // refused by `calibrate --strict` (exit 2, no file), recorded in the calibration JSON (schema 3),
 // and a report compensating with such a calibration does not vouch for it; an older calibration
 // reads as "not checked".
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -99,9 +100,13 @@ TEST(CliStationarity, CompensateWarnsAboutAndStrictRefusesACalibrationOfATurning
                              "-o", d.file("good.csv")});
   EXPECT_EQ(good.exit_code, 0) << good.err;
   EXPECT_EQ(good.err.find("stationary"), std::string::npos) << good.err;
-  // calibrate says what its test cannot see: a constant input below the g-term limit.
-  EXPECT_NE(run_cli({"calibrate", still}).out.find("cannot see a constant input below 0.06 deg/s"),
-            std::string::npos);
+  // calibrate says what its test cannot see: a constant input below the g-term limit, plus the
+  // Earth rate without --latitude/--axis (0.06 + 0.0042), and what enters r as a constant (review
+  // of issue 31, L4 and H2).
+  const auto blind = run_cli({"calibrate", still}).out;
+  EXPECT_NE(blind.find("cannot see a constant input below 0.064 deg/s"), std::string::npos)
+      << blind;
+  EXPECT_NE(blind.find("even harmonic of the flip frequency"), std::string::npos) << blind;
   // A negative statistic in the file is refused, naming the file.
   auto cal = json::parse(read_text(d.file("good.json")));
   cal["files"][0]["stationarity"]["drift_statistic"] = -1.0;
@@ -136,6 +141,102 @@ TEST(CliStationarity, AReportNeverVouchesForACalibrationOfATurningRun) {
   const auto own = run_cli({"report", turning, "-o", d.file("rep3")});
   ASSERT_EQ(own.exit_code, 0) << own.err;
   EXPECT_NE(read_text(d.file("rep3/index.html")).find("These runs give no ΔN"), std::string::npos);
+}
+
+// Review of issue 31 (H1): without a sensor specification the g-term is not checked, and a run on
+// a turning table passed as "stationary", even with --strict. calibrate warns, naming the run and
+// how to check it; --strict refuses it unless a specification is given.
+TEST(CliStationarity, WithoutASpecificationCalibrateWarnsAndStrictRefuses) {
+  temp_dir d;
+  const auto strip_sensor = [&](const std::string& from, const std::string& name) {
+    std::string kept, line;
+    std::istringstream in(read_text(from));
+    while (std::getline(in, line))
+      if (line.rfind("# sensor", 0) != 0) kept += line + "\n";
+    write_text(d.file(name), kept);
+    return d.file(name);
+  };
+  const auto turning = strip_sensor(simulate(d, "turning.csv", "31", "0.5"), "turning_ns.csv");
+  const auto still = strip_sensor(simulate(d, "still.csv", "32", "0"), "still_ns.csv");
+  const auto warned = run_cli({"calibrate", turning});
+  ASSERT_EQ(warned.exit_code, 0) << warned.err;
+  EXPECT_NE(warned.err.find(turning + ": its g-term was not checked"), std::string::npos)
+      << warned.err;
+  EXPECT_NE(warned.err.find("--sensor NAME|FILE.toml"), std::string::npos) << warned.err;
+  EXPECT_NE(warned.out.find("NOT VOUCHED FOR"), std::string::npos) << warned.out;
+  EXPECT_EQ(warned.out.find("stationarity: stationary ("), std::string::npos) << warned.out;
+  const auto strict = run_cli({"calibrate", "--strict", turning, "-o", d.file("ns.json")});
+  EXPECT_EQ(strict.exit_code, 2) << strict.err;
+  EXPECT_FALSE(exists(d.file("ns.json")));
+  EXPECT_NE(strict.err.find("g-term was not checked"), std::string::npos) << strict.err;
+  // With the specification the turning run fails on its g-term, and a still run passes.
+  const auto spec = run_cli(
+      {"calibrate", "--strict", "--sensor", "hz1-90-100a", turning, "-o", d.file("t.json")});
+  EXPECT_EQ(spec.exit_code, 2) << spec.err;
+  EXPECT_NE(spec.err.find("its g-term is"), std::string::npos) << spec.err;
+  const auto ok =
+      run_cli({"calibrate", "--strict", "--sensor", "hz1-90-100a", still, "-o", d.file("s.json")});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("not checked"), std::string::npos) << ok.err;
+}
+
+// Review of issue 31 (M1): a 10 degC temperature step passed calibrate (and --strict) silently
+// while report warned and still headlined its dN and proposed calibrating it as is.
+TEST(CliStationarity, ATemperatureStepIsNotIsothermalToCalibrateAndReport) {
+  temp_dir d;
+  const auto f = d.file("ts.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "900", "--seed", "3",
+                     "--temp-profile", "steps:0:20,450:30", "-o", f})
+                .exit_code,
+            0);
+  const auto warned = run_cli({"calibrate", f});
+  ASSERT_EQ(warned.exit_code, 0) << warned.err;
+  EXPECT_NE(warned.err.find(f + ": not a stationary run"), std::string::npos) << warned.err;
+  EXPECT_NE(warned.err.find("not isothermal"), std::string::npos) << warned.err;
+  const auto strict = run_cli({"calibrate", "--strict", f, "-o", d.file("ts.json")});
+  EXPECT_EQ(strict.exit_code, 2) << strict.err;
+  EXPECT_FALSE(exists(d.file("ts.json")));
+  const auto rep = run_cli({"report", f, "-o", d.file("rep")});
+  ASSERT_EQ(rep.exit_code, 0) << rep.err;
+  const auto summary = json::parse(read_text(d.file("rep/summary.json")));
+  const auto conclusion = summary["conclusion"].get<std::string>();
+  EXPECT_NE(conclusion.rfind("ΔN of this", 0), 0U) << conclusion;  // not the headline
+  EXPECT_NE(conclusion.find("These runs give no ΔN"), std::string::npos) << conclusion;
+  EXPECT_EQ(read_text(d.file("rep/index.html")).find("gyroflip calibrate " + f + " -o"),
+            std::string::npos);
+}
+
+// Review of issue 31 (L1, L3): with a calibration that failed the test, a report gives no "number
+// to quote"; a file edited to read "stationary" is judged from its own statistics.
+TEST(CliStationarity, AFailedCalibrationHasNoNumberToQuoteAndAnEditedVerdictIsJudgedAgain) {
+  temp_dir d;
+  const auto still = simulate(d, "still.csv", "32", "0");
+  const auto turning = simulate(d, "turning.csv", "31", "0.5");
+  ASSERT_EQ(run_cli({"calibrate", turning, "-o", d.file("bad.json")}).exit_code, 0);
+  ASSERT_EQ(run_cli({"report", still, "--calibration", d.file("bad.json"), "-o", d.file("rep")})
+                .exit_code,
+            0);
+  const auto page = read_text(d.file("rep/index.html"));
+  EXPECT_EQ(page.find("the number to quote"), std::string::npos);
+  const auto conclusion =
+      json::parse(read_text(d.file("rep/summary.json")))["conclusion"].get<std::string>();
+  EXPECT_EQ(conclusion.find("for this power-up ±"), std::string::npos) << conclusion;
+  auto cal = json::parse(read_text(d.file("bad.json")));
+  auto& st = cal["files"][0]["stationarity"];
+  ASSERT_EQ(st["g_term"]["failed"], true);
+  st["g_term"]["failed"] = false;
+  st["stationary"] = true;
+  st["failures"] = json::array();
+  write_text(d.file("forged.json"), cal.dump());
+  const auto r = run_cli({"compensate", still, "--calibration", d.file("forged.json"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("marked stationary, but its own statistics fail"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("its g-term is"), std::string::npos) << r.err;
+  EXPECT_EQ(run_cli({"compensate", still, "--calibration", d.file("forged.json"), "--strict", "-o",
+                     d.file("out.csv")})
+                .exit_code,
+            2);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 
 #include "firmware/core/nv_record.hpp"
 #include "firmware/drivers/stepper/stepper.hpp"
+#include "firmware/ports/msp430f149/limits.hpp"
 #include "firmware/ports/msp430f149/selftest.hpp"
 #include "firmware/ports/msp430f149/sim_layout.hpp"
 #include "firmware/protocol/line.hpp"
@@ -907,20 +908,34 @@ TEST(Msp430Board, AGearedTurnKeepsTheRampConversionsKeepTheirPaceAndPollsStaySho
 // the turn restarted its ramp from standstill; at the board's clock ratio the main loop fed only
 // two intervals a pass and fell behind at the top of every ramp).
 // `trailing` PINGs follow each burst back to back (the host sending behind it).
-void commands_at_the_top_of_the_ramp(int trailing) {
-  const auto cfg = geared_config();
+// Returns the longest pass in ms (at the board's clock).
+double commands_at_the_top_of_the_ramp(int trailing, std::uint16_t top_sps = 2000) {
+  auto cfg = geared_config();
+  cfg.step_rate_sps = top_sps;
   protocol::start_msg start;
   start.config_crc = protocol::configure_crc(cfg);
   const std::vector<sim_event> setup{{3277, wire(cfg, 100)}, {6554, wire(start, 101)}};
-  const std::uint32_t stop = 84000;
   const auto plan =
       stepper::make_plan({cfg.start_rate_sps, cfg.step_rate_sps, cfg.ramp_sps2}, 32768);
-  const std::uint32_t ramp = plan.ramp_steps;  // 99 steps below the top rate
-  ASSERT_EQ(ramp, 99u);
+  // Two turns and the dwells around them (2.56 s at 2 000 steps/s).
+  std::uint32_t turn_ticks = 0;
+  for (std::uint32_t k = 0; k + 1 < 1600; ++k) turn_ticks += stepper::interval(plan, k, 1600);
+  const std::uint32_t stop = std::max<std::uint32_t>(84000, 6554 + 2 * turn_ticks + 24000);
+  const std::uint32_t ramp = plan.ramp_steps;  // 99 steps below 2 000 steps/s
+  if (top_sps == 2000) {
+    EXPECT_EQ(ramp, 99u);
+  }
+  if (ramp < 8) {
+    ADD_FAILURE() << "a ramp of " << ramp << " steps";
+    return 0;
+  }
   const auto quiet = run_board(script_bytes(setup, stop), 41, 1, false);
   int bad = 0;
   const auto ref = steps_of(quiet.ports, &bad);
-  ASSERT_GE(ref.size(), 3200u) << quiet.log;
+  if (ref.size() < 3200u) {
+    ADD_FAILURE() << "the turns without commands: " << ref.size() << " steps\n" << quiet.log;
+    return 0;
+  }
   // The windows: 8 steps before each ramp's top, the first ramp-down step, for both turns.
   std::vector<std::uint32_t> windows;
   for (std::size_t turn = 0; turn < 2; ++turn) {
@@ -957,10 +972,13 @@ void commands_at_the_top_of_the_ramp(int trailing) {
   const auto p3 = ping();
   ev.push_back(ending_before(windows[3], p3, trailed(p3)));
   const auto r = run_board(script_bytes(ev, stop), 41, 1, false);
-  ASSERT_EQ(r.stats[sl::w_done], 1u) << r.log;
+  EXPECT_EQ(r.stats[sl::w_done], 1u) << r.log;
   const auto steps = steps_of(r.ports, &bad);
   EXPECT_EQ(bad, 0);
-  ASSERT_GE(steps.size(), 3200u);
+  if (steps.size() < 3200u) {
+    ADD_FAILURE() << "the turns with commands: " << steps.size() << " steps";
+    return 0;
+  }
   EXPECT_EQ(r.stats[sl::w_rebases], 0u) << "a turn ran dry and restarted its ramp";
   int worst = 0;
   for (std::size_t turn = 0; turn < 2; ++turn)
@@ -992,12 +1010,14 @@ void commands_at_the_top_of_the_ramp(int trailing) {
     EXPECT_LT(poll_ms, 96 * 10 / 115.2) << "a pass longer than the receive queue";
   }
   std::printf(
-      "msp430f149 commands at the top of the ramp (ticks %u %u %u %u): step intervals within %d "
-      "tick of the ramp, %u turns restarted; longest pass %.0f MCLK cycles = %.3f ms (ticks %u "
-      "to %u)\n",
-      windows[0], windows[1], windows[2], windows[3], worst, r.stats[sl::w_rebases],
-      r.cycles(sl::w_poll_max), 1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz,
-      r.word32(sl::w_poll_max_from_lo), r.word32(sl::w_poll_max_at_lo));
+      "msp430f149 commands at the top of the ramp, %u steps/s, %d PINGs behind each burst "
+      "(ticks %u %u %u %u): step intervals within %d tick of the ramp, %u turns restarted, %u "
+      "bytes lost; longest pass %.0f MCLK cycles = %.3f ms (ticks %u to %u)\n",
+      unsigned{top_sps}, trailing, windows[0], windows[1], windows[2], windows[3], worst,
+      r.stats[sl::w_rebases], r.stats[sl::w_rx_lost], r.cycles(sl::w_poll_max),
+      1000.0 * r.cycles(sl::w_poll_max) / board_mclk_hz, r.word32(sl::w_poll_max_from_lo),
+      r.word32(sl::w_poll_max_at_lo));
+  return poll_ms;
 }
 
 TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
@@ -1008,9 +1028,54 @@ TEST(Msp430Board, CommandsAtTheTopOfTheRampDoNotStarveTheSteps) {
 // today (longest pass ~12 ms at the top of turn 2's ramp against the queue's 8.3 ms, ~51 bytes
 // lost and 2 PINGs unanswered): the ramp's interval computation at 2 000 steps/s leaves the main
 // loop little time, and a pass with a command's work lumps the steps' catch-up into itself
-// (docs/PERFORMANCE.md, "Timing on the chip"). Enabled when the pass is bounded.
+// (docs/PERFORMANCE.md, "Timing on the chip"). A lower top rate does not bound it (11-14 ms at
+// every rate from 800 to 2 000 steps/s: DISABLED_LongestPassAgainstTheTopRate, "Fourth pass").
+// Enabled when the pass is bounded.
 TEST(Msp430Board, DISABLED_BurstsWithTheHostSendingBehindThemLoseNothing) {
   commands_at_the_top_of_the_ramp(3);
+}
+
+// The longest pass against the top step rate (docs/PERFORMANCE.md, "The F149's top step rate"):
+// a measurement, not a test (each rate ~5 s). Rates above the F149's limit are refused.
+TEST(Msp430Board, DISABLED_LongestPassAgainstTheTopRate) {
+  for (const int top : {800, 1000, 1200, 1400, 1500, 1600, 1800, 2000})
+    commands_at_the_top_of_the_ramp(3, static_cast<std::uint16_t>(top));
+}
+
+// The image refuses a top step rate above the board's (limits.hpp: NAK bad_arg, which the
+// recorder names with the limit) and takes one at it; the configuration in force stays the
+// last accepted one (INFO after a PING).
+TEST(Msp430Board, ACONFIGUREAboveTheBoardsTopRateIsRefused) {
+  auto too_fast = geared_config();
+  too_fast.step_rate_sps = static_cast<std::uint16_t>(fw::msp430f149::max_step_rate_sps + 1);
+  auto at_limit = geared_config();
+  at_limit.step_rate_sps = fw::msp430f149::max_step_rate_sps;
+  const std::vector<sim_event> ev{{3277, wire(too_fast, 100)},
+                                  {6554, wire(at_limit, 101)},
+                                  {9830, wire(protocol::ping_msg{}, 102)}};
+  const auto r = run_board(script_bytes(ev, 13000), 9, 1, false);
+  ASSERT_EQ(r.stats[sl::w_done], 1u) << r.log;
+  int naks = 0, acks = 0;
+  protocol::info_msg last_info;
+  for (const auto& f : frames_of(r.tx)) {
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::nak)) {
+      const auto n = f.as<protocol::nak_msg>();
+      EXPECT_EQ(n.seq, 100u);
+      EXPECT_EQ(n.of_type, static_cast<std::uint8_t>(protocol::msg::configure));
+      EXPECT_EQ(n.reason, static_cast<std::uint8_t>(protocol::status::bad_arg));
+      ++naks;
+    }
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::ack)) {
+      const auto a = f.as<protocol::ack_msg>();
+      EXPECT_NE(a.seq, 100u) << "the CONFIGURE above the limit was acknowledged";
+      ++acks;
+    }
+    if (f.type == static_cast<std::uint8_t>(protocol::msg::info))
+      last_info = f.as<protocol::info_msg>();
+  }
+  EXPECT_EQ(naks, 1);
+  EXPECT_EQ(acks, 2) << "the CONFIGURE at the limit and the PING";
+  EXPECT_EQ(last_info.config, at_limit);
 }
 
 // The paper's cycle on the board (item 2 of issue 32's review): the default configuration (the

@@ -24,12 +24,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "firmware/ports/msp430f149/limits.hpp"
 #include "firmware/protocol/frame.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/method/stationarity.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "host/emulator/emulator.hpp"
+#include "host/recorder/recorder.hpp"
 #include "support/pty_process.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
@@ -958,13 +960,23 @@ TEST(RecordCli, AnotherDeviceAfterAReconnectIsRefused) {
 }
 
 // A board of serial 0 (no serial record in its information flash) cannot be told from another
-// one by its INFO (review of issue 32: `record` only warned, and a second board of serial 0 on
-// the line after a reconnect was taken for the first one rebooted). After a reconnect it is
-// taken only when it continues the recording: the same boot, its frame numbers and clock ahead
-// (docs/RECORDER.md, "A board without a serial"). The same board unplugged for 3 s goes on and
-// loses nothing; another board of serial 0 ends the file, exit 1, nothing of it stored.
-TEST(RecordCli, ABoardWithoutASerialIsTakenBackOnlyWhenItContinuesTheRecording) {
-  {
+// one: two such boards powered up together have the same boot count, frame numbers and clock
+// (review of issue 32: with the cables swapped the recorder took the second board for the first,
+// 5 times of 5, and exited 0). After a lost line its recording ends: the link-lost GAP, a STOP
+// (link lost), exit 1 naming why, nothing stored after the loss (docs/RECORDER.md, "A board
+// without a serial"). Checked against the recorder before this change: exit 0, and the swapped
+// board's dwells after the GAP.
+TEST(RecordCli, ABoardWithoutASerialEndsTheRecordingWhenItsLineIsLost) {
+  const auto ended_cleanly = [](const std::string& gfr) {
+    auto run = rigdata::read_rig_run(gfr);
+    ASSERT_TRUE(run) << run.err().message;
+    EXPECT_TRUE(run->warnings.empty()) << run->warnings.front();
+    EXPECT_EQ(run->info.serial, 0u);
+    EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::link_lost);
+    EXPECT_EQ(run->link_losses, 1u);
+    EXPECT_EQ(records_after_link_loss(gfr), 0u);
+  };
+  {  // the same board unplugged for 3 s: it cannot be told from another one either
     test::temp_dir dir;
     const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
     const std::string link = dir.path() + "/rig";
@@ -972,35 +984,72 @@ TEST(RecordCli, ABoardWithoutASerialIsTakenBackOnlyWhenItContinuesTheRecording) 
                                          link + " --log " + log);
     const auto rec = run_cli(
         {"record", "--port", link, "--duration", "40", "--reconnect-timeout", "20", "-o", gfr});
-    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    EXPECT_EQ(rec.exit_code, 1) << rec.err;
+    EXPECT_NE(rec.err.find("the board has no serial: after a lost line it cannot be told from "
+                           "another board"),
+              std::string::npos)
+        << rec.err;
+    ended_cleanly(gfr);
     auto run = rigdata::read_rig_run(gfr);
     ASSERT_TRUE(run) << run.err().message;
-    EXPECT_EQ(run->info.serial, 0u);
-    EXPECT_EQ(run->link_losses, 1u);
-    EXPECT_EQ(run->device_resets, 0u);
     const comparison c = compare(*run, sent_by_start(log));
     EXPECT_EQ(c.lost, 0u) << recorded(c);
-    EXPECT_GT(c.stored, 35u) << recorded(c);
+    EXPECT_GT(c.stored, 10u) << recorded(c);
   }
-  {
+  {  // two boards of serial 0 and the same settings, B powered up first; the cables swapped
     test::temp_dir dir;
     const std::string gfr = dir.path() + "/run.gfr", link = dir.path() + "/rig";
-    auto first = std::make_unique<emulator_process>(
-        dir.path(), "--speed 1 --seed 29 --serial 0 --link " + link);
+    const std::string log = dir.path() + "/a.csv", link_b = dir.path() + "/rig-b";
+    emulator_process b(dir.path(), "--speed 5 --seed 30 --serial 0 --link " + link_b);
+    const int pid_b = test::spawn_cli(
+        {"record", "--port", link_b, "--duration", "600", "-o", dir.path() + "/b.gfr"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    auto a = std::make_unique<emulator_process>(
+        dir.path(), "--speed 5 --seed 29 --serial 0 --link " + link + " --log " + log);
     const int pid = test::spawn_cli(
-        {"record", "--port", link, "--duration", "600", "--reconnect-timeout", "20", "-o", gfr});
-    std::this_thread::sleep_for(std::chrono::milliseconds(3000));
-    first.reset();  // the first board goes; another one of serial 0 comes, the same boot count
-    emulator_process second(dir.path(), "--speed 200 --seed 30 --serial 0 --link " + link);
+        {"record", "--port", link, "--duration", "60", "--reconnect-timeout", "20", "-o", gfr});
+    std::this_thread::sleep_for(std::chrono::milliseconds(5000));
+    ::kill(pid_b, SIGINT);
+    EXPECT_EQ(test::wait_cli(pid_b), 0);
+    a.reset();  // A goes; the recorder's link now leads to B
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const std::string tmp = link + ".new";
+    ASSERT_EQ(::symlink(b.pty().c_str(), tmp.c_str()), 0);
+    ASSERT_EQ(::rename(tmp.c_str(), link.c_str()), 0);
     EXPECT_EQ(test::wait_cli(pid), 1);
     auto run = rigdata::read_rig_run(gfr);
     ASSERT_TRUE(run) << run.err().message;
-    EXPECT_EQ(run->stop, rigdata::gfr::stop_reason::device_changed);
-    EXPECT_EQ(run->device_resets, 0u);
-    EXPECT_GE(run->dwells.size(), 2u);
-    EXPECT_EQ(records_after_link_loss(gfr), 0u);
-    EXPECT_EQ(status_clock_jumps(gfr, 1.0), 0u);
+    const comparison c = compare(*run, sent_by_start(log));  // every stored dwell is A's
+    EXPECT_EQ(c.lost, 0u) << recorded(c);
+    EXPECT_GT(c.stored, 10u) << recorded(c);
+    ended_cleanly(gfr);
   }
+}
+
+// A device that stops answering for a while right after a reset (an emulator under SIGSTOP, a
+// host descheduled) is not a dead line: the recorder's PINGs that identify the rebooted board wait
+// as long, in wall time, as the rest of the session does (second review of issue 32: at 50x the 12
+// PINGs took 0.6 s, an emulator stopped for 3 s just after a reset ended the run with exit 1, "no
+// valid reply to 12 PINGs", and the device ran on unrecorded). The reset's INFO is lost, so the
+// recorder learns of it from the rebooted board's first STATUS and PINGs; the emulator stops right
+// after that STATUS. Checked against the recorder before the change: exit 1.
+TEST(RecordCli, AStoppedDeviceAfterAResetIsWaitedFor) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(
+      dir.path(),
+      "--speed 50 --seed 5089 --fault-reset-at 7 --fault-lose-boot-info --fault-stall 7.5:3 "
+      "--log " +
+          log);
+  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "40", "-o", gfr});
+  EXPECT_EQ(rec.exit_code, 0) << rec.err;
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  EXPECT_EQ(run->device_resets, 1u);
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_EQ(c.mislabelled, 0u);
+  EXPECT_EQ(c.lost, 0u) << recorded(c);
+  EXPECT_GT(c.stored, 30u) << recorded(c);
 }
 
 // One recorder per port: a second one is refused at once, and the first records on, losing
@@ -1118,6 +1167,43 @@ TEST(RecordCli, RefusesWhatItCouldNotRecordOrReadBack) {
     EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
     EXPECT_FALSE(test::exists("x.gfr"));
   }
+}
+
+// A CONFIGURE the board refuses for a rate it cannot produce is named with the board's limit
+// (the MSP430F149 image's own constant, which it applies: Msp430Board.
+// ACONFIGUREAboveTheBoardsTopRateIsRefused), not "a value out of range" alone.
+TEST(RecordCli, ARefusedRateIsNamedWithTheBoardsLimit) {
+  p::info_msg board;
+  board.board = static_cast<std::uint8_t>(p::board_kind::hardware);
+  board.tick_hz = 32768;
+  board.mclk_hz = ad7739::mclk_hz_nominal;
+  const auto bad_arg = static_cast<std::uint8_t>(p::status::bad_arg);
+  p::configure_msg c;
+  c.step_rate_sps = static_cast<std::uint16_t>(fw::msp430f149::max_step_rate_sps + 1);
+  const std::string said = host::configure_refusal(c, &board, bad_arg);
+  EXPECT_NE(said.find("top step rate " + std::to_string(c.step_rate_sps) + " steps/s"),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find(std::to_string(fw::msp430f149::max_step_rate_sps) +
+                      " steps/s an MSP430F149 board produces"),
+            std::string::npos)
+      << said;
+  // At the limit, or from another kind of device, the board's limit is not what refused it.
+  auto emulator = board;
+  emulator.board = static_cast<std::uint8_t>(p::board_kind::host_emulator);
+  EXPECT_EQ(host::configure_refusal(c, &emulator, bad_arg), "a value out of range");
+  EXPECT_EQ(host::configure_refusal(c, nullptr, bad_arg), "a value out of range");
+  EXPECT_EQ(host::configure_refusal(c, &board, static_cast<std::uint8_t>(p::status::busy)), "busy");
+  c.step_rate_sps = fw::msp430f149::max_step_rate_sps;
+  EXPECT_EQ(host::configure_refusal(c, &board, bad_arg), "a value out of range");
+  // A start rate slower than a 16-bit step timer times at the device's tick rate (the QEMU
+  // image's 1 MHz: 1 000 000 / 65 535 -> 16 steps/s at least).
+  auto qemu = board;
+  qemu.board = static_cast<std::uint8_t>(p::board_kind::qemu);
+  qemu.tick_hz = 1000000;
+  c.start_rate_sps = 15;
+  const std::string slow = host::configure_refusal(c, &qemu, bad_arg);
+  EXPECT_NE(slow.find("start rate 15 steps/s is below the 16 steps/s"), std::string::npos) << slow;
 }
 
 // The handshake's errors say what happened: Ctrl-C is an interruption, not a rig that does not

@@ -96,6 +96,58 @@ TEST(Stationarity, AConstantInputBeyondTheSpecificationFailsTheGTerm) {
   EXPECT_FALSE(check(t, 3, pairing::abba, g_term_spec{0.0, 0.06, "typ"}).g_failed);
 }
 
+// Review of issue 31 (H1): a run whose g-term was not checked passed the scatter and drift tests
+// only, which a constant input of any size passes: it is not vouched for, and says so.
+TEST(Stationarity, WithoutASpecificationARunIsNotVouchedFor) {
+  run_truth t;
+  t.input_dps = [](double) { return 0.5; };  // the turning table of the issue
+  const auto none = check(t, 3, pairing::abba);
+  EXPECT_FALSE(none.failed());
+  EXPECT_FALSE(none.vouched());
+  ASSERT_EQ(none.caveats().size(), 1U);
+  EXPECT_NE(none.caveats()[0].find("naming the sensor's specification"), std::string::npos);
+  EXPECT_EQ(none.summary().rfind("stationary (", 0), std::string::npos) << none.summary();
+  const auto still = check(run_truth{}, 3, pairing::abba, hz1_spec);
+  EXPECT_TRUE(still.vouched()) << still.summary();
+  EXPECT_TRUE(still.caveats().empty());
+}
+
+// Review of issue 31 (M1): a 10 degC step in temperature, which calibrate passed while report
+// warned: one rule (isothermal_span_c) in the test both use.
+TEST(Stationarity, ARunWhoseTemperatureMovesIsNotIsothermal) {
+  const auto run_at = [](double step_c) {
+    auto dw = dwells_of(run_truth{}, 5);
+    for (std::size_t k = 0; k < dw.size(); ++k)
+      dw[k].temp_c = k < dw.size() / 2 ? 20.0 : 20.0 + step_c;
+    const auto cycles = pair_cycles(dw, pairing::abba);
+    stationarity_inputs in;
+    in.spec = hz1_spec;
+    return check_stationarity(cycles, *calibrate(cycles), in);
+  };
+  const auto step = run_at(10.0);
+  EXPECT_TRUE(step.temp_failed);
+  EXPECT_TRUE(step.failed());
+  EXPECT_NEAR(step.temp_span_c, 10.0, 1e-9);
+  ASSERT_EQ(step.failures().size(), 1U) << step.summary();
+  EXPECT_NE(step.failures()[0].find("not isothermal"), std::string::npos);
+  EXPECT_FALSE(run_at(isothermal_span_c * 0.9).failed());
+}
+
+// Review of issue 31 (L3): a file's verdict edited to "stationary" is judged again from its
+// statistics.
+TEST(Stationarity, TheVerdictIsJudgedAgainFromTheStatistics) {
+  run_truth t;
+  t.input_dps = [](double) { return 0.5; };
+  auto st = check(t, 3, pairing::abba, hz1_spec);
+  ASSERT_TRUE(st.g_failed);
+  st.g_failed = false;  // the edit
+  EXPECT_FALSE(st.failed());
+  EXPECT_TRUE(st.rejudged().g_failed);
+  EXPECT_TRUE(st.rejudged().failed());
+  const auto still = check(run_truth{}, 3, pairing::abba, hz1_spec);
+  EXPECT_FALSE(still.rejudged().failed());
+}
+
 TEST(Stationarity, AZeroMeanSineFailsTheScatter) {
   run_truth t;
   t.input_dps = [](double s) { return 0.5 * std::sin(2.0 * std::numbers::pi * 0.002 * s); };

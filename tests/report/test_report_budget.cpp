@@ -66,6 +66,20 @@ TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {
               1e-15);
 }
 
+// Review of issue 31 (M3): "a run like these gives ±X" printed the k runs' pooled error, sqrt(k)
+// below what one run gives; it is the median of the runs' own errors.
+TEST(DeltaNBudget, WhatOneRunLikeTheseGivesIsTheMedianOfTheirOwnErrors) {
+  const std::vector runs{run(0.40, 1e-4, 20.0), run(0.41, 2.5e-4, 20.0), run(0.42, 4e-4, 20.0)};
+  const auto model = method::fit_runs_model(workflow::calibrations_of(runs));
+  ASSERT_TRUE(model && model->has_value());
+  const auto* hz1 = sensor::find_builtin("hz1-90-100a");
+  ASSERT_NE(hz1, nullptr);
+  const auto b = workflow::budget_of(runs, *model, &hz1->params, "hz1-90-100a");
+  const auto text = workflow::when_to_recalibrate(b, "20.0 °C");
+  EXPECT_NE(text.find("one run like these gives ±0.00025 °/s"), std::string::npos) << text;
+  EXPECT_GT(std::abs(b.within_run_dps - 2.5e-4), 2e-5);  // the pooled error is another number
+}
+
 TEST(DeltaNBudget, OneRunTakesThePresetsTurnOnSpreadAndSaysSo) {
   const std::vector runs{run(0.40, 2e-4, 4.0)};
   const auto* hz1 = sensor::find_builtin("hz1-90-100a");

@@ -3,7 +3,8 @@
 2 KB RAM (SLAS272H; msp430mcu memory.x: rom 0x1100-0xFFDF = 61 152 B, ram 0x0200-0x09FF =
 2 048 B) and the worst-case stack depth, and exits 1 when it does not fit.
 
-Stack depth: each function's frame from clang's -fstack-usage (.su files), plus 2 bytes of
+Stack depth: each function's frame from clang's -fstack-usage (.su files; a frame that is not
+"static", a variable-length one, fails: it has no bound), plus 2 bytes of
 return address per call, along the deepest path of the call graph read from the disassembly
 (`call #addr`, and `br #addr` tail calls). An indirect call (the HAL's operations, the static
 constructors) is taken to reach the deepest of the functions whose address the image stores
@@ -61,7 +62,9 @@ def frames(su_dir):
     sizes = {}
     for su in pathlib.Path(su_dir).rglob("*.su"):
         for line in su.read_text().splitlines():
-            loc, size, _kind = line.rsplit("\t", 2)
+            loc, size, kind = line.rsplit("\t", 2)
+            if kind != "static":
+                sys.exit(f"fit: {loc} has a {kind} frame: no static stack bound")
             sizes[loc.rsplit(":", 1)[-1]] = int(size)
     sizes.update(ASM_FRAMES)
     return sizes

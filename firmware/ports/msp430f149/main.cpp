@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "firmware/core/device.hpp"
+#include "firmware/ports/msp430f149/limits.hpp"
 // Last: msp430.h defines one-letter macros (N, V, C, Z: the status register's bits).
 #include <msp430.h>
 
@@ -364,10 +365,10 @@ constexpr fw::hal_ops ops = {spi_transfer, spi_select, rdy_low,      stepper_por
 constexpr fw::hal hal{&ops, nullptr, 32768, true};
 // Constant-initialised: no constructor runs at start-up (startup.cpp). The serial 0 means "not
 // programmed": a board's own is in its information flash (docs/HARDWARE.md, "Bring-up").
-// 2 000 steps/s: the step interrupt and the main loop's interval computation keep it with room
-// to spare (docs/PERFORMANCE.md, "Timing on the chip").
-constinit fw::device dev(hal, fw::board_facts{0, ad7739::mclk_hz_nominal,
-                                              protocol::board_kind::hardware, 2000, true});
+// The top step rate the board produces: limits.hpp (docs/PERFORMANCE.md, "Timing on the chip").
+constinit fw::device dev(hal,
+                         fw::board_facts{0, ad7739::mclk_hz_nominal, protocol::board_kind::hardware,
+                                         fw::msp430f149::max_step_rate_sps, true});
 
 // Why this start: WDTIFG survives the PUC a watchdog overflow (or a watchdog key violation)
 // causes and is cleared by a power-on reset (SLAU049 §10.2); the F149 has no flag for its reset

@@ -16,7 +16,12 @@
 ///   (so noise that the stated error of dN already covers is not called a drift).
 /// - **g-term**: the g-term (dN less the Earth rate; without a geometry at least |dN| - W_E)
 ///   against what the sensor's specification allows at 1 g (a guaranteed maximum, or three times a
-///   typical value), less three correlated errors.
+///   typical value), less three correlated errors. Without a specification it is not checked, and
+///   then a constant input of any size passes: such a run is not vouched for (`vouched`), its
+///   caller warns (`caveats`) and a strict caller refuses it.
+/// - **temperature**: a run whose temperature moves more than isothermal_span_c is not
+///   isothermal: its dN is a mean over temperatures that no dN(T) can place (the one rule of
+///   `calibrate` and `report`).
 #pragma once
 
 #include <cstddef>
@@ -48,6 +53,11 @@ inline constexpr double drift_limit = 2.4;
 /// Averaging factor (cycles) of the long-run std that scales the drift statistic: long enough
 /// for abba's lag-1 correlation, short enough that a drift or step barely enters it.
 inline constexpr std::size_t drift_scale_cycles = 16;
+
+/// A run whose temperature moves more than this (degC) is not isothermal (review R17): its dN is
+/// a mean over temperatures no dN(T) sees; the HZ1's dN moves 9e-5 deg/s over 2 degC (paper Tab.
+/// 3), about a 1-h run's within-run error.
+inline constexpr double isothermal_span_c = 2.0;
 
 /// The specification the g-term is checked against (deg/s at 1 g): a guaranteed maximum, or a
 /// typical value (then the limit is `typical_factor` times it: a unit at twice its datasheet's
@@ -99,11 +109,20 @@ struct stationarity {
   bool scatter_failed = false;
   bool drift_failed = false;
   bool g_failed = false;
+  bool temp_failed = false;  ///< temp_span_c > isothermal_span_c
   [[nodiscard]] bool failed() const noexcept {
-    return checked && (scatter_failed || drift_failed || g_failed);
+    return checked && (scatter_failed || drift_failed || g_failed || temp_failed);
   }
+  /// Passed every statistic, the g-term included: a run whose g-term was not checked passed the
+  /// scatter and drift tests only, which a constant input of any size passes.
+  [[nodiscard]] bool vouched() const noexcept { return checked && !failed() && g_checked; }
   /// One sentence per failed statistic, with its value and limit (empty when none failed).
   [[nodiscard]] std::vector<std::string> failures() const;
+  /// What limits a run that did not fail: its g-term not checked (empty when vouched or failed).
+  [[nodiscard]] std::vector<std::string> caveats() const;
+  /// The verdicts judged again from the statistics (a file's stored verdicts may have been edited:
+  /// `calibrate` wrote them from these statistics, with these limits).
+  [[nodiscard]] stationarity rejudged() const;
   /// One line: "stationary (scatter 0.96 <= 1.25, drift 0.7 <= 2.4, g-term ...)" or the failures.
   [[nodiscard]] std::string summary() const;
 };

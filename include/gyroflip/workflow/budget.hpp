@@ -24,6 +24,9 @@ struct delta_n_budget {
   std::size_t runs = 0;
   /// Within-run (correlated) error of the runs' dN pooled (method::pooled_correlated_stderr).
   double within_run_dps = 0.0;
+  /// What one run like these gives on its own: the median of the runs' own correlated errors
+  /// (within_run_dps is k runs pooled, about sqrt(k) smaller).
+  double single_run_dps = 0.0;
   /// Repeatability of dN from one power-up to the next (one sample std); NaN when unknown.
   double run_to_run_dps = 0.0;
   bool run_to_run_measured = false;  ///< false: from the sensor preset, or unknown

@@ -36,6 +36,9 @@ struct calibrate_request {
   /// Refuse a run that fails the stationarity test (bad input, naming the run and the statistic)
   /// instead of warning (`calibrate --strict`).
   bool strict = false;
+  /// How the front end names a sensor specification, for the warning about an unchecked g-term
+  /// (the library names no CLI flag): "calibrate --sensor NAME|FILE.toml", "sensor=".
+  std::string sensor_hint;
 };
 
 struct calibrate_result {
@@ -56,6 +59,15 @@ struct calibrate_result {
 /// run, so its mean r is not the sensor's dN: <the failed statistics>`.
 [[nodiscard]] std::string stationarity_warning(const std::string& file,
                                                const method::stationarity& st);
+
+/// What calibrate (CLI and Python) does with a run's test: a failed run is a warning
+/// (stationarity_warning), and so is a run whose g-term was not checked (`FILE: its g-term was not
+/// checked ...`, method::stationarity::caveats); with `strict` either is an input error naming the
+/// file, so that a strict calibration is only made of runs the test vouches for.
+/// `sensor_hint` is how the front end names a specification (calibrate_request::sensor_hint).
+[[nodiscard]] status admit_run(const std::string& file, const method::stationarity& st, bool strict,
+                               std::vector<std::string>& warnings,
+                               const std::string& sensor_hint = {});
 
 /// The one-sensor check of several recordings, file by file (what calibrate_runs and
 /// make_report both run): each recording's sensor and rig from its metadata (io::sensor_of);

@@ -48,7 +48,9 @@ namespace gyroflip::workflow {
 struct plan_request {
   method::plan_noise noise;
   std::string noise_source;  ///< where the terms come from ("preset adxrs150", "fit of FILE")
-  double dead_s = 0.0;       ///< turn + settle per turn (s)
+  /// What the noise source noted (plan_noise_of_record's unresolved terms): first in the result's.
+  std::vector<std::string> notes;
+  double dead_s = 0.0;  ///< turn + settle per turn (s)
   double duration_s = 3600.0;
   method::plan_limits limits;
   /// The rig's conversion time (s) for the dwell as a whole count of conversions; 0: not asked.
