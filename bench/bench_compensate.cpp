@@ -31,15 +31,15 @@ std::vector<row> make_rows(std::size_t n) {
   };
   for (std::size_t k = 0; rows.size() < n; ++k) {
     const double t0 = static_cast<double>(k) * 0.895;
-    const double angle = k % 2 == 0 ? 0.0 : 180.0;
+    const int position = k % 2 == 0 ? 0 : 1;  // the paper's table: 0 and 180 deg
     const double sign = k % 2 == 0 ? 1.0 : -1.0;
     for (int i = 0; i < 256 && rows.size() < n; ++i) {
       const double t = t0 + i * 0.002;
       rows.push_back(
-          {t, angle, sign * 0.0123 + 0.5 + 1e-6 * t + 0.01 * uniform(), 20.0 + t / 1e4, 1});
+          {t, position, sign * 0.0123 + 0.5 + 1e-6 * t + 0.01 * uniform(), 20.0 + t / 1e4, 1});
     }
     for (int j = 0; j < 8 && rows.size() < n; ++j)
-      rows.push_back({t0 + 0.512 + j * 0.04, gyroflip::method::no_value, 0.3, 20.0, 1});
+      rows.push_back({t0 + 0.512 + j * 0.04, gyroflip::table_moving, 0.3, 20.0, 1});
   }
   return rows;
 }
@@ -50,12 +50,12 @@ int write_csv(const char* path, std::size_t n) {
   fmt::memory_buffer buf;
   fmt::format_to(std::back_inserter(buf), "time_s,angle_deg,rate_dps,temp_c,n_avg\n");
   for (const row& r : make_rows(n)) {
-    if (std::isnan(r.angle_deg))
+    if (r.position == gyroflip::table_moving)
       fmt::format_to(std::back_inserter(buf), "{:.4f},,{:.7f},{:.2f},1\n", r.time_s, r.rate_dps,
                      r.temp_c);
     else
       fmt::format_to(std::back_inserter(buf), "{:.4f},{:g},{:.7f},{:.2f},1\n", r.time_s,
-                     r.angle_deg, r.rate_dps, r.temp_c);
+                     r.position == 0 ? 0.0 : 180.0, r.rate_dps, r.temp_c);
     if (buf.size() > (1u << 20)) {
       std::fwrite(buf.data(), 1, buf.size(), f);
       buf.clear();

@@ -28,6 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (navg) c.n_avg = col(temp ? 4 : 3);
   const auto r = gyroflip::io::rows_of_columns(c, tol);
   if (!r) return 0;
-  (void)gyroflip::method::cycles_of_rows("<arrays>", *r, gyroflip::method::pairing::abba);
+  (void)gyroflip::method::cycles_of_rows("<arrays>", r->rows, gyroflip::method::pairing::abba, {},
+                                         r->positions);
   return 0;
 }

@@ -37,8 +37,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   auto run = gyroflip::rigdata::interpret(*f, "fuzz.gfr", true);
   if (!run) return 0;
+  const auto table = gyroflip::rigdata::positions_of(*run);
   for (const auto& r : gyroflip::rigdata::dwell_rows(*run))
-    check(std::isfinite(r.time_s) && std::isfinite(r.rate_dps) && r.n_avg > 0);
+    check(std::isfinite(r.time_s) && std::isfinite(r.rate_dps) && r.n_avg > 0 &&
+          table.holds(r.position));
   for (const auto& d : run->dwells) check(std::isfinite(d.time_s) && std::isfinite(d.angle_deg));
   for (const auto& c : run->conversions)
     check(std::isfinite(c.time_s) && std::isfinite(c.rate_dps));

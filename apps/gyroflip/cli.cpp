@@ -273,15 +273,18 @@ void setup_sensors(CLI::App& app, action& chosen) {
 constexpr const char* recording_rules =
     "Recording rules (CSV, docs/FORMATS.md): columns time_s, angle_deg, rate_dps (deg/s), "
     "optional temp_c and n_avg; one row per sample or per averaged dwell. A dwell is a run of "
-    "rows with equal angle_deg; angle_deg is 0 or 180 only (an encoder angle within "
-    "--angle-tolerance DEG of them counts as them) and empty while the table turns; rows of the "
-    "settling time after a turn are left out by the recorder (or give them an empty angle). "
-    "Cycles need dwells at both 0 and 180. dN is half the difference of the rate at 0 deg and at "
-    "180 deg, Earth rate plus g-sensitivity term: dN = (r_0 - r_180) / 2 (paper eqns 8-11).";
+    "rows with equal angle_deg; angle_deg is a position of the table of the '# positions_deg: "
+    "A,B,...' line ('auto': the distinct angles), without it 0 or 180 only (an encoder angle "
+    "within --angle-tolerance DEG of a position counts as it), and empty while the table turns; "
+    "rows of the settling time after a turn are left out by the recorder (or give them an empty "
+    "angle). Cycles need dwells at the position nearest 0 and at the one 180 deg from it (other "
+    "positions are passed over). dN is half the difference of the rate at 0 deg and at 180 deg, "
+    "Earth rate plus g-sensitivity term: dN = (r_0 - r_180) / 2 (paper eqns 8-11).";
 
 void add_angle_tolerance(CLI::App* sub, double& tol) {
-  sub->add_option("--angle-tolerance", tol,
-                  "an encoder angle within DEG of 0 or 180 reads as that position (0 to 10)")
+  sub->add_option(
+         "--angle-tolerance", tol,
+         "an encoder angle within DEG of a table position reads as that position (0 to 10)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   sub->footer(recording_rules);

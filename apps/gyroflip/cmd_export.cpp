@@ -31,6 +31,15 @@ void field(std::string& out, double v) {
     out += ',';
 }
 
+// The run's metadata and its table (`# positions_deg:`, which the CSV readers take the angles'
+// positions from: docs/FORMATS.md).
+std::vector<io::csv_metadata> export_metadata(const rigdata::rig_run& run) {
+  auto m = rigdata::csv_metadata(run);
+  if (const auto table = rigdata::positions_of(run); !table.empty())
+    m.push_back({"positions_deg", table.describe(false)});
+  return m;
+}
+
 std::string dwell_csv(const rigdata::rig_run& run) {
   bool temp = true, accel = false;
   for (const auto& d : run.dwells) {
@@ -39,8 +48,7 @@ std::string dwell_csv(const rigdata::rig_run& run) {
     accel = accel || std::isfinite(d.accel_x_g) || std::isfinite(d.accel_y_g);
   }
   std::string out;
-  const auto meta = rigdata::csv_metadata(run);
-  io::append_metadata(out, meta);
+  io::append_metadata(out, export_metadata(run));
   out += temp ? "time_s,angle_deg,rate_dps,temp_c,n_avg" : "time_s,angle_deg,rate_dps,n_avg";
   if (accel) out += ",accel_x_g,accel_y_g";
   out += ",cycle,position,flags,segment,seq\n";
@@ -64,7 +72,7 @@ std::string dwell_csv(const rigdata::rig_run& run) {
 
 std::string raw_csv(const rigdata::rig_run& run) {
   std::string out;
-  io::append_metadata(out, rigdata::csv_metadata(run));
+  io::append_metadata(out, export_metadata(run));
   out += "time_s,angle_deg,rate_dps,n_avg,code\n";
   for (const auto& c : run.conversions)
     fmt::format_to(std::back_inserter(out), "{},{},{},1,{}\n", c.time_s, c.angle_deg, c.rate_dps,
@@ -95,12 +103,13 @@ result<std::vector<std::uint8_t>> hdf5_of(const rigdata::rig_run& run, bool raw)
       r.push_back(c.rate_dps);
       k.push_back(c.code);
     }
-    return io::hdf5_table_image(cols, rigdata::csv_metadata(run));
+    return io::hdf5_table_image(cols, export_metadata(run));
   }
   std::vector<const rigdata::rig_dwell*> rows;
   bool temp = true, accel = true;
+  const auto table = rigdata::positions_of(run);
   for (const auto& d : run.dwells) {
-    if (!rigdata::dwell_row(d)) continue;
+    if (!rigdata::dwell_row(d, table)) continue;
     rows.push_back(&d);
     temp = temp && std::isfinite(d.temp_c);
     accel = accel && std::isfinite(d.accel_x_g) && std::isfinite(d.accel_y_g);
@@ -122,7 +131,7 @@ result<std::vector<std::uint8_t>> hdf5_of(const rigdata::rig_run& run, bool raw)
   add("cycle", "1", [](const rigdata::rig_dwell& d) { return d.d.cycle; });
   add("position", "1", [](const rigdata::rig_dwell& d) { return d.d.position; });
   add("flags", "1", [](const rigdata::rig_dwell& d) { return d.d.flags; });
-  return io::hdf5_table_image(cols, rigdata::csv_metadata(run));
+  return io::hdf5_table_image(cols, export_metadata(run));
 }
 
 }  // namespace

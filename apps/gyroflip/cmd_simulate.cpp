@@ -26,23 +26,6 @@
 namespace gyroflip::app {
 namespace {
 
-// The positions `calibrate` reads (io::recording_reader): A within its largest angle tolerance of
-// 0 (mod 360), B of 180. Others would make a recording no calibration accepts.
-status check_readable_positions(const rig::rig_config& r, std::string_view text) {
-  const auto off = [](double a, double target) {
-    const double turned = std::fmod(std::fmod(a - target, 360.0) + 360.0, 360.0);
-    return std::min(turned, 360.0 - turned);
-  };
-  const double tol = io::recording_reader::max_angle_tolerance_deg;
-  if (r.positions_deg.size() != 2 || !(off(r.positions_deg[0], 0.0) <= tol) ||
-      !(off(r.positions_deg[1], 180.0) <= tol))
-    return usage_error(fmt::format(
-        "--positions '{}': A must lie within {:g} deg of 0 and B within {:g} deg of 180 (the "
-        "positions calibrate reads, with --angle-tolerance for any offset)",
-        printable(text, 60), tol, tol));
-  return ok();
-}
-
 // The `# key: value` metadata of the recording and the truth file: every option (the rig's as
 // it takes them, rig_config), so that the file can be made again byte for byte (the simulator
 // adds what it derived from them: workflow::simulate_recording).
@@ -103,7 +86,6 @@ int run_simulate(const simulate_options& o) {
   c.table_axis = o.table_axis;
   auto rig = rig_config_of(o.rig);
   if (!rig) return report(rig.err());
-  if (auto s = check_readable_positions(*rig, o.rig.positions); !s) return report(s.err());
   c.rig = *rig;
   c.flip = !o.no_flip;
   auto coil = coil_heating_of(o.rig.coil_heat);

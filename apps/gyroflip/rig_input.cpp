@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/method/cycles.hpp"
+#include "gyroflip/method/flip_pair.hpp"
 #include "gyroflip/method/flip_stream.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/workflow/recordings.hpp"
@@ -31,16 +32,21 @@ result<method::recording_cycles> read_recording_cycles(const std::string& path, 
 namespace {
 
 // The run's dwells in gap-free stretches: consecutive places of one run of the device (a dwell
-// at another table position is passed over, one at 0 or 180 deg without a value is a gap), each
+// at a position not the pair's is passed over, one at the pair's without a value is a gap), each
 // beginning at the first of its cycle's pair of positions so that every stretch pairs its dwells
-// in the same phase of the cycle.
+// in the same phase of the cycle. The pair is the pairings' (method::flip_pair_of).
 struct stretch {
   std::uint32_t segment = 0;
   std::vector<method::row> rows;
 };
 double median_of(std::vector<double> d);
 
-std::vector<stretch> stretches_of(const rigdata::rig_run& run) {
+std::vector<stretch> stretches_of(const rigdata::rig_run& run, const position_table& table,
+                                  const method::flip_pair& pair) {
+  const auto in_pair = [&](const rigdata::rig_dwell& d) {
+    const auto p = table.index_of(d.angle_deg);
+    return p && pair.holds(*p);
+  };
   // The run's cadence: the median time from a dwell to the next one of its run. Consecutive
   // places more than 1.5 of it apart (the device stood still: a stall, a restarted conversion)
   // are a gap too: a stretch is gap-free in time, not only in places (review of issue 32: a
@@ -52,16 +58,16 @@ std::vector<stretch> stretches_of(const rigdata::rig_run& run) {
         run.dwells[k].index == run.dwells[k - 1].index + 1)
       steps.push_back(run.dwells[k].time_s - run.dwells[k - 1].time_s);
   const double cadence_s = median_of(std::move(steps));
-  // Per run of the device: its first position at 0 or 180 deg (where a cycle's pair begins).
+  // Per run of the device: its first position of the pair (where a cycle's pair begins).
   std::vector<std::uint8_t> first(run.dwells.empty() ? 0 : run.dwells.back().segment + 1, 255);
   for (const auto& d : run.dwells)
-    if ((d.angle_deg == 0.0 || d.angle_deg == 180.0) && d.segment < first.size())
+    if (in_pair(d) && d.segment < first.size())
       first[d.segment] = std::min(first[d.segment], d.d.position);
   std::vector<stretch> out;
   const rigdata::rig_dwell* prev = nullptr;
   for (const auto& d : run.dwells) {
-    const auto row = rigdata::dwell_row(d);
-    const bool pair_angle = d.angle_deg == 0.0 || d.angle_deg == 180.0;
+    const auto row = rigdata::dwell_row(d, table);
+    const bool pair_angle = in_pair(d);
     if (prev == nullptr || prev->segment != d.segment || d.index != prev->index + 1 ||
         (cadence_s > 0.0 && d.time_s - prev->time_s > 1.5 * cadence_s))
       out.push_back({d.segment, {}});
@@ -70,7 +76,7 @@ std::vector<stretch> stretches_of(const rigdata::rig_run& run) {
       continue;
     }
     prev = &d;
-    if (!row) continue;
+    if (!row || !pair_angle) continue;
     if (out.back().rows.empty() && d.segment < first.size() && d.d.position != first[d.segment])
       continue;  // the second of a pair whose first is missing: no cycle of its own
     out.back().rows.push_back(*row);
@@ -84,18 +90,19 @@ struct samples {
   std::uint32_t segment = 0;
   std::vector<double> values, time_s, angle_deg;
 };
-samples samples_of(const stretch& st, const std::string& column) {
+samples samples_of(const stretch& st, const std::string& column, const position_table& table,
+                   const method::flip_pair& pair) {
   samples s;
   s.segment = st.segment;
   if (column == "dwell_dps") {
     for (const auto& r : st.rows) {
       s.values.push_back(r.rate_dps);
       s.time_s.push_back(r.time_s);
-      s.angle_deg.push_back(r.angle_deg);
+      s.angle_deg.push_back(table.angle_deg(r.position));
     }
     return s;
   }
-  method::flip_stream stream(method::pairing::abba);
+  method::flip_stream stream(method::pairing::abba, pair);
   const auto keep = [&](const method::cycle& c) {
     s.values.push_back(column == "rate_dps" ? c.rate_dps : c.bias_dps);
     s.time_s.push_back(c.time_s);
@@ -155,17 +162,21 @@ result<io::series> read_rig_series(const std::string& path, const std::string& c
   // What the reader noticed (a damaged region skipped, a torn tail) is shown, not dropped.
   for (const auto& w : run->warnings) warn(w);
   const auto rows = rigdata::dwell_rows(*run);
-  const auto stretches = stretches_of(*run);
+  const auto table = rigdata::positions_of(*run);
+  const auto pair = method::flip_pair_of(table, path);
+  if (!pair) return pair.err();
+  const auto stretches = stretches_of(*run, table, *pair);
   if (stretches.size() <= 1 && !bridge) {
     std::vector<double> values, time_s, angle_deg;
     if (column == "dwell_dps") {
       for (const auto& r : rows) {
+        if (!pair->holds(r.position)) continue;  // the pair's dwells, as the method sees them
         values.push_back(r.rate_dps);
         time_s.push_back(r.time_s);
-        angle_deg.push_back(r.angle_deg);
+        angle_deg.push_back(table.angle_deg(r.position));
       }
     } else {
-      auto rc = method::cycles_of_rows(path, rows, method::pairing::abba);
+      auto rc = method::cycles_of_rows(path, rows, method::pairing::abba, {}, table);
       if (!rc) return rc.err();
       for (const auto& c : rc->cycles) {
         values.push_back(column == "rate_dps" ? c.rate_dps : c.bias_dps);
@@ -177,7 +188,7 @@ result<io::series> read_rig_series(const std::string& path, const std::string& c
   }
   // Gaps: each stretch's samples placed on the one grid of their spacing.
   std::vector<samples> parts;
-  for (const auto& s : stretches) parts.push_back(samples_of(s, column));
+  for (const auto& s : stretches) parts.push_back(samples_of(s, column, table, *pair));
   std::erase_if(parts, [](const samples& p) { return p.values.empty(); });
   // One stretch with samples: no gap between samples to speak of (the others held too few
   // dwells for a sample; review of issue 32: "0 gaps" was refused as a gap).

@@ -195,6 +195,13 @@ class receive_window {
   std::map<std::uint64_t, miss> missing_;
 };
 
+// The pair of positions the live cycles use (method::flip_pair_of); a table without one holds no
+// position of it, so that it gives no live cycles.
+method::flip_pair live_pair(const position_table& table) {
+  auto p = method::flip_pair_of(table, "");
+  return p ? *p : method::flip_pair{table_moving - 1, table_moving - 1};
+}
+
 // A non-data frame (INFO, STATUS, ACK, NAK, GONE, RAW) is sent once, in the order of its
 // number: one whose number is not past every number heard from this boot comes from another
 // boot. So does a frame far ahead of them: the recorder reads all the time, and a boot's frames
@@ -310,7 +317,9 @@ class session {
   const recorder_progress_fn& on_progress_;
   rigdata::rig_run_builder live_;
   std::size_t records_ = 0;
-  method::flip_stream stream_{method::pairing::abba};
+  // The live cycles: abba over the pair of the table the session configures (a table without
+  // one gives none).
+  method::flip_stream stream_{method::pairing::abba, live_pair(c_.rig.table())};
   std::vector<method::cycle> cycles_;
   std::size_t dwells_seen_ = 0;
   std::optional<method::stationarity> stationarity_;  // the last live test (look())
@@ -393,8 +402,10 @@ status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
   if (auto s = file_.append(k, r.host_time_us, body); !s) return s;
   if (auto s = live_.add(r, ++records_); !s) return s;
   const auto& dw = live_.run().dwells;
+  if (dwells_seen_ == dw.size()) return ok();
+  const position_table table = rigdata::positions_of(live_.run());
   for (; dwells_seen_ < dw.size(); ++dwells_seen_)
-    if (auto row = rigdata::dwell_row(dw[dwells_seen_]))
+    if (auto row = rigdata::dwell_row(dw[dwells_seen_], table))
       stream_.push(*row, [this](const method::cycle& cy) { cycles_.push_back(cy); });
   return ok();
 }

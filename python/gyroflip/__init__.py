@@ -481,7 +481,10 @@ def simulate(sensor, duration_s=3600.0, seed=1, latitude=42.6, axis="north", n_a
 def read_recording(path, angle_tolerance_deg=0.0):
     """Reads a recording: gyroflip's CSV format (docs/FORMATS.md) or a rig recording (.gfr).
     Returns a dict of arrays time_s, angle_deg (NaN while turning), rate_dps, temp_c (NaN when
-    absent), n_avg; "metadata" (the `# key: value` lines; a .gfr's META) and "warnings".
+    absent), n_avg, position (each row's index into positions_deg, -1 while turning) and
+    positions_deg (the recording's table: its `# positions_deg:` line, a .gfr's configuration, or
+    the distinct angles; docs/FORMATS.md); "metadata" (the `# key: value` lines; a .gfr's META)
+    and "warnings".
     Errors name FILE:LINE:COL (CSV) or the record (.gfr)."""
     return _gyroflip._read_recording(_os.fspath(path), float(angle_tolerance_deg))
 

@@ -57,7 +57,7 @@ method::recording_cycles cycles_of(const columns& c, method::pairing p, double t
   if (c.temp_c) rc.temp_c = span_of(*c.temp_c, "temp_c");
   if (c.n_avg) rc.n_avg = span_of(*c.n_avg, "n_avg");
   const auto rows = take(io::rows_of_columns(rc, tol));
-  auto cycles = take(method::cycles_of_rows(arrays_name, rows, p));
+  auto cycles = take(method::cycles_of_rows(arrays_name, rows.rows, p, {}, rows.positions));
   cycles.has_temp = c.temp_c.has_value();
   return cycles;
 }
@@ -176,10 +176,20 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   return res;
 }
 
-py::dict rows_dict(const std::vector<method::row>& rows) {
+// Rows as columns: their angles from `table` (NaN while the table turns), their position indices
+// (-1 while it turns) and the table's angles.
+py::dict rows_dict(const std::vector<method::row>& rows, const position_table& table) {
   py::dict d;
+  std::vector<double> angle;
+  angle.reserve(rows.size());
+  for (const auto& r : rows)
+    angle.push_back(table.holds(r.position) ? table.angle_deg(r.position) : method::no_value);
+  std::vector<double> positions_deg;
+  for (const auto& p : table.positions()) positions_deg.push_back(p.angle_deg);
   d["time_s"] = column(rows, &method::row::time_s);
-  d["angle_deg"] = column(rows, &method::row::angle_deg);
+  d["angle_deg"] = to_numpy(angle);
+  d["position"] = column(rows, &method::row::position);
+  d["positions_deg"] = to_numpy(positions_deg);
   d["rate_dps"] = column(rows, &method::row::rate_dps);
   d["temp_c"] = column(rows, &method::row::temp_c);
   d["n_avg"] = column(rows, &method::row::n_avg);
@@ -194,7 +204,7 @@ py::dict metadata_dict(const std::vector<io::csv_metadata>& meta) {
 
 py::dict read_recording(const std::string& path, double tol) {
   const auto r = take(rigdata::read_recording_rows(path, tol));
-  py::dict d = rows_dict(r.rows);
+  py::dict d = rows_dict(r.rows, r.positions);
   d["metadata"] = metadata_dict(r.metadata);
   d["warnings"] = r.warnings;
   return d;

@@ -244,6 +244,23 @@ def test_compensate_warns_about_and_strict_refuses_a_calibration_of_a_turning_ru
     assert gyroflip.compensate(*still, calibration=good, strict=True)["warnings"] == []
 
 
+def test_a_table_line_gives_positions_by_index(tmp_path):
+    # Issue 33: a recording's table (# positions_deg) is read, and each row carries its index
+    # (270 deg is position 3, not "-1"); an angle not in it is refused at its line and column.
+    p = tmp_path / "four.csv"
+    p.write_text("# positions_deg: 0,90,180,270\ntime_s,angle_deg,rate_dps\n"
+                 "0,0,1\n1,90,1\n2,180,1\n3,270,1\n4,,1\n")
+    rec = gyroflip.read_recording(p)
+    assert list(rec["position"]) == [0, 1, 2, 3, -1]
+    assert list(rec["positions_deg"]) == [0, 90, 180, 270]
+    assert list(rec["angle_deg"][:4]) == [0, 90, 180, 270]
+    bad = tmp_path / "bad.csv"
+    bad.write_text("# positions_deg: 0,90\ntime_s,angle_deg,rate_dps\n0,0,1\n1,180,1\n")
+    with pytest.raises(ValueError, match=r"bad.csv:4:3: angle 180 deg is not supported: only 0 "
+                                         r"and 90"):
+        gyroflip.read_recording(bad)
+
+
 # Review of issue 31 (H1): without a specification the g-term is not checked, and a run on a
 # turning table returned stationary True with no warning, and strict=True accepted it.
 def test_calibrate_without_a_sensor_warns_that_the_g_term_was_not_checked():

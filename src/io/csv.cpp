@@ -253,9 +253,10 @@ status csv_reader::read_header() {
 void csv_reader::add_metadata(std::string_view line) {
   const std::string_view body = trim(line.substr(1));
   const auto colon = body.find(':');
-  if (colon != std::string_view::npos)
-    metadata_.push_back(
-        {std::string(trim(body.substr(0, colon))), std::string(trim(body.substr(colon + 1)))});
+  if (colon == std::string_view::npos) return;
+  const std::string_view value = trim(body.substr(colon + 1));
+  metadata_.push_back({std::string(trim(body.substr(0, colon))), std::string(value), line_,
+                       static_cast<std::size_t>(value.data() - line.data()) + 1});
 }
 
 result<std::optional<std::size_t>> csv_reader::find_column(std::string_view name) const {

@@ -2,8 +2,11 @@
 /// \brief Recording reader (see recording.hpp).
 #include "gyroflip/io/recording.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -20,6 +23,107 @@ status check_tolerance(double angle_tolerance_deg) {
   if (angle_tolerance_deg >= 0.0 && angle_tolerance_deg <= most) return ok();
   return parameter_error("angle_tolerance_deg",
                          fmt::format("the angle tolerance must be 0 to {:g} deg", most));
+}
+
+// A recording's `# positions_deg:` line: absent, `auto`, or the table it names; errors name its
+// line and the column of the bad angle.
+struct table_line {
+  const csv_metadata* line = nullptr;  // null: no such line
+  bool automatic = false;              // `auto`: the rows' distinct angles
+  position_table table;
+};
+result<table_line> table_of_line(const std::string& path, std::span<const csv_metadata> metadata) {
+  table_line out;
+  for (const auto& m : metadata)
+    if (m.key == "positions_deg") {
+      if (out.line != nullptr)
+        return input_error(
+            {path, m.line, 1},
+            fmt::format("a second # positions_deg line (the first is line {})", out.line->line));
+      out.line = &m;
+    }
+  if (out.line == nullptr) return out;
+  const csv_metadata& line = *out.line;
+  const std::string_view v = line.value;
+  if (v == "auto") {
+    out.automatic = true;
+    return out;
+  }
+  std::vector<double> angles;
+  for (std::size_t at = 0; at <= v.size();) {
+    const std::size_t comma = std::min(v.find(',', at), v.size());
+    std::string_view item = v.substr(at, comma - at);
+    std::size_t lead = 0;
+    while (lead < item.size() && (item[lead] == ' ' || item[lead] == '\t')) ++lead;
+    item.remove_prefix(lead);
+    while (!item.empty() && (item.back() == ' ' || item.back() == '\t')) item.remove_suffix(1);
+    const source_location where{path, line.line, line.column + at + lead};
+    double a = 0.0;
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), a);
+    if (item.empty() || ec != std::errc{} || end != item.data() + item.size())
+      return input_error(where, fmt::format("positions_deg: '{}' is not an angle in degrees "
+                                            "(expected A,B,... or auto: the table's angles)",
+                                            printable(item, 40)));
+    if (!(a >= 0.0 && a < 360.0))
+      return input_error(where,
+                         fmt::format("positions_deg: {} is not an angle in [0, 360) deg", item));
+    for (std::size_t j = 0; j < angles.size(); ++j)
+      if (angles[j] == a)
+        return input_error(
+            where, fmt::format("positions_deg: {} deg is position {} already: a table's angles "
+                               "differ",
+                               item, j));
+    if (angles.size() == position_table::max_positions)
+      return input_error(where, fmt::format("positions_deg: more than {} positions",
+                                            position_table::max_positions));
+    angles.push_back(a);
+    at = comma + 1;
+  }
+  auto t = position_table::of_angles(angles);
+  if (!t) return input_error({path, line.line, line.column}, t.err().message);
+  out.table = std::move(*t);
+  return out;
+}
+
+// Adds angle `a` (any finite value: 360 is 0, -90 is 270) to `seen`, the distinct angles so far;
+// error text when it would be a ninth.
+std::string add_angle(std::vector<double>& seen, double a) {
+  a = std::fmod(std::fmod(a, 360.0) + 360.0, 360.0);
+  if (std::find(seen.begin(), seen.end(), a) != seen.end()) return {};
+  if (seen.size() == position_table::max_positions)
+    return fmt::format(
+        "angle {} deg would be a table's {}th position (# positions_deg: auto; a "
+        "table holds at most {})",
+        a, seen.size() + 1, position_table::max_positions);
+  seen.push_back(a);
+  return {};
+}
+
+// A table of distinct angles, ascending.
+position_table table_of_seen(std::vector<double> seen) {
+  std::sort(seen.begin(), seen.end());
+  auto t = position_table::of_angles(seen);
+  return t ? std::move(*t) : position_table{};
+}
+
+// The distinct angles of a file's rows (a first pass over its angle column). Cells that are not
+// numbers are passed over: the reading pass names them.
+result<position_table> table_of_file(const std::string& path, const csv_dialect& dialect) {
+  auto c = csv_reader::open(path, dialect);
+  if (!c) return c.err();
+  auto col = c->require_column("angle_deg");
+  if (!col) return col.err();
+  c->select({*col});
+  std::vector<double> seen;
+  for (;;) {
+    const auto st = c->next();
+    if (st != csv_reader::step::row) break;  // the end, or an error the reading pass reports
+    if (c->cell(0).empty()) continue;
+    double a = 0.0;
+    if (!c->parse(0, a)) continue;
+    if (auto what = add_angle(seen, a); !what.empty()) return c->error_at(0, what);
+  }
+  return table_of_seen(std::move(seen));
 }
 
 }  // namespace
@@ -46,6 +150,32 @@ result<recording_reader> recording_reader::open(const std::string& path,
   cols.push_back(r.has_temp_ ? **temp : csv_reader::absent_column);
   cols.push_back(r.has_n_avg_ ? **navg : csv_reader::absent_column);
   r.csv_.select(cols);
+  auto table = table_of_line(r.csv_.path(), r.csv_.metadata());
+  if (!table) return table.err();
+  if (table->automatic) {
+    const source_location where{r.csv_.path(), table->line->line, table->line->column};
+    if (path == "-")
+      return input_error(where,
+                         "positions_deg: auto reads the file twice; standard input "
+                         "cannot be: give the table's angles");
+    if (angle_tolerance_deg != 0.0)
+      return input_error(where,
+                         "positions_deg: auto takes the angles as written; with an "
+                         "angle tolerance give the table's angles");
+    auto seen = table_of_file(path, r.csv_.dialect());
+    if (!seen) return seen.err();
+    r.table_ = std::move(*seen);
+    r.origin_ = table_origin::rows;
+  } else if (table->line != nullptr) {
+    r.table_ = std::move(table->table);
+    r.origin_ = table_origin::line;
+  } else {
+    r.table_ = position_table::pair_0_180();
+    r.origin_ = table_origin::pair_0_180;
+  }
+  // The common spellings `0` and `180` skip the number parser (the hot path of old recordings).
+  r.at_0_ = r.table_.index_of(0.0, angle_tolerance_deg).value_or(table_moving);
+  r.at_180_ = r.table_.index_of(180.0, angle_tolerance_deg).value_or(table_moving);
   return r;
 }
 
@@ -54,21 +184,17 @@ csv_reader::step recording_reader::fail(const error& e) {
   return csv_reader::step::failed;
 }
 
-std::optional<double> position_of_angle(double angle_deg, double tol) noexcept {
-  // An encoder's reading: within the tolerance of 0 (or 360, or -0.x) or of 180.
-  const double turned = std::fmod(std::fmod(angle_deg, 360.0) + 360.0, 360.0);
-  if (std::abs(turned) <= tol || std::abs(turned - 360.0) <= tol) return 0.0;
-  if (std::abs(turned - 180.0) <= tol) return 180.0;
-  return std::nullopt;
-}
-
 namespace {
 
-std::string angle_message(std::string_view angle, double tol) {
+std::string angle_message(std::string_view angle, double tol, const position_table& table,
+                          table_origin origin) {
+  const char* from = origin == table_origin::line ? "the positions of its # positions_deg line"
+                     : origin == table_origin::rows
+                         ? "the positions of its table"
+                         : "the paper's pair; a # positions_deg line names any other table";
   return fmt::format(
-      "angle {} deg is not supported: only 0 and 180 (two-position flipping){}; leave it empty "
-      "while the table turns",
-      angle,
+      "angle {} deg is not supported: only {} ({}){}; leave it empty while the table turns", angle,
+      table.describe(), from,
       tol > 0.0 ? fmt::format(", within {:g} deg", tol)
                 : std::string(" (an encoder angle: give a tolerance)"));
 }
@@ -103,16 +229,18 @@ csv_reader::step recording_reader::next(method::row& out) {
 
   const std::string_view a = csv_.cell(s_angle);
   if (a.empty()) {
-    out.angle_deg = method::no_value;  // table turning
-  } else if (a == "0") {               // fast path for the common spellings
-    out.angle_deg = 0.0;
-  } else if (a == "180") {
-    out.angle_deg = 180.0;
+    out.position = table_moving;                   // table turning
+  } else if (a == "0" && at_0_ != table_moving) {  // fast path for the common spellings
+    out.position = at_0_;
+  } else if (a == "180" && at_180_ != table_moving) {
+    out.position = at_180_;
   } else {
-    if (!csv_.parse(s_angle, out.angle_deg)) return fail(csv_.last_error());
-    const auto pos = position_of_angle(out.angle_deg, angle_tolerance_deg_);
-    if (!pos) return fail(csv_.error_at(s_angle, angle_message(a, angle_tolerance_deg_)));
-    out.angle_deg = *pos;
+    double angle = 0.0;
+    if (!csv_.parse(s_angle, angle)) return fail(csv_.last_error());
+    const auto pos = table_.index_of(angle, angle_tolerance_deg_);
+    if (!pos)
+      return fail(csv_.error_at(s_angle, angle_message(a, angle_tolerance_deg_, table_, origin_)));
+    out.position = *pos;
   }
   if (!csv_.parse(s_rate, out.rate_dps)) return fail(csv_.last_error());
   if (has_temp_) {
@@ -158,8 +286,7 @@ result<std::size_t> recording_reader::read(std::span<method::row> out) {
   return n;
 }
 
-result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
-                                                 double angle_tolerance_deg) {
+result<table_rows> rows_of_columns(const recording_columns& c, double angle_tolerance_deg) {
   const std::size_t n = c.time_s.size();
   const auto wrong_length = [&](std::string_view name, std::size_t k) {
     return usage_error(fmt::format("{} has {} values but time_s has {}: one per row", name, k, n));
@@ -172,7 +299,19 @@ result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
   const auto bad = [](std::string_view name, std::size_t k, std::string_view what) {
     return usage_error(fmt::format("{}[{}]: {}", name, k, what));
   };
-  std::vector<method::row> rows(n);
+  // The table: as given, else the paper's pair (as a CSV without its table line).
+  table_rows out;
+  table_origin origin = table_origin::line;
+  if (!c.positions_deg.empty()) {
+    auto t = position_table::of_angles(c.positions_deg);
+    if (!t) return usage_error(fmt::format("positions_deg: {}", t.err().message));
+    out.positions = std::move(*t);
+  } else {
+    out.positions = position_table::pair_0_180();
+    origin = table_origin::pair_0_180;
+  }
+  auto& rows = out.rows;
+  rows.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     auto& r = rows[k];
     r.time_s = c.time_s[k];
@@ -183,13 +322,14 @@ result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
       return bad("time_s", k,
                  fmt::format("time goes backwards: {} after {}", r.time_s, rows[k - 1].time_s));
     if (std::isnan(c.angle_deg[k])) {
-      r.angle_deg = method::no_value;  // table turning
+      r.position = table_moving;  // table turning
     } else {
-      const auto pos = position_of_angle(c.angle_deg[k], angle_tolerance_deg);
+      const auto pos = out.positions.index_of(c.angle_deg[k], angle_tolerance_deg);
       if (!pos)
         return bad("angle_deg", k,
-                   angle_message(fmt::format("{}", c.angle_deg[k]), angle_tolerance_deg));
-      r.angle_deg = *pos;
+                   angle_message(fmt::format("{}", c.angle_deg[k]), angle_tolerance_deg,
+                                 out.positions, origin));
+      r.position = *pos;
     }
     r.rate_dps = c.rate_dps[k];
     if (!(std::abs(r.rate_dps) <= max_input_magnitude))
@@ -205,7 +345,7 @@ result<std::vector<method::row>> rows_of_columns(const recording_columns& c,
       r.n_avg = static_cast<std::uint32_t>(v);
     }
   }
-  return rows;
+  return out;
 }
 
 }  // namespace gyroflip::io

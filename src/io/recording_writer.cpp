@@ -30,9 +30,9 @@ void append_recording_header(std::string& out, std::span<const csv_metadata> met
   out += "time_s,angle_deg,rate_dps,temp_c,n_avg\n";
 }
 
-void append_recording_row(std::string& out, const method::row& r) {
+void append_recording_row(std::string& out, const method::row& r, const position_table& table) {
   fmt::format_to(std::back_inserter(out), "{},", r.time_s);
-  field(out, r.angle_deg);
+  field(out, table.holds(r.position) ? table.angle_deg(r.position) : method::no_value);
   fmt::format_to(std::back_inserter(out), ",{},", r.rate_dps);
   fmt::format_to(std::back_inserter(out), "{},{}\n", r.temp_c, r.n_avg);
 }

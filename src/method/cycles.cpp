@@ -15,11 +15,12 @@ namespace gyroflip::method {
 
 rows_in_memory::rows_in_memory(std::string name, std::span<const row> rows,
                                std::vector<metadata_entry> metadata,
-                               std::vector<std::string> warnings)
+                               std::vector<std::string> warnings, position_table positions)
     : name_(std::move(name)),
       rows_(rows),
       metadata_(std::move(metadata)),
       warnings_(std::move(warnings)),
+      positions_(std::move(positions)),
       has_temp_(!rows.empty()) {
   for (const auto& r : rows_) has_temp_ = has_temp_ && !std::isnan(r.temp_c);
 }
@@ -33,16 +34,20 @@ result<std::size_t> rows_in_memory::read(std::span<row> out) {
 
 namespace {
 
-// The checks every source of rows shares: data at all, both orientations, enough cycles.
+// The checks every source of rows shares: data at all, both positions of the pair, enough
+// cycles.
 status check_cycles(const recording_cycles& rc, const flip_stream& stream, pairing p) {
   const auto& path = rc.path;
   if (rc.rows == 0) return input_error({path}, "no data rows after the header");
-  if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0)
+  if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0) {
+    const double plus = rc.positions.angle_deg(rc.pair.plus);
+    const double minus = rc.positions.angle_deg(rc.pair.minus);
     return input_error(
         {path}, fmt::format("the table never turns (every row is at {} deg): the method needs "
-                            "dwells at both 0 and 180 deg (an unflipped recording is for adev and "
+                            "dwells at both {} and {} deg (an unflipped recording is for adev and "
                             "noise, not for calibrate or compensate)",
-                            stream.dwells_at_0() == 0 ? 180 : 0));
+                            stream.dwells_at_0() == 0 ? minus : plus, plus, minus));
+  }
   if (rc.cycles.size() < min_cycles)
     return input_error(
         {path}, fmt::format("only {} cycle{} ({} dwells) with pairing '{}'; at least {} are needed",
@@ -60,7 +65,12 @@ result<recording_cycles> read_cycles(row_source& source, pairing p,
   rc.has_temp = source.has_temp();
   const auto meta = source.metadata();
   rc.metadata.assign(meta.begin(), meta.end());
-  flip_stream stream(p);
+  rc.positions = source.positions();
+  // The table may name no pair (one position: an unflipped recording): the rows are still read,
+  // so that a bad row or no rows at all is what is reported first.
+  auto pair = flip_pair_of(rc.positions, rc.path);
+  if (pair) rc.pair = *pair;
+  flip_stream stream(p, rc.pair);
   const auto keep = [&rc](const cycle& c) { rc.cycles.push_back(c); };
   // A block at a time: one call through the interface per 4096 rows, and a progress report
   // per block (a report costs a call through std::function).
@@ -69,23 +79,33 @@ result<recording_cycles> read_cycles(row_source& source, pairing p,
     auto n = source.read(block);
     if (!n) return n.err();
     if (*n == 0) break;
-    for (std::size_t k = 0; k < *n; ++k) stream.push(block[k], keep);
+    if (pair)
+      for (std::size_t k = 0; k < *n; ++k) stream.push(block[k], keep);
     rc.rows += *n;
     if (on_progress)
       on_progress(static_cast<std::size_t>(source.done()),
                   static_cast<std::size_t>(source.total()));
   }
+  if (rc.rows == 0) return input_error({rc.path}, "no data rows after the header");
+  if (!pair) return pair.err();
   stream.flush(keep);
   rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
   const auto w = source.warnings();
   rc.warnings.assign(w.begin(), w.end());
+  if (const auto off = stream.dwells_off_pair(); off != 0)
+    rc.warnings.push_back(fmt::format(
+        "{}: {} dwell{} at table positions other than {} and {} deg: the pairing '{}' pairs those "
+        "two and leaves the others out",
+        rc.path, off, off == 1 ? "" : "s", rc.positions.angle_deg(rc.pair.plus),
+        rc.positions.angle_deg(rc.pair.minus), to_string(p)));
   if (auto s = check_cycles(rc, stream, p); !s) return s.err();
   return rc;
 }
 
 result<recording_cycles> cycles_of_rows(const std::string& name, std::span<const row> rows,
-                                        pairing p, std::vector<metadata_entry> metadata) {
-  rows_in_memory source(name, rows, std::move(metadata));
+                                        pairing p, std::vector<metadata_entry> metadata,
+                                        const position_table& positions) {
+  rows_in_memory source(name, rows, std::move(metadata), {}, positions);
   return read_cycles(source, p);
 }
 

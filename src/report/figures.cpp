@@ -54,14 +54,19 @@ std::pair<double, double> span_of(std::span<const double> t) {
 
 }  // namespace
 
-figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title) {
+figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title,
+                    const method::flip_pair& pair, const position_table& table) {
   figure f;
   f.title = title;
   f.x = {"time (s)", false};
   f.y = {"dwell mean (°/s)", false};
-  series a = points_of("at 0°", 0), b = points_of("at 180°", 1);
+  const auto at = [&table](int p) {
+    return fmt::format("at {}°", table.holds(p) ? table.angle_deg(p) : 0.0);
+  };
+  series a = points_of(at(pair.plus), 0), b = points_of(at(pair.minus), 1);
   for (const auto& d : dwells) {
-    auto& s = d.sign > 0 ? a : b;
+    if (!pair.holds(d.position)) continue;
+    auto& s = d.position == pair.plus ? a : b;
     s.x.push_back(d.time_s);
     s.y.push_back(d.rate_dps);
   }

@@ -70,6 +70,13 @@ int rig_config::position_steps(std::size_t i) const {
   return static_cast<int>(std::lround(positions_deg.at(i) * steps_per_rev / 360.0));
 }
 
+position_table rig_config::table() const {
+  std::vector<std::int32_t> steps;
+  for (std::size_t i = 0; i < positions_deg.size(); ++i) steps.push_back(position_steps(i));
+  auto t = position_table::of_visits(positions_deg, steps);
+  return t ? std::move(*t) : position_table{};
+}
+
 // Each field against the device's range (docs/PROTOCOL.md, CONFIGURE; firmware/protocol/
 // budget.hpp), then the device's own check as the last word (link budget included).
 status rig_config::check(double mclk_hz) const {

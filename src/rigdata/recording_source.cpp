@@ -9,12 +9,13 @@
 
 namespace gyroflip::rigdata {
 
-rig_rows::rig_rows(rig_run run) : run_(std::move(run)), metadata_(csv_metadata(run_)) {
+rig_rows::rig_rows(rig_run run)
+    : run_(std::move(run)), table_(positions_of(run_)), metadata_(csv_metadata(run_)) {
   // As rows in memory: temperatures when there are rows and every one has its temperature.
   bool any = false;
   bool all = true;
   for (const auto& d : run_.dwells)
-    if (const auto r = dwell_row(d)) {
+    if (const auto r = dwell_row(d, table_)) {
       any = true;
       all = all && !std::isnan(r->temp_c);
     }
@@ -24,7 +25,7 @@ rig_rows::rig_rows(rig_run run) : run_(std::move(run)), metadata_(csv_metadata(r
 result<std::size_t> rig_rows::read(std::span<method::row> out) {
   std::size_t n = 0;
   for (; n < out.size() && next_ < run_.dwells.size(); ++next_)
-    if (const auto r = dwell_row(run_.dwells[next_])) out[n++] = *r;
+    if (const auto r = dwell_row(run_.dwells[next_], table_)) out[n++] = *r;
   return n;
 }
 
@@ -53,6 +54,7 @@ result<recording_rows> read_recording_rows(const std::string& path, double angle
     if (*n == 0) break;
     out.rows.insert(out.rows.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(*n));
   }
+  out.positions = src.positions();
   const auto m = src.metadata();
   out.metadata.assign(m.begin(), m.end());
   const auto w = src.warnings();

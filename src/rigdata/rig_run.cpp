@@ -913,15 +913,6 @@ result<rig_run> rig_run_builder::finish() && {
       "device starts only with the configuration in force: docs/PROTOCOL.md)");
   say(run_.rebuilt_starts,
       "START records lost in damaged regions were rebuilt from the ACK the device sent for them");
-  const auto off_pair = std::count_if(run_.dwells.begin(), run_.dwells.end(), [](const auto& d) {
-    return d.angle_deg != 0.0 && d.angle_deg != 180.0;
-  });
-  if (off_pair != 0)
-    run_.warnings.push_back(fmt::format(
-        "{}: {} dwells at table positions other than 0 and 180 deg: the method's analyses "
-        "(calibrate, compensate, adev, noise, report) pair A = 0 with B = 180 and leave them "
-        "out; export writes every dwell",
-        run_.path, off_pair));
   say(run_.outside_runs,
       "dwells arrived outside an acknowledged run (a run the device had before the recorder's "
       "START): not used");
@@ -956,17 +947,34 @@ result<rig_run> read_rig_run(const std::string& path, bool with_conversions, boo
   return interpret(*f, path, with_conversions);
 }
 
-std::optional<method::row> dwell_row(const rig_dwell& d) {
+position_table table_of_configure(const protocol::configure_msg& c) {
+  std::vector<double> angles;
+  std::vector<std::int32_t> steps;
+  for (std::size_t i = 0; i < c.n_positions && i < protocol::max_positions; ++i) {
+    angles.push_back(c.pos_cdeg[i] / 100.0);
+    steps.push_back(c.pos_steps[i]);
+  }
+  auto t = position_table::of_visits(angles, steps);
+  return t ? std::move(*t) : position_table{};
+}
+
+position_table positions_of(const rig_run& run) {
+  return table_of_configure(run.config);
+}
+
+std::optional<method::row> dwell_row(const rig_dwell& d, const position_table& table) {
   if (d.d.n == 0 || (d.d.flags & protocol::dwell_step_fault) != 0) return std::nullopt;
-  if (d.angle_deg != 0.0 && d.angle_deg != 180.0) return std::nullopt;
-  return method::row{d.time_s, d.angle_deg, d.rate_dps, d.temp_c, d.d.n};
+  const auto position = table.index_of(d.angle_deg);
+  if (!position) return std::nullopt;
+  return method::row{d.time_s, *position, d.rate_dps, d.temp_c, d.d.n};
 }
 
 std::vector<method::row> dwell_rows(const rig_run& run) {
+  const position_table table = positions_of(run);
   std::vector<method::row> rows;
   rows.reserve(run.dwells.size());
   for (const auto& d : run.dwells)
-    if (auto r = dwell_row(d)) rows.push_back(*r);
+    if (auto r = dwell_row(d, table)) rows.push_back(*r);
   return rows;
 }
 

@@ -45,7 +45,7 @@ std::optional<analysis::noise_analysis> noise_of(const std::vector<double>& y, d
 double raw_duty(const recording_run& run, double spacing_s) {
   std::vector<double> w;
   for (const auto& d : run.dwells)
-    if (d.sign > 0) w.push_back(static_cast<double>(d.weight));
+    if (d.position == run.pair.plus) w.push_back(static_cast<double>(d.weight));
   if (w.empty() || !(run.conversion_s > 0.0) || !(spacing_s > 0.0)) return 0.0;
   return std::min(1.0, analysis::upper_median(std::move(w)) * run.conversion_s / spacing_s);
 }
@@ -105,7 +105,7 @@ status compensate_run(run_analysis& a, const method::delta_n_model& model) {
   }
   // The raw sensor: its dwell means at 0 deg, one per cycle (what a fixed sensor would give).
   for (const auto& d : a.run.dwells)
-    if (d.sign > 0) {
+    if (d.position == a.run.pair.plus) {
       t0.push_back(d.time_s);
       y0.push_back(d.rate_dps);
     }

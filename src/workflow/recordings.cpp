@@ -21,14 +21,12 @@ namespace gyroflip::workflow {
 
 namespace {
 
-// The median spacing per conversion of consecutive rows at the same orientation (0: none).
+// The median spacing per conversion of consecutive rows at the same position (0: none).
 double conversion_time_s(const std::vector<method::row>& rows) {
   std::vector<double> dt;
   for (std::size_t k = 1; k < rows.size(); ++k) {
     const auto &a = rows[k - 1], &b = rows[k];
-    if (std::isnan(a.angle_deg) || std::isnan(b.angle_deg) ||
-        method::sign_of_angle(a.angle_deg) != method::sign_of_angle(b.angle_deg))
-      continue;
+    if (a.position == table_moving || a.position != b.position) continue;
     const double step = (b.time_s - a.time_s) / static_cast<double>(b.n_avg);
     if (step > 0.0) dt.push_back(step);
   }
@@ -62,18 +60,21 @@ result<method::recording_cycles> read_cycles(const std::string& path, method::pa
 }
 
 result<recording_run> run_of_rows(const std::string& name, std::vector<method::row> rows,
-                                  std::vector<io::csv_metadata> metadata) {
+                                  std::vector<io::csv_metadata> metadata,
+                                  const position_table& positions) {
   recording_run r;
   r.file = name;
-  r.dwells = method::extract_dwells(rows);
+  r.positions = positions;
   r.conversion_s = conversion_time_s(rows);
   if (r.conversion_s == 0.0) r.conversion_s = conversion_time_of_settings(metadata);
   for (const auto p : {method::pairing::simple, method::pairing::abba}) {
-    auto c = method::cycles_of_rows(name, rows, p, metadata);
+    auto c = method::cycles_of_rows(name, rows, p, metadata, positions);
     if (!c) return c.err();
     r.has_temp = c->has_temp;
+    r.pair = c->pair;
     (p == method::pairing::abba ? r.abba : r.simple) = std::move(c->cycles);
   }
+  r.dwells = method::extract_dwells(rows, r.pair);
   r.metadata = std::move(metadata);
   return r;
 }
@@ -81,7 +82,7 @@ result<recording_run> run_of_rows(const std::string& name, std::vector<method::r
 result<recording_run> read_run(const std::string& path, double angle_tolerance_deg) {
   auto rr = rigdata::read_recording_rows(path, angle_tolerance_deg);
   if (!rr) return rr.err();
-  auto r = run_of_rows(path, std::move(rr->rows), std::move(rr->metadata));
+  auto r = run_of_rows(path, std::move(rr->rows), std::move(rr->metadata), rr->positions);
   if (r) r->warnings = std::move(rr->warnings);
   return r;
 }

@@ -1364,8 +1364,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                         a.comp_noise->oadev, fitted_terms(*a.comp_noise)});
     const std::string name = a.run.file;
     for (const auto& st :
-         {add(report::dwell_figure(a.run.dwells, name + ": output at 0° and 180°"), "dwells",
-              "the paper's Figs 3/5/7/9"),
+         {add(report::dwell_figure(a.run.dwells, name + ": output at 0° and 180°", a.run.pair,
+                                   a.run.positions),
+              "dwells", "the paper's Figs 3/5/7/9"),
           add(report::compensated_figure(
                   a.comp.cycles, a.comp.summary,
                   name + (f.compensating ? ": compensated rate" : ": residual about its own ΔN"),

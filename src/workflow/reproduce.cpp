@@ -198,11 +198,11 @@ struct claim_numbers {
 };
 
 claim_numbers claim_of(const std::vector<method::dwell>& dwells,
-                       const std::vector<method::cycle>& cycles) {
+                       const std::vector<method::cycle>& cycles, const method::flip_pair& pair) {
   claim_numbers c;
   std::vector<double> t0, y0, t, y;
   for (const auto& d : dwells)
-    if (d.sign > 0) {
+    if (d.position == pair.plus) {
       t0.push_back(d.time_s);
       y0.push_back(d.rate_dps);
     }
@@ -290,9 +290,10 @@ run_result run_one(const job& j) {
     return r;
   }
   r.truth = sim->truth.delta_n_dps;
-  const auto rec = recording_rows(sim->rows);
-  auto simple = method::cycles_of_rows(j.sensor, rec, method::pairing::simple);
-  auto abba = method::cycles_of_rows(j.sensor, rec, method::pairing::abba);
+  const position_table table = c.rig.table();
+  const auto rec = recording_rows(sim->rows, table);
+  auto simple = method::cycles_of_rows(j.sensor, rec, method::pairing::simple, {}, table);
+  auto abba = method::cycles_of_rows(j.sensor, rec, method::pairing::abba, {}, table);
   if (!simple || !abba) {
     r.error = !simple ? simple.err().message : abba.err().message;
     return r;
@@ -315,8 +316,8 @@ run_result run_one(const job& j) {
     r.rate_std = m.std;
   }
   std::vector<method::dwell> dwells;
-  if (j.claim || j.keep) dwells = method::extract_dwells(rec);
-  if (j.claim) r.claim = claim_of(dwells, simple->cycles);
+  if (j.claim || j.keep) dwells = method::extract_dwells(rec, simple->pair);
+  if (j.claim) r.claim = claim_of(dwells, simple->cycles, simple->pair);
   if (j.keep) {
     r.dwells = std::move(dwells);
     r.simple = std::move(simple->cycles);

@@ -78,12 +78,16 @@ simulation_truth truth_of(const rig::simulator& sim, const rig::simulation_confi
   return t;
 }
 
-std::vector<method::row> recording_rows(const std::vector<rig::dwell_row>& rows) {
+method::row recording_row(const rig::dwell_row& d, const position_table& table) {
+  return {d.time_s, table.index_of(d.angle_deg).value_or(table_moving), d.rate_dps, d.temp_c,
+          static_cast<std::uint32_t>(d.n_avg)};
+}
+
+std::vector<method::row> recording_rows(const std::vector<rig::dwell_row>& rows,
+                                        const position_table& table) {
   std::vector<method::row> out;
   out.reserve(rows.size());
-  for (const auto& d : rows)
-    out.push_back(
-        {d.time_s, d.angle_deg, d.rate_dps, d.temp_c, static_cast<std::uint32_t>(d.n_avg)});
+  for (const auto& d : rows) out.push_back(recording_row(d, table));
   return out;
 }
 
@@ -124,12 +128,12 @@ result<simulation_truth> simulate_recording(const recording_request& r,
   }
   std::string rec;
   fmt::memory_buffer tru;
+  const position_table table = c.rig.table();
   const auto sink = [&](const std::vector<rig::dwell_row>& rows) -> status {
     rec.clear();
     tru.clear();
     for (const auto& w : rows) {
-      io::append_recording_row(
-          rec, {w.time_s, w.angle_deg, w.rate_dps, w.temp_c, static_cast<std::uint32_t>(w.n_avg)});
+      io::append_recording_row(rec, recording_row(w, table), table);
       if (tf)
         fmt::format_to(std::back_inserter(tru), "{},{},{},{},{},{}\n", w.time_s, w.bias_dps,
                        w.g_term_dps, w.earth_dps, w.input_dps, w.temp_c);

@@ -273,8 +273,11 @@ TEST(RecordCli, RawConversionsSumToTheirDwellsAndExportOneRowEach) {
   const auto ex = run_cli({"export", gfr, "--raw", "-o", dir.path() + "/raw.csv"});
   ASSERT_EQ(ex.exit_code, 0) << ex.err;
   const std::string csv = test::read_text(dir.path() + "/raw.csv");
+  // One row per conversion, the header, the run's metadata and its table (`# positions_deg:`,
+  // issue 33, which the CSV readers take the positions from).
   EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')),
-            run->conversions.size() + 1 + rigdata::csv_metadata(*run).size());
+            run->conversions.size() + 1 + rigdata::csv_metadata(*run).size() + 1);
+  EXPECT_NE(csv.find("\n# positions_deg: 0,180\n"), std::string::npos);
 }
 
 // Under ASan the suite runs ~5x slower: the long figure runs are shortened there (the CI's

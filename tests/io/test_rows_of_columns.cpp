@@ -21,17 +21,19 @@ TEST(RowsOfColumns, RowsAsTheCsvReaderGivesThem) {
       temp{20, 20, 21, 21}, n{256, 1, 128, 256};
   const auto rows = rows_of_columns({t, a, r, temp, n}, 0.5);
   ASSERT_TRUE(rows) << rows.err().message;
-  ASSERT_EQ(rows->size(), 4u);
-  EXPECT_EQ((*rows)[0].angle_deg, 0.0);
-  EXPECT_TRUE(std::isnan((*rows)[1].angle_deg));  // the table turning
-  EXPECT_EQ((*rows)[2].angle_deg, 180.0);         // encoder angles within the tolerance
-  EXPECT_EQ((*rows)[3].angle_deg, 0.0);
-  EXPECT_EQ((*rows)[2].n_avg, 128u);
-  EXPECT_EQ((*rows)[3].temp_c, 21.0);
+  ASSERT_EQ(rows->rows.size(), 4u);
+  // With a tolerance and no table, the paper's 0/180 (index 0 at 0 deg, 1 at 180 deg).
+  EXPECT_EQ(rows->positions, gyroflip::position_table::pair_0_180());
+  EXPECT_EQ(rows->rows[0].position, 0);
+  EXPECT_EQ(rows->rows[1].position, gyroflip::table_moving);  // the table turning
+  EXPECT_EQ(rows->rows[2].position, 1);                       // encoder angles within the tolerance
+  EXPECT_EQ(rows->rows[3].position, 0);
+  EXPECT_EQ(rows->rows[2].n_avg, 128u);
+  EXPECT_EQ(rows->rows[3].temp_c, 21.0);
   const auto bare = rows_of_columns({t, std::vector<double>{0, 180, 0, 180}, r, {}, {}});
   ASSERT_TRUE(bare);
-  EXPECT_TRUE(std::isnan((*bare)[0].temp_c));
-  EXPECT_EQ((*bare)[0].n_avg, 1u);
+  EXPECT_TRUE(std::isnan(bare->rows[0].temp_c));
+  EXPECT_EQ(bare->rows[0].n_avg, 1u);
 }
 
 TEST(RowsOfColumns, ErrorsNameColumnAndRow) {
@@ -40,9 +42,13 @@ TEST(RowsOfColumns, ErrorsNameColumnAndRow) {
     const auto rows = rows_of_columns(c, tol);
     return rows ? std::string("accepted") : rows.err().message;
   };
-  EXPECT_EQ(
-      msg({t, std::vector<double>{0, 90, 0}, r, {}, {}}).rfind("angle_deg[1]: angle 90 deg", 0),
-      0u);
+  const std::vector<double> pair{0, 180};
+  EXPECT_EQ(msg({t, std::vector<double>{0, 90, 0}, r, {}, {}, pair})
+                .rfind("angle_deg[1]: angle 90 deg is not supported: only 0 and 180", 0),
+            0u);
+  EXPECT_EQ(msg({t, std::vector<double>{0, 90, 0}, r, {}, {}}, 0.5)
+                .rfind("angle_deg[1]: angle 90 deg is not supported: only 0 and 180", 0),
+            0u);
   EXPECT_EQ(msg({std::vector<double>{0, 2, 1}, a, r, {}, {}}),
             "time_s[2]: time goes backwards: 1 after 2");
   EXPECT_EQ(msg({std::vector<double>{0, nan, 1}, a, r, {}, {}}),
@@ -71,8 +77,8 @@ TEST(RowsOfColumns, CyclesEqualThoseOfTheSameCsvRows) {
   }
   const auto rows = rows_of_columns({t, a, r, {}, {}});
   ASSERT_TRUE(rows);
-  const auto c =
-      gyroflip::method::cycles_of_rows("<arrays>", *rows, gyroflip::method::pairing::abba);
+  const auto c = gyroflip::method::cycles_of_rows(
+      "<arrays>", rows->rows, gyroflip::method::pairing::abba, {}, rows->positions);
   ASSERT_TRUE(c) << c.err().message;
   for (const auto& cy : c->cycles) EXPECT_NEAR(cy.rate_dps, 0.4, 1e-12);  // abba cancels the ramp
 }

@@ -35,19 +35,19 @@ std::vector<cycle> cycles_of(const synth_spec& s, pairing p) {
 }
 
 TEST(Dwells, WeightedByNAvgAndTurningRowsSkipped) {
-  const std::vector<row> rows{{0.0, 0.0, 1.0, 20.0, 1},
-                              {1.0, 0.0, 4.0, 22.0, 3},
-                              {1.5, no_value, 99.0, 99.0, 1},
-                              {2.0, 0.0, 2.0, 21.0, 4},
-                              {3.0, 180.0, -1.0, 20.0, 2}};
+  const std::vector<row> rows{{0.0, 0, 1.0, 20.0, 1},
+                              {1.0, 0, 4.0, 22.0, 3},
+                              {1.5, table_moving, 99.0, 99.0, 1},
+                              {2.0, 0, 2.0, 21.0, 4},
+                              {3.0, 1, -1.0, 20.0, 2}};
   const auto d = extract_dwells(rows);
   ASSERT_EQ(d.size(), 2u);  // the turning row does not split the 0-deg dwell
-  EXPECT_EQ(d[0].sign, 1);
+  EXPECT_EQ(d[0].position, 0);
   EXPECT_EQ(d[0].weight, 8u);
   EXPECT_DOUBLE_EQ(d[0].rate_dps, (1.0 + 12.0 + 8.0) / 8.0);
   EXPECT_DOUBLE_EQ(d[0].time_s, (0.0 + 3.0 + 8.0) / 8.0);
   EXPECT_DOUBLE_EQ(d[0].temp_c, (20.0 + 66.0 + 84.0) / 8.0);
-  EXPECT_EQ(d[1].sign, -1);
+  EXPECT_EQ(d[1].position, 1);
   EXPECT_DOUBLE_EQ(d[1].rate_dps, -1.0);
 }
 
@@ -99,7 +99,7 @@ TEST(Method, UnequalDwellSpacingStillCancelsRampWithAbba) {
   s.bias_dps = [](double t) { return -0.2 + 3e-3 * t; };
   auto rows = synth_rows(s);
   for (std::size_t i = 30; i < rows.size(); ++i) rows[i].time_s += 7.3;  // gap after row 30
-  for (auto& r : rows) r.rate_dps = (r.angle_deg == 0.0 ? 0.0123 : -0.0123) - 0.2 + 3e-3 * r.time_s;
+  for (auto& r : rows) r.rate_dps = (r.position == 0 ? 0.0123 : -0.0123) - 0.2 + 3e-3 * r.time_s;
   for (const auto& c : pair_cycles(extract_dwells(rows), pairing::abba))
     EXPECT_NEAR(c.rate_dps, 0.0123, 1e-14);
 }
@@ -324,9 +324,10 @@ TEST(AbbaCycles, AllanVarianceOfWhiteDwellNoiseHasTheClosedForm) {
   sensor::normal_stream g(5, sensor::stream::user);
   std::vector<dwell> d(200000);
   for (std::size_t k = 0; k < d.size(); ++k) {
-    d[k].sign = k % 2 == 0 ? 1 : -1;
+    const int sign = k % 2 == 0 ? 1 : -1;
+    d[k].position = sign > 0 ? 0 : 1;  // the paper's table, pair {0, 1}
     d[k].time_s = dwell_s * static_cast<double>(k);
-    d[k].rate_dps = 0.3 * d[k].sign + 0.1 + sigma * g.next();
+    d[k].rate_dps = 0.3 * sign + 0.1 + sigma * g.next();
     d[k].weight = 256;
   }
   const auto cycles = pair_cycles(d, pairing::abba);

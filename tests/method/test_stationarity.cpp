@@ -33,9 +33,10 @@ std::vector<dwell> dwells_of(const run_truth& t, std::uint64_t seed) {
   std::vector<dwell> out;
   for (std::size_t k = 0; k < t.dwells; ++k) {
     dwell d;
-    d.sign = k % 2 == 0 ? 1 : -1;
+    const int sign = k % 2 == 0 ? 1 : -1;
+    d.position = sign > 0 ? 0 : 1;  // the paper's table, pair {0, 1}
     d.time_s = 0.895 * static_cast<double>(k);
-    d.rate_dps = d.sign * (t.input_dps(d.time_s) + t.delta_n_dps) + t.bias_dps +
+    d.rate_dps = sign * (t.input_dps(d.time_s) + t.delta_n_dps) + t.bias_dps +
                  t.bias_drift_dps_per_s * d.time_s + t.noise_dps * noise.next();
     d.weight = 256;
     out.push_back(d);

@@ -85,7 +85,7 @@ TEST(ReportFigure, PaperFiguresAreGolden) {
   std::vector<method::compensated_cycle> comp;
   for (int k = 0; k < 6; ++k) {
     dwells.push_back(
-        {k % 2 == 0 ? 1 : -1, 0.9 * k, (k % 2 == 0 ? 0.5 : -0.3) + 0.01 * k, 20.0, 256});
+        {k % 2 == 0 ? 0 : 1, 0.9 * k, (k % 2 == 0 ? 0.5 : -0.3) + 0.01 * k, 20.0, 256});
     cycles.push_back({1.8 * k, 0.4, 0.1 + 0.001 * k, 20.0});
     comp.push_back({1.8 * k, 0.001 * (k - 2.5), 0.1, 20.0, 0.4});
   }

@@ -40,21 +40,21 @@ std::vector<method::row> synth_rows(const synth_spec& s) {
   };
   for (std::size_t k = 0; k < s.dwells; ++k) {
     const int sign = ((k % 2 == 0) != s.start_at_180) ? 1 : -1;
-    const double angle = sign > 0 ? 0.0 : 180.0;
+    const int position = sign > 0 ? 0 : 1;  // the paper's table: 0 at 0 deg, 1 at 180 deg
     const double centre = s.t0_s + static_cast<double>(k) * s.dwell_spacing_s;
     if (s.conversions == 1) {
-      rows.push_back({centre, angle, value(centre, sign), s.temp_c, 1});
+      rows.push_back({centre, position, value(centre, sign), s.temp_c, 1});
       continue;
     }
     // Conversions centred on the dwell time, then two "turning" rows with an empty angle.
     const double half = 0.5 * static_cast<double>(s.conversions - 1) * s.conversion_s;
     for (std::uint32_t i = 0; i < s.conversions; ++i) {
       const double t = centre - half + static_cast<double>(i) * s.conversion_s;
-      rows.push_back({t, angle, value(t, sign), s.temp_c, 1});
+      rows.push_back({t, position, value(t, sign), s.temp_c, 1});
     }
     for (int i = 1; i <= 2; ++i) {
       const double t = centre + half + i * 0.1;
-      rows.push_back({t, method::no_value, 123.0, s.temp_c, 1});
+      rows.push_back({t, table_moving, 123.0, s.temp_c, 1});
     }
   }
   return rows;
@@ -65,8 +65,9 @@ std::string to_csv(const std::vector<method::row>& rows, bool with_temp) {
   out +=
       with_temp ? "time_s,angle_deg,rate_dps,temp_c,n_avg\n" : "time_s,angle_deg,rate_dps,n_avg\n";
   for (const auto& r : rows) {
-    const std::string angle =
-        std::isnan(r.angle_deg) ? std::string() : fmt::format("{}", r.angle_deg);
+    const std::string angle = r.position == table_moving ? std::string()
+                              : r.position == 0          ? "0"
+                                                         : "180";
     if (with_temp)
       out += fmt::format("{},{},{},{},{}\n", r.time_s, angle, r.rate_dps, r.temp_c, r.n_avg);
     else

@@ -22,8 +22,9 @@ void append_metadata(std::string& out, std::span<const csv_metadata> metadata);
 /// Appends the metadata lines and the header line to `out`.
 void append_recording_header(std::string& out, std::span<const csv_metadata> metadata);
 
-/// Appends one row: `angle_deg` NaN (the table turning) is written as an empty field.
+/// Appends one row, its angle that of its position in `table` (the table turning: an empty
+/// field). The metadata should name the table (`# positions_deg:`, position_table::describe).
 /// Precondition: the other fields are finite (the reader would refuse an empty `temp_c`).
-void append_recording_row(std::string& out, const method::row& r);
+void append_recording_row(std::string& out, const method::row& r, const position_table& table);
 
 }  // namespace gyroflip::io

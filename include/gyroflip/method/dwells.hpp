@@ -6,26 +6,21 @@
 #include <span>
 #include <vector>
 
+#include "gyroflip/method/flip_pair.hpp"
 #include "gyroflip/method/types.hpp"
 
 namespace gyroflip::method {
 
-/// The sign (+1 at 0 deg, -1 at 180 deg) of a validated angle.
-[[nodiscard]] constexpr int sign_of_angle(double angle_deg) noexcept {
-  return angle_deg < 90.0 ? 1 : -1;
-}
-
-/// Accumulates rows into dwells. A row whose angle is NaN (table turning) is skipped and
-/// does not end the dwell; a change of orientation does. Rows must be validated already
-/// (angle 0 or 180, finite values, n_avg >= 1).
+/// Accumulates rows into dwells. A row at table_moving (the table turning) is skipped and does
+/// not end the dwell; a change of position does. Rows must be validated already (a position of
+/// their table, finite values, n_avg >= 1).
 class dwell_builder {
  public:
   /// Adds a row; returns the dwell that this row completed, if any. Inline: this runs once
   /// per recorded conversion, and the common case is a plain accumulation.
   [[nodiscard]] std::optional<dwell> push(const row& r) {
-    if (r.angle_deg != r.angle_deg) return std::nullopt;  // NaN: table turning, row skipped
-    const int s = sign_of_angle(r.angle_deg);
-    if (s != sign_) return start(r, s);
+    if (r.position < 0) return std::nullopt;  // table turning: row skipped
+    if (r.position != position_) return start(r, r.position);
     add(r);
     return std::nullopt;
   }
@@ -34,7 +29,7 @@ class dwell_builder {
 
  private:
   [[nodiscard]] dwell close() const;
-  [[nodiscard]] std::optional<dwell> start(const row& r, int s);
+  [[nodiscard]] std::optional<dwell> start(const row& r, int position);
   void add(const row& r) {
     const double w = static_cast<double>(r.n_avg);
     sum_w_ += w;
@@ -45,7 +40,7 @@ class dwell_builder {
       sum_w_temp_ += w;
     }
   }
-  int sign_ = 0;  // 0: no open dwell
+  int position_ = table_moving;  // table_moving: no open dwell
   double sum_w_ = 0.0;
   double sum_t_ = 0.0;
   double sum_y_ = 0.0;
@@ -55,5 +50,8 @@ class dwell_builder {
 
 /// Batch form of dwell_builder: all dwells of `rows`, in order.
 [[nodiscard]] std::vector<dwell> extract_dwells(std::span<const row> rows);
+/// The dwells the 0/180 demodulators see: those of the rows at `pair`'s positions (rows at other
+/// positions are passed over as rows taken while the table turns; flip_stream does the same).
+[[nodiscard]] std::vector<dwell> extract_dwells(std::span<const row> rows, const flip_pair& pair);
 
 }  // namespace gyroflip::method

@@ -2,7 +2,9 @@
 /// \brief Dwells -> cycles with the `simple` (paper eqn 7) or `abba` pairing, in streaming
 /// (`cycle_builder`) and batch (`pair_cycles`) forms that give bit-identical results.
 ///
-/// Cycle j is formed from dwells 2j and 2j+1 (the first dwell may be at either angle).
+/// Cycle j is formed from dwells 2j and 2j+1 (the first dwell may be at either position of the
+/// pair). s_k is dwell k's sign: +1 at the pair's `plus` position (0 deg), -1 at `minus` (180
+/// deg) (method/flip_pair.hpp).
 /// - simple: r = s_a (y_a - y_b)/2, c = (y_a + y_b)/2 for the cycle's dwells a, b.
 /// - abba: for every dwell k with neighbours on both sides, the opposite orientation is
 ///   linearly interpolated to t_k from dwells k-1 and k+1: yhat = y_{k-1} + (y_{k+1} -
@@ -19,6 +21,7 @@
 #include <span>
 #include <vector>
 
+#include "gyroflip/method/flip_pair.hpp"
 #include "gyroflip/method/types.hpp"
 
 namespace gyroflip::method {
@@ -33,7 +36,8 @@ struct estimate {
 
 class cycle_builder {
  public:
-  explicit cycle_builder(pairing p) noexcept : pairing_(p) {}
+  /// Pairs dwells at the positions of `pair` (which the dwells must alternate between).
+  explicit cycle_builder(pairing p, flip_pair pair = {}) noexcept : pairing_(p), pair_(pair) {}
   /// Adds the next dwell; returns a cycle once it is final.
   [[nodiscard]] std::optional<cycle> push(const dwell& d);
   /// End of data: returns the last cycle that still needed its right neighbour (abba).
@@ -41,12 +45,15 @@ class cycle_builder {
 
  private:
   pairing pairing_;
+  flip_pair pair_;
   std::array<dwell, 3> last_{};  // last_[2] is the newest dwell
   std::size_t count_ = 0;        // dwells seen
   detail::estimate pending_{};   // abba: estimate at the first dwell of the open cycle
 };
 
-/// Batch form: the cycles of a dwell sequence. Dwells must alternate in sign.
-[[nodiscard]] std::vector<cycle> pair_cycles(std::span<const dwell> dwells, pairing p);
+/// Batch form: the cycles of a dwell sequence. Dwells must alternate between the positions of
+/// `pair`.
+[[nodiscard]] std::vector<cycle> pair_cycles(std::span<const dwell> dwells, pairing p,
+                                             flip_pair pair = {});
 
 }  // namespace gyroflip::method

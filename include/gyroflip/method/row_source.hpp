@@ -13,13 +13,14 @@
 #include <vector>
 
 #include "gyroflip/core/metadata.hpp"
+#include "gyroflip/core/positions.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/method/types.hpp"
 
 namespace gyroflip::method {
 
-/// A stream of validated recording rows (time non-decreasing, angle a position of the table or
-/// NaN while it turns, finite values, n_avg >= 1).
+/// A stream of validated recording rows (time non-decreasing, position an index of the source's
+/// table or table_moving while it turns, finite values, n_avg >= 1).
 class row_source {
  public:
   row_source() = default;
@@ -34,6 +35,8 @@ class row_source {
   [[nodiscard]] virtual result<std::size_t> read(std::span<row> out) = 0;
   /// The source's name in messages (a path, `<stdin>`, `<arrays>`).
   [[nodiscard]] virtual const std::string& name() const noexcept = 0;
+  /// The table whose positions its rows name, known before the first row is read.
+  [[nodiscard]] virtual const position_table& positions() const noexcept = 0;
   /// Whether its rows carry temperatures.
   [[nodiscard]] virtual bool has_temp() const noexcept = 0;
   /// Its `# key: value` metadata.
@@ -46,14 +49,17 @@ class row_source {
   [[nodiscard]] virtual std::uint64_t total() const noexcept = 0;
 };
 
-/// Rows held in memory (a simulation, a Python array, a rig run's dwells) as a row source.
-/// `has_temp` is true when there are rows and every one has a temperature.
+/// Rows held in memory (a simulation, a Python array, a rig run's dwells) as a row source, with
+/// their table (default: the paper's 0/180). `has_temp` is true when there are rows and every one
+/// has a temperature.
 class rows_in_memory final : public row_source {
  public:
   rows_in_memory(std::string name, std::span<const row> rows,
-                 std::vector<metadata_entry> metadata = {}, std::vector<std::string> warnings = {});
+                 std::vector<metadata_entry> metadata = {}, std::vector<std::string> warnings = {},
+                 position_table positions = position_table::pair_0_180());
   [[nodiscard]] result<std::size_t> read(std::span<row> out) override;
   [[nodiscard]] const std::string& name() const noexcept override { return name_; }
+  [[nodiscard]] const position_table& positions() const noexcept override { return positions_; }
   [[nodiscard]] bool has_temp() const noexcept override { return has_temp_; }
   [[nodiscard]] std::span<const metadata_entry> metadata() const noexcept override {
     return metadata_;
@@ -69,6 +75,7 @@ class rows_in_memory final : public row_source {
   std::span<const row> rows_;
   std::vector<metadata_entry> metadata_;
   std::vector<std::string> warnings_;
+  position_table positions_;
   std::size_t next_ = 0;
   bool has_temp_ = false;
 };

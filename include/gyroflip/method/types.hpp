@@ -1,10 +1,12 @@
 /// \file
 /// \brief The data the sign-reversal method works on: recording rows, dwells and cycles.
 ///
-/// A *row* is one line of a recording (one conversion, or an average of `n_avg`). A *dwell*
-/// is a maximal run of rows at the same table angle (rows taken while the table turns are
-/// skipped). A *cycle* is a 0 deg dwell and a 180 deg dwell reduced to the half-difference r
-/// (paper eqn 7) and the half-sum c (the bias). FACTS §1.
+/// A *row* is one line of a recording (one conversion, or an average of `n_avg`) at a position
+/// of the table (an index into the recording's position_table, core/positions.hpp). A *dwell*
+/// is a maximal run of rows at the same position (rows taken while the table turns are
+/// skipped). A *cycle* is a dwell at the pair's +1 position and one at its -1 position
+/// (method/flip_pair.hpp: 0 and 180 deg) reduced to the half-difference r (paper eqn 7) and the
+/// half-sum c (the bias). FACTS §1.
 #pragma once
 
 #include <cstdint>
@@ -12,23 +14,25 @@
 #include <optional>
 #include <string_view>
 
+#include "gyroflip/core/positions.hpp"
+
 namespace gyroflip::method {
 
 inline constexpr double no_value = std::numeric_limits<double>::quiet_NaN();
 
-/// One recording row. `angle_deg` is NaN while the table turns; `temp_c` is NaN when the
-/// recording has no temperature.
+/// One recording row. `position` is the index of its table position, table_moving (-1) while
+/// the table turns; `temp_c` is NaN when the recording has no temperature.
 struct row {
   double time_s = 0.0;
-  double angle_deg = no_value;
+  int position = table_moving;
   double rate_dps = 0.0;
   double temp_c = no_value;
   std::uint32_t n_avg = 1;  ///< conversions averaged in this row (weight)
 };
 
-/// A dwell: the `n_avg`-weighted mean of consecutive rows at one orientation.
+/// A dwell: the `n_avg`-weighted mean of consecutive rows at one position.
 struct dwell {
-  int sign = 1;              ///< +1 at 0 deg, -1 at 180 deg
+  int position = 0;          ///< index of its table position
   double time_s = 0.0;       ///< weighted mean time of its rows
   double rate_dps = 0.0;     ///< weighted mean output y_0 or y_180
   double temp_c = no_value;  ///< weighted mean temperature (NaN if none)

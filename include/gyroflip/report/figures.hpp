@@ -17,13 +17,17 @@
 #include "gyroflip/analysis/noise_fit.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/compensation.hpp"
+#include "gyroflip/method/flip_pair.hpp"
 #include "gyroflip/method/types.hpp"
 #include "gyroflip/report/figure.hpp"
 
 namespace gyroflip::report {
 
-/// Dwell means (deg/s) at 0 deg and at 180 deg against time (s): paper Figs 3, 5, 7, 9.
-[[nodiscard]] figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title);
+/// Dwell means (deg/s) at the two positions of `pair` (0 deg and 180 deg; their angles from
+/// `table`) against time (s): paper Figs 3, 5, 7, 9.
+[[nodiscard]] figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title,
+                                  const method::flip_pair& pair = {},
+                                  const position_table& table = position_table::pair_0_180());
 
 /// The compensated rate per cycle against time, its mean and sample std in the caption: paper
 /// Figs 4, 6, 8, 10 (eqn 12). Without `show_mean` (a calibration run compensated with its own

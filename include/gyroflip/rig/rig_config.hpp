@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "firmware/protocol/messages.hpp"
+#include "gyroflip/core/positions.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/rig/schedule.hpp"
 #include "gyroflip/rig/turntable.hpp"
@@ -62,6 +63,9 @@ struct rig_config {
   [[nodiscard]] schedule_params schedule(bool flip) const;
   /// Position i's step from home (angle / step angle, rounded).
   [[nodiscard]] int position_steps(std::size_t i) const;
+  /// The angle table as the position table the recordings' rows name (core/positions.hpp:
+  /// position_table::of_visits, with each position's steps); empty if it is not valid (check).
+  [[nodiscard]] position_table table() const;
 };
 
 }  // namespace gyroflip::rig

@@ -15,13 +15,14 @@
 
 namespace gyroflip::rigdata {
 
-/// A rig run's dwells as rows (dwell_row: one per dwell with conversions at a position of the
-/// method), with the run's metadata (csv_metadata) and the reader's warnings.
+/// A rig run's dwells as rows (dwell_row: one per dwell with conversions at a position of its
+/// table, positions_of), with the run's metadata (csv_metadata) and the reader's warnings.
 class rig_rows final : public method::row_source {
  public:
   explicit rig_rows(rig_run run);
   [[nodiscard]] result<std::size_t> read(std::span<method::row> out) override;
   [[nodiscard]] const std::string& name() const noexcept override { return run_.path; }
+  [[nodiscard]] const position_table& positions() const noexcept override { return table_; }
   [[nodiscard]] bool has_temp() const noexcept override { return has_temp_; }
   [[nodiscard]] std::span<const metadata_entry> metadata() const noexcept override {
     return metadata_;
@@ -34,6 +35,7 @@ class rig_rows final : public method::row_source {
 
  private:
   rig_run run_;
+  position_table table_;
   std::vector<metadata_entry> metadata_;
   std::size_t next_ = 0;  // the next dwell
   bool has_temp_ = false;
@@ -45,10 +47,11 @@ class rig_rows final : public method::row_source {
 [[nodiscard]] result<std::unique_ptr<method::row_source>> open_recording(
     const std::string& path, double angle_tolerance_deg = 0.0);
 
-/// The rows of a recording (open_recording) read whole, with its metadata and the reader's
-/// warnings. Used by the report and the Python module.
+/// The rows of a recording (open_recording) read whole, with its table, its metadata and the
+/// reader's warnings. Used by the report and the Python module.
 struct recording_rows {
   std::vector<method::row> rows;
+  position_table positions;
   std::vector<io::csv_metadata> metadata;
   std::vector<std::string> warnings;
 };

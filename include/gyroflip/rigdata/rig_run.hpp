@@ -200,12 +200,19 @@ class rig_run_builder {
 /// The META record's units (META is JSON: docs/FORMATS.md), checked by check_units.
 [[nodiscard]] result<device_units> units_of(const std::string& meta_json, const std::string& path);
 
-/// A dwell as a recording row, unless it has no conversions, its table did not reach its
-/// position (a step fault), or its position is not 0 or 180 deg (a recording's two positions).
-[[nodiscard]] std::optional<method::row> dwell_row(const rig_dwell& d);
+/// The run's table of positions: its configuration's angle table (table_of_configure).
+[[nodiscard]] position_table positions_of(const rig_run& run);
+/// A configuration's angle table as a position table (position_table::of_visits: each angle
+/// once, with the steps of its first position); empty if it is not a valid table.
+[[nodiscard]] position_table table_of_configure(const protocol::configure_msg& c);
 
-/// The run's dwells as recording rows (docs/FORMATS.md): one per dwell that dwell_row takes,
-/// `n_avg` = its conversions.
+/// A dwell as a recording row at its position of `table` (found by its angle), unless it has no
+/// conversions, its table did not reach its position (a step fault), or its angle is not one of
+/// `table`'s (a run of another configuration).
+[[nodiscard]] std::optional<method::row> dwell_row(const rig_dwell& d, const position_table& table);
+
+/// The run's dwells as recording rows (docs/FORMATS.md) at the positions of positions_of(run):
+/// one per dwell that dwell_row takes, `n_avg` = its conversions.
 [[nodiscard]] std::vector<method::row> dwell_rows(const rig_run& run);
 
 /// The `# key: value` metadata a recording CSV of this run carries (sensor, serial, ...).

@@ -35,7 +35,9 @@ struct recording_run {
   std::string file;
   std::vector<io::csv_metadata> metadata;
   std::vector<std::string> warnings;
-  std::vector<method::dwell> dwells;
+  position_table positions = position_table::pair_0_180();  ///< the recording's table
+  method::flip_pair pair;             ///< the pairings' two positions (method/flip_pair.hpp)
+  std::vector<method::dwell> dwells;  ///< the dwells at the pair's positions
   std::vector<method::cycle> simple, abba;
   bool has_temp = false;
   /// The time one conversion takes: the median spacing of consecutive rows of a dwell per
@@ -88,8 +90,8 @@ enum class repeat { none, same_bytes, same_cycles };
                                              double angle_tolerance_deg = 0.0);
 
 /// The same from rows already in memory (a simulation); `name` names them in messages.
-[[nodiscard]] result<recording_run> run_of_rows(const std::string& name,
-                                                std::vector<method::row> rows,
-                                                std::vector<io::csv_metadata> metadata);
+[[nodiscard]] result<recording_run> run_of_rows(
+    const std::string& name, std::vector<method::row> rows, std::vector<io::csv_metadata> metadata,
+    const position_table& positions = position_table::pair_0_180());
 
 }  // namespace gyroflip::workflow

@@ -61,7 +61,11 @@ struct simulated_run {
                                                   bool with_truth,
                                                   const progress_fn& on_progress = {});
 
+/// A dwell row as a recording row at its position of `table` (rig::rig_config::table; found by
+/// its angle, table_moving while the table turns).
+[[nodiscard]] method::row recording_row(const rig::dwell_row& d, const position_table& table);
 /// The dwell rows as recording rows (method::row).
-[[nodiscard]] std::vector<method::row> recording_rows(const std::vector<rig::dwell_row>& rows);
+[[nodiscard]] std::vector<method::row> recording_rows(const std::vector<rig::dwell_row>& rows,
+                                                      const position_table& table);
 
 }  // namespace gyroflip::workflow

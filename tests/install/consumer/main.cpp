@@ -33,9 +33,10 @@ int main() {
   std::vector<rig::dwell_row> rows;
   while (sim->fill(block) > 0) avg.add(block, rows);
   std::vector<method::row> rec;
+  const position_table table = c.rig.table();
   for (const auto& r : rows)
-    rec.push_back(
-        {r.time_s, r.angle_deg, r.rate_dps, r.temp_c, static_cast<std::uint32_t>(r.n_avg)});
+    rec.push_back({r.time_s, table.index_of(r.angle_deg).value_or(table_moving), r.rate_dps,
+                   r.temp_c, static_cast<std::uint32_t>(r.n_avg)});
   const auto cycles = method::cycles_of_rows("simulated", rec, method::pairing::abba);
   if (!cycles) return 1;
   const auto cal = method::calibrate(cycles->cycles);
