@@ -40,7 +40,11 @@ void device::poll() {
   // that no pass lasts longer than the UART's receive queue holds (docs/PERFORMANCE.md). The
   // sequencer is never skipped twice in a row, so a stream of commands cannot stall it.
   feed_steps();
-  const bool commanded = receive() && facts_.short_passes;
+  // After a pass that left its INFO, RESEND frame or STATUS for a long read, a short read: the
+  // pass that sends it stays short, and the answers are not starved by a host that keeps sending.
+  const uint16_t got = receive(tail_waited_ ? rx_light_bytes : rx_per_poll);
+  const bool commanded = (got & rx_commanded) != 0 && facts_.short_passes;
+  const auto decoded = static_cast<uint16_t>(got & (rx_commanded - 1u));
   feed_steps();  // a command's work (a PING's INFO, a RESEND) is behind us
   const uint32_t now = hw_.ticks();
   check_clocks(now);
@@ -52,14 +56,21 @@ void device::poll() {
     sequencer_waited_ = true;
   }
   feed_steps();
-  if (info_due_ && !(busy && facts_.short_passes)) {
+  // Decoding a burst of bytes is heavy too (~300 MCLK cycles a byte on the MSP430F149 with the
+  // interrupts at the top of a ramp): after a long read the INFO, RESEND frame or STATUS waits a
+  // pass, whose read is then a short one.
+  const bool status_due = cfg_.status_period_ms != 0 && now - last_status_ >= status_ticks_;
+  const bool long_read =
+      facts_.short_passes && decoded > rx_light_bytes && (info_due_ || resend_due_ || status_due);
+  tail_waited_ = long_read;
+  const bool free = !(busy && facts_.short_passes) && !long_read;
+  if (info_due_ && free) {
     // A PING's INFO, in a pass that did nothing heavy (the periodic STATUS waits a pass).
     info_due_ = false;
     send_info();
-  } else if (resend_due_ && !(busy && facts_.short_passes) && answer_resend(resend_per_poll)) {
+  } else if (resend_due_ && free && answer_resend(resend_per_poll)) {
     // Frames a RESEND asked for, a few a pass (the STATUS waits a pass).
-  } else if (!(busy && facts_.short_passes) && cfg_.status_period_ms != 0 &&
-             now - last_status_ >= status_ticks_) {
+  } else if (free && status_due) {
     last_status_ = now;
     send_status();
   }
@@ -126,15 +137,30 @@ bool device::on_schedule(uint32_t now) const {
   return false;
 }
 
-bool device::receive() {
+uint16_t device::receive(uint16_t most) {
   uint8_t b = 0;
   // A bounded number per pass, so a flooded line cannot starve the sequencer, and one command
   // at most: a pass's work stays that of one command (a PING's INFO: ~12 000 MCLK cycles on the
-  // MSP430F149), and the bytes behind it wait in the UART's queue for the next pass.
-  for (int i = 0; i < 64 && hw_.uart_read(&b); ++i) {
+  // MSP430F149), and the bytes behind it wait in the UART's queue for the next pass. The step
+  // queue is topped up as the bytes are decoded: 64 of them take longer than it lasts at the top
+  // of a 2 000-steps/s ramp on the F149.
+  if (command_waits_) {
+    command_waits_ = false;
+    handle(rx_.current());  // still in the decoder: no byte was pushed since it completed
+    return rx_commanded;
+  }
+  uint16_t i = 0;
+  while (i < most && hw_.uart_read(&b)) {
+    if (++i % rx_feed_bytes == 0) feed_steps();
     if (rx_.push(b)) {
+      // A command that completes behind a long read is handled at the start of the next pass
+      // (a RESEND's 16 look-ups and its GONE behind 64 decoded bytes made the F149's longest).
+      if (facts_.short_passes && i > rx_light_bytes) {
+        command_waits_ = true;
+        return i;
+      }
       handle(rx_.current());
-      return true;
+      return static_cast<uint16_t>(i | rx_commanded);
     }
     uint8_t type = 0;
     uint16_t seq = 0;
@@ -144,7 +170,7 @@ bool device::receive() {
     if (rx_.frames().take_bad_header(&type, &seq, &why) && type >= 0x20 && type <= 0x3F)
       nak_raw(type, seq, why);
   }
-  return false;
+  return i;
 }
 
 // Wire bytes to the UART while it takes them, at most tx_per_poll a pass: a UART that drains
@@ -288,6 +314,9 @@ void device::resend(const protocol::frame& f) {
   for (uint8_t i = 0; i < m.count; ++i) {
     // A number not yet sent (a host probing past what it heard): nothing to say about it.
     if (static_cast<int16_t>(static_cast<uint16_t>(m.seqs[i] - tx_seq_)) >= 0) continue;
+    // Each look-up walks the history: the step queue is topped up between them (16 walks and the
+    // GONE outlast it at the top of a 2 000-steps/s ramp on the F149).
+    if ((i & 3u) == 3u) feed_steps();
     if (history_.mark(m.seqs[i])) {
       resend_due_ = true;
     } else {
@@ -297,6 +326,7 @@ void device::resend(const protocol::frame& f) {
   }
   if (!facts_.short_passes) answer_resend(static_cast<int>(m.count));
   if (n_gone == 0) return;
+  feed_steps();
   protocol::writer w{scratch_ + protocol::detail::stage + protocol::header_bytes, max_sent_payload};
   w.u8(n_gone);
   for (uint8_t i = 0; i < m.count; ++i)

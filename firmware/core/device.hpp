@@ -49,6 +49,16 @@ inline constexpr size_t history_bytes = 400;
 inline constexpr int resend_per_poll = 1;
 static_assert(protocol::header_bytes + protocol::dwell_payload + protocol::crc_bytes <=
               frame_history<history_bytes>::max_frame);
+/// Received wire bytes a main-loop pass decodes at most (5.6 ms of line), and how many of them
+/// make the pass's heavy thing on a port with short passes (~5 000 MCLK cycles on the
+/// MSP430F149): a pass that decoded more leaves its INFO, RESEND frame or STATUS to the next
+/// (docs/PERFORMANCE.md, "Fifth pass"). The step queue is topped up every rx_feed_bytes.
+inline constexpr uint16_t rx_per_poll = 64;
+inline constexpr uint16_t rx_light_bytes = 16;
+inline constexpr uint16_t rx_feed_bytes = 16;
+inline constexpr uint16_t rx_commanded = 0x100;  // device::receive's flag
+/// A turn's first step is due this many ticks after the step timer is armed (ports with one).
+inline constexpr uint32_t first_step_lead_ticks = 4;
 /// Wire bytes a main-loop pass hands to the UART at most (1.4 ms of line at 115 200 b/s; passes
 /// come every ~0.3 ms on the MSP430F149, so the line rarely waits for the loop).
 inline constexpr int tx_per_poll = 16;
@@ -125,8 +135,9 @@ class device {
   enum class then : uint8_t { idle, run };
 
   // link
-  /// Received bytes; true when a command frame was handled.
-  bool receive();
+  /// Decodes received bytes (at most `most`, one command): the bytes read, plus rx_commanded
+  /// when a command was handled.
+  uint16_t receive(uint16_t most);
   void handle(const protocol::frame& f);
   [[gnu::noinline]] void configure(const protocol::frame& f);
   bool repeated_command(const protocol::frame& f);
@@ -230,9 +241,14 @@ class device {
 
   // health
   bool healthy_ = true;
-  bool sequencer_waited_ = false;  // the last pass handled a command and skipped the sequencer
-  bool info_due_ = false;          // a PING's INFO, for the next pass (short_passes)
-  bool resend_due_ = false;        // frames marked in the history by RESEND wait to go out
+  // The last pass handled a command and skipped the sequencer; the last pass read many bytes and
+  // left its INFO, RESEND frame or STATUS to this one, which reads few (bit-fields: the F149's
+  // RAM).
+  bool sequencer_waited_ : 1 = false;
+  bool tail_waited_ : 1 = false;
+  bool command_waits_ : 1 = false;  // a command decoded behind a long read, for the next pass
+  bool info_due_ = false;           // a PING's INFO, for the next pass (short_passes)
+  bool resend_due_ = false;         // frames marked in the history by RESEND wait to go out
   bool turn_due_ = false;       // a dwell reported: its turn begins in the next pass (short_passes)
   uint32_t last_progress_ = 0;  // a turn's last step (the watchdog judges a turn by its steps)
   uint32_t last_ticks_ = 0;

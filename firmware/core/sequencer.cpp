@@ -184,7 +184,10 @@ void device::begin_turn(uint8_t to_position, uint32_t now) {
   // pass's: a pass that reported a dwell first may be well past its start, and the first
   // interval would come short.
   mover_.begin(steps, now, plan_, 2);
-  const uint32_t first = hw_.ticks();
+  // With a step timer, the first step is due a few ticks ahead, at the compare like every other
+  // step: due at once, it came as late as any interrupt between this read and the arming below
+  // made it, and the first interval was short by that much (3 ticks on the F149's simulator).
+  const uint32_t first = hw_.ticks() + (hw_.has_step_timer() ? first_step_lead_ticks : 0u);
   mover_.retime(first);
   seen_steps_ = 0;
   last_progress_ = first;

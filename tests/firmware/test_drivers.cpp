@@ -264,13 +264,19 @@ TEST(Stepper, TheMoversRunningRootGivesTheReferenceIntervals) {
     x = x * 1664525u + 1013904223u;
     return x >> 8;
   };
-  for (int i = 0; i < 300; ++i) {
-    const auto top = static_cast<std::uint16_t>(1 + next() % 5000);
-    const auto start = static_cast<std::uint16_t>(1 + next() % top);
+  // 32 768 Hz (the F149, the host port: the 16-bit running root and interval, where 2a < 2^16),
+  // 1 MHz (the Cortex-M3 image: the 32-bit code) and 20 000 Hz (16-bit, the lowest tick rate
+  // the 16-bit interval takes).
+  for (int i = 0; i < 600; ++i) {
+    const std::uint32_t tick_hz = i % 3 == 0 ? 32768u : i % 3 == 1 ? 1000000u : 20000u;
+    // Intervals within 16 bits, as CONFIGURE requires (the slowest start rate 16 steps/s at 1 MHz).
+    const std::uint32_t slowest = tick_hz / 0xFFFFu + 1;
+    const auto top = static_cast<std::uint16_t>(slowest + next() % 5000);
+    const auto start = static_cast<std::uint16_t>(slowest + next() % (top - slowest + 1));
     const auto accel =
         static_cast<std::uint16_t>(i % 5 == 0 ? 1 + next() % 20 : 1 + next() % 65535);
     const stepper::ramp r{start, top, accel};
-    const auto plan = stepper::make_plan(r, 32768);
+    const auto plan = stepper::make_plan(r, tick_hz);
     const auto n = static_cast<std::uint16_t>(2 + next() % 3000);
     stepper::motor flip, other;
     stepper::mover mv;
@@ -292,7 +298,7 @@ TEST(Stepper, TheMoversRunningRootGivesTheReferenceIntervals) {
         if (k + 1 >= n) break;
       }
       ASSERT_TRUE(mv.take_step(flip, other, stepper::follower::off, now, &due)) << k;
-      ASSERT_EQ(due - now, stepper::step_interval(r, k - base, n - base, 32768))
+      ASSERT_EQ(due - now, stepper::step_interval(r, k - base, n - base, tick_hz))
           << "ramp " << start << " " << top << " " << accel << ", step " << k << " of " << n
           << " (a new ramp at " << base << ")";
       now = due;

@@ -74,43 +74,115 @@ void mover::begin(int32_t steps, uint32_t first_ticks, const ramp_plan& p, uint8
 }
 
 void mover::restart_root(const ramp_plan& p) {
-  root_j_ = 0;
-  root_ = static_cast<uint16_t>(isqrt32(p.v0_sq));
-  rest_ = static_cast<uint16_t>(p.v0_sq - uint32_t{root_} * root_);
+  root_at(p, 0);
+  t_ = 0;  // not known for this root
+}
+
+// The running root's step in 16-bit words where everything fits: 2a below 2^16, the root below
+// 2^14, and the sums below checked for carries. On the MSP430F149 clang codes each 32-bit compare
+// as a dozen instructions: the 32-bit loops below cost ~1 000 MCLK cycles a step at the top of a
+// 2 000-steps/s ramp, these ~100 (docs/PERFORMANCE.md, "Fifth pass"). The same root and rest as
+// the 32-bit code: both are fixed by v^2 = v0^2 + 2 a j alone.
+bool mover::root_step16(const ramp_plan& p, uint16_t j) {
+  if ((p.two_a >> 16) != 0 || root_ >= 0x4000u) return false;
+  const auto a2 = static_cast<uint16_t>(p.two_a);
+  uint16_t root = root_;
+  uint16_t rest = rest_;
+  // Where the root moves by more than ~64 a step, isqrt32 is cheaper (ramp_ticks).
+  if (root < 512u && a2 > static_cast<uint16_t>(root << 7)) return false;
+  if (j == root_j_ + 1u) {
+    if (rest > static_cast<uint16_t>(0xFFFFu - a2)) return false;
+    rest = static_cast<uint16_t>(rest + a2);
+    auto odd = static_cast<uint16_t>(2u * root + 1u);  // (root + 1)^2 - root^2
+    while (rest >= odd) {
+      rest = static_cast<uint16_t>(rest - odd);
+      odd = static_cast<uint16_t>(odd + 2u);
+      ++root;
+    }
+  } else if (j + 1u == root_j_) {
+    // rest < a2 inside the loop and the added odd numbers shrink: the sum stays below
+    // a2 + 2 root.
+    if (a2 > static_cast<uint16_t>(0xFFFFu - 2u * root)) return false;
+    auto odd = static_cast<uint16_t>(2u * root - 1u);  // root^2 - (root - 1)^2
+    while (rest < a2) {
+      rest = static_cast<uint16_t>(rest + odd);
+      odd = static_cast<uint16_t>(odd - 2u);
+      --root;
+    }
+    rest = static_cast<uint16_t>(rest - a2);
+  } else if (j != root_j_) {
+    return false;
+  }
+  root_j_ = j;
+  root_ = root;
+  rest_ = rest;
+  return true;
+}
+
+// floor((f + v / 2) / v) for the new root v from t_, the interval at v_old, in 16-bit words:
+// r = N - t v, the remainder, moves by the change of N and by -t (v - v_old), and t by the few
+// units that bring r back into [0, v). Needs f in [2^14, 40 960) (so every v < 2^14 has t >= 1
+// and N + v < 2^16: the 32 768-Hz ticks of the F149 and the host port), t_ known, and a change
+// t |v - v_old| below 2^16 and 8 v (a few corrections); 0 otherwise.
+uint16_t mover::ticks_step16(const ramp_plan& p, uint16_t v_old) {
+  const uint16_t v = root_;
+  uint16_t t = t_;
+  if ((p.tick_hz >> 16) != 0 || t == 0 || t >= 1024u || v >= 0x4000u || v_old >= 0x4000u) return 0;
+  const auto f = static_cast<uint16_t>(p.tick_hz);
+  if (f < 0x4000u || f >= 40960u) return 0;
+  const auto n_old = static_cast<uint16_t>(f + v_old / 2u);
+  const auto n = static_cast<uint16_t>(f + v / 2u);
+  const bool up = v >= v_old;
+  const auto dv = static_cast<uint16_t>(up ? v - v_old : v_old - v);
+  if (dv >= 64u) return 0;
+  const auto shift = static_cast<uint16_t>(t * dv);  // < 1024 * 64
+  if (shift / 8u > v) return 0;
+  // r = N - t v as a signed 32-bit value: (N_old - t v_old) + (N - N_old) -+ t dv.
+  int32_t r = static_cast<uint16_t>(n_old - static_cast<uint16_t>(t * v_old));
+  r += static_cast<int32_t>(n) - static_cast<int32_t>(n_old);
+  r += up ? -static_cast<int32_t>(shift) : static_cast<int32_t>(shift);
+  while (r < 0) {
+    r += v;
+    --t;
+  }
+  while (r >= static_cast<int32_t>(v)) {
+    r -= v;
+    ++t;
+  }
+  t_ = t;
+  return t;
 }
 
 // The ramp's interval of its j-th step from the running root: each step of j adds (or takes) 2a
 // to v^2 and moves the root by the few units that keep root^2 <= v^2 < (root+1)^2 (about a/v of
 // them: ~10 at 2 000 steps/s and 20 000 steps/s^2), where isqrt32 takes 16 rounds of 32-bit
-// shifts; where the root moves by more than ~64 a step (the slow start of a steep ramp), one
-// isqrt32 is cheaper. Exactly interval()'s value (tests/firmware/test_drivers.cpp).
+// shifts; where the root moves by more than ~64 a step (the slow start of a steep ramp), or the
+// 16-bit words do not hold it, one isqrt32. The interval follows the root the same way
+// (ticks_step16), else ticks_near. Exactly interval()'s value (tests/firmware/test_drivers.cpp).
 uint32_t mover::ramp_ticks(const ramp_plan& p, uint16_t j) {
   if (j >= p.ramp_steps) return p.cruise_ticks;
-  if (p.two_a > 128u * uint32_t{root_} || j + 1u < root_j_ || j > root_j_ + 1u) {
-    // j < j_top: v0^2 + 2 a j < top^2 < 2^32.
-    const uint32_t v2 = p.v0_sq + p.two_a * j;
-    root_j_ = j;
-    root_ = static_cast<uint16_t>(isqrt32(v2));
-    rest_ = static_cast<uint16_t>(v2 - uint32_t{root_} * root_);  // <= 2 root < 2^16 - 1
-    return ticks_near(p, root_);
+  const uint16_t v_old = root_;
+  if (root_step16(p, j)) {
+    if (root_ == v_old && t_ != 0) return t_;
+    const uint16_t t = ticks_step16(p, v_old);
+    if (t != 0) return t;
+  } else {
+    root_at(p, j);
   }
-  uint32_t rest = rest_;
-  if (j > root_j_) {
-    rest += p.two_a;
-    while (rest >= 2u * uint32_t{root_} + 1u) {
-      rest -= 2u * uint32_t{root_} + 1u;
-      ++root_;
-    }
-  } else if (j < root_j_) {
-    while (rest < p.two_a) {
-      rest += 2u * uint32_t{root_} - 1u;
-      --root_;
-    }
-    rest -= p.two_a;
-  }
-  root_j_ = j;
-  rest_ = static_cast<uint16_t>(rest);
+  // Called from here, not from the root's functions: the F149's worst-case stack is the sum of
+  // the frames along a call chain (fit.py).
   return ticks_near(p, root_);
+}
+
+// The root of v0^2 + 2 a j from scratch (16 rounds of isqrt32), where the 16-bit step does not
+// fit: a ramp's first step, a jump of j, 2a of 2^16 or more, or a root moving by more than ~64 a
+// step (where the 32-bit running root was no cheaper and took 750 B of the F149's flash).
+void mover::root_at(const ramp_plan& p, uint16_t j) {
+  // j < j_top: v0^2 + 2 a j < top^2 < 2^32.
+  const uint32_t v2 = p.v0_sq + p.two_a * j;
+  root_j_ = j;
+  root_ = static_cast<uint16_t>(isqrt32(v2));
+  rest_ = static_cast<uint16_t>(v2 - uint32_t{root_} * root_);  // <= 2 root < 2^16 - 1
 }
 
 // The largest t with t v <= N = tick_hz + v / 2 (ticks_at), searched from the last interval: the
@@ -141,33 +213,40 @@ uint32_t mover::ticks_near(const ramp_plan& p, uint16_t v) {
 // Step k of the current ramp segment (from seg_base_) is in its cruise: at the top rate, its
 // interval the constant cruise_ticks_ (the plan's j >= j_top).
 bool mover::cruising(uint16_t k) const {
-  const uint32_t kk = uint32_t{k} - seg_base_;
-  const uint32_t n = uint32_t{total_} - seg_base_;
-  return kk >= ramp_steps_ && n - 1 - kk >= ramp_steps_;
+  // seg_base_ <= k < total_: 16-bit differences (cheaper on the F149, and in the step interrupt).
+  const auto kk = static_cast<uint16_t>(k - seg_base_);
+  const auto n = static_cast<uint16_t>(total_ - seg_base_);
+  return kk >= ramp_steps_ && static_cast<uint16_t>(n - 1u - kk) >= ramp_steps_;
 }
 
 void mover::refill(const ramp_plan& p, uint8_t max_new) {
   // The interval of step k leads to step k + 1: needed for k = 0 .. total - 2; the cruise's are
   // not queued (take_step uses cruise_ticks_).
-  const uint32_t n = uint32_t{total_} - seg_base_;
+  // 16-bit index arithmetic (seg_base_ <= queued_ < total_), and the checks that end the loop
+  // first: a call with nothing to do is the common one (every stage of every pass).
+  const auto n = static_cast<uint16_t>(total_ - seg_base_);
+  const uint32_t full = uint32_t{cruise_ticks_} * queue_len;
   for (uint8_t added = 0; added < max_new && queued_ + 1u < total_;) {
+    const uint8_t tail = tail_;
+    const auto ahead = static_cast<uint8_t>(tail - shared(head_));
+    if (ahead >= queue_len) return;
     const uint16_t k = queued_;
     if (cruising(k)) {  // past the whole cruise at once: kk up to n - 1 - j_top
       queued_ = static_cast<uint16_t>(total_ - ramp_steps_);
       continue;
     }
     ++added;
-    const uint8_t tail = tail_;
-    const uint8_t ahead = static_cast<uint8_t>(tail - shared(head_));
-    if (ahead >= queue_len) return;
     // Enough ahead: as long as a full queue at the top rate (the slow start's intervals need
     // one or two; each costs a square root and a division).
-    if (ahead != 0 && uint32_t{ahead} * queue_[static_cast<uint8_t>(tail - 1u) % queue_len] >=
-                          uint32_t{queue_len} * cruise_ticks_)
-      return;
-    const uint32_t kk = uint32_t{k} - seg_base_;
-    const uint32_t from_end = n - 1 - kk;
-    const uint32_t t = ramp_ticks(p, static_cast<uint16_t>(kk < from_end ? kk : from_end));
+    if (ahead != 0) {
+      const uint16_t last = queue_[static_cast<uint8_t>(tail - 1u) % queue_len];
+      uint32_t held = last;
+      for (uint8_t i = 1; i < ahead; ++i) held += last;  // ahead x last, without a product
+      if (held >= full) return;
+    }
+    const auto kk = static_cast<uint16_t>(k - seg_base_);
+    const auto from_end = static_cast<uint16_t>(n - 1u - kk);
+    const uint32_t t = ramp_ticks(p, kk < from_end ? kk : from_end);
     queue_[tail % queue_len] = static_cast<uint16_t>(t > 0xFFFFu ? 0xFFFFu : t);
     fw::barrier();  // the interval is in place before the index publishes it
     ++queued_;

@@ -137,6 +137,14 @@ class mover {
   /// ticks_at(p.tick_hz, v): from the last interval (t_) with a product and a few adds when the
   /// rate moved little since (a running root's step), else one division.
   [[nodiscard]] uint32_t ticks_near(const ramp_plan& p, uint16_t v);
+  /// The running root's step to j in 16-bit arithmetic (the F149's ramps); false where it would
+  /// not fit (then the 32-bit code).
+  [[nodiscard]] bool root_step16(const ramp_plan& p, uint16_t j);
+  /// The root at j from scratch (isqrt32).
+  [[gnu::noinline]] void root_at(const ramp_plan& p, uint16_t j);
+  /// ticks_at(p.tick_hz, root_) from t_ (the interval at `v_old`) in 16-bit arithmetic; 0 where
+  /// it would not fit (then ticks_near).
+  [[nodiscard]] uint16_t ticks_step16(const ramp_plan& p, uint16_t v_old);
   void restart_root(const ramp_plan& p);
 
   uint16_t total_ = 0;
@@ -156,7 +164,7 @@ class mover {
   uint16_t root_j_ = 0;
   uint16_t root_ = 1;
   uint16_t rest_ = 0;
-  uint16_t t_ = 0;  // the producer's last interval (0: none, or above 16 bits)
+  uint16_t t_ = 0;  // ticks_at(tick_hz, root_) (0: not known, or above 16 bits)
 };
 
 }  // namespace gyroflip::stepper

@@ -506,7 +506,15 @@ __attribute__((interrupt(TIMERA1_VECTOR))) void isr_timer_a1() {
 #endif
       uint32_t next = 0;
       if (dev.on_step_timer(now, &next)) {
-        step_timer(nullptr, true, next);
+        // The next step well ahead of the tick read at entry (the step's own work takes ~3
+        // ticks): the compare alone, CCIE is still set. Else step_timer, which reads the clock
+        // again and raises the flag at once when the instant has passed (~150 MCLK cycles more,
+        // ~5 % of the CPU at 2 000 steps/s).
+        if (static_cast<int32_t>(next - now) > 8) {
+          TACCR1 = static_cast<uint16_t>(next);
+        } else {
+          step_timer(nullptr, true, next);
+        }
       } else {
         TACCTL1 = 0;
       }
