@@ -100,6 +100,9 @@ class device {
   /// Constant-initialised (constexpr): a port's device object needs no constructor at start-up,
   /// so an image works whatever a flasher does with .init_array (docs/FIRMWARE.md).
   constexpr device(const hal& hw, const board_facts& facts) : hw_(hw), facts_(facts), adc_(hw) {}
+  /// Replaces board_facts::max_step_rate_sps before boot: only the MSP430F149's simulator image
+  /// (main.cpp, GYROFLIP_F149_SIM), to measure its main loop at rates its board refuses.
+  void set_max_step_rate_sps(uint16_t sps) { facts_.max_step_rate_sps = sps; }
 
   /// Resets and calibrates the ADC, then sends INFO with why and how often the device started.
   /// An ADC that does not answer is reported (ERROR) and the device still runs: its dwells then

@@ -9,6 +9,7 @@
 
 #include "firmware/core/nv_record.hpp"
 #include "firmware/harness.hpp"
+#include "firmware/ports/msp430f149/limits.hpp"
 
 namespace {
 
@@ -440,14 +441,14 @@ TEST(BoardAdc, ConfigureAndItsCalibrationNeverHoldAPass) {
   EXPECT_EQ(r.all<dwell_msg>()[0].flags, 0u);
 }
 
-// The rates a board cannot produce are refused: the MSP430F149's top rate (2 000 steps/s: its
-// step interrupt and the main loop's interval computation) and a start rate whose interval does
-// not fit the step timer's 16 bits.
+// The rates a board cannot produce are refused: the MSP430F149's top rate (limits.hpp: the
+// highest at which its main loop keeps up with the receive queue with margin) and a start rate
+// whose interval does not fit the step timer's 16 bits.
 TEST(BoardRates, ARateTheBoardCannotProduceIsRefused) {
   fw::testing::code_source src;
   fw::model::host_board board{&fw::testing::code_source::call, &src};
   fw::board_facts facts;
-  facts.max_step_rate_sps = 2000;
+  facts.max_step_rate_sps = fw::msp430f149::max_step_rate_sps;
   fw::device dev{board.hw(), facts};
   dev.boot();
   protocol::stream_decoder d{true};
@@ -465,10 +466,10 @@ TEST(BoardRates, ARateTheBoardCannotProduceIsRefused) {
     return uint8_t{0};
   };
   configure_msg ok = quick_config(8);
-  ok.step_rate_sps = 2000;
+  ok.step_rate_sps = fw::msp430f149::max_step_rate_sps;
   EXPECT_EQ(answer(ok, 1), static_cast<uint8_t>(protocol::msg::ack));
   configure_msg fast = ok;
-  fast.step_rate_sps = 2001;
+  fast.step_rate_sps = static_cast<uint16_t>(fw::msp430f149::max_step_rate_sps + 1);
   EXPECT_EQ(answer(fast, 2), static_cast<uint8_t>(protocol::msg::nak));
   EXPECT_EQ(dev.config(), ok) << "a refused CONFIGURE left the configuration in force";
 }

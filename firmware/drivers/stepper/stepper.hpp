@@ -101,8 +101,8 @@ enum class follower : uint8_t { off = 0, hold = 1, same = 2, opposite = 3 };
 /// a burst of late steps or a top-rate step after a pause.
 class mover {
  public:
-  /// Intervals computed ahead of the steps: at the F149's top rate (2 000 steps/s) the main loop
-  /// may be 4 ms late before a move pauses.
+  /// Intervals computed ahead of the steps: at the F149's top rate (limits.hpp, 1 200 steps/s)
+  /// the main loop may be 6.7 ms late before a move pauses (4 ms at 2 000 steps/s).
   static constexpr uint8_t queue_len = 8;
 
   /// A move of `steps`, its first step due at `first_ticks`; the first `ahead` intervals are

@@ -8,11 +8,18 @@
 
 namespace gyroflip::fw::msp430f149 {
 
-/// The highest top step rate (steps/s) the image accepts in CONFIGURE (above: NAK bad_arg). At
-/// 2 000 steps/s every step interval keeps the ramp to a tick with commands at the ramps' tops
-/// (Msp430Board.CommandsAtTheTopOfTheRampDoNotStarveTheSteps). A lower limit would not bound
-/// the main loop's longest pass when the host sends behind a burst: that pass is 11-14 ms at
-/// every top rate from 800 to 2 000 steps/s (docs/PERFORMANCE.md, "The F149's top step rate").
-inline constexpr uint16_t max_step_rate_sps = 2000;
+/// The highest top step rate (steps/s) the image accepts in CONFIGURE (above: NAK bad_arg): the
+/// highest at which the main loop's longest pass stays below the 96-byte receive queue's 8.33 ms
+/// with margin when the host sends behind command bursts at the ramps' tops. Measured
+/// (Msp430Board.DISABLED_LongestPassAgainstTheTopRate; docs/PERFORMANCE.md, "Fifth pass"):
+/// 5.89 / 6.20 / 7.02 / 7.80 / 8.28 / 8.23 / 9.29 / 9.62 ms at 800 / 1 000 / 1 200 / 1 400 /
+/// 1 500 / 1 600 / 1 800 / 2 000 steps/s, nothing lost to 1 500, 4-11 bytes lost from 1 600.
+/// 1 200 keeps 16 % margin (7.02 ms); 1 400-1 500 meet the bound without margin, and a rate at
+/// which the board can lose a command's bytes must not be one it accepts (the paper's rig and
+/// the simulator's default run at 400). What would lift it: a cheaper byte path both ways (the
+/// HAL's uart_read/uart_write are an indirect call per byte: a block read/write op), a cheaper
+/// ramp interval; then measure again (Msp430Board.BurstsWithTheHostSendingBehindThemLoseNothing
+/// runs at this limit).
+inline constexpr uint16_t max_step_rate_sps = 1200;
 
 }  // namespace gyroflip::fw::msp430f149

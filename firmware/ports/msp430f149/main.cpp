@@ -66,8 +66,9 @@ void interrupts_restore(bool were_on) {
 volatile uint16_t tick_overflows = 0;
 volatile uint8_t osc_faults = 0;  // protocol::clock_fault bits the NMI saw
 // The UART's receive queue: 96 bytes hold 8.3 ms of line, more than the main loop's longest
-// pass (a PING's INFO while the table turns at 2 000 steps/s: docs/PERFORMANCE.md, "Timing on
-// the chip"). Indices wrap by comparison (no division in the interrupt).
+// pass (commands behind bursts at the ramps' tops at the board's top rate, limits.hpp:
+// docs/PERFORMANCE.md, "Timing on the chip"). Indices wrap by comparison (no division in the
+// interrupt).
 constexpr uint8_t rx_size = 96;
 constexpr uint8_t rx_next(uint8_t i) {
   return static_cast<uint8_t>(i + 1u == rx_size ? 0u : i + 1u);
@@ -605,6 +606,11 @@ void firmware_main() {
   init_peripherals();
   WDTCTL = WDTPW | WDTCNTCL | WDTSSEL;
   enable_interrupts();
+#if GYROFLIP_F149_SIM
+  // Measurements above the board's limit (sim_layout.hpp, rate_limit_addr); the board's own
+  // limit unless the test asks.
+  if (const uint16_t sps = sim::rate_limit_sps(); sps != 0) dev.set_max_step_rate_sps(sps);
+#endif
   dev.boot(boot);
   for (;;) {
 #if GYROFLIP_F149_SIM

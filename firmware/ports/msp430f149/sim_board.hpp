@@ -487,6 +487,11 @@ inline void steps_seen(uint16_t rebases) {
   stats()[sl::w_rebases] = rebases;
 }
 
+/// The top step rate the test asks the image to accept (sl::rate_limit_addr; 0: the board's).
+inline uint16_t rate_limit_sps() {
+  return *reinterpret_cast<const volatile uint16_t*>(sl::rate_limit_addr);
+}
+
 inline void init() {
   for (uint8_t w = 0; w < sl::w_count; ++w) stats()[w] = 0;
   script_at = 6;

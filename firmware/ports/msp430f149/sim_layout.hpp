@@ -71,6 +71,12 @@ enum word : uint8_t {
   w_rebases,  ///< turns that ran dry and resumed with a new ramp (stepper::mover::rebase)
   w_count,
 };
+/// A word the test writes before each run: a top step rate the simulator image accepts instead
+/// of the board's (limits.hpp), to measure the main loop above the board's limit
+/// (Msp430Board.DISABLED_LongestPassAgainstTheTopRate); 0: the board's. In the 256 bytes the
+/// test reads as the stats, above them.
+inline constexpr uint16_t rate_limit_addr = 0xA8FE;
+static_assert(stats_addr + 2u * w_count <= rate_limit_addr && rate_limit_addr + 2u <= tx_log_addr);
 /// A pass longer than this (Timer_B counts: 1 ms at 5.5296 MHz) is counted in w_polls_over.
 inline constexpr uint16_t poll_limit = 691;
 
