@@ -269,7 +269,7 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
     }
     case gfr::kind::stop:
       if (r.body.size() != 1 || r.body[0] < 1 ||
-          r.body[0] > static_cast<std::uint8_t>(gfr::stop_reason::device_failed))
+          r.body[0] > static_cast<std::uint8_t>(gfr::stop_reason::disk_full))
         return bad("STOP record of an unknown reason");
       run_.stop = static_cast<gfr::stop_reason>(r.body[0]);
       return ok();
@@ -920,6 +920,12 @@ result<rig_run> rig_run_builder::finish() && {
     run_.warnings.push_back(fmt::format(
         "{}: the recording has no STOP record: the recorder ended without closing it (a kill or "
         "a power loss); everything up to its last record is read",
+        run_.path));
+  else if (*run_.stop == gfr::stop_reason::disk_full)
+    run_.warnings.push_back(fmt::format(
+        "{}: the recording ended because the disk was full (or the file reached its size limit): "
+        "the recorder stopped the device; what it sent after the last record is not in the file "
+        "and is counted lost; everything before it is read",
         run_.path));
   static_cast<void>(unknown_config_runs);
   return std::move(run_);
