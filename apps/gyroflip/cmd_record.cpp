@@ -16,6 +16,7 @@
 
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "host/recorder/recorder.hpp"
@@ -196,6 +197,13 @@ int run_record(const record_options& o) {
                  : " (STATUS frames and command replies, which the device does not keep for "
                    "RESEND, or frames after a run's last dwell)",
       s.elapsed_s, reason_text(r->reason));
+  // Runs after the first are placed by the host's clock: where the device's ran at another pace
+  // (an emulator at --speed) their time_s are off, and the reader says by how much, naming each
+  // run (review of issue 32, finding 4); the same warnings as `export`'s.
+  if (auto back = rigdata::read_rig_run(o.output); back && back->later_runs_shift_s > 0)
+    for (const auto& w : back->warnings)
+      if (w.find("by the host's clock") != std::string::npos)
+        std::fprintf(stderr, "gyroflip record: warning: %s\n", w.c_str());
   if (s.stationarity && s.stationarity->checked)
     std::fprintf(stderr, "gyroflip record: %s\n",
                  s.stationarity->failed()

@@ -503,7 +503,8 @@ error session::end_disk_full() {
           ? std::string("nothing the device sent was lost")
           : fmt::format(
                 "{} the device sent {} not in the file ({}, {} and {} (STATUS, replies) that "
-                "arrived and could not be stored, and {} the line had lost, of any kind){}",
+                "arrived and could not be stored, and {} still missing: damaged or dropped on the "
+                "line, of any kind){}",
                 n_of(not_stored, "frame", "frames"), not_stored == 1 ? "is" : "are",
                 n_of(unstored_dwells_, "DWELL", "DWELLs"),
                 n_of(unstored_raws_, "RAW frame", "RAW frames"),
