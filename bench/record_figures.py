@@ -3,7 +3,8 @@
 the emulator's log of what the device sent (bench/rig_truth.py; docs/RELIABILITY.md).
 
     python3 bench/record_figures.py [--gyroflip PATH] [--seeds FIRST-LAST] [--duration S]
-        [--emulate "ARGS"] [--record "ARGS"] [--reset-at LO-HI] [--keep DIR] FAULTS...
+        [--emulate "ARGS"] [--record "ARGS"] [--reset-at LO-HI] [--fsize LO-HI] [--keep DIR]
+        FAULTS...
 
 Each FAULTS is a string of emulator fault options (e.g. "--fault-ber 2e-2"); each seed runs once
 per FAULTS, one emulator and one recorder at a time (a recorder waiting for /dev/pts/N could
@@ -14,6 +15,12 @@ paired with the file's segments by INFO's boot count). The folder of every such 
 and the commands) is kept in DIR (--keep, default ./record-figures-kept/FAULTS-INDEX/SEED-N),
 never deleted: a rare failure is worth its evidence. `--reset-at LO-HI` gives each seed its own
 `--fault-reset-at`, drawn uniformly in [LO, HI] from the seed (the same seed, the same time).
+`--fsize LO-HI` records under `prlimit --fsize=N` (a full disk), N drawn the same way: such a run
+must end with exit 1, a STOP record of reason 6 (disk full) and no torn record, and every dwell
+in the file or counted (docs/RECORDER.md, "Disk full"):
+
+    python3 bench/record_figures.py --seeds 5100-5119 --duration 600 --fsize 20000-60000 \
+        --emulate "--speed max" "" "--fault-ber 1e-2" "--fault-reset-at 20 --fault-ber 1e-3"
 
 The issue-32 figure (docs/RELIABILITY.md): a reset 1.2 device seconds after the first START, on
 a line that damages START's ACK often enough that a retry meets the rebooted device:
@@ -36,7 +43,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rig_truth  # noqa: E402
 
 
-def one_run(gyroflip, seed, emulate_args, record_args, duration, folder):
+def one_run(gyroflip, seed, emulate_args, record_args, duration, folder, fsize=None):
     log = os.path.join(folder, "sent.csv")
     gfr = os.path.join(folder, "rec.gfr")
     emu_cmd = [gyroflip, "emulate", "--pty", "--seed", str(seed), "--log", log] + emulate_args
@@ -49,6 +56,8 @@ def one_run(gyroflip, seed, emulate_args, record_args, duration, folder):
             raise SystemExit(f"emulate printed no line: {line!r}")
         rec_cmd = [gyroflip, "record", "--port", pty, "--duration", str(duration), "-o", gfr] + \
             record_args
+        if fsize is not None:
+            rec_cmd = ["prlimit", f"--fsize={fsize}"] + rec_cmd
         with open(os.path.join(folder, "commands.txt"), "w") as f:
             f.write(shlex.join(emu_cmd) + "\n" + shlex.join(rec_cmd) + "\n")
         t0 = time.monotonic()
@@ -82,6 +91,8 @@ def main():
     ap.add_argument("--record", default="", help="recorder options of every run")
     ap.add_argument("--reset-at", default="",
                     help="LO-HI: each seed's own --fault-reset-at, uniform in [LO, HI] by seed")
+    ap.add_argument("--fsize", default="",
+                    help="LO-HI: record under prlimit --fsize=N, N uniform in [LO, HI] by seed")
     ap.add_argument("--keep", default="record-figures-kept",
                     help="folder where the runs that failed a check are kept")
     ap.add_argument("faults", nargs="+", help="emulator fault options, one string per set")
@@ -93,22 +104,31 @@ def main():
         total = {"runs": 0, "sent": 0, "in_file": 0, "exported": 0, "mislabelled": 0,
                  "unlabelled": 0, "not_in_file": 0, "resets": 0, "start_unacked": 0,
                  "uncounted_runs": 0, "failed_runs": 0, "over_10pct": 0, "max_data_ratio": 0.0,
-                 "said_off": 0, "duplicates": 0, "time_inconsistent": 0}
+                 "said_off": 0, "duplicates": 0, "time_inconsistent": 0, "disk_full_ends": 0}
         for seed in seeds:
             extra = []
             if a.reset_at:
                 lo, _, hi = a.reset_at.partition("-")
                 t = random.Random(seed).uniform(float(lo), float(hi or lo))
                 extra = ["--fault-reset-at", f"{t:.4f}"]
+            fsize = None
+            if a.fsize:
+                lo, _, hi = a.fsize.partition("-")
+                fsize = random.Random(seed).randint(int(lo), int(hi or lo))
             d = tempfile.mkdtemp(prefix="gyroflip-figures-")
             try:
                 r = one_run(a.gyroflip, seed, shlex.split(a.emulate) + shlex.split(faults) + extra,
-                            shlex.split(a.record), a.duration, d)
+                            shlex.split(a.record), a.duration, d, fsize)
+                if fsize is not None:
+                    r["fsize"] = fsize
             except Exception as e:  # noqa: BLE001 (kept with its folder)
                 r = {"error": repr(e)}
             print(f"{faults} {' '.join(extra)} seed {seed}: {r}", flush=True)
             failed = "sent" not in r or r["mislabelled"] != 0 or r["foreign"] != 0 or \
                 not r["counted"] or r["duplicates"] != 0 or r["time_inconsistent"] != 0
+            # A full disk ends the run with exit 1, STOP (disk full) and no torn record.
+            disk_full_end = "sent" in r and r["exit"] == 1 and r["stop"] == 6 and r["torn"] == 0
+            failed = failed or (fsize is not None and not disk_full_end)
             if failed:
                 kept = os.path.join(a.keep, f"{index}", f"{seed}")
                 n = 0
@@ -134,7 +154,8 @@ def main():
             # what record said against what the file holds (to its printed 0.1 s)
             total["said_off"] += 0 if r["said_s"] is not None and \
                 abs(r["said_s"] - r["data_s"]) <= 0.05 else 1
-            total["failed_runs"] += 1 if r["exit"] != 0 else 0
+            total["disk_full_ends"] += 1 if disk_full_end else 0
+            total["failed_runs"] += 1 if r["exit"] != 0 and not disk_full_end else 0
             bad = bad or failed
         print(f"TOTAL {a.emulate} {faults}: {total}", flush=True)
     return 1 if bad else 0

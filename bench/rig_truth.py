@@ -43,6 +43,9 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
   resets       device resets the file records (GAP reset)
   start_unacked  runs whose START ACK never reached the recorder (the START record names the
                CONFIGURE's ACK: the device showed the run, or it reset before a retry)
+  stop         the reason of the file's last STOP record (1 duration, 2 signal, 3 link lost,
+               4 another device, 5 device failed, 6 disk full), or null: not closed
+  torn         bytes after the last whole record (a record cut short; 0 in a closed file)
 
 Exit 0 when mislabelled, foreign, duplicates and time_inconsistent are 0 and counted; else 1.
 """
@@ -56,16 +59,30 @@ import sys
 LSB_V = 5.0 / 16777216.0  # AD7739 +-2.5 V over 2^24 codes (INFO range 4)
 
 
-def gfr_records(path):
-    """(kind, body) of every intact record, in file order."""
+def gfr_walk(path):
+    """(offset, kind, body) of every intact record, in file order, and last the offset where
+    whole records end (kind None)."""
     data = open(path, "rb").read()
     i = 16
     while i + 8 <= len(data):
         length, check = struct.unpack_from("<II", data, i)
         if length ^ 0xFFFFFFFF != check or i + 8 + length + 4 > len(data):
             break
-        yield data[i + 8], data[i + 17 : i + 8 + length]
+        yield i, data[i + 8], data[i + 17 : i + 8 + length]
         i += 8 + length + 4
+    yield i, None, b""
+
+
+def gfr_records(path):
+    """(kind, body) of every intact record, in file order."""
+    for _, kind, body in gfr_walk(path):
+        if kind is not None:
+            yield kind, body
+
+
+def whole_end(path):
+    """Where the file's whole records end."""
+    return [at for at, kind, _ in gfr_walk(path) if kind is None][0]
 
 
 def stored_dwells(path):
@@ -215,7 +232,23 @@ def compare(gyroflip, gfr, sent_csv):
         "resets": resets,
         "start_unacked": unacked,
         "data_s": round(data_s, 3),
+        "stop": stop_reason(gfr),
+        "torn": torn_bytes(gfr),
     }
+
+
+def stop_reason(path):
+    """The reason byte of the file's last STOP record (kind 7), or None."""
+    reason = None
+    for kind, body in gfr_records(path):
+        if kind == 7 and len(body) == 1:
+            reason = body[0]
+    return reason
+
+
+def torn_bytes(path):
+    """Bytes after the last record that reads whole (a torn tail)."""
+    return len(open(path, "rb").read()) - whole_end(path)
 
 
 def main():

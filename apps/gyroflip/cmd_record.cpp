@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -15,6 +16,7 @@
 
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "host/recorder/recorder.hpp"
@@ -40,9 +42,11 @@ std::string num(double v, const char* spec) {
 void draw(const host::recorder_status& s) {
   const std::string of = s.duration_s > 0 ? fmt::format("/{:.0f}", s.duration_s) : "";
   std::string line = fmt::format(
-      "\r{:.0f}{} s  cycles {}  frames {} good {} resent {} lost  dN {} +- {} deg/s  T {} C",
-      s.elapsed_s, of, s.cycles, s.frames_good, s.frames_recovered, s.frames_lost,
-      num(s.delta_n_dps, "{:.5e}"), num(s.delta_n_se_dps, "{:.1e}"), num(s.temp_c, "{:.2f}"));
+      "\r{:.0f}{} s  cycles {}  frames {} good {} resent  lost {} dwells {} other  dN {} +- {} "
+      "deg/s  T {} C",
+      s.elapsed_s, of, s.cycles, s.frames_good, s.frames_recovered, s.dwells_lost,
+      s.frames_lost - std::min(s.frames_lost, s.dwells_lost), num(s.delta_n_dps, "{:.5e}"),
+      num(s.delta_n_se_dps, "{:.1e}"), num(s.temp_c, "{:.2f}"));
   if (s.waiting_for_port) line += "  (waiting for the port)";
   std::fprintf(stderr, "%s\033[K", line.c_str());
   std::fflush(stderr);
@@ -66,6 +70,7 @@ nlohmann::json json_of(const host::recorder_status& s) {
           {"frames_corrupt", s.frames_corrupt},
           {"frames_recovered", s.frames_recovered},
           {"frames_lost", s.frames_lost},
+          {"dwells_lost", s.dwells_lost},
           {"frames_pending", s.frames_pending},
           {"device_resets", s.device_resets},
           {"link_losses", s.link_losses},
@@ -89,6 +94,8 @@ const char* reason_text(rigdata::gfr::stop_reason r) {
       return "another device answered";
     case rigdata::gfr::stop_reason::device_failed:
       return "the device could not be started again after a reset";
+    case rigdata::gfr::stop_reason::disk_full:
+      return "the disk was full";
   }
   return "";
 }
@@ -173,13 +180,30 @@ int run_record(const record_options& o) {
   if (drawn) std::fputs("\r\033[K", stderr);
   if (!r) return report(r.err());
   const auto& s = r->last;
-  std::fprintf(stderr,
-               "gyroflip record: %s: %zu dwells, %zu cycles, %llu frames (%llu damaged on the "
-               "line, %llu sent again, %llu lost) over %.1f s: %s\n",
-               o.output.c_str(), s.dwells, s.cycles, static_cast<unsigned long long>(s.frames_good),
-               static_cast<unsigned long long>(s.frames_corrupt),
-               static_cast<unsigned long long>(s.frames_recovered),
-               static_cast<unsigned long long>(s.frames_lost), s.elapsed_s, reason_text(r->reason));
+  // Lost dwells apart from the other frames lost (review of issue 32: "49-55 lost" on a line
+  // whose every dwell was recorded were STATUS frames and replies, which the device does not
+  // keep for RESEND).
+  const std::uint64_t other = s.frames_lost - std::min(s.frames_lost, s.dwells_lost);
+  std::fprintf(
+      stderr,
+      "gyroflip record: %s: %zu dwells, %zu cycles, %llu frames (%llu damaged on the line, %llu "
+      "sent again); lost: %llu %s, %llu other %s%s over %.1f s: %s\n",
+      o.output.c_str(), s.dwells, s.cycles, static_cast<unsigned long long>(s.frames_good),
+      static_cast<unsigned long long>(s.frames_corrupt),
+      static_cast<unsigned long long>(s.frames_recovered),
+      static_cast<unsigned long long>(s.dwells_lost), s.dwells_lost == 1 ? "dwell" : "dwells",
+      static_cast<unsigned long long>(other), other == 1 ? "frame" : "frames",
+      other == 0 ? ""
+                 : " (STATUS frames and command replies, which the device does not keep for "
+                   "RESEND, or frames after a run's last dwell)",
+      s.elapsed_s, reason_text(r->reason));
+  // Runs after the first are placed by the host's clock: where the device's ran at another pace
+  // (an emulator at --speed) their time_s are off, and the reader says by how much, naming each
+  // run (review of issue 32, finding 4); the same warnings as `export`'s.
+  if (auto back = rigdata::read_rig_run(o.output); back && back->later_runs_shift_s > 0)
+    for (const auto& w : back->warnings)
+      if (w.find("by the host's clock") != std::string::npos)
+        std::fprintf(stderr, "gyroflip record: warning: %s\n", w.c_str());
   if (s.stationarity && s.stationarity->checked)
     std::fprintf(stderr, "gyroflip record: %s\n",
                  s.stationarity->failed()

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <random>
+#include <set>
 #include <thread>
 #include <type_traits>
 
@@ -263,6 +264,8 @@ class session {
   status close_file(gfr::stop_reason why);
   status note_lost(std::size_t n);
   status note_corrupt();
+  void note_unstored(gfr::kind k, std::span<const std::uint8_t> body);
+  error end_disk_full();
   void note_dwell_time(const p::frame& f);
   void close_segment();
   status tick();
@@ -329,9 +332,16 @@ class session {
   p::stream_decoder dec_{true};  // retransmitted (older) frames are handed out too
   p::frame_decoder old_dec_;     // the same bytes as protocol v1 framed them (foreign devices)
   receive_window window_;
-  std::optional<p::info_msg> info_;               // the session's device (serial, boot count)
-  std::optional<p::info_msg> got_info_;           // the INFO a PING brought
-  std::optional<error> fatal_;                    // a reason to end the run found while reading
+  std::optional<p::info_msg> info_;      // the session's device (serial, boot count)
+  std::optional<p::info_msg> got_info_;  // the INFO a PING brought
+  std::optional<error> fatal_;           // a reason to end the run found while reading
+  // The file took no more (a full disk, a file size limit, a failed write or sync): the run
+  // ends (end_disk_full); what arrives meanwhile is counted, not stored.
+  std::optional<error> disk_error_;
+  std::uint64_t unstored_frames_ = 0;             // frames that arrived and could not be stored
+  std::uint64_t unstored_dwells_ = 0;             // ... of them DWELLs
+  std::uint64_t unstored_raws_ = 0;               // ... and RAW frames
+  std::uint64_t unstored_gap_ = 0;                // frames counted lost by GAP records not stored
   steady::time_point lost_at_{};                  // when the port was lost (the GAP's milliseconds)
   std::uint64_t epoch_ = 0;                       // device resets seen: a command is of one epoch
   steady::time_point speed_at_{};                 // the device_speed_ estimate's start
@@ -364,6 +374,13 @@ class session {
   std::uint32_t seg_max_end_ = 0;       // the latest dwell end of the segment (device ticks)
   std::int64_t seg_max_end_off_ = 0;    // ... and its place from the segment's first dwell end
   std::int64_t seg_min_start_off_ = 0;  // the earliest dwell start, placed the same way
+  // Dwells missing from the runs (review of issue 32: `lost` counted STATUS frames and replies,
+  // which the device does not keep for RESEND, with the dwells): the segment's dwell indices
+  // (n_positions x cycle + position) not seen below the highest one seen, as the reader counts
+  // them; some may still come back on RESEND.
+  std::set<std::uint64_t> seg_missing_k_;
+  std::uint64_t seg_next_k_ = 0;
+  std::uint64_t dwells_missing_closed_ = 0;
   std::uint16_t seq_ = 0;
   // The command waiting for its reply.
   std::optional<std::uint16_t> reply_seq_;
@@ -397,9 +414,17 @@ class session {
   bool link_down_ = false;  // the last error came from the port, not the file
 };
 
+// Every record goes into the file as it is made. One the file cannot take (disk_error_) is
+// counted instead (note_unstored): the run ends at the main loop's next turn, and the GAP that
+// closes the file counts it.
 status session::append(gfr::kind k, std::span<const std::uint8_t> body) {
   gfr::record r{k, host_us(), {body.begin(), body.end()}};
-  if (auto s = file_.append(k, r.host_time_us, body); !s) return s;
+  if (!disk_error_)
+    if (auto s = file_.append(k, r.host_time_us, body); !s) disk_error_ = s.err();
+  if (disk_error_) {
+    note_unstored(k, body);
+    return ok();
+  }
   if (auto s = live_.add(r, ++records_); !s) return s;
   const auto& dw = live_.run().dwells;
   if (dwells_seen_ == dw.size()) return ok();
@@ -422,7 +447,80 @@ status session::append_frame(const p::frame& f) {
 status session::close_file(gfr::stop_reason why) {
   const std::uint8_t body[1] = {static_cast<std::uint8_t>(why)};
   if (auto s = append(gfr::kind::stop, body); !s) return s;
+  if (disk_error_) return *disk_error_;
   return file_.close();  // syncs
+}
+
+// A record the file could not take: a frame (an INFO record is a frame of the device's numbering
+// too) is lost to the file, and so are the frames a GAP (missing) counted.
+void session::note_unstored(gfr::kind k, std::span<const std::uint8_t> body) {
+  if (k == gfr::kind::frame || k == gfr::kind::info) {
+    ++unstored_frames_;
+    if (k == gfr::kind::frame && !body.empty() &&
+        body[0] == static_cast<std::uint8_t>(p::msg::dwell))
+      ++unstored_dwells_;
+    if (k == gfr::kind::frame && !body.empty() && body[0] == static_cast<std::uint8_t>(p::msg::raw))
+      ++unstored_raws_;
+  } else if (k == gfr::kind::gap && body.size() == 5 &&
+             body[0] == static_cast<std::uint8_t>(gfr::gap_reason::missing)) {
+    p::reader r{body.data() + 1, 4};
+    unstored_gap_ += r.u32();
+  }
+}
+
+// The file took no more (a full disk, a file size limit, a failed write or sync; review of
+// issue 32: the dwell whose write failed was in no count, no STOP was written, and `export` blamed
+// a kill). The writer cut the failed record back to the last whole one. The device gets STOP
+// (what it sends until then is counted), then, if the room the cut left holds them, a GAP
+// (missing) counts every frame of this boot that is not in the file and a STOP record says why;
+// the file is synced and closed, and the message names the file and what was lost.
+error session::end_disk_full() {
+  if (port_ && !stopping_) {
+    stopping_ = true;
+    (void)command(p::stop_msg{}, "STOP");
+    (void)pump(100);
+  }
+  const std::size_t missing = window_.give_up_all();
+  lost_ += missing + unstored_frames_;
+  const std::uint64_t not_stored = missing + unstored_frames_ + unstored_gap_;
+  bool counted = not_stored == 0;
+  if (!counted) {
+    std::uint8_t b[5];
+    p::writer w{b, sizeof b};
+    w.u8(static_cast<std::uint8_t>(gfr::gap_reason::missing));
+    w.u32(static_cast<std::uint32_t>(std::min<std::uint64_t>(not_stored, 0xFFFFFFFFu)));
+    counted = static_cast<bool>(file_.append_last(gfr::kind::gap, host_us(), b));
+  }
+  const std::uint8_t stop[1] = {static_cast<std::uint8_t>(gfr::stop_reason::disk_full)};
+  const bool closed = static_cast<bool>(file_.append_last(gfr::kind::stop, host_us(), stop));
+  const bool synced = static_cast<bool>(file_.close());  // copies if they fit; synced
+  const auto n_of = [](std::uint64_t n, const char* one, const char* many) {
+    return fmt::format("{} {}", n, n == 1 ? one : many);
+  };
+  const std::uint64_t given_up = missing + unstored_gap_;
+  const std::string what =
+      not_stored == 0
+          ? std::string("nothing the device sent was lost")
+          : fmt::format(
+                "{} the device sent {} not in the file ({}, {} and {} (STATUS, replies) that "
+                "arrived and could not be stored, and {} still missing: damaged or dropped on the "
+                "line, of any kind){}",
+                n_of(not_stored, "frame", "frames"), not_stored == 1 ? "is" : "are",
+                n_of(unstored_dwells_, "DWELL", "DWELLs"),
+                n_of(unstored_raws_, "RAW frame", "RAW frames"),
+                n_of(unstored_frames_ - unstored_dwells_ - unstored_raws_, "other frame",
+                     "other frames"),
+                n_of(given_up, "frame", "frames"),
+                counted ? ", counted lost in a GAP record"
+                        : "; the file had no room left to count them in a GAP record");
+  return runtime_error(fmt::format(
+      "{}; the recording ends here and the device was stopped: {}; everything recorded before is "
+      "in {} ({}){}",
+      disk_error_->message, what, c_.output,
+      closed ? "it ends with a STOP record: the disk was full"
+             : "there was no room left for its STOP record either: its readers will say it was "
+               "not closed",
+      synced ? "" : "; the file could not be synced: what the kernel still held may be lost"));
 }
 
 status session::append_gap(gfr::gap_reason r, std::uint32_t count) {
@@ -463,6 +561,16 @@ void session::note_dwell_time(const p::frame& f) {
   const bool of_run =
       (recording_ && after(start_ack_seq_)) || (start_in_flight_ && after(configured_at_));
   if (!of_run || !f.as(d)) return;
+  // Its place in the run, and the ones skipped before it (a cap keeps a wild index from taking
+  // memory: 2^20 dwells are 12 days of the paper's rig).
+  const std::uint64_t k = std::uint64_t{running_.n_positions} * d.cycle + d.position;
+  if (k >= seg_next_k_) {
+    for (std::uint64_t j = seg_next_k_; j < k && seg_missing_k_.size() < (1u << 20); ++j)
+      seg_missing_k_.insert(j);
+    seg_next_k_ = k + 1;
+  } else {
+    seg_missing_k_.erase(k);
+  }
   if (!seg_started_) {
     seg_started_ = true;
     seg_max_end_ = d.t_end_ticks;
@@ -484,6 +592,9 @@ void session::note_dwell_time(const p::frame& f) {
 
 // The segment ends (a reset, a restart): its data time is kept, the next one starts at 0.
 void session::close_segment() {
+  dwells_missing_closed_ += seg_missing_k_.size();
+  seg_missing_k_.clear();
+  seg_next_k_ = 0;
   data_closed_s_ = data_s();
   seg_started_ = false;
   seg_span_ticks_ = 0;
@@ -501,6 +612,7 @@ recorder_status session::status_now() const {
   st.frames_corrupt = run.corrupt_frames;
   st.frames_recovered = recovered_;
   st.frames_lost = lost_;
+  st.dwells_lost = dwells_missing_closed_ + seg_missing_k_.size();
   st.frames_pending = window_.missing();
   st.device_resets = run.device_resets;
   st.link_losses = run.link_losses;
@@ -532,7 +644,8 @@ status session::tick() {
   const auto now = steady::now();
   if (now - last_tick_ < std::chrono::seconds(1)) return ok();
   last_tick_ = now;
-  if (auto s = file_.sync(); !s) return s;
+  if (!disk_error_)
+    if (auto s = file_.sync(); !s) disk_error_ = s.err();  // the main loop ends the run
   look(false);
   if (on_progress_) on_progress_(status_now());
   return ok();
@@ -942,6 +1055,7 @@ result<p::info_msg> session::ping() {
     const std::uint32_t bad_at_send = dec_.counts().bad();
     while (!got_info_ && steady::now() < until) {
       if (stop_) return interrupted();
+      if (disk_error_) return *disk_error_;
       if (auto s = pump(std::clamp(static_cast<int>(wait_s * 1e3 / 5), 1, 20)); !s) return s.err();
       if (fatal_) return *fatal_;
       if (old_dec_.counts().bad_version >= 3 && dec_.counts().good == good_before)
@@ -990,6 +1104,7 @@ status session::command(const M& m, const char* name, on_ack then) {
     while (!replied_ && !resend_now_ && steady::now() < until) {
       // Ctrl-C while starting a run ends it at once (the STOP that ends a run is not cut short).
       if (stop_ && !stopping_) return done(), interrupted();
+      if (disk_error_ && !stopping_) return done(), *disk_error_;
       if (auto s = pump(read_wait_ms()); !s) return done(), s;
       if (fatal_) return done(), *fatal_;
       if (epoch_ != reply_epoch_) {
@@ -1096,6 +1211,7 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
   } else {
     (void)note_lost(window_.give_up_all());
   }
+  if (disk_error_) return end_disk_full();  // the file took no more meanwhile
   if (auto s = close_file(why); !s) return s.err();
   recorder_result r;
   r.reason = why;
@@ -1118,11 +1234,13 @@ result<bool> session::reconnect(steady::time_point lost_at) {
   const auto until = lost_at + std::chrono::duration<double>(c_.reconnect_timeout_s);
   while (steady::now() < until && !stop_) {
     if (auto s = tick(); !s) return s.err();
+    if (disk_error_) return true;  // the main loop ends the run
     std::this_thread::sleep_for(std::chrono::duration<double>(port_poll_s()));
     if (!open_port()) continue;
     link_down_ = false;
     auto info = ping();        // identifies the board (pump): the link-lost GAP, then its INFO
     if (fatal_) return false;  // another board: the main loop closes the file with the reason
+    if (disk_error_) return true;
     if (!info) {
       if (!link_down_ && info.err().code == errc::bad_input) return info.err();
       port_.reset();
@@ -1136,6 +1254,7 @@ result<bool> session::reconnect(steady::time_point lost_at) {
     }
     if (auto s = handle_reset(); !s) {
       if (fatal_) return false;
+      if (disk_error_) return true;
       if (!link_down_ && !restart_) return s.err();
       if (restart_) return true;  // another reset meanwhile: the main loop starts again
       port_.reset();
@@ -1161,6 +1280,7 @@ result<recorder_result> session::run() {
                       }());
       !s)
     return s.err();
+  if (disk_error_) return *disk_error_;  // full from the start: record() removes the file
   if (auto s = open_port(); !s) return s.err();
   auto info = ping();
   if (!info) return info.err();
@@ -1170,6 +1290,7 @@ result<recorder_result> session::run() {
   if (auto s = append(gfr::kind::info, payload_of(*info)); !s) return s.err();
   bool need_start = true;
   while (true) {
+    if (disk_error_) return end_disk_full();
     if (fatal_) {
       // Another device: leave it alone; close the file with its reason.
       (void)close_file(gfr::stop_reason::device_changed);
@@ -1181,7 +1302,7 @@ result<recorder_result> session::run() {
     if (!lost && (need_start || reset_seen_ || device_idle_ || need_info_)) {
       link_down_ = false;
       if (auto s = need_start && !reset_seen_ && !need_info_ ? start_run() : handle_reset(); !s) {
-        if (fatal_) continue;
+        if (fatal_ || disk_error_) continue;
         if (link_down_) {
           lost = true;
         } else if (restart_) {
@@ -1211,7 +1332,7 @@ result<recorder_result> session::run() {
     if (!lost) {
       link_down_ = false;
       if (auto s = pump(read_wait_ms()); !s) {
-        if (!link_down_) {  // the file failed (a full disk): stop the device, keep what is in
+        if (!link_down_) {  // not the line (a record the reader refused): stop the device
           (void)command(p::stop_msg{}, "STOP");
           (void)file_.close();
           return s.err();
@@ -1229,7 +1350,7 @@ result<recorder_result> session::run() {
     if (lost) {
       auto back = reconnect(steady::now());
       if (!back) return back.err();
-      if (fatal_) continue;  // closed above, with its reason
+      if (fatal_ || disk_error_) continue;  // closed above, with its reason
       if (!*back) return finish(stop_ ? gfr::stop_reason::signal : gfr::stop_reason::link_lost);
     }
     if (auto t = tick(); !t) return t.err();

@@ -54,7 +54,13 @@ struct recorder_status {
   std::uint64_t frames_corrupt = 0;    ///< frames the line damaged (most come back: recovered)
   std::uint64_t frames_recovered = 0;  ///< frames received again after a RESEND
   std::uint64_t frames_lost = 0;       ///< frames the device no longer had: gap records
-  std::uint64_t frames_pending = 0;    ///< missing frames still asked for
+  /// Of the run's dwells, those missing from their runs (their index, n_positions x cycle +
+  /// position, skipped; those before the first one seen included), as `export` counts them; while
+  /// the run goes on, some may still come back on RESEND (frames_pending). The rest of
+  /// frames_lost are STATUS frames and replies (the device keeps only data frames for RESEND), or
+  /// frames after a run's last dwell (of any kind).
+  std::uint64_t dwells_lost = 0;
+  std::uint64_t frames_pending = 0;  ///< missing frames still asked for
   std::size_t device_resets = 0;
   std::size_t link_losses = 0;
   double delta_n_dps = 0.0;     ///< running dN (abba pairing; NaN before 3 cycles)

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -565,6 +566,10 @@ result<writer> writer::create(const std::string& path) {
     return io_error(path, std::string("cannot create: ") + std::strerror(errno));
   }
   writer w(fd, path);
+  // A file size limit (ulimit -f) is where this file is full: the writer keeps end_reserve bytes
+  // below it for the records that end the file.
+  if (rlimit lim{}; ::getrlimit(RLIMIT_FSIZE, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY)
+    w.size_limit_ = static_cast<std::uint64_t>(lim.rlim_cur);
   // A file this call made and could not start is removed: no empty recording is left behind
   // (a full disk).
   const auto fail = [&](const std::string& what) {
@@ -595,6 +600,7 @@ writer::writer(writer&& o) noexcept
       path_(std::move(o.path_)),
       bytes_(o.bytes_),
       last_host_us_(o.last_host_us_),
+      size_limit_(o.size_limit_),
       buf_(std::move(o.buf_)),
       pending_(std::move(o.pending_)) {}
 
@@ -605,6 +611,7 @@ writer& writer::operator=(writer&& o) noexcept {
     path_ = std::move(o.path_);
     bytes_ = o.bytes_;
     last_host_us_ = o.last_host_us_;
+    size_limit_ = o.size_limit_;
     buf_ = std::move(o.buf_);
     pending_ = std::move(o.pending_);
   }
@@ -624,7 +631,16 @@ status writer::append(kind k, std::uint64_t host_time_us, std::span<const std::u
   const std::uint64_t offset = bytes_;
   if (auto s = write_record(k, host_time_us, body); !s) return s;
   if (is_copied(k, body)) pending_.push_back({offset, k, host_time_us, {body.begin(), body.end()}});
-  return write_copies(host_time_us, false);
+  // The record is in: a copy that does not fit (a full disk) stays due, tried again after the
+  // next record and at close(). An error here would have its caller take the record for lost.
+  static_cast<void>(write_copies(host_time_us, false));
+  return ok();
+}
+
+status writer::append_last(kind k, std::uint64_t host_time_us, std::span<const std::uint8_t> body) {
+  if (k == kind::copy) return runtime_error("COPY records are the .gfr writer's own");
+  if (bytes_ > file_header_bytes && host_time_us <= last_host_us_) host_time_us = last_host_us_ + 1;
+  return write_record(k, host_time_us, body, true);
 }
 
 // The copies due: those whose original lies copy_distance bytes back (all: at close).
@@ -643,8 +659,8 @@ status writer::write_copies(std::uint64_t host_time_us, bool all) {
   return ok();
 }
 
-status writer::write_record(kind k, std::uint64_t host_time_us,
-                            std::span<const std::uint8_t> body) {
+status writer::write_record(kind k, std::uint64_t host_time_us, std::span<const std::uint8_t> body,
+                            bool last) {
   if (body.size() > max_body) return runtime_error("a .gfr record body over 1 MiB");
   buf_.clear();
   const auto len = static_cast<std::uint32_t>(body.size() + 9);
@@ -654,13 +670,29 @@ status writer::write_record(kind k, std::uint64_t host_time_us,
   put_u64(buf_, host_time_us);
   buf_.insert(buf_.end(), body.begin(), body.end());
   put_u32(buf_, crc32(buf_));
+  // Under a file size limit the records that end a full file keep their room (end_reserve).
+  const std::uint64_t room = last ? size_limit_ : size_limit_ - std::min(size_limit_, end_reserve);
+  if (bytes_ + buf_.size() > room) return write_error(path_, "write: ", EFBIG);
   // One write per record: a kill between records leaves whole ones only, and one inside the
   // write leaves a torn tail the reader skips.
   std::size_t done = 0;
   while (done < buf_.size()) {
     const ssize_t n = ::write(fd_, buf_.data() + done, buf_.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return write_error(path_, "write: ", errno);
+    if (n <= 0) {
+      // A write that failed part way (a full disk) is cut back to the last whole record: the file
+      // holds no torn record (a kill's mark to its reader), and the room the torn part took may
+      // hold the records that end the file (review of issue 32).
+      const int err = n < 0 ? errno : ENOSPC;
+      if (done != 0 && (::ftruncate(fd_, static_cast<off_t>(bytes_)) != 0 ||
+                        ::lseek(fd_, static_cast<off_t>(bytes_), SEEK_SET) < 0))
+        return write_error(path_,
+                           fmt::format("write: {}; and the record it cut short could not be "
+                                       "removed: ",
+                                       std::strerror(err)),
+                           errno);
+      return write_error(path_, "write: ", err);
+    }
     done += static_cast<std::size_t>(n);
   }
   bytes_ += buf_.size();
@@ -677,8 +709,10 @@ status writer::close() {
   if (fd_ < 0) return ok();
   // The copies still due go in before the end (a killed writer leaves them out: its last
   // records have none).
-  auto s = write_copies(last_host_us_, true);
-  if (s) s = sync();
+  // A copy the file has no room for is left out: the records are all in, the copies are their
+  // second copies (a file that filled up as it ended).
+  static_cast<void>(write_copies(last_host_us_, true));
+  auto s = sync();
   const int rc = ::close(std::exchange(fd_, -1));
   if (!s) return s;
   if (rc != 0) return io_error(path_, std::string("close: ") + std::strerror(errno));

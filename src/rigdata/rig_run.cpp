@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <utility>
@@ -269,7 +270,7 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
     }
     case gfr::kind::stop:
       if (r.body.size() != 1 || r.body[0] < 1 ||
-          r.body[0] > static_cast<std::uint8_t>(gfr::stop_reason::device_failed))
+          r.body[0] > static_cast<std::uint8_t>(gfr::stop_reason::disk_full))
         return bad("STOP record of an unknown reason");
       run_.stop = static_cast<gfr::stop_reason>(r.body[0]);
       return ok();
@@ -712,6 +713,10 @@ result<rig_run> rig_run_builder::finish() && {
   double last_end_s = 0.0;
   std::uint64_t last_host_us = 0;
   bool any = false;
+  // The device's clock against the host's (device seconds per host second) over the last run
+  // that measured it (review of issue 32, finding 4): a later run is placed by the host's clock,
+  // which stands in for the device's only where the two keep the same pace.
+  double prev_pace = std::numeric_limits<double>::quiet_NaN();
   std::size_t unknown_positions = 0, went_backwards = 0, borrowed_info = 0;
   for (const std::size_t r : order) {
     auto& v = members[r];
@@ -772,8 +777,19 @@ result<rig_run> rig_run_builder::finish() && {
     // (Host times are differences of a steady clock: a later run's first dwell arrives after the
     // last one's, or with it; never a negative gap.)
     const std::uint64_t host_now = events_[v.front()].host_us;
+    const double host_gap_s =
+        static_cast<double>(host_now - std::min(host_now, last_host_us)) * 1e-6;
+    const bool placed_by_host = any;
+    const double last_end_before_s = last_end_s;
+    // The host's gap runs from the arrival of the last dwell to that of this run's first, each
+    // sent as it ended: this run's first dwell *ends* that far after the last one's end (review
+    // of issue 32: it was placed to start there, a dwell's length late). Never before the run
+    // before it ends (a device faster than the host's clock; the warning below says by how much).
+    const double first_len_s = static_cast<double>(static_cast<std::int32_t>(
+                                   msg(v.front()).t_end_ticks - msg(v.front()).t_start_ticks)) /
+                               hz;
     const double offset_s =
-        any ? last_end_s + static_cast<double>(host_now - std::min(host_now, last_host_us)) * 1e-6
+        any ? last_end_s + std::max(0.0, host_gap_s - std::max(0.0, first_len_s))
             : ticks_per_dwell * static_cast<double>(k_of(msg(v.front()))) / hz;
     std::int64_t start_ticks = 0;  // from the run's first dwell
     std::uint32_t prev_raw = msg(v.front()).t_start_ticks;
@@ -864,6 +880,52 @@ result<rig_run> rig_run_builder::finish() && {
     }
     run_.lost_dwells += expected_k - std::min(expected_k, seen);
     for (const auto& [k, codes] : pend) run_.unplaced_conversions += codes.size();
+    // This run's pace: the uptimes of its boot's STATUS frames among its dwells against their
+    // arrival (a STATUS is sent once, as it is made: not a dwell that came late on RESEND), over
+    // at least 2 s of the device's clock and 50 ms of the host's.
+    double pace = std::numeric_limits<double>::quiet_NaN();
+    {
+      std::optional<std::size_t> s0, s1;
+      const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+      for (std::size_t i = *lo; i <= *hi && i < n_ev; ++i)
+        if (events_[i].type == ev::status && session_of[i] == runs[r].session &&
+            marks[i] == mark::none) {
+          if (!s0) s0 = i;
+          s1 = i;
+        }
+      if (s0 && s1) {
+        const double dev_s = static_cast<double>(statuses_[events_[*s1].index].uptime_ticks -
+                                                 statuses_[events_[*s0].index].uptime_ticks) /
+                             hz;
+        const double host_s =
+            static_cast<double>(events_[*s1].host_us -
+                                std::min(events_[*s1].host_us, events_[*s0].host_us)) *
+            1e-6;
+        if (dev_s >= 2.0 && host_s >= 0.05) pace = dev_s / host_s;
+      }
+    }
+    if (placed_by_host && timed) {
+      // The device time between the runs is the host's gap times the pace, where the device ran
+      // on at its pace: a device faster than the host's clock (an emulator run fast; damage or
+      // lost dwells at the end of a run do not change it) leaves this run and every later one
+      // early by the difference. At a rig's pace (1, to its crystal) it is nothing.
+      const double p = std::isfinite(prev_pace) ? prev_pace : pace;
+      const double paced_s = host_gap_s * p - std::max(0.0, first_len_s);
+      const double shift_s = std::isfinite(p) ? paced_s - (offset_s - last_end_before_s) : 0.0;
+      if (std::fabs(shift_s) > 1.0) {
+        run_.later_runs_shift_s = std::max(run_.later_runs_shift_s, std::fabs(shift_s));
+        run_.warnings.push_back(fmt::format(
+            "{}: record {}: run {} (export's segment {}) is placed after the run before it by "
+            "the host's clock ({:.3g} s between their dwells), but the device's clock ran {:.3g} "
+            "times as fast as the host's (an emulator running faster than real time): the "
+            "device time between them "
+            "is not known, and the time_s of this run and every later one may be {} by up to "
+            "{:.3g} s (times within a run are the device's own)",
+            run_.path, events_[v.front()].record, r, r, host_gap_s, p,
+            shift_s > 0 ? "early" : "late", std::fabs(shift_s)));
+      }
+    }
+    if (std::isfinite(pace)) prev_pace = pace;
     any = any || timed;
   }
   // The last INFO of the file's board, and the configuration in force at the end.
@@ -920,6 +982,12 @@ result<rig_run> rig_run_builder::finish() && {
     run_.warnings.push_back(fmt::format(
         "{}: the recording has no STOP record: the recorder ended without closing it (a kill or "
         "a power loss); everything up to its last record is read",
+        run_.path));
+  else if (*run_.stop == gfr::stop_reason::disk_full)
+    run_.warnings.push_back(fmt::format(
+        "{}: the recording ended because the disk was full (or the file reached its size limit): "
+        "the recorder stopped the device; what it sent after the last record is not in the file "
+        "and is counted lost; everything before it is read",
         run_.path));
   static_cast<void>(unknown_config_runs);
   return std::move(run_);

@@ -5,7 +5,11 @@
 // never a silently different record.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <optional>
@@ -62,6 +66,61 @@ TEST(Gfr, ARecordingIsNeverOverwritten) {
   auto w = gfr::writer::create(path);
   ASSERT_FALSE(w);
   EXPECT_NE(w.err().message.find("never overwritten"), std::string::npos);
+}
+
+// A write that fails part way (a full disk; here a file size limit the writer did not know of
+// when it made the file, so that the kernel cuts the record) is cut back to the last whole
+// record: the file reads with no torn tail (a kill's mark), every record before it is whole, and
+// the room the cut freed takes the STOP that ends the file (review of issue 32: the torn record
+// stayed, and there was no STOP). With the limit known when the file is made, the writer stops
+// end_reserve bytes short of it, so that a GAP and a STOP always fit.
+TEST(Gfr, AFailedWriteIsCutBackToTheLastWholeRecordAndTheFileEndsWithAStop) {
+  gyroflip::test::temp_dir dir;
+  const std::string meta = R"({"scale_factor_v_per_dps":0.02})";
+  const bytes frame(100, 0x5A);
+  const std::uint64_t head = gfr::file_header_bytes + gfr::record_overhead + meta.size();
+  const std::uint64_t rec = gfr::record_overhead + frame.size();
+  for (const bool known : {false, true}) {
+    SCOPED_TRACE(known ? "the limit known when the file was made" : "a limit set later");
+    // Later: the kernel cuts the fourth FRAME 60 bytes in. Known: the writer refuses it whole
+    // (it would reach into the last end_reserve bytes).
+    const std::uint64_t limit = head + 3 * rec + (known ? gfr::end_reserve + 30 : 60);
+    const std::string path = dir.path() + (known ? "/known.gfr" : "/later.gfr");
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {  // the child writes under the limit; the parent checks the file
+      ::signal(SIGXFSZ, SIG_IGN);
+      const rlimit lim{limit, limit};
+      if (known && ::setrlimit(RLIMIT_FSIZE, &lim) != 0) ::_exit(20);
+      auto w = gfr::writer::create(path);
+      if (!w || !w->append(gfr::kind::meta, 1, bytes(meta.begin(), meta.end()))) ::_exit(21);
+      if (!known && ::setrlimit(RLIMIT_FSIZE, &lim) != 0) ::_exit(20);
+      int n = 0;
+      for (; n < 100; ++n)
+        if (!w->append(gfr::kind::frame, 10 + static_cast<std::uint64_t>(n), frame)) break;
+      if (n != 3) ::_exit(22);
+      if (w->bytes() != head + 3 * rec) ::_exit(23);
+      const bytes gap{2, 1, 0, 0, 0};
+      if (known && !w->append_last(gfr::kind::gap, 100, gap)) ::_exit(24);
+      const bytes stop{static_cast<std::uint8_t>(gfr::stop_reason::disk_full)};
+      if (!w->append_last(gfr::kind::stop, 101, stop)) ::_exit(25);
+      ::_exit(w->close() ? 0 : 26);
+    }
+    int st = 0;
+    ASSERT_EQ(::waitpid(pid, &st, 0), pid);
+    ASSERT_TRUE(WIFEXITED(st)) << st;
+    ASSERT_EQ(WEXITSTATUS(st), 0);
+    const bytes b = file_bytes(path);
+    EXPECT_EQ(b.size(),
+              head + 3 * rec + (known ? 2 * gfr::record_overhead + 6 : gfr::record_overhead + 1));
+    EXPECT_LE(b.size(), limit);
+    auto f = gfr::read(path);
+    ASSERT_TRUE(f) << f.err().message;
+    EXPECT_TRUE(f->warnings.empty()) << f->warnings.front();
+    ASSERT_EQ(f->records.size(), known ? 6u : 5u);
+    for (std::size_t i = 1; i <= 3; ++i) EXPECT_EQ(f->records[i].body, frame);
+    EXPECT_EQ(f->records.back().type, gfr::kind::stop);
+  }
 }
 
 // The writer closes the file with COPY records of META and START (format 5): the last record is

@@ -365,6 +365,17 @@ TEST_P(LinkFigures, DwellsRecordedOfDwellsSent) {
   // The run's own count of lost dwells is the truth's, and each one is in a gap record.
   EXPECT_EQ(run->lost_dwells, c.lost);
   EXPECT_GE(run->missing_frames, c.lost);
+  // `record` says so too, apart from the STATUS frames and replies the line lost (review of
+  // issue 32: it printed all of them as "lost", 49-55 where every dwell was recorded).
+  const std::string said =
+      "lost: " + std::to_string(c.lost) + (c.lost == 1 ? " dwell," : " dwells,");
+  EXPECT_NE(rec.err.find(said), std::string::npos) << said << "\n" << rec.err;
+  const std::uint64_t other =
+      run->missing_frames - std::min<std::uint64_t>(run->missing_frames, c.lost);
+  EXPECT_NE(
+      rec.err.find(", " + std::to_string(other) + (other == 1 ? " other frame" : " other frames")),
+      std::string::npos)
+      << rec.err;
   EXPECT_EQ(run->outside_runs, 0u);
   // The first dwell (cycle 0 at A) is there, whenever START's ACK came.
   ASSERT_FALSE(run->dwells.empty());
@@ -383,6 +394,40 @@ INSTANTIATE_TEST_SUITE_P(Faults, LinkFigures,
                                            figure{"--fault-ber 1e-2", 0.99},
                                            figure{"--fault-drop 1e-2", 0.99}),
                          figure_name);
+
+// A 12-s unplug outlasts the device's 6-s history: dwells are lost, and `record` counts them as
+// dwells - the truth's count, apart from the STATUS frames and replies lost with them (review of
+// issue 32: one "lost" count mixed them).
+TEST(RecordCli, LostDwellsAreCountedApartFromOtherFrames) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  const std::string link = dir.path() + "/rig";
+  emulator_process emu(
+      dir.path(), "--speed 20 --seed 78 --fault-unplug 20:12 --link " + link + " --log " + log);
+  const auto rec = run_cli({"record", "--port", link, "--duration", "60", "--reconnect-timeout",
+                            "20", "--json-progress", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_GT(c.lost, 0u) << recorded(c);
+  EXPECT_EQ(run->lost_dwells, c.lost);
+  const std::uint64_t other =
+      run->missing_frames - std::min<std::uint64_t>(run->missing_frames, c.lost);
+  EXPECT_GT(other, 0u);
+  EXPECT_NE(rec.err.find("lost: " + std::to_string(c.lost) + " dwells, " + std::to_string(other) +
+                         " other frames (STATUS frames and command replies"),
+            std::string::npos)
+      << recorded(c) << "\n"
+      << rec.err;
+  // The progress lines carry the same count.
+  std::string last;
+  std::stringstream ss(rec.out);
+  for (std::string line; std::getline(ss, line);)
+    if (!line.empty()) last = line;
+  ASSERT_FALSE(last.empty());
+  EXPECT_EQ(nlohmann::json::parse(last).value("dwells_lost", -1), static_cast<int>(c.lost)) << last;
+}
 
 // An unplugged adapter for 3 s of the rig's time: the recorder finds the line again and asks for
 // what the rig sent meanwhile; all of it is still in the device's history (6 s). Also at 50x:
@@ -463,6 +508,15 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
   EXPECT_EQ(c.lost_not_hit, 0u) << recorded(c);
   // Every dwell sent is in the file or in a GAP count (the reset's too).
   EXPECT_LE(c.lost, run->missing_frames) << recorded(c);
+  // At --speed max the device's clock runs many times the host's, and a run after a reset is
+  // placed by the host's clock: `record` says how far its time_s may be off, naming the run, as
+  // `export` does (review of issue 32, finding 4: moved by up to 24 s without a word).
+  EXPECT_GT(run->later_runs_shift_s, 1.0);
+  EXPECT_NE(rec.err.find("gyroflip record: warning: " + gfr + ": record "), std::string::npos)
+      << rec.err;
+  EXPECT_NE(rec.err.find("is placed after the run before it by the host's clock"),
+            std::string::npos)
+      << rec.err;
   const auto cal = run_cli({"calibrate", gfr, "--json"});
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   expect_calibrates_to_truth(nlohmann::json::parse(cal.out), 13);
@@ -1134,10 +1188,16 @@ TEST(RecordCli, AFullDiskEndsTheRunStopsTheDeviceAndLeavesNoEmptyFile) {
 // recorder mid-run without a word and without STOP to the device (exit 153); now its write fails
 // with EFBIG and the run ends as on a full disk: exit 1 naming the error, and what was written
 // reads back.
+//
+// Review of issue 32 (finding 5): the dwell whose write failed was in no GAP count, no STOP was
+// written, and `export` blamed a kill. Now the writer cuts the failed record back, the recorder
+// stops the device, counts in a GAP (missing) every frame it could not store, ends the file with
+// STOP (disk full), and says how many dwells were lost; `export` says the disk was full. Every
+// dwell the device sent is in the file or in that count.
 TEST(RecordCli, AFileSizeLimitEndsTheRunAsAFullDisk) {
   test::temp_dir dir;
-  emulator_process emu(dir.path(), "--speed max --seed 33");
-  const std::string gfr = dir.path() + "/run.gfr";
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), "--speed max --seed 33 --log " + log);
   const auto r = test::run_program(
       {"sh", "-c",
        "command -v prlimit >/dev/null || { echo rc=skip; exit 0; }; prlimit --fsize=49152 " +
@@ -1145,11 +1205,30 @@ TEST(RecordCli, AFileSizeLimitEndsTheRunAsAFullDisk) {
            " --raw --duration 3000 -o " + gfr + "; echo rc=$?"});
   if (r.out.find("rc=skip") != std::string::npos) GTEST_SKIP() << "no prlimit";
   EXPECT_NE(r.out.find("rc=1\n"), std::string::npos) << r.out << r.err;
-  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(gfr + ": write: File too large"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the device was stopped"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("counted lost in a GAP record"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("it ends with a STOP record: the disk was full"), std::string::npos)
+      << r.err;
+  EXPECT_LE(test::read_text(gfr).size(), 49152u);
   const auto ex = run_cli({"export", gfr, "-o", dir.path() + "/run.csv"});
   EXPECT_EQ(ex.exit_code, 0) << ex.err;
+  EXPECT_NE(ex.err.find("the disk was full"), std::string::npos) << ex.err;
+  EXPECT_EQ(ex.err.find("a kill"), std::string::npos) << ex.err;
+  EXPECT_EQ(ex.err.find("cut off"), std::string::npos) << ex.err;  // no torn record
   const std::string csv = test::read_text(dir.path() + "/run.csv");
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
+  // Every DWELL sent is in the file or counted (one device boot: no reset at --speed max).
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  ASSERT_TRUE(run->stop.has_value());
+  EXPECT_EQ(*run->stop, rigdata::gfr::stop_reason::disk_full);
+  EXPECT_EQ(run->device_resets, 0u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the log's last lines
+  const std::size_t sent = read_log(log).size();
+  EXPECT_GT(sent, run->dwells.size());  // the limit cut the run short
+  EXPECT_LE(sent, run->dwells.size() + run->missing_frames)
+      << sent << " sent, " << run->dwells.size() << " in the file";
 }
 
 TEST(RecordCli, RefusesWhatItCouldNotRecordOrReadBack) {

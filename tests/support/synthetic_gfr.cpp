@@ -146,7 +146,7 @@ class generator {
     const double whole = std::floor(ticks);
     tick_rest_ = ticks - whole;
     clock_ += static_cast<std::uint32_t>(static_cast<std::uint64_t>(whole) & 0xFFFFFFFFU);
-    host_us_ += static_cast<std::uint64_t>(std::llround(s * 1e6));
+    host_us_ += static_cast<std::uint64_t>(std::llround(s * 1e6 / o_.device_speed));
   }
 
   // INFO, STOP, CONFIGURE, START as the recorder does them (after a reset: homing).
@@ -191,10 +191,12 @@ class generator {
     d.n_temp = 4;
     d.temp_sum = 4 * 4300 + static_cast<std::int32_t>(code(rng_) / 100);
     const double start_s = device_s_ - segment_s_;
+    const double through_s = device_s_;
     advance(length_s);  // the device sends a DWELL when it ends
     const std::uint16_t s = seq_;
     const bytes body = frame_body(p::msg::dwell, payload_of(d));
-    out_.dwells.push_back({boot_, s, d.cycle, d.position, d.position == 0 ? 0.0 : 180.0, start_s});
+    out_.dwells.push_back(
+        {boot_, s, d.cycle, d.position, d.position == 0 ? 0.0 : 180.0, start_s, through_s});
     if (std::find(o_.lost.begin(), o_.lost.end(), j) != o_.lost.end()) {
       out_.dwells.pop_back();
       lost_pending_ = true;

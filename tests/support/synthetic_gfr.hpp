@@ -27,6 +27,9 @@ struct synthetic_options {
   std::uint32_t first_tick = 0;  ///< the device clock at the first dwell
   std::uint16_t first_seq = 0;   ///< the device's first sequence number
   double status_period_s = 1.0;
+  /// Device seconds per host second (an emulator at --speed: the host's clock, which stamps the
+  /// records, runs this many times slower than the device's).
+  double device_speed = 1.0;
   std::vector<std::size_t> resets_after;       ///< the device restarts after these dwells
   std::vector<std::size_t> link_losses_after;  ///< the port is lost after these dwells
   /// Dwells lost on the line, counted by a GAP (missing) record: never in the file.
@@ -48,6 +51,9 @@ struct synthetic_dwell {
   std::uint8_t position = 0;
   double angle_deg = 0.0;
   double device_s = 0.0;  ///< its start on the device's clock, from the first dwell, unwrapped
+  /// Its start on a clock that runs on through resets (the rig's own time; the device's clock
+  /// restarts at a reset), from the start of the recording.
+  double through_s = 0.0;
 };
 
 struct synthetic_recording {

@@ -79,6 +79,10 @@ enum class stop_reason : std::uint8_t {
   link_lost = 3,       ///< the port did not come back in time
   device_changed = 4,  ///< another device (another serial) answered after a reconnect
   device_failed = 5,   ///< the device could not be started again after a reset (format 3)
+  /// The file could not take more (a full disk, a file size limit, a failing write): what the
+  /// device sent after the last record is not in the file and is counted in the GAP (missing)
+  /// before this record (issue 32; readers before it refuse this reason as unknown).
+  disk_full = 6,
 };
 
 /// A record as read back.
@@ -134,8 +138,17 @@ struct file {
 [[nodiscard]] result<file> parse(std::span<const std::uint8_t> bytes, const std::string& name,
                                  bool strict = false);
 
+/// Bytes the writer keeps free below a file size limit (RLIMIT_FSIZE, `ulimit -f`) for the records
+/// that end a recording whose file is full: a GAP (26 bytes) and a STOP (22).
+inline constexpr std::uint64_t end_reserve = 64;
+
 /// Appends records to a new file. Each record goes to the kernel in one write as it is made, so
-/// a killed writer loses nothing it appended; `sync` (fdatasync) makes it survive power loss.
+/// a killed writer loses nothing it appended; `sync` (fdatasync) makes it survive power loss. A
+/// write that fails (a full disk, a file size limit) is cut back to the last whole record, so the
+/// file never holds a torn record its writer did not die in, and what went before stays whole;
+/// the room the torn part took may still hold the small records that end the file
+/// (append_last). Under a file size limit the writer stops end_reserve bytes short of it (the
+/// write fails with EFBIG, "File too large", as the kernel's would), so that those always fit.
 class writer {
  public:
   /// Creates `path` (never replacing an existing file: a recording is never overwritten) and
@@ -153,8 +166,15 @@ class writer {
   /// after it (its COPY records keep its time).
   [[nodiscard]] status append(kind k, std::uint64_t host_time_us,
                               std::span<const std::uint8_t> body);
+  /// Appends one of the records that end a file whose writes failed (a GAP, the STOP): it may use
+  /// the end_reserve bytes under a file size limit, and no COPY follows it. A failure is cut back
+  /// like any other.
+  [[nodiscard]] status append_last(kind k, std::uint64_t host_time_us,
+                                   std::span<const std::uint8_t> body);
   [[nodiscard]] status sync();
-  /// Writes the copies still due, syncs and closes.
+  /// Writes the copies still due, syncs and closes. A copy the file has no room for (it filled up
+  /// as it ended) is left out: the records are all in, and the reader needs no copy of an intact
+  /// record.
   [[nodiscard]] status close();
   [[nodiscard]] std::uint64_t bytes() const noexcept { return bytes_; }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
@@ -171,10 +191,11 @@ class writer {
     std::vector<std::uint8_t> body;
   };
   [[nodiscard]] status write_record(kind k, std::uint64_t host_time_us,
-                                    std::span<const std::uint8_t> body);
+                                    std::span<const std::uint8_t> body, bool last = false);
   [[nodiscard]] status write_copies(std::uint64_t host_time_us, bool all);
   std::uint64_t bytes_ = 0;
   std::uint64_t last_host_us_ = 0;
+  std::uint64_t size_limit_ = UINT64_MAX;  // RLIMIT_FSIZE when the writer was made
   std::vector<std::uint8_t> buf_;
   std::vector<pending_copy> pending_;
 };

@@ -111,6 +111,11 @@ struct rig_run {
   /// labelled by the CONFIGURE their boot acknowledged before them: a device starts only with the
   /// configuration in force, and only a CONFIGURE it acknowledges changes it (docs/PROTOCOL.md).
   std::size_t by_configure = 0;
+  /// How far the time_s of a run after the first may be off, s: such a run is placed after the
+  /// run before it by the host's clock, which stands in for the device's only at the same pace
+  /// (0: they kept it, within 1 s; an emulator run S times fast leaves later runs early by the gap
+  /// times S - 1, with a warning naming the run).
+  double later_runs_shift_s = 0.0;
   std::optional<gfr::stop_reason> stop;  ///< empty: the recorder did not end the file itself
   std::vector<std::string> warnings;     ///< `FILE: ...` for the caller to show
 };
