@@ -110,12 +110,12 @@ std::span<const std::string_view> flip_terms() {
 
 // The one table of schemes (pairing::abba is row 0, pairing::simple row 1: types.hpp).
 constexpr std::array<scheme, 2> table_of_schemes{{
-    {"abba",
+    {"abba", "abba",
      "each dwell against its opposite neighbours interpolated to its time (three-point chop); "
      "cancels a linear bias drift",
      abba_transfer, flip_terms, make_abba},
-    {"simple", "adjacent 0/180 dwells, r = (y0 - y180)/2 (paper eqn 7)", simple_transfer,
-     flip_terms, make_simple},
+    {"simple", "simple (paper)", "adjacent 0/180 dwells, r = (y0 - y180)/2 (paper eqn 7)",
+     simple_transfer, flip_terms, make_simple},
 }};
 
 // kappa as a fraction with a power-of-two denominator (9/16) when it is one, else as a number.

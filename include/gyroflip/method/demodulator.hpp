@@ -110,6 +110,7 @@ class demodulator {
 /// One row of the table of schemes.
 struct scheme {
   std::string_view name;         ///< the `--pairing` value
+  std::string_view label;        ///< how a report's tables name it ("simple (paper)")
   std::string_view description;  ///< one line, with the formula's source
   const noise_transfer& (*transfer)();
   /// The named terms of dN its calibration estimates (0/180: `delta_n` alone).
