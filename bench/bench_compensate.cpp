@@ -1,6 +1,9 @@
 // Compensate throughput (issue 2): rows per second with CSV parsing (read_cycles on a file)
-// and without (rows already in memory). `bench_compensate --write-csv PATH N` writes the
-// synthetic raw recording that bench/compensate_figures.sh times as a whole process.
+// and without (rows already in memory); issue 33: the whole pipeline `gyroflip compensate
+// --calibration` runs (workflow::compensate_file: the reader, the demodulator, the calibration's
+// stationarity verdicts judged again and its fit to the recording checked, eqn 12, the summary).
+// `bench_compensate --write-csv PATH N` writes the synthetic raw recording that
+// bench/compensate_figures.sh times as a whole process.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,8 +14,10 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/method/flip_stream.hpp"
+#include "gyroflip/workflow/compensate.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
 namespace {
@@ -103,6 +108,53 @@ void BM_CompensateFromCsv(benchmark::State& state) {
   std::remove(path.c_str());
 }
 BENCHMARK(BM_CompensateFromCsv)->Arg(1 << 20)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+
+// A calibration of one stationary run whose stationarity test passed (what `calibrate -o`
+// writes), so that compensate_file judges its verdicts again as the CLI does.
+std::string calibration_json() {
+  gyroflip::io::calibration_record rec;
+  rec.pooled.delta_n_dps = 0.0123;
+  rec.pooled.stderr_correlated_dps = 1e-4;
+  rec.pooled.cycles = 1000;
+  rec.pooled.temp_c = 20.0;
+  gyroflip::method::stationarity st;
+  st.checked = true;
+  st.cycles = 1000;
+  st.scatter_ratio = 1.0;
+  st.scatter_limit = 1.25;
+  st.scatter_low_limit = 0.68;
+  st.drift_statistic = 1.0;
+  st.step_limit_dps = 3e-4;
+  rec.files.push_back({"cal.csv", rec.pooled, std::nullopt, st});
+  return *gyroflip::io::to_json(rec);
+}
+
+void BM_CompensateFile(benchmark::State& state) {
+  const std::string path = fmt::format("/tmp/gyroflip-bench-file-{}.csv", state.range(0));
+  if (write_csv(path.c_str(), static_cast<std::size_t>(state.range(0))) != 0) {
+    state.SkipWithError("cannot write the benchmark CSV");
+    return;
+  }
+  auto dn = gyroflip::workflow::delta_n_of_json(calibration_json(), "cal.json");
+  if (!dn) {
+    state.SkipWithError(dn.err().message.c_str());
+    return;
+  }
+  gyroflip::workflow::compensate_request req;
+  req.file = path;
+  req.delta_n = *dn;
+  for (auto _ : state) {
+    auto r = gyroflip::workflow::compensate_file(req);
+    if (!r) {
+      state.SkipWithError(r.err().message.c_str());
+      break;
+    }
+    benchmark::DoNotOptimize(r->comp.summary);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  std::remove(path.c_str());
+}
+BENCHMARK(BM_CompensateFile)->Arg(2'000'000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -21,6 +21,7 @@
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
+#include "gyroflip/method/demodulator.hpp"
 
 namespace gyroflip::app {
 namespace {
@@ -298,7 +299,7 @@ void setup_calibrate(CLI::App& app, action& chosen) {
       ->check(finite_number());
   sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D");
   sub->add_option("--pairing", o->pairing, "cycle estimator")
-      ->check(CLI::IsMember({"abba", "simple"}))
+      ->check(CLI::IsMember(gyroflip::method::scheme_names()))
       ->capture_default_str();
   auto* degree =
       sub->add_option("--degree", o->degree, "degree of the dN(T) polynomial (several files)")
@@ -326,7 +327,7 @@ void setup_compensate(CLI::App& app, action& chosen) {
   dn->excludes(cal);
   sub->add_option("--pairing", o->pairing,
                   "cycle estimator (default: the calibration's, else abba)")
-      ->check(CLI::IsMember({"abba", "simple"}));
+      ->check(CLI::IsMember(gyroflip::method::scheme_names()));
   sub->add_option("-o,--output", o->output,
                   "write the per-cycle CSV here (default: stdout unless --json)");
   sub->add_option("--drift-window", o->drift_window_s, "moving-mean window for drift_dps (s)")
@@ -444,8 +445,8 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_option("--calibration", o->calibration,
                   "CAL.json: compensate the files with it (without: calibrate them)");
   sub->add_option("--title", o->title, "the report's title");
-  sub->add_option("--pairing", o->pairing, "abba|simple")
-      ->check(CLI::IsMember({"abba", "simple"}))
+  sub->add_option("--pairing", o->pairing, gyroflip::method::scheme_names_joined("|"))
+      ->check(CLI::IsMember(gyroflip::method::scheme_names()))
       ->capture_default_str();
   sub->add_option("--expected-rate", o->expected_rate_dps,
                   "the rate the runs were commanded to (deg/s; with --calibration): each run's "

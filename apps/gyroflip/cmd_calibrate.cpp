@@ -16,6 +16,7 @@
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "progress_bar.hpp"
@@ -185,7 +186,8 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
 
 int run_calibrate(const calibrate_options& o) {
   const auto pairing = method::parse_pairing(o.pairing);
-  if (!pairing) return report(usage_error("--pairing must be abba or simple"));
+  if (!pairing)
+    return report(usage_error("--pairing must be " + method::scheme_names_joined(" or ")));
   auto geometry = geometry_option(o.lat_deg, o.axis);
   if (!geometry) return report(geometry.err());
   std::vector<std::string> inputs = o.files;

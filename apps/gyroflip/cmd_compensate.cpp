@@ -12,6 +12,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/recording_writer.hpp"
+#include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/workflow/compensate.hpp"
 #include "progress_bar.hpp"
 
@@ -67,7 +68,8 @@ int run_compensate(const compensate_options& o) {
       o.file, std::move(*dn), std::nullopt, o.angle_tolerance_deg, o.drift_window_s, o.strict};
   if (!o.pairing.empty()) {
     req.pairing = method::parse_pairing(o.pairing);
-    if (!req.pairing) return report(usage_error("--pairing must be abba or simple"));
+    if (!req.pairing)
+      return report(usage_error("--pairing must be " + method::scheme_names_joined(" or ")));
   }
   progress bar("reading " + o.file, 1000);
   auto res = workflow::compensate_file(req, per_mille(bar));

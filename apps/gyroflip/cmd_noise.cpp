@@ -22,6 +22,7 @@
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/noise_report.hpp"
+#include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/report/figures.hpp"
 #include "progress_bar.hpp"
 
@@ -87,10 +88,12 @@ result<column_noise> noise_of(const noise_options& o, const analysis::tau_range&
   c.deg_per_unit = deg_per_unit(o.in);
   c.tau0_s = in.phase.tau0_s();
   c.samples = in.series.samples().size();
-  // The rate column of `gyroflip compensate` with the abba pairing: correlated cycles.
+  // The rate column of `gyroflip compensate`: a demodulator's estimates, whose white-noise shape
+  // its scheme states (abba: correlated cycles).
   for (const auto& m : in.series.metadata())
-    if (m.key == "pairing" && m.value == "abba" && o.in.input == "rate")
-      c.series.abba_cycle_s = c.tau0_s;
+    if (m.key == "pairing" && o.in.input == "rate")
+      if (const auto p = method::parse_pairing(m.value))
+        c.series = method::noise_series_of(*p, c.tau0_s);
   progress bar("noise of " + o.in.file, 1000);
   auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar), o.long_taus);
   bar.finish();

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/workflow/report.hpp"
 #include "progress_bar.hpp"
 
@@ -16,7 +17,8 @@ namespace gyroflip::app {
 
 int run_report(const report_options& o) {
   const auto pairing = method::parse_pairing(o.pairing);
-  if (!pairing) return report(usage_error("--pairing must be abba or simple"));
+  if (!pairing)
+    return report(usage_error("--pairing must be " + method::scheme_names_joined(" or ")));
   auto geometry = geometry_option(o.lat_deg, o.axis);
   if (!geometry) return report(geometry.err());
   std::vector<std::string> inputs = o.files;

@@ -413,7 +413,7 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
     degree: an int in 0..6 (as `--degree`). A wrong type raises TypeError naming the argument.
     sensor, strict: as calibrate() (`--sensor`, `--strict`); the default specification is the
       recordings' built-in preset.
-    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/3: delta_n_dps,
+    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/4: delta_n_dps,
     stderr_correlated_dps, files (each with its "stationarity"), model, uncertainty, sensor, ...)
     plus "warnings". The top-level delta_n_dps is all cycles pooled (a summary); the dN that
     compensate() and report() apply is "model"'s (the runs' random-effects fit:

@@ -22,6 +22,7 @@
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/mapped_file.hpp"
 #include "gyroflip/io/noise_report.hpp"
+#include "gyroflip/method/demodulator.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -130,7 +131,7 @@ py::object noise(const f64_array& data, double rate_hz, const std::string& input
   r.deg_per_unit = units::deg_per_unit(unit);
   r.tau0_s = tau0;
   r.samples = y.size();
-  if (abba_cycles) r.series.abba_cycle_s = tau0;
+  if (abba_cycles) r.series = method::noise_series_of(method::pairing::abba, tau0);
   auto a = without_gil([&](const progress_fn& listen) {
     auto phase = analysis::phase_source::make(*src, in, tau0, listen);
     if (!phase) return result<analysis::noise_analysis>(phase.err());

@@ -21,6 +21,7 @@
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/method/cycles.hpp"
+#include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/rigdata/recording_source.hpp"
@@ -38,7 +39,9 @@ constexpr const char* arrays_name = "<arrays>";  // the "file" of columns passed
 
 method::pairing pairing_of(const std::string& name) {
   const auto p = method::parse_pairing(name);
-  if (!p) throw py::value_error("pairing must be 'abba' or 'simple' (got '" + name + "')");
+  if (!p)
+    throw py::value_error("pairing must be '" + method::scheme_names_joined("' or '") + "' (got '" +
+                          name + "')");
   return *p;
 }
 

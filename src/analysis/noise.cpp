@@ -73,8 +73,9 @@ result<noise_analysis> analyse_noise(const phase_source& x, double level, const 
   for (const auto& p : *pts)
     if (p.tau_s >= range.lo_s && p.tau_s <= range.hi_s) fitted.push_back(p);
   noise_analysis a;
-  // The abba cycle series has a known short-tau shape, which its ARW basis models.
-  if (range.detect_shaping && series.abba_cycle_s <= 0.0) {
+  // A demodulator's correlated estimates (abba) have a known short-tau shape, which their ARW
+  // basis models.
+  if (range.detect_shaping && !series.shaped()) {
     a.shaping = detect_short_tau_shaping(fitted);
     fitted.erase(fitted.begin(), fitted.begin() + static_cast<std::ptrdiff_t>(a.shaping.points));
   }

@@ -21,15 +21,16 @@ namespace {
 constexpr std::size_t terms = 5;  // Q, N, B, K, R (squared coefficients c_k)
 const double b_factor = 2.0 * std::numbers::ln2 / std::numbers::pi;
 
-// AVAR contribution of term k with unit coefficient at tau. For the cycle values of the abba
-// pairing (cycle spacing T > 0) white dwell noise gives N^2 (1/tau - (9/16) T/tau^2), not N^2/tau
-// (docs/ANALYSIS.md, "Cycle series of the abba pairing").
-double basis(std::size_t k, double tau, double abba_t) {
+// AVAR contribution of term k with unit coefficient at tau. For a demodulator's estimates whose
+// neighbours share dwells (abba: spacing T, kappa 9/16), white dwell noise gives N^2 (1/tau -
+// kappa T/tau^2), not N^2/tau (docs/ANALYSIS.md, "Cycle series of the abba pairing"); `deficit_t`
+// is kappa T (0: uncorrelated estimates or any other series).
+double basis(std::size_t k, double tau, double deficit_t) {
   switch (k) {
     case 0:
       return 3.0 / (tau * tau);
     case 1:
-      return (1.0 - 0.5625 * abba_t / tau) / tau;
+      return (1.0 - deficit_t / tau) / tau;
     case 2:
       return b_factor;
     case 3:
@@ -50,7 +51,7 @@ struct subset_fit {
 // Weighted LS on the terms in `mask` (analysis/least_squares.hpp: column-scaled QR, the basis
 // values span ~10 decades).
 subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& w, unsigned mask,
-                 double abba_t, bool allow_negative = false) {
+                 double deficit_t, bool allow_negative = false) {
   std::array<std::size_t, terms> idx{};
   std::size_t n = 0;
   for (std::size_t k = 0; k < terms; ++k)
@@ -61,7 +62,7 @@ subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& 
   std::vector<double> y;
   design.reserve(p.size() * n);
   for (const auto& q : p) {
-    for (std::size_t a = 0; a < n; ++a) design.push_back(basis(idx[a], q.tau_s, abba_t));
+    for (std::size_t a = 0; a < n; ++a) design.push_back(basis(idx[a], q.tau_s, deficit_t));
     y.push_back(q.dev * q.dev);
   }
   const auto fit = weighted_least_squares(design, n, y, w);
@@ -79,11 +80,11 @@ subset_fit solve(std::span<const deviation_point> p, const std::vector<double>& 
 // The non-negative subset with the lowest chi^2 + 2 (number of terms) (Akaike): a term stays
 // only if it lowers chi^2 by more than 2.
 subset_fit best_nonnegative(std::span<const deviation_point> p, const std::vector<double>& w,
-                            double abba_t) {
+                            double deficit_t) {
   subset_fit best;
   double best_score = std::numeric_limits<double>::infinity();
   for (unsigned mask = 1; mask < (1u << terms); ++mask) {
-    const auto f = solve(p, w, mask, abba_t);
+    const auto f = solve(p, w, mask, deficit_t);
     if (!f.ok) continue;
     const double score = f.chi2 + 2.0 * static_cast<double>(std::popcount(mask));
     if (score < best_score) {
@@ -200,7 +201,7 @@ namespace {
 std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
                                       const std::vector<double>& w,
                                       const std::vector<double>& model, const subset_fit& f,
-                                      unsigned mask, double abba_t) {
+                                      unsigned mask, double deficit_t) {
   const std::size_t np = p.size();
   std::vector<double> sampling_sd(np);
   for (std::size_t i = 0; i < np; ++i) sampling_sd[i] = model[i] * std::sqrt(2.0 / p[i].edf);
@@ -217,7 +218,7 @@ std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
         if (!(mask & (1u << a))) continue;
         for (std::size_t b = 0; b < terms; ++b)
           if (mask & (1u << b))
-            meat[a][b] += basis(a, p[i].tau_s, abba_t) * wsw * basis(b, p[j].tau_s, abba_t);
+            meat[a][b] += basis(a, p[i].tau_s, deficit_t) * wsw * basis(b, p[j].tau_s, deficit_t);
       }
     }
   }
@@ -236,7 +237,7 @@ std::array<double, terms> sandwich_sd(std::span<const deviation_point> p,
 
 result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double level,
                                     const noise_series& series) {
-  const double abba_t = series.abba_cycle_s;
+  const double deficit_t = series.shaped() ? series.white_avar_deficit * series.cycle_s : 0.0;
   if (!(level > 0.0 && level < 1.0))
     return usage_error(fmt::format("confidence level {} must be in (0, 1)", level));
   std::vector<deviation_point> p;
@@ -257,11 +258,11 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   for (std::size_t i = 0; i < p.size(); ++i) w[i] = weight(p[i].edf, p[i].dev * p[i].dev);
   subset_fit f;
   for (int iter = 0; iter < 3; ++iter) {
-    f = best_nonnegative(p, w, abba_t);
+    f = best_nonnegative(p, w, deficit_t);
     if (!f.ok) return runtime_error("noise fit found no non-negative solution");
     for (std::size_t i = 0; i < p.size(); ++i) {  // reweight with the model (IRLS)
       model[i] = 0.0;
-      for (std::size_t k = 0; k < terms; ++k) model[i] += f.c[k] * basis(k, p[i].tau_s, abba_t);
+      for (std::size_t k = 0; k < terms; ++k) model[i] += f.c[k] * basis(k, p[i].tau_s, deficit_t);
       w[i] = weight(p[i].edf, model[i]);
     }
   }
@@ -273,7 +274,7 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   for (int j = 0; j <= 400; ++j) {
     const double tau = tau_first * std::pow(tau_last / tau_first, j / 400.0);
     double avar = 0.0;
-    for (std::size_t k = 0; k < terms; ++k) avar += f.c[k] * basis(k, tau, abba_t);
+    for (std::size_t k = 0; k < terms; ++k) avar += f.c[k] * basis(k, tau, deficit_t);
     if (avar < lowest) {
       lowest = avar;
       out.fit_min_tau_s = tau;
@@ -286,14 +287,14 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
   unsigned mask = 0;
   for (std::size_t k = 0; k < terms; ++k)
     if (f.c[k] > 0.0) mask |= 1u << k;
-  auto sd = sandwich_sd(p, w, model, f, mask, abba_t);
+  auto sd = sandwich_sd(p, w, model, f, mask, deficit_t);
   // A dropped term gets an upper limit from the fit that includes it (its value may be < 0).
   for (std::size_t k = 0; k < terms; ++k) {
     if (mask & (1u << k)) continue;
-    const auto with = solve(p, w, mask | (1u << k), abba_t, true);
+    const auto with = solve(p, w, mask | (1u << k), deficit_t, true);
     if (with.ok) {
       f.c[k] = std::min(with.c[k], 0.0);  // still not part of the estimate
-      sd[k] = sandwich_sd(p, w, model, with, mask | (1u << k), abba_t)[k];
+      sd[k] = sandwich_sd(p, w, model, with, mask | (1u << k), deficit_t)[k];
     }
   }
   // Two-sided normal interval of the squared coefficient at `level`: z = sqrt(chi2_1(level)).
@@ -341,12 +342,7 @@ result<noise_terms> fit_noise_terms(std::span<const deviation_point> pts, double
         "chance at this level); chi2/dof {:.3g}",
         out.misfit.size(), p.size(), (1.0 - level) * static_cast<double>(p.size()),
         out.chi2_per_dof));
-  if (abba_t > 0.0)
-    out.notes.push_back(fmt::format(
-        "cycle values of the abba pairing (spacing {:g} s): neighbouring cycles share dwells "
-        "(lag-1 correlation 0.3 for white dwell noise), which the ARW term models as "
-        "N^2 (1/tau - (9/16) T/tau^2); without it that correlation reads as a false floor",
-        abba_t));
+  if (series.shaped() && !series.note.empty()) out.notes.push_back(series.note);
   const std::pair<const char*, const noise_term*> named[] = {
       {"quantization", &out.quantization},
       {"angle random walk", &out.arw},

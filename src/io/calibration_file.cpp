@@ -15,6 +15,7 @@
 #include "gyroflip/io/mapped_file.hpp"
 #include "gyroflip/io/recording.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/method/demodulator.hpp"
 
 namespace gyroflip::io {
 namespace {
@@ -281,6 +282,56 @@ constexpr std::string_view rig_keys[] = {
     "n_avg", "settle_s",      "positions_deg", "flip",         "filter_word",
     "chop",  "steps_per_rev", "step_rate_sps", "latitude_deg", "axis"};
 
+// Schema 4's `terms`: dN as the scheme's named terms. A file before it holds the 0/180 schemes'
+// one term, its pooled dN. The terms must be the scheme's, each once, and `delta_n` the file's
+// `delta_n_dps` (one number written twice: an edit of one of them is refused).
+status read_terms(const std::string& path, const json& j, calibration_record& rec) {
+  const auto expected = method::terms_of(rec.pooled, rec.pairing);
+  const auto it = j.find("terms");
+  if (it == j.end()) {
+    rec.terms = expected;
+    return ok();
+  }
+  if (!it->is_array()) return input_error({path}, "'terms' must be an array of named terms");
+  const auto names = method::scheme_of(rec.pairing).terms();
+  for (const auto& t : *it) {
+    const std::string at = fmt::format("terms[{}]", rec.terms.size());
+    if (!t.is_object() || !t.contains("name") || !t["name"].is_string() ||
+        !t.contains("value_dps") || !t["value_dps"].is_number())
+      return input_error({path}, at + ": each term must be {\"name\", \"value_dps\", ...}");
+    method::delta_n_term term;
+    term.name = t["name"].get<std::string>();
+    term.value_dps = t["value_dps"].get<double>();
+    if (t.contains("stderr_correlated_dps")) {
+      if (!t["stderr_correlated_dps"].is_number())
+        return input_error({path}, at + ": 'stderr_correlated_dps' must be a number");
+      term.stderr_correlated_dps = t["stderr_correlated_dps"].get<double>();
+    }
+    if (std::find(names.begin(), names.end(), term.name) == names.end())
+      return input_error({path},
+                         fmt::format("{}: '{}' is not a term of the pairing '{}'", at,
+                                     printable(term.name, 80), method::to_string(rec.pairing)));
+    for (const auto& other : rec.terms)
+      if (other.name == term.name)
+        return input_error({path}, fmt::format("{}: term '{}' is given twice", at, term.name));
+    if (auto s = check_magnitude(path, at + ": value_dps", term.value_dps); !s) return s;
+    if (!(term.stderr_correlated_dps >= 0.0) || !(term.stderr_correlated_dps <= max_magnitude))
+      return input_error({path}, at + ": 'stderr_correlated_dps' must be a number >= 0");
+    rec.terms.push_back(std::move(term));
+  }
+  for (const auto& e : expected) {
+    const auto t = std::find_if(rec.terms.begin(), rec.terms.end(),
+                                [&e](const method::delta_n_term& x) { return x.name == e.name; });
+    if (t == rec.terms.end())
+      return input_error({path}, fmt::format("'terms' lacks the term '{}'", e.name));
+    if (e.name == method::delta_n_term_name && t->value_dps != e.value_dps)
+      return input_error({path}, fmt::format("terms: '{}' is {} but 'delta_n_dps' {}: one of them "
+                                             "was edited",
+                                             e.name, t->value_dps, e.value_dps));
+  }
+  return ok();
+}
+
 }  // namespace
 
 sensor_record sensor_of(std::span<const csv_metadata> metadata) {
@@ -316,14 +367,24 @@ method::delta_n_model delta_n_model_of(const calibration_record& rec) {
   return method::constant_model(rec.pooled.delta_n_dps, rec.pooled.stderr_correlated_dps);
 }
 
+std::vector<method::delta_n_term> terms_of(const calibration_record& rec) {
+  return rec.terms.empty() ? method::terms_of(rec.pooled, rec.pairing) : rec.terms;
+}
+
 result<std::string> to_json(const calibration_record& rec) {
-  json j = schema_object("calibration", 3);
+  json j = schema_object("calibration", 4);
   j.update(calibration_fields(rec.pooled, rec.geometry));
   j["pairing"] = method::to_string(rec.pairing);
   j["lat_deg"] = rec.geometry ? json(rec.geometry->lat_deg) : json(nullptr);
   j["axis_ned"] = rec.geometry ? json{rec.geometry->axis.north, rec.geometry->axis.east,
                                       rec.geometry->axis.down}
                                : json(nullptr);
+  json terms = json::array();
+  for (const auto& t : terms_of(rec))
+    terms.push_back({{"name", t.name},
+                     {"value_dps", t.value_dps},
+                     {"stderr_correlated_dps", t.stderr_correlated_dps}});
+  j["terms"] = std::move(terms);
   json files = json::array();
   for (const auto& f : rec.files) {
     json e = calibration_fields(f.cal, rec.geometry);
@@ -394,9 +455,9 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
     // Files before schema 1 carry none; another schema is another format (review D3).
     if (const auto sc = j.find("schema"); sc != j.end())
       if (!sc->is_string() || (*sc != "gyroflip.calibration/1" && *sc != "gyroflip.calibration/2" &&
-                               *sc != "gyroflip.calibration/3"))
+                               *sc != "gyroflip.calibration/3" && *sc != "gyroflip.calibration/4"))
         return input_error({path}, fmt::format("schema {} is not a gyroflip calibration this "
-                                               "version reads (gyroflip.calibration/1 to /3)",
+                                               "version reads (gyroflip.calibration/1 to /4)",
                                                printable(sc->dump(), 80)));
     rec.pooled.delta_n_dps = j.at("delta_n_dps").get<double>();
     if (!std::isfinite(rec.pooled.delta_n_dps))
@@ -414,7 +475,9 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
     }
     if (j.contains("pairing")) {
       const auto p = method::parse_pairing(j.at("pairing").get<std::string>());
-      if (!p) return input_error({path}, "'pairing' must be \"abba\" or \"simple\"");
+      if (!p)
+        return input_error({path}, fmt::format("'pairing' must be \"{}\"",
+                                               method::scheme_names_joined("\" or \"")));
       rec.pairing = *p;
     }
     if (j.contains("model") && !j["model"].is_null()) {
@@ -491,6 +554,7 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
     if (!(rec.pooled.stderr_correlated_dps >= 0.0) ||
         !(rec.pooled.stderr_correlated_dps <= max_magnitude))
       return input_error({path}, "'stderr_correlated_dps' must be a number >= 0");
+    if (auto s = read_terms(path, j, rec); !s) return s.err();
   } catch (const json::exception& e) {
     return input_error({path},
                        fmt::format("malformed calibration: {}", printable(reason(e.what()), 200)));

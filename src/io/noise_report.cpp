@@ -54,7 +54,7 @@ json noise_json(const noise_report& r) {
                 {"bias_floor_deg_h", f.bias_floor_dev * k * units::dph_per_dps},
                 {"chi2_per_dof", f.chi2_per_dof},
                 {"bias_floor_reached", f.bias_floor_reached},
-                {"abba_cycles", r.series.abba_cycle_s > 0.0},
+                {"abba_cycles", r.series.shaped()},
                 {"ci", f.level},
                 {"notes", f.notes}});
   put(j, "arw_dps_rthz", f.arw, k);

@@ -39,14 +39,14 @@ namespace {
 status check_cycles(const recording_cycles& rc, const flip_stream& stream, pairing p) {
   const auto& path = rc.path;
   if (rc.rows == 0) return input_error({path}, "no data rows after the header");
-  if (stream.dwells_at_0() == 0 || stream.dwells_at_180() == 0) {
+  if (stream.dwells_at(rc.pair.plus) == 0 || stream.dwells_at(rc.pair.minus) == 0) {
     const double plus = rc.positions.angle_deg(rc.pair.plus);
     const double minus = rc.positions.angle_deg(rc.pair.minus);
     return input_error(
         {path}, fmt::format("the table never turns (every row is at {} deg): the method needs "
                             "dwells at both {} and {} deg (an unflipped recording is for adev and "
                             "noise, not for calibrate or compensate)",
-                            stream.dwells_at_0() == 0 ? minus : plus, plus, minus));
+                            stream.dwells_at(rc.pair.plus) == 0 ? minus : plus, plus, minus));
   }
   if (rc.cycles.size() < min_cycles)
     return input_error(
@@ -70,7 +70,8 @@ result<recording_cycles> read_cycles(row_source& source, pairing p,
   // so that a bad row or no rows at all is what is reported first.
   auto pair = flip_pair_of(rc.positions, rc.path);
   if (pair) rc.pair = *pair;
-  flip_stream stream(p, rc.pair);
+  auto demod = make_demodulator(p, rc.positions, rc.path);
+  flip_stream stream(demod ? std::move(*demod) : make_flip_demodulator(p, rc.pair));
   const auto keep = [&rc](const cycle& c) { rc.cycles.push_back(c); };
   // A block at a time: one call through the interface per 4096 rows, and a progress report
   // per block (a report costs a call through std::function).
@@ -79,7 +80,7 @@ result<recording_cycles> read_cycles(row_source& source, pairing p,
     auto n = source.read(block);
     if (!n) return n.err();
     if (*n == 0) break;
-    if (pair)
+    if (demod)
       for (std::size_t k = 0; k < *n; ++k) stream.push(block[k], keep);
     rc.rows += *n;
     if (on_progress)
@@ -87,9 +88,9 @@ result<recording_cycles> read_cycles(row_source& source, pairing p,
                   static_cast<std::size_t>(source.total()));
   }
   if (rc.rows == 0) return input_error({rc.path}, "no data rows after the header");
-  if (!pair) return pair.err();
+  if (!demod) return demod.err();
   stream.flush(keep);
-  rc.dwells = stream.dwells_at_0() + stream.dwells_at_180();
+  rc.dwells = stream.dwells();
   const auto w = source.warnings();
   rc.warnings.assign(w.begin(), w.end());
   if (const auto off = stream.dwells_off_pair(); off != 0)

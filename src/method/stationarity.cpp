@@ -12,6 +12,7 @@
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/analysis/phase_source.hpp"
+#include "gyroflip/method/demodulator.hpp"
 
 namespace gyroflip::method {
 namespace {
@@ -67,7 +68,7 @@ void check_g_term(const calibration& cal, const stationarity_inputs& in, station
 }  // namespace
 
 double white_std_over_adev(pairing p) noexcept {
-  return p == pairing::simple ? 1.0 : std::sqrt(20.0 / 14.0);
+  return scheme_of(p).transfer().white_std_over_adev();
 }
 
 stationarity check_stationarity(std::span<const cycle> cycles, const calibration& cal,

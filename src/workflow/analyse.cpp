@@ -8,6 +8,7 @@
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/method/demodulator.hpp"
 
 namespace gyroflip::workflow {
 
@@ -18,16 +19,15 @@ double mean_step(const std::vector<double>& t) {
   return t.size() > 1 ? (t.back() - t.front()) / static_cast<double>(t.size() - 1) : 1.0;
 }
 
-// OADEV with bounds and the IEEE 952 fit of `y` spaced `tau0_s`, or nothing when the series is
-// too short for it (the report then shows what it has).
+// OADEV with bounds and the IEEE 952 fit of `y` spaced `tau0_s` (a demodulator's estimates:
+// `series` says its white-noise shape), or nothing when the series is too short for it (the report
+// then shows what it has).
 std::optional<analysis::noise_analysis> noise_of(const std::vector<double>& y, double tau0_s,
-                                                 double abba_cycle_s) {
+                                                 const analysis::noise_series& ns) {
   if (y.size() < 16 || !(tau0_s > 0.0)) return std::nullopt;
   const analysis::span_samples s(y);
   auto x = analysis::phase_source::make(s, analysis::input_kind::rate, tau0_s);
   if (!x) return std::nullopt;
-  analysis::noise_series ns;
-  ns.abba_cycle_s = abba_cycle_s;
   auto a = analysis::analyse_noise(*x, 0.683, {}, ns);
   if (a) return std::move(*a);
   // Too few points to fit: the curve alone.
@@ -110,8 +110,8 @@ status compensate_run(run_analysis& a, const method::delta_n_model& model) {
       y0.push_back(d.rate_dps);
     }
   const double tc = mean_step(t);
-  a.comp_noise = noise_of(y, tc, a.pairing == method::pairing::abba ? tc : 0.0);
-  a.raw_noise = noise_of(y0, mean_step(t0), 0.0);
+  a.comp_noise = noise_of(y, tc, method::noise_series_of(a.pairing, tc));
+  a.raw_noise = noise_of(y0, mean_step(t0), {});
   a.raw_duty = raw_duty(a.run, mean_step(t0));
   // The paper's own metric, raw beside compensated, at windows a reader can compare.
   a.drifts.clear();

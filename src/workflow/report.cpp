@@ -28,6 +28,7 @@
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/figures.hpp"
 #include "gyroflip/report/folder.hpp"
@@ -332,9 +333,9 @@ report::section pairing_section(const std::vector<run_analysis>& runs) {
       const auto& c = p.cal;
       const auto& at = p.oadev_at_common_tau;
       t.rows.push_back({fmt::format("{}: {}", k + 1, runs[k].run.file),
-                        p.pairing == method::pairing::simple ? "simple (paper)" : "abba",
-                        std::to_string(c.cycles), value_pm(c.delta_n_dps, c.stderr_correlated_dps),
-                        g(c.std_dps, 3), g(c.stderr_correlated_dps, 3),
+                        std::string(method::scheme_of(p.pairing).label), std::to_string(c.cycles),
+                        value_pm(c.delta_n_dps, c.stderr_correlated_dps), g(c.std_dps, 3),
+                        g(c.stderr_correlated_dps, 3),
                         at ? fmt::format("{} at {} s", g(at->dev, 3), g(at->tau_s, 3)) : "–"});
     }
   s.tables.push_back(std::move(t));

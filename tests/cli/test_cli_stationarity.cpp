@@ -44,7 +44,7 @@ TEST(CliStationarity, TheIssuesRunsAreWarnedAboutRefusedWithStrictAndRecorded) {
   const auto st = stationarity_of(ok.out);
   EXPECT_EQ(st["checked"], true);
   EXPECT_EQ(st["stationary"], true);
-  EXPECT_EQ(json::parse(ok.out)["schema"], "gyroflip.calibration/3");
+  EXPECT_EQ(json::parse(ok.out)["schema"], "gyroflip.calibration/4");
 
   struct case_ {
     std::string file, statistic;

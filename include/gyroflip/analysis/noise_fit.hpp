@@ -77,11 +77,18 @@ struct noise_terms {
 
 /// What the analysed series is, where that changes the model.
 struct noise_series {
-  /// > 0: the series is the cycle values of the abba pairing (method/pairing.hpp) spaced this far
-  /// apart (s). Each value shares dwells with its neighbours, so white dwell noise gives the
-  /// cycle series AVAR N^2 (1/tau - (9/16) T/tau^2) (docs/ANALYSIS.md), which the ARW term then
-  /// uses; without it the 44 % deficit at tau = T reads as a bias-instability floor.
-  double abba_cycle_s = 0.0;
+  /// > 0: the series is a demodulator's estimates (method/demodulator.hpp) spaced this far apart
+  /// (s).
+  double cycle_s = 0.0;
+  /// The demodulator's white-noise Allan shape: white dwell noise gives its estimate series AVAR
+  /// N^2 (1/tau - kappa T/tau^2) (method::noise_transfer::white_avar_deficit; abba 9/16:
+  /// neighbouring estimates share dwells, docs/ANALYSIS.md), which the ARW term then uses;
+  /// without it the 44 % deficit at tau = T reads as a bias-instability floor. 0: uncorrelated.
+  double white_avar_deficit = 0.0;
+  /// What the fit's notes say of the shape (the demodulator's words, method::noise_series_of).
+  std::string note;
+  /// Whether the white term has the demodulator's shape (a known short-tau shape).
+  [[nodiscard]] bool shaped() const noexcept { return cycle_s > 0.0 && white_avar_deficit > 0.0; }
 };
 
 /// The leading points of `pts` (OADEV at octave taus with EDF and alpha, increasing tau) that the

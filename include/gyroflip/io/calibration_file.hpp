@@ -92,17 +92,26 @@ struct calibration_record {
   std::vector<calibration_entry> files;
   std::optional<method::delta_n_model> model;          ///< dN(T), when several files were given
   std::optional<calibration_uncertainty> uncertainty;  ///< written by calibrate (schema 3)
+  /// dN as named terms (schema 4; method::delta_n_term): empty when made in memory (written as
+  /// the scheme's terms of `pooled`, method::terms_of); read from a file, its `terms`, or for a
+  /// file before schema 4 the 0/180 schemes' one term, its pooled dN.
+  std::vector<method::delta_n_term> terms;
 };
+
+/// The terms of dN a calibration states: `rec.terms`, or when empty its scheme's terms of its
+/// pooled calibration (method::terms_of).
+[[nodiscard]] std::vector<method::delta_n_term> terms_of(const calibration_record& rec);
 
 /// The dN a calibration subtracts: its dN(T) model when it has one, else its pooled dN as a
 /// constant (with the pooled correlated standard error).
 [[nodiscard]] method::delta_n_model delta_n_model_of(const calibration_record& rec);
 
 /// JSON text of a calibration (one line, keys as in docs/FORMATS.md; schema
-/// gyroflip.calibration/3 and gyroflip's version, io/schema.hpp).
+/// gyroflip.calibration/4 and gyroflip's version, io/schema.hpp).
 [[nodiscard]] result<std::string> to_json(const calibration_record& rec);
 
-/// Reads a calibration file (schema 1 to 3): its pooled dN, sensor, rig, pairing, model and the
+/// Reads a calibration file (schema 1 to 4): its pooled dN, its terms (schema 4; before, the one
+/// term delta_n),, sensor, rig, pairing, model and the
 /// runs it was made of (`files`: dN, correlated error, temperature, cycles, and from schema 2
 /// each run's SHA-256, size and origin). Errors name the file (and the key that
 /// is wrong).

@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <span>
+#include <string>
+#include <string_view>
 
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/earth/earth.hpp"
@@ -42,6 +44,20 @@ struct calibration {
   double duration_s = 0.0;     ///< time between the first and last cycle
   double bias_mean_dps = 0.0;  ///< mean of the half-sums c (the sensor's bias)
 };
+
+/// One named term of dN (issue 33): a constant a scheme's calibration estimates and compensation
+/// subtracts. The 0/180 schemes estimate one, `delta_n` (dN = W_E.s + d_g, paper eqns 8-11: the
+/// calibration's delta_n_dps); a scheme of more positions names more (demodulator.hpp, its row of
+/// schemes()).
+struct delta_n_term {
+  std::string name;
+  double value_dps = 0.0;
+  double stderr_correlated_dps = 0.0;  ///< see correlated_stderr()
+  bool operator==(const delta_n_term&) const = default;
+};
+
+/// The name of the 0/180 schemes' one term.
+inline constexpr std::string_view delta_n_term_name = "delta_n";
 
 /// dN and its uncertainty from the cycles of a stationary recording (w_in = 0).
 /// Error (runtime) if there are fewer than `min_cycles` cycles.

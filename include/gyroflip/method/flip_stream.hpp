@@ -1,13 +1,19 @@
 /// \file
-/// \brief Streaming rows -> cycles: feed rows one at a time, get each cycle as soon as it is
-/// final. Gives the same numbers as `extract_dwells` + `pair_cycles` (tested bit for bit).
-/// The live recorder and the firmware use this form. The 0/180 demodulators use the two
-/// positions of their flip_pair (method/flip_pair.hpp); rows at the table's other positions are
+/// \brief Streaming rows -> estimates: feed rows one at a time, get each estimate (cycle) as soon
+/// as it is final, from any demodulator (method/demodulator.hpp). For the 0/180 schemes it gives
+/// the same numbers as `extract_dwells` + `pair_cycles` (tested bit for bit). The live recorder
+/// and the firmware use this form. Rows at table positions the demodulator does not use are
 /// passed over as rows taken while the table turns.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <utility>
 
+#include "gyroflip/core/positions.hpp"
+#include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/method/dwells.hpp"
 #include "gyroflip/method/pairing.hpp"
 
@@ -15,12 +21,19 @@ namespace gyroflip::method {
 
 class flip_stream {
  public:
-  explicit flip_stream(pairing p, flip_pair pair = {}) noexcept : pair_(pair), cycles_(p, pair) {}
+  /// A 0/180 scheme (`simple`, `abba`) on the two positions of `pair`.
+  explicit flip_stream(pairing p, flip_pair pair = {})
+      : flip_stream(make_flip_demodulator(p, pair)) {}
+  /// Any demodulator (make_demodulator).
+  explicit flip_stream(std::unique_ptr<demodulator> d) noexcept
+      : demod_(std::move(d)), uses_(demod_->uses()) {}
 
-  /// Adds a validated row; calls `sink(const cycle&)` for each cycle it completes.
+  /// Adds a validated row; calls `sink(const cycle&)` for each estimate it completes.
   template <class Sink>
   void push(const row& r, Sink&& sink) {
-    if (!pair_.holds(r.position)) {  // turning, or at a position not the pair's
+    // Turning, or at a position the demodulator does not use (positions are < 32: the table
+    // holds at most position_table::max_positions).
+    if (r.position < 0 || ((uses_ >> static_cast<unsigned>(r.position)) & 1u) == 0) {
       if (r.position != table_moving && r.position != last_off_) {
         ++off_pair_;
         last_off_ = r.position;
@@ -31,33 +44,39 @@ class flip_stream {
     if (auto d = dwells_.push(r)) take(*d, sink);
   }
 
-  /// End of data: emits the cycles still held back.
+  /// End of data: emits the estimates still held back.
   template <class Sink>
   void flush(Sink&& sink) {
     if (auto d = dwells_.flush()) take(*d, sink);
-    if (auto c = cycles_.flush()) sink(*c);
+    if (auto c = demod_->flush()) sink(*c);
   }
 
-  /// Dwells seen at the pair's +1 position (0 deg) and at its -1 position (180 deg) so far.
-  [[nodiscard]] std::size_t dwells_at_0() const noexcept { return n0_; }
-  [[nodiscard]] std::size_t dwells_at_180() const noexcept { return n180_; }
-  /// Stays at positions other than the pair's so far (runs of rows at one such position).
+  /// Dwells seen at table position `position` so far (0 for positions not used).
+  [[nodiscard]] std::size_t dwells_at(int position) const noexcept {
+    return position >= 0 && static_cast<std::size_t>(position) < counts_.size()
+               ? counts_[static_cast<std::size_t>(position)]
+               : 0;
+  }
+  /// Dwells the demodulator took so far.
+  [[nodiscard]] std::size_t dwells() const noexcept { return dwells_total_; }
+  /// Stays at positions the demodulator does not use so far (runs of rows at one such position).
   [[nodiscard]] std::size_t dwells_off_pair() const noexcept { return off_pair_; }
-  [[nodiscard]] const flip_pair& pair() const noexcept { return pair_; }
+  [[nodiscard]] const demodulator& demod() const noexcept { return *demod_; }
 
  private:
   template <class Sink>
   void take(const dwell& d, Sink& sink) {
-    (d.position == pair_.plus ? n0_ : n180_) += 1;
-    if (auto c = cycles_.push(d)) sink(*c);
+    ++counts_[static_cast<std::size_t>(d.position)];
+    ++dwells_total_;
+    if (auto c = demod_->push(d)) sink(*c);
   }
-  flip_pair pair_;
+  std::unique_ptr<demodulator> demod_;
+  std::uint32_t uses_ = 0;
   int last_off_ = table_moving;
   std::size_t off_pair_ = 0;
   dwell_builder dwells_;
-  cycle_builder cycles_;
-  std::size_t n0_ = 0;
-  std::size_t n180_ = 0;
+  std::array<std::size_t, position_table::max_positions> counts_{};
+  std::size_t dwells_total_ = 0;
 };
 
 }  // namespace gyroflip::method

@@ -37,9 +37,10 @@
 
 namespace gyroflip::method {
 
-/// std(r) / ADEV_r(tau0) of a pairing's cycle series under white dwell noise (its noise
-/// transfer at the shortest tau): simple 1; abba sqrt(20/14) = 1.195 (interior cycles: r =
-/// (3 z_a + 3 z_b + z_prev + z_next)/8, var 20/64, lag-1 covariance 6/64; docs/METHOD-NOTES.md).
+/// std(r) / ADEV_r(tau0) of a pairing's cycle series under white dwell noise: its scheme's noise
+/// transfer (method/demodulator.hpp, noise_transfer::white_std_over_adev): simple 1; abba
+/// sqrt(20/14) = 1.195 (interior cycles: r = (3 z_a + 3 z_b + z_prev + z_next)/8, var 20/64,
+/// lag-1 covariance 6/64; docs/METHOD-NOTES.md).
 [[nodiscard]] double white_std_over_adev(pairing p) noexcept;
 
 /// Fewest cycles the test runs on (fewer: `checked` false).

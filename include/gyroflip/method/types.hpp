@@ -47,15 +47,21 @@ struct cycle {
   double temp_c = no_value;  ///< mean temperature of its dwells (NaN if none)
 };
 
-/// How the two orientations are paired into a cycle value.
-enum class pairing {
-  /// Paper eqn 7: adjacent 0/180 dwells. A bias moving at b' leaks -b' dt/2 into r.
-  simple,
-  /// Each dwell against its two opposite-sign neighbours interpolated to its time (the
-  /// ABBA / three-point chop of metrology); cancels any linear bias drift exactly.
-  abba,
+/// A demodulation scheme, by its row in the one table of schemes (method/demodulator.hpp,
+/// `schemes()`; its names are the `--pairing` values). The two 0/180 schemes:
+/// - `abba` (the default): each dwell against its two opposite-sign neighbours interpolated to
+///   its time (the ABBA / three-point chop of metrology); cancels any linear bias drift exactly.
+/// - `simple`: paper eqn 7, adjacent 0/180 dwells. A bias moving at b' leaks -b' dt/2 into r.
+struct pairing {
+  std::uint8_t id = 0;  ///< its row of schemes()
+  static const pairing abba;
+  static const pairing simple;
+  constexpr bool operator==(const pairing&) const = default;
 };
+inline constexpr pairing pairing::abba{0};
+inline constexpr pairing pairing::simple{1};
 
+/// The scheme's name (schemes()[p.id].name); the scheme of a name, if the table has it.
 [[nodiscard]] std::string_view to_string(pairing p) noexcept;
 [[nodiscard]] std::optional<pairing> parse_pairing(std::string_view name) noexcept;
 
