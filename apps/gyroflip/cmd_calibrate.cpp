@@ -12,6 +12,7 @@
 #include "command_line.hpp"
 #include "commands.hpp"
 #include "finite_output.hpp"
+#include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
@@ -47,7 +48,7 @@ void print_entry(std::string& out, const io::calibration_entry& e,
 void print_result(std::string& out, const io::calibration_record& rec,
                   const workflow::delta_n_budget& b) {
   const auto o = std::back_inserter(out);
-  const auto two = [](double v) { return fmt::format("{:.2g}", v); };
+  const auto two = [](double v) { return significant(v, 2); };
   std::string failed;
   for (const auto& f : rec.files)
     if (f.stationarity && f.stationarity->failed()) failed += (failed.empty() ? "" : ", ") + f.file;

@@ -34,6 +34,9 @@ int run_report(const report_options& o) {
   req.expected_rate_dps = o.expected_rate_dps;
   req.command = shell_command(o.command_line);
   req.made_by = "gyroflip report";
+  req.sensor_hint =
+      "calibrate the runs with `gyroflip calibrate FILE... --sensor NAME|FILE.toml -o cal.json` "
+      "and report them with `--calibration cal.json`";
   if (o.calibration.empty()) {
     // The exact commands that turn these runs into a calibration and use it (issue 31).
     std::vector<std::string> cal{"gyroflip", "calibrate"};

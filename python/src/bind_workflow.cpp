@@ -44,6 +44,9 @@ py::dict report(const std::vector<std::string>& files, const std::string& output
   req.expected_rate_dps = expected_rate_dps;
   req.command = command;
   req.made_by = "gyroflip.report (Python)";
+  req.sensor_hint =
+      "calibrate the runs with calibrate_runs(..., sensor=a preset name or a TOML file), write "
+      "its dict to a JSON file and report them with calibration=that file";
   auto run =
       without_gil([&](const progress_fn& listen) { return workflow::make_report(req, listen); });
   const auto res = take(std::move(run));

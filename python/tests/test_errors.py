@@ -273,3 +273,21 @@ def test_calibrate_without_a_sensor_warns_that_the_g_term_was_not_checked():
         gyroflip.calibrate(*turning, strict=True)
     with pytest.raises(ValueError, match="its g-term is"):
         gyroflip.calibrate(*turning, sensor="hz1-90-100a", strict=True)
+
+
+# Review of issue 31 (second review, item 3): report said nothing of its own run's unchecked
+# g-term. It says it as calibrate does, naming the run, in Python's words (no CLI flag).
+@pytest.mark.skipif(__import__("shutil").which("gnuplot") is None, reason="gnuplot not installed")
+def test_report_warns_that_its_runs_g_term_was_not_checked(tmp_path):
+    rec = gyroflip.simulate("hz1-90-100a", duration_s=600, seed=31, temp=20, rate="0.5")
+    path = tmp_path / "turning.csv"  # no "# sensor_name:": no specification to check against
+    with open(path, "w") as f:
+        f.write("time_s,angle_deg,rate_dps,temp_c,n_avg\n")
+        for t, a, r, c, n in zip(rec["time_s"], rec["angle_deg"], rec["rate_dps"], rec["temp_c"],
+                                 rec["n_avg"]):
+            f.write(f"{t!r},{'' if np.isnan(a) else repr(a)},{r!r},{c!r},{int(n)}\n")
+    s = gyroflip.report([str(path)], tmp_path / "rep")
+    hits = [w for w in s["warnings"] if f"{path}: its g-term was not checked" in w]
+    assert hits and "sensor=" in hits[0] and "--sensor" not in hits[0], s["warnings"]
+    page = (tmp_path / "rep" / "index.html").read_text()
+    assert "was not checked (no sensor specification)" in page

@@ -22,8 +22,7 @@ namespace {
 // `v` to two significant digits of `u` (its error), as workflow::value_pm writes numbers.
 std::string to_digits_of(double v, double u) {
   if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.4g}", v);
-  const int decimals = decimals_of_error(u);
-  return fmt::format("{:.{}f}", v, decimals);
+  return digits_of_error(v, u).first;
 }
 
 // The flicker floor of AVAR: sigma = sqrt(2 ln 2 / pi) B (IEEE 952 Annex C; FACTS §7).
@@ -152,8 +151,8 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
   // The mean to the digits its standard error supports (review of issue 31: "mean 0.004548, std
   // 0.00157" for 13 runs).
   const double se = sd / std::sqrt(static_cast<double>(values.size()));
-  f.caption = fmt::format("{} runs: mean {} °/s, std {:.2g} °/s", values.size(),
-                          to_digits_of(ms.mean, se), sd);
+  f.caption = fmt::format("{} runs: mean {} °/s, std {} °/s", values.size(),
+                          to_digits_of(ms.mean, se), significant(sd, 2));
   const double x0 = 0.5, x1 = static_cast<double>(runs.size()) + 0.5;
   series band = points_of("mean ± std", 1);
   band.how = series::style::band;
@@ -212,15 +211,21 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
   if (runs_band.x.empty()) {
     f.caption += "; no prediction band (the runs' scatter about the line is not estimated)";
     f.data = {band, fit, s};
+  } else if (std::isfinite(model.tau2_centre_dps2)) {
+    // A run-to-run spread that may change with T, estimated from the runs (review of issue 31,
+    // H3: with a constant one the band held 0.54-0.64 of new runs at the ends of the hz1
+    // preset's 4-36 °C and 0.77 in the middle; now 0.63-0.73, docs/METHOD-NOTES.md).
+    f.caption +=
+        "; the prediction band holds 68 % of new runs at each temperature (the fitted runs more "
+        "often), the run-to-run spread estimated as a function of temperature from the runs";
+    f.data = {runs_band, band, fit, s};
   } else {
-    // It assumes a between-run variance independent of T (review of issue 31, H3): on the hz1
-    // preset, whose power-up spread grows with |T - 20 °C|, it held 0.54-0.64 of new runs at the
-    // ends of the span and 0.77 in the middle; the fit band held the true ΔN(T) 0.62 of the time
-    // with 5 runs (docs/REPORT.md).
+    // Too few runs to estimate how the spread changes with T (fewer than 5 about a line): the
+    // band assumes it does not (docs/METHOD-NOTES.md).
     f.caption +=
         "; the prediction band holds 68 % of new runs (the fitted runs more often) if the "
-        "run-to-run spread does not change with temperature: where it grows away from the "
-        "middle, fewer at the ends, more in the middle";
+        "run-to-run spread does not change with temperature (too few runs to tell): where it "
+        "grows away from the middle, fewer at the ends, more in the middle";
     f.data = {runs_band, band, fit, s};
   }
   return f;

@@ -176,7 +176,7 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
       outside_c, span, fmt::format("{:.3g}", tc),
       fmt::format("{:.3g}", std::abs(preset->g_sens_tc_z_dps_per_g_c)),
       fmt::format("{:.3g}", preset->g_sens_tc_turn_on_sigma_dps_per_g_c), preset_name, outside_c,
-      fmt::format("{:.2g}", std::abs(preset->g_sens_tc_z_dps_per_g_c) * outside_c));
+      significant(std::abs(preset->g_sens_tc_z_dps_per_g_c) * outside_c, 2));
   b.new_power_up_dps = std::hypot(b.new_power_up_dps, b.temperature_dps);
 }
 
@@ -214,8 +214,8 @@ std::optional<scale_factor_spec> scale_factor_tolerance(const std::string& prese
 std::string value_pm(double v, double u) {
   if (!std::isfinite(v)) return "–";
   if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.6g}", v);
-  const int decimals = decimals_of_error(u);
-  return fmt::format("{:.{}f} ± {:.{}f}", v, decimals, u, decimals);
+  const auto [vs, us] = digits_of_error(v, u);
+  return vs + " ± " + us;
 }
 
 std::string value_pm_dph(double v_dps, double u_dps) {
@@ -236,14 +236,14 @@ std::string when_to_recalibrate(const delta_n_budget& b, const std::string& temp
         "Recalibrate: ΔN moves by about {} °/s (1 σ, {}) from one power-up to the next, so a "
         "rate compensated with this calibration after a new power-up carries ±{} °/s (68.3 %; "
         "the calibrated value's own error is ±{} °/s). ",
-        fmt::format("{:.2g}", b.run_to_run_dps),
+        significant(b.run_to_run_dps, 2),
         b.run_to_run_measured ? "measured on these runs" : "the sensor preset's, not measured",
-        fmt::format("{:.2g}", b.new_power_up_dps), fmt::format("{:.2g}", b.calibration_dps));
+        significant(b.new_power_up_dps, 2), significant(b.calibration_dps, 2));
     if (b.run_to_run_dps > 2.0 * b.single_run_dps)
       out += fmt::format(
           "To do better, calibrate again after each power-up (one run like these gives ±{} °/s, "
           "the median of their own errors). ",
-          fmt::format("{:.2g}", b.single_run_dps));
+          significant(b.single_run_dps, 2));
   } else {
     out =
         "Recalibrate: how far ΔN moves from one power-up to the next is unknown (one run, no "

@@ -385,8 +385,7 @@ std::pair<double, double> applied_range(const compensation& c) {
 // significant digits without a usable u.
 std::string to_decimals_of(double v, double u) {
   if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
-  const int decimals = decimals_of_error(u);
-  return fmt::format("{:.{}f}", v, decimals);
+  return digits_of_error(v, u).first;
 }
 
 // The ΔN applied to a run, with the digits the ΔN's uncertainty `u_dps` supports (issue 31:
@@ -426,6 +425,11 @@ void check_stationary(const report_request& r, const std::vector<run_analysis>& 
         method::check_stationarity(a.run.cycles(a.pairing), a.cal,
                                    stationarity_inputs_of(a.pairing, f.id.builtin, r.geometry));
     entries[k].stationarity = st;
+    // A g-term nothing checked (no specification): said as calibrate says it (issue 31 review).
+    for (auto c : st.caveats()) {
+      if (!r.sensor_hint.empty()) c += ": " + r.sensor_hint;
+      f.warnings.push_back(fmt::format("{}: {}", a.run.file, c));
+    }
     if (!st.failed()) continue;
     f.warnings.push_back(stationarity_warning(a.run.file, st));
     f.not_stationary.push_back(a.run.file);

@@ -178,6 +178,15 @@ TEST(CliStationarity, WithoutASpecificationCalibrateWarnsAndStrictRefuses) {
       run_cli({"calibrate", "--strict", "--sensor", "hz1-90-100a", still, "-o", d.file("s.json")});
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_EQ(ok.err.find("not checked"), std::string::npos) << ok.err;
+  // Review of issue 31 (second, item 3): report said nothing of its own runs' unchecked g-term.
+  // It says it as calibrate does, naming the run, on stderr and on its page, with the CLI's way.
+  const auto rep = run_cli({"report", turning, "-o", d.file("rep")});
+  ASSERT_EQ(rep.exit_code, 0) << rep.err;
+  EXPECT_NE(rep.err.find(turning + ": its g-term was not checked"), std::string::npos) << rep.err;
+  EXPECT_NE(rep.err.find("--sensor NAME|FILE.toml"), std::string::npos) << rep.err;
+  const auto page = read_text(d.file("rep/index.html"));
+  EXPECT_NE(page.find("was not checked (no sensor specification)"), std::string::npos);
+  EXPECT_EQ(page.find("Nothing in the runs looks wrong"), std::string::npos);
 }
 
 // Review of issue 31 (M1): a 10 degC temperature step passed calibrate (and --strict) silently

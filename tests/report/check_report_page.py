@@ -2,7 +2,8 @@
 """Renders both pages, `gyroflip report`'s and `gyroflip reproduce --quick`'s, in headless
 Chromium (issues 10, 22, 31) and checks what a reader would see: a screenshot that is not blank,
 every image loaded, no console error, no preformatted text; at 1280 and at 900 px no table that
-scrolls sideways and nothing wider than the window, and no word broken inside (a line break in
+scrolls sideways and nothing wider than the window; at 700 px a table may scroll inside its own
+box (overflow-x: auto) but nothing else leaves the window; at each width no word broken inside (a line break in
 "compensat ed", "18 00 s" or "inconclusiv e": every run of non-blank characters must lie on one
 line; only the words marked "brk", paths and hashes longer than any column, may break anywhere,
 in the provenance too: "see d 1" and "10013 9" were found there); and the rest of the report folder (summary.json's numbers equal
@@ -49,14 +50,34 @@ def chromium(exe, tmp, *args):
 LAYOUT_PROBE = r"""<script>
 window.addEventListener('load', () => {
   const d = document.documentElement,
-        out = {page: d.scrollWidth - d.clientWidth, height: d.scrollHeight, tables: [], words: []};
+        out = {page: d.scrollWidth - d.clientWidth, height: d.scrollHeight, tables: [], words: [],
+               scrolling: [], outside: []};
   for (const box of document.querySelectorAll('.tablebox'))
-    if (box.scrollWidth > box.clientWidth + 1)
-      out.tables.push((box.querySelector('caption') || box).textContent.slice(0, 90) +
-                      ' (' + box.scrollWidth + ' px in ' + box.clientWidth + ')');
+    if (box.scrollWidth > box.clientWidth + 1) {
+      const what = (box.querySelector('caption') || box).textContent.slice(0, 90) +
+                   ' (' + box.scrollWidth + ' px in ' + box.clientWidth + ')';
+      out.tables.push(what);
+      // Narrow windows: a table may scroll, but only inside its own box, which scrolls.
+      if (getComputedStyle(box).overflowX !== 'auto' ||
+          box.getBoundingClientRect().right > d.clientWidth + 1)
+        out.outside.push('a table box that does not scroll within the window: ' + what);
+      else out.scrolling.push(what);
+    }
   for (const t of document.querySelectorAll('table'))
-    if (t.getBoundingClientRect().right > d.clientWidth + 1)
+    if (t.getBoundingClientRect().right > d.clientWidth + 1) {
       out.tables.push('wider than the window: ' + t.querySelector('caption').textContent.slice(0, 90));
+      if (!t.closest('.tablebox'))
+        out.outside.push('a table outside a scroll box: ' + t.querySelector('caption').textContent.slice(0, 90));
+    }
+  // Everything else lies inside the window (review of issue 31, M4: checked at 700 px too).
+  for (const el of document.body.querySelectorAll('*')) {
+    if (el.closest('.tablebox, script, style') && !el.classList.contains('tablebox')) continue;
+    const r = el.getBoundingClientRect();
+    if (r.width > 0 && (r.right > d.clientWidth + 1 || r.left < -1))
+      out.outside.push(el.tagName.toLowerCase() + (el.className ? '.' + el.className : '') +
+                       ' reaches ' + Math.round(r.right) + ' px of ' + d.clientWidth + ': ' +
+                       (el.textContent || '').slice(0, 60));
+  }
   const walk = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
   for (let n = walk.nextNode(); n; n = walk.nextNode()) {
     const el = n.parentElement;
@@ -78,10 +99,17 @@ window.addEventListener('load', () => {
 </script></body>"""
 
 
-def check_layout(exe, tmp, index, width, shots=None):
-    """At a window `width` px wide: no table that scrolls sideways, nothing wider than the window,
-    no word broken inside. Raises AssertionError naming each. With `shots`, a screenshot of the
-    whole page at that width is kept there."""
+# Window widths checked, and whether a table may scroll inside its own box there: at 900 px and
+# wider no table scrolls; narrower (700 px, a small laptop window or a tablet; review of issue 31,
+# M4) a table wider than the column scrolls inside its box, and nothing else leaves the window.
+WIDTHS = ((1280, False), (900, False), (700, True))
+
+
+def check_layout(exe, tmp, index, width, shots=None, scroll_boxes=False):
+    """At a window `width` px wide: no table that scrolls sideways (with `scroll_boxes`, only
+    inside its own scrolling box), nothing wider than the window, no word broken inside. Raises
+    AssertionError naming each. With `shots`, a screenshot of the whole page at that width is kept
+    there. Returns the captions of the tables that scroll in their box."""
     html = open(index, encoding="utf-8").read()
     probe = os.path.join(os.path.dirname(index), f"probe{width}.html")
     open(probe, "w", encoding="utf-8").write(html.replace("</body>", LAYOUT_PROBE))
@@ -93,7 +121,8 @@ def check_layout(exe, tmp, index, width, shots=None):
     start = dom.find('<div id="layout-probe">')
     assert start >= 0, f"the layout probe did not run at {width} px: {dom[-300:]}"
     found = json.loads(unescape(dom[start + len('<div id="layout-probe">'):dom.index("</div>", start)]))
-    problems = [f"a table scrolls sideways: {t}" for t in found["tables"]]
+    problems = [] if scroll_boxes else [f"a table scrolls sideways: {t}" for t in found["tables"]]
+    problems += found["outside"]
     if found["page"] > 0:
         problems.append(f"the page is {found['page']} px wider than the window")
     problems += [f"a word is broken across lines: {w!r}" for w in found["words"]]
@@ -103,6 +132,7 @@ def check_layout(exe, tmp, index, width, shots=None):
         chromium(exe, tmp, f"--window-size={width},{height}", "--virtual-time-budget=10000",
                  f"--screenshot={os.path.join(shots, f'{name}_{width}.png')}", "file://" + index)
     assert not problems, f"{index} at {width} px:\n  " + "\n  ".join(problems)
+    return found["scrolling"]
 
 
 def png_busy_fraction(path):
@@ -155,8 +185,8 @@ def check_page(exe, tmp, index, images):
     assert busy > 0.01, f"the screenshot is blank ({busy:.4f}; a blank page gives 0.0003)"
 
     # At a laptop's width and at a narrow window's (review of issue 31: tables scrolled at both).
-    for width in (1280, 900):
-        check_layout(exe, tmp, index, width, os.environ.get("GYROFLIP_SCREENSHOTS"))
+    for width, scroll_boxes in WIDTHS:
+        check_layout(exe, tmp, index, width, os.environ.get("GYROFLIP_SCREENSHOTS"), scroll_boxes)
     return busy
 
 
@@ -169,11 +199,13 @@ def main():
         failed = 0
         with tempfile.TemporaryDirectory() as tmp:
             for page in sys.argv[2:]:
-                for width in (1280, 900):
+                for width, scroll_boxes in WIDTHS:
                     try:
-                        check_layout(exe, tmp, os.path.abspath(page), width,
-                                     os.environ.get("GYROFLIP_SCREENSHOTS"))
-                        print(f"{page} at {width} px: ok")
+                        scrolled = check_layout(exe, tmp, os.path.abspath(page), width,
+                                                os.environ.get("GYROFLIP_SCREENSHOTS"),
+                                                scroll_boxes)
+                        print(f"{page} at {width} px: ok" +
+                              "".join(f"\n  scrolls in its box: {t}" for t in scrolled))
                     except AssertionError as e:
                         failed += 1
                         print(e)

@@ -111,7 +111,8 @@ TEST(ReportFigure, PaperFiguresAreGolden) {
   }
   const auto ft = report::delta_n_runs_figure(runs, "ΔN per run");
   expect_golden(report::script(ft, "runs", formats), "delta_n_runs.gp");
-  EXPECT_NE(ft.caption.find("mean 0.4000 °/s, std 0.01 °/s"), std::string::npos) << ft.caption;
+  // Two significant digits, the trailing zero kept (review of issue 31, L2: "std 0.01").
+  EXPECT_NE(ft.caption.find("mean 0.4000 °/s, std 0.010 °/s"), std::string::npos) << ft.caption;
   // Review R16: runs at 4, 12 and 20 degC got one pooled "mean +- std" band, a number in no
   // table; over a temperature span of 2 degC or more the runs are drawn without it.
   for (int k = 0; k < 3; ++k) runs[static_cast<std::size_t>(k)].cal.temp_c = 4.0 + 8.0 * k;

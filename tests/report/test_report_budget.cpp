@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gyroflip/core/digits.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/sensor/presets.hpp"
@@ -40,6 +41,24 @@ TEST(ValuePm, DigitsOfTheErrorAndNeverNan) {
   EXPECT_EQ(workflow::value_pm(std::numeric_limits<double>::infinity(), 0.1), "–");
   EXPECT_EQ(workflow::value_pm(nan, nan), "–");
   EXPECT_EQ(workflow::value_pm_dph(1e-3, 2.5e-4), "3.60 ± 0.90 °/h");
+  // Review of issue 31 (L2): an error of 100 or more was printed whole, with the value beside it
+  // to the unit ("-1507 ± 3613 ppm"); both are rounded at the error's second digit.
+  EXPECT_EQ(workflow::value_pm(-1507.0, 3613.0), "-1500 ± 3600");
+  EXPECT_EQ(workflow::value_pm(123456.0, 355.0), "123460 ± 360");
+  EXPECT_EQ(workflow::value_pm(-40.0, 3613.0), "0 ± 3600");
+  EXPECT_EQ(workflow::value_pm(99.4, 99.96), "99 ± 100");
+}
+
+// `{:.2g}` dropped significant trailing zeros ("0.0002" for 0.00020; review of issue 31, L2).
+TEST(ValuePm, TwoSignificantDigitsKeepTheirTrailingZeros) {
+  EXPECT_EQ(significant(0.00020, 2), "0.00020");
+  EXPECT_EQ(significant(0.000204, 2), "0.00020");
+  EXPECT_EQ(significant(1.0, 2), "1.0");
+  EXPECT_EQ(significant(12.0, 2), "12");
+  EXPECT_EQ(significant(0.0012345, 2), "0.0012");
+  EXPECT_EQ(significant(9.96, 2), "10");
+  EXPECT_EQ(significant(0.000996, 2), "0.0010");
+  EXPECT_EQ(significant(-0.00020, 2), "-0.00020");
 }
 
 TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {
@@ -78,6 +97,13 @@ TEST(DeltaNBudget, WhatOneRunLikeTheseGivesIsTheMedianOfTheirOwnErrors) {
   const auto text = workflow::when_to_recalibrate(b, "20.0 °C");
   EXPECT_NE(text.find("one run like these gives ±0.00025 °/s"), std::string::npos) << text;
   EXPECT_GT(std::abs(b.within_run_dps - 2.5e-4), 2e-5);  // the pooled error is another number
+  // Its trailing zero is significant (L2): 2.0e-4 was printed "0.0002".
+  const std::vector two_e4{run(0.40, 1e-4, 20.0), run(0.41, 2.0e-4, 20.0), run(0.42, 4e-4, 20.0)};
+  const auto m2 = method::fit_runs_model(workflow::calibrations_of(two_e4));
+  ASSERT_TRUE(m2 && m2->has_value());
+  const auto text2 = workflow::when_to_recalibrate(
+      workflow::budget_of(two_e4, *m2, &hz1->params, "hz1-90-100a"), "20.0 °C");
+  EXPECT_NE(text2.find("one run like these gives ±0.00020 °/s"), std::string::npos) << text2;
 }
 
 TEST(DeltaNBudget, OneRunTakesThePresetsTurnOnSpreadAndSaysSo) {

@@ -5,6 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
 
 namespace gyroflip {
 
@@ -12,6 +16,37 @@ namespace gyroflip {
 /// -> 2; 120 -> 0), at most 15. The value beside it takes the same decimals.
 [[nodiscard]] inline int decimals_of_error(double u) {
   return std::clamp(1 - static_cast<int>(std::floor(std::log10(u))), 0, 15);
+}
+
+/// `v` rounded at the second significant digit of its uncertainty `u` > 0 where that lies left
+/// of the decimal point (u = 3613: to hundreds, -1507 -> -1500; review of issue 31, L2: "-1507 ±
+/// 3613 ppm"); otherwise `v` itself (decimals_of_error then rounds it in print). No -0.
+[[nodiscard]] inline double rounded_to_error(double v, double u) {
+  const int place = 1 - static_cast<int>(std::floor(std::log10(u)));
+  if (place >= 0) return v;
+  const double unit = std::pow(10.0, -place);
+  return std::round(v / unit) * unit + 0.0;
+}
+
+/// `v` and `u` > 0 each in fixed notation at the second significant digit of `u`: ("0.00327",
+/// "0.00081"), ("-1500", "3600"). The one rule of every "v ± u".
+[[nodiscard]] inline std::pair<std::string, std::string> digits_of_error(double v, double u) {
+  const int decimals = decimals_of_error(u);
+  return {fmt::format("{:.{}f}", rounded_to_error(v, u), decimals),
+          fmt::format("{:.{}f}", rounded_to_error(u, u), decimals)};
+}
+
+/// `v` to `n` >= 1 significant digits with its significant trailing zeros ("0.00020", not
+/// "0.0002" as `{:.2g}` prints; review of issue 31, L2) and no trailing decimal point ("12").
+[[nodiscard]] inline std::string significant(double v, int n) {
+  if (!std::isfinite(v) || n < 1) return fmt::format("{}", v);
+  if (v == 0.0) return fmt::format("{:.{}f}", 0.0, n - 1);
+  // The exponent after rounding to n digits (9.96 -> 1.0e+01), then fixed notation with the
+  // decimals that show n digits; scientific far from 1.
+  const std::string sci = fmt::format("{:.{}e}", v, n - 1);
+  const int exponent = std::stoi(sci.substr(sci.find('e') + 1));
+  if (exponent < -5 || exponent >= 15) return sci;
+  return fmt::format("{:.{}f}", v, std::max(0, n - 1 - exponent));
 }
 
 }  // namespace gyroflip

@@ -43,6 +43,20 @@ struct delta_n_model {
   /// scale: q (tau^2 + mean v_i) (fit_delta_n_random_effects). NaN when not estimated (no degrees
   /// of freedom, a weighted fit, a model read from a file).
   double new_run_var_dps2 = std::numeric_limits<double>::quiet_NaN();
+  /// A between-run variance that changes with temperature (review of issue 31, H3: a
+  /// per-power-up change of the g-term's temperature coefficient makes runs scatter more away
+  /// from the middle): tau^2(T) = tau2_centre_dps2 + tau2_curvature_dps2_per_c2 (T - t_ref_c)^2,
+  /// estimated by moments from the runs' squared residuals (fit_delta_n_random_effects), NaN
+  /// when the runs cannot estimate it (degree 0, fewer than 3 degrees of freedom, fewer than two
+  /// distinct |T - t_ref_c|, a between-run variance below 5 times the runs' mean own). The
+  /// estimates may be negative (moments, not truncated).
+  double tau2_centre_dps2 = std::numeric_limits<double>::quiet_NaN();
+  double tau2_curvature_dps2_per_c2 = std::numeric_limits<double>::quiet_NaN();
+  /// The fitted runs and their weights 1/(v_i + tau^2), kept for new_run_interval_at's
+  /// temperature-dependent band (empty when tau2_centre_dps2 is NaN, and in a model read from a
+  /// file).
+  std::vector<delta_n_point> fitted_runs;
+  std::vector<double> fitted_weights;
 
   [[nodiscard]] std::size_t degree() const noexcept { return coeffs_dps.size() - 1; }
   /// dN at `temp_c` (deg/s). For degree 0 the temperature is not used (may be NaN).
@@ -61,6 +75,12 @@ struct delta_n_model {
   /// 137-159, sec. 5, for a new study's tau^2 + se^2). Where interval_at holds the true line,
   /// this holds a new run: the runs the model was fitted to lie inside it more often (their own
   /// residuals are smaller than a new run's by their leverage). NaN without new_run_var_dps2.
+  /// Where tau^2(T) is estimated (tau2_centre_dps2 finite) the interval is instead that of a
+  /// between-run variance that depends on T: the variance of a new run about eval(T),
+  /// tau^2(T) + mean v_i + the fitted line's variance sum_j g_j(T)^2 (v_j + tau^2(T_j)), is a
+  /// linear combination of the squared residuals, and Student's t takes Satterthwaite's (1946,
+  /// Biometrics Bull. 2, 110-114) degrees of freedom 2 V^2 / var(V), at least 1
+  /// (docs/METHOD-NOTES.md, "A run-to-run spread that depends on temperature").
   [[nodiscard]] double new_run_interval_at(double temp_c) const;
 };
 
@@ -90,7 +110,11 @@ struct delta_n_model {
 /// (docs/METHOD-NOTES.md, "Pooling runs"), where the weighted fit's Birge-scaled error covers
 /// 0.44-0.73. When tau^2 dwarfs the within-run errors the mean is the runs' plain mean and the
 /// slope the ordinary least-squares slope. Without degrees of freedom (k = p) there is no tau^2
-/// and no error: the covariance is 0 and dof 0. Errors: those of fit_delta_n_model.
+/// and no error: the covariance is 0 and dof 0. For degree >= 1 with 3 or more degrees of
+/// freedom, two or more distinct |T - T_ref| and tau^2 at least 5 times the runs' mean v_i
+/// (runs scattering 2.2 times their own errors or more) it also estimates tau^2(T)
+/// (tau2_centre_dps2, tau2_curvature_dps2_per_c2), which new_run_interval_at then uses. Errors:
+/// those of fit_delta_n_model.
 [[nodiscard]] result<delta_n_model> fit_delta_n_random_effects(
     std::span<const delta_n_point> points, std::size_t degree);
 

@@ -32,6 +32,10 @@ struct report_request {
   /// conclusion of a calibration quotes it unless a run failed the stationarity test.
   std::string next_step;
   std::string made_by = "gyroflip report";  ///< who made the folder (its list's first line)
+  /// How the front end has a run's g-term checked, for the warning about a run whose g-term was
+  /// not checked (no sensor specification: method::stationarity::caveats), as
+  /// calibrate_request::sensor_hint (the library names no CLI flag); empty: not said.
+  std::string sensor_hint;
 };
 
 struct report_result {

@@ -8,7 +8,7 @@ set tics nomirror out
 set mxtics
 set mytics
 set key below left vertical maxrows 1 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
-set title "ΔN per run\n3 runs: mean 0.4000 °/s, std 0.01 °/s" noenhanced
+set title "ΔN per run\n3 runs: mean 0.4000 °/s, std 0.010 °/s" noenhanced
 set xlabel "run\n" noenhanced
 set ylabel 'ΔN (°/s)' noenhanced
 set xtics 1
