@@ -8,7 +8,7 @@
 /// its g-sensitivity, a scale-factor error and the turns' dead time.
 ///
 ///   build/bench/heading_coverage PRESET HOURS [SEEDS=200] [TILT_MRAD=1] [SF_PPM=5000]
-///     [N_AVG=auto] [MODE=two|one]
+///     [N_AVG=auto] [MODE=two|one] [SEED_BASE=1000]
 ///
 /// MODE one: one run of HOURS at one azimuth, the error against the apparent heading (the
 /// heading the table's term shifts; what the truth file names apparent_heading_deg).
@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
   const double sf_ppm = argc > 5 ? std::atof(argv[5]) : 5000.0;
   const int n_avg_arg = argc > 6 ? std::atoi(argv[6]) : 0;
   const bool two = !(argc > 7 && std::string(argv[7]) == "one");
+  const std::uint64_t seed_base = argc > 8 ? std::strtoull(argv[8], nullptr, 10) : 1000;
   auto preset = gyroflip::sensor::load_preset(preset_name);
   if (!preset) die(preset.err().message);
   const auto& p = preset->params;
@@ -115,7 +116,7 @@ int main(int argc, char** argv) {
   for (int s = 0; s < seeds; ++s) {
     const double az = std::fmod(37.0 + 137.50776 * s, 360.0);  // spread over the circle
     c.mount.azimuth_deg = az;
-    c.seed = 1000 + 2 * static_cast<std::uint64_t>(s);
+    c.seed = seed_base + 2 * static_cast<std::uint64_t>(s);
     const one_run r1 = run(c);
     dwell_s = r1.dwell_s;
     const auto& f1 = r1.fit;

@@ -64,7 +64,8 @@ result<read_run> fit_run(const std::string& path, bool axis_up_default) {
   out.azimuth_deg = meta_number(rec->metadata, "azimuth_deg");
   const auto dwells = method::indexed_dwells(rec->rows);
   auto fit = method::fit_harmonics(dwells, rec->positions);
-  if (!fit) return runtime_error(fmt::format("{}: {}", path, fit.err().message));
+  // Data that cannot give a heading (too few positions, no visiting period) is bad input.
+  if (!fit) return usage_error(fmt::format("{}: {}", path, fit.err().message));
   heading_run& r = out.run;
   r.path = path;
   r.fit = std::move(*fit);
