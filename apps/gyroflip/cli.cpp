@@ -87,6 +87,27 @@ void setup_earth(CLI::App& app, action& chosen) {
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
+void setup_heading(CLI::App& app, action& chosen) {
+  auto* sub = app.add_subcommand(
+      "heading",
+      "North finding: the azimuth of the sensitive axis at the table's 0 deg from indexed runs "
+      "about a vertical table axis (>= 3 positions), with its 1 sigma and the white-noise limit");
+  auto o = bind<heading_options>(sub, chosen, run_heading);
+  sub->add_option("runs", o->runs, "one recording, or two with the rig's base turned between")
+      ->required();
+  sub->add_option("--latitude", o->lat_deg, "geodetic latitude of the site (deg)")->required();
+  sub->add_option("--table-axis", o->table_axis,
+                  "up (table angles counter-clockwise seen from above) or down; default: the "
+                  "recording's, else up")
+      ->check(CLI::IsMember({"up", "down"}));
+  sub->add_option("--base-turn", o->base_turn_deg,
+                  "two runs: the rig's base turned clockwise by this (deg) from the first to the "
+                  "second (default: from the recordings' azimuths)");
+  sub->add_option("--sensor", o->sensor,
+                  "adxrs150|hz1-90-100a|FILE.toml: print its dead-time bound beside the limit");
+  sub->add_flag("--json", o->json, "print one JSON object");
+}
+
 // The simulated coils' heat (simulate, emulate; docs/SIMULATOR.md §4).
 void add_coil_heat(CLI::App* sub, std::string& spec) {
   sub->add_option("--coil-heat", spec,
@@ -105,7 +126,7 @@ void add_rig_options(CLI::App* sub, rig_options& o, bool device) {
   sub->add_option("--settle", o.settle_s, "settling time after a turn (s)")->capture_default_str();
   sub->add_option("--positions", o.positions,
                   device ? "the angle table: 2 to 8 table positions (deg, whole steps)"
-                         : "the two table positions A,B (deg, whole steps)")
+                         : "the table positions A,B,... (2 to 8; deg, whole steps)")
       ->capture_default_str();
   sub->add_option("--filter-word", o.filter_word, "AD7739 filter word FW (2..127)")
       ->capture_default_str();
@@ -155,6 +176,20 @@ void setup_simulate(CLI::App& app, action& chosen) {
                   "sensor powered this long before the run (s; 0 = cold start)")
       ->capture_default_str();
   add_rig_options(sub, o->rig, false);
+  sub->add_option("--order", o->order,
+                  "visiting order: auto (two positions A,B,A,B; more: sweep), sweep (forwards "
+                  "then backwards, each end twice), cycle (the table's order)")
+      ->check(CLI::IsMember({"auto", "sweep", "cycle"}))
+      ->capture_default_str();
+  sub->add_option("--azimuth", o->azimuth_deg,
+                  "azimuth of the sensitive axis at the table's 0 deg (deg from north, "
+                  "clockwise; horizontal; instead of --axis; north finding: --table-axis up)");
+  sub->add_option("--tilt-mrad", o->tilt_mrad, "the rig's tilt: the table axis leans (mrad)")
+      ->capture_default_str();
+  sub->add_option("--tilt-azimuth", o->tilt_azimuth_deg,
+                  "where the table axis leans (deg clockwise from the sensitive axis's azimuth "
+                  "with --azimuth, else from north)")
+      ->capture_default_str();
 }
 
 void setup_emulate(CLI::App& app, action& chosen) {
@@ -542,6 +577,7 @@ int run_cli(int argc, char** argv) {
   setup_adev(app, chosen);
   setup_noise(app, chosen);
   setup_plan(app, chosen);
+  setup_heading(app, chosen);
   setup_report(app, chosen, std::vector<std::string>(argv, argv + argc));
   setup_reproduce(app, chosen, std::vector<std::string>(argv, argv + argc));
   // `gyroflip nosuch --help` must not print the main help and succeed: scripts probe for

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "commands.hpp"
 #include "finite_output.hpp"
@@ -67,6 +68,14 @@ std::vector<io::csv_metadata> metadata(const simulate_options& o, const sensor::
   add("step_rate_sps", num(r.max_rate_sps));
   add("accel_sps2", num(r.accel_sps2));
   add("sensor_name", p.name);
+  // Issue 33's settings, only when used (a two-position run's files stay as they were).
+  if (c.rig.positions_deg.size() > 2 || o.order != "auto" || o.azimuth_deg || o.tilt_mrad != 0.0) {
+    add("order", o.order);
+    add("visits_deg", fmt::format("{}", fmt::join(c.rig.schedule(true, c.order).visits, ",")));
+    add("azimuth_deg", o.azimuth_deg ? num(*o.azimuth_deg) : "none");
+    add("tilt_mrad", num(o.tilt_mrad));
+    add("tilt_azimuth_deg", num(o.tilt_azimuth_deg));
+  }
   return m;
 }
 
@@ -84,6 +93,16 @@ int run_simulate(const simulate_options& o) {
   c.lat_deg = o.lat_deg;
   c.axis = o.axis;
   c.table_axis = o.table_axis;
+  if (o.azimuth_deg) {
+    if (o.axis != "north")
+      return report(usage_error("--azimuth and --axis both name the sensitive axis: give one"));
+    c.mount.azimuth_deg = *o.azimuth_deg;
+  }
+  c.mount.tilt_mrad = o.tilt_mrad;
+  c.mount.tilt_azimuth_deg = o.tilt_azimuth_deg;
+  c.order = o.order == "sweep"   ? rig::visit_order::sweep
+            : o.order == "cycle" ? rig::visit_order::cycle
+                                 : rig::visit_order::automatic;
   auto rig = rig_config_of(o.rig);
   if (!rig) return report(rig.err());
   c.rig = *rig;

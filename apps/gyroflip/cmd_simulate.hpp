@@ -26,6 +26,10 @@ struct simulate_options {
   rig_options rig;       ///< the rig's settings (rig_options.hpp)
   bool no_flip = false;  ///< stay at the first position (a stationary, unflipped recording)
   double power_on_before_s = 0.0;
+  std::string order = "auto";         ///< auto|sweep|cycle (rig::visit_order)
+  std::optional<double> azimuth_deg;  ///< the sensitive axis at table 0, horizontal (north finding)
+  double tilt_mrad = 0.0;             ///< the rig's tilt
+  double tilt_azimuth_deg = 0.0;      ///< where the table axis leans (from the axis's azimuth)
 };
 int run_simulate(const simulate_options& o);
 

@@ -33,6 +33,16 @@ struct earth_options {
 };
 int run_earth(const earth_options& o);
 
+struct heading_options {
+  std::vector<std::string> runs;
+  double lat_deg = 0.0;
+  std::string table_axis;               // up|down; empty: the recordings' own, else up
+  std::optional<double> base_turn_deg;  // two runs: the base's turn between them
+  std::string sensor;                   // for the dead-time bound
+  bool json = false;
+};
+int run_heading(const heading_options& o);
+
 struct calibrate_options {
   std::vector<std::string> files;
   double lat_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: not given

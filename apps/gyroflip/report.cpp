@@ -41,6 +41,10 @@ constexpr std::pair<std::string_view, std::string_view> option_of_parameter[] = 
     {"expected_rate_dps", "--expected-rate"},
     {"campaigns", "--campaigns"},
     {"sensors", "--sensor"},
+    {"azimuth_deg", "--azimuth"},
+    {"tilt_mrad", "--tilt-mrad"},
+    {"tilt_azimuth_deg", "--tilt-azimuth"},
+    {"base_turn_deg", "--base-turn"},
 };
 
 }  // namespace

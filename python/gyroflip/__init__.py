@@ -37,7 +37,8 @@ __all__ = [
     "adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev",
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
     "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "calibrate_runs",
-    "compensate", "simulate", "read_recording", "report", "reproduce", "plan", "__version__",
+    "compensate", "simulate", "read_recording", "report", "reproduce", "plan", "heading",
+    "__version__",
 ]
 
 
@@ -510,6 +511,24 @@ def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration
     return _gyroflip._plan(sensor, data, None if rate is None else float(rate), str(units),
                            float(dead_time), float(duration), float(min_dwell),
                            0.0 if max_dwell is None else float(max_dwell))
+
+
+def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None):
+    """North finding (as `gyroflip heading`): the azimuth (deg from north, clockwise) of the
+    sensitive axis at the table's 0 deg from indexed runs about a vertical table axis (>= 3
+    positions; docs/NORTH.md), with its 1 sigma from the data's own noise.
+
+    runs: a list of one recording's path, or two with the rig's base turned between them (the
+      table's tilt x g-sensitivity term, which reads exactly as Earth rate, is then removed).
+    latitude: the site's (deg). table_axis: "up" or "down" (default: the recordings', else up).
+    base_turn: two runs: the base's clockwise turn (deg) from the first to the second (default:
+      from the recordings' azimuths). sensor: a preset or TOML file for the dead-time bound.
+    Returns the dict of `gyroflip heading --json`: heading_deg, sigma_deg, limit_deg,
+    ratio_to_limit, arw_dps_rthz, scheme, dead_time_bound_deg, runs, caveats, ..."""
+    paths = _paths_arg("runs", runs)
+    return _gyroflip._heading(paths, float(latitude), None if table_axis is None else str(table_axis),
+                              None if base_turn is None else float(base_turn),
+                              None if sensor is None else str(sensor))
 
 
 def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba",

@@ -18,6 +18,7 @@
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/rig/ad7739.hpp"
 #include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/heading.hpp"
 #include "gyroflip/workflow/plan.hpp"
 #include "gyroflip/workflow/report.hpp"
 #include "gyroflip/workflow/reproduce.hpp"
@@ -111,9 +112,29 @@ py::object plan(const std::optional<std::string>& sensor, const std::optional<f6
   return json_loads(take(io::finite_dump(workflow::plan_json(r), "plan")));
 }
 
+// gyroflip.heading: the CLI's `heading` (workflow::find_heading).
+py::object heading(const std::vector<std::string>& runs, double lat_deg,
+                   const std::optional<std::string>& table_axis,
+                   std::optional<double> base_turn_deg, const std::optional<std::string>& sensor) {
+  workflow::heading_request q;
+  q.runs = runs;
+  q.lat_deg = lat_deg;
+  if (table_axis) {
+    if (*table_axis != "up" && *table_axis != "down")
+      raise(parameter_error("table_axis", "table_axis is 'up' or 'down'"));
+    q.table_axis_up = *table_axis == "up";
+  }
+  q.base_turn_deg = base_turn_deg;
+  if (sensor) q.sensor = *sensor;
+  auto h = take(workflow::find_heading(q));
+  return json_loads(take(io::finite_dump(workflow::heading_json(h), "heading")));
+}
+
 }  // namespace
 
 void bind_workflow(py::module_& m) {
+  m.def("_heading", &heading, py::arg("runs"), py::arg("latitude"), py::arg("table_axis"),
+        py::arg("base_turn"), py::arg("sensor"));
   m.def("_plan", &plan, py::arg("sensor"), py::arg("static"), py::arg("rate"), py::arg("units"),
         py::arg("dead_time"), py::arg("duration"), py::arg("min_dwell"), py::arg("max_dwell"));
   m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),

@@ -336,3 +336,20 @@ def test_plan_of_a_static_record_finds_the_white_noise_limit():
         gyroflip.plan(0.4, static=y)  # no rate
     with pytest.raises(ValueError):
         gyroflip.plan(0.4)  # no noise source
+
+
+def test_heading_agrees_with_the_cli(exe, tmp_path):
+    """gyroflip.heading gives what `gyroflip heading --json` prints (docs/NORTH.md), and refuses
+    a two-position run."""
+    rec = tmp_path / "north.csv"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 900, "--table-axis", "up",
+        "--azimuth", 25, "--positions", "0,90,180,270", "--seed", 4, "-o", rec)
+    cli = json.loads(run(exe, "heading", rec, "--latitude", 42.6, "--json"))
+    py = gyroflip.heading([rec], 42.6)
+    for key in ("heading_deg", "sigma_deg", "limit_deg", "ratio_to_limit", "scheme"):
+        assert py[key] == cli[key], key
+    assert py["schema"] == "gyroflip.heading/1"
+    pair = tmp_path / "pair.csv"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 120, "-o", pair)
+    with pytest.raises(ValueError):
+        gyroflip.heading([pair], 42.6)

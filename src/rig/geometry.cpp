@@ -37,14 +37,27 @@ ned_vector rotate(const ned_vector& v, const ned_vector& a, double c, double s) 
 
 }  // namespace
 
+double azimuth_deg_of(const ned_vector& v) {
+  if (std::hypot(v.north, v.east) < 1e-12) return std::numeric_limits<double>::quiet_NaN();
+  const double a = std::atan2(v.east, v.north) / units::rad_per_deg;
+  return a < 0.0 ? a + 360.0 : a;
+}
+
 result<rig_geometry> rig_geometry::make(double lat_deg, std::string_view axis_text,
-                                        std::string_view table_axis_text) {
+                                        std::string_view table_axis_text, const rig_mount& mount) {
   if (auto s = earth::check_latitude(lat_deg); !s) return s.err();
-  auto s_axis = earth::parse_axis(axis_text);
-  if (!s_axis) return s_axis.err();
   rig_geometry g;
   g.lat_deg = lat_deg;
-  g.sensitive_axis = *s_axis;
+  if (mount.azimuth_set()) {
+    if (!(std::abs(mount.azimuth_deg) <= 360.0))
+      return parameter_error("azimuth_deg", "the azimuth is in [-360, 360] deg");
+    const double az = mount.azimuth_deg * units::rad_per_deg;
+    g.sensitive_axis = {std::cos(az), std::sin(az), 0.0};
+  } else {
+    auto s_axis = earth::parse_axis(axis_text);
+    if (!s_axis) return s_axis.err();
+    g.sensitive_axis = *s_axis;
+  }
   if (table_axis_text.empty()) {
     const ned_vector h = cross(ned_vector{0.0, 0.0, 1.0}, g.sensitive_axis);
     // Vertical sensitive axis: any horizontal axis flips it; take east.
@@ -53,6 +66,24 @@ result<rig_geometry> rig_geometry::make(double lat_deg, std::string_view axis_te
     auto a = earth::parse_axis(table_axis_text);
     if (!a) return a.err();
     g.table_axis = *a;
+  }
+  if (!(std::isfinite(mount.tilt_mrad) && std::abs(mount.tilt_mrad) <= 100.0) ||
+      !std::isfinite(mount.tilt_azimuth_deg))
+    return parameter_error("tilt_mrad", "the table's tilt is within +-100 mrad");
+  if (mount.tilt_mrad != 0.0) {
+    // Relative to the rig (its sensitive axis at table 0) when the rig has an azimuth: turning
+    // the base turns the tilt with it.
+    const double taz = (mount.tilt_azimuth_deg + (mount.azimuth_set() ? mount.azimuth_deg : 0.0)) *
+                       units::rad_per_deg;
+    const ned_vector h{std::cos(taz), std::sin(taz), 0.0};
+    const ned_vector k = cross(g.table_axis, h);
+    if (norm(k) < 1e-6)
+      return parameter_error("tilt_azimuth_deg",
+                             "the table axis cannot lean toward its own direction");
+    const ned_vector ku = scaled(1.0 / norm(k), k);
+    const double t = mount.tilt_mrad * 1e-3;
+    g.table_axis = rotate(g.table_axis, ku, std::cos(t), std::sin(t));
+    g.sensitive_axis = rotate(g.sensitive_axis, ku, std::cos(t), std::sin(t));
   }
   const ned_vector y = axpy(-dot(g.table_axis, g.sensitive_axis), g.sensitive_axis, g.table_axis);
   if (norm(y) < 1e-6) {

@@ -199,8 +199,16 @@ stepper_params rig_config::stepper() const {
           static_cast<double>(accel_sps2)};
 }
 
-schedule_params rig_config::schedule(bool flip) const {
+schedule_params rig_config::schedule(bool flip, visit_order order) const {
   schedule_params s;
+  bool repeats = false;
+  for (std::size_t i = 0; i < positions_deg.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j) repeats = repeats || positions_deg[i] == positions_deg[j];
+  if (repeats) {
+    s.visits = positions_deg;
+  } else if (positions_deg.size() > 2 || order == visit_order::sweep) {
+    s.visits = order == visit_order::cycle ? positions_deg : sweep_order(positions_deg);
+  }
   s.n_avg = n_avg;
   s.settle_s = settle_s;
   s.pos_a_deg = positions_deg.empty() ? 0.0 : positions_deg[0];

@@ -57,11 +57,6 @@ status check_ranges(const simulation_config& c) {
                            "the power-on time before the run must be in "
                            "[0, 1e9] s");
   if (auto s = c.coil.check(); !s) return s;
-  if (c.rig.positions_deg.size() != 2)
-    return parameter_error("positions_deg",
-                           fmt::format("the simulator turns between two positions; the angle "
-                                       "table holds {}",
-                                       c.rig.positions_deg.size()));
   if (auto s = c.rig.check(c.adc.mclk_hz); !s) return s;
   const settle_model& m = c.settle;
   const auto finite = [](double v) { return std::isfinite(v); };
@@ -89,14 +84,14 @@ result<simulator> simulator::make(const simulation_config& c) {
   const double t_conv = adc->conversion_time_s();
   auto g = sensor::gyro::make(c.sensor, t_conv, c.power_on_before_s, c.seed);
   if (!g) return g.err();
-  schedule_params sched_p = c.rig.schedule(c.flip);
+  schedule_params sched_p = c.rig.schedule(c.flip, c.order);
   sched_p.settle = c.settle;
   sched_p.release_before_dwell_s = c.release_before_dwell_s;
   auto s = schedule::make(sched_p, c.rig.stepper(), t_conv);
   if (!s) return s.err();
-  auto geo = rig_geometry::make(c.lat_deg, c.axis, c.table_axis);
+  auto geo = rig_geometry::make(c.lat_deg, c.axis, c.table_axis, c.mount);
   if (!geo) return geo.err();
-  simulator sim(c, std::move(*s), std::move(*g), *adc);
+  simulator sim(c, std::move(*s), std::move(*g), *adc, *geo);
   const auto& ph = sim.sched_.phases();
   const auto& sp = c.sensor;
   const sensor::sensor_vec g0 = sim.gyro_.g_sens_g0();
@@ -120,9 +115,24 @@ result<simulator> simulator::make(const simulation_config& c) {
   return sim;
 }
 
-simulator::simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a)
+double simulator::earth_at_dps(double angle_deg) const {
+  return sensed(terms_at(geo_, angle_deg).earth_dps, cfg_.sensor);
+}
+
+double simulator::g_term_at_dps(double angle_deg, double temp_c) const {
+  const frame_terms f = terms_at(geo_, angle_deg);
+  const auto dot = [](const sensor::sensor_vec& a, const sensor::sensor_vec& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+  };
+  return dot(gyro_.g_sens_g0(), f.specific_force_g) +
+         dot(gyro_.g_sens_g1(), f.specific_force_g) * (temp_c - gyro_.temp_ref_c());
+}
+
+simulator::simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a,
+                     const rig_geometry& geo)
     : cfg_(c),
       sched_(std::move(s)),
+      geo_(geo),
       gyro_(std::move(g)),
       adc_(a),
       t_conv_s_(adc_.conversion_time_s()),
@@ -223,7 +233,8 @@ void simulator::rig_run(sample_block& b, std::size_t first, std::size_t scratch,
   const double* __restrict angle = angle_out_.data() + p_;
   const std::int64_t* __restrict dwell_base = dwell_base_.data() + p_;
   const std::int64_t* __restrict dwell_mask = dwell_mask_.data() + p_;
-  const auto two_cycles = static_cast<std::int64_t>(2 * (k_ / in_gain_.size()));
+  const auto two_cycles = static_cast<std::int64_t>(
+      static_cast<std::uint64_t>(sched_.dwells_per_cycle()) * (k_ / in_gain_.size()));
   GYROFLIP_INDEPENDENT_ITERATIONS
   for (std::size_t j = 0; j < n; ++j) {
     const double g_term = gf0[j] + gf1[j] * (temp[j] - t_ref);

@@ -3,12 +3,17 @@
 #include "gyroflip/workflow/simulate.hpp"
 
 #include <array>
+#include <cmath>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <optional>
 
 #include <fmt/format.h>
 
+#include "gyroflip/analysis/least_squares.hpp"
+#include "gyroflip/core/units.hpp"
+#include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/recording_writer.hpp"
@@ -75,6 +80,46 @@ simulation_truth truth_of(const rig::simulator& sim, const rig::simulation_confi
   auto temperature = c.temperature;  // a profile keeps its place (at() is not const)
   t.g_term_dps = sim.g_term_at_a_dps(temperature.at(0.0));
   t.delta_n_dps = t.earth_dps + t.g_term_dps;  // paper eqn 11
+  t.indexed = c.rig.positions_deg.size() > 2 || c.order != rig::visit_order::automatic ||
+              c.mount.azimuth_set() || c.mount.tilt_mrad != 0.0;
+  if (!t.indexed) return t;
+  const position_table table = c.rig.table();
+  std::vector<double> design, e, g;
+  for (const auto& p : table.positions()) {
+    t.position_deg.push_back(p.angle_deg);
+    t.earth_at_dps.push_back(sim.earth_at_dps(p.angle_deg));
+    t.g_term_at_dps.push_back(sim.g_term_at_dps(p.angle_deg, temperature.at(0.0)));
+    const double a = p.angle_deg * units::rad_per_deg;
+    design.insert(design.end(), {1.0, std::cos(a), std::sin(a)});
+  }
+  const std::vector<double> w(table.size(), 1.0);
+  const auto fe = analysis::weighted_least_squares(design, 3, t.earth_at_dps, w);
+  const auto fg = analysis::weighted_least_squares(design, 3, t.g_term_at_dps, w);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (fe && fg) {
+    t.earth_c1_dps = fe->coeffs[1];
+    t.earth_s1_dps = fe->coeffs[2];
+    t.g_c1_dps = fg->coeffs[1];
+    t.g_s1_dps = fg->coeffs[2];
+  }
+  const auto& geo = sim.geometry();
+  t.earth_horizontal_dps = earth::earth_rate_wgs84_dps * std::cos(c.lat_deg * units::rad_per_deg);
+  t.heading_deg = rig::azimuth_deg_of(geo.sensitive_axis);
+  const auto& sp = c.sensor;
+  const earth::ned_vector sensed{
+      geo.sensitive_axis.north + sp.cross_axis_y * geo.y0.north + sp.cross_axis_z * geo.z0.north,
+      geo.sensitive_axis.east + sp.cross_axis_y * geo.y0.east + sp.cross_axis_z * geo.z0.east, 0.0};
+  t.sensed_heading_deg = rig::azimuth_deg_of(sensed);
+  const bool vertical = std::abs(geo.table_axis.down) > 0.99;
+  const bool up = geo.table_axis.down < 0.0;
+  if (vertical && fe && fg) {
+    const double sgn = up ? 1.0 : -1.0;
+    double a = std::atan2(sgn * (t.earth_s1_dps + t.g_s1_dps), t.earth_c1_dps + t.g_c1_dps) /
+               units::rad_per_deg;
+    t.apparent_heading_deg = a < 0.0 ? a + 360.0 : a;
+  } else {
+    t.apparent_heading_deg = nan;
+  }
   return t;
 }
 
@@ -124,6 +169,25 @@ result<simulation_truth> simulate_recording(const recording_request& r,
         "input + noise\n# dN expected at position A and the run's start temperature: earth {} + "
         "g_term {} deg/s\n",
         truth.earth_dps, truth.g_term_dps));
+    if (truth.indexed) {
+      std::string x = fmt::format(
+          "# heading_deg: {} (azimuth of the sensitive axis at table 0, from north clockwise)\n"
+          "# sensed_heading_deg: {} (of the axis the gyro senses, with its cross-axis "
+          "sensitivity)\n"
+          "# apparent_heading_deg: {} (what one run reads when the g-term's first harmonic, "
+          "table tilt x g-sensitivity, is taken for Earth rate)\n"
+          "# earth_horizontal_dps: {}\n"
+          "# harmonics r(theta) = b + c1 cos(theta) + s1 sin(theta): earth c1 {} s1 {}; g_term "
+          "c1 {} s1 {} deg/s\n"
+          "# scale_factor_error_ppm: {}\n",
+          truth.heading_deg, truth.sensed_heading_deg, truth.apparent_heading_deg,
+          truth.earth_horizontal_dps, truth.earth_c1_dps, truth.earth_s1_dps, truth.g_c1_dps,
+          truth.g_s1_dps, c.sensor.scale_factor_error_ppm);
+      for (std::size_t i = 0; i < truth.position_deg.size(); ++i)
+        x += fmt::format("# position {} at {} deg: earth {} g_term {} deg/s\n", i,
+                         truth.position_deg[i], truth.earth_at_dps[i], truth.g_term_at_dps[i]);
+      tf->write(x);
+    }
     tf->write("time_s,bias_dps,g_term_dps,earth_dps,input_dps,temp_c\n");
   }
   std::string rec;

@@ -183,8 +183,10 @@ TEST(RigConfig, TheSimulatorTurnsBackOrOneWayAsConfigured) {
   c.rig.one_way = true;
   const auto on = rates(c);
   EXPECT_NEAR(on.second, on.first, 1e-9);
-  // Settings the simulator cannot model, and those the device refuses, are refused.
+  // Three positions are swept (issue 33); a table the device refuses (9 positions) is refused.
   c.rig.positions_deg = {0.0, 90.0, 180.0};
+  EXPECT_TRUE(simulator::make(c));
+  c.rig.positions_deg = {0.0, 36.0, 72.0, 108.0, 144.0, 180.0, 216.0, 252.0, 288.0};
   EXPECT_FALSE(simulator::make(c));
   c.rig.positions_deg = {0.0, 180.0};
   c.rig.n_avg = 0;

@@ -14,6 +14,8 @@
 /// so that a 180-deg turn reverses both s and the sensor's "up" (paper Fig. 1).
 #pragma once
 
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <string_view>
 
@@ -22,6 +24,21 @@
 #include "gyroflip/sensor/gyro.hpp"
 
 namespace gyroflip::rig {
+
+/// Where the rig stands, beyond the axis texts (issue 33, north finding).
+struct rig_mount {
+  /// When finite: the sensitive axis at table angle 0 is horizontal at this azimuth (deg from
+  /// north, clockwise), instead of the axis text.
+  double azimuth_deg = std::numeric_limits<double>::quiet_NaN();
+  /// The whole rig (table axis and sensor) tilted by this angle (mrad) so that the table axis
+  /// leans toward the horizontal direction at `tilt_azimuth_deg` (from north, clockwise; from
+  /// the sensitive axis's azimuth when `azimuth_deg` is set, so that the tilt turns with the
+  /// rig's base): a rotation about (a x h) / |a x h| (h that direction) by tilt_mrad / 1000
+  /// rad, applied to s and a.
+  double tilt_mrad = 0.0;
+  double tilt_azimuth_deg = 0.0;
+  [[nodiscard]] bool azimuth_set() const noexcept { return std::isfinite(azimuth_deg); }
+};
 
 struct rig_geometry {
   double lat_deg = 0.0;              ///< geodetic latitude (deg)
@@ -32,7 +49,8 @@ struct rig_geometry {
   /// From a latitude and axis texts (earth::parse_axis syntax); `table_axis_text` empty =
   /// default above. Errors: bad latitude or axis, table axis parallel to s.
   [[nodiscard]] static result<rig_geometry> make(double lat_deg, std::string_view axis_text,
-                                                 std::string_view table_axis_text);
+                                                 std::string_view table_axis_text,
+                                                 const rig_mount& mount = {});
 };
 
 /// What the sensor sees at one table angle, in sensor axes.
@@ -45,6 +63,10 @@ struct frame_terms {
 
 /// The terms at table angle `angle_deg` (deg, any value).
 [[nodiscard]] frame_terms terms_at(const rig_geometry& g, double angle_deg);
+
+/// The azimuth (deg from north, clockwise, [0, 360)) of a vector's horizontal part; NaN when it
+/// has none.
+[[nodiscard]] double azimuth_deg_of(const earth::ned_vector& v);
 
 /// The rate the gyro senses from a vector in sensor axes: v_x + c_y v_y + c_z v_z.
 [[nodiscard]] inline double sensed(const sensor::sensor_vec& v, const sensor::sensor_params& p) {

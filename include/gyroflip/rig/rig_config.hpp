@@ -10,7 +10,7 @@
 /// pair, the worst case within the link) with a message per field; `to_configure` is the
 /// CONFIGURE payload, `from_configure` its inverse. The simulator reads the same value
 /// (simulation_config::rig), so a simulated run and a recorded one cannot disagree on a setting
-/// (the simulator models two positions and no temperature conversions: docs/SIMULATOR.md).
+/// (the simulator models no temperature conversions: docs/SIMULATOR.md).
 #pragma once
 
 #include <vector>
@@ -59,8 +59,12 @@ struct rig_config {
 
   /// The stepper as the turntable model takes it.
   [[nodiscard]] stepper_params stepper() const;
-  /// The simulator's schedule: the first two positions; `flip` false keeps the table at A.
-  [[nodiscard]] schedule_params schedule(bool flip) const;
+  /// The simulator's schedule; `flip` false keeps the table at A. Two distinct positions: the
+  /// cycle A, B (unless `order` is sweep: A, B, B, A); an angle table naming an angle twice is
+  /// a visiting order and is visited as written; three or more distinct positions are swept
+  /// (schedule.hpp, sweep_order) unless `order` is cycle.
+  [[nodiscard]] schedule_params schedule(bool flip,
+                                         visit_order order = visit_order::automatic) const;
   /// Position i's step from home (angle / step angle, rounded).
   [[nodiscard]] int position_steps(std::size_t i) const;
   /// The angle table as the position table the recordings' rows name (core/positions.hpp:

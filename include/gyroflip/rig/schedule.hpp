@@ -34,7 +34,27 @@ struct schedule_params {
   /// it (the firmware's: docs/FIRMWARE.md), 0.0002 the firmware before issue 32.
   settle_model settle;
   double release_before_dwell_s = -1.0;
+  /// More than two positions (issue 33): the angles visited in one cycle, in order (deg, each in
+  /// [0, 360), consecutive visits may repeat an angle: the table then stays and the next dwell
+  /// follows at once). Empty: the two-position cycle A, B above. With back-and-forth turns the
+  /// table turns by the plain difference of the angles (it never passes 360 -> 0, a cable's
+  /// stop); with `one_way` always forwards. Each dwell is its own slot (phase::dwell = its visit).
+  std::vector<double> visits;
 };
+
+/// How the simulator visits a table of positions (issue 33).
+enum class visit_order {
+  automatic,  ///< two positions: A, B (the paper's cycle); three or more: sweep
+  sweep,      ///< forwards then backwards, each end dwelt twice (sweep_order)
+  cycle,      ///< the table's order over and over (as the device runs its angle table)
+};
+
+/// The drift-cancelling visiting order of a table's positions (issue 33, docs/SIMULATOR.md §4):
+/// forwards then backwards, each end dwelt twice (0, 1, ..., n-1, n-1, ..., 1, 0: for two
+/// positions A B B A). Every position's visits are centred on the cycle's middle, so a bias
+/// linear in time enters each position's mean alike (it cancels in any contrast of them), and
+/// every position gets the same time.
+[[nodiscard]] std::vector<double> sweep_order(const std::vector<double>& angles_deg);
 
 /// One conversion slot of the cycle. With a settle model, a slot after a turn (settling, and
 /// the dwell that follows) carries the residual's rate and angle.
@@ -42,7 +62,8 @@ struct phase {
   double angle_deg = 0.0;       ///< table angle at mid-conversion (deg, unwrapped)
   double table_rate_dps = 0.0;  ///< mean table rate over the conversion (deg/s)
   bool moving = false;          ///< the table turns during this conversion
-  std::int8_t dwell = -1;       ///< 0 = acquiring at A, 1 = acquiring at B, -1 = not acquiring
+  std::int8_t dwell = -1;       ///< 0 = acquiring at A, 1 = acquiring at B (the visit's number with
+                                ///< schedule_params::visits), -1 = not acquiring
 };
 
 class schedule {
@@ -57,6 +78,12 @@ class schedule {
   [[nodiscard]] double turn_ab_s() const noexcept { return turn_ab_s_; }
   [[nodiscard]] double turn_ba_s() const noexcept { return turn_ba_s_; }
   [[nodiscard]] const schedule_params& params() const noexcept { return p_; }
+  /// Dwells per cycle (2 for the two-position cycle and without flipping, as before issue 33).
+  [[nodiscard]] int dwells_per_cycle() const noexcept {
+    return p_.visits.empty() ? 2 : static_cast<int>(p_.visits.size());
+  }
+  /// Table-turning and settling time per dwell, the run's dead time per dwell (s).
+  [[nodiscard]] double dead_time_per_dwell_s() const noexcept;
 
  private:
   schedule_params p_;

@@ -56,9 +56,11 @@ struct coil_heating {
 
 struct simulation_config {
   sensor::sensor_params sensor;
-  double lat_deg = 42.6;                          ///< paper site, Sofia (deg)
-  std::string axis = "north";                     ///< sensitive axis at 0 deg (earth::parse_axis)
-  std::string table_axis;                         ///< empty = default (geometry.hpp)
+  double lat_deg = 42.6;       ///< paper site, Sofia (deg)
+  std::string axis = "north";  ///< sensitive axis at 0 deg (earth::parse_axis)
+  std::string table_axis;      ///< empty = default (geometry.hpp)
+  rig_mount mount;  ///< an azimuth for the sensitive axis, the table's tilt (geometry.hpp)
+  visit_order order = visit_order::automatic;     ///< how the positions are visited (schedule.hpp)
   profile rate = profile::constant(0.0);          ///< input rate w_in (deg/s)
   profile temperature = profile::constant(20.0);  ///< sensor temperature (degC)
   rig_config rig;              ///< the rig's settings (the device's CONFIGURE; rig_config.hpp)
@@ -78,7 +80,8 @@ struct simulation_config {
 [[nodiscard]] ad7739_config adc_config(const simulation_config& c);
 
 /// A chunk of conversions, column-wise. `angle_deg` is NaN while the table turns; `dwell` is
-/// the global dwell index (0, 1, 2, ... alternating A, B) or -1 outside acquisitions. The truth
+/// the global dwell index (0, 1, 2, ... alternating A, B, or the visiting order's positions) or
+/// -1 outside acquisitions. The truth
 /// columns (bias, g-term, Earth, input) are filled only when `truth` is set (the default);
 /// without them a conversion costs ~7 % less (four columns fewer to write and average).
 struct sample_block {
@@ -112,9 +115,16 @@ class simulator {
   [[nodiscard]] double g_term_at_a_dps(double temp_c) const noexcept {
     return gf0_[0] + gf1_[0] * (temp_c - gyro_.temp_ref_c());
   }
+  /// The rig's geometry (with its mount: azimuth, tilt).
+  [[nodiscard]] const rig_geometry& geometry() const noexcept { return geo_; }
+  /// Earth term and g-term (deg/s) the sensor sees at rest at table angle `angle_deg`, at
+  /// temperature `temp_c` (its cross-axis sensitivity included; the truth of issue 33's terms).
+  [[nodiscard]] double earth_at_dps(double angle_deg) const;
+  [[nodiscard]] double g_term_at_dps(double angle_deg, double temp_c) const;
 
  private:
-  simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a);
+  simulator(const simulation_config& c, schedule s, sensor::gyro g, const ad7739& a,
+            const rig_geometry& geo);
   void add_coil_heat(double* temp, std::size_t n) noexcept;
   // Conversions [first, first + n) of `b`, n <= chunk.
   void fill_chunk(sample_block& b, std::size_t first, std::size_t n) noexcept;
@@ -125,6 +135,7 @@ class simulator {
   static constexpr std::size_t chunk = 512;  // conversions per pass through the stages
   simulation_config cfg_;
   schedule sched_;
+  rig_geometry geo_;
   sensor::gyro gyro_;
   ad7739 adc_;
   double t_conv_s_, inv_sf_;

@@ -23,6 +23,19 @@ struct simulation_truth {
   /// dN = Earth term + g-term at A (paper eqn 11), at the start temperature. The one place of
   /// this formula: the truth file, Python's delta_n_truth_dps and the reproduction use it.
   double delta_n_dps = 0.0;
+  /// Issue 33's terms (an indexed run, north finding): each position's Earth term and g-term at
+  /// the start temperature, and their first harmonic over the table angle,
+  /// r(theta) = b + c1 cos(theta) + s1 sin(theta) (least squares over the table's positions;
+  /// exact when the positions are equally spaced).
+  bool indexed = false;  ///< more than two positions, another order, an azimuth or a tilt
+  std::vector<double> position_deg, earth_at_dps, g_term_at_dps;
+  double earth_c1_dps = 0.0, earth_s1_dps = 0.0, g_c1_dps = 0.0, g_s1_dps = 0.0;
+  /// The azimuth (deg from north, clockwise) of the sensitive axis at table 0 (its horizontal
+  /// part), of the axis the gyro senses (with its cross-axis sensitivity), and the heading a
+  /// single run reads when the g-term's first harmonic (tilt x g-sensitivity) is taken for
+  /// Earth rate (table axis up; NaN when the axis is not vertical).
+  double heading_deg = 0.0, sensed_heading_deg = 0.0, apparent_heading_deg = 0.0;
+  double earth_horizontal_dps = 0.0;  ///< W_E cos(lat)
 };
 
 /// The truth of simulator `sim` made from `c` (its temperature at t = 0).

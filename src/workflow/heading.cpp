@@ -1,0 +1,244 @@
+/// \file
+/// \brief North finding from indexed runs (heading.hpp).
+#include "gyroflip/workflow/heading.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
+#include "gyroflip/earth/earth.hpp"
+#include "gyroflip/io/schema.hpp"
+#include "gyroflip/rig/ad7739.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
+#include "gyroflip/sensor/presets.hpp"
+
+namespace gyroflip::workflow {
+namespace {
+
+const std::string* meta(const std::vector<io::csv_metadata>& m, std::string_view key) {
+  for (const auto& e : m)
+    if (e.key == key) return &e.value;
+  return nullptr;
+}
+
+std::optional<double> meta_number(const std::vector<io::csv_metadata>& m, std::string_view key) {
+  const std::string* v = meta(m, key);
+  if (!v || v->empty()) return std::nullopt;
+  char* end = nullptr;
+  const double x = std::strtod(v->c_str(), &end);
+  if (end == v->c_str() || !std::isfinite(x)) return std::nullopt;
+  return x;
+}
+
+// One conversion's time (s): the recording's own figure, else its AD7739 settings.
+std::optional<double> conversion_time_of(const std::vector<io::csv_metadata>& m) {
+  if (auto t = meta_number(m, "conversion_time_s")) return t;
+  const auto fw = meta_number(m, "filter_word");
+  const std::string* chop = meta(m, "chop");
+  if (!fw || !chop) return std::nullopt;
+  rig::ad7739_config c;
+  c.filter_word = static_cast<int>(*fw);
+  c.chop = *chop == "on";
+  return rig::conversion_time_s(c);
+}
+
+struct read_run {
+  heading_run run;
+  std::optional<bool> axis_up;  // from `# table_axis:`
+  std::optional<double> azimuth_deg;
+};
+
+result<read_run> fit_run(const std::string& path, bool axis_up_default) {
+  auto rec = rigdata::read_recording_rows(path);
+  if (!rec) return rec.err();
+  read_run out;
+  if (const std::string* a = meta(rec->metadata, "table_axis")) {
+    if (*a == "up") out.axis_up = true;
+    if (*a == "down") out.axis_up = false;
+  }
+  out.azimuth_deg = meta_number(rec->metadata, "azimuth_deg");
+  const auto dwells = method::indexed_dwells(rec->rows);
+  auto fit = method::fit_harmonics(dwells, rec->positions);
+  // Data that cannot give a heading (too few positions, no visiting period) is bad input.
+  if (!fit) return usage_error(fmt::format("{}: {}", path, fit.err().message));
+  heading_run& r = out.run;
+  r.path = path;
+  r.fit = std::move(*fit);
+  r.positions = rec->positions.describe();
+  r.n_positions = rec->positions.size();
+  const auto& f = r.fit;
+  r.heading = method::heading_of(f.value[1], f.value[2], f.var(1), f.var(2), f.cov(1, 2),
+                                 out.axis_up.value_or(axis_up_default));
+  r.run_s = static_cast<double>(f.blocks) * f.block_s;
+  if (const auto t_conv = conversion_time_of(rec->metadata)) {
+    double w = 0.0;
+    for (const auto& d : dwells) w += d.weight;
+    r.dwell_s = w / static_cast<double>(dwells.size()) * *t_conv;
+    r.dead_per_dwell_s = std::max(0.0, f.block_s / static_cast<double>(f.period) - r.dwell_s);
+    r.arw_dps_rthz = f.dwell_sigma_dps * std::sqrt(r.dwell_s);
+  }
+  return out;
+}
+
+}  // namespace
+
+result<heading_result> find_heading(const heading_request& q) {
+  if (q.runs.empty() || q.runs.size() > 2)
+    return usage_error(fmt::format(
+        "a heading takes one run, or two at different base azimuths; got {}", q.runs.size()));
+  if (auto s = earth::check_latitude(q.lat_deg); !s) return s.err();
+  if (std::abs(q.lat_deg) > 85.0)
+    return usage_error(
+        fmt::format("at {:g} deg latitude the horizontal Earth rate is {:.2g} of "
+                    "its whole: north cannot be found by it",
+                    q.lat_deg, std::cos(q.lat_deg * units::rad_per_deg)));
+  std::optional<sensor::preset> preset;
+  if (!q.sensor.empty()) {
+    auto p = sensor::load_preset(q.sensor);
+    if (!p) return p.err();
+    preset = std::move(*p);
+  }
+  std::vector<read_run> runs;
+  for (const auto& path : q.runs) {
+    auto r = fit_run(path, q.table_axis_up.value_or(true));
+    if (!r) return r.err();
+    if (q.table_axis_up) r->axis_up = q.table_axis_up;
+    runs.push_back(std::move(*r));
+  }
+  const bool up = runs[0].axis_up.value_or(true);
+  heading_result out;
+  out.earth_horizontal_dps = earth::earth_rate_wgs84_dps * std::cos(q.lat_deg * units::rad_per_deg);
+  double total_s = 0.0, arw_w = 0.0, arw_sum = 0.0, dead_sum = 0.0;
+  for (const auto& r : runs) {
+    total_s += r.run.run_s;
+    if (r.run.arw_dps_rthz > 0.0) {
+      arw_sum += r.run.arw_dps_rthz * r.run.run_s;
+      dead_sum += r.run.dead_per_dwell_s * r.run.run_s;
+      arw_w += r.run.run_s;
+    }
+    out.runs.push_back(r.run);
+  }
+  const auto& f0 = runs[0].run.fit;
+  out.scheme = fmt::format("{} positions ({} deg), visiting period {} dwells",
+                           runs[0].run.n_positions, runs[0].run.positions, f0.period);
+  if (runs.size() == 1) {
+    out.heading_deg = runs[0].run.heading.heading_deg;
+    out.sigma_deg = runs[0].run.heading.sigma_deg;
+    out.amplitude_dps = runs[0].run.heading.amplitude_dps;
+    std::string per_mrad;
+    if (preset) {
+      const double g =
+          std::hypot(preset->params.g_sens_z_dps_per_g, preset->params.g_sens_x_dps_per_g);
+      per_mrad = fmt::format(" ({} : {:.2g} deg per mrad of tilt)", preset->name,
+                             std::atan(g * 1e-3 / out.earth_horizontal_dps) / units::rad_per_deg);
+    }
+    out.caveats.push_back(fmt::format(
+        "the table's tilt x the gyro's g-sensitivity reads exactly as Earth rate{}: it shifts "
+        "this heading by atan(g x tilt / W_H) and no statistic of one run shows it; a second run "
+        "with the rig's base turned (180 deg is best) removes it",
+        per_mrad));
+  } else {
+    out.two_azimuths = true;
+    double turn = 0.0;
+    if (q.base_turn_deg) {
+      turn = *q.base_turn_deg;
+    } else if (runs[0].azimuth_deg && runs[1].azimuth_deg) {
+      turn = *runs[1].azimuth_deg - *runs[0].azimuth_deg;
+    } else {
+      return parameter_error(
+          "base_turn_deg",
+          "two runs: the turn of the rig's base between them is not known (their recordings "
+          "carry no azimuth): give it");
+    }
+    out.base_turn_deg = turn;
+    const auto& a = runs[0].run.fit;
+    const auto& b = runs[1].run.fit;
+    if (runs[1].axis_up.value_or(up) != up)
+      return usage_error("the two runs name different table axes (up and down)");
+    auto h = method::heading_two_azimuths(
+        {a.value[1], a.value[2]}, {a.var(1), a.cov(1, 2), a.cov(1, 2), a.var(2)},
+        {b.value[1], b.value[2]}, {b.var(1), b.cov(1, 2), b.cov(1, 2), b.var(2)}, turn, up);
+    if (!h) return h.err();
+    out.heading_deg = h->first.heading_deg;
+    out.sigma_deg = h->first.sigma_deg;
+    out.amplitude_dps = h->first.amplitude_dps;
+    out.table_term_dps = h->table_term_dps;
+    out.table_term_heading_deg =
+        std::remainder(runs[0].run.heading.heading_deg - out.heading_deg, 360.0);
+    out.scheme += fmt::format("; two base azimuths {:g} deg apart", turn);
+  }
+  if (arw_w > 0.0) {
+    out.arw_dps_rthz = arw_sum / arw_w;
+    out.limit_deg = method::heading_white_limit_deg(out.arw_dps_rthz, q.lat_deg, total_s);
+    out.ratio_to_limit = out.sigma_deg / out.limit_deg;
+  } else {
+    out.caveats.push_back(
+        "the dwell's length is not known (no conversion time or AD7739 settings in the "
+        "recording): no white-noise limit");
+  }
+  if (preset && arw_w > 0.0)
+    out.dead_time_bound_deg = method::heading_dead_time_limit_deg(
+        preset->params.arw_dps_rthz, preset->params.bias_instability_dps, dead_sum / arw_w,
+        q.lat_deg, total_s);
+  if (!f0.correlated)
+    out.caveats.push_back(fmt::format(
+        "{} visiting periods: the sigma assumes independent periods (32 are needed to read "
+        "their correlation)",
+        f0.blocks));
+  const double rel = out.amplitude_dps / out.earth_horizontal_dps - 1.0;
+  if (std::abs(rel) > 0.05)
+    out.caveats.push_back(fmt::format(
+        "the first harmonic is {:+.1f} % off the horizontal Earth rate at {:g} deg: a scale-factor "
+        "error, a table term (tilt x g-sensitivity) or a wrong latitude",
+        100.0 * rel, q.lat_deg));
+  return out;
+}
+
+nlohmann::json heading_json(const heading_result& h) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const auto& r : h.runs) {
+    nlohmann::json terms = nlohmann::json::object();
+    for (std::size_t i = 0; i < r.fit.names.size(); ++i)
+      terms[r.fit.names[i]] = {{"value_dps", r.fit.value[i]},
+                               {"sigma_dps", std::sqrt(r.fit.var(i))}};
+    runs.push_back({{"file", r.path},
+                    {"positions_deg", r.positions},
+                    {"period_dwells", r.fit.period},
+                    {"blocks", r.fit.blocks},
+                    {"skipped_dwells", r.fit.skipped_dwells},
+                    {"run_s", r.run_s},
+                    {"dwell_s", r.dwell_s},
+                    {"dead_time_per_dwell_s", r.dead_per_dwell_s},
+                    {"arw_dps_rthz", r.arw_dps_rthz},
+                    {"terms", terms},
+                    {"heading_deg", r.heading.heading_deg},
+                    {"sigma_deg", r.heading.sigma_deg}});
+  }
+  nlohmann::json j = io::schema_object("heading", 1);
+  j.update(nlohmann::json{{"heading_deg", h.heading_deg},
+                          {"sigma_deg", h.sigma_deg},
+                          {"limit_deg", h.limit_deg},
+                          {"ratio_to_limit", h.ratio_to_limit},
+                          {"arw_dps_rthz", h.arw_dps_rthz},
+                          {"scheme", h.scheme},
+                          {"two_azimuths", h.two_azimuths},
+                          {"earth_horizontal_dps", h.earth_horizontal_dps},
+                          {"first_harmonic_dps", h.amplitude_dps},
+                          {"runs", runs},
+                          {"caveats", h.caveats}});
+  j["dead_time_bound_deg"] =
+      h.dead_time_bound_deg ? nlohmann::json(*h.dead_time_bound_deg) : nlohmann::json();
+  if (h.two_azimuths) {
+    j["base_turn_deg"] = h.base_turn_deg;
+    j["table_term_dps"] = h.table_term_dps;
+    j["table_term_heading_deg"] = h.table_term_heading_deg;
+  }
+  return j;
+}
+
+}  // namespace gyroflip::workflow
