@@ -89,7 +89,18 @@ result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, 
           "{}: its run {} is marked stationary, but its own statistics fail the test (the file "
           "was edited?): judged from the statistics",
           dn.source, e.file));
-    if (!st.failed()) continue;
+    if (!st.failed()) {
+      // A run whose g-term was not checked passed tests that a constant input rate passes too
+      // (third review of issue 31, H2): said, and refused when strict, as calibrate does.
+      for (const auto& c : st.caveats()) {
+        if (strict)
+          return input_error({dn.source}, fmt::format("its run {}: {}; refused (strict): a strict "
+                                                      "compensation needs the g-term checked",
+                                                      e.file, c));
+        out.warnings.push_back(fmt::format("{}: its run {}: {}", dn.source, e.file, c));
+      }
+      continue;
+    }
     if (strict)
       return input_error({dn.source}, fmt::format("its run {}; refused (strict)",
                                                   stationarity_warning(e.file, st)));

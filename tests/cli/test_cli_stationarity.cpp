@@ -187,6 +187,26 @@ TEST(CliStationarity, WithoutASpecificationCalibrateWarnsAndStrictRefuses) {
   const auto page = read_text(d.file("rep/index.html"));
   EXPECT_NE(page.find("was not checked (no sensor specification)"), std::string::npos);
   EXPECT_EQ(page.find("Nothing in the runs looks wrong"), std::string::npos);
+  // Third review of issue 31 (H2): compensate applied such a calibration without a word, and
+  // --strict accepted it. It warns, naming the file and its run; --strict refuses it.
+  const auto unchecked = run_cli({"calibrate", turning, "-o", d.file("unchecked.json")});
+  ASSERT_EQ(unchecked.exit_code, 0) << unchecked.err;
+  const auto applied = run_cli(
+      {"compensate", still, "--calibration", d.file("unchecked.json"), "-o", d.file("c.csv")});
+  ASSERT_EQ(applied.exit_code, 0) << applied.err;
+  EXPECT_NE(applied.err.find(d.file("unchecked.json") + ": its run " + turning +
+                             ": its g-term was not checked"),
+            std::string::npos)
+      << applied.err;
+  const auto refused = run_cli({"compensate", still, "--calibration", d.file("unchecked.json"),
+                                "--strict", "-o", d.file("cs.csv")});
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_FALSE(exists(d.file("cs.csv")));
+  EXPECT_NE(refused.err.find("refused (strict)"), std::string::npos) << refused.err;
+  const auto vouched = run_cli(
+      {"compensate", still, "--calibration", d.file("s.json"), "--strict", "-o", d.file("ok.csv")});
+  EXPECT_EQ(vouched.exit_code, 0) << vouched.err;
+  EXPECT_EQ(vouched.err.find("not checked"), std::string::npos) << vouched.err;
 }
 
 // Review of issue 31 (M1): a 10 degC temperature step passed calibrate (and --strict) silently
