@@ -164,8 +164,18 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
                      "at rest{}\n",
                      g_limit + (exact ? 0.0 : earth::earth_rate_wgs84_dps), g_limit,
                      exact ? "" : " plus the Earth rate, without --latitude/--axis", constant_like);
-    fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(),
-                   next_step(cal_path), workflow::when_to_recalibrate(b, temps));
+    // Not vouched for: the next step is the check, not compensating with it (third review of
+    // issue 31, M6).
+    std::string files;
+    for (const auto& f : rec.files) files += " " + f.file;
+    const std::string next =
+        unchecked ? fmt::format(
+                        "Next: check its g-term first: gyroflip calibrate{} --sensor "
+                        "NAME|FILE.toml{}",
+                        files, cal_path.empty() ? "" : " -o " + cal_path)
+                  : next_step(cal_path);
+    fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(), next,
+                   workflow::when_to_recalibrate(b, temps));
     return out;
   }
   // The runs that passed still calibrate: the exact command without the failed ones.

@@ -165,6 +165,12 @@ TEST(CliStationarity, WithoutASpecificationCalibrateWarnsAndStrictRefuses) {
   EXPECT_NE(warned.err.find("--sensor NAME|FILE.toml"), std::string::npos) << warned.err;
   EXPECT_NE(warned.out.find("NOT VOUCHED FOR"), std::string::npos) << warned.out;
   EXPECT_EQ(warned.out.find("stationarity: stationary ("), std::string::npos) << warned.out;
+  // Its next step is the check, not compensating with it (third review, M6).
+  EXPECT_EQ(warned.out.find("Next: gyroflip compensate"), std::string::npos) << warned.out;
+  EXPECT_NE(warned.out.find("Next: check its g-term first: gyroflip calibrate " + turning +
+                            " --sensor NAME|FILE.toml"),
+            std::string::npos)
+      << warned.out;
   const auto strict = run_cli({"calibrate", "--strict", turning, "-o", d.file("ns.json")});
   EXPECT_EQ(strict.exit_code, 2) << strict.err;
   EXPECT_FALSE(exists(d.file("ns.json")));
