@@ -247,6 +247,24 @@ result<std::vector<fault_plan::command_range>> command_faults(const std::vector<
   return out;
 }
 
+// AT:FOR faults (--fault-unplug, --fault-stall): AT device s into the run, FOR seconds of the
+// named clock up to max_for_s.
+result<std::vector<std::pair<double, double>>> at_for_faults(const std::vector<std::string>& specs,
+                                                             const char* option, const char* clock,
+                                                             double max_for_s) {
+  std::vector<std::pair<double, double>> out;
+  for (const std::string& u : specs) {
+    const auto v = text::to_doubles(u, ':');
+    if (!v || v->size() != 2 || !((*v)[0] > 0.0 && (*v)[0] <= 1e7) ||
+        !((*v)[1] > 0.0 && (*v)[1] <= max_for_s))
+      return usage_error(fmt::format(
+          "{}: AT:FOR, AT device s into the run in (0, 1e7], FOR {} s in (0, {:g}]; got {}", option,
+          clock, max_for_s, u));
+    out.emplace_back((*v)[0], (*v)[1]);
+  }
+  return out;
+}
+
 result<fault_plan> fault_plan_of(const emulate_options& o) {
   fault_plan f;
   for (double t : o.fault_reset_at_s) {
@@ -254,27 +272,12 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
       return usage_error("--fault-reset-at: device s into the run, in (0, 1e7]");
     f.reset_at_s.push_back(t);
   }
-  for (const std::string& u : o.fault_unplug) {
-    const auto v = text::to_doubles(u, ':');
-    if (!v || v->size() != 2 || !((*v)[0] > 0.0 && (*v)[0] <= 1e7) ||
-        !((*v)[1] > 0.0 && (*v)[1] <= 3600.0))
-      return usage_error(
-          "--fault-unplug: AT:FOR, AT device s into the run in (0, 1e7], FOR device s in (0, "
-          "3600]; "
-          "got " +
-          u);
-    f.unplug.emplace_back((*v)[0], (*v)[1]);
-  }
-  for (const std::string& u : o.fault_stall) {
-    const auto v = text::to_doubles(u, ':');
-    if (!v || v->size() != 2 || !((*v)[0] > 0.0 && (*v)[0] <= 1e7) ||
-        !((*v)[1] > 0.0 && (*v)[1] <= 60.0))
-      return usage_error(
-          "--fault-stall: AT:FOR, AT device s into the run in (0, 1e7], FOR wall s in (0, 60]; "
-          "got " +
-          u);
-    f.stall.emplace_back((*v)[0], (*v)[1]);
-  }
+  auto unplug = at_for_faults(o.fault_unplug, "--fault-unplug", "device", 3600.0);
+  if (!unplug) return unplug.err();
+  f.unplug = std::move(*unplug);
+  auto stall = at_for_faults(o.fault_stall, "--fault-stall", "wall", 60.0);
+  if (!stall) return stall.err();
+  f.stall = std::move(*stall);
   std::sort(f.stall.begin(), f.stall.end(), std::greater<>());
   std::sort(f.reset_at_s.begin(), f.reset_at_s.end(), std::greater<>());  // due ones at the back
   std::sort(f.unplug.begin(), f.unplug.end(), std::greater<>());
