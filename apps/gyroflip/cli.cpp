@@ -232,6 +232,11 @@ void setup_emulate(CLI::App& app, action& chosen) {
       "AT:FOR - after the first frame it sends from AT device s after the first START on, "
       "the emulator stops for FOR wall s, as under SIGSTOP: it neither reads nor "
       "sends, then catches up (repeatable)");
+  sub->add_option(
+      "--fault-tx-hold", o->fault_tx_hold,
+      "AT:FOR - AT device s after the first START the device's UART transmitter is held for FOR "
+      "device s (a stuck transmitter or CTS): frames that do not fit its transmit ring are "
+      "dropped from the live stream and kept in its history, for RESEND (repeatable)");
   sub->add_option("--fault-lose-reply", o->fault_lose_reply,
                   "CMD:N or CMD:N-M - the reply (ACK or NAK; a PING's INFO too) to the Nth (to "
                   "Mth) CMD frame the device takes is lost on the line (CMD: ping, configure, "
