@@ -539,18 +539,17 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
   // Every dwell sent is in the file or in a GAP count (the reset's too).
   EXPECT_LE(c.lost, run->missing_frames) << recorded(c);
   // At --speed max the device's clock runs many times the host's, and a run after a reset is
-  // placed by the host's clock: `record` says how far its time_s may be off, naming the run, as
-  // `export` does (review of issue 32, finding 4: moved by up to 24 s without a word). How far
-  // depends on how fast this machine runs the emulator (under load the shift fell below the
-  // 1-s threshold): `record` says it exactly when the reader finds it; the threshold itself is
-  // tested on synthetic files (RigTime.ARunPlacedByTheHostsClockAtAnotherPaceIsWarnedAbout).
-  const bool said =
-      rec.err.find("is placed after the run before it by the host's clock") != std::string::npos;
-  EXPECT_EQ(said, run->later_runs_shift_s > 1.0) << run->later_runs_shift_s << "\n" << rec.err;
-  if (said) {
-    EXPECT_NE(rec.err.find("gyroflip record: warning: " + gfr + ": record "), std::string::npos)
-        << rec.err;
-  }
+  // placed by the host's clock: `record` says its time_s may be off, naming the run, as
+  // `export` does (review of issue 32, finding 4: moved by up to 24 s without a word). It says
+  // so whenever the device's clock ran at another pace than the host's, whatever the estimate:
+  // the estimate (at the last run's pace) depends on how fast this machine runs the emulator
+  // and was 0 under load, while the run after the first reset lay 1-12 s early (issue 32).
+  EXPECT_TRUE(run->later_runs_off_pace);
+  EXPECT_NE(rec.err.find("gyroflip record: warning: " + gfr + ": record "), std::string::npos)
+      << rec.err;
+  EXPECT_NE(rec.err.find("is placed after the run before it by the host's clock"),
+            std::string::npos)
+      << rec.err;
   const auto cal = run_cli({"calibrate", gfr, "--json"});
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   expect_calibrates_to_truth(nlohmann::json::parse(cal.out), 13);
