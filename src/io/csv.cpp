@@ -1,5 +1,5 @@
 /// \file
-/// \brief Strict memory-mapped CSV reader (see csv.hpp).
+/// \brief Strict CSV reader, a block at a time (see csv.hpp).
 #include "gyroflip/io/csv.hpp"
 
 #include <algorithm>
@@ -11,6 +11,8 @@
 #include <cstring>
 #include <limits>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -99,41 +101,68 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
     return parameter_error("delimiter", "the delimiter must be ',', ';', tab or blanks");
   if (dialect.decimal == ',' && dialect.delimiter == ',')
     return parameter_error("decimal", "a decimal comma needs another delimiter than ','");
-  if (path == "-") {
-    csv_reader r(STDIN_FILENO);
-    r.dialect_ = dialect;
-    while (r.buf_.size() < binary_probe_bytes && r.refill()) {
-    }
-    const std::string_view d = r.buf_;
-    if (d.empty()) return input_error({r.path_}, "empty input (expected a CSV header line)");
-    if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
-      return input_error({r.path_}, "binary data (NUL byte), not a UTF-8 CSV text");
-    if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = r.pos_ = 3;  // UTF-8 byte-order mark
-    if (auto s = r.read_header(); !s) return s.err();
-    return r;
+  csv_reader r = path == "-" ? csv_reader(owned_fd(), "<stdin>", 0) : csv_reader({}, path, 0);
+  if (path != "-") {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return io_error(path, std::strerror(errno));
+    r.fd_ = owned_fd(fd);
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) return io_error(path, std::strerror(errno));
+    if (S_ISDIR(st.st_mode)) return io_error(path, "is a directory, not a file");
+    if (!S_ISREG(st.st_mode)) return io_error(path, "not a regular file");
+    r.size_bytes_ = static_cast<std::uint64_t>(st.st_size);
+    ::posix_fadvise(fd, 0, 0, POSIX_FADV_SEQUENTIAL);
   }
-  auto f = mapped_file::open(path);
-  if (!f) return f.err();
-  csv_reader r(std::move(*f));
   r.dialect_ = dialect;
-  const std::string_view d = r.file_->data();
-  if (d.empty()) return input_error({path}, "empty file (expected a CSV header line)");
+  while (r.buf_len_ < binary_probe_bytes && r.refill()) {
+  }
+  const std::string_view d(r.buf_.get(), r.buf_len_);
+  const bool from_stdin = path == "-";
+  if (d.empty())
+    return input_error({r.path_}, from_stdin ? "empty input (expected a CSV header line)"
+                                        : "empty file (expected a CSV header line)");
   if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
-    return input_error({path}, "binary data (NUL byte), not a UTF-8 CSV text file");
-  if (d.substr(0, 3) == "\xEF\xBB\xBF") r.pos_ = 3;  // UTF-8 byte-order mark
+    return input_error({r.path_}, from_stdin ? "binary data (NUL byte), not a UTF-8 CSV text"
+                                        : "binary data (NUL byte), not a UTF-8 CSV text file");
+  if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = r.pos_ = 3;  // UTF-8 byte-order mark
   if (auto s = r.read_header(); !s) return s.err();
   return r;
 }
 
+csv_reader::owned_fd& csv_reader::owned_fd::operator=(owned_fd&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(o.fd_, -1);
+  }
+  return *this;
+}
+
+csv_reader::owned_fd::~owned_fd() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
 bool csv_reader::refill() {
   if (stream_end_) return false;
-  buf_.erase(0, buf_pos_);
+  // A quarter of a megabyte a read: the block stays in the core's cache while its lines are cut
+  // and parsed (a read() into one reused buffer costs half of a mapping's first touch of every
+  // page on the virtual machines measured: docs/PERFORMANCE.md, issue 33).
+  constexpr std::size_t block = std::size_t{1} << 18;
+  const std::size_t left = buf_len_ - buf_pos_;
+  if (left > 0 && buf_pos_ > 0) std::memmove(buf_.get(), buf_.get() + buf_pos_, left);
+  buf_len_ = left;
   buf_pos_ = 0;
-  char block[std::size_t{1} << 16];
+  if (buf_cap_ - buf_len_ < block) {
+    const std::size_t cap = std::max(2 * buf_cap_, buf_len_ + block);
+    auto grown = std::make_unique_for_overwrite<char[]>(cap);
+    if (buf_len_ > 0) std::memcpy(grown.get(), buf_.get(), buf_len_);
+    buf_ = std::move(grown);
+    buf_cap_ = cap;
+  }
+  const int fd = fd_.get() < 0 ? STDIN_FILENO : fd_.get();  // no descriptor of its own: stdin
   while (true) {
-    const ssize_t n = ::read(stream_fd_, block, sizeof block);
+    const ssize_t n = ::read(fd, buf_.get() + buf_len_, buf_cap_ - buf_len_);
     if (n > 0) {
-      buf_.append(block, static_cast<std::size_t>(n));
+      buf_len_ += static_cast<std::size_t>(n);
       return true;
     }
     if (n < 0 && errno == EINTR) continue;
@@ -196,23 +225,15 @@ std::optional<std::string_view> csv_reader::next_line() {
     ++line_;
     return std::string_view(replay_);
   }
-  if (file_) {
-    const std::string_view d = file_->data();
-    if (pos_ >= d.size()) return std::nullopt;
-    const char* begin = d.data() + pos_;
-    const line_cut c = *cut_line(begin, d.size() - pos_, true);
-    pos_ += c.taken;
-    return take_line(begin, c.len, c.unterminated);
-  }
-  // A stream: cut from what has come, reading more until a line is whole or the input ends.
+  // Cut from what has come, reading more until a line is whole or the input ends.
   while (true) {
-    const char* begin = buf_.data() + buf_pos_;
-    if (const auto c = cut_line(begin, buf_.size() - buf_pos_, stream_end_)) {
+    const char* begin = buf_.get() + buf_pos_;
+    if (const auto c = cut_line(begin, buf_len_ - buf_pos_, stream_end_)) {
       buf_pos_ += c->taken;
       pos_ += c->taken;
       return take_line(begin, c->len, c->unterminated);
     }
-    if (!refill() && buf_pos_ == buf_.size()) return std::nullopt;
+    if (!refill() && buf_pos_ == buf_len_) return std::nullopt;
   }
 }
 
