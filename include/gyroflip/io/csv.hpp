@@ -132,6 +132,20 @@ class csv_reader {
             detail::parse_plain_decimal(s.data(), s.data() + s.size(), out)) ||
            parse_slow(i, out);
   }
+  /// A data row read by the fast path: each selected cell's value, or `empty` for an empty field.
+  struct plain_row {
+    static constexpr std::size_t max_cells = 8;
+    double value[max_cells] = {};
+    bool empty[max_cells] = {};
+    std::size_t taken = 0;  // bytes of its line, newline included
+  };
+  /// The fast path of a recording's rows (docs/PERFORMANCE.md, issue 33): cuts the next line and
+  /// parses every selected field as a plain decimal (as parse()'s fast path does) in one pass,
+  /// consuming nothing. False when the line needs next(): a comment, a blank line, blanks or any
+  /// other spelling in a field, a wrong field count, a line not yet whole or ending the input, a
+  /// dialect other than the default. commit_plain() then consumes the row.
+  [[nodiscard]] bool peek_plain(plain_row& row);
+  void commit_plain(const plain_row& row) noexcept;
   /// Builds an error located at selected cell `i` of the current row.
   [[nodiscard]] error error_at(std::size_t i, std::string_view what) const;
   /// Builds an error located at the current line (no column).
