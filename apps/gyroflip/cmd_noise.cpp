@@ -176,7 +176,7 @@ void append_accel_text(std::string& text, const noise_options& o, const column_n
   fmt::format_to(out, "  quantization      Q     {} m/s\n", show(f.quantization, k));
   fmt::format_to(out, "  ramp              R     {} mg/h\n",
                  show(f.rate_ramp, mg * units::s_per_h));
-  text += fit_line(o, f);
+  fmt::format_to(out, "{}", fit_line(o, f));
   for (const auto& n : f.notes)
     if (n.find("not resolved by the data") == std::string::npos)
       fmt::format_to(out, "  note: {}\n", n);
@@ -220,7 +220,7 @@ void append_text(std::string& text, const noise_options& o, const column_noise& 
   fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, k));
   fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n",
                  show(f.rate_ramp, k * units::dph2_per_dps2));
-  text += fit_line(o, f);
+  fmt::format_to(out, "{}", fit_line(o, f));
   const auto& r = c.result.readoffs;
   const auto line = [](const std::optional<double>& v, double to, double tau, const char* slope) {
     return v ? fmt::format("{:.4g} (slope {} at tau {:.3g} s)", *v * to, slope, tau)
