@@ -399,9 +399,12 @@ void add_series_options(CLI::App* sub, series_input& in) {
   sub->add_option("--input", in.input, "what the samples are: rate or angle")
       ->check(CLI::IsMember({"rate", "angle"}))
       ->capture_default_str();
-  sub->add_option("--units", in.units,
-                  "unit of the samples: deg/s, rad/s or deg/h (rate); deg or rad (angle)")
-      ->check(CLI::IsMember({"deg/s", "rad/s", "deg/h", "deg", "rad"}))
+  sub->add_option(
+         "--units", in.units,
+         "unit of the samples: deg/s, rad/s or deg/h (rate); deg or rad (angle); m/s^2, g, "
+         "mg or ug (accelerometer)")
+      ->check(CLI::IsMember({"deg/s", "rad/s", "deg/h", "deg", "rad", "m/s^2", "g", "mg", "ug"}))
+      ->each([&in](const std::string&) { in.units_given = true; })
       ->capture_default_str();
   sub->add_option("--delimiter", in.delimiter,
                   "CSV field separator: , ; tab or space (default: detected from the first line)")
@@ -524,14 +527,27 @@ void setup_noise(CLI::App& app, action& chosen) {
   sub->add_option("-o,--output", o->output,
                   "also write the terms: FILE.json (the --json object) or CSV "
                   "column,term,unit,value,lo,hi,resolved,read_off");
+  sub->add_option("--quantity", o->quantity,
+                  "what the columns measure: gyro or accel (default: from each column's unit in "
+                  "its name, as ax_mps2 or acc_x [m/s^2]; else gyro)")
+      ->check(CLI::IsMember({"gyro", "accel"}));
   sub->add_option("--kalibr", o->kalibr,
-                  "also write Kalibr's IMU noise YAML (gyroscope_noise_density, "
-                  "gyroscope_random_walk in rad units, not inflated)");
+                  "also write Kalibr's IMU noise YAML (rostopic, update_rate, the accelerometer's "
+                  "and the gyro's noise density and random walk in m/s^2 and rad units, the "
+                  "largest axis, not inflated): needs gyro and accelerometer columns, in FILE or "
+                  "with --kalibr-other");
+  sub->add_option("--kalibr-other", o->kalibr_other,
+                  "the other sensor's record for --kalibr (accelerometer for a gyro FILE, or "
+                  "gyro): every numeric column, read as FILE is, each column's unit from its "
+                  "name, else m/s^2 or deg/s");
+  sub->add_option("--rostopic", o->rostopic, "the IMU topic --kalibr writes")
+      ->capture_default_str();
   sub->add_option("--plot", o->plot,
                   "draw the Allan curves with bounds, fitted term lines and read-off points to "
                   "FILE.png, .svg or .pdf (gnuplot; FILE.gp and its data beside it)");
-  sub->add_option("--plot-units", o->plot_units, "the plot's unit: deg/h, deg/s or rad/s")
-      ->capture_default_str();
+  sub->add_option("--plot-units", o->plot_units,
+                  "the plot's unit: deg/h (default), deg/s or rad/s; for an accelerometer mg "
+                  "(default), ug or m/s^2");
   sub->add_option("--title", o->title, "the plot's title (default: Allan deviation of FILE)");
   sub->add_flag("--long-taus", o->long_taus,
                 "also OADEV beyond Stable32's m <= (N-1)/4 up to (N-1)/2 (as MATLAB and "

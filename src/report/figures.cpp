@@ -431,8 +431,25 @@ result<figure> noise_figure(std::span<const allan_curve> curves_dps, const std::
     u.n_at = "1 s";
     u.k_at = "3 s";
     f = allan_plot(curves_dps, u, title);
+  } else if (units::is_accel_unit(unit)) {
+    // Accelerometer curves in m/s^2: N (VRW) read at 1 s, K (acceleration random walk) at 3 s.
+    const bool si = unit == "m/s^2";
+    const std::string shown = si ? "m/s²" : unit == "ug" ? "µg" : unit;
+    term_units u;
+    u.dev_unit = shown;
+    u.dev_scale = 1.0 / units::mps2_per_unit(unit);
+    u.n_unit = si ? "m/s²/√Hz" : shown + "/√Hz";
+    u.b_unit = shown;
+    u.k_unit = si ? "m/s³/√Hz" : shown + "/√s";
+    u.n_factor = u.b_factor = u.k_factor = u.dev_scale;
+    u.n_at = "1 s";
+    u.k_at = "3 s";
+    f = allan_plot(curves_dps, u, title);
   } else {
-    return usage_error("--plot-units must be deg/h, deg/s or rad/s; got " + unit);
+    return usage_error(
+        "the plot's unit must be deg/h, deg/s or rad/s (gyro), m/s^2, mg or ug "
+        "(accelerometer); got " +
+        unit);
   }
   f.key_inside = true;
   for (const auto& c : curves_dps)
@@ -444,6 +461,24 @@ result<figure> noise_figure(std::span<const allan_curve> curves_dps, const std::
       break;
     }
   return f;
+}
+
+allan_curve noise_curve(const io::noise_report& r) {
+  const double k = r.quantity == "accel" ? r.mps2_per_unit : r.deg_per_unit;
+  allan_curve curve{r.column, r.result.oadev, r.result.terms, r.result.long_oadev};
+  for (auto* v : {&curve.points, &curve.beyond})
+    for (auto& p : *v) {
+      p.dev *= k;
+      p.ci_lo *= k;
+      p.ci_hi *= k;
+    }
+  for (auto* t : {&curve.terms->quantization, &curve.terms->arw, &curve.terms->bias_instability,
+                  &curve.terms->rrw, &curve.terms->rate_ramp}) {
+    t->value *= k;
+    t->lo *= k;
+    t->hi *= k;
+  }
+  return curve;
 }
 
 }  // namespace gyroflip::report
