@@ -555,6 +555,14 @@ void setup_plan(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_option("--max-dwell", o->max_dwell_s,
                   "longest dwell considered (s; default a quarter of the run)");
+  sub->add_option("--positions", o->positions,
+                  "the table positions A,B,... (deg, 2 to 8; three or more: an indexed run in the "
+                  "drift-cancelling sweep, planned for the first harmonic's error)");
+  sub->add_flag("--heading", o->heading,
+                "plan for north finding: the dwell that minimises the heading's error (positions "
+                "default 0,90,180,270; needs --latitude)");
+  sub->add_option("--latitude", o->lat_deg, "with --heading: the site's latitude (deg)");
+  sub->add_option("--plot", o->plot, "FILE.png|.svg|.pdf: the predicted error against the dwell");
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
