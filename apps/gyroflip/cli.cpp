@@ -302,6 +302,13 @@ void setup_export(CLI::App& app, action& chosen) {
 void setup_sensors(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand("sensors", "List sensor presets with parameters, units, sources");
   auto o = bind<sensors_options>(sub, chosen, run_sensors);
+  sub->add_option("--dead-time", o->dead_s,
+                  "the dead time per turn (s) for the implied best dwell sqrt(d tau_c)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sub->add_option("--latitude", o->lat_deg, "the latitude (deg) for the implied heading limit")
+      ->check(CLI::Range(-85.0, 85.0))
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 

@@ -227,6 +227,20 @@ nlohmann::json plan_json(const plan_result& r) {
   return j;
 }
 
+sensor_implications implications_of(const sensor::sensor_params& p, double dead_s, double lat_deg) {
+  sensor_implications s;
+  s.dead_s = dead_s;
+  s.lat_deg = lat_deg;
+  const auto c = method::plan_flip_closed_form(plan_noise_of(p), dead_s, 3600.0);
+  s.corner_tau_s = c.corner_tau_s;
+  s.dwell_s = c.dwell_s;
+  s.sigma_dps_rth = c.sigma_dps;
+  s.heading_white_deg_rth = method::heading_white_limit_deg(p.arw_dps_rthz, lat_deg, 3600.0);
+  s.heading_dead_time_deg_rth = method::heading_dead_time_limit_deg(
+      p.arw_dps_rthz, p.bias_instability_dps, dead_s, lat_deg, 3600.0);
+  return s;
+}
+
 report::figure plan_figure(const plan_result& r) {
   report::figure f;
   const bool heading = r.heading.has_value();

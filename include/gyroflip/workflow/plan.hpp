@@ -110,6 +110,22 @@ struct plan_result {
 /// the curves by_dwell and by_duration, notes.
 [[nodiscard]] nlohmann::json plan_json(const plan_result& r);
 
+/// What a sensor's noise terms imply for flipping and north finding (`gyroflip sensors`), from
+/// the closed forms (docs/PLANNER.md, docs/NORTH.md): the corner time tau_c = N^2/(0.4413 B^2),
+/// the best dwell sqrt(d tau_c) for a dead time d per turn, and the heading's limits at a
+/// latitude per sqrt(hour) of run: white sqrt(2) N / W_H, with the dead time
+/// sqrt(2) (N + 0.664 B sqrt(d)) / W_H (k = sqrt 2: one gyro, unknown bias, >= 3 positions).
+struct sensor_implications {
+  double dead_s = 0.0, lat_deg = 0.0;  ///< what they were computed for
+  double corner_tau_s = 0.0;           ///< tau_c (s); 0 without a flicker term
+  double dwell_s = 0.0;                ///< tau* = sqrt(d tau_c) (s); 0 without a flicker term
+  double sigma_dps_rth = 0.0;  ///< the flip run's error (N + 0.664 B sqrt d) x sqrt(1 h / T)
+  double heading_white_deg_rth = 0.0;      ///< deg x sqrt(h / T)
+  double heading_dead_time_deg_rth = 0.0;  ///< deg x sqrt(h / T)
+};
+[[nodiscard]] sensor_implications implications_of(const sensor::sensor_params& p, double dead_s,
+                                                  double lat_deg);
+
 /// The figure of the plan: the predicted error against the dwell (log-log; the heading's in deg
 /// for a heading plan), the planned dwell and the paper's dwell marked.
 [[nodiscard]] report::figure plan_figure(const plan_result& r);
