@@ -91,7 +91,8 @@ void setup_heading(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand(
       "heading",
       "North finding: the azimuth of the sensitive axis at the table's 0 deg from indexed runs "
-      "about a vertical table axis (>= 3 positions), with its 1 sigma and the white-noise limit");
+      "about a vertical table axis (>= 3 positions; 0/180 with the scale factor known: up to its "
+      "sign), with its 1 sigma and the white-noise limit");
   auto o = bind<heading_options>(sub, chosen, run_heading);
   sub->add_option("runs", o->runs, "one recording, or two with the rig's base turned between")
       ->required();
@@ -105,6 +106,11 @@ void setup_heading(CLI::App& app, action& chosen) {
                   "second (default: from the recordings' azimuths)");
   sub->add_option("--sensor", o->sensor,
                   "adxrs150|hz1-90-100a|FILE.toml: print its dead-time bound beside the limit");
+  sub->add_option("--harmonics", o->harmonics,
+                  "1, or 2: fit the second harmonic too (>= 5 positions; docs/NORTH.md says "
+                  "when it is warranted)")
+      ->check(CLI::IsMember({1, 2}))
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
