@@ -4,8 +4,10 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -185,4 +187,36 @@ TEST(CliHeading, TwoHarmonicsKeepASecondHarmonicOutOfTheHeading) {
   for (const auto& c : j2.at("caveats"))
     said = said || c.get<std::string>().find("is significant") != std::string::npos;
   EXPECT_TRUE(said);
+}
+
+// `report` on a four-position run about the vertical with the latitude given: one dwell series per
+// position, and a north-finding section whose numbers are `heading`'s (summary.json
+// north_finding). (A run about the horizontal axis gets none: the page tests' golden structure.)
+TEST(CliHeading, ReportHasAHeadingSectionAndOneSeriesPerPosition) {
+  const gyroflip::test::temp_dir dir;
+  const auto north = dir.file("north.csv");
+  ASSERT_EQ(
+      run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "600", "--table-axis", "up",
+               "--azimuth", "30", "--positions", "0,90,180,270", "--seed", "5", "-o", north})
+          .exit_code,
+      0);
+  const auto out = dir.file("rep");
+  const auto r = run_cli({"report", north, "--latitude", "42.6", "--axis", "north", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (int k = 1; k <= 4; ++k)
+    EXPECT_TRUE(std::filesystem::exists(out + "/figures/run1_dwells_" + std::to_string(k) + ".dat"))
+        << k;
+  std::ifstream sf(out + "/summary.json");
+  const auto sj = nlohmann::json::parse(sf);
+  ASSERT_TRUE(sj.contains("north_finding"));
+  const auto h =
+      nlohmann::json::parse(run_cli({"heading", north, "--latitude", "42.6", "--json"}).out);
+  EXPECT_DOUBLE_EQ(sj["north_finding"][0]["heading_deg"].get<double>(),
+                   h["heading_deg"].get<double>());
+  EXPECT_DOUBLE_EQ(sj["north_finding"][0]["sigma_deg"].get<double>(), h["sigma_deg"].get<double>());
+  std::ifstream page(out + "/index.html");
+  std::stringstream buf;
+  buf << page.rdbuf();
+  const std::string html = buf.str();
+  EXPECT_NE(html.find("north finding"), std::string::npos);
 }
