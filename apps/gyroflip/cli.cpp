@@ -91,7 +91,8 @@ void setup_heading(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand(
       "heading",
       "North finding: the azimuth of the sensitive axis at the table's 0 deg from indexed runs "
-      "about a vertical table axis (>= 3 positions), with its 1 sigma and the white-noise limit");
+      "about a vertical table axis (>= 3 positions; 0/180 with the scale factor known: up to its "
+      "sign), with its 1 sigma and the white-noise limit");
   auto o = bind<heading_options>(sub, chosen, run_heading);
   sub->add_option("runs", o->runs, "one recording, or two with the rig's base turned between")
       ->required();
@@ -105,6 +106,11 @@ void setup_heading(CLI::App& app, action& chosen) {
                   "second (default: from the recordings' azimuths)");
   sub->add_option("--sensor", o->sensor,
                   "adxrs150|hz1-90-100a|FILE.toml: print its dead-time bound beside the limit");
+  sub->add_option("--harmonics", o->harmonics,
+                  "1, or 2: fit the second harmonic too (>= 5 positions; docs/NORTH.md says "
+                  "when it is warranted)")
+      ->check(CLI::IsMember({1, 2}))
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
@@ -307,6 +313,13 @@ void setup_export(CLI::App& app, action& chosen) {
 void setup_sensors(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand("sensors", "List sensor presets with parameters, units, sources");
   auto o = bind<sensors_options>(sub, chosen, run_sensors);
+  sub->add_option("--dead-time", o->dead_s,
+                  "the dead time per turn (s) for the implied best dwell sqrt(d tau_c)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sub->add_option("--latitude", o->lat_deg, "the latitude (deg) for the implied heading limit")
+      ->check(CLI::Range(-85.0, 85.0))
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
@@ -576,6 +589,14 @@ void setup_plan(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_option("--max-dwell", o->max_dwell_s,
                   "longest dwell considered (s; default a quarter of the run)");
+  sub->add_option("--positions", o->positions,
+                  "the table positions A,B,... (deg, 2 to 8; three or more: an indexed run in the "
+                  "drift-cancelling sweep, planned for the first harmonic's error)");
+  sub->add_flag("--heading", o->heading,
+                "plan for north finding: the dwell that minimises the heading's error (positions "
+                "default 0,90,180,270; needs --latitude)");
+  sub->add_option("--latitude", o->lat_deg, "with --heading: the site's latitude (deg)");
+  sub->add_option("--plot", o->plot, "FILE.png|.svg|.pdf: the predicted error against the dwell");
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 

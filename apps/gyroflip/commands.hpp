@@ -39,6 +39,7 @@ struct heading_options {
   std::string table_axis;               // up|down; empty: the recordings' own, else up
   std::optional<double> base_turn_deg;  // two runs: the base's turn between them
   std::string sensor;                   // for the dead-time bound
+  int harmonics = 1;                    // 1 or 2
   bool json = false;
 };
 int run_heading(const heading_options& o);

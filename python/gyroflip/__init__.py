@@ -730,7 +730,9 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
 
 
 def simulate(sensor, duration_s=3600.0, seed=1, latitude=42.6, axis="north", n_avg=256,
-             settle_s=0.08, temp=None, rate="0", power_on_before_s=0.0, flip=True):
+             settle_s=0.08, temp=None, rate="0", power_on_before_s=0.0, flip=True,
+             positions=(0.0, 180.0), order="auto", azimuth=None, table_axis=None, tilt_mrad=0.0,
+             tilt_azimuth=0.0):
     """Simulates the rig (as `gyroflip simulate`): the sensor on the stepper turntable, read by
     the AD7739, flipped 0/180 deg, one row per dwell (n_avg conversions averaged).
 
@@ -738,12 +740,21 @@ def simulate(sensor, duration_s=3600.0, seed=1, latitude=42.6, axis="north", n_a
     temp: degC as a number, or a profile spec ("ramp:20:4:9000", ...); default the preset's
       reference temperature. rate: the input-rate profile spec ("0", "0.25", "step:...").
     power_on_before_s: sensor on this long before t = 0 (0: a cold start, warm-up drift).
+    As `simulate`'s options of the same names (issue 33): positions: the table's angles (2 to 8,
+    deg, whole steps); order: "auto" (two: A, B; more: the sweep), "sweep" or "cycle";
+    azimuth: the sensitive axis's azimuth at the table's 0 deg (deg from north, clockwise;
+    instead of axis; north finding: table_axis="up"); table_axis: the turntable's axis (None: the
+    horizontal default); tilt_mrad, tilt_azimuth: the table axis's lean and its direction.
     Returns a dict of arrays time_s, angle_deg, rate_dps, temp_c, n_avg and the truth
     bias_dps, g_term_dps, earth_dps, input_dps (as seen at each row's orientation); and
     delta_n_truth_dps (Earth + g-term at 0 deg at the start temperature) and sensor."""
     return _gyroflip._simulate(str(sensor), float(duration_s), int(seed), float(latitude), str(axis),
                                int(n_avg), float(settle_s), None if temp is None else str(temp),
-                               str(rate), float(power_on_before_s), bool(flip))
+                               str(rate), float(power_on_before_s), bool(flip),
+                               [float(a) for a in positions], str(order),
+                               None if azimuth is None else float(azimuth),
+                               "" if table_axis is None else str(table_axis), float(tilt_mrad),
+                               float(tilt_azimuth))
 
 
 def read_recording(path, angle_tolerance_deg=0.0):
@@ -764,7 +775,7 @@ def _call_text(name, args, kwargs):
 
 
 def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration=3600.0,
-         min_dwell=0.01, max_dwell=None):
+         min_dwell=0.01, max_dwell=None, positions=None, heading=False, latitude=None):
     """The dwell and flip period that minimise a run's error for a dead time (as `gyroflip plan`).
 
     dead_time: seconds lost per turn (turn + settle). The noise comes from either `sensor` (a
@@ -773,16 +784,24 @@ def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration
     the taus from `min_dwell` on is used. duration: the run's length (s). Returns a dict with the
     keys of `gyroflip plan --json`: dwell_s, period_s, predicted_sigma_dps,
     sigma_without_dead_time_dps, conversions_per_dwell, closed_form, reference_dwell (the
-    paper's 0.512 s), by_dwell and by_duration (lists of points), notes. docs/PLANNER.md."""
+    paper's 0.512 s), by_dwell and by_duration (lists of points), notes. docs/PLANNER.md.
+    positions: the table's angles (deg; three or more: an indexed run in the sweep, planned for
+    the first harmonic's error). heading=True with latitude (deg): plan for north finding
+    (positions default 0, 90, 180, 270); the dict then has "heading" (predicted_sigma_deg,
+    sigma_deg_rth, white_limit_deg, by_dwell, by_duration), as `plan --heading --latitude`."""
     data = None if static is None else _samples(static, "static")[0]
     if data is not None:
         rate = _positive_rate(rate)
+    if bool(heading) != (latitude is not None):
+        raise ValueError("plan: heading=True and latitude go together")
     return _gyroflip._plan(sensor, data, None if rate is None else float(rate), str(units),
                            float(dead_time), float(duration), float(min_dwell),
-                           0.0 if max_dwell is None else float(max_dwell))
+                           0.0 if max_dwell is None else float(max_dwell),
+                           [] if positions is None else [float(a) for a in positions],
+                           float(latitude) if heading else None)
 
 
-def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None):
+def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None, harmonics=1):
     """North finding (as `gyroflip heading`): the azimuth (deg from north, clockwise) of the
     sensitive axis at the table's 0 deg from indexed runs about a vertical table axis (>= 3
     positions; docs/NORTH.md), with its 1 sigma from the data's own noise.
@@ -793,11 +812,13 @@ def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None):
     base_turn: two runs: the base's clockwise turn (deg) from the first to the second (default:
       from the recordings' azimuths). sensor: a preset or TOML file for the dead-time bound.
     Returns the dict of `gyroflip heading --json`: heading_deg, sigma_deg, limit_deg,
-    ratio_to_limit, arw_dps_rthz, scheme, dead_time_bound_deg, runs, caveats, ..."""
+    ratio_to_limit, arw_dps_rthz, scheme, dead_time_bound_deg, runs, caveats, ...
+    A 0/180 run (scale factor known): the heading up to its sign (heading_mirror_deg,
+    ambiguous). harmonics=2 also fits the second harmonic (>= 5 positions; docs/NORTH.md)."""
     paths = _paths_arg("runs", runs)
     return _gyroflip._heading(paths, float(latitude), None if table_axis is None else str(table_axis),
                               None if base_turn is None else float(base_turn),
-                              None if sensor is None else str(sensor))
+                              None if sensor is None else str(sensor), int(harmonics))
 
 
 def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba",

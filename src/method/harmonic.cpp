@@ -91,33 +91,49 @@ result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
   if (options.harmonics != 1 && options.harmonics != 2)
     return usage_error("one or two harmonics are fitted");
   const std::size_t n_h = static_cast<std::size_t>(options.harmonics);
-  const std::size_t need = 2 * n_h + 1;
+  const bool projection = options.projection_of_two && table.size() == 2 && n_h == 1;
+  if (projection &&
+      std::abs(angle_between_deg(table.angle_deg(0), table.angle_deg(1)) - 180.0) > 1e-6)
+    return runtime_error(fmt::format(
+        "two positions give the Earth rate's projection only when 180 deg apart; the table "
+        "has {}",
+        table.describe()));
+  const std::size_t need = projection ? 2 : 2 * n_h + 1;
   if (table.size() < need)
     return runtime_error(
         fmt::format("{} harmonic{} need at least {} table positions; the run has {} ({})", n_h,
                     n_h == 1 ? "" : "s", need, table.size(), table.describe()));
-  const std::size_t period = period_of(dwells);
+  std::size_t period = period_of(dwells);
   if (period == 0)
     return runtime_error(
         "the dwells' positions do not repeat with a period of 2 to 16 dwells: not an indexed "
         "run");
-  // The block's design: bias, slope, then the harmonics (cols = 2 + 2 n_h).
-  const std::size_t cols = 2 + 2 * n_h;
+  // The block's design: bias, slope, then the harmonics (cols = 2 + 2 n_h; the projection: 3).
+  const std::size_t cols = projection ? 3 : 2 + 2 * n_h;
+  // A projection's block spans whole periods up to a residual degree of freedom (A B A B).
+  const std::size_t visit_period = period;
+  if (projection)
+    while (period < cols + 1) period += visit_period;
   if (period < cols)
     return runtime_error(
         fmt::format("a visiting period of {} dwells cannot separate {} terms "
                     "and the bias's slope",
                     period, cols - 1));
+  if (dwells.size() < period)
+    return runtime_error(
+        fmt::format("{} dwells: fewer than one block of {}", dwells.size(), period));
   std::vector<std::array<double, 4>> trig(period);  // cos, sin, cos 2, sin 2 of each slot
   for (std::size_t k = 0; k < period; ++k) {
     const int p = dwells[k].position;
     if (!table.holds(p))
       return runtime_error(fmt::format("dwell {}: position {} is not in the table", k, p));
-    const double a = table.angle_deg(p) * units::rad_per_deg;
+    const double a =
+        (table.angle_deg(p) - (projection ? table.angle_deg(0) : 0.0)) * units::rad_per_deg;
     trig[k] = {std::cos(a), std::sin(a), std::cos(2.0 * a), std::sin(2.0 * a)};
   }
   harmonic_fit fit;
   fit.names = {"b", "c1", "s1"};
+  if (projection) fit.names = {"b", "p1"};
   if (n_h == 2) fit.names.insert(fit.names.end(), {"c2", "s2"});
   fit.period = period;
   const std::size_t n_terms = fit.names.size();
@@ -143,10 +159,11 @@ result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
       double* row = &design[k * cols];
       row[0] = 1.0;
       row[1] = (b[k].time_s - t_mean) / t_span;  // scaled: the solver equilibrates anyway
-      for (std::size_t h = 0; h < n_h; ++h) {
+      for (std::size_t h = 0; h < n_h && !projection; ++h) {
         row[2 + 2 * h] = trig[k][2 * h];
         row[3 + 2 * h] = trig[k][2 * h + 1];
       }
+      if (projection) row[2] = trig[k][0];
       y[k] = b[k].rate_dps;
       w[k] = 1.0;  // equal dwells: ordinary least squares
     }
@@ -220,6 +237,29 @@ heading_estimate heading_of(double c1, double s1, double var_c1, double var_s1, 
   // d psi = (c1 ds1 - s1 dc1) / a2
   const double var = (s1 * s1 * var_c1 + c1 * c1 * var_s1 - 2.0 * c1 * s1 * cov_c1_s1) / (a2 * a2);
   h.sigma_deg = std::sqrt(std::max(var, 0.0)) / units::rad_per_deg;
+  return h;
+}
+
+projection_heading heading_of_projection(double p1, double var_p1, double earth_horizontal_dps,
+                                         double axis_angle_deg, bool table_axis_up) {
+  projection_heading h;
+  const double x = p1 / earth_horizontal_dps;
+  const double sx = std::sqrt(std::max(var_p1, 0.0)) / earth_horizontal_dps;
+  h.cos_value = x;
+  const double a = std::acos(std::clamp(x, -1.0, 1.0)) / units::rad_per_deg;  // [0, 180]
+  const auto wrap = [](double v) {
+    v = std::fmod(v, 360.0);
+    if (v < 0.0) v += 360.0;
+    return v >= 360.0 ? 0.0 : v;
+  };
+  const double base = table_axis_up ? axis_angle_deg : -axis_angle_deg;
+  h.heading_deg = wrap(base + a);
+  h.mirror_deg = wrap(base - a);
+  h.at_edge = std::abs(x) > 1.0 - sx;
+  if (h.at_edge)
+    h.sigma_deg = std::acos(std::max(-1.0, 1.0 - sx)) / units::rad_per_deg;
+  else
+    h.sigma_deg = sx / std::sqrt(1.0 - x * x) / units::rad_per_deg;
   return h;
 }
 

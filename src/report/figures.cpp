@@ -63,13 +63,27 @@ figure dwell_figure(std::span<const method::dwell> dwells, const std::string& ti
     return fmt::format("at {}°", table.holds(p) ? table.angle_deg(p) : 0.0);
   };
   series a = points_of(at(pair.plus), 0), b = points_of(at(pair.minus), 1);
+  // A table of more positions (issue 33): one series per position, the pair's first in their
+  // colours, then the others in the table's order (a 0/180 table draws exactly the pair).
+  std::vector<series> others;
+  std::vector<int> other_index;
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    const int p = static_cast<int>(i);
+    if (p == pair.plus || p == pair.minus) continue;
+    others.push_back(points_of(at(p), static_cast<int>(2 + others.size())));
+    other_index.push_back(p);
+  }
   for (const auto& d : dwells) {
-    if (!pair.holds(d.position)) continue;
-    auto& s = d.position == pair.plus ? a : b;
-    s.x.push_back(d.time_s);
-    s.y.push_back(d.rate_dps);
+    series* s = d.position == pair.plus ? &a : d.position == pair.minus ? &b : nullptr;
+    for (std::size_t i = 0; s == nullptr && i < other_index.size(); ++i)
+      if (other_index[i] == d.position) s = &others[i];
+    if (s == nullptr) continue;
+    s->x.push_back(d.time_s);
+    s->y.push_back(d.rate_dps);
   }
   f.data = {a, b};
+  for (auto& o : others)
+    if (!o.x.empty()) f.data.push_back(std::move(o));
   return f;
 }
 

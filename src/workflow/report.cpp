@@ -29,16 +29,19 @@
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
 #include "gyroflip/method/demodulator.hpp"
+#include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/figures.hpp"
 #include "gyroflip/report/folder.hpp"
 #include "gyroflip/report/page.hpp"
 #include "gyroflip/rig/simulator.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/analyse.hpp"
 #include "gyroflip/workflow/budget.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/compensate.hpp"
+#include "gyroflip/workflow/heading.hpp"
 
 namespace gyroflip::workflow {
 
@@ -946,6 +949,62 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
 
 }  // namespace
 
+namespace {
+
+// The dwells at every position of a run of more than two (recording_run keeps the pair's), for
+// its dwell figure's one series per position; the pair's when the file cannot be read again.
+std::vector<method::dwell> all_dwells(const recording_run& run) {
+  auto rec = rigdata::read_recording_rows(run.file);
+  if (!rec) return run.dwells;
+  std::vector<method::dwell> out;
+  for (const auto& d : method::indexed_dwells(rec->rows))
+    out.push_back(
+        {d.position, d.time_s, d.rate_dps, method::no_value, static_cast<std::uint64_t>(d.weight)});
+  return out;
+}
+
+// North finding (issue 33, docs/NORTH.md): a run whose recording says its table turns about
+// the vertical (`# table_axis: up|down`), indexed at three or more positions or 0/180, with the
+// latitude known, gets a section with its heading (workflow::find_heading, the numbers
+// `gyroflip heading` prints). Other runs, or a run the heading refuses, get none.
+std::optional<std::pair<report::section, json>> heading_section(
+    const recording_run& run, std::size_t k, const std::optional<io::calibration_geometry>& geo) {
+  const std::string axis = metadata_value(run.metadata, "table_axis");
+  if (!geo || (axis != "up" && axis != "down") || run.positions.size() < 2) return std::nullopt;
+  heading_request q;
+  q.runs = {run.file};
+  q.lat_deg = geo->lat_deg;
+  auto h = find_heading(q);
+  if (!h) return std::nullopt;
+  report::section s;
+  s.heading = fmt::format("Run {}: north finding", k + 1);
+  s.paragraphs.push_back(fmt::format(
+      "The azimuth of the sensitive axis at the table's 0°, from north, clockwise, from the "
+      "first harmonic of the dwell means about the vertical table axis at {:g}° latitude "
+      "(docs/NORTH.md): {:.2f}° ± {:.2f}° (1σ from the data's own noise){}.",
+      geo->lat_deg, h->heading_deg, h->sigma_deg,
+      h->ambiguous
+          ? fmt::format(", or its mirror {:.2f}° (0/180 gives it up to its sign)", h->mirror_deg)
+          : std::string()));
+  report::table t;
+  t.caption = "Heading";
+  t.header = {"scheme",    "heading (°)",
+              "1σ (°)",    "white-noise limit (°)",
+              "σ / limit", "first harmonic / Ω_E cos φ"};
+  t.rows.push_back({h->scheme, fmt::format("{:.2f}", h->heading_deg),
+                    fmt::format("{:.2f}", h->sigma_deg),
+                    h->limit_deg > 0.0 ? fmt::format("{:.2f}", h->limit_deg) : "–",
+                    h->limit_deg > 0.0 ? fmt::format("{:.2f}", h->ratio_to_limit) : "–",
+                    fmt::format("{:.3f}", h->amplitude_dps / h->earth_horizontal_dps)});
+  s.tables.push_back(std::move(t));
+  for (const auto& c : h->caveats) s.warnings.push_back(c);
+  json j = heading_json(*h);
+  j["file"] = run.file;
+  return std::pair{std::move(s), std::move(j)};
+}
+
+}  // namespace
+
 result<report_result> make_report(const report_request& r, const progress_fn& on_progress) {
   if (r.files.empty()) return usage_error("no recording to report on");
   if (r.expected_rate_dps) {
@@ -1348,6 +1407,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   page.sections.push_back(std::move(noise));
   page.sections.push_back(pairing_section(runs));
 
+  json north = json::array();  // the heading sections' numbers, for summary.json
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
     report::section s;
@@ -1369,8 +1429,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                         a.comp_noise->oadev, fitted_terms(*a.comp_noise)});
     const std::string name = a.run.file;
     for (const auto& st :
-         {add(report::dwell_figure(a.run.dwells, name + ": output at 0° and 180°", a.run.pair,
-                                   a.run.positions),
+         {add(report::dwell_figure(a.run.positions.size() > 2 ? all_dwells(a.run) : a.run.dwells,
+                                   name + (a.run.positions.size() > 2 ? ": output at each position"
+                                                                      : ": output at 0° and 180°"),
+                                   a.run.pair, a.run.positions),
               "dwells", "the paper's Figs 3/5/7/9"),
           add(report::compensated_figure(
                   a.comp.cycles, a.comp.summary,
@@ -1386,6 +1448,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                     "table")})
       if (!st) return st.err();
     page.sections.push_back(std::move(s));
+    if (auto h = heading_section(a.run, k, r.geometry)) {
+      page.sections.push_back(std::move(h->first));
+      north.push_back(std::move(h->second));
+    }
     if (on_progress) on_progress(r.files.size() + k + 1, steps);
   }
   for (const auto& s : page.sections) out.figures += s.figures.size();
@@ -1472,6 +1538,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     }
     sj["runs"].push_back(std::move(j));
   }
+  if (!north.empty()) sj["north_finding"] = std::move(north);
   if (f.model)
     sj["delta_n_model"] = {{"coeffs_dps", f.model->coeffs_dps},
                            {"t_ref_c", num(f.model->t_ref_c)},

@@ -46,6 +46,11 @@ struct indexed_dwell {
 
 struct harmonic_options {
   int harmonics = 1;  ///< 1: b, c1, s1; 2: also c2, s2
+  /// A table of two positions 180 deg apart (0/180): fit b and the projection p1 of the first
+  /// harmonic on the first position's direction, r = b + p1 cos(theta - theta_0) (names "b",
+  /// "p1"); a block then spans whole visiting periods until it has a residual degree of freedom
+  /// (A, B, A, B for the paper's cycle). Otherwise two positions are refused.
+  bool projection_of_two = false;
 };
 
 /// The fitted terms, in the order b (the blocks' mean bias), c1, s1[, c2, s2] (deg/s).
@@ -91,6 +96,24 @@ struct heading_estimate {
 };
 [[nodiscard]] heading_estimate heading_of(double c1, double s1, double var_c1, double var_s1,
                                           double cov_c1_s1, bool table_axis_up = true);
+
+/// The heading from the projection p1 = W_H cos(psi - theta_0) of a 0/180 run (table axis up;
+/// down: cos(psi + theta_0)) with the scale factor known: psi = theta_0 +- acos(p1 / W_H), the
+/// sign not known from one such run (docs/NORTH.md). `heading_deg` is the solution with
+/// psi - theta_0 in [0, 180] (up), `mirror_deg` the other. The 1 sigma by the delta method,
+/// sigma_p / (W_H |sin(psi - theta_0)|), which grows without bound towards 0 and 180 deg: within
+/// one sigma of the edge (|p1| > W_H - sigma_p, `at_edge`) it is the angle acos(1 - sigma_p/W_H)
+/// instead.
+struct projection_heading {
+  double heading_deg = 0.0, mirror_deg = 0.0;
+  double sigma_deg = 0.0;
+  double cos_value = 0.0;  ///< p1 / W_H (may exceed 1 in magnitude with noise)
+  bool at_edge = false;
+};
+[[nodiscard]] projection_heading heading_of_projection(double p1, double var_p1,
+                                                       double earth_horizontal_dps,
+                                                       double axis_angle_deg,
+                                                       bool table_axis_up = true);
 
 /// The white-noise limit of a heading (docs/NORTH.md): sigma_psi = k N / (W_E cos(lat) sqrt(T))
 /// rad, N the angle random walk (deg/s/sqrt(Hz)), T the run (s), k = sqrt(2) for one gyro whose

@@ -25,7 +25,8 @@
 namespace gyroflip::report {
 
 /// Dwell means (deg/s) at the two positions of `pair` (0 deg and 180 deg; their angles from
-/// `table`) against time (s): paper Figs 3, 5, 7, 9.
+/// `table`) against time (s): paper Figs 3, 5, 7, 9. A table of more positions: one series per
+/// position (the pair's first, then the others in the table's order).
 [[nodiscard]] figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title,
                                   const method::flip_pair& pair = {},
                                   const position_table& table = position_table::pair_0_180());
