@@ -89,24 +89,13 @@ result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, 
           "{}: its run {} is marked stationary, but its own statistics fail the test (the file "
           "was edited?): judged from the statistics",
           dn.source, e.file));
-    if (!st.failed()) {
-      // A run whose g-term was not checked passed tests that a constant input rate passes too
-      // (third review of issue 31, H2): said, and refused when strict, as calibrate does.
-      for (const auto& c : st.caveats()) {
-        if (strict)
-          return input_error({dn.source}, fmt::format("its run {}: {}; refused (strict): a strict "
-                                                      "compensation needs the g-term checked",
-                                                      e.file, c));
-        out.warnings.push_back(fmt::format("{}: its run {}: {}", dn.source, e.file, c));
-      }
-      continue;
-    }
-    if (strict)
-      return input_error({dn.source}, fmt::format("its run {}; refused (strict)",
-                                                  stationarity_warning(e.file, st)));
-    out.failed.push_back(e.file);
-    out.warnings.push_back(
-        fmt::format("{}: its run {}", dn.source, stationarity_warning(e.file, st)));
+    // The one verdict on a run (judge_run, as calibrate's and report's): a failed run makes the
+    // ΔN not the sensor's; a run whose g-term was not checked passed tests that a constant input
+    // rate passes too (third review of issue 31, H2).
+    auto standing = judge_run({e.file, dn.source, "compensation", {}}, st, strict, out.warnings);
+    if (!standing) return standing.err();
+    if (*standing == run_standing::failed) out.failed.push_back(e.file);
+    if (*standing == run_standing::g_unchecked) out.g_unchecked.push_back(e.file);
   }
   if (out.unchecked)
     out.warnings.push_back(fmt::format(

@@ -411,28 +411,36 @@ struct findings {
   /// Runs that failed the stationarity test: the report's own calibration runs, or the runs a
   /// given calibration names (what calibrate recorded of them).
   std::vector<std::string> not_stationary;
+  /// Runs that passed with their g-term not checked (no sensor specification): a constant input
+  /// of any size passes the test, so their ΔN is not vouched for (third review of issue 31, H1).
+  std::vector<std::string> not_vouched;
   /// A given calibration written before the test (its runs not checked).
   bool calibration_unchecked = false;
 };
 
+// The runs' names, "a, b and c".
+std::string names_of(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t k = 0; k < names.size(); ++k)
+    out += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];
+  return out;
+}
+
 // The calibration runs' warnings: a run that was not stationary or not isothermal (the library's
 // one test, as calibrate makes it: method::check_stationarity).
-void check_stationary(const report_request& r, const std::vector<run_analysis>& runs, findings& f,
+void check_stationary(const report_request& r, const sensor::preset* spec,
+                      const std::vector<run_analysis>& runs, findings& f,
                       std::vector<io::calibration_entry>& entries) {
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
-    const auto st =
-        method::check_stationarity(a.run.cycles(a.pairing), a.cal,
-                                   stationarity_inputs_of(a.pairing, f.id.builtin, r.geometry));
+    const auto st = method::check_stationarity(a.run.cycles(a.pairing), a.cal,
+                                               stationarity_inputs_of(a.pairing, spec, r.geometry));
     entries[k].stationarity = st;
-    // A g-term nothing checked (no specification): said as calibrate says it (issue 31 review).
-    for (auto c : st.caveats()) {
-      if (!r.sensor_hint.empty()) c += ": " + r.sensor_hint;
-      f.warnings.push_back(fmt::format("{}: {}", a.run.file, c));
-    }
-    if (!st.failed()) continue;
-    f.warnings.push_back(stationarity_warning(a.run.file, st));
-    f.not_stationary.push_back(a.run.file);
+    // The one verdict calibrate and compensate give (judge_run); a report is never strict.
+    const auto standing =
+        judge_run({a.run.file, {}, "report", r.sensor_hint}, st, false, f.warnings);
+    if (standing && *standing == run_standing::failed) f.not_stationary.push_back(a.run.file);
+    if (standing && *standing == run_standing::g_unchecked) f.not_vouched.push_back(a.run.file);
   }
 }
 
@@ -453,6 +461,7 @@ void check_calibration_runs_stationary(const delta_n_source& given, findings& f)
   if (!runs) return;
   f.calibration_unchecked = runs->unchecked;
   for (auto& n : runs->failed) f.not_stationary.push_back(std::move(n));
+  for (auto& n : runs->g_unchecked) f.not_vouched.push_back(std::move(n));
   for (auto& w : runs->warnings) f.warnings.push_back(std::move(w));
 }
 
@@ -607,6 +616,8 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
 // "±u °/s" of a new power-up's ΔN, or why there is none.
 std::string power_up_text(const delta_n_budget& b) {
   if (!b.valid) return b.invalid_why;
+  if (!std::isfinite(b.new_power_up_dps))
+    return "no ± known (its run-to-run repeatability is " + b.run_to_run_source + ")";
   return fmt::format("±{} °/s{}", g(b.new_power_up_dps, 2),
                      b.outside_c > 0.0 ? ", its temperature term included" : "");
 }
@@ -791,7 +802,20 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     }
     // A run that was not stationary gives no ΔN of the sensor (issue 31): the numbers are said
     // as what they are, never headlined.
-    out = failed.empty()
+    out = !failed.empty() ? fmt::format(
+                                "These runs give no ΔN of this {}: {} failed the stationarity test "
+                                "(warnings below), so their mean r, {}, is not the sensor's ΔN. "
+                                "Calibrate again with the table at rest.",
+                                sensor, failed, value)
+          : !f.not_vouched.empty()
+              ? fmt::format(
+                    "Not vouched for: g-term not checked. {} passed the stationarity test with "
+                    "{} g-term not checked (no sensor specification): a constant input rate of "
+                    "any size (a turning or tilted table) passes it and enters ΔN whole, so {} "
+                    "mean r, {}, is this {}'s ΔN only if the table was at rest.",
+                    names_of(f.not_vouched), f.not_vouched.size() == 1 ? "its" : "their",
+                    runs.size() == 1 ? "its" : "their", value, sensor)
+          : failed.empty()
               ? fmt::format("ΔN of this {} is {}.", sensor, value)
               : fmt::format(
                     "These runs give no ΔN of this {}: {} failed the stationarity test "
@@ -810,7 +834,11 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     if (failed.empty()) {
       const auto t = runs_temps(runs);
       out += " " + when_to_recalibrate(b, t.known() ? t.text() : std::string());
-      if (!r.next_step.empty()) out += " " + r.next_step;
+      // Not vouched for: the next step is the check (as calibrate's, review M6).
+      if (!f.not_vouched.empty() && !r.sensor_hint.empty())
+        out += " Next: check the g-term: " + r.sensor_hint + ".";
+      else if (!r.next_step.empty())
+        out += " " + r.next_step;
     }
     out += fmt::format(
         " With ΔN removed, the rate's per-cycle standard deviation is up to {} °/s (a std, not "
@@ -828,6 +856,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           "(warnings below), so the ΔN applied, and every rate below, is off by an amount no "
           "± here covers. ",
           f.given->source, f.not_stationary.size() == 1 ? "" : "s", failed);
+    else if (!f.not_vouched.empty())
+      out = fmt::format(
+          "Not vouched for: g-term not checked. The calibration {}'s run{} {} passed the "
+          "stationarity test with {} g-term not checked (no sensor specification): a constant "
+          "input rate of any size (a turning or tilted table) passes it and enters ΔN whole, so "
+          "the ΔN applied, and every rate below, is right only if its table was at rest. ",
+          f.given->source, f.not_vouched.size() == 1 ? "" : "s", names_of(f.not_vouched),
+          f.not_vouched.size() == 1 ? "its" : "their");
     else if (f.calibration_unchecked)
       out = fmt::format(
           "The calibration {} was written before gyroflip tested its runs for stationarity: "
@@ -851,14 +887,19 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                                   b.invalid_why));
       out += ".";
     }
-    out += b.valid ? fmt::format(
-                         " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
-                         "not reduce it.",
-                         g(b.new_power_up_dps, 2))
-                   : fmt::format(
-                         " The ΔN applied has no ± here ({}); its error is common to "
-                         "every cycle: averaging longer does not reduce it.",
-                         b.invalid_why);
+    out += b.valid && !std::isfinite(b.new_power_up_dps)
+               ? std::string(
+                     " The ΔN applied has no ± here (its run-to-run repeatability is not "
+                     "known); its error is common to every cycle: averaging longer does "
+                     "not reduce it.")
+           : b.valid ? fmt::format(
+                           " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
+                           "not reduce it.",
+                           g(b.new_power_up_dps, 2))
+                     : fmt::format(
+                           " The ΔN applied has no ± here ({}); its error is common to "
+                           "every cycle: averaging longer does not reduce it.",
+                           b.invalid_why);
   }
   // The noise, as the noise table prints it: the same term (B) of both series of the first run.
   out += noise_sentence(runs.front());
@@ -1000,6 +1041,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (on_progress) on_progress(k + 1, steps);
   }
   f.id = identify(runs);
+  // The specification the runs' g-term is checked against: the sensor given, else the
+  // recordings' built-in preset by name (as calibrate's).
+  const sensor::preset* g_preset = r.sensor ? &*r.sensor : f.id.builtin;
 
   // The dN: each calibration run compensated with its own dN (residuals about zero; their mean
   // says nothing); the runs' model (a weighted mean at one temperature, dN(T) over a span). With
@@ -1012,15 +1056,15 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     check_calibration_temperature(runs, f);
     check_calibration_runs_stationary(*f.given, f);
   } else {
-    check_stationary(r, runs, f, entries);
+    check_stationary(r, g_preset, runs, f, entries);
     auto m = method::fit_runs_model(calibrations_of(entries));
     if (!m) return m.err();
     f.runs_model = *m;
     if (f.runs_model && f.runs_model->degree() > 0) f.model = f.runs_model;
     if (f.runs_model && f.runs_model->degree() == 0)
       f.pooled = std::pair{f.runs_model->coeffs_dps[0], f.runs_model->interval_at(0.0)};
-    f.budget = budget_of(entries, f.runs_model, f.id.builtin ? &f.id.builtin->params : nullptr,
-                         f.id.preset);
+    f.budget = budget_of(entries, f.runs_model, g_preset ? &g_preset->params : nullptr,
+                         g_preset ? g_preset->name : f.id.preset);
     check_runs_agree(f);
   }
   // Runs that failed the stationarity test give no ΔN of the sensor, so no ± covers what it is

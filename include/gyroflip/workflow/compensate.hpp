@@ -61,9 +61,10 @@ struct compensation {
 
 /// The runs a calibration was made of, as `calibrate` tested them (schema 3).
 struct calibration_runs_check {
-  std::vector<std::string> failed;    ///< runs that failed the stationarity test
-  bool unchecked = false;             ///< some run has no test (a file written before it)
-  std::vector<std::string> warnings;  ///< one per failed run, one for unchecked runs
+  std::vector<std::string> failed;       ///< runs that failed the stationarity test
+  std::vector<std::string> g_unchecked;  ///< runs that passed with their g-term not checked
+  bool unchecked = false;                ///< some run has no test (a file written before it)
+  std::vector<std::string> warnings;     ///< one per failed run, one for unchecked runs
 };
 
 /// Checks that a calibration's ΔN is the sensor's: every run it was made of passed the
