@@ -66,8 +66,10 @@ constexpr std::size_t min_cycles = 30;
 // R12): 3 x the tolerance is already outside any unit's specification.
 constexpr double sf_beyond_spec = 3.0;
 
+// `v` to `digits` significant digits, trailing zeros kept (an error "0.0010", not "0.001": third
+// review of issue 31, H4), as calibrate prints them.
 std::string g(double v, int digits = 4) {
-  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
+  return std::isfinite(v) ? significant(v, digits) : std::string("–");
 }
 
 json num(double v) {
@@ -381,20 +383,13 @@ std::pair<double, double> applied_range(const compensation& c) {
   return {lo, hi};
 }
 
-// `v` with the decimals its uncertainty `u` supports (value_pm's rule), without the ±; six
-// significant digits without a usable u.
-std::string to_decimals_of(double v, double u) {
-  if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
-  return digits_of_error(v, u).first;
-}
-
 // The ΔN applied to a run, with the digits the ΔN's uncertainty `u_dps` supports (issue 31:
 // "0.00326975" at a temperature where no run was taken).
 std::string applied_text(const compensation& c, double u_dps) {
   const auto [lo, hi] = applied_range(c);
   return hi - lo <= 1e-12 * std::max(1.0, std::abs(hi))
-             ? to_decimals_of(lo, u_dps)
-             : fmt::format("{}…{}", to_decimals_of(lo, u_dps), to_decimals_of(hi, u_dps));
+             ? to_digits_of(lo, u_dps, 6)
+             : fmt::format("{}…{}", to_digits_of(lo, u_dps, 6), to_digits_of(hi, u_dps, 6));
 }
 
 // Everything the page and summary.json say, computed once.
@@ -773,10 +768,12 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const auto c0 = coefficient_of(m, 0, b), c1 = coefficient_of(m, 1, b);
       // With degrees of freedom: the error at the temperature named (the table's c_0) and the
       // largest over the runs' temperatures (the budget's), review R4.
+      const bool c0_error = std::isfinite(c0.interval) && c0.interval > 0.0;
       value = dof == 0
-                  ? fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
-                                c0.value, g(c0.interval, 2), m.t_ref_c, runs.size(), m.temp_min_c,
-                                m.temp_max_c)
+                  ? fmt::format("{}{} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C{})",
+                                c0.value, c0_error ? " ± " + g(c0.interval, 2) : std::string(),
+                                m.t_ref_c, runs.size(), m.temp_min_c, m.temp_max_c,
+                                c0_error ? "" : "; its error is not determined")
                   : fmt::format(
                         "{} ± {} °/s at {:.2f} °C, ± {} °/s anywhere in {:.1f}–{:.1f} °C (ΔN(T) "
                         "of {} runs)",
@@ -791,7 +788,7 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
         value += fmt::format(
             "; how it changes with temperature is not resolved: the slope {} ± {} °/s per °C "
             "(standard error) is below 2 standard errors",
-            c1.value, g(u, 3));
+            c1.value, g(u, 2));
       else
         value +=
             fmt::format(", changing by {} ± {} °/s per °C (68.3 %)", c1.value, g(c1.interval, 2));
@@ -1365,7 +1362,11 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                               pts, n)};
     for (std::size_t k = 0; k < n; ++k) {
       const auto c = coefficient_of(m, k, f.budget);
-      mt.rows.push_back({std::to_string(k), c.value, g(c.se, 2), g(c.interval, 2)});
+      // No "0" error where there are no degrees of freedom (third review of issue 31, M1).
+      const bool none = pts <= n && !(c.se > 0.0);
+      const std::string nd = "not determined (0 degrees of freedom)";
+      mt.rows.push_back({std::to_string(k), c.value, none ? nd : g(c.se, 2),
+                         std::isfinite(c.interval) && c.interval > 0.0 ? g(c.interval, 2) : nd});
     }
     main.tables.push_back(std::move(mt));
   }
@@ -1377,7 +1378,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   }
   if (!f.compensating && f.model && f.model->degree() > 0) {
     auto dt = report::delta_n_temperature_figure(entries, *f.model, "ΔN against temperature");
-    if (!f.budget.model_dps)
+    if (!f.budget.model_dps && f.model->interval_at(f.model->t_ref_c) > 0.0)
       dt.caption += ", 0 degrees of freedom: the band is the runs' own error only";
     auto fig = draw(dt, staging, "delta_n_temperature", "");
     if (!fig) return fig.err();

@@ -49,4 +49,15 @@ namespace gyroflip {
   return fmt::format("{:.{}f}", v, std::max(0, n - 1 - exponent));
 }
 
+/// `v` with the digits its uncertainty `u` supports (digits_of_error's rule), without the ±;
+/// without a usable `u` (not finite, or not > 0) `v` to `fallback_digits` significant digits with
+/// their trailing zeros (significant); "–" for a `v` that is not finite. The one formatter of a
+/// number printed beside, or instead of, its "± u" (third review of issue 31, H4: the report and
+/// its figures each had a copy, differing in the fallback).
+[[nodiscard]] inline std::string to_digits_of(double v, double u, int fallback_digits) {
+  if (!std::isfinite(v)) return "–";
+  if (!(std::isfinite(u) && u > 0.0)) return significant(v, fallback_digits);
+  return digits_of_error(v, u).first;
+}
+
 }  // namespace gyroflip
