@@ -12,6 +12,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/report/page.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
@@ -70,6 +71,19 @@ status check_calibration_fits(const std::string& file, const delta_n_source& dn,
         "depends on temperature (calibrate at several temperatures for a dN(T) model)",
         file, sum / static_cast<double>(n), cal.pooled.temp_c));
   return ok();
+}
+
+std::vector<std::string> same_run_warnings(const std::string& file, const std::string& sha256,
+                                           const delta_n_source& dn) {
+  std::vector<std::string> out;
+  if (!dn.record) return out;
+  for (const auto& e : dn.record->files)
+    if (e.source && e.source->sha256 == sha256)
+      out.push_back(fmt::format(
+          "{}: the same bytes as the calibration's run {} (SHA-256): its dN is part of the ΔN "
+          "applied, so its compensated mean is not an independent test of the calibration",
+          file, e.file));
+  return out;
 }
 
 result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, bool strict) {
@@ -175,6 +189,21 @@ result<compensate_result> compensate_file(const compensate_request& r,
   auto comp = compensate_cycles(rc->cycles, dn.model, r.drift_window_s, r.file);
   if (!comp) return comp.err();
   out.comp = std::move(*comp);
+  if (dn.record) {
+    auto id = report::identify_file(r.file);
+    if (!id) return id.err();
+    for (auto& w : same_run_warnings(r.file, id->sha256, dn)) out.warnings.push_back(std::move(w));
+    // The ΔN's own error at the run's mean temperature (its reference without temperatures).
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (const auto& c : rc->cycles)
+      if (std::isfinite(c.temp_c)) {
+        sum += c.temp_c;
+        ++n;
+      }
+    const double u = dn.model.interval_at(n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c);
+    if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
+  }
   if (out.comp.outside_model > 0)
     out.warnings.push_back(outside_model_warning(r.file, out.comp, dn.model));
   return out;

@@ -1124,13 +1124,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                                cal_origin.words);
     // A run compensated with a calibration made of it is not an independent test of it.
     if (k < runs.size() && f.compensating)
-      for (const auto& e : f.given->record->files)
-        if (e.source && e.source->sha256 == in->sha256)
-          f.warnings.push_back(fmt::format(
-              "{}: the same bytes as the calibration's run {} (SHA-256): its dN is part of "
-              "the ΔN applied, so its compensated mean is not an independent test of the "
-              "calibration",
-              runs[k].run.file, e.file));
+      for (auto& w : same_run_warnings(runs[k].run.file, in->sha256, *f.given))
+        f.warnings.push_back(std::move(w));
     if (k < runs.size()) entries[k].source = source_of(runs[k].run.file, runs[k].run.metadata, *in);
     page.made.inputs.push_back(std::move(*in));
   }

@@ -213,6 +213,13 @@ TEST(CliStationarity, WithoutASpecificationCalibrateWarnsAndStrictRefuses) {
       {"compensate", still, "--calibration", d.file("s.json"), "--strict", "-o", d.file("ok.csv")});
   EXPECT_EQ(vouched.exit_code, 0) << vouched.err;
   EXPECT_EQ(vouched.err.find("not checked"), std::string::npos) << vouched.err;
+  // Third review of issue 31 (M5): compensating a calibration's own run said nothing (no
+  // independent check), and only the within-run error of the mean was printed.
+  EXPECT_NE(vouched.err.find(still + ": the same bytes as the calibration's run " + still),
+            std::string::npos)
+      << vouched.err;
+  EXPECT_NE(vouched.out.find("the ΔN subtracted has its own error ±"), std::string::npos)
+      << vouched.out;
   const auto conclusion_of = [&](const std::string& dir) {
     return json::parse(read_text(d.file(dir + "/summary.json")))["conclusion"].get<std::string>();
   };
