@@ -30,10 +30,14 @@ namespace gyroflip {
 
 /// `v` and `u` > 0 each in fixed notation at the second significant digit of `u`: ("0.00327",
 /// "0.00081"), ("-1500", "3600"). The one rule of every "v ± u".
+/// A value that rounds to zero prints without its sign ("0.00000 ± 0.00098", not "-0.00000";
+/// third review of issue 31).
 [[nodiscard]] inline std::pair<std::string, std::string> digits_of_error(double v, double u) {
   const int decimals = decimals_of_error(u);
-  return {fmt::format("{:.{}f}", rounded_to_error(v, u), decimals),
-          fmt::format("{:.{}f}", rounded_to_error(u, u), decimals)};
+  std::string value = fmt::format("{:.{}f}", rounded_to_error(v, u), decimals);
+  if (value.front() == '-' && value.find_first_not_of("-0.") == std::string::npos)
+    value.erase(0, 1);
+  return {value, fmt::format("{:.{}f}", rounded_to_error(u, u), decimals)};
 }
 
 /// `v` to `n` >= 1 significant digits with its significant trailing zeros ("0.00020", not
