@@ -66,10 +66,14 @@ constexpr std::size_t min_cycles = 30;
 // R12): 3 x the tolerance is already outside any unit's specification.
 constexpr double sf_beyond_spec = 3.0;
 
-// `v` to `digits` significant digits, trailing zeros kept (an error "0.0010", not "0.001": third
-// review of issue 31, H4), as calibrate prints them.
 std::string g(double v, int digits = 4) {
-  return std::isfinite(v) ? significant(v, digits) : std::string("–");
+  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
+}
+
+// An error (or a number compared with one) to two significant digits, trailing zeros kept
+// ("0.0010", not "0.001" as {:.2g} prints: third review of issue 31, H4), as calibrate prints them.
+std::string u2(double u) {
+  return std::isfinite(u) ? significant(u, 2) : std::string("–");
 }
 
 json num(double v) {
@@ -485,7 +489,7 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
                   "{}: the calibration lists no runs: the ΔN applied carries its own stated "
                   "error ±{} °/s and, for a new power-up, the run-to-run repeatability of "
                   "the budget below",
-                  given.source, g(own_dps, 2))
+                  given.source, u2(own_dps))
             : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
                           "has no known uncertainty",
                           given.source));
@@ -613,7 +617,7 @@ std::string power_up_text(const delta_n_budget& b) {
   if (!b.valid) return b.invalid_why;
   if (!std::isfinite(b.new_power_up_dps))
     return "no ± known (its run-to-run repeatability is " + b.run_to_run_source + ")";
-  return fmt::format("±{} °/s{}", g(b.new_power_up_dps, 2),
+  return fmt::format("±{} °/s{}", u2(b.new_power_up_dps),
                      b.outside_c > 0.0 ? ", its temperature term included" : "");
 }
 
@@ -652,8 +656,8 @@ void check_commanded_rate(const run_analysis& a, double expected_dps, const rate
         "{}: the commanded {} °/s is too slow to measure a scale factor: twice the ΔN and "
         "noise uncertainty (2 × ±{} °/s, 2 σ) is {:.1f} % of it, more than the {} (a rate "
         "above {} °/s would resolve it)",
-        a.run.file, g(expected_dps, 6), g(u_dps, 2), 200.0 * u, spec->source,
-        g(2.0 * u_dps / spec->fraction, 2)));
+        a.run.file, g(expected_dps, 6), u2(u_dps), 200.0 * u, spec->source,
+        u2(2.0 * u_dps / spec->fraction)));
 }
 
 // B of the compensated rate beside the raw's when both are resolved; otherwise say that upper
@@ -716,7 +720,7 @@ std::string delta_n_in_dph(const delta_n_budget& b, const run_analysis& a) {
   return fmt::format(
       " In B's unit the ΔN error is ±{} °/h, a constant in every cycle that no averaging "
       "removes{}.",
-      g(u_dph, 2),
+      u2(u_dph),
       u_dph > b_dph ? "; it is larger than B: the calibration, not the sensor's noise, limits "
                       "the compensated mean"
                     : "");
@@ -771,14 +775,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const bool c0_error = std::isfinite(c0.interval) && c0.interval > 0.0;
       value = dof == 0
                   ? fmt::format("{}{} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C{})",
-                                c0.value, c0_error ? " ± " + g(c0.interval, 2) : std::string(),
+                                c0.value, c0_error ? " ± " + u2(c0.interval) : std::string(),
                                 m.t_ref_c, runs.size(), m.temp_min_c, m.temp_max_c,
                                 c0_error ? "" : "; its error is not determined")
                   : fmt::format(
                         "{} ± {} °/s at {:.2f} °C, ± {} °/s anywhere in {:.1f}–{:.1f} °C (ΔN(T) "
                         "of {} runs)",
-                        c0.value, g(c0.interval, 2), m.t_ref_c, g(b.calibration_dps, 2),
-                        m.temp_min_c, m.temp_max_c, runs.size());
+                        c0.value, u2(c0.interval), m.t_ref_c, u2(b.calibration_dps), m.temp_min_c,
+                        m.temp_max_c, runs.size());
       if (dof == 0)
         value += fmt::format(
             "; how it changes with temperature is not resolved: {} runs for {} coefficients "
@@ -788,10 +792,10 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
         value += fmt::format(
             "; how it changes with temperature is not resolved: the slope {} ± {} °/s per °C "
             "(standard error) is below 2 standard errors",
-            c1.value, g(u, 2));
+            c1.value, u2(u));
       else
         value +=
-            fmt::format(", changing by {} ± {} °/s per °C (68.3 %)", c1.value, g(c1.interval, 2));
+            fmt::format(", changing by {} ± {} °/s per °C (68.3 %)", c1.value, u2(c1.interval));
     } else {
       const auto& c = runs.front().cal;
       value = fmt::format("{} °/s (one run of {}, within-run error)",
@@ -892,7 +896,7 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
            : b.valid ? fmt::format(
                            " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
                            "not reduce it.",
-                           g(b.new_power_up_dps, 2))
+                           u2(b.new_power_up_dps))
                      : fmt::format(
                            " The ΔN applied has no ± here ({}); its error is common to "
                            "every cycle: averaging longer does not reduce it.",
@@ -926,10 +930,10 @@ json budget_json(const delta_n_budget& b) {
 }
 
 report::table budget_table(const delta_n_budget& b, bool compensating) {
-  const auto v = [](double x) { return std::isfinite(x) ? g(x, 2) : std::string("unknown"); };
+  const auto v = [](double x) { return std::isfinite(x) ? u2(x) : std::string("unknown"); };
   // The same in B's unit, so that a reader compares the ΔN error with the noise terms (issue 31).
   const auto h = [](double x) {
-    return std::isfinite(x) ? g(x * units::dph_per_dps, 2) : std::string("–");
+    return std::isfinite(x) ? u2(x * units::dph_per_dps) : std::string("–");
   };
   const std::string level =
       b.coverage_factor > 1.0
@@ -1101,7 +1105,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         "the run-to-run repeatability {} °/s is measured with 1 degree of freedom ({} runs for "
         "{} coefficient{}): a std of one degree of freedom is itself uncertain by about 70 %; "
         "calibrate more runs",
-        g(f.budget.run_to_run_dps, 2), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
+        u2(f.budget.run_to_run_dps), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
   if (runs.size() == 1 && !f.compensating)
     f.warnings.push_back(
         "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "
@@ -1360,8 +1364,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       // No "0" error where there are no degrees of freedom (third review of issue 31, M1).
       const bool none = pts <= n && !(c.se > 0.0);
       const std::string nd = "not determined (0 degrees of freedom)";
-      mt.rows.push_back({std::to_string(k), c.value, none ? nd : g(c.se, 2),
-                         std::isfinite(c.interval) && c.interval > 0.0 ? g(c.interval, 2) : nd});
+      mt.rows.push_back({std::to_string(k), c.value, none ? nd : u2(c.se),
+                         std::isfinite(c.interval) && c.interval > 0.0 ? u2(c.interval) : nd});
     }
     main.tables.push_back(std::move(mt));
   }
