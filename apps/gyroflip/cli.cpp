@@ -501,6 +501,9 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_option("--calibration", o->calibration,
                   "CAL.json: compensate the files with it (without: calibrate them)");
   sub->add_option("--title", o->title, "the report's title");
+  sub->add_option("--sensor", o->sensor,
+                  "sensor preset or FILE.toml whose g-sensitivity specification the stationarity "
+                  "test checks (default: the recordings' preset)");
   sub->add_option("--pairing", o->pairing, gyroflip::method::scheme_names_joined("|"))
       ->check(CLI::IsMember(gyroflip::method::scheme_names()))
       ->capture_default_str();

@@ -66,6 +66,7 @@ struct report_options {
   std::string axis;                                           // empty: not given
   std::string calibration;  // CAL.json: compensate the files (else: calibrate them)
   std::string title;
+  std::string sensor;  // --sensor NAME|FILE.toml: the specification the g-term is checked against
   std::string pairing = "abba";
   std::optional<double> expected_rate_dps;  // nullopt: not given
   std::vector<std::string> command_line;    // as typed, for the page's provenance

@@ -104,8 +104,9 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
       rc.cycles, rec.pooled,
       workflow::stationarity_inputs_of(rec.pairing, preset ? &*preset : nullptr, rec.geometry));
   std::vector<std::string> warnings;
-  check(workflow::admit_run(arrays_name, st, strict, warnings,
-                            "sensor= (a preset name or a TOML file)"));
+  (void)take(workflow::judge_run(
+      {arrays_name, {}, "calibration", "sensor= (a preset name or a TOML file)"}, st, strict,
+      warnings));
   rec.files.push_back({arrays_name, rec.pooled, std::nullopt, st});
   rec.pooled.stderr_correlated_dps =
       method::pooled_correlated_stderr(workflow::calibrations_of(rec.files));  // as the CLI

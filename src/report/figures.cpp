@@ -19,12 +19,6 @@ namespace gyroflip::report {
 
 namespace {
 
-// `v` to two significant digits of `u` (its error), as workflow::value_pm writes numbers.
-std::string to_digits_of(double v, double u) {
-  if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.4g}", v);
-  return digits_of_error(v, u).first;
-}
-
 // The flicker floor of AVAR: sigma = sqrt(2 ln 2 / pi) B (IEEE 952 Annex C; FACTS §7).
 const double floor_factor = std::sqrt(2.0 * std::numbers::ln2 / std::numbers::pi);
 
@@ -166,7 +160,7 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
   // 0.00157" for 13 runs).
   const double se = sd / std::sqrt(static_cast<double>(values.size()));
   f.caption = fmt::format("{} runs: mean {} °/s, std {} °/s", values.size(),
-                          to_digits_of(ms.mean, se), significant(sd, 2));
+                          to_digits_of(ms.mean, se, 4), significant(sd, 2));
   const double x0 = 0.5, x1 = static_cast<double>(runs.size()) + 0.5;
   series band = points_of("mean ± std", 1);
   band.how = series::style::band;
@@ -205,6 +199,7 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
   runs_band.how = series::style::band;
   const double lo = model.temp_min_c, hi = model.temp_max_c;
   const double pad = std::max(0.5, 0.05 * (hi - lo));
+  bool any_width = false;  // a line through its runs (0 degrees of freedom) has no interval
   for (int k = 0; k <= 100; ++k) {
     const double t = lo - pad + (hi - lo + 2.0 * pad) * k / 100.0;
     const double v = model.eval(t), se = model.interval_at(t), pred = model.new_run_interval_at(t);
@@ -214,6 +209,7 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
     band.y.push_back(v);
     band.y_lo.push_back(v - se);
     band.y_hi.push_back(v + se);
+    any_width = any_width || se > 0.0;
     if (std::isfinite(pred)) {
       runs_band.x.push_back(t);
       runs_band.y.push_back(v);
@@ -222,7 +218,14 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
     }
   }
   f.caption = fmt::format("ΔN(T), degree {}, about {:.1f} °C", model.degree(), model.t_ref_c);
-  if (runs_band.x.empty()) {
+  if (!any_width) {
+    // No zero-width band (third review of issue 31, M1): a line through its runs has no error.
+    f.caption += fmt::format(
+        "; the line passes through its {} runs exactly (0 degrees of freedom): no interval, no "
+        "band",
+        runs.size());
+    f.data = {fit, s};
+  } else if (runs_band.x.empty()) {
     f.caption += "; no prediction band (the runs' scatter about the line is not estimated)";
     f.data = {band, fit, s};
   } else if (std::isfinite(model.tau2_centre_dps2)) {
