@@ -100,6 +100,15 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
                                        const sensor::sensor_params* preset,
                                        const std::string& preset_name);
 
+/// A new power-up's ΔN error at `temp_c` (deg/s, 68.3 %): where `model` estimates a between-run
+/// variance that changes with temperature (tau^2(T), the band the ΔN(T) figure draws,
+/// delta_n_model::new_run_interval_at), that band at `temp_c`, with the budget's temperature
+/// term; otherwise b.new_power_up_dps (third review of issue 31, M2: the page quoted ±0.0029
+/// where its figure drew ±0.0056 at 4 °C). NaN when the budget is not valid.
+[[nodiscard]] double new_power_up_at(const delta_n_budget& b,
+                                     const std::optional<method::delta_n_model>& model,
+                                     double temp_c);
+
 /// The g-sensitivity a sensor's specification states (sensor_params g_sens_spec_max/typ, with
 /// their sources), as the stationarity test takes it; nullopt when the preset states neither.
 [[nodiscard]] std::optional<method::g_term_spec> g_term_spec_of(const sensor::preset& p);
