@@ -123,6 +123,7 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
       }
     if (std::isfinite(band_at_c) && band != b.new_power_up_dps) {
       b.new_power_up_dps = band;
+      b.new_power_up_from_band = true;
       b.run_to_run_source += fmt::format(
           "; it grows away from {:.1f} °C (a between-run variance that changes with temperature, "
           "τ²(T)): a new power-up's ΔN is within ±{} °/s at {:.1f} °C, the band of the ΔN(T) "

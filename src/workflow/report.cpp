@@ -850,8 +850,9 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
     std::string applied;
     for (std::size_t k = 0; k < runs.size(); ++k)
-      applied += fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
-                             applied_text(runs[k].comp, new_power_up_at(b, f.model, runs[k].cal.temp_c)));
+      applied +=
+          fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
+                      applied_text(runs[k].comp, new_power_up_at(b, f.model, runs[k].cal.temp_c)));
     if (!failed.empty())
       out = fmt::format(
           "The calibration {} is not the sensor's: its run{} {} failed the stationarity test "
@@ -959,11 +960,17 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
         "the error of the calibrated value"},
        {"ΔN of a new power-up", b.valid ? v(b.new_power_up_dps) : std::string("not valid"),
         b.valid ? h(b.new_power_up_dps) : std::string("–"),
-        b.valid ? fmt::format("√(calibrated² + {}²{}): what a compensated rate "
+        b.valid ? fmt::format("{}{}: what a compensated rate "
                               "carries as a systematic error (w = r − ΔN, paper eqn 12), the "
                               "same in every cycle; the number to quote",
-                              b.coverage_factor > 1.0 ? "(t × repeatability)" : "repeatability",
-                              b.outside_c > 0.0 ? " + temperature²" : "")
+                              b.new_power_up_from_band
+                                  ? "the ΔN(T) figure's band for a new run, widest at the runs' "
+                                    "temperatures (a between-run variance that changes with "
+                                    "temperature, τ²(T)"
+                                  : fmt::format("√(calibrated² + {}²", b.coverage_factor > 1.0
+                                                                           ? "(t × repeatability)"
+                                                                           : "repeatability"),
+                              b.outside_c > 0.0 ? " + temperature²)" : ")")
                 : b.invalid_why + ": no ± covers the run"}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
@@ -1082,11 +1089,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (auto s = compensate_run(a, model); !s) return s.err();
     if (a.comp.outside_model > 0)
       f.warnings.push_back(outside_model_warning(a.run.file, a.comp, *f.model));
-    f.rates.push_back(r.expected_rate_dps
-                          ? std::optional(check_rate(a.comp.summary, *r.expected_rate_dps,
-                                                     new_power_up_at(f.budget, f.model,
-                                                                     a.cal.temp_c)))
-                          : std::nullopt);
+    f.rates.push_back(r.expected_rate_dps ? std::optional(check_rate(
+                                                a.comp.summary, *r.expected_rate_dps,
+                                                new_power_up_at(f.budget, f.model, a.cal.temp_c)))
+                                          : std::nullopt);
     if (f.rates.back()) check_commanded_rate(a, *r.expected_rate_dps, *f.rates.back(), f);
   }
   if (!f.compensating && f.runs_model && !f.budget.model_dps)
@@ -1300,14 +1306,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   } else {
     main.heading = "Compensated runs";
     const auto& m = *f.model;
-    main.paragraphs.push_back(
-        fmt::format("w = r − ΔN per cycle (paper eqn 12), pairing {}, with {}: {}.",
-                    method::to_string(r.pairing), f.given->source,
-                    m.degree() == 0 ? fmt::format("ΔN = {} °/s",
-                                                  to_digits_of(m.coeffs_dps[0],
-                                                               m.interval_at(m.t_ref_c), 6))
-                                    : fmt::format("ΔN(T) of degree {} fitted over {:.1f}–{:.1f} °C",
-                                                  m.degree(), m.temp_min_c, m.temp_max_c)));
+    main.paragraphs.push_back(fmt::format(
+        "w = r − ΔN per cycle (paper eqn 12), pairing {}, with {}: {}.",
+        method::to_string(r.pairing), f.given->source,
+        m.degree() == 0
+            ? fmt::format("ΔN = {} °/s", to_digits_of(m.coeffs_dps[0], m.interval_at(m.t_ref_c), 6))
+            : fmt::format("ΔN(T) of degree {} fitted over {:.1f}–{:.1f} °C", m.degree(),
+                          m.temp_min_c, m.temp_max_c)));
     std::vector<std::string> head{"run",
                                   "T (°C)",
                                   "ΔN applied (°/s)",
@@ -1347,8 +1352,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                    s.drift_dps ? g(*s.drift_dps, 3) : "–"};
       if (f.rates[k]) {
         row.push_back(g(*r.expected_rate_dps, 6));
-        row.push_back(value_pm(f.rates[k]->error_dps,
-                               std::hypot(s.stderr_correlated_dps, power_up)));
+        row.push_back(
+            value_pm(f.rates[k]->error_dps, std::hypot(s.stderr_correlated_dps, power_up)));
         row.push_back(value_pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
       }
       per.rows.push_back(std::move(row));

@@ -156,8 +156,8 @@ TEST(CliCalibrate, PerRunNumbersCarryTheDigitsTheirErrorsSupport) {
     const auto dot = n.find('.');
     return dot == std::string::npos ? 0 : static_cast<int>(n.size() - dot - 1);
   };
-  const auto human = run_cli({"calibrate", d.file("r.csv"), "--latitude", "42.6", "--axis",
-                              "north"});
+  const auto human =
+      run_cli({"calibrate", d.file("r.csv"), "--latitude", "42.6", "--axis", "north"});
   ASSERT_EQ(human.exit_code, 0) << human.err;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(human.out, m,
@@ -173,11 +173,11 @@ TEST(CliCalibrate, PerRunNumbersCarryTheDigitsTheirErrorsSupport) {
   const auto j = json::parse(run_cli({"calibrate", d.file("r.csv"), "--json"}).out);
   const double dn = j["delta_n_dps"].get<double>();
 
-  const auto comp = run_cli({"compensate", d.file("r.csv"), "--delta-n", std::to_string(dn),
-                             "-o", d.file("out.csv")});
+  const auto comp = run_cli(
+      {"compensate", d.file("r.csv"), "--delta-n", std::to_string(dn), "-o", d.file("out.csv")});
   ASSERT_EQ(comp.exit_code, 0) << comp.err;
-  ASSERT_TRUE(std::regex_search(comp.out, m,
-                                std::regex(R"(cycles, mean (\S+) deg/s, std (\S+), stderr (\S+) )")))
+  ASSERT_TRUE(std::regex_search(
+      comp.out, m, std::regex(R"(cycles, mean (\S+) deg/s, std (\S+), stderr (\S+) )")))
       << comp.out;
   const std::string cu = m[3];
   EXPECT_EQ(cu.find("e-"), std::string::npos) << comp.out;

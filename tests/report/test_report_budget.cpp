@@ -106,6 +106,7 @@ TEST(DeltaNBudget, ANewPowerUpTakesTheBetweenRunVarianceAtItsTemperature) {
     widest = std::max(widest, band);
   }
   EXPECT_NEAR(b.new_power_up_dps, widest, 1e-15);
+  EXPECT_TRUE(b.new_power_up_from_band);
   EXPECT_GT(m.new_run_interval_at(4.0), m.new_run_interval_at(20.0));
   EXPECT_NE(b.run_to_run_source.find("τ²(T)"), std::string::npos) << b.run_to_run_source;
   // Without such a model, the budget's constant number.

@@ -51,6 +51,9 @@ struct delta_n_budget {
   /// run_to_run)^2), a 68.3 % interval. A rate
   /// compensated with this calibration carries it as a systematic error (paper eqn 12).
   double new_power_up_dps = 0.0;
+  /// true: new_power_up_dps is the tau^2(T) band at the runs' temperatures (widest), not the
+  /// combination above (new_power_up_at).
+  bool new_power_up_from_band = false;
   double temp_c = 0.0;  ///< the temperature the preset's spread is evaluated at
   /// A run compensated away from the calibration runs' temperatures (a constant dN): how far
   /// (degC beyond their span, 0 inside), the change of dN over that distance the sensor preset's
