@@ -834,7 +834,8 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       out += fmt::format(
           " Of the first run's ΔN, {} °/s is the Earth's rate at {}° latitude and {} °/s the "
           "g-term.",
-          g(s.earth_rate_dps, 6), r.geometry->lat_deg, g(s.g_term_dps, 4));
+          g(s.earth_rate_dps, 6), r.geometry->lat_deg,
+          to_digits_of(s.g_term_dps, runs.front().cal.stderr_correlated_dps, 4));  // the table's
     }
     if (failed.empty()) {
       const auto t = runs_temps(runs);
