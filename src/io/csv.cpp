@@ -414,8 +414,6 @@ namespace {
 }  // namespace
 
 bool csv_reader::peek_plain(plain_row& row) {
-  static constexpr double pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8, 1e9,
-                                     1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18};
   if (has_replay_ || dialect_.delimiter == ' ' || dialect_.decimal != '.' ||
       dialect_.missing_is_nan || selected_.size() > plain_row::max_cells ||
       slot_of_column_.size() != header_.size())
@@ -454,8 +452,9 @@ bool csv_reader::peek_plain(plain_row& row) {
       row.empty[k] = digits == 0;
       if (digits == 0 && (negative || frac >= 0)) return false;  // "-" or "." alone
       if (digits > 18 || m > (std::uint64_t{1} << 53)) return false;
-      const double v = frac <= 0 ? static_cast<double>(m)
-                                 : static_cast<double>(m) / pow10[static_cast<std::size_t>(frac)];
+      const double v =
+          frac <= 0 ? static_cast<double>(m)
+                    : static_cast<double>(m) / detail::exact_pow10[static_cast<std::size_t>(frac)];
       row.value[k] = negative ? -v : v;
     }
     // Each field ends at the delimiter, the last at the line's end: anything else (a blank, a
