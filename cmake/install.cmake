@@ -107,7 +107,7 @@ python3 (<< ${Python_VERSION_MAJOR}.${py_next_minor}), python3-numpy")
 endif()
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS
     "gnuplot-nox, poppler-utils, libfmt-dev, nlohmann-json3-dev, libeigen3-dev, libtomlplusplus-dev, \
-libhdf5-dev, libssl-dev")
+libhdf5-dev, libssl-dev, liblzma-dev, libzstd-dev, libsqlite3-dev")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "chromium")
 set(CPACK_STRIP_FILES ON)
 include(CPack)

@@ -433,10 +433,14 @@ void add_series_options(CLI::App* sub, series_input& in) {
       ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
       ->capture_default_str();
   sub->add_option("--gaps", in.gaps,
-                  "gaps in the time stamps (a .gfr: lost dwells): error, or split (analyse the "
-                  "longest gap-free run)")
-      ->check(CLI::IsMember({"error", "split"}))
+                  "gaps in the time stamps (a .gfr: lost dwells): error, split (analyse the "
+                  "longest gap-free run), or fill (bridge them by linear interpolation, at most "
+                  "1 % of the samples; not for a .gfr)")
+      ->check(CLI::IsMember({"error", "split", "fill"}))
       ->capture_default_str();
+  sub->add_option("--rostopic", in.topic,
+                  "ROS bag (.bag, .db3): the sensor_msgs/Imu topic to read (default: the bag's "
+                  "only IMU topic; or FILE.bag:/topic); noise --kalibr writes it (default /imu0)");
 }
 
 void setup_adev(CLI::App& app, action& chosen) {
@@ -556,8 +560,6 @@ void setup_noise(CLI::App& app, action& chosen) {
                   "the other sensor's record for --kalibr (accelerometer for a gyro FILE, or "
                   "gyro): every numeric column, read as FILE is, each column's unit from its "
                   "name, else m/s^2 or deg/s");
-  sub->add_option("--rostopic", o->rostopic, "the IMU topic --kalibr writes")
-      ->capture_default_str();
   sub->add_option("--plot", o->plot,
                   "draw the Allan curves with bounds, fitted term lines and read-off points to "
                   "FILE.png, .svg or .pdf (gnuplot; FILE.gp and its data beside it)");

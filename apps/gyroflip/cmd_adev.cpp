@@ -172,7 +172,10 @@ io::series_options series_options_of(const series_input& in, bool missing_is_nan
                    : in.time_unit == "us" ? 1e-6
                    : in.time_unit == "ns" ? 1e-9
                                           : 1.0;
-  so.gaps = in.gaps == "split" ? io::gap_policy::split : io::gap_policy::error;
+  so.gaps = in.gaps == "split"  ? io::gap_policy::split
+            : in.gaps == "fill" ? io::gap_policy::fill
+                                : io::gap_policy::error;
+  so.topic = in.topic;
   return so;
 }
 
@@ -220,6 +223,10 @@ result<std::vector<analysis_input>> load_series(const series_input& in) {
   auto names = column_names(in);
   if (!names) return names.err();
   const auto so = series_options_of(in);
+  if (is_rig_recording(in.file) && so.gaps == io::gap_policy::fill)
+    return usage_error(
+        "--gaps fill is for time-stamped samples (CSV, ROS bags); a .gfr's lost dwells are "
+        "analysed with --gaps split or --kind gradev");
   std::vector<io::series> read;
   if (names->size() == 1 && in.columns.empty()) {
     auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column, so.gaps)
@@ -227,7 +234,8 @@ result<std::vector<analysis_input>> load_series(const series_input& in) {
     if (!s) return s.err();
     read.push_back(std::move(*s));
   } else {
-    if (is_rig_recording(in.file)) return usage_error("several columns: a CSV file only");
+    if (is_rig_recording(in.file))
+      return usage_error("several columns: a CSV file or a ROS bag only");
     auto all = io::read_series_columns(in.file, so, *names);
     if (!all) return all.err();
     read = std::move(*all);

@@ -31,7 +31,8 @@ struct series_input {
   bool no_header = false;
   std::string time_column;  // empty: time_s
   std::string time_unit = "s";
-  std::string gaps = "error";   // error | split
+  std::string gaps = "error";   // error | split | fill
+  std::string topic;            // a ROS bag's sensor_msgs/Imu topic (empty: its only one)
   std::string units = "deg/s";  // of the samples: deg/s | rad/s | deg/h (angle: deg | rad)
   bool units_given = false;     // --units was given (noise: else a column's name may state it)
 };
@@ -96,12 +97,11 @@ struct noise_options {
   bool long_taus = false;  ///< also OADEV up to m <= (N-1)/2, shown not fitted
   double ci = 0.683;       ///< two-sided confidence level of the terms' intervals
   bool json = false;
-  std::string kalibr;              ///< write Kalibr's IMU noise YAML here
-  std::string kalibr_other;        ///< the other sensor's record for the Kalibr file
-  std::string rostopic = "/imu0";  ///< the Kalibr file's rostopic
-  std::string quantity;            ///< gyro | accel (empty: from each column's name, else gyro)
-  std::string fit_taus;            ///< LO:HI (s): the range the model is fitted to (empty: all)
-  std::string output;              ///< the terms as CSV, or JSON for FILE.json
+  std::string kalibr;        ///< write Kalibr's IMU noise YAML here
+  std::string kalibr_other;  ///< the other sensor's record for the Kalibr file
+  std::string quantity;      ///< gyro | accel (empty: from each column's name, else gyro)
+  std::string fit_taus;      ///< LO:HI (s): the range the model is fitted to (empty: all)
+  std::string output;        ///< the terms as CSV, or JSON for FILE.json
 };
 int run_noise(const noise_options& o);
 

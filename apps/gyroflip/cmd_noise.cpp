@@ -277,9 +277,11 @@ std::string terms_csv(const std::vector<column_noise>& all) {
 
 // Kalibr's IMU file (io::kalibr_yaml): the gyro and accelerometer columns, the largest axis of each
 // term; every column at one rate (Kalibr has one update_rate).
-result<std::string> kalibr_text(const noise_options& o, const std::vector<column_noise>& all) {
+result<std::string> kalibr_text(const noise_options& o, const std::vector<column_noise>& all,
+                                const std::string& bag_topic) {
   io::kalibr_imu imu;
-  imu.rostopic = o.rostopic;
+  // The topic read from a bag is the IMU's topic in Kalibr's bags too.
+  imu.rostopic = !o.in.topic.empty() ? o.in.topic : !bag_topic.empty() ? bag_topic : "/imu0";
   imu.update_rate_hz = 1.0 / all.front().tau0_s;
   for (const auto& c : all) {
     if (std::abs(c.tau0_s / all.front().tau0_s - 1.0) > 1e-6)
@@ -387,6 +389,7 @@ int run_noise(const noise_options& o) {
     }
   }
   std::vector<column_noise> all;
+  std::string bag_topic;  // the topic a ROS bag was read from (the Kalibr file's rostopic)
   for (std::size_t i = 0; i < sources.size(); ++i) {
     noise_options oi = o;
     if (i == 1) {
@@ -401,6 +404,7 @@ int run_noise(const noise_options& o) {
     auto inputs = load_series(sources[i]);
     if (!inputs) return report(inputs.err());
     for (const auto& in : *inputs) {
+      if (bag_topic.empty()) bag_topic = in.series.topic();
       const auto sensor = sensor_of(oi, sources[i], in.column);
       if (!sensor) return report(sensor.err());
       auto c = noise_of(o, sources[i], *range, in, *sensor);
@@ -435,7 +439,7 @@ int run_noise(const noise_options& o) {
   }
   std::string kalibr_file;
   if (!o.kalibr.empty()) {
-    auto y = kalibr_text(o, all);
+    auto y = kalibr_text(o, all, bag_topic);
     if (!y) return report(y.err());
     if (auto s = check_finite(*y, o.kalibr); !s) return report(s.err());
     kalibr_file = std::move(*y);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -102,7 +103,12 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
   if (dialect.decimal == ',' && dialect.delimiter == ',')
     return parameter_error("decimal", "a decimal comma needs another delimiter than ','");
   csv_reader r = path == "-" ? csv_reader(owned_fd(), "<stdin>", 0) : csv_reader({}, path, 0);
-  if (path != "-") {
+  if (path != "-" && compression_of(path) != compression::none) {
+    // Decompressed as it is read (io/compressed.hpp): the size is not known before the end.
+    auto d = decompressor::open(path);
+    if (!d) return d.err();
+    r.unpack_ = std::move(*d);
+  } else if (path != "-") {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) return io_error(path, std::strerror(errno));
     r.fd_ = owned_fd(fd);
@@ -116,6 +122,7 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
   r.dialect_ = dialect;
   while (r.buf_len_ < binary_probe_bytes && r.refill()) {
   }
+  if (r.stream_error_) return *r.stream_error_;
   const std::string_view d(r.buf_.get(), r.buf_len_);
   const bool from_stdin = path == "-";
   if (d.empty())
@@ -157,6 +164,16 @@ bool csv_reader::refill() {
     if (buf_len_ > 0) std::memcpy(grown.get(), buf_.get(), buf_len_);
     buf_ = std::move(grown);
     buf_cap_ = cap;
+  }
+  if (unpack_) {
+    auto n = unpack_->read(buf_.get() + buf_len_, buf_cap_ - buf_len_);
+    if (n && *n > 0) {
+      buf_len_ += *n;
+      return true;
+    }
+    if (!n) stream_error_ = n.err();  // what came is not the file: next() fails with this
+    stream_end_ = true;
+    return false;
   }
   const int fd = fd_.get() < 0 ? STDIN_FILENO : fd_.get();  // no descriptor of its own: stdin
   while (true) {
@@ -229,6 +246,7 @@ std::optional<std::string_view> csv_reader::next_line() {
   while (true) {
     const char* begin = buf_.get() + buf_pos_;
     if (const auto c = cut_line(begin, buf_len_ - buf_pos_, stream_end_)) {
+      if (c->unterminated && stream_error_) return std::nullopt;  // a line cut by the damage
       buf_pos_ += c->taken;
       pos_ += c->taken;
       return take_line(begin, c->len, c->unterminated);
@@ -287,6 +305,7 @@ status csv_reader::read_header() {
     slot_of_column_.assign(header_.size(), -1);
     return ok();
   }
+  if (stream_error_) return *stream_error_;
   return input_error({path(), line_}, "no header line (file has only comments or blank lines)");
 }
 
@@ -316,14 +335,54 @@ result<std::optional<std::size_t>> csv_reader::find_column(std::string_view name
   return found;
 }
 
+std::string did_you_mean(std::string_view name, const std::vector<std::string>& names) {
+  // Levenshtein distance, case folded: the nearest name within a third of the longer one's
+  // length (at least 2 edits), or a name that holds the one given (gyro_x for gyro_x_dps).
+  const auto fold = [](std::string_view s) {
+    std::string o(s);
+    for (auto& c : o) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return o;
+  };
+  const std::string a = fold(name);
+  std::string best;
+  std::size_t best_d = std::numeric_limits<std::size_t>::max();
+  for (const auto& n : names) {
+    const std::string b = fold(n);
+    if (a.size() > 200 || b.size() > 200) continue;
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diag = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diag = up;
+      }
+    }
+    std::size_t d = row[b.size()];
+    const bool holds = !a.empty() && b.find(a) != std::string::npos;
+    if (!holds && d > std::max<std::size_t>(2, std::max(a.size(), b.size()) / 3)) continue;
+    if (holds) d = std::min(d, b.size() - a.size());
+    if (d < best_d) {
+      best_d = d;
+      best = n;
+    }
+  }
+  return best;
+}
+
 result<std::size_t> csv_reader::require_column(std::string_view name) const {
   auto f = find_column(name);
   if (!f) return f.err();
+  const std::string near = did_you_mean(name, header_);
   if (!f.value())
     return input_error(
         {path(), header_line_, 1},
-        fmt::format("missing required column '{}' (header: {}; fields split at {}{})",
-                    printable(name), printable(fmt::format("{}", fmt::join(header_, ",")), 200),
+        fmt::format("missing required column '{}'{} (header: {}; fields split at {}{})",
+                    printable(name),
+                    near.empty() ? "" : fmt::format(": did you mean '{}'?", printable(near)),
+                    printable(fmt::format("{}", fmt::join(header_, ",")), 200),
                     delimiter_name(dialect_.delimiter),
                     dialect_.header ? "" : "; no header: columns are numbered from 1"));
   return *f.value();
@@ -369,6 +428,10 @@ csv_reader::step csv_reader::next() {
     rows_seen_ = true;
     current_ = *l;
     return split(*l) ? step::row : step::failed;
+  }
+  if (stream_error_) {
+    error_ = *stream_error_;
+    return step::failed;
   }
   return step::end;
 }

@@ -15,8 +15,10 @@
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
+#include "gyroflip/io/compressed.hpp"
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/io/mapped_file.hpp"
+#include "gyroflip/io/ros_bag.hpp"
 #include "hdf5_series.hpp"
 
 namespace gyroflip::io {
@@ -38,6 +40,10 @@ status check_rate(const std::string& path, const std::optional<double>& rate_hz)
                     *rate_hz));
   return ok();
 }
+
+// What a compressed binary file may decompress to (read whole into memory): 2^35 bytes, 4e9
+// samples; beyond it a file is a decompression bomb or needs to be stored uncompressed.
+constexpr std::size_t max_unpacked_bytes = std::size_t{1} << 35;
 
 // Fewer samples than this give no deviation at all (two phase differences).
 constexpr std::size_t min_samples = 3;
@@ -280,7 +286,32 @@ struct stamp_run {
   std::size_t begin = 0, end = 0;  // samples [begin, end)
   double tau0_s = 0.0;
   std::vector<std::string> notes;
+  // gap_policy::fill: after sample k, so many samples interpolated (k ascending).
+  std::vector<std::pair<std::size_t, std::size_t>> fills;
 };
+
+// `v` with the samples `fills` bridges: each gap's samples on the straight line between the
+// samples before and after it.
+void fill_gaps(std::vector<double>& v,
+               const std::vector<std::pair<std::size_t, std::size_t>>& fills, bool as_nan = false) {
+  if (fills.empty()) return;
+  std::size_t extra = 0;
+  for (const auto& f : fills) extra += f.second;
+  std::vector<double> out;
+  out.reserve(v.size() + extra);
+  std::size_t next = 0;
+  for (const auto& [k, m] : fills) {
+    out.insert(out.end(), v.begin() + static_cast<std::ptrdiff_t>(next),
+               v.begin() + static_cast<std::ptrdiff_t>(k + 1));
+    for (std::size_t j = 1; j <= m; ++j)
+      out.push_back(as_nan ? std::numeric_limits<double>::quiet_NaN()
+                           : v[k] + (v[k + 1] - v[k]) * static_cast<double>(j) /
+                                        static_cast<double>(m + 1));
+    next = k + 1;
+  }
+  out.insert(out.end(), v.begin() + static_cast<std::ptrdiff_t>(next), v.end());
+  v = std::move(out);
+}
 
 // Gaps, jitter and the rate of time stamps `t` (s from the first; strictly increasing).
 // `row_error(k, what)` locates a message at sample k's time cell.
@@ -308,7 +339,7 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
         "{:.6g} sample{} missing",
         k + 1, t[k], d[k], missing, missing == 1.0 ? "" : "s");
   };
-  stamp_run run{0, n, 0.0, {}};
+  stamp_run run{0, n, 0.0, {}, {}};
   if (!gaps.empty() && opt.gaps == gap_policy::error) {
     std::string list;
     for (std::size_t i = 0; i < std::min<std::size_t>(gaps.size(), 3); ++i)
@@ -317,17 +348,57 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
     return about_parameter(
         row_error(gaps[0] + 1,
                   fmt::format("the time stamps have {} gap{} (period {:.6g} s): {}. Deviations "
-                              "need evenly spaced samples: fill or resample the gaps, or analyse "
-                              "the longest gap-free run",
+                              "need evenly spaced samples: bridge short gaps (fill: at most 1 % "
+                              "of the samples interpolated), analyse the longest gap-free run "
+                              "(split), or resample",
                               gaps.size(), gaps.size() == 1 ? "" : "s", period, list)),
         "gaps");
   }
-  if (!gaps.empty()) {
+  // gap_policy::fill: each sample's place on the grid counts the samples bridged before it.
+  std::vector<std::size_t> place;
+  if (!gaps.empty() && opt.gaps == gap_policy::fill) {
+    double missing = 0.0, most = 0.0;
+    std::size_t longest = gaps[0];
+    for (const auto k : gaps) {
+      const double m = std::max(1.0, std::round(d[k] / period) - 1.0);
+      missing += m;
+      if (m > most) {
+        most = m;
+        longest = k;
+      }
+    }
+    const double share = missing / (missing + static_cast<double>(n));
+    if (!(share <= max_filled_fraction))
+      return about_parameter(
+          row_error(gaps[0] + 1,
+                    fmt::format("the time stamps' {} gap{} miss {:.6g} samples, {:.3g} % of the "
+                                "record: more than {:g} % is not bridged (first: {}). Analyse the "
+                                "longest gap-free run (split), or resample",
+                                gaps.size(), gaps.size() == 1 ? "" : "s", missing, 100.0 * share,
+                                100.0 * max_filled_fraction, describe(gaps[0]))),
+          "gaps");
+    place.resize(n);
+    std::size_t added = 0, g = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      place[k] = k + added;
+      if (g < gaps.size() && gaps[g] == k) {
+        const auto m = static_cast<std::size_t>(std::max(1.0, std::round(d[k] / period) - 1.0));
+        run.fills.emplace_back(k, m);
+        added += m;
+        ++g;
+      }
+    }
+    run.notes.push_back(
+        fmt::format("the time stamps have {} gap{}; {} sample{} ({:.3g} % of {}) bridged by linear "
+                    "interpolation; the longest: {}",
+                    gaps.size(), gaps.size() == 1 ? "" : "s", added, added == 1 ? "" : "s",
+                    100.0 * share, n + added, describe(longest)));
+  } else if (!gaps.empty()) {
     std::size_t from = 0;
     run.end = 0;
     for (std::size_t i = 0; i <= gaps.size(); ++i) {
       const std::size_t to = i < gaps.size() ? gaps[i] + 1 : n;
-      if (to - from > run.end - run.begin) run = {from, to, 0.0, {}};
+      if (to - from > run.end - run.begin) run = {from, to, 0.0, {}, {}};
       from = to;
     }
     if (run.end - run.begin < min_samples)
@@ -340,16 +411,19 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
         gaps.size(), gaps.size() == 1 ? "" : "s", describe(gaps[0]), run.begin + 1, run.end,
         t[run.begin], t[run.end - 1], gaps.size() + 1));
   }
-  const std::size_t m = run.end - run.begin;
-  run.tau0_s = (t[run.end - 1] - t[run.begin]) / static_cast<double>(m - 1);
+  const auto at = [&](std::size_t k) {
+    return static_cast<double>(place.empty() ? k - run.begin : place[k]);
+  };
+  run.tau0_s = (t[run.end - 1] - t[run.begin]) / at(run.end - 1);
   double jitter = 0.0;
   for (std::size_t k = run.begin; k < run.end; ++k) {
-    const double off = t[k] - (t[run.begin] + static_cast<double>(k - run.begin) * run.tau0_s);
+    const double off = t[k] - (t[run.begin] + at(k) * run.tau0_s);
     if (std::abs(off) > 0.5 * run.tau0_s)
       return row_error(k, fmt::format("sample {} (time {:.6g} s) is {:.3g} s off the uniform grid "
                                       "of {:.6g} s: the sample clock drifts or the rate changes",
                                       k + 1, t[k], off, run.tau0_s));
-    if (k + 1 < run.end) jitter = std::max(jitter, std::abs(d[k] - run.tau0_s) / run.tau0_s);
+    if (k + 1 < run.end && at(k + 1) - at(k) == 1.0)
+      jitter = std::max(jitter, std::abs(d[k] - run.tau0_s) / run.tau0_s);
   }
   if (jitter > 1e-3)
     run.notes.push_back(
@@ -378,6 +452,7 @@ struct csv_series {
   double tau0_s = 0.0;
   std::vector<csv_metadata> metadata;
   std::vector<std::string> notes;
+  std::string topic;  // a ROS bag's
 };
 
 // The time column asked for, or time_s when the file has one.
@@ -488,44 +563,122 @@ result<csv_series> read_csv_series(const std::string& path, const series_options
       v = std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(run->begin),
                               v.begin() + static_cast<std::ptrdiff_t>(run->end));
   };
-  for (auto& v : s.values) cut(v);
-  if (with_angle) cut(s.angle_deg);
+  for (auto& v : s.values) {
+    cut(v);
+    fill_gaps(v, run->fills);
+  }
+  if (with_angle) {
+    cut(s.angle_deg);
+    fill_gaps(s.angle_deg, run->fills, true);  // not measured: no position
+  }
   s.tau0_s = run->tau0_s;
   s.notes = std::move(run->notes);
   return s;
 }
 
-// `FILE.h5:/dataset` split into the file and the dataset (empty for other names).
+// Columns of a ROS bag's IMU topic (io/ros_bag.hpp), on its header stamps, with the time
+// checks of a CSV's time column; errors name the message.
+result<csv_series> read_bag_series(const std::string& path, const series_options& opt,
+                                   const std::vector<std::string>& columns) {
+  auto table = read_imu_bag(path, opt.topic);
+  if (!table) return table.err();
+  std::vector<std::string> names(imu_columns.begin(), imu_columns.end());
+  std::vector<std::size_t> picked;
+  for (const auto& name : columns) {
+    std::optional<std::size_t> c;
+    for (std::size_t i = 0; i < imu_columns.size(); ++i)
+      if (name == imu_columns[i] || name == imu_fields[i]) c = i;
+    if (const auto k = column_number(name); !c && k && *k < imu_columns.size()) c = *k;
+    if (!c) {
+      const std::string near = did_you_mean(name, names);
+      return about_parameter(
+          input_error({path},
+                      fmt::format("topic {} has no column '{}'{} (its columns: {}; or the "
+                                  "message fields {})",
+                                  printable(table->topic, 100), printable(name),
+                                  near.empty() ? "" : fmt::format(": did you mean '{}'?", near),
+                                  fmt::join(imu_columns, ", "), fmt::join(imu_fields, ", "))),
+          "column");
+    }
+    picked.push_back(*c);
+  }
+  csv_series s;
+  const std::size_t n = table->time_s.size();
+  if (n < min_samples)
+    return input_error(
+        {path}, fmt::format("topic {}: {} message{}, too few for an analysis (at "
+                            "least {})",
+                            printable(table->topic, 100), n, n == 1 ? "" : "s", min_samples));
+  const auto row_error = [&](std::size_t k, std::string_view what) {
+    return input_error(
+        {path}, fmt::format("message {} on {}: {}", k + 1, printable(table->topic, 100), what));
+  };
+  auto run = check_stamps(path, std::span<const double>(table->time_s), opt, row_error);
+  if (!run) return run.err();
+  for (const auto c : picked) {
+    auto& v = table->values[c];
+    std::vector<double> one(v.begin() + static_cast<std::ptrdiff_t>(run->begin),
+                            v.begin() + static_cast<std::ptrdiff_t>(run->end));
+    fill_gaps(one, run->fills);
+    s.values.push_back(std::move(one));
+  }
+  s.tau0_s = run->tau0_s;
+  s.topic = table->topic;
+  s.notes = std::move(run->notes);
+  s.notes.insert(s.notes.begin(), fmt::format("topic {}: {} sensor_msgs/Imu messages",
+                                              printable(table->topic, 100), n));
+  return s;
+}
+
+// `FILE.h5:/dataset` or `FILE.bag:/topic` split into the file and what it names inside (empty
+// for other names). Bags also compressed (FILE.bag.gz:/topic).
 std::pair<std::string, std::string> split_dataset(const std::string& spec) {
-  for (const std::string_view ext : {".h5:", ".hdf5:", ".hdf:"}) {
-    const auto at = spec.find(ext);
-    if (at != std::string::npos)
-      return {spec.substr(0, at + ext.size() - 1), spec.substr(at + ext.size())};
+  for (const std::string_view ext : {".h5", ".hdf5", ".hdf", ".bag", ".db3"}) {
+    for (const std::string_view packed : {"", ".gz", ".xz", ".zst"}) {
+      if (!packed.empty() && (ext == ".h5" || ext == ".hdf5" || ext == ".hdf")) continue;
+      const std::string mark = std::string(ext) + std::string(packed) + ":";
+      const auto at = spec.find(mark);
+      if (at != std::string::npos)
+        return {spec.substr(0, at + mark.size() - 1), spec.substr(at + mark.size())};
+    }
   }
   return {spec, {}};
 }
 
 // What read_series takes `path` for, by its name: HDF5 (`FILE.h5:/dataset`, or FILE.h5 with the
-// `dataset` option), .npy, raw float64, else CSV. `path` and `dataset` are split for HDF5.
-// Errors: the name and the dataset option name two different datasets.
-enum class series_format { csv, hdf5, npy, raw };
-result<series_format> format_of(std::string& path, std::string& dataset) {
+// `dataset` option), a ROS bag (`FILE.bag:/topic`, .db3), .npy, raw float64, else CSV; each
+// but HDF5 may be compressed (.gz, .xz, .zst). `path` and `dataset` or `topic` are split.
+// Errors: the name and the dataset or topic option name two different things.
+enum class series_format { csv, hdf5, npy, raw, bag };
+result<series_format> format_of(std::string& path, std::string& dataset, std::string& topic) {
   auto [file, named] = split_dataset(path);
+  const bool bag = is_ros_bag(file);
   if (!named.empty()) {
     // `FILE.h5:/a` with the dataset parameter `/b`: which one was meant cannot be guessed.
-    if (!dataset.empty() && dataset != named)
+    std::string& given = bag ? topic : dataset;
+    if (!given.empty() && given != named)
       return about_parameter(
-          input_error({path}, fmt::format("names dataset '{}', but the dataset parameter says "
-                                          "'{}': give it once",
-                                          printable(named, 120), printable(dataset, 120))),
-          "dataset");
+          input_error({path}, fmt::format("names {} '{}', but the {} parameter says '{}': give it "
+                                          "once",
+                                          bag ? "topic" : "dataset", printable(named, 120),
+                                          bag ? "topic" : "dataset", printable(given, 120))),
+          bag ? "topic" : "dataset");
     path = std::move(file);
-    dataset = std::move(named);
+    given = std::move(named);
   }
-  if (!dataset.empty() || ends_with(path, ".h5") || ends_with(path, ".hdf5"))
+  if (bag) return series_format::bag;
+  // The format inside a compressed file (a.npy.gz) is its name's without the compression.
+  const std::string_view inner = without_compression(path);
+  if (!dataset.empty() || ends_with(inner, ".h5") || ends_with(inner, ".hdf5")) {
+    if (inner.size() != path.size())
+      return input_error({path},
+                         "a compressed HDF5 file cannot be read directly: HDF5 "
+                         "compresses inside the file (its gzip filter); decompress it "
+                         "first");
     return series_format::hdf5;
-  if (ends_with(path, ".npy")) return series_format::npy;
-  if (ends_with(path, ".f64") || ends_with(path, ".bin") || ends_with(path, ".raw"))
+  }
+  if (ends_with(inner, ".npy")) return series_format::npy;
+  if (ends_with(inner, ".f64") || ends_with(inner, ".bin") || ends_with(inner, ".raw"))
     return series_format::raw;
   return series_format::csv;
 }
@@ -540,10 +693,16 @@ result<series> read_series(const std::string& path_in, const series_options& opt
   series s;
   s.source_ = path_in;
   std::string path = path_in;
-  std::string dataset = opt.dataset;
-  const auto known = format_of(path, dataset);
+  std::string dataset = opt.dataset, topic = opt.topic;
+  const auto known = format_of(path, dataset, topic);
   if (!known) return known.err();
   const series_format format = *known;
+  if (format == series_format::bag) {
+    auto all = read_series_columns(path_in, opt, {opt.column});
+    if (!all) return all.err();
+    series one = std::move(all->front());
+    return one;
+  }
   if (format == series_format::hdf5) {
     if (dataset.empty())
       return about_parameter(
@@ -579,12 +738,26 @@ result<series> read_series(const std::string& path_in, const series_options& opt
   const bool npy = format == series_format::npy;
   if (npy || format == series_format::raw) {
     if (auto r = check_rate(path, opt.sample_rate_hz); !r) return r.err();
-    auto f = mapped_file::open(path);
-    if (!f) return f.err();
+    // A compressed file is decompressed into memory (8 bytes a sample), a plain one mapped.
+    const bool packed = compression_of(path) != compression::none;
+    std::optional<mapped_file> f;
+    std::vector<char> unpacked;
+    std::string_view data;
+    if (packed) {
+      auto u = read_decompressed(path, max_unpacked_bytes);
+      if (!u) return u.err();
+      unpacked = std::move(*u);
+      data = {unpacked.data(), unpacked.size()};
+    } else {
+      auto m = mapped_file::open(path);
+      if (!m) return m.err();
+      f.emplace(std::move(*m));
+      data = f->data();
+    }
     std::size_t offset = 0;
     std::size_t count = 0;
     if (npy) {
-      auto layout = npy_layout(path, f->data());
+      auto layout = npy_layout(path, data);
       if (!layout) return layout.err();
       if (layout->f4 || layout->cols > 1) {
         // float32 or one column of a table: converted once into memory (8 bytes a sample).
@@ -601,7 +774,7 @@ result<series> read_series(const std::string& path_in, const series_options& opt
                                                  layout->rows, min_samples));
         std::vector<double> v(layout->rows);
         const std::size_t c = layout->cols > 1 ? *col : 0;
-        const char* base = f->data().data() + layout->offset;
+        const char* base = data.data() + layout->offset;
         for (std::size_t r = 0; r < layout->rows; ++r) {
           const std::size_t k = layout->fortran ? c * layout->rows + r : r * layout->cols + c;
           if (layout->f4) {
@@ -619,7 +792,7 @@ result<series> read_series(const std::string& path_in, const series_options& opt
       offset = layout->offset;
       count = layout->rows;
     } else {
-      const std::size_t bytes = f->data().size();
+      const std::size_t bytes = data.size();
       if (bytes % sizeof(double) != 0)
         return input_error({path},
                            fmt::format("{} bytes are not a whole number of float64 values", bytes));
@@ -630,11 +803,18 @@ result<series> read_series(const std::string& path_in, const series_options& opt
                                              count, count == 1 ? "" : "s", min_samples));
     static_assert(std::endian::native == std::endian::little,
                   "raw and .npy readers assume a little-endian host");
-    const char* p = f->data().data() + offset;
+    if (packed) {
+      std::vector<double> v(count);
+      std::memcpy(v.data(), data.data() + offset, count * sizeof(double));
+      s.hold(std::move(v));
+      s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
+      return s;
+    }
+    const char* p = data.data() + offset;
     if (reinterpret_cast<std::uintptr_t>(p) % alignof(double) != 0)  // NOLINT: checking alignment
       return input_error({path}, "float64 data are not 8-byte aligned in the file");
     // Not read here: phase_source::make checks every sample (finite) as it passes over them.
-    s.samples_ = std::make_unique<mapped_samples>(std::move(*f), offset, count);
+    s.samples_ = std::make_unique<mapped_samples>(std::move(*f), offset, count);  // NOLINT
     s.tau0_s_ = 1.0 / *opt.sample_rate_hz;
     return s;
   }
@@ -647,11 +827,15 @@ result<series> read_series(const std::string& path_in, const series_options& opt
 result<std::vector<series>> read_series_columns(const std::string& path, const series_options& opt,
                                                 const std::vector<std::string>& columns) {
   if (columns.empty()) return parameter_error("columns", "no column to read");
-  std::string file = path, dataset = opt.dataset;
-  const auto known = format_of(file, dataset);
+  std::string file = path, dataset = opt.dataset, topic = opt.topic;
+  const auto known = format_of(file, dataset, topic);
   if (!known) return known.err();
-  if (*known != series_format::csv) return input_error({path}, "several columns: a CSV file only");
-  auto c = read_csv_series(path, opt, columns);
+  if (*known != series_format::csv && *known != series_format::bag)
+    return input_error({path}, "several columns: a CSV file or a ROS bag only");
+  series_options bag_opt = opt;
+  bag_opt.topic = topic;
+  auto c = *known == series_format::bag ? read_bag_series(file, bag_opt, columns)
+                                        : read_csv_series(path, opt, columns);
   if (!c) return c.err();
   std::vector<series> out;
   for (auto& v : c->values) {
@@ -662,6 +846,7 @@ result<std::vector<series>> read_series_columns(const std::string& path, const s
     s.angle_deg_ = c->angle_deg;
     s.metadata_ = c->metadata;
     s.notes_ = c->notes;
+    s.topic_ = c->topic;
     out.push_back(std::move(s));
   }
   return out;
@@ -673,6 +858,8 @@ result<std::vector<std::string>> numeric_columns(const std::string& path,
     return input_error({"<stdin>"},
                        "the numeric columns of standard input cannot be found "
                        "before it is read: name the columns");
+  if (is_ros_bag(split_dataset(path).first))  // every sensor_msgs/Imu axis
+    return std::vector<std::string>(imu_columns.begin(), imu_columns.end());
   auto r = csv_reader::open(path, opt.dialect);
   if (!r) return r.err();
   auto time = time_column_of(*r, opt);

@@ -22,6 +22,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/metadata.hpp"
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/io/compressed.hpp"
 
 namespace gyroflip::io {
 
@@ -81,13 +82,20 @@ struct csv_dialect {
   bool missing_is_nan = false;
 };
 
+/// The name of `names` closest to `name` (a column asked for that is not there), for "did you
+/// mean" in messages: the nearest within a third of their length in edits (Levenshtein, case
+/// folded; at least 2), or one that contains `name`; empty when none is near.
+[[nodiscard]] std::string did_you_mean(std::string_view name,
+                                       const std::vector<std::string>& names);
+
 /// The delimiter's name for messages ("','", "';'", "tab", "blanks").
 [[nodiscard]] std::string delimiter_name(char delimiter);
 
 class csv_reader {
  public:
   /// Opens `path` and reads comments and header; `-` reads standard input as it comes (a pipe from
-  /// a logger: only the lines not yet consumed are held). Errors: missing file, directory, empty
+  /// a logger: only the lines not yet consumed are held); a `.gz`, `.xz` or `.zst` file is
+  /// decompressed as it is read (io/compressed.hpp). Errors: missing file, directory, empty
   /// file, binary data, no header, a dialect whose decimal mark is its delimiter.
   [[nodiscard]] static result<csv_reader> open(const std::string& path,
                                                const csv_dialect& dialect = {});
@@ -202,6 +210,8 @@ class csv_reader {
   std::unique_ptr<char[]> buf_;
   std::size_t buf_cap_ = 0, buf_len_ = 0, buf_pos_ = 0;
   bool stream_end_ = false;
+  std::unique_ptr<decompressor> unpack_;  // a .gz, .xz or .zst file (io/compressed.hpp)
+  std::optional<error> stream_error_;     // its data were damaged: the input ends in an error
   std::string replay_;  // a line to hand out again (a file without a header: its first row)
   bool has_replay_ = false;
   std::size_t line_ = 0;

@@ -25,7 +25,14 @@ namespace gyroflip::io {
 enum class gap_policy {
   error,  ///< a gap is an error that names where it is
   split,  ///< the longest gap-free run is analysed (series::notes says which)
+  /// Each gap is bridged by samples interpolated linearly between its neighbours, as long as
+  /// they are at most 1 % of the samples (series::notes says how many); more is an error.
+  fill,
 };
+
+/// The share of a record's samples that gap_policy::fill may interpolate: at least 99 % of the
+/// samples analysed are measured (issue 34).
+inline constexpr double max_filled_fraction = 0.01;
 
 struct series_options {
   std::string column = "rate_dps";  ///< CSV column to read (a name, or a number from 1)
@@ -34,6 +41,9 @@ struct series_options {
   /// exact rate; without one it gives the rate.
   std::optional<double> sample_rate_hz;
   std::string dataset;  ///< HDF5 dataset path (or give FILE.h5:/path)
+  /// ROS bag topic of sensor_msgs/Imu messages (or give FILE.bag:/topic); empty: the bag's only
+  /// IMU topic. Columns: io::imu_columns (or the message fields, io::imu_fields).
+  std::string topic;
   csv_dialect dialect;  ///< how the CSV is written
   /// CSV time column; empty: `time_s` when the file has one.
   std::string time_column;
@@ -62,6 +72,8 @@ class series {
   /// What the reader noticed and the user should know (time-stamp jitter, the run analysed
   /// after a gap), one sentence each.
   [[nodiscard]] const std::vector<std::string>& notes() const noexcept { return notes_; }
+  /// The ROS bag topic the samples came from (empty for other formats).
+  [[nodiscard]] const std::string& topic() const noexcept { return topic_; }
 
   series(series&&) noexcept = default;
   series& operator=(series&&) noexcept = default;
@@ -87,6 +99,7 @@ class series {
   std::vector<csv_metadata> metadata_;
   std::vector<double> angle_deg_;
   std::vector<std::string> notes_;
+  std::string topic_;
 };
 
 /// The file a series input names: FILE.h5 for `FILE.h5:/dataset` (also .hdf5, .hdf), else the
