@@ -15,7 +15,6 @@
 /// RAMP_C: the temperature's rise over the run (degC, linear). Output: per term the variance
 /// over the seeds, the bound, their ratio with its sampling error (sqrt(2/seeds)), and the mean
 /// reported variance over the bound. Figures: docs/PERFORMANCE.md, "N-position indexing".
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +26,7 @@
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/noise_model.hpp"
 #include "gyroflip/workflow/simulate.hpp"
 
 namespace {
@@ -98,32 +98,9 @@ int main(int argc, char** argv) {
       if (!sim) die(sim.err().message);
       dwell_s = c.rig.n_avg * sim->conversion_time_s();
       dead_s = sim->sched().dead_time_per_dwell_s();
-      // White noise: the gyro's and the ADC's (its rms per conversion over the scale factor).
-      const double adc_dps = sim->adc().noise_v_rms() / p.scale_factor_v_per_dps;
-      n_total = std::sqrt(p.arw_dps_rthz * p.arw_dps_rthz +
-                          adc_dps * adc_dps * sim->conversion_time_s());
-      // The simulator's noise exactly: white (gyro + ADC), the rate random walk, and its flicker
-      // as the bank of Gauss-Markov processes it draws (sensor/error_terms.cpp: two time
-      // constants per decade over [flicker_tau_min_s, flicker_tau_max_s], each of variance
-      // B^2 ln(r) / pi), not the ideal 1/f that the bank approximates above tau_min.
-      std::vector<double> bank_t;
-      double bank_q = 0.0;
-      if (p.bias_instability_dps > 0.0) {
-        const double decades = std::log10(p.flicker_tau_max_s / p.flicker_tau_min_s);
-        const auto nb = static_cast<std::size_t>(std::max(2.0, std::round(2.0 * decades) + 1.0));
-        const double ln_r =
-            std::log(p.flicker_tau_max_s / p.flicker_tau_min_s) / static_cast<double>(nb - 1);
-        bank_q = p.bias_instability_dps * p.bias_instability_dps * ln_r / 3.14159265358979323846;
-        for (std::size_t j = 0; j < nb; ++j)
-          bank_t.push_back(p.flicker_tau_min_s * std::exp(ln_r * static_cast<double>(j)));
-      }
-      const double kk = p.rrw_dps_per_rts * p.rrw_dps_per_rts;
-      const auto gap = [&](double spacing_s) {
-        const double sp = std::max(spacing_s, dwell_s);
-        double v = n_total * n_total / dwell_s + kk * (3.0 * sp - dwell_s) / 6.0;
-        for (const double t : bank_t) v += gm::gauss_markov_gap_avar(bank_q, t, dwell_s, sp);
-        return v;
-      };
+      n_total = gw::simulated_white_arw(*sim);
+      // The simulator's noise exactly (its flicker as the Gauss-Markov bank it draws).
+      const auto gap = gw::simulated_dwell_gap_avar(*sim, dwell_s);
       auto b = gm::harmonic_crlb(*f, dwells, table, gap);
       if (!b) die(b.err().message);
       bound = *b;
