@@ -43,7 +43,8 @@ namespace gw = gyroflip::workflow;
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) die("usage: npos_crlb PRESET MINUTES [SEEDS] [POSITIONS] [RAMP_C] [N_AVG] [SEED_BASE]");
+  if (argc < 3)
+    die("usage: npos_crlb PRESET MINUTES [SEEDS] [POSITIONS] [RAMP_C] [N_AVG] [SEED_BASE]");
   const std::string preset_name = argv[1];
   const double minutes = std::atof(argv[2]);
   const int seeds = argc > 3 ? std::atoi(argv[3]) : 200;
@@ -64,8 +65,8 @@ int main(int argc, char** argv) {
   c.power_on_before_s = 3600.0;  // warm: the temperature ramp is the drift, not a warm-up
   c.duration_s = minutes * 60.0;
   const double t0 = p.temp_ref_c;
-  auto temp = gr::profile::parse_temperature(
-      fmt::format("ramp:{}:{}:{}", t0, t0 + ramp_c, c.duration_s));
+  auto temp =
+      gr::profile::parse_temperature(fmt::format("ramp:{}:{}:{}", t0, t0 + ramp_c, c.duration_s));
   if (!temp) die(temp.err().message);
   c.temperature = *temp;
   const auto table = c.rig.table();
@@ -123,20 +124,21 @@ int main(int argc, char** argv) {
     }
   }
   const double k = seeds;
-  std::printf("%s, %.0f min, positions %s, ramp %.1f degC, dwell %.3f s, dead %.3f s/dwell, "
-              "%zu periods of %zu dwells, white N %.4g (gyro %.4g + ADC), B %.3g, K %.3g, %d "
-              "seeds:\n",
-              preset_name.c_str(), minutes, positions.c_str(), ramp_c, dwell_s, dead_s, blocks,
-              period, n_total, p.arw_dps_rthz,
-              p.bias_instability_dps, p.rrw_dps_per_rts, seeds);
+  std::printf(
+      "%s, %.0f min, positions %s, ramp %.1f degC, dwell %.3f s, dead %.3f s/dwell, "
+      "%zu periods of %zu dwells, white N %.4g (gyro %.4g + ADC), B %.3g, K %.3g, %d "
+      "seeds:\n",
+      preset_name.c_str(), minutes, positions.c_str(), ramp_c, dwell_s, dead_s, blocks, period,
+      n_total, p.arw_dps_rthz, p.bias_instability_dps, p.rrw_dps_per_rts, seeds);
   const std::size_t m = names.size();
   for (std::size_t i = 1; i < m; ++i) {
     const double var = ss[i] / k, crlb = bound[(i - 1) * (m - 1) + (i - 1)];
     const double white_only = ideal[(i - 1) * (m - 1) + (i - 1)];
-    std::printf("  %-3s var %.4g  CRLB %.4g  ratio %.3f (+- %.3f)  reported/CRLB %.3f  "
-                "(bound with ideal 1/f flicker %.4g: ratio %.3f)\n",
-                names[i].c_str(), var, crlb, var / crlb, var / crlb * std::sqrt(2.0 / k),
-                reported[i] / k / crlb, white_only, var / white_only);
+    std::printf(
+        "  %-3s var %.4g  CRLB %.4g  ratio %.3f (+- %.3f)  reported/CRLB %.3f  "
+        "(bound with ideal 1/f flicker %.4g: ratio %.3f)\n",
+        names[i].c_str(), var, crlb, var / crlb, var / crlb * std::sqrt(2.0 / k),
+        reported[i] / k / crlb, white_only, var / white_only);
   }
   return 0;
 }

@@ -17,11 +17,11 @@
 #include "finite_output.hpp"
 #include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/positions.hpp"
+#include "gyroflip/core/text.hpp"
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
-#include "gyroflip/core/positions.hpp"
-#include "gyroflip/core/text.hpp"
 #include "gyroflip/method/demodulator.hpp"
 #include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/rigdata/recording_source.hpp"
@@ -239,8 +239,8 @@ int run_explain(const calibrate_options& o) {
                                             printable(o.positions, 60))));
     auto table = position_table::of_angles(*angles);
     if (!table) return report(usage_error("--positions: " + table.err().message));
-    reports.emplace_back("", method::separability_of(
-                                 *table, method::table_axis_kind_of(o.table_axis)));
+    reports.emplace_back("",
+                         method::separability_of(*table, method::table_axis_kind_of(o.table_axis)));
   } else {
     if (o.files.empty())
       return report(usage_error("--explain needs --positions A,B,... or recordings"));
@@ -251,8 +251,8 @@ int run_explain(const calibrate_options& o) {
       if (axis.empty())
         for (const auto& m : rows->metadata)
           if (m.key == "table_axis") axis = m.value;
-      reports.emplace_back(f, method::separability_of(rows->positions,
-                                                      method::table_axis_kind_of(axis)));
+      reports.emplace_back(
+          f, method::separability_of(rows->positions, method::table_axis_kind_of(axis)));
     }
   }
   std::string out;
@@ -273,11 +273,13 @@ int run_explain(const calibrate_options& o) {
 int run_calibrate(const calibrate_options& o) {
   if (o.explain) return run_explain(o);
   if (o.files.empty())
-    return report(usage_error("calibrate: the recordings are required (or --explain --positions "
-                              "A,B,... for the separability of a table before a run)"));
+    return report(
+        usage_error("calibrate: the recordings are required (or --explain --positions "
+                    "A,B,... for the separability of a table before a run)"));
   if (!o.positions.empty() || !o.table_axis.empty())
-    return report(usage_error("--positions and --table-axis go with --explain (a recording "
-                              "carries its own table and axis)"));
+    return report(
+        usage_error("--positions and --table-axis go with --explain (a recording "
+                    "carries its own table and axis)"));
   const auto pairing = method::parse_pairing(o.pairing);
   if (!pairing)
     return report(usage_error("--pairing must be " + method::scheme_names_joined(" or ")));

@@ -372,9 +372,9 @@ json separability_json(const method::separability& s) {
                      {"in_terms", p.in_terms},
                      {"why", p.why},
                      {"separated_by", p.separated_by}});
-  return {{"positions_deg", s.positions},      {"table_axis", s.axis},
-          {"estimable", s.estimable},          {"not_observable", s.unobservable},
-          {"meanings", std::move(meanings)},   {"inseparable", std::move(pairs)}};
+  return {{"positions_deg", s.positions},    {"table_axis", s.axis},
+          {"estimable", s.estimable},        {"not_observable", s.unobservable},
+          {"meanings", std::move(meanings)}, {"inseparable", std::move(pairs)}};
 }
 
 // Schema 4's `separability`, as written (strings; a field of another type is refused).
@@ -403,8 +403,9 @@ status read_separability(const std::string& path, const json& j, calibration_rec
   };
   if (!text("positions_deg", s.positions) || !text("table_axis", s.axis) ||
       !list("estimable", s.estimable) || !list("not_observable", s.unobservable))
-    return bad("positions_deg and table_axis are strings, estimable and not_observable lists of "
-               "strings");
+    return bad(
+        "positions_deg and table_axis are strings, estimable and not_observable lists of "
+        "strings");
   for (const char* key : {"meanings", "inseparable"}) {
     if (!it->contains(key)) continue;
     if (!(*it)[key].is_array()) return bad(fmt::format("'{}' must be an array", key));

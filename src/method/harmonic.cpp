@@ -218,7 +218,8 @@ harmonic_blocks blocks_of(std::span<const indexed_dwell> dwells) {
   if (out.period == 0) return out;
   block_cutter<indexed_at> cut(pattern_of(dwells, out.period));
   for (std::size_t k = 0; k < dwells.size(); ++k)
-    if (cut.push({dwells[k], k, dwells[k].position})) out.starts.push_back(cut.take().front().index);
+    if (cut.push({dwells[k], k, dwells[k].position}))
+      out.starts.push_back(cut.take().front().index);
   return out;
 }
 
@@ -236,10 +237,10 @@ result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
       terms.push_back(t);
     }
     if (table.size() < terms.size() + 1)
-      return runtime_error(fmt::format("{} terms and the bias need at least {} table positions; "
-                                       "the run has {} ({})",
-                                       terms.size(), terms.size() + 1, table.size(),
-                                       table.describe()));
+      return runtime_error(
+          fmt::format("{} terms and the bias need at least {} table positions; "
+                      "the run has {} ({})",
+                      terms.size(), terms.size() + 1, table.size(), table.describe()));
   } else {
     if (options.harmonics != 1 && options.harmonics != 2)
       return usage_error("one or two harmonics are fitted");
@@ -289,9 +290,9 @@ result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
     const std::vector<indexed_dwell> block(b.begin(), b.end());
     auto f = solve_block(block, design, [](const indexed_dwell& x) { return x; });
     if (!f)
-      return runtime_error(fmt::format(
-          "the table's positions ({} deg) cannot separate {} from the bias: {}", table.describe(),
-          fmt::join(terms, ", "), f.err().message));
+      return runtime_error(
+          fmt::format("the table's positions ({} deg) cannot separate {} from the bias: {}",
+                      table.describe(), fmt::join(terms, ", "), f.err().message));
     per_block[0].push_back(f->coeffs[0]);
     for (std::size_t i = 1; i < n_terms; ++i) per_block[i].push_back(f->coeffs[i + 1]);
     rss += f->chi2;
@@ -343,6 +344,19 @@ result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
 }
 
 namespace {
+
+// Removes from `v` its projections on the orthonormal vectors `basis` (modified Gram-Schmidt);
+// returns what is left's norm.
+double orthogonalize(const std::vector<std::vector<double>>& basis, std::vector<double>& v) {
+  for (const auto& e : basis) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < v.size(); ++i) d += e[i] * v[i];
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] -= d * e[i];
+  }
+  double n = 0.0;
+  for (const double x : v) n += x * x;
+  return std::sqrt(n);
+}
 
 std::string_view regressor_text(std::string_view term) {
   if (term == "c1") return "cos t";
@@ -423,7 +437,7 @@ table_axis_kind table_axis_kind_of(std::string_view text) {
   const auto a = earth::parse_axis(text);
   if (!a) return table_axis_kind::horizontal;
   return std::abs(a->down) > std::cos(8.0 * units::rad_per_deg) ? table_axis_kind::vertical
-                                                                 : table_axis_kind::horizontal;
+                                                                : table_axis_kind::horizontal;
 }
 
 separability separability_of(const position_table& table, table_axis_kind axis) {
@@ -443,21 +457,14 @@ separability separability_of(const position_table& table, table_axis_kind axis) 
     norm = std::sqrt(norm);
     if (norm < 1e-9 * std::sqrt(static_cast<double>(n))) {
       s.unobservable.emplace_back(term);
-      s.pairs.push_back({std::string(term), "0", std::string(term),
-                         fmt::format("{} is 0 at every position ({} deg)", regressor_text(term),
-                                     s.positions),
-                         std::string(more_positions)});
+      s.pairs.push_back(
+          {std::string(term), "0", std::string(term),
+           fmt::format("{} is 0 at every position ({} deg)", regressor_text(term), s.positions),
+           std::string(more_positions)});
       continue;
     }
     auto r = v;
-    for (const auto& e : basis) {
-      double d = 0.0;
-      for (std::size_t i = 0; i < n; ++i) d += e[i] * v[i];
-      for (std::size_t i = 0; i < n; ++i) r[i] -= d * e[i];
-    }
-    double rn = 0.0;
-    for (const double x : r) rn += x * x;
-    rn = std::sqrt(rn);
+    const double rn = orthogonalize(basis, r);
     if (rn > 1e-9 * norm) {
       for (double& x : r) x /= rn;
       basis.push_back(std::move(r));
@@ -476,8 +483,7 @@ separability separability_of(const position_table& table, table_axis_kind axis) 
       if (std::abs(f->coeffs[j]) > 1e-9)
         s.pairs.push_back({std::string(term), kept[j], kept[j],
                            fmt::format("at {} deg {} = {:+.6g} x {} (aliased)", s.positions,
-                                       regressor_text(term), f->coeffs[j],
-                                       regressor_text(kept[j])),
+                                       regressor_text(term), f->coeffs[j], regressor_text(kept[j])),
                            std::string(more_positions)});
   }
   s.estimable = std::move(kept);
@@ -510,9 +516,8 @@ class harmonic_demodulator final : public demodulator {
   [[nodiscard]] std::uint32_t uses() const noexcept override { return uses_; }
   [[nodiscard]] bool dwell_per_row() const noexcept override { return true; }
   [[nodiscard]] std::optional<cycle> push(const dwell& d) override {
-    const item x{{d.time_s, d.position, d.rate_dps, static_cast<double>(d.weight)},
-                 d.temp_c,
-                 d.position};
+    const item x{
+        {d.time_s, d.position, d.rate_dps, static_cast<double>(d.weight)}, d.temp_c, d.position};
     if (cut_) {
       take(x);
     } else {
@@ -560,9 +565,8 @@ class harmonic_demodulator final : public demodulator {
     if (!cut_->push(x)) return;
     const auto b = cut_->take();
     if (design_.terms.empty()) return;
-    const auto f = solve_block(b, design_, [](const item& i) -> const indexed_dwell& {
-      return i.d;
-    });
+    const auto f =
+        solve_block(b, design_, [](const item& i) -> const indexed_dwell& { return i.d; });
     if (!f) return;
     cycle c;
     double t = 0.0, temp = 0.0;
@@ -625,15 +629,8 @@ void forward_solve(const std::vector<double>& l, std::size_t n, std::vector<doub
 std::vector<double> contrasts_basis(std::span<const double> t) {
   const std::size_t p = t.size();
   std::vector<std::vector<double>> basis;
-  const auto add = [&basis, p](std::vector<double> v) {
-    for (const auto& e : basis) {
-      double d = 0.0;
-      for (std::size_t i = 0; i < p; ++i) d += e[i] * v[i];
-      for (std::size_t i = 0; i < p; ++i) v[i] -= d * e[i];
-    }
-    double n = 0.0;
-    for (const double x : v) n += x * x;
-    n = std::sqrt(n);
+  const auto add = [&basis](std::vector<double> v) {
+    const double n = orthogonalize(basis, v);
     if (n < 1e-8) return false;
     for (double& x : v) x /= n;
     basis.push_back(std::move(v));
@@ -658,10 +655,10 @@ std::vector<double> contrasts_basis(std::span<const double> t) {
 result<std::unique_ptr<demodulator>> make_harmonic_demodulator(const position_table& table,
                                                                const std::string& source) {
   if (table.size() < 3)
-    return input_error(
-        {source}, fmt::format("the harmonic scheme needs a table of 3 or more positions; this "
-                              "recording's has {} ({} deg)",
-                              table.size(), table.describe()));
+    return input_error({source},
+                       fmt::format("the harmonic scheme needs a table of 3 or more positions; this "
+                                   "recording's has {} ({} deg)",
+                                   table.size(), table.describe()));
   return std::unique_ptr<demodulator>(std::make_unique<harmonic_demodulator>(table));
 }
 
@@ -671,9 +668,10 @@ result<noise_transfer> harmonic_transfer(const position_table& table,
     if (!table.holds(p)) return usage_error(fmt::format("position {} is not in the table", p));
   const auto terms = terms_for(table, visiting_order, nullptr);
   if (terms.empty() || terms.front() != "c1")
-    return runtime_error(fmt::format("a visiting period of {} dwells at {} deg separates no "
-                                     "first harmonic from the bias and its slope",
-                                     visiting_order.size(), table.describe()));
+    return runtime_error(
+        fmt::format("a visiting period of {} dwells at {} deg separates no "
+                    "first harmonic from the bias and its slope",
+                    visiting_order.size(), table.describe()));
   const auto d = design_of(table, visiting_order, terms);
   const std::size_t p = visiting_order.size(), cols = d.cols();
   std::vector<double> design(p * cols), y(p, 0.0), w(p, 1.0);
@@ -703,9 +701,9 @@ double gauss_markov_gap_avar(double variance, double time_constant_s, double tau
   const double x = tau_s / time_constant_s, k = variance / (x * x);
   const double var = 2.0 * k * (x - 1.0 + std::exp(-x));
   // e^{-S/T} (e^{x} + e^{-x} - 2) = e^{-S/T} 2 (cosh x - 1), written to stay finite for x >> 1
-  const double cov = k * (std::exp(x - spacing_s / time_constant_s) +
-                          std::exp(-x - spacing_s / time_constant_s) -
-                          2.0 * std::exp(-spacing_s / time_constant_s));
+  const double cov =
+      k * (std::exp(x - spacing_s / time_constant_s) + std::exp(-x - spacing_s / time_constant_s) -
+           2.0 * std::exp(-spacing_s / time_constant_s));
   return var - cov;
 }
 

@@ -118,8 +118,7 @@ status add_harmonic_terms(const calibrate_request& r, io::calibration_record& re
     if (table && rows->positions.describe() != table->describe())
       return input_error({file}, fmt::format("its table ({} deg) is not {}'s ({} deg): the "
                                              "harmonic terms of one table at a time",
-                                             rows->positions.describe(), first,
-                                             table->describe()));
+                                             rows->positions.describe(), first, table->describe()));
     if (!table) {
       table = rows->positions;
       first = file;
@@ -131,9 +130,9 @@ status add_harmonic_terms(const calibrate_request& r, io::calibration_record& re
     auto f = method::fit_harmonics(method::indexed_dwells(rows->rows), rows->positions, o);
     if (!f) return input_error({file}, f.err().message);
     if (!fits.empty() && f->names != fits.front().names)
-      return input_error({file}, fmt::format("its visiting order separates {}, {}'s {}",
-                                             fmt::join(f->names, ", "), first,
-                                             fmt::join(fits.front().names, ", ")));
+      return input_error(
+          {file}, fmt::format("its visiting order separates {}, {}'s {}", fmt::join(f->names, ", "),
+                              first, fmt::join(fits.front().names, ", ")));
     fits.push_back(std::move(*f));
   }
   const auto& names = fits.front().names;

@@ -14,8 +14,7 @@ namespace gyroflip::workflow {
 double simulated_white_arw(const rig::simulator& sim) {
   const auto& p = sim.config().sensor;
   const double adc_dps = sim.adc().noise_v_rms() / p.scale_factor_v_per_dps;
-  return std::sqrt(p.arw_dps_rthz * p.arw_dps_rthz +
-                   adc_dps * adc_dps * sim.conversion_time_s());
+  return std::sqrt(p.arw_dps_rthz * p.arw_dps_rthz + adc_dps * adc_dps * sim.conversion_time_s());
 }
 
 std::function<double(double)> simulated_dwell_gap_avar(const rig::simulator& sim, double dwell_s) {
@@ -25,8 +24,8 @@ std::function<double(double)> simulated_dwell_gap_avar(const rig::simulator& sim
   if (p.bias_instability_dps > 0.0) {  // as sensor::flicker_bank builds it
     const double decades = std::log10(p.flicker_tau_max_s / p.flicker_tau_min_s);
     const auto n = static_cast<std::size_t>(std::max(2.0, std::round(2.0 * decades) + 1.0));
-    const double ln_r = std::log(p.flicker_tau_max_s / p.flicker_tau_min_s) /
-                        static_cast<double>(n - 1);
+    const double ln_r =
+        std::log(p.flicker_tau_max_s / p.flicker_tau_min_s) / static_cast<double>(n - 1);
     bank_q = p.bias_instability_dps * p.bias_instability_dps * ln_r / std::numbers::pi;
     for (std::size_t j = 0; j < n; ++j)
       bank_t.push_back(p.flicker_tau_min_s * std::exp(ln_r * static_cast<double>(j)));

@@ -234,13 +234,14 @@ TEST(Separability, NamesEveryAliasAndThePhysicalPairs) {
     return false;
   };
   // 0/120/240: 2t = -t (mod 360), so cos 2t = cos t and sin 2t = -sin t.
-  const auto three = gm::separability_of(table_of({0.0, 120.0, 240.0}),
-                                         gm::table_axis_kind::horizontal);
+  const auto three =
+      gm::separability_of(table_of({0.0, 120.0, 240.0}), gm::table_axis_kind::horizontal);
   EXPECT_EQ(three.estimable, (std::vector<std::string>{"b", "c1", "s1"}));
   EXPECT_TRUE(has_pair(three, "c2", "c1"));
   EXPECT_TRUE(has_pair(three, "s2", "s1"));
   bool minus_one = false;
-  for (const auto& p : three.pairs) minus_one |= p.first == "s2" && p.why.find("-1 x") != std::string::npos;
+  for (const auto& p : three.pairs)
+    minus_one |= p.first == "s2" && p.why.find("-1 x") != std::string::npos;
   EXPECT_TRUE(minus_one);
   // 0/90/180/270: sin 2t = 0 at every position.
   const auto four_s = gm::separability_of(four(), gm::table_axis_kind::horizontal);

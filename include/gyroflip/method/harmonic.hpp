@@ -75,8 +75,8 @@ struct harmonic_fit {
   std::size_t skipped_dwells = 0;  ///< dwells outside the pattern (after a gap): left out
   /// Terms the table separates that the visiting period had no room for (options.separable).
   std::vector<std::string> dropped;
-  std::size_t dwells = 0;          ///< dwells in the blocks fitted
-  double block_s = 0.0;  ///< mean block length (s): first to last block's start / (blocks - 1)
+  std::size_t dwells = 0;  ///< dwells in the blocks fitted
+  double block_s = 0.0;    ///< mean block length (s): first to last block's start / (blocks - 1)
   /// The white noise of one dwell (deg/s), from the blocks' residuals (their rms, corrected for
   /// the parameters each block fits): N = this x sqrt(dwell length) when the bias is white.
   double dwell_sigma_dps = 0.0;
@@ -134,12 +134,12 @@ struct term_meaning {
 /// kind separates. Written before a run (`calibrate --explain`) and with every result.
 /// docs/METHOD-NOTES.md, "N-position indexing".
 struct separability {
-  std::string positions;                 ///< the table's angles ("0, 90, 180, 270")
-  std::string axis;                      ///< "horizontal" or "vertical"
-  std::vector<std::string> estimable;    ///< b first, then the harmonic terms separated
-  std::vector<std::string> unobservable; ///< terms whose regressor is zero at every angle
-  std::vector<term_meaning> meanings;    ///< one per estimable term
-  std::vector<inseparable_pair> pairs;   ///< every inseparable pair (design, then physics)
+  std::string positions;                  ///< the table's angles ("0, 90, 180, 270")
+  std::string axis;                       ///< "horizontal" or "vertical"
+  std::vector<std::string> estimable;     ///< b first, then the harmonic terms separated
+  std::vector<std::string> unobservable;  ///< terms whose regressor is zero at every angle
+  std::vector<term_meaning> meanings;     ///< one per estimable term
+  std::vector<inseparable_pair> pairs;    ///< every inseparable pair (design, then physics)
   /// The report as lines of text (no trailing newline), for a front end to print.
   [[nodiscard]] std::vector<std::string> lines() const;
 };
