@@ -5,7 +5,14 @@
 /// planner's prediction, for both presets and dead times 0.1, 0.4 and 2 s. Common random numbers:
 /// every dwell of the sweep carves the same seeds' records, so the sweep's comparisons are sharp.
 ///
-///   build/bench/plan_sweep [SEEDS=400] [RUN_S=3600]
+///   build/bench/plan_sweep [SEEDS=400] [RUN_S=3600] [flip|heading]
+///
+/// `heading`: the same for an indexed run of four positions (0, 90, 180, 270 deg in the sweep
+/// 0,1,2,3,3,2,1,0, a turn of the dead time between dwells at different angles): the realised
+/// error is the RMS over the seeds of the first harmonic's components (c1, s1) that the
+/// per-period least squares gives (method::indexed_period_of's weights), against
+/// method::plan_indexed's dwell and prediction. The heading's error is this over W_E cos(lat),
+/// so the ratios are the heading's.
 ///
 /// One line per (preset, dead time, dwell); then per (preset, dead time) the planned dwell's
 /// realised sigma over the sweep's best and over the prediction. Figures: docs/PERFORMANCE.md.
@@ -60,11 +67,39 @@ double run_estimate(const std::vector<long double>& prefix, double tau_s, double
   return static_cast<double>(sum / static_cast<long double>(dwells));
 }
 
+// The indexed run's first harmonic (c1, s1) over whole periods; returns (c1^2 + s1^2) / 2.
+double indexed_estimate(const std::vector<long double>& prefix, const gm::indexed_period& p,
+                        std::size_t periods) {
+  const auto m = static_cast<std::size_t>(std::lround(p.dwell_s / dt));
+  const std::size_t n = prefix.size() - 1;
+  long double c = 0.0L, s = 0.0L;
+  for (std::size_t b = 0; b < periods; ++b)
+    for (std::size_t k = 0; k < p.start_s.size(); ++k) {
+      const auto start = static_cast<std::size_t>(
+          std::lround((static_cast<double>(b) * p.period_s + p.start_s[k]) / dt));
+      const long double mean = (prefix[std::min(start + m, n)] - prefix[std::min(start, n)]) /
+                               static_cast<long double>(m);
+      c += p.weight_c[k] * mean;
+      s += p.weight_s[k] * mean;
+    }
+  const auto nb = static_cast<long double>(periods);
+  return static_cast<double>((c * c + s * s) / (2.0L * nb * nb));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 400;
   const double run_s = argc > 2 ? std::atof(argv[2]) : 3600.0;
+  const bool heading = argc > 3 && std::string(argv[3]) == "heading";
+  const auto visits = gm::sweep_visits(std::vector<double>{0.0, 90.0, 180.0, 270.0});
+  // The error (or its square's expectation) of a dwell tau at dead time d on the prefix sums.
+  const auto period_of = [&](double tau, double d) {
+    return *gm::indexed_period_of(visits, tau, d);
+  };
+  const auto periods_of = [&](const gm::indexed_period& p) {
+    return static_cast<std::size_t>(std::floor(run_s / p.period_s));
+  };
   const std::vector<double> deads{0.1, 0.4, 2.0};
   const std::vector<double> factors{0.3, 0.45, 0.6, 0.75, 0.9, 1.0, 1.15, 1.35, 1.6, 2.0, 2.6, 3.5};
   for (const auto* name : {"adxrs150", "hz1-90-100a"}) {
@@ -74,7 +109,8 @@ int main(int argc, char** argv) {
     std::vector<gm::flip_plan> plans;
     std::vector<std::vector<double>> taus;
     for (const double d : deads) {
-      plans.push_back(*gm::plan_flip(noise, d, run_s));
+      plans.push_back(heading ? *gm::plan_indexed(noise, visits, d, run_s)
+                              : *gm::plan_flip(noise, d, run_s));
       std::vector<double> t;
       for (const double f : factors) t.push_back(std::round(plans.back().dwell_s * f / dt) * dt);
       t.push_back(0.512);
@@ -87,8 +123,13 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < y.size(); ++i) prefix[i + 1] = prefix[i] + y[i];
       for (std::size_t k = 0; k < deads.size(); ++k)
         for (std::size_t j = 0; j < taus[k].size(); ++j) {
-          const double e = run_estimate(prefix, taus[k][j], deads[k]);
-          sum2[k][j] += e * e;
+          if (heading) {
+            const auto p = period_of(taus[k][j], deads[k]);
+            sum2[k][j] += indexed_estimate(prefix, p, periods_of(p));
+          } else {
+            const double e = run_estimate(prefix, taus[k][j], deads[k]);
+            sum2[k][j] += e * e;
+          }
         }
     }
     for (std::size_t k = 0; k < deads.size(); ++k) {
@@ -96,8 +137,11 @@ int main(int argc, char** argv) {
       double best = INFINITY, best_tau = 0.0, planned = 0.0;
       for (std::size_t j = 0; j < taus[k].size(); ++j) {
         const double real = std::sqrt(sum2[k][j] / seeds);
-        const double pred = std::sqrt(gm::flip_mean_variance(
-            noise, taus[k][j], deads[k], gm::pairs_in(run_s, taus[k][j], deads[k])));
+        const auto ip = period_of(taus[k][j], deads[k]);
+        const double pred =
+            heading ? std::sqrt(gm::indexed_run_variance(noise, ip, periods_of(ip)).mean_var())
+                    : std::sqrt(gm::flip_mean_variance(noise, taus[k][j], deads[k],
+                                                       gm::pairs_in(run_s, taus[k][j], deads[k])));
         std::printf("%-12s d %.1f s  dwell %7.3f s  realised %.4g  predicted %.4g  ratio %.3f%s\n",
                     name, deads[k], taus[k][j], real, pred, real / pred,
                     j == factors.size() ? "  (paper)"

@@ -13,6 +13,10 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
                position and value: a number restarts at each boot)
   mislabelled  exported rows whose angle is not where the table truly stood (SENT.csv's
                table_deg)
+  mislabels    each of them: its boot, seq, cycle, position, exported angle, table_deg and how
+               long after the dwell's end the emulator first sent it (an emulator before issue
+               32's third session logged a DWELL first sent on RESEND at the angle of the table
+               then, the next dwell's: docs/EMULATOR.md; a large figure here points at that)
   unlabelled   DWELLs in the file that `export` does not use (a run whose start or homing is
                not known, a step fault)
   not_in_file  DWELLs sent and not stored
@@ -179,6 +183,7 @@ def compare(gyroflip, gfr, sent_csv):
                      int(s["code_sum"]))
     in_file = [s for s in sent if key(s) in dwells]
     mislabelled = foreign = unlabelled_exported = 0
+    mislabels = []
     spans = {}  # per run (export's segment): first dwell start, last dwell end (device ticks)
     seen, duplicates = set(), 0
     offsets, time_bad, max_dev = {}, 0, 0.0  # per run: time_s less the device clock
@@ -210,6 +215,13 @@ def compare(gyroflip, gfr, sent_csv):
             unlabelled_exported += 1
         elif abs(float(r["angle_deg"]) - float(match[0]["table_deg"])) > 1e-6:
             mislabelled += 1
+            m = match[0]
+            mislabels.append({"boot": int(m["boot"]), "seq": int(m["seq"]),
+                              "cycle": int(m["cycle"]), "position": int(m["position"]),
+                              "angle_deg": float(r["angle_deg"]),
+                              "table_deg": float(m["table_deg"]),
+                              "first_sent_after_end_s": round(float(m["sent_time_s"]) -
+                                                              int(m["t_end_ticks"]) / tick_hz, 3)})
     labelled = len(exported) - foreign - unlabelled_exported
     not_in_file = len(sent) - len(in_file)
     uncounted, boot_mismatch = uncounted_by_boot(sent, segments, key)
@@ -219,6 +231,7 @@ def compare(gyroflip, gfr, sent_csv):
         "in_file": len(in_file),
         "exported": len(exported),
         "mislabelled": mislabelled,
+        "mislabels": mislabels,
         "unlabelled": len(in_file) - labelled,
         "not_in_file": not_in_file,
         "gap_missing": gap_missing,

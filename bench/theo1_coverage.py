@@ -58,8 +58,8 @@ def main():
         dev, ok, ok_given, edf, read = [], [], [], [], []
         for _ in range(RECORDS):
             x = record(alpha, rng)
-            d = gyroflip.deviation(x, kind="theo1", input="angle", taus=taus)
-            g = gyroflip.deviation(x, kind="theo1", input="angle", taus=taus, alpha=alpha)
+            d = gyroflip.deviation(x, kind="theo1", rate=1.0, input="angle", taus=taus)
+            g = gyroflip.deviation(x, kind="theo1", rate=1.0, input="angle", taus=taus, alpha=alpha)
             dev.append(d.dev)
             ok.append((d.ci_lo, d.ci_hi))
             ok_given.append((g.ci_lo, g.ci_hi))

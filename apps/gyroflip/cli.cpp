@@ -91,7 +91,8 @@ void setup_heading(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand(
       "heading",
       "North finding: the azimuth of the sensitive axis at the table's 0 deg from indexed runs "
-      "about a vertical table axis (>= 3 positions), with its 1 sigma and the white-noise limit");
+      "about a vertical table axis (>= 3 positions; 0/180 with the scale factor known: up to its "
+      "sign), with its 1 sigma and the white-noise limit");
   auto o = bind<heading_options>(sub, chosen, run_heading);
   sub->add_option("runs", o->runs, "one recording, or two with the rig's base turned between")
       ->required();
@@ -105,6 +106,11 @@ void setup_heading(CLI::App& app, action& chosen) {
                   "second (default: from the recordings' azimuths)");
   sub->add_option("--sensor", o->sensor,
                   "adxrs150|hz1-90-100a|FILE.toml: print its dead-time bound beside the limit");
+  sub->add_option("--harmonics", o->harmonics,
+                  "1, or 2: fit the second harmonic too (>= 5 positions; docs/NORTH.md says "
+                  "when it is warranted)")
+      ->check(CLI::IsMember({1, 2}))
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
@@ -232,6 +238,11 @@ void setup_emulate(CLI::App& app, action& chosen) {
       "AT:FOR - after the first frame it sends from AT device s after the first START on, "
       "the emulator stops for FOR wall s, as under SIGSTOP: it neither reads nor "
       "sends, then catches up (repeatable)");
+  sub->add_option(
+      "--fault-tx-hold", o->fault_tx_hold,
+      "AT:FOR - AT device s after the first START the device's UART transmitter is held for FOR "
+      "device s (a stuck transmitter or CTS): frames that do not fit its transmit ring are "
+      "dropped from the live stream and kept in its history, for RESEND (repeatable)");
   sub->add_option("--fault-lose-reply", o->fault_lose_reply,
                   "CMD:N or CMD:N-M - the reply (ACK or NAK; a PING's INFO too) to the Nth (to "
                   "Mth) CMD frame the device takes is lost on the line (CMD: ping, configure, "
@@ -302,6 +313,13 @@ void setup_export(CLI::App& app, action& chosen) {
 void setup_sensors(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand("sensors", "List sensor presets with parameters, units, sources");
   auto o = bind<sensors_options>(sub, chosen, run_sensors);
+  sub->add_option("--dead-time", o->dead_s,
+                  "the dead time per turn (s) for the implied best dwell sqrt(d tau_c)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sub->add_option("--latitude", o->lat_deg, "the latitude (deg) for the implied heading limit")
+      ->check(CLI::Range(-85.0, 85.0))
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 
@@ -401,9 +419,12 @@ void add_series_options(CLI::App* sub, series_input& in) {
   sub->add_option("--input", in.input, "what the samples are: rate or angle")
       ->check(CLI::IsMember({"rate", "angle"}))
       ->capture_default_str();
-  sub->add_option("--units", in.units,
-                  "unit of the samples: deg/s, rad/s or deg/h (rate); deg or rad (angle)")
-      ->check(CLI::IsMember({"deg/s", "rad/s", "deg/h", "deg", "rad"}))
+  sub->add_option(
+         "--units", in.units,
+         "unit of the samples: deg/s, rad/s or deg/h (rate); deg or rad (angle); m/s^2, g, "
+         "mg or ug (accelerometer)")
+      ->check(CLI::IsMember({"deg/s", "rad/s", "deg/h", "deg", "rad", "m/s^2", "g", "mg", "ug"}))
+      ->each([&in](const std::string&) { in.units_given = true; })
       ->capture_default_str();
   sub->add_option("--delimiter", in.delimiter,
                   "CSV field separator: , ; tab or space (default: detected from the first line)")
@@ -487,6 +508,9 @@ void setup_report(CLI::App& app, action& chosen, const std::vector<std::string>&
   sub->add_option("--calibration", o->calibration,
                   "CAL.json: compensate the files with it (without: calibrate them)");
   sub->add_option("--title", o->title, "the report's title");
+  sub->add_option("--sensor", o->sensor,
+                  "sensor preset or FILE.toml whose g-sensitivity specification the stationarity "
+                  "test checks (default: the recordings' preset)");
   sub->add_option("--pairing", o->pairing, gyroflip::method::scheme_names_joined("|"))
       ->check(CLI::IsMember(gyroflip::method::scheme_names()))
       ->capture_default_str();
@@ -526,14 +550,27 @@ void setup_noise(CLI::App& app, action& chosen) {
   sub->add_option("-o,--output", o->output,
                   "also write the terms: FILE.json (the --json object) or CSV "
                   "column,term,unit,value,lo,hi,resolved,read_off");
+  sub->add_option("--quantity", o->quantity,
+                  "what the columns measure: gyro or accel (default: from each column's unit in "
+                  "its name, as ax_mps2 or acc_x [m/s^2]; else gyro)")
+      ->check(CLI::IsMember({"gyro", "accel"}));
   sub->add_option("--kalibr", o->kalibr,
-                  "also write Kalibr's IMU noise YAML (gyroscope_noise_density, "
-                  "gyroscope_random_walk in rad units, not inflated)");
+                  "also write Kalibr's IMU noise YAML (rostopic, update_rate, the accelerometer's "
+                  "and the gyro's noise density and random walk in m/s^2 and rad units, the "
+                  "largest axis, not inflated): needs gyro and accelerometer columns, in FILE or "
+                  "with --kalibr-other");
+  sub->add_option("--kalibr-other", o->kalibr_other,
+                  "the other sensor's record for --kalibr (accelerometer for a gyro FILE, or "
+                  "gyro): every numeric column, read as FILE is, each column's unit from its "
+                  "name, else m/s^2 or deg/s");
+  sub->add_option("--rostopic", o->rostopic, "the IMU topic --kalibr writes")
+      ->capture_default_str();
   sub->add_option("--plot", o->plot,
                   "draw the Allan curves with bounds, fitted term lines and read-off points to "
                   "FILE.png, .svg or .pdf (gnuplot; FILE.gp and its data beside it)");
-  sub->add_option("--plot-units", o->plot_units, "the plot's unit: deg/h, deg/s or rad/s")
-      ->capture_default_str();
+  sub->add_option("--plot-units", o->plot_units,
+                  "the plot's unit: deg/h (default), deg/s or rad/s; for an accelerometer mg "
+                  "(default), ug or m/s^2");
   sub->add_option("--title", o->title, "the plot's title (default: Allan deviation of FILE)");
   sub->add_flag("--long-taus", o->long_taus,
                 "also OADEV beyond Stable32's m <= (N-1)/4 up to (N-1)/2 (as MATLAB and "
@@ -562,6 +599,14 @@ void setup_plan(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_option("--max-dwell", o->max_dwell_s,
                   "longest dwell considered (s; default a quarter of the run)");
+  sub->add_option("--positions", o->positions,
+                  "the table positions A,B,... (deg, 2 to 8; three or more: an indexed run in the "
+                  "drift-cancelling sweep, planned for the first harmonic's error)");
+  sub->add_flag("--heading", o->heading,
+                "plan for north finding: the dwell that minimises the heading's error (positions "
+                "default 0,90,180,270; needs --latitude)");
+  sub->add_option("--latitude", o->lat_deg, "with --heading: the site's latitude (deg)");
+  sub->add_option("--plot", o->plot, "FILE.png|.svg|.pdf: the predicted error against the dwell");
   sub->add_flag("--json", o->json, "print one JSON object");
 }
 

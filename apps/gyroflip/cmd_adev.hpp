@@ -33,6 +33,7 @@ struct series_input {
   std::string time_unit = "s";
   std::string gaps = "error";   // error | split
   std::string units = "deg/s";  // of the samples: deg/s | rad/s | deg/h (angle: deg | rad)
+  bool units_given = false;     // --units was given (noise: else a column's name may state it)
 };
 
 /// Degrees per second (or, for angle input, degrees) per unit of the samples.
@@ -89,15 +90,18 @@ struct plot_file {
 
 struct noise_options {
   series_input in;
-  std::string plot;                  ///< FILE.png|.svg|.pdf: the Allan plot with the fitted terms
-  std::string plot_units = "deg/h";  ///< deg/h, deg/s or rad/s
-  std::string title;                 ///< the plot's title (default: the file's name)
-  bool long_taus = false;            ///< also OADEV up to m <= (N-1)/2, shown not fitted
-  double ci = 0.683;                 ///< two-sided confidence level of the terms' intervals
+  std::string plot;        ///< FILE.png|.svg|.pdf: the Allan plot with the fitted terms
+  std::string plot_units;  ///< deg/h, deg/s, rad/s; m/s^2, mg, ug (empty: deg/h or mg)
+  std::string title;       ///< the plot's title (default: the file's name)
+  bool long_taus = false;  ///< also OADEV up to m <= (N-1)/2, shown not fitted
+  double ci = 0.683;       ///< two-sided confidence level of the terms' intervals
   bool json = false;
-  std::string kalibr;    ///< write Kalibr's IMU noise YAML here
-  std::string fit_taus;  ///< LO:HI (s): the range the model is fitted to (empty: all)
-  std::string output;    ///< the terms as CSV, or JSON for FILE.json
+  std::string kalibr;              ///< write Kalibr's IMU noise YAML here
+  std::string kalibr_other;        ///< the other sensor's record for the Kalibr file
+  std::string rostopic = "/imu0";  ///< the Kalibr file's rostopic
+  std::string quantity;            ///< gyro | accel (empty: from each column's name, else gyro)
+  std::string fit_taus;            ///< LO:HI (s): the range the model is fitted to (empty: all)
+  std::string output;              ///< the terms as CSV, or JSON for FILE.json
 };
 int run_noise(const noise_options& o);
 

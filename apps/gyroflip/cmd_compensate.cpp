@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "finite_output.hpp"
+#include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/recording_writer.hpp"
@@ -94,6 +95,15 @@ int run_compensate(const compensate_options& o) {
         o.file, summary.cycles, summary.mean_dps, summary.std_dps, summary.stderr_correlated_dps,
         summary.drift_dps ? fmt::format("{:.3e} deg/s", *summary.drift_dps) : std::string("n/a"),
         summary.drift_window_s);
+    // Both errors of the mean: the within-run one above, and the ΔN's, common to every cycle
+    // (third review of issue 31, M5).
+    if (std::isfinite(res->delta_n_u_dps))
+      summary_text += fmt::format(
+          "  the ΔN subtracted has its own error ±{} deg/s (the calibration's, 68.3 %; a new "
+          "power-up adds its repeatability), {} times the stderr: the same in every cycle, so "
+          "averaging does not reduce it; quote both\n",
+          significant(res->delta_n_u_dps, 2),
+          significant(res->delta_n_u_dps / summary.stderr_correlated_dps, 2));
     if (auto s = check_finite(summary_text, "<stdout>"); !s) return report(s.err());
   }
   if (!o.output.empty() || !o.json)

@@ -86,11 +86,16 @@ class sent_log {
   }
   // Rows are flushed as they are written: a reader (a crash test) sees what was sent.
   // `hit`: a fault touched the frame or the line was gone; `table_deg`: where the table truly
-  // stood during the dwell.
+  // stood during the dwell: at its last conversion (emulator::table_deg_at its t_end_ticks), not
+  // at the last conversion before the frame is first seen (a frame dropped from the device's full
+  // transmit ring is first seen on RESEND, after the table turned on: it was logged at the next
+  // dwell's angle, and bench/rig_truth.py counted a dwell labelled right as mislabelled).
   // `boot`: the firmware's boot (1 at the first; its numbering starts again at each).
-  status add(const protocol::frame& fr, double time_s, bool hit, double table_deg, unsigned boot) {
+  status add(const protocol::frame& fr, double time_s, bool hit, const host::emulator& emu) {
     protocol::dwell_msg d;
     if (f_ == nullptr || !fr.as(d)) return ok();
+    const double table_deg = emu.table_deg_at(d.t_end_ticks);
+    const unsigned boot = emu.boots();
     fmt::print(f_, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6f},{},{:.4f},{}\n", fr.seq,
                d.cycle, d.position, d.t_start_ticks, d.t_end_ticks, d.n, d.code_sum, d.code_min,
                d.code_max, d.n_temp, d.temp_sum, d.ax_high_ticks, d.ax_period_ticks,
@@ -191,6 +196,10 @@ struct fault_plan {
   // device time on, as under SIGSTOP: it neither reads nor sends, then catches up with the wall
   // clock (a stopped or descheduled peer, not a dead line).
   std::vector<std::pair<double, double>> stall;  // (device time, wall seconds), ascending
+  // The device's UART transmitter held (a stuck transmitter, a held CTS): the firmware's
+  // transmit ring fills and what does not fit is dropped from the live stream, kept in its
+  // history for RESEND (a frame the log first sees late, on RESEND).
+  std::vector<std::pair<double, double>> tx_hold;  // (device time, device seconds), ascending
   // Faults tied to the host's commands (CMD:N, the Nth frame of that command the device takes,
   // retries counted): the reply lost, or the firmware reset just before it takes the frame. They
   // hit a moment of a session deliberately (a START whose ACK is lost and whose retry meets a
@@ -247,8 +256,8 @@ result<std::vector<fault_plan::command_range>> command_faults(const std::vector<
   return out;
 }
 
-// AT:FOR faults (--fault-unplug, --fault-stall): AT device s into the run, FOR seconds of the
-// named clock up to max_for_s.
+// AT:FOR faults (--fault-unplug, --fault-stall, --fault-tx-hold): AT device s into the run, FOR
+// seconds of the named clock up to max_for_s.
 result<std::vector<std::pair<double, double>>> at_for_faults(const std::vector<std::string>& specs,
                                                              const char* option, const char* clock,
                                                              double max_for_s) {
@@ -279,6 +288,10 @@ result<fault_plan> fault_plan_of(const emulate_options& o) {
   if (!stall) return stall.err();
   f.stall = std::move(*stall);
   std::sort(f.stall.begin(), f.stall.end(), std::greater<>());
+  auto tx_hold = at_for_faults(o.fault_tx_hold, "--fault-tx-hold", "device", 3600.0);
+  if (!tx_hold) return tx_hold.err();
+  f.tx_hold = std::move(*tx_hold);
+  std::sort(f.tx_hold.begin(), f.tx_hold.end(), std::greater<>());
   std::sort(f.reset_at_s.begin(), f.reset_at_s.end(), std::greater<>());  // due ones at the back
   std::sort(f.unplug.begin(), f.unplug.end(), std::greater<>());
   auto lose = command_faults(o.fault_lose_reply, "--fault-lose-reply");
@@ -509,8 +522,9 @@ int run_emulate(const emulate_options& o) {
   std::uint8_t buf[4096];
   constexpr std::uint32_t chunk_ticks = host::emulator::tick_hz / 100;  // 10 ms of device time
   const auto wall_start = steady::now();
-  double back_at_s = 0.0;  // while the line is gone: the device time it comes back
-  double stall_s = 0.0;    // a --fault-stall due: its wall seconds (0: none)
+  double back_at_s = 0.0;     // while the line is gone: the device time it comes back
+  double stall_s = 0.0;       // a --fault-stall due: its wall seconds (0: none)
+  double tx_free_at_s = 0.0;  // a --fault-tx-hold ends at this device time (0: none held)
   std::uint64_t frames_unplugged = 0;
   bool frame_unplugged = false;  // a byte of the frame being sent went out while the line was gone
   std::optional<double> run_start_s;  // device time of the first run: faults count from it
@@ -562,6 +576,15 @@ int run_emulate(const emulate_options& o) {
       stall_s = plan->stall.back().second;
       plan->stall.pop_back();
     }
+    if (!plan->tx_hold.empty() && run_s >= plan->tx_hold.back().first) {
+      tx_free_at_s = std::max(tx_free_at_s, emu.time_s() + plan->tx_hold.back().second);
+      plan->tx_hold.pop_back();
+      emu.hold_transmitter(true);
+    }
+    if (tx_free_at_s > 0.0 && emu.time_s() >= tx_free_at_s) {
+      tx_free_at_s = 0.0;
+      emu.hold_transmitter(false);
+    }
     if (line && !plan->unplug.empty() && run_s >= plan->unplug.back().first) {
       back_at_s = emu.time_s() + plan->unplug.back().second;
       plan->unplug.pop_back();
@@ -609,9 +632,7 @@ int run_emulate(const emulate_options& o) {
         if (frame_unplugged) ++frames_unplugged;
         frame_unplugged = false;
         if (!logged.take(monitor.current().seq)) continue;
-        if (auto s = log->add(monitor.current(), emu.time_s(), lost,
-                              emu.last_conversion_table_deg(), emu.boots());
-            !s)
+        if (auto s = log->add(monitor.current(), emu.time_s(), lost, emu); !s)
           return report(s.err());
       }
     // A reader that does not keep up holds the device's time (the stream stays whole).

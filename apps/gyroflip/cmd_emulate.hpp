@@ -25,9 +25,10 @@ struct emulate_options {
   double fault_drop = 0.0;
   std::string log;   ///< SENT.csv: every DWELL the device sent
   std::string link;  ///< a symbolic link kept pointing at the line while it is there
-  std::vector<double> fault_reset_at_s;   ///< device times of firmware resets
-  std::vector<std::string> fault_unplug;  ///< AT_S:FOR_S, the line gone for FOR_S device s
-  std::vector<std::string> fault_stall;   ///< AT_S:FOR_S, the emulator stopped FOR_S wall s
+  std::vector<double> fault_reset_at_s;    ///< device times of firmware resets
+  std::vector<std::string> fault_unplug;   ///< AT_S:FOR_S, the line gone for FOR_S device s
+  std::vector<std::string> fault_stall;    ///< AT_S:FOR_S, the emulator stopped FOR_S wall s
+  std::vector<std::string> fault_tx_hold;  ///< AT_S:FOR_S, the UART transmitter held FOR_S device s
   /// CMD:N: the device's reply (ACK or NAK) to the Nth frame of command CMD it takes is lost
   std::vector<std::string> fault_lose_reply;
   /// CMD:N: the firmware is reset just before it takes the Nth frame of command CMD

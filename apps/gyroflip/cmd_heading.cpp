@@ -17,6 +17,7 @@ int run_heading(const heading_options& o) {
   if (!o.table_axis.empty()) q.table_axis_up = o.table_axis == "up";
   q.base_turn_deg = o.base_turn_deg;
   q.sensor = o.sensor;
+  q.harmonics = o.harmonics;
   auto h = workflow::find_heading(q);
   if (!h) return report(h.err());
   if (o.json) {
@@ -28,17 +29,27 @@ int run_heading(const heading_options& o) {
       "  azimuth of the sensitive axis at the table's 0 deg, from north, clockwise\n"
       "  scheme: {}\n",
       h->heading_deg, h->sigma_deg, h->scheme);
+  if (h->ambiguous)
+    text += fmt::format("  or its mirror {:.3f} deg (0/180 gives the heading up to its sign)\n",
+                        h->mirror_deg);
   if (h->limit_deg > 0.0)
     text += fmt::format(
-        "  white-noise limit {:.3f} deg (sqrt(2) N / (W_E cos(lat) sqrt(T)), N = {:.3g} "
-        "deg/s/sqrt(Hz) from the dwells): sigma is {:.2f} x the limit\n",
-        h->limit_deg, h->arw_dps_rthz, h->ratio_to_limit);
+        "  white-noise limit {:.3f} deg ({}, N = {:.3g} deg/s/sqrt(Hz) from the dwells): sigma is "
+        "{:.2f} x the limit\n",
+        h->limit_deg,
+        h->ambiguous ? "N / (W_E cos(lat) |sin(psi - theta_0)| sqrt(T)): a 0/180 contrast, k = 1"
+                     : "sqrt(2) N / (W_E cos(lat) sqrt(T))",
+        h->arw_dps_rthz, h->ratio_to_limit);
   if (h->dead_time_bound_deg)
     text +=
         fmt::format("  dead-time bound (the sensor's N and B): {:.3f} deg: sigma is {:.2f} x it\n",
                     *h->dead_time_bound_deg, h->sigma_deg / *h->dead_time_bound_deg);
-  text += fmt::format("  first harmonic {:.4e} deg/s against W_E cos(lat) {:.4e} deg/s\n",
-                      h->amplitude_dps, h->earth_horizontal_dps);
+  text += fmt::format("  first harmonic {}{:.4e} deg/s against W_E cos(lat) {:.4e} deg/s\n",
+                      h->ambiguous ? "(its projection, magnitude) " : "", h->amplitude_dps,
+                      h->earth_horizontal_dps);
+  if (!h->runs.empty() && h->runs[0].fit.names.size() == 5)
+    text += fmt::format("  second harmonic {:.4e} +- {:.2e} deg/s\n", h->second_harmonic_dps,
+                        h->second_harmonic_sigma_dps);
   if (h->two_azimuths)
     text += fmt::format(
         "  two base azimuths ({:g} deg apart): the table's term (tilt x g-sensitivity) removed: "

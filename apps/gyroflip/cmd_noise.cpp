@@ -1,5 +1,6 @@
 /// \file
 /// \brief `gyroflip noise`: IEEE 952 noise terms (Q, N, B, K, R) with intervals and units.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
@@ -8,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -46,24 +48,6 @@ std::string also(const analysis::noise_term& t, double to_unit) {
   return fmt::format("{}{:.4g}", t.resolved ? "" : "< ", value_or_limit(t) * to_unit);
 }
 
-// Kalibr's IMU noise file (kalibr/wiki "IMU Noise Model"): the continuous-time gyroscope noise
-// density (rad/s/sqrt(Hz), our N) and bias random walk (rad/s^2/sqrt(Hz), our K), as measured:
-// no inflation factor is applied (docs/ANALYSIS.md says what the field's x10 habit means).
-std::string kalibr_yaml(const std::string& file, const analysis::noise_terms& f, double to_rad,
-                        double rate_hz) {
-  const auto remark = [](const analysis::noise_term& t) {
-    return t.resolved ? std::string() : std::string("  # an upper limit: not resolved by the data");
-  };
-  return fmt::format(
-      "# IMU noise model for Kalibr, measured by gyroflip noise from {}\n"
-      "# continuous-time densities, not inflated; accelerometer fields are not measured here\n"
-      "gyroscope_noise_density: {:.6e}  # rad/s/sqrt(Hz) (ARW N){}\n"
-      "gyroscope_random_walk: {:.6e}  # rad/s^2/sqrt(Hz) (RRW K){}\n"
-      "update_rate: {:.9g}  # Hz\n",
-      printable(file, 200), value_or_limit(f.arw) * to_rad, remark(f.arw),
-      value_or_limit(f.rrw) * to_rad, remark(f.rrw), rate_hz);
-}
-
 // One column's OADEV, fitted terms and read-offs (in the samples' unit).
 using column_noise = io::noise_report;
 
@@ -78,47 +62,136 @@ result<analysis::tau_range> fit_range(const std::string& spec) {
   return r;
 }
 
-result<column_noise> noise_of(const noise_options& o, const analysis::tau_range& range,
-                              const analysis_input& in) {
+// A quantity's name in messages.
+const char* sensor_name(const std::string& quantity) {
+  return quantity == "accel" ? "an accelerometer" : "a gyro";
+}
+
+// The sensor and unit of one column (docs/ANALYSIS.md, "Accelerometers"): --units when given,
+// else the unit the column's name states, else --quantity's default unit (deg/s, m/s^2).
+// Contradictions are usage errors naming the column.
+result<io::column_unit> sensor_of(const noise_options& o, const series_input& in,
+                                  const std::string& column) {
+  const auto named = io::unit_of_column(column);
+  io::column_unit u;
+  if (in.units_given) {
+    u = {units::is_accel_unit(in.units) ? "accel" : "gyro", in.units};
+    if (named && named->quantity != u.quantity)
+      return usage_error(
+          fmt::format("{}: column {} is named in {} ({}), but --units {} is a unit of {}", in.file,
+                      printable(column, 60), named->unit, sensor_name(named->quantity), in.units,
+                      sensor_name(u.quantity)));
+  } else if (named) {
+    u = *named;
+  } else {
+    u = o.quantity == "accel" ? io::column_unit{"accel", "m/s^2"}
+                              : io::column_unit{"gyro", in.units};
+  }
+  if (!o.quantity.empty() && o.quantity != u.quantity)
+    return usage_error(fmt::format("{}: column {} is in {}, a unit of {}, not of --quantity {}",
+                                   in.file, printable(column, 60), u.unit, sensor_name(u.quantity),
+                                   o.quantity));
+  if (u.quantity == "accel" && in.input == "angle")
+    return usage_error(
+        "an accelerometer record is read as specific force (--input rate); integrated velocity "
+        "is not supported");
+  return u;
+}
+
+result<column_noise> noise_of(const noise_options& o, const series_input& opts,
+                              const analysis::tau_range& range, const analysis_input& in,
+                              const io::column_unit& sensor) {
   column_noise c;
-  c.file = o.in.file;
+  c.file = opts.file;
   c.column = in.column;
-  c.input = o.in.input;
-  c.units = unit_name(o.in);
-  c.deg_per_unit = deg_per_unit(o.in);
+  c.input = opts.input;
+  c.quantity = sensor.quantity;
+  c.units = std::string(units::unit_name(opts.input == "angle", sensor.unit));
+  c.deg_per_unit = sensor.quantity == "accel" ? 1.0 : units::deg_per_unit(sensor.unit);
+  c.mps2_per_unit = units::mps2_per_unit(sensor.unit);
   c.tau0_s = in.phase.tau0_s();
   c.samples = in.series.samples().size();
   // The rate column of `gyroflip compensate`: a demodulator's estimates, whose white-noise shape
   // its scheme states (abba: correlated cycles).
   for (const auto& m : in.series.metadata())
-    if (m.key == "pairing" && o.in.input == "rate")
+    if (m.key == "pairing" && opts.input == "rate")
       if (const auto p = method::parse_pairing(m.value))
         c.series = method::noise_series_of(*p, c.tau0_s);
-  progress bar("noise of " + o.in.file, 1000);
+  progress bar("noise of " + opts.file, 1000);
   auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar), o.long_taus);
   bar.finish();
   // Too few points for the fit is a property of this input (too short a series): name it.
   if (!a)
-    return input_error({o.in.file}, a.err().message + (o.fit_taus.empty() ? "" : " in --fit-taus"));
+    return input_error({opts.file}, a.err().message + (o.fit_taus.empty() ? "" : " in --fit-taus"));
   if (a->terms.chi2_per_dof > 4.0)
     warn(
         fmt::format("{}: column {}: the noise model fits the curve poorly (chi2/dof {:.3g}): "
                     "other noise (a sinusoid, a temperature swing) or a bad range; see the misfit "
                     "points, or fit a range with --fit-taus LO:HI",
-                    o.in.file, printable(c.column, 60), a->terms.chi2_per_dof));
+                    opts.file, printable(c.column, 60), a->terms.chi2_per_dof));
   c.result = std::move(*a);
   return c;
 }
 
-void append_text(std::string& text, const noise_options& o, const column_noise& c) {
+// The fit's range and quality, one line of the text.
+std::string fit_line(const noise_options& o, const analysis::noise_terms& f) {
+  return fmt::format(
+      "  fit over tau {:g} to {:g} s{}, chi2/dof {:.3g}; intervals include the spread over {} fit "
+      "ranges\n",
+      f.fit_tau_lo_s, f.fit_tau_hi_s, o.fit_taus.empty() ? "" : " (--fit-taus)", f.chi2_per_dof,
+      f.fit_ranges);
+}
+
+// An accelerometer's terms (IEEE Std 1293-2018): VRW, bias instability, acceleration random
+// walk, in m/s^2 units and g units (g_n = 9.80665 m/s^2).
+void append_accel_text(std::string& text, const noise_options& o, const column_noise& c) {
   const auto& f = c.result.terms;
-  const double k = deg_per_unit(o.in);
+  const double k = c.mps2_per_unit;
+  const double mg = k / units::standard_gravity_mps2 * 1e3;
+  const double rth = units::deg_rth_per_deg_rts;
+  const auto out = std::back_inserter(text);
+  fmt::format_to(out,
+                 "{}: column {} (accelerometer), {} samples at {:g} Hz in {}, IEEE 1293 terms "
+                 "from OADEV ({:g} % intervals)\n",
+                 c.file, printable(c.column, 60), c.samples, 1.0 / c.tau0_s, c.units,
+                 100.0 * f.level);
+  fmt::format_to(out,
+                 "  velocity random walk N  {} m/s^2/sqrt(Hz) = {} m/s/sqrt(h) = {} ug/sqrt(Hz) "
+                 "(two-sided density)\n",
+                 show(f.arw, k), also(f.arw, k * rth), also(f.arw, mg * 1e3));
+  if (std::isfinite(c.result.adev_1s))
+    fmt::format_to(out,
+                   "                          ADEV(1 s) {:.4g} m/s^2/sqrt(Hz) (ADEV at tau {:g} s "
+                   "x sqrt(tau)), {:.4g} less the other fitted terms there\n",
+                   c.result.adev_1s * std::sqrt(c.result.adev_1s_tau_s) * k, c.result.adev_1s_tau_s,
+                   c.result.adev_1s_arw * k);
+  fmt::format_to(out,
+                 "  bias instability  B     {} mg (IEEE 952 fit)   = {} m/s^2;  floor/0.664 {:.4g} "
+                 "mg;  raw floor {:.4g} mg at tau {:g} s{}\n",
+                 show(f.bias_instability, mg), also(f.bias_instability, k),
+                 f.bias_floor_dev * mg / 0.6643, f.bias_floor_dev * mg, f.bias_floor_tau_s,
+                 f.bias_floor_reached ? "" : " (no floor: OADEV still falls)");
+  fmt::format_to(out, "  acceleration random walk K  {} m/s^3/sqrt(Hz) = {} mg/sqrt(h)\n",
+                 show(f.rrw, k), also(f.rrw, mg * rth));
+  fmt::format_to(out, "  quantization      Q     {} m/s\n", show(f.quantization, k));
+  fmt::format_to(out, "  ramp              R     {} mg/h\n",
+                 show(f.rate_ramp, mg * units::s_per_h));
+  fmt::format_to(out, "{}", fit_line(o, f));
+  for (const auto& n : f.notes)
+    if (n.find("not resolved by the data") == std::string::npos)
+      fmt::format_to(out, "  note: {}\n", n);
+}
+
+void append_text(std::string& text, const noise_options& o, const column_noise& c) {
+  if (c.quantity == "accel") return append_accel_text(text, o, c);
+  const auto& f = c.result.terms;
+  const double k = c.deg_per_unit;
   const double k_rad = k * units::rad_per_deg;
   const auto out = std::back_inserter(text);
   fmt::format_to(out,
                  "{}: column {}, {} samples at {:g} Hz in {}, IEEE 952 terms from OADEV ({:g} % "
                  "intervals)\n",
-                 o.in.file, printable(c.column, 60), c.samples, 1.0 / c.tau0_s, unit_name(o.in),
+                 c.file, printable(c.column, 60), c.samples, 1.0 / c.tau0_s, c.units,
                  100.0 * f.level);
   fmt::format_to(out,
                  "  angle random walk N    {} deg/sqrt(h)   = {} deg/s/sqrt(Hz) = {} rad/s/sqrt(Hz)"
@@ -147,11 +220,7 @@ void append_text(std::string& text, const noise_options& o, const column_noise& 
   fmt::format_to(out, "  quantization      Q    {} deg\n", show(f.quantization, k));
   fmt::format_to(out, "  rate ramp         R    {} deg/h^2\n",
                  show(f.rate_ramp, k * units::dph2_per_dps2));
-  fmt::format_to(out,
-                 "  fit over tau {:g} to {:g} s{}, chi2/dof {:.3g}; intervals include the spread "
-                 "over {} fit ranges\n",
-                 f.fit_tau_lo_s, f.fit_tau_hi_s, o.fit_taus.empty() ? "" : " (--fit-taus)",
-                 f.chi2_per_dof, f.fit_ranges);
+  fmt::format_to(out, "{}", fit_line(o, f));
   const auto& r = c.result.readoffs;
   const auto line = [](const std::optional<double>& v, double to, double tau, const char* slope) {
     return v ? fmt::format("{:.4g} (slope {} at tau {:.3g} s)", *v * to, slope, tau)
@@ -171,10 +240,10 @@ void append_text(std::string& text, const noise_options& o, const column_noise& 
 
 // `noise -o FILE.csv`: one row per column and term, in the field's units, with the interval (or
 // the upper limit of an unresolved term) and the read-off beside the fit.
-std::string terms_csv(const noise_options& o, const std::vector<column_noise>& all) {
+std::string terms_csv(const std::vector<column_noise>& all) {
   std::string t = "column,term,unit,value,lo,hi,resolved,read_off\n";
-  const double k = deg_per_unit(o.in);
   for (const auto& c : all) {
+    const double k = c.deg_per_unit;
     const auto& f = c.result.terms;
     const auto& r = c.result.readoffs;
     const auto row = [&](const char* term, const char* unit, const analysis::noise_term& x,
@@ -186,6 +255,16 @@ std::string terms_csv(const noise_options& o, const std::vector<column_noise>& a
       else
         t += fmt::format("{},{},{},,,{},0,{}\n", c.column, term, unit, x.hi * to, ro);
     };
+    if (c.quantity == "accel") {
+      const double a = c.mps2_per_unit;
+      const double mg = a / units::standard_gravity_mps2 * 1e3;
+      row("vrw", "m/s^2/sqrt(Hz)", f.arw, a, r.arw);
+      row("bias_instability", "mg", f.bias_instability, mg, r.bias_instability);
+      row("acceleration_rw", "m/s^3/sqrt(Hz)", f.rrw, a, r.rrw);
+      row("quantization", "m/s", f.quantization, a, std::nullopt);
+      row("rate_ramp", "mg/h", f.rate_ramp, mg * units::s_per_h, std::nullopt);
+      continue;
+    }
     row("arw", "deg/sqrt(h)", f.arw, k * units::deg_rth_per_deg_rts, r.arw);
     row("bias_instability", "deg/h", f.bias_instability, k * units::dph_per_dps,
         r.bias_instability);
@@ -196,35 +275,68 @@ std::string terms_csv(const noise_options& o, const std::vector<column_noise>& a
   return t;
 }
 
-// Kalibr takes one value for all axes: the largest of the columns (the conservative choice).
-status write_kalibr(const noise_options& o, const std::vector<column_noise>& all) {
-  const column_noise* worst_n = &all.front();
-  const column_noise* worst_k = &all.front();
+// Kalibr's IMU file (io::kalibr_yaml): the gyro and accelerometer columns, the largest axis of each
+// term; every column at one rate (Kalibr has one update_rate).
+result<std::string> kalibr_text(const noise_options& o, const std::vector<column_noise>& all) {
+  io::kalibr_imu imu;
+  imu.rostopic = o.rostopic;
+  imu.update_rate_hz = 1.0 / all.front().tau0_s;
   for (const auto& c : all) {
-    if (value_or_limit(c.result.terms.arw) > value_or_limit(worst_n->result.terms.arw))
-      worst_n = &c;
-    if (value_or_limit(c.result.terms.rrw) > value_or_limit(worst_k->result.terms.rrw))
-      worst_k = &c;
+    if (std::abs(c.tau0_s / all.front().tau0_s - 1.0) > 1e-6)
+      return usage_error(fmt::format(
+          "--kalibr: {} column {} is sampled at {:g} Hz, {} column {} at {:g} Hz: Kalibr has one "
+          "update_rate",
+          all.front().file, printable(all.front().column, 60), 1.0 / all.front().tau0_s, c.file,
+          printable(c.column, 60), 1.0 / c.tau0_s));
+    auto& source = c.quantity == "accel" ? imu.accel_source : imu.gyro_source;
+    (c.quantity == "accel" ? imu.accel : imu.gyro).push_back(io::kalibr_axis_of(c));
+    if (source.find(c.file) == std::string::npos) source += (source.empty() ? "" : ", ") + c.file;
+    if (!c.result.terms.arw.resolved || !c.result.terms.rrw.resolved)
+      warn(
+          fmt::format("{}: column {}: {} not resolved: the Kalibr file takes its upper limit if "
+                      "it is the largest axis",
+                      o.kalibr, printable(c.column, 60), !c.result.terms.arw.resolved ? "N" : "K"));
   }
-  analysis::noise_terms f;
-  f.arw = worst_n->result.terms.arw;
-  f.rrw = worst_k->result.terms.rrw;
-  if (!f.arw.resolved || !f.rrw.resolved)
-    warn(fmt::format("{}: {} not resolved: the Kalibr file holds its upper limit", o.kalibr,
-                     !f.arw.resolved ? "ARW" : "RRW"));
-  std::string source = o.in.file;
-  if (all.size() > 1)
-    source += fmt::format(
-        " (largest of columns {}: N from {}, K from {})",
-        [&] {
-          std::string names;
-          for (const auto& c : all) names += (names.empty() ? "" : ",") + c.column;
-          return names;
-        }(),
-        worst_n->column, worst_k->column);
-  return io::write_file_atomically(
-      o.kalibr,
-      kalibr_yaml(source, f, deg_per_unit(o.in) * units::rad_per_deg, 1.0 / all.front().tau0_s));
+  if (imu.accel.empty() || imu.gyro.empty())
+    return usage_error(fmt::format(
+        "--kalibr needs gyro and accelerometer columns (Kalibr requires both sensors' terms): "
+        "{} has no {} column; name it with --kalibr-other FILE, or a column whose name states "
+        "its unit (ax_mps2, gx_rad_s)",
+        o.in.file, imu.accel.empty() ? "accelerometer" : "gyro"));
+  auto y = io::kalibr_yaml(imu);
+  if (!y) return y.err();
+  return *y;
+}
+
+}  // namespace
+
+namespace {
+
+// The record of --kalibr-other: every numeric column, read as FILE is, each column's unit from
+// its name (else the sensor FILE lacks).
+series_input other_input(const noise_options& o) {
+  series_input other = o.in;
+  other.file = o.kalibr_other;
+  other.column.clear();
+  other.columns = "all-numeric";
+  other.units_given = false;
+  other.units = "deg/s";
+  other.input = "rate";
+  return other;
+}
+
+// The curves of one sensor (gyro or accel) in the figure's base unit (deg/s; m/s^2).
+std::vector<report::allan_curve> curves_of(const std::vector<column_noise>& all,
+                                           const std::string& quantity) {
+  std::vector<report::allan_curve> curves;
+  for (const auto& c : all)
+    if (c.quantity == quantity) curves.push_back(report::noise_curve(c));
+  return curves;
+}
+
+// The plot's stem for a sensor: FILE's own, or STEM_accel beside a gyro figure.
+std::string stem_of(const plot_file& p, const std::string& quantity, bool both) {
+  return quantity == "accel" && both ? p.stem + "_accel" : p.stem;
 }
 
 }  // namespace
@@ -232,38 +344,78 @@ status write_kalibr(const noise_options& o, const std::vector<column_noise>& all
 int run_noise(const noise_options& o) {
   if (o.json)
     if (auto s = check_name_for_json(o.in.file); !s) return report(s.err());
-  if (auto s = io::check_outputs(std::array{o.in.file}, std::array{o.kalibr, o.output}); !s)
+  if (!o.kalibr_other.empty() && o.kalibr.empty())
+    return report(usage_error("--kalibr-other is the other sensor's record for --kalibr"));
+  std::vector<std::string> inputs_named{o.in.file};
+  if (!o.kalibr_other.empty()) inputs_named.push_back(o.kalibr_other);
+  if (auto s = io::check_outputs(inputs_named, std::array{o.kalibr, o.output}); !s)
     return report(s.err());
   // Checked before the files are read.
   const auto range = fit_range(o.fit_taus);
   if (!range) return report(range.err());
   const auto plot = plot_target(o.plot);
   if (!plot) return report(plot.err());
+  const std::array plot_unit_names{"deg/h", "deg/s", "rad/s", "m/s^2", "mg", "ug"};
+  if (*plot && !o.plot_units.empty() &&
+      std::find(plot_unit_names.begin(), plot_unit_names.end(), o.plot_units) ==
+          plot_unit_names.end())
+    return report(
+        usage_error("--plot-units must be deg/h, deg/s or rad/s (gyro), mg, ug or "
+                    "m/s^2 (accelerometer); got " +
+                    printable(o.plot_units, 40)));
+  std::vector<series_input> sources{o.in};
+  if (!o.kalibr_other.empty()) sources.push_back(other_input(o));
   if (*plot) {
-    if (o.plot_units != "deg/h" && o.plot_units != "deg/s" && o.plot_units != "rad/s")
-      return report(usage_error("--plot-units must be deg/h, deg/s or rad/s; got " +
-                                printable(o.plot_units, 40)));
-    // The script and one data file per series (curve, its lines, its long taus) beside the
-    // image: none may be an input, nor a file the user changed.
-    auto names = column_names(o.in);
-    if (!names) return report(names.err());
-    const std::size_t series = 7 * names->size();
+    // The script and one data file per series (curve, its lines, its long taus) beside each
+    // image (the gyro's, and STEM_accel's): none may be an input, nor a file the user changed.
+    std::size_t columns = 0;
+    for (const auto& src : sources) {
+      auto names = column_names(src);
+      if (!names) return report(names.err());
+      columns += names->size();
+    }
+    const std::size_t series = 7 * columns;
     const std::array format{(*plot)->format};
-    if (auto s =
-            io::check_outputs(std::array{o.in.file},
-                              report::rendered_files((*plot)->dir, (*plot)->stem, series, format));
-        !s)
-      return report(s.err());
-    if (auto s = report::check_rendered_files((*plot)->dir, (*plot)->stem, series); !s)
-      return report(s.err());
+    for (const bool accel : {false, true}) {
+      const std::string stem = accel ? (*plot)->stem + "_accel" : (*plot)->stem;
+      if (auto s = io::check_outputs(inputs_named,
+                                     report::rendered_files((*plot)->dir, stem, series, format));
+          !s)
+        return report(s.err());
+      if (auto s = report::check_rendered_files((*plot)->dir, stem, series); !s)
+        return report(s.err());
+    }
   }
-  auto inputs = load_series(o.in);
-  if (!inputs) return report(inputs.err());
   std::vector<column_noise> all;
-  for (const auto& in : *inputs) {
-    auto c = noise_of(o, *range, in);
-    if (!c) return report(c.err());
-    all.push_back(std::move(*c));
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    noise_options oi = o;
+    if (i == 1) {
+      // The other record holds the sensor the first lacks.
+      bool gyro = false, accel = false;
+      for (const auto& c : all) (c.quantity == "accel" ? accel : gyro) = true;
+      if (gyro && accel)
+        return report(usage_error(fmt::format(
+            "--kalibr-other: {} already has gyro and accelerometer columns", o.in.file)));
+      oi.quantity = gyro ? "accel" : "gyro";
+    }
+    auto inputs = load_series(sources[i]);
+    if (!inputs) return report(inputs.err());
+    for (const auto& in : *inputs) {
+      const auto sensor = sensor_of(oi, sources[i], in.column);
+      if (!sensor) return report(sensor.err());
+      auto c = noise_of(o, sources[i], *range, in, *sensor);
+      if (!c) return report(c.err());
+      all.push_back(std::move(*c));
+    }
+  }
+  bool has_gyro = false, has_accel = false;
+  for (const auto& c : all) (c.quantity == "accel" ? has_accel : has_gyro) = true;
+  if (*plot && !o.plot_units.empty()) {
+    const bool accel_unit = units::is_accel_unit(o.plot_units);
+    if ((accel_unit && has_gyro) || (!accel_unit && has_accel))
+      return report(usage_error(fmt::format(
+          "--plot-units {} is a unit of {}, and the record has {} columns", o.plot_units,
+          sensor_name(accel_unit ? "accel" : "gyro"), accel_unit ? "gyro" : "accelerometer")));
   }
   json j;
   if (all.size() == 1) {
@@ -276,41 +428,45 @@ int run_noise(const noise_options& o) {
   std::string file_text;
   if (!o.output.empty()) {
     auto t = o.output.ends_with(".json") ? finite_dump(j, o.output)
-                                         : result<std::string>(terms_csv(o, all));
+                                         : result<std::string>(terms_csv(all));
     if (!t) return report(t.err());
     if (auto s = check_finite(*t, o.output); !s) return report(s.err());
     file_text = o.output.ends_with(".json") ? *t + "\n" : *t;
   }
+  std::string kalibr_file;
+  if (!o.kalibr.empty()) {
+    auto y = kalibr_text(o, all);
+    if (!y) return report(y.err());
+    if (auto s = check_finite(*y, o.kalibr); !s) return report(s.err());
+    kalibr_file = std::move(*y);
+  }
   if (!o.kalibr.empty())
-    if (auto s = write_kalibr(o, all); !s) return report(s.err());
+    if (auto s = io::write_file_atomically(o.kalibr, kalibr_file); !s) return report(s.err());
   if (!o.output.empty())
     if (auto s = io::write_file_atomically(o.output, file_text); !s) return report(s.err());
   if (*plot) {
-    // One curve per column, in deg/s (the figure converts to --plot-units).
-    std::vector<report::allan_curve> curves;
-    for (const auto& c : all) {
-      report::allan_curve curve{c.column, c.result.oadev, c.result.terms, c.result.long_oadev};
-      for (auto* v : {&curve.points, &curve.beyond})
-        for (auto& p : *v) {
-          p.dev *= c.deg_per_unit;
-          p.ci_lo *= c.deg_per_unit;
-          p.ci_hi *= c.deg_per_unit;
-        }
-      for (auto* t : {&curve.terms->quantization, &curve.terms->arw, &curve.terms->bias_instability,
-                      &curve.terms->rrw, &curve.terms->rate_ramp}) {
-        t->value *= c.deg_per_unit;
-        t->lo *= c.deg_per_unit;
-        t->hi *= c.deg_per_unit;
-      }
-      curves.push_back(std::move(curve));
+    // One figure per sensor: the gyro's in FILE, the accelerometer's in FILE (or STEM_accel
+    // beside a gyro figure); one curve per column.
+    for (const std::string quantity : {"gyro", "accel"}) {
+      if (!(quantity == "accel" ? has_accel : has_gyro)) continue;
+      const auto curves = curves_of(all, quantity);
+      const std::string unit = !o.plot_units.empty() ? o.plot_units
+                               : quantity == "accel" ? "mg"
+                                                     : "deg/h";
+      const auto title =
+          !o.title.empty()
+              ? o.title
+              : fmt::format("Allan deviation of {}{}", printable(o.in.file, 120),
+                            has_gyro && has_accel
+                                ? (quantity == "accel" ? " (accelerometer)" : " (gyro)")
+                                : "");
+      auto fig = report::noise_figure(curves, unit, title);
+      if (!fig) return report(fig.err());
+      const std::array formats{(*plot)->format};
+      if (auto s = report::render(*fig, (*plot)->dir, stem_of(**plot, quantity, has_gyro), formats);
+          !s)
+        return report(s.err());
     }
-    const auto title =
-        o.title.empty() ? fmt::format("Allan deviation of {}", printable(o.in.file, 120)) : o.title;
-    auto fig = report::noise_figure(curves, o.plot_units, title);
-    if (!fig) return report(fig.err());
-    const std::array formats{(*plot)->format};
-    if (auto s = report::render(*fig, (*plot)->dir, (*plot)->stem, formats); !s)
-      return report(s.err());
   }
   if (o.json) {
     if (auto s = print_json(j); !s) return report(s.err());

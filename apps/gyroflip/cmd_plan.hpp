@@ -17,6 +17,10 @@ struct plan_options {
   double min_dwell_s = 0.01;
   double max_dwell_s = 0.0;  ///< 0: a quarter of the run
   bool json = false;
+  std::string positions;  ///< --positions A,B,... (empty: the 0/180 flip)
+  bool heading = false;   ///< --heading: plan for north finding
+  double lat_deg = std::numeric_limits<double>::quiet_NaN();  ///< --latitude (with --heading)
+  std::string plot;  ///< --plot FILE.png|.svg|.pdf: the error against the dwell
 };
 int run_plan(const plan_options& o);
 

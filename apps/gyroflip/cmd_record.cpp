@@ -200,7 +200,7 @@ int run_record(const record_options& o) {
   // Runs after the first are placed by the host's clock: where the device's ran at another pace
   // (an emulator at --speed) their time_s are off, and the reader says by how much, naming each
   // run (review of issue 32, finding 4); the same warnings as `export`'s.
-  if (auto back = rigdata::read_rig_run(o.output); back && back->later_runs_shift_s > 0)
+  if (auto back = rigdata::read_rig_run(o.output); back && back->later_runs_off_pace)
     for (const auto& w : back->warnings)
       if (w.find("by the host's clock") != std::string::npos)
         std::fprintf(stderr, "gyroflip record: warning: %s\n", w.c_str());

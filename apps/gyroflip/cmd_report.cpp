@@ -23,6 +23,7 @@ int run_report(const report_options& o) {
   if (!geometry) return report(geometry.err());
   std::vector<std::string> inputs = o.files;
   if (!o.calibration.empty()) inputs.push_back(o.calibration);
+  if (!o.sensor.empty()) inputs.push_back(o.sensor);  // a TOML preset is an input too
   if (auto s = io::check_outputs(inputs, std::array{o.output}); !s) return report(s.err());
   workflow::report_request req;
   req.files = o.files;
@@ -35,8 +36,15 @@ int run_report(const report_options& o) {
   req.command = shell_command(o.command_line);
   req.made_by = "gyroflip report";
   req.sensor_hint =
-      "calibrate the runs with `gyroflip calibrate FILE... --sensor NAME|FILE.toml -o cal.json` "
-      "and report them with `--calibration cal.json`";
+      o.calibration.empty()
+          ? "`report --sensor NAME|FILE.toml`"
+          : "calibrate the runs with `gyroflip calibrate FILE... --sensor NAME|FILE.toml -o "
+            "cal.json` and report them with `--calibration cal.json`";
+  if (!o.sensor.empty()) {
+    auto p = sensor::load_preset(o.sensor);
+    if (!p) return report(p.err());
+    req.sensor = std::move(*p);
+  }
   if (o.calibration.empty()) {
     // The exact commands that turn these runs into a calibration and use it (issue 31).
     std::vector<std::string> cal{"gyroflip", "calibrate"};
@@ -45,6 +53,7 @@ int run_report(const report_options& o) {
       cal.insert(cal.end(), {"--latitude", fmt::format("{}", o.lat_deg), "--axis", o.axis});
     }
     if (o.pairing != "abba") cal.insert(cal.end(), {"--pairing", o.pairing});
+    if (!o.sensor.empty()) cal.insert(cal.end(), {"--sensor", o.sensor});
     cal.insert(cal.end(), {"-o", "cal.json"});
     req.next_step = fmt::format(
         "Next: {}, then gyroflip compensate RUN.csv --calibration cal.json.", shell_command(cal));

@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "finite_output.hpp"
 #include "gyroflip/sensor/presets.hpp"
+#include "gyroflip/workflow/plan.hpp"
 
 namespace gyroflip::app {
 
@@ -43,7 +44,19 @@ int run_sensors(const sensors_options& o) {
                                       {"min", bound(f.min_value)},
                                       {"max", bound(f.max_value)}};
       }
-      list.push_back({{"name", p.name}, {"description", p.description}, {"params", params}});
+      const auto im = workflow::implications_of(p.params, o.dead_s, o.lat_deg);
+      const nlohmann::json implied = {
+          {"dead_time_s", im.dead_s},
+          {"latitude_deg", im.lat_deg},
+          {"corner_tau_s", im.corner_tau_s},
+          {"dwell_s", im.dwell_s},
+          {"flip_sigma_dps_rth", im.sigma_dps_rth},
+          {"heading_white_limit_deg_rth", im.heading_white_deg_rth},
+          {"heading_dead_time_limit_deg_rth", im.heading_dead_time_deg_rth}};
+      list.push_back({{"name", p.name},
+                      {"description", p.description},
+                      {"params", params},
+                      {"implied", implied}});
     }
     if (auto s = print_json(with_schema("sensors", 1, {{"sensors", list}})); !s)
       return report(s.err());
@@ -64,6 +77,16 @@ int run_sensors(const sensors_options& o) {
                      fmt::format("{}", p.params.*f.member), f.unit, range_text(f),
                      src.empty() ? "default (not applicable)" : src);
     }
+    const auto im = workflow::implications_of(p.params, o.dead_s, o.lat_deg);
+    fmt::format_to(out,
+                   "  implies (docs/PLANNER.md, docs/NORTH.md): corner time tau_c = N^2/(0.4413 "
+                   "B^2) = {:.3g} s; best dwell sqrt(d tau_c) = {:.3g} s for a dead time d = {:g} "
+                   "s per turn (a 0/180 run's error then (N + 0.664 B sqrt(d))/sqrt(T) = {:.3g} "
+                   "deg/s x sqrt(h/T)); north finding at {:g} deg latitude (>= 3 positions): "
+                   "white-noise limit {:.3g} deg x sqrt(h/T), with the dead time {:.3g} deg x "
+                   "sqrt(h/T)\n",
+                   im.corner_tau_s, im.dwell_s, im.dead_s, im.sigma_dps_rth, im.lat_deg,
+                   im.heading_white_deg_rth, im.heading_dead_time_deg_rth);
   }
   if (auto s = print_checked(text, "<stdout>"); !s) return report(s.err());
   return 0;

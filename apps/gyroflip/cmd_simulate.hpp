@@ -35,6 +35,8 @@ int run_simulate(const simulate_options& o);
 
 struct sensors_options {
   bool json = false;
+  double dead_s = 0.4;    ///< --dead-time: turn + settle per turn for the implied dwell (s)
+  double lat_deg = 42.6;  ///< --latitude: for the implied heading limit (deg)
 };
 int run_sensors(const sensors_options& o);
 

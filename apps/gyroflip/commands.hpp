@@ -39,6 +39,7 @@ struct heading_options {
   std::string table_axis;               // up|down; empty: the recordings' own, else up
   std::optional<double> base_turn_deg;  // two runs: the base's turn between them
   std::string sensor;                   // for the dead-time bound
+  int harmonics = 1;                    // 1 or 2
   bool json = false;
 };
 int run_heading(const heading_options& o);
@@ -70,6 +71,7 @@ struct report_options {
   std::string axis;                                           // empty: not given
   std::string calibration;  // CAL.json: compensate the files (else: calibrate them)
   std::string title;
+  std::string sensor;  // --sensor NAME|FILE.toml: the specification the g-term is checked against
   std::string pairing = "abba";
   std::optional<double> expected_rate_dps;  // nullopt: not given
   std::vector<std::string> command_line;    // as typed, for the page's provenance

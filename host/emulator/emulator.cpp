@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -192,7 +195,28 @@ double emulator::sample_gyro(double t_s) {
 std::int32_t emulator::gyro_code(double t_end_s) {
   const double t = std::max(t_end_s - 0.5 * p_->dt_s, t_last_s_);
   conv_table_deg_ = table_angle_deg();
+  if (stations_.empty() || stations_.back().second != conv_table_deg_) {
+    if (stations_.size() >= 4096) stations_.erase(stations_.begin(), stations_.begin() + 2048);
+    stations_.emplace_back(ticks_, conv_table_deg_);
+  }
   return p_->adc.convert(sample_gyro(t)) - rig::ad7739::code_zero;
+}
+
+double emulator::table_deg_at(std::uint32_t board_ticks) const noexcept {
+  // The 64-bit tick of that 32-bit one: the latest not after now.
+  const std::uint64_t back =
+      static_cast<std::uint32_t>(static_cast<std::uint32_t>(ticks_) - board_ticks);
+  if (back > ticks_) return std::numeric_limits<double>::quiet_NaN();
+  const std::uint64_t t = ticks_ - back;
+  const auto after = std::upper_bound(
+      stations_.begin(), stations_.end(), t,
+      [](std::uint64_t v, const std::pair<std::uint64_t, double>& s) { return v < s.first; });
+  if (after == stations_.begin()) return std::numeric_limits<double>::quiet_NaN();
+  return std::prev(after)->second;
+}
+
+void emulator::hold_transmitter(bool on) noexcept {
+  p_->board.uart_stalled = on;
 }
 
 std::int32_t emulator::temp_code(double t_s) {

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "firmware/core/device.hpp"
@@ -78,8 +79,19 @@ class emulator {
   [[nodiscard]] const fw::device& device() const noexcept;
   /// The table's angle (deg, in [0, 360)) now.
   [[nodiscard]] double table_angle_deg() const noexcept;
-  /// The table's angle (deg) at the last gyro conversion: a DWELL's true position once it is sent.
+  /// The table's angle (deg) at the last gyro conversion.
   [[nodiscard]] double last_conversion_table_deg() const noexcept { return conv_table_deg_; }
+  /// The table's angle (deg) at the last gyro conversion made at or before device tick
+  /// `board_ticks` (the board's 32-bit clock, as a DWELL's t_end_ticks: within 2^32 ticks before
+  /// now); NaN when no conversion that early is held (the angles of the last 4 096 turns are).
+  /// A DWELL's true position: what its own conversions saw, also when the frame first goes out
+  /// long after it ended (dropped from a full transmit ring and sent on RESEND after the table
+  /// turned on: the angle of the last conversion then is the next dwell's).
+  [[nodiscard]] double table_deg_at(std::uint32_t board_ticks) const noexcept;
+  /// Holds the UART's transmitter (a stuck transmitter or a held CTS): the firmware's transmit
+  /// ring fills and the frames it makes meanwhile that do not fit are dropped from the live
+  /// stream (kept in its history: docs/PROTOCOL.md, RESEND).
+  void hold_transmitter(bool on) noexcept;
   /// Earth term plus g-term at `temp_c`, half the difference of positions A (0 deg) and B
   /// (180 deg): the dN a calibration should find (paper eqn 11), as the gyro senses it (deg/s).
   [[nodiscard]] double delta_n_truth_dps(double temp_c) const noexcept;
@@ -105,7 +117,10 @@ class emulator {
   std::int32_t pos_last_ = 0;           // table step at that window
   std::int32_t pos_accel_ = -1;         // table step the accelerometer outputs were set for
   double conv_table_deg_ = 0.0;         // table angle at the last gyro conversion
-  double heat_c_ = 0.0;                 // the coils' temperature rise at heat_t_s_
+  // (tick, angle) of each gyro conversion whose angle differs from the one before: the table's
+  // stations in time, oldest first (table_deg_at).
+  std::vector<std::pair<std::uint64_t, double>> stations_;
+  double heat_c_ = 0.0;  // the coils' temperature rise at heat_t_s_
   double heat_t_s_ = 0.0;
   std::uint16_t boots_ = 0;  // the device's boot counter
 };

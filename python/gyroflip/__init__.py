@@ -2,12 +2,17 @@
 
 The same C++ core as the `gyroflip` command, on NumPy arrays (docs/python.md):
 
-- Allan family, drop-in for allantools: adev, oadev, mdev, tdev, hdev, ohdev, totdev
-  (data, rate=1.0, data_type="phase", taus=None) -> (taus, devs, errs, ns).
-- deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683): a
+- Allan family with allantools' signature: adev, oadev, mdev, tdev, hdev, ohdev, totdev
+  (data, rate, data_type="phase", taus=None) -> (taus, devs, errs, ns); `rate` has no default
+  here (a silent 1 Hz puts every tau and term off by the rate). For allantools code unchanged,
+  rate=1.0 default included: gyroflip.allantools (gyroflip.allantools.install() makes
+  `import allantools` load it).
+- deviation(data, kind="oadev", rate=..., input="rate", taus="octave", ci=0.683): a
   Deviation with NumPy arrays tau_s, dev, ci_lo, ci_hi, edf, n, alpha (NIST SP1065 statistics,
   chi-squared bounds as Stable32 computes them).
-- noise(...): the IEEE 952 noise terms with intervals (the keys of `gyroflip noise --json`).
+- noise(...): the IEEE 952 noise terms with intervals (the keys of `gyroflip noise --json`), of a
+  gyro or an accelerometer, one axis or several; plot(...): the noise figure (`noise --plot`);
+  write_kalibr(...): Kalibr's IMU file; read_imu(path): an IMU CSV's columns, units and rate.
 - calibrate(...), compensate(...): the paper's method (eqns 6-12) on a recording's columns;
   calibrate_runs(files): several recordings pooled, with dN(T), as `gyroflip calibrate`.
 - simulate(...): the rig simulator; read_recording(path): a CSV or .gfr recording.
@@ -38,6 +43,7 @@ __all__ = [
     "theo1", "pdev", "mtie", "tierms", "tau_generator",
     "Deviation", "deviation", "dynamic_deviation", "noise", "calibrate", "calibrate_runs",
     "compensate", "simulate", "read_recording", "report", "reproduce", "plan", "heading",
+    "Imu", "read_imu", "plot", "write_kalibr",
     "__version__",
 ]
 
@@ -70,6 +76,9 @@ def _samples(data, name="data"):
 
 
 def _positive_rate(rate):
+    if rate is None:
+        raise ValueError("rate must be given: the sample rate in Hz (no default: a silent 1 Hz "
+                         "puts every tau, and every noise term, off by the rate)")
     rate = float(rate)
     if not (rate > 0.0 and _np.isfinite(rate)):
         raise ValueError(f"rate must be a positive, finite sample rate in Hz (got {rate})")
@@ -161,7 +170,7 @@ def _compat_doc(kind, what, reference):
 
 
 def _compat_function(kind, what, reference):
-    def f(data, rate=1.0, data_type="phase", taus=None):
+    def f(data, rate, data_type="phase", taus=None):
         return _compat(kind, data, rate, data_type, taus)
     f.__name__ = f.__qualname__ = kind
     f.__doc__ = _compat_doc(kind, what, reference)
@@ -219,7 +228,7 @@ class Deviation:
 _WITHOUT_EDF = ("pdev", "mtie", "tierms")
 
 
-def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.683, guard=False,
+def deviation(data, kind="oadev", rate=None, input="rate", taus="octave", ci=0.683, guard=False,
               bias_correction=False, alpha=None):
     """A deviation of the Allan family with confidence bounds, as `gyroflip adev` computes it.
 
@@ -232,7 +241,7 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
       UserWarning), "pdev" (parabolic), "mtie", "tierms" (the angle unit). PDEV, MTIE and TIE rms
       have no bounds (ci_lo, ci_hi, edf, alpha NaN; guard refused); Theo1's are Howe & Peppler's
       EDF.
-    rate: samples per second (Hz).
+    rate: samples per second (Hz); required (ValueError without it).
     taus: "octave", "decade" (1, 2, 4, 10, 20, 40, ...) or "all" averaging factors, limited as
       Stable32 does (m <= (N-1)/5 for ADEV/HDEV, (N-1)/4 for OADEV/MDEV/TDEV/OHDEV, (N-1)/2
       for TOTDEV); or an array of taus in seconds (each rounded to the nearest factor).
@@ -287,7 +296,7 @@ def deviation(data, kind="oadev", rate=1.0, input="rate", taus="octave", ci=0.68
     return Deviation(kind=kind, ci=None if kind in _WITHOUT_EDF else ci, **r)
 
 
-def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None, step_s=None,
+def dynamic_deviation(data, kind="oadev", rate=None, input="rate", window_s=None, step_s=None,
                       taus="octave", ci=0.683):
     """The dynamic deviation (DAVAR; Galleani & Tavella 2009), as `gyroflip adev --dynamic`: the
     curve of statistic `kind` over each window of window_s seconds, one every step_s (default a
@@ -306,33 +315,291 @@ def dynamic_deviation(data, kind="oadev", rate=1.0, input="rate", window_s=None,
                               None if ci is None else float(ci))
 
 
-def noise(data, rate, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,
-          name="<array>", column="data"):
-    """The IEEE 952 noise terms of a static gyro record, fitted to its OADEV (as `gyroflip noise`).
+_GYRO_UNITS = {"rate": ("deg/s", "rad/s", "deg/h"), "angle": ("deg", "rad")}
+_ACCEL_UNITS = ("m/s^2", "g", "mg", "ug")
 
-    data: 1-D samples at `rate` Hz; input="rate" or "angle". `rate` has no default: a default of
-      1 Hz silently made every term of a 100 Hz record wrong (ARW 10x), so it must be given.
+
+def _sensor(column, quantity, units, input):
+    """(quantity, unit) of one column: `units` when given, else the unit its name states
+    (docs/ANALYSIS.md, "Accelerometers"; ax_mps2, "acc_x [m/s^2]"), else quantity's default
+    (deg/s or deg; m/s^2). A contradiction raises ValueError naming the column."""
+    named = _gyroflip._unit_of_column(str(column)) if column is not None else None
+    if quantity is not None and quantity not in ("gyro", "accel"):
+        raise ValueError(f"quantity must be 'gyro' or 'accel' (got {quantity!r})")
+    if units is not None:
+        q = "accel" if units in _ACCEL_UNITS else "gyro"
+        if named is not None and named[0] != q:
+            raise ValueError(f"column {column!r} is named in {named[1]}, but units={units!r} is "
+                             f"a unit of {'an accelerometer' if q == 'accel' else 'a gyro'}")
+    elif named is not None:
+        q, units = named
+    else:
+        q = quantity or "gyro"
+        units = "m/s^2" if q == "accel" else ("deg" if input == "angle" else "deg/s")
+    if quantity is not None and quantity != q:
+        raise ValueError(f"column {column!r} is in {units}, not a unit of quantity={quantity!r}")
+    allowed = _ACCEL_UNITS if q == "accel" else _GYRO_UNITS.get(input, ())
+    if units not in allowed:
+        raise ValueError(f"units must be one of {', '.join(allowed)} for a "
+                         f"{'an accelerometer' if q == 'accel' else 'gyro'} {input} (got {units!r})")
+    return q, units
+
+
+def _axes(data, columns=None):
+    """The axes of `data` as [(name, 1-D array, file-backed)]: a dict of columns (its keys the
+    names), a 2-D array (one axis per column, as np.loadtxt and a CSV give them; more columns
+    than rows is refused as a transposed record), or a 1-D array (one axis, `columns` or
+    "data")."""
+    if isinstance(data, dict):
+        return [(str(k), *_samples(v, str(k))) for k, v in data.items()]
+    a = data if isinstance(data, _np.ndarray) else _np.asarray(data, dtype=_np.float64)
+    if a.ndim == 2:
+        if a.shape[1] > a.shape[0]:
+            raise ValueError(f"data has {a.shape[1]} columns and {a.shape[0]} rows: give one axis "
+                             "per column (transpose it: data.T)")
+        names = list(columns) if columns is not None else [f"axis{k}" for k in range(a.shape[1])]
+        if len(names) != a.shape[1]:
+            raise ValueError(f"columns names {len(names)} axes, data has {a.shape[1]}")
+        return [(str(n), *_samples(_np.ascontiguousarray(a[:, k]), str(n))) for k, n in enumerate(names)]
+    y, backed = _samples(data)
+    return [(str(columns) if isinstance(columns, str) else "data", y, backed)]
+
+
+def noise(data, rate, input="rate", units=None, ci=0.683, fit_taus=None, abba_cycles=False,
+          name="<array>", column=None, quantity=None):
+    """The IEEE 952 noise terms of a static gyro or accelerometer record, fitted to its OADEV (as
+    `gyroflip noise`).
+
+    data: 1-D samples at `rate` Hz; or several axes: a dict {name: samples} or a 2-D array with
+      one axis per column (then one result per axis: a dict by name, or a list in column order).
+      input="rate" or "angle". `rate` has no default: a default of 1 Hz silently made every term
+      of a 100 Hz record wrong (ARW 10x), so it must be given.
     By default the short taus a low-pass (anti-alias) filter or a spectral line shaped are left
     out of the fit ("short_taus_left_out"); fit_taus fits a range as given.
-    units: the samples' unit: "deg/s" (default for a rate), "rad/s", "deg/h"; "deg" (default
-      for an angle) or "rad". Every term is reported in degree units and in radians.
+    quantity: "gyro" or "accel"; default from each column's name (its unit: ax_mps2,
+      "acc_x [m/s^2]", gx_dps; docs/ANALYSIS.md "Accelerometers"), else gyro.
+    units: the samples' unit: a gyro's "deg/s" (default for a rate), "rad/s", "deg/h"; "deg"
+      (default for an angle) or "rad"; an accelerometer's "m/s^2" (default), "g", "mg", "ug".
+      Gyro terms are reported in degree units and in radians, an accelerometer's in m/s^2 units
+      and g units (vrw_mps2_rthz, bias_instability_mg, acceleration_rw_mps3_rthz, ...).
     ci: confidence level of the intervals. fit_taus: (lo, hi) in seconds, the taus fitted.
     abba_cycles: the data are the cycle values of gyroflip's abba pairing (correlated
       neighbours; the white-noise term is modelled accordingly).
+    column: the name of a 1-D record's column (its unit may say what it is); for a 2-D array,
+      the columns' names.
     Returns a dict with the keys of `gyroflip noise --json`: arw_dps_rthz, arw_deg_rth,
     bias_instability_deg_h, rrw_deg_h_rth, quantization_deg, rate_ramp_deg_h2, ... Each resolved
     term has KEY_lo and KEY_hi; an unresolved one is None with KEY_upper, its upper limit. Also
     the OADEV points ("oadev"), the misfit points and the slope read-offs ("readoffs")."""
     rate = _positive_rate(rate)
-    y, backed = _samples(data)
-    if units is None:
-        units = "deg" if input == "angle" else "deg/s"
-    allowed = ("deg", "rad") if input == "angle" else ("deg/s", "rad/s", "deg/h")
-    if units not in allowed:
-        raise ValueError(f"units must be one of {', '.join(allowed)} for input '{input}' (got '{units}')")
+    axes = _axes(data, column)
     lo, hi = (0.0, float("inf")) if fit_taus is None else (float(fit_taus[0]), float(fit_taus[1]))
-    return _gyroflip._noise(y, rate, input, units, float(ci), lo, hi, bool(abba_cycles), str(name),
-                            str(column), backed)
+    out = []
+    for col, y, backed in axes:
+        q, u = _sensor(col if (column is not None or len(axes) > 1 or isinstance(data, dict)) else None,
+                       quantity, units, input)
+        out.append(_gyroflip._noise(y, rate, input, u, q, float(ci), lo, hi, bool(abba_cycles),
+                                    str(name), col, backed))
+    if isinstance(data, dict):
+        return {col: r for (col, _, _), r in zip(axes, out)}
+    if len(axes) > 1 or (isinstance(data, _np.ndarray) and data.ndim == 2):
+        return out
+    return out[0]
+
+
+def plot(data, rate, path, units=None, quantity=None, plot_units=None, title=None, ci=0.683,
+         fit_taus=None, long_taus=False, input="rate", column=None):
+    """The noise figure of `gyroflip noise --plot` (docs/ANALYSIS.md, "The figure"): each axis's
+    Allan curve with its bounds, the fitted term lines and read-off marks, drawn by gnuplot to
+    `path` (.png, .svg or .pdf; its .gp script and data beside it). data, rate, units, quantity,
+    ci, fit_taus, input, column: as noise(). plot_units: "deg/h" (gyro default), "deg/s",
+    "rad/s"; "mg" (accelerometer default), "ug", "m/s^2". Gyro and accelerometer axes together
+    make two figures: the gyro's at `path`, the accelerometer's at STEM_accel.EXT beside it.
+    long_taus: also the points up to m <= (N-1)/2, drawn open, never fitted.
+    Returns the noise() results, one per axis (a dict by name for a dict, else a list)."""
+    rate = _positive_rate(rate)
+    axes = _axes(data, column)
+    lo, hi = (0.0, float("inf")) if fit_taus is None else (float(fit_taus[0]), float(fit_taus[1]))
+    sensors = [_sensor(col if (column is not None or len(axes) > 1 or isinstance(data, dict)) else None,
+                       quantity, units, input) for col, _, _ in axes]
+    out = _gyroflip._noise_plot([y for _, y, _ in axes], [c for c, _, _ in axes],
+                                [u for _, u in sensors], [q for q, _ in sensors], rate, input,
+                                float(ci), lo, hi, bool(long_taus), _os.fspath(path),
+                                "" if plot_units is None else str(plot_units),
+                                "" if title is None else str(title))
+    if isinstance(data, dict):
+        return {c: r for (c, _, _), r in zip(axes, out)}
+    return list(out)
+
+
+def _results_list(results):
+    """noise() results as a list: one result (a dict with "schema"), a dict by name, or a list."""
+    if isinstance(results, dict):
+        return [results] if "schema" in results else list(results.values())
+    return list(results)
+
+
+def _kalibr_axes(results, keys, want):
+    """[(column, N, N resolved, K, K resolved)] of noise() results in Kalibr's units, the JSON
+    keys `keys` = (N key, K key); each result must be of sensor `want`."""
+    axes = []
+    for r in results:
+        if r.get("quantity", "gyro") != want:
+            raise ValueError(f"column {r.get('column')!r} is {r.get('quantity')} data, given as {want}")
+
+        def term(key):
+            if r.get(key) is None:
+                return float(r[key + "_upper"]), False
+            return float(r[key]), True
+        n, nr = term(keys[0])
+        k, kr = term(keys[1])
+        axes.append((str(r.get("column", "data")), n, nr, k, kr))
+    return axes
+
+
+def write_kalibr(path, gyro, accel, rostopic="/imu0", rate=None):
+    """Writes Kalibr's IMU noise file (as `gyroflip noise --kalibr`; docs/ANALYSIS.md, "Kalibr"):
+    rostopic, update_rate, accelerometer_noise_density, accelerometer_random_walk,
+    gyroscope_noise_density, gyroscope_random_walk, continuous-time densities in Kalibr's units
+    (m/s^2/sqrt(Hz), m/s^3/sqrt(Hz), rad/s/sqrt(Hz), rad/s^2/sqrt(Hz)), not inflated; each the
+    largest axis (an unresolved term as its upper limit), every axis as a comment.
+    gyro, accel: noise() results of the gyro's and the accelerometer's axes (one, a list or a
+    dict). rate: the update rate (Hz); default: the results' own, which must agree.
+    Returns the file's text; the file is written atomically (temp + fsync + rename)."""
+    gyro, accel = _results_list(gyro), _results_list(accel)
+    g = _kalibr_axes(gyro, ("arw_rad_s_rthz", "rrw_rad_s2_rthz"), "gyro")
+    a = _kalibr_axes(accel, ("vrw_mps2_rthz", "acceleration_rw_mps3_rthz"), "accel")
+    rates = {round(1.0 / r["tau0_s"], 9) for r in gyro + accel}
+    if rate is None:
+        if len(rates) != 1:
+            raise ValueError(f"the axes were sampled at different rates ({sorted(rates)} Hz): Kalibr "
+                             "has one update_rate")
+        rate = rates.pop()
+    rate = _positive_rate(rate)
+
+    def source(rs):
+        return ", ".join(sorted({str(r.get("file", "<array>")) for r in rs}))
+    return _gyroflip._write_kalibr(_os.fspath(path), str(rostopic), rate, g, a, source(gyro),
+                                   source(accel))
+
+
+@_dataclass(frozen=True)
+class Imu:
+    """An IMU record as read_imu() reads it: columns {name: 1-D float64 array}, units {name:
+    unit}, quantity {name: "gyro" or "accel"}, rate_hz (samples per second), time_s (the time
+    stamps in s, or None), path."""
+    path: str
+    rate_hz: float
+    time_s: object
+    columns: dict
+    units: dict
+    quantity: dict
+
+    def noise(self, **kwargs):
+        """noise() of every column, with its unit and sensor: a dict by name."""
+        return {c: noise(y, self.rate_hz, units=self.units[c], quantity=self.quantity[c],
+                         name=self.path, column=c, **kwargs) for c, y in self.columns.items()}
+
+
+_TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+
+
+def read_imu(path, rate=None, time_column=None, time_unit=None, columns=None, units=None,
+             quantity=None, delimiter=None, decimal="."):
+    """Reads an IMU CSV file: a header line of column names (lines starting with # skipped), one
+    row per sample. Returns an Imu: every numeric column but the time stamps (or `columns`), each
+    column's unit and sensor by the rule of noise() (its name's unit, else `units`/`quantity`, else
+    deg/s gyro), and the rate.
+    rate (Hz): given, or from the time stamps: `time_column` (default: time_s, else t, time,
+      timestamp, stamp) in `time_unit` (default: from the name's suffix _s, _ms, _us, _ns, else
+      s). Refused: no time stamps and no rate; stamps that go back or jump (a gap larger than
+      1.5 sample periods; `gyroflip noise --gaps split` handles gaps).
+    delimiter: , ; tab or space (default: detected from the header); decimal: "." or ",".
+    Errors: ValueError naming the file, line and column."""
+    path = _os.fspath(path)
+    with open(path, "r", encoding="utf-8") as f:
+        lines = [(k + 1, ln.rstrip("\r\n")) for k, ln in enumerate(f)]
+    lines = [(k, ln) for k, ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ValueError(f"{path}: no header line")
+    header_line, header = lines[0]
+    if delimiter is None:
+        delimiter = next((d for d in (",", ";", "\t") if d in header), " ")
+    elif delimiter == "tab":
+        delimiter = "\t"
+    elif delimiter == "space":
+        delimiter = " "
+    split = (lambda ln: ln.split()) if delimiter == " " else (lambda ln: [c.strip() for c in ln.split(delimiter)])
+    names = split(header)
+    rows = []
+    for k, ln in lines[1:]:
+        fields = split(ln)
+        if len(fields) != len(names):
+            raise ValueError(f"{path}:{k}: {len(fields)} fields, the header has {len(names)}")
+        rows.append((k, fields))
+    if len(rows) < 2:
+        raise ValueError(f"{path}: fewer than 2 rows of data")
+
+    def number(k, c, text):
+        try:
+            v = float(text.replace(decimal, ".") if decimal != "." else text)
+        except ValueError:
+            raise ValueError(f"{path}:{k}: column {c + 1} ({names[c]}): not a number: {text!r}") from None
+        if not _np.isfinite(v):
+            raise ValueError(f"{path}:{k}: column {c + 1} ({names[c]}): not finite: {text!r}")
+        return v
+
+    if time_column is None:
+        time_column = next((n for n in ("time_s", "t", "time", "timestamp", "stamp", "stamp_ns")
+                            if n in names), None)
+    elif time_column not in names:
+        raise ValueError(f"{path}:{header_line}: no time column {time_column!r} (the header has "
+                         f"{', '.join(names)})")
+    time_s = None
+    if time_column is not None:
+        if time_unit is None:
+            time_unit = next((u for u in ("ms", "us", "ns", "s") if time_column.endswith("_" + u)), "s")
+        if time_unit not in _TIME_UNITS:
+            raise ValueError(f"time_unit must be s, ms, us or ns (got {time_unit!r})")
+        c = names.index(time_column)
+        # Integer stamps (epoch ns) exactly: relative to the first, then scaled.
+        raw = [r[c] for _, r in rows]
+        if all(t.lstrip("-").isdigit() for t in raw):
+            t0 = int(raw[0])
+            time_s = _np.array([(int(t) - t0) for t in raw], dtype=_np.float64) * _TIME_UNITS[time_unit]
+        else:
+            time_s = _np.array([number(k, c, r[c]) for k, r in rows]) * _TIME_UNITS[time_unit]
+            time_s = time_s - time_s[0]
+        dt = _np.diff(time_s)
+        period = float(_np.median(dt))
+        if not period > 0.0:
+            raise ValueError(f"{path}: column {time_column}: the time stamps do not increase")
+        bad = _np.flatnonzero((dt <= 0.0) | (dt > 1.5 * period))
+        if bad.size:
+            k = rows[int(bad[0]) + 1][0]
+            raise ValueError(f"{path}:{k}: column {time_column}: the time stamp "
+                             f"{'goes back' if dt[bad[0]] <= 0 else 'jumps'} ({dt[bad[0]]:g} s after "
+                             f"the previous, the period is {period:g} s)")
+        if rate is None:
+            rate = 1.0 / period
+    if rate is None:
+        raise ValueError(f"{path}: no time column (time_s, t, time, timestamp, stamp): give rate=Hz")
+    rate = _positive_rate(rate)
+    wanted = list(columns) if columns is not None else [n for n in names if n != time_column]
+    cols, unit_of, sensor_of = {}, {}, {}
+    for n in wanted:
+        if n not in names:
+            raise ValueError(f"{path}:{header_line}: no column {n!r} (the header has {', '.join(names)})")
+        c = names.index(n)
+        if columns is None:
+            try:
+                float(rows[0][1][c].replace(decimal, "."))
+            except ValueError:
+                continue  # a text column (a label): not a record
+        cols[n] = _np.array([number(k, c, r[c]) for k, r in rows], dtype=_np.float64)
+        q, u = _sensor(n, quantity, units, "rate")
+        unit_of[n], sensor_of[n] = u, q
+    return Imu(path, rate, time_s, cols, unit_of, sensor_of)
 
 
 def _columns(time_s, angle_deg, rate_dps, temp_c, n_avg):
@@ -463,7 +730,9 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
 
 
 def simulate(sensor, duration_s=3600.0, seed=1, latitude=42.6, axis="north", n_avg=256,
-             settle_s=0.08, temp=None, rate="0", power_on_before_s=0.0, flip=True):
+             settle_s=0.08, temp=None, rate="0", power_on_before_s=0.0, flip=True,
+             positions=(0.0, 180.0), order="auto", azimuth=None, table_axis=None, tilt_mrad=0.0,
+             tilt_azimuth=0.0):
     """Simulates the rig (as `gyroflip simulate`): the sensor on the stepper turntable, read by
     the AD7739, flipped 0/180 deg, one row per dwell (n_avg conversions averaged).
 
@@ -471,12 +740,21 @@ def simulate(sensor, duration_s=3600.0, seed=1, latitude=42.6, axis="north", n_a
     temp: degC as a number, or a profile spec ("ramp:20:4:9000", ...); default the preset's
       reference temperature. rate: the input-rate profile spec ("0", "0.25", "step:...").
     power_on_before_s: sensor on this long before t = 0 (0: a cold start, warm-up drift).
+    As `simulate`'s options of the same names (issue 33): positions: the table's angles (2 to 8,
+    deg, whole steps); order: "auto" (two: A, B; more: the sweep), "sweep" or "cycle";
+    azimuth: the sensitive axis's azimuth at the table's 0 deg (deg from north, clockwise;
+    instead of axis; north finding: table_axis="up"); table_axis: the turntable's axis (None: the
+    horizontal default); tilt_mrad, tilt_azimuth: the table axis's lean and its direction.
     Returns a dict of arrays time_s, angle_deg, rate_dps, temp_c, n_avg and the truth
     bias_dps, g_term_dps, earth_dps, input_dps (as seen at each row's orientation); and
     delta_n_truth_dps (Earth + g-term at 0 deg at the start temperature) and sensor."""
     return _gyroflip._simulate(str(sensor), float(duration_s), int(seed), float(latitude), str(axis),
                                int(n_avg), float(settle_s), None if temp is None else str(temp),
-                               str(rate), float(power_on_before_s), bool(flip))
+                               str(rate), float(power_on_before_s), bool(flip),
+                               [float(a) for a in positions], str(order),
+                               None if azimuth is None else float(azimuth),
+                               "" if table_axis is None else str(table_axis), float(tilt_mrad),
+                               float(tilt_azimuth))
 
 
 def read_recording(path, angle_tolerance_deg=0.0):
@@ -497,7 +775,7 @@ def _call_text(name, args, kwargs):
 
 
 def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration=3600.0,
-         min_dwell=0.01, max_dwell=None):
+         min_dwell=0.01, max_dwell=None, positions=None, heading=False, latitude=None):
     """The dwell and flip period that minimise a run's error for a dead time (as `gyroflip plan`).
 
     dead_time: seconds lost per turn (turn + settle). The noise comes from either `sensor` (a
@@ -506,14 +784,24 @@ def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration
     the taus from `min_dwell` on is used. duration: the run's length (s). Returns a dict with the
     keys of `gyroflip plan --json`: dwell_s, period_s, predicted_sigma_dps,
     sigma_without_dead_time_dps, conversions_per_dwell, closed_form, reference_dwell (the
-    paper's 0.512 s), by_dwell and by_duration (lists of points), notes. docs/PLANNER.md."""
+    paper's 0.512 s), by_dwell and by_duration (lists of points), notes. docs/PLANNER.md.
+    positions: the table's angles (deg; three or more: an indexed run in the sweep, planned for
+    the first harmonic's error). heading=True with latitude (deg): plan for north finding
+    (positions default 0, 90, 180, 270); the dict then has "heading" (predicted_sigma_deg,
+    sigma_deg_rth, white_limit_deg, by_dwell, by_duration), as `plan --heading --latitude`."""
     data = None if static is None else _samples(static, "static")[0]
+    if data is not None:
+        rate = _positive_rate(rate)
+    if bool(heading) != (latitude is not None):
+        raise ValueError("plan: heading=True and latitude go together")
     return _gyroflip._plan(sensor, data, None if rate is None else float(rate), str(units),
                            float(dead_time), float(duration), float(min_dwell),
-                           0.0 if max_dwell is None else float(max_dwell))
+                           0.0 if max_dwell is None else float(max_dwell),
+                           [] if positions is None else [float(a) for a in positions],
+                           float(latitude) if heading else None)
 
 
-def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None):
+def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None, harmonics=1):
     """North finding (as `gyroflip heading`): the azimuth (deg from north, clockwise) of the
     sensitive axis at the table's 0 deg from indexed runs about a vertical table axis (>= 3
     positions; docs/NORTH.md), with its 1 sigma from the data's own noise.
@@ -524,11 +812,13 @@ def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None):
     base_turn: two runs: the base's clockwise turn (deg) from the first to the second (default:
       from the recordings' azimuths). sensor: a preset or TOML file for the dead-time bound.
     Returns the dict of `gyroflip heading --json`: heading_deg, sigma_deg, limit_deg,
-    ratio_to_limit, arw_dps_rthz, scheme, dead_time_bound_deg, runs, caveats, ..."""
+    ratio_to_limit, arw_dps_rthz, scheme, dead_time_bound_deg, runs, caveats, ...
+    A 0/180 run (scale factor known): the heading up to its sign (heading_mirror_deg,
+    ambiguous). harmonics=2 also fits the second harmonic (>= 5 positions; docs/NORTH.md)."""
     paths = _paths_arg("runs", runs)
     return _gyroflip._heading(paths, float(latitude), None if table_axis is None else str(table_axis),
                               None if base_turn is None else float(base_turn),
-                              None if sensor is None else str(sensor))
+                              None if sensor is None else str(sensor), int(harmonics))
 
 
 def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba",

@@ -3,11 +3,15 @@
 /// averaging factors asked for, with or without confidence bounds) and `_noise` (the CLI's
 /// `noise --json` object). The Python layer (gyroflip/__init__.py) turns these into the
 /// allantools-compatible functions and `deviation()`.
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -19,10 +23,12 @@
 #include "gyroflip/analysis/noise.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/units.hpp"
+#include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/mapped_file.hpp"
 #include "gyroflip/io/noise_report.hpp"
 #include "gyroflip/method/demodulator.hpp"
+#include "gyroflip/report/figures.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -113,22 +119,35 @@ py::dict curve(const std::string& kind, const f64_array& data, double rate_hz,
   return d;
 }
 
-py::object noise(const f64_array& data, double rate_hz, const std::string& input,
-                 const std::string& unit, double ci, double fit_lo_s, double fit_hi_s,
-                 bool abba_cycles, const std::string& name, const std::string& column,
-                 bool file_backed) {
+// One series' noise analysis (the CLI's per column): `unit` the samples' unit, `quantity` gyro or
+// accel (docs/ANALYSIS.md, "Accelerometers").
+io::noise_report noise_report_of(const f64_array& data, double rate_hz, const std::string& input,
+                                 const std::string& unit, const std::string& quantity, double ci,
+                                 double fit_lo_s, double fit_hi_s, bool abba_cycles,
+                                 const std::string& name, const std::string& column,
+                                 bool file_backed, bool long_taus = false) {
   const auto in = input_of(input);
   const double tau0 = tau0_of(rate_hz);
   check(analysis::check_confidence_level(ci));  // the CLI's rules, from the library
   check(analysis::check_fit_range({fit_lo_s, fit_hi_s}));
+  if (quantity != "gyro" && quantity != "accel")
+    throw py::value_error("quantity must be 'gyro' or 'accel' (got '" + quantity + "')");
+  if ((quantity == "accel") != units::is_accel_unit(unit))
+    throw py::value_error("units '" + unit + "' is not a unit of " +
+                          (quantity == "accel" ? "an accelerometer (m/s^2, g, mg, ug)"
+                                               : "a gyro (deg/s, rad/s, deg/h; deg, rad)"));
+  if (quantity == "accel" && in == analysis::input_kind::angle)
+    throw py::value_error("an accelerometer record is read as specific force (input='rate')");
   const auto y = span_of(data, "data");
   const auto src = source_of(y, file_backed);
   io::noise_report r;
   r.file = name;
   r.column = column;
+  r.quantity = quantity;
   r.input = in == analysis::input_kind::angle ? "angle" : "rate";
   r.units = std::string(units::unit_name(in == analysis::input_kind::angle, unit));
-  r.deg_per_unit = units::deg_per_unit(unit);
+  r.deg_per_unit = quantity == "accel" ? 1.0 : units::deg_per_unit(unit);
+  r.mps2_per_unit = units::mps2_per_unit(unit);
   r.tau0_s = tau0;
   r.samples = y.size();
   if (abba_cycles) r.series = method::noise_series_of(method::pairing::abba, tau0);
@@ -138,10 +157,94 @@ py::object noise(const f64_array& data, double rate_hz, const std::string& input
     // The default range (fit_taus None) leaves the short taus a filter or line shaped out; a
     // given range is fitted as given (the CLI's --fit-taus).
     const bool given = fit_lo_s > 0.0 || std::isfinite(fit_hi_s);
-    return analysis::analyse_noise(*phase, ci, {fit_lo_s, fit_hi_s, !given}, r.series, listen);
+    return analysis::analyse_noise(*phase, ci, {fit_lo_s, fit_hi_s, !given}, r.series, listen,
+                                   long_taus);
   });
   r.result = take(std::move(a));
+  return r;
+}
+
+py::object noise(const f64_array& data, double rate_hz, const std::string& input,
+                 const std::string& unit, const std::string& quantity, double ci, double fit_lo_s,
+                 double fit_hi_s, bool abba_cycles, const std::string& name,
+                 const std::string& column, bool file_backed) {
+  const auto r = noise_report_of(data, rate_hz, input, unit, quantity, ci, fit_lo_s, fit_hi_s,
+                                 abba_cycles, name, column, file_backed);
   return json_loads(take(io::finite_dump(io::noise_json(r), "noise")));
+}
+
+// The noise figure of several columns (`gyroflip noise --plot`): one figure per sensor, the
+// accelerometer's at STEM_accel.EXT beside a gyro's. Returns each column's noise() dict.
+py::list noise_plot(const std::vector<f64_array>& data, const std::vector<std::string>& columns,
+                    const std::vector<std::string>& unit, const std::vector<std::string>& quantity,
+                    double rate_hz, const std::string& input, double ci, double fit_lo_s,
+                    double fit_hi_s, bool long_taus, const std::string& path,
+                    const std::string& plot_units, const std::string& title) {
+  const std::filesystem::path p(path);
+  const auto ext = p.extension().string();
+  const auto format =
+      ext == ".png"   ? report::image_format::png
+      : ext == ".svg" ? report::image_format::svg
+      : ext == ".pdf"
+          ? report::image_format::pdf
+          : throw py::value_error("path must end in .png, .svg or .pdf (got '" + path + "')");
+  const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+  const std::string stem = p.stem().string();
+  std::vector<io::noise_report> all;
+  bool gyro = false, accel = false;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    all.push_back(noise_report_of(data[i], rate_hz, input, unit[i], quantity[i], ci, fit_lo_s,
+                                  fit_hi_s, false, "<array>", columns[i], false, long_taus));
+    (quantity[i] == "accel" ? accel : gyro) = true;
+  }
+  if (!plot_units.empty() &&
+      ((units::is_accel_unit(plot_units) && gyro) || (!units::is_accel_unit(plot_units) && accel)))
+    throw py::value_error("plot_units '" + plot_units + "' is not a unit of every column's sensor");
+  const std::array formats{format};
+  for (const std::string q : {"gyro", "accel"}) {
+    if (!(q == "accel" ? accel : gyro)) continue;
+    std::vector<report::allan_curve> curves;
+    for (const auto& r : all)
+      if (r.quantity == q) curves.push_back(report::noise_curve(r));
+    const std::string u = !plot_units.empty() ? plot_units : q == "accel" ? "mg" : "deg/h";
+    auto fig = take(report::noise_figure(curves, u, title.empty() ? "Allan deviation" : title));
+    check(report::render(fig, dir, q == "accel" && gyro ? stem + "_accel" : stem, formats));
+  }
+  py::list out;
+  for (const auto& r : all)
+    out.append(json_loads(take(io::finite_dump(io::noise_json(r), "noise"))));
+  return out;
+}
+
+// Kalibr's IMU file from the axes' terms (each (column, N, N resolved, K, K resolved), an
+// unresolved term as its upper limit, in Kalibr's units), written atomically; returns its text.
+using kalibr_axis_tuple = std::tuple<std::string, double, bool, double, bool>;
+std::string write_kalibr(const std::string& path, const std::string& rostopic, double rate_hz,
+                         const std::vector<kalibr_axis_tuple>& gyro,
+                         const std::vector<kalibr_axis_tuple>& accel,
+                         const std::string& gyro_source, const std::string& accel_source) {
+  io::kalibr_imu imu;
+  imu.rostopic = rostopic;
+  imu.update_rate_hz = rate_hz;
+  imu.gyro_source = gyro_source;
+  imu.accel_source = accel_source;
+  const auto term = [](double v, bool resolved) {
+    analysis::noise_term t;
+    t.resolved = resolved;
+    t.value = t.lo = t.hi = t.range_lo = t.range_hi = v;
+    return t;
+  };
+  for (const auto& [c, n, nr, k, kr] : gyro) imu.gyro.push_back({c, term(n, nr), term(k, kr)});
+  for (const auto& [c, n, nr, k, kr] : accel) imu.accel.push_back({c, term(n, nr), term(k, kr)});
+  auto text = take(io::kalibr_yaml(imu));
+  check(io::write_file_atomically(path, text));
+  return text;
+}
+
+std::optional<std::pair<std::string, std::string>> unit_of_column(const std::string& name) {
+  const auto u = io::unit_of_column(name);
+  if (!u) return std::nullopt;
+  return std::pair{u->quantity, u->unit};
 }
 
 // A curve's columns as a dict of NumPy arrays (m, tau_s, dev, n).
@@ -249,8 +352,15 @@ void bind_analysis(py::module_& m) {
         py::arg("guard") = false, py::arg("bias_correction") = false,
         py::arg("alpha") = std::nullopt);
   m.def("_noise", &noise, py::arg("data"), py::arg("rate"), py::arg("input"), py::arg("units"),
-        py::arg("ci"), py::arg("fit_lo_s"), py::arg("fit_hi_s"), py::arg("abba_cycles"),
-        py::arg("name"), py::arg("column"), py::arg("file_backed"));
+        py::arg("quantity"), py::arg("ci"), py::arg("fit_lo_s"), py::arg("fit_hi_s"),
+        py::arg("abba_cycles"), py::arg("name"), py::arg("column"), py::arg("file_backed"));
+  m.def("_noise_plot", &noise_plot, py::arg("data"), py::arg("columns"), py::arg("units"),
+        py::arg("quantity"), py::arg("rate"), py::arg("input"), py::arg("ci"), py::arg("fit_lo_s"),
+        py::arg("fit_hi_s"), py::arg("long_taus"), py::arg("path"), py::arg("plot_units"),
+        py::arg("title"));
+  m.def("_write_kalibr", &write_kalibr, py::arg("path"), py::arg("rostopic"), py::arg("rate"),
+        py::arg("gyro"), py::arg("accel"), py::arg("gyro_source"), py::arg("accel_source"));
+  m.def("_unit_of_column", &unit_of_column, py::arg("name"));
 }
 
 }  // namespace gyroflip::python

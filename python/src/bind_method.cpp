@@ -104,8 +104,9 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
       rc.cycles, rec.pooled,
       workflow::stationarity_inputs_of(rec.pairing, preset ? &*preset : nullptr, rec.geometry));
   std::vector<std::string> warnings;
-  check(workflow::admit_run(arrays_name, st, strict, warnings,
-                            "sensor= (a preset name or a TOML file)"));
+  (void)take(workflow::judge_run(
+      {arrays_name, {}, "calibration", "sensor= (a preset name or a TOML file)"}, st, strict,
+      warnings));
   rec.files.push_back({arrays_name, rec.pooled, std::nullopt, st});
   rec.pooled.stderr_correlated_dps =
       method::pooled_correlated_stderr(workflow::calibrations_of(rec.files));  // as the CLI
@@ -216,7 +217,9 @@ py::dict read_recording(const std::string& path, double tol) {
 py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t seed, double lat_deg,
                   const std::string& axis, int n_avg, double settle_s,
                   const std::optional<std::string>& temp, const std::string& rate,
-                  double power_on_before_s, bool flip) {
+                  double power_on_before_s, bool flip, const std::vector<double>& positions,
+                  const std::string& order, std::optional<double> azimuth_deg,
+                  const std::string& table_axis, double tilt_mrad, double tilt_azimuth_deg) {
   rig::simulation_config c;
   const auto preset = take(sensor::load_preset(sensor));
   c.sensor = preset.params;
@@ -225,6 +228,20 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
                        : rig::profile::constant(preset.params.temp_ref_c);
   c.lat_deg = lat_deg;
   c.axis = axis;
+  c.table_axis = table_axis;
+  if (azimuth_deg) {
+    if (axis != "north")
+      raise(usage_error("azimuth and axis both name the sensitive axis: give one"));
+    c.mount.azimuth_deg = *azimuth_deg;
+  }
+  c.mount.tilt_mrad = tilt_mrad;
+  c.mount.tilt_azimuth_deg = tilt_azimuth_deg;
+  if (order != "auto" && order != "sweep" && order != "cycle")
+    raise(parameter_error("order", "order is 'auto', 'sweep' or 'cycle'"));
+  c.order = order == "sweep"   ? rig::visit_order::sweep
+            : order == "cycle" ? rig::visit_order::cycle
+                               : rig::visit_order::automatic;
+  c.rig.positions_deg = positions;
   c.rig.n_avg = n_avg;
   c.rig.settle_s = settle_s;
   c.flip = flip;
@@ -269,7 +286,9 @@ void bind_method(py::module_& m) {
   m.def("_read_recording", &read_recording, py::arg("path"), py::arg("angle_tolerance_deg"));
   m.def("_simulate", &simulate, py::arg("sensor"), py::arg("duration_s"), py::arg("seed"),
         py::arg("latitude"), py::arg("axis"), py::arg("n_avg"), py::arg("settle_s"),
-        py::arg("temp"), py::arg("rate"), py::arg("power_on_before_s"), py::arg("flip"));
+        py::arg("temp"), py::arg("rate"), py::arg("power_on_before_s"), py::arg("flip"),
+        py::arg("positions"), py::arg("order"), py::arg("azimuth"), py::arg("table_axis"),
+        py::arg("tilt_mrad"), py::arg("tilt_azimuth"));
 }
 
 }  // namespace gyroflip::python

@@ -77,7 +77,8 @@ py::dict reproduce(bool quick, std::uint64_t seed, std::optional<std::size_t> ca
 // gyroflip.plan: the CLI's `plan` (workflow::plan): a preset's noise, or a static record's fit.
 py::object plan(const std::optional<std::string>& sensor, const std::optional<f64_array>& data,
                 std::optional<double> rate_hz, const std::string& unit, double dead_s,
-                double duration_s, double min_dwell_s, double max_dwell_s) {
+                double duration_s, double min_dwell_s, double max_dwell_s,
+                const std::vector<double>& positions, std::optional<double> heading_lat_deg) {
   if (sensor.has_value() == data.has_value())
     raise(usage_error("plan: give either sensor (a preset name or TOML file) or static (samples)"));
   workflow::plan_request req;
@@ -86,6 +87,8 @@ py::object plan(const std::optional<std::string>& sensor, const std::optional<f6
   req.limits.min_dwell_s = min_dwell_s;
   req.limits.max_dwell_s = max_dwell_s;
   req.conversion_s = rig::conversion_time_s(rig::ad7739_config{});
+  req.positions_deg = positions;
+  req.heading_lat_deg = heading_lat_deg;
   if (sensor) {
     const auto p = take(sensor::load_preset(*sensor));
     req.noise = workflow::plan_noise_of(p.params);
@@ -115,7 +118,8 @@ py::object plan(const std::optional<std::string>& sensor, const std::optional<f6
 // gyroflip.heading: the CLI's `heading` (workflow::find_heading).
 py::object heading(const std::vector<std::string>& runs, double lat_deg,
                    const std::optional<std::string>& table_axis,
-                   std::optional<double> base_turn_deg, const std::optional<std::string>& sensor) {
+                   std::optional<double> base_turn_deg, const std::optional<std::string>& sensor,
+                   int harmonics) {
   workflow::heading_request q;
   q.runs = runs;
   q.lat_deg = lat_deg;
@@ -126,6 +130,7 @@ py::object heading(const std::vector<std::string>& runs, double lat_deg,
   }
   q.base_turn_deg = base_turn_deg;
   if (sensor) q.sensor = *sensor;
+  q.harmonics = harmonics;
   auto h = take(workflow::find_heading(q));
   return json_loads(take(io::finite_dump(workflow::heading_json(h), "heading")));
 }
@@ -134,9 +139,10 @@ py::object heading(const std::vector<std::string>& runs, double lat_deg,
 
 void bind_workflow(py::module_& m) {
   m.def("_heading", &heading, py::arg("runs"), py::arg("latitude"), py::arg("table_axis"),
-        py::arg("base_turn"), py::arg("sensor"));
+        py::arg("base_turn"), py::arg("sensor"), py::arg("harmonics"));
   m.def("_plan", &plan, py::arg("sensor"), py::arg("static"), py::arg("rate"), py::arg("units"),
-        py::arg("dead_time"), py::arg("duration"), py::arg("min_dwell"), py::arg("max_dwell"));
+        py::arg("dead_time"), py::arg("duration"), py::arg("min_dwell"), py::arg("max_dwell"),
+        py::arg("positions"), py::arg("heading_latitude"));
   m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),
         py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
         py::arg("expected_rate"), py::arg("command"), py::arg("next_step"));

@@ -127,7 +127,7 @@ def test_allantools_tau_rules():
     t, _, _, _ = gyroflip.oadev(y, rate=2.0, data_type="freq", taus=[0.5, 1.25, 1.75, 3.0, 3.1])
     assert list(t) == [0.5, 1.0, 2.0, 3.0]
     # "decade" is 1, 2, 4, 10, 20, 40, ... as in allantools.
-    t, _, _, _ = gyroflip.oadev(np.arange(1000.0), data_type="phase", taus="decade")
+    t, _, _, _ = gyroflip.oadev(np.arange(1000.0), data_type="phase", taus="decade", rate=1.0)
     assert list(t) == [1, 2, 4, 10, 20, 40, 100, 200, 400]
 
 
@@ -136,19 +136,19 @@ def test_phase_is_the_default_data_type():
     derivative, so the two differ (the reason deviation() takes input= explicitly)."""
     y = np.random.default_rng(3).normal(size=4096)
     phase = np.concatenate([[0.0], np.cumsum(y)])
-    t1, d1, _, _ = gyroflip.oadev(phase)
-    t2, d2, _, _ = gyroflip.oadev(y, data_type="freq")
+    t1, d1, _, _ = gyroflip.oadev(phase, rate=1.0)
+    t2, d2, _, _ = gyroflip.oadev(y, data_type="freq", rate=1.0)
     np.testing.assert_allclose(d1, d2, rtol=1e-9)
-    _, d3, _, _ = gyroflip.oadev(y)
+    _, d3, _, _ = gyroflip.oadev(y, rate=1.0)
     assert not np.allclose(d3, d2[: len(d3)])
 
 
 def test_other_dtypes_and_lists_convert():
     y = np.random.default_rng(5).normal(size=1000)
-    _, d64, _, _ = gyroflip.oadev(y, data_type="freq")
-    _, dl, _, _ = gyroflip.oadev(list(y), data_type="freq")
-    _, d32, _, _ = gyroflip.oadev(y.astype(np.float32), data_type="freq")
-    _, ds, _, _ = gyroflip.oadev(y[::1].copy(order="C")[::-1][::-1], data_type="freq")
+    _, d64, _, _ = gyroflip.oadev(y, data_type="freq", rate=1.0)
+    _, dl, _, _ = gyroflip.oadev(list(y), data_type="freq", rate=1.0)
+    _, d32, _, _ = gyroflip.oadev(y.astype(np.float32), data_type="freq", rate=1.0)
+    _, ds, _, _ = gyroflip.oadev(y[::1].copy(order="C")[::-1][::-1], data_type="freq", rate=1.0)
     np.testing.assert_array_equal(d64, dl)
     np.testing.assert_array_equal(d64, ds)
     np.testing.assert_allclose(d64, d32, rtol=1e-6)
@@ -234,7 +234,7 @@ def test_htotdev_bias_correction_matches_stable32(vectors):
                            bias_correction=True)
     np.testing.assert_allclose(d.dev, [r[2] for r in rows], rtol=1e-4)
     with pytest.raises(ValueError):
-        gyroflip.deviation(x, "oadev", input="angle", bias_correction=True)
+        gyroflip.deviation(x, "oadev", input="angle", bias_correction=True, rate=1.0)
 
 
 
@@ -245,8 +245,8 @@ def test_published_bias_corrected_values_need_white_fm():
     f = np.array(nbs14_1000())
     for kind, published in (("htotdev", 0.03058103), ("mtotdev", 0.02287774),
                             ("ttotdev", 1.320847)):
-        read = gyroflip.deviation(f, kind, taus=[100.0], bias_correction=True, ci=None)
-        given = gyroflip.deviation(f, kind, taus=[100.0], bias_correction=True, ci=None, alpha=0)
+        read = gyroflip.deviation(f, kind, taus=[100.0], bias_correction=True, ci=None, rate=1.0)
+        given = gyroflip.deviation(f, kind, taus=[100.0], bias_correction=True, ci=None, alpha=0, rate=1.0)
         assert read.alpha[0] == 1 and given.alpha[0] == 0
         assert abs(given.dev[0] / published - 1.0) < 1e-6, kind
         assert abs(read.dev[0] / published - 1.0) > 2e-3, kind
@@ -257,15 +257,15 @@ def test_published_bias_corrected_values_need_white_fm():
 def test_given_alpha_makes_a_tau_independent_of_the_list(vectors):
     x = np.array(read_values(os.path.join(vectors, "stable32/phasedat/PHASE.DAT")))
     carried = gyroflip.deviation(x, "mtotdev", input="angle", taus=[100.0, 170.0],
-                                 bias_correction=True)
+                                 bias_correction=True, rate=1.0)
     assert carried.alpha[-1] == 1
     for taus in ([170.0], [100.0, 170.0], [10.0, 170.0, 180.0]):
         d = gyroflip.deviation(x, "mtotdev", input="angle", taus=taus, bias_correction=True,
-                               alpha=0)
+                               alpha=0, rate=1.0)
         i = list(d.m).index(170)
         assert d.alpha[i] == 0
         assert abs(d.dev[i] / 1.3547e-02 - 1.0) < 1e-4
     with pytest.raises(ValueError):
-        gyroflip.deviation(x, "oadev", input="angle", alpha=3)
+        gyroflip.deviation(x, "oadev", input="angle", alpha=3, rate=1.0)
     with pytest.raises(ValueError):
-        gyroflip.deviation(x, "oadev", input="angle", alpha=0, guard=True)
+        gyroflip.deviation(x, "oadev", input="angle", alpha=0, guard=True, rate=1.0)

@@ -353,3 +353,64 @@ def test_heading_agrees_with_the_cli(exe, tmp_path):
     run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 120, "-o", pair)
     with pytest.raises(ValueError):
         gyroflip.heading([pair], 42.6)
+
+
+def test_simulate_takes_the_north_finding_options_as_the_cli(exe, tmp_path):
+    """gyroflip.simulate(positions, order, azimuth, table_axis, tilt_mrad, tilt_azimuth) gives the
+    rows `gyroflip simulate` writes with the same options (issue 33), and its Earth truth is
+    W_E cos(lat) cos(azimuth - angle) at each position (table axis up, level)."""
+    out = tmp_path / "north.csv"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 120, "--seed", 7, "--table-axis",
+        "up", "--azimuth", 35, "--positions", "0,90,180,270", "--order", "cycle", "--tilt-mrad",
+        0.5, "--tilt-azimuth", 20, "-o", out)
+    rows = gyroflip.read_recording(out)
+    s = gyroflip.simulate("hz1-90-100a", duration_s=120, seed=7, table_axis="up", azimuth=35,
+                          positions=[0, 90, 180, 270], order="cycle", tilt_mrad=0.5,
+                          tilt_azimuth=20)
+    for key in ["time_s", "angle_deg", "rate_dps", "temp_c", "n_avg"]:
+        np.testing.assert_array_equal(rows[key], s[key], err_msg=key)
+    assert list(np.unique(s["angle_deg"])) == [0, 90, 180, 270]
+    level = gyroflip.simulate("hz1-90-100a", duration_s=60, seed=7, table_axis="up", azimuth=35,
+                              positions=[0, 90, 180, 270])
+    # The horizontal Earth rate's contrast between opposite positions (the preset's cross-axis
+    # sensitivity adds the same share of the vertical rate at every position).
+    w_h = 7.292115e-5 * 180 / np.pi * np.cos(np.radians(42.6))
+    e, a = level["earth_dps"], level["angle_deg"]
+    for theta in (0, 90):
+        half = (e[a == theta].mean() - e[a == theta + 180].mean()) / 2
+        assert half == pytest.approx(w_h * np.cos(np.radians(35 - theta)), rel=1e-4), theta
+    # the sweep by default for more than two positions: 0,90,180,270,270,180,90,0
+    assert list(level["angle_deg"][:8]) == [0, 90, 180, 270, 270, 180, 90, 0]
+    with pytest.raises(ValueError):
+        gyroflip.simulate("hz1-90-100a", duration_s=10, order="random")
+    with pytest.raises(ValueError):
+        gyroflip.simulate("hz1-90-100a", duration_s=10, azimuth=10, axis="east")
+
+
+def test_plan_and_heading_variants_agree_with_the_cli(exe, tmp_path):
+    """gyroflip.plan(positions=..., heading=True, latitude=...) and gyroflip.heading(harmonics=2)
+    and on a 0/180 run give what the CLI prints."""
+    cli = json.loads(run(exe, "plan", "--sensor", "adxrs150", "--dead-time", 0.3, "--heading",
+                         "--latitude", 42.6, "--json"))
+    py = gyroflip.plan(0.3, sensor="adxrs150", heading=True, latitude=42.6)
+    assert py["dwell_s"] == cli["dwell_s"]
+    assert py["heading"]["predicted_sigma_deg"] == cli["heading"]["predicted_sigma_deg"]
+    cli5 = json.loads(run(exe, "plan", "--sensor", "adxrs150", "--dead-time", 0.3, "--positions",
+                          "0,72,144,216,288", "--json"))
+    py5 = gyroflip.plan(0.3, sensor="adxrs150", positions=[0, 72, 144, 216, 288])
+    assert py5["dwell_s"] == cli5["dwell_s"] and len(py5["visiting_order_deg"]) == 10
+    with pytest.raises(ValueError):
+        gyroflip.plan(0.3, sensor="adxrs150", heading=True)
+    flip = tmp_path / "flip.csv"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 600, "--table-axis", "up",
+        "--azimuth", 70, "--positions", "0,180", "--seed", 4, "-o", flip)
+    c = json.loads(run(exe, "heading", flip, "--latitude", 42.6, "--json"))
+    p = gyroflip.heading([flip], 42.6)
+    assert p["ambiguous"] and p["heading_mirror_deg"] == c["heading_mirror_deg"]
+    five = tmp_path / "five.csv"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 600, "--table-axis", "up",
+        "--azimuth", 70, "--positions", "0,72,144,216,288", "--seed", 4, "-o", five)
+    c2 = json.loads(run(exe, "heading", five, "--latitude", 42.6, "--harmonics", 2, "--json"))
+    p2 = gyroflip.heading([five], 42.6, harmonics=2)
+    assert p2["heading_deg"] == c2["heading_deg"]
+    assert p2["second_harmonic_dps"] == c2["second_harmonic_dps"]

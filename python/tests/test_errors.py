@@ -12,9 +12,9 @@ def test_non_finite_sample_names_it():
     y = np.ones(100)
     y[42] = np.nan
     with pytest.raises(ValueError, match=r"sample 42 \(0-based\) is not finite"):
-        gyroflip.deviation(y)
+        gyroflip.deviation(y, rate=1.0)
     with pytest.raises(ValueError, match="sample 42"):
-        gyroflip.oadev(y, data_type="freq")
+        gyroflip.oadev(y, data_type="freq", rate=1.0)
 
 
 @pytest.mark.parametrize("kwargs, match", [
@@ -28,22 +28,22 @@ def test_non_finite_sample_names_it():
 ])
 def test_bad_arguments(kwargs, match):
     with pytest.raises(ValueError, match=match):
-        gyroflip.deviation(np.ones(100), **kwargs)
+        gyroflip.deviation(np.ones(100), **{"rate": 1.0, **kwargs})
 
 
 def test_two_dimensional_data_is_refused():
     with pytest.raises(ValueError, match="1-D"):
-        gyroflip.deviation(np.ones((10, 10)))
+        gyroflip.deviation(np.ones((10, 10)), rate=1.0)
 
 
 def test_too_short():
     with pytest.raises(ValueError):
-        gyroflip.oadev([1.0], data_type="freq")
+        gyroflip.oadev([1.0], data_type="freq", rate=1.0)
 
 
 def test_bad_data_type():
     with pytest.raises(ValueError, match="data_type must be 'phase' or 'freq'"):
-        gyroflip.adev(np.ones(10), data_type="angle")
+        gyroflip.adev(np.ones(10), data_type="angle", rate=1.0)
 
 
 def test_missing_file_is_oserror(tmp_path):
@@ -205,26 +205,26 @@ def test_kinds_without_intervals_read_no_noise_type():
     # and the guard refused (the CLI refuses --ci-guard there).
     x = np.random.default_rng(3).normal(size=1001)
     for kind in ("pdev", "mtie", "tierms"):
-        d = gyroflip.deviation(x, kind=kind, input="angle")
+        d = gyroflip.deviation(x, kind=kind, input="angle", rate=1.0)
         assert d.ci is None and np.all(np.isnan(d.alpha)) and np.all(np.isnan(d.edf))
         with pytest.raises(ValueError, match="guard applies to the kinds with intervals"):
-            gyroflip.deviation(x, kind=kind, input="angle", guard=True)
-    assert np.all(np.isnan(gyroflip.deviation(x, input="angle", ci=None).alpha))
+            gyroflip.deviation(x, kind=kind, input="angle", guard=True, rate=1.0)
+    assert np.all(np.isnan(gyroflip.deviation(x, input="angle", ci=None, rate=1.0).alpha))
     with pytest.raises(ValueError, match="guard guards intervals"):  # review F-L2, as the CLI
-        gyroflip.deviation(x, input="angle", ci=None, guard=True)
-    assert np.all(gyroflip.deviation(x, input="angle").alpha == 2)  # white PM read
+        gyroflip.deviation(x, input="angle", ci=None, guard=True, rate=1.0)
+    assert np.all(gyroflip.deviation(x, input="angle", rate=1.0).alpha == 2)  # white PM read
 
 
 def test_theo1_odd_factors_are_named():
     # Review E-L1: an odd factor alone read "series too short"; in a list it vanished silently.
     x = np.random.default_rng(4).normal(size=1001)
     with pytest.raises(ValueError, match=r"theo1 needs even averaging factors .*\[9\] odd"):
-        gyroflip.deviation(x, kind="theo1", input="angle", taus=[9])
+        gyroflip.deviation(x, kind="theo1", input="angle", taus=[9], rate=1.0)
     with pytest.warns(UserWarning, match=r"\[9\] dropped"):
-        d = gyroflip.deviation(x, kind="theo1", input="angle", taus=[8, 9, 16])
+        d = gyroflip.deviation(x, kind="theo1", input="angle", taus=[8, 9, 16], rate=1.0)
     assert list(d.m) == [8, 16]
     with pytest.raises(ValueError, match="taus is empty"):
-        gyroflip.deviation(x, input="angle", taus=[])
+        gyroflip.deviation(x, input="angle", taus=[], rate=1.0)
 
 
 # Review of issue 31: compensate applied a calibration its own file marks as not stationary

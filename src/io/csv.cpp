@@ -1,5 +1,5 @@
 /// \file
-/// \brief Strict memory-mapped CSV reader (see csv.hpp).
+/// \brief Strict CSV reader, a block at a time (see csv.hpp).
 #include "gyroflip/io/csv.hpp"
 
 #include <algorithm>
@@ -11,6 +11,8 @@
 #include <cstring>
 #include <limits>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -99,41 +101,68 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
     return parameter_error("delimiter", "the delimiter must be ',', ';', tab or blanks");
   if (dialect.decimal == ',' && dialect.delimiter == ',')
     return parameter_error("decimal", "a decimal comma needs another delimiter than ','");
-  if (path == "-") {
-    csv_reader r(STDIN_FILENO);
-    r.dialect_ = dialect;
-    while (r.buf_.size() < binary_probe_bytes && r.refill()) {
-    }
-    const std::string_view d = r.buf_;
-    if (d.empty()) return input_error({r.path_}, "empty input (expected a CSV header line)");
-    if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
-      return input_error({r.path_}, "binary data (NUL byte), not a UTF-8 CSV text");
-    if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = r.pos_ = 3;  // UTF-8 byte-order mark
-    if (auto s = r.read_header(); !s) return s.err();
-    return r;
+  csv_reader r = path == "-" ? csv_reader(owned_fd(), "<stdin>", 0) : csv_reader({}, path, 0);
+  if (path != "-") {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return io_error(path, std::strerror(errno));
+    r.fd_ = owned_fd(fd);
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) return io_error(path, std::strerror(errno));
+    if (S_ISDIR(st.st_mode)) return io_error(path, "is a directory, not a file");
+    if (!S_ISREG(st.st_mode)) return io_error(path, "not a regular file");
+    r.size_bytes_ = static_cast<std::uint64_t>(st.st_size);
+    ::posix_fadvise(fd, 0, 0, POSIX_FADV_SEQUENTIAL);
   }
-  auto f = mapped_file::open(path);
-  if (!f) return f.err();
-  csv_reader r(std::move(*f));
   r.dialect_ = dialect;
-  const std::string_view d = r.file_->data();
-  if (d.empty()) return input_error({path}, "empty file (expected a CSV header line)");
+  while (r.buf_len_ < binary_probe_bytes && r.refill()) {
+  }
+  const std::string_view d(r.buf_.get(), r.buf_len_);
+  const bool from_stdin = path == "-";
+  if (d.empty())
+    return input_error({r.path_}, from_stdin ? "empty input (expected a CSV header line)"
+                                        : "empty file (expected a CSV header line)");
   if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
-    return input_error({path}, "binary data (NUL byte), not a UTF-8 CSV text file");
-  if (d.substr(0, 3) == "\xEF\xBB\xBF") r.pos_ = 3;  // UTF-8 byte-order mark
+    return input_error({r.path_}, from_stdin ? "binary data (NUL byte), not a UTF-8 CSV text"
+                                        : "binary data (NUL byte), not a UTF-8 CSV text file");
+  if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = r.pos_ = 3;  // UTF-8 byte-order mark
   if (auto s = r.read_header(); !s) return s.err();
   return r;
 }
 
+csv_reader::owned_fd& csv_reader::owned_fd::operator=(owned_fd&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(o.fd_, -1);
+  }
+  return *this;
+}
+
+csv_reader::owned_fd::~owned_fd() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
 bool csv_reader::refill() {
   if (stream_end_) return false;
-  buf_.erase(0, buf_pos_);
+  // A quarter of a megabyte a read: the block stays in the core's cache while its lines are cut
+  // and parsed (a read() into one reused buffer costs half of a mapping's first touch of every
+  // page on the virtual machines measured: docs/PERFORMANCE.md, issue 33).
+  constexpr std::size_t block = std::size_t{1} << 18;
+  const std::size_t left = buf_len_ - buf_pos_;
+  if (left > 0 && buf_pos_ > 0) std::memmove(buf_.get(), buf_.get() + buf_pos_, left);
+  buf_len_ = left;
   buf_pos_ = 0;
-  char block[std::size_t{1} << 16];
+  if (buf_cap_ - buf_len_ < block) {
+    const std::size_t cap = std::max(2 * buf_cap_, buf_len_ + block);
+    auto grown = std::make_unique_for_overwrite<char[]>(cap);
+    if (buf_len_ > 0) std::memcpy(grown.get(), buf_.get(), buf_len_);
+    buf_ = std::move(grown);
+    buf_cap_ = cap;
+  }
+  const int fd = fd_.get() < 0 ? STDIN_FILENO : fd_.get();  // no descriptor of its own: stdin
   while (true) {
-    const ssize_t n = ::read(stream_fd_, block, sizeof block);
+    const ssize_t n = ::read(fd, buf_.get() + buf_len_, buf_cap_ - buf_len_);
     if (n > 0) {
-      buf_.append(block, static_cast<std::size_t>(n));
+      buf_len_ += static_cast<std::size_t>(n);
       return true;
     }
     if (n < 0 && errno == EINTR) continue;
@@ -196,23 +225,15 @@ std::optional<std::string_view> csv_reader::next_line() {
     ++line_;
     return std::string_view(replay_);
   }
-  if (file_) {
-    const std::string_view d = file_->data();
-    if (pos_ >= d.size()) return std::nullopt;
-    const char* begin = d.data() + pos_;
-    const line_cut c = *cut_line(begin, d.size() - pos_, true);
-    pos_ += c.taken;
-    return take_line(begin, c.len, c.unterminated);
-  }
-  // A stream: cut from what has come, reading more until a line is whole or the input ends.
+  // Cut from what has come, reading more until a line is whole or the input ends.
   while (true) {
-    const char* begin = buf_.data() + buf_pos_;
-    if (const auto c = cut_line(begin, buf_.size() - buf_pos_, stream_end_)) {
+    const char* begin = buf_.get() + buf_pos_;
+    if (const auto c = cut_line(begin, buf_len_ - buf_pos_, stream_end_)) {
       buf_pos_ += c->taken;
       pos_ += c->taken;
       return take_line(begin, c->len, c->unterminated);
     }
-    if (!refill() && buf_pos_ == buf_.size()) return std::nullopt;
+    if (!refill() && buf_pos_ == buf_len_) return std::nullopt;
   }
 }
 
@@ -350,6 +371,114 @@ csv_reader::step csv_reader::next() {
     return split(*l) ? step::row : step::failed;
   }
   return step::end;
+}
+
+namespace {
+
+// The decimal digits at `p` (before `end`) appended to m, eight at a time where the line has
+// eight more bytes (Lemire's SWAR digit test and combination, as in simdjson and fast_float:
+// three multiplications for eight digits), one at a time otherwise; returns where they stop.
+// Callers bound the count (at most 18 digits), so m does not overflow before it is checked.
+[[gnu::always_inline]] inline const char* digits_of(const char* p, const char* end,
+                                                  std::uint64_t& m) noexcept {
+  static constexpr std::uint64_t pow10[] = {1,      10,      100,      1000,     10000,
+                                     100000, 1000000, 10000000, 100000000};
+  while (end - p >= 8) {
+    std::uint64_t w;
+    std::memcpy(&w, p, 8);
+    // A byte is a digit when its high nibble is 3 and its low nibble at most 9 (+6 carries
+    // into the high nibble only from 10 up; nothing carries across bytes).
+    const std::uint64_t not_digit = ((w & 0xF0F0F0F0F0F0F0F0ull) ^ 0x3030303030303030ull) |
+                                    (((w & 0x0F0F0F0F0F0F0F0Full) + 0x0606060606060606ull) &
+                                     0xF0F0F0F0F0F0F0F0ull);
+    const auto n = not_digit == 0 ? 8u : static_cast<unsigned>(std::countr_zero(not_digit)) / 8;
+    if (n == 0) return p;
+    // The n leading digits moved to the word's high bytes, zeros before them: eight digits.
+    std::uint64_t v = (w - 0x3030303030303030ull) << (8 * (8 - n));
+    v = v * 10 + (v >> 8);
+    v = (((v & 0x000000FF000000FFull) * (100 + (1000000ull << 32))) +
+         (((v >> 16) & 0x000000FF000000FFull) * (1 + (10000ull << 32)))) >>
+        32;
+    m = m * pow10[n] + v;
+    p += n;
+    if (n < 8) return p;
+  }
+  for (; p != end; ++p) {
+    const auto d = static_cast<unsigned>(*p) - unsigned{'0'};
+    if (d >= 10) break;
+    m = m * 10 + d;
+  }
+  return p;
+}
+
+}  // namespace
+
+bool csv_reader::peek_plain(plain_row& row) {
+  static constexpr double pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,
+                                     1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18};
+  if (has_replay_ || dialect_.delimiter == ' ' || dialect_.decimal != '.' ||
+      dialect_.missing_is_nan || selected_.size() > plain_row::max_cells ||
+      slot_of_column_.size() != header_.size())
+    return false;
+  // A whole line in the buffer, not the input's last (the general path says if it is cut).
+  if (buf_len_ - buf_pos_ < 256 && !stream_end_) refill();
+  const char* const begin = buf_.get() + buf_pos_;
+  const auto cut = cut_line(begin, buf_len_ - buf_pos_, false);
+  if (!cut || cut->unterminated || cut->len == 0) return false;
+  const char* p = begin;
+  const char* end = begin + cut->len;
+  if (end[-1] == '\r') --end;  // CRLF line ends
+  const char delimiter = dialect_.delimiter;
+  const std::size_t n_cols = header_.size();
+  for (std::size_t col = 0; col < n_cols; ++col) {
+    const int slot = slot_of_column_[col];
+    if (slot < 0) {
+      while (p != end && *p != delimiter) ++p;
+    } else {
+      // Digits, at most one point, an optional leading '-': the spellings parse_plain_decimal
+      // takes, with its limits (at most 18 digits, so m < 10^18; m <= 2^53 exact).
+      const bool negative = p != end && *p == '-';
+      p += negative ? 1 : 0;
+      std::uint64_t m = 0;
+      int digits = 0, frac = -1;
+      const char* const int_begin = p;
+      p = digits_of(p, end, m);
+      digits = static_cast<int>(p - int_begin);
+      if (p != end && *p == '.') {
+        const char* const frac_begin = ++p;
+        p = digits_of(p, end, m);
+        frac = static_cast<int>(p - frac_begin);
+        digits += frac;
+      }
+      const auto k = static_cast<std::size_t>(slot);
+      row.empty[k] = digits == 0;
+      if (digits == 0 && (negative || frac >= 0)) return false;  // "-" or "." alone
+      if (digits > 18 || m > (std::uint64_t{1} << 53)) return false;
+      const double v = frac <= 0 ? static_cast<double>(m)
+                                 : static_cast<double>(m) / pow10[static_cast<std::size_t>(frac)];
+      row.value[k] = negative ? -v : v;
+    }
+    // Each field ends at the delimiter, the last at the line's end: anything else (a blank, a
+    // CR, an exponent, a field too many or too few) takes the general path.
+    if (col + 1 < n_cols) {
+      if (p == end || *p != delimiter) return false;
+      ++p;
+    } else if (p != end) {
+      return false;
+    }
+  }
+  row.taken = cut->taken;
+  return true;
+}
+
+void csv_reader::commit_plain(const plain_row& row) noexcept {
+  const char* begin = buf_.get() + buf_pos_;
+  buf_pos_ += row.taken;
+  pos_ += row.taken;
+  rows_seen_ = true;
+  unterminated_ = false;
+  ++line_;
+  current_ = std::string_view(begin, row.taken - 1);
 }
 
 std::string_view csv_reader::cell(std::size_t i) const noexcept {

@@ -214,7 +214,51 @@ std::string n_avg_problem(double n, std::string_view as_written) {
 
 }  // namespace
 
+bool recording_reader::next_plain(method::row& out) {
+  csv_reader::plain_row r;
+  if (!csv_.peek_plain(r)) return false;
+  // The general path's checks on the numbers; whatever fails them takes that path, which says why.
+  const double t = r.value[s_time];
+  if (r.empty[s_time] || r.empty[s_rate] || t < last_time_s_) return false;
+  int position = table_moving;  // an empty angle: the table turning
+  if (!r.empty[s_angle]) {
+    const double a = r.value[s_angle];
+    if (a == 0.0 && at_0_ != table_moving) {
+      position = at_0_;
+    } else if (a == 180.0 && at_180_ != table_moving) {
+      position = at_180_;
+    } else {
+      const auto pos = table_.index_of(a, angle_tolerance_deg_);
+      if (!pos) return false;
+      position = *pos;
+    }
+  }
+  double temp_c = method::no_value;
+  if (has_temp_) {
+    temp_c = r.value[s_temp];
+    if (r.empty[s_temp] || !(temp_c >= min_temp_c && temp_c <= max_temp_c)) return false;
+  }
+  std::uint32_t n_avg = 1;
+  if (has_n_avg_) {
+    const double n = r.value[s_navg];
+    if (r.empty[s_navg] || !(n >= 1.0 && n == std::floor(n) &&
+                             n <= std::numeric_limits<std::uint32_t>::max()))
+      return false;
+    n_avg = static_cast<std::uint32_t>(n);
+  }
+  csv_.commit_plain(r);
+  out.time_s = t;
+  out.position = position;
+  out.rate_dps = r.value[s_rate];
+  out.temp_c = temp_c;
+  out.n_avg = n_avg;
+  last_time_s_ = t;
+  last_time_line_ = csv_.line();
+  return true;
+}
+
 csv_reader::step recording_reader::next(method::row& out) {
+  if (next_plain(out)) return csv_reader::step::row;
   const auto s = csv_.next();
   if (s != csv_reader::step::row) {
     if (s == csv_reader::step::failed) error_ = csv_.last_error();

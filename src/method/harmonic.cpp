@@ -100,8 +100,10 @@ class block_cutter {
   std::size_t skipped_ = 0;
 };
 
-// A harmonic term's regressor at angle a (rad).
-double regressor(std::string_view term, double a) {
+// A harmonic term's regressor at angle a (rad); p1 (the first harmonic's projection on the
+// direction a0 of the table's position 0) is cos(a - a0).
+double regressor(std::string_view term, double a, double a0 = 0.0) {
+  if (term == "p1") return std::cos(a - a0);
   if (term == "c1") return std::cos(a);
   if (term == "s1") return std::sin(a);
   if (term == "c2") return std::cos(2.0 * a);
@@ -120,10 +122,11 @@ block_design design_of(const position_table& table, std::span<const int> pattern
                        std::vector<std::string> terms) {
   block_design d;
   d.terms = std::move(terms);
+  const double a0 = table.size() > 0 ? table.angle_deg(0) * units::rad_per_deg : 0.0;
   for (const int p : pattern) {
     const double a = table.angle_deg(p) * units::rad_per_deg;
     std::vector<double> r;
-    for (const auto& t : d.terms) r.push_back(regressor(t, a));
+    for (const auto& t : d.terms) r.push_back(regressor(t, a, a0));
     d.slots.push_back(std::move(r));
   }
   return d;
@@ -210,23 +213,39 @@ struct indexed_at {
   int position = 0;
 };
 
-}  // namespace
-
-harmonic_blocks blocks_of(std::span<const indexed_dwell> dwells) {
+// The blocks of `period` dwells (the visiting period or a whole multiple of it) repeating the
+// run's first `period` positions: blocks_of's rule for a block of any length.
+harmonic_blocks blocks_with(std::span<const indexed_dwell> dwells, std::size_t period) {
   harmonic_blocks out;
-  out.period = period_of(dwells);
-  if (out.period == 0) return out;
-  block_cutter<indexed_at> cut(pattern_of(dwells, out.period));
+  out.period = period;
+  if (period == 0 || dwells.size() < period) return out;
+  block_cutter<indexed_at> cut(pattern_of(dwells, period));
   for (std::size_t k = 0; k < dwells.size(); ++k)
     if (cut.push({dwells[k], k, dwells[k].position}))
       out.starts.push_back(cut.take().front().index);
   return out;
 }
 
+}  // namespace
+
+harmonic_blocks blocks_of(std::span<const indexed_dwell> dwells) {
+  return blocks_with(dwells, period_of(dwells));
+}
+
 result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
                                    const position_table& table, const harmonic_options& options) {
   std::vector<std::string> terms;
-  if (!options.terms.empty()) {
+  // A 0/180 table: the projection p1 (its own design and block rule, below).
+  const bool projection = options.projection_of_two && table.size() == 2 &&
+                          options.harmonics == 1 && options.terms.empty() && !options.separable;
+  if (projection) {
+    if (std::abs(angle_between_deg(table.angle_deg(0), table.angle_deg(1)) - 180.0) > 1e-6)
+      return runtime_error(fmt::format(
+          "two positions give the Earth rate's projection only when 180 deg apart; the table "
+          "has {}",
+          table.describe()));
+    terms = {"p1"};
+  } else if (!options.terms.empty()) {
     for (const auto& t : options.terms) {
       const auto at = std::find(harmonic_term_names.begin() + 1, harmonic_term_names.end(), t);
       if (at == harmonic_term_names.end())
@@ -253,21 +272,27 @@ result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
     terms = {"c1", "s1"};
     if (n_h == 2) terms.insert(terms.end(), {"c2", "s2"});
   }
-  const auto blocks = blocks_of(dwells);
-  const std::size_t period = blocks.period;
-  if (period == 0)
+  const std::size_t visit_period = period_of(dwells);
+  if (visit_period == 0)
     return runtime_error(
         "the dwells' positions do not repeat with a period of 2 to 16 dwells: not an indexed "
         "run");
-  for (std::size_t k = 0; k < period; ++k)
+  for (std::size_t k = 0; k < visit_period; ++k)
     if (!table.holds(dwells[k].position))
       return runtime_error(
           fmt::format("dwell {}: position {} is not in the table", k, dwells[k].position));
-  const auto pattern = pattern_of(dwells, period);
   harmonic_fit fit;
-  if (options.separable) terms = terms_for(table, pattern, &fit.dropped);
-  // The block's design: bias, slope, then the harmonics.
-  const block_design design = design_of(table, pattern, terms);
+  if (options.separable) terms = terms_for(table, pattern_of(dwells, visit_period), &fit.dropped);
+  // The block's design: bias, slope, then the terms. A projection's block spans whole visiting
+  // periods up to a residual degree of freedom (A B A B for the paper's cycle).
+  std::size_t period = visit_period;
+  if (projection)
+    while (period < 2 + terms.size() + 1) period += visit_period;
+  if (dwells.size() < period)
+    return runtime_error(
+        fmt::format("{} dwells: fewer than one block of {}", dwells.size(), period));
+  const auto blocks = blocks_with(dwells, period);
+  const block_design design = design_of(table, pattern_of(dwells, period), terms);
   const std::size_t cols = design.cols();
   if (period < cols)
     return runtime_error(
@@ -721,8 +746,10 @@ result<std::vector<double>> harmonic_crlb(const harmonic_fit& fit,
                                           std::span<const indexed_dwell> dwells,
                                           const position_table& table,
                                           const std::function<double(double)>& gap_avar_of) {
-  const auto blocks = blocks_of(dwells);
-  if (blocks.period != fit.period || blocks.starts.size() != fit.blocks)
+  // The fit's blocks: the visiting period, or whole periods of it (the projection p1).
+  const std::size_t visit = period_of(dwells);
+  const auto blocks = blocks_with(dwells, visit == 0 ? 0 : fit.period);
+  if (visit == 0 || fit.period % visit != 0 || blocks.starts.size() != fit.blocks)
     return usage_error("the dwells are not those of the fit");
   const std::size_t p = blocks.period, q = p - 2, nb = blocks.starts.size();
   const std::vector<std::string> terms(fit.names.begin() + 1, fit.names.end());
@@ -814,6 +841,29 @@ heading_estimate heading_of(double c1, double s1, double var_c1, double var_s1, 
   // d psi = (c1 ds1 - s1 dc1) / a2
   const double var = (s1 * s1 * var_c1 + c1 * c1 * var_s1 - 2.0 * c1 * s1 * cov_c1_s1) / (a2 * a2);
   h.sigma_deg = std::sqrt(std::max(var, 0.0)) / units::rad_per_deg;
+  return h;
+}
+
+projection_heading heading_of_projection(double p1, double var_p1, double earth_horizontal_dps,
+                                         double axis_angle_deg, bool table_axis_up) {
+  projection_heading h;
+  const double x = p1 / earth_horizontal_dps;
+  const double sx = std::sqrt(std::max(var_p1, 0.0)) / earth_horizontal_dps;
+  h.cos_value = x;
+  const double a = std::acos(std::clamp(x, -1.0, 1.0)) / units::rad_per_deg;  // [0, 180]
+  const auto wrap = [](double v) {
+    v = std::fmod(v, 360.0);
+    if (v < 0.0) v += 360.0;
+    return v >= 360.0 ? 0.0 : v;
+  };
+  const double base = table_axis_up ? axis_angle_deg : -axis_angle_deg;
+  h.heading_deg = wrap(base + a);
+  h.mirror_deg = wrap(base - a);
+  h.at_edge = std::abs(x) > 1.0 - sx;
+  if (h.at_edge)
+    h.sigma_deg = std::acos(std::max(-1.0, 1.0 - sx)) / units::rad_per_deg;
+  else
+    h.sigma_deg = sx / std::sqrt(1.0 - x * x) / units::rad_per_deg;
   return h;
 }
 

@@ -3,6 +3,7 @@
 #include "gyroflip/method/plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -129,11 +130,12 @@ std::vector<double> log_grid(double lo, double hi, std::size_t points) {
   return g;
 }
 
-// Golden-section search for the minimum of sigma over log tau in [lo, hi].
-double refine(const plan_noise& n, double dead_s, double duration_s, double lo, double hi) {
+// Golden-section search for the minimum of f over log tau in [lo, hi].
+template <class F>
+double refine(const F& sigma_of, double lo, double hi) {
   constexpr double inv_phi = 0.6180339887498949;
   double a = std::log(lo), b = std::log(hi);
-  const auto f = [&](double u) { return sigma_at(n, std::exp(u), dead_s, duration_s); };
+  const auto f = [&](double u) { return sigma_of(std::exp(u)); };
   double c = b - inv_phi * (b - a), d = a + inv_phi * (b - a);
   double fc = f(c), fd = f(d);
   for (int i = 0; i < 60 && b - a > 1e-6; ++i) {
@@ -146,6 +148,22 @@ double refine(const plan_noise& n, double dead_s, double duration_s, double lo, 
     }
   }
   return std::exp(fc <= fd ? c : d);
+}
+
+// The dwell in [lo, hi] that minimises sigma_of: a log-spaced scan (the curve by_dwell), then
+// golden-section refinement between the lowest point's neighbours. Sets dwell_s and by_dwell.
+template <class F>
+void search_dwell(const F& sigma_of, double lo, double hi, std::size_t points, flip_plan& p) {
+  const auto grid = log_grid(lo, hi, points);
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    p.by_dwell.push_back({grid[i], sigma_of(grid[i])});
+    if (p.by_dwell[i].sigma_dps < p.by_dwell[best].sigma_dps) best = i;
+  }
+  const double a = grid[best > 0 ? best - 1 : 0];
+  const double b = grid[std::min(best + 1, grid.size() - 1)];
+  const double tau = refine(sigma_of, a, b);
+  p.dwell_s = sigma_of(tau) <= p.by_dwell[best].sigma_dps ? tau : grid[best];
 }
 
 status check_plan_inputs(const plan_noise& n, double dead_s, double duration_s,
@@ -179,23 +197,189 @@ result<flip_plan> plan_flip(const plan_noise& n, double dead_s, double duration_
   flip_plan p;
   p.dead_s = dead_s;
   p.duration_s = duration_s;
-  const auto grid = log_grid(lo, hi, limits.curve_points);
-  std::size_t best = 0;
-  for (std::size_t i = 0; i < grid.size(); ++i) {
-    p.by_dwell.push_back({grid[i], sigma_at(n, grid[i], dead_s, duration_s)});
-    if (p.by_dwell[i].sigma_dps < p.by_dwell[best].sigma_dps) best = i;
-  }
-  const double a = grid[best > 0 ? best - 1 : 0];
-  const double b = grid[std::min(best + 1, grid.size() - 1)];
-  const double tau = refine(n, dead_s, duration_s, a, b);
-  const double tau_sigma = sigma_at(n, tau, dead_s, duration_s);
-  p.dwell_s = tau_sigma <= p.by_dwell[best].sigma_dps ? tau : grid[best];
+  search_dwell([&](double tau) { return sigma_at(n, tau, dead_s, duration_s); }, lo, hi,
+               limits.curve_points, p);
   p.sigma_dps = sigma_at(n, p.dwell_s, dead_s, duration_s);
   p.period_s = 2.0 * (p.dwell_s + dead_s);
   p.sigma_no_dead_dps = sigma_at(n, p.dwell_s, 0.0, duration_s);
   p.closed_form = plan_flip_closed_form(n, dead_s, duration_s);
   for (const double t : log_grid(2.0 * p.period_s, duration_s, 25))
     p.by_duration.push_back({t, sigma_at(n, p.dwell_s, dead_s, t)});
+  return p;
+}
+
+}  // namespace gyroflip::method
+
+namespace gyroflip::method {
+
+std::vector<double> sweep_visits(std::span<const double> angles_deg) {
+  std::vector<double> out(angles_deg.begin(), angles_deg.end());
+  out.insert(out.end(), angles_deg.rbegin(), angles_deg.rend());
+  return out;
+}
+
+namespace {
+
+// Solves the symmetric positive definite system a x = b (a n x n row-major, n <= 4) in place by
+// Gaussian elimination with partial pivoting; false when singular to working precision.
+bool solve_small(std::vector<double> a, std::vector<double>& b, std::size_t n) {
+  double scale = 0.0;
+  for (const double v : a) scale = std::max(scale, std::abs(v));
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < n; ++r)
+      if (std::abs(a[r * n + c]) > std::abs(a[piv * n + c])) piv = r;
+    if (!(std::abs(a[piv * n + c]) > 1e-10 * scale)) return false;
+    for (std::size_t k = 0; k < n; ++k) std::swap(a[c * n + k], a[piv * n + k]);
+    std::swap(b[c], b[piv]);
+    for (std::size_t r = 0; r < n; ++r) {
+      if (r == c) continue;
+      const double f = a[r * n + c] / a[c * n + c];
+      for (std::size_t k = 0; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (std::size_t c = 0; c < n; ++c) b[c] /= a[c * n + c];
+  return true;
+}
+
+// Periods this many apart and closer are summed exactly. Each period's weights have zero sum and
+// zero first moment (the slope is fitted), so white and random-walk terms vanish beyond the first
+// lag, and the flicker's cross terms (D(s) ~ -s^2 ln s) fall off as lag^-2 (its fourth
+// derivative): beyond, the sum is continued from the last exact lag by that law.
+constexpr std::size_t indexed_exact_lags = 64;
+
+}  // namespace
+
+result<indexed_period> indexed_period_of(std::span<const double> visit_deg, double tau_s,
+                                         double dead_s) {
+  std::vector<double> distinct;
+  for (const double a : visit_deg) {
+    if (!std::isfinite(a)) return usage_error("the positions' angles must be finite");
+    if (std::find(distinct.begin(), distinct.end(), a) == distinct.end()) distinct.push_back(a);
+  }
+  if (distinct.size() < 3)
+    return usage_error(
+        "an indexed plan needs at least three distinct positions (two: the flip plan)");
+  indexed_period p;
+  p.dwell_s = tau_s;
+  p.visit_deg.assign(visit_deg.begin(), visit_deg.end());
+  const std::size_t k_n = p.visit_deg.size();
+  double t = 0.0;
+  for (std::size_t k = 0; k < k_n; ++k) {
+    if (k > 0) t += tau_s + (p.visit_deg[k] != p.visit_deg[k - 1] ? dead_s : 0.0);
+    p.start_s.push_back(t);
+  }
+  p.period_s = t + tau_s + (visit_deg.front() != visit_deg.back() ? dead_s : 0.0);
+  // The design [1, t - mean t, cos, sin] per dwell (mid-dwell times), its normal matrix, and the
+  // rows of (X'X)^-1 X' for c1 and s1.
+  constexpr std::size_t cols = 4;
+  double t_mean = 0.0;
+  for (const double s : p.start_s) t_mean += s + 0.5 * tau_s;
+  t_mean /= static_cast<double>(k_n);
+  std::vector<std::array<double, cols>> x(k_n);
+  for (std::size_t k = 0; k < k_n; ++k) {
+    const double a = p.visit_deg[k] * std::numbers::pi / 180.0;
+    const double span = std::max(p.period_s, 1e-12);
+    x[k] = {1.0, (p.start_s[k] + 0.5 * tau_s - t_mean) / span, std::cos(a), std::sin(a)};
+  }
+  std::vector<double> xtx(cols * cols, 0.0);
+  for (const auto& row : x)
+    for (std::size_t i = 0; i < cols; ++i)
+      for (std::size_t j = 0; j < cols; ++j) xtx[i * cols + j] += row[i] * row[j];
+  for (std::size_t k = 0; k < k_n; ++k) {
+    std::vector<double> rhs(x[k].begin(), x[k].end());
+    if (!solve_small(xtx, rhs, cols))
+      return usage_error(
+          "these positions' visiting period cannot separate the first harmonic from a bias and "
+          "its slope");
+    p.weight_c.push_back(rhs[2]);
+    p.weight_s.push_back(rhs[3]);
+  }
+  return p;
+}
+
+harmonic_variance indexed_run_variance(const plan_noise& n, const indexed_period& p,
+                                       std::size_t periods) noexcept {
+  harmonic_variance v;
+  if (periods == 0) {
+    v.var_c1 = v.var_s1 = std::numeric_limits<double>::infinity();
+    return v;
+  }
+  const std::size_t k_n = p.start_s.size();
+  const double tau_s = p.dwell_s;
+  const auto g = [&](std::size_t lag, const std::vector<double>& wa,
+                     const std::vector<double>& wb) {
+    // G(L) = -1/2 sum_jk wa_j wb_k D(|t_j - t_k + L P|), D(0) = 0.
+    double s = 0.0;
+    const double shift = static_cast<double>(lag) * p.period_s;
+    for (std::size_t j = 0; j < k_n; ++j)
+      for (std::size_t k = 0; k < k_n; ++k) {
+        const double sep = std::abs(p.start_s[j] - p.start_s[k] + shift);
+        if (sep <= 0.0) continue;
+        s -= wa[j] * wb[k] * gap_avar(n, tau_s, std::max(sep, tau_s));
+      }
+    return s;  // -1/2 x 2 gap_avar
+  };
+  const auto m = static_cast<double>(periods);
+  const std::size_t last = std::min(periods - 1, indexed_exact_lags);
+  const auto total = [&](const std::vector<double>& wa, const std::vector<double>& wb) {
+    double s = m * g(0, wa, wb), g_last = 0.0;
+    for (std::size_t lag = 1; lag <= last; ++lag) {
+      g_last = g(lag, wa, wb) + g(lag, wb, wa);
+      s += (m - static_cast<double>(lag)) * g_last;
+    }
+    if (periods - 1 > last) {
+      // sum_{L=last+1}^{periods-1} (m - L) g_last (last/L)^2 by the midpoint integrals.
+      const double l = static_cast<double>(last);
+      const double a = l + 0.5, b = static_cast<double>(periods - 1) + 0.5;
+      s += g_last * l * l * (m * (1.0 / a - 1.0 / b) - std::log(b / a));
+    }
+    return s / (m * m);
+  };
+  v.var_c1 = total(p.weight_c, p.weight_c);
+  v.var_s1 = total(p.weight_s, p.weight_s);
+  v.cov = total(p.weight_c, p.weight_s);
+  return v;
+}
+
+namespace {
+
+std::size_t periods_in(double duration_s, const indexed_period& p) noexcept {
+  const double k = std::floor(duration_s / p.period_s);
+  return k > 0.0 ? static_cast<std::size_t>(k) : 0;
+}
+
+}  // namespace
+
+result<flip_plan> plan_indexed(const plan_noise& n, std::span<const double> visit_deg,
+                               double dead_s, double duration_s, const plan_limits& limits) {
+  if (auto s = check_plan_inputs(n, dead_s, duration_s, limits); !s) return s.err();
+  auto probe = indexed_period_of(visit_deg, limits.min_dwell_s, dead_s);
+  if (!probe) return probe.err();
+  const double dwells = static_cast<double>(visit_deg.size());
+  const double lo = limits.min_dwell_s;
+  // three periods at least
+  double hi = (duration_s / 3.0 - (probe->period_s - dwells * lo)) / dwells;
+  if (limits.max_dwell_s > 0.0) hi = std::min(hi, limits.max_dwell_s);
+  if (!(hi > lo))
+    return usage_error("the run must hold at least three visiting periods of the shortest dwell");
+  const auto sigma_of = [&](double tau, double dead, double run) {
+    auto p = indexed_period_of(visit_deg, tau, dead);
+    if (!p) return std::numeric_limits<double>::infinity();
+    return std::sqrt(indexed_run_variance(n, *p, periods_in(run, *p)).mean_var());
+  };
+  flip_plan p;
+  p.dead_s = dead_s;
+  p.duration_s = duration_s;
+  search_dwell([&](double tau) { return sigma_of(tau, dead_s, duration_s); }, lo, hi,
+               limits.curve_points, p);
+  p.sigma_dps = sigma_of(p.dwell_s, dead_s, duration_s);
+  p.period_s = indexed_period_of(visit_deg, p.dwell_s, dead_s)->period_s;
+  p.sigma_no_dead_dps = sigma_of(p.dwell_s, 0.0, duration_s);
+  p.closed_form = plan_flip_closed_form(n, dead_s, duration_s);
+  for (const double t : log_grid(3.0 * p.period_s, duration_s, 25))
+    p.by_duration.push_back({t, sigma_of(p.dwell_s, dead_s, t)});
   return p;
 }
 

@@ -19,12 +19,6 @@ namespace gyroflip::report {
 
 namespace {
 
-// `v` to two significant digits of `u` (its error), as workflow::value_pm writes numbers.
-std::string to_digits_of(double v, double u) {
-  if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.4g}", v);
-  return digits_of_error(v, u).first;
-}
-
 // The flicker floor of AVAR: sigma = sqrt(2 ln 2 / pi) B (IEEE 952 Annex C; FACTS §7).
 const double floor_factor = std::sqrt(2.0 * std::numbers::ln2 / std::numbers::pi);
 
@@ -63,13 +57,27 @@ figure dwell_figure(std::span<const method::dwell> dwells, const std::string& ti
     return fmt::format("at {}°", table.holds(p) ? table.angle_deg(p) : 0.0);
   };
   series a = points_of(at(pair.plus), 0), b = points_of(at(pair.minus), 1);
+  // A table of more positions (issue 33): one series per position, the pair's first in their
+  // colours, then the others in the table's order (a 0/180 table draws exactly the pair).
+  std::vector<series> others;
+  std::vector<int> other_index;
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    const int p = static_cast<int>(i);
+    if (p == pair.plus || p == pair.minus) continue;
+    others.push_back(points_of(at(p), static_cast<int>(2 + others.size())));
+    other_index.push_back(p);
+  }
   for (const auto& d : dwells) {
-    if (!pair.holds(d.position)) continue;
-    auto& s = d.position == pair.plus ? a : b;
-    s.x.push_back(d.time_s);
-    s.y.push_back(d.rate_dps);
+    series* s = d.position == pair.plus ? &a : d.position == pair.minus ? &b : nullptr;
+    for (std::size_t i = 0; s == nullptr && i < other_index.size(); ++i)
+      if (other_index[i] == d.position) s = &others[i];
+    if (s == nullptr) continue;
+    s->x.push_back(d.time_s);
+    s->y.push_back(d.rate_dps);
   }
   f.data = {a, b};
+  for (auto& o : others)
+    if (!o.x.empty()) f.data.push_back(std::move(o));
   return f;
 }
 
@@ -152,7 +160,7 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
   // 0.00157" for 13 runs).
   const double se = sd / std::sqrt(static_cast<double>(values.size()));
   f.caption = fmt::format("{} runs: mean {} °/s, std {} °/s", values.size(),
-                          to_digits_of(ms.mean, se), significant(sd, 2));
+                          to_digits_of(ms.mean, se, 4), significant(sd, 2));
   const double x0 = 0.5, x1 = static_cast<double>(runs.size()) + 0.5;
   series band = points_of("mean ± std", 1);
   band.how = series::style::band;
@@ -191,6 +199,7 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
   runs_band.how = series::style::band;
   const double lo = model.temp_min_c, hi = model.temp_max_c;
   const double pad = std::max(0.5, 0.05 * (hi - lo));
+  bool any_width = false;  // a line through its runs (0 degrees of freedom) has no interval
   for (int k = 0; k <= 100; ++k) {
     const double t = lo - pad + (hi - lo + 2.0 * pad) * k / 100.0;
     const double v = model.eval(t), se = model.interval_at(t), pred = model.new_run_interval_at(t);
@@ -200,6 +209,7 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
     band.y.push_back(v);
     band.y_lo.push_back(v - se);
     band.y_hi.push_back(v + se);
+    any_width = any_width || se > 0.0;
     if (std::isfinite(pred)) {
       runs_band.x.push_back(t);
       runs_band.y.push_back(v);
@@ -208,7 +218,14 @@ figure delta_n_temperature_figure(std::span<const io::calibration_entry> runs,
     }
   }
   f.caption = fmt::format("ΔN(T), degree {}, about {:.1f} °C", model.degree(), model.t_ref_c);
-  if (runs_band.x.empty()) {
+  if (!any_width) {
+    // No zero-width band (third review of issue 31, M1): a line through its runs has no error.
+    f.caption += fmt::format(
+        "; the line passes through its {} runs exactly (0 degrees of freedom): no interval, no "
+        "band",
+        runs.size());
+    f.data = {fit, s};
+  } else if (runs_band.x.empty()) {
     f.caption += "; no prediction band (the runs' scatter about the line is not estimated)";
     f.data = {band, fit, s};
   } else if (std::isfinite(model.tau2_centre_dps2)) {
@@ -431,8 +448,25 @@ result<figure> noise_figure(std::span<const allan_curve> curves_dps, const std::
     u.n_at = "1 s";
     u.k_at = "3 s";
     f = allan_plot(curves_dps, u, title);
+  } else if (units::is_accel_unit(unit)) {
+    // Accelerometer curves in m/s^2: N (VRW) read at 1 s, K (acceleration random walk) at 3 s.
+    const bool si = unit == "m/s^2";
+    const std::string shown = si ? "m/s²" : unit == "ug" ? "µg" : unit;
+    term_units u;
+    u.dev_unit = shown;
+    u.dev_scale = 1.0 / units::mps2_per_unit(unit);
+    u.n_unit = si ? "m/s²/√Hz" : shown + "/√Hz";
+    u.b_unit = shown;
+    u.k_unit = si ? "m/s³/√Hz" : shown + "/√s";
+    u.n_factor = u.b_factor = u.k_factor = u.dev_scale;
+    u.n_at = "1 s";
+    u.k_at = "3 s";
+    f = allan_plot(curves_dps, u, title);
   } else {
-    return usage_error("--plot-units must be deg/h, deg/s or rad/s; got " + unit);
+    return usage_error(
+        "the plot's unit must be deg/h, deg/s or rad/s (gyro), m/s^2, mg or ug "
+        "(accelerometer); got " +
+        unit);
   }
   f.key_inside = true;
   for (const auto& c : curves_dps)
@@ -444,6 +478,24 @@ result<figure> noise_figure(std::span<const allan_curve> curves_dps, const std::
       break;
     }
   return f;
+}
+
+allan_curve noise_curve(const io::noise_report& r) {
+  const double k = r.quantity == "accel" ? r.mps2_per_unit : r.deg_per_unit;
+  allan_curve curve{r.column, r.result.oadev, r.result.terms, r.result.long_oadev};
+  for (auto* v : {&curve.points, &curve.beyond})
+    for (auto& p : *v) {
+      p.dev *= k;
+      p.ci_lo *= k;
+      p.ci_hi *= k;
+    }
+  for (auto* t : {&curve.terms->quantization, &curve.terms->arw, &curve.terms->bias_instability,
+                  &curve.terms->rrw, &curve.terms->rate_ramp}) {
+    t->value *= k;
+    t->lo *= k;
+    t->hi *= k;
+  }
+  return curve;
 }
 
 }  // namespace gyroflip::report

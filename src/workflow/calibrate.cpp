@@ -61,20 +61,29 @@ std::string stationarity_warning(const std::string& file, const method::stationa
   return s;
 }
 
-status admit_run(const std::string& file, const method::stationarity& st, bool strict,
-                 std::vector<std::string>& warnings, const std::string& sensor_hint) {
+result<run_standing> judge_run(const run_subject& who, const method::stationarity& st, bool strict,
+                               std::vector<std::string>& warnings) {
+  const std::string prefix = who.within.empty() ? "" : who.within + ": its run ";
+  const source_location at{who.within.empty() ? who.file : who.within};
+  const std::string named = who.within.empty() ? "" : "its run " + who.file + ": ";
   if (st.failed()) {
-    if (strict) return input_error({file}, stationarity_warning(file, st).substr(file.size() + 2));
-    warnings.push_back(stationarity_warning(file, st));
-  }
-  for (auto c : st.caveats()) {
-    if (!sensor_hint.empty()) c += ": " + sensor_hint;
+    const auto w = stationarity_warning(who.file, st);
     if (strict)
-      return input_error({file}, c + "; refused (strict): a strict calibration needs the g-term "
-                                     "checked");
-    warnings.push_back(fmt::format("{}: {}", file, c));
+      return input_error(at, named + w.substr(who.file.size() + 2) + "; refused (strict)");
+    warnings.push_back(prefix + w);
+    return run_standing::failed;
   }
-  return ok();
+  if (!st.checked) return run_standing::untested;
+  if (st.g_checked) return run_standing::vouched;
+  for (auto c : st.caveats()) {
+    if (!who.hint.empty()) c += ": " + who.hint;
+    if (strict)
+      return input_error(at, fmt::format("{}{}; refused (strict): a strict {} needs the g-term "
+                                         "checked",
+                                         named, c, who.task));
+    warnings.push_back(fmt::format("{}{}: {}", prefix, who.file, c));
+  }
+  return run_standing::g_unchecked;
 }
 
 status one_sensor::add(const std::string& file, std::span<const io::csv_metadata> metadata,
@@ -193,7 +202,9 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
           r.sensor ? &*r.sensor : sensor::find_builtin(metadata_value(rc->metadata, "sensor_name"));
     const auto st = method::check_stationarity(
         rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));
-    if (auto s = admit_run(file, st, r.strict, out.warnings, r.sensor_hint); !s) return s.err();
+    if (auto s = judge_run({file, {}, "calibration", r.sensor_hint}, st, r.strict, out.warnings);
+        !s)
+      return s.err();
     // What the calibration was made of, so a report that applies it can say (review R18).
     auto id = report::identify_file(file);
     if (!id) return id.err();

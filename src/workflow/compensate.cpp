@@ -12,6 +12,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/report/page.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
@@ -72,6 +73,19 @@ status check_calibration_fits(const std::string& file, const delta_n_source& dn,
   return ok();
 }
 
+std::vector<std::string> same_run_warnings(const std::string& file, const std::string& sha256,
+                                           const delta_n_source& dn) {
+  std::vector<std::string> out;
+  if (!dn.record) return out;
+  for (const auto& e : dn.record->files)
+    if (e.source && e.source->sha256 == sha256)
+      out.push_back(fmt::format(
+          "{}: the same bytes as the calibration's run {} (SHA-256): its dN is part of the ΔN "
+          "applied, so its compensated mean is not an independent test of the calibration",
+          file, e.file));
+  return out;
+}
+
 result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, bool strict) {
   calibration_runs_check out;
   if (!dn.record) return out;
@@ -89,24 +103,13 @@ result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, 
           "{}: its run {} is marked stationary, but its own statistics fail the test (the file "
           "was edited?): judged from the statistics",
           dn.source, e.file));
-    if (!st.failed()) {
-      // A run whose g-term was not checked passed tests that a constant input rate passes too
-      // (third review of issue 31, H2): said, and refused when strict, as calibrate does.
-      for (const auto& c : st.caveats()) {
-        if (strict)
-          return input_error({dn.source}, fmt::format("its run {}: {}; refused (strict): a strict "
-                                                      "compensation needs the g-term checked",
-                                                      e.file, c));
-        out.warnings.push_back(fmt::format("{}: its run {}: {}", dn.source, e.file, c));
-      }
-      continue;
-    }
-    if (strict)
-      return input_error({dn.source}, fmt::format("its run {}; refused (strict)",
-                                                  stationarity_warning(e.file, st)));
-    out.failed.push_back(e.file);
-    out.warnings.push_back(
-        fmt::format("{}: its run {}", dn.source, stationarity_warning(e.file, st)));
+    // The one verdict on a run (judge_run, as calibrate's and report's): a failed run makes the
+    // ΔN not the sensor's; a run whose g-term was not checked passed tests that a constant input
+    // rate passes too (third review of issue 31, H2).
+    auto standing = judge_run({e.file, dn.source, "compensation", {}}, st, strict, out.warnings);
+    if (!standing) return standing.err();
+    if (*standing == run_standing::failed) out.failed.push_back(e.file);
+    if (*standing == run_standing::g_unchecked) out.g_unchecked.push_back(e.file);
   }
   if (out.unchecked)
     out.warnings.push_back(fmt::format(
@@ -186,6 +189,21 @@ result<compensate_result> compensate_file(const compensate_request& r,
   auto comp = compensate_cycles(rc->cycles, dn.model, r.drift_window_s, r.file);
   if (!comp) return comp.err();
   out.comp = std::move(*comp);
+  if (dn.record) {
+    auto id = report::identify_file(r.file);
+    if (!id) return id.err();
+    for (auto& w : same_run_warnings(r.file, id->sha256, dn)) out.warnings.push_back(std::move(w));
+    // The ΔN's own error at the run's mean temperature (its reference without temperatures).
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (const auto& c : rc->cycles)
+      if (std::isfinite(c.temp_c)) {
+        sum += c.temp_c;
+        ++n;
+      }
+    const double u = dn.model.interval_at(n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c);
+    if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
+  }
   if (out.comp.outside_model > 0)
     out.warnings.push_back(outside_model_warning(r.file, out.comp, dn.model));
   return out;

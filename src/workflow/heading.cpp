@@ -51,19 +51,32 @@ struct read_run {
   heading_run run;
   std::optional<bool> axis_up;  // from `# table_axis:`
   std::optional<double> azimuth_deg;
+  double table_angle0_deg = 0.0;         // the table's first position (a projection's direction)
+  bool axis_named_not_vertical = false;  // `# table_axis:` names another axis than up/down
+  std::string axis_name;
 };
 
-result<read_run> fit_run(const std::string& path, bool axis_up_default) {
+result<read_run> fit_run(const std::string& path, bool axis_up_default, int harmonics,
+                         double earth_horizontal_dps) {
   auto rec = rigdata::read_recording_rows(path);
   if (!rec) return rec.err();
   read_run out;
   if (const std::string* a = meta(rec->metadata, "table_axis")) {
     if (*a == "up") out.axis_up = true;
     if (*a == "down") out.axis_up = false;
+    out.axis_named_not_vertical = *a != "up" && *a != "down";
+    out.axis_name = *a;
   }
   out.azimuth_deg = meta_number(rec->metadata, "azimuth_deg");
   const auto dwells = method::indexed_dwells(rec->rows);
-  auto fit = method::fit_harmonics(dwells, rec->positions);
+  method::harmonic_options options;
+  options.harmonics = harmonics;
+  options.projection_of_two = true;
+  if (harmonics == 2 && rec->positions.size() == 2)
+    return usage_error(
+        fmt::format("{}: a second harmonic needs at least 5 positions; the run has {}", path,
+                    rec->positions.describe()));
+  auto fit = method::fit_harmonics(dwells, rec->positions, options);
   // Data that cannot give a heading (too few positions, no visiting period) is bad input.
   if (!fit) return usage_error(fmt::format("{}: {}", path, fit.err().message));
   heading_run& r = out.run;
@@ -72,8 +85,24 @@ result<read_run> fit_run(const std::string& path, bool axis_up_default) {
   r.positions = rec->positions.describe();
   r.n_positions = rec->positions.size();
   const auto& f = r.fit;
-  r.heading = method::heading_of(f.value[1], f.value[2], f.var(1), f.var(2), f.cov(1, 2),
-                                 out.axis_up.value_or(axis_up_default));
+  if (f.names[1] == "p1") {
+    const auto p = method::heading_of_projection(f.value[1], f.var(1), earth_horizontal_dps,
+                                                 rec->positions.angle_deg(0),
+                                                 out.axis_up.value_or(axis_up_default));
+    r.projection = p;
+    out.table_angle0_deg = rec->positions.angle_deg(0);
+    r.heading = {p.heading_deg, p.sigma_deg, std::abs(f.value[1])};
+  } else {
+    r.heading = method::heading_of(f.value[1], f.value[2], f.var(1), f.var(2), f.cov(1, 2),
+                                   out.axis_up.value_or(axis_up_default));
+  }
+  if (harmonics == 2) {
+    if (auto one = method::fit_harmonics(dwells, rec->positions))
+      r.sigma_one_harmonic_deg =
+          method::heading_of(one->value[1], one->value[2], one->var(1), one->var(2), one->cov(1, 2),
+                             out.axis_up.value_or(axis_up_default))
+              .sigma_deg;
+  }
   r.run_s = static_cast<double>(f.blocks) * f.block_s;
   if (const auto t_conv = conversion_time_of(rec->metadata)) {
     double w = 0.0;
@@ -103,16 +132,30 @@ result<heading_result> find_heading(const heading_request& q) {
     if (!p) return p.err();
     preset = std::move(*p);
   }
+  if (q.harmonics != 1 && q.harmonics != 2)
+    return usage_error(fmt::format("one or two harmonics are fitted; got {}", q.harmonics));
+  heading_result out;
+  out.earth_horizontal_dps = earth::earth_rate_wgs84_dps * std::cos(q.lat_deg * units::rad_per_deg);
   std::vector<read_run> runs;
   for (const auto& path : q.runs) {
-    auto r = fit_run(path, q.table_axis_up.value_or(true));
+    auto r = fit_run(path, q.table_axis_up.value_or(true), q.harmonics, out.earth_horizontal_dps);
     if (!r) return r.err();
+    if (r->axis_named_not_vertical && !q.table_axis_up)
+      return usage_error(fmt::format(
+          "{}: the recording's table axis is '{}', not vertical (up or down): north finding "
+          "needs the table to turn about the vertical (give the axis if the recording misnames "
+          "it)",
+          path, printable(r->axis_name, 40)));
     if (q.table_axis_up) r->axis_up = q.table_axis_up;
     runs.push_back(std::move(*r));
   }
-  const bool up = runs[0].axis_up.value_or(true);
-  heading_result out;
-  out.earth_horizontal_dps = earth::earth_rate_wgs84_dps * std::cos(q.lat_deg * units::rad_per_deg);
+  if (runs.empty()) return usage_error("no run");
+  const bool up = runs.front().axis_up.value_or(true);
+  const bool projection = runs.front().run.projection.has_value();
+  if (runs.size() == 2 && (projection || runs[1].run.projection))
+    return usage_error(
+        "two runs of two positions (0/180): not built; a 0/180 run gives one projection of the "
+        "Earth rate, and its heading up to its sign (docs/NORTH.md)");
   double total_s = 0.0, arw_w = 0.0, arw_sum = 0.0, dead_sum = 0.0;
   for (const auto& r : runs) {
     total_s += r.run.run_s;
@@ -126,22 +169,47 @@ result<heading_result> find_heading(const heading_request& q) {
   const auto& f0 = runs[0].run.fit;
   out.scheme = fmt::format("{} positions ({} deg), visiting period {} dwells",
                            runs[0].run.n_positions, runs[0].run.positions, f0.period);
+  if (projection) {
+    const auto& p = *runs[0].run.projection;
+    out.ambiguous = true;
+    out.mirror_deg = p.mirror_deg;
+    out.scheme = fmt::format(
+        "2 positions ({} deg), visiting period {} dwells: the projection of the Earth rate on "
+        "the axis at the table's {:g} deg, with the scale factor known",
+        runs[0].run.positions, f0.period, runs[0].table_angle0_deg);
+    out.caveats.push_back(fmt::format(
+        "0/180 measures only W_H cos(psi - {0:g}): the heading is {1:.3f} or its mirror {2:.3f} "
+        "deg, which one this run cannot tell (a third position, or the rig's base turned by 90 "
+        "deg, can)",
+        runs[0].table_angle0_deg, p.heading_deg, p.mirror_deg));
+    out.caveats.push_back(
+        "the scale factor is taken as known (the recording's deg/s as true): an error e of it "
+        "shifts the heading by about e x cot(psi - theta_0) rad, and a bias of the projection "
+        "from the table's tilt x g-sensitivity the same as for more positions");
+    if (p.at_edge)
+      out.caveats.push_back(fmt::format(
+          "the projection is {:.3f} of W_H, within one sigma of +-1: the axis points near the "
+          "table's 0 deg direction or its opposite, where cos is flat; the sigma is the angle "
+          "acos(1 - sigma_p / W_H), not the delta method's",
+          p.cos_value));
+  }
   if (runs.size() == 1) {
     out.heading_deg = runs[0].run.heading.heading_deg;
     out.sigma_deg = runs[0].run.heading.sigma_deg;
     out.amplitude_dps = runs[0].run.heading.amplitude_dps;
     std::string per_mrad;
-    if (preset) {
+    if (preset && !projection) {
       const double g =
           std::hypot(preset->params.g_sens_z_dps_per_g, preset->params.g_sens_x_dps_per_g);
       per_mrad = fmt::format(" ({} : {:.2g} deg per mrad of tilt)", preset->name,
                              std::atan(g * 1e-3 / out.earth_horizontal_dps) / units::rad_per_deg);
     }
-    out.caveats.push_back(fmt::format(
-        "the table's tilt x the gyro's g-sensitivity reads exactly as Earth rate{}: it shifts "
-        "this heading by atan(g x tilt / W_H) and no statistic of one run shows it; a second run "
-        "with the rig's base turned (180 deg is best) removes it",
-        per_mrad));
+    if (!projection)
+      out.caveats.push_back(fmt::format(
+          "the table's tilt x the gyro's g-sensitivity reads exactly as Earth rate{}: it shifts "
+          "this heading by atan(g x tilt / W_H) and no statistic of one run shows it; a second run "
+          "with the rig's base turned (180 deg is best) removes it",
+          per_mrad));
   } else {
     out.two_azimuths = true;
     double turn = 0.0;
@@ -174,24 +242,59 @@ result<heading_result> find_heading(const heading_request& q) {
   }
   if (arw_w > 0.0) {
     out.arw_dps_rthz = arw_sum / arw_w;
-    out.limit_deg = method::heading_white_limit_deg(out.arw_dps_rthz, q.lat_deg, total_s);
+    out.limit_deg = method::heading_white_limit_deg(out.arw_dps_rthz, q.lat_deg, total_s,
+                                                    projection ? 1.0 : std::sqrt(2.0));
+    if (projection)  // k = 1 (a known-bias pair's contrast), at this heading's |sin|
+      out.limit_deg /= std::max(
+          std::sqrt(std::max(0.0, 1.0 - std::pow(runs[0].run.projection->cos_value, 2))), 1e-6);
     out.ratio_to_limit = out.sigma_deg / out.limit_deg;
   } else {
     out.caveats.push_back(
         "the dwell's length is not known (no conversion time or AD7739 settings in the "
         "recording): no white-noise limit");
   }
-  if (preset && arw_w > 0.0)
+  if (preset && arw_w > 0.0) {
     out.dead_time_bound_deg = method::heading_dead_time_limit_deg(
         preset->params.arw_dps_rthz, preset->params.bias_instability_dps, dead_sum / arw_w,
         q.lat_deg, total_s);
+    if (projection)
+      *out.dead_time_bound_deg *=
+          out.limit_deg / method::heading_white_limit_deg(out.arw_dps_rthz, q.lat_deg, total_s);
+  }
+  if (q.harmonics == 2) {
+    const auto& f = runs[0].run.fit;
+    const double c2 = f.value[3], s2 = f.value[4];
+    const double a2 = std::hypot(c2, s2);
+    out.second_harmonic_dps = a2;
+    out.second_harmonic_sigma_dps =
+        a2 > 0.0
+            ? std::sqrt(std::max(
+                  0.0, (c2 * c2 * f.var(3) + s2 * s2 * f.var(4) + 2.0 * c2 * s2 * f.cov(3, 4)) /
+                           (a2 * a2)))
+            : std::sqrt(0.5 * (f.var(3) + f.var(4)));
+    const double z = a2 / std::max(out.second_harmonic_sigma_dps, 1e-300);
+    const std::string one =
+        runs[0].run.sigma_one_harmonic_deg
+            ? fmt::format(" (one harmonic: +- {:.3f} deg against +- {:.3f} deg with two)",
+                          *runs[0].run.sigma_one_harmonic_deg, runs[0].run.heading.sigma_deg)
+            : std::string();
+    out.caveats.push_back(
+        z < 3.0 ? fmt::format("the second harmonic {:.3g} +- {:.3g} deg/s is not significant "
+                              "({:.1f} sigma): one harmonic suffices{}",
+                              a2, out.second_harmonic_sigma_dps, z, one)
+                : fmt::format("the second harmonic {:.3g} +- {:.3g} deg/s is significant ({:.1f} "
+                              "sigma): a term at twice the table angle (a wobble of the table, a "
+                              "mounting or anisoelastic term); fitting it keeps it out of the "
+                              "heading where the positions are not equally spaced{}",
+                              a2, out.second_harmonic_sigma_dps, z, one));
+  }
   if (!f0.correlated)
     out.caveats.push_back(fmt::format(
         "{} visiting periods: the sigma assumes independent periods (32 are needed to read "
         "their correlation)",
         f0.blocks));
   const double rel = out.amplitude_dps / out.earth_horizontal_dps - 1.0;
-  if (std::abs(rel) > 0.05)
+  if (!projection && std::abs(rel) > 0.05)
     out.caveats.push_back(fmt::format(
         "the first harmonic is {:+.1f} % off the horizontal Earth rate at {:g} deg: a scale-factor "
         "error, a table term (tilt x g-sensitivity) or a wrong latitude",
@@ -231,6 +334,16 @@ nlohmann::json heading_json(const heading_result& h) {
                           {"first_harmonic_dps", h.amplitude_dps},
                           {"runs", runs},
                           {"caveats", h.caveats}});
+  if (h.ambiguous) {
+    j["ambiguous"] = true;
+    j["heading_mirror_deg"] = h.mirror_deg;
+  }
+  if (!h.runs.empty() && h.runs[0].fit.names.size() == 5) {
+    j["second_harmonic_dps"] = h.second_harmonic_dps;
+    j["second_harmonic_sigma_dps"] = h.second_harmonic_sigma_dps;
+    if (h.runs[0].sigma_one_harmonic_deg)
+      j["sigma_one_harmonic_deg"] = *h.runs[0].sigma_one_harmonic_deg;
+  }
   j["dead_time_bound_deg"] =
       h.dead_time_bound_deg ? nlohmann::json(*h.dead_time_bound_deg) : nlohmann::json();
   if (h.two_azimuths) {

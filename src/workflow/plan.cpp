@@ -10,7 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "gyroflip/analysis/noise.hpp"
+#include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
+#include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/method/harmonic.hpp"
 
 namespace gyroflip::workflow {
 
@@ -64,19 +68,78 @@ std::optional<double> gap_avar_of(std::span<const double> samples, std::size_t m
   return static_cast<double>(sum / (2.0L * static_cast<long double>(starts)));
 }
 
+namespace {
+
+// The flip plan (no positions, or two) or the indexed plan (three or more), and the heading's.
+result<method::flip_plan> plan_of(const plan_request& r, std::vector<double>& positions,
+                                  std::vector<double>& visits) {
+  positions = r.positions_deg;
+  if (r.heading_lat_deg) {
+    if (auto s = earth::check_latitude(*r.heading_lat_deg); !s) return s.err();
+    if (std::abs(*r.heading_lat_deg) > 85.0)
+      return usage_error(fmt::format(
+          "at {:g} deg latitude the horizontal Earth rate is {:.2g} of its whole: north cannot "
+          "be found by it",
+          *r.heading_lat_deg, std::cos(*r.heading_lat_deg * units::rad_per_deg)));
+    if (positions.empty()) positions = {0.0, 90.0, 180.0, 270.0};
+    if (positions.size() < 3)
+      return usage_error(
+          "a heading plan needs at least three positions: 0/180 gives only the projection of "
+          "the Earth rate on the axis (its heading up to +-psi, with the scale factor known)");
+  }
+  for (const double a : positions)
+    if (!(std::isfinite(a) && a >= 0.0 && a < 360.0))
+      return usage_error(fmt::format("a position must be an angle in [0, 360) deg; got {:g}", a));
+  if (positions.size() == 1 || positions.size() > 8)
+    return usage_error(fmt::format("a table has 2 to 8 positions; got {}", positions.size()));
+  if (positions.size() < 3) {
+    positions.clear();
+    return method::plan_flip(r.noise, r.dead_s, r.duration_s, r.limits);
+  }
+  visits = method::sweep_visits(positions);
+  return method::plan_indexed(r.noise, visits, r.dead_s, r.duration_s, r.limits);
+}
+
+}  // namespace
+
 result<plan_result> plan(const plan_request& r) {
-  auto p = method::plan_flip(r.noise, r.dead_s, r.duration_s, r.limits);
+  std::vector<double> positions, visits;
+  auto p = plan_of(r, positions, visits);
   if (!p) return p.err();
   plan_result out;
+  out.positions_deg = std::move(positions);
+  out.visits_deg = std::move(visits);
   out.plan = std::move(*p);
   out.noise = r.noise;
   out.noise_source = r.noise_source;
   out.notes = r.notes;
   out.reference_dwell_s = r.reference_dwell_s;
-  if (r.reference_dwell_s > 0.0)
+  if (r.reference_dwell_s > 0.0 && out.visits_deg.empty())
     out.reference_sigma_dps = std::sqrt(
         method::flip_mean_variance(r.noise, r.reference_dwell_s, r.dead_s,
                                    method::pairs_in(r.duration_s, r.reference_dwell_s, r.dead_s)));
+  if (r.reference_dwell_s > 0.0 && !out.visits_deg.empty()) {
+    if (auto q = method::indexed_period_of(out.visits_deg, r.reference_dwell_s, r.dead_s)) {
+      const auto periods = static_cast<std::size_t>(std::floor(r.duration_s / q->period_s));
+      out.reference_sigma_dps =
+          std::sqrt(method::indexed_run_variance(r.noise, *q, periods).mean_var());
+    }
+  }
+  if (r.heading_lat_deg) {
+    heading_plan h;
+    h.lat_deg = *r.heading_lat_deg;
+    h.earth_horizontal_dps = earth::earth_rate_wgs84_dps * std::cos(h.lat_deg * units::rad_per_deg);
+    const auto deg = [&](double sigma_dps) {
+      return sigma_dps / h.earth_horizontal_dps / units::rad_per_deg;
+    };
+    h.sigma_deg = deg(out.plan.sigma_dps);
+    h.sigma_deg_rth = h.sigma_deg * std::sqrt(r.duration_s / 3600.0);
+    h.white_limit_deg =
+        method::heading_white_limit_deg(r.noise.arw_dps_rthz, h.lat_deg, r.duration_s);
+    for (const auto& q : out.plan.by_dwell) h.by_dwell_deg.push_back({q.x, deg(q.sigma_dps)});
+    for (const auto& q : out.plan.by_duration) h.by_duration_deg.push_back({q.x, deg(q.sigma_dps)});
+    out.heading = std::move(h);
+  }
   if (r.conversion_s > 0.0)
     out.conversions_per_dwell =
         static_cast<std::size_t>(std::max(1.0, std::round(out.plan.dwell_s / r.conversion_s)));
@@ -103,6 +166,11 @@ result<plan_result> plan(const plan_request& r) {
   out.notes.push_back(
       "assumes the noise does not depend on the table's position and a warm "
       "sensor (a cold start's warm-up is a drift, not a noise)");
+  if (!out.visits_deg.empty())
+    out.notes.push_back(
+        "an indexed run: the dead time is per turn (whatever its angle) and none between two "
+        "dwells at the same angle; the error is of the first harmonic (c1, s1) that the "
+        "per-period least squares with a bias and its slope gives (method/harmonic.hpp)");
   if (r.noise.bias_instability_dps == 0.0)
     out.notes.push_back("no flicker term: without it the shortest dwell is always best");
   return out;
@@ -110,9 +178,10 @@ result<plan_result> plan(const plan_request& r) {
 
 namespace {
 
-nlohmann::json curve_json(const std::vector<method::plan_point>& c, const char* x) {
+nlohmann::json curve_json(const std::vector<method::plan_point>& c, const char* x,
+                          const char* y = "sigma_dps") {
   auto a = nlohmann::json::array();
-  for (const auto& p : c) a.push_back({{x, p.x}, {"sigma_dps", p.sigma_dps}});
+  for (const auto& p : c) a.push_back({{x, p.x}, {y, p.sigma_dps}});
   return a;
 }
 
@@ -140,8 +209,64 @@ nlohmann::json plan_json(const plan_result& r) {
   j["by_dwell"] = curve_json(p.by_dwell, "dwell_s");
   j["by_duration"] = curve_json(p.by_duration, "duration_s");
   if (r.record_over_model) j["record_over_model_avar"] = *r.record_over_model;
+  if (!r.visits_deg.empty()) {
+    j["positions_deg"] = r.positions_deg;
+    j["visiting_order_deg"] = r.visits_deg;
+  }
+  if (r.heading) {
+    const auto& h = *r.heading;
+    j["heading"] = {{"latitude_deg", h.lat_deg},
+                    {"earth_horizontal_dps", h.earth_horizontal_dps},
+                    {"predicted_sigma_deg", h.sigma_deg},
+                    {"sigma_deg_rth", h.sigma_deg_rth},
+                    {"white_limit_deg", h.white_limit_deg},
+                    {"by_dwell", curve_json(h.by_dwell_deg, "dwell_s", "sigma_deg")},
+                    {"by_duration", curve_json(h.by_duration_deg, "duration_s", "sigma_deg")}};
+  }
   j["notes"] = r.notes;
   return j;
+}
+
+sensor_implications implications_of(const sensor::sensor_params& p, double dead_s, double lat_deg) {
+  sensor_implications s;
+  s.dead_s = dead_s;
+  s.lat_deg = lat_deg;
+  const auto c = method::plan_flip_closed_form(plan_noise_of(p), dead_s, 3600.0);
+  s.corner_tau_s = c.corner_tau_s;
+  s.dwell_s = c.dwell_s;
+  s.sigma_dps_rth = c.sigma_dps;
+  s.heading_white_deg_rth = method::heading_white_limit_deg(p.arw_dps_rthz, lat_deg, 3600.0);
+  s.heading_dead_time_deg_rth = method::heading_dead_time_limit_deg(
+      p.arw_dps_rthz, p.bias_instability_dps, dead_s, lat_deg, 3600.0);
+  return s;
+}
+
+report::figure plan_figure(const plan_result& r) {
+  report::figure f;
+  const bool heading = r.heading.has_value();
+  const auto& curve = heading ? r.heading->by_dwell_deg : r.plan.by_dwell;
+  const double to_y = heading ? r.heading->sigma_deg / r.plan.sigma_dps : 1.0;
+  f.title = heading ? fmt::format("heading error against the dwell ({} s per turn, run {:g} s)",
+                                  r.plan.dead_s, r.plan.duration_s)
+                    : fmt::format(
+                          "compensated rate's error against the dwell ({} s per turn, run "
+                          "{:g} s)",
+                          r.plan.dead_s, r.plan.duration_s);
+  f.caption = r.noise_source;
+  f.x = {"dwell (s)", true};
+  f.y = {heading ? "predicted 1 sigma of the heading (deg)" : "predicted 1 sigma (deg/s)", true};
+  report::series s;
+  s.title =
+      r.visits_deg.empty() ? "0/180 flip" : fmt::format("{} positions", r.positions_deg.size());
+  s.how = report::series::style::lines;
+  for (const auto& q : curve) s.x.push_back(q.x), s.y.push_back(q.sigma_dps);
+  f.data.push_back(std::move(s));
+  f.notes.push_back({r.plan.dwell_s, r.plan.sigma_dps * to_y,
+                     fmt::format("planned {:.3g} s", r.plan.dwell_s), false, 1});
+  if (r.reference_sigma_dps > 0.0)
+    f.notes.push_back({r.reference_dwell_s, r.reference_sigma_dps * to_y,
+                       fmt::format("paper's {:g} s", r.reference_dwell_s), true, 2});
+  return f;
 }
 
 }  // namespace gyroflip::workflow

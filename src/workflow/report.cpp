@@ -29,16 +29,19 @@
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
 #include "gyroflip/method/demodulator.hpp"
+#include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/figures.hpp"
 #include "gyroflip/report/folder.hpp"
 #include "gyroflip/report/page.hpp"
 #include "gyroflip/rig/simulator.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/analyse.hpp"
 #include "gyroflip/workflow/budget.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/compensate.hpp"
+#include "gyroflip/workflow/heading.hpp"
 
 namespace gyroflip::workflow {
 
@@ -68,6 +71,12 @@ constexpr double sf_beyond_spec = 3.0;
 
 std::string g(double v, int digits = 4) {
   return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
+}
+
+// An error (or a number compared with one) to two significant digits, trailing zeros kept
+// ("0.0010", not "0.001" as {:.2g} prints: third review of issue 31, H4), as calibrate prints them.
+std::string u2(double u) {
+  return std::isfinite(u) ? significant(u, 2) : std::string("–");
 }
 
 json num(double v) {
@@ -381,20 +390,13 @@ std::pair<double, double> applied_range(const compensation& c) {
   return {lo, hi};
 }
 
-// `v` with the decimals its uncertainty `u` supports (value_pm's rule), without the ±; six
-// significant digits without a usable u.
-std::string to_decimals_of(double v, double u) {
-  if (!(std::isfinite(u) && u > 0.0)) return g(v, 6);
-  return digits_of_error(v, u).first;
-}
-
 // The ΔN applied to a run, with the digits the ΔN's uncertainty `u_dps` supports (issue 31:
 // "0.00326975" at a temperature where no run was taken).
 std::string applied_text(const compensation& c, double u_dps) {
   const auto [lo, hi] = applied_range(c);
   return hi - lo <= 1e-12 * std::max(1.0, std::abs(hi))
-             ? to_decimals_of(lo, u_dps)
-             : fmt::format("{}…{}", to_decimals_of(lo, u_dps), to_decimals_of(hi, u_dps));
+             ? to_digits_of(lo, u_dps, 6)
+             : fmt::format("{}…{}", to_digits_of(lo, u_dps, 6), to_digits_of(hi, u_dps, 6));
 }
 
 // Everything the page and summary.json say, computed once.
@@ -411,28 +413,36 @@ struct findings {
   /// Runs that failed the stationarity test: the report's own calibration runs, or the runs a
   /// given calibration names (what calibrate recorded of them).
   std::vector<std::string> not_stationary;
+  /// Runs that passed with their g-term not checked (no sensor specification): a constant input
+  /// of any size passes the test, so their ΔN is not vouched for (third review of issue 31, H1).
+  std::vector<std::string> not_vouched;
   /// A given calibration written before the test (its runs not checked).
   bool calibration_unchecked = false;
 };
 
+// The runs' names, "a, b and c".
+std::string names_of(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t k = 0; k < names.size(); ++k)
+    out += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];
+  return out;
+}
+
 // The calibration runs' warnings: a run that was not stationary or not isothermal (the library's
 // one test, as calibrate makes it: method::check_stationarity).
-void check_stationary(const report_request& r, const std::vector<run_analysis>& runs, findings& f,
+void check_stationary(const report_request& r, const sensor::preset* spec,
+                      const std::vector<run_analysis>& runs, findings& f,
                       std::vector<io::calibration_entry>& entries) {
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
-    const auto st =
-        method::check_stationarity(a.run.cycles(a.pairing), a.cal,
-                                   stationarity_inputs_of(a.pairing, f.id.builtin, r.geometry));
+    const auto st = method::check_stationarity(a.run.cycles(a.pairing), a.cal,
+                                               stationarity_inputs_of(a.pairing, spec, r.geometry));
     entries[k].stationarity = st;
-    // A g-term nothing checked (no specification): said as calibrate says it (issue 31 review).
-    for (auto c : st.caveats()) {
-      if (!r.sensor_hint.empty()) c += ": " + r.sensor_hint;
-      f.warnings.push_back(fmt::format("{}: {}", a.run.file, c));
-    }
-    if (!st.failed()) continue;
-    f.warnings.push_back(stationarity_warning(a.run.file, st));
-    f.not_stationary.push_back(a.run.file);
+    // The one verdict calibrate and compensate give (judge_run); a report is never strict.
+    const auto standing =
+        judge_run({a.run.file, {}, "report", r.sensor_hint}, st, false, f.warnings);
+    if (standing && *standing == run_standing::failed) f.not_stationary.push_back(a.run.file);
+    if (standing && *standing == run_standing::g_unchecked) f.not_vouched.push_back(a.run.file);
   }
 }
 
@@ -453,6 +463,7 @@ void check_calibration_runs_stationary(const delta_n_source& given, findings& f)
   if (!runs) return;
   f.calibration_unchecked = runs->unchecked;
   for (auto& n : runs->failed) f.not_stationary.push_back(std::move(n));
+  for (auto& n : runs->g_unchecked) f.not_vouched.push_back(std::move(n));
   for (auto& w : runs->warnings) f.warnings.push_back(std::move(w));
 }
 
@@ -481,7 +492,7 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
                   "{}: the calibration lists no runs: the ΔN applied carries its own stated "
                   "error ±{} °/s and, for a new power-up, the run-to-run repeatability of "
                   "the budget below",
-                  given.source, g(own_dps, 2))
+                  given.source, u2(own_dps))
             : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
                           "has no known uncertainty",
                           given.source));
@@ -607,7 +618,9 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
 // "±u °/s" of a new power-up's ΔN, or why there is none.
 std::string power_up_text(const delta_n_budget& b) {
   if (!b.valid) return b.invalid_why;
-  return fmt::format("±{} °/s{}", g(b.new_power_up_dps, 2),
+  if (!std::isfinite(b.new_power_up_dps))
+    return "no ± known (its run-to-run repeatability is " + b.run_to_run_source + ")";
+  return fmt::format("±{} °/s{}", u2(b.new_power_up_dps),
                      b.outside_c > 0.0 ? ", its temperature term included" : "");
 }
 
@@ -646,8 +659,8 @@ void check_commanded_rate(const run_analysis& a, double expected_dps, const rate
         "{}: the commanded {} °/s is too slow to measure a scale factor: twice the ΔN and "
         "noise uncertainty (2 × ±{} °/s, 2 σ) is {:.1f} % of it, more than the {} (a rate "
         "above {} °/s would resolve it)",
-        a.run.file, g(expected_dps, 6), g(u_dps, 2), 200.0 * u, spec->source,
-        g(2.0 * u_dps / spec->fraction, 2)));
+        a.run.file, g(expected_dps, 6), u2(u_dps), 200.0 * u, spec->source,
+        u2(2.0 * u_dps / spec->fraction)));
 }
 
 // B of the compensated rate beside the raw's when both are resolved; otherwise say that upper
@@ -710,7 +723,7 @@ std::string delta_n_in_dph(const delta_n_budget& b, const run_analysis& a) {
   return fmt::format(
       " In B's unit the ΔN error is ±{} °/h, a constant in every cycle that no averaging "
       "removes{}.",
-      g(u_dph, 2),
+      u2(u_dph),
       u_dph > b_dph ? "; it is larger than B: the calibration, not the sensor's noise, limits "
                       "the compensated mean"
                     : "");
@@ -762,15 +775,17 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const auto c0 = coefficient_of(m, 0, b), c1 = coefficient_of(m, 1, b);
       // With degrees of freedom: the error at the temperature named (the table's c_0) and the
       // largest over the runs' temperatures (the budget's), review R4.
+      const bool c0_error = std::isfinite(c0.interval) && c0.interval > 0.0;
       value = dof == 0
-                  ? fmt::format("{} ± {} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C)",
-                                c0.value, g(c0.interval, 2), m.t_ref_c, runs.size(), m.temp_min_c,
-                                m.temp_max_c)
+                  ? fmt::format("{}{} °/s at {:.2f} °C (ΔN(T) of {} runs over {:.1f}–{:.1f} °C{})",
+                                c0.value, c0_error ? " ± " + u2(c0.interval) : std::string(),
+                                m.t_ref_c, runs.size(), m.temp_min_c, m.temp_max_c,
+                                c0_error ? "" : "; its error is not determined")
                   : fmt::format(
                         "{} ± {} °/s at {:.2f} °C, ± {} °/s anywhere in {:.1f}–{:.1f} °C (ΔN(T) "
                         "of {} runs)",
-                        c0.value, g(c0.interval, 2), m.t_ref_c, g(b.calibration_dps, 2),
-                        m.temp_min_c, m.temp_max_c, runs.size());
+                        c0.value, u2(c0.interval), m.t_ref_c, u2(b.calibration_dps), m.temp_min_c,
+                        m.temp_max_c, runs.size());
       if (dof == 0)
         value += fmt::format(
             "; how it changes with temperature is not resolved: {} runs for {} coefficients "
@@ -780,10 +795,10 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
         value += fmt::format(
             "; how it changes with temperature is not resolved: the slope {} ± {} °/s per °C "
             "(standard error) is below 2 standard errors",
-            c1.value, g(u, 3));
+            c1.value, u2(u));
       else
         value +=
-            fmt::format(", changing by {} ± {} °/s per °C (68.3 %)", c1.value, g(c1.interval, 2));
+            fmt::format(", changing by {} ± {} °/s per °C (68.3 %)", c1.value, u2(c1.interval));
     } else {
       const auto& c = runs.front().cal;
       value = fmt::format("{} °/s (one run of {}, within-run error)",
@@ -791,7 +806,20 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     }
     // A run that was not stationary gives no ΔN of the sensor (issue 31): the numbers are said
     // as what they are, never headlined.
-    out = failed.empty()
+    out = !failed.empty() ? fmt::format(
+                                "These runs give no ΔN of this {}: {} failed the stationarity test "
+                                "(warnings below), so their mean r, {}, is not the sensor's ΔN. "
+                                "Calibrate again with the table at rest.",
+                                sensor, failed, value)
+          : !f.not_vouched.empty()
+              ? fmt::format(
+                    "Not vouched for: g-term not checked. {} passed the stationarity test with "
+                    "{} g-term not checked (no sensor specification): a constant input rate of "
+                    "any size (a turning or tilted table) passes it and enters ΔN whole, so {} "
+                    "mean r, {}, is this {}'s ΔN only if the table was at rest.",
+                    names_of(f.not_vouched), f.not_vouched.size() == 1 ? "its" : "their",
+                    runs.size() == 1 ? "its" : "their", value, sensor)
+          : failed.empty()
               ? fmt::format("ΔN of this {} is {}.", sensor, value)
               : fmt::format(
                     "These runs give no ΔN of this {}: {} failed the stationarity test "
@@ -810,7 +838,11 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     if (failed.empty()) {
       const auto t = runs_temps(runs);
       out += " " + when_to_recalibrate(b, t.known() ? t.text() : std::string());
-      if (!r.next_step.empty()) out += " " + r.next_step;
+      // Not vouched for: the next step is the check (as calibrate's, review M6).
+      if (!f.not_vouched.empty() && !r.sensor_hint.empty())
+        out += " Next: check the g-term: " + r.sensor_hint + ".";
+      else if (!r.next_step.empty())
+        out += " " + r.next_step;
     }
     out += fmt::format(
         " With ΔN removed, the rate's per-cycle standard deviation is up to {} °/s (a std, not "
@@ -828,6 +860,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           "(warnings below), so the ΔN applied, and every rate below, is off by an amount no "
           "± here covers. ",
           f.given->source, f.not_stationary.size() == 1 ? "" : "s", failed);
+    else if (!f.not_vouched.empty())
+      out = fmt::format(
+          "Not vouched for: g-term not checked. The calibration {}'s run{} {} passed the "
+          "stationarity test with {} g-term not checked (no sensor specification): a constant "
+          "input rate of any size (a turning or tilted table) passes it and enters ΔN whole, so "
+          "the ΔN applied, and every rate below, is right only if its table was at rest. ",
+          f.given->source, f.not_vouched.size() == 1 ? "" : "s", names_of(f.not_vouched),
+          f.not_vouched.size() == 1 ? "its" : "their");
     else if (f.calibration_unchecked)
       out = fmt::format(
           "The calibration {} was written before gyroflip tested its runs for stationarity: "
@@ -851,14 +891,19 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                                   b.invalid_why));
       out += ".";
     }
-    out += b.valid ? fmt::format(
-                         " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
-                         "not reduce it.",
-                         g(b.new_power_up_dps, 2))
-                   : fmt::format(
-                         " The ΔN applied has no ± here ({}); its error is common to "
-                         "every cycle: averaging longer does not reduce it.",
-                         b.invalid_why);
+    out += b.valid && !std::isfinite(b.new_power_up_dps)
+               ? std::string(
+                     " The ΔN applied has no ± here (its run-to-run repeatability is not "
+                     "known); its error is common to every cycle: averaging longer does "
+                     "not reduce it.")
+           : b.valid ? fmt::format(
+                           " The ΔN error ±{} °/s is common to every cycle: averaging longer does "
+                           "not reduce it.",
+                           u2(b.new_power_up_dps))
+                     : fmt::format(
+                           " The ΔN applied has no ± here ({}); its error is common to "
+                           "every cycle: averaging longer does not reduce it.",
+                           b.invalid_why);
   }
   // The noise, as the noise table prints it: the same term (B) of both series of the first run.
   out += noise_sentence(runs.front());
@@ -888,10 +933,10 @@ json budget_json(const delta_n_budget& b) {
 }
 
 report::table budget_table(const delta_n_budget& b, bool compensating) {
-  const auto v = [](double x) { return std::isfinite(x) ? g(x, 2) : std::string("unknown"); };
+  const auto v = [](double x) { return std::isfinite(x) ? u2(x) : std::string("unknown"); };
   // The same in B's unit, so that a reader compares the ΔN error with the noise terms (issue 31).
   const auto h = [](double x) {
-    return std::isfinite(x) ? g(x * units::dph_per_dps, 2) : std::string("–");
+    return std::isfinite(x) ? u2(x * units::dph_per_dps) : std::string("–");
   };
   const std::string level =
       b.coverage_factor > 1.0
@@ -942,6 +987,62 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
                    b.valid ? v(b.temperature_dps) : std::string("not known"),
                    b.valid ? h(b.temperature_dps) : std::string("–"), b.temperature_note});
   return t;
+}
+
+}  // namespace
+
+namespace {
+
+// The dwells at every position of a run of more than two (recording_run keeps the pair's), for
+// its dwell figure's one series per position; the pair's when the file cannot be read again.
+std::vector<method::dwell> all_dwells(const recording_run& run) {
+  auto rec = rigdata::read_recording_rows(run.file);
+  if (!rec) return run.dwells;
+  std::vector<method::dwell> out;
+  for (const auto& d : method::indexed_dwells(rec->rows))
+    out.push_back(
+        {d.position, d.time_s, d.rate_dps, method::no_value, static_cast<std::uint64_t>(d.weight)});
+  return out;
+}
+
+// North finding (issue 33, docs/NORTH.md): a run whose recording says its table turns about
+// the vertical (`# table_axis: up|down`), indexed at three or more positions or 0/180, with the
+// latitude known, gets a section with its heading (workflow::find_heading, the numbers
+// `gyroflip heading` prints). Other runs, or a run the heading refuses, get none.
+std::optional<std::pair<report::section, json>> heading_section(
+    const recording_run& run, std::size_t k, const std::optional<io::calibration_geometry>& geo) {
+  const std::string axis = metadata_value(run.metadata, "table_axis");
+  if (!geo || (axis != "up" && axis != "down") || run.positions.size() < 2) return std::nullopt;
+  heading_request q;
+  q.runs = {run.file};
+  q.lat_deg = geo->lat_deg;
+  auto h = find_heading(q);
+  if (!h) return std::nullopt;
+  report::section s;
+  s.heading = fmt::format("Run {}: north finding", k + 1);
+  s.paragraphs.push_back(fmt::format(
+      "The azimuth of the sensitive axis at the table's 0°, from north, clockwise, from the "
+      "first harmonic of the dwell means about the vertical table axis at {:g}° latitude "
+      "(docs/NORTH.md): {:.2f}° ± {:.2f}° (1σ from the data's own noise){}.",
+      geo->lat_deg, h->heading_deg, h->sigma_deg,
+      h->ambiguous
+          ? fmt::format(", or its mirror {:.2f}° (0/180 gives it up to its sign)", h->mirror_deg)
+          : std::string()));
+  report::table t;
+  t.caption = "Heading";
+  t.header = {"scheme",    "heading (°)",
+              "1σ (°)",    "white-noise limit (°)",
+              "σ / limit", "first harmonic / Ω_E cos φ"};
+  t.rows.push_back({h->scheme, fmt::format("{:.2f}", h->heading_deg),
+                    fmt::format("{:.2f}", h->sigma_deg),
+                    h->limit_deg > 0.0 ? fmt::format("{:.2f}", h->limit_deg) : "–",
+                    h->limit_deg > 0.0 ? fmt::format("{:.2f}", h->ratio_to_limit) : "–",
+                    fmt::format("{:.3f}", h->amplitude_dps / h->earth_horizontal_dps)});
+  s.tables.push_back(std::move(t));
+  for (const auto& c : h->caveats) s.warnings.push_back(c);
+  json j = heading_json(*h);
+  j["file"] = run.file;
+  return std::pair{std::move(s), std::move(j)};
 }
 
 }  // namespace
@@ -1000,6 +1101,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (on_progress) on_progress(k + 1, steps);
   }
   f.id = identify(runs);
+  // The specification the runs' g-term is checked against: the sensor given, else the
+  // recordings' built-in preset by name (as calibrate's).
+  const sensor::preset* g_preset = r.sensor ? &*r.sensor : f.id.builtin;
 
   // The dN: each calibration run compensated with its own dN (residuals about zero; their mean
   // says nothing); the runs' model (a weighted mean at one temperature, dN(T) over a span). With
@@ -1012,15 +1116,15 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     check_calibration_temperature(runs, f);
     check_calibration_runs_stationary(*f.given, f);
   } else {
-    check_stationary(r, runs, f, entries);
+    check_stationary(r, g_preset, runs, f, entries);
     auto m = method::fit_runs_model(calibrations_of(entries));
     if (!m) return m.err();
     f.runs_model = *m;
     if (f.runs_model && f.runs_model->degree() > 0) f.model = f.runs_model;
     if (f.runs_model && f.runs_model->degree() == 0)
       f.pooled = std::pair{f.runs_model->coeffs_dps[0], f.runs_model->interval_at(0.0)};
-    f.budget = budget_of(entries, f.runs_model, f.id.builtin ? &f.id.builtin->params : nullptr,
-                         f.id.preset);
+    f.budget = budget_of(entries, f.runs_model, g_preset ? &g_preset->params : nullptr,
+                         g_preset ? g_preset->name : f.id.preset);
     check_runs_agree(f);
   }
   // Runs that failed the stationarity test give no ΔN of the sensor, so no ± covers what it is
@@ -1060,7 +1164,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         "the run-to-run repeatability {} °/s is measured with 1 degree of freedom ({} runs for "
         "{} coefficient{}): a std of one degree of freedom is itself uncertain by about 70 %; "
         "calibrate more runs",
-        g(f.budget.run_to_run_dps, 2), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
+        u2(f.budget.run_to_run_dps), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
   if (runs.size() == 1 && !f.compensating)
     f.warnings.push_back(
         "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "
@@ -1083,13 +1187,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                                cal_origin.words);
     // A run compensated with a calibration made of it is not an independent test of it.
     if (k < runs.size() && f.compensating)
-      for (const auto& e : f.given->record->files)
-        if (e.source && e.source->sha256 == in->sha256)
-          f.warnings.push_back(fmt::format(
-              "{}: the same bytes as the calibration's run {} (SHA-256): its dN is part of "
-              "the ΔN applied, so its compensated mean is not an independent test of the "
-              "calibration",
-              runs[k].run.file, e.file));
+      for (auto& w : same_run_warnings(runs[k].run.file, in->sha256, *f.given))
+        f.warnings.push_back(std::move(w));
     if (k < runs.size()) entries[k].source = source_of(runs[k].run.file, runs[k].run.metadata, *in);
     page.made.inputs.push_back(std::move(*in));
   }
@@ -1321,7 +1420,11 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                               pts, n)};
     for (std::size_t k = 0; k < n; ++k) {
       const auto c = coefficient_of(m, k, f.budget);
-      mt.rows.push_back({std::to_string(k), c.value, g(c.se, 2), g(c.interval, 2)});
+      // No "0" error where there are no degrees of freedom (third review of issue 31, M1).
+      const bool none = pts <= n && !(c.se > 0.0);
+      const std::string nd = "not determined (0 degrees of freedom)";
+      mt.rows.push_back({std::to_string(k), c.value, none ? nd : u2(c.se),
+                         std::isfinite(c.interval) && c.interval > 0.0 ? u2(c.interval) : nd});
     }
     main.tables.push_back(std::move(mt));
   }
@@ -1333,7 +1436,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   }
   if (!f.compensating && f.model && f.model->degree() > 0) {
     auto dt = report::delta_n_temperature_figure(entries, *f.model, "ΔN against temperature");
-    if (!f.budget.model_dps)
+    if (!f.budget.model_dps && f.model->interval_at(f.model->t_ref_c) > 0.0)
       dt.caption += ", 0 degrees of freedom: the band is the runs' own error only";
     auto fig = draw(dt, staging, "delta_n_temperature", "");
     if (!fig) return fig.err();
@@ -1348,6 +1451,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   page.sections.push_back(std::move(noise));
   page.sections.push_back(pairing_section(runs));
 
+  json north = json::array();  // the heading sections' numbers, for summary.json
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
     report::section s;
@@ -1369,8 +1473,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                         a.comp_noise->oadev, fitted_terms(*a.comp_noise)});
     const std::string name = a.run.file;
     for (const auto& st :
-         {add(report::dwell_figure(a.run.dwells, name + ": output at 0° and 180°", a.run.pair,
-                                   a.run.positions),
+         {add(report::dwell_figure(a.run.positions.size() > 2 ? all_dwells(a.run) : a.run.dwells,
+                                   name + (a.run.positions.size() > 2 ? ": output at each position"
+                                                                      : ": output at 0° and 180°"),
+                                   a.run.pair, a.run.positions),
               "dwells", "the paper's Figs 3/5/7/9"),
           add(report::compensated_figure(
                   a.comp.cycles, a.comp.summary,
@@ -1386,6 +1492,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                     "table")})
       if (!st) return st.err();
     page.sections.push_back(std::move(s));
+    if (auto h = heading_section(a.run, k, r.geometry)) {
+      page.sections.push_back(std::move(h->first));
+      north.push_back(std::move(h->second));
+    }
     if (on_progress) on_progress(r.files.size() + k + 1, steps);
   }
   for (const auto& s : page.sections) out.figures += s.figures.size();
@@ -1472,6 +1582,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     }
     sj["runs"].push_back(std::move(j));
   }
+  if (!north.empty()) sj["north_finding"] = std::move(north);
   if (f.model)
     sj["delta_n_model"] = {{"coeffs_dps", f.model->coeffs_dps},
                            {"t_ref_c", num(f.model->t_ref_c)},

@@ -3,7 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -67,9 +73,150 @@ TEST(CliHeading, RefusesWhatCannotGiveAHeading) {
   ASSERT_EQ(
       run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "120", "-o", pair}).exit_code,
       0);
+  // A horizontal table axis (the paper's rig) cannot find north: refused by its axis.
   const auto r = run_cli({"heading", pair, "--latitude", "42.6"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find("at least 3"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not vertical"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  // Two harmonics need five positions.
+  const auto four = dir.file("four.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "300", "--table-axis",
+                     "up", "--azimuth", "10", "--positions", "0,90,180,270", "-o", four})
+                .exit_code,
+            0);
+  const auto h2 = run_cli({"heading", four, "--latitude", "42.6", "--harmonics", "2"});
+  EXPECT_EQ(h2.exit_code, 2);
+  EXPECT_NE(h2.err.find("at least 5"), std::string::npos) << h2.err;
+  EXPECT_EQ(run_cli({"heading", four, "--latitude", "42.6", "--harmonics", "3"}).exit_code, 2);
   EXPECT_EQ(run_cli({"heading", pair, "--latitude", "89"}).exit_code, 2);
   EXPECT_EQ(run_cli({"heading", pair}).exit_code, 2);  // --latitude required
+}
+
+// 0/180 about a vertical axis with the scale factor known (the HZ1 preset's is exact): the
+// projection W_H cos(psi) gives psi up to its sign; the true azimuth is the heading or its mirror
+// within 3.5 reported sigma, for azimuths on both sides of the table's 0 deg (fixed seeds).
+TEST(CliHeading, AZeroOneEightyRunGivesTheHeadingUpToItsSign) {
+  const gyroflip::test::temp_dir dir;
+  for (const auto& [azimuth, seed] :
+       {std::pair{60.0, "31"}, std::pair{125.0, "32"}, std::pair{250.0, "33"}}) {
+    const auto csv = dir.file("flip.csv");
+    ASSERT_EQ(
+        run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "1800", "--power-on-before",
+                 "3600", "--table-axis", "up", "--azimuth", std::to_string(azimuth), "--positions",
+                 "0,180", "--n-avg", "400", "--seed", seed, "-o", csv})
+            .exit_code,
+        0);
+    const auto r = run_cli({"heading", csv, "--latitude", "42.6", "--json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j.at("ambiguous").get<bool>());
+    const double h = j.at("heading_deg").get<double>(),
+                 m = j.at("heading_mirror_deg").get<double>();
+    const double sigma = j.at("sigma_deg").get<double>();
+    EXPECT_LE(h, 180.0);  // psi - 0 in [0, 180]
+    EXPECT_NEAR(std::remainder(h + m, 360.0), 0.0, 1e-9);
+    const double err = std::min(std::abs(std::remainder(h - azimuth, 360.0)),
+                                std::abs(std::remainder(m - azimuth, 360.0)));
+    EXPECT_LT(err, 3.5 * sigma) << azimuth << ": " << h << " / " << m << " +- " << sigma;
+    // sigma near the white limit N / (W_H |sin psi| sqrt T) (k = 1), widened by the turns
+    EXPECT_GT(j.at("ratio_to_limit").get<double>(), 0.8);
+    EXPECT_LT(j.at("ratio_to_limit").get<double>(), 2.5);
+    EXPECT_EQ(j.at("runs")[0].at("terms").count("p1"), 1u);
+  }
+  const auto text = run_cli({"heading", dir.file("flip.csv"), "--latitude", "42.6"});
+  EXPECT_NE(text.out.find("or its mirror"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("scale factor"), std::string::npos) << text.out;
+  // two 0/180 runs: not built, said
+  const auto two = run_cli({"heading", dir.file("flip.csv"), dir.file("flip.csv"), "--latitude",
+                            "42.6", "--base-turn", "90"});
+  EXPECT_EQ(two.exit_code, 2);
+}
+
+// --harmonics 2 on five unequally spaced positions with a second harmonic present (synthetic
+// dwells, white noise): one harmonic reads part of it as Earth rate (the heading many sigma off);
+// two recover the heading within 3 sigma and the second harmonic's terms within 4 sigma.
+TEST(CliHeading, TwoHarmonicsKeepASecondHarmonicOutOfTheHeading) {
+  const gyroflip::test::temp_dir dir;
+  const auto csv = dir.file("five.csv");
+  {
+    const double rad = std::acos(-1.0) / 180, w_h = 7.292115e-5 / rad * std::cos(42.6 * rad);
+    const double psi = 60, a2 = 1.5e-3, phi2 = 30, sigma = 2e-4;
+    const int pos[5] = {0, 54, 144, 198, 288};
+    const int order[10] = {0, 1, 2, 3, 4, 4, 3, 2, 1, 0};
+    std::ofstream f(csv);
+    f << "# positions_deg: 0,54,144,198,288\n# table_axis: up\n# conversion_time_s: 0.002\n"
+         "time_s,angle_deg,rate_dps,n_avg\n";
+    std::uint64_t state = 12345;  // a fixed uniform stream; normals by Box-Muller
+    const auto uniform = [&] {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return (static_cast<double>(state >> 11) + 0.5) / 9007199254740992.0;
+    };
+    double t = 0.5;
+    for (int b = 0; b < 300; ++b)
+      for (const int k : order) {
+        const double th = pos[k] * rad;
+        const double n =
+            std::sqrt(-2 * std::log(uniform())) * std::cos(2 * std::acos(-1.0) * uniform());
+        const double r =
+            0.01 + w_h * std::cos(psi * rad - th) + a2 * std::cos(2 * th - phi2 * rad) + sigma * n;
+        f << t << "," << pos[k] << "," << std::setprecision(12) << r << ",500\n";
+        t += 1.2;
+      }
+  }
+  const auto one = run_cli({"heading", csv, "--latitude", "42.6", "--json"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const auto j1 = nlohmann::json::parse(one.out);
+  const double e1 = std::remainder(j1.at("heading_deg").get<double>() - 60, 360.0);
+  EXPECT_GT(std::abs(e1), 5 * j1.at("sigma_deg").get<double>()) << e1;
+  const auto two = run_cli({"heading", csv, "--latitude", "42.6", "--harmonics", "2", "--json"});
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const auto j2 = nlohmann::json::parse(two.out);
+  const double e2 = std::remainder(j2.at("heading_deg").get<double>() - 60, 360.0);
+  EXPECT_LT(std::abs(e2), 3 * j2.at("sigma_deg").get<double>()) << e2;
+  const auto& terms = j2.at("runs")[0].at("terms");
+  const double rad = std::acos(-1.0) / 180;
+  EXPECT_NEAR(terms.at("c2").at("value_dps").get<double>(), 1.5e-3 * std::cos(30 * rad),
+              4 * terms.at("c2").at("sigma_dps").get<double>());
+  EXPECT_NEAR(terms.at("s2").at("value_dps").get<double>(), 1.5e-3 * std::sin(30 * rad),
+              4 * terms.at("s2").at("sigma_dps").get<double>());
+  EXPECT_NEAR(j2.at("second_harmonic_dps").get<double>(), 1.5e-3,
+              4 * j2.at("second_harmonic_sigma_dps").get<double>());
+  // the price: a wider sigma than one harmonic's on these unequally spaced positions
+  EXPECT_GT(j2.at("sigma_deg").get<double>(), j2.at("sigma_one_harmonic_deg").get<double>());
+  bool said = false;
+  for (const auto& c : j2.at("caveats"))
+    said = said || c.get<std::string>().find("is significant") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+// `report` on a four-position run about the vertical with the latitude given: one dwell series per
+// position, and a north-finding section whose numbers are `heading`'s (summary.json
+// north_finding). (A run about the horizontal axis gets none: the page tests' golden structure.)
+TEST(CliHeading, ReportHasAHeadingSectionAndOneSeriesPerPosition) {
+  const gyroflip::test::temp_dir dir;
+  const auto north = dir.file("north.csv");
+  ASSERT_EQ(
+      run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "600", "--table-axis", "up",
+               "--azimuth", "30", "--positions", "0,90,180,270", "--seed", "5", "-o", north})
+          .exit_code,
+      0);
+  const auto out = dir.file("rep");
+  const auto r = run_cli({"report", north, "--latitude", "42.6", "--axis", "north", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (int k = 1; k <= 4; ++k)
+    EXPECT_TRUE(std::filesystem::exists(out + "/figures/run1_dwells_" + std::to_string(k) + ".dat"))
+        << k;
+  std::ifstream sf(out + "/summary.json");
+  const auto sj = nlohmann::json::parse(sf);
+  ASSERT_TRUE(sj.contains("north_finding"));
+  const auto h =
+      nlohmann::json::parse(run_cli({"heading", north, "--latitude", "42.6", "--json"}).out);
+  EXPECT_DOUBLE_EQ(sj["north_finding"][0]["heading_deg"].get<double>(),
+                   h["heading_deg"].get<double>());
+  EXPECT_DOUBLE_EQ(sj["north_finding"][0]["sigma_deg"].get<double>(), h["sigma_deg"].get<double>());
+  std::ifstream page(out + "/index.html");
+  std::stringstream buf;
+  buf << page.rdbuf();
+  const std::string html = buf.str();
+  EXPECT_NE(html.find("north finding"), std::string::npos);
 }

@@ -1,6 +1,8 @@
 // `gyroflip simulate` and `gyroflip sensors`: recording format, truth, determinism, errors.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -108,6 +110,46 @@ TEST(CliSensors, ListsPresetsWithUnitsAndSources) {
   EXPECT_NE(adx["params"]["arw_dps_rthz"]["source"].get<std::string>().find("datasheet"),
             std::string::npos);
   EXPECT_EQ(run_cli({"sensors"}).exit_code, 0);
+}
+
+TEST(CliSensors, ListsWhatEachPresetImpliesForFlippingAndNorthFinding) {
+  // Against the closed forms with the presets' N and B (adxrs150: N = 0.05/sqrt 2, B = 0.02;
+  // hz1-90-100a: N = 0.0046, B = 0.004 deg/s) and the issue's heading figures at 42.6 deg N:
+  // 15.5 and 2.0 deg/sqrt(T/h).
+  const double w_h = 7.292115e-5 * std::cos(42.6 * std::numbers::pi / 180);  // rad/s
+  const double deg = 180 / std::numbers::pi;
+  struct want {
+    double n, b, heading;
+  };
+  const want presets[] = {{0.05 / std::sqrt(2.0), 0.02, 15.5}, {0.0046, 0.004, 2.0}};
+  for (const double d : {0.4, 2.0}) {
+    const auto r = run_cli({"sensors", "--json", "--dead-time", d == 0.4 ? "0.4" : "2"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const auto& im = j.at("sensors")[i].at("implied");
+      const double n = presets[i].n, b = presets[i].b;
+      const double tc = n * n / (2 * std::log(2.0) / std::numbers::pi * b * b);
+      EXPECT_NEAR(im.at("corner_tau_s").get<double>() / tc, 1.0, 1e-5);  // N to 7 digits
+      EXPECT_NEAR(im.at("dwell_s").get<double>() / std::sqrt(d * tc), 1.0, 1e-5);
+      EXPECT_NEAR(
+          im.at("flip_sigma_dps_rth").get<double>() / ((n + 0.6643 * b * std::sqrt(d)) / 60), 1.0,
+          1e-4);
+      const double white = std::sqrt(2.0) * n / (w_h * deg) / 60 * deg;  // deg sqrt(h)
+      EXPECT_NEAR(im.at("heading_white_limit_deg_rth").get<double>() / white, 1.0, 1e-4);
+      EXPECT_NEAR(im.at("heading_white_limit_deg_rth").get<double>(), presets[i].heading, 0.05);
+      EXPECT_NEAR(im.at("heading_dead_time_limit_deg_rth").get<double>() /
+                      (white * (n + 0.664 * b * std::sqrt(d)) / n),  // NORTH.md rounds 0.664
+                  1.0, 1e-4);
+      EXPECT_DOUBLE_EQ(im.at("latitude_deg").get<double>(), 42.6);
+    }
+  }
+  const auto t = run_cli({"sensors", "--latitude", "0"});
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_NE(t.out.find("corner time tau_c"), std::string::npos);
+  EXPECT_NE(t.out.find("at 0 deg latitude"), std::string::npos);
+  EXPECT_EQ(run_cli({"sensors", "--latitude", "89"}).exit_code, 2);
+  EXPECT_EQ(run_cli({"sensors", "--dead-time", "-1"}).exit_code, 2);
 }
 
 // Issue 13 ("a user's first hour"): a stationary recording without flipping, to compare the raw

@@ -213,6 +213,47 @@ TEST(CliStationarity, WithoutASpecificationCalibrateWarnsAndStrictRefuses) {
       {"compensate", still, "--calibration", d.file("s.json"), "--strict", "-o", d.file("ok.csv")});
   EXPECT_EQ(vouched.exit_code, 0) << vouched.err;
   EXPECT_EQ(vouched.err.find("not checked"), std::string::npos) << vouched.err;
+  // Third review of issue 31 (M5): compensating a calibration's own run said nothing (no
+  // independent check), and only the within-run error of the mean was printed.
+  EXPECT_NE(vouched.err.find(still + ": the same bytes as the calibration's run " + still),
+            std::string::npos)
+      << vouched.err;
+  EXPECT_NE(vouched.out.find("the ΔN subtracted has its own error ±"), std::string::npos)
+      << vouched.out;
+  const auto conclusion_of = [&](const std::string& dir) {
+    return json::parse(read_text(d.file(dir + "/summary.json")))["conclusion"].get<std::string>();
+  };
+  // Third review of issue 31 (H1): report --calibration vouched for such a calibration: it
+  // applied the turning run's dN to a still table without a word on the page, and printed
+  // "±– °/s" for the ± nobody knows. Its conclusion is headed as not vouched for, naming the run.
+  const auto rep_cal = run_cli(
+      {"report", still, "--calibration", d.file("unchecked.json"), "-o", d.file("rep_cal")});
+  ASSERT_EQ(rep_cal.exit_code, 0) << rep_cal.err;
+  const auto cal_conclusion = conclusion_of("rep_cal");
+  EXPECT_EQ(cal_conclusion.rfind("Not vouched for: g-term not checked. ", 0), 0U) << cal_conclusion;
+  EXPECT_NE(cal_conclusion.find("run " + turning + " passed"), std::string::npos) << cal_conclusion;
+  EXPECT_EQ(cal_conclusion.find("±–"), std::string::npos) << cal_conclusion;
+  EXPECT_NE(read_text(d.file("rep_cal/index.html")).find("Not vouched for"), std::string::npos);
+  // H3: report on its own unchecked run headlined "ΔN of this gyro is ..."; it heads it as not
+  // vouched for and names the check. With --sensor (as calibrate's) the g-term is checked: a
+  // still run is vouched for and a turning one fails.
+  const auto own = conclusion_of("rep");
+  EXPECT_EQ(own.rfind("Not vouched for: g-term not checked. ", 0), 0U) << own;
+  EXPECT_NE(own.find("Next: check the g-term: `report --sensor NAME|FILE.toml`"), std::string::npos)
+      << own;
+  const auto named_still =
+      run_cli({"report", "--sensor", "hz1-90-100a", still, "-o", d.file("rep_still")});
+  ASSERT_EQ(named_still.exit_code, 0) << named_still.err;
+  EXPECT_EQ(named_still.err.find("not checked"), std::string::npos) << named_still.err;
+  EXPECT_EQ(conclusion_of("rep_still").rfind("ΔN of this", 0), 0U) << conclusion_of("rep_still");
+  EXPECT_NE(conclusion_of("rep_still").find("--sensor hz1-90-100a -o cal.json"), std::string::npos);
+  const auto named_turning =
+      run_cli({"report", "--sensor", "hz1-90-100a", turning, "-o", d.file("rep_turn")});
+  ASSERT_EQ(named_turning.exit_code, 0) << named_turning.err;
+  EXPECT_NE(named_turning.err.find(turning + ": not a stationary run"), std::string::npos)
+      << named_turning.err;
+  EXPECT_EQ(conclusion_of("rep_turn").rfind("These runs give no ΔN", 0), 0U)
+      << conclusion_of("rep_turn");
 }
 
 // Review of issue 31 (M1): a 10 degC temperature step passed calibrate (and --strict) silently

@@ -1,6 +1,9 @@
 // The tokenizer of short texts (issue 13 item 17): fields with their columns, whole-field numbers.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
+#include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 
@@ -73,3 +76,18 @@ TEST(Text, DirectionControlsAreMadeVisible) {
 
 }  // namespace
 }  // namespace gyroflip::text
+
+// Third review of issue 31: "-0.00000 ± 0.00098" (a negative zero), and errors that dropped their
+// significant trailing zeros ("0.001" where calibrate prints 0.0010). One formatter: the digits
+// of the error, else the fallback's significant digits, trailing zeros kept.
+TEST(Digits, ValuesTakeTheirErrorsDigitsWithoutANegativeZero) {
+  EXPECT_EQ(gyroflip::digits_of_error(-1e-6, 0.00098).first, "0.00000");
+  EXPECT_EQ(gyroflip::digits_of_error(-6e-6, 0.00098).first, "-0.00001");
+  EXPECT_EQ(gyroflip::digits_of_error(0.0032, 0.001).second, "0.0010");
+  EXPECT_EQ(gyroflip::to_digits_of(0.00326975, 0.000812, 6), "0.00327");
+  EXPECT_EQ(gyroflip::to_digits_of(0.5032524, 0.0, 6), "0.503252");
+  EXPECT_EQ(gyroflip::to_digits_of(0.25, std::nan(""), 4), "0.2500");
+  EXPECT_EQ(gyroflip::to_digits_of(std::nan(""), 0.1, 4), "–");
+  EXPECT_EQ(gyroflip::significant(0.0006, 2), "0.00060");
+  EXPECT_EQ(gyroflip::significant(0.4, 2), "0.40");
+}

@@ -17,16 +17,19 @@ for n in 1 2 3; do
 done
 grep -qE '^demo: \[3/3\] .*(seconds|[0-9]+ s\))' "$work/log" || fail "phase 3 does not say how long"
 grep -qE '^demo: done in [0-9]+ s$' "$work/log" || fail "no closing line"
-for k in 1 2 3 4 5 6 7; do
+for k in 1 2 3 4 5 6 7 8; do
   grep -q "^== $k\. " "$work/log" || fail "step $k missing"
 done
 notes=$(grep -c 'time stamps jitter' "$work/log" || true)
 [ "$notes" -eq 1 ] || fail "the time-stamp jitter note printed $notes times"
 for f in calibration.json compensated.csv sim_cal.csv sim_run.csv sim_calibration.json \
-         sim_compensated.csv report/index.html report/report.pdf; do
+         sim_compensated.csv report/index.html report/report.pdf north.csv; do
   [ -s "$work/demo/$f" ] || fail "no $f"
 done
 # The phases a real run has: each says what it does and about how long.
 grep -qE 'phase 1 ".*(minutes|min)' "$src/scripts/demo" || fail "phase 1 gives no time"
 grep -qE 'phase 2 ".*about [0-9]+ min' "$src/scripts/demo" || fail "phase 2 gives no time"
-echo "demo: 3 phases, 7 steps, the jitter note once, all outputs"
+# step 8: the four-position north finding prints a heading with its sigma and the limit
+grep -qE '^heading [0-9.]+ deg \+- [0-9.]+ deg' "$work/log" || fail "no heading in step 8"
+grep -q 'white-noise limit' "$work/log" || fail "no limit in step 8"
+echo "demo: 3 phases, 8 steps, the jitter note once, all outputs"

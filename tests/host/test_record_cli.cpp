@@ -456,6 +456,36 @@ TEST(RecordCli, AThreeSecondUnplugLosesNothing) {
   }
 }
 
+// The emulator's log is the truth the recordings are checked against: a DWELL's table_deg is
+// where the table stood during that dwell, also when the frame first goes out long after it
+// ended. A held transmitter (4 device s) fills the device's transmit ring; the dwells made
+// meanwhile that do not fit are dropped from the live stream and first go out on RESEND, after
+// the table has turned on. The log took the angle of the last conversion before a frame was
+// first seen - the next dwell's - and so called dwells labelled right mislabelled (issue 32:
+// the one "mislabelled" dwell of the review, seed 2007, on a build whose RESEND replies took the
+// live frames' room in the ring: a live DWELL dropped there).
+TEST(RecordCli, ADwellFirstSentOnResendIsLoggedAtItsOwnAngle) {
+  test::temp_dir dir;
+  const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
+  emulator_process emu(dir.path(), "--speed 20 --seed 43 --fault-tx-hold 8:4 --log " + log);
+  const auto rec = run_cli({"record", "--port", emu.pty(), "--duration", "30", "-o", gfr});
+  ASSERT_EQ(rec.exit_code, 0) << rec.err;
+  // Some dwells went out first on RESEND, seconds after they ended (the test is not empty).
+  std::size_t late = 0;
+  for (const auto& r : read_log(log)) {
+    const double end_s = static_cast<double>(r.at(4)) / host::emulator::tick_hz;
+    if (r.num(16) - end_s > 1.0) ++late;
+    // The default angle table: position 0 at 0 deg, 1 at 180 deg.
+    EXPECT_EQ(r.table_deg(), 180.0 * static_cast<double>(r.at(2))) << "seq " << r.at(0);
+  }
+  EXPECT_GE(late, 2u);
+  auto run = rigdata::read_rig_run(gfr);
+  ASSERT_TRUE(run) << run.err().message;
+  const comparison c = compare(*run, sent_by_start(log));
+  EXPECT_EQ(c.mislabelled, 0u) << recorded(c);
+  EXPECT_EQ(c.lost, 0u) << recorded(c);
+}
+
 TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
   test::temp_dir dir;
   const std::string log = dir.path() + "/sent.csv", gfr = dir.path() + "/run.gfr";
@@ -509,18 +539,17 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
   // Every dwell sent is in the file or in a GAP count (the reset's too).
   EXPECT_LE(c.lost, run->missing_frames) << recorded(c);
   // At --speed max the device's clock runs many times the host's, and a run after a reset is
-  // placed by the host's clock: `record` says how far its time_s may be off, naming the run, as
-  // `export` does (review of issue 32, finding 4: moved by up to 24 s without a word). How far
-  // depends on how fast this machine runs the emulator (under load the shift fell below the
-  // 1-s threshold): `record` says it exactly when the reader finds it; the threshold itself is
-  // tested on synthetic files (RigTime.ARunPlacedByTheHostsClockAtAnotherPaceIsWarnedAbout).
-  const bool said =
-      rec.err.find("is placed after the run before it by the host's clock") != std::string::npos;
-  EXPECT_EQ(said, run->later_runs_shift_s > 1.0) << run->later_runs_shift_s << "\n" << rec.err;
-  if (said) {
-    EXPECT_NE(rec.err.find("gyroflip record: warning: " + gfr + ": record "), std::string::npos)
-        << rec.err;
-  }
+  // placed by the host's clock: `record` says its time_s may be off, naming the run, as
+  // `export` does (review of issue 32, finding 4: moved by up to 24 s without a word). It says
+  // so whenever the device's clock ran at another pace than the host's, whatever the estimate:
+  // the estimate (at the last run's pace) depends on how fast this machine runs the emulator
+  // and was 0 under load, while the run after the first reset lay 1-12 s early (issue 32).
+  EXPECT_TRUE(run->later_runs_off_pace);
+  EXPECT_NE(rec.err.find("gyroflip record: warning: " + gfr + ": record "), std::string::npos)
+      << rec.err;
+  EXPECT_NE(rec.err.find("is placed after the run before it by the host's clock"),
+            std::string::npos)
+      << rec.err;
   const auto cal = run_cli({"calibrate", gfr, "--json"});
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   expect_calibrates_to_truth(nlohmann::json::parse(cal.out), 13);

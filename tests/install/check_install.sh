@@ -12,7 +12,7 @@ trap 'rm -rf "$tmp"' EXIT
 fail() { echo "check_install: $*" >&2; exit 1; }
 
 import_check='import numpy as np, gyroflip
-t, d, e, n = gyroflip.oadev([892, 809, 823, 798, 671, 644, 883, 903, 677], data_type="freq", taus=[1, 2])
+t, d, e, n = gyroflip.oadev([892, 809, 823, 798, 671, 644, 883, 903, 677], rate=1.0, data_type="freq", taus=[1, 2])
 assert abs(d[0] / 91.22945 - 1) < 1e-6 and abs(d[1] / 85.95287 - 1) < 1e-6, d
 import gyroflip.allantools as at
 t2, d2, e2, n2 = at.oadev([892, 809, 823, 798, 671, 644, 883, 903, 677], data_type="freq", taus=[1, 2])

@@ -165,6 +165,77 @@ TEST(PlainDecimal, AgreesWithFromCharsBitForBit) {
   EXPECT_GT(accepted, 150000u);  // most short decimals take the fast path
 }
 
+// The one-pass row path (peek_plain) against the general one (next, parse) on the same file:
+// random rows of plain decimals and of spellings only the general path reads (blanks, '+',
+// exponents, CR, long mantissas, wrong field counts, empty fields). Where the fast path takes a
+// row its values are bit for bit the general path's; whatever it declines, next() reads. Fails
+// if the fast path accepts one row the general path reads differently or refuses.
+TEST(PlainRow, TakesOnlyRowsTheGeneralPathReadsAlikeBitForBit) {
+  std::mt19937_64 rng(33);
+  const auto number = [&] {
+    std::string s = rng() % 4 == 0 ? "-" : "";
+    const std::size_t digits = rng() % 22;  // 0: an empty field, or "-"/"." alone
+    const std::size_t point = rng() % (digits + 2);
+    for (std::size_t d = 0; d < digits; ++d) {
+      if (d == point) s += '.';
+      s += static_cast<char>('0' + rng() % 10);
+    }
+    std::string out;  // with a spelling for the general path now and then
+    const auto kind = rng() % 24;
+    out += kind == 0 ? " " : kind == 2 ? "+" : "";
+    out += kind == 4 ? std::string(".5") : s;
+    out += kind == 1 ? "e3" : kind == 3 ? "." : "";
+    return out;
+  };
+  std::string text = "a,b,c,d\n";
+  const int rows = 20000;
+  for (int k = 0; k < rows; ++k) {
+    const int fields = rng() % 50 == 0 ? 3 : 4;
+    for (int f = 0; f < fields; ++f) {
+      if (f > 0) text += ',';
+      text += number();
+    }
+    text += rng() % 30 == 0 ? "\r\n" : "\n";
+  }
+  temp_dir d;
+  const auto p = d.file("rows.csv");
+  write_text(p, text);
+  auto fast = csv_reader::open(p);
+  auto slow = csv_reader::open(p);
+  ASSERT_TRUE(fast && slow);
+  fast->select({0, 2, 3});  // column b unselected, as a recording's extra columns are
+  slow->select({0, 2, 3});
+  std::size_t taken = 0, compared = 0;
+  while (true) {
+    csv_reader::plain_row row;
+    const bool plain = fast->peek_plain(row);
+    const auto s = slow->next();
+    if (!plain) {
+      const auto f = fast->next();  // the general path on the declined row
+      ASSERT_EQ(f, s);
+      if (s == csv_reader::step::end) break;
+      continue;
+    }
+    ++taken;
+    ASSERT_EQ(s, csv_reader::step::row) << "the fast path took a row the general path refuses, line "
+                                       << slow->line() << ": " << slow->last_error().message;
+    fast->commit_plain(row);
+    ASSERT_EQ(fast->line(), slow->line());
+    for (std::size_t i = 0; i < 3; ++i) {
+      ASSERT_EQ(row.empty[i], slow->cell(i).empty()) << "line " << slow->line();
+      if (row.empty[i]) continue;
+      double v = 0.0;
+      ASSERT_TRUE(slow->parse(i, v)) << "line " << slow->line() << ": "
+                                     << slow->last_error().message;
+      ASSERT_EQ(std::memcmp(&v, &row.value[i], sizeof v), 0)
+          << "line " << slow->line() << " cell " << i << ": " << slow->cell(i);
+      ++compared;
+    }
+  }
+  EXPECT_GT(taken, static_cast<std::size_t>(rows) / 4);  // the common rows take the fast path
+  EXPECT_GT(compared, 10000u);
+}
+
 TEST(PlainDecimal, RejectsWhatItCannotDoExactly) {
   for (const char* s : {"", "-", ".", "1e5", "nan", "inf", "+1", " 1", "1 ", "1.2.3", "0x10",
                         "12345678901234567890", "9007199254740993", "1.00000000000000000000001"}) {

@@ -142,6 +142,68 @@ TEST(Harmonic, TwoAzimuthsRemoveTheTablesTerm) {
   EXPECT_FALSE(gm::heading_two_azimuths({1, 0}, {1, 0, 0, 1}, {1, 0}, {1, 0, 0, 1}, 0.0));
 }
 
+// 0/180 with the scale factor known (issue 33 item 3): the projection p1 of the first harmonic
+// on the table's 0 deg direction, the paper's A, B cycle fitted in blocks of A B A B with a bias
+// and its slope: a linear drift drops out exactly (A B A B's slope column is not orthogonal to
+// the contrast, but fitted), and white noise gives 1.25 sigma^2 / (number of dwells).
+TEST(Harmonic, TwoPositionsGiveTheProjectionWhenAskedFor) {
+  const double two[2] = {0.0, 180.0};
+  const auto table = *position_table::of_angles(two);
+  std::vector<gm::indexed_dwell> d;
+  for (int k = 0; k < 400; ++k)
+    d.push_back({1.0 * k, k % 2, 0.3 - 1e-4 * k + (k % 2 ? -1.0 : 1.0) * 2e-3, 256});
+  gm::harmonic_options o;
+  o.projection_of_two = true;
+  const auto f = gm::fit_harmonics(d, table, o);
+  ASSERT_TRUE(f) << f.err().message;
+  ASSERT_EQ(f->names, (std::vector<std::string>{"b", "p1"}));
+  EXPECT_NEAR(f->value[1], 2e-3, 1e-14);
+  EXPECT_EQ(f->period, 4u);
+  // white noise: Var p1 = sigma^2/n over n dwells (half at each end, (r_A - r_B)/2)
+  double z2 = 0;
+  const int runs = 60;
+  for (int s = 0; s < runs; ++s) {
+    gyroflip::test::normal_source n(100 + static_cast<std::uint64_t>(s));
+    std::vector<gm::indexed_dwell> w;
+    for (int k = 0; k < 800; ++k) w.push_back({1.0 * k, k % 2, 1e-3 * n(), 256});
+    const auto g = gm::fit_harmonics(w, table, o);
+    ASSERT_TRUE(g);
+    z2 += g->value[1] * g->value[1] / (1e-6 / 800);
+  }
+  // Each block A B A B fits its bias and slope: the contrast (1,-1,1,-1) less its regression on
+  // t = (-1.5,-0.5,0.5,1.5) is (0.4,-1.2,1.2,-0.4), sum of squares 3.2 against 4: Var p1 =
+  // 1.25 sigma^2/n (the paper's A, B cycle pays 25 %; the sweep A B B A nothing). chi2_60/60:
+  // 99 % within [0.62, 1.47].
+  EXPECT_GT(z2 / runs / 1.25, 0.62);
+  EXPECT_LT(z2 / runs / 1.25, 1.47);
+  // not 180 deg apart: refused
+  const double bent[2] = {0.0, 90.0};
+  EXPECT_FALSE(gm::fit_harmonics(d, *position_table::of_angles(bent), o));
+}
+
+// psi = theta_0 +- acos(p1 / W_H): both solutions, the delta-method sigma, the axis down, the edge.
+TEST(Harmonic, HeadingOfAProjectionHasTwoSolutions) {
+  const double w = 3.0755e-3, sp = 2e-5;
+  const auto h = gm::heading_of_projection(w * std::cos(60 * rad), sp * sp, w, 0.0);
+  EXPECT_NEAR(h.heading_deg, 60.0, 1e-9);
+  EXPECT_NEAR(h.mirror_deg, 300.0, 1e-9);
+  EXPECT_NEAR(h.sigma_deg, sp / (w * std::sin(60 * rad)) / rad, 1e-9);
+  EXPECT_FALSE(h.at_edge);
+  // table axis down: r(theta) = W_H cos(psi + theta); positions 90/270: psi = -90 +- 60
+  const auto d = gm::heading_of_projection(w * std::cos(60 * rad), sp * sp, w, 90.0, false);
+  EXPECT_NEAR(d.heading_deg, 330.0, 1e-9);
+  EXPECT_NEAR(d.mirror_deg, 210.0, 1e-9);
+  // up, positions 90/270: psi = 90 +- 60
+  const auto u = gm::heading_of_projection(w * std::cos(60 * rad), sp * sp, w, 90.0, true);
+  EXPECT_NEAR(u.heading_deg, 150.0, 1e-9);
+  EXPECT_NEAR(u.mirror_deg, 30.0, 1e-9);
+  // beyond W_H by noise: clamped to 0 deg, the sigma the angle of one sigma from the edge
+  const auto e = gm::heading_of_projection(w * 1.001, sp * sp, w, 0.0);
+  EXPECT_TRUE(e.at_edge);
+  EXPECT_NEAR(e.heading_deg, 0.0, 1e-9);
+  EXPECT_NEAR(e.sigma_deg, std::acos(1 - sp / w) / rad, 1e-9);
+}
+
 // --- issue 33 item 2: the harmonic scheme, its separability report and its Cramer-Rao bound ---
 
 namespace {

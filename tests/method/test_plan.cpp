@@ -158,3 +158,98 @@ TEST(Plan, RefusesWhatItCannotPlan) {
   EXPECT_FALSE(gm::plan_flip({0, 0.01, 0, 0}, 0.4, 1.0));
   EXPECT_FALSE(gm::plan_flip({0, 0.01, 0, 0}, NAN, 3600));
 }
+
+// Indexed runs (three or more positions, issue 33): the first harmonic's error.
+
+TEST(PlanIndexed, ThePeriodsWeightsGiveTheHarmonicsOfAnyBiasLine) {
+  // Noise-free dwells b + b' t + c cos + s sin: the weights return c and s exactly, for the sweep
+  // of 4 and of 5 unequally spaced positions.
+  for (const auto& angles :
+       {std::vector<double>{0, 90, 180, 270}, std::vector<double>{0, 60, 135, 200, 300}}) {
+    const auto visits = gm::sweep_visits(angles);
+    const auto p = gm::indexed_period_of(visits, 0.7, 0.3);
+    ASSERT_TRUE(p) << p.err().message;
+    double c = 0, s = 0;
+    for (std::size_t k = 0; k < visits.size(); ++k) {
+      const double a = visits[k] * pi / 180, t = p->start_s[k] + 0.35;
+      const double y = 0.3 - 0.02 * t + 1e-3 * std::cos(a) - 2e-3 * std::sin(a);
+      c += p->weight_c[k] * y;
+      s += p->weight_s[k] * y;
+    }
+    EXPECT_NEAR(c, 1e-3, 1e-15);
+    EXPECT_NEAR(s, -2e-3, 1e-15);
+  }
+  // 4-position sweep: 6 turns per 8 dwells; its period.
+  const auto p =
+      gm::indexed_period_of(gm::sweep_visits(std::vector<double>{0, 90, 180, 270}), 1.0, 0.25);
+  ASSERT_TRUE(p);
+  EXPECT_DOUBLE_EQ(p->period_s, 8 * 1.0 + 6 * 0.25);
+  EXPECT_FALSE(gm::indexed_period_of(std::vector<double>{0, 180, 180, 0}, 1.0, 0.2));
+}
+
+TEST(PlanIndexed, WhiteNoiseGivesTwiceNSquaredOverTheTimeAtPositions) {
+  // c1 = sum cos_k mean_k / 4 per period of the 4-position sweep: Var = N^2 / (4 tau n), i.e.
+  // 2 N^2 / T_dwelling (docs/NORTH.md's k = sqrt 2).
+  const gm::plan_noise n{0, 0.01, 0, 0};
+  const auto p =
+      gm::indexed_period_of(gm::sweep_visits(std::vector<double>{0, 90, 180, 270}), 0.8, 0.3);
+  ASSERT_TRUE(p);
+  for (const std::size_t periods : {std::size_t{3}, std::size_t{40}, std::size_t{500}}) {
+    const auto v = gm::indexed_run_variance(n, *p, periods);
+    const double want = 0.01 * 0.01 / (4 * 0.8 * static_cast<double>(periods));
+    EXPECT_NEAR(v.var_c1 / want, 1.0, 1e-12);
+    EXPECT_NEAR(v.var_s1 / want, 1.0, 1e-12);
+    EXPECT_NEAR(v.cov / want, 0.0, 1e-12);
+  }
+}
+
+TEST(PlanIndexed, RunVarianceIsTheQuadraticFormOverEveryDwell) {
+  // Brute force over all dwells of the run, -1/2 sum_jk w_j w_k D(|t_j - t_k|), D = 2 gap_avar:
+  // independent of the lag grouping and of the lag^-2 continuation past 64 periods (300 here).
+  const gm::plan_noise n{2e-4, 0.0354, 0.02, 1e-4};
+  const auto p =
+      gm::indexed_period_of(gm::sweep_visits(std::vector<double>{0, 72, 144, 216, 288}), 0.6, 0.35);
+  ASSERT_TRUE(p);
+  for (const std::size_t periods : {std::size_t{3}, std::size_t{20}, std::size_t{300}}) {
+    std::vector<double> t, wc, ws;
+    for (std::size_t b = 0; b < periods; ++b)
+      for (std::size_t k = 0; k < p->start_s.size(); ++k) {
+        t.push_back(static_cast<double>(b) * p->period_s + p->start_s[k]);
+        wc.push_back(p->weight_c[k] / static_cast<double>(periods));
+        ws.push_back(p->weight_s[k] / static_cast<double>(periods));
+      }
+    long double vc = 0, vs = 0, cv = 0;
+    for (std::size_t j = 0; j < t.size(); ++j)
+      for (std::size_t k = 0; k < t.size(); ++k) {
+        if (j == k) continue;
+        const long double d = gm::gap_avar(n, 0.6, std::abs(t[j] - t[k]));  // 1/2 D
+        vc -= wc[j] * wc[k] * d, vs -= ws[j] * ws[k] * d, cv -= wc[j] * ws[k] * d;
+      }
+    const auto v = gm::indexed_run_variance(n, *p, periods);
+    const double tol = periods > 64 ? 1e-4 : 1e-9;
+    EXPECT_NEAR(v.var_c1 / static_cast<double>(vc), 1.0, tol) << periods;
+    EXPECT_NEAR(v.var_s1 / static_cast<double>(vs), 1.0, tol) << periods;
+    EXPECT_NEAR(v.cov, static_cast<double>(cv), tol * static_cast<double>(vc)) << periods;
+  }
+}
+
+TEST(PlanIndexed, ThePlanIsTheCurvesMinimumAndLongerDeadTimesLengthenIt) {
+  const gm::plan_noise n{0, 0.0354, 0.02, 1e-4};
+  const auto visits = gm::sweep_visits(std::vector<double>{0, 90, 180, 270});
+  double last_tau = 0;
+  for (const double d : {0.1, 0.4, 2.0}) {
+    const auto p = gm::plan_indexed(n, visits, d, 3600);
+    ASSERT_TRUE(p) << p.err().message;
+    EXPECT_GT(p->dwell_s, last_tau);
+    last_tau = p->dwell_s;
+    for (const auto& q : p->by_dwell) EXPECT_GE(q.sigma_dps, p->sigma_dps * (1 - 1e-12));
+    for (const double f : {0.8, 1.25}) {
+      const auto q = gm::indexed_period_of(visits, p->dwell_s * f, d);
+      const auto periods = static_cast<std::size_t>(3600 / q->period_s);
+      EXPECT_GT(std::sqrt(gm::indexed_run_variance(n, *q, periods).mean_var()), p->sigma_dps);
+    }
+    EXPECT_NEAR(p->period_s, 8 * p->dwell_s + 6 * d, 1e-9);
+  }
+  EXPECT_FALSE(gm::plan_indexed(n, std::vector<double>{0, 180, 180, 0}, 0.2, 3600));
+  EXPECT_FALSE(gm::plan_indexed(n, visits, 0.2, 3));  // not three periods (1.28 s each)
+}

@@ -220,6 +220,9 @@ std::pair<std::string, std::string> conclusion_and_tables(const std::string& htm
   return {inner(html, p, "</p>"), cells};
 }
 
+std::vector<std::vector<std::string>> table_rows(const std::string& html,
+                                                 const std::string& caption);
+
 // Hostile review of issue 22: the conclusion stated an unresolved dN(T) slope as fact, quoted
 // numbers in no table, and gave the dN applied of the first run only. Every number of the
 // conclusion is now in a table of the page; a slope with no degrees of freedom is "not resolved";
@@ -250,6 +253,29 @@ TEST(ReportChecks, TheConclusionQuotesOnlyTheTablesNumbers) {
   for (const auto& n : numbers_in(text2))
     EXPECT_NE(cells2.find(n.front() == '+' ? n.substr(1) : n), std::string::npos)
         << n << " of the conclusion is in no table: " << text2;
+  // Third review of issue 31 (M3): with three runs (1 degree of freedom) the unresolved slope was
+  // quoted as "0.00035 ± 0.000519", its error in no table (which prints 0.00052): every number
+  // of the conclusion is now a whole number of a table, not a part of one. M1: the 2-run table
+  // printed "0" for the errors nothing determines.
+  const auto b = simulate(d, "b20.csv", "20", "2");
+  const auto r3 =
+      run_cli({"report", a, b, c, "--latitude", "42.6", "--axis", "north", "-o", d.file("rep3")});
+  ASSERT_EQ(r3.exit_code, 0) << r3.err;
+  const auto [text3, cells3] = conclusion_and_tables(read_page(d.file("rep3/index.html")));
+  EXPECT_NE(text3.find("ΔN(T) of 3 runs"), std::string::npos) << text3;
+  for (const auto& [t, tables] :
+       {std::pair{text, cells}, std::pair{text2, cells2}, std::pair{text3, cells3}}) {
+    const auto in_tables = numbers_in(tables);
+    for (const auto& n : numbers_in(t))
+      EXPECT_NE(std::find(in_tables.begin(), in_tables.end(), n.front() == '+' ? n.substr(1) : n),
+                in_tables.end())
+          << n << " of the conclusion is no number of a table: " << t;
+  }
+  const auto two = table_rows(read_page(d.file("rep/index.html")), "ΔN(T) =");
+  ASSERT_EQ(two.size(), 2U);
+  for (const auto& row : two)
+    for (std::size_t k = 2; k < row.size(); ++k)
+      EXPECT_NE(row[k], "0") << "an error of 0 where there are no degrees of freedom";
 }
 
 // The cells of each row of the table captioned `caption` (tags removed, &lt; as <).

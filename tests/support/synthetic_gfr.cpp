@@ -61,6 +61,7 @@ class generator {
         ++boot_count_;
         seq_ = 0;
         clock_ = static_cast<std::uint32_t>(o_.tick_hz / 2);  // uptime from its power-on
+        tick(o_.restart_s);
         boot_start(true);
         k = 0;
       }
@@ -174,7 +175,7 @@ class generator {
     put_le(start, at, 2);
     put_le(start, p::configure_crc(c), 2);
     record(gfr::kind::start, start);
-    advance(after_reset ? 2.0 : 1.85);
+    advance(after_reset ? o_.homing_s : 1.85);
     segment_s_ = device_s_;
   }
 

@@ -30,7 +30,11 @@ struct synthetic_options {
   /// Device seconds per host second (an emulator at --speed: the host's clock, which stamps the
   /// records, runs this many times slower than the device's).
   double device_speed = 1.0;
-  std::vector<std::size_t> resets_after;       ///< the device restarts after these dwells
+  std::vector<std::size_t> resets_after;  ///< the device restarts after these dwells
+  /// Device seconds from a reset to the new boot's first STATUS (its boot, the host's PINGs)
+  double restart_s = 0.0;
+  /// Device seconds from the START after a reset to its first dwell (homing, turn, settle)
+  double homing_s = 2.0;
   std::vector<std::size_t> link_losses_after;  ///< the port is lost after these dwells
   /// Dwells lost on the line, counted by a GAP (missing) record: never in the file.
   std::vector<std::size_t> lost;

@@ -30,10 +30,14 @@ namespace gyroflip {
 
 /// `v` and `u` > 0 each in fixed notation at the second significant digit of `u`: ("0.00327",
 /// "0.00081"), ("-1500", "3600"). The one rule of every "v ± u".
+/// A value that rounds to zero prints without its sign ("0.00000 ± 0.00098", not "-0.00000";
+/// third review of issue 31).
 [[nodiscard]] inline std::pair<std::string, std::string> digits_of_error(double v, double u) {
   const int decimals = decimals_of_error(u);
-  return {fmt::format("{:.{}f}", rounded_to_error(v, u), decimals),
-          fmt::format("{:.{}f}", rounded_to_error(u, u), decimals)};
+  std::string value = fmt::format("{:.{}f}", rounded_to_error(v, u), decimals);
+  if (value.front() == '-' && value.find_first_not_of("-0.") == std::string::npos)
+    value.erase(0, 1);
+  return {value, fmt::format("{:.{}f}", rounded_to_error(u, u), decimals)};
 }
 
 /// `v` to `n` >= 1 significant digits with its significant trailing zeros ("0.00020", not
@@ -47,6 +51,17 @@ namespace gyroflip {
   const int exponent = std::stoi(sci.substr(sci.find('e') + 1));
   if (exponent < -5 || exponent >= 15) return sci;
   return fmt::format("{:.{}f}", v, std::max(0, n - 1 - exponent));
+}
+
+/// `v` with the digits its uncertainty `u` supports (digits_of_error's rule), without the ±;
+/// without a usable `u` (not finite, or not > 0) `v` to `fallback_digits` significant digits with
+/// their trailing zeros (significant); "–" for a `v` that is not finite. The one formatter of a
+/// number printed beside, or instead of, its "± u" (third review of issue 31, H4: the report and
+/// its figures each had a copy, differing in the fallback).
+[[nodiscard]] inline std::string to_digits_of(double v, double u, int fallback_digits) {
+  if (!std::isfinite(v)) return "–";
+  if (!(std::isfinite(u) && u > 0.0)) return significant(v, fallback_digits);
+  return digits_of_error(v, u).first;
 }
 
 }  // namespace gyroflip

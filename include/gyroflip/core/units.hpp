@@ -37,6 +37,25 @@ inline constexpr double rad_per_deg = std::numbers::pi / 180.0;
   return unit == "deg" ? "deg/s" : unit == "rad" ? "rad/s" : unit;
 }
 
+/// Standard gravity g_n = 9.80665 m/s² (3rd CGPM 1901; ISO 80000-3; FACTS §7.2): what datasheets
+/// mean by g, mg and µg.
+inline constexpr double standard_gravity_mps2 = 9.80665;
+
+/// Accelerometer units of a series' samples (IEEE Std 1293-2018 terms, FACTS §7.2): `m/s^2`,
+/// `g`, `mg`, `ug`.
+[[nodiscard]] constexpr bool is_accel_unit(std::string_view unit) noexcept {
+  return unit == "m/s^2" || unit == "g" || unit == "mg" || unit == "ug";
+}
+
+/// m/s² per unit of an accelerometer series' samples (`g`: g_n; `mg`, `ug`: 1e-3, 1e-6 g_n); 1
+/// for `m/s^2`.
+[[nodiscard]] constexpr double mps2_per_unit(std::string_view unit) noexcept {
+  if (unit == "g") return standard_gravity_mps2;
+  if (unit == "mg") return standard_gravity_mps2 * 1e-3;
+  if (unit == "ug") return standard_gravity_mps2 * 1e-6;
+  return 1.0;
+}
+
 static_assert(deg_rth_per_deg_rts * deg_rth_per_deg_rts == s_per_h, "sqrt(3600) = 60");
 
 }  // namespace gyroflip::units

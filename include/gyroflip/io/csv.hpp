@@ -1,7 +1,9 @@
 /// \file
 /// \brief Fast, strict reader of numeric CSV files (docs/FORMATS.md, "CSV rules").
 ///
-/// The file is memory-mapped and numbers are parsed with `std::from_chars`. Rules: UTF-8,
+/// The file is read a block at a time (docs/PERFORMANCE.md, issue 33: faster than a mapping on a
+/// virtual machine, and a file cut short while read is no SIGBUS) and numbers are parsed with
+/// `std::from_chars`. Rules: UTF-8,
 /// comma-separated, a UTF-8 BOM and CRLF line ends accepted; lines starting with `#` are
 /// comments (`# key: value` lines before the first data row are kept as metadata); blank lines are
 /// skipped; the first other line is the header; every data row has exactly as many fields
@@ -10,15 +12,16 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/metadata.hpp"
 #include "gyroflip/core/result.hpp"
-#include "gyroflip/io/mapped_file.hpp"
 
 namespace gyroflip::io {
 
@@ -82,7 +85,7 @@ struct csv_dialect {
 
 class csv_reader {
  public:
-  /// Maps `path` and reads comments and header; `-` reads standard input as it comes (a pipe from
+  /// Opens `path` and reads comments and header; `-` reads standard input as it comes (a pipe from
   /// a logger: only the lines not yet consumed are held). Errors: missing file, directory, empty
   /// file, binary data, no header, a dialect whose decimal mark is its delimiter.
   [[nodiscard]] static result<csv_reader> open(const std::string& path,
@@ -129,6 +132,20 @@ class csv_reader {
             detail::parse_plain_decimal(s.data(), s.data() + s.size(), out)) ||
            parse_slow(i, out);
   }
+  /// A data row read by the fast path: each selected cell's value, or `empty` for an empty field.
+  struct plain_row {
+    static constexpr std::size_t max_cells = 8;
+    double value[max_cells] = {};
+    bool empty[max_cells] = {};
+    std::size_t taken = 0;  // bytes of its line, newline included
+  };
+  /// The fast path of a recording's rows (docs/PERFORMANCE.md, issue 33): cuts the next line and
+  /// parses every selected field as a plain decimal (as parse()'s fast path does) in one pass,
+  /// consuming nothing. False when the line needs next(): a comment, a blank line, blanks or any
+  /// other spelling in a field, a wrong field count, a line not yet whole or ending the input, a
+  /// dialect other than the default. commit_plain() then consumes the row.
+  [[nodiscard]] bool peek_plain(plain_row& row);
+  void commit_plain(const plain_row& row) noexcept;
   /// Builds an error located at selected cell `i` of the current row.
   [[nodiscard]] error error_at(std::size_t i, std::string_view what) const;
   /// Builds an error located at the current line (no column).
@@ -141,35 +158,48 @@ class csv_reader {
   [[nodiscard]] std::size_t line() const noexcept { return line_; }
   /// Bytes consumed and total (0 for standard input: not known), for progress display.
   [[nodiscard]] std::uint64_t bytes_done() const noexcept { return pos_; }
-  [[nodiscard]] std::uint64_t bytes_total() const noexcept {
-    return file_ ? file_->data().size() : 0;
-  }
+  [[nodiscard]] std::uint64_t bytes_total() const noexcept { return size_bytes_; }
 
  private:
-  // cppcheck-suppress passedByValue ; sink parameter, moved from
-  explicit csv_reader(mapped_file f) : file_(std::move(f)), path_(file_->path()) {}
-  explicit csv_reader(int fd) : path_("<stdin>"), stream_fd_(fd) {}
+  // An open descriptor, closed with its owner (a reader is moved out of open()).
+  class owned_fd {
+   public:
+    owned_fd() = default;
+    explicit owned_fd(int fd) noexcept : fd_(fd) {}
+    owned_fd(owned_fd&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
+    owned_fd& operator=(owned_fd&& o) noexcept;
+    owned_fd(const owned_fd&) = delete;
+    owned_fd& operator=(const owned_fd&) = delete;
+    ~owned_fd();
+    [[nodiscard]] int get() const noexcept { return fd_; }
+
+   private:
+    int fd_ = -1;
+  };
+  csv_reader(owned_fd fd, std::string path, std::uint64_t size_bytes)
+      : path_(std::move(path)), fd_(std::move(fd)), size_bytes_(size_bytes) {}
   status read_header();
   // Returns the next line (without end-of-line characters) or nullopt at end of file. The view
   // is valid until the next call.
   std::optional<std::string_view> next_line();
   // Counts line `begin`..`len` (a CR before its end dropped) and returns it.
   std::string_view take_line(const char* begin, std::size_t len, bool unterminated);
-  // Reads more of the stream into buf_ (compacting what was consumed); false at its end.
+  // Reads more of the input into buf_ (moving what is not consumed to its front); false at its
+  // end.
   bool refill();
   void add_metadata(std::string_view comment_line);
   bool split(std::string_view line);
   void detect_delimiter(std::string_view first_line);
   [[nodiscard]] bool parse_slow(std::size_t i, double& out);
 
-  std::optional<mapped_file> file_;  // empty: reading a stream (standard input)
   std::string path_;
   csv_dialect dialect_;
-  std::size_t pos_ = 0;  // bytes consumed (of the mapping, or of the stream)
-  // A stream is read a block at a time: only the lines not yet consumed are held.
-  int stream_fd_ = -1;
-  std::string buf_;
-  std::size_t buf_pos_ = 0;
+  std::size_t pos_ = 0;  // bytes consumed
+  // The input is read a block at a time: only the lines not yet consumed are held.
+  owned_fd fd_;
+  std::uint64_t size_bytes_ = 0;  // 0: standard input (not known)
+  std::unique_ptr<char[]> buf_;
+  std::size_t buf_cap_ = 0, buf_len_ = 0, buf_pos_ = 0;
   bool stream_end_ = false;
   std::string replay_;  // a line to hand out again (a file without a header: its first row)
   bool has_replay_ = false;

@@ -77,6 +77,9 @@ class recording_reader final : public method::row_source {
   // cppcheck-suppress passedByValue ; sink parameter, moved from
   explicit recording_reader(csv_reader c) noexcept : csv_(std::move(c)) {}
   csv_reader::step fail(const error& e);
+  // A row through csv_reader's fast path when it and every check take it (false: next()'s
+  // general path reads the row and says what is wrong with it).
+  bool next_plain(method::row& out);
   csv_reader csv_;
   bool has_temp_ = false;
   bool has_n_avg_ = false;

@@ -63,14 +63,20 @@ struct harmonic_options {
   /// visiting period has room for beside the bias and its slope (the last dropped until the
   /// block's design has full rank; harmonic_fit::dropped names them). Overrides the above.
   bool separable = false;
+  /// A table of two positions 180 deg apart (0/180): fit b and the projection p1 of the first
+  /// harmonic on the first position's direction, r = b + p1 cos(theta - theta_0) (names "b",
+  /// "p1"); a block then spans whole visiting periods until it has a residual degree of freedom
+  /// (A, B, A, B for the paper's cycle). Otherwise two positions are refused. Applies with
+  /// `harmonics` 1 and neither `terms` nor `separable` (the design is then terms {"p1"}).
+  bool projection_of_two = false;
 };
 
 /// The fitted terms, in the order b (the blocks' mean bias), c1, s1[, c2, s2] (deg/s).
 struct harmonic_fit {
-  std::vector<std::string> names;  ///< "b", "c1", "s1"[, "c2", "s2"]
+  std::vector<std::string> names;  ///< "b", "c1", "s1"[, "c2", "s2"] (or the terms; "b", "p1")
   std::vector<double> value;
   std::vector<double> covariance;  ///< row-major, names.size()^2 (see the file comment)
-  std::size_t period = 0;          ///< dwells per block (the visiting period)
+  std::size_t period = 0;          ///< dwells per block (the visiting period; p1: a multiple)
   std::size_t blocks = 0;          ///< complete blocks fitted
   std::size_t skipped_dwells = 0;  ///< dwells outside the pattern (after a gap): left out
   /// Terms the table separates that the visiting period had no room for (options.separable).
@@ -168,10 +174,10 @@ struct separability {
 
 /// The Cramer-Rao bound of a harmonic fit's terms other than b (docs/METHOD-NOTES.md, "The
 /// Cramer-Rao bound of an N-position run"): dwell means of length `dwell_s` at the times and
-/// positions of `dwells`, cut into blocks as `fit` was (blocks_of), each block with its own
-/// bias and bias slope as nuisance parameters, and Gaussian noise whose dwell means have the
-/// gap two-sample variance method::gap_avar(noise, dwell_s, spacing) (white, flicker and random
-/// walk of the rate: Barnes 1971). The nuisance is removed by projecting each block onto the
+/// positions of `dwells`, cut into blocks as `fit` was (blocks_of; p1: whole periods), each block
+/// with its own bias and bias slope as nuisance parameters, and Gaussian noise whose dwell means
+/// have the gap two-sample variance method::gap_avar(noise, dwell_s, spacing) (white, flicker and
+/// random walk of the rate: Barnes 1971). The nuisance is removed by projecting each block onto the
 /// contrasts orthogonal to its constant and slope (the restricted likelihood, whose Fisher
 /// information of the terms equals the full model's Schur complement), where the noise's
 /// covariance is a function of the structure function alone:
@@ -211,6 +217,24 @@ struct heading_estimate {
 };
 [[nodiscard]] heading_estimate heading_of(double c1, double s1, double var_c1, double var_s1,
                                           double cov_c1_s1, bool table_axis_up = true);
+
+/// The heading from the projection p1 = W_H cos(psi - theta_0) of a 0/180 run (table axis up;
+/// down: cos(psi + theta_0)) with the scale factor known: psi = theta_0 +- acos(p1 / W_H), the
+/// sign not known from one such run (docs/NORTH.md). `heading_deg` is the solution with
+/// psi - theta_0 in [0, 180] (up), `mirror_deg` the other. The 1 sigma by the delta method,
+/// sigma_p / (W_H |sin(psi - theta_0)|), which grows without bound towards 0 and 180 deg: within
+/// one sigma of the edge (|p1| > W_H - sigma_p, `at_edge`) it is the angle acos(1 - sigma_p/W_H)
+/// instead.
+struct projection_heading {
+  double heading_deg = 0.0, mirror_deg = 0.0;
+  double sigma_deg = 0.0;
+  double cos_value = 0.0;  ///< p1 / W_H (may exceed 1 in magnitude with noise)
+  bool at_edge = false;
+};
+[[nodiscard]] projection_heading heading_of_projection(double p1, double var_p1,
+                                                       double earth_horizontal_dps,
+                                                       double axis_angle_deg,
+                                                       bool table_axis_up = true);
 
 /// The white-noise limit of a heading (docs/NORTH.md): sigma_psi = k N / (W_E cos(lat) sqrt(T))
 /// rad, N the angle random walk (deg/s/sqrt(Hz)), T the run (s), k = sqrt(2) for one gyro whose

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "gyroflip/core/result.hpp"
@@ -91,5 +92,57 @@ struct plan_limits {
 /// negative or non-finite inputs, a run too short for two pairs at the shortest dwell.
 [[nodiscard]] result<flip_plan> plan_flip(const plan_noise& n, double dead_s, double duration_s,
                                           const plan_limits& limits = {});
+
+}  // namespace gyroflip::method
+
+namespace gyroflip::method {
+
+/// One visiting period of an indexed run of three or more positions (issue 33, docs/PLANNER.md
+/// "More positions"): the dwells' angles in visiting order (the sweep 0, 90, 180, 270, 270, 180,
+/// 90, 0), each dwell `tau_s` long, a turn of `dead_s` (turn + settle) between dwells at
+/// different angles and none between two at the same angle, and the weights of the first
+/// harmonic's estimate per period: the least-squares fit of b + b' t + c1 cos + s1 sin to the
+/// period's dwell means (method/harmonic.hpp's estimator), c1 = sum_k weight_c[k] mean_k.
+struct indexed_period {
+  std::vector<double> visit_deg;           ///< the dwells' angles, one period
+  double dwell_s = 0.0;                    ///< each dwell's length
+  std::vector<double> start_s;             ///< each dwell's start within the period
+  double period_s = 0.0;                   ///< from one period's first dwell start to the next's
+  std::vector<double> weight_c, weight_s;  ///< c1 and s1 per dwell mean
+};
+
+/// The period of dwells `tau_s` long at `visit_deg` with `dead_s` per turn (the turn from the
+/// last dwell back to the first counted when their angles differ). Errors: fewer than three
+/// distinct angles, or angles whose first harmonic the period cannot separate from a bias and
+/// its slope (a rank-deficient design).
+[[nodiscard]] result<indexed_period> indexed_period_of(std::span<const double> visit_deg,
+                                                       double tau_s, double dead_s);
+
+/// The drift-cancelling visiting order of distinct angles: forwards then backwards, each end
+/// dwelt twice (as rig::sweep_order, which the simulator visits by default).
+[[nodiscard]] std::vector<double> sweep_visits(std::span<const double> angles_deg);
+
+/// The covariance ((deg/s)^2) of the run's first harmonic (c1, s1): the mean over `periods`
+/// consecutive periods of each period's estimate. Exact for noise with stationary increments:
+/// Var(sum w_j mean_j) = -1/2 sum_jk w_j w_k D(|t_j - t_k|), D(s) = 2 gap_avar(tau, s), because
+/// each period's weights sum to zero (docs/PLANNER.md, "More positions").
+struct harmonic_variance {
+  double var_c1 = 0.0, var_s1 = 0.0, cov = 0.0;
+  /// (var_c1 + var_s1)/2: the first harmonic's variance per component, averaged over the
+  /// heading (the heading's variance is this / W_H^2 for any true heading when var_c1 = var_s1
+  /// and cov = 0, as for equally spaced positions).
+  [[nodiscard]] double mean_var() const noexcept { return 0.5 * (var_c1 + var_s1); }
+};
+[[nodiscard]] harmonic_variance indexed_run_variance(const plan_noise& n, const indexed_period& p,
+                                                     std::size_t periods) noexcept;
+
+/// The dwell in [limits] that minimises the first harmonic's error (harmonic_variance::mean_var)
+/// of an indexed run of `duration_s` visiting `visit_deg` over and over, `dead_s` per turn (the
+/// same search as plan_flip). In the result sigma_dps is sqrt(mean_var), period_s one visiting
+/// period at the planned dwell, closed_form the two-position closed form (for reference).
+/// Errors: those of plan_flip and indexed_period_of; a run too short for 3 periods.
+[[nodiscard]] result<flip_plan> plan_indexed(const plan_noise& n, std::span<const double> visit_deg,
+                                             double dead_s, double duration_s,
+                                             const plan_limits& limits = {});
 
 }  // namespace gyroflip::method

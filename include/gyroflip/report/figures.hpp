@@ -16,6 +16,7 @@
 #include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/noise_fit.hpp"
 #include "gyroflip/io/calibration_file.hpp"
+#include "gyroflip/io/noise_report.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/method/flip_pair.hpp"
 #include "gyroflip/method/types.hpp"
@@ -24,7 +25,8 @@
 namespace gyroflip::report {
 
 /// Dwell means (deg/s) at the two positions of `pair` (0 deg and 180 deg; their angles from
-/// `table`) against time (s): paper Figs 3, 5, 7, 9.
+/// `table`) against time (s): paper Figs 3, 5, 7, 9. A table of more positions: one series per
+/// position (the pair's first, then the others in the table's order).
 [[nodiscard]] figure dwell_figure(std::span<const method::dwell> dwells, const std::string& title,
                                   const method::flip_pair& pair = {},
                                   const position_table& table = position_table::pair_0_180());
@@ -82,9 +84,16 @@ struct allan_curve {
 /// The deliverable figure of `gyroflip noise --plot` (issue 34 item 2): every curve (one per
 /// axis, in deg/s) with its bounds, its fitted term lines and read-off marks, in `unit`: "deg/h"
 /// (N in deg/sqrt(h) read at 1 h, K in deg/h/sqrt(h) at 3 h: gyro_allan_figure's), "deg/s" or
-/// "rad/s" (N read at 1 s, K at 3 s); the key inside the frame; points beyond Stable32's limit
-/// open, with the limit's tau in the caption. Error (usage) for another unit.
+/// "rad/s" (N read at 1 s, K at 3 s); for accelerometer curves (given in m/s^2) "m/s^2", "mg"
+/// or "ug" (VRW N read at 1 s, acceleration random walk K at 3 s); the key inside the frame;
+/// points beyond Stable32's limit open, with the limit's tau in the caption. Error (usage) for
+/// another unit.
 [[nodiscard]] result<figure> noise_figure(std::span<const allan_curve> curves_dps,
                                           const std::string& unit, const std::string& title);
+
+/// The Allan curve of one analysed column (its OADEV with bounds, its fitted terms, its long
+/// taus) in the figure's base unit: deg/s for a gyro, m/s^2 for an accelerometer
+/// (io::noise_report::quantity), as noise_figure takes it.
+[[nodiscard]] allan_curve noise_curve(const io::noise_report& r);
 
 }  // namespace gyroflip::report

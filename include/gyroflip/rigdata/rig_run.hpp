@@ -112,10 +112,15 @@ struct rig_run {
   /// configuration in force, and only a CONFIGURE it acknowledges changes it (docs/PROTOCOL.md).
   std::size_t by_configure = 0;
   /// How far the time_s of a run after the first may be off, s: such a run is placed after the
-  /// run before it by the host's clock, which stands in for the device's only at the same pace
-  /// (0: they kept it, within 1 s; an emulator run S times fast leaves later runs early by the gap
-  /// times S - 1, with a warning naming the run).
+  /// run before it by the host's clock (no earlier than its boot's own clock says it ran before
+  /// its first dwell), which stands in for the device's only at the same pace (0: they kept it;
+  /// an emulator run S times fast leaves later runs early by about the gap times S - 1, with a
+  /// warning naming the run: an estimate at the last run's pace).
   double later_runs_shift_s = 0.0;
+  /// A run after the first was placed by the host's clock while the device's kept another pace
+  /// (beyond 1 %, or a shift beyond 1 s): warned about, naming the run; later_runs_shift_s is
+  /// then an estimate at the last run's pace, not a bound (issue 32).
+  bool later_runs_off_pace = false;
   std::optional<gfr::stop_reason> stop;  ///< empty: the recorder did not end the file itself
   std::vector<std::string> warnings;     ///< `FILE: ...` for the caller to show
 };

@@ -60,14 +60,29 @@ struct calibrate_result {
 [[nodiscard]] std::string stationarity_warning(const std::string& file,
                                                const method::stationarity& st);
 
-/// What calibrate (CLI and Python) does with a run's test: a failed run is a warning
-/// (stationarity_warning), and so is a run whose g-term was not checked (`FILE: its g-term was not
-/// checked ...`, method::stationarity::caveats); with `strict` either is an input error naming the
-/// file, so that a strict calibration is only made of runs the test vouches for.
-/// `sensor_hint` is how the front end names a specification (calibrate_request::sensor_hint).
-[[nodiscard]] status admit_run(const std::string& file, const method::stationarity& st, bool strict,
-                               std::vector<std::string>& warnings,
-                               const std::string& sensor_hint = {});
+/// How a calibration run's stationarity test stands: vouched for (every statistic passed, the
+/// g-term included), failed, passed with its g-term unchecked (no specification: a constant input
+/// of any size passes, method::stationarity::caveats), or untested (too few cycles).
+enum class run_standing { vouched, failed, g_unchecked, untested };
+
+/// Who is judged, for the messages: the run `file`, either itself (`within` empty: `FILE: ...`)
+/// or as a run named in the calibration file `within` (`CAL: its run FILE: ...`); `task` is what
+/// a strict refusal names ("calibration", "compensation", "report"); `hint` how the front end
+/// names a specification, appended to the g-term caveat (the library names no CLI flag).
+struct run_subject {
+  std::string file;
+  std::string within;
+  std::string task = "calibration";
+  std::string hint;
+};
+
+/// The one verdict on a calibration run that calibrate, compensate and report give (CLI and
+/// Python; third review of issue 31, H1): a failed run is a warning (stationarity_warning), and
+/// so is a run whose g-term was not checked; with `strict` either is an input error naming the
+/// file (`within`, else `file`) and ending "refused (strict)", so that nothing strict rests on a
+/// run the test does not vouch for. Returns the run's standing.
+[[nodiscard]] result<run_standing> judge_run(const run_subject& who, const method::stationarity& st,
+                                             bool strict, std::vector<std::string>& warnings);
 
 /// The one-sensor check of several recordings, file by file (what calibrate_runs and
 /// make_report both run): each recording's sensor and rig from its metadata (io::sensor_of);

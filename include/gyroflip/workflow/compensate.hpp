@@ -5,6 +5,7 @@
 /// compensate`, `report`, `reproduce` and Python's `gyroflip.compensate`.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -59,11 +60,19 @@ struct compensation {
                                                      const method::delta_n_model& model,
                                                      double drift_window_s, std::string_view what);
 
+/// `FILE: the same bytes as the calibration's run RUN (SHA-256) ...` for each run of `dn` whose
+/// recorded SHA-256 is `sha256` (a run compensated with a calibration made of it is no
+/// independent test of it; third review of issue 31, M5). Used by `compensate` and `report`.
+[[nodiscard]] std::vector<std::string> same_run_warnings(const std::string& file,
+                                                         const std::string& sha256,
+                                                         const delta_n_source& dn);
+
 /// The runs a calibration was made of, as `calibrate` tested them (schema 3).
 struct calibration_runs_check {
-  std::vector<std::string> failed;    ///< runs that failed the stationarity test
-  bool unchecked = false;             ///< some run has no test (a file written before it)
-  std::vector<std::string> warnings;  ///< one per failed run, one for unchecked runs
+  std::vector<std::string> failed;       ///< runs that failed the stationarity test
+  std::vector<std::string> g_unchecked;  ///< runs that passed with their g-term not checked
+  bool unchecked = false;                ///< some run has no test (a file written before it)
+  std::vector<std::string> warnings;     ///< one per failed run, one for unchecked runs
 };
 
 /// Checks that a calibration's ΔN is the sensor's: every run it was made of passed the
@@ -85,6 +94,11 @@ struct compensate_request {
 
 struct compensate_result {
   compensation comp;
+  /// The 68.3 % error of the ΔN subtracted, at the run's mean temperature (the calibration's own:
+  /// delta_n_model::interval_at; a new power-up adds its repeatability): the same in every cycle,
+  /// so no averaging reduces it (third review of issue 31, M5: only the within-run error was
+  /// printed, 6.7 times smaller). NaN when the ΔN has no stated error (a number given as such).
+  double delta_n_u_dps = std::numeric_limits<double>::quiet_NaN();
   method::pairing pairing = method::pairing::abba;
   std::vector<std::string> warnings;  ///< `FILE: what`, for the caller to show
 };

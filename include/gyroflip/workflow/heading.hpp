@@ -28,13 +28,21 @@ struct heading_request {
   /// A sensor preset or TOML (empty: none): its N and B give the dead-time bound beside the
   /// limit; the sigma never comes from it.
   std::string sensor;
+  /// Harmonics fitted: 1 (b, c1, s1) or 2 (also c2, s2: at least 5 positions; docs/NORTH.md
+  /// says when it is warranted).
+  int harmonics = 1;
 };
 
 struct heading_run {
   std::string path;
   method::harmonic_fit fit;
   method::heading_estimate heading;  ///< this run's own (the table's term not removed)
-  std::string positions;             ///< the table, "0, 90, 180 and 270"
+  /// A 0/180 run: the heading from the projection with the scale factor known (heading holds
+  /// the same heading and sigma).
+  std::optional<method::projection_heading> projection;
+  /// Two harmonics fitted: the heading's 1 sigma the same run gives with one (deg).
+  std::optional<double> sigma_one_harmonic_deg;
+  std::string positions;  ///< the table, "0, 90, 180 and 270"
   std::size_t n_positions = 0;
   double run_s = 0.0;             ///< first to last dwell time plus a dwell period
   double dwell_s = 0.0;           ///< one dwell's length (0: not known)
@@ -62,6 +70,12 @@ struct heading_result {
   /// a single run would have had (deg).
   double table_term_dps = 0.0;
   double table_term_heading_deg = 0.0;
+  /// A 0/180 run: the heading is known up to its mirror about the table's 0 deg direction
+  /// (psi or 2 theta_0 - psi): `mirror_deg` is the other solution.
+  bool ambiguous = false;
+  double mirror_deg = 0.0;
+  /// Two harmonics: the second's amplitude sqrt(c2^2 + s2^2) and its 1 sigma (deg/s).
+  double second_harmonic_dps = 0.0, second_harmonic_sigma_dps = 0.0;
   std::vector<std::string> caveats;
 };
 

@@ -16,6 +16,7 @@
 #include "gyroflip/analysis/phase_source.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/method/plan.hpp"
+#include "gyroflip/report/figure.hpp"
 #include "gyroflip/sensor/params.hpp"
 
 namespace gyroflip::workflow {
@@ -61,6 +62,26 @@ struct plan_request {
   double static_dps_per_unit = 1.0;  ///< deg/s per unit of the static samples
   /// A dwell to compare with (s; 0: none): the paper's 256 conversions, 0.512 s, by default.
   double reference_dwell_s = 0.512;
+  /// The table's positions (deg; empty: the paper's 0/180 flip). Two: the flip plan (the paper's
+  /// A, B cycle). Three or more: an indexed run visiting them in the drift-cancelling sweep
+  /// (method::sweep_visits), planned for the first harmonic's error (method::plan_indexed).
+  std::vector<double> positions_deg;
+  /// Plan for north finding at this latitude (deg): the dwell that minimises the heading's
+  /// error (the first harmonic's over the horizontal Earth rate); positions default to 0, 90,
+  /// 180, 270. Unset: plan for the compensated rate.
+  std::optional<double> heading_lat_deg;
+};
+
+/// What a heading plan adds: the heading's predicted 1 sigma at the planned dwell.
+struct heading_plan {
+  double lat_deg = 0.0;
+  double earth_horizontal_dps = 0.0;  ///< W_E cos(lat)
+  double sigma_deg = 0.0;             ///< predicted 1 sigma of the heading for the run
+  double sigma_deg_rth = 0.0;         ///< the same for one hour: sigma x sqrt(T / 1 h)
+  /// The white-noise limit sqrt(2) N / (W_H sqrt(T)) for the run (no dead time, no flicker).
+  double white_limit_deg = 0.0;
+  std::vector<method::plan_point> by_dwell_deg;     ///< sigma (deg) against the dwell
+  std::vector<method::plan_point> by_duration_deg;  ///< sigma (deg) against the run length
 };
 
 struct plan_result {
@@ -75,6 +96,9 @@ struct plan_result {
   double reference_dwell_s = 0.0;
   double reference_sigma_dps = 0.0;
   std::vector<std::string> notes;  ///< assumptions and cautions, for the reader
+  /// Three or more positions: the angles (deg) and one visiting period's order.
+  std::vector<double> positions_deg, visits_deg;
+  std::optional<heading_plan> heading;
 };
 
 /// Plans the dwell (method::plan_flip) and adds what the rig and the record say. Errors: those of
@@ -85,5 +109,25 @@ struct plan_result {
 /// gyroflip.plan/1): dwell_s, period_s, predicted_sigma_dps, the closed form, the paper's dwell,
 /// the curves by_dwell and by_duration, notes.
 [[nodiscard]] nlohmann::json plan_json(const plan_result& r);
+
+/// What a sensor's noise terms imply for flipping and north finding (`gyroflip sensors`), from
+/// the closed forms (docs/PLANNER.md, docs/NORTH.md): the corner time tau_c = N^2/(0.4413 B^2),
+/// the best dwell sqrt(d tau_c) for a dead time d per turn, and the heading's limits at a
+/// latitude per sqrt(hour) of run: white sqrt(2) N / W_H, with the dead time
+/// sqrt(2) (N + 0.664 B sqrt(d)) / W_H (k = sqrt 2: one gyro, unknown bias, >= 3 positions).
+struct sensor_implications {
+  double dead_s = 0.0, lat_deg = 0.0;  ///< what they were computed for
+  double corner_tau_s = 0.0;           ///< tau_c (s); 0 without a flicker term
+  double dwell_s = 0.0;                ///< tau* = sqrt(d tau_c) (s); 0 without a flicker term
+  double sigma_dps_rth = 0.0;  ///< the flip run's error (N + 0.664 B sqrt d) x sqrt(1 h / T)
+  double heading_white_deg_rth = 0.0;      ///< deg x sqrt(h / T)
+  double heading_dead_time_deg_rth = 0.0;  ///< deg x sqrt(h / T)
+};
+[[nodiscard]] sensor_implications implications_of(const sensor::sensor_params& p, double dead_s,
+                                                  double lat_deg);
+
+/// The figure of the plan: the predicted error against the dwell (log-log; the heading's in deg
+/// for a heading plan), the planned dwell and the paper's dwell marked.
+[[nodiscard]] report::figure plan_figure(const plan_result& r);
 
 }  // namespace gyroflip::workflow

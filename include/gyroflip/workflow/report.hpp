@@ -13,6 +13,7 @@
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/types.hpp"
+#include "gyroflip/sensor/presets.hpp"
 
 namespace gyroflip::workflow {
 
@@ -36,6 +37,10 @@ struct report_request {
   /// not checked (no sensor specification: method::stationarity::caveats), as
   /// calibrate_request::sensor_hint (the library names no CLI flag); empty: not said.
   std::string sensor_hint;
+  /// The sensor whose specification the runs' g-term is checked against, and whose preset gives
+  /// the budget's repeatability (as calibrate_request::sensor); nullopt: the recordings' built-in
+  /// preset by name, if any. Without one a report's own runs are not vouched for.
+  std::optional<sensor::preset> sensor;
 };
 
 struct report_result {
