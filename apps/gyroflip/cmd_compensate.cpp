@@ -97,13 +97,17 @@ int run_compensate(const compensate_options& o) {
         summary.drift_window_s);
     // Both errors of the mean: the within-run one above, and the ΔN's, common to every cycle
     // (third review of issue 31, M5).
-    if (std::isfinite(res->delta_n_u_dps))
+    // The ratio only where the stderr is not 0 (a run without noise: no ratio to give).
+    if (std::isfinite(res->delta_n_u_dps)) {
+      const double ratio = res->delta_n_u_dps / summary.stderr_correlated_dps;
       summary_text += fmt::format(
           "  the ΔN subtracted has its own error ±{} deg/s (the calibration's, 68.3 %; a new "
-          "power-up adds its repeatability), {} times the stderr: the same in every cycle, so "
-          "averaging does not reduce it; quote both\n",
+          "power-up adds its repeatability){}: the same in every cycle, so averaging does not "
+          "reduce it; quote both\n",
           significant(res->delta_n_u_dps, 2),
-          significant(res->delta_n_u_dps / summary.stderr_correlated_dps, 2));
+          std::isfinite(ratio) ? fmt::format(", {} times the stderr", significant(ratio, 2))
+                               : std::string());
+    }
     if (auto s = check_finite(summary_text, "<stdout>"); !s) return report(s.err());
   }
   if (!o.output.empty() || !o.json)
