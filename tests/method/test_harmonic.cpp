@@ -181,6 +181,32 @@ TEST(Harmonic, TwoPositionsGiveTheProjectionWhenAskedFor) {
   EXPECT_FALSE(gm::fit_harmonics(d, *position_table::of_angles(bent), o));
 }
 
+// The projection shares the terms' block rule and bound (the merge of i33-plan2 and i33-npos):
+// a dwell missing is passed over as for any design (the fit exact again after it), and
+// harmonic_crlb takes p1's blocks of two visiting periods. White dwell means (gap_avar = sigma^2
+// at every spacing) give the closed form 1.25 sigma^2 / n of the test above, n the dwells fitted.
+TEST(Harmonic, TheProjectionSkipsAGapAndHasItsBound) {
+  const double two[2] = {90.0, 270.0};
+  const auto table = *position_table::of_angles(two);
+  std::vector<gm::indexed_dwell> d;
+  for (int k = 0; k < 402; ++k)
+    d.push_back({1.0 * k, k % 2, 0.3 + 2e-5 * k + (k % 2 ? -1.0 : 1.0) * 2e-3, 256});
+  d.erase(d.begin() + 101);
+  gm::harmonic_options o;
+  o.projection_of_two = true;
+  const auto f = gm::fit_harmonics(d, table, o);
+  ASSERT_TRUE(f) << f.err().message;
+  ASSERT_EQ(f->names, (std::vector<std::string>{"b", "p1"}));
+  EXPECT_EQ(f->period, 4u);
+  EXPECT_GT(f->skipped_dwells, 0u);
+  EXPECT_NEAR(f->value[1], 2e-3, 1e-14);
+  const double sigma2 = 1e-6;
+  const auto b = gm::harmonic_crlb(*f, d, table, [sigma2](double) { return sigma2; });
+  ASSERT_TRUE(b) << b.err().message;
+  ASSERT_EQ(b->size(), 1u);
+  EXPECT_NEAR((*b)[0] / (1.25 * sigma2 / static_cast<double>(f->dwells)), 1.0, 1e-9);
+}
+
 // psi = theta_0 +- acos(p1 / W_H): both solutions, the delta-method sigma, the axis down, the edge.
 TEST(Harmonic, HeadingOfAProjectionHasTwoSolutions) {
   const double w = 3.0755e-3, sp = 2e-5;
