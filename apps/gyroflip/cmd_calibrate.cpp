@@ -38,14 +38,21 @@ void print_entry(std::string& out, const io::calibration_entry& e,
   fmt::format_to(std::back_inserter(out), "{}: {} cycles over {:.0f} s", e.file, c.cycles,
                  c.duration_s);
   if (!std::isnan(c.temp_c)) fmt::format_to(std::back_inserter(out), ", {:.2f} degC", c.temp_c);
+  // A number with an error gets the digits its error supports, the error two significant digits;
+  // one without (the std, the half-sum's mean, the Earth term from the latitude) a stated number
+  // of significant digits (third review of issue 31, M4: "4.788442e-03 ... 1.983e-04"); full
+  // digits in -o and --json.
+  const double u = c.stderr_correlated_dps;
   fmt::format_to(std::back_inserter(out),
-                 "\n  dN = {:.6e} deg/s   std {:.3e}   stderr {:.3e} (naive) {:.3e} (correlated)\n",
-                 c.delta_n_dps, c.std_dps, c.stderr_dps, c.stderr_correlated_dps);
-  fmt::format_to(std::back_inserter(out), "  bias (half-sum) mean {:.6e} deg/s\n", c.bias_mean_dps);
+                 "\n  dN = {} deg/s   std {}   stderr {} (naive) {} (correlated)\n",
+                 to_digits_of(c.delta_n_dps, u, 4), significant(c.std_dps, 3),
+                 significant(c.stderr_dps, 2), significant(u, 2));
+  fmt::format_to(std::back_inserter(out), "  bias (half-sum) mean {} deg/s\n",
+                 significant(c.bias_mean_dps, 4));
   if (g) {
     const auto s = method::split_delta_n(c.delta_n_dps, g->lat_deg, g->axis);
-    fmt::format_to(std::back_inserter(out), "  Earth term {:.6e} deg/s   g term {:.6e} deg/s\n",
-                   s.earth_rate_dps, s.g_term_dps);
+    fmt::format_to(std::back_inserter(out), "  Earth term {} deg/s   g term {} deg/s\n",
+                   significant(s.earth_rate_dps, 4), to_digits_of(s.g_term_dps, u, 4));
   }
   if (e.stationarity)
     fmt::format_to(std::back_inserter(out), "  stationarity: {}\n", e.stationarity->summary());
@@ -138,8 +145,10 @@ void print_terms(std::string& out, const io::calibration_record& rec) {
         corr += fmt::format(" r({},{})={:+.2f}", rec.terms[i].name, rec.terms[j].name,
                             rec.terms_covariance[i * n + j] / d);
     }
-    fmt::format_to(o, "  {:<3} {:+.6e} ± {:.2e}{}\n", rec.terms[i].name, rec.terms[i].value_dps,
-                   rec.terms[i].stderr_correlated_dps, corr);
+    // The value to its error's digits, the error to two (core/digits, as every per-run line).
+    const double u = rec.terms[i].stderr_correlated_dps;
+    fmt::format_to(o, "  {:<3} {} ± {}{}\n", rec.terms[i].name,
+                   to_digits_of(rec.terms[i].value_dps, u, 4), significant(u, 2), corr);
   }
   if (rec.separability)
     for (const auto& l : rec.separability->lines()) fmt::format_to(o, "{}\n", l);

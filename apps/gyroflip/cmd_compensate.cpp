@@ -90,10 +90,14 @@ int run_compensate(const compensate_options& o) {
     summary_text = *t + "\n";
   } else if (!o.output.empty()) {
     summary_text = fmt::format(
-        "{}: {} cycles, mean {:.6e} deg/s, std {:.3e}, stderr {:.3e} (correlated), drift {} over "
+        "{}: {} cycles, mean {} deg/s, std {}, stderr {} (correlated), drift {} over "
         "{} s\n",
-        o.file, summary.cycles, summary.mean_dps, summary.std_dps, summary.stderr_correlated_dps,
-        summary.drift_dps ? fmt::format("{:.3e} deg/s", *summary.drift_dps) : std::string("n/a"),
+        // The mean with the digits its error supports (third review of issue 31, M4:
+        // "4.999999e-01"); full digits in --json and the CSV.
+        o.file, summary.cycles, to_digits_of(summary.mean_dps, summary.stderr_correlated_dps, 4),
+        significant(summary.std_dps, 3), significant(summary.stderr_correlated_dps, 2),
+        summary.drift_dps ? fmt::format("{} deg/s", significant(*summary.drift_dps, 3))
+                          : std::string("n/a"),
         summary.drift_window_s);
     // Both errors of the mean: the within-run one above, and the ΔN's, common to every cycle
     // (third review of issue 31, M5).

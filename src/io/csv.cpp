@@ -120,10 +120,10 @@ result<csv_reader> csv_reader::open(const std::string& path, const csv_dialect& 
   const bool from_stdin = path == "-";
   if (d.empty())
     return input_error({r.path_}, from_stdin ? "empty input (expected a CSV header line)"
-                                        : "empty file (expected a CSV header line)");
+                                             : "empty file (expected a CSV header line)");
   if (std::memchr(d.data(), '\0', std::min(d.size(), binary_probe_bytes)) != nullptr)
     return input_error({r.path_}, from_stdin ? "binary data (NUL byte), not a UTF-8 CSV text"
-                                        : "binary data (NUL byte), not a UTF-8 CSV text file");
+                                             : "binary data (NUL byte), not a UTF-8 CSV text file");
   if (d.substr(0, 3) == "\xEF\xBB\xBF") r.buf_pos_ = r.pos_ = 3;  // UTF-8 byte-order mark
   if (auto s = r.read_header(); !s) return s.err();
   return r;
@@ -380,17 +380,17 @@ namespace {
 // three multiplications for eight digits), one at a time otherwise; returns where they stop.
 // Callers bound the count (at most 18 digits), so m does not overflow before it is checked.
 [[gnu::always_inline]] inline const char* digits_of(const char* p, const char* end,
-                                                  std::uint64_t& m) noexcept {
+                                                    std::uint64_t& m) noexcept {
   static constexpr std::uint64_t pow10[] = {1,      10,      100,      1000,     10000,
-                                     100000, 1000000, 10000000, 100000000};
+                                            100000, 1000000, 10000000, 100000000};
   while (end - p >= 8) {
     std::uint64_t w;
     std::memcpy(&w, p, 8);
     // A byte is a digit when its high nibble is 3 and its low nibble at most 9 (+6 carries
     // into the high nibble only from 10 up; nothing carries across bytes).
-    const std::uint64_t not_digit = ((w & 0xF0F0F0F0F0F0F0F0ull) ^ 0x3030303030303030ull) |
-                                    (((w & 0x0F0F0F0F0F0F0F0Full) + 0x0606060606060606ull) &
-                                     0xF0F0F0F0F0F0F0F0ull);
+    const std::uint64_t not_digit =
+        ((w & 0xF0F0F0F0F0F0F0F0ull) ^ 0x3030303030303030ull) |
+        (((w & 0x0F0F0F0F0F0F0F0Full) + 0x0606060606060606ull) & 0xF0F0F0F0F0F0F0F0ull);
     const auto n = not_digit == 0 ? 8u : static_cast<unsigned>(std::countr_zero(not_digit)) / 8;
     if (n == 0) return p;
     // The n leading digits moved to the word's high bytes, zeros before them: eight digits.
@@ -414,8 +414,6 @@ namespace {
 }  // namespace
 
 bool csv_reader::peek_plain(plain_row& row) {
-  static constexpr double pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,
-                                     1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18};
   if (has_replay_ || dialect_.delimiter == ' ' || dialect_.decimal != '.' ||
       dialect_.missing_is_nan || selected_.size() > plain_row::max_cells ||
       slot_of_column_.size() != header_.size())
@@ -454,8 +452,9 @@ bool csv_reader::peek_plain(plain_row& row) {
       row.empty[k] = digits == 0;
       if (digits == 0 && (negative || frac >= 0)) return false;  // "-" or "." alone
       if (digits > 18 || m > (std::uint64_t{1} << 53)) return false;
-      const double v = frac <= 0 ? static_cast<double>(m)
-                                 : static_cast<double>(m) / pow10[static_cast<std::size_t>(frac)];
+      const double v =
+          frac <= 0 ? static_cast<double>(m)
+                    : static_cast<double>(m) / detail::exact_pow10[static_cast<std::size_t>(frac)];
       row.value[k] = negative ? -v : v;
     }
     // Each field ends at the delimiter, the last at the line's end: anything else (a blank, a

@@ -241,8 +241,8 @@ bool recording_reader::next_plain(method::row& out) {
   std::uint32_t n_avg = 1;
   if (has_n_avg_) {
     const double n = r.value[s_navg];
-    if (r.empty[s_navg] || !(n >= 1.0 && n == std::floor(n) &&
-                             n <= std::numeric_limits<std::uint32_t>::max()))
+    if (r.empty[s_navg] ||
+        !(n >= 1.0 && n == std::floor(n) && n <= std::numeric_limits<std::uint32_t>::max()))
       return false;
     n_avg = static_cast<std::uint32_t>(n);
   }

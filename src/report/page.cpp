@@ -170,8 +170,10 @@ std::string base64(std::string_view bytes) {
 // The page's style. Tables never leave the page: they take at most its width and wrap their
 // cells between words, never inside one (no-break groups, class "nw"); only words longer than
 // any column (file names, hashes, in the provenance too: class "brk") break anywhere; they print
-// smaller (@media print). Checked in Chromium at 1280 and 900 px
-// (tests/report/check_report_page.py).
+// smaller (@media print). Narrower than 60em they print smaller; narrower than 45em (700 px, a
+// phone) each row stacks, a cell labelled by its column (data-h), so no caption is cut and no
+// column lies off-screen in a scroll box (third review of issue 31, M7). Checked in Chromium at
+// 1280, 900, 700 and 500 px (tests/report/check_report_page.py).
 constexpr std::string_view css =
     R"(body{font-family:"DejaVu Sans",Arial,sans-serif;max-width:62em;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
 h1{font-size:1.6em;border-bottom:2px solid #0072B2;padding-bottom:.2em}
@@ -189,6 +191,8 @@ th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}
 figure{margin:1em 0 2em}figure img{width:100%;height:auto;border:1px solid #eee}
 figcaption{font-size:.9em;color:#444}
 .prov{font-size:.85em;color:#444}.prov td{overflow-wrap:break-word}code{font-size:.95em;overflow-wrap:anywhere}
+@media (max-width:60em){table{font-size:.78em}th,td{padding:.2em .25em}td.t{min-width:0}}
+@media (max-width:45em){.tablebox table,.tablebox tbody,.tablebox tr,.tablebox td,.tablebox caption{display:block}.tablebox tr:has(>th){display:none}.tablebox table{font-size:.9em}.tablebox tr{border-top:1px solid #ccc;padding:.3em 0}.tablebox td{border:none;text-align:left;padding:.05em .3em}.tablebox td:first-child{font-weight:bold}.tablebox td[data-h]::before{content:attr(data-h) ": ";color:#555}}
 @page{size:A4;margin:14mm}
 @media print{body{margin:0;max-width:none;font-size:10pt}h2,caption{break-after:avoid}figure,tr{break-inside:avoid}.tablebox{overflow:visible}table{font-size:8pt}th,td{padding:.15em .3em}}
 )";
@@ -215,10 +219,17 @@ void put_table(std::string& out, const table& t) {
     }
     out += "</tr>\n";
   }
+  // Each cell but a row's first names its column (data-h), which a phone-wide window shows
+  // beside the value when the rows stack (the style's max-width:45em rule).
   for (const auto& r : t.rows) {
     out += "<tr>";
-    for (const auto& c : r)
-      out += fmt::format("<td class=\"{}\">{}</td>", is_number(c) ? "n" : "t", wrapped(c));
+    for (std::size_t k = 0; k < r.size(); ++k) {
+      const auto& c = r[k];
+      const std::string h = k > 0 && k < t.header.size()
+                                ? fmt::format(" data-h=\"{}\"", escaped(t.header[k]))
+                                : std::string();
+      out += fmt::format("<td class=\"{}\"{}>{}</td>", is_number(c) ? "n" : "t", h, wrapped(c));
+    }
     out += "</tr>\n";
   }
   out += "</table>\n";

@@ -112,6 +112,24 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
                   t_words);
     b.calibration_dps = worst;
     b.new_power_up_dps = std::hypot(b.calibration_dps, b.coverage_factor * b.run_to_run_dps);
+    // A between-run variance that grows away from the middle (tau^2(T)): a new power-up's error
+    // is the band the ΔN(T) figure draws, largest at the runs' temperatures (third review of
+    // issue 31, M2), not the constant repeatability's.
+    double band = 0.0, band_at_c = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& r : runs)
+      if (const double w = new_power_up_at(b, model, r.cal.temp_c); w > band) {
+        band = w;
+        band_at_c = r.cal.temp_c;
+      }
+    if (std::isfinite(band_at_c) && band != b.new_power_up_dps) {
+      b.new_power_up_dps = band;
+      b.new_power_up_from_band = true;
+      b.run_to_run_source += fmt::format(
+          "; it grows away from {:.1f} °C (a between-run variance that changes with temperature, "
+          "τ²(T)): a new power-up's ΔN is within ±{} °/s at {:.1f} °C, the band of the ΔN(T) "
+          "figure",
+          model->t_ref_c, significant(band, 2), band_at_c);
+    }
     return b;
   } else {
     if (preset != nullptr) {
@@ -141,6 +159,16 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   }
   b.new_power_up_dps = std::hypot(b.calibration_dps, b.run_to_run_dps);
   return b;
+}
+
+double new_power_up_at(const delta_n_budget& b, const std::optional<method::delta_n_model>& model,
+                       double temp_c) {
+  if (!b.valid) return std::numeric_limits<double>::quiet_NaN();
+  if (model && std::isfinite(model->tau2_centre_dps2) && !model->fitted_runs.empty() &&
+      std::isfinite(temp_c))
+    if (const double band = model->new_run_interval_at(temp_c); std::isfinite(band))
+      return std::hypot(band, std::isfinite(b.temperature_dps) ? b.temperature_dps : 0.0);
+  return b.new_power_up_dps;
 }
 
 double delta_n_tc_dps_per_c(const sensor::sensor_params& p) noexcept {

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
+#include <span>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -36,6 +38,31 @@ result<std::optional<method::delta_n_model>> fit_model(
             input_error({f.file}, "no temp_c column; a dN(T) model needs temperatures"), "degree");
   }
   return method::fit_runs_model(calibrations_of(files), r.degree);
+}
+
+// The sensor model a simulated recording states in its header (`# sensor.KEY: value`, every
+// sensor_params field; workflow/simulate.cpp), as a preset named by `# sensor_name:`: a run
+// simulated from a TOML preset carries its g-sensitivity specification there (third review of
+// issue 31, low: calibrate said "no sensor specification"). nullopt without a stated
+// g_sens_spec_max/typ, or with a field missing or not a number.
+std::optional<sensor::preset> header_preset(std::span<const io::csv_metadata> metadata,
+                                            const std::string& file) {
+  sensor::preset p;
+  p.name = metadata_value(metadata, "sensor_name");
+  for (const auto& f : sensor::fields()) {
+    const std::string key = fmt::format("sensor.{}", f.key);
+    const std::string text = metadata_value(metadata, key);
+    if (text.empty()) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+    p.params.*f.member = v;
+    p.sources.emplace_back(std::string(f.key), fmt::format("{}'s header ({})", file, key));
+  }
+  if (!(p.params.g_sens_spec_max_dps_per_g > 0.0 || p.params.g_sens_spec_typ_dps_per_g > 0.0))
+    return std::nullopt;
+  if (p.name.empty()) p.name = file + "'s sensor";
+  return p;
 }
 
 }  // namespace
@@ -187,6 +214,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   std::vector<method::cycle> all;
   one_sensor sensors("calibrate");
   const sensor::preset* preset = nullptr;
+  std::optional<sensor::preset> from_header;
   for (std::size_t k = 0; k < r.files.size(); ++k) {
     const auto& file = r.files[k];
     auto rc = read_cycles(file, r.pairing, part_progress(on_progress, k, r.files.size()),
@@ -197,9 +225,13 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     if (!cal) return input_error({file}, cal.err().message);
     // The specification: the sensor given, else the recording's built-in preset by name (one
     // sensor for every file: one_sensor refuses a second).
-    if (k == 0)
+    if (k == 0) {
       preset =
           r.sensor ? &*r.sensor : sensor::find_builtin(metadata_value(rc->metadata, "sensor_name"));
+      // Else the model a simulated run states in its header (a TOML preset's).
+      if (preset == nullptr && (from_header = header_preset(rc->metadata, file)))
+        preset = &*from_header;
+    }
     const auto st = method::check_stationarity(
         rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));
     if (auto s = judge_run({file, {}, "calibration", r.sensor_hint}, st, r.strict, out.warnings);

@@ -3,6 +3,8 @@
 #include "gyroflip/workflow/compensate.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <system_error>
 #include <utility>
 
 #include <fmt/format.h>
@@ -72,6 +74,19 @@ status check_calibration_fits(const std::string& file, const delta_n_source& dn,
         file, sum / static_cast<double>(n), cal.pooled.temp_c));
   return ok();
 }
+
+namespace {
+
+bool could_be_a_run_of(const std::string& file, const delta_n_source& dn) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec) return true;  // not a regular file's size: let the hash decide
+  for (const auto& e : dn.record->files)
+    if (e.source && (e.source->size_bytes == 0 || e.source->size_bytes == size)) return true;
+  return false;
+}
+
+}  // namespace
 
 std::vector<std::string> same_run_warnings(const std::string& file, const std::string& sha256,
                                            const delta_n_source& dn) {
@@ -190,9 +205,15 @@ result<compensate_result> compensate_file(const compensate_request& r,
   if (!comp) return comp.err();
   out.comp = std::move(*comp);
   if (dn.record) {
-    auto id = report::identify_file(r.file);
-    if (!id) return id.err();
-    for (auto& w : same_run_warnings(r.file, id->sha256, dn)) out.warnings.push_back(std::move(w));
+    // The SHA-256 of a 300 MB recording costs a third of the compensation (issue 33 (f)): only a
+    // file the size of one of the calibration's runs (or of a run whose size is not on record)
+    // can be one of them.
+    if (could_be_a_run_of(r.file, dn)) {
+      auto id = report::identify_file(r.file);
+      if (!id) return id.err();
+      for (auto& w : same_run_warnings(r.file, id->sha256, dn))
+        out.warnings.push_back(std::move(w));
+    }
     // The ΔN's own error at the run's mean temperature (its reference without temperatures).
     double sum = 0.0;
     std::size_t n = 0;

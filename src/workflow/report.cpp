@@ -112,7 +112,8 @@ report::table calibration_runs_table(const io::calibration_record& rec) {
                   ""};
   for (std::size_t k = 0; k < rec.files.size(); ++k) {
     const auto& e = rec.files[k];
-    t.rows.push_back({std::to_string(k + 1), e.file, g(e.cal.temp_c, 3), g(e.cal.delta_n_dps, 6),
+    t.rows.push_back({std::to_string(k + 1), e.file, g(e.cal.temp_c, 3),
+                      to_digits_of(e.cal.delta_n_dps, e.cal.stderr_correlated_dps, 6),
                       e.source ? origin_words(*e.source) : std::string("not recorded"),
                       e.source ? std::to_string(e.source->size_bytes) : std::string("–"),
                       e.source ? e.source->sha256 : std::string("–")});
@@ -833,7 +834,8 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       out += fmt::format(
           " Of the first run's ΔN, {} °/s is the Earth's rate at {}° latitude and {} °/s the "
           "g-term.",
-          g(s.earth_rate_dps, 6), r.geometry->lat_deg, g(s.g_term_dps, 4));
+          g(s.earth_rate_dps, 6), r.geometry->lat_deg,
+          to_digits_of(s.g_term_dps, runs.front().cal.stderr_correlated_dps, 4));  // the table's
     }
     if (failed.empty()) {
       const auto t = runs_temps(runs);
@@ -852,8 +854,9 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
     std::string applied;
     for (std::size_t k = 0; k < runs.size(); ++k)
-      applied += fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
-                             applied_text(runs[k].comp, b.new_power_up_dps));
+      applied +=
+          fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
+                      applied_text(runs[k].comp, new_power_up_at(b, f.model, runs[k].cal.temp_c)));
     if (!failed.empty())
       out = fmt::format(
           "The calibration {} is not the sensor's: its run{} {} failed the stationarity test "
@@ -961,11 +964,17 @@ report::table budget_table(const delta_n_budget& b, bool compensating) {
         "the error of the calibrated value"},
        {"ΔN of a new power-up", b.valid ? v(b.new_power_up_dps) : std::string("not valid"),
         b.valid ? h(b.new_power_up_dps) : std::string("–"),
-        b.valid ? fmt::format("√(calibrated² + {}²{}): what a compensated rate "
+        b.valid ? fmt::format("{}{}: what a compensated rate "
                               "carries as a systematic error (w = r − ΔN, paper eqn 12), the "
                               "same in every cycle; the number to quote",
-                              b.coverage_factor > 1.0 ? "(t × repeatability)" : "repeatability",
-                              b.outside_c > 0.0 ? " + temperature²" : "")
+                              b.new_power_up_from_band
+                                  ? "the ΔN(T) figure's band for a new run, widest at the runs' "
+                                    "temperatures (a between-run variance that changes with "
+                                    "temperature, τ²(T)"
+                                  : fmt::format("√(calibrated² + {}²", b.coverage_factor > 1.0
+                                                                           ? "(t × repeatability)"
+                                                                           : "repeatability"),
+                              b.outside_c > 0.0 ? " + temperature²)" : ")")
                 : b.invalid_why + ": no ± covers the run"}},
       "The components are not added linearly: the within-run error is part of the runs' "
       "scatter, so the calibrated value's error is the model's (which the scatter scales)."};
@@ -1140,10 +1149,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (auto s = compensate_run(a, model); !s) return s.err();
     if (a.comp.outside_model > 0)
       f.warnings.push_back(outside_model_warning(a.run.file, a.comp, *f.model));
-    f.rates.push_back(r.expected_rate_dps
-                          ? std::optional(check_rate(a.comp.summary, *r.expected_rate_dps,
-                                                     f.budget.new_power_up_dps))
-                          : std::nullopt);
+    f.rates.push_back(r.expected_rate_dps ? std::optional(check_rate(
+                                                a.comp.summary, *r.expected_rate_dps,
+                                                new_power_up_at(f.budget, f.model, a.cal.temp_c)))
+                                          : std::nullopt);
     if (f.rates.back()) check_commanded_rate(a, *r.expected_rate_dps, *f.rates.back(), f);
   }
   if (!f.compensating && f.runs_model && !f.budget.model_dps)
@@ -1315,8 +1324,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                           all_t.text(), value_pm(f.pooled->first, f.pooled->second), "", ""});
       // How the runs are weighted, on the page (review R5, issue 31): each by its within-run
       // error and the runs' scatter beyond it, so the plain mean is shown beside it.
-      double plain = 0.0;
-      for (const auto& a : runs) plain += a.cal.delta_n_dps / static_cast<double>(runs.size());
+      // The plain mean with the digits its own error (the runs' std / sqrt(n)) supports (third
+      // review of issue 31, M4: "0.00288489").
+      const double n_runs = static_cast<double>(runs.size());
+      double plain = 0.0, ss = 0.0;
+      for (const auto& a : runs) plain += a.cal.delta_n_dps / n_runs;
+      for (const auto& a : runs) ss += std::pow(a.cal.delta_n_dps - plain, 2);
+      const double plain_u = std::sqrt(ss / (n_runs - 1.0) / n_runs);
       per.note += fmt::format(
           " The runs' mean weights each run by 1/(its within-run error² + τ²), τ = {} °/s their "
           "scatter beyond their own errors (random effects, DerSimonian–Laird): when τ dwarfs "
@@ -1324,7 +1338,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
           "mean. Its ± is a 68.3 % interval (Knapp–Hartung, Student's t). The plain mean of the "
           "{} runs is {} °/s; the run-to-run repeatability below is their plain std.",
           g(std::sqrt(std::max(0.0, f.runs_model->between_run_var_dps2)), 2), runs.size(),
-          g(plain, 6));
+          to_digits_of(plain, plain_u, 6));
     } else if (f.runs_model)
       per.note += fmt::format(
           " The runs span {}: they are not pooled into one mean; ΔN(T) "
@@ -1342,20 +1356,23 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         const auto& a = runs[k];
         const auto s =
             method::split_delta_n(a.cal.delta_n_dps, r.geometry->lat_deg, r.geometry->axis);
-        split.rows.push_back({fmt::format("{}: {}", k + 1, a.run.file), g(a.cal.delta_n_dps, 6),
-                              g(s.earth_rate_dps, 6), g(s.g_term_dps, 4)});
+        const double u = a.cal.stderr_correlated_dps;
+        split.rows.push_back({fmt::format("{}: {}", k + 1, a.run.file),
+                              to_digits_of(a.cal.delta_n_dps, u, 6), g(s.earth_rate_dps, 6),
+                              to_digits_of(s.g_term_dps, u, 4)});
       }
       main.tables.push_back(std::move(split));
     }
   } else {
     main.heading = "Compensated runs";
     const auto& m = *f.model;
-    main.paragraphs.push_back(
-        fmt::format("w = r − ΔN per cycle (paper eqn 12), pairing {}, with {}: {}.",
-                    method::to_string(r.pairing), f.given->source,
-                    m.degree() == 0 ? fmt::format("ΔN = {} °/s", g(m.coeffs_dps[0], 6))
-                                    : fmt::format("ΔN(T) of degree {} fitted over {:.1f}–{:.1f} °C",
-                                                  m.degree(), m.temp_min_c, m.temp_max_c)));
+    main.paragraphs.push_back(fmt::format(
+        "w = r − ΔN per cycle (paper eqn 12), pairing {}, with {}: {}.",
+        method::to_string(r.pairing), f.given->source,
+        m.degree() == 0
+            ? fmt::format("ΔN = {} °/s", to_digits_of(m.coeffs_dps[0], m.interval_at(m.t_ref_c), 6))
+            : fmt::format("ΔN(T) of degree {} fitted over {:.1f}–{:.1f} °C", m.degree(),
+                          m.temp_min_c, m.temp_max_c)));
     std::vector<std::string> head{"run",
                                   "T (°C)",
                                   "ΔN applied (°/s)",
@@ -1386,16 +1403,17 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& a = runs[k];
       const auto& s = a.comp.summary;
+      const double power_up = new_power_up_at(f.budget, f.model, a.cal.temp_c);
       std::vector<std::string> row{fmt::format("{}: {}", k + 1, a.run.file),
                                    g(a.cal.temp_c, 3),
-                                   applied_text(a.comp, f.budget.new_power_up_dps),
+                                   applied_text(a.comp, power_up),
                                    value_pm(s.mean_dps, s.stderr_correlated_dps),
                                    g(s.std_dps, 3),
                                    s.drift_dps ? g(*s.drift_dps, 3) : "–"};
       if (f.rates[k]) {
         row.push_back(g(*r.expected_rate_dps, 6));
-        row.push_back(value_pm(f.rates[k]->error_dps,
-                               std::hypot(s.stderr_correlated_dps, f.budget.new_power_up_dps)));
+        row.push_back(
+            value_pm(f.rates[k]->error_dps, std::hypot(s.stderr_correlated_dps, power_up)));
         row.push_back(value_pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));
       }
       per.rows.push_back(std::move(row));

@@ -1203,17 +1203,25 @@ report::table tables_table(const experiment& e, json& out) {
       {},
       fmt::format("Simple pairing, as the paper. Means and stds are calibration targets (fitted): "
                   "see the table of targets.{}",
-                  k > 1 ? " ±: the std over the campaigns." : "")};
+                  k > 1 ? " ±: the std over the campaigns."
+                        : " Each with the digits its own error supports (the mean's std/√n, "
+                          "the std's std/√(2(n − 1))).")};
   for (std::size_t g_ = 0; g_ < 3; ++g_) {
     const auto& p = paper_tables[g_];
     const auto ps = paper_stats(g_, e.a);
     const auto em = stats_of(e.means[g_]), es = stats_of(e.stds[g_]);
     const std::size_t n = rows_of(g_, e.a).size();
-    const auto with_spread = [k](double v, double spread, int digits) {
-      return k > 1 && spread > 0.0 ? workflow::value_pm(v, spread) : g(v, digits);
+    // One campaign: no spread over campaigns, so each number takes the digits its own error
+    // supports, the mean's std/sqrt(n) and the std's std/sqrt(2(n - 1)) (third review of issue 31,
+    // M4: "0.0031888").
+    const double rn = static_cast<double>(n);
+    const auto with_spread = [k](double v, double spread, double own_u, int digits) {
+      return k > 1 && spread > 0.0 ? workflow::value_pm(v, spread) : to_digits_of(v, own_u, digits);
     };
-    t.rows.push_back({fmt::format("{}, {} runs", p.label, n), with_spread(em.mean, em.std, 5),
-                      g(ps.mean, 6), pct(em.mean, ps.mean), with_spread(es.mean, es.std, 4),
+    t.rows.push_back({fmt::format("{}, {} runs", p.label, n),
+                      with_spread(em.mean, em.std, es.mean / std::sqrt(rn), 5), g(ps.mean, 6),
+                      pct(em.mean, ps.mean),
+                      with_spread(es.mean, es.std, es.mean / std::sqrt(2.0 * (rn - 1.0)), 4),
                       g(ps.std, 4), pct(es.mean, ps.std)});
     json j = {{"id", p.id},
               {"sensor", p.sensor},

@@ -1,6 +1,7 @@
 // `gyroflip calibrate` and `gyroflip compensate`: JSON contract, calibration files, dN(T), and
 // every bad-input case of issue 2 (message FILE:LINE:COL, exit 2, no output file).
 #include <cmath>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -54,7 +55,8 @@ TEST(CliCalibrate, JsonContractAndSplit) {
 
   const auto human = run_cli({"calibrate", d.file("cal.csv")});
   EXPECT_EQ(human.exit_code, 0);
-  EXPECT_NE(human.out.find("dN = 1.230000e-02"), std::string::npos) << human.out;
+  // An error at rounding level (a noiseless run): its 15 decimals.
+  EXPECT_NE(human.out.find("dN = 0.0123000"), std::string::npos) << human.out;
 }
 
 TEST(CliCalibrate, LatitudeWithoutAxisIsUsageError) {
@@ -140,6 +142,46 @@ TEST(CliCompensate, CsvOutputAndStdout) {
       run_cli({"compensate", d.file("run.csv"), "--calibration", d.file("run.csv")});
   EXPECT_EQ(badcal.exit_code, 2);
   EXPECT_NE(badcal.err.find("run.csv"), std::string::npos);
+}
+
+// Third review of issue 31, M4: calibrate's per-run line printed "dN = 4.788442e-03 ... 1.983e-04"
+// and compensate's summary "mean 4.999999e-01": a number beside its error takes the error's
+// decimals (the error two significant digits), never more; --json keeps the full digits.
+TEST(CliCalibrate, PerRunNumbersCarryTheDigitsTheirErrorsSupport) {
+  temp_dir d;
+  const auto sim = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "600", "--temp",
+                            "20", "--seed", "31", "-o", d.file("r.csv")});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const auto decimals = [](const std::string& n) {
+    const auto dot = n.find('.');
+    return dot == std::string::npos ? 0 : static_cast<int>(n.size() - dot - 1);
+  };
+  const auto human =
+      run_cli({"calibrate", d.file("r.csv"), "--latitude", "42.6", "--axis", "north"});
+  ASSERT_EQ(human.exit_code, 0) << human.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(human.out, m,
+                                std::regex(R"(\n  dN = (\S+) deg/s   std (\S+)   stderr (\S+) )"
+                                           R"(\(naive\) (\S+) \(correlated\))")))
+      << human.out;
+  EXPECT_EQ(human.out.find("e-0"), std::string::npos) << human.out;
+  const std::string u = m[4];
+  ASSERT_EQ(u.find_first_not_of("0."), u.size() - 2) << u;  // two significant digits
+  EXPECT_EQ(decimals(m[1]), decimals(u)) << human.out;
+  ASSERT_TRUE(std::regex_search(human.out, m, std::regex(R"(g term (\S+) deg/s)"))) << human.out;
+  EXPECT_EQ(decimals(m[1]), decimals(u)) << human.out;
+  const auto j = json::parse(run_cli({"calibrate", d.file("r.csv"), "--json"}).out);
+  const double dn = j["delta_n_dps"].get<double>();
+
+  const auto comp = run_cli(
+      {"compensate", d.file("r.csv"), "--delta-n", std::to_string(dn), "-o", d.file("out.csv")});
+  ASSERT_EQ(comp.exit_code, 0) << comp.err;
+  ASSERT_TRUE(std::regex_search(
+      comp.out, m, std::regex(R"(cycles, mean (\S+) deg/s, std (\S+), stderr (\S+) )")))
+      << comp.out;
+  const std::string cu = m[3];
+  EXPECT_EQ(cu.find("e-"), std::string::npos) << comp.out;
+  EXPECT_EQ(decimals(m[1]), decimals(cu)) << comp.out;
 }
 
 // Regression (issue 13 item 1): epoch-nanosecond stamps or a 1e-300-s window overran the drift

@@ -77,6 +77,27 @@ TEST(CliStationarity, TheIssuesRunsAreWarnedAboutRefusedWithStrictAndRecorded) {
       << mixed.out;
 }
 
+// Third review of issue 31 (low): a run simulated from a TOML preset carries the preset's
+// g_sens_spec in its header (# sensor.g_sens_spec_max_dps_per_g), yet calibrate said "no sensor
+// specification" and passed a turning table. It reads the header's model.
+TEST(CliStationarity, ARunSimulatedFromATomlPresetIsCheckedAgainstItsHeadersSpecification) {
+  temp_dir d;
+  write_text(d.file("mine.toml"), "name = \"mine\"\nbase = \"hz1-90-100a\"\n");
+  const auto f = d.file("turning_toml.csv");
+  const auto sim = run_cli({"simulate", "--sensor", d.file("mine.toml"), "--duration", "900",
+                            "--temp", "20", "--seed", "31", "--rate-profile", "0.5", "-o", f});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  ASSERT_NE(read_text(f).find("# sensor.g_sens_spec_max_dps_per_g: 0.06"), std::string::npos);
+  const auto r = run_cli({"calibrate", f, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("no sensor specification"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(f + ": not a stationary run"), std::string::npos) << r.err;
+  const auto st = stationarity_of(r.out);
+  ASSERT_FALSE(st["g_term"].is_null()) << st.dump();
+  EXPECT_EQ(st["g_term"]["failed"], true);
+  EXPECT_EQ(run_cli({"calibrate", f, "--strict", "-o", d.file("x.json")}).exit_code, 2);
+}
+
 // Review of issue 31: `compensate` applied a calibration its own file marks as not stationary,
 // without a word; a hand-edited negative statistic was read.
 TEST(CliStationarity, CompensateWarnsAboutAndStrictRefusesACalibrationOfATurningRun) {

@@ -217,16 +217,17 @@ TEST(PlainRow, TakesOnlyRowsTheGeneralPathReadsAlikeBitForBit) {
       continue;
     }
     ++taken;
-    ASSERT_EQ(s, csv_reader::step::row) << "the fast path took a row the general path refuses, line "
-                                       << slow->line() << ": " << slow->last_error().message;
+    ASSERT_EQ(s, csv_reader::step::row)
+        << "the fast path took a row the general path refuses, line " << slow->line() << ": "
+        << slow->last_error().message;
     fast->commit_plain(row);
     ASSERT_EQ(fast->line(), slow->line());
     for (std::size_t i = 0; i < 3; ++i) {
       ASSERT_EQ(row.empty[i], slow->cell(i).empty()) << "line " << slow->line();
       if (row.empty[i]) continue;
       double v = 0.0;
-      ASSERT_TRUE(slow->parse(i, v)) << "line " << slow->line() << ": "
-                                     << slow->last_error().message;
+      ASSERT_TRUE(slow->parse(i, v))
+          << "line " << slow->line() << ": " << slow->last_error().message;
       ASSERT_EQ(std::memcmp(&v, &row.value[i], sizeof v), 0)
           << "line " << slow->line() << " cell " << i << ": " << slow->cell(i);
       ++compared;

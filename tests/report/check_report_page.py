@@ -2,8 +2,9 @@
 """Renders both pages, `gyroflip report`'s and `gyroflip reproduce --quick`'s, in headless
 Chromium (issues 10, 22, 31) and checks what a reader would see: a screenshot that is not blank,
 every image loaded, no console error, no preformatted text; at 1280 and at 900 px no table that
-scrolls sideways and nothing wider than the window; at 700 px a table may scroll inside its own
-box (overflow-x: auto) but nothing else leaves the window; at each width no word broken inside (a line break in
+scrolls sideways and nothing wider than the window; at 700 and 500 px a table may scroll inside
+its own box (overflow-x: auto) but nothing else leaves the window, and no caption is cut by its
+box nor a column out of view in it; at each width no word broken inside (a line break in
 "compensat ed", "18 00 s" or "inconclusiv e": every run of non-blank characters must lie on one
 line; only the words marked "brk", paths and hashes longer than any column, may break anywhere,
 in the provenance too: "see d 1" and "10013 9" were found there); and the rest of the report folder (summary.json's numbers equal
@@ -51,7 +52,7 @@ LAYOUT_PROBE = r"""<script>
 window.addEventListener('load', () => {
   const d = document.documentElement,
         out = {page: d.scrollWidth - d.clientWidth, height: d.scrollHeight, tables: [], words: [],
-               scrolling: [], outside: []};
+               scrolling: [], outside: [], cut: []};
   for (const box of document.querySelectorAll('.tablebox'))
     if (box.scrollWidth > box.clientWidth + 1) {
       const what = (box.querySelector('caption') || box).textContent.slice(0, 90) +
@@ -63,6 +64,24 @@ window.addEventListener('load', () => {
         out.outside.push('a table box that does not scroll within the window: ' + what);
       else out.scrolling.push(what);
     }
+  // In a box, scrolling or not, the caption is read whole and every column is in view without
+  // scrolling (third review of issue 31, M7: at 700 and 500 px a verdict caption was cut by its
+  // box and the outcome column lay off-screen in it).
+  for (const box of document.querySelectorAll('.tablebox')) {
+    const right = box.getBoundingClientRect().left + box.clientWidth + 1;
+    const cap = box.querySelector('caption');
+    if (cap) {
+      const r = document.createRange();
+      r.selectNodeContents(cap);
+      if ([...r.getClientRects()].some(q => q.width > 0 && q.right > right))
+        out.cut.push('a caption cut by its box: ' + cap.textContent.slice(0, 90));
+    }
+    const row = box.querySelector('tr');
+    const last = row && row.lastElementChild;
+    if (last && last.getBoundingClientRect().right > right)
+      out.cut.push('a column out of view in its box (' + (last.textContent || '').slice(0, 30) +
+                   '): ' + (cap ? cap.textContent.slice(0, 90) : ''));
+  }
   for (const t of document.querySelectorAll('table'))
     if (t.getBoundingClientRect().right > d.clientWidth + 1) {
       out.tables.push('wider than the window: ' + t.querySelector('caption').textContent.slice(0, 90));
@@ -100,9 +119,10 @@ window.addEventListener('load', () => {
 
 
 # Window widths checked, and whether a table may scroll inside its own box there: at 900 px and
-# wider no table scrolls; narrower (700 px, a small laptop window or a tablet; review of issue 31,
-# M4) a table wider than the column scrolls inside its box, and nothing else leaves the window.
-WIDTHS = ((1280, False), (900, False), (700, True))
+# wider no table scrolls; narrower (700 px, a small laptop window or a tablet; 500 px, a phone held
+# upright; reviews of issue 31, M4, M7) a table box may scroll, but its caption is never cut and
+# every column is in view (the probe's "cut"), and nothing else leaves the window.
+WIDTHS = ((1280, False), (900, False), (700, True), (500, True))
 
 
 def check_layout(exe, tmp, index, width, shots=None, scroll_boxes=False):
@@ -122,7 +142,7 @@ def check_layout(exe, tmp, index, width, shots=None, scroll_boxes=False):
     assert start >= 0, f"the layout probe did not run at {width} px: {dom[-300:]}"
     found = json.loads(unescape(dom[start + len('<div id="layout-probe">'):dom.index("</div>", start)]))
     problems = [] if scroll_boxes else [f"a table scrolls sideways: {t}" for t in found["tables"]]
-    problems += found["outside"]
+    problems += found["outside"] + found["cut"]
     if found["page"] > 0:
         problems.append(f"the page is {found['page']} px wider than the window")
     problems += [f"a word is broken across lines: {w!r}" for w in found["words"]]

@@ -1,7 +1,9 @@
 // The dN uncertainty budget of the report (workflow/budget.hpp, issue 22): each component
 // against its closed form on made-up runs whose numbers are known.
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -83,6 +85,32 @@ TEST(DeltaNBudget, RunsAtOneTemperatureGiveTheirMeasuredScatter) {
   EXPECT_NEAR(b.between_run_dps, std::sqrt(1e-4 - 1e-8), 1e-12);
   EXPECT_NEAR(b.within_run_dps, method::pooled_correlated_stderr(workflow::calibrations_of(runs)),
               1e-15);
+}
+
+// Third review of issue 31, M2: runs whose scatter grows away from the middle (tau^2(T)
+// estimated) had a "new power-up" error from the constant repeatability (±0.0029) while the ΔN(T)
+// figure drew the band delta_n_model::new_run_interval_at (±0.0056 at 4 °C). The budget's number is
+// now that band, the largest at the runs' temperatures, and new_power_up_at gives it at a run's.
+TEST(DeltaNBudget, ANewPowerUpTakesTheBetweenRunVarianceAtItsTemperature) {
+  const std::vector runs{run(3.8e-3, 2e-5, 4.0), run(3.3e-3, 2e-5, 12.0), run(3.1e-3, 2e-5, 20.0),
+                         run(2.2e-3, 2e-5, 28.0), run(2.9e-3, 2e-5, 36.0)};
+  const auto model = method::fit_runs_model(workflow::calibrations_of(runs));
+  ASSERT_TRUE(model && model->has_value());
+  const auto& m = **model;
+  ASSERT_TRUE(std::isfinite(m.tau2_centre_dps2));  // the band changes with temperature
+  const auto b = workflow::budget_of(runs, *model, nullptr, "");
+  double widest = 0.0;
+  for (const auto& r : runs) {
+    const double band = m.new_run_interval_at(r.cal.temp_c);
+    EXPECT_NEAR(workflow::new_power_up_at(b, *model, r.cal.temp_c), band, 1e-15);
+    widest = std::max(widest, band);
+  }
+  EXPECT_NEAR(b.new_power_up_dps, widest, 1e-15);
+  EXPECT_TRUE(b.new_power_up_from_band);
+  EXPECT_GT(m.new_run_interval_at(4.0), m.new_run_interval_at(20.0));
+  EXPECT_NE(b.run_to_run_source.find("τ²(T)"), std::string::npos) << b.run_to_run_source;
+  // Without such a model, the budget's constant number.
+  EXPECT_EQ(workflow::new_power_up_at(b, std::nullopt, 4.0), b.new_power_up_dps);
 }
 
 // Review of issue 31 (M3): "a run like these gives ±X" printed the k runs' pooled error, sqrt(k)

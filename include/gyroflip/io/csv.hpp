@@ -31,10 +31,11 @@ namespace detail {
 /// form an integer m <= 2^53 and there are k <= 22 fraction digits, m and 10^k are exact
 /// doubles and the one division m / 10^k is correctly rounded - the value `from_chars` gives.
 /// Returns false for anything else (blanks, '+', exponents, long mantissas, nan, inf).
+/// The powers of ten that are exact doubles (10^0 .. 10^22), the divisors of the exact fast path.
+inline constexpr double exact_pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                         1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                         1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 inline bool parse_plain_decimal(const char* b, const char* e, double& out) noexcept {
-  static constexpr double pow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
   const bool negative = b != e && *b == '-';
   b += negative ? 1 : 0;
   // At most 19 characters: 18 digits and a point, so m < 10^18 cannot overflow.
@@ -56,7 +57,7 @@ inline bool parse_plain_decimal(const char* b, const char* e, double& out) noexc
   const auto frac = dot != nullptr ? static_cast<std::size_t>(e - dot - 1) : 0;
   // An integer (n_avg) needs no division (x / 1 is x: the same double, without the divide's
   // latency in the row's chain).
-  const double v = frac == 0 ? static_cast<double>(m) : static_cast<double>(m) / pow10[frac];
+  const double v = frac == 0 ? static_cast<double>(m) : static_cast<double>(m) / exact_pow10[frac];
   out = negative ? -v : v;
   return true;
 }

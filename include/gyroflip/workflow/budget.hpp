@@ -51,6 +51,9 @@ struct delta_n_budget {
   /// run_to_run)^2), a 68.3 % interval. A rate
   /// compensated with this calibration carries it as a systematic error (paper eqn 12).
   double new_power_up_dps = 0.0;
+  /// true: new_power_up_dps is the tau^2(T) band at the runs' temperatures (widest), not the
+  /// combination above (new_power_up_at).
+  bool new_power_up_from_band = false;
   double temp_c = 0.0;  ///< the temperature the preset's spread is evaluated at
   /// A run compensated away from the calibration runs' temperatures (a constant dN): how far
   /// (degC beyond their span, 0 inside), the change of dN over that distance the sensor preset's
@@ -99,6 +102,15 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
                                        const std::optional<method::delta_n_model>& model,
                                        const sensor::sensor_params* preset,
                                        const std::string& preset_name);
+
+/// A new power-up's ΔN error at `temp_c` (deg/s, 68.3 %): where `model` estimates a between-run
+/// variance that changes with temperature (tau^2(T), the band the ΔN(T) figure draws,
+/// delta_n_model::new_run_interval_at), that band at `temp_c`, with the budget's temperature
+/// term; otherwise b.new_power_up_dps (third review of issue 31, M2: the page quoted ±0.0029
+/// where its figure drew ±0.0056 at 4 °C). NaN when the budget is not valid.
+[[nodiscard]] double new_power_up_at(const delta_n_budget& b,
+                                     const std::optional<method::delta_n_model>& model,
+                                     double temp_c);
 
 /// The g-sensitivity a sensor's specification states (sensor_params g_sens_spec_max/typ, with
 /// their sources), as the stationarity test takes it; nullopt when the preset states neither.
