@@ -347,7 +347,7 @@ void add_angle_tolerance(CLI::App* sub, double& tol) {
 void setup_calibrate(CLI::App& app, action& chosen) {
   auto* sub = app.add_subcommand("calibrate", "dN from stationary recordings (paper eqns 8-11)");
   auto o = bind<calibrate_options>(sub, chosen, run_calibrate);
-  sub->add_option("files", o->files, "recordings (CSV, docs/FORMATS.md)")->required();
+  sub->add_option("files", o->files, "recordings (CSV, docs/FORMATS.md)");
   sub->add_option("--latitude", o->lat_deg, "latitude (deg) to split dN into Earth and g terms")
       ->check(finite_number());
   sub->add_option("--axis", o->axis, "sensitive axis at 0 deg: north|east|down|up or N,E,D");
@@ -366,6 +366,13 @@ void setup_calibrate(CLI::App& app, action& chosen) {
   sub->add_flag("--strict", o->strict,
                 "refuse a run that fails the stationarity test (exit 2) instead of warning");
   add_angle_tolerance(sub, o->angle_tolerance_deg);
+  sub->add_flag("--explain", o->explain,
+                "say which terms an N-position run separates and which pairs no run does, "
+                "before a run (--positions, --table-axis) or for the files, without calibrating");
+  sub->add_option("--positions", o->positions, "with --explain: the table positions A,B,... (deg)");
+  sub->add_option("--table-axis", o->table_axis,
+                  "with --explain: the table axis (up|down: vertical; else horizontal); default "
+                  "the recordings' `# table_axis:`, else horizontal");
   sub->parse_complete_callback([o, degree] { o->degree_given = degree->count() > 0; });
 }
 

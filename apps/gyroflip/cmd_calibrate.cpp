@@ -6,6 +6,9 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -14,10 +17,14 @@
 #include "finite_output.hpp"
 #include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/positions.hpp"
+#include "gyroflip/core/text.hpp"
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/demodulator.hpp"
+#include "gyroflip/method/harmonic.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "progress_bar.hpp"
@@ -124,12 +131,36 @@ std::string next_step(const std::string& cal_path) {
   return fmt::format("Next: gyroflip compensate RUN.csv --calibration {}", cal_path);
 }
 
+// An N-position calibration's terms with their 1 sigma and correlations, and its separability.
+void print_terms(std::string& out, const io::calibration_record& rec) {
+  if (rec.terms_covariance.empty()) return;
+  const auto o = std::back_inserter(out);
+  const std::size_t n = rec.terms.size();
+  fmt::format_to(o, "terms (deg/s, 1 sigma; covariance in --json and -o):\n");
+  for (std::size_t i = 0; i < n; ++i) {
+    std::string corr;
+    for (std::size_t j = 0; j < i; ++j) {
+      const double d = rec.terms[i].stderr_correlated_dps * rec.terms[j].stderr_correlated_dps;
+      if (d > 0.0)
+        corr += fmt::format(" r({},{})={:+.2f}", rec.terms[i].name, rec.terms[j].name,
+                            rec.terms_covariance[i * n + j] / d);
+    }
+    // The value to its error's digits, the error to two (core/digits, as every per-run line).
+    const double u = rec.terms[i].stderr_correlated_dps;
+    fmt::format_to(o, "  {:<3} {} ± {}{}\n", rec.terms[i].name,
+                   to_digits_of(rec.terms[i].value_dps, u, 4), significant(u, 2), corr);
+  }
+  if (rec.separability)
+    for (const auto& l : rec.separability->lines()) fmt::format_to(o, "{}\n", l);
+}
+
 std::string summary_text(const io::calibration_record& rec, const workflow::delta_n_budget& b,
                          const std::string& cal_path) {
   std::string out;
   fmt::format_to(std::back_inserter(out), "pairing: {}\n", method::to_string(rec.pairing));
   for (const auto& f : rec.files) print_entry(out, f, rec.geometry);
   print_result(out, rec, b);
+  print_terms(out, rec);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const auto& f : rec.files)
     if (std::isfinite(f.cal.temp_c)) {
@@ -202,7 +233,62 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
 
 }  // namespace
 
+namespace {
+
+// calibrate --explain: the separability report of --positions (before a run) or of each
+// recording's table, as text or one JSON object per table.
+int run_explain(const calibrate_options& o) {
+  std::vector<std::pair<std::string, method::separability>> reports;
+  if (!o.positions.empty()) {
+    if (!o.files.empty())
+      return report(usage_error("--explain takes --positions or recordings, not both"));
+    const auto angles = text::to_doubles(o.positions, ',');
+    if (!angles)
+      return report(usage_error(fmt::format("--positions '{}': expected angles in degrees, A,B,...",
+                                            printable(o.positions, 60))));
+    auto table = position_table::of_angles(*angles);
+    if (!table) return report(usage_error("--positions: " + table.err().message));
+    reports.emplace_back("",
+                         method::separability_of(*table, method::table_axis_kind_of(o.table_axis)));
+  } else {
+    if (o.files.empty())
+      return report(usage_error("--explain needs --positions A,B,... or recordings"));
+    for (const auto& f : o.files) {
+      auto rows = rigdata::read_recording_rows(f, o.angle_tolerance_deg);
+      if (!rows) return report(rows.err());
+      std::string axis = o.table_axis;
+      if (axis.empty())
+        for (const auto& m : rows->metadata)
+          if (m.key == "table_axis") axis = m.value;
+      reports.emplace_back(
+          f, method::separability_of(rows->positions, method::table_axis_kind_of(axis)));
+    }
+  }
+  std::string out;
+  for (const auto& [file, sep] : reports) {
+    if (o.json) {
+      out += io::separability_to_json(sep, file) + "\n";
+      continue;
+    }
+    if (!file.empty()) out += file + ": ";
+    for (const auto& l : sep.lines()) out += l + "\n";
+  }
+  fmt::print("{}", out);
+  return 0;
+}
+
+}  // namespace
+
 int run_calibrate(const calibrate_options& o) {
+  if (o.explain) return run_explain(o);
+  if (o.files.empty())
+    return report(
+        usage_error("calibrate: the recordings are required (or --explain --positions "
+                    "A,B,... for the separability of a table before a run)"));
+  if (!o.positions.empty() || !o.table_axis.empty())
+    return report(
+        usage_error("--positions and --table-axis go with --explain (a recording "
+                    "carries its own table and axis)"));
   const auto pairing = method::parse_pairing(o.pairing);
   if (!pairing)
     return report(usage_error("--pairing must be " + method::scheme_names_joined(" or ")));

@@ -56,6 +56,11 @@ struct calibrate_options {
   bool json = false;
   std::string sensor;   // --sensor NAME|FILE.toml: the specification the g-term is checked against
   bool strict = false;  // --strict: refuse a run that is not stationary
+  // --explain: the separability report of a table (--positions, --table-axis) before any run,
+  // or of the recordings' tables, without calibrating (issue 33 item 2)
+  bool explain = false;
+  std::string positions;   // --positions A,B,... (with --explain)
+  std::string table_axis;  // --table-axis (with --explain; else the recordings' `# table_axis:`)
 };
 int run_calibrate(const calibrate_options& o);
 

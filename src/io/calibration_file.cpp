@@ -332,6 +332,99 @@ status read_terms(const std::string& path, const json& j, calibration_record& re
   return ok();
 }
 
+// Schema 4's `terms_covariance` (a harmonic calibration's): terms.size() rows of as many finite
+// numbers, symmetric, with the terms' squared errors on its diagonal.
+status read_terms_covariance(const std::string& path, const json& j, calibration_record& rec) {
+  const auto it = j.find("terms_covariance");
+  if (it == j.end() || it->is_null()) return ok();
+  const std::size_t n = rec.terms.size();
+  const auto bad = [&path, n] {
+    return input_error({path}, fmt::format("'terms_covariance' must be {} rows of {} numbers (the "
+                                           "terms' covariance, (deg/s)^2)",
+                                           n, n));
+  };
+  if (!it->is_array() || it->size() != n) return bad();
+  for (const auto& row : *it) {
+    if (!row.is_array() || row.size() != n) return bad();
+    for (const auto& x : row) {
+      if (!x.is_number()) return bad();
+      const double v = x.get<double>();
+      if (!std::isfinite(v)) return bad();
+      rec.terms_covariance.push_back(v);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = rec.terms_covariance[i * n + i];
+    if (!(v >= 0.0)) return input_error({path}, "'terms_covariance': a negative variance");
+    for (std::size_t k = 0; k < i; ++k)
+      if (rec.terms_covariance[i * n + k] != rec.terms_covariance[k * n + i])
+        return input_error({path}, "'terms_covariance' is not symmetric");
+  }
+  return ok();
+}
+
+json separability_json(const method::separability& s) {
+  json meanings = json::array(), pairs = json::array();
+  for (const auto& m : s.meanings) meanings.push_back({{"term", m.term}, {"holds", m.holds}});
+  for (const auto& p : s.pairs)
+    pairs.push_back({{"first", p.first},
+                     {"second", p.second},
+                     {"in_terms", p.in_terms},
+                     {"why", p.why},
+                     {"separated_by", p.separated_by}});
+  return {{"positions_deg", s.positions},    {"table_axis", s.axis},
+          {"estimable", s.estimable},        {"not_observable", s.unobservable},
+          {"meanings", std::move(meanings)}, {"inseparable", std::move(pairs)}};
+}
+
+// Schema 4's `separability`, as written (strings; a field of another type is refused).
+status read_separability(const std::string& path, const json& j, calibration_record& rec) {
+  const auto it = j.find("separability");
+  if (it == j.end() || it->is_null()) return ok();
+  const auto bad = [&path](std::string_view what) {
+    return input_error({path}, fmt::format("'separability': {}", what));
+  };
+  if (!it->is_object()) return bad("must be an object");
+  method::separability s;
+  const auto text = [&](const char* key, std::string& out) -> bool {
+    if (!it->contains(key)) return true;
+    if (!(*it)[key].is_string()) return false;
+    out = (*it)[key].get<std::string>();
+    return true;
+  };
+  const auto list = [&](const char* key, std::vector<std::string>& out) -> bool {
+    if (!it->contains(key)) return true;
+    if (!(*it)[key].is_array()) return false;
+    for (const auto& x : (*it)[key]) {
+      if (!x.is_string()) return false;
+      out.push_back(x.get<std::string>());
+    }
+    return true;
+  };
+  if (!text("positions_deg", s.positions) || !text("table_axis", s.axis) ||
+      !list("estimable", s.estimable) || !list("not_observable", s.unobservable))
+    return bad(
+        "positions_deg and table_axis are strings, estimable and not_observable lists of "
+        "strings");
+  for (const char* key : {"meanings", "inseparable"}) {
+    if (!it->contains(key)) continue;
+    if (!(*it)[key].is_array()) return bad(fmt::format("'{}' must be an array", key));
+    for (const auto& x : (*it)[key]) {
+      if (!x.is_object()) return bad(fmt::format("'{}' holds objects", key));
+      const auto field = [&x](const char* k) {
+        return x.contains(k) && x[k].is_string() ? x[k].get<std::string>() : std::string();
+      };
+      if (std::string_view(key) == "meanings")
+        s.meanings.push_back({field("term"), field("holds")});
+      else
+        s.pairs.push_back({field("first"), field("second"), field("in_terms"), field("why"),
+                           field("separated_by")});
+    }
+  }
+  rec.separability = std::move(s);
+  return ok();
+}
+
 }  // namespace
 
 sensor_record sensor_of(std::span<const csv_metadata> metadata) {
@@ -367,6 +460,13 @@ method::delta_n_model delta_n_model_of(const calibration_record& rec) {
   return method::constant_model(rec.pooled.delta_n_dps, rec.pooled.stderr_correlated_dps);
 }
 
+std::string separability_to_json(const method::separability& s, const std::string& file) {
+  json j = schema_object("separability", 1);
+  j["file"] = file.empty() ? json(nullptr) : json(file);
+  j.update(separability_json(s));
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 std::vector<method::delta_n_term> terms_of(const calibration_record& rec) {
   return rec.terms.empty() ? method::terms_of(rec.pooled, rec.pairing) : rec.terms;
 }
@@ -385,6 +485,16 @@ result<std::string> to_json(const calibration_record& rec) {
                      {"value_dps", t.value_dps},
                      {"stderr_correlated_dps", t.stderr_correlated_dps}});
   j["terms"] = std::move(terms);
+  if (!rec.terms_covariance.empty()) {
+    const std::size_t n = terms_of(rec).size();
+    json cov = json::array();
+    for (std::size_t i = 0; i < n && (i + 1) * n <= rec.terms_covariance.size(); ++i)
+      cov.push_back(std::vector<double>(
+          rec.terms_covariance.begin() + static_cast<std::ptrdiff_t>(i * n),
+          rec.terms_covariance.begin() + static_cast<std::ptrdiff_t>((i + 1) * n)));
+    j["terms_covariance"] = std::move(cov);
+  }
+  if (rec.separability) j["separability"] = separability_json(*rec.separability);
   json files = json::array();
   for (const auto& f : rec.files) {
     json e = calibration_fields(f.cal, rec.geometry);
@@ -555,6 +665,8 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
         !(rec.pooled.stderr_correlated_dps <= max_magnitude))
       return input_error({path}, "'stderr_correlated_dps' must be a number >= 0");
     if (auto s = read_terms(path, j, rec); !s) return s.err();
+    if (auto s = read_terms_covariance(path, j, rec); !s) return s.err();
+    if (auto s = read_separability(path, j, rec); !s) return s.err();
   } catch (const json::exception& e) {
     return input_error({path},
                        fmt::format("malformed calibration: {}", printable(reason(e.what()), 200)));

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/pairing.hpp"
 
 namespace gyroflip::method {
@@ -108,14 +109,34 @@ std::span<const std::string_view> flip_terms() {
   return names;
 }
 
-// The one table of schemes (pairing::abba is row 0, pairing::simple row 1: types.hpp).
-constexpr std::array<scheme, 2> table_of_schemes{{
+// The harmonic scheme's stated transfer: the four-position sweep 0, 90, 180, 270, 270, 180, 90,
+// 0 (harmonic_transfer gives any other table and order).
+const noise_transfer& harmonic_sweep_transfer() {
+  static const noise_transfer t = [] {
+    const double a[4] = {0.0, 90.0, 180.0, 270.0};
+    const int order[8] = {0, 1, 2, 3, 3, 2, 1, 0};
+    return *harmonic_transfer(*position_table::of_angles(a), order);
+  }();
+  return t;
+}
+
+std::span<const std::string_view> harmonic_terms() {
+  return harmonic_term_names;
+}
+
+// The one table of schemes (pairing::abba is row 0, pairing::simple row 1, pairing::harmonic
+// row 2: types.hpp).
+constexpr std::array<scheme, 3> table_of_schemes{{
     {"abba", "abba",
      "each dwell against its opposite neighbours interpolated to its time (three-point chop); "
      "cancels a linear bias drift",
      abba_transfer, flip_terms, make_abba},
     {"simple", "simple (paper)", "adjacent 0/180 dwells, r = (y0 - y180)/2 (paper eqn 7)",
      simple_transfer, flip_terms, make_simple},
+    {"harmonic", "harmonic (N positions)",
+     "3 or more positions, one estimate per visiting period: least squares of the bias, its "
+     "slope and the harmonics the table separates (docs/METHOD-NOTES.md)",
+     harmonic_sweep_transfer, harmonic_terms, make_harmonic_demodulator},
 }};
 
 // kappa as a fraction with a power-of-two denominator (9/16) when it is one, else as a number.

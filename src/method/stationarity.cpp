@@ -68,7 +68,13 @@ void check_g_term(const calibration& cal, const stationarity_inputs& in, station
 }  // namespace
 
 double white_std_over_adev(pairing p) noexcept {
-  return scheme_of(p).transfer().white_std_over_adev();
+  const auto& t = scheme_of(p).transfer();
+  // The reference is c's white noise; r's kernel has c's norm for the 0/180 schemes (the same
+  // weights with signs), a larger one for the harmonic scheme (c1 against b: sqrt(2) for a
+  // sweep), whose ratio then scales it.
+  const auto cv = t.white_covariance();
+  if (cv[0] == cv[2]) return t.white_std_over_adev();
+  return t.white_std_over_adev() * std::sqrt(cv[0] / cv[2]);
 }
 
 stationarity check_stationarity(std::span<const cycle> cycles, const calibration& cal,

@@ -2,19 +2,23 @@
 /// \brief Multi-run calibration (calibrate.hpp).
 #include "gyroflip/workflow/calibrate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
 #include <span>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/parallel.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/page.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
 namespace gyroflip::workflow {
@@ -134,6 +138,68 @@ status one_sensor::add(const std::string& file, std::span<const io::csv_metadata
   return ok();
 }
 
+namespace {
+
+// The harmonic scheme's terms (issue 33 item 2): each run's fit of every term its table
+// separates (method::fit_harmonics), the runs' plain mean with the covariance of a mean of
+// independent runs (sum of their covariances / k^2: within-run errors; the run-to-run spread of
+// c1 is the budget's, of dN), and the separability report of the table and its axis.
+status add_harmonic_terms(const calibrate_request& r, io::calibration_record& rec) {
+  std::vector<method::harmonic_fit> fits;
+  std::optional<position_table> table;
+  std::string first, axis_text;
+  for (const auto& file : r.files) {
+    auto rows = rigdata::read_recording_rows(file, r.angle_tolerance_deg);
+    if (!rows) return rows.err();
+    if (table && rows->positions.describe() != table->describe())
+      return input_error({file}, fmt::format("its table ({} deg) is not {}'s ({} deg): the "
+                                             "harmonic terms of one table at a time",
+                                             rows->positions.describe(), first, table->describe()));
+    if (!table) {
+      table = rows->positions;
+      first = file;
+      for (const auto& m : rows->metadata)
+        if (m.key == "table_axis") axis_text = m.value;
+    }
+    method::harmonic_options o;
+    o.separable = true;
+    auto f = method::fit_harmonics(method::indexed_dwells(rows->rows), rows->positions, o);
+    if (!f) return input_error({file}, f.err().message);
+    if (!fits.empty() && f->names != fits.front().names)
+      return input_error(
+          {file}, fmt::format("its visiting order separates {}, {}'s {}", fmt::join(f->names, ", "),
+                              first, fmt::join(fits.front().names, ", ")));
+    fits.push_back(std::move(*f));
+  }
+  const auto& names = fits.front().names;
+  const std::size_t n = names.size();
+  const auto k = static_cast<double>(fits.size());
+  std::vector<double> value(n, 0.0), cov(n * n, 0.0);
+  for (const auto& f : fits)
+    for (std::size_t i = 0; i < n; ++i) {
+      value[i] += f.value[i] / k;
+      for (std::size_t j = 0; j < n; ++j) cov[i * n + j] += f.covariance[i * n + j] / (k * k);
+    }
+  rec.terms.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    rec.terms.push_back({names[i], value[i], std::sqrt(std::max(cov[i * n + i], 0.0))});
+  rec.terms_covariance = std::move(cov);
+  auto sep = method::separability_of(*table, method::table_axis_kind_of(axis_text));
+  for (const auto& t : fits.front().dropped) {
+    std::erase(sep.estimable, t);
+    std::erase_if(sep.meanings, [&t](const method::term_meaning& m) { return m.term == t; });
+    sep.pairs.push_back({t, "the bias's slope", t,
+                         fmt::format("a visiting period of {} dwells has no room for it beside "
+                                     "the bias, its slope and the other terms",
+                                     fits.front().period),
+                         "a visiting order with a longer period (simulate's default sweep)"});
+  }
+  rec.separability = std::move(sep);
+  return ok();
+}
+
+}  // namespace
+
 result<calibrate_result> calibrate_runs(const calibrate_request& r,
                                         const progress_fn& on_progress) {
   if (r.files.empty()) return usage_error("no recording to calibrate");
@@ -193,6 +259,8 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   rec.model = std::move(*model);
   out.budget = budget_of(rec.files, rec.model, preset != nullptr ? &preset->params : nullptr,
                          preset != nullptr ? preset->name : std::string());
+  if (r.pairing == method::pairing::harmonic)
+    if (auto s = add_harmonic_terms(r, rec); !s) return s.err();
   const auto& b = out.budget;
   rec.uncertainty = io::calibration_uncertainty{
       b.calibration_dps, b.run_to_run_dps,   b.run_to_run_measured, b.run_to_run_source,

@@ -371,3 +371,71 @@ TEST(CliBadInput, BomAndCrlfAreAccepted) {
 
 }  // namespace
 }  // namespace gyroflip::test
+
+namespace gyroflip::test {
+namespace {
+
+// The true c1 of a simulated run from its truth file's header (Earth + g-term, first harmonic).
+double truth_c1(const std::string& truth_file) {
+  const std::string text = read_text(truth_file);
+  const auto at = text.find("harmonics r(theta)");
+  EXPECT_NE(at, std::string::npos);
+  const auto line = text.substr(at, text.find('\n', at) - at);
+  double e = 0.0, g = 0.0;
+  const auto ec = line.find("earth c1 ");
+  const auto gc = line.find("g_term c1 ");
+  e = std::stod(line.substr(ec + 9));
+  g = std::stod(line.substr(gc + 10));
+  return e + g;
+}
+
+}  // namespace
+
+// Issue 33 item 2: `calibrate --pairing harmonic` on a five-position run writes b and both
+// harmonics with their covariance and the separability report (text and JSON), its c1 within 4
+// of its own sigma of the truth (fixed seed), and `--explain` says before a run what a table
+// cannot separate.
+TEST(CliCalibrate, HarmonicTermsWithTheirCovarianceAndSeparability) {
+  temp_dir d;
+  const auto sim = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "900", "--seed",
+                            "5", "--positions", "0,72,144,216,288", "--latitude", "42.6", "--axis",
+                            "north", "-o", d.file("r5.csv"), "--truth", d.file("t5.csv")});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const auto r = run_cli({"calibrate", d.file("r5.csv"), "--pairing", "harmonic", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json::parse(r.out);
+  EXPECT_EQ(j["pairing"], "harmonic");
+  std::vector<std::string> names;
+  for (const auto& t : j["terms"]) names.push_back(t["name"].get<std::string>());
+  EXPECT_EQ(names, (std::vector<std::string>{"b", "c1", "s1", "c2", "s2"}));
+  ASSERT_EQ(j["terms_covariance"].size(), 5U);
+  ASSERT_EQ(j["terms_covariance"][1].size(), 5U);
+  const double c1 = j["terms"][1]["value_dps"].get<double>();
+  const double se = j["terms"][1]["stderr_correlated_dps"].get<double>();
+  EXPECT_NEAR(se * se, j["terms_covariance"][1][1].get<double>(), 1e-18);
+  EXPECT_NEAR(c1, truth_c1(d.file("t5.csv")), 4.0 * se);
+  bool earth_g = false;
+  for (const auto& p : j["separability"]["inseparable"])
+    earth_g |= p["first"] == "Earth rate" && p["second"] == "g-sensitivity";
+  EXPECT_TRUE(earth_g);
+  // The text names the terms and the pairs.
+  const auto text = run_cli({"calibrate", d.file("r5.csv"), "--pairing", "harmonic"});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("inseparable: Earth rate and g-sensitivity"), std::string::npos);
+  EXPECT_NE(text.out.find("  s2 "), std::string::npos);
+  // Before a run: three positions alias the second harmonic onto the first.
+  const auto e = run_cli({"calibrate", "--explain", "--positions", "0,120,240", "--json"});
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const auto x = json::parse(e.out);
+  EXPECT_EQ(x["schema"], "gyroflip.separability/1");
+  EXPECT_EQ(x["estimable"], json::array({"b", "c1", "s1"}));
+  const auto up =
+      run_cli({"calibrate", "--explain", "--positions", "0,90,180,270", "--table-axis", "up"});
+  ASSERT_EQ(up.exit_code, 0) << up.err;
+  EXPECT_NE(up.out.find("table tilt x g-sensitivity"), std::string::npos);
+  EXPECT_NE(up.out.find("not observable: s2"), std::string::npos);
+  // --explain with neither a table nor recordings: a usage error (exit 2).
+  EXPECT_EQ(run_cli({"calibrate", "--explain"}).exit_code, 2);
+}
+
+}  // namespace gyroflip::test

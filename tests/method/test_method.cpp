@@ -391,8 +391,8 @@ namespace {
 // Pushing dwells through make_demodulator gives the batch pairing's cycles bit for bit, and the
 // table's names are the --pairing values.
 TEST(Demodulator, SchemesBehindTheInterfaceGiveTheBatchPairingsCycles) {
-  EXPECT_EQ(scheme_names(), (std::vector<std::string>{"abba", "simple"}));
-  EXPECT_EQ(scheme_names_joined(" or "), "abba or simple");
+  EXPECT_EQ(scheme_names(), (std::vector<std::string>{"abba", "simple", "harmonic"}));
+  EXPECT_EQ(scheme_names_joined(" or "), "abba or simple or harmonic");
   for (const pairing p : {pairing::simple, pairing::abba}) {
     EXPECT_EQ(parse_pairing(to_string(p)), p);
     EXPECT_EQ(scheme_of(p).name, to_string(p));

@@ -15,6 +15,7 @@
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
+#include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/stationarity.hpp"
 
 namespace gyroflip::io {
@@ -96,7 +97,19 @@ struct calibration_record {
   /// the scheme's terms of `pooled`, method::terms_of); read from a file, its `terms`, or for a
   /// file before schema 4 the 0/180 schemes' one term, its pooled dN.
   std::vector<method::delta_n_term> terms;
+  /// The terms' covariance ((deg/s)^2, row-major, terms.size()^2) when the scheme estimates
+  /// several at once (harmonic: schema 4's `terms_covariance`); empty otherwise.
+  std::vector<double> terms_covariance;
+  /// What the terms hold and which pairs no run separates (harmonic: schema 4's
+  /// `separability`; method::separability_of).
+  std::optional<method::separability> separability;
 };
+
+/// A separability report as one JSON object (schema gyroflip.separability/1; `file` the
+/// recording it is of, or empty for a table given before a run): the object a calibration's
+/// `separability` holds (docs/FORMATS.md), with `schema`, `version` and `file`.
+[[nodiscard]] std::string separability_to_json(const method::separability& s,
+                                               const std::string& file);
 
 /// The terms of dN a calibration states: `rec.terms`, or when empty its scheme's terms of its
 /// pooled calibration (method::terms_of).

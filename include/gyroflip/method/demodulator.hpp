@@ -101,8 +101,14 @@ class demodulator {
   [[nodiscard]] virtual std::uint32_t uses() const noexcept = 0;
   /// Adds the next dwell; returns an estimate once one is final.
   [[nodiscard]] virtual std::optional<cycle> push(const dwell& d) = 0;
-  /// End of data: the estimate still held back, if any; the demodulator starts afresh.
+  /// End of data: the estimates still held back, one per call (call until none); then the
+  /// demodulator starts afresh.
   [[nodiscard]] virtual std::optional<cycle> flush() = 0;
+  /// Whether it takes dwells as the harmonic fit reads them (method::indexed_dwells): every row
+  /// that is an average of several conversions a dwell of its own, and rows taken while the
+  /// table turns ending a dwell (a sweep dwells twice at each end: two rows at one position are
+  /// two dwells). The 0/180 schemes take maximal runs of rows at one position (false).
+  [[nodiscard]] virtual bool dwell_per_row() const noexcept { return false; }
   /// A fresh copy (same scheme and positions, nothing pushed).
   [[nodiscard]] virtual std::unique_ptr<demodulator> fresh() const = 0;
 };

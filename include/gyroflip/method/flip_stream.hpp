@@ -26,7 +26,7 @@ class flip_stream {
       : flip_stream(make_flip_demodulator(p, pair)) {}
   /// Any demodulator (make_demodulator).
   explicit flip_stream(std::unique_ptr<demodulator> d) noexcept
-      : demod_(std::move(d)), uses_(demod_->uses()) {}
+      : demod_(std::move(d)), uses_(demod_->uses()), per_row_(demod_->dwell_per_row()) {}
 
   /// Adds a validated row; calls `sink(const cycle&)` for each estimate it completes.
   template <class Sink>
@@ -38,9 +38,16 @@ class flip_stream {
         ++off_pair_;
         last_off_ = r.position;
       }
+      if (per_row_ && r.position == table_moving)
+        if (auto d = dwells_.flush()) take(*d, sink);
       return;
     }
     last_off_ = table_moving;
+    if (per_row_ && r.n_avg > 1) {  // a dwell row (demodulator::dwell_per_row)
+      if (auto d = dwells_.flush()) take(*d, sink);
+      take(dwell{r.position, r.time_s, r.rate_dps, r.temp_c, r.n_avg}, sink);
+      return;
+    }
     if (auto d = dwells_.push(r)) take(*d, sink);
   }
 
@@ -48,7 +55,7 @@ class flip_stream {
   template <class Sink>
   void flush(Sink&& sink) {
     if (auto d = dwells_.flush()) take(*d, sink);
-    if (auto c = demod_->flush()) sink(*c);
+    while (auto c = demod_->flush()) sink(*c);
   }
 
   /// Dwells seen at table position `position` so far (0 for positions not used).
@@ -72,6 +79,7 @@ class flip_stream {
   }
   std::unique_ptr<demodulator> demod_;
   std::uint32_t uses_ = 0;
+  bool per_row_ = false;
   int last_off_ = table_moving;
   std::size_t off_pair_ = 0;
   dwell_builder dwells_;

@@ -21,12 +21,17 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
+#include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gyroflip/core/positions.hpp"
 #include "gyroflip/core/result.hpp"
+#include "gyroflip/method/demodulator.hpp"
+#include "gyroflip/method/plan.hpp"
 #include "gyroflip/method/types.hpp"
 
 namespace gyroflip::method {
@@ -44,25 +49,40 @@ struct indexed_dwell {
 /// recording) are averaged into one. Rows taken while the table turns separate dwells.
 [[nodiscard]] std::vector<indexed_dwell> indexed_dwells(std::span<const row> rows);
 
+/// The terms a harmonic fit can hold, in their order: the bias b, then the first and second
+/// harmonics' cos and sin terms (r(theta) = b + c1 cos theta + s1 sin theta + c2 cos 2 theta + s2
+/// sin 2 theta).
+inline constexpr std::array<std::string_view, 5> harmonic_term_names{"b", "c1", "s1", "c2", "s2"};
+
 struct harmonic_options {
   int harmonics = 1;  ///< 1: b, c1, s1; 2: also c2, s2
+  /// The harmonic terms to fit, a subset of c1, s1, c2, s2 in that order (b is always fitted);
+  /// empty: those of `harmonics`. What a table separates: separability_of(table).estimable.
+  std::vector<std::string> terms;
+  /// Fit every term the table separates (separability_of(table).estimable) that a block of the
+  /// visiting period has room for beside the bias and its slope (the last dropped until the
+  /// block's design has full rank; harmonic_fit::dropped names them). Overrides the above.
+  bool separable = false;
   /// A table of two positions 180 deg apart (0/180): fit b and the projection p1 of the first
   /// harmonic on the first position's direction, r = b + p1 cos(theta - theta_0) (names "b",
   /// "p1"); a block then spans whole visiting periods until it has a residual degree of freedom
-  /// (A, B, A, B for the paper's cycle). Otherwise two positions are refused.
+  /// (A, B, A, B for the paper's cycle). Otherwise two positions are refused. Applies with
+  /// `harmonics` 1 and neither `terms` nor `separable` (the design is then terms {"p1"}).
   bool projection_of_two = false;
 };
 
 /// The fitted terms, in the order b (the blocks' mean bias), c1, s1[, c2, s2] (deg/s).
 struct harmonic_fit {
-  std::vector<std::string> names;  ///< "b", "c1", "s1"[, "c2", "s2"]
+  std::vector<std::string> names;  ///< "b", "c1", "s1"[, "c2", "s2"] (or the terms; "b", "p1")
   std::vector<double> value;
   std::vector<double> covariance;  ///< row-major, names.size()^2 (see the file comment)
-  std::size_t period = 0;          ///< dwells per block (the visiting period)
+  std::size_t period = 0;          ///< dwells per block (the visiting period; p1: a multiple)
   std::size_t blocks = 0;          ///< complete blocks fitted
   std::size_t skipped_dwells = 0;  ///< dwells outside the pattern (after a gap): left out
-  std::size_t dwells = 0;          ///< dwells in the blocks fitted
-  double block_s = 0.0;  ///< mean block length (s): first to last block's start / (blocks - 1)
+  /// Terms the table separates that the visiting period had no room for (options.separable).
+  std::vector<std::string> dropped;
+  std::size_t dwells = 0;  ///< dwells in the blocks fitted
+  double block_s = 0.0;    ///< mean block length (s): first to last block's start / (blocks - 1)
   /// The white noise of one dwell (deg/s), from the blocks' residuals (their rms, corrected for
   /// the parameters each block fits): N = this x sqrt(dwell length) when the bias is white.
   double dwell_sigma_dps = 0.0;
@@ -76,12 +96,113 @@ struct harmonic_fit {
   [[nodiscard]] double var(std::size_t i) const { return cov(i, i); }
 };
 
+/// The blocks of one visiting period a fit takes from `dwells` (time order): each block's first
+/// dwell. The period is the smallest of the positions' sequence (2..16 dwells, checked over its
+/// first four periods); after a dwell that breaks the pattern (a gap) the dwells are passed over
+/// until the pattern starts again. Empty when no period is found.
+struct harmonic_blocks {
+  std::size_t period = 0;
+  std::vector<std::size_t> starts;
+};
+[[nodiscard]] harmonic_blocks blocks_of(std::span<const indexed_dwell> dwells);
+
 /// Fits the harmonics to `dwells` (time order) of a table of `table` (its angles). Errors: fewer
 /// than 3 positions for one harmonic (5 for two), positions whose harmonics cannot be told
 /// apart (rank-deficient block design), fewer than 3 complete blocks.
 [[nodiscard]] result<harmonic_fit> fit_harmonics(std::span<const indexed_dwell> dwells,
                                                  const position_table& table,
                                                  const harmonic_options& options = {});
+
+/// What the table's axis is, for what the terms mean physically (separability_of): `vertical`
+/// (`up`/`down`: north finding), `horizontal` (any other, and a recording that names none: the
+/// simulator's default axis, perpendicular to the sensitive axis and level, the paper's rig).
+enum class table_axis_kind { horizontal, vertical };
+/// The kind of a `# table_axis:` value (earth::parse_axis: within 8 deg of the vertical is
+/// vertical); empty or unreadable: horizontal.
+[[nodiscard]] table_axis_kind table_axis_kind_of(std::string_view table_axis_text);
+
+/// Two things one run cannot tell apart: terms of the fit that the table's angles alias
+/// ("c2" and "c1" at 0/120/240 deg), or physical quantities that enter the same term ("Earth
+/// rate" and "g-sensitivity" in c1 and s1), with what would separate them (empty: nothing).
+struct inseparable_pair {
+  std::string first, second;
+  std::string in_terms;      ///< the fitted term(s) that hold them
+  std::string why;           ///< one line
+  std::string separated_by;  ///< what separates them, or "nothing"
+};
+/// What a fitted term holds physically.
+struct term_meaning {
+  std::string term;
+  std::string holds;
+};
+/// The separability report of an indexed run (issue 33 item 2): which terms the table's angles
+/// separate, what each holds physically about this table axis, and every pair no run of this
+/// kind separates. Written before a run (`calibrate --explain`) and with every result.
+/// docs/METHOD-NOTES.md, "N-position indexing".
+struct separability {
+  std::string positions;                  ///< the table's angles ("0, 90, 180, 270")
+  std::string axis;                       ///< "horizontal" or "vertical"
+  std::vector<std::string> estimable;     ///< b first, then the harmonic terms separated
+  std::vector<std::string> unobservable;  ///< terms whose regressor is zero at every angle
+  std::vector<term_meaning> meanings;     ///< one per estimable term
+  std::vector<inseparable_pair> pairs;    ///< every inseparable pair (design, then physics)
+  /// The report as lines of text (no trailing newline), for a front end to print.
+  [[nodiscard]] std::vector<std::string> lines() const;
+};
+/// The report for `table` (at least 3 positions for any harmonic; fewer: b and c1 only, and
+/// says so) about a table axis of kind `axis`. Design: a term whose regressor over the table's
+/// angles lies in the span of the terms before it (b, c1, s1, c2, s2 in that order) is not
+/// estimable, and is named with each term it aliases onto (e.g. cos 2 theta = cos theta at
+/// 0/120/240). Physics: the terms' meaning for a gyro whose sensitive axis is perpendicular to
+/// the table axis (docs/METHOD-NOTES.md derives them).
+[[nodiscard]] separability separability_of(const position_table& table, table_axis_kind axis);
+
+/// The harmonic (N-position) demodulator, scheme `harmonic` (method/demodulator.hpp): dwells at
+/// every table position, one estimate per visiting period (found from the first dwells, as
+/// blocks_of), fitted as fit_harmonics fits a block (bias, bias slope and the terms the table
+/// separates); its estimate's r is the block's c1 (the first harmonic's term at the table's 0
+/// deg, which for 0/180 is the half-difference's), c its bias b. Errors: a table of fewer than 3
+/// positions (naming `source`).
+[[nodiscard]] result<std::unique_ptr<demodulator>> make_harmonic_demodulator(
+    const position_table& table, const std::string& source);
+/// The noise transfer of the harmonic demodulator for a visiting order of positions of `table`
+/// (one period; equally spaced dwells): the c1 and b rows of the block's least-squares solution
+/// (bias, slope and the terms separability_of gives, as fitted). The scheme's row of schemes()
+/// states that of the four-position sweep 0, 90, 180, 270, 270, 180, 90, 0.
+[[nodiscard]] result<noise_transfer> harmonic_transfer(const position_table& table,
+                                                       std::span<const int> visiting_order);
+
+/// The Cramer-Rao bound of a harmonic fit's terms other than b (docs/METHOD-NOTES.md, "The
+/// Cramer-Rao bound of an N-position run"): dwell means of length `dwell_s` at the times and
+/// positions of `dwells`, cut into blocks as `fit` was (blocks_of; p1: whole periods), each block
+/// with its own bias and bias slope as nuisance parameters, and Gaussian noise whose dwell means
+/// have the gap two-sample variance method::gap_avar(noise, dwell_s, spacing) (white, flicker and
+/// random walk of the rate: Barnes 1971). The nuisance is removed by projecting each block onto the
+/// contrasts orthogonal to its constant and slope (the restricted likelihood, whose Fisher
+/// information of the terms equals the full model's Schur complement), where the noise's
+/// covariance is a function of the structure function alone:
+///   cov(sum_a u_a y_a, sum_b v_b y_b) = -sum_ab u_a v_b gap_avar(|t_a - t_b|)  (sum u = sum v = 0)
+/// and the bound is the inverse of Z^T C^-1 Z (Z the projected regressors). Returns the
+/// covariance bound of fit.names[1..] (row-major). Cost O(M^3), M = blocks x (period - 2).
+[[nodiscard]] result<std::vector<double>> harmonic_crlb(const harmonic_fit& fit,
+                                                        std::span<const indexed_dwell> dwells,
+                                                        const position_table& table,
+                                                        const plan_noise& noise, double dwell_s);
+/// The same for any noise with stationary increments: `gap_avar(spacing_s)` is the gap
+/// two-sample variance of two dwell means (all of one length) whose starts are `spacing_s` apart.
+[[nodiscard]] result<std::vector<double>> harmonic_crlb(
+    const harmonic_fit& fit, std::span<const indexed_dwell> dwells, const position_table& table,
+    const std::function<double(double)>& gap_avar);
+
+/// The gap two-sample variance of two means of length `tau_s` whose starts are `spacing_s` >=
+/// tau_s apart, of a first-order Gauss-Markov process of variance `variance` and time constant
+/// `time_constant_s` (autocovariance q e^{-|u|/T}): var - cov(S) with
+///   var = 2 q (T/tau)^2 (tau/T - 1 + e^{-tau/T}),
+///   cov(S) = q (T/tau)^2 e^{-S/T} (e^{tau/T} + e^{-tau/T} - 2)
+/// (the double integrals of the autocovariance over the two intervals). A bank of them is the
+/// simulator's flicker (sensor/error_terms.hpp), so its exact bound is a sum of these.
+[[nodiscard]] double gauss_markov_gap_avar(double variance, double time_constant_s, double tau_s,
+                                           double spacing_s) noexcept;
 
 /// The azimuth (deg from north, clockwise) of the sensitive axis at the table's 0 deg from a
 /// first harmonic (c1, s1) of the Earth rate about a vertical table axis. With the table axis

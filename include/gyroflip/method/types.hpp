@@ -56,10 +56,14 @@ struct pairing {
   std::uint8_t id = 0;  ///< its row of schemes()
   static const pairing abba;
   static const pairing simple;
+  static const pairing harmonic;
   constexpr bool operator==(const pairing&) const = default;
 };
 inline constexpr pairing pairing::abba{0};
 inline constexpr pairing pairing::simple{1};
+/// `harmonic`: N positions (3 or more), one estimate per visiting period by least squares
+/// (method/harmonic.hpp); its calibration holds the bias and the harmonics as named terms.
+inline constexpr pairing pairing::harmonic{2};
 
 /// The scheme's name (schemes()[p.id].name); the scheme of a name, if the table has it.
 [[nodiscard]] std::string_view to_string(pairing p) noexcept;
