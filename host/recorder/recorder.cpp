@@ -483,17 +483,19 @@ error session::end_disk_full() {
   const std::size_t missing = window_.give_up_all();
   lost_ += missing + unstored_frames_;
   std::uint64_t not_stored = missing + unstored_frames_ + unstored_gap_;
+  // A GAP (missing) counting what is not stored.
+  const auto write_gap = [&] {
+    std::uint8_t b[5];
+    p::writer w{b, sizeof b};
+    w.u8(static_cast<std::uint8_t>(gfr::gap_reason::missing));
+    w.u32(static_cast<std::uint32_t>(std::min<std::uint64_t>(not_stored, 0xFFFFFFFFu)));
+    return static_cast<bool>(file_.append_last(gfr::kind::gap, host_us(), b));
+  };
   // The GAP (when something is not stored) and the STOP; false, and neither left in the file,
   // when they did not both fit.
   const auto write_end = [&] {
     const std::uint64_t at = file_.bytes();
-    if (not_stored != 0) {
-      std::uint8_t b[5];
-      p::writer w{b, sizeof b};
-      w.u8(static_cast<std::uint8_t>(gfr::gap_reason::missing));
-      w.u32(static_cast<std::uint32_t>(std::min<std::uint64_t>(not_stored, 0xFFFFFFFFu)));
-      if (!file_.append_last(gfr::kind::gap, host_us(), b)) return false;
-    }
+    if (not_stored != 0 && !write_gap()) return false;
     const std::uint8_t stop[1] = {static_cast<std::uint8_t>(gfr::stop_reason::disk_full)};
     if (file_.append_last(gfr::kind::stop, host_us(), stop)) return true;
     if (file_.bytes() != at) (void)file_.take_back_last();  // the GAP: written again below
@@ -526,14 +528,8 @@ error session::end_disk_full() {
     closed = write_end();
   }
   bool counted = not_stored == 0 || closed;
-  if (!closed && not_stored != 0) {  // the GAP alone, then
-    std::uint8_t b[5];
-    p::writer w{b, sizeof b};
-    w.u8(static_cast<std::uint8_t>(gfr::gap_reason::missing));
-    w.u32(static_cast<std::uint32_t>(std::min<std::uint64_t>(not_stored, 0xFFFFFFFFu)));
-    counted = static_cast<bool>(file_.append_last(gfr::kind::gap, host_us(), b));
-  }
-  const bool synced = static_cast<bool>(file_.close());  // copies if they fit; synced
+  if (!closed && not_stored != 0) counted = write_gap();  // the GAP alone, then
+  const bool synced = static_cast<bool>(file_.close());   // copies if they fit; synced
   const auto n_of = [](std::uint64_t n, const char* one, const char* many) {
     return fmt::format("{} {}", n, n == 1 ? one : many);
   };
