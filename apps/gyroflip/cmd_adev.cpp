@@ -203,7 +203,7 @@ result<analysis_input> prepare(io::series s, const series_input& in, const std::
   if (!phase)
     return about_parameter(input_error({in.file}, phase.err().message), phase.err().parameter);
   // series keeps its samples on the heap: the source's reference survives the move.
-  return analysis_input{std::move(s), std::move(*phase), column};
+  return analysis_input{std::move(s), std::move(*phase), column, {}};
 }
 
 }  // namespace
@@ -215,7 +215,7 @@ result<std::vector<std::string>> column_names(const series_input& in) {
   return names;
 }
 
-result<std::vector<analysis_input>> load_series(const series_input& in) {
+result<std::vector<analysis_input>> load_series(const series_input& in, bool pool_gaps) {
   if (in.input == "angle" && in.units == "deg/h")
     return usage_error("--units deg/h is a rate unit; angle input is deg or rad");
   if (!in.columns.empty() && in.columns != "all-numeric")
@@ -227,10 +227,12 @@ result<std::vector<analysis_input>> load_series(const series_input& in) {
     return usage_error(
         "--gaps fill is for time-stamped samples (CSV, ROS bags); a .gfr's lost dwells are "
         "analysed with --gaps split or --kind gradev");
-  std::vector<io::series> read;
+  std::vector<io::series> read, parts;
   if (names->size() == 1 && in.columns.empty()) {
-    auto s = is_rig_recording(in.file) ? read_rig_series(in.file, in.column, so.gaps)
-                                       : io::read_series(in.file, so);
+    const bool pooled = pool_gaps && so.gaps == io::gap_policy::split;
+    auto s = is_rig_recording(in.file)
+                 ? read_rig_series(in.file, in.column, so.gaps, false, pooled ? &parts : nullptr)
+                 : io::read_series(in.file, so);
     if (!s) return s.err();
     read.push_back(std::move(*s));
   } else {
@@ -246,6 +248,11 @@ result<std::vector<analysis_input>> load_series(const series_input& in) {
     auto p = prepare(std::move(read[i]), in, (*names)[i]);
     if (!p) return p.err();
     out.push_back(std::move(*p));
+  }
+  for (auto& part : parts) {
+    auto p = prepare(std::move(part), in, names->front());
+    if (!p) return p.err();
+    out.front().parts.push_back(std::move(*p));
   }
   return out;
 }

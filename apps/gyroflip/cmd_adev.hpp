@@ -51,11 +51,17 @@ struct analysis_input {
   io::series series;
   analysis::phase_source phase;
   std::string column;  ///< as the user named it
+  /// A `.gfr` series with gaps read for pooling (load_series's `pool_gaps`, `--gaps split`):
+  /// every gap-free stretch, each ready for analysis (`series` is then the longest); empty
+  /// otherwise.
+  std::vector<analysis_input> parts;
 };
 /// Opens `in.file` (CSV columns, .npy, raw float64 or HDF5) and prepares the phase of each column
 /// asked for (`--column a,b,c`, `--columns all-numeric`: one pass over a CSV) for `in.input`
 /// (two passes over the samples for rate input, with a progress line on a terminal).
-result<std::vector<analysis_input>> load_series(const series_input& in);
+/// `pool_gaps` (noise): a `.gfr` series with gaps under `--gaps split` also gets its gap-free
+/// stretches (analysis_input::parts), which noise pools instead of analysing the longest alone.
+result<std::vector<analysis_input>> load_series(const series_input& in, bool pool_gaps = false);
 
 struct adev_options {
   series_input in;

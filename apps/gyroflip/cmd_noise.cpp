@@ -117,9 +117,23 @@ result<column_noise> noise_of(const noise_options& o, const series_input& opts,
     if (m.key == "pairing" && opts.input == "rate")
       if (const auto p = method::parse_pairing(m.value))
         c.series = method::noise_series_of(*p, c.tau0_s);
-  progress bar("noise of " + opts.file, 1000);
-  auto a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar), o.long_taus);
-  bar.finish();
+  result<analysis::noise_analysis> a = error{};
+  if (in.parts.empty()) {
+    progress bar("noise of " + opts.file, 1000);
+    a = analysis::analyse_noise(in.phase, o.ci, range, c.series, per_mille(bar), o.long_taus);
+    bar.finish();
+  } else {
+    // A .gfr with gaps under --gaps split: every gap-free stretch, pooled (no term spans a gap).
+    std::vector<const analysis::phase_source*> parts;
+    c.samples = 0;
+    for (const auto& p : in.parts) {
+      parts.push_back(&p.phase);
+      c.samples += p.series.samples().size();
+    }
+    if (o.long_taus)
+      note(fmt::format("{}: --long-taus is not drawn for stretches pooled across gaps", opts.file));
+    a = analysis::analyse_noise(parts, o.ci, range, c.series);
+  }
   // Too few points for the fit is a property of this input (too short a series): name it.
   if (!a)
     return input_error({opts.file}, a.err().message + (o.fit_taus.empty() ? "" : " in --fit-taus"));
@@ -401,7 +415,7 @@ int run_noise(const noise_options& o) {
             "--kalibr-other: {} already has gyro and accelerometer columns", o.in.file)));
       oi.quantity = gyro ? "accel" : "gyro";
     }
-    auto inputs = load_series(sources[i]);
+    auto inputs = load_series(sources[i], true);
     if (!inputs) return report(inputs.err());
     for (const auto& in : *inputs) {
       if (bag_topic.empty()) bag_topic = in.series.topic();

@@ -150,7 +150,8 @@ std::vector<std::vector<std::size_t>> grid_of(const std::vector<samples>& parts,
 }  // namespace
 
 result<io::series> read_rig_series(const std::string& path, const std::string& column,
-                                   io::gap_policy gaps, bool bridge) {
+                                   io::gap_policy gaps, bool bridge,
+                                   std::vector<io::series>* all_parts) {
   if (column != "dwell_dps" && column != "rate_dps" && column != "bias_dps")
     return about_parameter(
         input_error({path}, fmt::format("a rig recording has no series '{}': use rate_dps (per "
@@ -237,11 +238,37 @@ result<io::series> read_rig_series(const std::string& path, const std::string& c
         {path}, fmt::format("{}, the first after time_s {:.6g}: give --gaps split to analyse the "
                             "longest gap-free stretch (adev also: --kind gradev to bridge them)",
                             where, parts.front().time_s.back()));
+  if (all_parts != nullptr) {
+    // noise: every stretch, pooled (analysis::analyse_noise over parts); the longest one still
+    // returned for what is said of the series as a whole.
+    all_parts->clear();
+    const double t0_s = parts.front().time_s.front();
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const samples& q = parts[k];
+      if (q.values.size() < 4) continue;  // too short for a term
+      // On the one grid from its first place, one step a sample (a stretch is gap-free): every
+      // part has the same tau0, whatever its own stamps' spacing (a short stretch's mean step
+      // can be a percent off the median).
+      std::vector<double> on_grid(q.values.size());
+      for (std::size_t j = 0; j < on_grid.size(); ++j)
+        on_grid[j] = t0_s + static_cast<double>(at[k][0] + j) * tau0_s;
+      auto one =
+          io::series_of_samples(path, q.values, on_grid, q.angle_deg, rigdata::csv_metadata(*run));
+      if (!one) return one.err();
+      all_parts->push_back(std::move(*one));
+    }
+    note(
+        fmt::format("{}: {}; analysed its {} gap-free stretches pooled ({} of {} samples; no "
+                    "term spans a gap)",
+                    path, where, parts.size(), have, grid));
+  } else {
+    const samples& q = parts[longest];
+    note(
+        fmt::format("{}: {}; analysed the longest gap-free stretch: {} of {} samples, time_s "
+                    "{:.6g} to {:.6g}",
+                    path, where, q.values.size(), grid, q.time_s.front(), q.time_s.back()));
+  }
   samples& p = parts[longest];
-  note(
-      fmt::format("{}: {}; analysed the longest gap-free stretch: {} of {} samples, time_s "
-                  "{:.6g} to {:.6g}",
-                  path, where, p.values.size(), grid, p.time_s.front(), p.time_s.back()));
   return io::series_of_samples(path, std::move(p.values), p.time_s, std::move(p.angle_deg),
                                rigdata::csv_metadata(*run));
 }

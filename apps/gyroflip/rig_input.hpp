@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "gyroflip/core/progress.hpp"
 #include "gyroflip/core/result.hpp"
@@ -30,9 +31,12 @@ namespace gyroflip::app {
 /// stamps are (docs/FORMATS.md, "Time stamps"): `gaps` error names the first and the ways on;
 /// split analyses the longest gap-free stretch of cycles; `bridge` (GRADEV, `--kind gradev`) puts
 /// every stretch on one grid with NaN for what is missing. Either says how much it split off or
-/// bridged (a note).
+/// bridged (a note). With `all_parts` (noise), split also gives every gap-free stretch that
+/// holds a sample there, each a series of its own on the one grid: the note then says they are
+/// pooled (the longest is still returned).
 [[nodiscard]] result<io::series> read_rig_series(const std::string& path, const std::string& column,
                                                  io::gap_policy gaps = io::gap_policy::error,
-                                                 bool bridge = false);
+                                                 bool bridge = false,
+                                                 std::vector<io::series>* all_parts = nullptr);
 
 }  // namespace gyroflip::app

@@ -43,6 +43,7 @@ void device::poll() {
   // After a pass that left its INFO, RESEND frame or STATUS for a long read, a short read: the
   // pass that sends it stays short, and the answers are not starved by a host that keeps sending.
   const uint16_t got = receive(tail_waited_ ? rx_light_bytes : rx_per_poll);
+  if ((got & rx_commanded) != 0) handle(rx_.current());
   const bool commanded = (got & rx_commanded) != 0 && facts_.short_passes;
   const auto decoded = static_cast<uint16_t>(got & (rx_commanded - 1u));
   feed_steps();  // a command's work (a PING's INFO, a RESEND) is behind us
@@ -138,28 +139,40 @@ bool device::on_schedule(uint32_t now) const {
 }
 
 uint16_t device::receive(uint16_t most) {
-  uint8_t b = 0;
   // A bounded number per pass, so a flooded line cannot starve the sequencer, and one command
   // at most: a pass's work stays that of one command (a PING's INFO: ~12 000 MCLK cycles on the
   // MSP430F149), and the bytes behind it wait in the UART's queue for the next pass. The step
   // queue is topped up as the bytes are decoded: 64 of them take longer than it lasts at the top
-  // of a 2 000-steps/s ramp on the F149.
+  // of a 2 000-steps/s ramp on the F149. The bytes are read in place, a block at a time
+  // (hal_ops::uart_read: one call per block, not per byte), and only those decoded are taken
+  // from the port's queue.
   if (command_waits_) {
     command_waits_ = false;
-    handle(rx_.current());  // still in the decoder: no byte was pushed since it completed
-    return rx_commanded;
+    return rx_commanded;  // still in the decoder: no byte was pushed since it completed
   }
+  const volatile uint8_t* at = nullptr;
+  size_t span = 0;
+  size_t used = 0;
   uint16_t i = 0;
-  while (i < most && hw_.uart_read(&b)) {
+  while (i < most) {
+    if (used == span) {
+      // A block of at most rx_feed_bytes: the port's queue gets its room back as the bytes are
+      // decoded, not after a whole read (the queue is what a long pass has).
+      span = hw_.uart_read(used, &at);
+      used = 0;
+      if (span == 0) return i;
+      if (span > rx_feed_bytes) span = rx_feed_bytes;
+    }
+    const uint8_t b = at[used++];
     if (++i % rx_feed_bytes == 0) feed_steps();
     if (rx_.push(b)) {
+      static_cast<void>(hw_.uart_read(used, &at));
       // A command that completes behind a long read is handled at the start of the next pass
       // (a RESEND's 16 look-ups and its GONE behind 64 decoded bytes made the F149's longest).
       if (facts_.short_passes && i > rx_light_bytes) {
         command_waits_ = true;
         return i;
       }
-      handle(rx_.current());
       return static_cast<uint16_t>(i | rx_commanded);
     }
     uint8_t type = 0;
@@ -170,17 +183,28 @@ uint16_t device::receive(uint16_t most) {
     if (rx_.frames().take_bad_header(&type, &seq, &why) && type >= 0x20 && type <= 0x3F)
       nak_raw(type, seq, why);
   }
+  if (used != 0) static_cast<void>(hw_.uart_read(used, &at));
   return i;
 }
 
 // Wire bytes to the UART while it takes them, at most tx_per_poll a pass: a UART that drains
 // as fast as the bytes are coded would otherwise keep the pass here until the ring is empty.
+// Coded ahead and handed over as one block (hal_ops::uart_write); the ring gives up a COBS byte
+// once both its wire bytes were taken.
 void device::transmit() {
+  uint8_t wire[tx_per_poll];
+  size_t n = 0;
+  bool low = tx_low_nibble_;
   uint8_t b = 0;
-  for (int i = 0; i < tx_per_poll && tx_.peek(&b); ++i) {
-    const uint8_t nib =
-        tx_low_nibble_ ? static_cast<uint8_t>(b & 0x0Fu) : static_cast<uint8_t>(b >> 4);
-    if (!hw_.uart_write(protocol::hamming84_encode(nib))) return;
+  for (size_t k = 0; n < tx_per_poll && tx_.peek(k, &b); ++n) {
+    wire[n] = protocol::hamming84_encode(low ? static_cast<uint8_t>(b & 0x0Fu)
+                                             : static_cast<uint8_t>(b >> 4));
+    if (low) ++k;
+    low = !low;
+  }
+  if (n == 0) return;
+  const size_t taken = hw_.uart_write(wire, n);
+  for (size_t i = 0; i < taken; ++i) {
     if (tx_low_nibble_) tx_.pop();
     tx_low_nibble_ = !tx_low_nibble_;
   }

@@ -61,7 +61,7 @@ inline constexpr uint16_t rx_commanded = 0x100;  // device::receive's flag
 inline constexpr uint32_t first_step_lead_ticks = 4;
 /// Wire bytes a main-loop pass hands to the UART at most (1.4 ms of line at 115 200 b/s; passes
 /// come every ~0.3 ms on the MSP430F149, so the line rarely waits for the loop).
-inline constexpr int tx_per_poll = 16;
+inline constexpr size_t tx_per_poll = 16;
 /// The longest payload the device sends: a RAW block of 32 codes (INFO is 92 bytes).
 inline constexpr size_t max_sent_payload = protocol::raw_payload(protocol::raw_msg::max_codes);
 /// The longest command frame (CONFIGURE, 54 B of payload) as COBS bytes: the receive buffer.
@@ -139,7 +139,8 @@ class device {
 
   // link
   /// Decodes received bytes (at most `most`, one command): the bytes read, plus rx_commanded
-  /// when a command was handled.
+  /// when a command is to be handled now (the caller handles rx_.current(): not from inside
+  /// receive, whose frame would then lie under the deepest command's, on the F149's 2 KB).
   uint16_t receive(uint16_t most);
   void handle(const protocol::frame& f);
   [[gnu::noinline]] void configure(const protocol::frame& f);

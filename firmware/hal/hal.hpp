@@ -36,10 +36,15 @@ struct hal_ops {
   /// Takes the oldest period of PWM input `axis` (0: x, 1: y) captured since the last call;
   /// false when none completed.
   bool (*pwm_capture)(void* ctx, uint8_t axis, pwm_period* out);
-  /// Takes one received UART byte; false when none is waiting.
-  bool (*uart_read)(void* ctx, uint8_t* b);
-  /// Hands one byte to the UART transmitter; false when it is busy (try again later).
-  bool (*uart_write)(void* ctx, uint8_t b);
+  /// The received UART bytes, in place: first frees the `taken` first bytes of the span the
+  /// last call returned (the caller has read them), then returns how many bytes wait one after
+  /// the other in the port's receive queue, the first at *at (0: none; a queue that wraps gives
+  /// the rest at the next call). One call per block, not per byte: on the MSP430F149 an
+  /// indirect call per byte was a tenth of a received byte's cost (docs/PERFORMANCE.md).
+  size_t (*uart_read)(void* ctx, size_t taken, const volatile uint8_t** at);
+  /// Hands bytes to the UART transmitter, in order: returns how many of the `n` it took (the
+  /// rest: try again later).
+  size_t (*uart_write)(void* ctx, const uint8_t* bytes, size_t n);
   /// The free-running tick counter (wraps; differences are taken modulo 2^32).
   uint32_t (*ticks)(void* ctx);
   /// Restarts the watchdog.
@@ -108,8 +113,10 @@ struct hal {
   void stepper_port(uint8_t v) const { ops->stepper_port(ctx, v); }
   [[nodiscard]] bool home_switch() const { return ops->home_switch(ctx); }
   bool pwm_capture(uint8_t axis, pwm_period* out) const { return ops->pwm_capture(ctx, axis, out); }
-  bool uart_read(uint8_t* b) const { return ops->uart_read(ctx, b); }
-  bool uart_write(uint8_t b) const { return ops->uart_write(ctx, b); }
+  size_t uart_read(size_t taken, const volatile uint8_t** at) const {
+    return ops->uart_read(ctx, taken, at);
+  }
+  size_t uart_write(const uint8_t* bytes, size_t n) const { return ops->uart_write(ctx, bytes, n); }
   [[nodiscard]] uint32_t ticks() const { return ops->ticks(ctx); }
   void watchdog_kick() const { ops->watchdog_kick(ctx); }
   void busy_wait() const { ops->busy_wait(ctx); }

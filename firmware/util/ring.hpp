@@ -30,10 +30,27 @@ class byte_ring {
     *b = buf_[head_];
     return true;
   }
+  /// The `k`-th oldest byte (0: the oldest), without taking it; false when there are not k + 1.
+  bool peek(size_t k, uint8_t* b) const {
+    if (k >= count_) return false;
+    *b = buf_[wrap(head_ + k)];
+    return true;
+  }
   void pop() {
     if (count_ == 0) return;
     head_ = wrap(head_ + 1);
     --count_;
+  }
+  /// The oldest bytes that lie one after the other in the ring (*p their first): how many.
+  size_t span(const uint8_t** p) const {
+    *p = buf_ + head_;
+    return count_ < N - head_ ? count_ : N - head_;
+  }
+  /// Takes the `n` oldest bytes (all when there are fewer).
+  void drop(size_t n) {
+    if (n > count_) n = count_;
+    head_ = wrap(head_ + n);
+    count_ -= n;
   }
 
  private:

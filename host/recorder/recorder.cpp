@@ -482,22 +482,66 @@ error session::end_disk_full() {
   }
   const std::size_t missing = window_.give_up_all();
   lost_ += missing + unstored_frames_;
-  const std::uint64_t not_stored = missing + unstored_frames_ + unstored_gap_;
-  bool counted = not_stored == 0;
-  if (!counted) {
+  std::uint64_t not_stored = missing + unstored_frames_ + unstored_gap_;
+  // A GAP (missing) counting what is not stored.
+  const auto write_gap = [&] {
     std::uint8_t b[5];
     p::writer w{b, sizeof b};
     w.u8(static_cast<std::uint8_t>(gfr::gap_reason::missing));
     w.u32(static_cast<std::uint32_t>(std::min<std::uint64_t>(not_stored, 0xFFFFFFFFu)));
-    counted = static_cast<bool>(file_.append_last(gfr::kind::gap, host_us(), b));
+    return static_cast<bool>(file_.append_last(gfr::kind::gap, host_us(), b));
+  };
+  // The GAP (when something is not stored) and the STOP; false, and neither left in the file,
+  // when they did not both fit.
+  const auto write_end = [&] {
+    const std::uint64_t at = file_.bytes();
+    if (not_stored != 0 && !write_gap()) return false;
+    const std::uint8_t stop[1] = {static_cast<std::uint8_t>(gfr::stop_reason::disk_full)};
+    if (file_.append_last(gfr::kind::stop, host_us(), stop)) return true;
+    if (file_.bytes() != at) (void)file_.take_back_last();  // the GAP: written again below
+    return false;
+  };
+  bool closed = write_end();
+  // A full disk whose room the writer could not know (ENOSPC; a size limit set after the file
+  // was made) may leave less than the 48 bytes those two take after the failed record was cut
+  // back: the last frames go back out of the file, one at a time, until they fit, and are
+  // counted in the GAP with what else was not stored - the file then says why it ends, and
+  // nothing the device sent is left uncounted (review of issue 32: the file had no STOP, its
+  // readers blamed a kill, and the dwell whose write failed was counted nowhere). Only FRAME
+  // records (and the writer's own COPYs) go back; an INFO, CONFIGURE or START stays.
+  std::uint64_t taken_frames = 0, taken_dwells = 0;
+  while (!closed) {
+    const auto last = file_.last_record();
+    if (!last || (last->type != gfr::kind::frame && last->type != gfr::kind::copy)) break;
+    if (!file_.take_back_last()) break;
+    if (last->type == gfr::kind::frame) {
+      ++taken_frames;
+      ++unstored_frames_;
+      ++not_stored;
+      ++lost_;
+      if (last->first == static_cast<std::uint8_t>(p::msg::dwell)) {
+        ++taken_dwells;
+        ++unstored_dwells_;
+      }
+      if (last->first == static_cast<std::uint8_t>(p::msg::raw)) ++unstored_raws_;
+    }
+    closed = write_end();
   }
-  const std::uint8_t stop[1] = {static_cast<std::uint8_t>(gfr::stop_reason::disk_full)};
-  const bool closed = static_cast<bool>(file_.append_last(gfr::kind::stop, host_us(), stop));
-  const bool synced = static_cast<bool>(file_.close());  // copies if they fit; synced
+  bool counted = not_stored == 0 || closed;
+  if (!closed && not_stored != 0) counted = write_gap();  // the GAP alone, then
+  const bool synced = static_cast<bool>(file_.close());   // copies if they fit; synced
   const auto n_of = [](std::uint64_t n, const char* one, const char* many) {
     return fmt::format("{} {}", n, n == 1 ? one : many);
   };
   const std::uint64_t given_up = missing + unstored_gap_;
+  const std::string taken =
+      taken_frames == 0
+          ? std::string()
+          : fmt::format(
+                "; to make room for the records that end it, its last {} ({}) went back out of "
+                "the file and {} counted with them",
+                n_of(taken_frames, "frame", "frames"), n_of(taken_dwells, "DWELL", "DWELLs"),
+                taken_frames == 1 ? "is" : "are");
   const std::string what =
       not_stored == 0
           ? std::string("nothing the device sent was lost")
@@ -514,9 +558,9 @@ error session::end_disk_full() {
                 counted ? ", counted lost in a GAP record"
                         : "; the file had no room left to count them in a GAP record");
   return runtime_error(fmt::format(
-      "{}; the recording ends here and the device was stopped: {}; everything recorded before is "
-      "in {} ({}){}",
-      disk_error_->message, what, c_.output,
+      "{}; the recording ends here and the device was stopped: {}{}; everything recorded before "
+      "is in {} ({}){}",
+      disk_error_->message, what, taken, c_.output,
       closed ? "it ends with a STOP record: the disk was full"
              : "there was no room left for its STOP record either: its readers will say it was "
                "not closed",

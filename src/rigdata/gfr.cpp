@@ -602,7 +602,8 @@ writer::writer(writer&& o) noexcept
       last_host_us_(o.last_host_us_),
       size_limit_(o.size_limit_),
       buf_(std::move(o.buf_)),
-      pending_(std::move(o.pending_)) {}
+      pending_(std::move(o.pending_)),
+      tail_(std::move(o.tail_)) {}
 
 writer& writer::operator=(writer&& o) noexcept {
   if (this != &o) {
@@ -614,6 +615,7 @@ writer& writer::operator=(writer&& o) noexcept {
     size_limit_ = o.size_limit_;
     buf_ = std::move(o.buf_);
     pending_ = std::move(o.pending_);
+    tail_ = std::move(o.tail_);
   }
   return *this;
 }
@@ -695,8 +697,28 @@ status writer::write_record(kind k, std::uint64_t host_time_us, std::span<const 
     }
     done += static_cast<std::size_t>(n);
   }
+  if (tail_.size() == tail_records) tail_.erase(tail_.begin());
+  tail_.push_back({bytes_, {k, body.empty() ? std::uint8_t{0} : body[0]}});
   bytes_ += buf_.size();
   last_host_us_ = host_time_us;
+  return ok();
+}
+
+std::optional<writer::written_record> writer::last_record() const {
+  if (tail_.empty()) return std::nullopt;
+  return tail_.back().what;
+}
+
+status writer::take_back_last() {
+  if (fd_ < 0 || tail_.empty()) return runtime_error("no record to take back");
+  const std::uint64_t at = tail_.back().offset;
+  if (::ftruncate(fd_, static_cast<off_t>(at)) != 0 ||
+      ::lseek(fd_, static_cast<off_t>(at), SEEK_SET) < 0)
+    return write_error(path_, "truncate: ", errno);
+  tail_.pop_back();
+  bytes_ = at;
+  // A copy still due of a record taken out is not written.
+  std::erase_if(pending_, [&](const pending_copy& p) { return p.offset >= at; });
   return ok();
 }
 

@@ -92,15 +92,22 @@ bool pwm_capture(void*, uint8_t axis, fw::pwm_period* out) {
   out->period_ticks = period;
   return true;
 }
-bool uart_read(void*, uint8_t* b) {
-  if ((uart0().state & 2u) == 0) return false;
-  *b = static_cast<uint8_t>(uart0().data);
-  return true;
+// QEMU's CMSDK UART holds one received byte: it is the span, kept until the core took it.
+uint8_t rx_held = 0;
+bool rx_holding = false;
+size_t uart_read(void*, size_t taken, const volatile uint8_t** at) {
+  if (taken != 0) rx_holding = false;
+  if (!rx_holding && (uart0().state & 2u) != 0) {
+    rx_held = static_cast<uint8_t>(uart0().data);
+    rx_holding = true;
+  }
+  *at = &rx_held;
+  return rx_holding ? 1 : 0;
 }
-bool uart_write(void*, uint8_t b) {
-  if ((uart0().state & 1u) != 0) return false;
-  uart0().data = b;
-  return true;
+size_t uart_write(void*, const uint8_t* bytes, size_t n) {
+  size_t i = 0;
+  for (; i < n && (uart0().state & 1u) == 0; ++i) uart0().data = bytes[i];
+  return i;
 }
 uint32_t ticks(void*) {
   return now_ticks();

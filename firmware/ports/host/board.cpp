@@ -72,20 +72,24 @@ bool host_board::pwm_capture(void* c, uint8_t axis, pwm_period* out) {
   return true;
 }
 
-bool host_board::uart_read(void* c, uint8_t* out) {
+size_t host_board::uart_read(void* c, size_t taken, const volatile uint8_t** at) {
   host_board& b = self(c);
-  if (!b.rx_.peek(out)) return false;
-  b.rx_.pop();
-  return true;
+  b.rx_.drop(taken);
+  const uint8_t* first = nullptr;
+  const size_t n = b.rx_.span(&first);
+  *at = first;
+  return n;
 }
 
-bool host_board::uart_write(void* c, uint8_t v) {
+// One byte a byte time at 115 200 b/s (8N1): the UART takes the first byte when the line is
+// free, and the others wait for later calls.
+size_t host_board::uart_write(void* c, const uint8_t* bytes, size_t n) {
   host_board& b = self(c);
   const uint64_t now_scaled = uint64_t{b.now} * baud;
-  if (b.uart_stalled || now_scaled < b.line_free_at_) return false;
+  if (n == 0 || b.uart_stalled || now_scaled < b.line_free_at_) return 0;
   b.line_free_at_ = now_scaled + uint64_t{10} * tick_hz;  // 10 bits per byte (8N1)
-  if (!b.tx_.push(&v, 1)) ++b.tx_overflow;
-  return true;
+  if (!b.tx_.push(bytes, 1)) ++b.tx_overflow;
+  return 1;
 }
 
 uint32_t host_board::ticks(void* c) {

@@ -95,8 +95,8 @@ class host_board {
   static void stepper_port(void* c, uint8_t v);
   static bool home_switch(void* c);
   static bool pwm_capture(void* c, uint8_t axis, pwm_period* out);
-  static bool uart_read(void* c, uint8_t* out);
-  static bool uart_write(void* c, uint8_t v);
+  static size_t uart_read(void* c, size_t taken, const volatile uint8_t** at);
+  static size_t uart_write(void* c, const uint8_t* bytes, size_t n);
   static uint32_t ticks(void* c);
   static void watchdog_kick(void* c);
   static void busy_wait(void* c);

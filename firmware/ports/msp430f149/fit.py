@@ -15,7 +15,8 @@ come on top of any of them).
 
 Margin: the build fails unless RAM - (static + worst-case stack) >= MIN_MARGIN. The figure is a
 ratchet, not a goal (docs/PERFORMANCE.md, "RAM"): what issue 32's third pass reached (22 B with
-the NMI counted) less 6 B of slack (a frame's alignment, a flag), so that real growth of RAM or
+the NMI counted) less 6 B of slack (a frame's alignment, a flag); 24 B since the seventh pass
+(the receive loop no longer under the commands' frames), so 18 now; so that real growth of RAM or
 of the deepest path fails CI and has to be paid for. The goal is 10 % (205 B), which the F149 reaches only
 by a protocol decision (the retransmit history) or the transmit ring and the history sharing
 one buffer; raise the figure as RAM is recovered, never lower it.
@@ -28,7 +29,7 @@ import sys
 
 FLASH = 61152
 RAM = 2048
-MIN_MARGIN = 16  # bytes (see above)
+MIN_MARGIN = 18  # bytes (see above)
 ISRS = ("isr_timer_a0", "isr_timer_a1", "isr_timer_b0", "isr_timer_b1", "isr_port2", "isr_usart0_rx",
         "isr_usart0_tx", "isr_nmi", "isr_unused")
 NESTING = ("isr_port2", "isr_timer_a0")

@@ -16,10 +16,11 @@ namespace gyroflip::fw::msp430f149 {
 /// 1 500 / 1 600 / 1 800 / 2 000 steps/s, nothing lost to 1 500, 4-11 bytes lost from 1 600.
 /// 1 200 keeps 16 % margin (7.02 ms); 1 400-1 500 meet the bound without margin, and a rate at
 /// which the board can lose a command's bytes must not be one it accepts (the paper's rig and
-/// the simulator's default run at 400). What would lift it: a cheaper byte path both ways (the
-/// HAL's uart_read/uart_write are an indirect call per byte: a block read/write op), a cheaper
-/// ramp interval; then measure again (Msp430Board.BurstsWithTheHostSendingBehindThemLoseNothing
-/// runs at this limit).
+/// the simulator's default run at 400). With the HAL's block reads and writes ("Seventh pass"):
+/// 5.31 / 6.20 / 6.75 / 6.42 / 6.53 / 7.23 / 8.25 / 7.72 ms at the same rates, nothing lost to
+/// 1 600, 3 and ~33 bytes lost at 1 800 and 2 000: 1 500 would now keep 22 % margin (not raised
+/// yet); 2 000 needs a cheaper ramp interval. Msp430Board.BurstsWithTheHostSendingBehindThemLose
+/// Nothing runs at this limit.
 inline constexpr uint16_t max_step_rate_sps = 1200;
 
 }  // namespace gyroflip::fw::msp430f149

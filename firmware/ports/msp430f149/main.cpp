@@ -249,30 +249,38 @@ bool pwm_capture(void*, uint8_t axis, fw::pwm_period* out) {
   interrupts_restore(on);
   return ready;
 }
-bool uart_read(void*, uint8_t* b) {
-  if (rx_tail == rx_head) return false;
-  *b = rx_buf[rx_tail];
-  rx_tail = rx_next(rx_tail);
-  return true;
+// The received bytes in place (hal_ops::uart_read): frees what the core read of the last span,
+// then the bytes from the queue's tail to its head, or to its end when the head has wrapped.
+// Nothing is held off: the interrupt only writes at the head and moves it, one byte-wide store.
+size_t uart_read(void*, size_t taken, const volatile uint8_t** at) {
+  const auto tail = static_cast<uint8_t>(rx_tail + taken);
+  const uint8_t from = tail == rx_size ? uint8_t{0} : tail;  // a span never passes the end
+  rx_tail = from;
+  const uint8_t head = rx_head;
+  *at = rx_buf + from;
+  return head >= from ? size_t{head} - from : size_t{rx_size} - from;
 }
-// Queues a wire byte for the transmit interrupt; the first byte after an idle line starts it.
-bool uart_write(void*, uint8_t b) {
-  const bool on = interrupts_off();  // and back as they were: a caller may hold them off
-  bool queued = true;
-  if (tx_idle) {
+// Queues wire bytes for the transmit interrupt, then starts it when the line was idle. The
+// queue is filled with interrupts on (the interrupt only reads at the tail); they are off only
+// to start an idle line, and back as they were after (a caller may hold them off).
+size_t uart_write(void*, const uint8_t* bytes, size_t n) {
+  uint8_t head = tx_head;
+  const uint8_t tail = tx_tail;  // may move on meanwhile: only more room
+  size_t i = 0;
+  for (; i < n; ++i) {
+    const auto next = static_cast<uint8_t>((head + 1u) % tx_size);
+    if (next == tail) break;
+    tx_buf[head] = bytes[i];
+    head = next;
+  }
+  tx_head = head;
+  const bool on = interrupts_off();
+  if (tx_idle && tx_tail != tx_head) {
     tx_idle = false;
-    tx_load(b);
-  } else {
-    const uint8_t next = static_cast<uint8_t>((tx_head + 1u) % tx_size);
-    if (next == tx_tail) {
-      queued = false;
-    } else {
-      tx_buf[tx_head] = b;
-      tx_head = next;
-    }
+    tx_next();
   }
   interrupts_restore(on);
-  return queued;
+  return i;
 }
 uint32_t ticks(void*) {
   return now_ticks();

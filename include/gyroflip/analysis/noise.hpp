@@ -5,6 +5,7 @@
 #pragma once
 
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "gyroflip/analysis/allan.hpp"
@@ -62,5 +63,18 @@ struct tau_range {
                                                    const noise_series& series = {},
                                                    const progress_fn& on_progress = {},
                                                    bool long_taus = false);
+
+/// analyse_noise over a series with gaps, given as its gap-free parts (phase sources of one
+/// tau0): at each octave factor m of the longest part (m <= (N-1)/4) the OADEV of every term of
+/// every part that holds one, pooled (sqrt(sum_k n_k OADEV_k^2 / sum_k n_k): GRADEV's sum over
+/// the terms whose points all exist, Sesia, Tavella et al., Metrologia 2008; the same values as
+/// `gradev` of the parts on one grid with NaN between them), its EDF the sum of the parts' (each
+/// part's own, guarded rule; the parts taken as independent), its bounds at `level` from that
+/// EDF (chi-square), then the same fit as above. No long taus; ADEV(1 s) only when 1 s is one of
+/// the factors. A single part gives analyse_noise's curve, bounds and terms. Errors: as
+/// analyse_noise, and no part long enough for a factor.
+[[nodiscard]] result<noise_analysis> analyse_noise(std::span<const phase_source* const> parts,
+                                                   double level, const tau_range& range = {},
+                                                   const noise_series& series = {});
 
 }  // namespace gyroflip::analysis

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -179,6 +180,23 @@ class writer {
   [[nodiscard]] std::uint64_t bytes() const noexcept { return bytes_; }
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
 
+  /// One of the last records written: its kind and the first byte of its body (a FRAME's
+  /// message type; 0 for an empty body).
+  struct written_record {
+    kind type = kind::meta;
+    std::uint8_t first = 0;
+  };
+  /// The last record in the file, while it is one of the last tail_records written and not yet
+  /// taken back; none otherwise.
+  [[nodiscard]] std::optional<written_record> last_record() const;
+  /// Takes the last record out of the file (cut back to where it began): the room the records
+  /// that end a full file need, when the write failed with less free than they take and the
+  /// writer did not know the limit (a full disk: ENOSPC; review of issue 32). The caller counts
+  /// what it held. Fails when last_record() has none.
+  [[nodiscard]] status take_back_last();
+  /// Records last_record() can go back over.
+  static constexpr std::size_t tail_records = 16;
+
  private:
   writer(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
   int fd_ = -1;
@@ -198,6 +216,12 @@ class writer {
   std::uint64_t size_limit_ = UINT64_MAX;  // RLIMIT_FSIZE when the writer was made
   std::vector<std::uint8_t> buf_;
   std::vector<pending_copy> pending_;
+  // The last records written (at most tail_records): where each began, and what it was.
+  struct tail_entry {
+    std::uint64_t offset = 0;
+    written_record what;
+  };
+  std::vector<tail_entry> tail_;
 };
 
 /// CRC-32 (ISO-HDLC, zlib's) of `bytes`.
