@@ -109,7 +109,7 @@ def test_calibrate_runs_equals_the_cli(exe, tmp_path):
     py = gyroflip.calibrate_runs(files, latitude=42.6, axis="north")
     assert py.pop("warnings") == []
     assert py == cli
-    assert cli["schema"] == "gyroflip.calibration/4" and cli["version"] == gyroflip.__version__
+    assert cli["schema"] == "gyroflip.calibration/5" and cli["version"] == gyroflip.__version__
     assert cli["model"]["degree"] == 1
     one = gyroflip.calibrate_runs(files[:2], degree=1, pairing="simple")
     assert one["pairing"] == "simple" and one["model"]["degree"] == 1
