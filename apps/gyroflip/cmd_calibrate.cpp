@@ -114,10 +114,11 @@ void print_result(std::string& out, const io::calibration_record& rec,
     else
       between = fmt::format(
           "std {} deg/s of the runs' dN{}{}", two(b.runs_std_dps),
-          std::isfinite(b.between_run_dps)
+          !std::isfinite(b.between_run_dps) ? std::string()
+          : b.between_run_dps > 0.0
               ? fmt::format(" ({} beyond their own noise, random effects' tau)",
                             two(b.between_run_dps))
-              : "",
+              : std::string(" (none beyond their own noise: random effects' tau is 0)"),
           b.run_to_run_floored
               ? fmt::format("; below their own noise {} deg/s, so not resolved: {} deg/s taken "
                             "for a new power-up",

@@ -547,11 +547,22 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
     const bool older_scale =
         refit && *refit && rec.model->random_effects && !theirs_cov &&
         rec.model->cov.size() == (*refit)->cov.size() && !rec.model->cov.empty() &&
-        (*refit)->cov.front() > 0.0 && [&] {
-          const double c = rec.model->cov.front() / (*refit)->cov.front();
-          return c > 0.0 && c <= 1.0 + 1e-9 &&
-                 std::equal(rec.model->cov.begin(), rec.model->cov.end(), (*refit)->cov.begin(),
-                            [&](double a, double b2) { return !differs(a, c * b2); });
+        (*refit)->cov.front() > 0.0 && (*refit)->dof > 0 && [&] {
+          // The untruncated q = sum w* r^2 / dof of the refit (its weights 1/(v + tau^2)).
+          const auto& m = **refit;
+          const double tau2 = std::isfinite(m.between_run_var_dps2) ? m.between_run_var_dps2 : 0.0;
+          double q = 0.0;
+          for (const auto& e : rec.files) {
+            const double r = e.cal.delta_n_dps - m.eval(e.cal.temp_c);
+            const double v = e.cal.stderr_correlated_dps * e.cal.stderr_correlated_dps + tau2;
+            if (!(v > 0.0)) return false;
+            q += r * r / v / static_cast<double>(m.dof);
+          }
+          return q < 1.0 &&
+                 std::equal(rec.model->cov.begin(), rec.model->cov.end(), m.cov.begin(),
+                            [&](double a, double b2) {
+                              return std::abs(a - q * b2) <= 1e-6 * std::abs(q * b2) + 1e-30;
+                            });
         }();
     const bool theirs = theirs_coeffs && (theirs_cov || older_scale);
     if (theirs && refit && *refit) refit_model = **refit;
@@ -1211,10 +1222,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
           a.run.file, a.cal.cycles, min_cycles));
   if (!f.compensating && f.budget.run_to_run_dof == 1)
     f.warnings.push_back(fmt::format(
-        "the run-to-run repeatability {} °/s is measured with 1 degree of freedom ({} runs for "
+        "the run-to-run repeatability {} °/s is {} with 1 degree of freedom ({} runs for "
         "{} coefficient{}): a std of one degree of freedom is itself uncertain by about 70 %; "
         "calibrate more runs",
-        u2(f.budget.run_to_run_dps), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
+        u2(f.budget.run_to_run_dps),
+        f.budget.run_to_run_floored ? "not resolved (the runs scatter less than their own noise)"
+                                    : "measured",
+        runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
   if (runs.size() == 1 && !f.compensating)
     f.warnings.push_back(
         "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "
