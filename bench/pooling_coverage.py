@@ -9,8 +9,12 @@ calibrate` does (random effects). Two truths are known:
     (uncertainty.new_power_up_dps), what a compensated rate carries, likewise.
 Also the weighted fit of before issue 31 (within-run weights, Birge-scaled error) for comparison.
 
+With --no-spread every run is drawn from the preset without its turn-on spreads (the fourth
+review of issue 31's tiny.toml): all power-ups share the mean dN, the case where the runs agree
+within their own noise and the untruncated Knapp-Hartung error fell below it (F1).
+
 Usage: python3 bench/pooling_coverage.py [BUILD/python] [--campaigns=N] [--runs=2,3,5,8]
-       [--sensor=hz1-90-100a] [--duration=900]
+       [--sensor=hz1-90-100a] [--duration=900] [--no-spread]
 Prints one row per K: coverage of each interval with its binomial standard error."""
 import json
 import math
@@ -22,7 +26,8 @@ import numpy as np
 
 
 def parse(argv):
-    opts = {"campaigns": 200, "runs": [2, 3, 5, 8], "sensor": "hz1-90-100a", "duration": 900.0}
+    opts = {"campaigns": 200, "runs": [2, 3, 5, 8], "sensor": "hz1-90-100a", "duration": 900.0,
+            "no_spread": False}
     pydir = os.path.join(os.path.dirname(__file__), "..", "build", "python")
     for a in argv:
         if a in ("-h", "--help"):
@@ -36,6 +41,8 @@ def parse(argv):
             opts["sensor"] = a.split("=", 1)[1]
         elif a.startswith("--duration="):
             opts["duration"] = float(a.split("=", 1)[1])
+        elif a == "--no-spread":
+            opts["no_spread"] = True
         elif a.startswith("-"):
             sys.exit(f"pooling_coverage.py: unknown option {a} (--help)")
         else:
@@ -63,8 +70,10 @@ def main():
         f.write(f'base = "{o["sensor"]}"\nname = "mean"\ng_sens_turn_on_sigma_dps_per_g = 0.0\n'
                 'g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0\n')
     mean_truth = gyroflip.simulate(still, duration_s=10.0, seed=1, temp=20)["delta_n_truth_dps"]
-    print(f"sensor {o['sensor']}, runs of {o['duration']:g} s at 20 degC, {o['campaigns']} "
-          f"campaigns per K; mean dN {mean_truth:.6g} deg/s")
+    runs_from = still if o["no_spread"] else o["sensor"]
+    print(f"sensor {o['sensor']}{' without turn-on spreads' if o['no_spread'] else ''}, runs of "
+          f"{o['duration']:g} s at 20 degC, {o['campaigns']} campaigns per K; mean dN "
+          f"{mean_truth:.6g} deg/s")
     print("K  calibrated(RE)  new-power-up(RE)  calibrated(weighted, before)")
     seed = 1000
     for k in o["runs"]:
@@ -73,11 +82,11 @@ def main():
             files = []
             for i in range(k):
                 seed += 1
-                rec = gyroflip.simulate(o["sensor"], duration_s=o["duration"], seed=seed, temp=20)
+                rec = gyroflip.simulate(runs_from, duration_s=o["duration"], seed=seed, temp=20)
                 files.append(os.path.join(tmp, f"run{i}.csv"))
-                write_csv(files[-1], rec, o["sensor"])
+                write_csv(files[-1], rec, "mean" if o["no_spread"] else o["sensor"])
             seed += 1
-            new_truth = gyroflip.simulate(o["sensor"], duration_s=10.0, seed=seed,
+            new_truth = gyroflip.simulate(runs_from, duration_s=10.0, seed=seed,
                                           temp=20)["delta_n_truth_dps"]
             cal = gyroflip.calibrate_runs(files)
             m, u = cal["model"], cal["uncertainty"]

@@ -77,37 +77,65 @@ void print_result(std::string& out, const io::calibration_record& rec,
                    workflow::value_pm(c.delta_n_dps, c.stderr_correlated_dps));
   } else if (rec.model->degree() == 0) {
     const auto& m = *rec.model;
-    fmt::format_to(
-        o, "dN over {} runs = {} deg/s (68.3 %{}; {})\n", rec.files.size(),
-        workflow::value_pm(m.coeffs_dps[0], b.calibration_dps),
-        b.coverage_factor > 1.0
-            ? fmt::format(", Student's t for {} degrees of freedom", b.run_to_run_dof)
-            : "",
-        m.random_effects ? "random effects: DerSimonian-Laird, Knapp-Hartung" : "weighted mean");
+    fmt::format_to(o, "dN over {} runs = {} deg/s (68.3 %{}; {})\n", rec.files.size(),
+                   workflow::value_pm(m.coeffs_dps[0], b.calibration_dps),
+                   b.coverage_factor > 1.0
+                       ? fmt::format(", Student's t for {} degrees of freedom", b.run_to_run_dof)
+                       : "",
+                   m.random_effects ? "random effects: DerSimonian-Laird, modified Knapp-Hartung"
+                                    : "weighted mean");
   } else {
     const auto& m = *rec.model;
+    // Without degrees of freedom (fourth review of issue 31, F8) the fit's quality and error are
+    // not determined: said so, as the report does, not "chi2/dof 0" beside an 8-digit dN.
+    const bool determined = m.dof > 0 || !m.random_effects;
+    const double u_centre = determined ? m.interval_at(m.t_ref_c) : b.calibration_dps;
     fmt::format_to(o,
                    "dN(T) = sum c_k (T - {:.2f})^k, c = [{:.3g}] (full digits: -o, --json), fitted "
-                   "over {:.1f}..{:.1f} "
-                   "degC (random effects), chi2/dof {:.3g}\n"
-                   "  at {:.2f} degC: dN = {} deg/s; anywhere in the range within ±{} deg/s "
-                   "(68.3 %)\n",
+                   "over {:.1f}..{:.1f} degC (random effects), {}\n"
+                   "  at {:.2f} degC: dN = {} deg/s; {}\n",
                    m.t_ref_c, fmt::join(m.coeffs_dps, ", "), m.temp_min_c, m.temp_max_c,
-                   m.chi2_per_dof, m.t_ref_c,
-                   workflow::value_pm(m.coeffs_dps[0], m.interval_at(m.t_ref_c)),
-                   two(b.calibration_dps));
+                   determined ? fmt::format("chi2/dof {:.3g}", m.chi2_per_dof)
+                              : std::string("chi2/dof not determined (0 degrees of freedom: the "
+                                            "line passes through its runs)"),
+                   m.t_ref_c,
+                   std::isfinite(u_centre) && u_centre > 0.0
+                       ? workflow::value_pm(m.coeffs_dps[0], u_centre)
+                       : to_digits_of(m.coeffs_dps[0], b.within_run_dps, 3),
+                   std::isfinite(b.calibration_dps)
+                       ? fmt::format("anywhere in the range within ±{} deg/s (68.3 %){}",
+                                     two(b.calibration_dps),
+                                     determined ? "" : ", from the sensor preset's spread")
+                       : std::string("its error is not determined (0 degrees of freedom)"));
   }
   if (rec.files.size() > 1) {
+    std::string between;
+    if (!std::isfinite(b.runs_std_dps))
+      between = fmt::format(
+          "not determined (0 degrees of freedom: the model passes through its {} runs){}",
+          rec.files.size(),
+          std::isfinite(b.run_to_run_dps)
+              ? fmt::format("; the sensor preset's turn-on spread {} deg/s is assumed",
+                            two(b.run_to_run_dps))
+              : std::string());
+    else
+      between = fmt::format(
+          "std {} deg/s of the runs' dN{}{}", two(b.runs_std_dps),
+          !std::isfinite(b.between_run_dps) ? std::string()
+          : b.between_run_dps > 0.0
+              ? fmt::format(" ({} beyond their own noise, random effects' tau)",
+                            two(b.between_run_dps))
+              : std::string(" (none beyond their own noise: random effects' tau is 0)"),
+          b.run_to_run_floored
+              ? fmt::format("; below their own noise {} deg/s, so not resolved: {} deg/s taken "
+                            "for a new power-up",
+                            two(b.single_run_dps), two(b.run_to_run_dps))
+              : std::string());
     fmt::format_to(o,
-                   "  between runs: std {} deg/s of the runs' dN{}\n"
+                   "  between runs: {}\n"
                    "  within runs: {} deg/s (the runs' correlated errors pooled: noise inside the "
                    "runs, not the error of dN)\n",
-                   two(b.run_to_run_dps),
-                   std::isfinite(b.between_run_dps)
-                       ? fmt::format(" ({} beyond their own noise, random effects' tau)",
-                                     two(b.between_run_dps))
-                       : "",
-                   two(b.within_run_dps));
+                   between, two(b.within_run_dps));
   }
   if (!failed.empty()) return;  // nothing to quote (review of issue 31)
   if (std::isfinite(b.new_power_up_dps))

@@ -100,17 +100,33 @@ int run_compensate(const compensate_options& o) {
                           : std::string("n/a"),
         summary.drift_window_s);
     // Both errors of the mean: the within-run one above, and the ΔN's, common to every cycle
-    // (third review of issue 31, M5).
-    // The ratio only where the stderr is not 0 (a run without noise: no ratio to give).
-    if (std::isfinite(res->delta_n_u_dps)) {
-      const double ratio = res->delta_n_u_dps / summary.stderr_correlated_dps;
+    // (third review of issue 31, M5), as calibrate says to quote it: a new power-up's (fourth
+    // review, F2), the calibrated value's beside it. The ratio only where the stderr is not 0 (a
+    // run without noise: no ratio to give).
+    const auto times_stderr = [&](double u) {
+      const double ratio = u / summary.stderr_correlated_dps;
+      return std::isfinite(ratio) ? fmt::format(", {} times the stderr", significant(ratio, 2))
+                                  : std::string();
+    };
+    if (std::isfinite(res->new_power_up_dps)) {
       summary_text += fmt::format(
-          "  the ΔN subtracted has its own error ±{} deg/s (the calibration's, 68.3 %; a new "
-          "power-up adds its repeatability){}: the same in every cycle, so averaging does not "
-          "reduce it; quote both\n",
-          significant(res->delta_n_u_dps, 2),
-          std::isfinite(ratio) ? fmt::format(", {} times the stderr", significant(ratio, 2))
-                               : std::string());
+          "  the ΔN subtracted carries ±{} deg/s for a new power-up (68.3 %, the calibration's "
+          "quote: its value's own error{} and the run-to-run repeatability){}: the same in every "
+          "cycle, so averaging does not reduce it; quote both\n",
+          significant(res->new_power_up_dps, 2),
+          std::isfinite(res->delta_n_u_dps)
+              ? fmt::format(" ±{}", significant(res->delta_n_u_dps, 2))
+              : std::string(),
+          times_stderr(res->new_power_up_dps));
+    } else if (std::isfinite(res->delta_n_u_dps)) {
+      summary_text += fmt::format(
+          "  the ΔN subtracted has its own error ±{} deg/s (the calibrated value's, 68.3 %){}: the "
+          "same in every cycle, so averaging does not reduce it; quote both; {}\n",
+          significant(res->delta_n_u_dps, 2), times_stderr(res->delta_n_u_dps),
+          res->delta_n_u_note.empty() ? std::string("a new power-up adds its repeatability")
+                                      : res->delta_n_u_note);
+    } else if (!res->delta_n_u_note.empty()) {
+      summary_text += fmt::format("  the ΔN subtracted: its error is {}\n", res->delta_n_u_note);
     }
     if (auto s = check_finite(summary_text, "<stdout>"); !s) return report(s.err());
   }

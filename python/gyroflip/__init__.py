@@ -681,7 +681,7 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
     degree: an int in 0..6 (as `--degree`). A wrong type raises TypeError naming the argument.
     sensor, strict: as calibrate() (`--sensor`, `--strict`); the default specification is the
       recordings' built-in preset.
-    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/4: delta_n_dps,
+    Returns the dict `gyroflip calibrate --json` prints (schema gyroflip.calibration/5: delta_n_dps,
     stderr_correlated_dps, files (each with its "stationarity"), model, uncertainty, sensor, ...)
     plus "warnings". The top-level delta_n_dps is all cycles pooled (a summary); the dN that
     compensate() and report() apply is "model"'s (the runs' random-effects fit:
@@ -822,7 +822,7 @@ def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None, harmon
 
 
 def report(files, output, latitude=None, axis=None, calibration=None, title=None, pairing="abba",
-           expected_rate=None):
+           expected_rate=None, sensor=None):
     """Writes the report folder `gyroflip report FILE... -o OUTPUT` writes (the same library call,
     docs/REPORT.md): index.html (tables, figures, provenance), report.pdf, summary.json and
     figures/ with each figure's gnuplot script and data. Needs gnuplot and Chromium or pdfunite.
@@ -838,6 +838,9 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
       (default: one naming the sensor and the runs). pairing: "abba" or "simple".
     expected_rate (deg/s, with calibration): the rate a rate table commanded; each run's error
       and scale-factor error against it.
+    sensor: a built-in preset's name or a TOML preset file, as `report --sensor`: the
+      specification the runs' g-term is checked against and whose spread the budget takes
+      (default: a simulated run's own sensor model, else the built-in preset it names).
     Returns summary.json as a dict (schema gyroflip.report/N: the numbers per run, the dN budget,
     the conclusion and "warnings"). The provenance names this call. Releases the GIL; Ctrl-C
     stops it."""
@@ -851,7 +854,8 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
     latitude = None if latitude is None else _real_arg("latitude", latitude)
     expected_rate = None if expected_rate is None else _real_arg("expected_rate", expected_rate)
     kwargs = {k: v for k, v in (("latitude", latitude), ("axis", axis), ("calibration", calibration),
-                                ("title", title), ("expected_rate", expected_rate)) if v is not None}
+                                ("title", title), ("expected_rate", expected_rate),
+                                ("sensor", sensor)) if v is not None}
     if pairing != "abba":
         kwargs["pairing"] = pairing
     command = _call_text("report", [files, output], kwargs)
@@ -866,7 +870,7 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
                      "calibration=cal).")
     return _gyroflip._report(paths, output, latitude, axis, "" if calibration is None else calibration,
                              "" if title is None else str(title), pairing, expected_rate, command,
-                             next_step)
+                             next_step, None if sensor is None else str(sensor))
 
 
 def reproduce(quick=False, seed=1, campaigns=None, output=None, sensors=None):

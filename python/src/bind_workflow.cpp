@@ -31,8 +31,12 @@ py::dict report(const std::vector<std::string>& files, const std::string& output
                 std::optional<double> lat_deg, const std::optional<std::string>& axis,
                 const std::string& calibration, const std::string& title,
                 const std::string& pairing, std::optional<double> expected_rate_dps,
-                const std::string& command, const std::string& next_step) {
+                const std::string& command, const std::string& next_step,
+                const std::optional<std::string>& sensor) {
   workflow::report_request req;
+  // The specification the runs' g-term is checked against, as `report --sensor` (fourth review
+  // of issue 31, F5).
+  if (sensor) req.sensor = take(sensor::load_preset(*sensor));
   req.next_step = next_step;
   req.files = files;
   req.output = output;
@@ -45,9 +49,7 @@ py::dict report(const std::vector<std::string>& files, const std::string& output
   req.expected_rate_dps = expected_rate_dps;
   req.command = command;
   req.made_by = "gyroflip.report (Python)";
-  req.sensor_hint =
-      "calibrate the runs with calibrate_runs(..., sensor=a preset name or a TOML file), write "
-      "its dict to a JSON file and report them with calibration=that file";
+  req.sensor_hint = "sensor= (a preset name or a TOML file)";
   auto run =
       without_gil([&](const progress_fn& listen) { return workflow::make_report(req, listen); });
   const auto res = take(std::move(run));
@@ -145,7 +147,7 @@ void bind_workflow(py::module_& m) {
         py::arg("positions"), py::arg("heading_latitude"));
   m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),
         py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
-        py::arg("expected_rate"), py::arg("command"), py::arg("next_step"));
+        py::arg("expected_rate"), py::arg("command"), py::arg("next_step"), py::arg("sensor"));
   m.def("_reproduce", &reproduce, py::arg("quick"), py::arg("seed"), py::arg("campaigns"),
         py::arg("output"), py::arg("sensors"), py::arg("command"));
 }

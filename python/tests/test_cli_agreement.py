@@ -109,7 +109,7 @@ def test_calibrate_runs_equals_the_cli(exe, tmp_path):
     py = gyroflip.calibrate_runs(files, latitude=42.6, axis="north")
     assert py.pop("warnings") == []
     assert py == cli
-    assert cli["schema"] == "gyroflip.calibration/4" and cli["version"] == gyroflip.__version__
+    assert cli["schema"] == "gyroflip.calibration/5" and cli["version"] == gyroflip.__version__
     assert cli["model"]["degree"] == 1
     one = gyroflip.calibrate_runs(files[:2], degree=1, pairing="simple")
     assert one["pairing"] == "simple" and one["model"]["degree"] == 1
@@ -127,9 +127,11 @@ def test_report_equals_the_cli(exe, tmp_path):
         run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 300, "--seed", seed, "--temp", temp,
             "-o", f)
         files.append(str(f))
-    run(exe, "report", *files, "--latitude", 42.6, "--axis", "north", "-o", tmp_path / "cli")
+    # sensor= is --sensor (fourth review of issue 31, F5: Python's report had no way to name it).
+    run(exe, "report", *files, "--latitude", 42.6, "--axis", "north", "--sensor", "hz1-90-100a",
+        "-o", tmp_path / "cli")
     cli = json.load(open(tmp_path / "cli" / "summary.json"))
-    py = gyroflip.report(files, tmp_path / "py", latitude=42.6, axis="north")
+    py = gyroflip.report(files, tmp_path / "py", latitude=42.6, axis="north", sensor="hz1-90-100a")
     # Two runs for a dN(T) line: no degrees of freedom left, which both say.
     assert len(py["warnings"]) == 1 and "0 degrees of freedom" in py["warnings"][0]
     assert py.pop("command").startswith("python3: gyroflip.report([")

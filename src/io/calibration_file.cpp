@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -455,6 +457,45 @@ std::vector<std::string> rig_differences(const sensor_record& a, const sensor_re
   return out;
 }
 
+namespace {
+
+// What calibrate said to quote (schema 3, `uncertainty`): read so that compensate quotes the same
+// (fourth review of issue 31, F2). null is NaN (not determined); a number must be >= 0.
+status read_uncertainty(const std::string& path, const json& j, calibration_record& rec) {
+  const auto it = j.find("uncertainty");
+  if (it == j.end() || it->is_null()) return ok();
+  if (!it->is_object()) return input_error({path}, "'uncertainty' must be an object");
+  calibration_uncertainty u;
+  const auto number = [&](const char* key, double& out) -> status {
+    const auto k = it->find(key);
+    if (k == it->end() || k->is_null()) {
+      out = std::numeric_limits<double>::quiet_NaN();
+      return ok();
+    }
+    if (!k->is_number() || !(k->get<double>() >= 0.0) || !(k->get<double>() <= max_magnitude))
+      return input_error({path},
+                         fmt::format("uncertainty: '{}' must be a number >= 0 or null", key));
+    out = k->get<double>();
+    return ok();
+  };
+  for (const auto& [key, member] : {std::pair{"new_power_up_dps", &u.new_power_up_dps},
+                                    std::pair{"calibrated_dps", &u.calibrated_dps},
+                                    std::pair{"repeatability_dps", &u.repeatability_dps},
+                                    std::pair{"between_run_dps", &u.between_run_dps},
+                                    std::pair{"coverage_factor", &u.coverage_factor}})
+    if (auto s = number(key, *member); !s) return s;
+  if (const auto k = it->find("repeatability_measured"); k != it->end() && k->is_boolean())
+    u.repeatability_measured = k->get<bool>();
+  if (const auto k = it->find("repeatability_source"); k != it->end() && k->is_string())
+    u.repeatability_source = k->get<std::string>();
+  if (const auto k = it->find("dof"); k != it->end() && k->is_number_unsigned())
+    u.dof = std::min<std::size_t>(k->get<std::size_t>(), 1000000);
+  rec.uncertainty = std::move(u);
+  return ok();
+}
+
+}  // namespace
+
 method::delta_n_model delta_n_model_of(const calibration_record& rec) {
   if (rec.model) return *rec.model;
   return method::constant_model(rec.pooled.delta_n_dps, rec.pooled.stderr_correlated_dps);
@@ -472,7 +513,7 @@ std::vector<method::delta_n_term> terms_of(const calibration_record& rec) {
 }
 
 result<std::string> to_json(const calibration_record& rec) {
-  json j = schema_object("calibration", 4);
+  json j = schema_object("calibration", 5);
   j.update(calibration_fields(rec.pooled, rec.geometry));
   j["pairing"] = method::to_string(rec.pairing);
   j["lat_deg"] = rec.geometry ? json(rec.geometry->lat_deg) : json(nullptr);
@@ -517,13 +558,17 @@ result<std::string> to_json(const calibration_record& rec) {
   }
   if (rec.model) {
     const auto& m = *rec.model;
+    // A random-effects fit without degrees of freedom determines neither its covariance nor its
+    // chi^2: null, not 0 (fourth review of issue 31, F8; the reader takes null, and the zeros of
+    // older files, as the same).
+    const bool determined = m.dof > 0 || !m.random_effects;
     j["model"] = {{"kind", "poly"},
                   {"degree", m.degree()},
                   {"coeffs_dps", m.coeffs_dps},
                   {"t_ref_c", number_or_null(m.t_ref_c)},
-                  {"cov", m.cov},
+                  {"cov", determined ? json(m.cov) : json(nullptr)},
                   {"temp_range_c", {number_or_null(m.temp_min_c), number_or_null(m.temp_max_c)}},
-                  {"chi2_per_dof", m.chi2_per_dof},
+                  {"chi2_per_dof", determined ? json(m.chi2_per_dof) : json(nullptr)},
                   {"fit", m.random_effects ? "random_effects" : "weighted"},
                   {"dof", m.dof},
                   {"between_run_var_dps2", number_or_null(m.between_run_var_dps2)}};
@@ -565,9 +610,10 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
     // Files before schema 1 carry none; another schema is another format (review D3).
     if (const auto sc = j.find("schema"); sc != j.end())
       if (!sc->is_string() || (*sc != "gyroflip.calibration/1" && *sc != "gyroflip.calibration/2" &&
-                               *sc != "gyroflip.calibration/3" && *sc != "gyroflip.calibration/4"))
+                               *sc != "gyroflip.calibration/3" && *sc != "gyroflip.calibration/4" &&
+                               *sc != "gyroflip.calibration/5"))
         return input_error({path}, fmt::format("schema {} is not a gyroflip calibration this "
-                                               "version reads (gyroflip.calibration/1 to /4)",
+                                               "version reads (gyroflip.calibration/1 to /5)",
                                                printable(sc->dump(), 80)));
     rec.pooled.delta_n_dps = j.at("delta_n_dps").get<double>();
     if (!std::isfinite(rec.pooled.delta_n_dps))
@@ -599,7 +645,7 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
       model.coeffs_dps = m.at("coeffs_dps").get<std::vector<double>>();
       model.t_ref_c = m.at("t_ref_c").is_null() ? method::no_value : m.at("t_ref_c").get<double>();
       if (model.coeffs_dps.empty()) return input_error({path}, "model 'coeffs_dps' is empty");
-      if (m.contains("cov")) model.cov = m["cov"].get<std::vector<double>>();
+      if (m.contains("cov") && !m["cov"].is_null()) model.cov = m["cov"].get<std::vector<double>>();
       if (m.contains("temp_range_c") && m["temp_range_c"].is_array() &&
           m["temp_range_c"].size() == 2) {
         const json& r = m["temp_range_c"];
@@ -618,6 +664,10 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
         model.dof = std::min<std::size_t>(m["dof"].get<std::size_t>(), 1000000);
       if (m.contains("between_run_var_dps2") && m["between_run_var_dps2"].is_number())
         model.between_run_var_dps2 = m["between_run_var_dps2"].get<double>();
+      // A fit without degrees of freedom: `cov` null (schema 4 since the fourth review of
+      // issue 31) or zeros (before), held as zeros as the fit makes it.
+      if (model.random_effects && model.dof == 0 && m.contains("cov") && m["cov"].is_null())
+        model.cov.assign(model.coeffs_dps.size() * model.coeffs_dps.size(), 0.0);
       if (model.random_effects && model.dof == 0 &&
           model.cov.size() == model.coeffs_dps.size() * model.coeffs_dps.size() &&
           std::any_of(model.cov.begin(), model.cov.end(), [](double c) { return c != 0.0; }))
@@ -648,6 +698,11 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
           e.cal.temp_c = f["temp_c"].get<double>();
         if (f.contains("cycles") && f["cycles"].is_number_unsigned())
           e.cal.cycles = f["cycles"].get<std::size_t>();
+        // The std is part of a run's cycle signature (workflow::repeat_of): compensate tells a
+        // copy of a calibration run in other bytes by it (fourth review of issue 31, F6).
+        if (f.contains("std_dps") && f["std_dps"].is_number() &&
+            std::isfinite(f["std_dps"].get<double>()))
+          e.cal.std_dps = f["std_dps"].get<double>();
         if (auto s = read_source(path, at, f, e); !s) return s.err();
         if (auto s = read_stationarity(path, at, f, e); !s) return s.err();
         if (auto s = check_magnitude(path, "files: delta_n_dps", e.cal.delta_n_dps); !s)
@@ -667,6 +722,7 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
     if (auto s = read_terms(path, j, rec); !s) return s.err();
     if (auto s = read_terms_covariance(path, j, rec); !s) return s.err();
     if (auto s = read_separability(path, j, rec); !s) return s.err();
+    if (auto s = read_uncertainty(path, j, rec); !s) return s.err();
   } catch (const json::exception& e) {
     return input_error({path},
                        fmt::format("malformed calibration: {}", printable(reason(e.what()), 200)));

@@ -285,8 +285,14 @@ result<delta_n_model> fit_delta_n_random_effects(std::span<const delta_n_point> 
   if (!re) return runtime_error("dN(T) fit is singular (temperatures too close together)");
   m.coeffs_dps = re->coeffs;
   // Knapp-Hartung: the covariance scaled by the weighted residual variance (unweighted: the
-  // ordinary least-squares covariance, the same thing with equal weights).
-  const double q = re->chi2 / static_cast<double>(m.dof);
+  // ordinary least-squares covariance, the same thing with equal weights). Weighted, the scale is
+  // the modified one, q* = max(1, q) (Roever, Knapp & Friede 2015, BMC Med. Res. Methodol. 15:99;
+  // Jackson, Law, Ruecker & Schwarzer 2017, Stat. Med. 36, 3923-3934): with 2-3 runs that happen
+  // to agree, q can be far below 1 and the error far below the runs' own (fourth review of issue
+  // 31, F1: two runs 0.6 sigma off the truth in the same direction gave +-0.000015 for a dN
+  // 0.00022 off); never below the fixed-effect error sqrt(1 / sum 1/(v_i + tau^2)).
+  const double q_raw = re->chi2 / static_cast<double>(m.dof);
+  const double q = weighted ? std::max(1.0, q_raw) : q_raw;
   m.cov = re->cov;
   for (double& c : m.cov) c *= q;
   // A new run: weight 1/(tau^2 + v) with v the runs' mean within-run variance, on the same

@@ -71,9 +71,18 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
       ss += d * d;
       worst = std::max(worst, model->interval_at(r.cal.temp_c));
     }
-    b.run_to_run_dps = std::sqrt(ss / static_cast<double>(dof));
+    b.run_to_run_dps = b.runs_std_dps = std::sqrt(ss / static_cast<double>(dof));
     b.run_to_run_measured = true;
     b.run_to_run_dof = dof;
+    // A std below the runs' own noise does not resolve the power-up change (fourth review of
+    // issue 31, F1: two runs 16 microdeg/s apart, each +-0.00037, read as "dN moves by about
+    // 0.000011 deg/s"): the repeatability is then floored at what the runs can tell, their own
+    // noise (the median of their errors), or the sensor preset's turn-on spread where larger.
+    const double preset_spread = preset != nullptr ? turn_on_spread_dps(*preset, b.temp_c) : 0.0;
+    b.run_to_run_floored = b.runs_std_dps < b.single_run_dps;
+    if (b.run_to_run_floored)
+      b.run_to_run_dps =
+          std::max(b.single_run_dps, std::isfinite(preset_spread) ? preset_spread : 0.0);
     // A random-effects fit's intervals take Student's t for its degrees of freedom, and so does
     // a new power-up's (its repeatability is estimated from as few runs): measured coverage
     // 0.67-0.97 for 2-13 runs (docs/METHOD-NOTES.md, "Pooling runs").
@@ -91,6 +100,15 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
                   "measured: std of the {} runs' dN about the dN(T) line ({} degree{} of "
                   "freedom){}",
                   runs.size(), dof, dof == 1 ? "" : "s", rough);
+    if (b.run_to_run_floored)
+      b.run_to_run_source = fmt::format(
+          "not resolved: the {} runs' dN scatter by {} °/s, less than their own noise {} °/s, so "
+          "they cannot tell how far dN moves between power-ups; taken as {} °/s, {}",
+          runs.size(), significant(b.runs_std_dps, 2), significant(b.single_run_dps, 2),
+          significant(b.run_to_run_dps, 2),
+          b.run_to_run_dps > b.single_run_dps
+              ? fmt::format("the sensor preset {}'s turn-on spread (an assumption)", preset_name)
+              : std::string("their own noise (the median of their errors)"));
     b.model_dps = worst;
     const std::string t_words =
         b.coverage_factor > 1.0
@@ -105,7 +123,8 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
                    : "the dN(T) line's error at the runs' temperatures (largest)")
             : fmt::format(
                   "{} (random effects: each run weighted by 1/(its within-run error² + the "
-                  "between-run variance), DerSimonian–Laird; Knapp–Hartung error{})",
+                  "between-run variance), DerSimonian–Laird; modified Knapp–Hartung error, never "
+                  "below the runs' own{})",
                   model->degree() == 0 ? "the runs' mean"
                                        : "the dN(T) line at the runs' "
                                          "temperatures (largest)",
@@ -265,7 +284,9 @@ std::string when_to_recalibrate(const delta_n_budget& b, const std::string& temp
         "rate compensated with this calibration after a new power-up carries ±{} °/s (68.3 %; "
         "the calibrated value's own error is ±{} °/s). ",
         significant(b.run_to_run_dps, 2),
-        b.run_to_run_measured ? "measured on these runs" : "the sensor preset's, not measured",
+        b.run_to_run_floored ? "not resolved by these runs, which scatter less than their own noise"
+        : b.run_to_run_measured ? "measured on these runs"
+                                : "the sensor preset's, not measured",
         significant(b.new_power_up_dps, 2), significant(b.calibration_dps, 2));
     if (b.run_to_run_dps > 2.0 * b.single_run_dps)
       out += fmt::format(

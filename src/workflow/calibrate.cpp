@@ -67,6 +67,26 @@ std::optional<sensor::preset> header_preset(std::span<const io::csv_metadata> me
 
 }  // namespace
 
+result<std::optional<sensor::preset>> resolve_sensor_spec(
+    const std::optional<sensor::preset>& given, std::span<const io::csv_metadata> metadata,
+    const std::string& file, bool strict, std::vector<std::string>& warnings) {
+  const std::string recorded = metadata_value(metadata, "sensor_name");
+  if (given) {
+    if (!recorded.empty() && !given->name.empty() && recorded != given->name) {
+      const std::string what = fmt::format(
+          "recorded with sensor '{}', but the specification given is of '{}': its g-term is "
+          "checked against another part's",
+          printable(recorded, 80), printable(given->name, 80));
+      if (strict) return input_error({file}, what + "; refused (strict)");
+      warnings.push_back(fmt::format("{}: {}", file, what));
+    }
+    return given;
+  }
+  if (auto h = header_preset(metadata, file)) return h;
+  if (const auto* b = sensor::find_builtin(recorded)) return std::optional<sensor::preset>(*b);
+  return std::optional<sensor::preset>();
+}
+
 method::stationarity_inputs stationarity_inputs_of(
     method::pairing p, const sensor::preset* preset,
     const std::optional<io::calibration_geometry>& geometry) {
@@ -214,7 +234,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   std::vector<method::cycle> all;
   one_sensor sensors("calibrate");
   const sensor::preset* preset = nullptr;
-  std::optional<sensor::preset> from_header;
+  std::optional<sensor::preset> resolved;
   for (std::size_t k = 0; k < r.files.size(); ++k) {
     const auto& file = r.files[k];
     auto rc = read_cycles(file, r.pairing, part_progress(on_progress, k, r.files.size()),
@@ -226,11 +246,10 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     // The specification: the sensor given, else the recording's built-in preset by name (one
     // sensor for every file: one_sensor refuses a second).
     if (k == 0) {
-      preset =
-          r.sensor ? &*r.sensor : sensor::find_builtin(metadata_value(rc->metadata, "sensor_name"));
-      // Else the model a simulated run states in its header (a TOML preset's).
-      if (preset == nullptr && (from_header = header_preset(rc->metadata, file)))
-        preset = &*from_header;
+      auto spec = resolve_sensor_spec(r.sensor, rc->metadata, file, r.strict, out.warnings);
+      if (!spec) return spec.err();
+      resolved = std::move(*spec);
+      preset = resolved ? &*resolved : nullptr;
     }
     const auto st = method::check_stationarity(
         rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));

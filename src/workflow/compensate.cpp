@@ -2,8 +2,11 @@
 /// \brief Compensate and summarise (compensate.hpp).
 #include "gyroflip/workflow/compensate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <optional>
 #include <system_error>
 #include <utility>
 
@@ -11,9 +14,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
+#include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/page.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/recordings.hpp"
@@ -86,6 +92,52 @@ bool could_be_a_run_of(const std::string& file, const delta_n_source& dn) {
   return false;
 }
 
+// The ΔN's error a compensated rate carries after a new power-up, as calibrate quotes it (the
+// file's `uncertainty`), at the run's temperature `at_c` where the runs give tau^2(T).
+void quote_new_power_up(const delta_n_source& dn, double at_c, compensate_result& out) {
+  const auto& rec = *dn.record;
+  const bool no_dof =
+      rec.model && rec.model->random_effects && rec.model->dof == 0 && rec.files.size() > 1;
+  if (no_dof) {
+    out.delta_n_u_dps = std::numeric_limits<double>::quiet_NaN();
+    out.delta_n_u_note = fmt::format(
+        "not determined (0 degrees of freedom: the dN(T) line of degree {} passes through its {} "
+        "runs){}",
+        rec.model->degree(), rec.files.size(),
+        rec.uncertainty && std::isfinite(rec.uncertainty->new_power_up_dps)
+            ? fmt::format("; with the sensor preset's assumed run-to-run spread, ±{} deg/s for a "
+                          "new power-up",
+                          significant(rec.uncertainty->new_power_up_dps, 2))
+            : std::string());
+    return;
+  }
+  if (!rec.uncertainty) {
+    out.delta_n_u_note =
+        "a new power-up's is not in the calibration file (written before calibrate stated it): "
+        "calibrate again to know it";
+    return;
+  }
+  delta_n_budget b;
+  b.new_power_up_dps = rec.uncertainty->new_power_up_dps;
+  b.temperature_dps = 0.0;
+  if (!std::isfinite(b.new_power_up_dps)) {
+    out.delta_n_u_note = "a new power-up's is not known: " + rec.uncertainty->repeatability_source;
+    return;
+  }
+  // The band of a between-run variance that changes with temperature needs the fit itself (the
+  // file keeps its runs, not tau^2(T)): refitted, and used only when it is the model applied.
+  std::optional<method::delta_n_model> refit;
+  if (rec.model && rec.model->degree() > 0 && !rec.files.empty())
+    if (auto r = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
+        r && *r && (*r)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
+        std::equal((*r)->coeffs_dps.begin(), (*r)->coeffs_dps.end(), rec.model->coeffs_dps.begin(),
+                   [](double a, double c) {
+                     return std::abs(a - c) <= 1e-9 * std::max(std::abs(a), std::abs(c)) + 1e-15;
+                   }))
+      refit = std::move(**r);
+  out.new_power_up_dps = new_power_up_at(b, refit, at_c);
+}
+
 }  // namespace
 
 std::vector<std::string> same_run_warnings(const std::string& file, const std::string& sha256,
@@ -98,6 +150,24 @@ std::vector<std::string> same_run_warnings(const std::string& file, const std::s
           "{}: the same bytes as the calibration's run {} (SHA-256): its dN is part of the ΔN "
           "applied, so its compensated mean is not an independent test of the calibration",
           file, e.file));
+  return out;
+}
+
+std::vector<std::string> same_cycles_warnings(const std::string& file,
+                                              std::span<const method::cycle> cycles,
+                                              const delta_n_source& dn) {
+  std::vector<std::string> out;
+  if (!dn.record || cycles.empty()) return out;
+  const auto own = method::calibrate(cycles);
+  if (!own) return out;
+  for (const auto& e : dn.record->files)
+    if (e.cal.cycles == own->cycles && e.cal.delta_n_dps == own->delta_n_dps &&
+        (e.cal.std_dps == 0.0 || e.cal.std_dps == own->std_dps))  // no std: a file before it
+      out.push_back(fmt::format(
+          "{}: the same {} cycles as the calibration's run {} (dN and std equal to the last "
+          "digit) in other bytes (a copy, or an export of it): its dN is part of the ΔN applied, "
+          "so its compensated mean is not an independent test of the calibration",
+          file, own->cycles, e.file));
   return out;
 }
 
@@ -208,12 +278,20 @@ result<compensate_result> compensate_file(const compensate_request& r,
     // The SHA-256 of a 300 MB recording costs a third of the compensation (issue 33 (f)): only a
     // file the size of one of the calibration's runs (or of a run whose size is not on record)
     // can be one of them.
+    bool same_bytes = false;
     if (could_be_a_run_of(r.file, dn)) {
       auto id = report::identify_file(r.file);
       if (!id) return id.err();
-      for (auto& w : same_run_warnings(r.file, id->sha256, dn))
+      for (auto& w : same_run_warnings(r.file, id->sha256, dn)) {
         out.warnings.push_back(std::move(w));
+        same_bytes = true;
+      }
     }
+    // Other bytes with the same cycles (a copy with one more newline, a .gfr's CSV export): the
+    // cycle signature calibrate compares runs by (fourth review of issue 31, F6).
+    if (!same_bytes)
+      for (auto& w : same_cycles_warnings(r.file, rc->cycles, dn))
+        out.warnings.push_back(std::move(w));
     // The ΔN's own error at the run's mean temperature (its reference without temperatures).
     double sum = 0.0;
     std::size_t n = 0;
@@ -222,8 +300,10 @@ result<compensate_result> compensate_file(const compensate_request& r,
         sum += c.temp_c;
         ++n;
       }
-    const double u = dn.model.interval_at(n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c);
+    const double at_c = n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c;
+    const double u = dn.model.interval_at(at_c);
     if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
+    quote_new_power_up(dn, at_c, out);
   }
   if (out.comp.outside_model > 0)
     out.warnings.push_back(outside_model_warning(r.file, out.comp, dn.model));

@@ -474,9 +474,12 @@ void check_calibration_runs_stationary(const delta_n_source& given, findings& f)
 // written by hand) gets its own stated error as one run's, with the preset's repeatability, or
 // no ± at all (review D1: it got ±0).
 delta_n_budget calibration_budget(const delta_n_source& given, const identity& id,
-                                  std::vector<std::string>& warnings) {
+                                  const sensor::preset* spec, std::vector<std::string>& warnings) {
   const auto& rec = *given.record;
-  const auto* preset = id.builtin ? &id.builtin->params : nullptr;
+  // The sensor's specification as the runs' g-term check takes it (--sensor, a TOML header, a
+  // built-in by name; fourth review of issue 31, F3: only a built-in was used here).
+  const auto* preset = spec != nullptr ? &spec->params : nullptr;
+  const std::string preset_name = spec != nullptr ? spec->name : id.preset;
   if (rec.files.empty()) {
     // Its own stated error: the model's (the ΔN applied; the largest over its temperatures for a
     // line), else the top-level correlated error of a constant.
@@ -497,12 +500,12 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
             : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
                           "has no known uncertainty",
                           given.source));
-    if (!own) return budget_of({}, std::nullopt, preset, id.preset);
+    if (!own) return budget_of({}, std::nullopt, preset, preset_name);
     std::vector<io::calibration_entry> one{
         {"the calibration's stated ΔN", rec.pooled, std::nullopt, std::nullopt}};
     one.front().cal.stderr_correlated_dps = own_dps;
     one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
-    auto b = budget_of(one, std::nullopt, preset, id.preset);
+    auto b = budget_of(one, std::nullopt, preset, preset_name);
     b.within_run_note = "the calibration's own stated error (it lists no runs)";
     b.model_note = "none: the calibration lists no runs";
     return b;
@@ -527,17 +530,42 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
     return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
   };
   bool edited = false;  // the ΔN applied is not what its runs give: no ± from them
+  std::optional<method::delta_n_model> refit_model;
   if (rec.model) {
     const auto refit = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
-    const bool theirs =
-        refit && *refit && !differs(rec.model->t_ref_c, (*refit)->t_ref_c) &&
-        rec.model->cov.size() == (*refit)->cov.size() &&
+    const bool theirs_coeffs = refit && *refit && !differs(rec.model->t_ref_c, (*refit)->t_ref_c) &&
+                               (*refit)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
+                               std::equal(rec.model->coeffs_dps.begin(),
+                                          rec.model->coeffs_dps.end(), (*refit)->coeffs_dps.begin(),
+                                          [&](double a, double b) { return !differs(a, b); });
+    const bool theirs_cov =
+        refit && *refit && rec.model->cov.size() == (*refit)->cov.size() &&
         std::equal(rec.model->cov.begin(), rec.model->cov.end(), (*refit)->cov.begin(),
-                   [&](double a, double b) { return !differs(a, b); }) &&
-        (*refit)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
-        std::equal(rec.model->coeffs_dps.begin(), rec.model->coeffs_dps.end(),
-                   (*refit)->coeffs_dps.begin(),
                    [&](double a, double b) { return !differs(a, b); });
+    // A file written before the modified Knapp-Hartung scale (schema 3-4) holds the
+    // untruncated one: its covariance is the refit's times q <= 1 where the runs agreed closely.
+    const bool older_scale =
+        refit && *refit && rec.model->random_effects && !theirs_cov &&
+        rec.model->cov.size() == (*refit)->cov.size() && !rec.model->cov.empty() &&
+        (*refit)->cov.front() > 0.0 && (*refit)->dof > 0 && [&] {
+          // The untruncated q = sum w* r^2 / dof of the refit (its weights 1/(v + tau^2)).
+          const auto& m = **refit;
+          const double tau2 = std::isfinite(m.between_run_var_dps2) ? m.between_run_var_dps2 : 0.0;
+          double q = 0.0;
+          for (const auto& e : rec.files) {
+            const double r = e.cal.delta_n_dps - m.eval(e.cal.temp_c);
+            const double v = e.cal.stderr_correlated_dps * e.cal.stderr_correlated_dps + tau2;
+            if (!(v > 0.0)) return false;
+            q += r * r / v / static_cast<double>(m.dof);
+          }
+          return q < 1.0 &&
+                 std::equal(rec.model->cov.begin(), rec.model->cov.end(), m.cov.begin(),
+                            [&](double a, double b2) {
+                              return std::abs(a - q * b2) <= 1e-6 * std::abs(q * b2) + 1e-30;
+                            });
+        }();
+    const bool theirs = theirs_coeffs && (theirs_cov || older_scale);
+    if (theirs && refit && *refit) refit_model = **refit;
     if (!theirs) {
       edited = true;
       const double se = refit && *refit ? std::sqrt((*refit)->cov.front()) : method::no_value;
@@ -566,7 +594,22 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
         "software; the ΔN applied has no known uncertainty",
         given.source, g(rec.pooled.delta_n_dps, 6), g(rec.files[0].cal.delta_n_dps, 6)));
   }
-  auto b = budget_of(rec.files, rec.model, preset, id.preset);
+  // The budget from the runs' fit as this version makes it (a file written before the modified
+  // Knapp-Hartung scale keeps a covariance that may be below the runs' own errors; its
+  // coefficients are the same).
+  auto b = budget_of(rec.files, refit_model ? refit_model : rec.model, preset, preset_name);
+  // A calibration whose runs cannot give the repeatability (one run, no degrees of freedom) and
+  // no specification here: the one calibrate stated, from the specification it had (F3).
+  if (!std::isfinite(b.new_power_up_dps) && !edited && !twice && rec.uncertainty &&
+      std::isfinite(rec.uncertainty->new_power_up_dps) &&
+      std::isfinite(rec.uncertainty->repeatability_dps)) {
+    b.run_to_run_dps = rec.uncertainty->repeatability_dps;
+    b.run_to_run_source =
+        "as the calibration file states it: " + rec.uncertainty->repeatability_source;
+    if (std::isfinite(rec.uncertainty->calibrated_dps))
+      b.calibration_dps = rec.uncertainty->calibrated_dps;
+    b.new_power_up_dps = rec.uncertainty->new_power_up_dps;
+  }
   if (edited || twice) {
     b.valid = false;
     b.new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
@@ -581,7 +624,8 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
 // is known. A dN(T) line (re-review): its error is taken at the runs' own temperatures, where it
 // is extrapolated, not at the calibration runs' (at 36 degC from runs at 4-20 degC it is 2.6
 // times the largest of those).
-void check_calibration_temperature(const std::vector<run_analysis>& runs, findings& f) {
+void check_calibration_temperature(const std::vector<run_analysis>& runs, findings& f,
+                                   const sensor::preset* spec) {
   const auto& rec = *f.given->record;
   temp_span cal;
   for (const auto& e : rec.files)
@@ -612,8 +656,8 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
     b.new_power_up_dps = std::hypot(b.calibration_dps, b.coverage_factor * b.run_to_run_dps);
     return;
   }
-  add_temperature_term(b, outside_c, cal.text(), f.id.builtin ? &f.id.builtin->params : nullptr,
-                       f.id.preset);
+  add_temperature_term(b, outside_c, cal.text(), spec != nullptr ? &spec->params : nullptr,
+                       spec != nullptr ? spec->name : f.id.preset);
 }
 
 // "±u °/s" of a new power-up's ΔN, or why there is none.
@@ -1110,9 +1154,17 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (on_progress) on_progress(k + 1, steps);
   }
   f.id = identify(runs);
-  // The specification the runs' g-term is checked against: the sensor given, else the
-  // recordings' built-in preset by name (as calibrate's).
-  const sensor::preset* g_preset = r.sensor ? &*r.sensor : f.id.builtin;
+  // The specification the runs' g-term is checked against, and whose spread the budget takes:
+  // the one resolver calibrate uses (the sensor given, else a simulated run's `# sensor.*`
+  // header, else the built-in preset by name; fourth review of issue 31, F4).
+  std::optional<sensor::preset> spec;
+  if (!runs.empty()) {
+    auto resolved = resolve_sensor_spec(r.sensor, runs.front().run.metadata, runs.front().run.file,
+                                        false, f.warnings);
+    if (!resolved) return resolved.err();
+    spec = std::move(*resolved);
+  }
+  const sensor::preset* g_preset = spec ? &*spec : nullptr;
 
   // The dN: each calibration run compensated with its own dN (residuals about zero; their mean
   // says nothing); the runs' model (a weighted mean at one temperature, dN(T) over a span). With
@@ -1121,8 +1173,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   for (const auto& a : runs) entries.push_back({a.run.file, a.cal, std::nullopt, std::nullopt});
   if (f.given) {
     f.model = f.given->model;
-    f.budget = calibration_budget(*f.given, f.id, f.warnings);
-    check_calibration_temperature(runs, f);
+    f.budget = calibration_budget(*f.given, f.id, g_preset, f.warnings);
+    check_calibration_temperature(runs, f, g_preset);
     check_calibration_runs_stationary(*f.given, f);
   } else {
     check_stationary(r, g_preset, runs, f, entries);
@@ -1170,10 +1222,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
           a.run.file, a.cal.cycles, min_cycles));
   if (!f.compensating && f.budget.run_to_run_dof == 1)
     f.warnings.push_back(fmt::format(
-        "the run-to-run repeatability {} °/s is measured with 1 degree of freedom ({} runs for "
+        "the run-to-run repeatability {} °/s is {} with 1 degree of freedom ({} runs for "
         "{} coefficient{}): a std of one degree of freedom is itself uncertain by about 70 %; "
         "calibrate more runs",
-        u2(f.budget.run_to_run_dps), runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
+        u2(f.budget.run_to_run_dps),
+        f.budget.run_to_run_floored ? "not resolved (the runs scatter less than their own noise)"
+                                    : "measured",
+        runs.size(), runs.size() - 1, runs.size() == 2 ? "" : "s"));
   if (runs.size() == 1 && !f.compensating)
     f.warnings.push_back(
         "one run: its dN says nothing about the next power-up's (the run-to-run repeatability "
@@ -1195,9 +1250,13 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                                cal_origin.runs, cal_origin.runs == 1 ? "" : "s",
                                                cal_origin.words);
     // A run compensated with a calibration made of it is not an independent test of it.
-    if (k < runs.size() && f.compensating)
-      for (auto& w : same_run_warnings(runs[k].run.file, in->sha256, *f.given))
-        f.warnings.push_back(std::move(w));
+    if (k < runs.size() && f.compensating) {
+      auto same = same_run_warnings(runs[k].run.file, in->sha256, *f.given);
+      // Or its cycles in other bytes (a copy, an export; fourth review of issue 31, F6).
+      if (same.empty())
+        same = same_cycles_warnings(runs[k].run.file, runs[k].run.cycles(r.pairing), *f.given);
+      for (auto& w : same) f.warnings.push_back(std::move(w));
+    }
     if (k < runs.size()) entries[k].source = source_of(runs[k].run.file, runs[k].run.metadata, *in);
     page.made.inputs.push_back(std::move(*in));
   }
@@ -1335,7 +1394,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
           " The runs' mean weights each run by 1/(its within-run error² + τ²), τ = {} °/s their "
           "scatter beyond their own errors (random effects, DerSimonian–Laird): when τ dwarfs "
           "the within-run errors, as every power-up's own g-term makes it, this is the plain "
-          "mean. Its ± is a 68.3 % interval (Knapp–Hartung, Student's t). The plain mean of the "
+          "mean. Its ± is a 68.3 % interval (modified Knapp–Hartung, Student's t). The plain mean "
+          "of the "
           "{} runs is {} °/s; the run-to-run repeatability below is their plain std.",
           g(std::sqrt(std::max(0.0, f.runs_model->between_run_var_dps2)), 2), runs.size(),
           to_digits_of(plain, plain_u, 6));
@@ -1346,12 +1406,12 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
           all_t.text());
     main.tables.push_back(std::move(per));
     if (r.geometry) {
-      const auto spec = g_sensitivity_spec(f.id.preset);
+      const auto g_spec = g_preset != nullptr ? g_term_spec_of(*g_preset) : std::nullopt;
       report::table split{
           fmt::format("ΔN split at {}° latitude (paper eqns 9–11)", r.geometry->lat_deg),
           {"run", "ΔN (°/s)", "Earth term (°/s)", "g-term (°/s)"},
           {},
-          spec ? fmt::format("The sensor's specification: {}.", spec->source) : ""};
+          g_spec ? fmt::format("The sensor's specification: {}.", g_spec->source) : ""};
       for (std::size_t k = 0; k < runs.size(); ++k) {
         const auto& a = runs[k];
         const auto s =

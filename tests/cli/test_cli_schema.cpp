@@ -46,9 +46,9 @@ TEST(CliSchema, EveryJsonOutputCarriesItsSchemaAndVersion) {
   const auto s2 = d.file("two.csv");
   expect_schema(printed({"earth", "--latitude", "42.6", "--json"}), "gyroflip.earth/1", "earth");
   expect_schema(printed({"sensors", "--json"}), "gyroflip.sensors/1", "sensors");
-  expect_schema(printed({"calibrate", rec, "--json"}), "gyroflip.calibration/4", "calibrate");
+  expect_schema(printed({"calibrate", rec, "--json"}), "gyroflip.calibration/5", "calibrate");
   ASSERT_EQ(run_cli({"calibrate", rec, "-o", cal}).exit_code, 0);
-  expect_schema(json::parse(std::ifstream(cal)), "gyroflip.calibration/4", "calibrate -o");
+  expect_schema(json::parse(std::ifstream(cal)), "gyroflip.calibration/5", "calibrate -o");
   expect_schema(printed({"compensate", rec, "--calibration", cal, "--json"}),
                 "gyroflip.compensate/2", "compensate");
   expect_schema(printed({"adev", s2, "--column", "a", "--json"}), "gyroflip.adev/1", "adev");

@@ -31,7 +31,7 @@ io::calibration_record two_runs() {
 TEST(CalibrationFile, EachRunsSourceIsWrittenAndReadBack) {
   const auto text = io::to_json(two_runs());
   ASSERT_TRUE(text) << text.err().message;
-  EXPECT_NE(text->find("\"schema\":\"gyroflip.calibration/4\""), std::string::npos) << *text;
+  EXPECT_NE(text->find("\"schema\":\"gyroflip.calibration/5\""), std::string::npos) << *text;
   const auto back = io::parse_calibration(*text, "cal.json");
   ASSERT_TRUE(back) << back.err().message;
   ASSERT_EQ(back->files.size(), 2u);
@@ -117,10 +117,10 @@ TEST(CalibrationFile, OlderSchemasReadAsTheOneTermDeltaN) {
     EXPECT_EQ(rec->terms[0].value_dps, rec->pooled.delta_n_dps);
     EXPECT_EQ(rec->terms[0].stderr_correlated_dps, rec->pooled.stderr_correlated_dps);
     EXPECT_EQ(rec->model.has_value(), f.model);
-    // Written again: schema 4 with the same term, and read back the same.
+    // Written again: schema 5 with the same term, and read back the same.
     const auto text = io::to_json(*rec);
     ASSERT_TRUE(text) << text.err().message;
-    EXPECT_NE(text->find("\"schema\":\"gyroflip.calibration/4\""), std::string::npos);
+    EXPECT_NE(text->find("\"schema\":\"gyroflip.calibration/5\""), std::string::npos);
     const auto back = io::parse_calibration(*text, "again.json");
     ASSERT_TRUE(back) << back.err().message;
     EXPECT_EQ(back->terms, rec->terms);

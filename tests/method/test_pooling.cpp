@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -133,6 +134,52 @@ TEST(Pooling, ANewRunsIntervalIsTheLeastSquaresPredictionIntervalWithoutWithinRu
   EXPECT_TRUE(std::isnan(fit_delta_n_random_effects(two, 1)->new_run_interval_at(10.0)));
 }
 
+// Two runs that happen to agree (fourth review of issue 31, F1: `simulate --sensor tiny.toml`,
+// an HZ1 without turn-on spreads, seeds 53 and 56, 300 s at 20 degC; true dN 0.0030900 deg/s):
+// both 0.6 of their own errors above the truth, 16 microdeg/s apart. The untruncated
+// Knapp-Hartung scale q = 0.00095 gave +-0.000015, 14 times off; the modified scale max(1, q)
+// (Roever, Knapp & Friede 2015) keeps the error at least the fixed-effect one and the interval
+// holds the truth.
+TEST(Pooling, TwoRunsThatHappenToAgreeKeepAtLeastTheirFixedEffectError) {
+  const std::vector<delta_n_point> pts = {{20.0, 0.003314632416795297, 0.0003900179764453308},
+                                          {20.0, 0.003298497077031608, 0.0003495508174219319}};
+  const auto re = fit_delta_n_random_effects(pts, 0);
+  ASSERT_TRUE(re);
+  double sum_w = 0.0;
+  for (const auto& p : pts) sum_w += 1.0 / (p.stderr_dps * p.stderr_dps);
+  const double fixed_effect = 1.0 / std::sqrt(sum_w);
+  EXPECT_GE(re->stderr_at(20.0), fixed_effect * (1.0 - 1e-12));
+  EXPECT_LE(std::abs(re->eval(20.0) - 0.0030900), re->interval_at(20.0));
+  // A new run (its own noise and the between-run change) is never predicted closer than the
+  // runs' own noise either.
+  EXPECT_GE(re->new_run_interval_at(20.0),
+            std::sqrt(std::pow(fixed_effect, 2) + 0.0003495508 * 0.0003495508));
+  // Fixed seed, 2 runs, no between-run change (tau = 0), unequal errors: the error is never
+  // below the fixed-effect error (before: in about half the campaigns), and the 68.3 % interval
+  // holds the truth at least that often (measured 0.94, conservative: the modified scale with
+  // Student's t for 1 degree of freedom; before 0.68 with intervals 14 times too short).
+  std::mt19937_64 rng(53);
+  std::normal_distribution<double> z;
+  std::uniform_real_distribution<double> u01;
+  int below = 0, held = 0;
+  const int campaigns = 2000;
+  for (int c = 0; c < campaigns; ++c) {
+    std::vector<delta_n_point> two;
+    double w = 0.0;
+    for (int i = 0; i < 2; ++i) {
+      const double se = 0.5 + u01(rng);
+      two.push_back({20.0, se * z(rng), se});
+      w += 1.0 / (se * se);
+    }
+    const auto m = fit_delta_n_random_effects(two, 0);
+    ASSERT_TRUE(m);
+    below += m->stderr_at(20.0) < (1.0 - 1e-12) / std::sqrt(w);
+    held += std::abs(m->eval(20.0)) <= m->interval_at(20.0);
+  }
+  EXPECT_EQ(below, 0);
+  EXPECT_GE(held / static_cast<double>(campaigns), 0.683);
+}
+
 // Simulated runs with known truth (dN_i = line + u_i + e_i, u_i ~ N(0, tau^2), e_i ~ N(0, se_i^2),
 // se_i uniform in 0.5-1.5 units; fixed seed): a new run, drawn the same way at a random
 // temperature, falls in its 68.3 % prediction interval at that rate, where the line's own
@@ -172,8 +219,16 @@ TEST(Pooling, ANewRunFallsInItsPredictionIntervalAtItsRate) {
     }
     const double pred = in_pred / static_cast<double>(n);
     const double line = line_in_line / static_cast<double>(n);
-    EXPECT_NEAR(pred, 0.683, 0.04) << c.degree << " " << c.runs << " " << c.tau;
-    EXPECT_NEAR(line, 0.683, 0.04) << c.degree << " " << c.runs << " " << c.tau;
+    // The modified Knapp-Hartung scale max(1, q) (fourth review of issue 31, F1) is conservative
+    // where the runs barely scatter beyond their own errors (Jackson et al. 2017): with tau 0
+    // this seed gives 0.85 for 3 runs; where they scatter it holds 68 %.
+    const double upper = c.tau >= 3.0 ? 0.683 + 0.04 : 0.90;
+    EXPECT_GE(pred, 0.683 - 0.04) << c.degree << " " << c.runs << " " << c.tau;
+    EXPECT_LE(pred, upper) << c.degree << " " << c.runs << " " << c.tau;
+    EXPECT_GE(line, 0.683 - 0.04) << c.degree << " " << c.runs << " " << c.tau;
+    EXPECT_LE(line, upper) << c.degree << " " << c.runs << " " << c.tau;
+    std::printf("cell degree %zu runs %zu tau %g: new run %.3f, line %.3f\n", c.degree, c.runs,
+                c.tau, pred, line);
     if (c.tau >= 3.0) {
       EXPECT_LT(in_line / static_cast<double>(n), 0.5) << c.runs << " " << c.tau;
     }

@@ -736,7 +736,7 @@ TEST(ReportChecks, ACalibrationFromSimulatedRunsIsNamedWithItsRunsSources) {
   temp_dir d;
   calibrate_at_20c(d, "hz1-90-100a", "600", {"1", "2"});
   const auto cal = nlohmann::json::parse(read_text(d.file("cal.json")));
-  EXPECT_EQ(cal["schema"], "gyroflip.calibration/4");
+  EXPECT_EQ(cal["schema"], "gyroflip.calibration/5");
   ASSERT_EQ(cal["files"].size(), 2u);
   const auto sha_of = [](const std::string& file) {
     auto s = gyroflip::report::sha256_file(file);

@@ -120,7 +120,7 @@ struct calibration_record {
 [[nodiscard]] method::delta_n_model delta_n_model_of(const calibration_record& rec);
 
 /// JSON text of a calibration (one line, keys as in docs/FORMATS.md; schema
-/// gyroflip.calibration/4 and gyroflip's version, io/schema.hpp).
+/// gyroflip.calibration/5 and gyroflip's version, io/schema.hpp).
 [[nodiscard]] result<std::string> to_json(const calibration_record& rec);
 
 /// Reads a calibration file (schema 1 to 4): its pooled dN, its terms (schema 4; before, the one

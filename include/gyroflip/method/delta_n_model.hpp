@@ -104,9 +104,13 @@ struct delta_n_model {
 /// (sum w - tr((X'WX)^-1 X'W^2X))), Q the weighted residual sum of squares with w = 1/v. The
 /// coefficients are weighted by 1/(v_i + tau^2), and their covariance is Knapp & Hartung's
 /// (2003, Statistics in Medicine 22, 2693-2710): (X'W*X)^-1 times q = sum w*_i r_i^2 / (k - p),
-/// whose 68.3 % interval takes Student's t with k - p degrees of freedom (interval_at); a new
-/// run's variance about the line is q (tau^2 + the runs' mean v_i) (new_run_interval_at). Measured
-/// coverage of that interval: 0.67-0.69 for 2-13 runs with tau from 0 to 10 within-run errors
+/// in its modified form q* = max(1, q) (Roever, Knapp & Friede 2015, BMC Med. Res. Methodol.
+/// 15:99; Jackson et al. 2017, Stat. Med. 36, 3923-3934), so that the error is never below the
+/// fixed-effect error sqrt(1 / sum 1/(v_i + tau^2)) when a few runs happen to agree (fourth review
+/// of issue 31, F1; equal weights of 1, for runs without within-run errors: q itself), whose 68.3 %
+/// interval takes Student's t with k - p degrees of freedom (interval_at); a new run's variance
+/// about the line is q (tau^2 + the runs' mean v_i) (new_run_interval_at). Measured coverage of
+/// that interval: 0.67-0.69 for 2-13 runs with tau from 0 to 10 within-run errors
 /// (docs/METHOD-NOTES.md, "Pooling runs"), where the weighted fit's Birge-scaled error covers
 /// 0.44-0.73. When tau^2 dwarfs the within-run errors the mean is the runs' plain mean and the
 /// slope the ordinary least-squares slope. Without degrees of freedom (k = p) there is no tau^2

@@ -30,6 +30,11 @@ struct delta_n_budget {
   /// Repeatability of dN from one power-up to the next (one sample std); NaN when unknown.
   double run_to_run_dps = 0.0;
   bool run_to_run_measured = false;  ///< false: from the sensor preset, or unknown
+  /// The runs' std about the model as measured (NaN without degrees of freedom); run_to_run_dps
+  /// is this, or where it is below the runs' own noise (single_run_dps) that noise or the
+  /// preset's turn-on spread, whichever is larger (run_to_run_floored).
+  double runs_std_dps = std::numeric_limits<double>::quiet_NaN();
+  bool run_to_run_floored = false;
   /// Degrees of freedom of a measured repeatability (runs less the model's coefficients): the
   /// std of 1 degree of freedom is uncertain by 1/sqrt(2) (~70 %) and is flagged.
   std::size_t run_to_run_dof = 0;

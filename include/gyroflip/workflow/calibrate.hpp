@@ -49,6 +49,17 @@ struct calibrate_result {
   delta_n_budget budget;
 };
 
+/// The one resolver of the sensor specification a run is judged against (fourth review of issue
+/// 31, F4/F7; what calibrate, report and Python's calibrate_runs and report use): the preset
+/// `given` (`--sensor NAME|FILE.toml`, `sensor=`), else the sensor model a simulated recording
+/// states in its `# sensor.KEY:` header (a TOML preset's), else the built-in preset named by its
+/// `# sensor_name:`; nullopt when none. A `given` preset whose name is not the recording's
+/// sensor_name (both known) is a warning naming both (`FILE: recorded with sensor 'A', but the
+/// specification given is of 'B'`), and with `strict` an input error.
+[[nodiscard]] result<std::optional<sensor::preset>> resolve_sensor_spec(
+    const std::optional<sensor::preset>& given, std::span<const io::csv_metadata> metadata,
+    const std::string& file, bool strict, std::vector<std::string>& warnings);
+
 /// The stationarity test's inputs for a run: the pairing, the specification of `preset` (none:
 /// the g-term is not checked) and the geometry (none: a lower bound of the g-term).
 [[nodiscard]] method::stationarity_inputs stationarity_inputs_of(

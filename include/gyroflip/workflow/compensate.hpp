@@ -67,6 +67,14 @@ struct compensation {
                                                          const std::string& sha256,
                                                          const delta_n_source& dn);
 
+/// The same for a recording in other bytes whose cycles are one of the calibration's runs' (their
+/// count, dN and std equal to the last digit, workflow::repeat_of's signature; a file without the
+/// run's std: count and dN): a copy with one more newline, a `.gfr`'s CSV export (fourth review of
+/// issue 31, F6: the SHA-256 alone missed them). `cycles` as compensate read them.
+[[nodiscard]] std::vector<std::string> same_cycles_warnings(const std::string& file,
+                                                            std::span<const method::cycle> cycles,
+                                                            const delta_n_source& dn);
+
 /// The runs a calibration was made of, as `calibrate` tested them (schema 3).
 struct calibration_runs_check {
   std::vector<std::string> failed;       ///< runs that failed the stationarity test
@@ -99,6 +107,16 @@ struct compensate_result {
   /// so no averaging reduces it (third review of issue 31, M5: only the within-run error was
   /// printed, 6.7 times smaller). NaN when the ΔN has no stated error (a number given as such).
   double delta_n_u_dps = std::numeric_limits<double>::quiet_NaN();
+  /// What a rate compensated after a new power-up carries from the ΔN (68.3 %): the
+  /// calibration's `uncertainty.new_power_up_dps`, what calibrate says to quote, or where its runs
+  /// give a between-run variance that changes with temperature that band at the run's mean
+  /// temperature (new_power_up_at; fourth review of issue 31, F2: compensate quoted the
+  /// calibrated value's ±0.00013 where a new power-up's ΔN was off by 2.9 times that). NaN: not
+  /// known (a file without `uncertainty`, a --delta-n) or not determined (delta_n_u_note).
+  double new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
+  /// Why the ΔN's error is not known, when it is not (empty otherwise): "not determined (0
+  /// degrees of freedom ...)", or a file from before calibrate wrote its uncertainty.
+  std::string delta_n_u_note;
   method::pairing pairing = method::pairing::abba;
   std::vector<std::string> warnings;  ///< `FILE: what`, for the caller to show
 };
