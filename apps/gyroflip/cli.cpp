@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -155,6 +156,20 @@ void add_rig_options(CLI::App* sub, rig_options& o, bool device) {
   }
 }
 
+// The rig's mount (physics_options.hpp, mount_of): simulate's and emulate's.
+void add_mount_options(CLI::App* sub, std::optional<double>& azimuth_deg, double& tilt_mrad,
+                       double& tilt_azimuth_deg) {
+  sub->add_option("--azimuth", azimuth_deg,
+                  "azimuth of the sensitive axis at the table's 0 deg (deg from north, "
+                  "clockwise; horizontal; instead of --axis; north finding: --table-axis up)");
+  sub->add_option("--tilt-mrad", tilt_mrad, "the rig's tilt: the table axis leans (mrad)")
+      ->capture_default_str();
+  sub->add_option("--tilt-azimuth", tilt_azimuth_deg,
+                  "where the table axis leans (deg clockwise from the sensitive axis's azimuth "
+                  "with --azimuth, else from north)")
+      ->capture_default_str();
+}
+
 void setup_simulate(CLI::App& app, action& chosen) {
   auto* sub =
       app.add_subcommand("simulate", "Simulate a rig recording (sensor, turntable, AD7739)");
@@ -184,18 +199,11 @@ void setup_simulate(CLI::App& app, action& chosen) {
   add_rig_options(sub, o->rig, false);
   sub->add_option("--order", o->order,
                   "visiting order: auto (two positions A,B,A,B; more: sweep), sweep (forwards "
-                  "then backwards, each end twice), cycle (the table's order)")
-      ->check(CLI::IsMember({"auto", "sweep", "cycle"}))
+                  "then backwards, each end twice), cycle (the table's order), there-and-back "
+                  "(0,1,...,N-1,...,1: the device's order, record --order)")
+      ->check(CLI::IsMember({"auto", "sweep", "cycle", "there-and-back"}))
       ->capture_default_str();
-  sub->add_option("--azimuth", o->azimuth_deg,
-                  "azimuth of the sensitive axis at the table's 0 deg (deg from north, "
-                  "clockwise; horizontal; instead of --axis; north finding: --table-axis up)");
-  sub->add_option("--tilt-mrad", o->tilt_mrad, "the rig's tilt: the table axis leans (mrad)")
-      ->capture_default_str();
-  sub->add_option("--tilt-azimuth", o->tilt_azimuth_deg,
-                  "where the table axis leans (deg clockwise from the sensitive axis's azimuth "
-                  "with --azimuth, else from north)")
-      ->capture_default_str();
+  add_mount_options(sub, o->azimuth_deg, o->tilt_mrad, o->tilt_azimuth_deg);
 }
 
 void setup_emulate(CLI::App& app, action& chosen) {
@@ -214,6 +222,10 @@ void setup_emulate(CLI::App& app, action& chosen) {
       ->capture_default_str();
   sub->add_option("--table-axis", o->table_axis,
                   "turntable axis (default: horizontal, perpendicular)");
+  add_mount_options(sub, o->azimuth_deg, o->tilt_mrad, o->tilt_azimuth_deg);
+  sub->add_option("--truth", o->truth,
+                  "write the terms an indexed run should find (c1, s1 of the Earth term and "
+                  "g-term over the table angle) to this JSON file");
   sub->add_option("--speed", o->speed, "X times real time, or max (as fast as the reader takes)")
       ->capture_default_str();
   sub->add_flag("--pty", o->pty, "open a pseudo-terminal and print its path");
@@ -286,6 +298,14 @@ void setup_record(CLI::App& app, action& chosen, const std::vector<std::string>&
                   "adxrs150|hz1-90-100a|FILE.toml: its nominal scale factor converts to deg/s")
       ->capture_default_str();
   add_rig_options(sub, o->rig, true);
+  sub->add_option(
+         "--order", o->order,
+         "visiting order, written into the device's angle table: auto (two positions "
+         "A,B,A,B; three to five: there-and-back; more: cycle), cycle (the table's order), "
+         "there-and-back (0,1,...,N-1,...,1: forwards, then back without a second dwell "
+         "at the ends)")
+      ->check(CLI::IsMember({"auto", "cycle", "there-and-back"}))
+      ->capture_default_str();
   sub->add_flag("--raw", o->raw, "keep every gyro conversion (RAW frames)");
   sub->add_option("--reconnect-timeout", o->reconnect_timeout_s,
                   "how long to wait for a vanished port (s)")

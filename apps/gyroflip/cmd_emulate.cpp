@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "firmware/protocol/frame.hpp"
@@ -30,6 +31,7 @@
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/finite_output.hpp"
 #include "host/emulator/emulator.hpp"
 #include "host/emulator/link_faults.hpp"
 #include "host/serial/serial_line.hpp"
@@ -110,6 +112,47 @@ class sent_log {
   std::string path_;
 };
 
+// --truth: the terms an indexed run of this rig should find, at the run's start temperature
+// (host::emulator::harmonic_truth_at), for whatever angle table the host configures: one JSON
+// object, written whole (temporary and rename) before the line opens.
+status write_truth(const std::string& path, const host::emulator& emu) {
+  if (path.empty()) return ok();
+  auto temperature = emu.config().sim.temperature;  // at() is not const
+  const double temp_c = temperature.at(0.0);
+  const auto t = emu.harmonic_truth_at(temp_c);
+  const auto& sim = emu.config().sim;
+  const nlohmann::json j{
+      {"schema", "gyroflip.emulator_truth/1"},
+      {"note",
+       "earth(theta) + g(theta) = mean + c1 cos(theta) + s1 sin(theta) as the gyro senses them "
+       "(deg/s) at the table angle theta, at temp_c; no second harmonic (c2 = s2 = 0); a "
+       "harmonic calibration's c1, s1 estimate these, its b the bias plus mean; dN of a 0/180 "
+       "pair is c1"},
+      {"temp_c", temp_c},
+      {"latitude_deg", sim.lat_deg},
+      {"axis", sim.mount.azimuth_set() ? nlohmann::json(nullptr) : nlohmann::json(sim.axis)},
+      {"azimuth_deg",
+       sim.mount.azimuth_set() ? nlohmann::json(sim.mount.azimuth_deg) : nlohmann::json(nullptr)},
+      {"table_axis", sim.table_axis.empty() ? "horizontal (default)" : sim.table_axis},
+      {"tilt_mrad", sim.mount.tilt_mrad},
+      {"tilt_azimuth_deg", sim.mount.tilt_azimuth_deg},
+      {"c1_dps", t.c1_dps()},
+      {"s1_dps", t.s1_dps()},
+      {"c2_dps", 0.0},
+      {"s2_dps", 0.0},
+      {"mean_dps", t.mean_dps},
+      {"earth_c1_dps", t.earth_c1_dps},
+      {"earth_s1_dps", t.earth_s1_dps},
+      {"g_c1_dps", t.g_c1_dps},
+      {"g_s1_dps", t.g_s1_dps}};
+  const std::string text = j.dump(2) + "\n";
+  if (auto s = io::check_finite(text, path); !s) return s;
+  auto f = io::atomic_file::create(path);
+  if (!f) return f.err();
+  f->write(text);
+  return f->commit();
+}
+
 result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   host::emulator_config c;
   auto preset = load_physics(o.sensor, o.temp_c, o.temp_profile, o.rate_profile, c.sim);
@@ -117,6 +160,9 @@ result<host::emulator_config> emulator_config_of(const emulate_options& o) {
   c.sim.lat_deg = o.lat_deg;
   c.sim.axis = o.axis;
   c.sim.table_axis = o.table_axis;
+  auto mount = mount_of(o.axis, o.azimuth_deg, o.tilt_mrad, o.tilt_azimuth_deg);
+  if (!mount) return mount.err();
+  c.sim.mount = *mount;
   c.sim.rig.filter_word = o.filter_word;
   c.sim.rig.chop = !o.no_chop;
   c.sim.rig.steps_per_rev = o.steps_per_rev;
@@ -479,7 +525,7 @@ int run_emulate(const emulate_options& o) {
   // Everything is checked before anything is opened or written: the log and the link may be
   // no input of the run (a preset, a temperature profile, the port) and no one file.
   if (auto s = io::check_outputs(std::array{o.sensor, o.temp_profile, o.port},
-                                 std::array{o.log, o.link});
+                                 std::array{o.log, o.link, o.truth});
       !s)
     return report(s.err());
   if (auto s = sent_log::check(o.log); !s) return report(s.err());
@@ -490,6 +536,7 @@ int run_emulate(const emulate_options& o) {
   auto made = host::emulator::make(*cfg);
   if (!made) return report(made.err());
   host::emulator& emu = **made;
+  if (auto s = write_truth(o.truth, emu); !s) return report(s.err());
   const auto open_line = [&]() -> result<host::serial_line> {
     auto l = o.pty ? host::serial_line::open_pty() : host::serial_line::open_device(o.port);
     if (!l) return l;

@@ -17,7 +17,11 @@ struct emulate_options {
   double lat_deg = 42.6;
   std::string axis = "north";
   std::string table_axis;
-  std::string speed = "1";  ///< X (times real time) or max
+  std::optional<double> azimuth_deg;  ///< the sensitive axis at table 0, horizontal (north finding)
+  double tilt_mrad = 0.0;             ///< the rig's tilt
+  double tilt_azimuth_deg = 0.0;      ///< where the table axis leans (from the axis's azimuth)
+  std::string truth;                  ///< TRUTH.json: the terms an indexed run should find
+  std::string speed = "1";            ///< X (times real time) or max
   bool pty = false;
   std::string port;
   std::uint64_t seed = 1;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -30,6 +31,13 @@ result<rig::rig_config> device_config(const record_options& o) {
   auto r = rig_config_of(o.rig);
   if (!r) return r.err();
   r->raw = o.raw;
+  // The visiting order is written into the angle table the device steps through.
+  const auto order = o.order == "cycle"            ? rig::device_order::cycle
+                     : o.order == "there-and-back" ? rig::device_order::there_and_back
+                                                   : rig::device_order::automatic;
+  auto visits = rig::device_visits(r->positions_deg, order, r->one_way);
+  if (!visits) return visits.err();
+  r->positions_deg = std::move(*visits);
   if (auto s = r->check(); !s) return s.err();
   return r;
 }

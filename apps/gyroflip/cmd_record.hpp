@@ -17,6 +17,8 @@ struct record_options {
   std::string sensor = "hz1-90-100a";  ///< its nominal scale factor converts codes to deg/s
   // CONFIGURE (docs/PROTOCOL.md); defaults are the paper's rig.
   rig_options rig;
+  /// How the device visits the positions: auto, cycle or there-and-back (rig::device_order).
+  std::string order = "auto";
   bool raw = false;  ///< keep every gyro conversion (RAW frames)
   double reconnect_timeout_s = 60.0;
   double temp_mv_per_c = 8.4;   ///< the temperature channel's output per degC

@@ -93,19 +93,23 @@ int run_simulate(const simulate_options& o) {
   c.lat_deg = o.lat_deg;
   c.axis = o.axis;
   c.table_axis = o.table_axis;
-  if (o.azimuth_deg) {
-    if (o.axis != "north")
-      return report(usage_error("--azimuth and --axis both name the sensitive axis: give one"));
-    c.mount.azimuth_deg = *o.azimuth_deg;
-  }
-  c.mount.tilt_mrad = o.tilt_mrad;
-  c.mount.tilt_azimuth_deg = o.tilt_azimuth_deg;
+  auto mount = mount_of(o.axis, o.azimuth_deg, o.tilt_mrad, o.tilt_azimuth_deg);
+  if (!mount) return report(mount.err());
+  c.mount = *mount;
   c.order = o.order == "sweep"   ? rig::visit_order::sweep
             : o.order == "cycle" ? rig::visit_order::cycle
                                  : rig::visit_order::automatic;
   auto rig = rig_config_of(o.rig);
   if (!rig) return report(rig.err());
   c.rig = *rig;
+  // The device's order (record --order there-and-back): its angle table, visited as written.
+  if (o.order == "there-and-back") {
+    auto visits =
+        rig::device_visits(c.rig.positions_deg, rig::device_order::there_and_back, c.rig.one_way);
+    if (!visits) return report(visits.err());
+    c.rig.positions_deg = std::move(*visits);
+    if (auto s = c.rig.check(); !s) return report(s.err());
+  }
   c.flip = !o.no_flip;
   auto coil = coil_heating_of(o.rig.coil_heat);
   if (!coil) return report(coil.err());

@@ -37,4 +37,17 @@ result<sensor::preset> load_physics(const std::string& sensor, std::optional<dou
   return std::move(*preset);
 }
 
+result<rig::rig_mount> mount_of(const std::string& axis, std::optional<double> azimuth_deg,
+                                double tilt_mrad, double tilt_azimuth_deg) {
+  rig::rig_mount m;
+  if (azimuth_deg) {
+    if (axis != "north")
+      return usage_error("--azimuth and --axis both name the sensitive axis: give one");
+    m.azimuth_deg = *azimuth_deg;
+  }
+  m.tilt_mrad = tilt_mrad;
+  m.tilt_azimuth_deg = tilt_azimuth_deg;
+  return m;
+}
+
 }  // namespace gyroflip::app

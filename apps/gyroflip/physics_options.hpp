@@ -21,4 +21,11 @@ namespace gyroflip::app {
                                                   const std::string& rate_profile,
                                                   rig::simulation_config& c);
 
+/// The rig's mount (rig::rig_mount) from simulate's and emulate's options: `azimuth_deg` names
+/// the sensitive axis at the table's 0 deg instead of `axis` (an error when `axis` is not its
+/// default, north: both would name it), and the tilt.
+[[nodiscard]] result<rig::rig_mount> mount_of(const std::string& axis,
+                                              std::optional<double> azimuth_deg, double tilt_mrad,
+                                              double tilt_azimuth_deg);
+
 }  // namespace gyroflip::app

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <utility>
 
@@ -69,7 +70,7 @@ result<std::unique_ptr<emulator>> emulator::make(const emulator_config& c) {
   const double dt = adc->conversion_time_s();
   auto g = sensor::gyro::make(s.sensor, dt, s.power_on_before_s, s.seed);
   if (!g) return g.err();
-  auto geo = rig::rig_geometry::make(s.lat_deg, s.axis, s.table_axis);
+  auto geo = rig::rig_geometry::make(s.lat_deg, s.axis, s.table_axis, s.mount);
   if (!geo) return geo.err();
   const auto mclk = static_cast<std::uint32_t>(std::lround(s.adc.mclk_hz));
   auto p = std::make_unique<parts>(std::move(*g), *adc, mclk, c.serial);
@@ -147,6 +148,30 @@ double emulator::delta_n_truth_dps(double temp_c) const noexcept {
     return p_->earth[k] + p_->gf0[k] + p_->gf1[k] * (temp_c - p_->gyro.temp_ref_c());
   };
   return 0.5 * (at(0) - at(static_cast<std::size_t>(cfg_.sim.rig.steps_per_rev / 2)));
+}
+
+// The first Fourier coefficients over every table step: exact for what the geometry gives, a
+// constant plus a first harmonic of the table angle (a vector fixed in the world, or in the
+// table's frame, read along an axis turning about the table axis: rig/geometry.hpp).
+harmonic_truth emulator::harmonic_truth_at(double temp_c) const noexcept {
+  const std::size_t m = p_->earth.size();
+  harmonic_truth t;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double a = 2.0 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(m);
+    const double g = p_->gf0[k] + p_->gf1[k] * (temp_c - p_->gyro.temp_ref_c());
+    t.earth_c1_dps += p_->earth[k] * std::cos(a);
+    t.earth_s1_dps += p_->earth[k] * std::sin(a);
+    t.g_c1_dps += g * std::cos(a);
+    t.g_s1_dps += g * std::sin(a);
+    t.mean_dps += p_->earth[k] + g;
+  }
+  const double n = static_cast<double>(m);
+  t.earth_c1_dps *= 2.0 / n;
+  t.earth_s1_dps *= 2.0 / n;
+  t.g_c1_dps *= 2.0 / n;
+  t.g_s1_dps *= 2.0 / n;
+  t.mean_dps /= n;
+  return t;
 }
 
 void emulator::update_accel() {

@@ -35,8 +35,9 @@
 namespace gyroflip::host {
 
 /// The emulated rig. From `sim`: the sensor, site and axes, rate and temperature profiles, the
-/// ADC's clock, filter word, chop and noise, the power-on time, the seed, and the table's
-/// steps per revolution; the schedule and the duration are the firmware's and the host's.
+/// ADC's clock, filter word, chop and noise, the power-on time, the seed, the mount (an azimuth,
+/// a tilt: rig/geometry.hpp) and the table's steps per revolution; the schedule and the duration
+/// are the firmware's and the host's.
 struct emulator_config {
   rig::simulation_config sim;
   std::uint32_t serial = 1;      ///< the device's serial number (INFO)
@@ -45,6 +46,19 @@ struct emulator_config {
   /// board's Timer_B runs at SMCLK/8 = 691.2 kHz, where a 1-ms period is 691 counts and a 50 %
   /// duty would read 0.5007 with the model's exact edges).
   double accel_capture_hz = 1.0e6;
+};
+
+/// The terms an indexed run should find (issue 33 item 2), as the gyro senses them (deg/s): the
+/// Earth term and the g-term at each table angle theta are a constant plus a first harmonic,
+/// earth(theta) + g(theta) = mean + c1 cos(theta) + s1 sin(theta), no second harmonic. The
+/// harmonic fit's c1, s1 (method/harmonic.hpp) are earth_c1 + g_c1 and earth_s1 + g_s1; its b is
+/// the gyro's bias plus `mean`.
+struct harmonic_truth {
+  double earth_c1_dps = 0.0, earth_s1_dps = 0.0;
+  double g_c1_dps = 0.0, g_s1_dps = 0.0;
+  double mean_dps = 0.0;  ///< the Earth term and g-term's mean over the table angle
+  [[nodiscard]] double c1_dps() const noexcept { return earth_c1_dps + g_c1_dps; }
+  [[nodiscard]] double s1_dps() const noexcept { return earth_s1_dps + g_s1_dps; }
 };
 
 class emulator {
@@ -95,6 +109,10 @@ class emulator {
   /// Earth term plus g-term at `temp_c`, half the difference of positions A (0 deg) and B
   /// (180 deg): the dN a calibration should find (paper eqn 11), as the gyro senses it (deg/s).
   [[nodiscard]] double delta_n_truth_dps(double temp_c) const noexcept;
+  /// The first harmonic over the table angle of the Earth term and g-term at `temp_c`, from
+  /// every table step (their Fourier coefficients): what an indexed run's c1 and s1 should find,
+  /// for any angle table (for 0/180, c1 is delta_n_truth_dps).
+  [[nodiscard]] harmonic_truth harmonic_truth_at(double temp_c) const noexcept;
   [[nodiscard]] const emulator_config& config() const noexcept { return cfg_; }
 
  private:

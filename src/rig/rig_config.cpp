@@ -199,6 +199,37 @@ stepper_params rig_config::stepper() const {
           static_cast<double>(accel_sps2)};
 }
 
+result<std::vector<double>> device_visits(const std::vector<double>& positions_deg,
+                                          device_order order, bool one_way) {
+  const std::size_t n = positions_deg.size();
+  bool repeats = false;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < i; ++j) repeats = repeats || positions_deg[i] == positions_deg[j];
+  const std::size_t back = n >= 2 ? 2 * n - 2 : n;
+  const bool fits = n > 2 && back <= protocol::max_positions && !one_way;
+  if (order == device_order::there_and_back) {
+    if (repeats)
+      return usage_error(
+          "the there-and-back order: the positions name an angle twice (a visiting order "
+          "already): give each position once");
+    if (one_way)
+      return usage_error(
+          "the there-and-back order turns back at each end; one-way turns cannot: visit the "
+          "positions in cycle order");
+    if (back > protocol::max_positions)
+      return usage_error(fmt::format(
+          "the there-and-back order: {} positions take {} entries of the device's angle table, "
+          "which holds {}: at most {} positions, or the cycle order",
+          n, back, protocol::max_positions, protocol::max_positions / 2 + 1));
+  }
+  const bool go_back = order == device_order::there_and_back ||
+                       (order == device_order::automatic && fits && !repeats);
+  if (!go_back) return positions_deg;
+  std::vector<double> out(positions_deg);
+  for (std::size_t i = n - 1; i-- > 1;) out.push_back(positions_deg[i]);
+  return out;
+}
+
 schedule_params rig_config::schedule(bool flip, visit_order order) const {
   schedule_params s;
   bool repeats = false;

@@ -2,6 +2,7 @@
 // every bad-input case of issue 2 (message FILE:LINE:COL, exit 2, no output file).
 #include <cmath>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -436,6 +437,41 @@ TEST(CliCalibrate, HarmonicTermsWithTheirCovarianceAndSeparability) {
   EXPECT_NE(up.out.find("not observable: s2"), std::string::npos);
   // --explain with neither a table nor recordings: a usage error (exit 2).
   EXPECT_EQ(run_cli({"calibrate", "--explain"}).exit_code, 2);
+}
+
+// Issue 33 item 2: `simulate --order there-and-back` visits the positions as `record` has the
+// device visit them (0,1,2,3,2,1: its angle table), the rows naming each position by its angle;
+// what the device cannot hold is refused (exit 2): one-way turns, more than five positions.
+TEST(CliSimulate, ThereAndBackIsTheDevicesVisitingOrder) {
+  temp_dir d;
+  const auto sim =
+      run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "30", "--positions",
+               "0,90,180,270", "--order", "there-and-back", "-o", d.file("tb.csv")});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  std::istringstream in(read_text(d.file("tb.csv")));
+  std::string line;
+  while (std::getline(in, line) && line.rfind('#', 0) == 0) {
+  }
+  ASSERT_EQ(line.substr(0, 15), "time_s,angle_de");
+  std::vector<double> angles;
+  while (std::getline(in, line)) {
+    const auto a = line.find(',');
+    angles.push_back(std::stod(line.substr(a + 1)));
+  }
+  ASSERT_GE(angles.size(), 24U);
+  const std::vector<double> period{0, 90, 180, 270, 180, 90};
+  for (std::size_t k = 0; k < angles.size(); ++k)
+    ASSERT_EQ(angles[k], period[k % period.size()]) << "row " << k;
+  for (const auto& bad : std::vector<std::vector<std::string>>{
+           {"--positions", "0,90,180,270", "--one-way"}, {"--positions", "0,36,72,108,144,180"}}) {
+    std::vector<std::string> args{"simulate",       "--sensor", "hz1-90-100a",
+                                  "--duration",     "10",       "--order",
+                                  "there-and-back", "-o",       d.file("bad.csv")};
+    args.insert(args.end(), bad.begin(), bad.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("there-and-back"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace gyroflip::test

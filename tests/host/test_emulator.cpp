@@ -260,6 +260,65 @@ TEST(Emulator, ATiltedTableShowsInTheAccelerometersAndTheGTerm) {
   }
 }
 
+// North finding's rig (issue 33 item 2): the table axis up, the sensitive axis horizontal at
+// azimuth psi at the table's 0 deg (emulate --azimuth), an angle table of four positions (the
+// host's CONFIGURE). Turning the table by theta about the up axis turns the sensitive axis to
+// azimuth psi - theta, so every dwell reads the bias plus
+//   W_E cos(lat) cos(psi - theta) = c1 cos(theta) + s1 sin(theta), c1 = W_H cos psi, s1 = W_H sin
+//   psi
+// (gravity lies along the table axis: its g-term is the same at every position, bias), and
+// harmonic_truth_at gives c1 and s1 for any table. A DWELL names its position by its index
+// into the table.
+TEST(Emulator, AnAzimuthAndAnAngleTableOfFourPositionsGiveTheEarthsFirstHarmonic) {
+  const double psi_deg = 30.0, lat_deg = 42.6;
+  host::emulator_config cfg = noiseless_rig(6);
+  sensor::sensor_params& s = cfg.sim.sensor;
+  s.cross_axis_y = s.cross_axis_z = 0.0;
+  s.bias_dps = 0.2;
+  cfg.sim.temperature = rig::profile::constant(s.temp_ref_c);
+  cfg.sim.lat_deg = lat_deg;
+  cfg.sim.table_axis = "up";
+  cfg.sim.mount.azimuth_deg = psi_deg;
+  auto made = host::emulator::make(cfg);
+  ASSERT_TRUE(made.ok()) << made.err().message;
+  host::emulator& e = **made;
+  const double w_h = earth::earth_rate_wgs84_dps * std::cos(lat_deg * M_PI / 180.0);
+  const double psi = psi_deg * M_PI / 180.0;
+  const host::harmonic_truth t = e.harmonic_truth_at(s.temp_ref_c);
+  EXPECT_NEAR(t.earth_c1_dps, w_h * std::cos(psi), 1e-12);
+  EXPECT_NEAR(t.earth_s1_dps, w_h * std::sin(psi), 1e-12);
+  EXPECT_NEAR(t.g_c1_dps, 0.0, 1e-12);
+  EXPECT_NEAR(t.g_s1_dps, 0.0, 1e-12);
+
+  p::configure_msg m;
+  m.n_positions = 4;
+  for (int k = 0; k < 4; ++k) {
+    m.pos_steps[k] = static_cast<int16_t>(50 * k);
+    m.pos_cdeg[k] = static_cast<uint16_t>(9000 * k);
+  }
+  client c(e);
+  e.boot();
+  c.run_s(0.1);
+  c.send(m);
+  c.start(m);
+  c.run_s(10.0);
+  ASSERT_TRUE(c.naks.empty());
+  ASSERT_GE(c.dwells.size(), 8u);
+  const double lsb_v = 5.0 / (1 << 24);
+  const double sf = s.scale_factor_v_per_dps;
+  // The g-term of gravity along the table axis: the same at every position (in t.mean_dps).
+  const double bias = 0.2 + t.mean_dps;
+  for (const p::dwell_msg& d : c.dwells) {
+    SCOPED_TRACE(d.cycle * 4 + d.position);
+    ASSERT_LT(d.position, 4);
+    const double theta = d.position * M_PI / 2.0;
+    const double y = static_cast<double>(d.code_sum) / d.n * lsb_v / sf;
+    EXPECT_NEAR(y, bias + w_h * std::cos(psi - theta), 2 * lsb_v / sf);
+    EXPECT_NEAR(y, bias + t.c1_dps() * std::cos(theta) + t.s1_dps() * std::sin(theta),
+                2 * lsb_v / sf);
+  }
+}
+
 // The coils' heat (rig::coil_heating) follows what the firmware does with the coils: held
 // (CONFIGURE's hold_coils) the gyro's temperature rises as T0 + rise (1 - exp(-t / tau)) from
 // the CONFIGURE that energised them; released during dwells (the default) it settles at the

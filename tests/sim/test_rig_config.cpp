@@ -195,6 +195,61 @@ TEST(RigConfig, TheSimulatorTurnsBackOrOneWayAsConfigured) {
   EXPECT_EQ(e.err().parameter, "n_avg");
 }
 
+// record --order (issue 33 item 2): the visiting order is written into the device's angle table.
+// There and back is 0..N-1..1, a table the device accepts (consecutive entries differ, at most 8)
+// whose positions are found again by angle (position_table::of_visits: N positions, entry k at
+// its angle's index); within a period every position's visits are centred alike (mod the period),
+// so a bias linear in time enters each position's mean alike over whole periods.
+TEST(RigConfig, ADevicesVisitingOrderIsItsAngleTable) {
+  using v = std::vector<double>;
+  const auto visits = [](const v& p, device_order o, bool one_way = false) {
+    auto r = device_visits(p, o, one_way);
+    return r ? *r : v{-1.0};
+  };
+  EXPECT_EQ(visits({0, 90, 180, 270}, device_order::automatic), (v{0, 90, 180, 270, 180, 90}));
+  EXPECT_EQ(visits({0, 72, 144, 216, 288}, device_order::there_and_back),
+            (v{0, 72, 144, 216, 288, 216, 144, 72}));
+  EXPECT_EQ(visits({0, 120, 240}, device_order::automatic), (v{0, 120, 240, 120}));
+  // Two positions stay the paper's cycle; cycle, one-way turns and six positions take the table.
+  EXPECT_EQ(visits({0, 180}, device_order::automatic), (v{0, 180}));
+  EXPECT_EQ(visits({0, 90, 180, 270}, device_order::cycle), (v{0, 90, 180, 270}));
+  EXPECT_EQ(visits({0, 90, 180, 270}, device_order::automatic, true), (v{0, 90, 180, 270}));
+  EXPECT_EQ(visits({0, 60, 120, 180, 240, 300}, device_order::automatic),
+            (v{0, 60, 120, 180, 240, 300}));
+  // A visiting order given as the table is taken as written, except by there-and-back.
+  EXPECT_EQ(visits({0, 90, 180, 90}, device_order::automatic), (v{0, 90, 180, 90}));
+  EXPECT_FALSE(device_visits({0, 90, 180, 90}, device_order::there_and_back, false));
+  EXPECT_FALSE(device_visits({0, 90, 180, 270}, device_order::there_and_back, true));
+  EXPECT_FALSE(device_visits({0, 60, 120, 180, 240, 300}, device_order::there_and_back, false));
+  for (std::size_t n = 3; n <= 5; ++n) {
+    v p;
+    for (std::size_t k = 0; k < n; ++k) p.push_back(static_cast<double>(36 * k));
+    rig_config c;
+    c.positions_deg = visits(p, device_order::there_and_back);
+    ASSERT_EQ(c.positions_deg.size(), 2 * n - 2);
+    EXPECT_TRUE(c.check()) << n;
+    const auto m = c.to_configure();
+    EXPECT_EQ(protocol::check_configure(m, 6'144'000), protocol::status::ok) << n;
+    const position_table t = c.table();
+    ASSERT_EQ(t.size(), n);
+    // Each position's visits within a period of P = 2N - 2 dwells, centred on N - 1 (mod P):
+    // entry k and entry P - k; the first at 0 = P, the last at N - 1.
+    const std::size_t period = c.positions_deg.size();
+    std::vector<double> sum(n, 0.0), count(n, 0.0);
+    for (std::size_t k = 0; k < period; ++k) {
+      const auto i = t.index_of(c.positions_deg[k]);
+      ASSERT_TRUE(i);
+      sum[static_cast<std::size_t>(*i)] += static_cast<double>(k == 0 ? period : k);
+      count[static_cast<std::size_t>(*i)] += 1.0;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(t.angle_deg(static_cast<int>(i)), p[i]);
+      if (i == 0) continue;  // at 0 and P: centred on N - 1 only with the closing dwell
+      EXPECT_DOUBLE_EQ(sum[i] / count[i], static_cast<double>(n - 1)) << n << " " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gyroflip::rig
 

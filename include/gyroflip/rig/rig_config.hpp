@@ -72,4 +72,29 @@ struct rig_config {
   [[nodiscard]] position_table table() const;
 };
 
+/// How the device visits distinct table positions (`record --order`, issue 33 item 2). The
+/// device steps through its angle table 0, 1, ..., n-1, 0, ... (docs/PROTOCOL.md, CONFIGURE),
+/// turning before every dwell (consecutive entries differ) and holding at most
+/// protocol::max_positions entries, so a visiting order is written as the table itself (an angle
+/// named twice; a DWELL's position is its entry, the recordings map it to the position by its
+/// angle: position_table::of_visits).
+enum class device_order {
+  automatic,  ///< two positions: as given (A, B); more: there_and_back where it fits, else cycle
+  cycle,      ///< the positions as given, over and over
+  there_and_back,  ///< 0, 1, ..., N-1, N-2, ..., 1 (2N - 2 entries; N <= 5, not one-way)
+};
+
+/// The device's angle table that visits the distinct `positions_deg` in `order`. there_and_back:
+/// forwards then back without a second dwell at either end (the device dwells once per turn, so
+/// the simulator's sweep, each end twice, is not a table it can hold): each inner position is
+/// visited twice a period, the ends once; the visits of each position are centred on the same
+/// time within a period, ends included across its boundary, so a bias linear in time enters
+/// every position's mean alike over whole periods closed by a dwell at the first position.
+/// automatic takes it for three to five positions without one-way turns (the turns go back),
+/// else cycle. Errors (usage): there_and_back with one-way turns or more than five positions
+/// (2N - 2 > protocol::max_positions); a table that already names an angle twice (a visiting
+/// order: given with cycle or automatic, it is taken as written).
+[[nodiscard]] result<std::vector<double>> device_visits(const std::vector<double>& positions_deg,
+                                                        device_order order, bool one_way);
+
 }  // namespace gyroflip::rig
