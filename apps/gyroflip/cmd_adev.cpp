@@ -25,6 +25,7 @@
 #include "gyroflip/core/text.hpp"
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/io/atomic_file.hpp"
+#include "gyroflip/io/ros_bag.hpp"
 #include "gyroflip/io/series.hpp"
 #include "gyroflip/method/flip_detect.hpp"
 #include "gyroflip/report/figures.hpp"
@@ -581,6 +582,31 @@ status check_combination(const adev_options& o, analysis::dev_kind kind) {
 }  // namespace
 
 int run_adev(const adev_options& o) {
+  // A ROS bag's columns are in rad/s and m/s^2 (REP 103), as their names say: the deviations
+  // are labelled with that unit, not --units' default deg/s.
+  if (io::is_ros_bag(io::series_file(o.in.file)) && !o.in.units_given) {
+    auto names = column_names(o.in);
+    if (!names) return report(names.err());
+    std::string unit;
+    for (const auto& n : *names) {
+      // A column's name, its message field's, or its number from 1: 1-3 the gyro's.
+      std::size_t axis = 0;
+      for (std::size_t i = 0; i < io::imu_columns.size(); ++i)
+        if (n == io::imu_columns[i] || n == io::imu_fields[i] || n == std::to_string(i + 1))
+          axis = i;
+      const std::string this_unit = axis < 3 ? "rad/s" : "m/s^2";
+      if (!unit.empty() && this_unit != unit)
+        return report(usage_error(fmt::format(
+            "{}: the columns are in {} and {}: analyse the gyro and accelerometer columns in "
+            "separate runs, or give --units",
+            o.in.file, unit, this_unit)));
+      unit = this_unit;
+    }
+    adev_options named = o;
+    named.in.units = unit;
+    named.in.units_given = true;
+    return run_adev(named);
+  }
   // GRADEV is OADEV over the terms without a gap: checked as OADEV, without intervals.
   const bool gaps = o.kind == "gradev";
   const auto kind =

@@ -3,9 +3,9 @@
 ///
 /// ROS 1: the bag format 2.0 (wiki.ros.org/Bags/Format/2.0) read directly, without Debian's
 /// librosbag-storage-dev, which brings Boost and 62 packages (190 MB) for what is a simple record
-/// format (docs/FACTS.md, "ROS bags"). ROS 2: rosbag2's sqlite3 storage plugin's tables `topics`
+/// format (FACTS §10). ROS 2: rosbag2's sqlite3 storage plugin's tables `topics`
 /// and `messages` read through SQLite, each message CDR-encoded (OMG DDS-XTypes 1.3, 7.4.3:
-/// XCDR1 with the 4-byte encapsulation header of the RTPS 2.5 spec, 10.2).
+/// XCDR1 with the 4-byte encapsulation header of the RTPS 2.5 spec, 10.2; FACTS §10).
 #include "gyroflip/io/ros_bag.hpp"
 
 #include <sqlite3.h>
@@ -388,7 +388,10 @@ result<imu_table> read_ros2(const std::string& path, const std::vector<char>* im
                             const std::string& topic) {
   sqlite_db db;
   if (image == nullptr) {
-    if (sqlite3_open_v2(path.c_str(), &db.db_, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX,
+    // Debian's SQLite takes names starting with "file:" as URIs (SQLITE_USE_URI): "./" keeps such
+    // a name a file's.
+    const std::string name = path.starts_with("file:") ? "./" + path : path;
+    if (sqlite3_open_v2(name.c_str(), &db.db_, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX,
                         nullptr) != SQLITE_OK)
       return io_error(path, fmt::format("SQLite cannot open it: {}", sqlite3_errmsg(db.db_)));
   } else {

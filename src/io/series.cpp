@@ -376,7 +376,7 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
                                 "longest gap-free run (split), or resample",
                                 gaps.size(), gaps.size() == 1 ? "" : "s", missing, 100.0 * share,
                                 100.0 * max_filled_fraction, describe(gaps[0]))),
-          "gaps");
+          "gaps_split");
     place.resize(n);
     std::size_t added = 0, g = 0;
     for (std::size_t k = 0; k < n; ++k) {

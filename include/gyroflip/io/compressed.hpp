@@ -3,11 +3,10 @@
 /// `.gz` (zlib), `.xz` (liblzma), `.zst` (libzstd), never unpacked to disk.
 ///
 /// A file's compression is told by its name's last extension and checked against its first bytes
-/// (the formats' magic numbers: RFC 1952 1f 8b; the .xz file format 1.1.0 fd 37 7a 58 5a 00; RFC
-/// 8878 28 b5 2f fd). Concatenated members or frames (pigz, `cat a.gz b.gz`, `zstd --long`) are
-/// read one after another, as gzip -d, xz -d and zstd -d read them. A stream that stops before
-/// its end marker (a file cut short) or whose check fails is an error naming the file and the
-/// compressed byte, never a shorter input.
+/// (the formats' magic numbers, FACTS §10). Concatenated members, streams or frames (pigz,
+/// `cat a.gz b.gz`) are read one after another, as gzip -d, xz -d and zstd -d read them. A stream
+/// that stops before its end marker (a file cut short) or whose check fails is an error naming the
+/// file and the compressed byte, never a shorter input.
 #pragma once
 
 #include <cstddef>
