@@ -264,9 +264,14 @@ void expect_letters_clear_of_data(const report::figure& f, const std::string& wh
          "GPVAL_TERM_HCHAR * 1.0 / GPVAL_TERM_SCALE, GPVAL_TERM_VCHAR * 1.0 / GPVAL_TERM_SCALE, "
          "GPVAL_X_MIN, GPVAL_X_MAX, GPVAL_Y_MIN, GPVAL_Y_MAX)\n";
   ASSERT_EQ(std::system(("cd " + dir.path() + " && gnuplot probe.gp 2> geometry.txt").c_str()), 0);
+  // The numbers are print's line, the last: gnuplot may warn before it (under the C locale of a
+  // fresh Debian's chroot: "iconv failed to convert degree sign").
+  std::string probe = read(dir.path() + "/geometry.txt");
+  while (!probe.empty() && probe.back() == '\n') probe.pop_back();
+  const auto last = probe.rfind('\n');
   gp_geometry g;
-  std::istringstream(read(dir.path() + "/geometry.txt")) >> g.x0 >> g.x1 >> g.y0 >> g.y1 >>
-      g.hchar >> g.vchar >> g.xmin >> g.xmax >> g.ymin >> g.ymax;
+  std::istringstream(last == std::string::npos ? probe : probe.substr(last + 1)) >> g.x0 >> g.x1 >>
+      g.y0 >> g.y1 >> g.hchar >> g.vchar >> g.xmin >> g.xmax >> g.ymin >> g.ymax;
   ASSERT_GT(g.x1, g.x0) << read(dir.path() + "/geometry.txt");
   ASSERT_GT(g.hchar, 0.0);
   const auto px = [&](double x) {
