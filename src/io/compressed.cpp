@@ -57,15 +57,16 @@ std::string_view without_compression(std::string_view path) noexcept {
   return path.substr(0, path.size() - facts_of(c).extension.size());
 }
 
-decompressor::decompressor(const std::string& path, int fd, std::uint64_t total)
-    : path_(path), fd_(fd), in_total_(total), in_(in_block) {}
+decompressor::decompressor(const std::string& path, int fd) : path_(path), fd_(fd), in_(in_block) {}
 
 decompressor::~decompressor() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-result<bool> decompressor::fill() {
+result<bool> decompressor::more_input() {
+  if (in_pos_ < in_len_) return true;
   if (in_end_) return false;
+  in_done_ += in_len_;
   in_pos_ = 0;
   in_len_ = 0;
   while (true) {
@@ -92,8 +93,7 @@ namespace {
 // another.
 class gzip_reader final : public decompressor {
  public:
-  gzip_reader(const std::string& path, int fd, std::uint64_t total)
-      : decompressor(path, fd, total) {}
+  gzip_reader(const std::string& path, int fd) : decompressor(path, fd) {}
   ~gzip_reader() override {
     if (started_) inflateEnd(&z_);
   }
@@ -105,14 +105,11 @@ class gzip_reader final : public decompressor {
   result<std::size_t> read(char* out, std::size_t n) override {
     std::size_t got = 0;
     while (got == 0 && n > 0) {
-      if (in_pos_ == in_len_) {
-        in_done_ += in_len_;
-        auto more = fill();
-        if (!more) return more.err();
-        if (!*more) {
-          if (!started_ || member_open_) return corrupt("the gzip stream ends early");
-          return std::size_t{0};
-        }
+      auto more = more_input();
+      if (!more) return more.err();
+      if (!*more) {
+        if (!started_ || member_open_) return corrupt("the gzip stream ends early");
+        return std::size_t{0};
       }
       if (!started_) {
         z_ = {};
@@ -150,7 +147,7 @@ class gzip_reader final : public decompressor {
 // xz (the .xz file format 1.1.0) through liblzma; concatenated streams and their padding read.
 class xz_reader final : public decompressor {
  public:
-  xz_reader(const std::string& path, int fd, std::uint64_t total) : decompressor(path, fd, total) {}
+  xz_reader(const std::string& path, int fd) : decompressor(path, fd) {}
   ~xz_reader() override { lzma_end(&s_); }
   xz_reader(const xz_reader&) = delete;
   xz_reader& operator=(const xz_reader&) = delete;
@@ -167,13 +164,9 @@ class xz_reader final : public decompressor {
     if (done_) return std::size_t{0};
     std::size_t got = 0;
     while (got == 0 && n > 0) {
-      lzma_action action = LZMA_RUN;
-      if (in_pos_ == in_len_) {
-        in_done_ += in_len_;
-        auto more = fill();
-        if (!more) return more.err();
-        if (!*more) action = LZMA_FINISH;
-      }
+      auto more = more_input();
+      if (!more) return more.err();
+      const lzma_action action = *more ? LZMA_RUN : LZMA_FINISH;
       s_.next_in = in_.data() + in_pos_;
       s_.avail_in = in_len_ - in_pos_;
       s_.next_out = reinterpret_cast<std::uint8_t*>(out);  // NOLINT: liblzma's byte type
@@ -205,8 +198,7 @@ class xz_reader final : public decompressor {
 // zstd (RFC 8878) through libzstd's streaming decoder; frames one after another.
 class zstd_reader final : public decompressor {
  public:
-  zstd_reader(const std::string& path, int fd, std::uint64_t total)
-      : decompressor(path, fd, total), d_(ZSTD_createDStream()) {}
+  zstd_reader(const std::string& path, int fd) : decompressor(path, fd), d_(ZSTD_createDStream()) {}
   ~zstd_reader() override { ZSTD_freeDStream(d_); }
   zstd_reader(const zstd_reader&) = delete;
   zstd_reader& operator=(const zstd_reader&) = delete;
@@ -217,14 +209,11 @@ class zstd_reader final : public decompressor {
     if (d_ == nullptr) return runtime_error("libzstd: out of memory");
     std::size_t got = 0;
     while (got == 0 && n > 0) {
-      if (in_pos_ == in_len_) {
-        in_done_ += in_len_;
-        auto more = fill();
-        if (!more) return more.err();
-        if (!*more) {
-          if (!seen_ || frame_open_) return corrupt("the zstd stream ends early");
-          return std::size_t{0};
-        }
+      auto more = more_input();
+      if (!more) return more.err();
+      if (!*more) {
+        if (!seen_ || frame_open_) return corrupt("the zstd stream ends early");
+        return std::size_t{0};
       }
       seen_ = true;
       ZSTD_inBuffer in{in_.data() + in_pos_, in_len_ - in_pos_, 0};
@@ -270,11 +259,10 @@ result<std::unique_ptr<decompressor>> decompressor::open(const std::string& path
                                                       f.name, f.extension, f.name));
   }
   ::posix_fadvise(fd, 0, 0, POSIX_FADV_SEQUENTIAL);
-  const auto size = static_cast<std::uint64_t>(st.st_size);
   std::unique_ptr<decompressor> d;
-  if (c == compression::gzip) d = std::make_unique<gzip_reader>(path, fd, size);
-  if (c == compression::xz) d = std::make_unique<xz_reader>(path, fd, size);
-  if (c == compression::zstd) d = std::make_unique<zstd_reader>(path, fd, size);
+  if (c == compression::gzip) d = std::make_unique<gzip_reader>(path, fd);
+  if (c == compression::xz) d = std::make_unique<xz_reader>(path, fd);
+  if (c == compression::zstd) d = std::make_unique<zstd_reader>(path, fd);
   return d;
 }
 

@@ -44,19 +44,17 @@ class decompressor {
   /// Up to `n` decompressed bytes into `out`; 0 at the end of the last member. Errors (corrupt
   /// data, a stream cut short) as `FILE: what at compressed byte K`.
   [[nodiscard]] virtual result<std::size_t> read(char* out, std::size_t n) = 0;
-  /// Compressed bytes consumed so far, and the file's size (for progress).
-  [[nodiscard]] std::uint64_t compressed_done() const noexcept { return in_done_; }
-  [[nodiscard]] std::uint64_t compressed_total() const noexcept { return in_total_; }
 
  protected:
-  decompressor(const std::string& path, int fd, std::uint64_t total);
-  /// More compressed input into in_ (in_pos_ = 0); false at the file's end. Errors: read(2).
-  [[nodiscard]] result<bool> fill();
+  decompressor(const std::string& path, int fd);
+  /// Compressed input at in_[in_pos_, in_len_): true while some is left, else the next block
+  /// is read (the used one counted in in_done_); false at the file's end. Errors: read(2).
+  [[nodiscard]] result<bool> more_input();
   [[nodiscard]] error corrupt(std::string_view what) const;
 
   std::string path_;
   int fd_ = -1;
-  std::uint64_t in_done_ = 0, in_total_ = 0;
+  std::uint64_t in_done_ = 0;  ///< compressed bytes used before in_ (for errors' positions)
   std::vector<unsigned char> in_;
   std::size_t in_len_ = 0, in_pos_ = 0;
   bool in_end_ = false;
