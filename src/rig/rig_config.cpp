@@ -18,6 +18,15 @@ bool in(double v, double lo, double hi) {
 }
 
 // A value in [lo, hi] with at most 1e-9 of rounding from a whole number of `step`.
+// A table that names an angle twice is a visiting order already (written out by the user or by
+// device_visits): it is visited as written.
+bool names_an_angle_twice(const std::vector<double>& positions_deg) {
+  for (std::size_t i = 0; i < positions_deg.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (positions_deg[i] == positions_deg[j]) return true;
+  return false;
+}
+
 bool whole(double v, double step) {
   const double k = v / step;
   return std::isfinite(k) && std::abs(k - std::round(k)) <= 1e-9 * std::max(1.0, std::abs(k));
@@ -202,9 +211,7 @@ stepper_params rig_config::stepper() const {
 result<std::vector<double>> device_visits(const std::vector<double>& positions_deg,
                                           device_order order, bool one_way) {
   const std::size_t n = positions_deg.size();
-  bool repeats = false;
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < i; ++j) repeats = repeats || positions_deg[i] == positions_deg[j];
+  const bool repeats = names_an_angle_twice(positions_deg);
   const std::size_t back = n >= 2 ? 2 * n - 2 : n;
   const bool fits = n > 2 && back <= protocol::max_positions && !one_way;
   if (order == device_order::there_and_back) {
@@ -232,10 +239,7 @@ result<std::vector<double>> device_visits(const std::vector<double>& positions_d
 
 schedule_params rig_config::schedule(bool flip, visit_order order) const {
   schedule_params s;
-  bool repeats = false;
-  for (std::size_t i = 0; i < positions_deg.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j) repeats = repeats || positions_deg[i] == positions_deg[j];
-  if (repeats) {
+  if (names_an_angle_twice(positions_deg)) {
     s.visits = positions_deg;
   } else if (positions_deg.size() > 2 || order == visit_order::sweep) {
     s.visits = order == visit_order::cycle ? positions_deg : sweep_order(positions_deg);
