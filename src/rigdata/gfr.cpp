@@ -558,6 +558,17 @@ result<file> read(const std::string& path, bool strict) {
   return parse(bytes, path, strict);
 }
 
+namespace {
+
+// The file cut back to its first `at` bytes, the next write going there; false (errno says why)
+// when it could not be.
+bool cut_back(int fd, std::uint64_t at) {
+  return ::ftruncate(fd, static_cast<off_t>(at)) == 0 &&
+         ::lseek(fd, static_cast<off_t>(at), SEEK_SET) >= 0;
+}
+
+}  // namespace
+
 result<writer> writer::create(const std::string& path) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) {
@@ -686,8 +697,7 @@ status writer::write_record(kind k, std::uint64_t host_time_us, std::span<const 
       // holds no torn record (a kill's mark to its reader), and the room the torn part took may
       // hold the records that end the file (review of issue 32).
       const int err = n < 0 ? errno : ENOSPC;
-      if (done != 0 && (::ftruncate(fd_, static_cast<off_t>(bytes_)) != 0 ||
-                        ::lseek(fd_, static_cast<off_t>(bytes_), SEEK_SET) < 0))
+      if (done != 0 && !cut_back(fd_, bytes_))
         return write_error(path_,
                            fmt::format("write: {}; and the record it cut short could not be "
                                        "removed: ",
@@ -712,9 +722,7 @@ std::optional<writer::written_record> writer::last_record() const {
 status writer::take_back_last() {
   if (fd_ < 0 || tail_.empty()) return runtime_error("no record to take back");
   const std::uint64_t at = tail_.back().offset;
-  if (::ftruncate(fd_, static_cast<off_t>(at)) != 0 ||
-      ::lseek(fd_, static_cast<off_t>(at), SEEK_SET) < 0)
-    return write_error(path_, "truncate: ", errno);
+  if (!cut_back(fd_, at)) return write_error(path_, "truncate: ", errno);
   tail_.pop_back();
   bytes_ = at;
   // A copy still due of a record taken out is not written.
