@@ -180,6 +180,16 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   return b;
 }
 
+bool same_line(const method::delta_n_model& applied, const method::delta_n_model& refit) {
+  const auto equal = [](double a, double b) {
+    return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
+  };
+  return equal(applied.t_ref_c, refit.t_ref_c) &&
+         applied.coeffs_dps.size() == refit.coeffs_dps.size() &&
+         std::equal(applied.coeffs_dps.begin(), applied.coeffs_dps.end(), refit.coeffs_dps.begin(),
+                    equal);
+}
+
 double new_power_up_at(const delta_n_budget& b, const std::optional<method::delta_n_model>& model,
                        double temp_c) {
   if (!b.valid) return std::numeric_limits<double>::quiet_NaN();

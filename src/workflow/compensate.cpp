@@ -129,11 +129,7 @@ void quote_new_power_up(const delta_n_source& dn, double at_c, compensate_result
   std::optional<method::delta_n_model> refit;
   if (rec.model && rec.model->degree() > 0 && !rec.files.empty())
     if (auto r = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
-        r && *r && (*r)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
-        std::equal((*r)->coeffs_dps.begin(), (*r)->coeffs_dps.end(), rec.model->coeffs_dps.begin(),
-                   [](double a, double c) {
-                     return std::abs(a - c) <= 1e-9 * std::max(std::abs(a), std::abs(c)) + 1e-15;
-                   }))
+        r && *r && same_line(*rec.model, **r))
       refit = std::move(**r);
   out.new_power_up_dps = new_power_up_at(b, refit, at_c);
 }

@@ -533,11 +533,7 @@ delta_n_budget calibration_budget(const delta_n_source& given, const identity& i
   std::optional<method::delta_n_model> refit_model;
   if (rec.model) {
     const auto refit = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
-    const bool theirs_coeffs = refit && *refit && !differs(rec.model->t_ref_c, (*refit)->t_ref_c) &&
-                               (*refit)->coeffs_dps.size() == rec.model->coeffs_dps.size() &&
-                               std::equal(rec.model->coeffs_dps.begin(),
-                                          rec.model->coeffs_dps.end(), (*refit)->coeffs_dps.begin(),
-                                          [&](double a, double b) { return !differs(a, b); });
+    const bool theirs_coeffs = refit && *refit && same_line(*rec.model, **refit);
     const bool theirs_cov =
         refit && *refit && rec.model->cov.size() == (*refit)->cov.size() &&
         std::equal(rec.model->cov.begin(), rec.model->cov.end(), (*refit)->cov.begin(),

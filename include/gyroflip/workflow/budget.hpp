@@ -108,6 +108,12 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
                                        const sensor::sensor_params* preset,
                                        const std::string& preset_name);
 
+/// Whether the ΔN(T) line `applied` (a calibration file's) is `refit`, the fit of the runs the
+/// file lists: the same t_ref_c and coefficients, each to 1e-9 relative. When not, the file was
+/// edited by hand or made by other software, and its runs' statistics do not describe it.
+[[nodiscard]] bool same_line(const method::delta_n_model& applied,
+                             const method::delta_n_model& refit);
+
 /// A new power-up's ΔN error at `temp_c` (deg/s, 68.3 %): where `model` estimates a between-run
 /// variance that changes with temperature (tau^2(T), the band the ΔN(T) figure draws,
 /// delta_n_model::new_run_interval_at), that band at `temp_c`, with the budget's temperature
