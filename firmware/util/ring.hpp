@@ -25,11 +25,7 @@ class byte_ring {
     return true;
   }
   /// The oldest byte, without taking it; false when empty.
-  bool peek(uint8_t* b) const {
-    if (count_ == 0) return false;
-    *b = buf_[head_];
-    return true;
-  }
+  bool peek(uint8_t* b) const { return peek(0, b); }
   /// The `k`-th oldest byte (0: the oldest), without taking it; false when there are not k + 1.
   bool peek(size_t k, uint8_t* b) const {
     if (k >= count_) return false;
