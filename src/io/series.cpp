@@ -359,8 +359,12 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
   if (!gaps.empty() && opt.gaps == gap_policy::fill) {
     double missing = 0.0, most = 0.0;
     std::size_t longest = gaps[0];
+    // The samples bridged in gap k: at least one (a gap is over 1.5 periods).
+    const auto bridged = [&](std::size_t k) {
+      return std::max(1.0, std::round(d[k] / period) - 1.0);
+    };
     for (const auto k : gaps) {
-      const double m = std::max(1.0, std::round(d[k] / period) - 1.0);
+      const double m = bridged(k);
       missing += m;
       if (m > most) {
         most = m;
@@ -382,7 +386,7 @@ result<stamp_run> check_stamps(const std::string& path, std::span<const double> 
     for (std::size_t k = 0; k < n; ++k) {
       place[k] = k + added;
       if (g < gaps.size() && gaps[g] == k) {
-        const auto m = static_cast<std::size_t>(std::max(1.0, std::round(d[k] / period) - 1.0));
+        const auto m = static_cast<std::size_t>(bridged(k));
         run.fills.emplace_back(k, m);
         added += m;
         ++g;
