@@ -160,14 +160,19 @@ status one_sensor::add(const std::string& file, std::span<const io::csv_metadata
 
 namespace {
 
-// The harmonic scheme's terms (issue 33 item 2): each run's fit of every term its table
-// separates (method::fit_harmonics), the runs' plain mean with the covariance of a mean of
-// independent runs (sum of their covariances / k^2: within-run errors; the run-to-run spread of
-// c1 is the budget's, of dN), and the separability report of the table and its axis.
-status add_harmonic_terms(const calibrate_request& r, io::calibration_record& rec) {
+// Every run's fit of the harmonic scheme's terms (method::fit_harmonics), one table and one set of
+// separable terms across the runs; the first run's table and table_axis header are kept.
+struct harmonic_runs {
   std::vector<method::harmonic_fit> fits;
   std::optional<position_table> table;
-  std::string first, axis_text;
+  std::string axis_text;
+};
+
+result<harmonic_runs> fit_harmonic_runs(const calibrate_request& r) {
+  harmonic_runs out;
+  auto& fits = out.fits;
+  auto& table = out.table;
+  std::string first;
   for (const auto& file : r.files) {
     auto rows = rigdata::read_recording_rows(file, r.angle_tolerance_deg);
     if (!rows) return rows.err();
@@ -179,7 +184,7 @@ status add_harmonic_terms(const calibrate_request& r, io::calibration_record& re
       table = rows->positions;
       first = file;
       for (const auto& m : rows->metadata)
-        if (m.key == "table_axis") axis_text = m.value;
+        if (m.key == "table_axis") out.axis_text = m.value;
     }
     method::harmonic_options o;
     o.separable = true;
@@ -191,6 +196,16 @@ status add_harmonic_terms(const calibrate_request& r, io::calibration_record& re
                               first, fmt::join(fits.front().names, ", ")));
     fits.push_back(std::move(*f));
   }
+  return out;
+}
+
+// The harmonic scheme's terms (issue 33 item 2): the runs' plain mean with the covariance of a
+// mean of independent runs (sum of their covariances / k^2: within-run errors; the run-to-run
+// spread of c1 is the budget's, of dN), and the separability report of the table and its axis.
+status add_harmonic_terms(const calibrate_request& r, io::calibration_record& rec) {
+  auto runs = fit_harmonic_runs(r);
+  if (!runs) return runs.err();
+  const auto& fits = runs->fits;
   const auto& names = fits.front().names;
   const std::size_t n = names.size();
   const auto k = static_cast<double>(fits.size());
@@ -204,7 +219,7 @@ status add_harmonic_terms(const calibrate_request& r, io::calibration_record& re
   for (std::size_t i = 0; i < n; ++i)
     rec.terms.push_back({names[i], value[i], std::sqrt(std::max(cov[i * n + i], 0.0))});
   rec.terms_covariance = std::move(cov);
-  auto sep = method::separability_of(*table, method::table_axis_kind_of(axis_text));
+  auto sep = method::separability_of(*runs->table, method::table_axis_kind_of(runs->axis_text));
   for (const auto& t : fits.front().dropped) {
     std::erase(sep.estimable, t);
     std::erase_if(sep.meanings, [&t](const method::term_meaning& m) { return m.term == t; });
