@@ -275,8 +275,12 @@ void merge_copies(file& out, const std::string& name, std::size_t end) {
     }
     const auto same = std::find_if(recs.begin(), recs.end(),
                                    [&](const record& r) { return r.offset == o->offset; });
-    if (same != recs.end()) {
-      if (same->type != o->type || same->host_time_us != o->host_time_us || same->body != o->body)
+    // A record of another kind where the original stood: bytes before it were cut out and the
+    // records after the cut moved up (review of issue 32, fifth pass, finding 2). The original
+    // is displaced, not disagreeing: put back below when it is not read elsewhere.
+    const bool moved_up = same != recs.end() && same->type != o->type;
+    if (same != recs.end() && !moved_up) {
+      if (same->host_time_us != o->host_time_us || same->body != o->body)
         out.warnings.push_back(
             fmt::format("{}: record {}: the COPY of record {} differs from it; the record is read",
                         name, c.number, same->number));
@@ -294,7 +298,7 @@ void merge_copies(file& out, const std::string& name, std::size_t end) {
     const bool read_elsewhere = std::any_of(recs.begin(), recs.end(), [&](const record& r) {
       return r.host_time_us == o->host_time_us && r.type == o->type && r.body == o->body;
     });
-    if (!in_file || read_elsewhere || covered_by_record(o->offset) ||
+    if (!in_file || read_elsewhere || (covered_by_record(o->offset) && !moved_up) ||
         std::any_of(put_back.begin(), put_back.end(),
                     [&](const record& r) { return r.offset == o->offset; })) {
       if (!in_file && !read_elsewhere)
@@ -314,8 +318,10 @@ void merge_copies(file& out, const std::string& name, std::size_t end) {
     spans.emplace_back(r.offset, r.offset + record_overhead + r.body.size());
     recs.push_back(std::move(r));
   }
-  std::sort(recs.begin(), recs.end(),
-            [](const record& a, const record& b) { return a.offset < b.offset; });
+  // A record put back where another now stands came before it (that one moved up from later).
+  std::sort(recs.begin(), recs.end(), [](const record& a, const record& b) {
+    return a.offset != b.offset ? a.offset < b.offset : a.restored && !b.restored;
+  });
   std::sort(spans.begin(), spans.end());
   // Damaged regions: bytes between the header and `end` that no record covers.
   out.damaged.clear();

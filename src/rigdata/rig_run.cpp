@@ -308,6 +308,64 @@ double median(std::vector<double> v) {
   return *mid;
 }
 
+// A device clock placed on the host's: host time = host_at_0_s + device time * host_per_device.
+struct clock_line {
+  double host_at_0_s = 0.0;
+  double host_per_device = std::numeric_limits<double>::quiet_NaN();  // NaN: not measured
+};
+
+// The lower envelope of a boot's frames, each a (device time, host arrival) pair in seconds: a
+// frame arrives after it is made, never before, so the line below every point that lies
+// closest to them all is the device's clock on the host's; a frame held in a transmitter, or
+// sent again on RESEND, lies above it and moves nothing. The slope is the linear programme of
+// Moon, Skelly and Towsley, "Estimation and removal of clock skew from network delay
+// measurements" (IEEE INFOCOM 1999): the edge of the points' lower convex hull over their mean
+// device time. Measured only over at least `min_device_s` of the device's clock and
+// `min_host_s` of the host's; otherwise `fallback_slope` (NaN: 1) places the line.
+clock_line lower_envelope(std::vector<std::pair<double, double>> pts, double fallback_slope,
+                          double min_device_s, double min_host_s) {
+  clock_line c;
+  if (pts.empty()) return c;
+  std::sort(pts.begin(), pts.end());
+  std::vector<std::pair<double, double>> hull;  // lower hull, device time ascending
+  for (const auto& p : pts) {
+    if (!hull.empty() && hull.back().first == p.first) continue;  // the earliest arrival only
+    while (hull.size() >= 2) {
+      const auto& a = hull[hull.size() - 2];
+      const auto& b = hull.back();
+      // b lies on or above the segment a-p: not on the lower hull.
+      if ((b.second - a.second) * (p.first - a.first) >=
+          (p.second - a.second) * (b.first - a.first))
+        hull.pop_back();
+      else
+        break;
+    }
+    hull.push_back(p);
+  }
+  double mean_d = 0.0;
+  for (const auto& p : pts) mean_d += p.first;
+  mean_d /= static_cast<double>(pts.size());
+  double slope = std::isfinite(fallback_slope) ? fallback_slope : 1.0;
+  const double span_d = hull.back().first - hull.front().first;
+  double lo_h = pts.front().second, hi_h = lo_h;
+  for (const auto& p : pts) {
+    lo_h = std::min(lo_h, p.second);
+    hi_h = std::max(hi_h, p.second);
+  }
+  if (hull.size() >= 2 && span_d >= min_device_s && hi_h - lo_h >= min_host_s) {
+    std::size_t k = 1;
+    while (k + 1 < hull.size() && hull[k].first < mean_d) ++k;
+    const double s = (hull[k].second - hull[k - 1].second) / (hull[k].first - hull[k - 1].first);
+    if (s > 0.0) {
+      slope = s;
+      c.host_per_device = s;
+    }
+  }
+  c.host_at_0_s = std::numeric_limits<double>::infinity();
+  for (const auto& p : pts) c.host_at_0_s = std::min(c.host_at_0_s, p.second - slope * p.first);
+  return c;
+}
+
 }  // namespace
 
 result<rig_run> rig_run_builder::finish() && {
@@ -711,14 +769,42 @@ result<rig_run> rig_run_builder::finish() && {
   // it in time, so that damage does not move them.
   run_.dwells.clear();
   double last_end_s = 0.0;
+  // The last timed dwell: its end on its device's clock, its arrival, its boot (session) and the
+  // last event of the run that set last_end_s.
+  std::uint32_t last_end_ticks = 0;
   std::uint64_t last_host_us = 0;
-  // The session (boot) and the last event of the run that set last_end_s.
   std::size_t last_session = npos, last_event = 0;
   bool any = false;
-  // The device's clock against the host's (device seconds per host second) over the last run
-  // that measured it (review of issue 32, finding 4): a later run is placed by the host's clock,
-  // which stands in for the device's only where the two keep the same pace.
-  double prev_pace = std::numeric_limits<double>::quiet_NaN();
+  // A boot's clock on the host's around device tick `ref` (review of issue 32, fifth pass,
+  // finding 1): the lower envelope of its frames' arrivals against the device times they were
+  // made at (a STATUS's uptime, a DWELL's end), in seconds from `ref` and from `ref_host_us`.
+  // One dwell's arrival is not its end: a dwell held in the transmitter or first sent on
+  // RESEND arrived seconds after it (a run at --speed 1 placed 3.5 s late). Frames more than
+  // 2^30 ticks from `ref` are left out (their 32-bit difference could have wrapped).
+  const auto boot_clock = [&](std::size_t session, std::uint32_t ref, std::uint64_t ref_host_us,
+                              double fallback_slope) {
+    std::vector<std::pair<double, double>> pts;
+    const auto info_index = info_for(session);
+    if (!info_index) return clock_line{};
+    const double hz = infos_[*info_index].tick_hz;
+    for (std::size_t i = 0; i < n_ev; ++i) {
+      if (session_of[i] != session || marks[i] != mark::none) continue;
+      std::uint32_t ticks = 0;
+      if (events_[i].type == ev::status)
+        ticks = statuses_[events_[i].index].uptime_ticks;
+      else if (events_[i].type == ev::dwell)
+        ticks = dwell_msgs_[events_[i].index].t_end_ticks;
+      else
+        continue;
+      const auto d = static_cast<std::int32_t>(ticks - ref);
+      if (d > (1 << 30) || d < -(1 << 30)) continue;
+      pts.emplace_back(
+          static_cast<double>(d) / hz,
+          (static_cast<double>(events_[i].host_us) - static_cast<double>(ref_host_us)) * 1e-6);
+    }
+    // The pace is measured over at least 2 s of the device's clock and 50 ms of the host's.
+    return lower_envelope(std::move(pts), fallback_slope, 2.0, 0.05);
+  };
   std::size_t unknown_positions = 0, went_backwards = 0, borrowed_info = 0;
   for (const std::size_t r : order) {
     auto& v = members[r];
@@ -778,18 +864,35 @@ result<rig_run> rig_run_builder::finish() && {
     // so that a dwell lost does not move every time of the file.
     // (Host times are differences of a steady clock: a later run's first dwell arrives after the
     // last one's, or with it; never a negative gap.)
-    const std::uint64_t host_now = events_[v.front()].host_us;
-    const double host_gap_s =
-        static_cast<double>(host_now - std::min(host_now, last_host_us)) * 1e-6;
     const bool placed_by_host = any;
     const double last_end_before_s = last_end_s;
-    // The host's gap runs from the arrival of the last dwell to that of this run's first, each
-    // sent as it ended: this run's first dwell *ends* that far after the last one's end (review
-    // of issue 32: it was placed to start there, a dwell's length late). Never before the run
-    // before it ends (a device faster than the host's clock; the warning below says by how much).
-    const double first_len_s = static_cast<double>(static_cast<std::int32_t>(
-                                   msg(v.front()).t_end_ticks - msg(v.front()).t_start_ticks)) /
-                               hz;
+    // The host's gap from the last run's last dwell's end to this run's first dwell's start,
+    // each on its boot's clock placed on the host's (boot_clock): never before the run before
+    // it ends (a device faster than the host's clock; the warning below says by how much).
+    double host_gap_s = 0.0;
+    double pace = std::numeric_limits<double>::quiet_NaN();  // device s per host s, last boot's
+    if (any) {
+      constexpr double nan_slope = std::numeric_limits<double>::quiet_NaN();
+      const std::uint64_t host_now = events_[v.front()].host_us;
+      const std::uint32_t first_ticks = msg(v.front()).t_start_ticks;
+      const clock_line before0 = boot_clock(last_session, last_end_ticks, last_host_us, nan_slope);
+      const clock_line now0 = boot_clock(runs[r].session, first_ticks, host_now, nan_slope);
+      // A boot whose pace could not be measured keeps the other's (or the host's).
+      const clock_line before =
+          std::isfinite(before0.host_per_device) || !std::isfinite(now0.host_per_device)
+              ? before0
+              : boot_clock(last_session, last_end_ticks, last_host_us, now0.host_per_device);
+      const clock_line now =
+          std::isfinite(now0.host_per_device) || !std::isfinite(before0.host_per_device)
+              ? now0
+              : boot_clock(runs[r].session, first_ticks, host_now, before0.host_per_device);
+      host_gap_s = (static_cast<double>(host_now) - static_cast<double>(last_host_us)) * 1e-6 +
+                   now.host_at_0_s - before.host_at_0_s;
+      if (!std::isfinite(host_gap_s)) host_gap_s = 0.0;
+      const double slope =
+          std::isfinite(before.host_per_device) ? before.host_per_device : now.host_per_device;
+      if (std::isfinite(slope)) pace = 1.0 / slope;
+    }
     // A run of another boot than the run before it: its own clock says how long it ran before
     // its first dwell, from its first STATUS stored after that run (a STATUS goes out once, as
     // it is made, and this boot began after the last one ended) to the dwell's start. The run
@@ -809,10 +912,8 @@ result<rig_run> rig_run_builder::finish() && {
         break;
       }
     }
-    const double offset_s =
-        any ? last_end_s +
-                  std::max(boot_lead_s, std::max(0.0, host_gap_s - std::max(0.0, first_len_s)))
-            : ticks_per_dwell * static_cast<double>(k_of(msg(v.front()))) / hz;
+    const double offset_s = any ? last_end_s + std::max(boot_lead_s, std::max(0.0, host_gap_s))
+                                : ticks_per_dwell * static_cast<double>(k_of(msg(v.front()))) / hz;
     std::int64_t start_ticks = 0;  // from the run's first dwell
     std::uint32_t prev_raw = msg(v.front()).t_start_ticks;
     std::uint64_t prev_k = k_of(msg(v.front()));
@@ -858,6 +959,7 @@ result<rig_run> rig_run_builder::finish() && {
       const double t1 = offset_s + static_cast<double>(start_ticks + length) / hz;
       if (!label) {
         last_end_s = t1;
+        last_end_ticks = d.t_end_ticks;
         last_host_us = events_[i].host_us;
         last_session = runs[r].session;
         last_event = std::max(last_event, i);
@@ -898,6 +1000,7 @@ result<rig_run> rig_run_builder::finish() && {
       expected_k = std::max(expected_k, k_of(d) + 1);
       ++seen;
       last_end_s = t1;
+      last_end_ticks = d.t_end_ticks;
       last_host_us = events_[i].host_us;
       last_session = runs[r].session;
       last_event = std::max(last_event, i);
@@ -906,38 +1009,14 @@ result<rig_run> rig_run_builder::finish() && {
     }
     run_.lost_dwells += expected_k - std::min(expected_k, seen);
     for (const auto& [k, codes] : pend) run_.unplaced_conversions += codes.size();
-    // This run's pace: the uptimes of its boot's STATUS frames among its dwells against their
-    // arrival (a STATUS is sent once, as it is made: not a dwell that came late on RESEND), over
-    // at least 2 s of the device's clock and 50 ms of the host's.
-    double pace = std::numeric_limits<double>::quiet_NaN();
-    {
-      std::optional<std::size_t> s0, s1;
-      const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-      for (std::size_t i = *lo; i <= *hi && i < n_ev; ++i)
-        if (events_[i].type == ev::status && session_of[i] == runs[r].session &&
-            marks[i] == mark::none) {
-          if (!s0) s0 = i;
-          s1 = i;
-        }
-      if (s0 && s1) {
-        const double dev_s = static_cast<double>(statuses_[events_[*s1].index].uptime_ticks -
-                                                 statuses_[events_[*s0].index].uptime_ticks) /
-                             hz;
-        const double host_s =
-            static_cast<double>(events_[*s1].host_us -
-                                std::min(events_[*s1].host_us, events_[*s0].host_us)) *
-            1e-6;
-        if (dev_s >= 2.0 && host_s >= 0.05) pace = dev_s / host_s;
-      }
-    }
     if (placed_by_host && timed) {
       // The device time between the runs is the host's gap times the pace, where the device ran
       // on at its pace: a device faster than the host's clock (an emulator run fast; damage or
       // lost dwells at the end of a run do not change it) leaves this run and every later one
       // early by the difference. At a rig's pace (1, to its crystal) it is nothing.
-      const double p = std::isfinite(prev_pace) ? prev_pace : pace;
+      const double p = pace;
       // (Never less than the boot's own lead before its first dwell: the device ran that long.)
-      const double paced_s = std::max(boot_lead_s, host_gap_s * p - std::max(0.0, first_len_s));
+      const double paced_s = std::max(boot_lead_s, host_gap_s * p);
       const double shift_s = std::isfinite(p) ? paced_s - (offset_s - last_end_before_s) : 0.0;
       // Said whenever the device's clock kept another pace than the host's (beyond 1 %: an
       // emulator, not a crystal), however small the estimate: an emulator's pace between runs
@@ -950,15 +1029,17 @@ result<rig_run> rig_run_builder::finish() && {
         run_.warnings.push_back(fmt::format(
             "{}: record {}: run {} (export's segment {}) is placed after the run before it by "
             "the host's clock ({:.3g} s between their dwells), but the device's clock ran {:.3g} "
-            "times as fast as the host's (an emulator running faster than real time): the "
+            "times as fast as the host's ({}): the "
             "device time between them is not known, and the time_s of this run and every later "
             "one may be {} by about {:.3g} s at the last run's pace (an emulator's pace varies: "
             "not a bound; times within a run are the device's own)",
             run_.path, events_[v.front()].record, r, r, host_gap_s, p,
+            p > 1.0 ? "an emulator running faster than real time"
+                    : "a device clock slower than the host's: an emulator the host could not run "
+                      "at its speed, or a clock off its rate",
             shift_s >= 0 ? "early" : "late", std::fabs(shift_s)));
       }
     }
-    if (std::isfinite(pace)) prev_pace = pace;
     any = any || timed;
   }
   // The last INFO of the file's board, and the configuration in force at the end.

@@ -56,13 +56,15 @@ gyroflip::rigdata::rig_run read(const bytes& b) {
   return run ? *run : gyroflip::rigdata::rig_run{};
 }
 
-bool same_dwells(const gyroflip::rigdata::rig_run& a, const gyroflip::rigdata::rig_run& b) {
+// `time_tol_s`: how far a time may move (0: none).
+bool same_dwells(const gyroflip::rigdata::rig_run& a, const gyroflip::rigdata::rig_run& b,
+                 double time_tol_s = 0.0) {
   if (a.dwells.size() != b.dwells.size()) return false;
   for (std::size_t i = 0; i < a.dwells.size(); ++i) {
     const auto& x = a.dwells[i];
     const auto& y = b.dwells[i];
     if (x.seq != y.seq || x.segment != y.segment || x.angle_deg != y.angle_deg ||
-        x.rate_dps != y.rate_dps || x.time_s != y.time_s || !(x.d == y.d))
+        x.rate_dps != y.rate_dps || std::fabs(x.time_s - y.time_s) > time_tol_s || !(x.d == y.d))
       return false;
   }
   return true;
@@ -142,7 +144,9 @@ TEST(RigRecovery, WhatTheFileHoldsBesidesTellsALostRecordAgain) {
   {
     SCOPED_TRACE("the reset GAP, the new boot's STATUS and its INFO");
     const auto run = read(zeroed(reset, index_of(gfr::kind::info, 1)));
-    EXPECT_TRUE(same_dwells(run, clean));
+    // The run after the reset is placed by its boot's frames (the lower envelope of their
+    // arrivals): without that STATUS the envelope moves by the host clock's microseconds.
+    EXPECT_TRUE(same_dwells(run, clean, 1e-4));
   }
   for (const std::size_t nth : {std::size_t{0}, std::size_t{1}}) {
     SCOPED_TRACE("a START");
@@ -208,6 +212,38 @@ TEST(RigRecovery, ARecordTheOthersDependOnIsPutBackFromItsCopy) {
     ++checked;
   }
   EXPECT_GE(checked, 14u);
+}
+
+// Bytes cut out of the middle (a rescue copy that skips unreadable sectors, an editor's cut):
+// the records after the cut move up, and another record may then start where a record the
+// others depend on stood. Its COPY names that offset; the record there now is of another kind:
+// the original is displaced, not disagreeing, and is put back (review of issue 32, fifth pass,
+// finding 2: "the COPY of record N differs from it; the record is read", and the run after a
+// reset was lost: 38 of 45 dwells). Each such record is cut out whole in turn here.
+TEST(RigRecovery, ARecordCutOutIsPutBackFromItsCopyWhereAnotherKindNowStands) {
+  gyroflip::test::temp_dir dir;
+  const auto rec = gyroflip::test::make_synthetic_recording(longer(true), dir.file("l.gfr"));
+  const auto f = gfr::parse(rec.bytes, "r.gfr");
+  ASSERT_TRUE(f);
+  const auto clean = read(rec.bytes);
+  std::size_t checked = 0;
+  for (std::size_t i = 1; i + 1 < f->records.size(); ++i) {
+    const auto& r = f->records[i];
+    const auto& next = f->records[i + 1];
+    if (!gfr::is_copied(r.type, r.body) || next.type == r.type) continue;
+    SCOPED_TRACE(i);
+    bytes b = rec.bytes;
+    b.erase(b.begin() + static_cast<std::ptrdiff_t>(r.offset),
+            b.begin() + static_cast<std::ptrdiff_t>(next.offset));
+    auto g = gfr::parse(b, "r.gfr");
+    ASSERT_TRUE(g) << g.err().message;
+    EXPECT_EQ(g->restored, 1u);
+    auto run = gyroflip::rigdata::interpret(*g, "r.gfr", false);
+    ASSERT_TRUE(run) << run.err().message;
+    EXPECT_TRUE(same_dwells(*run, clean)) << run->dwells.size() << " of " << clean.dwells.size();
+    ++checked;
+  }
+  EXPECT_GE(checked, 10u);
 }
 
 // The fixed-seed form of the figure (bench/gfr_recovery, docs/RELIABILITY.md): 300 single-bit

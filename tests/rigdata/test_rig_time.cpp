@@ -169,6 +169,37 @@ TEST(RigTime, ARunAfterAResetIsNeverPlacedBeforeItsBootsOwnLead) {
   }
 }
 
+// A run after a reset at the rig's pace is placed where the device's clock puts it although its
+// first dwells, or the last dwells before the reset, arrived seconds after they ended (held in
+// the transmitter, or first sent on RESEND): each boot's clock is placed on the host's by the
+// lower envelope of all its frames' arrivals, not by one dwell's (review of issue 32, fifth
+// pass, finding 1: `emulate --speed 1 --fault-tx-hold 8.5:4 --fault-reset-at 8` placed the run
+// 3.5 s late, `--fault-tx-hold 6:3 --fault-reset-at 9.05` 3.0 s early, with no warning).
+TEST(RigTime, HeldDwellsAroundAResetDoNotMoveTheRunAfterIt) {
+  struct held_case {
+    std::size_t before, after;
+  };
+  for (const held_case h : {held_case{3, 0}, held_case{0, 4}, held_case{3, 4}}) {
+    SCOPED_TRACE(testing::Message() << "held before " << h.before << ", after " << h.after);
+    gyroflip::test::temp_dir dir;
+    synthetic_options o;
+    o.dwells = 60;
+    o.resets_after = {30};
+    o.late_every = 0;
+    o.restart_s = 1.5;
+    o.held_before_reset = h.before;
+    o.held_after_reset = h.after;
+    after_reset a;
+    ASSERT_NO_FATAL_FAILURE(read_after_reset(o, dir.file("run.gfr"), a));
+    // Placed by one dwell's arrival: 0.36 s early (held before), 3.6 s late (held after), 3.2 s
+    // late (both).
+    EXPECT_NEAR(a.early_s, 0.0, 1e-3);
+    EXPECT_FALSE(a.run.later_runs_off_pace);
+    for (const auto& w : a.run.warnings)
+      EXPECT_EQ(w.find("by the host's clock"), std::string::npos) << w;
+  }
+}
+
 // The QEMU image's 1-MHz clock wraps its 32 bits every 71.6 min. 5 000 dwells (75 min) lost
 // inside one run: the dwells after them are 75 min later, not 75 - 71.6 min (the 32-bit
 // difference alone says 3.4 min); the counter's wraps are those that fit the run's own pace.

@@ -201,6 +201,8 @@ class generator {
     if (std::find(o_.lost.begin(), o_.lost.end(), j) != o_.lost.end()) {
       out_.dwells.pop_back();
       lost_pending_ = true;
+    } else if (held(k, j)) {
+      late_.push_back(body);  // no GAP: the recorder sees nothing missing until they come
     } else if (o_.late_every != 0 && j % o_.late_every == o_.late_every - 1) {
       late_.push_back(body);  // it came again after the next one (RESEND)
       record(gfr::kind::gap, gap_body(gfr::gap_reason::corrupt, 1));
@@ -213,6 +215,13 @@ class generator {
       record(gfr::kind::gap, gap_body(gfr::gap_reason::missing, 1));
       lost_pending_ = false;
     }
+  }
+  // Dwell k of its boot, j of the recording, held back (held_before_reset, held_after_reset).
+  bool held(std::size_t k, std::size_t j) const {
+    if (boot_ != 0 && k < o_.held_after_reset) return true;
+    for (const std::size_t r : o_.resets_after)
+      if (j <= r && r - j < o_.held_before_reset) return true;
+    return false;
   }
   void flush_late() {
     for (const auto& b : late_) record(gfr::kind::frame, b);

@@ -40,6 +40,11 @@ struct synthetic_options {
   std::vector<std::size_t> lost;
   /// Every this many dwells one arrives late (RESEND): stored after the next one (0: none).
   std::size_t late_every = 37;
+  /// The last this many dwells before each reset are held (a transmitter held by CTS, or sent
+  /// again on RESEND) and arrive only at the reset, together; STATUS frames keep arriving.
+  std::size_t held_before_reset = 0;
+  /// The first this many dwells after each reset are held and arrive after the next one.
+  std::size_t held_after_reset = 0;
   std::uint32_t serial = 4711;
   /// true: written by the library's writer (the current format, with COPY records); false: a
   /// file of format 4 as recorders before it wrote (no COPY records).
