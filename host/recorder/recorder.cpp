@@ -407,6 +407,9 @@ class session {
   bool restart_ = false;          // the last command was cut short by a reset
   bool device_idle_ = false;      // a STATUS said idle while we record
   bool have_uptime_ = false;
+  // The boot count a STATUS of a rebooted device gave before its INFO was recorded: an INFO or
+  // STATUS of another boot count meanwhile is a further reset.
+  std::optional<std::uint16_t> unnamed_boot_;
   bool since_link_loss_ = false;  // the line was gone: the rate above counts what it lost
   bool have_rate_ = false;
   bool seg_started_ = false;
@@ -727,7 +730,25 @@ status session::send(const M& m, std::uint16_t seq) {
 // frame numbered where this boot's cannot be (max_plausible_ahead). Until the new boot's INFO
 // is in, its frames say nothing more.
 bool session::says_reset(const p::frame& f, bool identifying) const {
-  if (!info_ || need_info_) return false;
+  if (!info_) return false;
+  if (need_info_) {
+    // A reset whose INFO is still to come: a STATUS has said the new boot's count, and the
+    // device reset again before answering the PING (review of issue 32, fifth pass, finding 4:
+    // the INFO that answered was the next boot's, and boot 2's frames and boot 3's shared one
+    // segment with one reset recorded for two).
+    if (!unnamed_boot_) return false;
+    if (f.type == static_cast<std::uint8_t>(p::msg::info)) {
+      p::info_msg m;
+      return f.as(m) && m.boot_count != *unnamed_boot_;
+    }
+    if (f.type == static_cast<std::uint8_t>(p::msg::status)) {
+      p::status_msg m;
+      return f.as(m) &&
+             (m.boot_count != *unnamed_boot_ || (have_uptime_ && m.uptime_ticks < last_uptime_ &&
+                                                 last_uptime_ - m.uptime_ticks < 0x80000000u));
+    }
+    return false;
+  }
   if (window_.started()) {
     // The INFO that names the board after a reconnect may be far ahead: the device ran on.
     const std::int32_t d = window_.distance(f.seq);
@@ -765,6 +786,7 @@ status session::note_reset() {
   configured_at_.reset();
   start_ack_seq_.reset();
   have_uptime_ = false;
+  unnamed_boot_.reset();
   close_segment();
   // What the old boot still owed, and what it sent after the last frame heard of it and the
   // line damaged (each damaged frame, or the frames a damaged header numbered; the new boot's
@@ -839,6 +861,7 @@ status session::on_info(const p::frame& f, const p::info_msg& m) {
   }
   if (!need_info_ && !identify_record_) return append_frame(f);  // a PING's answer
   need_info_ = identify_record_ = false;
+  unnamed_boot_.reset();
   info_ = m;
   return append(gfr::kind::info, payload_of(m));
 }
@@ -920,6 +943,7 @@ status session::on_frame(const p::frame& f) {
     }
     have_uptime_ = true;
     last_uptime_ = m.uptime_ticks;
+    if (need_info_) unnamed_boot_ = m.boot_count;
     // Idle while recording: but only a STATUS the device sent after it acknowledged START
     // (one sent just before is still on its way when the run has begun).
     const bool after_start =
