@@ -92,12 +92,14 @@ class sent_log {
   // at the last conversion before the frame is first seen (a frame dropped from the device's full
   // transmit ring is first seen on RESEND, after the table turned on: it was logged at the next
   // dwell's angle, and bench/rig_truth.py counted a dwell labelled right as mislabelled).
-  // `boot`: the firmware's boot (1 at the first; its numbering starts again at each).
-  status add(const protocol::frame& fr, double time_s, bool hit, const host::emulator& emu) {
+  // `boot`: the firmware's boot that made the frame (1 at the first; its numbering starts again
+  // at each): not the one current when it first goes out (a DWELL held in the transmitter across
+  // a reset went out after it; review of issue 32, fifth pass, finding 5).
+  status add(const protocol::frame& fr, double time_s, bool hit, const host::emulator& emu,
+             unsigned boot) {
     protocol::dwell_msg d;
     if (f_ == nullptr || !fr.as(d)) return ok();
     const double table_deg = emu.table_deg_at(d.t_end_ticks);
-    const unsigned boot = emu.boots();
     fmt::print(f_, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.6f},{},{:.4f},{}\n", fr.seq,
                d.cycle, d.position, d.t_start_ticks, d.t_end_ticks, d.n, d.code_sum, d.code_min,
                d.code_max, d.n_temp, d.temp_sum, d.ax_high_ticks, d.ax_period_ticks,
@@ -563,7 +565,9 @@ int run_emulate(const emulate_options& o) {
   // The clean stream, every frame (a frame sent again for RESEND too), logged the first time its
   // number goes out: a DWELL that did not fit the transmit ring goes out first from the history.
   protocol::stream_decoder monitor{true};
-  first_sight logged;
+  // Per boot that made the frames (a frame of the last boot may still go out after a reset): a
+  // number of the old boot's does not hide the new boot's frame of that number.
+  std::map<unsigned, first_sight> logged;
   std::vector<std::uint8_t> to_device, out, frame_wire;
   std::uint64_t frames_named = 0;  // frames lost by --fault-lose-reply or --fault-lose-boot-info
   std::uint8_t buf[4096];
@@ -590,7 +594,7 @@ int run_emulate(const emulate_options& o) {
   const auto reset = [&] {
     emu.reset();
     monitor.frames().reset_sequence();  // the rebooted device numbers its frames from 0
-    logged.reset();
+    if (logged.size() > 2) logged.erase(logged.begin());
     lose_next_boot_info = plan->lose_boot_info;
   };
   const auto exchange = [&](int wait_ms) -> status {
@@ -679,8 +683,12 @@ int run_emulate(const emulate_options& o) {
         const bool lost = named || frame_unplugged || faults.last_frame_hit();
         if (frame_unplugged) ++frames_unplugged;
         frame_unplugged = false;
-        if (!logged.take(monitor.current().seq)) continue;
-        if (auto s = log->add(monitor.current(), emu.time_s(), lost, emu); !s)
+        // The boot that made it: a DWELL's by when it ended, any other frame's the boot now.
+        protocol::dwell_msg dwell;
+        const unsigned maker =
+            monitor.current().as(dwell) ? emu.boot_at(dwell.t_end_ticks) : emu.boots();
+        if (!logged[maker].take(monitor.current().seq)) continue;
+        if (auto s = log->add(monitor.current(), emu.time_s(), lost, emu, maker); !s)
           return report(s.err());
       }
     // A reader that does not keep up holds the device's time (the stream stays whole).

@@ -120,6 +120,7 @@ const fw::device& emulator::device() const noexcept {
 
 void emulator::boot() {
   boots_ = 1;
+  resets_at_.clear();
   p_->dev->boot({static_cast<std::uint8_t>(protocol::reset_cause::power_on), boots_});
 }
 
@@ -129,7 +130,17 @@ void emulator::boot() {
 void emulator::reset() {
   p_->dev.emplace(p_->board.hw(), p_->facts);
   ++boots_;  // kept in memory a reset does not clear (on the MSP430F149: .noinit)
+  resets_at_.push_back(ticks_);
   p_->dev->boot({static_cast<std::uint8_t>(protocol::reset_cause::reset_pin), boots_});
+}
+
+std::uint16_t emulator::boot_at(std::uint32_t board_ticks) const noexcept {
+  const std::uint64_t ago =
+      static_cast<std::uint32_t>(static_cast<std::uint32_t>(ticks_) - board_ticks);
+  const std::uint64_t at = ticks_ - std::min(ticks_, ago);
+  const auto after =
+      std::upper_bound(resets_at_.begin(), resets_at_.end(), at) - resets_at_.begin();
+  return static_cast<std::uint16_t>(boots_ - resets_at_.size() + static_cast<std::size_t>(after));
 }
 
 std::size_t emulator::step_index() const noexcept {

@@ -89,6 +89,11 @@ class emulator {
   [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }
   /// How often the firmware booted (1 at the first boot; INFO's boot_count).
   [[nodiscard]] std::uint16_t boots() const noexcept { return boots_; }
+  /// The boot that ran at board tick `board_ticks` (the board's 32-bit clock, as a DWELL's
+  /// t_end_ticks: within 2^32 ticks before now): the boot that made a DWELL, also when the frame
+  /// first goes out after a reset (review of issue 32, fifth pass, finding 5: a DWELL held in
+  /// the transmitter across a reset was logged with the new boot).
+  [[nodiscard]] std::uint16_t boot_at(std::uint32_t board_ticks) const noexcept;
   [[nodiscard]] double time_s() const noexcept { return static_cast<double>(ticks_) / tick_hz; }
   [[nodiscard]] const fw::device& device() const noexcept;
   /// The table's angle (deg, in [0, 360)) now.
@@ -140,7 +145,8 @@ class emulator {
   std::vector<std::pair<std::uint64_t, double>> stations_;
   double heat_c_ = 0.0;  // the coils' temperature rise at heat_t_s_
   double heat_t_s_ = 0.0;
-  std::uint16_t boots_ = 0;  // the device's boot counter
+  std::uint16_t boots_ = 0;               // the device's boot counter
+  std::vector<std::uint64_t> resets_at_;  // ticks of each reset since boot(), ascending
 };
 
 }  // namespace gyroflip::host

@@ -405,6 +405,39 @@ TEST(Emulator, StartIsTakenOnlyForAConfigurationSentSinceTheBoot) {
   EXPECT_GT(c.dwells.size(), dwells);
 }
 
+// Which boot made a DWELL is told by when it ended, not by the boot current when its bytes go
+// out: a DWELL held in the transmitter across a reset went out after it, and `emulate --log`
+// gave it the new boot (review of issue 32, fifth pass, finding 5: bench/rig_truth.py then
+// reported a boot mismatch the recorder had not made). Two resets; each boot's dwells, asked
+// about after the last reset, are their own boot's; ticks at a boot's first pass are its own.
+TEST(Emulator, TheBootThatMadeADwellIsToldByWhenItEnded) {
+  auto made = host::emulator::make(paper_rig(7));
+  ASSERT_TRUE(made) << made.err().message;
+  host::emulator& e = **made;
+  client c(e);
+  e.boot();
+  std::vector<std::pair<std::uint32_t, std::uint16_t>> ended;  // t_end_ticks, the boot then
+  for (int boot = 1; boot <= 3; ++boot) {
+    if (boot > 1) {
+      const auto at = static_cast<std::uint32_t>(e.ticks());
+      e.reset();
+      c.decoder.frames().reset_sequence();
+      EXPECT_EQ(e.boot_at(at), boot);  // a reset's own tick is the new boot's
+      EXPECT_EQ(e.boot_at(at - 1), boot - 1);
+    }
+    c.run_s(0.1);
+    c.send(p::configure_msg{});
+    c.start(p::configure_msg{});
+    const std::size_t before = c.dwells.size();
+    c.run_s(6.0);
+    ASSERT_GT(c.dwells.size(), before + 1);
+    for (std::size_t i = before; i < c.dwells.size(); ++i)
+      ended.emplace_back(c.dwells[i].t_end_ticks, static_cast<std::uint16_t>(boot));
+  }
+  EXPECT_EQ(e.boots(), 3);
+  for (const auto& [t_end, boot] : ended) EXPECT_EQ(e.boot_at(t_end), boot) << t_end;
+}
+
 // The device's clock never goes back: a busy wait of its boot or of a CONFIGURE (the ADC's
 // reset and self-calibration) moves the board's clock within one pass, and the emulator's time
 // follows it (it used to set the clock back to its pass count, and a STATUS after a reset said
