@@ -781,14 +781,17 @@ result<rig_run> rig_run_builder::finish() && {
   // One dwell's arrival is not its end: a dwell held in the transmitter or first sent on
   // RESEND arrived seconds after it (a run at --speed 1 placed 3.5 s late). Frames more than
   // 2^30 ticks from `ref` are left out (their 32-bit difference could have wrapped).
+  std::map<std::size_t, std::vector<std::size_t>> timed_frames;  // per session: STATUS, DWELL
+  for (std::size_t i = 0; i < n_ev; ++i)
+    if ((events_[i].type == ev::status || events_[i].type == ev::dwell) && marks[i] == mark::none)
+      timed_frames[session_of[i]].push_back(i);
   const auto boot_clock = [&](std::size_t session, std::uint32_t ref, std::uint64_t ref_host_us,
                               double fallback_slope) {
     std::vector<std::pair<double, double>> pts;
     const auto info_index = info_for(session);
     if (!info_index) return clock_line{};
     const double hz = infos_[*info_index].tick_hz;
-    for (std::size_t i = 0; i < n_ev; ++i) {
-      if (session_of[i] != session || marks[i] != mark::none) continue;
+    for (const std::size_t i : timed_frames[session]) {
       std::uint32_t ticks = 0;
       if (events_[i].type == ev::status)
         ticks = statuses_[events_[i].index].uptime_ticks;

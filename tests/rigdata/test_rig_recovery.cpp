@@ -222,17 +222,19 @@ TEST(RigRecovery, ARecordTheOthersDependOnIsPutBackFromItsCopy) {
 // reset was lost: 38 of 45 dwells). Each such record is cut out whole in turn here.
 TEST(RigRecovery, ARecordCutOutIsPutBackFromItsCopyWhereAnotherKindNowStands) {
   gyroflip::test::temp_dir dir;
-  const auto rec = gyroflip::test::make_synthetic_recording(longer(true), dir.file("l.gfr"));
-  const auto f = gfr::parse(rec.bytes, "r.gfr");
-  ASSERT_TRUE(f);
-  const auto clean = read(rec.bytes);
+  const bytes file =
+      gyroflip::test::make_synthetic_recording(longer(true), dir.file("l.gfr")).bytes;
+  const auto records = gfr::parse(file, "r.gfr");
+  ASSERT_TRUE(records);
+  const auto& all = records->records;
+  const auto undamaged = read(file);
   std::size_t checked = 0;
-  for (std::size_t i = 1; i + 1 < f->records.size(); ++i) {
-    const auto& r = f->records[i];
-    const auto& next = f->records[i + 1];
+  for (std::size_t i = 1; i + 1 < all.size(); ++i) {
+    const auto& r = all[i];
+    const auto& next = all[i + 1];
     if (!gfr::is_copied(r.type, r.body) || next.type == r.type) continue;
     SCOPED_TRACE(i);
-    bytes b = rec.bytes;
+    bytes b = file;
     b.erase(b.begin() + static_cast<std::ptrdiff_t>(r.offset),
             b.begin() + static_cast<std::ptrdiff_t>(next.offset));
     auto g = gfr::parse(b, "r.gfr");
@@ -240,7 +242,8 @@ TEST(RigRecovery, ARecordCutOutIsPutBackFromItsCopyWhereAnotherKindNowStands) {
     EXPECT_EQ(g->restored, 1u);
     auto run = gyroflip::rigdata::interpret(*g, "r.gfr", false);
     ASSERT_TRUE(run) << run.err().message;
-    EXPECT_TRUE(same_dwells(*run, clean)) << run->dwells.size() << " of " << clean.dwells.size();
+    EXPECT_TRUE(same_dwells(*run, undamaged))
+        << run->dwells.size() << " of " << undamaged.dwells.size();
     ++checked;
   }
   EXPECT_GE(checked, 10u);
