@@ -44,6 +44,9 @@ GYROFLIP is the gyroflip program (its `export` reads RUN.gfr), SENT.csv the `--l
   data_s       the data `export` gives: per run (its `segment`), from its first dwell's start to
                its last one's end on the device's clock (the DWELL frames' ticks), summed (what
                `record --duration` counts, docs/RECORDER.md)
+  early_s      each run after the first (in time_s order) against the run before it: the true
+               gap from the last dwell's end to the first dwell's start (the emulator's clock runs
+               on through a reset) less the gap `export` gives; > 0: placed early (seconds)
   resets       device resets the file records (GAP reset)
   start_unacked  runs whose START ACK never reached the recorder (the START record names the
                CONFIGURE's ACK: the device showed the run, or it reset before a retry)
@@ -187,6 +190,7 @@ def compare(gyroflip, gfr, sent_csv):
     spans = {}  # per run (export's segment): first dwell start, last dwell end (device ticks)
     seen, duplicates = set(), 0
     offsets, time_bad, max_dev = {}, 0, 0.0  # per run: time_s less the device clock
+    ends = {}  # per run: (time_s, sent row) of its first and of its last dwell exported
     wrap_s = 2.0**32 / tick_hz
     for r in exported:
         k = (int(r["seq"]), int(r["cycle"]), int(r["position"]))
@@ -200,6 +204,10 @@ def compare(gyroflip, gfr, sent_csv):
         sent_key = (match[0]["boot"],) + key(match[0])
         duplicates += sent_key in seen
         seen.add(sent_key)
+        t_s = float(r["time_s"])
+        first, last = ends.get(r["segment"], ((t_s, match[0]), (t_s, match[0])))
+        ends[r["segment"]] = (min(first, (t_s, match[0]), key=lambda e: e[0]),
+                              max(last, (t_s, match[0]), key=lambda e: e[0]))
         off = float(r["time_s"]) - int(match[0]["t_start_ticks"]) / tick_hz
         if r["segment"] in offsets:  # the clock's 32-bit wrap is no deviation
             dev = abs((off - offsets[r["segment"]] + wrap_s / 2) % wrap_s - wrap_s / 2)
@@ -226,6 +234,16 @@ def compare(gyroflip, gfr, sent_csv):
     not_in_file = len(sent) - len(in_file)
     uncounted, boot_mismatch = uncounted_by_boot(sent, segments, key)
     data_s = sum(((hi - lo) & 0xFFFFFFFF) / tick_hz for lo, hi in spans.values())
+    # Each run after the first against the run before it: the emulator's clock runs on through a
+    # reset, so the true gap from the last dwell's end to the first dwell's start is known.
+    placement = []
+    runs = sorted(ends, key=lambda g: ends[g][0][0])
+    for a, b in zip(runs, runs[1:]):
+        (t_last, last), (t_first, first) = ends[a][1], ends[b][0]
+        half = lambda row: ((int(row["t_end_ticks"]) - int(row["t_start_ticks"])) & 0xFFFFFFFF) / tick_hz / 2
+        true_s = ((int(first["t_start_ticks"]) - int(last["t_end_ticks"])) & 0xFFFFFFFF) / tick_hz
+        placed_s = (t_first - half(first)) - (t_last + half(last))
+        placement.append(round(true_s - placed_s, 4))
     return {
         "sent": len(sent),
         "in_file": len(in_file),
@@ -245,6 +263,7 @@ def compare(gyroflip, gfr, sent_csv):
         "resets": resets,
         "start_unacked": unacked,
         "data_s": round(data_s, 3),
+        "early_s": placement,
         "stop": stop_reason(gfr),
         "torn": torn_bytes(gfr),
     }
