@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include <fmt/format.h>
@@ -174,6 +175,14 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
     } else {
       b.model_note = "none: one run";
       b.calibration_dps = b.within_run_dps;
+      // The one run's dN is its own power-up's (mu + delta_A), a new power-up's is mu + delta_B:
+      // they differ by two draws of the spread, sqrt(e^2 + 2 sigma^2), the random-effects
+      // prediction interval tau^2 (1 + 1/k) + e^2 at k = 1 (Higgins, Thompson & Spiegelhalter
+      // 2009, sec. 5; fifth review of issue 31, F17: hypot(e, sigma) covered 0.55-0.62). The
+      // 0-dof line above already holds one sigma in calibration_dps.
+      b.new_power_up_dps = std::hypot(b.calibration_dps, std::numbers::sqrt2 * b.run_to_run_dps);
+      b.run_to_run_two_draws = true;
+      return b;
     }
   }
   b.new_power_up_dps = std::hypot(b.calibration_dps, b.run_to_run_dps);
@@ -293,7 +302,7 @@ std::string when_to_recalibrate(const delta_n_budget& b, const std::string& temp
         "Recalibrate: ΔN moves by about {} °/s (1 σ, {}) from one power-up to the next, so a "
         "rate compensated with this calibration after a new power-up carries ±{} °/s (68.3 %; "
         "the calibrated value's own error is ±{} °/s). ",
-        significant(b.run_to_run_dps, 2),
+        significant((b.run_to_run_two_draws ? std::numbers::sqrt2 : 1.0) * b.run_to_run_dps, 2),
         b.run_to_run_floored ? "not resolved by these runs, which scatter less than their own noise"
         : b.run_to_run_measured ? "measured on these runs"
                                 : "the sensor preset's, not measured",

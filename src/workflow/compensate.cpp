@@ -92,9 +92,11 @@ bool could_be_a_run_of(const std::string& file, const delta_n_source& dn) {
   return false;
 }
 
-// The ΔN's error a compensated rate carries after a new power-up, as calibrate quotes it (the
-// file's `uncertainty`), at the run's temperature `at_c` where the runs give tau^2(T).
-void quote_new_power_up(const delta_n_source& dn, double at_c, compensate_result& out) {
+// The ΔN's error a compensated rate carries after a new power-up: the calibration's budget as
+// report reads it (calibration_budget: from its runs, checked to be theirs), at the run's
+// temperature `at_c` where the runs give tau^2(T).
+void quote_new_power_up(const delta_n_source& dn, double at_c, const delta_n_budget& b,
+                        compensate_result& out) {
   const auto& rec = *dn.record;
   const bool no_dof =
       rec.model && rec.model->random_effects && rec.model->dof == 0 && rec.files.size() > 1;
@@ -104,24 +106,23 @@ void quote_new_power_up(const delta_n_source& dn, double at_c, compensate_result
         "not determined (0 degrees of freedom: the dN(T) line of degree {} passes through its {} "
         "runs){}",
         rec.model->degree(), rec.files.size(),
-        rec.uncertainty && std::isfinite(rec.uncertainty->new_power_up_dps)
+        b.valid && std::isfinite(b.new_power_up_dps)
             ? fmt::format("; with the sensor preset's assumed run-to-run spread, ±{} deg/s for a "
                           "new power-up",
-                          significant(rec.uncertainty->new_power_up_dps, 2))
+                          significant(b.new_power_up_dps, 2))
             : std::string());
     return;
   }
-  if (!rec.uncertainty) {
-    out.delta_n_u_note =
-        "a new power-up's is not in the calibration file (written before calibrate stated it): "
-        "calibrate again to know it";
+  if (!b.valid) {
+    out.delta_n_u_note = "a new power-up's is " + b.invalid_why;
     return;
   }
-  delta_n_budget b;
-  b.new_power_up_dps = rec.uncertainty->new_power_up_dps;
-  b.temperature_dps = 0.0;
   if (!std::isfinite(b.new_power_up_dps)) {
-    out.delta_n_u_note = "a new power-up's is not known: " + rec.uncertainty->repeatability_source;
+    out.delta_n_u_note = rec.uncertainty
+                             ? "a new power-up's is not known: " + b.run_to_run_source
+                             : "a new power-up's is not in the calibration file (written before "
+                               "calibrate stated it) and no sensor specification gives the "
+                               "repeatability: calibrate again to know it";
     return;
   }
   // The band of a between-run variance that changes with temperature needs the fit itself (the
@@ -132,6 +133,20 @@ void quote_new_power_up(const delta_n_source& dn, double at_c, compensate_result
         r && *r && same_line(*rec.model, **r))
       refit = std::move(**r);
   out.new_power_up_dps = new_power_up_at(b, refit, at_c);
+}
+
+// compensate --strict takes only a calibration that vouches for its ΔN (fifth review of issue 31,
+// F3/F4/F16): its ΔN and uncertainty are its runs' (budget valid), and its runs are listed and
+// were checked for stationarity.
+status refuse_unvouched(const delta_n_source& dn, const delta_n_budget& b, bool unchecked) {
+  if (!b.valid) return input_error({dn.source}, b.invalid_why + "; refused (strict)");
+  if (dn.record->files.empty())
+    return input_error({dn.source},
+                       "the calibration lists no runs, so none was checked for "
+                       "stationarity; refused (strict)");
+  if (unchecked)
+    return input_error({dn.source}, "its runs were not checked for stationarity; refused (strict)");
+  return ok();
 }
 
 }  // namespace
@@ -170,6 +185,16 @@ std::vector<std::string> same_cycles_warnings(const std::string& file,
 result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, bool strict) {
   calibration_runs_check out;
   if (!dn.record) return out;
+  if (dn.record->files.empty()) {
+    // A ΔN written with no runs (or a file whose runs were deleted: the one-line forgery of a
+    // failed calibration, fifth review of issue 31, F4) vouches for nothing.
+    out.unchecked = true;
+    out.warnings.push_back(fmt::format(
+        "{}: the calibration lists no runs, so nothing shows that its ΔN was measured on a "
+        "stationary table",
+        dn.source));
+    return out;
+  }
   for (const auto& e : dn.record->files) {
     if (!e.stationarity) {
       out.unchecked = true;
@@ -199,6 +224,177 @@ result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, 
         "its ΔN is the sensor's",
         dn.source));
   return out;
+}
+
+// The budget of a calibration file's ΔN. Its runs give it, once the file's ΔN is checked to be
+// theirs: a model that is not their fit (edited by hand, review D4) is warned about, as the
+// budget then describes other numbers than those applied. A file that lists no runs (a ΔN
+// written by hand) gets its own stated error as one run's, with the preset's repeatability, or
+// no ± at all (review D1: it got ±0).
+delta_n_budget calibration_budget(const delta_n_source& given, const sensor::preset* spec,
+                                  const std::string& named_preset,
+                                  std::vector<std::string>& warnings) {
+  const auto& rec = *given.record;
+  // The sensor's specification as the runs' g-term check takes it (--sensor, a TOML header, a
+  // built-in by name; fourth review of issue 31, F3: only a built-in was used here).
+  const auto* preset = spec != nullptr ? &spec->params : nullptr;
+  const std::string preset_name = spec != nullptr ? spec->name : named_preset;
+  if (rec.files.empty()) {
+    // Its own stated error: the model's (the ΔN applied; the largest over its temperatures for a
+    // line), else the top-level correlated error of a constant.
+    double own_dps = rec.pooled.stderr_correlated_dps;
+    if (rec.model && !rec.model->cov.empty()) {
+      const auto& m = *rec.model;
+      own_dps = m.degree() == 0 || !std::isfinite(m.temp_min_c)
+                    ? std::sqrt(m.cov.front())
+                    : std::max(m.interval_at(m.temp_min_c), m.interval_at(m.temp_max_c));
+    }
+    const bool own = std::isfinite(own_dps) && own_dps > 0.0;
+    warnings.push_back(
+        own ? fmt::format(
+                  "{}: the calibration lists no runs: the ΔN applied carries its own stated "
+                  "error ±{} °/s and, for a new power-up, the run-to-run repeatability of "
+                  "the budget below",
+                  given.source, significant(own_dps, 2))
+            : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
+                          "has no known uncertainty",
+                          given.source));
+    if (!own) return budget_of({}, std::nullopt, preset, preset_name);
+    std::vector<io::calibration_entry> one{
+        {"the calibration's stated ΔN", rec.pooled, std::nullopt, std::nullopt}};
+    one.front().cal.stderr_correlated_dps = own_dps;
+    one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
+    auto b = budget_of(one, std::nullopt, preset, preset_name);
+    b.within_run_note = "the calibration's own stated error (it lists no runs)";
+    b.model_note = "none: the calibration lists no runs";
+    return b;
+  }
+  // Runs listed twice (the same bytes, or the same cycles in other bytes) are one run counted
+  // twice: the runs' scatter, and so the ±, is understated (review N3).
+  bool twice = false;
+  for (std::size_t k = 1; k < rec.files.size(); ++k)
+    for (std::size_t i = 0; i < k; ++i) {
+      const auto &a = rec.files[i], &b = rec.files[k];
+      const auto rep = repeat_of(a, b);
+      if (rep == repeat::none) continue;
+      twice = true;
+      warnings.push_back(fmt::format(
+          "{}: its runs {} and {} are {}: one recording counted as two runs, so the runs' "
+          "scatter understates the repeatability; the ΔN applied has no known uncertainty",
+          given.source, a.file, b.file,
+          rep == repeat::same_bytes ? "the same bytes (SHA-256)"
+                                    : "the same cycles (dN, std and count)"));
+    }
+  const auto differs = [](double a, double b) {
+    return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
+  };
+  bool edited = false;  // the ΔN applied is not what its runs give: no ± from them
+  std::optional<method::delta_n_model> refit_model;
+  if (rec.model) {
+    const auto refit = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
+    const bool theirs_coeffs = refit && *refit && same_line(*rec.model, **refit);
+    const bool theirs_cov =
+        refit && *refit && rec.model->cov.size() == (*refit)->cov.size() &&
+        std::equal(rec.model->cov.begin(), rec.model->cov.end(), (*refit)->cov.begin(),
+                   [&](double a, double b) { return !differs(a, b); });
+    // A file written before the modified Knapp-Hartung scale (schema 3-4) holds the
+    // untruncated one: its covariance is the refit's times q <= 1 where the runs agreed closely.
+    const bool older_scale =
+        refit && *refit && rec.model->random_effects && !theirs_cov &&
+        rec.model->cov.size() == (*refit)->cov.size() && !rec.model->cov.empty() &&
+        (*refit)->cov.front() > 0.0 && (*refit)->dof > 0 && [&] {
+          // The untruncated q = sum w* r^2 / dof of the refit (its weights 1/(v + tau^2)).
+          const auto& m = **refit;
+          const double tau2 = std::isfinite(m.between_run_var_dps2) ? m.between_run_var_dps2 : 0.0;
+          double q = 0.0;
+          for (const auto& e : rec.files) {
+            const double r = e.cal.delta_n_dps - m.eval(e.cal.temp_c);
+            const double v = e.cal.stderr_correlated_dps * e.cal.stderr_correlated_dps + tau2;
+            if (!(v > 0.0)) return false;
+            q += r * r / v / static_cast<double>(m.dof);
+          }
+          return q < 1.0 &&
+                 std::equal(rec.model->cov.begin(), rec.model->cov.end(), m.cov.begin(),
+                            [&](double a, double b2) {
+                              return std::abs(a - q * b2) <= 1e-6 * std::abs(q * b2) + 1e-30;
+                            });
+        }();
+    const bool theirs = theirs_coeffs && (theirs_cov || older_scale);
+    if (theirs && refit && *refit) refit_model = **refit;
+    if (!theirs) {
+      edited = true;
+      const double se = refit && *refit ? std::sqrt((*refit)->cov.front()) : method::no_value;
+      warnings.push_back(fmt::format(
+          "{}: its ΔN model is not the fit of the {} runs it lists (c₀ {} °/s applied, {} °/s "
+          "from its runs{}; or its t_ref_c or covariance differs): edited by hand or made by "
+          "other software; the ΔN applied has no known uncertainty",
+          given.source, rec.files.size(), fmt::format("{:.6g}", rec.model->coeffs_dps.front()),
+          refit && *refit ? fmt::format("{:.6g}", (*refit)->coeffs_dps.front())
+                          : std::string("none"),
+          std::isfinite(se) && se > 0.0
+              ? fmt::format(
+                    ", {:.1f} σ apart",
+                    std::abs(rec.model->coeffs_dps.front() - (*refit)->coeffs_dps.front()) / se)
+              : std::string()));
+    }
+  } else if (rec.files.size() > 1) {
+    edited = true;  // calibrate writes a model for several runs
+    warnings.push_back(fmt::format(
+        "{}: it lists {} runs but no ΔN model (calibrate writes one): edited by hand or made "
+        "by other software; the ΔN applied has no known uncertainty",
+        given.source, rec.files.size()));
+  } else if (differs(rec.pooled.delta_n_dps, rec.files[0].cal.delta_n_dps) ||
+             differs(rec.pooled.stderr_correlated_dps, rec.files[0].cal.stderr_correlated_dps)) {
+    edited = true;
+    warnings.push_back(fmt::format(
+        "{}: its ΔN {} °/s is not its one run's {} °/s: edited by hand or made by other "
+        "software; the ΔN applied has no known uncertainty",
+        given.source, value_pm(rec.pooled.delta_n_dps, rec.pooled.stderr_correlated_dps),
+        value_pm(rec.files[0].cal.delta_n_dps, rec.files[0].cal.stderr_correlated_dps)));
+  }
+  // The budget from the runs' fit as this version makes it (a file written before the modified
+  // Knapp-Hartung scale keeps a covariance that may be below the runs' own errors; its
+  // coefficients are the same).
+  auto b = budget_of(rec.files, refit_model ? refit_model : rec.model, preset, preset_name);
+  // A calibration whose runs cannot give the repeatability (one run, no degrees of freedom) and
+  // no specification here: the one calibrate stated, from the specification it had (F3).
+  // Its stated parts checked against each other and its runs (fifth review of issue 31, F6: a
+  // new-power-up error of 1e-9 was quoted): never below the runs' own error, nor below the
+  // calibrated error and the repeatability combined.
+  if (!std::isfinite(b.new_power_up_dps) && !edited && !twice && rec.uncertainty &&
+      std::isfinite(rec.uncertainty->new_power_up_dps) &&
+      std::isfinite(rec.uncertainty->repeatability_dps)) {
+    const auto& u = *rec.uncertainty;
+    const double cal = std::isfinite(u.calibrated_dps) ? u.calibrated_dps : b.calibration_dps;
+    const double least = std::hypot(std::max(cal, b.within_run_dps), u.repeatability_dps);
+    constexpr double rounding = 1.0 - 1e-6;
+    if (u.new_power_up_dps < rounding * least || cal < rounding * b.within_run_dps) {
+      edited = true;
+      warnings.push_back(fmt::format(
+          "{}: its stated uncertainty is below its own parts (new power-up ±{} °/s, calibrated "
+          "±{} °/s, repeatability ±{} °/s, its runs' own error ±{} °/s): edited by hand or made "
+          "by other software; the ΔN applied has no known uncertainty",
+          given.source, fmt::format("{:.3g}", u.new_power_up_dps), fmt::format("{:.3g}", cal),
+          fmt::format("{:.3g}", u.repeatability_dps), fmt::format("{:.3g}", b.within_run_dps)));
+    }
+  }
+  if (!std::isfinite(b.new_power_up_dps) && !edited && !twice && rec.uncertainty &&
+      std::isfinite(rec.uncertainty->new_power_up_dps) &&
+      std::isfinite(rec.uncertainty->repeatability_dps)) {
+    b.run_to_run_dps = rec.uncertainty->repeatability_dps;
+    b.run_to_run_source =
+        "as the calibration file states it: " + rec.uncertainty->repeatability_source;
+    if (std::isfinite(rec.uncertainty->calibrated_dps))
+      b.calibration_dps = rec.uncertainty->calibrated_dps;
+    b.new_power_up_dps = rec.uncertainty->new_power_up_dps;
+  }
+  if (edited || twice) {
+    b.valid = false;
+    b.new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
+    b.invalid_why = edited ? "not known: the calibration's ΔN is not what its runs give"
+                           : "not known: the calibration counts one recording as two runs";
+  }
+  return b;
 }
 
 result<delta_n_source> delta_n_of_value(double delta_n_dps) {
@@ -264,6 +460,16 @@ result<compensate_result> compensate_file(const compensate_request& r,
   auto runs = check_calibration_runs(dn, r.strict);
   if (!runs) return runs.err();
   for (auto& w : runs->warnings) out.warnings.push_back(std::move(w));
+  delta_n_budget budget;
+  if (dn.record) {
+    // The sensor's specification as calibrate and report resolve it (the run's `# sensor.*`
+    // header, else its built-in by name), for the repeatability of a calibration's one run.
+    auto spec = resolve_sensor_spec(std::nullopt, rc->metadata, r.file, false, out.warnings);
+    if (!spec) return spec.err();
+    budget = calibration_budget(dn, *spec ? &**spec : nullptr, std::string(), out.warnings);
+    if (r.strict)
+      if (auto s = refuse_unvouched(dn, budget, runs->unchecked); !s) return s.err();
+  }
   if (dn.model.degree() > 0 && !rc->has_temp)
     return input_error({r.file},
                        "no temp_c column, but the calibration's dN(T) model needs temperatures");
@@ -297,9 +503,14 @@ result<compensate_result> compensate_file(const compensate_request& r,
         ++n;
       }
     const double at_c = n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c;
-    const double u = dn.model.interval_at(at_c);
+    // A constant's own error from its runs, as the budget reads them (a file's stated stderr
+    // may be edited: fifth review of issue 31, F6); a line's at the run's temperature (its
+    // covariance is checked to be its runs' fit).
+    const double u = dn.model.degree() == 0 && budget.valid && !dn.record->files.empty()
+                         ? budget.calibration_dps
+                         : dn.model.interval_at(at_c);
     if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
-    quote_new_power_up(dn, at_c, out);
+    quote_new_power_up(dn, at_c, budget, out);
   }
   if (out.comp.outside_model > 0)
     out.warnings.push_back(outside_model_warning(r.file, out.comp, dn.model));

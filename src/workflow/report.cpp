@@ -468,153 +468,6 @@ void check_calibration_runs_stationary(const delta_n_source& given, findings& f)
   for (auto& w : runs->warnings) f.warnings.push_back(std::move(w));
 }
 
-// The budget of a calibration file's ΔN. Its runs give it, once the file's ΔN is checked to be
-// theirs: a model that is not their fit (edited by hand, review D4) is warned about, as the
-// budget then describes other numbers than those applied. A file that lists no runs (a ΔN
-// written by hand) gets its own stated error as one run's, with the preset's repeatability, or
-// no ± at all (review D1: it got ±0).
-delta_n_budget calibration_budget(const delta_n_source& given, const identity& id,
-                                  const sensor::preset* spec, std::vector<std::string>& warnings) {
-  const auto& rec = *given.record;
-  // The sensor's specification as the runs' g-term check takes it (--sensor, a TOML header, a
-  // built-in by name; fourth review of issue 31, F3: only a built-in was used here).
-  const auto* preset = spec != nullptr ? &spec->params : nullptr;
-  const std::string preset_name = spec != nullptr ? spec->name : id.preset;
-  if (rec.files.empty()) {
-    // Its own stated error: the model's (the ΔN applied; the largest over its temperatures for a
-    // line), else the top-level correlated error of a constant.
-    double own_dps = rec.pooled.stderr_correlated_dps;
-    if (rec.model && !rec.model->cov.empty()) {
-      const auto& m = *rec.model;
-      own_dps = m.degree() == 0 || !std::isfinite(m.temp_min_c)
-                    ? std::sqrt(m.cov.front())
-                    : std::max(m.interval_at(m.temp_min_c), m.interval_at(m.temp_max_c));
-    }
-    const bool own = std::isfinite(own_dps) && own_dps > 0.0;
-    warnings.push_back(
-        own ? fmt::format(
-                  "{}: the calibration lists no runs: the ΔN applied carries its own stated "
-                  "error ±{} °/s and, for a new power-up, the run-to-run repeatability of "
-                  "the budget below",
-                  given.source, u2(own_dps))
-            : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
-                          "has no known uncertainty",
-                          given.source));
-    if (!own) return budget_of({}, std::nullopt, preset, preset_name);
-    std::vector<io::calibration_entry> one{
-        {"the calibration's stated ΔN", rec.pooled, std::nullopt, std::nullopt}};
-    one.front().cal.stderr_correlated_dps = own_dps;
-    one.front().cal.cycles = std::max<std::size_t>(one.front().cal.cycles, 1);  // one weight
-    auto b = budget_of(one, std::nullopt, preset, preset_name);
-    b.within_run_note = "the calibration's own stated error (it lists no runs)";
-    b.model_note = "none: the calibration lists no runs";
-    return b;
-  }
-  // Runs listed twice (the same bytes, or the same cycles in other bytes) are one run counted
-  // twice: the runs' scatter, and so the ±, is understated (review N3).
-  bool twice = false;
-  for (std::size_t k = 1; k < rec.files.size(); ++k)
-    for (std::size_t i = 0; i < k; ++i) {
-      const auto &a = rec.files[i], &b = rec.files[k];
-      const auto rep = repeat_of(a, b);
-      if (rep == repeat::none) continue;
-      twice = true;
-      warnings.push_back(fmt::format(
-          "{}: its runs {} and {} are {}: one recording counted as two runs, so the runs' "
-          "scatter understates the repeatability; the ΔN applied has no known uncertainty",
-          given.source, a.file, b.file,
-          rep == repeat::same_bytes ? "the same bytes (SHA-256)"
-                                    : "the same cycles (dN, std and count)"));
-    }
-  const auto differs = [](double a, double b) {
-    return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;
-  };
-  bool edited = false;  // the ΔN applied is not what its runs give: no ± from them
-  std::optional<method::delta_n_model> refit_model;
-  if (rec.model) {
-    const auto refit = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
-    const bool theirs_coeffs = refit && *refit && same_line(*rec.model, **refit);
-    const bool theirs_cov =
-        refit && *refit && rec.model->cov.size() == (*refit)->cov.size() &&
-        std::equal(rec.model->cov.begin(), rec.model->cov.end(), (*refit)->cov.begin(),
-                   [&](double a, double b) { return !differs(a, b); });
-    // A file written before the modified Knapp-Hartung scale (schema 3-4) holds the
-    // untruncated one: its covariance is the refit's times q <= 1 where the runs agreed closely.
-    const bool older_scale =
-        refit && *refit && rec.model->random_effects && !theirs_cov &&
-        rec.model->cov.size() == (*refit)->cov.size() && !rec.model->cov.empty() &&
-        (*refit)->cov.front() > 0.0 && (*refit)->dof > 0 && [&] {
-          // The untruncated q = sum w* r^2 / dof of the refit (its weights 1/(v + tau^2)).
-          const auto& m = **refit;
-          const double tau2 = std::isfinite(m.between_run_var_dps2) ? m.between_run_var_dps2 : 0.0;
-          double q = 0.0;
-          for (const auto& e : rec.files) {
-            const double r = e.cal.delta_n_dps - m.eval(e.cal.temp_c);
-            const double v = e.cal.stderr_correlated_dps * e.cal.stderr_correlated_dps + tau2;
-            if (!(v > 0.0)) return false;
-            q += r * r / v / static_cast<double>(m.dof);
-          }
-          return q < 1.0 &&
-                 std::equal(rec.model->cov.begin(), rec.model->cov.end(), m.cov.begin(),
-                            [&](double a, double b2) {
-                              return std::abs(a - q * b2) <= 1e-6 * std::abs(q * b2) + 1e-30;
-                            });
-        }();
-    const bool theirs = theirs_coeffs && (theirs_cov || older_scale);
-    if (theirs && refit && *refit) refit_model = **refit;
-    if (!theirs) {
-      edited = true;
-      const double se = refit && *refit ? std::sqrt((*refit)->cov.front()) : method::no_value;
-      warnings.push_back(fmt::format(
-          "{}: its ΔN model is not the fit of the {} runs it lists (c₀ {} °/s applied, {} °/s "
-          "from its runs{}; or its t_ref_c or covariance differs): edited by hand or made by "
-          "other software; the ΔN applied has no known uncertainty",
-          given.source, rec.files.size(), g(rec.model->coeffs_dps.front(), 6),
-          refit && *refit ? g((*refit)->coeffs_dps.front(), 6) : std::string("none"),
-          std::isfinite(se) && se > 0.0
-              ? fmt::format(
-                    ", {:.1f} σ apart",
-                    std::abs(rec.model->coeffs_dps.front() - (*refit)->coeffs_dps.front()) / se)
-              : std::string()));
-    }
-  } else if (rec.files.size() > 1) {
-    edited = true;  // calibrate writes a model for several runs
-    warnings.push_back(fmt::format(
-        "{}: it lists {} runs but no ΔN model (calibrate writes one): edited by hand or made "
-        "by other software; the ΔN applied has no known uncertainty",
-        given.source, rec.files.size()));
-  } else if (differs(rec.pooled.delta_n_dps, rec.files[0].cal.delta_n_dps)) {
-    edited = true;
-    warnings.push_back(fmt::format(
-        "{}: its ΔN {} °/s is not its one run's {} °/s: edited by hand or made by other "
-        "software; the ΔN applied has no known uncertainty",
-        given.source, g(rec.pooled.delta_n_dps, 6), g(rec.files[0].cal.delta_n_dps, 6)));
-  }
-  // The budget from the runs' fit as this version makes it (a file written before the modified
-  // Knapp-Hartung scale keeps a covariance that may be below the runs' own errors; its
-  // coefficients are the same).
-  auto b = budget_of(rec.files, refit_model ? refit_model : rec.model, preset, preset_name);
-  // A calibration whose runs cannot give the repeatability (one run, no degrees of freedom) and
-  // no specification here: the one calibrate stated, from the specification it had (F3).
-  if (!std::isfinite(b.new_power_up_dps) && !edited && !twice && rec.uncertainty &&
-      std::isfinite(rec.uncertainty->new_power_up_dps) &&
-      std::isfinite(rec.uncertainty->repeatability_dps)) {
-    b.run_to_run_dps = rec.uncertainty->repeatability_dps;
-    b.run_to_run_source =
-        "as the calibration file states it: " + rec.uncertainty->repeatability_source;
-    if (std::isfinite(rec.uncertainty->calibrated_dps))
-      b.calibration_dps = rec.uncertainty->calibrated_dps;
-    b.new_power_up_dps = rec.uncertainty->new_power_up_dps;
-  }
-  if (edited || twice) {
-    b.valid = false;
-    b.new_power_up_dps = std::numeric_limits<double>::quiet_NaN();
-    b.invalid_why = edited ? "not known: the calibration's ΔN is not what its runs give"
-                           : "not known: the calibration counts one recording as two runs";
-  }
-  return b;
-}
-
 // A calibration applied to runs away from its runs' temperatures. A constant dN (review R3): the
 // budget gets the sensor preset's temperature term, or is marked not valid when no coefficient
 // is known. A dN(T) line (re-review): its error is taken at the runs' own temperatures, where it
@@ -913,9 +766,12 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           f.not_vouched.size() == 1 ? "its" : "their");
     else if (f.calibration_unchecked)
       out = fmt::format(
-          "The calibration {} was written before gyroflip tested its runs for stationarity: "
-          "that its ΔN is the sensor's is not checked. ",
-          f.given->source);
+          "{}: that its ΔN is the sensor's is not checked. ",
+          f.given->record && f.given->record->files.empty()
+              ? fmt::format("The calibration {} lists no runs", f.given->source)
+              : fmt::format("The calibration {} was written before gyroflip tested its runs for "
+                            "stationarity",
+                            f.given->source));
     out += fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up {}).",
                        f.given->source, applied, power_up_text(b));
     for (std::size_t k = 0; k < runs.size(); ++k) {
@@ -1169,7 +1025,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   for (const auto& a : runs) entries.push_back({a.run.file, a.cal, std::nullopt, std::nullopt});
   if (f.given) {
     f.model = f.given->model;
-    f.budget = calibration_budget(*f.given, f.id, g_preset, f.warnings);
+    f.budget = calibration_budget(*f.given, g_preset, f.id.preset, f.warnings);
     check_calibration_temperature(runs, f, g_preset);
     check_calibration_runs_stationary(*f.given, f);
   } else {

@@ -467,5 +467,98 @@ TEST(CalibrationTrust, ACompensationPageTakesTheRunsOwnSpecification) {
   EXPECT_TRUE(budget["new_power_up_dps"].is_number()) << budget;
 }
 
+// The fifth review of issue 31: forged or edited calibration files that report flagged, applied
+// by compensate without a word (F3, F4, F6). A still HZ1 run calibrates good.json; another is
+// compensated with edited copies of it.
+struct forged_calibrations {
+  temp_dir d;
+  std::string still = simulate(d, "still.csv", "32", "0");
+  std::string good = [this] {
+    const auto cal = simulate(d, "cal.csv", "33", "0");
+    const auto r = run_cli({"calibrate", cal, "-o", d.file("good.json")});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return d.file("good.json");
+  }();
+  // good.json with `edit` applied, written as NAME.
+  template <class Edit>
+  std::string forged(const std::string& name, Edit edit) {
+    auto j = json::parse(read_text(good));
+    edit(j);
+    write_text(d.file(name), j.dump());
+    return d.file(name);
+  }
+  cli_result compensate(const std::string& cal, bool strict) {
+    std::vector<std::string> args{"compensate", still, "--calibration",
+                                  cal,          "-o",  d.file("out.csv")};
+    if (strict) args.push_back("--strict");
+    return run_cli(args);
+  }
+};
+
+// F3: a dN edited by hand (0.05 deg/s, 20 times its run's) was applied under --strict with the
+// file's +-; report called it "edited by hand". Now compensate says so, quotes no +-, and
+// --strict refuses it.
+TEST(CalibrationTrust, CompensateTellsAnEditedDeltaNAndStrictRefusesIt) {
+  forged_calibrations f;
+  const auto edited = f.forged("edit.json", [](json& j) {
+    j["delta_n_dps"] = 0.05;
+    if (j.contains("terms")) j["terms"][0]["value_dps"] = 0.05;
+  });
+  const auto r = f.compensate(edited, false);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("edited by hand"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("carries ±"), std::string::npos) << r.out;
+  const auto strict = f.compensate(edited, true);
+  EXPECT_EQ(strict.exit_code, 2) << strict.err;
+  EXPECT_NE(strict.err.find("refused (strict)"), std::string::npos) << strict.err;
+  EXPECT_EQ(f.compensate(f.good, true).exit_code, 0);
+}
+
+// F4: deleting `files` turned a failed calibration into one nothing warned about. A calibration
+// that lists no runs is "not checked": said by compensate and on the report's page, refused by
+// --strict.
+TEST(CalibrationTrust, ACalibrationThatListsNoRunsIsNotCheckedAndStrictRefusesIt) {
+  forged_calibrations f;
+  const auto none = f.forged("none.json", [](json& j) { j["files"] = json::array(); });
+  const auto r = f.compensate(none, false);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("lists no runs, so nothing shows"), std::string::npos) << r.err;
+  EXPECT_EQ(f.compensate(none, true).exit_code, 2);
+  const auto page = run_cli({"report", f.still, "--calibration", none, "-o", f.d.file("rep")});
+  ASSERT_EQ(page.exit_code, 0) << page.err;
+  EXPECT_NE(read_text(f.d.file("rep/index.html"))
+                .find("lists no runs: that its ΔN is the sensor's is not checked"),
+            std::string::npos);
+}
+
+// F6: a new-power-up error forged to 1e-9 was quoted by compensate while report recomputed it.
+// Both read the one budget: from the runs where a specification gives the repeatability, and a
+// stated uncertainty below its own parts is not quoted.
+TEST(CalibrationTrust, AForgedNewPowerUpErrorIsNeverQuoted) {
+  forged_calibrations f;
+  const double stated =
+      json::parse(read_text(f.good))["uncertainty"]["new_power_up_dps"].get<double>();
+  const auto low =
+      f.forged("low.json", [](json& j) { j["uncertainty"]["new_power_up_dps"] = 1e-9; });
+  const auto r = f.compensate(low, false);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto at = r.out.find("carries ±");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NEAR(std::stod(r.out.substr(at + std::string("carries ±").size())), stated, 0.05 * stated)
+      << r.out;
+  // Without a specification (the run's header names none) the stated parts are checked.
+  std::string text = read_text(f.still), plain;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("# sensor", 0) != 0) plain += line + "\n";
+  write_text(f.d.file("plain.csv"), plain);
+  const auto p = run_cli(
+      {"compensate", f.d.file("plain.csv"), "--calibration", low, "-o", f.d.file("plain_out.csv")});
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_NE(p.err.find("its stated uncertainty is below its own parts"), std::string::npos)
+      << p.err;
+  EXPECT_EQ(p.out.find("carries ±1"), std::string::npos) << p.out;
+}
+
 }  // namespace
 }  // namespace gyroflip::test

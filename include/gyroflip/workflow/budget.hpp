@@ -42,6 +42,10 @@ struct delta_n_budget {
   /// Student's t at 68.3 % for the runs' degrees of freedom (1: not a random-effects fit, or no
   /// degrees of freedom): the calibrated value's and a new power-up's +- are 68.3 % intervals.
   double coverage_factor = 1.0;
+  /// true for one run with the preset's spread sigma: the calibrated run and a new power-up are
+  /// two draws of it, so dN moves by sqrt(2) sigma between them and new_power_up_dps holds
+  /// sqrt(calibration^2 + 2 run_to_run^2) (fifth review of issue 31, F17).
+  bool run_to_run_two_draws = false;
   /// The between-run std of dN the random-effects fit estimated (sqrt of its tau^2; NaN when
   /// not estimated). Below run_to_run_dps, which also holds the runs' own noise.
   double between_run_dps = std::numeric_limits<double>::quiet_NaN();

@@ -19,6 +19,7 @@
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
+#include "gyroflip/workflow/budget.hpp"
 
 namespace gyroflip::workflow {
 
@@ -91,13 +92,29 @@ struct calibration_runs_check {
 [[nodiscard]] result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn,
                                                                     bool strict);
 
+/// The uncertainty budget of a calibration file's ΔN, one reading for `compensate`, `report` and
+/// Python (fifth review of issue 31, F3/F6: compensate applied a hand-edited ΔN, and quoted a
+/// forged new-power-up error, that report flagged or recomputed). Its runs give it once the file's
+/// ΔN is checked to be theirs (a model that is not their fit, a one-run ΔN not its run's, one
+/// recording listed twice: a warning and `valid` false); without a specification the
+/// repeatability is the one the file states, checked against its own parts (a new-power-up
+/// error below the calibrated error or the repeatability: edited). A file that lists no runs
+/// gets its own stated error as one run's. `spec`: the sensor's specification, else
+/// `named_preset` names it. Warnings (`FILE: what`) are appended.
+[[nodiscard]] delta_n_budget calibration_budget(const delta_n_source& given,
+                                                const sensor::preset* spec,
+                                                const std::string& named_preset,
+                                                std::vector<std::string>& warnings);
+
 struct compensate_request {
   std::string file;  ///< the recording (CSV or `.gfr`)
   delta_n_source delta_n;
   std::optional<method::pairing> pairing;  ///< default: the calibration's, else abba
   double angle_tolerance_deg = 0.0;
   double drift_window_s = method::drift_window_default_s;
-  bool strict = false;  ///< refuse a calibration made of a run that is not stationary
+  /// Refuse a calibration made of a run that is not stationary, whose runs were not checked or
+  /// are not listed, or whose ΔN or uncertainty is not what its runs give (edited).
+  bool strict = false;
 };
 
 struct compensate_result {
