@@ -602,16 +602,17 @@ def read_imu(path, rate=None, time_column=None, time_unit=None, columns=None, un
     return Imu(path, rate, time_s, cols, unit_of, sensor_of)
 
 
-def _columns(time_s, angle_deg, rate_dps, temp_c, n_avg):
+def _columns(time_s, angle_deg, rate_dps, temp_c, n_avg, positions_deg=None):
     def col(a, name):
         return None if a is None else _samples(a, name)[0]
     return _gyroflip._Columns(col(time_s, "time_s"), col(angle_deg, "angle_deg"),
-                              col(rate_dps, "rate_dps"), col(temp_c, "temp_c"), col(n_avg, "n_avg"))
+                              col(rate_dps, "rate_dps"), col(temp_c, "temp_c"), col(n_avg, "n_avg"),
+                              col(positions_deg, "positions_deg"))
 
 
 def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=None, axis=None,
               pairing="abba", angle_tolerance_deg=0.0, sensor=None, strict=False,
-              table_axis=None):
+              table_axis=None, positions_deg=None):
     """Calibrates dN on a stationary flipping recording (paper eqns 8-11), as `gyroflip calibrate`.
 
     time_s, angle_deg, rate_dps: one value per row (a dwell mean, or a conversion): time (s),
@@ -632,8 +633,9 @@ def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=Non
     name, value_dps, stderr_correlated_dps), "terms_covariance" (row-major lists, (deg/s)^2) and
     "separability" (what each term holds, which pairs no run separates), as `gyroflip calibrate
     --pairing harmonic --json`; table_axis ("up", "down", or as simulate's) names the table's axis
-    for that report (default: not recorded, taken as horizontal)."""
-    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg)
+    for that report (default: not recorded, taken as horizontal). positions_deg: the table's
+    angles (read_recording's "positions_deg"; default the paper's 0 and 180)."""
+    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg, positions_deg)
     return _gyroflip._calibrate(c, None if latitude is None else float(latitude), axis, pairing,
                                 float(angle_tolerance_deg), None if sensor is None else str(sensor),
                                 bool(strict), None if table_axis is None else str(table_axis))

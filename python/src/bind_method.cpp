@@ -51,6 +51,7 @@ method::pairing pairing_of(const std::string& name) {
 struct columns {
   f64_array time_s, angle_deg, rate_dps;
   std::optional<f64_array> temp_c, n_avg;
+  std::optional<f64_array> positions_deg;  ///< the table (none: the paper's 0/180)
 };
 
 io::table_rows rows_of(const columns& c, double tol) {
@@ -61,6 +62,7 @@ io::table_rows rows_of(const columns& c, double tol) {
                            {}};
   if (c.temp_c) rc.temp_c = span_of(*c.temp_c, "temp_c");
   if (c.n_avg) rc.n_avg = span_of(*c.n_avg, "n_avg");
+  if (c.positions_deg) rc.positions_deg = span_of(*c.positions_deg, "positions_deg");
   return take(io::rows_of_columns(rc, tol));
 }
 
@@ -291,7 +293,7 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
 void bind_method(py::module_& m) {
   py::class_<columns>(m, "_Columns")
       .def(py::init<f64_array, f64_array, f64_array, std::optional<f64_array>,
-                    std::optional<f64_array>>());
+                    std::optional<f64_array>, std::optional<f64_array>>());
   m.def("_calibrate", &calibrate, py::arg("columns"), py::arg("latitude"), py::arg("axis"),
         py::arg("pairing"), py::arg("angle_tolerance_deg"), py::arg("sensor"), py::arg("strict"),
         py::arg("table_axis"));

@@ -428,7 +428,7 @@ def test_calibrate_harmonic_terms_agree_with_the_cli(exe, tmp_path):
     cli = json.loads(run(exe, "calibrate", rec, "--pairing", "harmonic", "--json"))
     c = gyroflip.read_recording(rec)
     py = gyroflip.calibrate(c["time_s"], c["angle_deg"], c["rate_dps"], c["temp_c"], c["n_avg"],
-                            pairing="harmonic", table_axis="up")
+                            pairing="harmonic", table_axis="up", positions_deg=c["positions_deg"])
     assert [t["name"] for t in py["terms"]] == ["b", "c1", "s1", "c2"]
     assert py["terms"] == cli["terms"]
     assert py["terms_covariance"] == cli["terms_covariance"]
