@@ -307,6 +307,12 @@ void setup_record(CLI::App& app, action& chosen, const std::vector<std::string>&
       ->check(CLI::IsMember({"auto", "cycle", "there-and-back"}))
       ->capture_default_str();
   sub->add_flag("--raw", o->raw, "keep every gyro conversion (RAW frames)");
+  sub->add_option("--table-axis", o->table_axis,
+                  "the table's axis, stored in the recording for heading and calibrate: "
+                  "up|down (north finding) or as simulate's (default: not recorded)");
+  sub->add_option("--azimuth", o->azimuth_deg,
+                  "azimuth of the sensitive axis at the table's 0 deg (deg from north, "
+                  "clockwise), stored in the recording (default: not recorded)");
   sub->add_option("--reconnect-timeout", o->reconnect_timeout_s,
                   "how long to wait for a vanished port (s)")
       ->capture_default_str();
@@ -624,6 +630,11 @@ void setup_plan(CLI::App& app, action& chosen) {
   sub->add_option("--positions", o->positions,
                   "the table positions A,B,... (deg, 2 to 8; three or more: an indexed run in the "
                   "drift-cancelling sweep, planned for the first harmonic's error)");
+  sub->add_option("--order", o->order,
+                  "the visiting order planned for, as simulate/record --order: auto (two "
+                  "positions A,B,A,B; more: sweep), sweep, cycle, there-and-back")
+      ->check(CLI::IsMember({"auto", "sweep", "cycle", "there-and-back"}))
+      ->capture_default_str();
   sub->add_flag("--heading", o->heading,
                 "plan for north finding: the dwell that minimises the heading's error (positions "
                 "default 0,90,180,270; needs --latitude)");

@@ -290,6 +290,7 @@ int run_explain(const calibrate_options& o) {
           if (m.key == "table_axis") axis = m.value;
       reports.emplace_back(
           f, method::separability_of(rows->positions, method::table_axis_kind_of(axis)));
+      reports.back().second.axis_recorded = !axis.empty();
     }
   }
   std::string out;

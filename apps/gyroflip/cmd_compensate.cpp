@@ -83,9 +83,20 @@ int run_compensate(const compensate_options& o) {
   // Every number is checked before anything is written (the workflow checked the rows and the
   // summary; the text below is checked too), so stdout gets no partial table.
   std::string summary_text;
+  // A harmonic calibration (issue 33): the dN its terms give for this run (the pair's) is the
+  // one subtracted and stated.
+  auto applied = req.delta_n;
+  if (res->applied) {
+    applied.model = res->applied->model;
+    std::string terms;
+    for (const auto& t : res->applied->terms)
+      terms += fmt::format(" {} {}", t.name, significant(t.value_dps, 4));
+    note(fmt::format("{}: the calibration's harmonic terms ({} deg/s) applied {}", o.calibration,
+                     terms.substr(1), res->applied->how));
+  }
   if (o.json) {
-    auto t = finite_dump(workflow::compensation_json(comp, o.file, req.delta_n, res->pairing),
-                         "<stdout>");
+    auto t =
+        finite_dump(workflow::compensation_json(comp, o.file, applied, res->pairing), "<stdout>");
     if (!t) return report(t.err());
     summary_text = *t + "\n";
   } else if (!o.output.empty()) {

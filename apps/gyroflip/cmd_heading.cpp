@@ -30,15 +30,18 @@ int run_heading(const heading_options& o) {
       "  scheme: {}\n",
       h->heading_deg, h->sigma_deg, h->scheme);
   if (h->ambiguous)
-    text += fmt::format("  or its mirror {:.3f} deg (0/180 gives the heading up to its sign)\n",
-                        h->mirror_deg);
+    text += fmt::format("  or its mirror {:.3f} deg (0/180 gives the heading up to {})\n",
+                        h->mirror_deg, h->two_azimuths ? "a mirror image" : "its sign");
   if (h->limit_deg > 0.0)
     text += fmt::format(
         "  white-noise limit {:.3f} deg ({}, N = {:.3g} deg/s/sqrt(Hz) from the dwells): sigma is "
         "{:.2f} x the limit\n",
         h->limit_deg,
-        h->ambiguous ? "N / (W_E cos(lat) |sin(psi - theta_0)| sqrt(T)): a 0/180 contrast, k = 1"
-                     : "sqrt(2) N / (W_E cos(lat) sqrt(T))",
+        h->ambiguous && h->two_azimuths
+            ? "N sqrt(T (1/T1 + 1/T2)) / (2 |sin(turn/2)| W_E cos(lat) sqrt(1 - x^2) sqrt(T)): "
+              "the difference of two 0/180 contrasts, k = 1"
+        : h->ambiguous ? "N / (W_E cos(lat) |sin(psi - theta_0)| sqrt(T)): a 0/180 contrast, k = 1"
+                       : "sqrt(2) N / (W_E cos(lat) sqrt(T))",
         h->arw_dps_rthz, h->ratio_to_limit);
   if (h->dead_time_bound_deg)
     text +=

@@ -40,10 +40,14 @@ std::string plan_text(const workflow::plan_result& r) {
     for (const double a : r.visits_deg)
       order += fmt::format("{}{:g}", order.empty() ? "" : ", ", a);
     fmt::format_to(out,
-                   "  scheme         {} positions, visited in the drift-cancelling sweep {} (a "
-                   "turn of the dead time between dwells at different angles); the error is the "
-                   "first harmonic's per component (c1, s1)\n",
-                   r.positions_deg.size(), order);
+                   "  scheme         {} positions, visited in {} {} (a turn of the dead time "
+                   "between dwells at different angles); the error is the first harmonic's per "
+                   "component (c1, s1)\n",
+                   r.positions_deg.size(),
+                   r.order == "sweep"   ? "the drift-cancelling sweep"
+                   : r.order == "cycle" ? "the table's order (cycle)"
+                                        : "there and back",
+                   order);
   }
   fmt::format_to(out, "  dwell          {:.3g} s", p.dwell_s);
   if (r.conversions_per_dwell > 0)
@@ -126,6 +130,7 @@ int run_plan(const plan_options& o) {
     req.positions_deg = *pos;
   }
   if (o.heading) req.heading_lat_deg = o.lat_deg;
+  req.order = o.order;
   req.dead_s = o.dead_s;
   req.duration_s = o.duration_s;
   req.limits.min_dwell_s = o.min_dwell_s;

@@ -17,8 +17,9 @@ struct plan_options {
   double min_dwell_s = 0.01;
   double max_dwell_s = 0.0;  ///< 0: a quarter of the run
   bool json = false;
-  std::string positions;  ///< --positions A,B,... (empty: the 0/180 flip)
-  bool heading = false;   ///< --heading: plan for north finding
+  std::string positions;       ///< --positions A,B,... (empty: the 0/180 flip)
+  std::string order = "auto";  ///< --order: the visiting order planned for (plan_request)
+  bool heading = false;        ///< --heading: plan for north finding
   double lat_deg = std::numeric_limits<double>::quiet_NaN();  ///< --latitude (with --heading)
   std::string plot;  ///< --plot FILE.png|.svg|.pdf: the error against the dwell
 };

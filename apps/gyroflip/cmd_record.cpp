@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/earth/earth.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
@@ -127,6 +128,15 @@ int run_record(const record_options& o) {
     return report(usage_error(
         "--temp-mv-per-c must be 0.001 to 10000 mV/degC (either sign) and --temp-at-0v a "
         "temperature from -273.15 to 1000 degC"));
+  if (!o.table_axis.empty()) {
+    if (auto a = earth::parse_axis(o.table_axis); !a)
+      return report(usage_error(
+          fmt::format("--table-axis '{}': {}", printable(o.table_axis, 60), a.err().message)));
+  }
+  if (o.azimuth_deg && !(std::fabs(*o.azimuth_deg) <= 360.0))
+    return report(
+        usage_error("--azimuth must be an angle from -360 to 360 deg (from north, "
+                    "clockwise)"));
   auto dev = device_config(o);
   if (!dev) return report(dev.err());
   auto preset = sensor::load_preset(o.sensor);
@@ -141,6 +151,8 @@ int run_record(const record_options& o) {
   c.units.scale_factor_v_per_dps = preset->params.scale_factor_v_per_dps;
   c.units.temp_v_per_c = o.temp_mv_per_c * 1e-3;
   c.units.temp_at_0v_c = o.temp_at_0v_c;
+  c.mount.table_axis = o.table_axis;
+  c.mount.azimuth_deg = o.azimuth_deg;
   c.reconnect_timeout_s = o.reconnect_timeout_s;
   // The run is tested as it grows, against the sensor's noise and specification: a turning
   // table or a moving bench is told while it can still be fixed (issue 31).

@@ -2,9 +2,10 @@
 /// \brief `gyroflip record` and `gyroflip export`: the rig's recorder and its files.
 #pragma once
 
+#include <optional>
 #include <string>
-
 #include <vector>
+
 #include "rig_options.hpp"
 
 namespace gyroflip::app {
@@ -20,6 +21,11 @@ struct record_options {
   /// How the device visits the positions: auto, cycle or there-and-back (rig::device_order).
   std::string order = "auto";
   bool raw = false;  ///< keep every gyro conversion (RAW frames)
+  /// Where the rig stands (stored in META, issue 33): the table's axis (as simulate's
+  /// --table-axis) and the azimuth of the sensitive axis at the table's 0 deg (deg from north,
+  /// clockwise). Empty / unset: not recorded.
+  std::string table_axis;
+  std::optional<double> azimuth_deg;
   double reconnect_timeout_s = 60.0;
   double temp_mv_per_c = 8.4;   ///< the temperature channel's output per degC
   double temp_at_0v_c = 24.85;  ///< the temperature at 0 V on that channel

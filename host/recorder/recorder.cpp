@@ -86,6 +86,9 @@ std::string meta_json(const recorder_config& c) {
                    {"scale_factor_v_per_dps", c.units.scale_factor_v_per_dps},
                    {"temp_v_per_c", c.units.temp_v_per_c},
                    {"temp_at_0v_c", c.units.temp_at_0v_c}};
+  // Where the rig stands (issue 33): what `heading` and `calibrate`'s separability report read.
+  if (!c.mount.table_axis.empty()) j["table_axis"] = c.mount.table_axis;
+  if (c.mount.azimuth_deg) j["azimuth_deg"] = *c.mount.azimuth_deg;
   // The command line and names may hold any bytes: never fail on them.
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -31,6 +31,7 @@ struct recorder_config {
   double duration_s = 0.0;          ///< device-clock seconds to record (0: until stopped)
   rig::rig_config rig;              ///< what the device is configured with (checked first)
   rigdata::device_units units;      ///< stored in META for the reader
+  rigdata::rig_mount_record mount;  ///< where the rig stands (META; unset parts not written)
   double reconnect_timeout_s = 60;  ///< how long a vanished port is waited for
   double reply_timeout_s = 2.0;     ///< how long a command's ACK (or INFO) is waited for
   /// How long the end of a run waits for frames still asked for again (RESEND).

@@ -602,15 +602,17 @@ def read_imu(path, rate=None, time_column=None, time_unit=None, columns=None, un
     return Imu(path, rate, time_s, cols, unit_of, sensor_of)
 
 
-def _columns(time_s, angle_deg, rate_dps, temp_c, n_avg):
+def _columns(time_s, angle_deg, rate_dps, temp_c, n_avg, positions_deg=None):
     def col(a, name):
         return None if a is None else _samples(a, name)[0]
     return _gyroflip._Columns(col(time_s, "time_s"), col(angle_deg, "angle_deg"),
-                              col(rate_dps, "rate_dps"), col(temp_c, "temp_c"), col(n_avg, "n_avg"))
+                              col(rate_dps, "rate_dps"), col(temp_c, "temp_c"), col(n_avg, "n_avg"),
+                              col(positions_deg, "positions_deg"))
 
 
 def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=None, axis=None,
-              pairing="abba", angle_tolerance_deg=0.0, sensor=None, strict=False):
+              pairing="abba", angle_tolerance_deg=0.0, sensor=None, strict=False,
+              table_axis=None, positions_deg=None):
     """Calibrates dN on a stationary flipping recording (paper eqns 8-11), as `gyroflip calibrate`.
 
     time_s, angle_deg, rate_dps: one value per row (a dwell mean, or a conversion): time (s),
@@ -626,11 +628,17 @@ def calibrate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, latitude=Non
     Returns the dict `gyroflip calibrate --json` prints (delta_n_dps, stderr_correlated_dps,
     cycles, temp_c, earth_rate_dps, g_term_dps, files[0]["stationarity"], ...) plus "warnings"
     and "cycle_values": arrays time_s, rate_dps (r, paper eqn 7), bias_dps (c), temp_c. Pass the
-    dict to compensate(calibration=...)."""
-    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg)
+    dict to compensate(calibration=...).
+    pairing="harmonic" (three or more positions, issue 33): also "terms" (b, c1, s1[, c2, s2]:
+    name, value_dps, stderr_correlated_dps), "terms_covariance" (row-major lists, (deg/s)^2) and
+    "separability" (what each term holds, which pairs no run separates), as `gyroflip calibrate
+    --pairing harmonic --json`; table_axis ("up", "down", or as simulate's) names the table's axis
+    for that report (default: not recorded, taken as horizontal). positions_deg: the table's
+    angles (read_recording's "positions_deg"; default the paper's 0 and 180)."""
+    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg, positions_deg)
     return _gyroflip._calibrate(c, None if latitude is None else float(latitude), axis, pairing,
                                 float(angle_tolerance_deg), None if sensor is None else str(sensor),
-                                bool(strict))
+                                bool(strict), None if table_axis is None else str(table_axis))
 
 
 def _int_arg(name, value, lo, hi):
@@ -775,7 +783,8 @@ def _call_text(name, args, kwargs):
 
 
 def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration=3600.0,
-         min_dwell=0.01, max_dwell=None, positions=None, heading=False, latitude=None):
+         min_dwell=0.01, max_dwell=None, positions=None, heading=False, latitude=None,
+         order="auto"):
     """The dwell and flip period that minimise a run's error for a dead time (as `gyroflip plan`).
 
     dead_time: seconds lost per turn (turn + settle). The noise comes from either `sensor` (a
@@ -788,7 +797,9 @@ def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration
     positions: the table's angles (deg; three or more: an indexed run in the sweep, planned for
     the first harmonic's error). heading=True with latitude (deg): plan for north finding
     (positions default 0, 90, 180, 270); the dict then has "heading" (predicted_sigma_deg,
-    sigma_deg_rth, white_limit_deg, by_dwell, by_duration), as `plan --heading --latitude`."""
+    sigma_deg_rth, white_limit_deg, by_dwell, by_duration), as `plan --heading --latitude`.
+    order: the visiting order planned for, as `plan --order` ("auto", "sweep", "cycle",
+    "there-and-back"; three or more positions: the dict's "order" and "visiting_order_deg")."""
     data = None if static is None else _samples(static, "static")[0]
     if data is not None:
         rate = _positive_rate(rate)
@@ -798,7 +809,7 @@ def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration
                            float(dead_time), float(duration), float(min_dwell),
                            0.0 if max_dwell is None else float(max_dwell),
                            [] if positions is None else [float(a) for a in positions],
-                           float(latitude) if heading else None)
+                           float(latitude) if heading else None, str(order))
 
 
 def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None, harmonics=1):

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@
 #include "gyroflip/method/compensation.hpp"
 #include "gyroflip/method/cycles.hpp"
 #include "gyroflip/method/demodulator.hpp"
+#include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/rig/simulator.hpp"
 #include "gyroflip/rigdata/recording_source.hpp"
@@ -49,9 +51,10 @@ method::pairing pairing_of(const std::string& name) {
 struct columns {
   f64_array time_s, angle_deg, rate_dps;
   std::optional<f64_array> temp_c, n_avg;
+  std::optional<f64_array> positions_deg;  ///< the table (none: the paper's 0/180)
 };
 
-method::recording_cycles cycles_of(const columns& c, method::pairing p, double tol) {
+io::table_rows rows_of(const columns& c, double tol) {
   io::recording_columns rc{span_of(c.time_s, "time_s"),
                            span_of(c.angle_deg, "angle_deg"),
                            span_of(c.rate_dps, "rate_dps"),
@@ -59,7 +62,12 @@ method::recording_cycles cycles_of(const columns& c, method::pairing p, double t
                            {}};
   if (c.temp_c) rc.temp_c = span_of(*c.temp_c, "temp_c");
   if (c.n_avg) rc.n_avg = span_of(*c.n_avg, "n_avg");
-  const auto rows = take(io::rows_of_columns(rc, tol));
+  if (c.positions_deg) rc.positions_deg = span_of(*c.positions_deg, "positions_deg");
+  return take(io::rows_of_columns(rc, tol));
+}
+
+method::recording_cycles cycles_of(const columns& c, method::pairing p, double tol) {
+  const auto rows = rows_of(c, tol);
   auto cycles = take(method::cycles_of_rows(arrays_name, rows.rows, p, {}, rows.positions));
   cycles.has_temp = c.temp_c.has_value();
   return cycles;
@@ -91,7 +99,8 @@ std::optional<sensor::preset> preset_of(const std::optional<std::string>& sensor
 
 py::dict calibrate(const columns& c, std::optional<double> lat_deg,
                    const std::optional<std::string>& axis, const std::string& pairing, double tol,
-                   const std::optional<std::string>& sensor, bool strict) {
+                   const std::optional<std::string>& sensor, bool strict,
+                   const std::optional<std::string>& table_axis) {
   io::calibration_record rec;
   rec.pairing = pairing_of(pairing);
   rec.geometry = geometry_of(lat_deg, axis);
@@ -110,6 +119,16 @@ py::dict calibrate(const columns& c, std::optional<double> lat_deg,
   rec.files.push_back({arrays_name, rec.pooled, std::nullopt, st});
   rec.pooled.stderr_correlated_dps =
       method::pooled_correlated_stderr(workflow::calibrations_of(rec.files));  // as the CLI
+  if (rec.pairing == method::pairing::harmonic) {
+    // The named terms with their covariance and the separability report, as the CLI's
+    // (workflow::add_harmonic_terms over method::fit_harmonics of the rows).
+    const auto rows = rows_of(c, tol);
+    method::harmonic_options o;
+    o.separable = true;
+    auto f = method::fit_harmonics(method::indexed_dwells(rows.rows), rows.positions, o);
+    if (!f) raise(input_error({arrays_name}, f.err().message));
+    workflow::add_harmonic_terms(std::span(&*f, 1), rows.positions, table_axis.value_or(""), rec);
+  }
   py::dict d = json_loads(take(io::to_json(rec)));
   d["warnings"] = warnings;
   for (const auto& cy : rc.cycles)  // the temperature may be absent (NaN)
@@ -274,9 +293,10 @@ py::dict simulate(const std::string& sensor, double duration_s, std::uint64_t se
 void bind_method(py::module_& m) {
   py::class_<columns>(m, "_Columns")
       .def(py::init<f64_array, f64_array, f64_array, std::optional<f64_array>,
-                    std::optional<f64_array>>());
+                    std::optional<f64_array>, std::optional<f64_array>>());
   m.def("_calibrate", &calibrate, py::arg("columns"), py::arg("latitude"), py::arg("axis"),
-        py::arg("pairing"), py::arg("angle_tolerance_deg"), py::arg("sensor"), py::arg("strict"));
+        py::arg("pairing"), py::arg("angle_tolerance_deg"), py::arg("sensor"), py::arg("strict"),
+        py::arg("table_axis"));
   m.def("_calibrate_runs", &calibrate_runs, py::arg("files"), py::arg("latitude"), py::arg("axis"),
         py::arg("pairing"), py::arg("degree"), py::arg("angle_tolerance_deg"), py::arg("sensor"),
         py::arg("strict"));

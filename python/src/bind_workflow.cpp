@@ -80,7 +80,8 @@ py::dict reproduce(bool quick, std::uint64_t seed, std::optional<std::size_t> ca
 py::object plan(const std::optional<std::string>& sensor, const std::optional<f64_array>& data,
                 std::optional<double> rate_hz, const std::string& unit, double dead_s,
                 double duration_s, double min_dwell_s, double max_dwell_s,
-                const std::vector<double>& positions, std::optional<double> heading_lat_deg) {
+                const std::vector<double>& positions, std::optional<double> heading_lat_deg,
+                const std::string& order) {
   if (sensor.has_value() == data.has_value())
     raise(usage_error("plan: give either sensor (a preset name or TOML file) or static (samples)"));
   workflow::plan_request req;
@@ -91,6 +92,7 @@ py::object plan(const std::optional<std::string>& sensor, const std::optional<f6
   req.conversion_s = rig::conversion_time_s(rig::ad7739_config{});
   req.positions_deg = positions;
   req.heading_lat_deg = heading_lat_deg;
+  req.order = order;
   if (sensor) {
     const auto p = take(sensor::load_preset(*sensor));
     req.noise = workflow::plan_noise_of(p.params);
@@ -144,7 +146,7 @@ void bind_workflow(py::module_& m) {
         py::arg("base_turn"), py::arg("sensor"), py::arg("harmonics"));
   m.def("_plan", &plan, py::arg("sensor"), py::arg("static"), py::arg("rate"), py::arg("units"),
         py::arg("dead_time"), py::arg("duration"), py::arg("min_dwell"), py::arg("max_dwell"),
-        py::arg("positions"), py::arg("heading_latitude"));
+        py::arg("positions"), py::arg("heading_latitude"), py::arg("order"));
   m.def("_report", &report, py::arg("files"), py::arg("output"), py::arg("latitude"),
         py::arg("axis"), py::arg("calibration"), py::arg("title"), py::arg("pairing"),
         py::arg("expected_rate"), py::arg("command"), py::arg("next_step"), py::arg("sensor"));

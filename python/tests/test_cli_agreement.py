@@ -416,3 +416,47 @@ def test_plan_and_heading_variants_agree_with_the_cli(exe, tmp_path):
     p2 = gyroflip.heading([five], 42.6, harmonics=2)
     assert p2["heading_deg"] == c2["heading_deg"]
     assert p2["second_harmonic_dps"] == c2["second_harmonic_dps"]
+
+
+def test_calibrate_harmonic_terms_agree_with_the_cli(exe, tmp_path):
+    """gyroflip.calibrate(..., pairing="harmonic") on a recording's columns carries the named terms,
+    their covariance and the separability report, number for number as `gyroflip calibrate
+    --pairing harmonic --json` of the file (issue 33)."""
+    rec = tmp_path / "four.csv"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 900, "--table-axis", "up",
+        "--azimuth", 25, "--positions", "0,90,180,270", "--seed", 6, "-o", rec)
+    cli = json.loads(run(exe, "calibrate", rec, "--pairing", "harmonic", "--json"))
+    c = gyroflip.read_recording(rec)
+    py = gyroflip.calibrate(c["time_s"], c["angle_deg"], c["rate_dps"], c["temp_c"], c["n_avg"],
+                            pairing="harmonic", table_axis="up", positions_deg=c["positions_deg"])
+    assert [t["name"] for t in py["terms"]] == ["b", "c1", "s1", "c2"]
+    assert py["terms"] == cli["terms"]
+    assert py["terms_covariance"] == cli["terms_covariance"]
+    assert py["separability"] == cli["separability"]
+    assert py["separability"]["table_axis"] == "vertical"
+
+
+def test_plan_order_and_two_zero_one_eighty_headings_agree_with_the_cli(exe, tmp_path):
+    """gyroflip.plan(order=...) is `plan --order` (issue 33), and gyroflip.heading of two 0/180 runs
+    at two base azimuths is `heading RUN1 RUN2`."""
+    for order in ("there-and-back", "cycle", "sweep"):
+        cli = json.loads(run(exe, "plan", "--sensor", "adxrs150", "--dead-time", 0.3, "--positions",
+                             "0,90,180,270", "--order", order, "--json"))
+        py = gyroflip.plan(0.3, sensor="adxrs150", positions=[0, 90, 180, 270], order=order)
+        for key in ("dwell_s", "period_s", "predicted_sigma_dps", "visiting_order_deg", "order"):
+            assert py[key] == cli[key], (order, key)
+        assert py["order"] == order
+    assert gyroflip.plan(0.3, sensor="adxrs150", positions=[0, 90, 180, 270],
+                         order="there-and-back")["visiting_order_deg"] == [0, 90, 180, 270, 180, 90]
+    with pytest.raises(ValueError):
+        gyroflip.plan(0.3, sensor="adxrs150", positions=[0, 180], order="sweep")
+    runs = []
+    for name, azimuth, seed in (("a.csv", 100, 1), ("b.csv", 190, 2)):
+        path = tmp_path / name
+        run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 600, "--table-axis", "up",
+            "--azimuth", azimuth, "--positions", "0,180", "--seed", seed, "-o", path)
+        runs.append(path)
+    cli = json.loads(run(exe, "heading", *runs, "--latitude", 42.6, "--json"))
+    py = gyroflip.heading(runs, 42.6)
+    assert py == cli
+    assert py["ambiguous"] and py["two_azimuths"] and py["base_turn_deg"] == 90

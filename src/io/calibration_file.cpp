@@ -374,9 +374,11 @@ json separability_json(const method::separability& s) {
                      {"in_terms", p.in_terms},
                      {"why", p.why},
                      {"separated_by", p.separated_by}});
-  return {{"positions_deg", s.positions},    {"table_axis", s.axis},
-          {"estimable", s.estimable},        {"not_observable", s.unobservable},
-          {"meanings", std::move(meanings)}, {"inseparable", std::move(pairs)}};
+  json out{{"positions_deg", s.positions},    {"table_axis", s.axis},
+           {"estimable", s.estimable},        {"not_observable", s.unobservable},
+           {"meanings", std::move(meanings)}, {"inseparable", std::move(pairs)}};
+  if (!s.axis_recorded) out["table_axis_recorded"] = false;  // issue 33: taken, not recorded
+  return out;
 }
 
 // Schema 4's `separability`, as written (strings; a field of another type is refused).
@@ -408,6 +410,10 @@ status read_separability(const std::string& path, const json& j, calibration_rec
     return bad(
         "positions_deg and table_axis are strings, estimable and not_observable lists of "
         "strings");
+  if (const auto r = it->find("table_axis_recorded"); r != it->end()) {
+    if (!r->is_boolean()) return bad("'table_axis_recorded' must be true or false");
+    s.axis_recorded = r->get<bool>();
+  }
   for (const char* key : {"meanings", "inseparable"}) {
     if (!it->contains(key)) continue;
     if (!(*it)[key].is_array()) return bad(fmt::format("'{}' must be an array", key));

@@ -518,7 +518,8 @@ separability separability_of(const position_table& table, table_axis_kind axis) 
 
 std::vector<std::string> separability::lines() const {
   std::vector<std::string> out;
-  out.push_back(fmt::format("separability at positions {} deg (table axis {}):", positions, axis));
+  out.push_back(fmt::format("separability at positions {} deg (table axis {}{}):", positions, axis,
+                            axis_recorded ? "" : "; not recorded, taken as horizontal"));
   out.push_back(fmt::format("  estimable: {}", fmt::join(estimable, ", ")));
   if (!unobservable.empty())
     out.push_back(fmt::format("  not observable: {}", fmt::join(unobservable, ", ")));
@@ -865,6 +866,40 @@ projection_heading heading_of_projection(double p1, double var_p1, double earth_
   else
     h.sigma_deg = sx / std::sqrt(1.0 - x * x) / units::rad_per_deg;
   return h;
+}
+
+result<two_projection_heading> heading_of_two_projections(
+    double p1, double var_p1, double p2, double var_p2, double earth_horizontal_dps,
+    double axis_angle_deg, double base_turn_deg, bool table_axis_up) {
+  const double half = 0.5 * base_turn_deg * units::rad_per_deg;
+  const double k = 2.0 * earth_horizontal_dps * std::sin(half);
+  if (std::abs(std::remainder(base_turn_deg, 360.0)) < 1.0)
+    return usage_error(fmt::format(
+        "base azimuths {:g} deg apart: the difference of two 0/180 runs then holds no Earth rate",
+        base_turn_deg));
+  const double x = (p1 - p2) / k;
+  const double sx = std::sqrt(std::max(var_p1, 0.0) + std::max(var_p2, 0.0)) / std::abs(k);
+  const double as = std::asin(std::clamp(x, -1.0, 1.0)) / units::rad_per_deg;
+  const double half_deg = 0.5 * base_turn_deg;
+  const double phi = 180.0 - half_deg - as, phi_mirror = as - half_deg;
+  const auto wrap = [](double v) {
+    v = std::fmod(v, 360.0);
+    if (v < 0.0) v += 360.0;
+    return v >= 360.0 ? 0.0 : v;
+  };
+  // phi = psi - theta_0 with the axis up; psi + theta_0 with it down (heading_of_projection).
+  const double base = table_axis_up ? axis_angle_deg : -axis_angle_deg;
+  two_projection_heading out;
+  auto& h = out.heading;
+  h.heading_deg = wrap(base + phi);
+  h.mirror_deg = wrap(base + phi_mirror);
+  h.cos_value = x;
+  h.at_edge = std::abs(x) > 1.0 - sx;
+  h.sigma_deg = h.at_edge ? std::acos(std::max(-1.0, 1.0 - sx)) / units::rad_per_deg
+                          : sx / std::sqrt(1.0 - x * x) / units::rad_per_deg;
+  out.table_term_dps = p1 - earth_horizontal_dps * std::cos(phi * units::rad_per_deg);
+  out.table_term_mirror_dps = p1 - earth_horizontal_dps * std::cos(phi_mirror * units::rad_per_deg);
+  return out;
 }
 
 double heading_white_limit_deg(double arw_dps_rthz, double lat_deg, double run_s, double k) {

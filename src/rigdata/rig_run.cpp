@@ -79,6 +79,19 @@ status check_units(const device_units& u, const std::string& what) {
   return ok();
 }
 
+rig_mount_record mount_of_meta(const std::string& meta) {
+  rig_mount_record m;
+  const auto j = nlohmann::json::parse(meta, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return m;
+  if (const auto it = j.find("table_axis"); it != j.end() && it->is_string())
+    m.table_axis = it->get<std::string>();
+  if (const auto it = j.find("azimuth_deg"); it != j.end() && it->is_number()) {
+    const double a = it->get<double>();
+    if (std::isfinite(a) && std::fabs(a) <= 360.0) m.azimuth_deg = a;
+  }
+  return m;
+}
+
 result<device_units> units_of(const std::string& meta, const std::string& path) {
   const auto j = nlohmann::json::parse(meta, nullptr, false);
   const auto bad = [&](const char* what) {
@@ -144,6 +157,7 @@ status rig_run_builder::add(const gfr::record& r, std::size_t n) {
     auto u = units_of(run_.meta_json, run_.path);
     if (!u) return u.err();
     run_.units = *u;
+    run_.mount = mount_of_meta(run_.meta_json);
     return ok();
   }
   const auto push = [&](ev t, std::size_t index, std::optional<std::uint16_t> seq = {}) {
@@ -1180,6 +1194,10 @@ std::vector<io::csv_metadata> csv_metadata(const rig_run& run) {
   m.push_back({"chop", (c.flags & protocol::cfg_chop) != 0 ? "on" : "off"});
   m.push_back({"steps_per_rev", fmt::format("{}", c.steps_per_rev)});
   m.push_back({"step_rate_sps", fmt::format("{}", c.step_rate_sps)});
+  // Where the rig stood (record --table-axis/--azimuth): only what META holds, never guessed.
+  if (!run.mount.table_axis.empty()) m.push_back({"table_axis", run.mount.table_axis});
+  if (run.mount.azimuth_deg)
+    m.push_back({"azimuth_deg", fmt::format("{}", *run.mount.azimuth_deg)});
   return m;
 }
 

@@ -202,10 +202,18 @@ result<harmonic_runs> fit_harmonic_runs(const calibrate_request& r) {
 // The harmonic scheme's terms (issue 33 item 2): the runs' plain mean with the covariance of a
 // mean of independent runs (sum of their covariances / k^2: within-run errors; the run-to-run
 // spread of c1 is the budget's, of dN), and the separability report of the table and its axis.
-status add_harmonic_terms(const calibrate_request& r, io::calibration_record& rec) {
+status add_harmonic_terms_of_files(const calibrate_request& r, io::calibration_record& rec) {
   auto runs = fit_harmonic_runs(r);
   if (!runs) return runs.err();
-  const auto& fits = runs->fits;
+  add_harmonic_terms(runs->fits, *runs->table, runs->axis_text, rec);
+  return ok();
+}
+
+}  // namespace
+
+void add_harmonic_terms(std::span<const method::harmonic_fit> fits, const position_table& table,
+                        const std::string& axis_text, io::calibration_record& rec) {
+  if (fits.empty()) return;
   const auto& names = fits.front().names;
   const std::size_t n = names.size();
   const auto k = static_cast<double>(fits.size());
@@ -219,7 +227,8 @@ status add_harmonic_terms(const calibrate_request& r, io::calibration_record& re
   for (std::size_t i = 0; i < n; ++i)
     rec.terms.push_back({names[i], value[i], std::sqrt(std::max(cov[i * n + i], 0.0))});
   rec.terms_covariance = std::move(cov);
-  auto sep = method::separability_of(*runs->table, method::table_axis_kind_of(runs->axis_text));
+  auto sep = method::separability_of(table, method::table_axis_kind_of(axis_text));
+  sep.axis_recorded = !axis_text.empty();
   for (const auto& t : fits.front().dropped) {
     std::erase(sep.estimable, t);
     std::erase_if(sep.meanings, [&t](const method::term_meaning& m) { return m.term == t; });
@@ -230,10 +239,7 @@ status add_harmonic_terms(const calibrate_request& r, io::calibration_record& re
                          "a visiting order with a longer period (simulate's default sweep)"});
   }
   rec.separability = std::move(sep);
-  return ok();
 }
-
-}  // namespace
 
 result<calibrate_result> calibrate_runs(const calibrate_request& r,
                                         const progress_fn& on_progress) {
@@ -294,7 +300,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   out.budget = budget_of(rec.files, rec.model, preset != nullptr ? &preset->params : nullptr,
                          preset != nullptr ? preset->name : std::string());
   if (r.pairing == method::pairing::harmonic)
-    if (auto s = add_harmonic_terms(r, rec); !s) return s.err();
+    if (auto s = add_harmonic_terms_of_files(r, rec); !s) return s.err();
   const auto& b = out.budget;
   rec.uncertainty = io::calibration_uncertainty{
       b.calibration_dps, b.run_to_run_dps,   b.run_to_run_measured, b.run_to_run_source,

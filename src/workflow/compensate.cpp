@@ -16,11 +16,13 @@
 
 #include "gyroflip/core/digits.hpp"
 #include "gyroflip/core/error.hpp"
+#include "gyroflip/core/units.hpp"
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
 #include "gyroflip/method/calibration.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/page.hpp"
+#include "gyroflip/rigdata/recording_source.hpp"
 #include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/recordings.hpp"
 
@@ -34,7 +36,90 @@ delta_n_source of_record(io::calibration_record rec, const std::string& name) {
   return delta_n_source{std::move(model), name, p, std::move(rec)};
 }
 
+double term_value(std::span<const method::delta_n_term> terms, std::string_view name) {
+  for (const auto& t : terms)
+    if (t.name == name) return t.value_dps;
+  return 0.0;
+}
+
+// The rows of `inner` with the harmonic terms other than c1 removed at each row's position (the
+// c1 part is the dN the blocks' c1 is compensated by: compensate_file).
+class terms_removed final : public method::row_source {
+ public:
+  terms_removed(method::row_source& inner, std::span<const method::delta_n_term> terms)
+      : inner_(inner) {
+    const double s1 = term_value(terms, "s1"), c2 = term_value(terms, "c2"),
+                 s2 = term_value(terms, "s2");
+    const auto& table = inner.positions();
+    for (int i = 0; i < static_cast<int>(table.size()); ++i) {
+      const double a = table.angle_deg(i) * units::rad_per_deg;
+      at_.push_back(s1 * std::sin(a) + c2 * std::cos(2.0 * a) + s2 * std::sin(2.0 * a));
+    }
+  }
+  [[nodiscard]] result<std::size_t> read(std::span<method::row> out) override {
+    auto n = inner_.read(out);
+    if (!n) return n;
+    for (std::size_t i = 0; i < *n; ++i) {
+      auto& r = out[i];
+      if (r.position >= 0 && static_cast<std::size_t>(r.position) < at_.size())
+        r.rate_dps -= at_[static_cast<std::size_t>(r.position)];
+    }
+    return n;
+  }
+  [[nodiscard]] const std::string& name() const noexcept override { return inner_.name(); }
+  [[nodiscard]] const position_table& positions() const noexcept override {
+    return inner_.positions();
+  }
+  [[nodiscard]] bool has_temp() const noexcept override { return inner_.has_temp(); }
+  [[nodiscard]] std::span<const metadata_entry> metadata() const noexcept override {
+    return inner_.metadata();
+  }
+  [[nodiscard]] std::span<const std::string> warnings() const noexcept override {
+    return inner_.warnings();
+  }
+  [[nodiscard]] std::uint64_t done() const noexcept override { return inner_.done(); }
+  [[nodiscard]] std::uint64_t total() const noexcept override { return inner_.total(); }
+
+ private:
+  method::row_source& inner_;
+  std::vector<double> at_;
+};
+
 }  // namespace
+
+std::optional<std::vector<method::delta_n_term>> harmonic_terms_of(
+    const io::calibration_record& rec) {
+  if (rec.pairing != method::pairing::harmonic) return std::nullopt;
+  std::vector<method::delta_n_term> out;
+  for (const auto& t : rec.terms)
+    if (t.name == "c1" || t.name == "s1" || t.name == "c2" || t.name == "s2") out.push_back(t);
+  const auto has = [&out](std::string_view n) {
+    return std::any_of(out.begin(), out.end(), [n](const auto& t) { return t.name == n; });
+  };
+  if (!has("c1") || !has("s1")) return std::nullopt;
+  return out;
+}
+
+method::delta_n_model pair_model_of(const method::delta_n_model& c1_model,
+                                    std::span<const method::delta_n_term> terms, double plus_deg) {
+  const double a = plus_deg * units::rad_per_deg;
+  const double c = std::cos(a), s = std::sin(a);
+  method::delta_n_model m = c1_model;
+  for (double& k : m.coeffs_dps) k *= c;
+  if (m.coeffs_dps.empty()) m.coeffs_dps.push_back(0.0);
+  m.coeffs_dps.front() += term_value(terms, "s1") * s;
+  for (double& v : m.cov) v *= c * c;
+  double se_s1 = 0.0;
+  for (const auto& t : terms)
+    if (t.name == "s1") se_s1 = t.stderr_correlated_dps;
+  if (!m.cov.empty()) m.cov.front() += se_s1 * se_s1 * s * s;
+  const double scale = c * c;  // what a new power-up's spread of c1 carries along
+  m.between_run_var_dps2 *= scale;
+  m.new_run_var_dps2 *= scale;
+  m.tau2_centre_dps2 *= scale;
+  m.tau2_curvature_dps2_per_c2 *= scale;
+  return m;
+}
 
 status check_calibration_fits(const std::string& file, const delta_n_source& dn,
                               std::span<const io::csv_metadata> metadata,
@@ -448,12 +533,38 @@ result<compensate_result> compensate_file(const compensate_request& r,
   const auto& dn = r.delta_n;
   out.pairing = r.pairing.value_or(dn.pairing.value_or(method::pairing::abba));
   if (auto s = method::check_drift_window(r.drift_window_s); !s) return s.err();
-  if (dn.pairing && *dn.pairing != out.pairing)
-    out.warnings.push_back(fmt::format("calibration used pairing '{}', compensating with '{}'",
-                                       method::to_string(*dn.pairing),
-                                       method::to_string(out.pairing)));
-  auto rc = read_cycles(r.file, out.pairing, on_progress, r.angle_tolerance_deg);
-  if (!rc) return rc.err();
+  const auto terms = dn.record ? harmonic_terms_of(*dn.record) : std::nullopt;
+  result<method::recording_cycles> rc = usage_error("not read");
+  if (terms) {
+    // A harmonic calibration (issue 33): its terms at each position (harmonic_application).
+    auto source = rigdata::open_recording(r.file, r.angle_tolerance_deg);
+    if (!source) return source.err();
+    if (!r.pairing && (*source)->positions().size() < 3) out.pairing = method::pairing::abba;
+    harmonic_application app;
+    app.terms = *terms;
+    if (out.pairing == method::pairing::harmonic) {
+      terms_removed wrapped(**source, *terms);
+      rc = method::read_cycles(wrapped, out.pairing, on_progress);
+      if (!rc) return rc.err();
+      app.how = "at each position";
+      app.model = dn.model;
+    } else {
+      rc = method::read_cycles(**source, out.pairing, on_progress);
+      if (!rc) return rc.err();
+      const double plus = rc->positions.angle_deg(rc->pair.plus);
+      app.how = fmt::format("at the pair's first position ({:g} deg): c1 cos + s1 sin", plus);
+      app.model = pair_model_of(dn.model, *terms, plus);
+    }
+    out.applied = std::move(app);
+  } else {
+    if (dn.pairing && *dn.pairing != out.pairing)
+      out.warnings.push_back(fmt::format("calibration used pairing '{}', compensating with '{}'",
+                                         method::to_string(*dn.pairing),
+                                         method::to_string(out.pairing)));
+    rc = read_cycles(r.file, out.pairing, on_progress, r.angle_tolerance_deg);
+    if (!rc) return rc.err();
+  }
+  const method::delta_n_model& model = out.applied ? out.applied->model : dn.model;
   for (auto& w : rc->warnings) out.warnings.push_back(std::move(w));
   if (auto s = check_calibration_fits(r.file, dn, rc->metadata, rc->cycles, out.warnings); !s)
     return s.err();
@@ -470,10 +581,10 @@ result<compensate_result> compensate_file(const compensate_request& r,
     if (r.strict)
       if (auto s = refuse_unvouched(dn, budget, runs->unchecked); !s) return s.err();
   }
-  if (dn.model.degree() > 0 && !rc->has_temp)
+  if (model.degree() > 0 && !rc->has_temp)
     return input_error({r.file},
                        "no temp_c column, but the calibration's dN(T) model needs temperatures");
-  auto comp = compensate_cycles(rc->cycles, dn.model, r.drift_window_s, r.file);
+  auto comp = compensate_cycles(rc->cycles, model, r.drift_window_s, r.file);
   if (!comp) return comp.err();
   out.comp = std::move(*comp);
   if (dn.record) {
@@ -502,18 +613,18 @@ result<compensate_result> compensate_file(const compensate_request& r,
         sum += c.temp_c;
         ++n;
       }
-    const double at_c = n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c;
+    const double at_c = n > 0 ? sum / static_cast<double>(n) : model.t_ref_c;
     // A constant's own error from its runs, as the budget reads them (a file's stated stderr
     // may be edited: fifth review of issue 31, F6); a line's at the run's temperature (its
     // covariance is checked to be its runs' fit).
-    const double u = dn.model.degree() == 0 && budget.valid && !dn.record->files.empty()
+    const double u = model.degree() == 0 && budget.valid && !dn.record->files.empty()
                          ? budget.calibration_dps
-                         : dn.model.interval_at(at_c);
+                         : model.interval_at(at_c);
     if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
     quote_new_power_up(dn, at_c, budget, out);
   }
   if (out.comp.outside_model > 0)
-    out.warnings.push_back(outside_model_warning(r.file, out.comp, dn.model));
+    out.warnings.push_back(outside_model_warning(r.file, out.comp, model));
   return out;
 }
 
@@ -528,6 +639,12 @@ nlohmann::json compensation_json(const compensation& c, const std::string& file,
             {"coeffs_dps", m.coeffs_dps},
             {"t_ref_c", m.degree() > 0 ? json(m.t_ref_c) : json(nullptr)}};
   if (m.degree() == 0) d["delta_n_dps"] = m.coeffs_dps.front();
+  if (dn.record)
+    if (const auto terms = harmonic_terms_of(*dn.record)) {
+      json t = json::object();
+      for (const auto& x : *terms) t[x.name] = x.value_dps;
+      d["terms_dps"] = std::move(t);
+    }
   json j = io::schema_object("compensate", 2);
   j.update(json{{"file", file},
                 {"delta_n", std::move(d)},

@@ -114,6 +114,19 @@ result<read_run> fit_run(const std::string& path, bool axis_up_default, int harm
   return out;
 }
 
+// The turn of the rig's base from the first run to the second: given, else the recordings'
+// `# azimuth_deg:` difference.
+result<double> base_turn_of(const heading_request& q, std::optional<double> az1,
+                            std::optional<double> az2) {
+  if (q.base_turn_deg) return *q.base_turn_deg;
+  if (az1 && az2) return *az2 - *az1;
+  return parameter_error(
+      "base_turn_deg",
+      fmt::format("two runs: the turn of the rig's base between them is not known (the azimuth "
+                  "is not recorded in {}: record --azimuth stores it): give it",
+                  az1 ? q.runs[1] : q.runs[0]));
+}
+
 }  // namespace
 
 result<heading_result> find_heading(const heading_request& q) {
@@ -147,15 +160,27 @@ result<heading_result> find_heading(const heading_request& q) {
           "it)",
           path, printable(r->axis_name, 40)));
     if (q.table_axis_up) r->axis_up = q.table_axis_up;
+    if (!q.table_axis_up && r->axis_name.empty())
+      out.caveats.push_back(fmt::format(
+          "{}: the table axis is not recorded (a recording made without `record --table-axis`, "
+          "or before gyroflip stored it): taken as up; give --table-axis if it was down",
+          path));
     runs.push_back(std::move(*r));
   }
   if (runs.empty()) return usage_error("no run");
   const bool up = runs.front().axis_up.value_or(true);
   const bool projection = runs.front().run.projection.has_value();
-  if (runs.size() == 2 && (projection || runs[1].run.projection))
+  if (runs.size() == 2 && projection != runs[1].run.projection.has_value())
     return usage_error(
-        "two runs of two positions (0/180): not built; a 0/180 run gives one projection of the "
-        "Earth rate, and its heading up to its sign (docs/NORTH.md)");
+        "a 0/180 run and a run of three or more positions are not combined: give two 0/180 runs "
+        "(at the same table angles) or two of three or more positions (docs/NORTH.md)");
+  const bool two_projections = runs.size() == 2 && projection;
+  if (two_projections &&
+      std::abs(std::remainder(runs[0].table_angle0_deg - runs[1].table_angle0_deg, 360.0)) > 0.01)
+    return usage_error(fmt::format(
+        "two 0/180 runs at different table angles ({:g} and {:g} deg): the table's term cancels "
+        "only between runs at the same angles",
+        runs[0].table_angle0_deg, runs[1].table_angle0_deg));
   double total_s = 0.0, arw_w = 0.0, arw_sum = 0.0, dead_sum = 0.0;
   for (const auto& r : runs) {
     total_s += r.run.run_s;
@@ -169,7 +194,7 @@ result<heading_result> find_heading(const heading_request& q) {
   const auto& f0 = runs[0].run.fit;
   out.scheme = fmt::format("{} positions ({} deg), visiting period {} dwells",
                            runs[0].run.n_positions, runs[0].run.positions, f0.period);
-  if (projection) {
+  if (projection && !two_projections) {
     const auto& p = *runs[0].run.projection;
     out.ambiguous = true;
     out.mirror_deg = p.mirror_deg;
@@ -193,7 +218,54 @@ result<heading_result> find_heading(const heading_request& q) {
           "acos(1 - sigma_p / W_H), not the delta method's",
           p.cos_value));
   }
-  if (runs.size() == 1) {
+  std::optional<double> two_projection_cos;
+  if (two_projections) {
+    auto turn = base_turn_of(q, runs[0].azimuth_deg, runs[1].azimuth_deg);
+    if (!turn) return turn.err();
+    if (runs[1].axis_up.value_or(up) != up)
+      return usage_error("the two runs name different table axes (up and down)");
+    const auto& a = runs[0].run.fit;
+    const auto& b = runs[1].run.fit;
+    auto h = method::heading_of_two_projections(a.value[1], a.var(1), b.value[1], b.var(1),
+                                                out.earth_horizontal_dps, runs[0].table_angle0_deg,
+                                                *turn, up);
+    if (!h) return h.err();
+    const auto& p = h->heading;
+    out.two_azimuths = true;
+    out.base_turn_deg = *turn;
+    out.ambiguous = true;
+    out.heading_deg = p.heading_deg;
+    out.mirror_deg = p.mirror_deg;
+    out.sigma_deg = p.sigma_deg;
+    out.amplitude_dps = std::abs(a.value[1]);
+    out.table_term_dps = h->table_term_dps;
+    {  // the shift of the first run's own solution nearest to this heading
+      const auto& one = *runs[0].run.projection;
+      const double d1 = std::remainder(one.heading_deg - out.heading_deg, 360.0);
+      const double d2 = std::remainder(one.mirror_deg - out.heading_deg, 360.0);
+      out.table_term_heading_deg = std::abs(d1) <= std::abs(d2) ? d1 : d2;
+    }
+    two_projection_cos = p.cos_value;
+    out.scheme = fmt::format(
+        "two 0/180 runs ({} deg), visiting period {} dwells, at base azimuths {:g} deg apart: "
+        "the difference of their projections of the Earth rate, with the scale factor known "
+        "(the table's term removed)",
+        runs[0].run.positions, f0.period, *turn);
+    out.caveats.push_back(fmt::format(
+        "two 0/180 runs give sin(psi - {0:g} + {1:g}) only: the heading is {2:.3f} or its mirror "
+        "{3:.3f} deg, which one they cannot tell (a third position in either run can; the "
+        "table's term is {4:.3g} deg/s for the first, {5:.3g} for the mirror)",
+        runs[0].table_angle0_deg, 0.5 * *turn, p.heading_deg, p.mirror_deg, h->table_term_dps,
+        h->table_term_mirror_dps));
+    out.caveats.push_back(
+        "the scale factor is taken as known (the recordings' deg/s as true): an error of it "
+        "shifts the heading as for one 0/180 run");
+    if (p.at_edge)
+      out.caveats.push_back(fmt::format(
+          "the difference is {:.3f} of its largest, within one sigma of +-1: the sigma is the "
+          "angle acos(1 - sigma_x), not the delta method's",
+          p.cos_value));
+  } else if (runs.size() == 1) {
     out.heading_deg = runs[0].run.heading.heading_deg;
     out.sigma_deg = runs[0].run.heading.sigma_deg;
     out.amplitude_dps = runs[0].run.heading.amplitude_dps;
@@ -212,17 +284,9 @@ result<heading_result> find_heading(const heading_request& q) {
           per_mrad));
   } else {
     out.two_azimuths = true;
-    double turn = 0.0;
-    if (q.base_turn_deg) {
-      turn = *q.base_turn_deg;
-    } else if (runs[0].azimuth_deg && runs[1].azimuth_deg) {
-      turn = *runs[1].azimuth_deg - *runs[0].azimuth_deg;
-    } else {
-      return parameter_error(
-          "base_turn_deg",
-          "two runs: the turn of the rig's base between them is not known (their recordings "
-          "carry no azimuth): give it");
-    }
+    auto turn_of = base_turn_of(q, runs[0].azimuth_deg, runs[1].azimuth_deg);
+    if (!turn_of) return turn_of.err();
+    const double turn = *turn_of;
     out.base_turn_deg = turn;
     const auto& a = runs[0].run.fit;
     const auto& b = runs[1].run.fit;
@@ -244,9 +308,18 @@ result<heading_result> find_heading(const heading_request& q) {
     out.arw_dps_rthz = arw_sum / arw_w;
     out.limit_deg = method::heading_white_limit_deg(out.arw_dps_rthz, q.lat_deg, total_s,
                                                     projection ? 1.0 : std::sqrt(2.0));
-    if (projection)  // k = 1 (a known-bias pair's contrast), at this heading's |sin|
+    if (two_projection_cos) {
+      // sigma_x^2 = N^2 (1/T1 + 1/T2) / (2 W_H sin(turn/2))^2 over 1 - x^2; the k = 1 limit of
+      // the total T is N / (W_H sqrt(T)): the ratio of the two.
+      const double t1 = runs[0].run.run_s, t2 = runs[1].run.run_s;
+      out.limit_deg *=
+          std::sqrt((1.0 / t1 + 1.0 / t2) * total_s) /
+          (2.0 * std::abs(std::sin(0.5 * out.base_turn_deg * units::rad_per_deg))) /
+          std::max(std::sqrt(std::max(0.0, 1.0 - *two_projection_cos * *two_projection_cos)), 1e-6);
+    } else if (projection) {  // k = 1 (a known-bias pair's contrast), at this heading's |sin|
       out.limit_deg /= std::max(
           std::sqrt(std::max(0.0, 1.0 - std::pow(runs[0].run.projection->cos_value, 2))), 1e-6);
+    }
     out.ratio_to_limit = out.sigma_deg / out.limit_deg;
   } else {
     out.caveats.push_back(

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,7 @@
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/schema.hpp"
 #include "gyroflip/method/harmonic.hpp"
+#include "gyroflip/rig/rig_config.hpp"
 
 namespace gyroflip::workflow {
 
@@ -72,8 +74,13 @@ namespace {
 
 // The flip plan (no positions, or two) or the indexed plan (three or more), and the heading's.
 result<method::flip_plan> plan_of(const plan_request& r, std::vector<double>& positions,
-                                  std::vector<double>& visits) {
+                                  std::vector<double>& visits, std::string& order) {
   positions = r.positions_deg;
+  order = r.order;
+  if (order != "auto" && order != "sweep" && order != "cycle" && order != "there-and-back")
+    return parameter_error("order", fmt::format("the visiting order is auto, sweep, cycle or "
+                                                "there-and-back; got '{}'",
+                                                printable(order, 40)));
   if (r.heading_lat_deg) {
     if (auto s = earth::check_latitude(*r.heading_lat_deg); !s) return s.err();
     if (std::abs(*r.heading_lat_deg) > 85.0)
@@ -93,22 +100,43 @@ result<method::flip_plan> plan_of(const plan_request& r, std::vector<double>& po
   if (positions.size() == 1 || positions.size() > 8)
     return usage_error(fmt::format("a table has 2 to 8 positions; got {}", positions.size()));
   if (positions.size() < 3) {
+    if (order != "auto" && order != "cycle")
+      return parameter_error(
+          "order", fmt::format("two positions are planned as the paper's A, B cycle (auto or "
+                               "cycle); '{}' is for three or more",
+                               order));
     positions.clear();
+    order.clear();
     return method::plan_flip(r.noise, r.dead_s, r.duration_s, r.limits);
   }
-  visits = method::sweep_visits(positions);
-  return method::plan_indexed(r.noise, visits, r.dead_s, r.duration_s, r.limits);
+  if (order == "auto") order = "sweep";
+  if (order == "sweep") {
+    visits = method::sweep_visits(positions);
+  } else {
+    auto v = rig::device_visits(
+        positions, order == "cycle" ? rig::device_order::cycle : rig::device_order::there_and_back,
+        false);
+    if (!v) return v.err();
+    visits = std::move(*v);
+  }
+  auto p = method::plan_indexed(r.noise, visits, r.dead_s, r.duration_s, r.limits);
+  if (!p)
+    return usage_error(fmt::format("the visiting order {} ({}): {}", order, fmt::join(visits, ", "),
+                                   p.err().message));
+  return p;
 }
 
 }  // namespace
 
 result<plan_result> plan(const plan_request& r) {
   std::vector<double> positions, visits;
-  auto p = plan_of(r, positions, visits);
+  std::string order;
+  auto p = plan_of(r, positions, visits, order);
   if (!p) return p.err();
   plan_result out;
   out.positions_deg = std::move(positions);
   out.visits_deg = std::move(visits);
+  out.order = std::move(order);
   out.plan = std::move(*p);
   out.noise = r.noise;
   out.noise_source = r.noise_source;
@@ -212,6 +240,7 @@ nlohmann::json plan_json(const plan_result& r) {
   if (!r.visits_deg.empty()) {
     j["positions_deg"] = r.positions_deg;
     j["visiting_order_deg"] = r.visits_deg;
+    j["order"] = r.order;
   }
   if (r.heading) {
     const auto& h = *r.heading;

@@ -11,7 +11,6 @@
 
 #include <fmt/format.h>
 
-#include "gyroflip/analysis/least_squares.hpp"
 #include "gyroflip/core/units.hpp"
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/atomic_file.hpp"
@@ -82,26 +81,40 @@ simulation_truth truth_of(const rig::simulator& sim, const rig::simulation_confi
   t.delta_n_dps = t.earth_dps + t.g_term_dps;  // paper eqn 11
   t.indexed = c.rig.positions_deg.size() > 2 || c.order != rig::visit_order::automatic ||
               c.mount.azimuth_set() || c.mount.tilt_mrad != 0.0;
+  const double temp0_c = temperature.at(0.0);
+  // The terms' Fourier coefficients over the whole turn of the table, whatever its positions
+  // (issue 33: "every term's true value", for any table): the discrete transform over
+  // harmonic_truth_steps equally spaced angles is exact for a trigonometric polynomial of degree
+  // below half of them, and the geometry gives degree 1 (a vector fixed in the world or in the
+  // table's frame read along an axis turning about the table axis: rig/geometry.hpp), so c2 and
+  // s2 are 0 to rounding. A fit of the run's positions (fit_harmonics) estimates these.
+  for (int k = 0; k < harmonic_truth_steps; ++k) {
+    const double deg = 360.0 * k / harmonic_truth_steps;
+    const double a = deg * units::rad_per_deg;
+    const double e = sim.earth_at_dps(deg), g = sim.g_term_at_dps(deg, temp0_c);
+    t.earth_mean_dps += e / harmonic_truth_steps;
+    t.g_mean_dps += g / harmonic_truth_steps;
+    for (std::size_t h = 0; h < 2; ++h) {
+      const double w = 2.0 / harmonic_truth_steps;
+      const double ha = static_cast<double>(h + 1) * a;
+      t.earth_c_dps[h] += w * e * std::cos(ha);
+      t.earth_s_dps[h] += w * e * std::sin(ha);
+      t.g_c_dps[h] += w * g * std::cos(ha);
+      t.g_s_dps[h] += w * g * std::sin(ha);
+    }
+  }
+  t.earth_c1_dps = t.earth_c_dps[0];
+  t.earth_s1_dps = t.earth_s_dps[0];
+  t.g_c1_dps = t.g_c_dps[0];
+  t.g_s1_dps = t.g_s_dps[0];
   if (!t.indexed) return t;
   const position_table table = c.rig.table();
-  std::vector<double> design, e, g;
   for (const auto& p : table.positions()) {
     t.position_deg.push_back(p.angle_deg);
     t.earth_at_dps.push_back(sim.earth_at_dps(p.angle_deg));
-    t.g_term_at_dps.push_back(sim.g_term_at_dps(p.angle_deg, temperature.at(0.0)));
-    const double a = p.angle_deg * units::rad_per_deg;
-    design.insert(design.end(), {1.0, std::cos(a), std::sin(a)});
+    t.g_term_at_dps.push_back(sim.g_term_at_dps(p.angle_deg, temp0_c));
   }
-  const std::vector<double> w(table.size(), 1.0);
-  const auto fe = analysis::weighted_least_squares(design, 3, t.earth_at_dps, w);
-  const auto fg = analysis::weighted_least_squares(design, 3, t.g_term_at_dps, w);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  if (fe && fg) {
-    t.earth_c1_dps = fe->coeffs[1];
-    t.earth_s1_dps = fe->coeffs[2];
-    t.g_c1_dps = fg->coeffs[1];
-    t.g_s1_dps = fg->coeffs[2];
-  }
   const auto& geo = sim.geometry();
   t.earth_horizontal_dps = earth::earth_rate_wgs84_dps * std::cos(c.lat_deg * units::rad_per_deg);
   t.heading_deg = rig::azimuth_deg_of(geo.sensitive_axis);
@@ -112,7 +125,7 @@ simulation_truth truth_of(const rig::simulator& sim, const rig::simulation_confi
   t.sensed_heading_deg = rig::azimuth_deg_of(sensed);
   const bool vertical = std::abs(geo.table_axis.down) > 0.99;
   const bool up = geo.table_axis.down < 0.0;
-  if (vertical && fe && fg) {
+  if (vertical) {
     const double sgn = up ? 1.0 : -1.0;
     double a = std::atan2(sgn * (t.earth_s1_dps + t.g_s1_dps), t.earth_c1_dps + t.g_c1_dps) /
                units::rad_per_deg;
@@ -169,6 +182,15 @@ result<simulation_truth> simulate_recording(const recording_request& r,
         "input + noise\n# dN expected at position A and the run's start temperature: earth {} + "
         "g_term {} deg/s\n",
         truth.earth_dps, truth.g_term_dps));
+    tf->write(fmt::format(
+        "# harmonics r(theta) = b + c1 cos(theta) + s1 sin(theta) + c2 cos(2 theta) + s2 "
+        "sin(2 theta) over the table angle (Fourier over the whole turn, any table): earth c1 {} "
+        "s1 {} c2 {} s2 {}; g_term c1 {} s1 {} c2 {} s2 {} deg/s\n"
+        "# terms_dps (earth + g_term, what calibrate --pairing harmonic estimates besides the "
+        "bias): c1 {} s1 {} c2 {} s2 {}\n",
+        truth.earth_c_dps[0], truth.earth_s_dps[0], truth.earth_c_dps[1], truth.earth_s_dps[1],
+        truth.g_c_dps[0], truth.g_s_dps[0], truth.g_c_dps[1], truth.g_s_dps[1], truth.c_dps(1),
+        truth.s_dps(1), truth.c_dps(2), truth.s_dps(2)));
     if (truth.indexed) {
       std::string x = fmt::format(
           "# heading_deg: {} (azimuth of the sensitive axis at table 0, from north clockwise)\n"
@@ -177,12 +199,9 @@ result<simulation_truth> simulate_recording(const recording_request& r,
           "# apparent_heading_deg: {} (what one run reads when the g-term's first harmonic, "
           "table tilt x g-sensitivity, is taken for Earth rate)\n"
           "# earth_horizontal_dps: {}\n"
-          "# harmonics r(theta) = b + c1 cos(theta) + s1 sin(theta): earth c1 {} s1 {}; g_term "
-          "c1 {} s1 {} deg/s\n"
           "# scale_factor_error_ppm: {}\n",
           truth.heading_deg, truth.sensed_heading_deg, truth.apparent_heading_deg,
-          truth.earth_horizontal_dps, truth.earth_c1_dps, truth.earth_s1_dps, truth.g_c1_dps,
-          truth.g_s1_dps, c.sensor.scale_factor_error_ppm);
+          truth.earth_horizontal_dps, c.sensor.scale_factor_error_ppm);
       for (std::size_t i = 0; i < truth.position_deg.size(); ++i)
         x += fmt::format("# position {} at {} deg: earth {} g_term {} deg/s\n", i,
                          truth.position_deg[i], truth.earth_at_dps[i], truth.g_term_at_dps[i]);

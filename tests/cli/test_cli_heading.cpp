@@ -126,10 +126,105 @@ TEST(CliHeading, AZeroOneEightyRunGivesTheHeadingUpToItsSign) {
   const auto text = run_cli({"heading", dir.file("flip.csv"), "--latitude", "42.6"});
   EXPECT_NE(text.out.find("or its mirror"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("scale factor"), std::string::npos) << text.out;
-  // two 0/180 runs: not built, said
-  const auto two = run_cli({"heading", dir.file("flip.csv"), dir.file("flip.csv"), "--latitude",
-                            "42.6", "--base-turn", "90"});
-  EXPECT_EQ(two.exit_code, 2);
+  // a 0/180 run with a run of four positions: not combined, said
+  const auto four = dir.file("four.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "120", "--table-axis",
+                     "up", "--azimuth", "10", "--positions", "0,90,180,270", "-o", four})
+                .exit_code,
+            0);
+  const auto mixed =
+      run_cli({"heading", dir.file("flip.csv"), four, "--latitude", "42.6", "--base-turn", "90"});
+  EXPECT_EQ(mixed.exit_code, 2);
+  EXPECT_NE(mixed.err.find("not combined"), std::string::npos) << mixed.err;
+}
+
+// Issue 33: two 0/180 runs at two base azimuths with the scale factor known. Simulated truth
+// (HZ1, 2 x 30 min, azimuths 100 and 190 deg: a turn of 90; fixed seeds): the true 100 deg is
+// the heading or its mirror within 3.5 reported sigma, and the mirror is the reflection about
+// 90 - turn/2 = 45 deg. Synthetic dwells with a table term of 0.3 W_H (a tilt x g-sensitivity,
+// fixed to the table, the same in both runs; white noise): each run alone reads its heading many
+// sigma off, the two together recover it within 3.5 sigma and the term within 4 sigma.
+TEST(CliHeading, TwoZeroOneEightyRunsAtTwoBaseAzimuthsRemoveTheTableTerm) {
+  const gyroflip::test::temp_dir dir;
+  const auto sim = [&](const std::string& name, const std::string& azimuth,
+                       const std::string& seed) {
+    const auto csv = dir.file(name);
+    EXPECT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "1800",
+                       "--power-on-before", "3600", "--table-axis", "up", "--azimuth", azimuth,
+                       "--positions", "0,180", "--n-avg", "400", "--seed", seed, "-o", csv})
+                  .exit_code,
+              0);
+    return csv;
+  };
+  const auto a = sim("a.csv", "100", "41"), b = sim("b.csv", "190", "42");
+  const auto r = run_cli({"heading", a, b, "--latitude", "42.6", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j.at("ambiguous").get<bool>());
+  EXPECT_TRUE(j.at("two_azimuths").get<bool>());
+  EXPECT_EQ(j.at("base_turn_deg").get<double>(), 90.0);  // from the recordings' azimuths
+  const double h = j.at("heading_deg").get<double>(), m = j.at("heading_mirror_deg").get<double>();
+  const double sigma = j.at("sigma_deg").get<double>();
+  EXPECT_GT(sigma, 0.0);
+  EXPECT_LT(sigma, 5.0);
+  EXPECT_NEAR(std::remainder(h + m - 90.0, 360.0), 0.0, 1e-9);  // mirrored about 45 deg
+  const double err = std::min(std::abs(std::remainder(h - 100.0, 360.0)),
+                              std::abs(std::remainder(m - 100.0, 360.0)));
+  EXPECT_LT(err, 3.5 * sigma) << h << " / " << m << " +- " << sigma;
+  EXPECT_GT(j.at("ratio_to_limit").get<double>(), 0.7);
+  EXPECT_LT(j.at("ratio_to_limit").get<double>(), 3.0);
+
+  // Synthetic: psi = 70 deg, the second run's base turned by 180; table term G = 0.3 W_H along
+  // the table's 30 deg (one run reads cos(psi) 0.34 + 0.26: 53 deg).
+  const double rad = std::acos(-1.0) / 180, w_h = 7.292115e-5 / rad * std::cos(42.6 * rad);
+  const double g = 0.3 * w_h, sigma_n = 3e-4;
+  std::uint64_t state = 777;
+  const auto uniform = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) + 0.5) / 9007199254740992.0;
+  };
+  const auto write = [&](const std::string& name, double azimuth) {
+    const auto csv = dir.file(name);
+    std::ofstream f(csv);
+    f << "# positions_deg: 0,180\n# table_axis: up\n# azimuth_deg: " << azimuth
+      << "\n# conversion_time_s: 0.002\ntime_s,angle_deg,rate_dps,n_avg\n";
+    const int order[4] = {0, 180, 180, 0};
+    double t = 0.5;
+    for (int k = 0; k < 600; ++k)
+      for (const int th_deg : order) {
+        const double th = th_deg * rad;
+        const double n =
+            std::sqrt(-2 * std::log(uniform())) * std::cos(2 * std::acos(-1.0) * uniform());
+        const double rate =
+            0.02 + w_h * std::cos(azimuth * rad - th) + g * std::cos(th - 30 * rad) + sigma_n * n;
+        f << t << "," << th_deg << "," << std::setprecision(12) << rate << ",500\n";
+        t += 1.2;
+      }
+    return csv;
+  };
+  const auto s1 = write("s1.csv", 70.0), s2 = write("s2.csv", 250.0);
+  const auto one = run_cli({"heading", s1, "--latitude", "42.6", "--json"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const auto j1 = nlohmann::json::parse(one.out);
+  const double e1 =
+      std::min(std::abs(std::remainder(j1.at("heading_deg").get<double>() - 70.0, 360.0)),
+               std::abs(std::remainder(j1.at("heading_mirror_deg").get<double>() - 70.0, 360.0)));
+  EXPECT_GT(e1, 5.0 * j1.at("sigma_deg").get<double>()) << one.out;
+  const auto both = run_cli({"heading", s1, s2, "--latitude", "42.6", "--json"});
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  const auto j2 = nlohmann::json::parse(both.out);
+  const double h2 = j2.at("heading_deg").get<double>();
+  const double e2 =
+      std::min(std::abs(std::remainder(h2 - 70.0, 360.0)),
+               std::abs(std::remainder(j2.at("heading_mirror_deg").get<double>() - 70.0, 360.0)));
+  EXPECT_LT(e2, 3.5 * j2.at("sigma_deg").get<double>()) << both.out;
+  // The table's term at the table's 0 deg, g cos 30, for the solution that is the truth.
+  if (std::abs(std::remainder(h2 - 70.0, 360.0)) < 3.5 * j2.at("sigma_deg").get<double>()) {
+    const double sp = j2.at("runs")[0].at("terms").at("p1").at("sigma_dps").get<double>();
+    EXPECT_NEAR(j2.at("table_term_dps").get<double>(), g * std::cos(30 * rad), 4.0 * sp * 2.0);
+  }
+  // A turn of 0 holds no Earth rate in the difference.
+  EXPECT_EQ(run_cli({"heading", s1, s2, "--latitude", "42.6", "--base-turn", "0"}).exit_code, 2);
 }
 
 // --harmonics 2 on five unequally spaced positions with a second harmonic present (synthetic

@@ -140,8 +140,11 @@ struct term_meaning {
 /// kind separates. Written before a run (`calibrate --explain`) and with every result.
 /// docs/METHOD-NOTES.md, "N-position indexing".
 struct separability {
-  std::string positions;                  ///< the table's angles ("0, 90, 180, 270")
-  std::string axis;                       ///< "horizontal" or "vertical"
+  std::string positions;  ///< the table's angles ("0, 90, 180, 270")
+  std::string axis;       ///< "horizontal" or "vertical"
+  /// Whether the axis was known (given, or recorded: `# table_axis:`); false: the recording does
+  /// not say (an older `.gfr`, a CSV without the line) and `axis` is the horizontal taken.
+  bool axis_recorded = true;
   std::vector<std::string> estimable;     ///< b first, then the harmonic terms separated
   std::vector<std::string> unobservable;  ///< terms whose regressor is zero at every angle
   std::vector<term_meaning> meanings;     ///< one per estimable term
@@ -235,6 +238,29 @@ struct projection_heading {
                                                        double earth_horizontal_dps,
                                                        double axis_angle_deg,
                                                        bool table_axis_up = true);
+
+/// Two 0/180 runs at base azimuths `base_turn_deg` apart (the second's sensitive axis at table 0
+/// turned clockwise by it), both with the pair's first position at `axis_angle_deg`, with the
+/// scale factor known (docs/NORTH.md, "Two 0/180 runs"): their projections
+///   p1 = W_H cos(phi) + g,  p2 = W_H cos(phi + turn) + g,  phi = psi - theta_0 (axis up; down:
+///   psi + theta_0),
+/// where g is the table's term (tilt x g-sensitivity, fixed to the table, so the same in both:
+/// its projection on the axis at theta_0). Their difference removes g:
+///   p1 - p2 = 2 W_H sin(turn / 2) sin(phi + turn / 2),
+/// so phi = 180 - turn/2 - asin(x) (`heading_deg`) or asin(x) - turn/2 (`mirror_deg`),
+/// x = (p1 - p2) / (2 W_H sin(turn/2)): still two solutions, mirror images about the direction
+/// 90 - turn/2 from theta_0 (for turn = 180 the one run's pair, psi = theta_0 +- acos(x)). The 1
+/// sigma by the delta method, sigma_x / sqrt(1 - x^2) (var p1 + var p2; the runs independent),
+/// at the edge (|x| > 1 - sigma_x) acos(1 - sigma_x) as for one run. `table_term_dps` is g of
+/// the heading_deg solution (p1 - W_H cos phi), `table_term_mirror_dps` the mirror's. Errors: a
+/// turn within 1 deg of 0 or 360 (the difference holds no Earth rate).
+struct two_projection_heading {
+  projection_heading heading;
+  double table_term_dps = 0.0, table_term_mirror_dps = 0.0;
+};
+[[nodiscard]] result<two_projection_heading> heading_of_two_projections(
+    double p1, double var_p1, double p2, double var_p2, double earth_horizontal_dps,
+    double axis_angle_deg, double base_turn_deg, bool table_axis_up = true);
 
 /// The white-noise limit of a heading (docs/NORTH.md): sigma_psi = k N / (W_E cos(lat) sqrt(T))
 /// rad, N the angle random walk (deg/s/sqrt(Hz)), T the run (s), k = sqrt(2) for one gyro whose

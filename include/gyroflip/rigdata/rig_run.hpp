@@ -40,6 +40,20 @@ struct device_units {
   double temp_at_0v_c = 24.85;
 };
 
+/// Where the rig stood, as `record --table-axis/--azimuth` stored it in META (issue 33): the
+/// table's axis (`up`, `down`, a name or N,E,D, as simulate's `--table-axis`) and the azimuth
+/// (deg from north, clockwise) of the sensitive axis at the table's 0 deg. Empty / unset: not
+/// recorded (a recording made before gyroflip stored them, or without the options); the reader
+/// then writes no `# table_axis:` / `# azimuth_deg:` and `heading` and `calibrate` say so.
+struct rig_mount_record {
+  std::string table_axis;
+  std::optional<double> azimuth_deg;
+};
+
+/// The mount META holds (its `table_axis` and `azimuth_deg` keys; absent, null or of another type:
+/// not recorded). An azimuth outside [-360, 360] or not finite is not recorded either.
+[[nodiscard]] rig_mount_record mount_of_meta(const std::string& meta_json);
+
 /// The bounds META's conversion must keep (the same as a recording CSV's temperatures:
 /// io::recording_reader): |temp_v_per_c| in [1e-6, 10] V/degC, temp_at_0v_c in
 /// [-273.15, 1000] degC, |scale_factor_v_per_dps| in [1e-6, 100] V/(deg/s).
@@ -77,6 +91,7 @@ struct rig_run {
   std::string path;
   std::string meta_json;  ///< the META record as written
   device_units units;
+  rig_mount_record mount;                   ///< where the rig stood (META; may be unrecorded)
   protocol::info_msg info;                  ///< the last INFO of the device
   protocol::configure_msg config;           ///< the last configuration the device acknowledged
   std::vector<rig_dwell> dwells;            ///< in order: by segment, then by sequence number

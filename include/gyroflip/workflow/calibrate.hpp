@@ -116,6 +116,15 @@ class one_sensor {
   std::optional<io::sensor_record> sensor_;
 };
 
+/// The harmonic scheme's named terms of a calibration (issue 33 item 2) from each run's fit
+/// (method::fit_harmonics with `separable`, one table and one set of terms): their plain mean with
+/// the covariance of a mean of independent runs (the sum of the runs' covariances / k^2), in
+/// `rec.terms` and `rec.terms_covariance`, and the separability report of `table` about the axis
+/// `axis_text` names (a `# table_axis:` value; empty: not recorded, taken as horizontal) in
+/// `rec.separability`. What calibrate_runs and Python's calibrate (arrays) run.
+void add_harmonic_terms(std::span<const method::harmonic_fit> fits, const position_table& table,
+                        const std::string& axis_text, io::calibration_record& rec);
+
 /// Calibrates each file (method::calibrate of its cycles) and tests that it was stationary
 /// (method::check_stationarity: a failing run is a warning, or with `strict` an error), pools all
 /// cycles (the pooled

@@ -117,8 +117,41 @@ struct compensate_request {
   bool strict = false;
 };
 
+/// A calibration of the harmonic scheme (named terms c1, s1[, c2, s2]) as compensate applies it
+/// (issue 33; docs/METHOD-NOTES.md, "Compensating with harmonic terms"): the terms at each
+/// position, T(theta) = c1 cos theta + s1 sin theta + c2 cos 2 theta + s2 sin 2 theta.
+/// - Pairing `harmonic` (a run of 3 or more positions): T(theta) less its c1 part is subtracted
+///   from every row at its position before the blocks are fitted, and the c1 of the calibration
+///   (its dN(T)) from each block's c1: the rate along the sensitive axis at the table's 0 deg.
+///   A term the run's table cannot separate (c2 at 0/120/240 deg aliases into c1) is so removed
+///   before it can alias.
+/// - A 0/180 pairing (abba, simple) of a pair at theta_+ and theta_+ + 180: dN is the half
+///   difference (T(theta_+) - T(theta_+ + 180))/2 = c1 cos theta_+ + s1 sin theta_+ (the second
+///   harmonic is the same at both and cancels), c1's dN(T) scaled by cos theta_+.
+struct harmonic_application {
+  std::vector<method::delta_n_term> terms;  ///< c1, s1[, c2, s2] of the calibration
+  /// "at each position" or "at the pair's position A (90 deg): c1 cos + s1 sin"
+  std::string how;
+  /// The dN model subtracted from each cycle (pair: the half-difference's; harmonic: c1's).
+  method::delta_n_model model;
+};
+
+/// The harmonic terms of a calibration (pairing harmonic, terms c1 and s1 at least); none for any
+/// other calibration, whose one dN compensate subtracts as it is.
+[[nodiscard]] std::optional<std::vector<method::delta_n_term>> harmonic_terms_of(
+    const io::calibration_record& rec);
+
+/// The dN model of a 0/180 pair at `plus_deg` from harmonic `terms` and c1's model `c1_model`:
+/// c1(T) cos theta + s1 sin theta, its covariance propagated (c1's coefficients x cos^2; s1's
+/// variance sin^2 on the constant; their covariance is not on record and taken as 0).
+[[nodiscard]] method::delta_n_model pair_model_of(const method::delta_n_model& c1_model,
+                                                  std::span<const method::delta_n_term> terms,
+                                                  double plus_deg);
+
 struct compensate_result {
   compensation comp;
+  /// A harmonic calibration applied (harmonic_application), else none.
+  std::optional<harmonic_application> applied;
   /// The 68.3 % error of the ΔN subtracted, at the run's mean temperature (the calibration's own:
   /// delta_n_model::interval_at; a new power-up adds its repeatability): the same in every cycle,
   /// so no averaging reduces it (third review of issue 31, M5: only the within-run error was

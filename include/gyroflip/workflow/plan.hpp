@@ -66,6 +66,12 @@ struct plan_request {
   /// A, B cycle). Three or more: an indexed run visiting them in the drift-cancelling sweep
   /// (method::sweep_visits), planned for the first harmonic's error (method::plan_indexed).
   std::vector<double> positions_deg;
+  /// The visiting order planned for, as `simulate --order` and `record --order` visit the
+  /// positions (issue 33): "auto" (two positions: the paper's A, B cycle; more: the sweep),
+  /// "sweep" (method::sweep_visits), "cycle" (the table's order, as the device runs an angle
+  /// table) or "there-and-back" (0, 1, ..., N-1, ..., 1: rig::device_visits, record's default
+  /// for three to five positions). With two positions only "auto" and "cycle" (both A, B).
+  std::string order = "auto";
   /// Plan for north finding at this latitude (deg): the dwell that minimises the heading's
   /// error (the first harmonic's over the horizontal Earth rate); positions default to 0, 90,
   /// 180, 270. Unset: plan for the compensated rate.
@@ -98,6 +104,7 @@ struct plan_result {
   std::vector<std::string> notes;  ///< assumptions and cautions, for the reader
   /// Three or more positions: the angles (deg) and one visiting period's order.
   std::vector<double> positions_deg, visits_deg;
+  std::string order;  ///< the visiting order's name (plan_request::order; "auto" resolved)
   std::optional<heading_plan> heading;
 };
 

@@ -5,6 +5,8 @@
 /// find. What `gyroflip simulate`, `reproduce` and Python's `gyroflip.simulate` run.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -30,6 +32,20 @@ struct simulation_truth {
   bool indexed = false;  ///< more than two positions, another order, an azimuth or a tilt
   std::vector<double> position_deg, earth_at_dps, g_term_at_dps;
   double earth_c1_dps = 0.0, earth_s1_dps = 0.0, g_c1_dps = 0.0, g_s1_dps = 0.0;
+  /// Every harmonic term over the whole turn of the table, for any table (set for every run, not
+  /// only an indexed one): the mean, and the first ([0]) and second ([1]) harmonics' cos and sin
+  /// coefficients of the Earth term and of the g-term (the Fourier transform over
+  /// harmonic_truth_steps angles; c1/s1 above are [0]). The simulator's geometry makes the
+  /// second harmonic 0 to rounding (docs/SIMULATOR.md).
+  double earth_mean_dps = 0.0, g_mean_dps = 0.0;
+  std::array<double, 2> earth_c_dps{}, earth_s_dps{}, g_c_dps{}, g_s_dps{};
+  /// The term c_h (s_h) a harmonic fit estimates: Earth + g-term (h = 1 or 2).
+  [[nodiscard]] double c_dps(std::size_t h) const {
+    return earth_c_dps.at(h - 1) + g_c_dps.at(h - 1);
+  }
+  [[nodiscard]] double s_dps(std::size_t h) const {
+    return earth_s_dps.at(h - 1) + g_s_dps.at(h - 1);
+  }
   /// The azimuth (deg from north, clockwise) of the sensitive axis at table 0 (its horizontal
   /// part), of the axis the gyro senses (with its cross-axis sensitivity), and the heading a
   /// single run reads when the g-term's first harmonic (tilt x g-sensitivity) is taken for
@@ -37,6 +53,9 @@ struct simulation_truth {
   double heading_deg = 0.0, sensed_heading_deg = 0.0, apparent_heading_deg = 0.0;
   double earth_horizontal_dps = 0.0;  ///< W_E cos(lat)
 };
+
+/// The angles of the table's whole turn the truth's harmonics are taken over (simulation_truth).
+inline constexpr int harmonic_truth_steps = 360;
 
 /// The truth of simulator `sim` made from `c` (its temperature at t = 0).
 [[nodiscard]] simulation_truth truth_of(const rig::simulator& sim, const rig::simulation_config& c);
