@@ -84,7 +84,7 @@ int run_compensate(const compensate_options& o) {
   // summary; the text below is checked too), so stdout gets no partial table.
   std::string summary_text;
   if (o.json) {
-    auto t = finite_dump(workflow::compensation_json(comp, o.file, req.delta_n, res->pairing),
+    auto t = finite_dump(workflow::compensation_json(comp, o.file, req.delta_n, res->pairing, *res),
                          "<stdout>");
     if (!t) return report(t.err());
     summary_text = *t + "\n";

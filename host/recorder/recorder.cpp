@@ -86,6 +86,11 @@ std::string meta_json(const recorder_config& c) {
                    {"scale_factor_v_per_dps", c.units.scale_factor_v_per_dps},
                    {"temp_v_per_c", c.units.temp_v_per_c},
                    {"temp_at_0v_c", c.units.temp_at_0v_c}};
+  if (!c.units.sensor_params.empty()) {
+    nlohmann::json params = nlohmann::json::object();
+    for (const auto& [key, value] : c.units.sensor_params) params[key] = value;
+    j["sensor_params"] = std::move(params);
+  }
   // The command line and names may hold any bytes: never fail on them.
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

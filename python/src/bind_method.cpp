@@ -175,7 +175,9 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   res["temp_c"] = column(comp.cycles, &cc::temp_c);
   res["delta_n_dps"] = column(comp.cycles, &cc::delta_n_dps);
   res["summary"] = json_loads(
-      take(io::finite_dump(workflow::compensation_json(comp, arrays_name, dn, p), "compensate")));
+      take(io::finite_dump(workflow::compensation_json(comp, arrays_name, dn, p,
+                                                       workflow::delta_n_errors_of(dn, rc.cycles)),
+                           "compensate")));
   res["warnings"] = runs.warnings;
   return res;
 }

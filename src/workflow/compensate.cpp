@@ -94,7 +94,7 @@ bool could_be_a_run_of(const std::string& file, const delta_n_source& dn) {
 
 // The ΔN's error a compensated rate carries after a new power-up, as calibrate quotes it (the
 // file's `uncertainty`), at the run's temperature `at_c` where the runs give tau^2(T).
-void quote_new_power_up(const delta_n_source& dn, double at_c, compensate_result& out) {
+void quote_new_power_up(const delta_n_source& dn, double at_c, delta_n_errors& out) {
   const auto& rec = *dn.record;
   const bool no_dof =
       rec.model && rec.model->random_effects && rec.model->dof == 0 && rec.files.size() > 1;
@@ -135,6 +135,27 @@ void quote_new_power_up(const delta_n_source& dn, double at_c, compensate_result
 }
 
 }  // namespace
+
+delta_n_errors delta_n_errors_of(const delta_n_source& dn, std::span<const method::cycle> cycles) {
+  delta_n_errors out;
+  if (!dn.record) {
+    out.delta_n_u_note = "not stated (a dN given as a number, not a calibration file)";
+    return out;
+  }
+  // At the run's mean temperature (the model's reference without temperatures).
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& c : cycles)
+    if (std::isfinite(c.temp_c)) {
+      sum += c.temp_c;
+      ++n;
+    }
+  const double at_c = n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c;
+  const double u = dn.model.interval_at(at_c);
+  if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
+  quote_new_power_up(dn, at_c, out);
+  return out;
+}
 
 std::vector<std::string> same_run_warnings(const std::string& file, const std::string& sha256,
                                            const delta_n_source& dn) {
@@ -288,26 +309,16 @@ result<compensate_result> compensate_file(const compensate_request& r,
     if (!same_bytes)
       for (auto& w : same_cycles_warnings(r.file, rc->cycles, dn))
         out.warnings.push_back(std::move(w));
-    // The ΔN's own error at the run's mean temperature (its reference without temperatures).
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (const auto& c : rc->cycles)
-      if (std::isfinite(c.temp_c)) {
-        sum += c.temp_c;
-        ++n;
-      }
-    const double at_c = n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c;
-    const double u = dn.model.interval_at(at_c);
-    if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
-    quote_new_power_up(dn, at_c, out);
   }
+  static_cast<delta_n_errors&>(out) = delta_n_errors_of(dn, rc->cycles);
   if (out.comp.outside_model > 0)
     out.warnings.push_back(outside_model_warning(r.file, out.comp, dn.model));
   return out;
 }
 
 nlohmann::json compensation_json(const compensation& c, const std::string& file,
-                                 const delta_n_source& dn, method::pairing p) {
+                                 const delta_n_source& dn, method::pairing p,
+                                 const delta_n_errors& errors) {
   using nlohmann::json;
   const auto& m = dn.model;
   const auto& s = c.summary;
@@ -317,6 +328,12 @@ nlohmann::json compensation_json(const compensation& c, const std::string& file,
             {"coeffs_dps", m.coeffs_dps},
             {"t_ref_c", m.degree() > 0 ? json(m.t_ref_c) : json(nullptr)}};
   if (m.degree() == 0) d["delta_n_dps"] = m.coeffs_dps.front();
+  // Its errors as the text quotes them, null when not known and then the reason (issue 31: the
+  // new-power-up error was in the text only).
+  const auto or_null = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  d["error_dps"] = or_null(errors.delta_n_u_dps);
+  d["new_power_up_dps"] = or_null(errors.new_power_up_dps);
+  d["error_note"] = errors.delta_n_u_note.empty() ? json(nullptr) : json(errors.delta_n_u_note);
   json j = io::schema_object("compensate", 2);
   j.update(json{{"file", file},
                 {"delta_n", std::move(d)},

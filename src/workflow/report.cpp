@@ -69,14 +69,16 @@ constexpr std::size_t min_cycles = 30;
 // R12): 3 x the tolerance is already outside any unit's specification.
 constexpr double sf_beyond_spec = 3.0;
 
+// A number without an error beside it, to `digits` significant digits, in the page's one
+// notation (fixed: issue 31, "8.6e-06" beside "0.000010" in a column).
 std::string g(double v, int digits = 4) {
-  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
+  return std::isfinite(v) ? fixed_significant(v, digits) : std::string("–");
 }
 
 // An error (or a number compared with one) to two significant digits, trailing zeros kept
 // ("0.0010", not "0.001" as {:.2g} prints: third review of issue 31, H4), as calibrate prints them.
 std::string u2(double u) {
-  return std::isfinite(u) ? significant(u, 2) : std::string("–");
+  return std::isfinite(u) ? fixed_significant(u, 2) : std::string("–");
 }
 
 json num(double v) {
@@ -451,10 +453,10 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
 void check_runs_agree(findings& f) {
   if (f.runs_model && f.runs_model->chi2_per_dof > max_chi2_per_dof)
     f.warnings.push_back(fmt::format(
-        "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {:.3g}; the paper's own "
+        "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {}; the paper's own "
         "runs scatter 14–30 times theirs): they were not made under the same stationary "
         "conditions, and the pooled dN means little",
-        std::sqrt(f.runs_model->chi2_per_dof), f.runs_model->chi2_per_dof));
+        std::sqrt(f.runs_model->chi2_per_dof), g(f.runs_model->chi2_per_dof, 3)));
 }
 
 // The runs a given calibration was made of, as calibrate tested them (schema 3): a failed run
@@ -1323,10 +1325,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   idt.rows.push_back({"pairing", std::string(method::to_string(r.pairing))});
   if (r.geometry)
     idt.rows.push_back(
-        {"geometry", fmt::format("latitude {}°, sensitive axis at 0° (N, E, D) = ({:.3g}, "
-                                 "{:.3g}, {:.3g})",
-                                 r.geometry->lat_deg, r.geometry->axis.north, r.geometry->axis.east,
-                                 r.geometry->axis.down)});
+        {"geometry", fmt::format("latitude {}°, sensitive axis at 0° (N, E, D) = ({}, {}, {})",
+                                 r.geometry->lat_deg, g(r.geometry->axis.north, 3),
+                                 g(r.geometry->axis.east, 3), g(r.geometry->axis.down, 3))});
   idt.rows.push_back({"temperatures", all_t.text()});
   who.tables.push_back(std::move(idt));
   // The time the sensor was on before each run (a warm-up transient moves dN), when the
