@@ -34,6 +34,18 @@ delta_n_source of_record(io::calibration_record rec, const std::string& name) {
   return delta_n_source{std::move(model), name, p, std::move(rec)};
 }
 
+// The mean temperature of the cycles that have one; NaN when none has.
+double mean_temp_c(std::span<const method::cycle> cycles) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& c : cycles)
+    if (std::isfinite(c.temp_c)) {
+      sum += c.temp_c;
+      ++n;
+    }
+  return n > 0 ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 status check_calibration_fits(const std::string& file, const delta_n_source& dn,
@@ -65,19 +77,13 @@ status check_calibration_fits(const std::string& file, const delta_n_source& dn,
           fmt::format("{}: rig setting differs from the calibration's: {}", file, d));
   }
   if (cal.model && cal.model->degree() > 0) return ok();  // dN(T) covers temperature
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (const auto& c : cycles)
-    if (std::isfinite(c.temp_c)) {
-      sum += c.temp_c;
-      ++n;
-    }
-  if (n > 0 && std::isfinite(cal.pooled.temp_c) &&
-      std::abs(sum / static_cast<double>(n) - cal.pooled.temp_c) > far_from_calibration_c)
+  const double mean_c = mean_temp_c(cycles);
+  if (std::isfinite(mean_c) && std::isfinite(cal.pooled.temp_c) &&
+      std::abs(mean_c - cal.pooled.temp_c) > far_from_calibration_c)
     warnings.push_back(fmt::format(
         "{}: mean temperature {:.1f} degC, but the calibration was made at {:.1f} degC: dN "
         "depends on temperature (calibrate at several temperatures for a dN(T) model)",
-        file, sum / static_cast<double>(n), cal.pooled.temp_c));
+        file, mean_c, cal.pooled.temp_c));
   return ok();
 }
 
@@ -143,14 +149,8 @@ delta_n_errors delta_n_errors_of(const delta_n_source& dn, std::span<const metho
     return out;
   }
   // At the run's mean temperature (the model's reference without temperatures).
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (const auto& c : cycles)
-    if (std::isfinite(c.temp_c)) {
-      sum += c.temp_c;
-      ++n;
-    }
-  const double at_c = n > 0 ? sum / static_cast<double>(n) : dn.model.t_ref_c;
+  const double mean_c = mean_temp_c(cycles);
+  const double at_c = std::isfinite(mean_c) ? mean_c : dn.model.t_ref_c;
   const double u = dn.model.interval_at(at_c);
   if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
   quote_new_power_up(dn, at_c, out);

@@ -476,9 +476,16 @@ TEST(CalibrationTrust, CompensateJsonCarriesTheErrorsTheTextQuotesOrSaysWhyNot) 
   const auto cal = r.two_run_calibration();
   const auto k57 = r.sim("k57.csv", "57", r.tiny);
   const auto cj = json::parse(read_text(cal));
-  const auto js = run_cli({"compensate", k57, "--calibration", cal, "--json"});
-  ASSERT_EQ(js.exit_code, 0) << js.err;
-  const auto dn = json::parse(js.out)["delta_n"];
+  // `compensate ... --json`'s delta_n (its keys null and no note when it fails: the expectations
+  // then fail too).
+  const auto delta_n_of = [](const std::vector<std::string>& args) {
+    const auto res = run_cli(args);
+    EXPECT_EQ(res.exit_code, 0) << res.err;
+    return res.exit_code == 0
+               ? json::parse(res.out)["delta_n"]
+               : json{{"error_dps", nullptr}, {"new_power_up_dps", nullptr}, {"error_note", ""}};
+  };
+  const auto dn = delta_n_of({"compensate", k57, "--calibration", cal, "--json"});
   ASSERT_TRUE(dn.contains("new_power_up_dps")) << dn;
   // One temperature: the file's quote itself, and the calibrated value's own error.
   EXPECT_EQ(dn["new_power_up_dps"].get<double>(),
@@ -502,9 +509,7 @@ TEST(CalibrationTrust, CompensateJsonCarriesTheErrorsTheTextQuotesOrSaysWhyNot) 
   old.erase("uncertainty");
   old["schema"] = "gyroflip.calibration/2";
   write_text(r.d.file("old.json"), old.dump());
-  const auto oj = run_cli({"compensate", k57, "--calibration", r.d.file("old.json"), "--json"});
-  ASSERT_EQ(oj.exit_code, 0) << oj.err;
-  const auto odn = json::parse(oj.out)["delta_n"];
+  const auto odn = delta_n_of({"compensate", k57, "--calibration", r.d.file("old.json"), "--json"});
   EXPECT_TRUE(odn["new_power_up_dps"].is_null()) << odn;
   EXPECT_TRUE(odn["error_dps"].is_number()) << odn;
   EXPECT_NE(odn["error_note"].get<std::string>().find("not in the calibration file"),
@@ -516,9 +521,8 @@ TEST(CalibrationTrust, CompensateJsonCarriesTheErrorsTheTextQuotesOrSaysWhyNot) 
   const auto h36 = r.sim("h36.csv", "36", "hz1-90-100a", "36");
   ASSERT_EQ(run_cli({"calibrate", h4, h36, "-o", r.d.file("line.json")}).exit_code, 0);
   const auto h20 = r.sim("h20.csv", "20", "hz1-90-100a");
-  const auto lj = run_cli({"compensate", h20, "--calibration", r.d.file("line.json"), "--json"});
-  ASSERT_EQ(lj.exit_code, 0) << lj.err;
-  const auto ldn = json::parse(lj.out)["delta_n"];
+  const auto ldn =
+      delta_n_of({"compensate", h20, "--calibration", r.d.file("line.json"), "--json"});
   EXPECT_TRUE(ldn["new_power_up_dps"].is_null()) << ldn;
   EXPECT_TRUE(ldn["error_dps"].is_null()) << ldn;
   EXPECT_NE(ldn["error_note"].get<std::string>().find("not determined (0 degrees of freedom"),
@@ -526,9 +530,7 @@ TEST(CalibrationTrust, CompensateJsonCarriesTheErrorsTheTextQuotesOrSaysWhyNot) 
       << ldn;
 
   // A number given as such.
-  const auto nj = run_cli({"compensate", h20, "--delta-n", "0.003", "--json"});
-  ASSERT_EQ(nj.exit_code, 0) << nj.err;
-  const auto ndn = json::parse(nj.out)["delta_n"];
+  const auto ndn = delta_n_of({"compensate", h20, "--delta-n", "0.003", "--json"});
   EXPECT_TRUE(ndn["new_power_up_dps"].is_null() && ndn["error_dps"].is_null()) << ndn;
   EXPECT_NE(ndn["error_note"].get<std::string>().find("given as a number"), std::string::npos)
       << ndn;
