@@ -933,8 +933,9 @@ std::size_t table_row_of(const paper_figure& f, const assumptions& a) {
 std::string noise_basis(const experiment& e, const std::string& sensor) {
   const double n = e.params_of(sensor).arw_dps_rthz;
   if (is_given(e, sensor))
-    // The model's own number, as given (shortest digits: "0.05", not "0.0500").
-    return fmt::format("the given model's ARW, N = {} °/s/√Hz (not fitted here)", n);
+    // The model's number to 3 significant digits without padding zeros ("0.05", not "0.0500";
+    // converted from the model's units, so not exactly the number written).
+    return fmt::format("the given model's ARW, N = {:.3g} °/s/√Hz (not fitted here)", n);
   if (std::abs(n / (0.05 / std::numbers::sqrt2) - 1.0) < 1e-3)
     return fmt::format(
         "the datasheet's rate noise density 0.05 °/s/√Hz read as a one-sided density: N = "
