@@ -95,8 +95,8 @@ int run_compensate(const compensate_options& o) {
                      terms.substr(1), res->applied->how));
   }
   if (o.json) {
-    auto t =
-        finite_dump(workflow::compensation_json(comp, o.file, applied, res->pairing), "<stdout>");
+    auto t = finite_dump(workflow::compensation_json(comp, o.file, applied, res->pairing, *res),
+                         "<stdout>");
     if (!t) return report(t.err());
     summary_text = *t + "\n";
   } else if (!o.output.empty()) {

@@ -124,7 +124,7 @@ int run_record(const record_options& o) {
     return report(usage_error("--reconnect-timeout must be a number of s >= 0"));
   // The same bounds the reader of a recording applies (rigdata::check_units): what is recorded
   // can always be read back.
-  if (!rigdata::check_units({"", 1.0, o.temp_mv_per_c * 1e-3, o.temp_at_0v_c}, ""))
+  if (!rigdata::check_units({"", 1.0, o.temp_mv_per_c * 1e-3, o.temp_at_0v_c, {}}, ""))
     return report(usage_error(
         "--temp-mv-per-c must be 0.001 to 10000 mV/degC (either sign) and --temp-at-0v a "
         "temperature from -273.15 to 1000 degC"));
@@ -149,14 +149,28 @@ int run_record(const record_options& o) {
   c.rig = *dev;
   c.units.sensor = preset->name;
   c.units.scale_factor_v_per_dps = preset->params.scale_factor_v_per_dps;
+  // The whole model goes into the recording (META's sensor_params), so the file carries the
+  // specification its runs are checked against, as a simulated run's header does.
+  for (const auto& f : sensor::fields())
+    c.units.sensor_params.emplace_back(std::string(f.key), preset->params.*f.member);
   c.units.temp_v_per_c = o.temp_mv_per_c * 1e-3;
   c.units.temp_at_0v_c = o.temp_at_0v_c;
   c.mount.table_axis = o.table_axis;
   c.mount.azimuth_deg = o.azimuth_deg;
   c.reconnect_timeout_s = o.reconnect_timeout_s;
   // The run is tested as it grows, against the sensor's noise and specification: a turning
-  // table or a moving bench is told while it can still be fixed (issue 31).
-  c.stationarity = workflow::stationarity_inputs_of(method::pairing::abba, &*preset, {});
+  // table or a moving bench is told while it can still be fixed (issue 31). The specification is
+  // the one calibrate and report take from the finished file (workflow::resolve_sensor_spec of
+  // the header it will carry), so the live verdict is theirs; --sensor is what that header
+  // names, so there is no other part for it to contradict.
+  std::vector<std::string> spec_warnings;
+  auto spec = workflow::resolve_sensor_spec(std::nullopt, rigdata::sensor_metadata(c.units),
+                                            o.output, false, spec_warnings);
+  if (!spec) return report(spec.err());
+  for (const auto& w : spec_warnings)
+    std::fprintf(stderr, "gyroflip record: warning: %s\n", w.c_str());
+  c.stationarity =
+      workflow::stationarity_inputs_of(method::pairing::abba, *spec ? &**spec : nullptr, {});
   c.software_version = GYROFLIP_VERSION;
   c.command_line = o.command_line;
 

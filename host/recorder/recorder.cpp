@@ -89,6 +89,11 @@ std::string meta_json(const recorder_config& c) {
   // Where the rig stands (issue 33): what `heading` and `calibrate`'s separability report read.
   if (!c.mount.table_axis.empty()) j["table_axis"] = c.mount.table_axis;
   if (c.mount.azimuth_deg) j["azimuth_deg"] = *c.mount.azimuth_deg;
+  if (!c.units.sensor_params.empty()) {
+    nlohmann::json params = nlohmann::json::object();
+    for (const auto& [key, value] : c.units.sensor_params) params[key] = value;
+    j["sensor_params"] = std::move(params);
+  }
   // The command line and names may hold any bytes: never fail on them.
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -177,7 +177,11 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
                     const std::optional<std::string>& pairing, double drift_window_s, double tol,
                     bool strict) {
   const auto dn = delta_n_of(delta_n_dps, calibration_json);
-  const auto runs = take(workflow::check_calibration_runs(dn, strict));
+  auto runs = take(workflow::check_calibration_runs(dn, strict));
+  // The CLI's reading of the calibration's uncertainty and its --strict (no recording header:
+  // the file's stated repeatability, checked against its own parts).
+  const auto budget = workflow::compensation_budget(dn, {}, arrays_name, runs.warnings);
+  if (dn.record && strict) check(workflow::refuse_unvouched(dn, budget, runs.unchecked));
   const auto p = pairing ? pairing_of(*pairing) : dn.pairing.value_or(method::pairing::abba);
   check(method::check_drift_window(drift_window_s));
   const auto rc = cycles_of(c, p, tol);
@@ -193,8 +197,10 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   res["bias_dps"] = column(comp.cycles, &cc::bias_dps);
   res["temp_c"] = column(comp.cycles, &cc::temp_c);
   res["delta_n_dps"] = column(comp.cycles, &cc::delta_n_dps);
-  res["summary"] = json_loads(
-      take(io::finite_dump(workflow::compensation_json(comp, arrays_name, dn, p), "compensate")));
+  res["summary"] = json_loads(take(io::finite_dump(
+      workflow::compensation_json(comp, arrays_name, dn, p,
+                                  workflow::delta_n_errors_of(dn, rc.cycles, budget, dn.model)),
+      "compensate")));
   res["warnings"] = runs.warnings;
   return res;
 }

@@ -87,6 +87,10 @@ def test_calibrate_and_compensate_equal_the_cli(exe, vectors, tmp_path):
         for key in ["cycles", "mean_dps", "std_dps", "stderr_dps", "stderr_correlated_dps",
                     "drift_dps", "duration_s", "pairing"]:
             assert comp["summary"][key] == cli_comp[key], key
+        # The ΔN's errors (issue 31): the same numbers, or null with the same reason.
+        if not isinstance(calibration, dict):
+            for key in ["error_dps", "new_power_up_dps", "error_note"]:
+                assert comp["summary"]["delta_n"][key] == cli_comp["delta_n"][key], key
     comp_csv = tmp_path / "comp.csv"
     run(exe, "compensate", run_csv, "--calibration", cal_path, "-o", comp_csv)
     with open(comp_csv) as f:

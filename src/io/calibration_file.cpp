@@ -435,6 +435,10 @@ status read_separability(const std::string& path, const json& j, calibration_rec
 
 }  // namespace
 
+json stationarity_to_json(const method::stationarity& st) {
+  return stationarity_json(st);
+}
+
 sensor_record sensor_of(std::span<const csv_metadata> metadata) {
   sensor_record r;
   std::string name;

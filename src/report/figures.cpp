@@ -86,10 +86,12 @@ figure compensated_figure(std::span<const method::compensated_cycle> cycles,
                           bool show_mean) {
   figure f;
   f.title = title;
-  f.caption = show_mean ? fmt::format("{} cycles: mean {:.4g} °/s, std {:.4g} °/s (eqn 12)",
-                                      summary.cycles, summary.mean_dps, summary.std_dps)
-                        : fmt::format("{} cycles: std {:.4g} °/s about the run's own ΔN (eqn 12)",
-                                      summary.cycles, summary.std_dps);
+  f.caption = show_mean
+                  ? fmt::format("{} cycles: mean {} °/s, std {} °/s (eqn 12)", summary.cycles,
+                                to_digits_of(summary.mean_dps, summary.stderr_correlated_dps, 4),
+                                fixed_significant(summary.std_dps, 3))
+                  : fmt::format("{} cycles: std {} °/s about the run's own ΔN (eqn 12)",
+                                summary.cycles, fixed_significant(summary.std_dps, 3));
   f.x = {"time (s)", false};
   f.y = {"compensated rate (°/s)", false};
   series s = points_of("w = r − ΔN per cycle", 0);
@@ -160,7 +162,7 @@ figure delta_n_runs_figure(std::span<const io::calibration_entry> runs, const st
   // 0.00157" for 13 runs).
   const double se = sd / std::sqrt(static_cast<double>(values.size()));
   f.caption = fmt::format("{} runs: mean {} °/s, std {} °/s", values.size(),
-                          to_digits_of(ms.mean, se, 4), significant(sd, 2));
+                          to_digits_of(ms.mean, se, 4), fixed_significant(sd, 2));
   const double x0 = 0.5, x1 = static_cast<double>(runs.size()) + 0.5;
   series band = points_of("mean ± std", 1);
   band.how = series::style::band;
@@ -263,7 +265,7 @@ struct term_units {
 
 // The number as the report's tables print it (3 significant digits).
 std::string g3(double v) {
-  return fmt::format("{:.3g}", v);
+  return fixed_significant(v, 3);
 }
 
 // A curve's name up to its first ':' or " (" ("raw: dwell means at 0°" -> "raw"), to name its

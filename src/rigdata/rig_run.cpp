@@ -110,6 +110,17 @@ result<device_units> units_of(const std::string& meta, const std::string& path) 
   if (!num("temp_v_per_c", u.temp_v_per_c)) return bad("has no usable temp_v_per_c");
   if (!num("temp_at_0v_c", u.temp_at_0v_c)) return bad("has no usable temp_at_0v_c");
   if (const auto it = j.find("sensor"); it != j.end() && it->is_string()) u.sensor = *it;
+  // The sensor model (record since issue 31): finite numbers only; anything else is not a model
+  // and is left out whole (the run then names its sensor only, as older files do).
+  if (const auto it = j.find("sensor_params"); it != j.end() && it->is_object()) {
+    for (const auto& [key, value] : it->items()) {
+      if (!value.is_number() || !std::isfinite(value.get<double>())) {
+        u.sensor_params.clear();
+        break;
+      }
+      u.sensor_params.emplace_back(key, value.get<double>());
+    }
+  }
   if (auto s = check_units(u, path + ": record 1: META"); !s) return s.err();
   return u;
 }
@@ -1177,10 +1188,17 @@ std::vector<method::row> dwell_rows(const rig_run& run) {
   return rows;
 }
 
+std::vector<io::csv_metadata> sensor_metadata(const device_units& units) {
+  std::vector<io::csv_metadata> m;
+  if (!units.sensor.empty()) m.push_back({"sensor_name", units.sensor});
+  for (const auto& [key, value] : units.sensor_params)
+    m.push_back({fmt::format("sensor.{}", key), fmt::format("{}", value)});
+  return m;
+}
+
 std::vector<io::csv_metadata> csv_metadata(const rig_run& run) {
   const auto& c = run.config;
-  std::vector<io::csv_metadata> m;
-  if (!run.units.sensor.empty()) m.push_back({"sensor_name", run.units.sensor});
+  std::vector<io::csv_metadata> m = sensor_metadata(run.units);
   m.push_back({"serial", fmt::format("{}", run.info.serial)});
   m.push_back({"firmware",
                fmt::format("{}.{}.{}", run.info.fw_major, run.info.fw_minor, run.info.fw_patch)});

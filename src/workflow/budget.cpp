@@ -105,8 +105,8 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
       b.run_to_run_source = fmt::format(
           "not resolved: the {} runs' dN scatter by {} °/s, less than their own noise {} °/s, so "
           "they cannot tell how far dN moves between power-ups; taken as {} °/s, {}",
-          runs.size(), significant(b.runs_std_dps, 2), significant(b.single_run_dps, 2),
-          significant(b.run_to_run_dps, 2),
+          runs.size(), fixed_significant(b.runs_std_dps, 2), fixed_significant(b.single_run_dps, 2),
+          fixed_significant(b.run_to_run_dps, 2),
           b.run_to_run_dps > b.single_run_dps
               ? fmt::format("the sensor preset {}'s turn-on spread (an assumption)", preset_name)
               : std::string("their own noise (the median of their errors)"));
@@ -148,7 +148,7 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
           "; it grows away from {:.1f} °C (a between-run variance that changes with temperature, "
           "τ²(T)): a new power-up's ΔN is within ±{} °/s at {:.1f} °C, the band of the ΔN(T) "
           "figure",
-          model->t_ref_c, significant(band, 2), band_at_c);
+          model->t_ref_c, fixed_significant(band, 2), band_at_c);
     }
     return b;
   } else {
@@ -239,10 +239,10 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
       "one power-up to the next, sensor preset {}, combined) × {:.1f} °C. The coefficient's "
       "mean alone would move ΔN by {} °/s over this distance (its sign set by the mounting): "
       "not applied as a correction, counted in the ±",
-      outside_c, span, fmt::format("{:.3g}", tc),
-      fmt::format("{:.3g}", std::abs(preset->g_sens_tc_z_dps_per_g_c)),
-      fmt::format("{:.3g}", preset->g_sens_tc_turn_on_sigma_dps_per_g_c), preset_name, outside_c,
-      significant(std::abs(preset->g_sens_tc_z_dps_per_g_c) * outside_c, 2));
+      outside_c, span, fixed_significant(tc, 3),
+      fixed_significant(std::abs(preset->g_sens_tc_z_dps_per_g_c), 3),
+      fixed_significant(preset->g_sens_tc_turn_on_sigma_dps_per_g_c, 3), preset_name, outside_c,
+      fixed_significant(std::abs(preset->g_sens_tc_z_dps_per_g_c) * outside_c, 2));
   b.new_power_up_dps = std::hypot(b.new_power_up_dps, b.temperature_dps);
 }
 
@@ -279,7 +279,9 @@ std::optional<scale_factor_spec> scale_factor_tolerance(const std::string& prese
 
 std::string value_pm(double v, double u) {
   if (!std::isfinite(v)) return "–";
-  if (!(std::isfinite(u) && u > 0.0)) return fmt::format("{:.6g}", v);
+  // No error to take the digits of: three significant digits, in the fixed notation of the
+  // rest (issue 31: a slope of 0 degrees of freedom read "4.28589e-05" on the page).
+  if (!(std::isfinite(u) && u > 0.0)) return fixed_significant(v, 3);
   const auto [vs, us] = digits_of_error(v, u);
   return vs + " ± " + us;
 }
@@ -302,16 +304,17 @@ std::string when_to_recalibrate(const delta_n_budget& b, const std::string& temp
         "Recalibrate: ΔN moves by about {} °/s (1 σ, {}) from one power-up to the next, so a "
         "rate compensated with this calibration after a new power-up carries ±{} °/s (68.3 %; "
         "the calibrated value's own error is ±{} °/s). ",
-        significant((b.run_to_run_two_draws ? std::numbers::sqrt2 : 1.0) * b.run_to_run_dps, 2),
+        fixed_significant((b.run_to_run_two_draws ? std::numbers::sqrt2 : 1.0) * b.run_to_run_dps,
+                          2),
         b.run_to_run_floored ? "not resolved by these runs, which scatter less than their own noise"
         : b.run_to_run_measured ? "measured on these runs"
                                 : "the sensor preset's, not measured",
-        significant(b.new_power_up_dps, 2), significant(b.calibration_dps, 2));
+        fixed_significant(b.new_power_up_dps, 2), fixed_significant(b.calibration_dps, 2));
     if (b.run_to_run_dps > 2.0 * b.single_run_dps)
       out += fmt::format(
           "To do better, calibrate again after each power-up (one run like these gives ±{} °/s, "
           "the median of their own errors). ",
-          significant(b.single_run_dps, 2));
+          fixed_significant(b.single_run_dps, 2));
   } else {
     out =
         "Recalibrate: how far ΔN moves from one power-up to the next is unknown (one run, no "

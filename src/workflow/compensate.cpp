@@ -85,6 +85,18 @@ class terms_removed final : public method::row_source {
   std::vector<double> at_;
 };
 
+// The mean temperature of the cycles that have one; NaN when none has.
+double mean_temp_c(std::span<const method::cycle> cycles) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& c : cycles)
+    if (std::isfinite(c.temp_c)) {
+      sum += c.temp_c;
+      ++n;
+    }
+  return n > 0 ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 std::optional<std::vector<method::delta_n_term>> harmonic_terms_of(
@@ -150,19 +162,13 @@ status check_calibration_fits(const std::string& file, const delta_n_source& dn,
           fmt::format("{}: rig setting differs from the calibration's: {}", file, d));
   }
   if (cal.model && cal.model->degree() > 0) return ok();  // dN(T) covers temperature
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (const auto& c : cycles)
-    if (std::isfinite(c.temp_c)) {
-      sum += c.temp_c;
-      ++n;
-    }
-  if (n > 0 && std::isfinite(cal.pooled.temp_c) &&
-      std::abs(sum / static_cast<double>(n) - cal.pooled.temp_c) > far_from_calibration_c)
+  const double mean_c = mean_temp_c(cycles);
+  if (std::isfinite(mean_c) && std::isfinite(cal.pooled.temp_c) &&
+      std::abs(mean_c - cal.pooled.temp_c) > far_from_calibration_c)
     warnings.push_back(fmt::format(
         "{}: mean temperature {:.1f} degC, but the calibration was made at {:.1f} degC: dN "
         "depends on temperature (calibrate at several temperatures for a dN(T) model)",
-        file, sum / static_cast<double>(n), cal.pooled.temp_c));
+        file, mean_c, cal.pooled.temp_c));
   return ok();
 }
 
@@ -181,7 +187,7 @@ bool could_be_a_run_of(const std::string& file, const delta_n_source& dn) {
 // report reads it (calibration_budget: from its runs, checked to be theirs), at the run's
 // temperature `at_c` where the runs give tau^2(T).
 void quote_new_power_up(const delta_n_source& dn, double at_c, const delta_n_budget& b,
-                        compensate_result& out) {
+                        delta_n_errors& out) {
   const auto& rec = *dn.record;
   const bool no_dof =
       rec.model && rec.model->random_effects && rec.model->dof == 0 && rec.files.size() > 1;
@@ -220,6 +226,8 @@ void quote_new_power_up(const delta_n_source& dn, double at_c, const delta_n_bud
   out.new_power_up_dps = new_power_up_at(b, refit, at_c);
 }
 
+}  // namespace
+
 // compensate --strict takes only a calibration that vouches for its ΔN (fifth review of issue 31,
 // F3/F4/F16): its ΔN and uncertainty are its runs' (budget valid), and its runs are listed and
 // were checked for stationarity.
@@ -234,7 +242,37 @@ status refuse_unvouched(const delta_n_source& dn, const delta_n_budget& b, bool 
   return ok();
 }
 
-}  // namespace
+delta_n_budget compensation_budget(const delta_n_source& dn,
+                                   std::span<const io::csv_metadata> metadata,
+                                   const std::string& file, std::vector<std::string>& warnings) {
+  if (!dn.record) return {};
+  // The sensor's specification as calibrate and report resolve it (the run's `# sensor.*`
+  // header, else its built-in by name), for the repeatability of a calibration's one run.
+  auto spec = resolve_sensor_spec(std::nullopt, metadata, file, false, warnings);
+  const sensor::preset* preset = spec && *spec ? &**spec : nullptr;
+  return calibration_budget(dn, preset, std::string(), warnings);
+}
+
+delta_n_errors delta_n_errors_of(const delta_n_source& dn, std::span<const method::cycle> cycles,
+                                 const delta_n_budget& budget, const method::delta_n_model& model) {
+  delta_n_errors out;
+  if (!dn.record) {
+    out.delta_n_u_note = "not stated (a dN given as a number, not a calibration file)";
+    return out;
+  }
+  // At the run's mean temperature (the model's reference without temperatures).
+  const double mean_c = mean_temp_c(cycles);
+  const double at_c = std::isfinite(mean_c) ? mean_c : model.t_ref_c;
+  // A constant's own error from its runs, as the budget reads them (a file's stated stderr may be
+  // edited: fifth review of issue 31, F6); a line's at the run's temperature (its covariance is
+  // checked to be its runs' fit).
+  const double u = model.degree() == 0 && budget.valid && !dn.record->files.empty()
+                       ? budget.calibration_dps
+                       : model.interval_at(at_c);
+  if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
+  quote_new_power_up(dn, at_c, budget, out);
+  return out;
+}
 
 std::vector<std::string> same_run_warnings(const std::string& file, const std::string& sha256,
                                            const delta_n_source& dn) {
@@ -571,16 +609,9 @@ result<compensate_result> compensate_file(const compensate_request& r,
   auto runs = check_calibration_runs(dn, r.strict);
   if (!runs) return runs.err();
   for (auto& w : runs->warnings) out.warnings.push_back(std::move(w));
-  delta_n_budget budget;
-  if (dn.record) {
-    // The sensor's specification as calibrate and report resolve it (the run's `# sensor.*`
-    // header, else its built-in by name), for the repeatability of a calibration's one run.
-    auto spec = resolve_sensor_spec(std::nullopt, rc->metadata, r.file, false, out.warnings);
-    if (!spec) return spec.err();
-    budget = calibration_budget(dn, *spec ? &**spec : nullptr, std::string(), out.warnings);
-    if (r.strict)
-      if (auto s = refuse_unvouched(dn, budget, runs->unchecked); !s) return s.err();
-  }
+  const auto budget = compensation_budget(dn, rc->metadata, r.file, out.warnings);
+  if (dn.record && r.strict)
+    if (auto s = refuse_unvouched(dn, budget, runs->unchecked); !s) return s.err();
   if (model.degree() > 0 && !rc->has_temp)
     return input_error({r.file},
                        "no temp_c column, but the calibration's dN(T) model needs temperatures");
@@ -605,31 +636,16 @@ result<compensate_result> compensate_file(const compensate_request& r,
     if (!same_bytes)
       for (auto& w : same_cycles_warnings(r.file, rc->cycles, dn))
         out.warnings.push_back(std::move(w));
-    // The ΔN's own error at the run's mean temperature (its reference without temperatures).
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (const auto& c : rc->cycles)
-      if (std::isfinite(c.temp_c)) {
-        sum += c.temp_c;
-        ++n;
-      }
-    const double at_c = n > 0 ? sum / static_cast<double>(n) : model.t_ref_c;
-    // A constant's own error from its runs, as the budget reads them (a file's stated stderr
-    // may be edited: fifth review of issue 31, F6); a line's at the run's temperature (its
-    // covariance is checked to be its runs' fit).
-    const double u = model.degree() == 0 && budget.valid && !dn.record->files.empty()
-                         ? budget.calibration_dps
-                         : model.interval_at(at_c);
-    if (std::isfinite(u) && u > 0.0) out.delta_n_u_dps = u;
-    quote_new_power_up(dn, at_c, budget, out);
   }
+  static_cast<delta_n_errors&>(out) = delta_n_errors_of(dn, rc->cycles, budget, model);
   if (out.comp.outside_model > 0)
     out.warnings.push_back(outside_model_warning(r.file, out.comp, model));
   return out;
 }
 
 nlohmann::json compensation_json(const compensation& c, const std::string& file,
-                                 const delta_n_source& dn, method::pairing p) {
+                                 const delta_n_source& dn, method::pairing p,
+                                 const delta_n_errors& errors) {
   using nlohmann::json;
   const auto& m = dn.model;
   const auto& s = c.summary;
@@ -645,6 +661,12 @@ nlohmann::json compensation_json(const compensation& c, const std::string& file,
       for (const auto& x : *terms) t[x.name] = x.value_dps;
       d["terms_dps"] = std::move(t);
     }
+  // Its errors as the text quotes them, null when not known and then the reason (issue 31: the
+  // new-power-up error was in the text only).
+  const auto or_null = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  d["error_dps"] = or_null(errors.delta_n_u_dps);
+  d["new_power_up_dps"] = or_null(errors.new_power_up_dps);
+  d["error_note"] = errors.delta_n_u_note.empty() ? json(nullptr) : json(errors.delta_n_u_note);
   json j = io::schema_object("compensate", 2);
   j.update(json{{"file", file},
                 {"delta_n", std::move(d)},

@@ -69,14 +69,28 @@ constexpr std::size_t min_cycles = 30;
 // R12): 3 x the tolerance is already outside any unit's specification.
 constexpr double sf_beyond_spec = 3.0;
 
+// A number without an error beside it, to `digits` significant digits, in the page's one
+// notation (fixed: issue 31, "8.6e-06" beside "0.000010" in a column).
 std::string g(double v, int digits = 4) {
-  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
+  return std::isfinite(v) ? fixed_significant(v, digits) : std::string("–");
+}
+
+// A number the user gave (the commanded rate) as given: its shortest digits, in the same fixed
+// notation ("-0.5", not "-0.500000").
+std::string as_given(double v) {
+  if (!std::isfinite(v)) return "–";
+  std::string s = fixed_significant(v, 15);
+  if (s.find('.') != std::string::npos) {
+    s.erase(s.find_last_not_of('0') + 1);
+    if (s.back() == '.') s.pop_back();
+  }
+  return s;
 }
 
 // An error (or a number compared with one) to two significant digits, trailing zeros kept
 // ("0.0010", not "0.001" as {:.2g} prints: third review of issue 31, H4), as calibrate prints them.
 std::string u2(double u) {
-  return std::isfinite(u) ? significant(u, 2) : std::string("–");
+  return std::isfinite(u) ? fixed_significant(u, 2) : std::string("–");
 }
 
 json num(double v) {
@@ -451,10 +465,10 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
 void check_runs_agree(findings& f) {
   if (f.runs_model && f.runs_model->chi2_per_dof > max_chi2_per_dof)
     f.warnings.push_back(fmt::format(
-        "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {:.3g}; the paper's own "
+        "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {}; the paper's own "
         "runs scatter 14–30 times theirs): they were not made under the same stationary "
         "conditions, and the pooled dN means little",
-        std::sqrt(f.runs_model->chi2_per_dof), f.runs_model->chi2_per_dof));
+        std::sqrt(f.runs_model->chi2_per_dof), g(f.runs_model->chi2_per_dof, 3)));
 }
 
 // The runs a given calibration was made of, as calibrate tested them (schema 3): a failed run
@@ -535,7 +549,7 @@ void check_commanded_rate(const run_analysis& a, double expected_dps, const rate
         "{}: the compensated rate {} °/s has the opposite sign of the commanded {} °/s (a "
         "scale-factor error of {:.0f} %, beyond twice its uncertainty): the commanded rate's "
         "sign or the sensor's mounting is wrong, not the sensor's scale factor",
-        a.run.file, g(mean, 6), g(expected_dps, 6), c.scale_factor_ppm / 1e4));
+        a.run.file, g(mean, 6), as_given(expected_dps), c.scale_factor_ppm / 1e4));
     return;
   }
   if (spec && std::abs(c.scale_factor_ppm) / 1e6 - 2.0 * u > sf_beyond_spec * spec->fraction) {
@@ -543,7 +557,7 @@ void check_commanded_rate(const run_analysis& a, double expected_dps, const rate
         "{}: a scale-factor error of {:.1f} ± {:.1f} % against the commanded {} °/s is {:.0f} "
         "times the {}: the commanded rate, the table's speed or the sensor (preset) is not what "
         "was assumed",
-        a.run.file, c.scale_factor_ppm / 1e4, 100.0 * u, g(expected_dps, 6),
+        a.run.file, c.scale_factor_ppm / 1e4, 100.0 * u, as_given(expected_dps),
         std::abs(c.scale_factor_ppm) / (1e6 * spec->fraction), spec->source));
     return;
   }
@@ -553,7 +567,7 @@ void check_commanded_rate(const run_analysis& a, double expected_dps, const rate
         "{}: the commanded {} °/s is too slow to measure a scale factor: twice the ΔN and "
         "noise uncertainty (2 × ±{} °/s, 2 σ) is {:.1f} % of it, more than the {} (a rate "
         "above {} °/s would resolve it)",
-        a.run.file, g(expected_dps, 6), u2(u_dps), 200.0 * u, spec->source,
+        a.run.file, as_given(expected_dps), u2(u_dps), 200.0 * u, spec->source,
         u2(2.0 * u_dps / spec->fraction)));
 }
 
@@ -781,7 +795,7 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       if (f.rates[k])
         out += fmt::format(
             " against the commanded {} °/s: a scale-factor error of {}{}",
-            g(*r.expected_rate_dps, 6),
+            as_given(*r.expected_rate_dps),
             b.valid
                 ? value_pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm) + " ppm"
                 : fmt::format("about {:.1f} %", f.rates[k]->scale_factor_ppm / 1e4),
@@ -1179,10 +1193,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   idt.rows.push_back({"pairing", std::string(method::to_string(r.pairing))});
   if (r.geometry)
     idt.rows.push_back(
-        {"geometry", fmt::format("latitude {}°, sensitive axis at 0° (N, E, D) = ({:.3g}, "
-                                 "{:.3g}, {:.3g})",
-                                 r.geometry->lat_deg, r.geometry->axis.north, r.geometry->axis.east,
-                                 r.geometry->axis.down)});
+        {"geometry", fmt::format("latitude {}°, sensitive axis at 0° (N, E, D) = ({}, {}, {})",
+                                 r.geometry->lat_deg, g(r.geometry->axis.north, 3),
+                                 g(r.geometry->axis.east, 3), g(r.geometry->axis.down, 3))});
   idt.rows.push_back({"temperatures", all_t.text()});
   who.tables.push_back(std::move(idt));
   // The time the sensor was on before each run (a warm-up transient moves dN), when the
@@ -1323,7 +1336,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                                    g(s.std_dps, 3),
                                    s.drift_dps ? g(*s.drift_dps, 3) : "–"};
       if (f.rates[k]) {
-        row.push_back(g(*r.expected_rate_dps, 6));
+        row.push_back(as_given(*r.expected_rate_dps));
         row.push_back(
             value_pm(f.rates[k]->error_dps, std::hypot(s.stderr_correlated_dps, power_up)));
         row.push_back(value_pm(f.rates[k]->scale_factor_ppm, f.rates[k]->scale_factor_u_ppm));

@@ -52,6 +52,7 @@
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/analyse.hpp"
 #include "gyroflip/workflow/budget.hpp"
+#include "gyroflip/workflow/calibrate.hpp"
 #include "gyroflip/workflow/compensate.hpp"
 #include "gyroflip/workflow/simulate.hpp"
 
@@ -254,6 +255,9 @@ struct run_result {
   // The simple cycles' rate: its mean and std (a constant dN moves the mean, paper eqn 12).
   double rate_mean = 0.0, rate_std = 0.0;
   claim_numbers claim;  // figure runs and their replicates
+  // The stationarity test calibrate would apply to it (simple pairing, the model's own
+  // g-sensitivity specification, the simulated geometry): summary.json gives it per run.
+  method::stationarity stationarity;
   std::vector<method::dwell> dwells;
   std::vector<method::cycle> simple, abba;
   std::string error;
@@ -307,6 +311,16 @@ run_result run_one(const job& j) {
   }
   r.dn_simple = cs->delta_n_dps;
   r.se_simple = cs->stderr_correlated_dps;
+  {
+    sensor::preset model;
+    model.name = j.sensor;
+    model.params = j.params;
+    auto axis = earth::parse_axis(c.axis);
+    const auto geometry =
+        axis ? std::optional(io::calibration_geometry{c.lat_deg, *axis}) : std::nullopt;
+    r.stationarity = method::check_stationarity(
+        simple->cycles, *cs, stationarity_inputs_of(method::pairing::simple, &model, geometry));
+  }
   r.dn_abba = ca->delta_n_dps;
   r.temp_c = cs->temp_c;
   {
@@ -616,7 +630,7 @@ result<figure_run> analyse_figure(const experiment& e, std::size_t f) {
 }
 
 std::string g(double v, int digits = 4) {
-  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : std::string("–");
+  return std::isfinite(v) ? fixed_significant(v, digits) : std::string("–");
 }
 
 // A time in seconds as people write it: 3950, 181, 2.5 (no exponent below 1e6).
@@ -792,10 +806,11 @@ prediction loo_prediction(std::string id, std::string quantity, std::span<const 
   p.limit = static_cast<double>(fails_at(n, loo_tail)) - 0.5;
   p.pass = p.score <= p.limit;
   p.shown_predicted =
-      fmt::format("{} of {} outside", significant(0.05 * static_cast<double>(n), 2), n);
+      fmt::format("{} of {} outside", fixed_significant(0.05 * static_cast<double>(n), 2), n);
   p.shown_observed = fmt::format("{} of {} outside (RMS z {:.2f})", outside, n,
                                  std::sqrt(z2 / static_cast<double>(n)));
-  p.miss = fmt::format("P(≥ {}) = {}", outside, significant(binomial_tail(n, outside, 0.05), 2));
+  p.miss =
+      fmt::format("P(≥ {}) = {}", outside, fixed_significant(binomial_tail(n, outside, 0.05), 2));
   return p;
 }
 
@@ -918,7 +933,9 @@ std::size_t table_row_of(const paper_figure& f, const assumptions& a) {
 std::string noise_basis(const experiment& e, const std::string& sensor) {
   const double n = e.params_of(sensor).arw_dps_rthz;
   if (is_given(e, sensor))
-    return fmt::format("the given model's ARW, N = {} °/s/√Hz (not fitted here)", g(n, 3));
+    // The model's number to 3 significant digits without padding zeros ("0.05", not "0.0500";
+    // converted from the model's units, so not exactly the number written).
+    return fmt::format("the given model's ARW, N = {:.3g} °/s/√Hz (not fitted here)", n);
   if (std::abs(n / (0.05 / std::numbers::sqrt2) - 1.0) < 1e-3)
     return fmt::format(
         "the datasheet's rate noise density 0.05 °/s/√Hz read as a one-sided density: N = "
@@ -1136,7 +1153,7 @@ report::table predictions_table(const std::vector<prediction>& ps, json& out, bo
                 "typical ARW (no stated tolerance): it rests on the ARW convention and on how the "
                 "1.79-s cycle divides into turns and dwells (the sensitivity study).",
                 m, 100.0 * (1.0 - std::pow(0.95, static_cast<double>(m))),
-                significant(
+                fixed_significant(
                     100.0 * family_level / static_cast<double>(std::max<std::ptrdiff_t>(m, 1)), 2))
           : "It can fail, but it compares the model with data it was fitted to."};
   t.note +=
@@ -1183,7 +1200,8 @@ json campaigns_json(const experiment& e, int group) {
         runs.push_back({{"delta_n_dps", e.results[i].dn_simple},
                         {"stderr_correlated_dps", e.results[i].se_simple},
                         {"duration_s", e.jobs[i].duration_s},
-                        {"seed", e.jobs[i].seed}});
+                        {"seed", e.jobs[i].seed},
+                        {"stationarity", io::stationarity_to_json(e.results[i].stationarity)}});
     out.push_back({{"campaign", c + 1},
                    {"mean_dps", e.means[gi][c]},
                    {"std_dps", e.stds[gi][c]},
@@ -1644,8 +1662,8 @@ result<report::table> beyond_table(const experiment& e, const std::vector<figure
         {"warm-up leak: ΔN error of the Fig. 3/4 run (ADXRS150, off before) "
          "against the simulator's truth",
          fmt::format("simple {:+.3g} (± {}), abba {:+.3g} (± {}) °/s", cs->delta_n_dps - r.truth,
-                     significant(cs->stderr_correlated_dps, 2), ca->delta_n_dps - r.truth,
-                     significant(ca->stderr_correlated_dps, 2))});
+                     fixed_significant(cs->stderr_correlated_dps, 2), ca->delta_n_dps - r.truth,
+                     fixed_significant(ca->stderr_correlated_dps, 2))});
   }
   std::vector<method::delta_n_point> hz1_points;
   for (std::size_t i = 0; i < e.first_figure; ++i)
@@ -1687,8 +1705,8 @@ result<report::table> beyond_table(const experiment& e, const std::vector<figure
         {fmt::format("cooling 20 → 4 °C (HZ1, {} runs, ΔN from each run's first tenth): RMS of "
                      "the compensated mean over the coldest third",
                      e.cooling),
-         fmt::format("one ΔN {:.3g}, ΔN(T) {:.3g} °/s (slope {:.3g} °/s/°C from the campaigns)",
-                     rms_one, rms_model, slope)});
+         fmt::format("one ΔN {}, ΔN(T) {} °/s (slope {} °/s/°C from the campaigns)", g(rms_one, 3),
+                     g(rms_model, 3), g(slope, 3))});
   }
   {
     // Across the two temperatures: the 4 degC runs compensated with the 20 degC dN and with
@@ -1723,12 +1741,12 @@ result<report::table> beyond_table(const experiment& e, const std::vector<figure
     beyond["north_finding"] = {{"heading_sigma_deg_within_run", within / north * to_deg},
                                {"heading_sigma_deg_turn_on", between / north * to_deg}};
     t.rows.push_back({"Earth term: eqn 9 (north axis, cos φ) and a vertical axis (sin φ)",
-                      fmt::format("{:.6g} and {:.6g} °/s", north, up)});
+                      fmt::format("{} and {} °/s", g(north, 6), g(up, 6))});
     t.rows.push_back({"north-finding from ΔN's Earth term (HZ1, 20 °C), best heading",
                       fmt::format("± {}° from one run's error, ± {}° with the turn-on "
                                   "change of the g-term unknown",
-                                  significant(within / north * to_deg, 2),
-                                  significant(between / north * to_deg, 2))});
+                                  fixed_significant(within / north * to_deg, 2),
+                                  fixed_significant(between / north * to_deg, 2))});
   }
   return t;
 }

@@ -63,6 +63,24 @@ TEST(ReproduceCli, QuickWritesTheTablesFiguresAndPage) {
     for (const auto& run : c["runs"]) sum += run["delta_n_dps"].get<double>();
     EXPECT_NEAR(sum / static_cast<double>(c["runs"].size()), c["mean_dps"].get<double>(), 1e-12);
     EXPECT_NEAR(c["mean_dps"].get<double>(), t["mean_dps"].get<double>(), 1e-15);
+    // Each run's stationarity verdict (issue 31 leftover): every statistic beside its limit and
+    // its verdict, the g-term against the model's own specification at the simulated geometry.
+    for (const auto& run : c["runs"]) {
+      const auto& st = run["stationarity"];
+      ASSERT_TRUE(st.is_object()) << run;
+      ASSERT_TRUE(st["checked"].get<bool>()) << st;
+      EXPECT_LE(st["scatter_ratio"].get<double>(), st["scatter_limit"].get<double>()) << st;
+      EXPECT_GE(st["scatter_ratio"].get<double>(), st["scatter_low_limit"].get<double>()) << st;
+      EXPECT_LE(st["drift_statistic"].get<double>(), st["drift_limit"].get<double>()) << st;
+      ASSERT_TRUE(st["g_term"].is_object()) << st;
+      EXPECT_TRUE(st["g_term"]["exact"].get<bool>()) << st;
+      EXPECT_GT(st["g_term"]["limit_dps"].get<double>(), 0.0) << st;
+      // Simulated at rest: each passes, and the verdict is its statistics'.
+      EXPECT_TRUE(st["stationary"].get<bool>()) << st;
+      EXPECT_FALSE(st["scatter_failed"].get<bool>() || st["drift_failed"].get<bool>() ||
+                   st["temp_failed"].get<bool>() || st["g_term"]["failed"].get<bool>())
+          << st;
+    }
     // One quick campaign: within a factor 2 of the paper (sampling error ~20-40 %).
     EXPECT_GT(t["std_ratio"].get<double>(), 0.5) << t;
     EXPECT_LT(t["std_ratio"].get<double>(), 2.0) << t;

@@ -91,3 +91,16 @@ TEST(Digits, ValuesTakeTheirErrorsDigitsWithoutANegativeZero) {
   EXPECT_EQ(gyroflip::significant(0.0006, 2), "0.00060");
   EXPECT_EQ(gyroflip::significant(0.4, 2), "0.40");
 }
+
+// Issue 31: a report page's column held "8.6e-06" beside "0.000010", and a slope of 0 degrees of
+// freedom read "4.28589e-05": the pages print every number in fixed notation.
+TEST(Digits, FixedSignificantKeepsOneNotationAtAnySize) {
+  EXPECT_EQ(gyroflip::fixed_significant(8.6e-6, 2), "0.0000086");
+  EXPECT_EQ(gyroflip::fixed_significant(1.0e-5, 2), "0.000010");
+  EXPECT_EQ(gyroflip::fixed_significant(-4.28589e-5, 3), "-0.0000429");
+  EXPECT_EQ(gyroflip::fixed_significant(1234.0, 3), "1230");
+  EXPECT_EQ(gyroflip::fixed_significant(9.96, 2), "10");
+  EXPECT_EQ(gyroflip::fixed_significant(0.0, 2), "0.0");
+  EXPECT_EQ(gyroflip::fixed_significant(-1e-20, 2), "0.000000000000000");  // 15 decimals, no -0
+  EXPECT_EQ(gyroflip::to_digits_of(4.42171e-6, 0.0, 3), "0.00000442");
+}

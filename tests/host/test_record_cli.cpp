@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -20,6 +21,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -372,6 +374,73 @@ TEST(RecordCli, ATurningTableIsToldWhileItRecords) {
     } else {
       EXPECT_EQ(warned("not a stationary run"), 0u) << rec.err;
       EXPECT_NE(rec.err.find(gfr + ": stationary (scatter"), std::string::npos) << rec.err;
+    }
+  }
+}
+
+// Issue 31 (fourth review, F4): the recorder judges the run against the specification calibrate
+// and report resolve from the finished file (workflow::resolve_sensor_spec), and the file carries
+// the model --sensor named. Before, a run recorded with a TOML preset was checked live against its
+// g-sensitivity specification, but `calibrate RUN.gfr` found none (the .gfr named the part only):
+// the live "NOT stationary (g-term)" became "g-term not checked" on the file.
+TEST(RecordCli, TheLiveVerdictIsTheOneCalibrateGivesOnTheFile) {
+  test::temp_dir dir;
+  const std::string part = dir.path() + "/part.toml";
+  test::write_text(part,
+                   "name = \"part-x\"\nbase = \"hz1-90-100a\"\ng_sens_spec_max_dps_per_g = 0.2\n");
+  for (const bool turning : {true, false}) {
+    SCOPED_TRACE(turning ? "turning" : "still");
+    const std::string gfr = dir.path() + (turning ? "/turning.gfr" : "/still.gfr");
+    emulator_process emu(dir.path(), "--speed max --seed 31 --sensor " + part +
+                                         (turning ? " --rate-profile 0.5" : ""));
+    const auto rec = run_cli({"record", "--port", emu.pty(), "--sensor", part, "--duration", "150",
+                              "--json-progress", "-o", gfr});
+    ASSERT_EQ(rec.exit_code, 0) << rec.err;
+    std::stringstream ss(rec.out);
+    nlohmann::json last;
+    for (std::string l; std::getline(ss, l);) last = nlohmann::json::parse(l)["stationarity"];
+    ASSERT_TRUE(last.is_object()) << rec.out;
+    EXPECT_EQ(last["stationary"].get<bool>(), !turning) << last.dump();
+    const auto cal = run_cli({"calibrate", gfr, "--json"});
+    ASSERT_EQ(cal.exit_code, 0) << cal.err;
+    const auto st = nlohmann::json::parse(cal.out)["files"][0]["stationarity"];
+    EXPECT_EQ(st["stationary"].get<bool>(), !turning) << st.dump();
+    ASSERT_TRUE(st["g_term"].is_object()) << st.dump();  // the file's model was found
+    EXPECT_EQ(st["g_term"]["failed"].get<bool>(), turning) << st.dump();
+    // The same limit live and on the file: 0.2 deg/s/g of the TOML, not the HZ1's own.
+    const double limit = st["g_term"]["limit_dps"].get<double>();
+    const auto summary = last["summary"].get<std::string>();
+    if (!turning) {
+      const auto at = summary.find("°/s <= ");
+      ASSERT_NE(at, std::string::npos) << summary;
+      EXPECT_NEAR(std::stod(summary.substr(at + std::string("°/s <= ").size())), limit,
+                  0.01 * limit)
+          << summary;
+    }
+    EXPECT_EQ(cal.err.find("g-term was not checked"), std::string::npos) << cal.err;
+    // The CSV export carries the model as a simulated run's header does.
+    const auto csv = dir.path() + (turning ? "/turning.csv" : "/still.csv");
+    ASSERT_EQ(run_cli({"export", gfr, "-o", csv}).exit_code, 0);
+    EXPECT_NE(test::read_text(csv).find("# sensor.g_sens_spec_max_dps_per_g: 0.2\n"),
+              std::string::npos);
+    if (turning) continue;
+    // Issue 31 (fourth review, F6): a .gfr's CSV export is the same run in other bytes. Compensate
+    // and report tell it by its cycles as a copy of the calibration's run, either way round.
+    const auto cal_gfr = dir.path() + "/cal_gfr.json", cal_csv = dir.path() + "/cal_csv.json";
+    ASSERT_EQ(run_cli({"calibrate", gfr, "-o", cal_gfr}).exit_code, 0);
+    ASSERT_EQ(run_cli({"calibrate", csv, "-o", cal_csv}).exit_code, 0);
+    for (const auto& [run, cal_file, other] :
+         {std::tuple{csv, cal_gfr, gfr}, std::tuple{gfr, cal_csv, csv}}) {
+      SCOPED_TRACE(run);
+      const auto comp =
+          run_cli({"compensate", run, "--calibration", cal_file, "-o", dir.path() + "/comp.csv"});
+      ASSERT_EQ(comp.exit_code, 0) << comp.err;
+      EXPECT_NE(comp.err.find("as the calibration's run " + other), std::string::npos) << comp.err;
+      const auto rep =
+          run_cli({"report", run, "--calibration", cal_file, "-o", dir.path() + "/rep"});
+      ASSERT_EQ(rep.exit_code, 0) << rep.err;
+      EXPECT_NE(rep.err.find("as the calibration's run " + other), std::string::npos) << rep.err;
+      std::filesystem::remove_all(dir.path() + "/rep");
     }
   }
 }

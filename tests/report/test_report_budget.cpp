@@ -30,15 +30,17 @@ io::calibration_entry run(double dn_dps, double err_dps, double temp_c) {
 
 // The one "v ± u" of the report, the budget and the calibrate text (the report's own copy, which
 // printed "nan ± u", is gone; review of issue 31): u to two significant digits and v to the same
-// decimals; without a usable u, v to 6 digits; a non-finite v is "–" whatever u is (a report
+// decimals; without a usable u, v to 3 significant digits in fixed notation (issue 31: a slope
+// of 0 degrees of freedom read "4.28589e-05"); a non-finite v is "–" whatever u is (a report
 // never prints nan).
 TEST(ValuePm, DigitsOfTheErrorAndNeverNan) {
   const double nan = std::nan("");
   EXPECT_EQ(workflow::value_pm(0.00326975, 0.000812), "0.00327 ± 0.00081");
   EXPECT_EQ(workflow::value_pm(0.500099, 1.2e-5), "0.500099 ± 0.000012");
   EXPECT_EQ(workflow::value_pm(123.456, 35.0), "123 ± 35");
-  EXPECT_EQ(workflow::value_pm(0.00326975, 0.0), "0.00326975");
-  EXPECT_EQ(workflow::value_pm(0.00326975, nan), "0.00326975");
+  EXPECT_EQ(workflow::value_pm(0.00326975, 0.0), "0.00327");
+  EXPECT_EQ(workflow::value_pm(0.00326975, nan), "0.00327");
+  EXPECT_EQ(workflow::value_pm(-4.28589e-5, 0.0), "-0.0000429");
   EXPECT_EQ(workflow::value_pm(nan, 0.1), "–");
   EXPECT_EQ(workflow::value_pm(std::numeric_limits<double>::infinity(), 0.1), "–");
   EXPECT_EQ(workflow::value_pm(nan, nan), "–");

@@ -145,6 +145,63 @@ TEST(ReportPage, ReproducePageStructureIsGolden) {
   expect_golden(structure(html, d.path()), "reproduce_quick.structure");
 }
 
+// Issue 31 (fourth review, lows): the pages printed a slope of 0 degrees of freedom as
+// "4.42171e-06" (6 digits, no error) in a column of fixed numbers, and mixed notations elsewhere.
+// Every number on a calibration page and a compensation page is in fixed notation, and every
+// "v ± u" has the decimals of u (core/digits).
+TEST(ReportPage, EveryNumberIsInOneNotationWithTheDigitsOfItsError) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), c = simulate(d, "c4.csv", "4", "3"),
+             f = simulate(d, "f25.csv", "25", "9");
+  ASSERT_EQ(run_cli({"report", a, c, "-o", d.file("cal")}).exit_code, 0);
+  ASSERT_EQ(run_cli({"calibrate", a, c, "-o", d.file("cal.json")}).exit_code, 0);
+  ASSERT_EQ(
+      run_cli({"report", f, "--calibration", d.file("cal.json"), "-o", d.file("comp")}).exit_code,
+      0);
+  for (const auto* page : {"cal", "comp"}) {
+    SCOPED_TRACE(page);
+    // The page's text, tags gone (std::regex recurses per character: a page overflows its stack).
+    const auto html = read_page(d.file(std::string(page) + "/index.html"));
+    std::string text;
+    bool tag = false;
+    for (const char ch : html) {
+      if (ch == '<') tag = true;
+      if (!tag) text += ch;
+      if (ch == '>') {
+        tag = false;
+        text += ' ';
+      }
+    }
+    text = replaced(replaced(text, "&amp;", "&"), "&nbsp;", " ");
+    const auto digit = [&](std::size_t k) {
+      return k < text.size() && text[k] >= '0' && text[k] <= '9';
+    };
+    // No exponent: a digit, 'e', a sign, a digit.
+    for (std::size_t k = 1; k + 2 < text.size(); ++k)
+      if (text[k] == 'e' && digit(k - 1) && (text[k + 1] == '+' || text[k + 1] == '-') &&
+          digit(k + 2))
+        ADD_FAILURE() << "scientific notation: ..." << text.substr(k < 60 ? 0 : k - 60, 100);
+    // Each "v ± u": v with the decimals of u.
+    const std::string pm = " ± ";
+    const auto decimals = [](const std::string& n) {
+      const auto dot = n.find('.');
+      return dot == std::string::npos ? std::size_t{0} : n.size() - dot - 1;
+    };
+    std::size_t pairs = 0;
+    for (auto at = text.find(pm); at != std::string::npos; at = text.find(pm, at + 1)) {
+      std::size_t b = at;
+      while (b > 0 && (digit(b - 1) || text[b - 1] == '.' || text[b - 1] == '-')) --b;
+      std::size_t e = at + pm.size();
+      while (digit(e) || (e < text.size() && text[e] == '.')) ++e;
+      const auto v = text.substr(b, at - b), u = text.substr(at + pm.size(), e - at - pm.size());
+      if (v.empty() || u.empty() || !digit(b + v.size() - 1)) continue;  // not two numbers
+      ++pairs;
+      EXPECT_EQ(decimals(v), decimals(u)) << v << " ± " << u;
+    }
+    EXPECT_GT(pairs, 0u);
+  }
+}
+
 // Hostile review of issue 22: report skipped calibrate's checks. A report is on one sensor
 // (calibrate's check: another sensor is refused, exit 2, no folder), a rig setting or power-on
 // time that differs between runs is warned about, and the time the sensor was on before each

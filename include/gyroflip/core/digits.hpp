@@ -53,14 +53,34 @@ namespace gyroflip {
   return fmt::format("{:.{}f}", v, std::max(0, n - 1 - exponent));
 }
 
+/// `v` to `n` >= 1 significant digits in fixed notation whatever its size ("0.0000086", "1230",
+/// "0.00020"): the report pages' one notation, so a column never holds "8.6e-06" beside
+/// "0.000010" (fourth review of issue 31, low; significant() turns scientific below 1e-5). At most
+/// 15 decimals (smaller numbers print as zeros); no -0.
+[[nodiscard]] inline std::string fixed_significant(double v, int n) {
+  if (!std::isfinite(v) || n < 1) return fmt::format("{}", v);
+  if (v == 0.0) return fmt::format("{:.{}f}", 0.0, n - 1);
+  const std::string sci = fmt::format("{:.{}e}", v, n - 1);
+  const int exponent = std::stoi(sci.substr(sci.find('e') + 1));
+  const int decimals = std::clamp(n - 1 - exponent, 0, 15);
+  double shown = v;
+  if (n - 1 - exponent < 0) {  // round left of the decimal point: 1234 to 3 digits is 1230
+    const double unit = std::pow(10.0, exponent - (n - 1));
+    shown = std::round(v / unit) * unit;
+  }
+  std::string text = fmt::format("{:.{}f}", shown, decimals);
+  if (text.front() == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
+  return text;
+}
+
 /// `v` with the digits its uncertainty `u` supports (digits_of_error's rule), without the ±;
 /// without a usable `u` (not finite, or not > 0) `v` to `fallback_digits` significant digits with
-/// their trailing zeros (significant); "–" for a `v` that is not finite. The one formatter of a
-/// number printed beside, or instead of, its "± u" (third review of issue 31, H4: the report and
-/// its figures each had a copy, differing in the fallback).
+/// their trailing zeros, in fixed notation (fixed_significant); "–" for a `v` that is not finite.
+/// The one formatter of a number printed beside, or instead of, its "± u" (third review of issue
+/// 31, H4: the report and its figures each had a copy, differing in the fallback).
 [[nodiscard]] inline std::string to_digits_of(double v, double u, int fallback_digits) {
   if (!std::isfinite(v)) return "–";
-  if (!(std::isfinite(u) && u > 0.0)) return significant(v, fallback_digits);
+  if (!(std::isfinite(u) && u > 0.0)) return fixed_significant(v, fallback_digits);
   return digits_of_error(v, u).first;
 }
 

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/csv.hpp"
@@ -104,6 +106,11 @@ struct calibration_record {
   /// `separability`; method::separability_of).
   std::optional<method::separability> separability;
 };
+
+/// A run's stationarity test as a calibration's `files[].stationarity` holds it (docs/FORMATS.md):
+/// each statistic beside its limit and verdict; `{"checked": false, "why_not"}` when not checked.
+/// Also reproduce's summary.json, for each simulated run.
+[[nodiscard]] nlohmann::json stationarity_to_json(const method::stationarity& st);
 
 /// A separability report as one JSON object (schema gyroflip.separability/1; `file` the
 /// recording it is of, or empty for a table given before a run): the object a calibration's

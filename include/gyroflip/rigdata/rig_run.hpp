@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "firmware/protocol/messages.hpp"
@@ -38,6 +39,11 @@ struct device_units {
   /// docs/FACTS.md section 9).
   double temp_v_per_c = 8.4e-3;
   double temp_at_0v_c = 24.85;
+  /// The sensor model's parameters (sensor::fields() keys and values; META's `sensor_params`,
+  /// written by `record` since issue 31): a recording carries the model --sensor named, so its
+  /// g-sensitivity specification goes with it as a simulated run's `# sensor.*` header does
+  /// (workflow::resolve_sensor_spec). Empty in files recorded before.
+  std::vector<std::pair<std::string, double>> sensor_params;
 };
 
 /// Where the rig stood, as `record --table-axis/--azimuth` stored it in META (issue 33): the
@@ -242,5 +248,10 @@ class rig_run_builder {
 
 /// The `# key: value` metadata a recording CSV of this run carries (sensor, serial, ...).
 [[nodiscard]] std::vector<io::csv_metadata> csv_metadata(const rig_run& run);
+
+/// The part of csv_metadata that names the sensor: `sensor_name` and one `sensor.KEY` per
+/// recorded parameter (device_units::sensor_params). `record` resolves its live stationarity
+/// test's specification from these before the file exists, as calibrate does from the file.
+[[nodiscard]] std::vector<io::csv_metadata> sensor_metadata(const device_units& units);
 
 }  // namespace gyroflip::rigdata

@@ -148,10 +148,9 @@ struct harmonic_application {
                                                   std::span<const method::delta_n_term> terms,
                                                   double plus_deg);
 
-struct compensate_result {
-  compensation comp;
-  /// A harmonic calibration applied (harmonic_application), else none.
-  std::optional<harmonic_application> applied;
+/// The errors of the ΔN a compensation subtracted, at the run's mean temperature
+/// (delta_n_errors_of).
+struct delta_n_errors {
   /// The 68.3 % error of the ΔN subtracted, at the run's mean temperature (the calibration's own:
   /// delta_n_model::interval_at; a new power-up adds its repeatability): the same in every cycle,
   /// so no averaging reduces it (third review of issue 31, M5: only the within-run error was
@@ -167,6 +166,35 @@ struct compensate_result {
   /// Why the ΔN's error is not known, when it is not (empty otherwise): "not determined (0
   /// degrees of freedom ...)", or a file from before calibrate wrote its uncertainty.
   std::string delta_n_u_note;
+};
+
+/// The errors of `dn` at the mean temperature of `cycles` (its reference temperature without
+/// temperatures): the calibration's own and a new power-up's (see delta_n_errors), read from
+/// `budget` (compensation_budget) for the dN `model` subtracted. A number given as such (no
+/// calibration record) has neither, and says so in delta_n_u_note.
+[[nodiscard]] delta_n_errors delta_n_errors_of(const delta_n_source& dn,
+                                               std::span<const method::cycle> cycles,
+                                               const delta_n_budget& budget,
+                                               const method::delta_n_model& model);
+
+/// What `compensate --strict` (CLI and Python) takes: a calibration whose ΔN and uncertainty are
+/// its runs' (`budget` valid), whose runs are listed and were checked for stationarity (not
+/// `unchecked`, check_calibration_runs). An input error naming the calibration otherwise.
+[[nodiscard]] status refuse_unvouched(const delta_n_source& dn, const delta_n_budget& budget,
+                                      bool unchecked);
+
+/// The budget of the calibration in `dn` (calibration_budget) with the sensor's specification
+/// that the recording's `metadata` names (resolve_sensor_spec); an empty budget for a dN given as
+/// a number. Warnings (`FILE: what`) are appended.
+[[nodiscard]] delta_n_budget compensation_budget(const delta_n_source& dn,
+                                                 std::span<const io::csv_metadata> metadata,
+                                                 const std::string& file,
+                                                 std::vector<std::string>& warnings);
+
+struct compensate_result : delta_n_errors {
+  compensation comp;
+  /// A harmonic calibration applied (harmonic_application), else none.
+  std::optional<harmonic_application> applied;
   method::pairing pairing = method::pairing::abba;
   std::vector<std::string> warnings;  ///< `FILE: what`, for the caller to show
 };
@@ -195,9 +223,11 @@ inline constexpr double far_from_calibration_c = 5.0;
 
 /// The summary `compensate --json` prints and Python's compensate returns as "summary"
 /// (schema gyroflip.compensate/2, docs/cli.md): file, delta_n (source, degree, coeffs_dps,
-/// t_ref_c, delta_n_dps for a constant), pairing, cycles, duration_s, mean/std/stderr,
+/// t_ref_c, delta_n_dps for a constant; its errors `error_dps` and `new_power_up_dps`, each null
+/// when not known, with `error_note` saying why), pairing, cycles, duration_s, mean/std/stderr,
 /// drift_dps (null when the run is shorter than the window), drift_window_s.
 [[nodiscard]] nlohmann::json compensation_json(const compensation& c, const std::string& file,
-                                               const delta_n_source& dn, method::pairing p);
+                                               const delta_n_source& dn, method::pairing p,
+                                               const delta_n_errors& errors);
 
 }  // namespace gyroflip::workflow

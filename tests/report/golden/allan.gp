@@ -8,7 +8,7 @@ set tics nomirror out
 set mxtics
 set mytics
 set key below left vertical maxrows 1 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
-set title "Allan deviation\nupper limits, not drawn: B < 0.0004 °/s; K < 2e-05 °/s·√Hz" noenhanced
+set title "Allan deviation\nupper limits, not drawn: B < 0.000400 °/s; K < 0.0000200 °/s·√Hz" noenhanced
 set xlabel "averaging time τ (s)\n" noenhanced
 set ylabel 'Allan deviation (°/s)' noenhanced
 set logscale x 10
@@ -22,17 +22,17 @@ set label 1 'N' at 1,0.01 left front tc rgb '#0072B2' point pt 6 ps 1.6 lw 2 lc 
 set terminal pngcairo size 1100,680 font 'DejaVu Sans,12' enhanced
 set output 'allan.png'
 plot 'allan_1.dat' using 1:2:3:4 with yerrorbars pt 7 ps 0.7 lw 1.2 lc rgb '#0072B2' title 'compensated' noenhanced, 'allan_1.dat' using 1:2 with lines lw 1 lc rgb '#0072B2' notitle, \
-     'allan_2.dat' using 1:2 with lines lw 2 dt 2 lc rgb '#0072B2' title 'N = 0.01 °/s/√Hz (at τ = 1 s)' noenhanced
+     'allan_2.dat' using 1:2 with lines lw 2 dt 2 lc rgb '#0072B2' title 'N = 0.0100 °/s/√Hz (at τ = 1 s)' noenhanced
 unset output
 
 set terminal svg size 1100,680 font 'DejaVu Sans,12' enhanced background rgb 'white'
 set output 'allan.svg'
 plot 'allan_1.dat' using 1:2:3:4 with yerrorbars pt 7 ps 0.7 lw 1.2 lc rgb '#0072B2' title 'compensated' noenhanced, 'allan_1.dat' using 1:2 with lines lw 1 lc rgb '#0072B2' notitle, \
-     'allan_2.dat' using 1:2 with lines lw 2 dt 2 lc rgb '#0072B2' title 'N = 0.01 °/s/√Hz (at τ = 1 s)' noenhanced
+     'allan_2.dat' using 1:2 with lines lw 2 dt 2 lc rgb '#0072B2' title 'N = 0.0100 °/s/√Hz (at τ = 1 s)' noenhanced
 unset output
 
 set terminal pdfcairo size 7in,4.3in font 'DejaVu Sans,10' enhanced
 set output 'allan.pdf'
 plot 'allan_1.dat' using 1:2:3:4 with yerrorbars pt 7 ps 0.7 lw 1.2 lc rgb '#0072B2' title 'compensated' noenhanced, 'allan_1.dat' using 1:2 with lines lw 1 lc rgb '#0072B2' notitle, \
-     'allan_2.dat' using 1:2 with lines lw 2 dt 2 lc rgb '#0072B2' title 'N = 0.01 °/s/√Hz (at τ = 1 s)' noenhanced
+     'allan_2.dat' using 1:2 with lines lw 2 dt 2 lc rgb '#0072B2' title 'N = 0.0100 °/s/√Hz (at τ = 1 s)' noenhanced
 unset output

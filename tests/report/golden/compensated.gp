@@ -8,7 +8,7 @@ set tics nomirror out
 set mxtics
 set mytics
 set key below left vertical maxrows 1 width 2 box lc rgb '#bbbbbb' samplen 2 spacing 1.1
-set title "Compensated output\n6 cycles: mean 0 °/s, std 0.00187 °/s (eqn 12)" noenhanced
+set title "Compensated output\n6 cycles: mean 0.000 °/s, std 0.00187 °/s (eqn 12)" noenhanced
 set xlabel "time (s)\n" noenhanced
 set ylabel 'compensated rate (°/s)' noenhanced
 set offsets 0, 0, graph 0.05, graph 0.05
