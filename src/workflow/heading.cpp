@@ -122,9 +122,10 @@ result<double> base_turn_of(const heading_request& q, std::optional<double> az1,
   if (az1 && az2) return *az2 - *az1;
   return parameter_error(
       "base_turn_deg",
-      fmt::format("two runs: the turn of the rig's base between them is not known (the azimuth "
-                  "is not recorded in {}: record --azimuth stores it): give it",
-                  az1 ? q.runs[1] : q.runs[0]));
+      fmt::format(
+          "two runs: the turn of the rig's base between them is not known (the azimuth "
+          "is not recorded in {}: a recording states it when told the rig's azimuth): give it",
+          az1 ? q.runs[1] : q.runs[0]));
 }
 
 }  // namespace
@@ -162,8 +163,8 @@ result<heading_result> find_heading(const heading_request& q) {
     if (q.table_axis_up) r->axis_up = q.table_axis_up;
     if (!q.table_axis_up && r->axis_name.empty())
       out.caveats.push_back(fmt::format(
-          "{}: the table axis is not recorded (a recording made without `record --table-axis`, "
-          "or before gyroflip stored it): taken as up; give --table-axis if it was down",
+          "{}: the table axis is not recorded (a recording not told it, or made before gyroflip "
+          "stored it): taken as up; give the table axis if it was down",
           path));
     runs.push_back(std::move(*r));
   }

@@ -186,7 +186,7 @@ result<simulation_truth> simulate_recording(const recording_request& r,
         "# harmonics r(theta) = b + c1 cos(theta) + s1 sin(theta) + c2 cos(2 theta) + s2 "
         "sin(2 theta) over the table angle (Fourier over the whole turn, any table): earth c1 {} "
         "s1 {} c2 {} s2 {}; g_term c1 {} s1 {} c2 {} s2 {} deg/s\n"
-        "# terms_dps (earth + g_term, what calibrate --pairing harmonic estimates besides the "
+        "# terms_dps (earth + g_term, what calibrate's harmonic pairing estimates besides the "
         "bias): c1 {} s1 {} c2 {} s2 {}\n",
         truth.earth_c_dps[0], truth.earth_s_dps[0], truth.earth_c_dps[1], truth.earth_s_dps[1],
         truth.g_c_dps[0], truth.g_s_dps[0], truth.g_c_dps[1], truth.g_s_dps[1], truth.c_dps(1),
