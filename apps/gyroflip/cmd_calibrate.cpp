@@ -230,6 +230,22 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
                      "at rest{}\n",
                      g_limit + (exact ? 0.0 : earth::earth_rate_wgs84_dps), g_limit,
                      exact ? "" : " plus the Earth rate, without --latitude/--axis", constant_like);
+    // The smallest step and drift of r the drift and step statistics catch half of the time
+    // (fifth review of issue 31, F1/F2): smaller ones pass and stay in dN.
+    double step_mid = 0.0, step_end = 0.0, ramp = 0.0;
+    for (const auto& f : rec.files)
+      if (f.stationarity && f.stationarity->checked) {
+        step_mid = std::max(step_mid, f.stationarity->step_hidden_dps);
+        step_end = std::max(step_end, f.stationarity->step_hidden_end_dps);
+        ramp = std::max(ramp, f.stationarity->ramp_hidden_dps);
+      }
+    if (step_mid > 0.0 && ramp > 0.0)
+      fmt::format_to(std::back_inserter(out),
+                     "Nor can it see a step of r below {:#.2g} deg/s at mid-run ({:#.2g} deg/s in "
+                     "the first or last 3 % of a run) or a drift below {:#.2g} deg/s over a run "
+                     "(each caught half of the time at that size{}): they stay in dN\n",
+                     step_mid, step_end, ramp,
+                     rec.files.size() > 1 ? ", the least sensitive run" : "");
     // Not vouched for: the next step is the check, not compensating with it (third review of
     // issue 31, M6).
     std::string files;

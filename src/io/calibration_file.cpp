@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <tuple>
 #include <utility>
 
 #include <fmt/format.h>
@@ -195,6 +196,16 @@ json stationarity_json(const method::stationarity& st) {
             {"step_dps", st.step_dps},
             {"step_time_s", st.step_time_s},
             {"step_limit_dps", st.step_limit_dps},
+            {"step_statistic", st.step_statistic},
+            {"step_statistic_limit", st.step_statistic_limit_value},
+            {"trim_cycles", st.trim_cycles},
+            {"slope_statistic", st.slope_statistic},
+            {"slope_limit", st.slope_limit},
+            {"ramp_dps", st.ramp_dps},
+            {"long_run_std_dps", st.long_run_std_dps},
+            {"step_hidden_dps", st.step_hidden_dps},
+            {"step_hidden_end_dps", st.step_hidden_end_dps},
+            {"ramp_hidden_dps", st.ramp_hidden_dps},
             {"scatter_failed", st.scatter_failed},
             {"drift_failed", st.drift_failed},
             {"temp_failed", st.temp_failed},
@@ -246,6 +257,24 @@ status read_stationarity(const std::string& path, const std::string& at, const j
   for (const double v : {st.scatter_ratio, st.scatter_limit, st.drift_statistic,
                          st.drift_limit_value, st.step_limit_dps})
     if (v < 0.0) return bad("has a negative statistic, limit or error");
+  // Written since the step and slope statistics (fifth review of issue 31; absent: 0, their
+  // verdicts not judged, as calibrate did not judge them). Only the slope and the ramp are signed.
+  for (const auto& [key, out, signed_ok] :
+       {std::tuple{"step_statistic", &st.step_statistic, false},
+        std::tuple{"step_statistic_limit", &st.step_statistic_limit_value, false},
+        std::tuple{"slope_statistic", &st.slope_statistic, true},
+        std::tuple{"slope_limit", &st.slope_limit, false},
+        std::tuple{"ramp_dps", &st.ramp_dps, true},
+        std::tuple{"long_run_std_dps", &st.long_run_std_dps, false},
+        std::tuple{"step_hidden_dps", &st.step_hidden_dps, false},
+        std::tuple{"step_hidden_end_dps", &st.step_hidden_end_dps, false},
+        std::tuple{"ramp_hidden_dps", &st.ramp_hidden_dps, false}})
+    if (j.contains(key) && (!number(key, *out) || (!signed_ok && *out < 0.0)))
+      return bad(fmt::format("'{}' must be a finite number{}", key, signed_ok ? "" : " >= 0"));
+  if (j.contains("trim_cycles")) {
+    if (!j["trim_cycles"].is_number_unsigned()) return bad("'trim_cycles' must be a whole number");
+    st.trim_cycles = j["trim_cycles"].get<std::size_t>();
+  }
   // Written since the lower scatter limit (absent in the first schema-3 files: 0, not checked).
   if (j.contains("scatter_low_limit") &&
       (!number("scatter_low_limit", st.scatter_low_limit) || st.scatter_low_limit < 0.0))

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "gyroflip/analysis/allan.hpp"
+#include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/analysis/drift.hpp"
 #include "gyroflip/analysis/phase_source.hpp"
 #include "gyroflip/method/demodulator.hpp"
@@ -29,20 +31,59 @@ std::string num(double v) {
   return fmt::format("{:.3g}", v);
 }
 
-struct split {
-  double statistic = 0.0;  // max |S_k| before scaling
-  std::size_t at = 0;      // first cycle after the split
+// The drift and step statistics of r (see stationarity.hpp), scaled by sigma, r's long-run std.
+struct drift_stats {
+  double cusum = 0.0;     // max_k |S_k| before scaling
+  double sup_t = 0.0;     // max over trimmed k of |S_k| / sqrt(k (n - k) / n), before scaling
+  std::size_t at = 0;     // first cycle after the sup-t's split
+  double slope = 0.0;     // least-squares slope of r in time (deg/s per s)
+  double slope_se = 0.0;  // its standard error for unit-variance uncorrelated r
 };
 
-// The OLS-CUSUM's largest partial sum of y - mean(y) and where it is reached.
-split largest_partial_sum(std::span<const double> y, double mean) {
-  split out;
+drift_stats drift_of(std::span<const cycle> cycles, std::span<const double> r, double mean,
+                     std::size_t trim) {
+  drift_stats out;
+  const std::size_t n = r.size();
+  const double nd = static_cast<double>(n);
   double s = 0.0;
-  for (std::size_t k = 0; k + 1 < y.size(); ++k) {
-    s += y[k] - mean;
-    if (std::abs(s) > out.statistic) out = {std::abs(s), k + 1};
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    s += r[k] - mean;
+    out.cusum = std::max(out.cusum, std::abs(s));
+    const std::size_t left = k + 1;
+    if (left < trim || n - left < trim) continue;
+    const double kd = static_cast<double>(left);
+    const double t = std::abs(s) / std::sqrt(kd * (nd - kd) / nd);
+    if (t > out.sup_t) {
+      out.sup_t = t;
+      out.at = left;
+    }
+  }
+  double t_mean = 0.0;
+  for (const auto& cy : cycles) t_mean += cy.time_s;
+  t_mean /= nd;
+  double sxx = 0.0, sxy = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dt = cycles[i].time_s - t_mean;
+    sxx += dt * dt;
+    sxy += dt * (r[i] - mean);
+  }
+  if (sxx > 0.0) {
+    out.slope = sxy / sxx;
+    out.slope_se = 1.0 / std::sqrt(sxx);
   }
   return out;
+}
+
+// The slope's t numerator: slope / (its standard error for unit-variance r) = slope sqrt(Sxx).
+double sxx_of(const drift_stats& d) {
+  return d.slope_se > 0.0 ? 1.0 / (d.slope_se * d.slope_se) : 0.0;
+}
+
+// A statistic scaled by sigma; a noise-free run (sigma at rounding level) gives 1e300 when the
+// numerator is above rounding, else 0.
+double scaled(double numerator, double sigma, double rounding) {
+  if (sigma > rounding) return numerator / sigma;
+  return numerator > rounding ? 1e300 : 0.0;
 }
 
 double mean_of(std::span<const double> y) {
@@ -75,6 +116,32 @@ double white_std_over_adev(pairing p) noexcept {
   const auto cv = t.white_covariance();
   if (cv[0] == cv[2]) return t.white_std_over_adev();
   return t.white_std_over_adev() * std::sqrt(cv[0] / cv[2]);
+}
+
+double sup_t_tail(double x, double pi0) noexcept {
+  if (!(pi0 > 0.0 && pi0 < 0.5)) return 1.0;
+  const double log_ratio = 2.0 * std::log((1.0 - pi0) / pi0);
+  const double phi = std::exp(-0.5 * x * x) / std::sqrt(2.0 * std::numbers::pi);
+  return x * phi * (log_ratio * (1.0 - 1.0 / (x * x)) + 4.0 / (x * x));
+}
+
+double step_statistic_limit(std::size_t n, std::size_t trim, double edf) {
+  const double pi0 = static_cast<double>(std::max<std::size_t>(trim, 1)) / static_cast<double>(n);
+  if (!(pi0 < 0.5)) return slope_statistic_limit(edf);  // one split: a single t
+  // The x with sup_t_tail(x) = drift_false_alarm (decreasing for x > 2), by bisection.
+  double lo = 2.0, hi = 40.0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (sup_t_tail(mid, pi0) > drift_false_alarm ? lo : hi) = mid;
+  }
+  // Student's t at the normal's tail probability there (erfc(x / sqrt 2) two-sided).
+  const double p_two_sided = std::erfc(0.5 * (lo + hi) / std::numbers::sqrt2);
+  return edf > 0.0 ? analysis::student_t_quantile(1.0 - 0.5 * p_two_sided, edf) : 0.5 * (lo + hi);
+}
+
+double slope_statistic_limit(double edf) {
+  const double dof = edf > 0.0 ? edf : 1e6;
+  return analysis::student_t_quantile(1.0 - 0.5 * drift_false_alarm, dof);
 }
 
 stationarity check_stationarity(std::span<const cycle> cycles, const calibration& cal,
@@ -113,25 +180,42 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
     }
   out.temp_span_c = t_lo <= t_hi ? t_hi - t_lo : 0.0;
   out.temp_failed = out.temp_span_c > isothermal_span_c;
-  // Drift or step: the CUSUM scaled by r's long-run std at short averaging times.
+  // Drift or step: r's long-run std from short averaging times (a drift or step barely enters
+  // it), the OLS-CUSUM, the step statistic (sup-t) and the slope's t.
   const std::size_t m = std::clamp<std::size_t>(n / 8, 1, drift_scale_cycles);
-  const double long_run_var = oavar(r, m) * static_cast<double>(m);
-  const auto sp = largest_partial_sum(r, mean);
-  const double scale = std::sqrt(long_run_var * nd);
-  out.drift_statistic = scale > rounding * std::sqrt(nd)
-                            ? sp.statistic / scale
-                            : (sp.statistic > rounding * nd ? 1e300 : 0.0);
-  const auto head = std::span<const double>(r).first(sp.at);
-  const auto tail = std::span<const double>(r).subspan(sp.at);
-  out.step_dps = sp.at > 0 && !tail.empty() ? mean_of(tail) - mean_of(head) : 0.0;
-  out.step_time_s = cycles[std::min(sp.at, n - 1)].time_s;
-  out.step_limit_dps = 3.0 * cal.stderr_correlated_dps;
-  out.drift_failed = out.drift_statistic > drift_limit &&
-                     std::abs(out.step_dps) > std::max(out.step_limit_dps, rounding);
+  const double sigma = std::sqrt(oavar(r, m) * static_cast<double>(m));
+  const double edf = analysis::edf(analysis::dev_kind::oadev, 0, m, n + 1);
+  out.long_run_std_dps = sigma;
+  out.trim_cycles = std::min(step_trim_cycles, n / 4);
+  const auto d = drift_of(cycles, r, mean, out.trim_cycles);
+  out.drift_statistic = scaled(d.cusum / std::sqrt(nd), sigma, rounding);
+  out.step_statistic = scaled(d.sup_t, sigma, rounding);
+  out.step_statistic_limit_value = step_statistic_limit(n, out.trim_cycles, edf);
+  const auto head = std::span<const double>(r).first(d.at);
+  const auto tail = std::span<const double>(r).subspan(d.at);
+  out.step_dps = d.at > 0 && !tail.empty() ? mean_of(tail) - mean_of(head) : 0.0;
+  out.step_time_s = cycles[std::min(d.at, n - 1)].time_s;
+  out.step_limit_dps = std::max(3.0 * cal.stderr_correlated_dps, rounding);
+  out.slope_statistic =
+      std::copysign(scaled(std::abs(d.slope) * std::sqrt(sxx_of(d)), sigma, rounding), d.slope);
+  out.slope_limit = slope_statistic_limit(edf);
+  out.ramp_dps = d.slope * (cycles[n - 1].time_s - cycles[0].time_s);
+  // The sizes that reach each limit (see stationarity.hpp): a step at k of n moves the sup-t by
+  // delta sqrt(k (n - k) / n) / sigma; a ramp of R over the run moves the slope's t by
+  // R / ((t_n - t_1) slope_se sigma).
+  const double end = 0.03 * nd;
+  out.step_hidden_dps = out.step_statistic_limit_value * sigma * 2.0 / std::sqrt(nd);
+  out.step_hidden_end_dps =
+      out.step_statistic_limit_value * sigma / std::sqrt(std::max(1.0, end * (nd - end) / nd));
+  out.ramp_hidden_dps =
+      out.slope_limit * sigma * d.slope_se * (cycles[n - 1].time_s - cycles[0].time_s);
+  out.drift_failed = out.drift_judged_failed();
   check_g_term(cal, in, out);
   // Every statistic written is finite (a run of identical values gives 1e300, never inf).
   out.scatter_ratio = std::min(out.scatter_ratio, 1e300);
   out.drift_statistic = std::min(out.drift_statistic, 1e300);
+  out.step_statistic = std::min(out.step_statistic, 1e300);
+  out.slope_statistic = std::clamp(out.slope_statistic, -1e300, 1e300);
   return out;
 }
 
@@ -148,17 +232,31 @@ std::vector<std::string> stationarity::failures() const {
         "limit {}): the half-sum c scatters more than the dwells' noise, as an input that "
         "alternates with the turns does (a vibration or oscillation of the table)",
         num(scatter_ratio), num(scatter_low_limit)));
-  if (drift_failed)
+  if (drift_failed) {
+    const bool step =
+        step_statistic_limit_value > 0.0 && step_statistic > step_statistic_limit_value;
+    const bool slope = slope_limit > 0.0 && std::abs(slope_statistic) > slope_limit;
+    std::string what;
+    if (step || !slope)
+      what = fmt::format("r steps by {} °/s at t = {:.0f} s ({}CUSUM {} against {})", num(step_dps),
+                         step_time_s,
+                         step_statistic_limit_value > 0.0
+                             ? fmt::format("step statistic {} against {}, ", num(step_statistic),
+                                           num(step_statistic_limit_value))
+                             : std::string(),
+                         num(drift_statistic), num(drift_limit_value));
+    if (slope)
+      what += fmt::format("{}r drifts by {} °/s over the run (slope t {} > {})",
+                          what.empty() ? "" : "; ", num(ramp_dps), num(slope_statistic),
+                          num(slope_limit));
     out.push_back(fmt::format(
-        "r drifts or steps by {} °/s at t = {:.0f} s (CUSUM {} > {}; beyond 3 correlated errors, "
-        "{} °/s){}",
-        num(step_dps), step_time_s, num(drift_statistic), num(drift_limit_value),
-        num(step_limit_dps),
+        "{}; beyond 3 correlated errors, {} °/s{}", what, num(step_limit_dps),
         temp_span_c > 1.0
             ? fmt::format("; the temperature moved {:.1f} °C over the run, and ΔN follows it: "
                           "calibrate at a steady temperature, or fit ΔN(T) over runs at several",
                           temp_span_c)
             : std::string()));
+  }
   if (temp_failed)
     out.push_back(fmt::format(
         "the temperature moved {:.1f} °C during the run: not isothermal (more than {:g} °C), "
@@ -182,11 +280,21 @@ std::vector<std::string> stationarity::caveats() const {
       "check it by naming the sensor's specification (a built-in preset or a TOML preset file)"};
 }
 
+bool stationarity::drift_judged_failed() const noexcept {
+  const auto beyond = [this](double change) { return std::abs(change) > step_limit_dps; };
+  const bool cusum = drift_statistic > drift_limit_value && beyond(step_dps);
+  const bool step = step_statistic_limit_value > 0.0 &&
+                    step_statistic > step_statistic_limit_value && beyond(step_dps);
+  const bool slope =
+      slope_limit > 0.0 && std::abs(slope_statistic) > slope_limit && beyond(ramp_dps);
+  return cusum || step || slope;
+}
+
 stationarity stationarity::rejudged() const {
   stationarity s = *this;
   if (!checked) return s;
   s.scatter_failed = scatter_ratio > scatter_limit || scatter_ratio < scatter_low_limit;
-  s.drift_failed = drift_statistic > drift_limit_value && std::abs(step_dps) > step_limit_dps;
+  s.drift_failed = drift_judged_failed();
   s.g_failed = g_checked && g_term_dps - g_margin_dps > g_limit_dps;
   s.temp_failed = temp_span_c > isothermal_span_c;
   return s;
@@ -204,6 +312,13 @@ std::string stationarity::summary() const {
                               g_checked ? "stationary" : "stationary in scatter and drift only",
                               num(scatter_ratio), num(scatter_limit), num(drift_statistic),
                               num(drift_limit_value));
+  // A statistic beyond its limit whose level change is within 3 correlated errors passes.
+  const auto against = [](double v, double limit) {
+    return fmt::format("{} {} {}", num(v), v > limit ? ">" : "<=", num(limit));
+  };
+  if (step_statistic_limit_value > 0.0)
+    s += ", step " + against(step_statistic, step_statistic_limit_value);
+  if (slope_limit > 0.0) s += ", slope " + against(std::abs(slope_statistic), slope_limit);
   s += g_checked ? fmt::format(", g-term {}{} °/s <= {} °/s)",
                                g_exact ? "" : ">= ", num(g_term_dps), num(g_limit_dps))
                  : "; g-term NOT checked: no specification, a constant input of any size passes)";

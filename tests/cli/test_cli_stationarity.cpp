@@ -82,6 +82,35 @@ TEST(CliStationarity, TheIssuesRunsAreWarnedAboutRefusedWithStrictAndRecorded) {
 // Third review of issue 31 (low): a run simulated from a TOML preset carries the preset's
 // g_sens_spec in its header (# sensor.g_sens_spec_max_dps_per_g), yet calibrate said "no sensor
 // specification" and passed a turning table. It reads the header's model.
+// Fifth review of issue 31 (F1): the input steps by 0.01 deg/s after the run's first minute (3 %
+// of 30 min); the CUSUM passed it (2.19 < 2.4: "stationary") and dN was 59 calibrated errors off.
+// The step statistic refuses it; a still run of the same seed passes and calibrate states the
+// step and drift it cannot see.
+TEST(CliStationarity, AStepInTheFirstMinuteIsRefused) {
+  temp_dir d;
+  const auto run = [&d](const std::string& name, const std::string& rate) {
+    const auto f = d.file(name);
+    const auto r = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "1800", "--temp",
+                            "20", "--seed", "12", "--rate-profile", rate, "-o", f});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return f;
+  };
+  const auto step = run("st60.csv", "steps:60:0.01");
+  const auto r = run_cli({"calibrate", step, "--strict", "-o", d.file("st60.json")});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("step statistic"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("at t = 60 s"), std::string::npos) << r.err;
+  const auto still = run("still.csv", "0");
+  const auto ok = run_cli({"calibrate", still, "--strict", "--json"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const auto st = stationarity_of(ok.out);
+  EXPECT_EQ(st["stationary"], true);
+  EXPECT_LT(st["step_statistic"].get<double>(), st["step_statistic_limit"].get<double>());
+  EXPECT_GT(st["ramp_hidden_dps"].get<double>(), 0.0);
+  const auto text = run_cli({"calibrate", still, "--strict"});
+  EXPECT_NE(text.out.find("Nor can it see a step of r below"), std::string::npos) << text.out;
+}
+
 TEST(CliStationarity, ARunSimulatedFromATomlPresetIsCheckedAgainstItsHeadersSpecification) {
   temp_dir d;
   write_text(d.file("mine.toml"), "name = \"mine\"\nbase = \"hz1-90-100a\"\n");

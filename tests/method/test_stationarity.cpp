@@ -174,6 +174,69 @@ TEST(Stationarity, AStepInRFailsTheDriftAndASmallOneDoesNot) {
   EXPECT_TRUE(check(ramp, 6, pairing::simple, hz1_spec).drift_failed);
 }
 
+// Fifth review of issue 31 (F1): the OLS-CUSUM weighs a split at k of n by k (n - k) / n, so a step
+// in a run's first or last 3 % passed it (0.01 deg/s at 60 s of 1800: CUSUM 2.19 < 2.4, dN 59
+// calibrated errors off). The step statistic (sup-t) standardizes each split: 8.2 and 9.4 against
+// 5.31 here, where the old code passed both runs (CUSUM 2.06 and 1.61 < 2.4).
+TEST(Stationarity, AStepNearEitherEndFailsTheStepStatistic) {
+  for (const double share : {0.03, 0.97}) {
+    run_truth t;
+    const double at_s = share * 1790.0;
+    t.input_dps = [at_s](double s) { return s > at_s ? 8e-3 : 0.0; };
+    const auto st = check(t, 11, pairing::abba, hz1_spec);
+    EXPECT_TRUE(st.drift_failed) << share << ": " << st.summary();
+    EXPECT_NEAR(st.step_dps, 8e-3, 1.5e-3) << share;
+    EXPECT_NEAR(st.step_time_s, at_s, 30.0) << share;
+    EXPECT_FALSE(st.scatter_failed) << share;
+    ASSERT_FALSE(st.failures().empty());
+    EXPECT_NE(st.failures()[0].find("step statistic"), std::string::npos) << st.failures()[0];
+  }
+}
+
+// Fifth review of issue 31 (F2): a ramp of r worth several calibrated errors passed the CUSUM
+// (R sqrt(n) / (8 sigma)); the slope's t (R sqrt(n / 12) / sigma) sees it. A ramp of 0.0026 deg/s
+// over the run moves dN by 0.0013 deg/s, ~9 calibrated errors; the slope's t is 1.13-1.27 times
+// its limit at these seeds, where the old code passed them (CUSUM 2.03-2.28 < 2.4; it caught 37 of
+// seeds 1-60, the slope 53).
+TEST(Stationarity, ARampFailsTheSlopeStatistic) {
+  run_truth t;
+  t.input_dps = [](double s) { return 2.6e-3 * s / 1790.0; };
+  for (const std::uint64_t seed : {12U, 19U, 27U, 54U}) {
+    const auto st = check(t, seed, pairing::abba, hz1_spec);
+    EXPECT_TRUE(st.drift_failed) << seed << ": " << st.summary();
+    EXPECT_NEAR(st.ramp_dps, 2.6e-3, 1.2e-3) << seed;
+    EXPECT_GT(st.slope_statistic, st.slope_limit) << seed;
+  }
+}
+
+// Still runs stay below every limit, the stated blind spots are the sizes that reach them, and
+// the limits are the published ones where they have one.
+TEST(Stationarity, TheStepAndSlopeLimitsHoldOnStillRuns) {
+  for (const auto p : {pairing::simple, pairing::abba})
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      const auto st = check(run_truth{}, seed, p, hz1_spec);
+      EXPECT_LT(st.step_statistic, st.step_statistic_limit_value) << seed;
+      EXPECT_LT(std::abs(st.slope_statistic), st.slope_limit) << seed;
+      EXPECT_EQ(st.trim_cycles, step_trim_cycles);
+      // sigma_LR 2 / sqrt(n) times the limit at mid-run; the ramp sqrt(12 / n) (n = 1000).
+      EXPECT_NEAR(st.step_hidden_dps,
+                  st.step_statistic_limit_value * st.long_run_std_dps * 2.0 / std::sqrt(1000.0),
+                  1e-3 * st.step_hidden_dps);
+      EXPECT_NEAR(st.ramp_hidden_dps,
+                  st.slope_limit * st.long_run_std_dps * std::sqrt(12.0 / 1000.0),
+                  2e-2 * st.ramp_hidden_dps);
+      EXPECT_GT(st.step_hidden_end_dps, 2.5 * st.step_hidden_dps);
+    }
+  // Andrews (1993) Table I, one parameter, trimming 0.15: sup-F 8.85 at 5 %, 12.35 at 1 %.
+  EXPECT_NEAR(sup_t_tail(std::sqrt(8.85), 0.15), 0.05, 0.003);
+  EXPECT_NEAR(sup_t_tail(std::sqrt(12.35), 0.15), 0.01, 0.0006);
+  // The normal's two-sided 1e-4 point for infinitely many degrees of freedom; more for fewer.
+  EXPECT_NEAR(slope_statistic_limit(1e9), 3.8906, 1e-3);
+  EXPECT_GT(slope_statistic_limit(10.0), 6.0);
+  EXPECT_GT(step_statistic_limit(1000, 8, 1e9), 4.8);
+  EXPECT_LT(step_statistic_limit(1000, 8, 1e9), 5.0);
+}
+
 TEST(Stationarity, TooFewCyclesAreNotChecked) {
   run_truth t;
   t.dwells = 2 * (min_stationarity_cycles - 1);

@@ -9,11 +9,22 @@
 ///   enters c, not r). Under white dwell noise r's and c's noise have one distribution whatever
 ///   the pairing (each is the same linear combination of the dwells, with signs), so
 ///   std(r) / ADEV_c(tau0) is the pairing's white-noise ratio (`white_std_over_adev`).
-/// - **drift or step**: the largest partial sum of r - mean(r) (the OLS-CUSUM of Ploberger and
-///   Krämer 1992, Econometrica 60(2) 271-285), scaled by r's long-run std at short averaging
-///   times; under stationarity it tends to sup|Brownian bridge| (Kolmogorov's distribution). A
-///   failure also needs the level change at the split to exceed the run's own correlated error
-///   (so noise that the stated error of dN already covers is not called a drift).
+/// - **drift or step**: three statistics on r, each scaled by r's long-run std at short averaging
+///   times (AVAR at m = min(16, n/8) cycles times m, robust to a step or a ramp), each with a
+///   limit whose asymptotic false-alarm rate is stated. A failure also needs the level change to
+///   exceed the run's own correlated error (noise the stated error of dN already covers is not
+///   called a drift).
+///   - the **step statistic**: the largest standardized mean difference before and after a split,
+///     max_k |S_k| / (sigma_LR sqrt(k (n - k) / n)) over splits at least `step_trim_cycles`
+///     from either end (the sup-t, square root of Andrews' 1993 sup-F, Econometrica 61(4)
+///     821-856, for one mean; Csorgo & Horvath 1997, Limit Theorems in Change-Point Analysis,
+///     ch. 1): it sees a step wherever it lies, also in a run's first or last minute, which the
+///     CUSUM below weighs by k (n - k) / n and misses (fifth review of issue 31, F1);
+///   - the **slope statistic**: the t of r's least-squares slope in time with the long-run
+///     variance (a ramp: 2.3 times the CUSUM's power; fifth review, F2);
+///   - the OLS-CUSUM of before (Ploberger and Kramer 1992, Econometrica 60(2) 271-285),
+///     max_k |S_k| / (sigma_LR sqrt(n)), still written and judged (a run it refused stays
+///     refused).
 /// - **g-term**: the g-term (dN less the Earth rate; without a geometry at least |dN| - W_E)
 ///   against what the sensor's specification allows at 1 g (a guaranteed maximum, or three times a
 ///   typical value), less three correlated errors. Without a specification it is not checked, and
@@ -54,6 +65,33 @@ inline constexpr double drift_limit = 2.4;
 /// Averaging factor (cycles) of the long-run std that scales the drift statistic: long enough
 /// for abba's lag-1 correlation, short enough that a drift or step barely enters it.
 inline constexpr std::size_t drift_scale_cycles = 16;
+
+/// Asymptotic false-alarm rate of each of the step and slope statistics on a stationary run
+/// (their limits: step_statistic_limit, slope_statistic_limit). Measured on the simulator's
+/// still runs in bench/stationarity_null.py (docs/PERFORMANCE.md, "Issue 31").
+inline constexpr double drift_false_alarm = 1e-4;
+
+/// The step statistic's splits leave at least this many cycles (14 s of the paper's 1.79 s
+/// cycle) on either side (fewer in runs under 32 cycles: n/4): a shorter segment's mean rests on
+/// too few cycles for r's correlation at short lags.
+inline constexpr std::size_t step_trim_cycles = 8;
+
+/// P(sup |B(t)| / sqrt(t (1 - t)) > x) over t in [pi0, 1 - pi0], B a Brownian bridge: the
+/// tail approximation x phi(x) (L (1 - 1/x^2) + 4/x^2), L = 2 ln((1 - pi0) / pi0) (James, James
+/// & Siegmund 1987, Biometrika 74(1) 71-83; Csorgo & Horvath 1997, section 1.3; it gives
+/// Andrews' 1993 Table I critical values for one parameter, sup-F 8.85 at 5 % with pi0 = 0.15,
+/// docs/FACTS.md). Valid in the tail (x above ~2).
+[[nodiscard]] double sup_t_tail(double x, double pi0) noexcept;
+
+/// Limit of the step statistic for n cycles, trim cycles at either end and a long-run variance
+/// with `edf` degrees of freedom: the x with sup_t_tail(x, trim/n) = drift_false_alarm, taken to
+/// Student's t with `edf` degrees of freedom at the same tail probability (the long-run variance
+/// is an estimate: from 40 cycles it has ~9 degrees of freedom, from 1000 ~90).
+[[nodiscard]] double step_statistic_limit(std::size_t n, std::size_t trim, double edf);
+
+/// Limit of the slope statistic: Student's t with `edf` degrees of freedom at the two-sided
+/// probability drift_false_alarm (3.89 for infinitely many).
+[[nodiscard]] double slope_statistic_limit(double edf);
 
 /// A run whose temperature moves more than this (degC) is not isothermal (review R17): its dN is
 /// a mean over temperatures no dN(T) sees; the HZ1's dN moves 9e-5 deg/s over 2 degC (paper Tab.
@@ -96,16 +134,33 @@ struct stationarity {
   /// cycles, >= 0.86 at 3000, measured).
   double scatter_low_limit = 0.0;
   double temp_span_c = 0.0;      ///< the run's temperature range (0 without temperatures)
-  double drift_statistic = 0.0;  ///< max_k |S_k| / (n x se_16), S_k partial sums of r - mean
+  double drift_statistic = 0.0;  ///< the OLS-CUSUM max_k |S_k| / (sigma_LR sqrt(n)), r - mean
   double drift_limit_value = drift_limit;
-  double step_dps = 0.0;        ///< mean of r after the CUSUM's split less before it
+  /// Mean of r after the step statistic's split less before it (files before it: the CUSUM's).
+  double step_dps = 0.0;
   double step_time_s = 0.0;     ///< time of the split (the cycle after it)
   double step_limit_dps = 0.0;  ///< 3 x the run's correlated error of dN
-  bool g_checked = false;       ///< a specification was given
-  bool g_exact = false;         ///< the geometry was given (else a lower bound)
-  double g_term_dps = 0.0;      ///< |g-term| (or its lower bound)
-  double g_limit_dps = 0.0;     ///< the specification's limit at 1 g
-  double g_margin_dps = 0.0;    ///< 3 x the correlated error, taken off the g-term first
+  /// The step statistic (sup-t, see the file comment) and its limit; 0 and 0 in files written
+  /// before it (not judged).
+  double step_statistic = 0.0;
+  double step_statistic_limit_value = 0.0;
+  std::size_t trim_cycles = 0;  ///< cycles the step statistic's splits leave at either end
+  /// The slope statistic (t of r's slope in time, signed) and its limit; 0 and 0 before it.
+  double slope_statistic = 0.0;
+  double slope_limit = 0.0;
+  double ramp_dps = 0.0;          ///< r's fitted change from the first cycle to the last
+  double long_run_std_dps = 0.0;  ///< sigma_LR of one cycle's r (the statistics' scale)
+  /// What the test cannot see in this run: the step at mid-run, the step 3 % from either end and
+  /// the ramp over the run that reach their statistic's limit (each caught half of the time at
+  /// that size; smaller ones pass and stay in dN). 0 in files written before them.
+  double step_hidden_dps = 0.0;
+  double step_hidden_end_dps = 0.0;
+  double ramp_hidden_dps = 0.0;
+  bool g_checked = false;     ///< a specification was given
+  bool g_exact = false;       ///< the geometry was given (else a lower bound)
+  double g_term_dps = 0.0;    ///< |g-term| (or its lower bound)
+  double g_limit_dps = 0.0;   ///< the specification's limit at 1 g
+  double g_margin_dps = 0.0;  ///< 3 x the correlated error, taken off the g-term first
   std::string g_source;
   bool scatter_failed = false;
   bool drift_failed = false;
@@ -124,7 +179,12 @@ struct stationarity {
   /// The verdicts judged again from the statistics (a file's stored verdicts may have been edited:
   /// `calibrate` wrote them from these statistics, with these limits).
   [[nodiscard]] stationarity rejudged() const;
-  /// One line: "stationary (scatter 0.96 <= 1.25, drift 0.7 <= 2.4, g-term ...)" or the failures.
+  /// The drift verdict from the statistics: the CUSUM, the step or the slope statistic beyond its
+  /// limit (the last two judged when their limit is written), with the level change beyond
+  /// step_limit_dps.
+  [[nodiscard]] bool drift_judged_failed() const noexcept;
+  /// One line: "stationary (scatter 0.96 <= 1.25, drift 0.7 <= 2.4, step 2.9 <= 5.3, slope 1.1
+  /// <= 4.2, g-term ...)" or the failures.
   [[nodiscard]] std::string summary() const;
 };
 
