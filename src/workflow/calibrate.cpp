@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <span>
 
@@ -28,7 +29,24 @@ namespace {
 // With several files there is always a model (method::fit_runs_model); a chosen degree needs
 // several files with temperatures.
 result<std::optional<method::delta_n_model>> fit_model(
-    const calibrate_request& r, const std::vector<io::calibration_entry>& files) {
+    const calibrate_request& r, const std::vector<io::calibration_entry>& files,
+    std::vector<std::string>& warnings) {
+  // The default degree: a run without temperatures makes the model a constant. Said, naming the
+  // run and the span the constant now covers (fifth review of issue 31, F8); --degree 1 refuses.
+  std::string no_temp;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& f : files)
+    if (std::isnan(f.cal.temp_c)) {
+      no_temp += (no_temp.empty() ? "" : ", ") + f.file;
+    } else {
+      lo = std::min(lo, f.cal.temp_c);
+      hi = std::max(hi, f.cal.temp_c);
+    }
+  if (!r.degree && !no_temp.empty() && lo <= hi && hi - lo >= method::min_model_span_c)
+    warnings.push_back(fmt::format(
+        "{}: no temp_c column, so the runs' dN is fitted as one constant over {:.1f}-{:.1f} °C "
+        "instead of a dN(T) line: leave the run out, or give --degree 0 to mean it",
+        no_temp, lo, hi));
   if (r.degree) {
     if (files.size() < 2)
       return parameter_error("degree", "a dN(T) model needs calibrations from several files");
@@ -93,6 +111,11 @@ method::stationarity_inputs stationarity_inputs_of(
   method::stationarity_inputs in;
   in.pair = p;
   if (preset != nullptr) in.spec = g_term_spec_of(*preset);
+  if (preset != nullptr && preset->params.arw_dps_rthz > 0.0)
+    in.noise = method::noise_spec{
+        preset->params.arw_dps_rthz,
+        fmt::format("{}: N = {} °/s/√Hz; {}", preset->name, preset->params.arw_dps_rthz,
+                    preset->source_of("arw_dps_rthz"))};
   if (geometry) {
     in.lat_deg = geometry->lat_deg;
     in.axis = geometry->axis;
@@ -120,17 +143,18 @@ result<run_standing> judge_run(const run_subject& who, const method::stationarit
     warnings.push_back(prefix + w);
     return run_standing::failed;
   }
-  if (!st.checked) return run_standing::untested;
-  if (st.g_checked) return run_standing::vouched;
+  if (st.vouched()) return run_standing::vouched;
+  // Not vouched for: scatter and drift not tested (too few cycles), or the g-term not checked.
   for (auto c : st.caveats()) {
-    if (!who.hint.empty()) c += ": " + who.hint;
+    const bool g = c.starts_with("its g-term");
+    if (g && !who.hint.empty()) c += ": " + who.hint;
     if (strict)
-      return input_error(at, fmt::format("{}{}; refused (strict): a strict {} needs the g-term "
-                                         "checked",
-                                         named, c, who.task));
+      return input_error(at, fmt::format("{}{}; refused (strict): a strict {} needs {}", named, c,
+                                         who.task,
+                                         g ? "the g-term checked" : "the scatter and drift tested"));
     warnings.push_back(fmt::format("{}{}: {}", prefix, who.file, c));
   }
-  return run_standing::g_unchecked;
+  return st.checked ? run_standing::g_unchecked : run_standing::untested;
 }
 
 status one_sensor::add(const std::string& file, std::span<const io::csv_metadata> metadata,
@@ -288,7 +312,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   if (!pooled) return pooled.err();
   rec.pooled = *pooled;
   rec.pooled.stderr_correlated_dps = method::pooled_correlated_stderr(calibrations_of(rec.files));
-  auto model = fit_model(r, rec.files);
+  auto model = fit_model(r, rec.files, out.warnings);
   if (!model) return model.err();
   rec.model = std::move(*model);
   out.budget = budget_of(rec.files, rec.model, preset != nullptr ? &preset->params : nullptr,

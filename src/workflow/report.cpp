@@ -417,6 +417,9 @@ struct findings {
   /// Runs that passed with their g-term not checked (no sensor specification): a constant input
   /// of any size passes the test, so their ΔN is not vouched for (third review of issue 31, H1).
   std::vector<std::string> not_vouched;
+  /// Runs too short for the scatter and drift tests (fifth review of issue 31, F16): not vouched
+  /// for either, and no ΔN is headlined from them.
+  std::vector<std::string> not_tested;
   /// A given calibration written before the test (its runs not checked).
   bool calibration_unchecked = false;
 };
@@ -444,6 +447,7 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
         judge_run({a.run.file, {}, "report", r.sensor_hint}, st, false, f.warnings);
     if (standing && *standing == run_standing::failed) f.not_stationary.push_back(a.run.file);
     if (standing && *standing == run_standing::g_unchecked) f.not_vouched.push_back(a.run.file);
+    if (standing && *standing == run_standing::untested) f.not_tested.push_back(a.run.file);
   }
 }
 
@@ -465,6 +469,7 @@ void check_calibration_runs_stationary(const delta_n_source& given, findings& f)
   f.calibration_unchecked = runs->unchecked;
   for (auto& n : runs->failed) f.not_stationary.push_back(std::move(n));
   for (auto& n : runs->g_unchecked) f.not_vouched.push_back(std::move(n));
+  for (auto& n : runs->untested) f.not_tested.push_back(std::move(n));
   for (auto& w : runs->warnings) f.warnings.push_back(std::move(w));
 }
 
@@ -852,6 +857,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                                 "(warnings below), so their mean r, {}, is not the sensor's ΔN. "
                                 "Calibrate again with the table at rest.",
                                 sensor, failed, value)
+          : !f.not_tested.empty()
+              ? fmt::format(
+                    "These runs give no ΔN of this {}: {} {} too short for the stationarity "
+                    "test's scatter and drift statistics (16 cycles at least), so an input rate "
+                    "that changed during the run passes unseen: not vouched for. Their mean r is "
+                    "{}. Record a longer run with the table at rest.",
+                    sensor, names_of(f.not_tested), f.not_tested.size() == 1 ? "is" : "are",
+                    value)
           : !f.not_vouched.empty()
               ? fmt::format(
                     "Not vouched for: g-term not checked. {} passed the stationarity test with "
@@ -903,6 +916,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           "(warnings below), so the ΔN applied, and every rate below, is off by an amount no "
           "± here covers. ",
           f.given->source, f.not_stationary.size() == 1 ? "" : "s", failed);
+    else if (!f.not_tested.empty())
+      out = fmt::format(
+          "Not vouched for: the calibration {}'s run{} {} {} too short for the stationarity "
+          "test's scatter and drift statistics, so an input rate that changed during {} passes "
+          "unseen, and the ΔN applied, and every rate below, is right only if its table was at "
+          "rest. ",
+          f.given->source, f.not_tested.size() == 1 ? "" : "s", names_of(f.not_tested),
+          f.not_tested.size() == 1 ? "was" : "were", f.not_tested.size() == 1 ? "it" : "them");
     else if (!f.not_vouched.empty())
       out = fmt::format(
           "Not vouched for: g-term not checked. The calibration {}'s run{} {} passed the "
@@ -1268,13 +1289,18 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
                    : fmt::format("{}{}: {} {} {}, {}", part_of(f.id),
                                  serials.empty() ? std::string() : " serial " + serials,
                                  f.compensating             ? "compensated"
-                                 : f.not_stationary.empty() ? "ΔN calibration from"
-                                                            : "no ΔN calibration:",
+                                 : f.not_stationary.empty() && f.not_tested.empty()
+                                     ? "ΔN calibration from"
+                                     : "no ΔN calibration:",
                                  runs.size(),
-                                 f.compensating || f.not_stationary.empty()
+                                 f.compensating ||
+                                         (f.not_stationary.empty() && f.not_tested.empty())
                                      ? (runs.size() == 1 ? "run" : "runs")
-                                     : (runs.size() == 1 ? "run, not stationary"
-                                                         : "runs, not all stationary"),
+                                 : !f.not_stationary.empty()
+                                     ? (runs.size() == 1 ? "run, not stationary"
+                                                         : "runs, not all stationary")
+                                     : (runs.size() == 1 ? "run, too short to test"
+                                                         : "runs, not all long enough to test"),
                                  all_t.text());
   if (f.id.simulated > 0)
     page.banners.push_back(fmt::format(
