@@ -105,6 +105,39 @@ result<std::optional<sensor::preset>> resolve_sensor_spec(
   return std::optional<sensor::preset>();
 }
 
+status check_geometry_header(const std::optional<io::calibration_geometry>& given,
+                             std::span<const io::csv_metadata> metadata, const std::string& file,
+                             bool strict, std::vector<std::string>& warnings) {
+  if (!given) return ok();
+  std::vector<std::string> what;
+  const std::string lat = metadata_value(metadata, "latitude_deg");
+  char* end = nullptr;
+  const double lat_deg = std::strtod(lat.c_str(), &end);
+  if (!lat.empty() && end != lat.c_str() && *end == '\0' && std::isfinite(lat_deg) &&
+      std::abs(lat_deg - given->lat_deg) > 0.01)
+    what.push_back(fmt::format("latitude {:g}° (the recording says {})", given->lat_deg,
+                               printable(lat, 40)));
+  const std::string ax = metadata_value(metadata, "axis");
+  if (const auto a = earth::parse_axis(ax); !ax.empty() && a) {
+    const auto& g = given->axis;
+    const double dot = a->north * g.north + a->east * g.east + a->down * g.down;
+    const double na = std::sqrt(a->north * a->north + a->east * a->east + a->down * a->down);
+    const double ng = std::sqrt(g.north * g.north + g.east * g.east + g.down * g.down);
+    if (!(dot >= 0.9999 * na * ng))  // about 0.8 deg apart or more
+      what.push_back(fmt::format("sensitive axis ({:.3g}, {:.3g}, {:.3g}) N,E,D (the recording "
+                                 "says '{}')",
+                                 g.north, g.east, g.down, printable(ax, 40)));
+  }
+  if (what.empty()) return ok();
+  const std::string msg = fmt::format(
+      "the geometry given contradicts the recording's header: {}; the Earth term and the g-term "
+      "are split with the given one",
+      fmt::join(what, "; "));
+  if (strict) return input_error({file}, msg + "; refused (strict)");
+  warnings.push_back(fmt::format("{}: {}", file, msg));
+  return ok();
+}
+
 method::stationarity_inputs stationarity_inputs_of(
     method::pairing p, const sensor::preset* preset,
     const std::optional<io::calibration_geometry>& geometry) {
@@ -290,6 +323,9 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
       resolved = std::move(*spec);
       preset = resolved ? &*resolved : nullptr;
     }
+    if (auto s = check_geometry_header(r.geometry, rc->metadata, file, r.strict, out.warnings);
+        !s)
+      return s.err();
     const auto st = method::check_stationarity(
         rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));
     if (auto s = judge_run({file, {}, "calibration", r.sensor_hint}, st, r.strict, out.warnings);
