@@ -45,7 +45,7 @@ result<std::optional<method::delta_n_model>> fit_model(
   if (!r.degree && !no_temp.empty() && lo <= hi && hi - lo >= method::min_model_span_c)
     warnings.push_back(fmt::format(
         "{}: no temp_c column, so the runs' dN is fitted as one constant over {:.1f}-{:.1f} °C "
-        "instead of a dN(T) line: leave the run out, or give --degree 0 to mean it",
+        "instead of a dN(T) line: leave the run out, or ask for degree 0 to mean it",
         no_temp, lo, hi));
   if (r.degree) {
     if (files.size() < 2)
