@@ -248,14 +248,15 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
     for (const auto& f : rec.files) files += " " + f.file;
     const std::string next =
         !short_runs.empty()
-            ? fmt::format("Next: record a run of {} cycles or more with the table at rest and "
-                          "calibrate it",
-                          method::min_stationarity_cycles)
+            ? fmt::format(
+                  "Next: record a run of {} cycles or more with the table at rest and "
+                  "calibrate it",
+                  method::min_stationarity_cycles)
         : unchecked ? fmt::format(
-                        "Next: check its g-term first: gyroflip calibrate{} --sensor "
-                        "NAME|FILE.toml{}",
-                        files, cal_path.empty() ? "" : " -o " + cal_path)
-                  : next_step(cal_path);
+                          "Next: check its g-term first: gyroflip calibrate{} --sensor "
+                          "NAME|FILE.toml{}",
+                          files, cal_path.empty() ? "" : " -o " + cal_path)
+                    : next_step(cal_path);
     fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(), next,
                    workflow::when_to_recalibrate(b, temps));
     return out;

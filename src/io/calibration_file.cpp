@@ -192,10 +192,14 @@ json stationarity_json(const method::stationarity& st) {
   // A run too short for the scatter and drift tests still has its g-term and temperature judged,
   // and is not vouched for (fifth review of issue 31, F16).
   if (!st.checked)
-    return {{"checked", false},         {"why_not", st.why_not},
-            {"vouched", false},         {"stationary", !st.failed()},
-            {"cycles", st.cycles},      {"temp_span_c", st.temp_span_c},
-            {"temp_failed", st.temp_failed}, {"g_term", g_term_json(st)},
+    return {{"checked", false},
+            {"why_not", st.why_not},
+            {"vouched", false},
+            {"stationary", !st.failed()},
+            {"cycles", st.cycles},
+            {"temp_span_c", st.temp_span_c},
+            {"temp_failed", st.temp_failed},
+            {"g_term", g_term_json(st)},
             {"failures", st.failures()}};
   json j = {{"checked", true},
             {"vouched", st.vouched()},
@@ -274,8 +278,9 @@ status read_noise_outlier(const json& j, method::stationarity& st, const Number&
     return bad("'temp_checked' must be a boolean");
   if (j.contains("outlier_z")) {
     if (!number("outlier_z", st.outlier_z) || !number("outlier_limit", st.outlier_limit) ||
-        !number("outlier_time_s", st.outlier_time_s) || !flag(j, "outlier_failed", st.outlier_failed) ||
-        st.outlier_z < 0.0 || st.outlier_limit < 0.0)
+        !number("outlier_time_s", st.outlier_time_s) ||
+        !flag(j, "outlier_failed", st.outlier_failed) || st.outlier_z < 0.0 ||
+        st.outlier_limit < 0.0)
       return bad("'outlier_z' needs 'outlier_limit', 'outlier_time_s' and 'outlier_failed'");
     if (j.contains("outlier_cycle") && j["outlier_cycle"].is_number_unsigned())
       st.outlier_cycle = j["outlier_cycle"].get<std::size_t>();

@@ -85,12 +85,11 @@ void check_noise(std::span<const double> r, std::span<const cycle> cycles,
                  const stationarity_inputs& in, stationarity& out) {
   if (!in.noise || !(in.noise->arw_dps_rthz > 0.0) || cycles.size() < 2) return;
   const auto& t = scheme_of(in.pair).transfer();
-  const double period_s = (cycles.back().time_s - cycles.front().time_s) /
-                          static_cast<double>(cycles.size() - 1);
+  const double period_s =
+      (cycles.back().time_s - cycles.front().time_s) / static_cast<double>(cycles.size() - 1);
   const double dwell_s = period_s / static_cast<double>(t.cycle_dwells);
   if (!(dwell_s > 0.0) || !std::isfinite(dwell_s)) return;
-  const double expected =
-      in.noise->arw_dps_rthz * std::sqrt(t.white_covariance()[0] / dwell_s);
+  const double expected = in.noise->arw_dps_rthz * std::sqrt(t.white_covariance()[0] / dwell_s);
   out.noise_checked = true;
   out.noise_source = in.noise->source;
   out.noise_ratio = std::min(analysis::mean_and_std(r).std / expected, 1e300);
@@ -278,7 +277,8 @@ stationarity stationarity::rejudged() const {
 // correlated errors passes, and says so (fifth review of issue 31, F11(c)).
 namespace {
 std::string g_text(const stationarity& s) {
-  const std::string term = fmt::format("g-term {}{} °/s", s.g_exact ? "" : ">= ", num(s.g_term_dps));
+  const std::string term =
+      fmt::format("g-term {}{} °/s", s.g_exact ? "" : ">= ", num(s.g_term_dps));
   if (s.g_term_dps <= s.g_limit_dps) return fmt::format("{} <= {} °/s", term, num(s.g_limit_dps));
   return fmt::format("{}, above the limit {} °/s by less than 3 errors ({} °/s)", term,
                      num(s.g_limit_dps), num(s.g_margin_dps));

@@ -115,8 +115,8 @@ status check_geometry_header(const std::optional<io::calibration_geometry>& give
   const double lat_deg = std::strtod(lat.c_str(), &end);
   if (!lat.empty() && end != lat.c_str() && *end == '\0' && std::isfinite(lat_deg) &&
       std::abs(lat_deg - given->lat_deg) > 0.01)
-    what.push_back(fmt::format("latitude {:g}° (the recording says {})", given->lat_deg,
-                               printable(lat, 40)));
+    what.push_back(
+        fmt::format("latitude {:g}° (the recording says {})", given->lat_deg, printable(lat, 40)));
   const std::string ax = metadata_value(metadata, "axis");
   if (const auto a = earth::parse_axis(ax); !ax.empty() && a) {
     const auto& g = given->axis;
@@ -124,9 +124,10 @@ status check_geometry_header(const std::optional<io::calibration_geometry>& give
     const double na = std::sqrt(a->north * a->north + a->east * a->east + a->down * a->down);
     const double ng = std::sqrt(g.north * g.north + g.east * g.east + g.down * g.down);
     if (!(dot >= 0.9999 * na * ng))  // about 0.8 deg apart or more
-      what.push_back(fmt::format("sensitive axis ({:.3g}, {:.3g}, {:.3g}) N,E,D (the recording "
-                                 "says '{}')",
-                                 g.north, g.east, g.down, printable(ax, 40)));
+      what.push_back(
+          fmt::format("sensitive axis ({:.3g}, {:.3g}, {:.3g}) N,E,D (the recording "
+                      "says '{}')",
+                      g.north, g.east, g.down, printable(ax, 40)));
   }
   if (what.empty()) return ok();
   const std::string msg = fmt::format(
@@ -182,9 +183,9 @@ result<run_standing> judge_run(const run_subject& who, const method::stationarit
     const bool g = c.starts_with("its g-term");
     if (g && !who.hint.empty()) c += ": " + who.hint;
     if (strict)
-      return input_error(at, fmt::format("{}{}; refused (strict): a strict {} needs {}", named, c,
-                                         who.task,
-                                         g ? "the g-term checked" : "the scatter and drift tested"));
+      return input_error(
+          at, fmt::format("{}{}; refused (strict): a strict {} needs {}", named, c, who.task,
+                          g ? "the g-term checked" : "the scatter and drift tested"));
     warnings.push_back(fmt::format("{}{}: {}", prefix, who.file, c));
   }
   return st.checked ? run_standing::g_unchecked : run_standing::untested;
@@ -323,8 +324,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
       resolved = std::move(*spec);
       preset = resolved ? &*resolved : nullptr;
     }
-    if (auto s = check_geometry_header(r.geometry, rc->metadata, file, r.strict, out.warnings);
-        !s)
+    if (auto s = check_geometry_header(r.geometry, rc->metadata, file, r.strict, out.warnings); !s)
       return s.err();
     const auto st = method::check_stationarity(
         rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));

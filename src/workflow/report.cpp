@@ -439,6 +439,8 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
                       std::vector<io::calibration_entry>& entries) {
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
+    // The geometry given against the run's header (fifth review of issue 31, F18), as calibrate.
+    (void)check_geometry_header(r.geometry, a.run.metadata, a.run.file, false, f.warnings);
     const auto st = method::check_stationarity(a.run.cycles(a.pairing), a.cal,
                                                stationarity_inputs_of(a.pairing, spec, r.geometry));
     entries[k].stationarity = st;
@@ -863,8 +865,7 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                     "test's scatter and drift statistics (16 cycles at least), so an input rate "
                     "that changed during the run passes unseen: not vouched for. Their mean r is "
                     "{}. Record a longer run with the table at rest.",
-                    sensor, names_of(f.not_tested), f.not_tested.size() == 1 ? "is" : "are",
-                    value)
+                    sensor, names_of(f.not_tested), f.not_tested.size() == 1 ? "is" : "are", value)
           : !f.not_vouched.empty()
               ? fmt::format(
                     "Not vouched for: g-term not checked. {} passed the stationarity test with "
@@ -1284,24 +1285,23 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     for (const auto& x : f.id.serials) s += (s.empty() ? "" : ", ") + x;
     return s;
   }();
-  page.title = !r.title.empty()
-                   ? r.title
-                   : fmt::format("{}{}: {} {} {}, {}", part_of(f.id),
-                                 serials.empty() ? std::string() : " serial " + serials,
-                                 f.compensating             ? "compensated"
-                                 : f.not_stationary.empty() && f.not_tested.empty()
-                                     ? "ΔN calibration from"
-                                     : "no ΔN calibration:",
-                                 runs.size(),
-                                 f.compensating ||
-                                         (f.not_stationary.empty() && f.not_tested.empty())
-                                     ? (runs.size() == 1 ? "run" : "runs")
-                                 : !f.not_stationary.empty()
-                                     ? (runs.size() == 1 ? "run, not stationary"
-                                                         : "runs, not all stationary")
-                                     : (runs.size() == 1 ? "run, too short to test"
-                                                         : "runs, not all long enough to test"),
-                                 all_t.text());
+  page.title =
+      !r.title.empty()
+          ? r.title
+          : fmt::format(
+                "{}{}: {} {} {}, {}", part_of(f.id),
+                serials.empty() ? std::string() : " serial " + serials,
+                f.compensating                                     ? "compensated"
+                : f.not_stationary.empty() && f.not_tested.empty() ? "ΔN calibration from"
+                                                                   : "no ΔN calibration:",
+                runs.size(),
+                f.compensating || (f.not_stationary.empty() && f.not_tested.empty())
+                    ? (runs.size() == 1 ? "run" : "runs")
+                : !f.not_stationary.empty()
+                    ? (runs.size() == 1 ? "run, not stationary" : "runs, not all stationary")
+                    : (runs.size() == 1 ? "run, too short to test"
+                                        : "runs, not all long enough to test"),
+                all_t.text());
   if (f.id.simulated > 0)
     page.banners.push_back(fmt::format(
         "Simulated data: {} of the {} recordings came from gyroflip's {} (see Inputs); "

@@ -114,8 +114,8 @@ struct stationarity {
   /// false: scatter and drift not tested (too few cycles, why_not says so) or a file that
   /// predates the test. The g-term and the temperature need no minimum: a short run has them.
   bool checked = false;
-  std::string why_not;     ///< why scatter and drift were not checked
-  std::size_t cycles = 0;  ///< cycles tested
+  std::string why_not;         ///< why scatter and drift were not checked
+  std::size_t cycles = 0;      ///< cycles tested
   double scatter_ratio = 0.0;  ///< std(r) / (white_std_over_adev x ADEV_c(tau0)); ~1 stationary
   double scatter_limit = 0.0;  ///< max(1.25, 1 + 7/sqrt(n)) (null sd ~1.1/sqrt(n), measured)
   /// The lower limit, 0.75 (1 - 3/sqrt(n)): an input alternating with the turns (a vibration
@@ -135,13 +135,13 @@ struct stationarity {
   double g_limit_dps = 0.0;     ///< the specification's limit at 1 g
   double g_margin_dps = 0.0;    ///< 3 x the correlated error, taken off the g-term first
   std::string g_source;
-  bool has_temp = true;         ///< the run has temperatures (false: temperature not checked)
-  bool noise_checked = false;   ///< a noise specification was given (noise_spec)
-  double noise_ratio = 0.0;     ///< std(r) / the specification's white std for these dwells
+  bool has_temp = true;        ///< the run has temperatures (false: temperature not checked)
+  bool noise_checked = false;  ///< a noise specification was given (noise_spec)
+  double noise_ratio = 0.0;    ///< std(r) / the specification's white std for these dwells
   double noise_limit = noise_ratio_limit;
   std::string noise_source;
-  double outlier_z = 0.0;       ///< max |r - median| / (1.4826 MAD) over the cycles
-  double outlier_limit = 0.0;   ///< outlier_limit_z(cycles)
+  double outlier_z = 0.0;         ///< max |r - median| / (1.4826 MAD) over the cycles
+  double outlier_limit = 0.0;     ///< outlier_limit_z(cycles)
   std::size_t outlier_cycle = 0;  ///< the cycle (from 1) of the largest
   double outlier_time_s = 0.0;    ///< its time
   bool scatter_failed = false;
@@ -185,7 +185,8 @@ inline constexpr std::size_t first_live_look_cycles = 40;
 
 /// The stationarity test of one calibration run (see the file comment) from its cycles and their
 /// calibration (`calibrate(cycles)`). Total: fewer than min_stationarity_cycles gives
-/// `checked` false (the g-term and the temperature are still judged). Used by `gyroflip calibrate`, `report`, Python's `calibrate` and `record`.
+/// `checked` false (the g-term and the temperature are still judged). Used by `gyroflip calibrate`,
+/// `report`, Python's `calibrate` and `record`.
 [[nodiscard]] stationarity check_stationarity(std::span<const cycle> cycles, const calibration& cal,
                                               const stationarity_inputs& in);
 
