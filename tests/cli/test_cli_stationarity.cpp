@@ -198,8 +198,8 @@ TEST(CliStationarity, ARunTooShortToTestIsNeverVouchedFor) {
   EXPECT_EQ(j["vouched"], false);
   EXPECT_FALSE(j["g_term"].is_null());
   EXPECT_EQ(run_cli({"calibrate", still, "--strict", "-o", d.file("s2.json")}).exit_code, 2);
-  const auto c = run_cli({"compensate", still, "--calibration", d.file("s.json"), "--strict",
-                          "-o", d.file("c.csv")});
+  const auto c = run_cli(
+      {"compensate", still, "--calibration", d.file("s.json"), "--strict", "-o", d.file("c.csv")});
   EXPECT_EQ(c.exit_code, 2) << c.err;
   EXPECT_NE(c.err.find("scatter and drift"), std::string::npos) << c.err;
   const auto rep = run_cli({"report", still, "-o", d.file("rep")});
@@ -232,7 +232,8 @@ TEST(CliStationarity, AKnockedDwellIsNotACalibration) {
     while (std::getline(in, line)) {
       if (!line.empty() && line[0] != '#' && line[0] != 't' && ++data == 300) {
         const auto a = line.find(',', line.find(',') + 1), b = line.find(',', a + 1);
-        line = line.substr(0, a + 1) + fmt::format("{:.17g}", std::stod(line.substr(a + 1, b - a - 1)) + knock) +
+        line = line.substr(0, a + 1) +
+               fmt::format("{:.17g}", std::stod(line.substr(a + 1, b - a - 1)) + knock) +
                line.substr(b);
       }
       out += line + "\n";
@@ -284,10 +285,11 @@ TEST(CliStationarity, AMissingTemperatureAndAContradictingGeometryAreSaid) {
                        "42.6); sensitive axis"),
             std::string::npos)
       << g.err;
-  EXPECT_EQ(run_cli({"calibrate", c, "--latitude", "42.6", "--axis", "north"}).err.find(
-                "contradicts"),
-            std::string::npos);
-  EXPECT_EQ(run_cli({"calibrate", c, "--latitude", "10", "--axis", "north", "--strict", "-o", d.file("g.json")})
+  EXPECT_EQ(
+      run_cli({"calibrate", c, "--latitude", "42.6", "--axis", "north"}).err.find("contradicts"),
+      std::string::npos);
+  EXPECT_EQ(run_cli({"calibrate", c, "--latitude", "10", "--axis", "north", "--strict", "-o",
+                     d.file("g.json")})
                 .exit_code,
             2);
 }

@@ -248,7 +248,7 @@ TEST(Stationarity, AKnockedDwellAndANoisyRunFail) {
 
 // The outlier limit: the normal quantile of 1 - 1e-4 / (2n) (Bonferroni), at least 5.
 TEST(Stationarity, TheOutlierLimitIsBonferroniOverTheCycles) {
-  EXPECT_NEAR(outlier_limit_z(16), 5.0, 1e-12);  // the floor (4.52 by the quantile)
+  EXPECT_NEAR(outlier_limit_z(16), 5.0, 1e-12);      // the floor (4.52 by the quantile)
   EXPECT_NEAR(outlier_limit_z(1000), 5.3267, 1e-3);  // Phi^-1(1 - 5e-8)
   EXPECT_GT(outlier_limit_z(100000), outlier_limit_z(1000));
 }
