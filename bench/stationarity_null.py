@@ -136,7 +136,7 @@ def main():
     if power:
         return main_power(gyroflip, seeds)
     print(f"{seeds} seeds per row; latitude 42.6, axis north, 20 degC")
-    print(f"{'case':58s} failed   max scatter  max drift  max step  max slope")
+    print(f"{'case':58s} failed   max scatter  max drift  max step  max slope  max noise  max outlier")
     cases = []
     for sensor in ("hz1-90-100a", "adxrs150"):
         for on_before in (0.0, 1800.0):
@@ -150,7 +150,7 @@ def main():
                       1800.0, rate))
     for name, sensor, duration, pairing, on_before, rate in cases:
         failed = 0
-        worst_s = worst_d = worst_t = worst_b = 0.0
+        worst_s = worst_d = worst_t = worst_b = worst_n = worst_o = 0.0
         for seed in range(1, seeds + 1):
             st = run(gyroflip, sensor, seed, duration, pairing, on_before, rate)
             failed += not st["stationary"]
@@ -159,10 +159,14 @@ def main():
             if st.get("step_statistic_limit"):  # absent before the step and slope statistics
                 worst_t = max(worst_t, st["step_statistic"] / st["step_statistic_limit"])
                 worst_b = max(worst_b, abs(st["slope_statistic"]) / st["slope_limit"])
+            worst_n = max(worst_n, st["noise"]["ratio"] if st.get("noise") else 0.0)
+            worst_o = max(worst_o, st["outlier_z"] / st["outlier_limit"])
         print(f"{name:58s} {failed / seeds:6.3f}   {worst_s:10.3f}  {worst_d:9.3f}  "
-              f"{worst_t:8.3f}  {worst_b:9.3f}", flush=True)
-    print("(max scatter, drift, step, slope: the largest statistic over its limit; above 1 fails, "
-          "the drift, step and slope only when the level change also exceeds 3 correlated errors)")
+              f"{worst_t:8.3f}  {worst_b:9.3f}  {worst_n:9.2f}  {worst_o:11.3f}", flush=True)
+    print("(max scatter, drift, step, slope, outlier: the largest statistic over its limit; above 1 "
+          "fails, the drift, step and slope only when the level change also exceeds 3 correlated "
+          "errors; max noise: the largest std(r) over the specification's white noise for the "
+          "dwells, limit 4)")
 
 
 if __name__ == "__main__":

@@ -205,15 +205,26 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
     // What the test cannot see (review of issue 31: 0.01 deg/s on an HZ1 passed as its dN): a
     // constant input below the g-term limit (plus the Earth rate without the geometry: the g-term
     // is then only bounded below by |dN| - W_E), and inputs that enter r as a constant.
-    double g_limit = 0.0;
+    double g_limit = 0.0, g_margin = 0.0;
     bool exact = true, unchecked = false;
-    for (const auto& f : rec.files)
+    std::string short_runs;
+    for (const auto& f : rec.files) {
+      if (f.stationarity && !f.stationarity->checked)
+        short_runs += (short_runs.empty() ? "" : ", ") + f.file;
       if (f.stationarity && f.stationarity->g_checked) {
         g_limit = std::max(g_limit, f.stationarity->g_limit_dps);
+        g_margin = std::max(g_margin, f.stationarity->g_margin_dps);
         exact = exact && f.stationarity->g_exact;
-      } else if (f.stationarity && f.stationarity->checked) {
+      } else if (f.stationarity) {
         unchecked = true;
       }
+    }
+    // Too short for the scatter and drift tests: not vouched for (fifth review of issue 31, F16).
+    if (!short_runs.empty())
+      fmt::format_to(std::back_inserter(out),
+                     "NOT VOUCHED FOR: {} too short for the scatter and drift tests (at least {} "
+                     "cycles): an input rate that changes during the run passes unseen\n",
+                     short_runs, method::min_stationarity_cycles);
     const char* constant_like =
         "; nor does it see a zero-mean vibration at an even harmonic of the flip frequency "
         "(2/cycle, 4/cycle ...) or a repeatable motion after each turn (--one-way): they enter r "
@@ -226,10 +237,11 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
     else if (g_limit > 0.0)
       fmt::format_to(std::back_inserter(out),
                      "The stationarity test cannot see a constant input below {:#.2g} deg/s (the "
-                     "sensor's g-term limit {:#.2g}{}): it reads as dN; make sure the table was "
-                     "at rest{}\n",
-                     g_limit + (exact ? 0.0 : earth::earth_rate_wgs84_dps), g_limit,
-                     exact ? "" : " plus the Earth rate, without --latitude/--axis", constant_like);
+                     "sensor's g-term limit {:#.2g}{}, plus this run's margin of 3 correlated "
+                     "errors, {:#.2g}): it reads as dN; make sure the table was at rest{}\n",
+                     g_limit + g_margin + (exact ? 0.0 : earth::earth_rate_wgs84_dps), g_limit,
+                     exact ? "" : " plus the Earth rate, without --latitude/--axis", g_margin,
+                     constant_like);
     // The smallest step and drift of r the drift and step statistics catch half of the time
     // (fifth review of issue 31, F1/F2): smaller ones pass and stay in dN.
     double step_mid = 0.0, step_end = 0.0, ramp = 0.0;
@@ -251,11 +263,16 @@ std::string summary_text(const io::calibration_record& rec, const workflow::delt
     std::string files;
     for (const auto& f : rec.files) files += " " + f.file;
     const std::string next =
-        unchecked ? fmt::format(
-                        "Next: check its g-term first: gyroflip calibrate{} --sensor "
-                        "NAME|FILE.toml{}",
-                        files, cal_path.empty() ? "" : " -o " + cal_path)
-                  : next_step(cal_path);
+        !short_runs.empty()
+            ? fmt::format(
+                  "Next: record a run of {} cycles or more with the table at rest and "
+                  "calibrate it",
+                  method::min_stationarity_cycles)
+        : unchecked ? fmt::format(
+                          "Next: check its g-term first: gyroflip calibrate{} --sensor "
+                          "NAME|FILE.toml{}",
+                          files, cal_path.empty() ? "" : " -o " + cal_path)
+                    : next_step(cal_path);
     fmt::format_to(std::back_inserter(out), "{}\n{}\n{}\n", workflow::delta_n_meaning(), next,
                    workflow::when_to_recalibrate(b, temps));
     return out;

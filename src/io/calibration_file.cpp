@@ -182,9 +182,28 @@ status read_source(const std::string& path, const std::string& at, const json& f
   return ok();
 }
 
+json g_term_json(const method::stationarity& st) {
+  if (!st.g_checked) return nullptr;
+  return {{"g_term_dps", st.g_term_dps},       {"exact", st.g_exact},
+          {"limit_dps", st.g_limit_dps},       {"margin_dps", st.g_margin_dps},
+          {"source", plain_line(st.g_source)}, {"failed", st.g_failed}};
+}
+
 json stationarity_json(const method::stationarity& st) {
-  if (!st.checked) return {{"checked", false}, {"why_not", st.why_not}};
+  // A run too short for the scatter and drift tests still has its g-term and temperature judged,
+  // and is not vouched for (fifth review of issue 31, F16).
+  if (!st.checked)
+    return {{"checked", false},
+            {"why_not", st.why_not},
+            {"vouched", false},
+            {"stationary", !st.failed()},
+            {"cycles", st.cycles},
+            {"temp_span_c", st.temp_span_c},
+            {"temp_failed", st.temp_failed},
+            {"g_term", g_term_json(st)},
+            {"failures", st.failures()}};
   json j = {{"checked", true},
+            {"vouched", st.vouched()},
             {"stationary", !st.failed()},
             {"scatter_ratio", st.scatter_ratio},
             {"scatter_limit", st.scatter_limit},
@@ -209,13 +228,88 @@ json stationarity_json(const method::stationarity& st) {
             {"scatter_failed", st.scatter_failed},
             {"drift_failed", st.drift_failed},
             {"temp_failed", st.temp_failed},
-            {"g_term", nullptr},
+            {"temp_checked", st.has_temp},
+            {"outlier_z", st.outlier_z},
+            {"outlier_limit", st.outlier_limit},
+            {"outlier_cycle", st.outlier_cycle},
+            {"outlier_time_s", st.outlier_time_s},
+            {"outlier_failed", st.outlier_failed},
+            {"noise", nullptr},
+            {"g_term", g_term_json(st)},
             {"failures", st.failures()}};
-  if (st.g_checked)
-    j["g_term"] = {{"g_term_dps", st.g_term_dps},       {"exact", st.g_exact},
-                   {"limit_dps", st.g_limit_dps},       {"margin_dps", st.g_margin_dps},
-                   {"source", plain_line(st.g_source)}, {"failed", st.g_failed}};
+  if (st.noise_checked)
+    j["noise"] = {{"ratio", st.noise_ratio},
+                  {"limit", st.noise_limit},
+                  {"source", plain_line(st.noise_source)},
+                  {"failed", st.noise_failed}};
   return j;
+}
+
+// A stored test's g-term (null or absent: not checked).
+template <class Flag, class Bad>
+status read_g_term(const json& j, method::stationarity& st, const Flag& flag, const Bad& bad) {
+  if (!j.contains("g_term") || j["g_term"].is_null()) return ok();
+  const json& g = j["g_term"];
+  if (!g.is_object() || !g.contains("g_term_dps") || !g["g_term_dps"].is_number() ||
+      !g.contains("limit_dps") || !g["limit_dps"].is_number() || !flag(g, "exact", st.g_exact) ||
+      !flag(g, "failed", st.g_failed))
+    return bad("'g_term' needs 'g_term_dps', 'limit_dps', 'exact' and 'failed'");
+  st.g_checked = true;
+  st.g_term_dps = g["g_term_dps"].get<double>();
+  st.g_limit_dps = g["limit_dps"].get<double>();
+  if (g.contains("margin_dps") && g["margin_dps"].is_number())
+    st.g_margin_dps = g["margin_dps"].get<double>();
+  if (g.contains("source") && g["source"].is_string())
+    st.g_source = plain_line(g["source"].get<std::string>());
+  return ok();
+}
+
+// A run too short for the scatter and drift tests: its cycles, temperature and g-term (written
+// since the fifth review of issue 31; absent in older files).
+template <class Number, class Flag, class Bad>
+status read_short_run(const json& j, method::stationarity& st, const Number& number,
+                      const Flag& flag, const Bad& bad) {
+  if (j.contains("cycles")) {
+    if (!j["cycles"].is_number_unsigned()) return bad("'cycles' must be a whole number");
+    st.cycles = j["cycles"].get<std::size_t>();
+  }
+  if (j.contains("temp_span_c") && (!number("temp_span_c", st.temp_span_c) || st.temp_span_c < 0.0))
+    return bad("'temp_span_c' must be a finite number >= 0");
+  if (j.contains("temp_failed") && !flag(j, "temp_failed", st.temp_failed))
+    return bad("'temp_failed' must be a boolean");
+  return read_g_term(j, st, flag, bad);
+}
+
+// The noise (against the specification) and outlier statistics (fifth review of issue 31, F11;
+// absent in older files: not judged).
+template <class Number, class Flag, class Bad>
+status read_noise_outlier(const json& j, method::stationarity& st, const Number& number,
+                          const Flag& flag, const Bad& bad) {
+  if (j.contains("temp_checked") && !flag(j, "temp_checked", st.has_temp))
+    return bad("'temp_checked' must be a boolean");
+  if (j.contains("outlier_z")) {
+    if (!number("outlier_z", st.outlier_z) || !number("outlier_limit", st.outlier_limit) ||
+        !number("outlier_time_s", st.outlier_time_s) ||
+        !flag(j, "outlier_failed", st.outlier_failed) || st.outlier_z < 0.0 ||
+        st.outlier_limit < 0.0)
+      return bad("'outlier_z' needs 'outlier_limit', 'outlier_time_s' and 'outlier_failed'");
+    if (j.contains("outlier_cycle") && j["outlier_cycle"].is_number_unsigned())
+      st.outlier_cycle = j["outlier_cycle"].get<std::size_t>();
+  }
+  if (!j.contains("noise") || j["noise"].is_null()) return ok();
+  const json& n = j["noise"];
+  if (!n.is_object() || !n.contains("ratio") || !n["ratio"].is_number() || !n.contains("limit") ||
+      !n["limit"].is_number() || !flag(n, "failed", st.noise_failed))
+    return bad("'noise' needs 'ratio', 'limit' and 'failed'");
+  st.noise_checked = true;
+  st.noise_ratio = n["ratio"].get<double>();
+  st.noise_limit = n["limit"].get<double>();
+  if (!std::isfinite(st.noise_ratio) || !std::isfinite(st.noise_limit) || st.noise_ratio < 0.0 ||
+      st.noise_limit < 0.0)
+    return bad("'noise' has a negative or non-finite ratio or limit");
+  if (n.contains("source") && n["source"].is_string())
+    st.noise_source = plain_line(n["source"].get<std::string>());
+  return ok();
 }
 
 // A run's stationarity test as calibrate wrote it (schema 3); absent: not checked (older files).
@@ -231,12 +325,6 @@ status read_stationarity(const std::string& path, const std::string& at, const j
     return bad("must be an object with a boolean 'checked'");
   method::stationarity st;
   st.checked = j["checked"].get<bool>();
-  if (!st.checked) {
-    if (j.contains("why_not") && j["why_not"].is_string())
-      st.why_not = plain_line(j["why_not"].get<std::string>());
-    e.stationarity = std::move(st);
-    return ok();
-  }
   const auto number = [&](const char* key, double& out) {
     if (!j.contains(key) || !j[key].is_number()) return false;
     out = j[key].get<double>();
@@ -247,6 +335,13 @@ status read_stationarity(const std::string& path, const std::string& at, const j
     out = o[key].get<bool>();
     return true;
   };
+  if (!st.checked) {
+    if (j.contains("why_not") && j["why_not"].is_string())
+      st.why_not = plain_line(j["why_not"].get<std::string>());
+    if (auto s = read_short_run(j, st, number, flag, bad); !s) return s;
+    e.stationarity = std::move(st);
+    return ok();
+  }
   if (!number("scatter_ratio", st.scatter_ratio) || !number("scatter_limit", st.scatter_limit) ||
       !number("drift_statistic", st.drift_statistic) ||
       !number("drift_limit", st.drift_limit_value) || !number("step_dps", st.step_dps) ||
@@ -288,20 +383,8 @@ status read_stationarity(const std::string& path, const std::string& at, const j
     if (!j["cycles"].is_number_unsigned()) return bad("'cycles' must be a whole number");
     st.cycles = j["cycles"].get<std::size_t>();
   }
-  if (j.contains("g_term") && !j["g_term"].is_null()) {
-    const json& g = j["g_term"];
-    if (!g.is_object() || !g.contains("g_term_dps") || !g["g_term_dps"].is_number() ||
-        !g.contains("limit_dps") || !g["limit_dps"].is_number() || !flag(g, "exact", st.g_exact) ||
-        !flag(g, "failed", st.g_failed))
-      return bad("'g_term' needs 'g_term_dps', 'limit_dps', 'exact' and 'failed'");
-    st.g_checked = true;
-    st.g_term_dps = g["g_term_dps"].get<double>();
-    st.g_limit_dps = g["limit_dps"].get<double>();
-    if (g.contains("margin_dps") && g["margin_dps"].is_number())
-      st.g_margin_dps = g["margin_dps"].get<double>();
-    if (g.contains("source") && g["source"].is_string())
-      st.g_source = plain_line(g["source"].get<std::string>());
-  }
+  if (auto s = read_g_term(j, st, flag, bad); !s) return s;
+  if (auto s = read_noise_outlier(j, st, number, flag, bad); !s) return s;
   // The verdict written must be the verdicts' (a file edited to read "stationary" is not).
   if (j.contains("stationary") && (!j["stationary"].is_boolean() || j["stationary"] == st.failed()))
     return bad("'stationary' contradicts its own verdicts");

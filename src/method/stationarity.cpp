@@ -106,7 +106,67 @@ void check_g_term(const calibration& cal, const stationarity_inputs& in, station
   out.g_failed = out.g_term_dps - out.g_margin_dps > out.g_limit_dps;
 }
 
+void check_temperature(std::span<const cycle> cycles, stationarity& out) {
+  double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
+  for (const auto& cy : cycles)
+    if (std::isfinite(cy.temp_c)) {
+      t_lo = std::min(t_lo, cy.temp_c);
+      t_hi = std::max(t_hi, cy.temp_c);
+    }
+  out.has_temp = t_lo <= t_hi;
+  out.temp_span_c = out.has_temp ? t_hi - t_lo : 0.0;
+  out.temp_failed = out.temp_span_c > isothermal_span_c;
+}
+
+// r's std against the specification's white noise for these dwells (noise_spec): a dwell mean
+// over T has std N / sqrt(T) (ADEV(tau) = N / sqrt(tau)), r the scheme's white variance of it;
+// T taken as the cycle period's share per dwell (an upper bound, so the ratio errs high).
+void check_noise(std::span<const double> r, std::span<const cycle> cycles,
+                 const stationarity_inputs& in, stationarity& out) {
+  if (!in.noise || !(in.noise->arw_dps_rthz > 0.0) || cycles.size() < 2) return;
+  const auto& t = scheme_of(in.pair).transfer();
+  const double period_s =
+      (cycles.back().time_s - cycles.front().time_s) / static_cast<double>(cycles.size() - 1);
+  const double dwell_s = period_s / static_cast<double>(t.cycle_dwells);
+  if (!(dwell_s > 0.0) || !std::isfinite(dwell_s)) return;
+  const double expected = in.noise->arw_dps_rthz * std::sqrt(t.white_covariance()[0] / dwell_s);
+  out.noise_checked = true;
+  out.noise_source = in.noise->source;
+  out.noise_ratio = std::min(analysis::mean_and_std(r).std / expected, 1e300);
+  out.noise_failed = !(out.noise_ratio <= out.noise_limit);
+}
+
+// One cycle far outside the rest (a knock on the bench, a spike): max |r - median| / (1.4826
+// MAD), the MAD a robust std that one cycle cannot move (Hampel 1974, JASA 69 383-393).
+void check_outlier(std::span<const double> r, std::span<const cycle> cycles, double rounding,
+                   stationarity& out) {
+  std::vector<double> v(r.begin(), r.end());
+  const double med = analysis::upper_median(v);
+  for (auto& x : v) x = std::abs(x - med);
+  const double mad = 1.4826 * analysis::upper_median(v);
+  std::size_t at = 0;
+  for (std::size_t k = 1; k < r.size(); ++k)
+    if (std::abs(r[k] - med) > std::abs(r[at] - med)) at = k;
+  const double dev = std::abs(r[at] - med);
+  out.outlier_z = mad > rounding ? std::min(dev / mad, 1e300) : (dev > rounding ? 1e300 : 0.0);
+  out.outlier_limit = outlier_limit_z(r.size());
+  out.outlier_cycle = at + 1;
+  out.outlier_time_s = cycles[at].time_s;
+  out.outlier_failed = out.outlier_z > out.outlier_limit;
+}
+
 }  // namespace
+
+double outlier_limit_z(std::size_t n) noexcept {
+  // The normal quantile of 1 - alpha / (2 n), by bisection on erfc (monotone).
+  const double p = outlier_alpha / (2.0 * static_cast<double>(std::max<std::size_t>(n, 1)));
+  double lo = 0.0, hi = 40.0;
+  for (int k = 0; k < 100; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * std::erfc(mid / std::numbers::sqrt2) > p ? lo : hi) = mid;
+  }
+  return std::max(outlier_floor_z, 0.5 * (lo + hi));
+}
 
 double white_std_over_adev(pairing p) noexcept {
   const auto& t = scheme_of(p).transfer();
@@ -149,6 +209,10 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
   stationarity out;
   const std::size_t n = cycles.size();
   out.cycles = n;
+  // The g-term and the temperature need no minimum of cycles (fifth review of issue 31, F16: a
+  // 14-cycle run on a 0.5 deg/s table was vouched for).
+  check_g_term(cal, in, out);
+  check_temperature(cycles, out);
   if (n < min_stationarity_cycles) {
     out.why_not = fmt::format("{} cycles: the test needs at least {}", n, min_stationarity_cycles);
     return out;
@@ -172,14 +236,8 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
   out.scatter_low_limit = 0.75 * std::max(0.0, 1.0 - 3.0 / std::sqrt(nd));
   out.scatter_failed =
       out.scatter_ratio > out.scatter_limit || out.scatter_ratio < out.scatter_low_limit;
-  double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
-  for (const auto& cy : cycles)
-    if (std::isfinite(cy.temp_c)) {
-      t_lo = std::min(t_lo, cy.temp_c);
-      t_hi = std::max(t_hi, cy.temp_c);
-    }
-  out.temp_span_c = t_lo <= t_hi ? t_hi - t_lo : 0.0;
-  out.temp_failed = out.temp_span_c > isothermal_span_c;
+  check_noise(r, cycles, in, out);
+  check_outlier(r, cycles, rounding, out);
   // Drift or step: r's long-run std from short averaging times (a drift or step barely enters
   // it), the OLS-CUSUM, the step statistic (sup-t) and the slope's t.
   const std::size_t m = std::clamp<std::size_t>(n / 8, 1, drift_scale_cycles);
@@ -210,7 +268,6 @@ stationarity check_stationarity(std::span<const cycle> cycles, const calibration
   out.ramp_hidden_dps =
       out.slope_limit * sigma * d.slope_se * (cycles[n - 1].time_s - cycles[0].time_s);
   out.drift_failed = out.drift_judged_failed();
-  check_g_term(cal, in, out);
   // Every statistic written is finite (a run of identical values gives 1e300, never inf).
   out.scatter_ratio = std::min(out.scatter_ratio, 1e300);
   out.drift_statistic = std::min(out.drift_statistic, 1e300);
@@ -263,6 +320,16 @@ std::vector<std::string> stationarity::failures() const {
         "so its dN is a mean over temperatures and no dN(T) can place it; calibrate at a steady "
         "temperature",
         temp_span_c, isothermal_span_c));
+  if (checked && noise_failed)
+    out.push_back(fmt::format(
+        "its per-cycle scatter is {} times what the sensor's noise gives for these dwells (limit "
+        "{}; {}): a disturbed or faulty run, not a calibration",
+        num(noise_ratio), num(noise_limit), noise_source));
+  if (checked && outlier_failed)
+    out.push_back(fmt::format(
+        "its cycle {} (t = {:.0f} s) lies {} robust standard deviations from the median r (limit "
+        "{} for {} cycles): a knock or a spike",
+        outlier_cycle, outlier_time_s, num(outlier_z), num(outlier_limit), cycles));
   if (g_failed)
     out.push_back(fmt::format(
         "its g-term is {}{} °/s, {} times the limit {} °/s at 1 g ({}), beyond 3 correlated "
@@ -273,11 +340,20 @@ std::vector<std::string> stationarity::failures() const {
 }
 
 std::vector<std::string> stationarity::caveats() const {
-  if (!checked || failed() || g_checked) return {};
-  return {
-      "its g-term was not checked (no sensor specification), so a constant input rate of any "
-      "size passes the scatter and drift tests and enters dN whole (a turning or tilted table); "
-      "check it by naming the sensor's specification (a built-in preset or a TOML preset file)"};
+  if (vouched() || failed()) return {};
+  std::vector<std::string> out;
+  if (!checked)
+    out.push_back(fmt::format(
+        "NOT VOUCHED FOR: its scatter and drift could not be tested ({}), so an input rate that "
+        "changes during the run passes unseen; record a longer run",
+        why_not.empty() ? "a file that predates the test" : why_not));
+  if (!g_checked)
+    out.emplace_back(
+        "its g-term was not checked (no sensor specification), so a constant input rate of any "
+        "size passes the scatter and drift tests and enters dN whole (a turning or tilted "
+        "table); check it by naming the sensor's specification (a built-in preset or a TOML "
+        "preset file)");
+  return out;
 }
 
 bool stationarity::drift_judged_failed() const noexcept {
@@ -292,7 +368,11 @@ bool stationarity::drift_judged_failed() const noexcept {
 
 stationarity stationarity::rejudged() const {
   stationarity s = *this;
+  s.g_failed = g_checked && g_term_dps - g_margin_dps > g_limit_dps;
+  s.temp_failed = temp_span_c > isothermal_span_c;
   if (!checked) return s;
+  s.noise_failed = noise_checked && !(noise_ratio <= noise_limit);
+  s.outlier_failed = outlier_limit > 0.0 && outlier_z > outlier_limit;
   s.scatter_failed = scatter_ratio > scatter_limit || scatter_ratio < scatter_low_limit;
   s.drift_failed = drift_judged_failed();
   s.g_failed = g_checked && g_term_dps - g_margin_dps > g_limit_dps;
@@ -300,8 +380,25 @@ stationarity stationarity::rejudged() const {
   return s;
 }
 
+// The g-term against its limit, said as it is: above the limit but within the margin of 3
+// correlated errors passes, and says so (fifth review of issue 31, F11(c)).
+namespace {
+std::string g_text(const stationarity& s) {
+  const std::string term =
+      fmt::format("g-term {}{} °/s", s.g_exact ? "" : ">= ", num(s.g_term_dps));
+  if (s.g_term_dps <= s.g_limit_dps) return fmt::format("{} <= {} °/s", term, num(s.g_limit_dps));
+  return fmt::format("{}, above the limit {} °/s by less than 3 errors ({} °/s)", term,
+                     num(s.g_limit_dps), num(s.g_margin_dps));
+}
+}  // namespace
+
 std::string stationarity::summary() const {
-  if (!checked) return "not checked: " + why_not;
+  if (!checked && !failed())
+    return fmt::format("NOT VOUCHED FOR: scatter and drift not tested ({}){}",
+                       why_not.empty() ? "a file that predates the test" : why_not,
+                       g_checked ? "; " + g_text(*this)
+                                 : "; g-term NOT checked: no specification, a constant input of "
+                                   "any size passes");
   if (failed()) {
     std::string s = "NOT stationary: ";
     const auto f = failures();
@@ -319,8 +416,12 @@ std::string stationarity::summary() const {
   if (step_statistic_limit_value > 0.0)
     s += ", step " + against(step_statistic, step_statistic_limit_value);
   if (slope_limit > 0.0) s += ", slope " + against(std::abs(slope_statistic), slope_limit);
-  s += g_checked ? fmt::format(", g-term {}{} °/s <= {} °/s)",
-                               g_exact ? "" : ">= ", num(g_term_dps), num(g_limit_dps))
+  if (noise_checked)
+    s += fmt::format(", noise {} <= {} of the specification's", num(noise_ratio), num(noise_limit));
+  if (outlier_limit > 0.0)
+    s += fmt::format(", largest cycle {} <= {} robust std", num(outlier_z), num(outlier_limit));
+  if (!has_temp) s += ", temperature not checked (no temp_c)";
+  s += g_checked ? ", " + g_text(*this) + ")"
                  : "; g-term NOT checked: no specification, a constant input of any size passes)";
   return s;
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <span>
 
@@ -28,7 +29,24 @@ namespace {
 // With several files there is always a model (method::fit_runs_model); a chosen degree needs
 // several files with temperatures.
 result<std::optional<method::delta_n_model>> fit_model(
-    const calibrate_request& r, const std::vector<io::calibration_entry>& files) {
+    const calibrate_request& r, const std::vector<io::calibration_entry>& files,
+    std::vector<std::string>& warnings) {
+  // The default degree: a run without temperatures makes the model a constant. Said, naming the
+  // run and the span the constant now covers (fifth review of issue 31, F8); --degree 1 refuses.
+  std::string no_temp;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& f : files)
+    if (std::isnan(f.cal.temp_c)) {
+      no_temp += (no_temp.empty() ? "" : ", ") + f.file;
+    } else {
+      lo = std::min(lo, f.cal.temp_c);
+      hi = std::max(hi, f.cal.temp_c);
+    }
+  if (!r.degree && !no_temp.empty() && lo <= hi && hi - lo >= method::min_model_span_c)
+    warnings.push_back(fmt::format(
+        "{}: no temp_c column, so the runs' dN is fitted as one constant over {:.1f}-{:.1f} °C "
+        "instead of a dN(T) line: leave the run out, or ask for degree 0 to mean it",
+        no_temp, lo, hi));
   if (r.degree) {
     if (files.size() < 2)
       return parameter_error("degree", "a dN(T) model needs calibrations from several files");
@@ -87,12 +105,51 @@ result<std::optional<sensor::preset>> resolve_sensor_spec(
   return std::optional<sensor::preset>();
 }
 
+status check_geometry_header(const std::optional<io::calibration_geometry>& given,
+                             std::span<const io::csv_metadata> metadata, const std::string& file,
+                             bool strict, std::vector<std::string>& warnings) {
+  if (!given) return ok();
+  std::vector<std::string> what;
+  const std::string lat = metadata_value(metadata, "latitude_deg");
+  char* end = nullptr;
+  const double lat_deg = std::strtod(lat.c_str(), &end);
+  if (!lat.empty() && end != lat.c_str() && *end == '\0' && std::isfinite(lat_deg) &&
+      std::abs(lat_deg - given->lat_deg) > 0.01)
+    what.push_back(
+        fmt::format("latitude {:g}° (the recording says {})", given->lat_deg, printable(lat, 40)));
+  const std::string ax = metadata_value(metadata, "axis");
+  if (const auto a = earth::parse_axis(ax); !ax.empty() && a) {
+    const auto& g = given->axis;
+    const double dot = a->north * g.north + a->east * g.east + a->down * g.down;
+    const double na = std::sqrt(a->north * a->north + a->east * a->east + a->down * a->down);
+    const double ng = std::sqrt(g.north * g.north + g.east * g.east + g.down * g.down);
+    if (!(dot >= 0.9999 * na * ng))  // about 0.8 deg apart or more
+      what.push_back(
+          fmt::format("sensitive axis ({:.3g}, {:.3g}, {:.3g}) N,E,D (the recording "
+                      "says '{}')",
+                      g.north, g.east, g.down, printable(ax, 40)));
+  }
+  if (what.empty()) return ok();
+  const std::string msg = fmt::format(
+      "the geometry given contradicts the recording's header: {}; the Earth term and the g-term "
+      "are split with the given one",
+      fmt::join(what, "; "));
+  if (strict) return input_error({file}, msg + "; refused (strict)");
+  warnings.push_back(fmt::format("{}: {}", file, msg));
+  return ok();
+}
+
 method::stationarity_inputs stationarity_inputs_of(
     method::pairing p, const sensor::preset* preset,
     const std::optional<io::calibration_geometry>& geometry) {
   method::stationarity_inputs in;
   in.pair = p;
   if (preset != nullptr) in.spec = g_term_spec_of(*preset);
+  if (preset != nullptr && preset->params.arw_dps_rthz > 0.0)
+    in.noise = method::noise_spec{
+        preset->params.arw_dps_rthz,
+        fmt::format("{}: N = {} °/s/√Hz; {}", preset->name, preset->params.arw_dps_rthz,
+                    preset->source_of("arw_dps_rthz"))};
   if (geometry) {
     in.lat_deg = geometry->lat_deg;
     in.axis = geometry->axis;
@@ -120,17 +177,18 @@ result<run_standing> judge_run(const run_subject& who, const method::stationarit
     warnings.push_back(prefix + w);
     return run_standing::failed;
   }
-  if (!st.checked) return run_standing::untested;
-  if (st.g_checked) return run_standing::vouched;
+  if (st.vouched()) return run_standing::vouched;
+  // Not vouched for: scatter and drift not tested (too few cycles), or the g-term not checked.
   for (auto c : st.caveats()) {
-    if (!who.hint.empty()) c += ": " + who.hint;
+    const bool g = c.starts_with("its g-term");
+    if (g && !who.hint.empty()) c += ": " + who.hint;
     if (strict)
-      return input_error(at, fmt::format("{}{}; refused (strict): a strict {} needs the g-term "
-                                         "checked",
-                                         named, c, who.task));
+      return input_error(
+          at, fmt::format("{}{}; refused (strict): a strict {} needs {}", named, c, who.task,
+                          g ? "the g-term checked" : "the scatter and drift tested"));
     warnings.push_back(fmt::format("{}{}: {}", prefix, who.file, c));
   }
-  return run_standing::g_unchecked;
+  return st.checked ? run_standing::g_unchecked : run_standing::untested;
 }
 
 status one_sensor::add(const std::string& file, std::span<const io::csv_metadata> metadata,
@@ -272,6 +330,8 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
       resolved = std::move(*spec);
       preset = resolved ? &*resolved : nullptr;
     }
+    if (auto s = check_geometry_header(r.geometry, rc->metadata, file, r.strict, out.warnings); !s)
+      return s.err();
     const auto st = method::check_stationarity(
         rc->cycles, *cal, stationarity_inputs_of(r.pairing, preset, r.geometry));
     if (auto s = judge_run({file, {}, "calibration", r.sensor_hint}, st, r.strict, out.warnings);
@@ -294,7 +354,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   if (!pooled) return pooled.err();
   rec.pooled = *pooled;
   rec.pooled.stderr_correlated_dps = method::pooled_correlated_stderr(calibrations_of(rec.files));
-  auto model = fit_model(r, rec.files);
+  auto model = fit_model(r, rec.files, out.warnings);
   if (!model) return model.err();
   rec.model = std::move(*model);
   out.budget = budget_of(rec.files, rec.model, preset != nullptr ? &preset->params : nullptr,

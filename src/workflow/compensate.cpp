@@ -325,6 +325,18 @@ result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, 
     }
     // The verdict judged again from the stored statistics (review of issue 31, L3): a file edited
     // to read "stationary" with "failures": [] is judged by its numbers, as its model is.
+    // A stored "not checked" is only what calibrate writes for a run under the minimum of cycles
+    // (fifth review of issue 31, F16 addendum: a failed run's test replaced by {"checked":
+    // false} passed --strict without a word).
+    if (!e.stationarity->checked && (e.stationarity->cycles >= method::min_stationarity_cycles ||
+                                     e.stationarity->cycles != e.cal.cycles)) {
+      const std::string what = fmt::format(
+          "its run {} is stored as not tested for stationarity, but has {} cycles (its test "
+          "says {}; the test runs from {}): the file was edited",
+          e.file, e.cal.cycles, e.stationarity->cycles, method::min_stationarity_cycles);
+      if (strict) return input_error({dn.source}, what + "; refused (strict)");
+      out.warnings.push_back(fmt::format("{}: {}", dn.source, what));
+    }
     auto st = e.stationarity->rejudged();
     if (e.stationarity->failed() && !st.failed()) st = *e.stationarity;  // a failure stands
     if (st.failed() && !e.stationarity->failed())
@@ -339,6 +351,7 @@ result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, 
     if (!standing) return standing.err();
     if (*standing == run_standing::failed) out.failed.push_back(e.file);
     if (*standing == run_standing::g_unchecked) out.g_unchecked.push_back(e.file);
+    if (*standing == run_standing::untested) out.untested.push_back(e.file);
   }
   if (out.unchecked)
     out.warnings.push_back(fmt::format(

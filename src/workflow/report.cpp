@@ -431,6 +431,9 @@ struct findings {
   /// Runs that passed with their g-term not checked (no sensor specification): a constant input
   /// of any size passes the test, so their ΔN is not vouched for (third review of issue 31, H1).
   std::vector<std::string> not_vouched;
+  /// Runs too short for the scatter and drift tests (fifth review of issue 31, F16): not vouched
+  /// for either, and no ΔN is headlined from them.
+  std::vector<std::string> not_tested;
   /// A given calibration written before the test (its runs not checked).
   bool calibration_unchecked = false;
 };
@@ -450,6 +453,8 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
                       std::vector<io::calibration_entry>& entries) {
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& a = runs[k];
+    // The geometry given against the run's header (fifth review of issue 31, F18), as calibrate.
+    (void)check_geometry_header(r.geometry, a.run.metadata, a.run.file, false, f.warnings);
     const auto st = method::check_stationarity(a.run.cycles(a.pairing), a.cal,
                                                stationarity_inputs_of(a.pairing, spec, r.geometry));
     entries[k].stationarity = st;
@@ -458,6 +463,7 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
         judge_run({a.run.file, {}, "report", r.sensor_hint}, st, false, f.warnings);
     if (standing && *standing == run_standing::failed) f.not_stationary.push_back(a.run.file);
     if (standing && *standing == run_standing::g_unchecked) f.not_vouched.push_back(a.run.file);
+    if (standing && *standing == run_standing::untested) f.not_tested.push_back(a.run.file);
   }
 }
 
@@ -479,6 +485,7 @@ void check_calibration_runs_stationary(const delta_n_source& given, findings& f)
   f.calibration_unchecked = runs->unchecked;
   for (auto& n : runs->failed) f.not_stationary.push_back(std::move(n));
   for (auto& n : runs->g_unchecked) f.not_vouched.push_back(std::move(n));
+  for (auto& n : runs->untested) f.not_tested.push_back(std::move(n));
   for (auto& w : runs->warnings) f.warnings.push_back(std::move(w));
 }
 
@@ -719,6 +726,13 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                                 "(warnings below), so their mean r, {}, is not the sensor's ΔN. "
                                 "Calibrate again with the table at rest.",
                                 sensor, failed, value)
+          : !f.not_tested.empty()
+              ? fmt::format(
+                    "These runs give no ΔN of this {}: {} {} too short for the stationarity "
+                    "test's scatter and drift statistics (16 cycles at least), so an input rate "
+                    "that changed during the run passes unseen: not vouched for. Their mean r is "
+                    "{}. Record a longer run with the table at rest.",
+                    sensor, names_of(f.not_tested), f.not_tested.size() == 1 ? "is" : "are", value)
           : !f.not_vouched.empty()
               ? fmt::format(
                     "Not vouched for: g-term not checked. {} passed the stationarity test with "
@@ -770,6 +784,14 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
           "(warnings below), so the ΔN applied, and every rate below, is off by an amount no "
           "± here covers. ",
           f.given->source, f.not_stationary.size() == 1 ? "" : "s", failed);
+    else if (!f.not_tested.empty())
+      out = fmt::format(
+          "Not vouched for: the calibration {}'s run{} {} {} too short for the stationarity "
+          "test's scatter and drift statistics, so an input rate that changed during {} passes "
+          "unseen, and the ΔN applied, and every rate below, is right only if its table was at "
+          "rest. ",
+          f.given->source, f.not_tested.size() == 1 ? "" : "s", names_of(f.not_tested),
+          f.not_tested.size() == 1 ? "was" : "were", f.not_tested.size() == 1 ? "it" : "them");
     else if (!f.not_vouched.empty())
       out = fmt::format(
           "Not vouched for: g-term not checked. The calibration {}'s run{} {} passed the "
@@ -1133,19 +1155,23 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     for (const auto& x : f.id.serials) s += (s.empty() ? "" : ", ") + x;
     return s;
   }();
-  page.title = !r.title.empty()
-                   ? r.title
-                   : fmt::format("{}{}: {} {} {}, {}", part_of(f.id),
-                                 serials.empty() ? std::string() : " serial " + serials,
-                                 f.compensating             ? "compensated"
-                                 : f.not_stationary.empty() ? "ΔN calibration from"
-                                                            : "no ΔN calibration:",
-                                 runs.size(),
-                                 f.compensating || f.not_stationary.empty()
-                                     ? (runs.size() == 1 ? "run" : "runs")
-                                     : (runs.size() == 1 ? "run, not stationary"
-                                                         : "runs, not all stationary"),
-                                 all_t.text());
+  page.title =
+      !r.title.empty()
+          ? r.title
+          : fmt::format(
+                "{}{}: {} {} {}, {}", part_of(f.id),
+                serials.empty() ? std::string() : " serial " + serials,
+                f.compensating                                     ? "compensated"
+                : f.not_stationary.empty() && f.not_tested.empty() ? "ΔN calibration from"
+                                                                   : "no ΔN calibration:",
+                runs.size(),
+                f.compensating || (f.not_stationary.empty() && f.not_tested.empty())
+                    ? (runs.size() == 1 ? "run" : "runs")
+                : !f.not_stationary.empty()
+                    ? (runs.size() == 1 ? "run, not stationary" : "runs, not all stationary")
+                    : (runs.size() == 1 ? "run, too short to test"
+                                        : "runs, not all long enough to test"),
+                all_t.text());
   if (f.id.simulated > 0)
     page.banners.push_back(fmt::format(
         "Simulated data: {} of the {} recordings came from gyroflip's {} (see Inputs); "

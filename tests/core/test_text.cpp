@@ -104,3 +104,14 @@ TEST(Digits, FixedSignificantKeepsOneNotationAtAnySize) {
   EXPECT_EQ(gyroflip::fixed_significant(-1e-20, 2), "0.000000000000000");  // 15 decimals, no -0
   EXPECT_EQ(gyroflip::to_digits_of(4.42171e-6, 0.0, 3), "0.00000442");
 }
+
+// Fifth review of issue 31, F12: a 9e99 sample gave dN "-4500000000000000520805...032" (97 fixed
+// digits, most invented). Past a million: one exponent, the error's two digits.
+TEST(Digits, HugeValuesTakeScientificNotationWithTheErrorsDigits) {
+  const auto [v, u] = gyroflip::digits_of_error(-4.5e96, 5.2e96);
+  EXPECT_EQ(v, "-4.5e+96");
+  EXPECT_EQ(u, "5.2e+96");
+  EXPECT_EQ(gyroflip::digits_of_error(1234567.0, 0.35).first, "1.23456700e+06");
+  EXPECT_EQ(gyroflip::digits_of_error(5e2, 3.1e7).first, "0.0e+07");
+  EXPECT_EQ(gyroflip::digits_of_error(999999.0, 0.5).first, "999999.00");  // below: fixed
+}

@@ -5,6 +5,7 @@
 /// the drift; each statistic against its limit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -243,7 +244,101 @@ TEST(Stationarity, TooFewCyclesAreNotChecked) {
   const auto st = check(t, 1, pairing::simple, hz1_spec);
   EXPECT_FALSE(st.checked);
   EXPECT_FALSE(st.failed());
-  EXPECT_NE(st.summary().find("not checked"), std::string::npos);
+  EXPECT_FALSE(st.vouched());
+  EXPECT_NE(st.summary().find("NOT VOUCHED FOR: scatter and drift not tested"), std::string::npos)
+      << st.summary();
+  EXPECT_FALSE(st.caveats().empty());
+}
+
+// Fifth review of issue 31, F16: a 14-cycle run on a 0.5 deg/s table skipped the g-term test too
+// and was vouched for. The g-term needs no minimum of cycles.
+TEST(Stationarity, ARunTooShortForScatterStillFailsTheGTerm) {
+  run_truth t;
+  t.dwells = 2 * (min_stationarity_cycles - 2);
+  t.input_dps = [](double) { return 0.5; };
+  const auto st = check(t, 1, pairing::abba, hz1_spec);
+  EXPECT_FALSE(st.checked);
+  EXPECT_TRUE(st.g_checked);
+  EXPECT_TRUE(st.g_failed);
+  EXPECT_TRUE(st.failed()) << st.summary();
+  EXPECT_TRUE(st.rejudged().failed());
+}
+
+// A run whose noise is that of the dwells: N from the dwell std at 0.512 s (run_truth).
+const noise_spec hz1_noise{6.4e-3 * std::sqrt(0.512), "the dwells' own"};
+
+stationarity check_noise(const run_truth& t, std::uint64_t seed,
+                         const std::function<void(std::vector<dwell>&)>& edit = {}) {
+  auto dwells = dwells_of(t, seed);
+  if (edit) edit(dwells);
+  const auto cycles = pair_cycles(dwells, pairing::abba);
+  const auto cal = calibrate(cycles);
+  EXPECT_TRUE(cal);
+  stationarity_inputs in;
+  in.spec = hz1_spec;
+  in.noise = hz1_noise;
+  return check_stationarity(cycles, *cal, in);
+}
+
+// Fifth review of issue 31, F11: one knocked dwell (+8 deg/s in 1 of 2000) made a refused
+// 0.075 deg/s run pass (the knock raised c's scatter as much as r's, and the g-term's margin of 3
+// errors with it). The outlier test names the cycle and its time; a run 16 times noisier than
+// its specification fails the noise ratio; still runs pass both (20 seeds).
+TEST(Stationarity, AKnockedDwellAndANoisyRunFail) {
+  run_truth t;
+  t.input_dps = [](double) { return 0.075; };
+  const auto knocked = check_noise(t, 3, [](std::vector<dwell>& d) { d[900].rate_dps += 8.0; });
+  EXPECT_TRUE(knocked.failed()) << knocked.summary();
+  EXPECT_TRUE(knocked.outlier_failed);
+  EXPECT_TRUE(knocked.noise_failed);
+  EXPECT_NEAR(knocked.outlier_time_s, 900 * 0.895, 2 * 0.895);
+  const auto f = knocked.failures();
+  EXPECT_TRUE(std::any_of(f.begin(), f.end(), [](const std::string& s) {
+    return s.find("its cycle 45") != std::string::npos && s.find("a knock") != std::string::npos;
+  })) << knocked.summary();
+  run_truth noisy;
+  noisy.noise_dps *= 16.0;
+  const auto n = check_noise(noisy, 4);
+  EXPECT_TRUE(n.noise_failed) << n.summary();
+  EXPECT_FALSE(n.scatter_failed);  // against its own c it looks fine
+  EXPECT_NEAR(n.noise_ratio, 16.0 * std::sqrt(0.895 / 0.512), 2.0);
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const auto still = check_noise(run_truth{}, seed);
+    EXPECT_FALSE(still.failed()) << seed << ": " << still.summary();
+    EXPECT_LT(still.outlier_z, still.outlier_limit) << seed;
+  }
+}
+
+// The outlier limit: the normal quantile of 1 - 1e-4 / (2n) (Bonferroni), at least 5.
+TEST(Stationarity, TheOutlierLimitIsBonferroniOverTheCycles) {
+  EXPECT_NEAR(outlier_limit_z(16), 5.0, 1e-12);      // the floor (4.52 by the quantile)
+  EXPECT_NEAR(outlier_limit_z(1000), 5.3267, 1e-3);  // Phi^-1(1 - 5e-8)
+  EXPECT_GT(outlier_limit_z(100000), outlier_limit_z(1000));
+}
+
+// F11(c): a g-term above its limit that passes (within 3 correlated errors) says so, not "<=".
+TEST(Stationarity, AGTermAboveItsLimitWithinTheMarginSaysSo) {
+  stationarity st;
+  st.checked = true;
+  st.scatter_limit = 1.25;
+  st.g_checked = true;
+  st.g_term_dps = 0.0706;
+  st.g_limit_dps = 0.06;
+  st.g_margin_dps = 0.014;
+  EXPECT_FALSE(st.rejudged().failed());
+  EXPECT_NE(st.summary().find("g-term >= 0.0706 °/s, above the limit 0.06 °/s by less than 3 "
+                              "errors (0.014 °/s)"),
+            std::string::npos)
+      << st.summary();
+  EXPECT_EQ(st.summary().find("0.0706 °/s <="), std::string::npos);
+}
+
+// F8: a run without temperatures says its temperature was not checked.
+TEST(Stationarity, WithoutTemperaturesTheTemperatureIsNotChecked) {
+  const auto st = check(run_truth{}, 2, pairing::abba, hz1_spec);  // dwells_of: no temp_c
+  EXPECT_FALSE(st.has_temp);
+  EXPECT_NE(st.summary().find("temperature not checked (no temp_c)"), std::string::npos)
+      << st.summary();
 }
 
 // Review of issue 31: an input alternating with the turns (a vibration near the cycle's

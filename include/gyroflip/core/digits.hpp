@@ -32,7 +32,23 @@ namespace gyroflip {
 /// "0.00081"), ("-1500", "3600"). The one rule of every "v ± u".
 /// A value that rounds to zero prints without its sign ("0.00000 ± 0.00098", not "-0.00000";
 /// third review of issue 31).
+/// Past a million (|v| or u >= 1e6) both take scientific notation at one exponent, the larger
+/// one's, with the mantissa's decimals at u's second significant digit ("-4.5e+96", "5.2e+96";
+/// fifth review of issue 31, F12: 97 fixed digits, most of them invented).
 [[nodiscard]] inline std::pair<std::string, std::string> digits_of_error(double v, double u) {
+  if (std::max(std::abs(v), u) >= 1e6) {
+    const int eu = static_cast<int>(std::floor(std::log10(u)));
+    const double top = std::max(std::abs(rounded_to_error(v, u)), rounded_to_error(u, u));
+    const int e = std::max(eu, static_cast<int>(std::floor(std::log10(top))));
+    const int decimals = std::clamp(e - eu + 1, 0, 15);
+    const double scale = std::pow(10.0, -e);
+    const auto sci = [&](double x) {
+      std::string m = fmt::format("{:.{}f}", x * scale, decimals);
+      if (m.front() == '-' && m.find_first_not_of("-0.") == std::string::npos) m.erase(0, 1);
+      return fmt::format("{}e{:+03d}", m, e);
+    };
+    return {sci(v), sci(u)};
+  }
   const int decimals = decimals_of_error(u);
   std::string value = fmt::format("{:.{}f}", rounded_to_error(v, u), decimals);
   if (value.front() == '-' && value.find_first_not_of("-0.") == std::string::npos)

@@ -111,10 +111,36 @@ struct g_term_spec {
   }
 };
 
+/// The sensor's white noise the run's scatter is held against (issue 31, fifth review F11): a
+/// run whose r scatters far beyond what its specification's noise gives for these dwells is not
+/// a calibration, even when its own half-sum c scatters as much (a knock, a broadband
+/// disturbance). The dwells' averaging time is taken as the cycle's share (the cycle period over
+/// its dwells), an upper bound (turns and settling are dead time), so a still run reads above 1
+/// (HZ1 and ADXRS150 at 256 conversions: 1.3-1.5); hence the generous limit.
+struct noise_spec {
+  double arw_dps_rthz = 0.0;  ///< N: ADEV(tau) = N / sqrt(tau)
+  std::string source;         ///< where the figure comes from, for messages
+};
+
+/// Limit of std(r) against the specification's white noise for the dwells (noise_spec):
+/// still simulated runs read at most 1.6 (bench/stationarity_null.py, docs/PERFORMANCE.md); a run
+/// four times noisier than its part is not a calibration of it.
+inline constexpr double noise_ratio_limit = 4.0;
+
+/// The outlier test's family-wise false-alarm rate: one cycle's |r - median| / (1.4826 MAD)
+/// against the normal quantile of alpha / (2 n) (Bonferroni over the n cycles), and never below
+/// outlier_floor_z (the MAD's own scatter at small n).
+inline constexpr double outlier_alpha = 1e-4;
+inline constexpr double outlier_floor_z = 5.0;
+
+/// The outlier limit for n cycles (outlier_alpha, outlier_floor_z).
+[[nodiscard]] double outlier_limit_z(std::size_t n) noexcept;
+
 /// What the test needs besides the cycles.
 struct stationarity_inputs {
   pairing pair = pairing::abba;
   std::optional<g_term_spec> spec;  ///< none: the g-term is not checked
+  std::optional<noise_spec> noise;  ///< none: the scatter is held against c's only
   /// The geometry (latitude, sensitive axis at 0 deg): the g-term exactly; none: at least
   /// |dN| - W_E (any axis).
   std::optional<double> lat_deg;
@@ -123,9 +149,11 @@ struct stationarity_inputs {
 
 /// The test's statistics and verdicts. Every statistic is finite when `checked`.
 struct stationarity {
-  bool checked = false;    ///< false: too few cycles (why_not says so) or a file that predates it
-  std::string why_not;     ///< why it was not checked
-  std::size_t cycles = 0;  ///< cycles tested
+  /// false: scatter and drift not tested (too few cycles, why_not says so) or a file that
+  /// predates the test. The g-term and the temperature need no minimum: a short run has them.
+  bool checked = false;
+  std::string why_not;         ///< why scatter and drift were not checked
+  std::size_t cycles = 0;      ///< cycles tested
   double scatter_ratio = 0.0;  ///< std(r) / (white_std_over_adev x ADEV_c(tau0)); ~1 stationary
   double scatter_limit = 0.0;  ///< max(1.25, 1 + 7/sqrt(n)) (null sd ~1.1/sqrt(n), measured)
   /// The lower limit, 0.75 (1 - 3/sqrt(n)): an input alternating with the turns (a vibration
@@ -162,15 +190,30 @@ struct stationarity {
   double g_limit_dps = 0.0;   ///< the specification's limit at 1 g
   double g_margin_dps = 0.0;  ///< 3 x the correlated error, taken off the g-term first
   std::string g_source;
+  bool has_temp = true;        ///< the run has temperatures (false: temperature not checked)
+  bool noise_checked = false;  ///< a noise specification was given (noise_spec)
+  double noise_ratio = 0.0;    ///< std(r) / the specification's white std for these dwells
+  double noise_limit = noise_ratio_limit;
+  std::string noise_source;
+  double outlier_z = 0.0;         ///< max |r - median| / (1.4826 MAD) over the cycles
+  double outlier_limit = 0.0;     ///< outlier_limit_z(cycles)
+  std::size_t outlier_cycle = 0;  ///< the cycle (from 1) of the largest
+  double outlier_time_s = 0.0;    ///< its time
   bool scatter_failed = false;
   bool drift_failed = false;
   bool g_failed = false;
   bool temp_failed = false;  ///< temp_span_c > isothermal_span_c
+  bool noise_failed = false;
+  bool outlier_failed = false;
+  /// A statistic failed: scatter, drift, noise and outlier need `checked`; the g-term and the
+  /// temperature are judged on a run of any length.
   [[nodiscard]] bool failed() const noexcept {
-    return checked && (scatter_failed || drift_failed || g_failed || temp_failed);
+    return (checked && (scatter_failed || drift_failed || noise_failed || outlier_failed)) ||
+           g_failed || temp_failed;
   }
   /// Passed every statistic, the g-term included: a run whose g-term was not checked passed the
-  /// scatter and drift tests only, which a constant input of any size passes.
+  /// scatter and drift tests only, which a constant input of any size passes; a run too short
+  /// for the scatter and drift tests is not vouched for either.
   [[nodiscard]] bool vouched() const noexcept { return checked && !failed() && g_checked; }
   /// One sentence per failed statistic, with its value and limit (empty when none failed).
   [[nodiscard]] std::vector<std::string> failures() const;
@@ -202,7 +245,8 @@ inline constexpr std::size_t first_live_look_cycles = 40;
 
 /// The stationarity test of one calibration run (see the file comment) from its cycles and their
 /// calibration (`calibrate(cycles)`). Total: fewer than min_stationarity_cycles gives
-/// `checked` false. Used by `gyroflip calibrate`, `report`, Python's `calibrate` and `record`.
+/// `checked` false (the g-term and the temperature are still judged). Used by `gyroflip calibrate`,
+/// `report`, Python's `calibrate` and `record`.
 [[nodiscard]] stationarity check_stationarity(std::span<const cycle> cycles, const calibration& cal,
                                               const stationarity_inputs& in);
 

@@ -60,6 +60,15 @@ struct calibrate_result {
     const std::optional<sensor::preset>& given, std::span<const io::csv_metadata> metadata,
     const std::string& file, bool strict, std::vector<std::string>& warnings);
 
+/// The geometry given (--latitude/--axis) against the recording's own `# latitude_deg:` and
+/// `# axis:` header (fifth review of issue 31, F18: a contradiction split dN into Earth and g
+/// wrongly, without a word): a warning naming both values, with `strict` an input error. Nothing
+/// to check without a geometry or without the header lines.
+[[nodiscard]] status check_geometry_header(const std::optional<io::calibration_geometry>& given,
+                                           std::span<const io::csv_metadata> metadata,
+                                           const std::string& file, bool strict,
+                                           std::vector<std::string>& warnings);
+
 /// The stationarity test's inputs for a run: the pairing, the specification of `preset` (none:
 /// the g-term is not checked) and the geometry (none: a lower bound of the g-term).
 [[nodiscard]] method::stationarity_inputs stationarity_inputs_of(

@@ -80,6 +80,7 @@ struct compensation {
 struct calibration_runs_check {
   std::vector<std::string> failed;       ///< runs that failed the stationarity test
   std::vector<std::string> g_unchecked;  ///< runs that passed with their g-term not checked
+  std::vector<std::string> untested;     ///< runs too short for the scatter and drift tests
   bool unchecked = false;                ///< some run has no test (a file written before it)
   std::vector<std::string> warnings;     ///< one per failed run, one for unchecked runs
 };
