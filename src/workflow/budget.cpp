@@ -189,6 +189,16 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
   return b;
 }
 
+std::optional<std::string> runs_disagree_warning(
+    const std::optional<method::delta_n_model>& runs_model) {
+  if (!runs_model || !(runs_model->chi2_per_dof > max_runs_chi2_per_dof)) return std::nullopt;
+  return fmt::format(
+      "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {:.3g}; the paper's own "
+      "runs scatter 14–30 times theirs): they were not made under the same stationary "
+      "conditions, and the pooled dN means little",
+      std::sqrt(runs_model->chi2_per_dof), runs_model->chi2_per_dof);
+}
+
 bool same_line(const method::delta_n_model& applied, const method::delta_n_model& refit) {
   const auto equal = [](double a, double b) {
     return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;

@@ -357,6 +357,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   auto model = fit_model(r, rec.files, out.warnings);
   if (!model) return model.err();
   rec.model = std::move(*model);
+  if (auto w = runs_disagree_warning(rec.model)) out.warnings.push_back(std::move(*w));
   out.budget = budget_of(rec.files, rec.model, preset != nullptr ? &preset->params : nullptr,
                          preset != nullptr ? preset->name : std::string());
   if (r.pairing == method::pairing::harmonic)

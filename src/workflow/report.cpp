@@ -57,10 +57,8 @@ constexpr std::array formats{report::image_format::png, report::image_format::sv
 constexpr int summary_schema = 3;
 
 // A dN that calls a calibration run not stationary: its g-term beyond this many times the
-// sensor's specified g-sensitivity (at 1 g), or runs whose dN disagree by a chi^2/dof beyond
-// max_chi2_per_dof (the paper's own runs scatter 14-30 times their errors: chi^2/dof 200-900).
+// sensor's specified g-sensitivity (at 1 g).
 constexpr double g_term_beyond_spec = 3.0;
-constexpr double max_chi2_per_dof = 1e4;
 // Fewer cycles than this give no usable correlated standard error (review R11): the std of n
 // cycles has a relative error of 1/sqrt(2 (n - 1)) (13 % at 30) before the correlation of
 // neighbouring cycles is estimated from blocks of them; the paper's runs have 3000-6700 cycles.
@@ -469,12 +467,7 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
 
 // Runs that scatter far beyond their own errors were not made under the same conditions.
 void check_runs_agree(findings& f) {
-  if (f.runs_model && f.runs_model->chi2_per_dof > max_chi2_per_dof)
-    f.warnings.push_back(fmt::format(
-        "the runs' dN disagree by {:.0f} times their own errors (χ²/dof {}; the paper's own "
-        "runs scatter 14–30 times theirs): they were not made under the same stationary "
-        "conditions, and the pooled dN means little",
-        std::sqrt(f.runs_model->chi2_per_dof), g(f.runs_model->chi2_per_dof, 3)));
+  if (auto w = runs_disagree_warning(f.runs_model)) f.warnings.push_back(std::move(*w));
 }
 
 // The runs a given calibration was made of, as calibrate tested them (schema 3): a failed run

@@ -835,4 +835,22 @@ TEST(CalibrationTrust, AReportTakesAnOlderUntruncatedCovarianceAsItsRunsFit) {
       << edited.err;
 }
 
+// Fifth review of issue 31, F15: an HZ1 run at rest and one on a 0.1 deg/s table calibrated
+// together without a word from calibrate, where report warned that the runs disagree (here by
+// ~300 times their errors). One warning for both.
+TEST(CalibrationTrust, CalibrateSaysWhenItsRunsDisagreeFarBeyondTheirErrors) {
+  review_runs r;
+  const auto still = r.sim("still.csv", "61", "hz1-90-100a");
+  const auto turning = r.d.file("turning.csv");
+  ASSERT_EQ(run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", "300", "--temp", "20",
+                     "--seed", "62", "--rate-profile", "0.1", "-o", turning})
+                .exit_code,
+            0);
+  const auto cal = run_cli({"calibrate", still, turning, "-o", r.d.file("two.json")});
+  ASSERT_EQ(cal.exit_code, 0) << cal.err;
+  EXPECT_NE(cal.err.find("the runs' dN disagree by"), std::string::npos) << cal.err;
+  const auto one = run_cli({"calibrate", still, r.sim("still2.csv", "63", "hz1-90-100a")});
+  EXPECT_EQ(one.err.find("disagree by"), std::string::npos) << one.err;
+}
+
 }  // namespace gyroflip::test

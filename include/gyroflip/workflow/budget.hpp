@@ -123,6 +123,16 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
 /// delta_n_model::new_run_interval_at), that band at `temp_c`, with the budget's temperature
 /// term; otherwise b.new_power_up_dps (third review of issue 31, M2: the page quoted ±0.0029
 /// where its figure drew ±0.0056 at 4 °C). NaN when the budget is not valid.
+/// Runs whose dN disagree by a chi^2/dof beyond this about their fit were not made under the same
+/// conditions: the paper's own runs scatter 14-30 times their errors (chi^2/dof 200-900).
+inline constexpr double max_runs_chi2_per_dof = 1e4;
+
+/// The warning `calibrate` and `report` give when the runs' fit (method::fit_runs_model) has a
+/// chi^2/dof beyond max_runs_chi2_per_dof (fifth review of issue 31, F15: calibrate said nothing
+/// where report warned); none otherwise.
+[[nodiscard]] std::optional<std::string> runs_disagree_warning(
+    const std::optional<method::delta_n_model>& runs_model);
+
 [[nodiscard]] double new_power_up_at(const delta_n_budget& b,
                                      const std::optional<method::delta_n_model>& model,
                                      double temp_c);
