@@ -763,8 +763,14 @@ TEST(RecordCli, ADeviceResetIsRecordedAndTheRunGoesOnWithTheTableHomed) {
 // The review's reset storm (docs/RELIABILITY.md): resets at any moment - during a START retry,
 // while the recorder waits for an ACK, mid-run - on a noisy line. Not one dwell may carry an
 // angle other than where the table truly stood (the emulator's table_deg).
+// CI runs the review's seed and two others (each ~20 s at --speed max; the sanitizer suite the
+// review's alone); the ten of the figure are bench/record_figures.py's (docs/RELIABILITY.md).
 TEST(RecordCli, ResetStormsNeverMislabelADwell) {
-  const std::vector<std::uint64_t> seeds = {10934, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+#if defined(__SANITIZE_ADDRESS__)
+  const std::vector<std::uint64_t> seeds = {10934};
+#else
+  const std::vector<std::uint64_t> seeds = {10934, 1, 2};
+#endif
   for (std::size_t k = 0; k < seeds.size(); ++k) {
     SCOPED_TRACE(seeds[k]);
     test::temp_dir dir;
