@@ -216,14 +216,9 @@ void quote_new_power_up(const delta_n_source& dn, double at_c, const delta_n_bud
                                "repeatability: calibrate again to know it";
     return;
   }
-  // The band of a between-run variance that changes with temperature needs the fit itself (the
-  // file keeps its runs, not tau^2(T)): refitted, and used only when it is the model applied.
-  std::optional<method::delta_n_model> refit;
-  if (rec.model && rec.model->degree() > 0 && !rec.files.empty())
-    if (auto r = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
-        r && *r && same_line(*rec.model, **r))
-      refit = std::move(**r);
-  out.new_power_up_dps = new_power_up_at(b, refit, at_c);
+  // The band of a between-run variance that changes with temperature is the budget's own refit
+  // of the runs (calibration_budget: made once, and kept only when it is the model applied).
+  out.new_power_up_dps = new_power_up_at(b, at_c);
 }
 
 }  // namespace

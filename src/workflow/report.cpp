@@ -532,6 +532,20 @@ std::string power_up_text(const delta_n_budget& b) {
                      b.outside_c > 0.0 ? ", its temperature term included" : "");
 }
 
+// The same for the runs compensated: where the budget's runs give a between-run variance that
+// changes with temperature (tau^2(T)), each run's at its temperature, the ± `compensate` quotes
+// for it (new_power_up_at; fifth review of issue 31: the page quoted the widest for every run).
+std::string power_up_text(const delta_n_budget& b, const std::vector<run_analysis>& runs) {
+  if (!b.valid || !std::isfinite(b.new_power_up_dps) || !b.band_model || runs.empty())
+    return power_up_text(b);
+  std::string out;
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    out +=
+        fmt::format("{}±{} °/s{}", k == 0 ? "" : ", ", u2(new_power_up_at(b, runs[k].cal.temp_c)),
+                    runs.size() == 1 ? std::string() : " for " + runs[k].run.file);
+  return out + (b.outside_c > 0.0 ? ", its temperature term included" : "");
+}
+
 // A compensated run against its commanded rate (review R12): a reading of the opposite sign, or a
 // scale-factor error far beyond the sensor's tolerance, says the comparison is wrong (the
 // commanded rate's sign, the table's speed, the sensor's mounting or preset), not the sensor.
@@ -768,9 +782,8 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
     std::string applied;
     for (std::size_t k = 0; k < runs.size(); ++k)
-      applied +=
-          fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
-                      applied_text(runs[k].comp, new_power_up_at(b, f.model, runs[k].cal.temp_c)));
+      applied += fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
+                             applied_text(runs[k].comp, new_power_up_at(b, runs[k].cal.temp_c)));
     if (!failed.empty())
       out = fmt::format(
           "The calibration {} is not the sensor's: its run{} {} failed the stationarity test "
@@ -802,7 +815,7 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                             "stationarity",
                             f.given->source));
     out += fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up {}).",
-                       f.given->source, applied, power_up_text(b));
+                       f.given->source, applied, power_up_text(b, runs));
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
@@ -1082,10 +1095,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (auto s = compensate_run(a, model); !s) return s.err();
     if (a.comp.outside_model > 0)
       f.warnings.push_back(outside_model_warning(a.run.file, a.comp, *f.model));
-    f.rates.push_back(r.expected_rate_dps ? std::optional(check_rate(
-                                                a.comp.summary, *r.expected_rate_dps,
-                                                new_power_up_at(f.budget, f.model, a.cal.temp_c)))
-                                          : std::nullopt);
+    f.rates.push_back(r.expected_rate_dps
+                          ? std::optional(check_rate(a.comp.summary, *r.expected_rate_dps,
+                                                     new_power_up_at(f.budget, a.cal.temp_c)))
+                          : std::nullopt);
     if (f.rates.back()) check_commanded_rate(a, *r.expected_rate_dps, *f.rates.back(), f);
   }
   if (!f.compensating && f.runs_model && !f.budget.model_dps)
@@ -1347,7 +1360,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& a = runs[k];
       const auto& s = a.comp.summary;
-      const double power_up = new_power_up_at(f.budget, f.model, a.cal.temp_c);
+      const double power_up = new_power_up_at(f.budget, a.cal.temp_c);
       std::vector<std::string> row{fmt::format("{}: {}", k + 1, a.run.file),
                                    g(a.cal.temp_c, 3),
                                    applied_text(a.comp, power_up),
@@ -1504,13 +1517,15 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
               {"stderr_correlated_dps", a.cal.stderr_correlated_dps}};
     if (f.compensating) {
       const auto [lo, hi] = applied_range(a.comp);
-      j["compensated"] = {{"delta_n_applied_min_dps", lo},
-                          {"delta_n_applied_max_dps", hi},
-                          {"mean_dps", s.mean_dps},
-                          {"std_dps", s.std_dps},
-                          {"stderr_correlated_dps", s.stderr_correlated_dps},
-                          {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
-                          {"drift_window_s", s.drift_window_s}};
+      j["compensated"] = {
+          {"delta_n_applied_min_dps", lo},
+          {"delta_n_applied_max_dps", hi},
+          {"delta_n_new_power_up_dps", num(new_power_up_at(f.budget, a.cal.temp_c))},
+          {"mean_dps", s.mean_dps},
+          {"std_dps", s.std_dps},
+          {"stderr_correlated_dps", s.stderr_correlated_dps},
+          {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
+          {"drift_window_s", s.drift_window_s}};
       if (f.rates[k])
         j["compensated"].update(
             json{{"expected_rate_dps", *r.expected_rate_dps},
