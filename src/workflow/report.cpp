@@ -379,17 +379,22 @@ std::string stem_of(std::size_t k, const char* what) {
 // A compensated run's numbers against a commanded rate.
 struct rate_check {
   double error_dps = 0.0;
-  double scale_factor_ppm = 0.0;
-  double scale_factor_u_ppm = 0.0;
+  double error_u_dps = 0.0;  // the run's correlated error and the ΔN's, combined
+  /// NaN at a commanded rate of 0 (no scale factor to measure).
+  double scale_factor_ppm = std::numeric_limits<double>::quiet_NaN();
+  double scale_factor_u_ppm = std::numeric_limits<double>::quiet_NaN();
 };
 
 rate_check check_rate(const method::compensation_summary& s, double expected_dps,
                       double systematic_dps) {
   rate_check c;
   c.error_dps = s.mean_dps - expected_dps;
+  c.error_u_dps = std::hypot(s.stderr_correlated_dps, systematic_dps);
+  // At rest (a stationary run, a rate table at 0) there is no scale factor to measure: the error
+  // alone (fifth review of issue 31, F13).
+  if (expected_dps == 0.0) return c;
   c.scale_factor_ppm = 1e6 * (s.mean_dps / expected_dps - 1.0);
-  c.scale_factor_u_ppm =
-      1e6 * std::hypot(s.stderr_correlated_dps, systematic_dps) / std::abs(expected_dps);
+  c.scale_factor_u_ppm = 1e6 * c.error_u_dps / std::abs(expected_dps);
   return c;
 }
 
@@ -551,6 +556,7 @@ std::string power_up_text(const delta_n_budget& b, const std::vector<run_analysi
 // commanded rate's sign, the table's speed, the sensor's mounting or preset), not the sensor.
 void check_commanded_rate(const run_analysis& a, double expected_dps, const rate_check& c,
                           findings& f) {
+  if (expected_dps == 0.0) return;  // at rest: no sign, no scale factor to judge
   const double mean = a.comp.summary.mean_dps;
   // The scale-factor error's own standard uncertainty (the dN error and the run's noise, as a
   // fraction): a warning only where the error lies beyond it (review of issue 22: a run at
@@ -820,7 +826,16 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
                          value_pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
-      if (f.rates[k])
+      if (f.rates[k] && *r.expected_rate_dps == 0.0)
+        out += fmt::format(
+            " against the commanded 0 °/s (at rest: no scale factor to measure): an error of {} "
+            "°/s{}",
+            b.valid ? value_pm(f.rates[k]->error_dps, f.rates[k]->error_u_dps)
+                    : g(f.rates[k]->error_dps, 3),
+            b.valid ? ""
+                    : fmt::format(" (its uncertainty is not known: the ΔN applied's ± is {})",
+                                  b.invalid_why));
+      else if (f.rates[k])
         out += fmt::format(
             " against the commanded {} °/s: a scale-factor error of {}{}",
             as_given(*r.expected_rate_dps),
@@ -1000,11 +1015,12 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (r.calibration.empty())
       return parameter_error("expected_rate_dps",
                              "a commanded rate is checked on compensated runs: give a calibration");
-    if (!(std::isfinite(*r.expected_rate_dps) && *r.expected_rate_dps != 0.0 &&
+    // 0 is a run at rest (a stationary run, a rate table stopped): compared with 0, with no
+    // scale factor (fifth review of issue 31, F13: it was refused).
+    if (!(std::isfinite(*r.expected_rate_dps) &&
           std::abs(*r.expected_rate_dps) <= rig::max_rate_dps))
-      return parameter_error(
-          "expected_rate_dps",
-          fmt::format("must be a non-zero rate within ±{:g} °/s", rig::max_rate_dps));
+      return parameter_error("expected_rate_dps",
+                             fmt::format("must be a rate within ±{:g} °/s", rig::max_rate_dps));
   }
   if (auto s = io::check_distinct_inputs(r.files); !s) return s.err();
   std::vector<std::string> inputs = r.files;
@@ -1530,7 +1546,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
         j["compensated"].update(
             json{{"expected_rate_dps", *r.expected_rate_dps},
                  {"error_dps", f.rates[k]->error_dps},
-                 {"scale_factor_error_ppm", f.rates[k]->scale_factor_ppm},
+                 {"scale_factor_error_ppm", num(f.rates[k]->scale_factor_ppm)},
                  {"scale_factor_error_u_ppm", num(f.rates[k]->scale_factor_u_ppm)}});
     } else {
       j["residual"] = {{"std_dps", s.std_dps},

@@ -685,6 +685,39 @@ TEST(ReportChecks, ReportAndCompensateQuoteOneNewPowerUpErrorForARun) {
       << quoted << ": " << text;
 }
 
+// Fifth review of issue 31, F13: `--expected-rate 0` was refused, yet a run at rest (a stationary
+// run, a rate table stopped) compensated and compared with 0 is legitimate. It is accepted: the
+// error against 0 with its uncertainty (the run's and the ΔN's), no scale factor (none at rest:
+// "–" in the table, null in summary.json), and nothing divided by 0 (every number finite or
+// null). Fails on main: exit 2, "must be a non-zero rate".
+TEST(ReportChecks, ARunAtRestIsComparedWithZero) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1"), b = simulate(d, "b20.csv", "20", "2");
+  ASSERT_EQ(run_cli({"calibrate", a, b, "-o", d.file("cal.json")}).exit_code, 0);
+  const auto t = simulate(d, "rest.csv", "20", "8");
+  const auto r = run_cli({"report", t, "--calibration", d.file("cal.json"), "--expected-rate", "0",
+                          "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  const auto& c = j["runs"][0]["compensated"];
+  EXPECT_EQ(c["expected_rate_dps"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(c["error_dps"].get<double>(), c["mean_dps"].get<double>());
+  EXPECT_TRUE(c["scale_factor_error_ppm"].is_null()) << c.dump();
+  EXPECT_TRUE(c["scale_factor_error_u_ppm"].is_null()) << c.dump();
+  const auto html = read_page(d.file("rep/index.html"));
+  const auto [text, cells] = conclusion_and_tables(html);
+  EXPECT_NE(text.find("against the commanded 0 °/s (at rest: no scale factor to measure): an "
+                      "error of "),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("scale-factor error of"), std::string::npos) << text;
+  for (const auto& words : {text, cells})
+    for (const auto& bad : {std::regex(R"(\bnan\b)"), std::regex(R"(\binf\b)")})
+      EXPECT_FALSE(std::regex_search(words, bad)) << words;
+  EXPECT_EQ(html.find("opposite sign"), std::string::npos);
+  EXPECT_EQ(html.find("too slow to measure"), std::string::npos);
+}
+
 // Re-review of issue 22: where no temperature coefficient is known (the ADXRS150) the ΔN's
 // uncertainty is "not valid"; the page said "the ΔN applied adds not valid ... to every cycle
 // alike ... includes both" and printed the scale-factor error as "-46796.2 ppm". Now a sentence
