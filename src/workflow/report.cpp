@@ -528,6 +528,13 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
                        spec != nullptr ? spec->name : f.id.preset);
 }
 
+// The per-run table's ΔN applied: with the tau^2(T) band, its ± at the run's temperature (the
+// one the conclusion quotes for the run; the budget table gives the widest).
+std::string applied_with_band(const compensation& c, const delta_n_budget& b, double u_dps) {
+  return applied_text(c, u_dps) +
+         (b.band_model && std::isfinite(u_dps) ? " ± " + u2(u_dps) : std::string());
+}
+
 // "±u °/s" of a new power-up's ΔN, or why there is none.
 std::string power_up_text(const delta_n_budget& b) {
   if (!b.valid) return b.invalid_why;
@@ -1379,7 +1386,7 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       const double power_up = new_power_up_at(f.budget, a.cal.temp_c);
       std::vector<std::string> row{fmt::format("{}: {}", k + 1, a.run.file),
                                    g(a.cal.temp_c, 3),
-                                   applied_text(a.comp, power_up),
+                                   applied_with_band(a.comp, f.budget, power_up),
                                    value_pm(s.mean_dps, s.stderr_correlated_dps),
                                    g(s.std_dps, 3),
                                    s.drift_dps ? g(*s.drift_dps, 3) : "–"};

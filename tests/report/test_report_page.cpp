@@ -683,6 +683,12 @@ TEST(ReportChecks, ReportAndCompensateQuoteOneNewPowerUpErrorForARun) {
       text.find(fmt::format("for this power-up ±{} °/s", gyroflip::fixed_significant(quoted, 2))),
       std::string::npos)
       << quoted << ": " << text;
+  // And the per-run table holds that number (the conclusion quotes only the tables' numbers).
+  const auto rows = table_rows(read_page(d.file("rep/index.html")), "Per run");
+  ASSERT_EQ(rows.size(), 1U);
+  ASSERT_GE(rows[0].size(), 3U);
+  EXPECT_NE(rows[0][2].find("± " + gyroflip::fixed_significant(quoted, 2)), std::string::npos)
+      << rows[0][2];
 }
 
 // Fifth review of issue 31, F13: `--expected-rate 0` was refused, yet a run at rest (a stationary
