@@ -9,8 +9,12 @@
 /// between-run variance (before the review): t x sqrt(stderr_at^2 + new_run_var_dps2).
 ///
 /// Usage: pooling_temperature_coverage [--campaigns N] [--sensor NAME] [--duration S]
-///        [--temps 4,12,20,28,36] [--seed S]
-/// Prints the coverage at each test temperature with its binomial standard error.
+///        [--temps 4,12,20,28,36] [--seed S] [--constant-spread 1]
+/// Prints the coverage at each test temperature with its binomial standard error, and how often
+/// the band fell below the line's own interval (delta_n_model::interval_at). --constant-spread 1
+/// draws no turn-on spread of the g-term's temperature coefficient: the spread is the same at
+/// every temperature (a curvature estimate of 0 or below is then common; fifth review of issue
+/// 31, F14).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -62,6 +66,7 @@ int main(int argc, char** argv) {
   double duration_s = 600.0;
   std::vector<double> temps{4, 12, 20, 28, 36};
   std::uint64_t seed = 5000;
+  bool constant_spread = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--campaigns")
@@ -70,6 +75,8 @@ int main(int argc, char** argv) {
       name = v;
     else if (a == "--duration")
       duration_s = std::atof(v.c_str());
+    else if (a == "--constant-spread")
+      constant_spread = v == "1";
     else if (a == "--seed")
       seed = std::strtoull(v.c_str(), nullptr, 10);
     else if (a == "--temps") {
@@ -84,16 +91,19 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const auto* p = sensor::find_builtin(name);
-  if (p == nullptr) {
+  const auto* found = sensor::find_builtin(name);
+  if (found == nullptr) {
     std::fprintf(stderr, "pooling_temperature_coverage: no preset %s\n", name.c_str());
     return 2;
   }
+  sensor::preset chosen = *found;
+  if (constant_spread) chosen.params.g_sens_tc_turn_on_sigma_dps_per_g_c = 0.0;
+  const auto* p = &chosen;
   double mean_c = 0.0;
   for (const double t : temps) mean_c += t / static_cast<double>(temps.size());
   const std::vector<double> tests{temps.front(), mean_c, temps.back()};
   std::vector<int> hit_new(3, 0), hit_const(3, 0);
-  int n = 0, hetero = 0;
+  int n = 0, hetero = 0, below_line = 0;
   for (int c = 0; c < campaigns; ++c) {
     std::vector<method::delta_n_point> pts;
     for (const double t : temps) {
@@ -110,6 +120,7 @@ int main(int argc, char** argv) {
       const double miss = std::abs(fresh.delta_n_dps - model->eval(tests[j]));
       const double se = model->stderr_at(tests[j]);
       hit_new[j] += miss <= model->new_run_interval_at(tests[j]);
+      below_line += model->new_run_interval_at(tests[j]) < model->interval_at(tests[j]);
       hit_const[j] += miss <= t1 * std::sqrt(se * se + model->new_run_var_dps2);
     }
   }
@@ -117,10 +128,12 @@ int main(int argc, char** argv) {
     const double q = h / static_cast<double>(n);
     return fmt::format("{:.3f} ± {:.3f}", q, std::sqrt(q * (1.0 - q) / n));
   };
-  fmt::print("{}: {} campaigns of {} runs of {:g} s at {} degC ({} with tau^2(T) estimated)\n",
-             name, n, temps.size(), duration_s, fmt::join(temps, ", "), hetero);
+  fmt::print("{}{}: {} campaigns of {} runs of {:g} s at {} degC ({} with tau^2(T) estimated)\n",
+             name, constant_spread ? " (constant spread)" : "", n, temps.size(), duration_s,
+             fmt::join(temps, ", "), hetero);
   fmt::print("T (degC)  band of new_run_interval_at  constant-tau^2 band (before)\n");
   for (std::size_t j = 0; j < 3; ++j)
     fmt::print("{:8.1f}  {:27}  {}\n", tests[j], cov(hit_new[j]), cov(hit_const[j]));
+  fmt::print("band below the line's own interval: {} of {}\n", below_line, 3 * n);
   return 0;
 }

@@ -848,7 +848,7 @@ def report(files, output, latitude=None, axis=None, calibration=None, title=None
     latitude (deg) and axis: split dN into its Earth term and g-term. title: the page's title
       (default: one naming the sensor and the runs). pairing: "abba" or "simple".
     expected_rate (deg/s, with calibration): the rate a rate table commanded; each run's error
-      and scale-factor error against it.
+      and scale-factor error against it (0, a run at rest: the error only).
     sensor: a built-in preset's name or a TOML preset file, as `report --sensor`: the
       specification the runs' g-term is checked against and whose spread the budget takes
       (default: a simulated run's own sensor model, else the built-in preset it names).

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -31,7 +32,7 @@ double power(double x, std::size_t k) {
 // estimators; Rao 1970, J. Am. Stat. Assoc. 65, 161-172).
 struct spread_moments {
   std::size_t k = 0, p = 0;
-  std::vector<double> x, v, w, design, a_inv, r_op, z, l0, l1;
+  std::vector<double> x, v, w, design, a_inv, r_op, z, d0, d1, l0, l1;
   double t0 = 0.0, t1 = 0.0;
 };
 
@@ -62,7 +63,10 @@ std::optional<spread_moments> estimate_spread(std::span<const delta_n_point> run
           h += e.design[i * p + a] * e.a_inv[a * p + b] * e.design[j * p + b];
       e.r_op[i * k + j] = (i == j ? 1.0 : 0.0) - h * e.w[j];
     }
-  std::vector<double> d0(k, 0.0), d1(k, 0.0);
+  auto& d0 = e.d0;
+  auto& d1 = e.d1;
+  d0.assign(k, 0.0);
+  d1.assign(k, 0.0);
   e.z.assign(k, 0.0);
   for (std::size_t i = 0; i < k; ++i) {
     double r = 0.0, mv = 0.0;
@@ -94,8 +98,77 @@ std::optional<spread_moments> estimate_spread(std::span<const delta_n_point> run
   return e;
 }
 
+// The moment equations E z = t0 d0 + t1 d1 solved under t0 >= 0, t1 >= 0: non-negative least
+// squares (Lawson & Hanson 1974, Solving Least Squares Problems, ch. 23; for two unknowns the
+// active sets can be tried in turn: the unconstrained solution where it is feasible, else the
+// feasible one-term fits and 0, the one of least residual). A variance function estimated
+// negative at some temperature drew a band below the line's own error there (fifth review of
+// issue 31, F14). Each estimate stays a linear combination l'z of the squared residuals, on the
+// active set's own l (the Satterthwaite degrees of freedom below take that l).
+void constrain_spread(spread_moments& e) {
+  if (e.t0 >= 0.0 && e.t1 >= 0.0) return;
+  const std::size_t k = e.k;
+  const auto dot = [k](const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < k; ++i) s += a[i] * b[i];
+    return s;
+  };
+  const double s00 = dot(e.d0, e.d0), s11 = dot(e.d1, e.d1);
+  const auto residual = [&](double t0, double t1) {
+    double ss = 0.0;
+    for (std::size_t i = 0; i < k; ++i) {
+      const double r = e.z[i] - t0 * e.d0[i] - t1 * e.d1[i];
+      ss += r * r;
+    }
+    return ss;
+  };
+  // Candidates: t1 = 0 (t0 fitted alone), t0 = 0 (t1 alone), both 0.
+  double best = residual(0.0, 0.0);
+  std::vector<double> l0(k, 0.0), l1(k, 0.0);
+  const double only0 = s00 > 0.0 ? dot(e.d0, e.z) / s00 : -1.0;
+  const double only1 = s11 > 0.0 ? dot(e.d1, e.z) / s11 : -1.0;
+  if (only0 >= 0.0 && residual(only0, 0.0) < best) {
+    best = residual(only0, 0.0);
+    for (std::size_t i = 0; i < k; ++i) l0[i] = e.d0[i] / s00;
+  }
+  if (only1 >= 0.0 && residual(0.0, only1) < best) {
+    std::fill(l0.begin(), l0.end(), 0.0);
+    for (std::size_t i = 0; i < k; ++i) l1[i] = e.d1[i] / s11;
+  }
+  e.l0 = std::move(l0);
+  e.l1 = std::move(l1);
+  e.t0 = dot(e.l0, e.z);
+  e.t1 = dot(e.l1, e.z);
+}
+
+// The run variances S_j = v_j + t0 + t1 x_j^2 (never below v_j) and the variance of a linear
+// combination l'z of the squared residuals under them: 2 sum_il l_i l_l C_il^2, C = R S R'
+// (Gaussian residuals).
+double var_of_combination(const spread_moments& e, std::span<const double> l) {
+  const std::size_t k = e.k;
+  std::vector<double> s_run(k);
+  for (std::size_t j = 0; j < k; ++j)
+    s_run[j] = std::max(e.v[j] + e.t0 + e.t1 * e.x[j] * e.x[j], e.v[j]);
+  double out = 0.0;
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t m = 0; m < k; ++m) {
+      double c = 0.0;
+      for (std::size_t j = 0; j < k; ++j) c += e.r_op[i * k + j] * s_run[j] * e.r_op[m * k + j];
+      out += 2.0 * l[i] * l[m] * c * c;
+    }
+  return out;
+}
+
 // The smallest tau^2 / mean v_i at which tau^2(T) is estimated (the gate above).
 constexpr double min_between_to_within_for_spread_model = 5.0;
+// The smallest moment estimate of the curvature, in its own standard errors, at which tau^2(T)
+// is used (a preliminary test, Bancroft 1944, Ann. Math. Stat. 15, 190-204): below it the runs do
+// not resolve a spread that grows away from the middle and the constant tau^2 stands. A choice
+// made on the simulations of docs/METHOD-NOTES.md: the truncated estimate alone (every campaign)
+// over-covers the ends where the spread is constant (0.80) and where it grows (0.73-0.75), as
+// truncation biases a curvature of 0 upwards; 1 standard error under-covers the ends where it
+// grows (0.61).
+constexpr double min_curvature_to_its_error = 0.85;
 
 }  // namespace
 
@@ -125,7 +198,8 @@ double delta_n_model::interval_at(double temp_c) const {
 double delta_n_model::new_run_interval_at(double temp_c) const {
   if (!std::isfinite(new_run_var_dps2)) return std::numeric_limits<double>::quiet_NaN();
   if (std::isfinite(tau2_centre_dps2) && fitted_runs.size() == fitted_weights.size()) {
-    if (const auto e = estimate_spread(fitted_runs, fitted_weights, t_ref_c, coeffs_dps.size())) {
+    if (auto e = estimate_spread(fitted_runs, fitted_weights, t_ref_c, coeffs_dps.size())) {
+      constrain_spread(*e);
       // V(T) = tau^2(T) + mean v + sum_j g_j^2 S_j, g the fit's weights on the runs at T.
       const std::size_t k = e->k, p = e->p;
       const double xn = temp_c - t_ref_c;
@@ -148,22 +222,14 @@ double delta_n_model::new_run_interval_at(double temp_c) const {
         lin[i] = c0 * e->l0[i] + c1 * e->l1[i];
         var += lin[i] * e->z[i];
       }
-      var = std::max(var, cst);  // a negative spread estimate: the runs' own errors only
+      var = std::max(var, cst);  // (t0, t1 >= 0: never below the runs' own errors)
       // var(V) = 2 sum_il lin_i lin_l C_il^2 for Gaussian residuals of covariance C = R S R'.
-      std::vector<double> s_run(k);
-      for (std::size_t j = 0; j < k; ++j)
-        s_run[j] = std::max(e->v[j] + e->t0 + e->t1 * e->x[j] * e->x[j], e->v[j]);
-      double var_var = 0.0;
-      for (std::size_t i = 0; i < k; ++i)
-        for (std::size_t l = 0; l < k; ++l) {
-          double c = 0.0;
-          for (std::size_t j = 0; j < k; ++j)
-            c += e->r_op[i * k + j] * s_run[j] * e->r_op[l * k + j];
-          var_var += 2.0 * lin[i] * lin[l] * c * c;
-        }
+      const double var_var = var_of_combination(*e, lin);
       if (var > 0.0) {
         const double nu = var_var > 0.0 ? std::clamp(2.0 * var * var / var_var, 1.0, 1e6) : 1e6;
-        return analysis::t_one_sigma(nu) * std::sqrt(var);
+        // Never below the line's own interval (fifth review of issue 31, F14): a new run is the
+        // line and its own scatter.
+        return std::max(analysis::t_one_sigma(nu) * std::sqrt(var), interval_at(temp_c));
       }
     }
   }
@@ -314,7 +380,9 @@ result<delta_n_model> fit_delta_n_random_effects(std::span<const delta_n_point> 
   for (const auto& pt : points) abs_x.insert(std::abs(pt.temp_c - m.t_ref_c));
   if (degree >= 1 && m.dof >= 3 && abs_x.size() >= 2 &&
       tau2 >= min_between_to_within_for_spread_model * v_mean) {
-    if (const auto e = estimate_spread(points, w, m.t_ref_c, p)) {
+    if (auto e = estimate_spread(points, w, m.t_ref_c, p);
+        e && e->t1 > min_curvature_to_its_error * std::sqrt(var_of_combination(*e, e->l1))) {
+      constrain_spread(*e);
       m.tau2_centre_dps2 = e->t0;
       m.tau2_curvature_dps2_per_c2 = e->t1;
       m.fitted_runs.assign(points.begin(), points.end());

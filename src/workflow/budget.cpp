@@ -135,9 +135,10 @@ delta_n_budget budget_of(std::span<const io::calibration_entry> runs,
     // A between-run variance that grows away from the middle (tau^2(T)): a new power-up's error
     // is the band the ΔN(T) figure draws, largest at the runs' temperatures (third review of
     // issue 31, M2), not the constant repeatability's.
+    if (std::isfinite(model->tau2_centre_dps2) && !model->fitted_runs.empty()) b.band_model = model;
     double band = 0.0, band_at_c = std::numeric_limits<double>::quiet_NaN();
     for (const auto& r : runs)
-      if (const double w = new_power_up_at(b, model, r.cal.temp_c); w > band) {
+      if (const double w = new_power_up_at(b, r.cal.temp_c); w > band) {
         band = w;
         band_at_c = r.cal.temp_c;
       }
@@ -209,12 +210,10 @@ bool same_line(const method::delta_n_model& applied, const method::delta_n_model
                     equal);
 }
 
-double new_power_up_at(const delta_n_budget& b, const std::optional<method::delta_n_model>& model,
-                       double temp_c) {
+double new_power_up_at(const delta_n_budget& b, double temp_c) {
   if (!b.valid) return std::numeric_limits<double>::quiet_NaN();
-  if (model && std::isfinite(model->tau2_centre_dps2) && !model->fitted_runs.empty() &&
-      std::isfinite(temp_c))
-    if (const double band = model->new_run_interval_at(temp_c); std::isfinite(band))
+  if (b.band_model && std::isfinite(temp_c))
+    if (const double band = b.band_model->new_run_interval_at(temp_c); std::isfinite(band))
       return std::hypot(band, std::isfinite(b.temperature_dps) ? b.temperature_dps : 0.0);
   return b.new_power_up_dps;
 }

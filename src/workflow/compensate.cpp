@@ -216,14 +216,9 @@ void quote_new_power_up(const delta_n_source& dn, double at_c, const delta_n_bud
                                "repeatability: calibrate again to know it";
     return;
   }
-  // The band of a between-run variance that changes with temperature needs the fit itself (the
-  // file keeps its runs, not tau^2(T)): refitted, and used only when it is the model applied.
-  std::optional<method::delta_n_model> refit;
-  if (rec.model && rec.model->degree() > 0 && !rec.files.empty())
-    if (auto r = method::fit_runs_model(calibrations_of(rec.files), rec.model->degree());
-        r && *r && same_line(*rec.model, **r))
-      refit = std::move(**r);
-  out.new_power_up_dps = new_power_up_at(b, refit, at_c);
+  // The band of a between-run variance that changes with temperature is the budget's own refit
+  // of the runs (calibration_budget: made once, and kept only when it is the model applied).
+  out.new_power_up_dps = new_power_up_at(b, at_c);
 }
 
 }  // namespace
@@ -310,12 +305,10 @@ result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn, 
   if (!dn.record) return out;
   if (dn.record->files.empty()) {
     // A ΔN written with no runs (or a file whose runs were deleted: the one-line forgery of a
-    // failed calibration, fifth review of issue 31, F4) vouches for nothing.
+    // failed calibration, fifth review of issue 31, F4) vouches for nothing. Its warning is
+    // calibration_budget's, one sentence with what its ± is (fifth review, leftover: two
+    // warnings on one fact).
     out.unchecked = true;
-    out.warnings.push_back(fmt::format(
-        "{}: the calibration lists no runs, so nothing shows that its ΔN was measured on a "
-        "stationary table",
-        dn.source));
     return out;
   }
   for (const auto& e : dn.record->files) {
@@ -386,14 +379,16 @@ delta_n_budget calibration_budget(const delta_n_source& given, const sensor::pre
                     : std::max(m.interval_at(m.temp_min_c), m.interval_at(m.temp_max_c));
     }
     const bool own = std::isfinite(own_dps) && own_dps > 0.0;
+    // One sentence for the one fact (check_calibration_runs says nothing more of it).
     warnings.push_back(
         own ? fmt::format(
-                  "{}: the calibration lists no runs: the ΔN applied carries its own stated "
-                  "error ±{} °/s and, for a new power-up, the run-to-run repeatability of "
-                  "the budget below",
+                  "{}: the calibration lists no runs, so nothing shows that its ΔN was measured "
+                  "on a stationary table; it carries its own stated error ±{} °/s and, for a "
+                  "new power-up, the run-to-run repeatability of the budget below",
                   given.source, significant(own_dps, 2))
-            : fmt::format("{}: the calibration lists no runs and states no error: the ΔN applied "
-                          "has no known uncertainty",
+            : fmt::format("{}: the calibration lists no runs and states no error: nothing shows "
+                          "that its ΔN was measured on a stationary table, and it has no known "
+                          "uncertainty",
                           given.source));
     if (!own) return budget_of({}, std::nullopt, preset, preset_name);
     std::vector<io::calibration_entry> one{

@@ -379,17 +379,22 @@ std::string stem_of(std::size_t k, const char* what) {
 // A compensated run's numbers against a commanded rate.
 struct rate_check {
   double error_dps = 0.0;
-  double scale_factor_ppm = 0.0;
-  double scale_factor_u_ppm = 0.0;
+  double error_u_dps = 0.0;  // the run's correlated error and the ΔN's, combined
+  /// NaN at a commanded rate of 0 (no scale factor to measure).
+  double scale_factor_ppm = std::numeric_limits<double>::quiet_NaN();
+  double scale_factor_u_ppm = std::numeric_limits<double>::quiet_NaN();
 };
 
 rate_check check_rate(const method::compensation_summary& s, double expected_dps,
                       double systematic_dps) {
   rate_check c;
   c.error_dps = s.mean_dps - expected_dps;
+  c.error_u_dps = std::hypot(s.stderr_correlated_dps, systematic_dps);
+  // At rest (a stationary run, a rate table at 0) there is no scale factor to measure: the error
+  // alone (fifth review of issue 31, F13).
+  if (expected_dps == 0.0) return c;
   c.scale_factor_ppm = 1e6 * (s.mean_dps / expected_dps - 1.0);
-  c.scale_factor_u_ppm =
-      1e6 * std::hypot(s.stderr_correlated_dps, systematic_dps) / std::abs(expected_dps);
+  c.scale_factor_u_ppm = 1e6 * c.error_u_dps / std::abs(expected_dps);
   return c;
 }
 
@@ -523,6 +528,13 @@ void check_calibration_temperature(const std::vector<run_analysis>& runs, findin
                        spec != nullptr ? spec->name : f.id.preset);
 }
 
+// The per-run table's ΔN applied: with the tau^2(T) band, its ± at the run's temperature (the
+// one the conclusion quotes for the run; the budget table gives the widest).
+std::string applied_with_band(const compensation& c, const delta_n_budget& b, double u_dps) {
+  return applied_text(c, u_dps) +
+         (b.band_model && std::isfinite(u_dps) ? " ± " + u2(u_dps) : std::string());
+}
+
 // "±u °/s" of a new power-up's ΔN, or why there is none.
 std::string power_up_text(const delta_n_budget& b) {
   if (!b.valid) return b.invalid_why;
@@ -532,11 +544,26 @@ std::string power_up_text(const delta_n_budget& b) {
                      b.outside_c > 0.0 ? ", its temperature term included" : "");
 }
 
+// The same for the runs compensated: where the budget's runs give a between-run variance that
+// changes with temperature (tau^2(T)), each run's at its temperature, the ± `compensate` quotes
+// for it (new_power_up_at; fifth review of issue 31: the page quoted the widest for every run).
+std::string power_up_text(const delta_n_budget& b, const std::vector<run_analysis>& runs) {
+  if (!b.valid || !std::isfinite(b.new_power_up_dps) || !b.band_model || runs.empty())
+    return power_up_text(b);
+  std::string out;
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    out +=
+        fmt::format("{}±{} °/s{}", k == 0 ? "" : ", ", u2(new_power_up_at(b, runs[k].cal.temp_c)),
+                    runs.size() == 1 ? std::string() : " for " + runs[k].run.file);
+  return out + (b.outside_c > 0.0 ? ", its temperature term included" : "");
+}
+
 // A compensated run against its commanded rate (review R12): a reading of the opposite sign, or a
 // scale-factor error far beyond the sensor's tolerance, says the comparison is wrong (the
 // commanded rate's sign, the table's speed, the sensor's mounting or preset), not the sensor.
 void check_commanded_rate(const run_analysis& a, double expected_dps, const rate_check& c,
                           findings& f) {
+  if (expected_dps == 0.0) return;  // at rest: no sign, no scale factor to judge
   const double mean = a.comp.summary.mean_dps;
   // The scale-factor error's own standard uncertainty (the dN error and the run's noise, as a
   // fraction): a warning only where the error lies beyond it (review of issue 22: a run at
@@ -768,9 +795,8 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
     // The ΔN applied, per run (a ΔN(T) applies another value at each temperature).
     std::string applied;
     for (std::size_t k = 0; k < runs.size(); ++k)
-      applied +=
-          fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
-                      applied_text(runs[k].comp, new_power_up_at(b, f.model, runs[k].cal.temp_c)));
+      applied += fmt::format("{}{} {}", k == 0 ? "" : ", ", runs[k].run.file,
+                             applied_text(runs[k].comp, new_power_up_at(b, runs[k].cal.temp_c)));
     if (!failed.empty())
       out = fmt::format(
           "The calibration {} is not the sensor's: its run{} {} failed the stationarity test "
@@ -802,12 +828,21 @@ std::string conclusion(const report_request& r, const std::vector<run_analysis>&
                             "stationarity",
                             f.given->source));
     out += fmt::format("Compensated with {} (ΔN applied, °/s: {}; for this power-up {}).",
-                       f.given->source, applied, power_up_text(b));
+                       f.given->source, applied, power_up_text(b, runs));
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& s = runs[k].comp.summary;
       out += fmt::format(" {} reads {} °/s over {}", runs[k].run.file,
                          value_pm(s.mean_dps, s.stderr_correlated_dps), minutes(s.duration_s));
-      if (f.rates[k])
+      if (f.rates[k] && *r.expected_rate_dps == 0.0)
+        out += fmt::format(
+            " against the commanded 0 °/s (at rest: no scale factor to measure): an error of {} "
+            "°/s{}",
+            b.valid ? value_pm(f.rates[k]->error_dps, f.rates[k]->error_u_dps)
+                    : g(f.rates[k]->error_dps, 3),
+            b.valid ? ""
+                    : fmt::format(" (its uncertainty is not known: the ΔN applied's ± is {})",
+                                  b.invalid_why));
+      else if (f.rates[k])
         out += fmt::format(
             " against the commanded {} °/s: a scale-factor error of {}{}",
             as_given(*r.expected_rate_dps),
@@ -987,11 +1022,12 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (r.calibration.empty())
       return parameter_error("expected_rate_dps",
                              "a commanded rate is checked on compensated runs: give a calibration");
-    if (!(std::isfinite(*r.expected_rate_dps) && *r.expected_rate_dps != 0.0 &&
+    // 0 is a run at rest (a stationary run, a rate table stopped): compared with 0, with no
+    // scale factor (fifth review of issue 31, F13: it was refused).
+    if (!(std::isfinite(*r.expected_rate_dps) &&
           std::abs(*r.expected_rate_dps) <= rig::max_rate_dps))
-      return parameter_error(
-          "expected_rate_dps",
-          fmt::format("must be a non-zero rate within ±{:g} °/s", rig::max_rate_dps));
+      return parameter_error("expected_rate_dps",
+                             fmt::format("must be a rate within ±{:g} °/s", rig::max_rate_dps));
   }
   if (auto s = io::check_distinct_inputs(r.files); !s) return s.err();
   std::vector<std::string> inputs = r.files;
@@ -1082,10 +1118,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     if (auto s = compensate_run(a, model); !s) return s.err();
     if (a.comp.outside_model > 0)
       f.warnings.push_back(outside_model_warning(a.run.file, a.comp, *f.model));
-    f.rates.push_back(r.expected_rate_dps ? std::optional(check_rate(
-                                                a.comp.summary, *r.expected_rate_dps,
-                                                new_power_up_at(f.budget, f.model, a.cal.temp_c)))
-                                          : std::nullopt);
+    f.rates.push_back(r.expected_rate_dps
+                          ? std::optional(check_rate(a.comp.summary, *r.expected_rate_dps,
+                                                     new_power_up_at(f.budget, a.cal.temp_c)))
+                          : std::nullopt);
     if (f.rates.back()) check_commanded_rate(a, *r.expected_rate_dps, *f.rates.back(), f);
   }
   if (!f.compensating && f.runs_model && !f.budget.model_dps)
@@ -1347,10 +1383,10 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const auto& a = runs[k];
       const auto& s = a.comp.summary;
-      const double power_up = new_power_up_at(f.budget, f.model, a.cal.temp_c);
+      const double power_up = new_power_up_at(f.budget, a.cal.temp_c);
       std::vector<std::string> row{fmt::format("{}: {}", k + 1, a.run.file),
                                    g(a.cal.temp_c, 3),
-                                   applied_text(a.comp, power_up),
+                                   applied_with_band(a.comp, f.budget, power_up),
                                    value_pm(s.mean_dps, s.stderr_correlated_dps),
                                    g(s.std_dps, 3),
                                    s.drift_dps ? g(*s.drift_dps, 3) : "–"};
@@ -1504,18 +1540,20 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
               {"stderr_correlated_dps", a.cal.stderr_correlated_dps}};
     if (f.compensating) {
       const auto [lo, hi] = applied_range(a.comp);
-      j["compensated"] = {{"delta_n_applied_min_dps", lo},
-                          {"delta_n_applied_max_dps", hi},
-                          {"mean_dps", s.mean_dps},
-                          {"std_dps", s.std_dps},
-                          {"stderr_correlated_dps", s.stderr_correlated_dps},
-                          {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
-                          {"drift_window_s", s.drift_window_s}};
+      j["compensated"] = {
+          {"delta_n_applied_min_dps", lo},
+          {"delta_n_applied_max_dps", hi},
+          {"delta_n_new_power_up_dps", num(new_power_up_at(f.budget, a.cal.temp_c))},
+          {"mean_dps", s.mean_dps},
+          {"std_dps", s.std_dps},
+          {"stderr_correlated_dps", s.stderr_correlated_dps},
+          {"drift_dps", s.drift_dps ? json(*s.drift_dps) : json(nullptr)},
+          {"drift_window_s", s.drift_window_s}};
       if (f.rates[k])
         j["compensated"].update(
             json{{"expected_rate_dps", *r.expected_rate_dps},
                  {"error_dps", f.rates[k]->error_dps},
-                 {"scale_factor_error_ppm", f.rates[k]->scale_factor_ppm},
+                 {"scale_factor_error_ppm", num(f.rates[k]->scale_factor_ppm)},
                  {"scale_factor_error_u_ppm", num(f.rates[k]->scale_factor_u_ppm)}});
     } else {
       j["residual"] = {{"std_dps", s.std_dps},

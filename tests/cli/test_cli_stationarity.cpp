@@ -683,9 +683,22 @@ TEST(CalibrationTrust, ACalibrationThatListsNoRunsIsNotCheckedAndStrictRefusesIt
   const auto r = f.compensate(none, false);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("lists no runs, so nothing shows"), std::string::npos) << r.err;
+  // One fact, one warning that says both what is not shown and what its ± is (two sentences on
+  // main: "nothing shows it was stationary", then "carries its own stated error").
+  const auto once = [](const std::string& err) {
+    std::size_t n = 0;
+    for (auto at = err.find("lists no runs"); at != std::string::npos;
+         at = err.find("lists no runs", at + 1))
+      ++n;
+    return n;
+  };
+  EXPECT_EQ(once(r.err), 1U) << r.err;
+  EXPECT_NE(r.err.find("stationary table; it carries its own stated error ±"), std::string::npos)
+      << r.err;
   EXPECT_EQ(f.compensate(none, true).exit_code, 2);
   const auto page = run_cli({"report", f.still, "--calibration", none, "-o", f.d.file("rep")});
   ASSERT_EQ(page.exit_code, 0) << page.err;
+  EXPECT_EQ(once(page.err), 1U) << page.err;
   EXPECT_NE(read_text(f.d.file("rep/index.html"))
                 .find("lists no runs: that its ΔN is the sensor's is not checked"),
             std::string::npos);

@@ -239,11 +239,15 @@ TEST(Pooling, ANewRunFallsInItsPredictionIntervalAtItsRate) {
 // its own line, u_i = a_i + b_i (T - 20), a ~ N(0, 0.000959^2), b ~ N(0, (8.75e-5 /degC)^2) (the
 // hz1-90-100a preset's turn-on spread of the g-term and its temperature coefficient), runs of
 // within-run error 4.9e-5-9.1e-5 at 4, 12, 20, 28 and 36 degC. A new power-up's run at the ends
-// and in the middle falls in its 68 % prediction interval 63-73 % of the time (this seed: 0.647,
-// 0.704, 0.662; with a constant tau^2 0.582, 0.789, 0.589). Also the same layout with a constant
-// spread (b = 0), where the ends come out a little low (this seed 0.635, 0.706, 0.632; the
-// constant tau^2 held 0.68-0.71 there): 0.60-0.73. 1500 campaigns: binomial std 0.012.
-// Many-seed figures on the simulator: bench/pooling_temperature_coverage, docs/PERFORMANCE.md.
+// and in the middle falls in its 68 % prediction interval 63-73 % of the time (this seed, 3000
+// campaigns: 0.640, 0.729, 0.636). Also the same layout with a constant spread (b = 0), where a
+// curvature estimate of 0 or below is common: 0.63-0.73 too (this seed 0.716, 0.658, 0.720).
+// Before the fifth review (F14: moment estimates untruncated, 1500 campaigns) 0.647, 0.704,
+// 0.662 and 0.635, 0.706, 0.632, with the band below the line's own error wherever the
+// curvature came out negative; with 1500 campaigns the truncated estimate with its preliminary
+// test gives 0.637, 0.735, 0.641 (the middle 0.4 binomial std over): 3000 campaigns, binomial
+// std 0.0085, 0.5 s. Many-seed figures: bench/pooling_temperature_coverage (the simulator) and
+// bench/pooling_spread_estimators.py (this layout), docs/PERFORMANCE.md.
 TEST(Pooling, ANewRunFallsInItsPredictionIntervalAtEveryTemperatureWhenTheSpreadGrowsWithIt) {
   std::mt19937_64 rng(3131);
   std::normal_distribution<double> z;
@@ -257,7 +261,7 @@ TEST(Pooling, ANewRunFallsInItsPredictionIntervalAtEveryTemperatureWhenTheSpread
     };
     const double tests_c[] = {4.0, 20.0, 36.0};
     int hits[3] = {0, 0, 0};
-    const int campaigns = 1500;
+    const int campaigns = 3000;
     for (int c = 0; c < campaigns; ++c) {
       std::vector<delta_n_point> pts;
       for (const double t_c : {4.0, 12.0, 20.0, 28.0, 36.0}) pts.push_back(run_at(t_c));
@@ -269,13 +273,49 @@ TEST(Pooling, ANewRunFallsInItsPredictionIntervalAtEveryTemperatureWhenTheSpread
             std::abs(fresh.delta_n_dps - m->eval(tests_c[j])) <= m->new_run_interval_at(tests_c[j]);
       }
     }
+    std::printf("slope spread %g: %.3f / %.3f / %.3f at 4 / 20 / 36 degC\n", slope_sigma,
+                hits[0] / static_cast<double>(campaigns), hits[1] / static_cast<double>(campaigns),
+                hits[2] / static_cast<double>(campaigns));
     for (int j = 0; j < 3; ++j) {
       const double rate = hits[j] / static_cast<double>(campaigns);
-      EXPECT_GE(rate, slope_sigma > 0.0 ? 0.63 : 0.60)
-          << "at " << tests_c[j] << " degC, slope spread " << slope_sigma;
+      EXPECT_GE(rate, 0.63) << "at " << tests_c[j] << " degC, slope spread " << slope_sigma;
       EXPECT_LE(rate, 0.73) << "at " << tests_c[j] << " degC, slope spread " << slope_sigma;
     }
   }
+}
+
+// Fifth review of issue 31, F14: the moment estimates of tau^2(T) = t0 + t1 (T - T_ref)^2 were
+// not truncated, and where one came out negative the band pinched below the line's own error.
+// Two fixed sets of 5 runs (errors 2e-5 deg/s, scatter ~2e-4): in the first the moment estimate
+// of t1 is negative (-3.0e-9; main drew +-0.000046 at 4 and 36 degC, where the line's own
+// interval is +-0.00037); in the second t0 is negative (-5.3e-8, t1 2.4e-9 at 0.94 of its error;
+// main drew +-0.000040 at 20 degC against the line's +-0.00023). Now both estimates are
+// non-negative (or tau^2(T) not used) and the band is never below the line's interval, inside
+// the span or out of it.
+TEST(Pooling, ANewRunsBandIsNeverBelowTheLinesOwnErrorWhenTheSpreadEstimateIsNegative) {
+  const std::vector<double> temps{4.0, 12.0, 20.0, 28.0, 36.0};
+  for (const auto& dn : {std::vector{3.0e-3, 3.4e-3, 2.6e-3, 3.5e-3, 3.2e-3},
+                         std::vector{3.8e-3, 3.3e-3, 3.1e-3, 2.2e-3, 2.9e-3}}) {
+    std::vector<delta_n_point> runs;
+    for (std::size_t i = 0; i < temps.size(); ++i) runs.push_back({temps[i], dn[i], 2e-5});
+    const auto m = fit_delta_n_random_effects(runs, 1);
+    ASSERT_TRUE(m);
+    ASSERT_GE(m->between_run_var_dps2, 5.0 * 4e-10);  // past the gate: tau^2(T) was estimated
+    if (std::isfinite(m->tau2_centre_dps2)) {
+      EXPECT_GE(m->tau2_centre_dps2, 0.0) << dn[0];
+      EXPECT_GE(m->tau2_curvature_dps2_per_c2, 0.0) << dn[0];
+    }
+    for (double t_c = -20.0; t_c <= 60.0; t_c += 1.0)
+      EXPECT_GE(m->new_run_interval_at(t_c), m->interval_at(t_c)) << dn[0] << " at " << t_c;
+  }
+  // The second: t1 resolved (0.94 of its error), t0 truncated to 0 and t1 refitted alone.
+  std::vector<delta_n_point> second;
+  for (std::size_t i = 0; i < temps.size(); ++i)
+    second.push_back({temps[i], std::vector{3.8e-3, 3.3e-3, 3.1e-3, 2.2e-3, 2.9e-3}[i], 2e-5});
+  const auto m2 = fit_delta_n_random_effects(second, 1);
+  ASSERT_TRUE(m2);
+  EXPECT_EQ(m2->tau2_centre_dps2, 0.0);
+  EXPECT_GT(m2->tau2_curvature_dps2_per_c2, 0.0);
 }
 
 // Too few runs to tell a spread that changes with temperature: the constant-tau^2 interval.

@@ -104,15 +104,17 @@ TEST(DeltaNBudget, ANewPowerUpTakesTheBetweenRunVarianceAtItsTemperature) {
   double widest = 0.0;
   for (const auto& r : runs) {
     const double band = m.new_run_interval_at(r.cal.temp_c);
-    EXPECT_NEAR(workflow::new_power_up_at(b, *model, r.cal.temp_c), band, 1e-15);
+    EXPECT_NEAR(workflow::new_power_up_at(b, r.cal.temp_c), band, 1e-15);
     widest = std::max(widest, band);
   }
   EXPECT_NEAR(b.new_power_up_dps, widest, 1e-15);
   EXPECT_TRUE(b.new_power_up_from_band);
   EXPECT_GT(m.new_run_interval_at(4.0), m.new_run_interval_at(20.0));
   EXPECT_NE(b.run_to_run_source.find("τ²(T)"), std::string::npos) << b.run_to_run_source;
-  // Without such a model, the budget's constant number.
-  EXPECT_EQ(workflow::new_power_up_at(b, std::nullopt, 4.0), b.new_power_up_dps);
+  // Without such a model (a budget that holds no tau^2(T) fit), the budget's constant number.
+  auto constant = b;
+  constant.band_model.reset();
+  EXPECT_EQ(workflow::new_power_up_at(constant, 4.0), b.new_power_up_dps);
 }
 
 // Review of issue 31 (M3): "a run like these gives ±X" printed the k runs' pooled error, sqrt(k)

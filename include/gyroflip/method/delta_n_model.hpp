@@ -46,10 +46,12 @@ struct delta_n_model {
   /// A between-run variance that changes with temperature (review of issue 31, H3: a
   /// per-power-up change of the g-term's temperature coefficient makes runs scatter more away
   /// from the middle): tau^2(T) = tau2_centre_dps2 + tau2_curvature_dps2_per_c2 (T - t_ref_c)^2,
-  /// estimated by moments from the runs' squared residuals (fit_delta_n_random_effects), NaN
-  /// when the runs cannot estimate it (degree 0, fewer than 3 degrees of freedom, fewer than two
-  /// distinct |T - t_ref_c|, a between-run variance below 5 times the runs' mean own). The
-  /// estimates may be negative (moments, not truncated).
+  /// estimated by moments from the runs' squared residuals under tau0^2, tau1^2 >= 0
+  /// (non-negative least squares; fit_delta_n_random_effects), NaN when the runs cannot
+  /// estimate it (degree 0, fewer than 3 degrees of freedom, fewer than two distinct
+  /// |T - t_ref_c|, a between-run variance below 5 times the runs' mean own, or a curvature
+  /// whose moment estimate is below 0.85 of its own standard error: not resolved). Never
+  /// negative.
   double tau2_centre_dps2 = std::numeric_limits<double>::quiet_NaN();
   double tau2_curvature_dps2_per_c2 = std::numeric_limits<double>::quiet_NaN();
   /// The fitted runs and their weights 1/(v_i + tau^2), kept for new_run_interval_at's
@@ -79,8 +81,8 @@ struct delta_n_model {
   /// between-run variance that depends on T: the variance of a new run about eval(T),
   /// tau^2(T) + mean v_i + the fitted line's variance sum_j g_j(T)^2 (v_j + tau^2(T_j)), is a
   /// linear combination of the squared residuals, and Student's t takes Satterthwaite's (1946,
-  /// Biometrics Bull. 2, 110-114) degrees of freedom 2 V^2 / var(V), at least 1
-  /// (docs/METHOD-NOTES.md, "A run-to-run spread that depends on temperature").
+  /// Biometrics Bull. 2, 110-114) degrees of freedom 2 V^2 / var(V), at least 1; never below
+  /// interval_at (docs/METHOD-NOTES.md, "A run-to-run spread that depends on temperature").
   [[nodiscard]] double new_run_interval_at(double temp_c) const;
 };
 
@@ -117,8 +119,10 @@ struct delta_n_model {
 /// and no error: the covariance is 0 and dof 0. For degree >= 1 with 3 or more degrees of
 /// freedom, two or more distinct |T - T_ref| and tau^2 at least 5 times the runs' mean v_i
 /// (runs scattering 2.2 times their own errors or more) it also estimates tau^2(T)
-/// (tau2_centre_dps2, tau2_curvature_dps2_per_c2), which new_run_interval_at then uses. Errors:
-/// those of fit_delta_n_model.
+/// (tau2_centre_dps2, tau2_curvature_dps2_per_c2; moments of the squared residuals, Rao 1970,
+/// solved under tau0^2, tau1^2 >= 0 by non-negative least squares, Lawson & Hanson 1974), where
+/// the curvature's moment estimate is at least 0.85 of its standard error (a preliminary test,
+/// Bancroft 1944), which new_run_interval_at then uses. Errors: those of fit_delta_n_model.
 [[nodiscard]] result<delta_n_model> fit_delta_n_random_effects(
     std::span<const delta_n_point> points, std::size_t degree);
 

@@ -63,6 +63,11 @@ struct delta_n_budget {
   /// true: new_power_up_dps is the tau^2(T) band at the runs' temperatures (widest), not the
   /// combination above (new_power_up_at).
   bool new_power_up_from_band = false;
+  /// The runs' own random-effects fit whose between-run variance changes with temperature
+  /// (tau^2(T), with the fitted runs it is drawn from): the one fit every new_power_up_at takes
+  /// its band from (compensate and report quote the same ± for a run; a model read from a file
+  /// holds no fitted runs). Empty where the model given to budget_of estimates no tau^2(T).
+  std::optional<method::delta_n_model> band_model;
   double temp_c = 0.0;  ///< the temperature the preset's spread is evaluated at
   /// A run compensated away from the calibration runs' temperatures (a constant dN): how far
   /// (degC beyond their span, 0 inside), the change of dN over that distance the sensor preset's
@@ -118,11 +123,6 @@ void add_temperature_term(delta_n_budget& b, double outside_c, std::string_view 
 [[nodiscard]] bool same_line(const method::delta_n_model& applied,
                              const method::delta_n_model& refit);
 
-/// A new power-up's ΔN error at `temp_c` (deg/s, 68.3 %): where `model` estimates a between-run
-/// variance that changes with temperature (tau^2(T), the band the ΔN(T) figure draws,
-/// delta_n_model::new_run_interval_at), that band at `temp_c`, with the budget's temperature
-/// term; otherwise b.new_power_up_dps (third review of issue 31, M2: the page quoted ±0.0029
-/// where its figure drew ±0.0056 at 4 °C). NaN when the budget is not valid.
 /// Runs whose dN disagree by a chi^2/dof beyond this about their fit were not made under the same
 /// conditions: the paper's own runs scatter 14-30 times their errors (chi^2/dof 200-900).
 inline constexpr double max_runs_chi2_per_dof = 1e4;
@@ -133,9 +133,12 @@ inline constexpr double max_runs_chi2_per_dof = 1e4;
 [[nodiscard]] std::optional<std::string> runs_disagree_warning(
     const std::optional<method::delta_n_model>& runs_model);
 
-[[nodiscard]] double new_power_up_at(const delta_n_budget& b,
-                                     const std::optional<method::delta_n_model>& model,
-                                     double temp_c);
+/// A new power-up's ΔN error at `temp_c` (deg/s, 68.3 %): where the budget's runs estimate a
+/// between-run variance that changes with temperature (b.band_model: tau^2(T), the band the
+/// ΔN(T) figure draws, delta_n_model::new_run_interval_at), that band at `temp_c`, with the
+/// budget's temperature term; otherwise b.new_power_up_dps (third review of issue 31, M2: the
+/// page quoted ±0.0029 where its figure drew ±0.0056 at 4 °C). NaN when the budget is not valid.
+[[nodiscard]] double new_power_up_at(const delta_n_budget& b, double temp_c);
 
 /// The g-sensitivity a sensor's specification states (sensor_params g_sens_spec_max/typ, with
 /// their sources), as the stationarity test takes it; nullopt when the preset states neither.

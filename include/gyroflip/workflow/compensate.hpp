@@ -89,7 +89,9 @@ struct calibration_runs_check {
 /// stationarity test (method::check_stationarity, as recorded by `calibrate`). A run that failed
 /// is a warning naming the calibration, the run and the statistic; with `strict` an input error
 /// instead (a calibration of a turning table applied is w_in off by the table's rate). A ΔN
-/// given as a number has no runs: nothing to check. Used by `compensate`, `report` and Python.
+/// given as a number has no runs: nothing to check. A calibration that lists no runs is
+/// `unchecked`, with no warning here: calibration_budget's says it, with its ±, in one sentence.
+/// Used by `compensate`, `report` and Python (each with calibration_budget).
 [[nodiscard]] result<calibration_runs_check> check_calibration_runs(const delta_n_source& dn,
                                                                     bool strict);
 
@@ -100,7 +102,8 @@ struct calibration_runs_check {
 /// recording listed twice: a warning and `valid` false); without a specification the
 /// repeatability is the one the file states, checked against its own parts (a new-power-up
 /// error below the calibrated error or the repeatability: edited). A file that lists no runs
-/// gets its own stated error as one run's. `spec`: the sensor's specification, else
+/// gets its own stated error as one run's, and one warning that nothing shows it was stationary
+/// and what its ± is. `spec`: the sensor's specification, else
 /// `named_preset` names it. Warnings (`FILE: what`) are appended.
 [[nodiscard]] delta_n_budget calibration_budget(const delta_n_source& given,
                                                 const sensor::preset* spec,
