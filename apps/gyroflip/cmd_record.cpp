@@ -169,8 +169,9 @@ int run_record(const record_options& o) {
   if (!spec) return report(spec.err());
   for (const auto& w : spec_warnings)
     std::fprintf(stderr, "gyroflip record: warning: %s\n", w.c_str());
-  c.stationarity =
-      workflow::stationarity_inputs_of(method::pairing::abba, *spec ? &**spec : nullptr, {});
+  // The live cycles' scheme (abba; three or more positions: harmonic, issue 33).
+  c.stationarity = workflow::stationarity_inputs_of(host::live_pairing(c.rig.table()),
+                                                    *spec ? &**spec : nullptr, {});
   c.software_version = GYROFLIP_VERSION;
   c.command_line = o.command_line;
 

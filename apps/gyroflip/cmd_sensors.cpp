@@ -18,11 +18,7 @@ namespace gyroflip::app {
 
 namespace {
 
-// An unbounded side of a parameter's range is null in JSON and empty in the text listing.
-nlohmann::json bound(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
+// An unbounded side of a parameter's range is empty in the text listing (null in JSON).
 std::string range_text(const sensor::field_info& f) {
   const auto side = [](double v) { return std::isfinite(v) ? fmt::format("{:g}", v) : ""; };
   return fmt::format("[{}, {}]", side(f.min_value), side(f.max_value));
@@ -33,32 +29,7 @@ std::string range_text(const sensor::field_info& f) {
 int run_sensors(const sensors_options& o) {
   const auto& presets = sensor::builtin_presets();
   if (o.json) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& p : presets) {
-      nlohmann::json params = nlohmann::json::object();
-      for (const auto& f : sensor::fields()) {
-        params[std::string(f.key)] = {{"value", p.params.*f.member},
-                                      {"unit", f.unit},
-                                      {"what", f.what},
-                                      {"source", p.source_of(f.key)},
-                                      {"min", bound(f.min_value)},
-                                      {"max", bound(f.max_value)}};
-      }
-      const auto im = workflow::implications_of(p.params, o.dead_s, o.lat_deg);
-      const nlohmann::json implied = {
-          {"dead_time_s", im.dead_s},
-          {"latitude_deg", im.lat_deg},
-          {"corner_tau_s", im.corner_tau_s},
-          {"dwell_s", im.dwell_s},
-          {"flip_sigma_dps_rth", im.sigma_dps_rth},
-          {"heading_white_limit_deg_rth", im.heading_white_deg_rth},
-          {"heading_dead_time_limit_deg_rth", im.heading_dead_time_deg_rth}};
-      list.push_back({{"name", p.name},
-                      {"description", p.description},
-                      {"params", params},
-                      {"implied", implied}});
-    }
-    if (auto s = print_json(with_schema("sensors", 1, {{"sensors", list}})); !s)
+    if (auto s = print_json(workflow::sensors_json(o.dead_s, o.lat_deg)); !s)
       return report(s.err());
     return 0;
   }

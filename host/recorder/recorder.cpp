@@ -211,6 +211,14 @@ method::flip_pair live_pair(const position_table& table) {
   return p ? *p : method::flip_pair{table_moving - 1, table_moving - 1};
 }
 
+// The live cycles' demodulator (live_pairing): abba over the table's pair, or the harmonic scheme.
+std::unique_ptr<method::demodulator> live_demodulator(const position_table& table) {
+  if (live_pairing(table) == method::pairing::harmonic)
+    if (auto d = method::make_demodulator(method::pairing::harmonic, table, ""))
+      return std::move(*d);
+  return method::make_flip_demodulator(method::pairing::abba, live_pair(table));
+}
+
 // A non-data frame (INFO, STATUS, ACK, NAK, GONE, RAW) is sent once, in the order of its
 // number: one whose number is not past every number heard from this boot comes from another
 // boot. So does a frame far ahead of them: the recorder reads all the time, and a boot's frames
@@ -328,9 +336,9 @@ class session {
   const recorder_progress_fn& on_progress_;
   rigdata::rig_run_builder live_;
   std::size_t records_ = 0;
-  // The live cycles: abba over the pair of the table the session configures (a table without
-  // one gives none).
-  method::flip_stream stream_{method::pairing::abba, live_pair(c_.rig.table())};
+  // The live cycles (live_pairing): abba over the pair of the table the session configures (a
+  // table of two without one gives none), or for three or more positions the harmonic scheme.
+  method::flip_stream stream_{live_demodulator(c_.rig.table())};
   std::vector<method::cycle> cycles_;
   std::size_t dwells_seen_ = 0;
   std::optional<method::stationarity> stationarity_;  // the last live test (look())
@@ -1291,6 +1299,10 @@ result<recorder_result> session::finish(gfr::stop_reason why) {
   if (auto s = close_file(why); !s) return s.err();
   recorder_result r;
   r.reason = why;
+  // The harmonic scheme holds its last visiting period back until it knows the run goes on: the
+  // run's end is known now (calibrate of the file takes it too). The 0/180 cycles as before.
+  if (stream_.demod().dwell_per_row())
+    stream_.flush([this](const method::cycle& cy) { cycles_.push_back(cy); });
   look(true);
   r.last = status_now();
   if (on_progress_) on_progress_(r.last);
@@ -1454,6 +1466,10 @@ std::string configure_refusal(const p::configure_msg& c, const p::info_msg* devi
         "times at {} ticks/s (--start-rate)",
         why, c.start_rate_sps, device->tick_hz / 0xFFFFu + 1, device->tick_hz);
   return why;
+}
+
+method::pairing live_pairing(const position_table& table) noexcept {
+  return table.size() >= 3 ? method::pairing::harmonic : method::pairing::abba;
 }
 
 result<recorder_result> record(const recorder_config& cfg, const std::atomic<bool>& stop,

@@ -16,8 +16,10 @@
 #include <vector>
 
 #include "firmware/protocol/messages.hpp"
+#include "gyroflip/core/positions.hpp"
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/method/stationarity.hpp"
+#include "gyroflip/method/types.hpp"
 #include "gyroflip/rig/rig_config.hpp"
 #include "gyroflip/rigdata/gfr.hpp"
 #include "gyroflip/rigdata/rig_run.hpp"
@@ -64,7 +66,9 @@ struct recorder_status {
   std::uint64_t frames_pending = 0;  ///< missing frames still asked for
   std::size_t device_resets = 0;
   std::size_t link_losses = 0;
-  double delta_n_dps = 0.0;     ///< running dN (abba pairing; NaN before 3 cycles)
+  /// Running dN (live_pairing: abba over the table's 0/180 pair; for three or more positions the
+  /// harmonic scheme's c1, as `calibrate --pairing harmonic` of the file; NaN before 3 cycles).
+  double delta_n_dps = 0.0;
   double delta_n_se_dps = 0.0;  ///< its correlated standard error
   double temp_c = 0.0;          ///< last dwell's temperature (NaN without)
   std::uint64_t bytes = 0;      ///< of the file
@@ -77,6 +81,12 @@ struct recorder_status {
 };
 
 using recorder_progress_fn = std::function<void(const recorder_status&)>;
+
+/// The scheme of the live cycles for the table a session configures (issue 33): abba over its
+/// 0/180 pair for two positions (a table without one gives no live cycles), the harmonic scheme
+/// (one estimate per visiting period, r = c1) for three or more. The caller's stationarity inputs
+/// are this pairing's.
+[[nodiscard]] method::pairing live_pairing(const position_table& table) noexcept;
 
 struct recorder_result {
   recorder_status last;

@@ -710,7 +710,7 @@ def calibrate_runs(files, latitude=None, axis=None, pairing="abba", degree=None,
 
 def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration=None,
                delta_n_dps=None, pairing=None, drift_window_s=100.0, angle_tolerance_deg=0.0,
-               strict=False):
+               strict=False, positions_deg=None):
     """Compensates a flipping recording (paper eqn 12), as `gyroflip compensate`.
 
     The columns as for calibrate(). calibration: a calibrate() result, or the path of a
@@ -723,7 +723,13 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
     std_dps, stderr_dps, stderr_correlated_dps, drift_dps, delta_n, ...), and "warnings": a
     calibration made of a run that failed the stationarity test (its dN is not the sensor's), or
     of runs never tested (a file from before the test). strict=True raises ValueError for the
-    first instead (as `gyroflip compensate --strict`)."""
+    first instead (as `gyroflip compensate --strict`).
+    A calibration of the harmonic scheme (issue 33: calibrate(..., pairing="harmonic")) is applied
+    as `gyroflip compensate --calibration` applies it: on a run of three or more positions
+    (positions_deg: the table's angles, read_recording's "positions_deg"; default the paper's 0
+    and 180) its terms other than c1 are removed at each position and each period's c1 loses the
+    calibration's; on a 0/180 pair at theta the dN is c1 cos theta + s1 sin theta, its error from
+    the terms' covariance. "applied" then says which (as the CLI's note)."""
     text = None
     if calibration is not None:
         if isinstance(calibration, dict):
@@ -732,7 +738,7 @@ def compensate(time_s, angle_deg, rate_dps, temp_c=None, n_avg=None, calibration
         else:
             with open(_os.fspath(calibration), "rb") as f:
                 text = f.read().decode("utf-8", errors="replace")
-    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg)
+    c = _columns(time_s, angle_deg, rate_dps, temp_c, n_avg, positions_deg)
     return _gyroflip._compensate(c, None if delta_n_dps is None else float(delta_n_dps), text, pairing,
                                  float(drift_window_s), float(angle_tolerance_deg), bool(strict))
 
@@ -810,6 +816,25 @@ def plan(dead_time, sensor=None, static=None, rate=None, units="deg/s", duration
                            0.0 if max_dwell is None else float(max_dwell),
                            [] if positions is None else [float(a) for a in positions],
                            float(latitude) if heading else None, str(order))
+
+
+def sensors(dead_time=0.4, latitude=42.6):
+    """The built-in sensor presets (as `gyroflip sensors --json`): the dict with "sensors", one
+    entry per preset with "name", "description", "params" (each parameter's value, unit, what,
+    source, min, max) and "implied": what its noise implies for a dead time per turn (s) at a
+    latitude (deg): the corner time "corner_tau_s", the best dwell "dwell_s" = sqrt(d tau_c), the
+    flip run's error and the heading limits per sqrt(hour) (docs/PLANNER.md, docs/NORTH.md)."""
+    return _gyroflip._sensors(float(dead_time), float(latitude))
+
+
+def separability(positions, table_axis=None):
+    """What a table of positions separates, before a run (as `gyroflip calibrate --explain
+    --positions A,B,... [--table-axis AXIS] --json`, issue 33): the estimable terms, what each holds
+    physically and every pair no run of that table separates (docs/METHOD-NOTES.md, "N-position
+    indexing"). positions: the angles (deg); table_axis: "up", "down" or as simulate's (default:
+    horizontal, the paper's rig)."""
+    return _gyroflip._separability([float(a) for a in positions],
+                                   "" if table_axis is None else str(table_axis))
 
 
 def heading(runs, latitude, table_axis=None, base_turn=None, sensor=None, harmonics=1):

@@ -182,14 +182,32 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   // the file's stated repeatability, checked against its own parts).
   const auto budget = workflow::compensation_budget(dn, {}, arrays_name, runs.warnings);
   if (dn.record && strict) check(workflow::refuse_unvouched(dn, budget, runs.unchecked));
-  const auto p = pairing ? pairing_of(*pairing) : dn.pairing.value_or(method::pairing::abba);
+  auto p = pairing ? pairing_of(*pairing) : dn.pairing.value_or(method::pairing::abba);
   check(method::check_drift_window(drift_window_s));
-  const auto rc = cycles_of(c, p, tol);
-  if (dn.model.degree() > 0 && !rc.has_temp)
+  // A harmonic calibration (issue 33): its terms applied as the CLI applies them
+  // (workflow::read_harmonic_cycles: at each position, or a 0/180 pair's c1 cos + s1 sin).
+  const auto terms = dn.record ? workflow::harmonic_terms_of(*dn.record) : std::nullopt;
+  std::optional<workflow::harmonic_application> applied;
+  method::recording_cycles rc;
+  if (terms) {
+    const auto rows = rows_of(c, tol);
+    method::rows_in_memory source(arrays_name, rows.rows, {}, {}, rows.positions);
+    auto hc = take(workflow::read_harmonic_cycles(
+        source, *terms, dn.model,
+        pairing ? std::optional<method::pairing>(p) : std::optional<method::pairing>()));
+    p = hc.pairing;
+    applied = std::move(hc.applied);
+    rc = std::move(hc.cycles);
+    rc.has_temp = c.temp_c.has_value();
+  } else {
+    rc = cycles_of(c, p, tol);
+  }
+  const auto& model = applied ? applied->model : dn.model;
+  if (model.degree() > 0 && !rc.has_temp)
     throw py::value_error("no temp_c given, but the calibration's dN(T) model needs temperatures");
   // The CLI's compensate loop and summary (every number checked finite, as the CLI).
   const auto comp =
-      take(workflow::compensate_cycles(rc.cycles, dn.model, drift_window_s, "compensate"));
+      take(workflow::compensate_cycles(rc.cycles, model, drift_window_s, "compensate"));
   py::dict res;
   using cc = method::compensated_cycle;
   res["time_s"] = column(comp.cycles, &cc::time_s);
@@ -197,11 +215,16 @@ py::dict compensate(const columns& c, std::optional<double> delta_n_dps,
   res["bias_dps"] = column(comp.cycles, &cc::bias_dps);
   res["temp_c"] = column(comp.cycles, &cc::temp_c);
   res["delta_n_dps"] = column(comp.cycles, &cc::delta_n_dps);
+  // As the CLI: the dN stated is the one subtracted (a harmonic calibration's for this run).
+  auto stated = dn;
+  stated.model = model;
   res["summary"] = json_loads(take(io::finite_dump(
-      workflow::compensation_json(comp, arrays_name, dn, p,
-                                  workflow::delta_n_errors_of(dn, rc.cycles, budget, dn.model)),
+      workflow::compensation_json(
+          comp, arrays_name, stated, p,
+          workflow::applied_errors_of(dn, rc.cycles, budget, applied ? &*applied : nullptr)),
       "compensate")));
   res["warnings"] = runs.warnings;
+  if (applied) res["applied"] = applied->how;
   return res;
 }
 

@@ -14,8 +14,11 @@
 
 #include "common.hpp"
 #include "gyroflip/analysis/sample_source.hpp"
+#include "gyroflip/core/positions.hpp"
 #include "gyroflip/core/units.hpp"
+#include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/io/finite_output.hpp"
+#include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/rig/ad7739.hpp"
 #include "gyroflip/sensor/presets.hpp"
 #include "gyroflip/workflow/heading.hpp"
@@ -139,9 +142,29 @@ py::object heading(const std::vector<std::string>& runs, double lat_deg,
   return json_loads(take(io::finite_dump(workflow::heading_json(h), "heading")));
 }
 
+// `gyroflip sensors --json` (workflow::sensors_json), the CLI's checks of its options.
+py::object sensors(double dead_s, double lat_deg) {
+  if (!(dead_s >= 0.0) || !std::isfinite(dead_s))
+    raise(parameter_error("dead_time", "dead_time is a number of s >= 0"));
+  if (!(lat_deg >= -85.0 && lat_deg <= 85.0))
+    raise(parameter_error("latitude", "latitude is within [-85, 85] deg"));
+  return json_loads(take(io::finite_dump(workflow::sensors_json(dead_s, lat_deg), "sensors")));
+}
+
+// `gyroflip calibrate --explain --positions A,B,... [--table-axis AXIS] --json`: what a table
+// separates, before a run (method::separability_of).
+py::object separability(const std::vector<double>& positions_deg, const std::string& table_axis) {
+  auto table = position_table::of_angles(positions_deg);
+  if (!table) raise(parameter_error("positions", "positions: " + table.err().message));
+  const auto sep = method::separability_of(*table, method::table_axis_kind_of(table_axis));
+  return json_loads(io::separability_to_json(sep, ""));
+}
+
 }  // namespace
 
 void bind_workflow(py::module_& m) {
+  m.def("_sensors", &sensors, py::arg("dead_time"), py::arg("latitude"));
+  m.def("_separability", &separability, py::arg("positions"), py::arg("table_axis"));
   m.def("_heading", &heading, py::arg("runs"), py::arg("latitude"), py::arg("table_axis"),
         py::arg("base_turn"), py::arg("sensor"), py::arg("harmonics"));
   m.def("_plan", &plan, py::arg("sensor"), py::arg("static"), py::arg("rate"), py::arg("units"),

@@ -464,3 +464,52 @@ def test_plan_order_and_two_zero_one_eighty_headings_agree_with_the_cli(exe, tmp
     py = gyroflip.heading(runs, 42.6)
     assert py == cli
     assert py["ambiguous"] and py["two_azimuths"] and py["base_turn_deg"] == 90
+
+
+def test_compensate_applies_a_harmonic_calibration_as_the_cli(exe, tmp_path):
+    """gyroflip.compensate with a harmonic calibration (issue 33) applies its terms as `gyroflip
+    compensate --calibration`: on a four-position run at each position, on a 90/270 pair its
+    c1 cos 90 + s1 sin 90 = s1, number for number (before, Python refused both: the harmonic
+    pairing on the default 0/180 table)."""
+    cal_csv, cal_json = tmp_path / "cal4.csv", tmp_path / "cal.json"
+    run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 1200, "--seed", 21,
+        "--positions", "0,90,180,270", "--latitude", -42.6, "--axis", "north", "-o", cal_csv)
+    run(exe, "calibrate", cal_csv, "--pairing", "harmonic", "-o", cal_json)
+    c = gyroflip.read_recording(cal_csv)
+    py_cal = gyroflip.calibrate(c["time_s"], c["angle_deg"], c["rate_dps"], c["temp_c"], c["n_avg"],
+                                pairing="harmonic", positions_deg=c["positions_deg"])
+    for positions, seed, pairing in (("90,270", 22, "abba"), ("0,90,180,270", 23, "harmonic")):
+        path = tmp_path / f"run{seed}.csv"
+        run(exe, "simulate", "--sensor", "hz1-90-100a", "--duration", 600, "--seed", seed,
+            "--positions", positions, "--latitude", -42.6, "--axis", "north", "-o", path)
+        cli = json.loads(run(exe, "compensate", path, "--calibration", cal_json, "--json"))
+        r = gyroflip.read_recording(path)
+        for calibration in (cal_json, py_cal):
+            py = gyroflip.compensate(r["time_s"], r["angle_deg"], r["rate_dps"], r["temp_c"],
+                                     r["n_avg"], calibration=calibration,
+                                     positions_deg=r["positions_deg"])
+            assert py["summary"]["pairing"] == pairing
+            assert py["applied"].startswith("at ")
+            for key in ("cycles", "mean_dps", "std_dps", "stderr_correlated_dps", "drift_dps"):
+                assert py["summary"][key] == cli[key], (positions, key)
+            assert py["summary"]["delta_n"]["coeffs_dps"] == cli["delta_n"]["coeffs_dps"]
+            assert py["summary"]["delta_n"]["terms_dps"] == cli["delta_n"]["terms_dps"]
+            if calibration is cal_json:
+                for key in ("error_dps", "new_power_up_dps"):
+                    assert py["summary"]["delta_n"][key] == cli["delta_n"][key], (positions, key)
+
+
+def test_sensors_and_separability_agree_with_the_cli(exe):
+    """gyroflip.sensors and gyroflip.separability are `sensors --json` and `calibrate --explain
+    --positions --json` (issue 33 item 5: Python has each function; before, neither existed)."""
+    assert gyroflip.sensors() == json.loads(run(exe, "sensors", "--json"))
+    assert gyroflip.sensors(0.1, -30) == json.loads(run(exe, "sensors", "--dead-time", 0.1,
+                                                        "--latitude", -30, "--json"))
+    for positions, axis in (("0,90,180,270", None), ("0,120,240", "up"), ("0,180", None)):
+        args = ["calibrate", "--explain", "--positions", positions, "--json"]
+        if axis:
+            args[4:4] = ["--table-axis", axis]
+        cli = json.loads(run(exe, *args))
+        assert gyroflip.separability([float(a) for a in positions.split(",")], axis) == cli
+    with pytest.raises(ValueError):
+        gyroflip.sensors(-1)

@@ -133,6 +133,71 @@ method::delta_n_model pair_model_of(const method::delta_n_model& c1_model,
   return m;
 }
 
+result<harmonic_cycles> read_harmonic_cycles(method::row_source& source,
+                                             std::span<const method::delta_n_term> terms,
+                                             const method::delta_n_model& c1_model,
+                                             std::optional<method::pairing> asked,
+                                             const progress_fn& on_progress) {
+  harmonic_cycles out;
+  out.pairing = asked.value_or(source.positions().size() < 3 ? method::pairing::abba
+                                                             : method::pairing::harmonic);
+  auto& app = out.applied;
+  app.terms.assign(terms.begin(), terms.end());
+  if (out.pairing == method::pairing::harmonic) {
+    terms_removed wrapped(source, terms);
+    auto rc = method::read_cycles(wrapped, out.pairing, on_progress);
+    if (!rc) return rc.err();
+    out.cycles = std::move(*rc);
+    app.how = "at each position";
+    app.model = c1_model;
+    return out;
+  }
+  auto rc = method::read_cycles(source, out.pairing, on_progress);
+  if (!rc) return rc.err();
+  out.cycles = std::move(*rc);
+  const double plus = out.cycles.positions.angle_deg(out.cycles.pair.plus);
+  app.how = fmt::format("at the pair's first position ({:g} deg): c1 cos + s1 sin", plus);
+  app.model = pair_model_of(c1_model, terms, plus);
+  app.pair_plus_deg = plus;
+  return out;
+}
+
+delta_n_errors pair_errors_of(const io::calibration_record& rec, double plus_deg,
+                              const delta_n_errors& c1) {
+  const std::size_t n = rec.terms.size();
+  std::size_t i1 = n, i2 = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (rec.terms[i].name == "c1") i1 = i;
+    if (rec.terms[i].name == "s1") i2 = i;
+  }
+  if (i1 == n || i2 == n || rec.terms_covariance.size() != n * n) return c1;
+  const double v11 = rec.terms_covariance[i1 * n + i1], v22 = rec.terms_covariance[i2 * n + i2],
+               v12 = rec.terms_covariance[i1 * n + i2];
+  // At 0/180 the pair's dN is c1 itself: its errors as they are (no rounding through k).
+  if (!(v11 > 0.0) || !std::isfinite(c1.delta_n_u_dps) || std::fmod(plus_deg, 180.0) == 0.0)
+    return c1;
+  const double a = plus_deg * units::rad_per_deg;
+  const double c = std::cos(a), s = std::sin(a);
+  const double u1_2 = c1.delta_n_u_dps * c1.delta_n_u_dps;
+  const double var = u1_2 / v11 * std::max(c * c * v11 + s * s * v22 + 2.0 * s * c * v12, 0.0);
+  delta_n_errors out = c1;
+  out.delta_n_u_dps = std::sqrt(var);
+  if (std::isfinite(c1.new_power_up_dps))
+    out.new_power_up_dps =
+        std::sqrt(var + std::max(c1.new_power_up_dps * c1.new_power_up_dps - u1_2, 0.0));
+  return out;
+}
+
+delta_n_errors applied_errors_of(const delta_n_source& dn, std::span<const method::cycle> cycles,
+                                 const delta_n_budget& budget,
+                                 const harmonic_application* applied) {
+  if (applied == nullptr) return delta_n_errors_of(dn, cycles, budget, dn.model);
+  if (!std::isfinite(applied->pair_plus_deg) || !dn.record)
+    return delta_n_errors_of(dn, cycles, budget, applied->model);
+  return pair_errors_of(*dn.record, applied->pair_plus_deg,
+                        delta_n_errors_of(dn, cycles, budget, dn.model));
+}
+
 status check_calibration_fits(const std::string& file, const delta_n_source& dn,
                               std::span<const io::csv_metadata> metadata,
                               std::span<const method::cycle> cycles,
@@ -585,23 +650,11 @@ result<compensate_result> compensate_file(const compensate_request& r,
     // A harmonic calibration (issue 33): its terms at each position (harmonic_application).
     auto source = rigdata::open_recording(r.file, r.angle_tolerance_deg);
     if (!source) return source.err();
-    if (!r.pairing && (*source)->positions().size() < 3) out.pairing = method::pairing::abba;
-    harmonic_application app;
-    app.terms = *terms;
-    if (out.pairing == method::pairing::harmonic) {
-      terms_removed wrapped(**source, *terms);
-      rc = method::read_cycles(wrapped, out.pairing, on_progress);
-      if (!rc) return rc.err();
-      app.how = "at each position";
-      app.model = dn.model;
-    } else {
-      rc = method::read_cycles(**source, out.pairing, on_progress);
-      if (!rc) return rc.err();
-      const double plus = rc->positions.angle_deg(rc->pair.plus);
-      app.how = fmt::format("at the pair's first position ({:g} deg): c1 cos + s1 sin", plus);
-      app.model = pair_model_of(dn.model, *terms, plus);
-    }
-    out.applied = std::move(app);
+    auto hc = read_harmonic_cycles(**source, *terms, dn.model, r.pairing, on_progress);
+    if (!hc) return hc.err();
+    out.pairing = hc->pairing;
+    out.applied = std::move(hc->applied);
+    rc = std::move(hc->cycles);
   } else {
     if (dn.pairing && *dn.pairing != out.pairing)
       out.warnings.push_back(fmt::format("calibration used pairing '{}', compensating with '{}'",
@@ -645,7 +698,8 @@ result<compensate_result> compensate_file(const compensate_request& r,
       for (auto& w : same_cycles_warnings(r.file, rc->cycles, dn))
         out.warnings.push_back(std::move(w));
   }
-  static_cast<delta_n_errors&>(out) = delta_n_errors_of(dn, rc->cycles, budget, model);
+  static_cast<delta_n_errors&>(out) =
+      applied_errors_of(dn, rc->cycles, budget, out.applied ? &*out.applied : nullptr);
   if (out.comp.outside_model > 0)
     out.warnings.push_back(outside_model_warning(r.file, out.comp, model));
   return out;

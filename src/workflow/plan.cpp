@@ -17,6 +17,7 @@
 #include "gyroflip/io/schema.hpp"
 #include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/rig/rig_config.hpp"
+#include "gyroflip/sensor/presets.hpp"
 
 namespace gyroflip::workflow {
 
@@ -296,6 +297,40 @@ report::figure plan_figure(const plan_result& r) {
     f.notes.push_back({r.reference_dwell_s, r.reference_sigma_dps * to_y,
                        fmt::format("paper's {:g} s", r.reference_dwell_s), true, 2});
   return f;
+}
+
+nlohmann::json sensors_json(double dead_s, double lat_deg) {
+  const auto bound = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& p : sensor::builtin_presets()) {
+    nlohmann::json params = nlohmann::json::object();
+    for (const auto& f : sensor::fields()) {
+      params[std::string(f.key)] = {{"value", p.params.*f.member},
+                                    {"unit", f.unit},
+                                    {"what", f.what},
+                                    {"source", p.source_of(f.key)},
+                                    {"min", bound(f.min_value)},
+                                    {"max", bound(f.max_value)}};
+    }
+    const auto im = implications_of(p.params, dead_s, lat_deg);
+    const nlohmann::json implied = {
+        {"dead_time_s", im.dead_s},
+        {"latitude_deg", im.lat_deg},
+        {"corner_tau_s", im.corner_tau_s},
+        {"dwell_s", im.dwell_s},
+        {"flip_sigma_dps_rth", im.sigma_dps_rth},
+        {"heading_white_limit_deg_rth", im.heading_white_deg_rth},
+        {"heading_dead_time_limit_deg_rth", im.heading_dead_time_deg_rth}};
+    list.push_back({{"name", p.name},
+                    {"description", p.description},
+                    {"params", params},
+                    {"implied", implied}});
+  }
+  auto out = io::schema_object("sensors", 1);
+  out["sensors"] = std::move(list);
+  return out;
 }
 
 }  // namespace gyroflip::workflow

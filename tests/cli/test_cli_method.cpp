@@ -569,6 +569,61 @@ TEST(CliCompensate, AHarmonicCalibrationAppliesItsTermsAtEachPosition) {
       << q.out;
 }
 
+// The error compensate quotes for a harmonic calibration applied to a 0/180 pair at theta is
+// that of c1 cos theta + s1 sin theta with the terms' full covariance, scaled so that c1's is the
+// budget's, plus c1's run-to-run part (workflow::pair_errors_of). A three-position calibration at
+// 0/45/180 deg knows s1 from one position only: its s1 is ~5 times c1's error and correlated with
+// it. At 0/180 the quote is c1's; at 90/270 and 45/225 the delta method's (before: c1's at every
+// angle, 0.0005 deg/s where s1 alone carries ~5 times that).
+TEST(CliCompensate, APairAtAnyAngleQuotesTheErrorOfItsHarmonicCombination) {
+  temp_dir d;
+  const auto sim = [&](const std::string& positions, const std::string& seed,
+                       const std::string& duration, const std::string& out) {
+    const auto r = run_cli({"simulate", "--sensor", "hz1-90-100a", "--duration", duration, "--seed",
+                            seed, "--positions", positions, "-o", d.file(out)});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  };
+  sim("0,45,180", "31", "1800", "cal3.csv");
+  ASSERT_EQ(
+      run_cli({"calibrate", d.file("cal3.csv"), "--pairing", "harmonic", "-o", d.file("cal.json")})
+          .exit_code,
+      0);
+  const auto cj = json::parse(read_text(d.file("cal.json")));
+  const auto& names = cj["terms"];
+  const std::size_t n = names.size();
+  std::size_t i1 = n, i2 = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (names[i]["name"] == "c1") i1 = i;
+    if (names[i]["name"] == "s1") i2 = i;
+  }
+  ASSERT_LT(i1, n);
+  ASSERT_LT(i2, n);
+  const auto cov = cj["terms_covariance"].get<std::vector<std::vector<double>>>();  // rows
+  ASSERT_EQ(cov.size(), n);
+  const double v11 = cov[i1][i1], v22 = cov[i2][i2], v12 = cov[i1][i2];
+  ASSERT_GT(v22, 4.0 * v11);                              // s1 known far worse than c1
+  ASSERT_GT(std::abs(v12), 0.05 * std::sqrt(v11 * v22));  // and correlated with it
+  const auto errors = [&](const std::string& positions, const std::string& seed) {
+    sim(positions, seed, "300", "p" + seed + ".csv");
+    const auto r = run_cli(
+        {"compensate", d.file("p" + seed + ".csv"), "--calibration", d.file("cal.json"), "--json"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const auto j = json::parse(r.out)["delta_n"];
+    return std::pair{j["error_dps"].get<double>(), j["new_power_up_dps"].get<double>()};
+  };
+  const auto [u1, np1] = errors("0,180", "32");  // c1's own: the calibration's quote
+  ASSERT_GT(u1, 0.0);
+  ASSERT_GE(np1, u1);
+  for (const auto& [positions, theta_deg] :
+       std::vector<std::pair<std::string, double>>{{"90,270", 90.0}, {"45,225", 45.0}}) {
+    const double c = std::cos(theta_deg * M_PI / 180.0), s = std::sin(theta_deg * M_PI / 180.0);
+    const double var = u1 * u1 / v11 * (c * c * v11 + s * s * v22 + 2.0 * s * c * v12);
+    const auto [u, np] = errors(positions, positions == "90,270" ? "33" : "34");
+    EXPECT_NEAR(u, std::sqrt(var), 1e-9 * std::sqrt(var)) << positions;
+    EXPECT_NEAR(np, std::sqrt(var + np1 * np1 - u1 * u1), 1e-9 * np) << positions;
+  }
+}
+
 // The same at each position, where the old way (the calibration's c1 taken from each period's
 // c1) cannot: a second harmonic c2 of a five-position calibration aliases into c1 on a run at
 // 0/120/240 deg (cos 2t = cos t there). Synthetic dwells (closed form plus white noise, fixed

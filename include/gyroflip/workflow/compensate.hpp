@@ -18,6 +18,7 @@
 #include "gyroflip/core/result.hpp"
 #include "gyroflip/io/calibration_file.hpp"
 #include "gyroflip/method/compensation.hpp"
+#include "gyroflip/method/cycles.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
 #include "gyroflip/workflow/budget.hpp"
 
@@ -138,7 +139,23 @@ struct harmonic_application {
   std::string how;
   /// The dN model subtracted from each cycle (pair: the half-difference's; harmonic: c1's).
   method::delta_n_model model;
+  /// A 0/180 pairing: the pair's first position theta_+ (deg); NaN for the harmonic pairing.
+  double pair_plus_deg = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// The cycles of a recording read for a compensation with a harmonic calibration (`terms`:
+/// harmonic_terms_of; `c1_model`: the calibration's dN model, c1's) and the application
+/// (harmonic_application): the pairing asked for, else harmonic for 3 or more positions and abba
+/// for two. One function for the CLI (compensate_file) and Python (rows in memory).
+struct harmonic_cycles {
+  method::recording_cycles cycles;
+  harmonic_application applied;
+  method::pairing pairing = method::pairing::harmonic;
+};
+[[nodiscard]] result<harmonic_cycles> read_harmonic_cycles(
+    method::row_source& source, std::span<const method::delta_n_term> terms,
+    const method::delta_n_model& c1_model, std::optional<method::pairing> asked,
+    const progress_fn& on_progress = {});
 
 /// The harmonic terms of a calibration (pairing harmonic, terms c1 and s1 at least); none for any
 /// other calibration, whose one dN compensate subtracts as it is.
@@ -147,7 +164,8 @@ struct harmonic_application {
 
 /// The dN model of a 0/180 pair at `plus_deg` from harmonic `terms` and c1's model `c1_model`:
 /// c1(T) cos theta + s1 sin theta, its covariance propagated (c1's coefficients x cos^2; s1's
-/// variance sin^2 on the constant; their covariance is not on record and taken as 0).
+/// variance sin^2 on the constant). The errors compensate quotes are pair_errors_of's, which also
+/// take the c1-s1 covariance and the run-to-run part.
 [[nodiscard]] method::delta_n_model pair_model_of(const method::delta_n_model& c1_model,
                                                   std::span<const method::delta_n_term> terms,
                                                   double plus_deg);
@@ -180,6 +198,25 @@ struct delta_n_errors {
                                                std::span<const method::cycle> cycles,
                                                const delta_n_budget& budget,
                                                const method::delta_n_model& model);
+
+/// The errors of the dN of a 0/180 pair at `plus_deg` made of a harmonic calibration `rec`,
+/// from `c1` (delta_n_errors_of for the calibration's own model, c1's), by the delta method on
+/// d = c1 cos theta + s1 sin theta with the terms' full covariance (rec.terms_covariance):
+/// var d = k (cos^2 v11 + sin^2 v22 + 2 sin cos v12), k = u_c1^2 / v11 scaling the covariance
+/// so that c1's variance is the one quoted for c1 (the budget's: its runs, Student's t); a new
+/// power-up adds c1's run-to-run variance (new_power_up^2 - u_c1^2) whole at every angle: one
+/// calibration does not measure s1's, and the turn-on change of a g-sensitivity vector in the
+/// table's plane is taken as alike in both components. At theta_+ = 0 or 180 deg both equal c1's.
+/// `c1` unchanged when the file has no covariance of c1 and s1.
+[[nodiscard]] delta_n_errors pair_errors_of(const io::calibration_record& rec, double plus_deg,
+                                            const delta_n_errors& c1);
+
+/// The errors of the dN a compensation subtracted: delta_n_errors_of for the calibration's own
+/// model, or for a harmonic calibration applied to a 0/180 pair, pair_errors_of (`applied`).
+[[nodiscard]] delta_n_errors applied_errors_of(const delta_n_source& dn,
+                                               std::span<const method::cycle> cycles,
+                                               const delta_n_budget& budget,
+                                               const harmonic_application* applied);
 
 /// What `compensate --strict` (CLI and Python) takes: a calibration whose ΔN and uncertainty are
 /// its runs' (`budget` valid), whose runs are listed and were checked for stationarity (not

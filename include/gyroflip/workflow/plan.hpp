@@ -133,6 +133,12 @@ struct sensor_implications {
 [[nodiscard]] sensor_implications implications_of(const sensor::sensor_params& p, double dead_s,
                                                   double lat_deg);
 
+/// The object `gyroflip sensors --json` prints (schema gyroflip.sensors/1) and Python's
+/// `gyroflip.sensors` returns: every built-in preset with each parameter (value, unit, what,
+/// source, allowed range; an unbounded side null) and what it implies for `dead_s` per turn at
+/// `lat_deg` (implications_of).
+[[nodiscard]] nlohmann::json sensors_json(double dead_s, double lat_deg);
+
 /// The figure of the plan: the predicted error against the dwell (log-log; the heading's in deg
 /// for a heading plan), the planned dwell and the paper's dwell marked.
 [[nodiscard]] report::figure plan_figure(const plan_result& r);
