@@ -19,6 +19,7 @@
 #include "cmd_record.hpp"
 #include "cmd_simulate.hpp"
 #include "commands.hpp"
+#include "gyroflip/analysis/allan.hpp"
 #include "gyroflip/analysis/confidence.hpp"
 #include "gyroflip/core/error.hpp"
 #include "gyroflip/core/text.hpp"
@@ -481,12 +482,14 @@ void setup_adev(CLI::App& app, action& chosen) {
       app.add_subcommand("adev", "Allan-family deviation with confidence intervals (NIST SP1065)");
   auto o = bind<adev_options>(sub, chosen, run_adev);
   add_series_options(sub, o->in);
+  std::vector<std::string> kinds;
+  for (const auto& f : analysis::dev_table) kinds.emplace_back(f.name);
+  kinds.emplace_back("gradev");
   sub->add_option("--kind", o->kind,
-                  "adev|oadev|mdev|tdev|hdev|ohdev|totdev|mtotdev|ttotdev|htotdev|theo1|pdev|mtie|"
-                  "tierms|gradev (gradev: an empty field or nan is a missing sample; a .gfr's "
-                  "lost dwells too)")
-      ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev",
-                             "ttotdev", "htotdev", "theo1", "pdev", "mtie", "tierms", "gradev"}))
+                  analysis::dev_kind_names("|") +
+                      "|gradev (gradev: an empty field or nan is a missing sample; a .gfr's "
+                      "lost dwells too)")
+      ->check(CLI::IsMember(kinds))
       ->capture_default_str();
   sub->add_option("--taus", o->taus, "octave|decade|all or averaging factors like 1,2,10")
       ->capture_default_str();
@@ -507,7 +510,7 @@ void setup_adev(CLI::App& app, action& chosen) {
       "the type identified at each tau, as Stable32)");
   sub->add_flag(
       "--bias-correction", o->bias_correction,
-      "mtotdev, ttotdev, htotdev: Stable32's bias correction by the noise type at each tau");
+      bias_corrected_kinds() + ": Stable32's bias correction by the noise type at each tau");
   sub->add_flag("--codev", o->codev,
                 "the Groslambert codeviation (GCODEV) of two columns --column AB,CB: the common "
                 "clock B");

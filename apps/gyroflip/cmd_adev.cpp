@@ -142,10 +142,21 @@ std::string unit_name(const series_input& in) {
   return std::string(units::unit_name(in.input == "angle", in.units));
 }
 
+std::string bias_corrected_kinds() {
+  std::vector<std::string_view> names;
+  for (const auto& f : analysis::dev_table)
+    if (f.bias_correction) names.push_back(f.name);
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + std::string(names[i]);
+  return out;
+}
+
 std::string dev_unit(const series_input& in, std::string_view kind) {
   // Time-error statistics are in the angle unit: TDEV = tau MDEV / sqrt(3) (SP1065 eqn 15),
   // TTOTDEV (eqn 28), MTIE and TIE rms (ITU-T G.810: of x itself); the others in the rate unit.
-  const bool of_angle = kind == "tdev" || kind == "ttotdev" || kind == "mtie" || kind == "tierms";
+  const auto k = analysis::parse_dev_kind(kind);  // gradev: OADEV's, of the rate
+  const bool of_angle = k && analysis::facts(*k).angle_unit;
   const bool angle_in = in.input == "angle";
   const std::string u = unit_name(in);
   if (of_angle == angle_in) return u;
@@ -612,9 +623,8 @@ int run_adev(const adev_options& o) {
   const auto kind =
       gaps ? std::optional(analysis::dev_kind::oadev) : analysis::parse_dev_kind(o.kind);
   if (!kind)
-    return report(usage_error(
-        "--kind must be one of adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
-        "htotdev, theo1, pdev, mtie, tierms, gradev"));
+    return report(
+        usage_error("--kind must be one of " + analysis::dev_kind_names(", ") + ", gradev"));
   if (gaps && (o.codev || o.three_cornered_hat || !o.dynamic.empty() || o.ci_guard || o.alpha ||
                (!o.ci.empty() && o.ci != "none")))
     return report(usage_error(
@@ -628,9 +638,8 @@ int run_adev(const adev_options& o) {
       o.ci == "none" || gaps || !analysis::has_edf(*kind)
           ? std::nullopt
           : std::optional<double>(o.ci.empty() ? 0.683 : std::stod(o.ci));
-  if (o.bias_correction && *kind != analysis::dev_kind::mtotdev &&
-      *kind != analysis::dev_kind::ttotdev && *kind != analysis::dev_kind::htotdev)
-    return report(usage_error("--bias-correction applies to mtotdev, ttotdev and htotdev only"));
+  if (o.bias_correction && !analysis::facts(*kind).bias_correction)
+    return report(usage_error("--bias-correction applies to " + bias_corrected_kinds() + " only"));
   if (auto s = check_combination(o, *kind); !s) return report(s.err());
   const auto plot = plot_target(o.plot);
   if (!plot) return report(plot.err());

@@ -41,6 +41,10 @@ struct series_input {
 [[nodiscard]] double deg_per_unit(const series_input& in);
 /// The samples' unit as written in outputs ("deg/s", "rad/s", "deg/h"; "deg", "rad").
 [[nodiscard]] std::string unit_name(const series_input& in);
+/// "mtotdev, ttotdev and htotdev": the kinds Stable32's bias correction applies to
+/// (analysis::dev_table), for help and messages.
+std::string bias_corrected_kinds();
+
 /// The unit of statistic `kind` ("oadev", "mtie", ...) of these samples, as `# units`, JSON
 /// `units` and the plot's axis give it: the rate unit for the frequency-like deviations, the angle
 /// unit for TDEV, TTOTDEV, MTIE and TIE rms ("deg/h*s" for those of deg/h samples).

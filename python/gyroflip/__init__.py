@@ -224,8 +224,17 @@ class Deviation:
     ci: float
 
 
+# Each statistic's facts, from the library's one table (analysis::dev_table), by name.
+_DEV_FACTS = {f["name"]: f for f in _gyroflip._dev_facts()}
 # The kinds SP1065 gives no EDF (analysis::has_edf): no bounds, no noise type, no level.
-_WITHOUT_EDF = ("pdev", "mtie", "tierms")
+_WITHOUT_EDF = tuple(k for k, f in _DEV_FACTS.items() if not f["edf"])
+# The kinds Stable32's bias correction applies to.
+_BIAS_CORRECTED = tuple(k for k, f in _DEV_FACTS.items() if f["bias_correction"])
+
+
+def _and_list(names):
+    """'a, b and c'."""
+    return ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else "".join(names)
 
 
 def deviation(data, kind="oadev", rate=None, input="rate", taus="octave", ci=0.683, guard=False,
@@ -271,18 +280,19 @@ def deviation(data, kind="oadev", rate=None, input="rate", taus="octave", ci=0.6
         if not factors:
             raise ValueError("every tau is shorter than half a sample interval" if t.size
                              else "taus is empty: give 'octave', 'decade', 'all' or taus in seconds")
-        odd = [m for m in factors if m % 2] if kind == "theo1" else []
+        even_only = kind in _DEV_FACTS and _DEV_FACTS[kind]["even_m_only"]
+        odd = [m for m in factors if m % 2] if even_only else []
         if odd and len(odd) == len(factors):
             raise ValueError(f"theo1 needs even averaging factors (m = tau * rate): {odd} odd")
         if odd:
             _warnings.warn(f"theo1 needs even averaging factors (m = tau * rate): {odd} dropped",
                            UserWarning, stacklevel=2)
             factors = [m for m in factors if m % 2 == 0]
-    if bias_correction and kind not in ("mtotdev", "ttotdev", "htotdev"):
-        raise ValueError("bias_correction applies to mtotdev, ttotdev and htotdev only")
+    if bias_correction and kind not in _BIAS_CORRECTED:
+        raise ValueError(f"bias_correction applies to {_and_list(_BIAS_CORRECTED)} only")
     if alpha is not None and (isinstance(alpha, bool) or kind in _WITHOUT_EDF):
         raise ValueError("alpha is a noise type (2, 1, 0, -1, -2) for the kinds with intervals "
-                         "(not pdev, mtie, tierms)")
+                         f"(not {', '.join(_WITHOUT_EDF)})")
     if alpha is not None and guard:
         raise ValueError("alpha gives every tau one noise type: not with guard")
     if guard and ci is None:

@@ -339,6 +339,25 @@ void bind_analysis(py::module_& m) {
         py::arg("factors"));
   m.def("_dynamic", &dynamic, py::arg("kind"), py::arg("data"), py::arg("rate"), py::arg("input"),
         py::arg("window_s"), py::arg("step_s"), py::arg("taus"), py::arg("ci") = std::nullopt);
+  // The one table of per-statistic facts (analysis::dev_table): Python's kind lists are read
+  // from it, as the command line's are.
+  m.def("_dev_facts", [] {
+    py::list out;
+    for (const auto& f : analysis::dev_table) {
+      py::dict d;
+      d["name"] = std::string(f.name);
+      d["reference"] = std::string(f.reference);
+      d["extended"] = f.extended;
+      d["angle_unit"] = f.angle_unit;
+      d["edf"] = f.edf;
+      d["bias_correction"] = f.bias_correction;
+      d["span_divisor"] = f.span_divisor;
+      d["even_m_only"] = f.even_m_only;
+      d["tau_factor"] = f.tau_factor;
+      out.append(d);
+    }
+    return out;
+  });
   m.def("_chi2_quantile", &analysis::chi2_quantile, py::arg("p"), py::arg("dof"));
   m.def("_edf", &edf_of, py::arg("alpha"), py::arg("d"), py::arg("m"), py::arg("n"),
         py::arg("overlapping"), py::arg("modified"));

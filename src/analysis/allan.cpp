@@ -210,7 +210,7 @@ result<std::vector<deviation_point>> collect(dev_kind k, const std::vector<std::
     deviation_point p;
     p.m = factors[i];
     // Theo1's tau is 0.75 m tau0 (SP1065 eqn 30; Stable32's "Theo1 Tau").
-    p.tau_s = (k == dev_kind::theo1 ? 0.75 : 1.0) * static_cast<double>(factors[i]) * tau0_s;
+    p.tau_s = facts(k).tau_factor * static_cast<double>(factors[i]) * tau0_s;
     p.dev = raw[i].dev;
     p.n = raw[i].n;
     out.push_back(p);
@@ -225,23 +225,7 @@ result<std::vector<deviation_point>> collect(dev_kind k, const std::vector<std::
 namespace detail {
 
 std::size_t max_factor(dev_kind k, std::size_t n_phase) {
-  const std::size_t span = n_phase - 1;
-  switch (k) {
-    case dev_kind::adev:
-    case dev_kind::hdev:
-      return span / 5;
-    case dev_kind::totdev:
-      return span / 2;
-    case dev_kind::mtotdev:
-    case dev_kind::ttotdev:
-    case dev_kind::htotdev:
-      return span / 3;
-    case dev_kind::theo1:
-    case dev_kind::mtie:
-      return span;
-    default:
-      return span / 4;
-  }
+  return (n_phase - 1) / facts(k).span_divisor;
 }
 
 std::optional<result<std::vector<deviation_point>>> deviation_from_block_sums(
@@ -262,53 +246,21 @@ std::optional<result<std::vector<deviation_point>>> deviation_from_block_sums(
 
 }  // namespace detail
 
-bool is_extended(dev_kind k) noexcept {
-  switch (k) {
-    case dev_kind::mtotdev:
-    case dev_kind::ttotdev:
-    case dev_kind::htotdev:
-    case dev_kind::theo1:
-    case dev_kind::pdev:
-    case dev_kind::mtie:
-    case dev_kind::tierms:
-      return true;
-    default:
+// The table is indexed by kind: its rows must stay in dev_kind's order.
+static_assert([] {
+  for (std::size_t i = 0; i < std::size(dev_table); ++i)
+    if (static_cast<std::size_t>(dev_table[i].kind) != i || all_dev_kinds[i] != dev_table[i].kind)
       return false;
-  }
-}
+  return std::size(dev_table) == std::size(all_dev_kinds);
+}());
 
-std::string_view to_string(dev_kind k) noexcept {
-  switch (k) {
-    case dev_kind::adev:
-      return "adev";
-    case dev_kind::oadev:
-      return "oadev";
-    case dev_kind::mdev:
-      return "mdev";
-    case dev_kind::tdev:
-      return "tdev";
-    case dev_kind::hdev:
-      return "hdev";
-    case dev_kind::ohdev:
-      return "ohdev";
-    case dev_kind::totdev:
-      return "totdev";
-    case dev_kind::mtotdev:
-      return "mtotdev";
-    case dev_kind::ttotdev:
-      return "ttotdev";
-    case dev_kind::htotdev:
-      return "htotdev";
-    case dev_kind::theo1:
-      return "theo1";
-    case dev_kind::pdev:
-      return "pdev";
-    case dev_kind::mtie:
-      return "mtie";
-    case dev_kind::tierms:
-      return "tierms";
+std::string dev_kind_names(std::string_view sep) {
+  std::string out;
+  for (const auto& f : dev_table) {
+    if (!out.empty()) out += sep;
+    out += f.name;
   }
-  return "?";
+  return out;
 }
 
 std::optional<dev_kind> parse_dev_kind(std::string_view name) noexcept {
@@ -359,7 +311,7 @@ std::vector<std::size_t> averaging_factors(const tau_spec& spec, dev_kind k, std
       break;
   }
   // Theo1 is defined for even factors only (SP1065 eqn 30).
-  if (k == dev_kind::theo1) std::erase_if(out, [](std::size_t m) { return m % 2 != 0; });
+  if (facts(k).even_m_only) std::erase_if(out, [](std::size_t m) { return m % 2 != 0; });
   return out;
 }
 
@@ -415,17 +367,11 @@ std::vector<dropped_factor> dropped_factors(const tau_spec& spec,
     const bool kept = std::any_of(points.begin(), points.end(),
                                   [m](const deviation_point& p) { return p.m == m; });
     if (kept || std::any_of(out.begin(), out.end(), [m](auto& d) { return d.m == m; })) continue;
-    std::size_t need = 2 * m + 1;  // ADEV, OADEV, PDEV: x_i, x_{i+m}, x_{i+2m}
-    if (k == dev_kind::mdev || k == dev_kind::tdev || k == dev_kind::mtotdev ||
-        k == dev_kind::ttotdev)
-      need = 3 * m;
-    if (k == dev_kind::hdev || k == dev_kind::ohdev || k == dev_kind::htotdev) need = 3 * m + 1;
-    if (k == dev_kind::totdev || k == dev_kind::theo1 || k == dev_kind::mtie ||
-        k == dev_kind::tierms)
-      need = m + 1;
+    const std::size_t need = facts(k).need_per_m * m + facts(k).need_extra;
     const double tau_s = static_cast<double>(m) * tau0_s;
-    if (k == dev_kind::theo1 && m % 2 != 0) {
-      out.push_back({m, tau_s, fmt::format("theo1 needs an even averaging factor; {} is odd", m)});
+    if (facts(k).even_m_only && m % 2 != 0) {
+      out.push_back(
+          {m, tau_s, fmt::format("{} needs an even averaging factor; {} is odd", to_string(k), m)});
       continue;
     }
     out.push_back(

@@ -779,8 +779,7 @@ double edf(dev_kind k, int alpha, std::size_t m, std::size_t n_phase) {
 }
 
 bool has_edf(dev_kind k) noexcept {
-  return !is_extended(k) || k == dev_kind::mtotdev || k == dev_kind::ttotdev ||
-         k == dev_kind::htotdev || k == dev_kind::theo1;
+  return facts(k).edf;
 }
 
 void correct_total_bias(std::vector<deviation_point>& points, dev_kind k) {

@@ -1,8 +1,11 @@
 // The Allan family against published values: NIST SP1065 NBS14 sets and every Stable32 table in
 // tests/vectors/stable32 (PROVENANCE.md); GPS from ../shared when present.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -277,3 +280,37 @@ TEST(Allan, OctaveAdevHdevFromBlockSums) {
 
 }  // namespace
 }  // namespace gyroflip::analysis
+
+// The one table of per-statistic facts (issue 34, item 8) against what each algorithm does: the
+// fewest phase points with a term at m (need_per_m m + need_extra) is where deviation_at's term
+// count turns from 0 to positive, Stable32's largest factor is the last one `all` gives, Theo1
+// keeps even factors, and its tau is 0.75 m tau0. A wrong row fails here, not in a user's plot.
+TEST(DevFacts, EveryRowAgreesWithItsAlgorithm) {
+  using namespace gyroflip::analysis;
+  std::vector<double> x(64);
+  std::uint64_t s = 12345;  // a fixed LCG: any phase with non-zero differences will do
+  for (double& v : x) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    v = static_cast<double>(s >> 11) * 0x1p-53 - 0.5;
+  }
+  for (const auto& f : dev_table) {
+    SCOPED_TRACE(std::string(f.name));
+    EXPECT_EQ(parse_dev_kind(f.name), f.kind);
+    for (std::size_t m : {2u, 4u, 6u}) {
+      const std::size_t need = f.need_per_m * m + f.need_extra;
+      ASSERT_LE(need, x.size());
+      const std::span<const double> enough(x.data(), need), short_of(x.data(), need - 1);
+      EXPECT_GT(deviation_at(f.kind, enough, 1.0, m).n, 0u) << "m = " << m;
+      EXPECT_EQ(deviation_at(f.kind, short_of, 1.0, m).n, 0u) << "m = " << m;
+    }
+    const auto all = averaging_factors(tau_spec{tau_spec::set::all, {}}, f.kind, 101);
+    ASSERT_FALSE(all.empty());
+    const std::size_t limit = 100 / f.span_divisor;
+    EXPECT_EQ(all.back(), f.even_m_only ? limit - limit % 2 : limit);
+    const auto odd = std::find_if(all.begin(), all.end(), [](std::size_t m) { return m % 2; });
+    EXPECT_EQ(odd == all.end(), f.even_m_only);
+    const auto curve = deviation_of_phase(f.kind, x, 0.5, tau_spec{tau_spec::set::list, {4}});
+    ASSERT_TRUE(curve) << curve.err().message;
+    EXPECT_DOUBLE_EQ(curve->front().tau_s, f.tau_factor * 4 * 0.5);
+  }
+}

@@ -53,13 +53,66 @@ inline constexpr dev_kind all_dev_kinds[] = {
     dev_kind::ohdev, dev_kind::totdev, dev_kind::mtotdev, dev_kind::ttotdev, dev_kind::htotdev,
     dev_kind::theo1, dev_kind::pdev,   dev_kind::mtie,    dev_kind::tierms};
 
-/// True for the kinds computed on the whole phase in memory (8 bytes a point) by their own
-/// algorithms (extended.hpp): MTOTDEV, TTOTDEV, HTOTDEV, Theo1, PDEV, MTIE, TIE rms. The SP1065
-/// sums of the others stream over the phase in bounded memory.
-[[nodiscard]] bool is_extended(dev_kind k) noexcept;
+/// What gyroflip knows of one statistic, apart from its algorithm: the one table (dev_table)
+/// that the library, the command line and Python read (issue 34, item 8), so that a kind's name,
+/// limits, intervals and unit are said once.
+struct dev_facts {
+  dev_kind kind;
+  std::string_view name;       ///< allantools' and Stable32's short name
+  std::string_view reference;  ///< where its formula comes from
+  /// Computed on the whole phase in memory (8 bytes a point) by its own algorithm (extended.hpp);
+  /// the SP1065 sums of the others stream over the phase in bounded memory.
+  bool extended;
+  /// In the angle unit (deg): the time-error statistics TDEV (SP1065 eqn 15), TTOTDEV (eqn 28),
+  /// MTIE and TIE rms (ITU-T G.810, of x itself); the others in the rate unit.
+  bool angle_unit;
+  bool edf;              ///< has an equivalent number of degrees of freedom: chi^2 intervals
+  bool bias_correction;  ///< Stable32's bias correction by noise type (MTOTDEV, TTOTDEV, HTOTDEV)
+  /// Stable32's largest averaging factor: m <= (N - 1) / span_divisor for N phase points.
+  unsigned span_divisor;
+  /// The fewest phase points with one term at factor m: need_per_m * m + need_extra.
+  unsigned need_per_m;
+  unsigned need_extra;
+  bool even_m_only;   ///< Theo1: defined for even m (SP1065 eqn 30)
+  double tau_factor;  ///< tau = tau_factor m tau0 (Theo1: 0.75)
+};
 
-[[nodiscard]] std::string_view to_string(dev_kind k) noexcept;
+/// Every kind's facts, in the order of dev_kind (the limits are Stable32's; averaging_factors).
+inline constexpr dev_facts dev_table[] = {
+    {dev_kind::adev, "adev", "SP1065 eqn 7", false, false, true, false, 5, 2, 1, false, 1.0},
+    {dev_kind::oadev, "oadev", "SP1065 eqn 11", false, false, true, false, 4, 2, 1, false, 1.0},
+    {dev_kind::mdev, "mdev", "SP1065 eqn 14", false, false, true, false, 4, 3, 0, false, 1.0},
+    {dev_kind::tdev, "tdev", "SP1065 eqn 15", false, true, true, false, 4, 3, 0, false, 1.0},
+    {dev_kind::hdev, "hdev", "SP1065 eqn 17", false, false, true, false, 5, 3, 1, false, 1.0},
+    {dev_kind::ohdev, "ohdev", "SP1065 eqn 18", false, false, true, false, 4, 3, 1, false, 1.0},
+    {dev_kind::totdev, "totdev", "SP1065 eqn 25", false, false, true, false, 2, 1, 1, false, 1.0},
+    {dev_kind::mtotdev, "mtotdev", "SP1065 eqn 27", true, false, true, true, 3, 3, 0, false, 1.0},
+    {dev_kind::ttotdev, "ttotdev", "SP1065 eqn 28", true, true, true, true, 3, 3, 0, false, 1.0},
+    {dev_kind::htotdev, "htotdev", "SP1065 eqn 29", true, false, true, true, 3, 3, 1, false, 1.0},
+    {dev_kind::theo1, "theo1", "SP1065 eqn 30", true, false, true, false, 1, 1, 1, true, 0.75},
+    {dev_kind::pdev, "pdev", "Vernotte et al. 2016 eqn 13", true, false, false, false, 4, 2, 1,
+     false, 1.0},
+    {dev_kind::mtie, "mtie", "ITU-T G.810", true, true, false, false, 1, 1, 1, false, 1.0},
+    {dev_kind::tierms, "tierms", "ITU-T G.810", true, true, false, false, 4, 1, 1, false, 1.0},
+};
+
+/// The facts of statistic k (its row of dev_table).
+[[nodiscard]] constexpr const dev_facts& facts(dev_kind k) noexcept {
+  return dev_table[static_cast<std::size_t>(k)];
+}
+
+/// True for the kinds computed on the whole phase in memory (dev_facts::extended).
+[[nodiscard]] constexpr bool is_extended(dev_kind k) noexcept {
+  return facts(k).extended;
+}
+
+[[nodiscard]] constexpr std::string_view to_string(dev_kind k) noexcept {
+  return facts(k).name;
+}
 [[nodiscard]] std::optional<dev_kind> parse_dev_kind(std::string_view name) noexcept;
+
+/// The kinds' names joined by `sep` ("adev|oadev|..."), for option lists and messages.
+[[nodiscard]] std::string dev_kind_names(std::string_view sep);
 
 /// Which averaging factors m (tau = m tau0) to evaluate.
 struct tau_spec {

@@ -192,7 +192,8 @@ def remove_small_ns(taus, devs, deverrs, ns):
 # the phase, the frequency ones (ADEV ... PDEV) scale as 1 / tau0 and the time ones as tau0^0,
 # and frequency data integrate to phase in units of tau0.
 _CORE_RATE_HZ = (1e-9, 1e9)
-_TIME_STATISTICS = ("tdev", "ttotdev", "mtie", "tierms")
+# The statistics in the unit of time (of angle): the library's table (analysis::dev_table).
+_TIME_STATISTICS = tuple(f["name"] for f in _gyroflip._dev_facts() if f["angle_unit"])
 
 
 def _core_rate(rate, data_type, kind):
