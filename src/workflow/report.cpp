@@ -264,6 +264,14 @@ std::string term(const analysis::noise_term& t, double to) {
 
 // The noise of each run's raw sensor and compensated rate: the IEEE 952 terms of the fit the
 // Allan plot draws, in the plot's units (°/√h, °/h, °/h/√h), and the taus the data cover.
+// A run's dwell rates in order, its content print's input (method/cycle_print.hpp).
+std::vector<double> dwell_rates_of(const recording_run& run) {
+  std::vector<double> out;
+  out.reserve(run.dwells.size());
+  for (const auto& d : run.dwells) out.push_back(d.rate_dps);
+  return out;
+}
+
 report::table noise_table(const std::vector<run_analysis>& runs) {
   report::table t{
       "IEEE 952 noise terms (68.3 % intervals; < : an upper limit, not resolved)",
@@ -468,6 +476,7 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
 // Runs that scatter far beyond their own errors were not made under the same conditions.
 void check_runs_agree(findings& f) {
   if (auto w = runs_disagree_warning(f.runs_model)) f.warnings.push_back(std::move(*w));
+  if (auto w = runs_too_alike_warning(f.runs_model)) f.warnings.push_back(std::move(*w));
 }
 
 // The runs a given calibration was made of, as calibrate tested them (schema 3): a failed run
@@ -1135,7 +1144,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       auto same = same_run_warnings(runs[k].run.file, in->sha256, *f.given);
       // Or its cycles in other bytes (a copy, an export; fourth review of issue 31, F6).
       if (same.empty())
-        same = same_cycles_warnings(runs[k].run.file, runs[k].run.cycles(r.pairing), *f.given);
+        same = same_cycles_warnings(runs[k].run.file, runs[k].run.cycles(r.pairing),
+                                    dwell_rates_of(runs[k].run), *f.given);
       for (auto& w : same) f.warnings.push_back(std::move(w));
     }
     if (k < runs.size()) entries[k].source = source_of(runs[k].run.file, runs[k].run.metadata, *in);
