@@ -44,36 +44,54 @@ def looks_of(n_cycles):
     return out + [n_cycles]
 
 
+def ratios(st):
+    """Each statistic over its limit (scatter, drift, step, slope, noise, outlier): above 1 fails
+    (drift, step and slope only with a level change beyond 3 correlated errors too)."""
+    step = st["step_statistic"] / st["step_statistic_limit"] if st.get("step_statistic_limit") else 0
+    slope = abs(st["slope_statistic"]) / st["slope_limit"] if st.get("slope_limit") else 0
+    noise = st["noise"]["ratio"] / st["noise"]["limit"] if st.get("noise") else 0
+    return [st["scatter_ratio"] / st["scatter_limit"], st["drift_statistic"] / st["drift_limit"],
+            step, slope, noise, st["outlier_z"] / st["outlier_limit"]]
+
+
 def run_looks(gyroflip, sensor, seed, duration, on_before):
-    """Any of the recorder's looks at a growing abba run failing."""
+    """Any of the recorder's looks at a growing abba run failing, and each statistic's largest
+    ratio to its limit over the looks."""
     rec = gyroflip.simulate(sensor, duration_s=duration, seed=seed, temp=20, rate="0",
                             power_on_before_s=on_before)
     rows = len(rec["time_s"])
+    worst = [0.0] * 6
     # abba: one cycle per two dwells (rows)
     for n in looks_of(rows // 2):
         k = 2 * n
         cal = gyroflip.calibrate(rec["time_s"][:k], rec["angle_deg"][:k], rec["rate_dps"][:k],
                                  rec["temp_c"][:k], rec["n_avg"][:k], latitude=42.6,
                                  axis="north", pairing="abba", sensor=sensor)
-        if not cal["files"][0]["stationarity"]["stationary"]:
-            return True, n
-    return False, rows // 2
+        st = cal["files"][0]["stationarity"]
+        worst = [max(a, b) for a, b in zip(worst, ratios(st))]
+        if not st["stationary"]:
+            return True, n, worst
+    return False, rows // 2, worst
 
 
 def main_looks(gyroflip, seeds):
     print(f"{seeds} seeds per row; the recorder's looks; latitude 42.6, axis north, 20 degC")
-    print(f"{'case':48s} looks  runs failing any look")
+    print(f"{'case':48s} looks  runs failing any look   largest statistic / limit over the "
+          "looks: scatter drift step slope noise outlier")
     for sensor in ("hz1-90-100a", "adxrs150"):
         for on_before in (0.0, 1800.0):
             for duration in (1800.0, 14400.0):
                 failed = 0
+                worst = [0.0] * 6
                 for seed in range(1, seeds + 1):
-                    f, _ = run_looks(gyroflip, sensor, seed, duration, on_before)
+                    f, _, w = run_looks(gyroflip, sensor, seed, duration, on_before)
                     failed += f
+                    worst = [max(a, b) for a, b in zip(worst, w)]
                 n = len(looks_of(int(duration / 1.79)))
                 name = (f"stationary {sensor} {'cold' if on_before == 0 else 'warm'} "
                         f"{duration:.0f} s")
-                print(f"{name:48s} {n:5d}  {failed / seeds:.3f}", flush=True)
+                print(f"{name:48s} {n:5d}  {failed / seeds:.3f}                    " +
+                      " ".join(f"{x:.2f}" for x in worst), flush=True)
 
 
 def run(gyroflip, sensor, seed, duration, pairing, on_before, rate="0"):

@@ -635,6 +635,11 @@ double guarded_edf(dev_kind k, const std::vector<int>& alpha, std::size_t i, std
 
 }  // namespace
 
+double chi2_cdf(double x, double dof) {
+  if (!(dof > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return gamma_p(0.5 * dof, 0.5 * x);
+}
+
 double chi2_quantile(double p, double dof) {
   const double a = 0.5 * dof;
   // Wilson-Hilferty start, then Newton on P(a, x/2) = p, kept inside a bracket.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 #include <tuple>
@@ -392,6 +393,39 @@ status read_stationarity(const std::string& path, const std::string& at, const j
   return ok();
 }
 
+// A run's cycle print (written since the fifth review of issue 31, F5; absent in older files:
+// their copies are found by the cycle signature only).
+status read_cycle_print(const std::string& path, const std::string& at, const json& f,
+                        calibration_entry& e) {
+  const auto it = f.find("cycle_print");
+  if (it == f.end()) return ok();
+  const json& j = *it;
+  const auto bad = [&] {
+    return input_error({path}, fmt::format("{}: 'cycle_print' needs a finite 'offset_dps', a "
+                                           "'step_dps' > 0 and 'q', an array of whole numbers",
+                                           at));
+  };
+  if (!j.is_object() || !j.contains("offset_dps") || !j["offset_dps"].is_number() ||
+      !j.contains("step_dps") || !j["step_dps"].is_number() || !j.contains("q") ||
+      !j["q"].is_array())
+    return bad();
+  method::cycle_print p;
+  p.offset_dps = j["offset_dps"].get<double>();
+  p.step_dps = j["step_dps"].get<double>();
+  if (!std::isfinite(p.offset_dps) || std::abs(p.offset_dps) > max_magnitude ||
+      !(p.step_dps > 0.0) || !(p.step_dps <= max_magnitude))
+    return bad();
+  p.q.reserve(j["q"].size());
+  for (const auto& v : j["q"]) {
+    if (!v.is_number_integer()) return bad();
+    const auto x = v.get<std::int64_t>();
+    if (x < -1000000000 || x > 1000000000) return bad();
+    p.q.push_back(static_cast<std::int32_t>(x));
+  }
+  e.print = std::move(p);
+  return ok();
+}
+
 constexpr std::string_view rig_keys[] = {
     "n_avg", "settle_s",      "positions_deg", "flip",         "filter_word",
     "chop",  "steps_per_rev", "step_rate_sps", "latitude_deg", "axis"};
@@ -669,6 +703,11 @@ result<std::string> to_json(const calibration_record& rec) {
       e["origin_detail"] = plain_line(f.source->origin_detail);
     }
     if (f.stationarity) e["stationarity"] = stationarity_json(*f.stationarity);
+    if (f.print)
+      e["cycle_print"] = {{"offset_dps", f.print->offset_dps},
+                          {"step_dps", f.print->step_dps},
+                          {"steps_per_std", method::print_steps_per_std},
+                          {"q", f.print->q}};
     files.push_back(std::move(e));
   }
   j["files"] = std::move(files);
@@ -827,6 +866,7 @@ result<calibration_record> parse_calibration(std::string_view text, const std::s
           e.cal.std_dps = f["std_dps"].get<double>();
         if (auto s = read_source(path, at, f, e); !s) return s.err();
         if (auto s = read_stationarity(path, at, f, e); !s) return s.err();
+        if (auto s = read_cycle_print(path, at, f, e); !s) return s.err();
         if (auto s = check_magnitude(path, "files: delta_n_dps", e.cal.delta_n_dps); !s)
           return s.err();
         if (!(e.cal.stderr_correlated_dps >= 0.0) ||

@@ -72,6 +72,7 @@ result<recording_cycles> read_cycles(row_source& source, pairing p,
   if (pair) rc.pair = *pair;
   auto demod = make_demodulator(p, rc.positions, rc.path);
   flip_stream stream(demod ? std::move(*demod) : make_flip_demodulator(p, rc.pair));
+  stream.keep_dwell_rates(&rc.dwell_rates);
   const auto keep = [&rc](const cycle& c) { rc.cycles.push_back(c); };
   // A block at a time: one call through the interface per 4096 rows, and a progress report
   // per block (a report costs a call through std::function).

@@ -8,11 +8,16 @@
 /// specific force at 0 deg is f = (0, 0, -1) g in sensor axes, so a g-sensitivity g_z gives the
 /// 0-deg g-term -g_z and dN = -g_z + W_E cos(42.6 deg) = -g_z + 3.0755e-3 deg/s.
 #include <algorithm>
+#include <iterator>
 
 #include "gyroflip/sensor/presets.hpp"
 
 namespace gyroflip::sensor {
 namespace {
+
+// The sources of the values fitted to the paper's measurements (the "paper" tag above).
+constexpr std::string_view paper_fit_tags[] = {"paper Tab. 3", "paper Tab. 4", "paper Figs.",
+                                               "fitted to paper"};
 
 struct entry {
   std::string_view key;
@@ -115,6 +120,12 @@ std::vector<preset> build() {
 }
 
 }  // namespace
+
+bool fitted_to_paper(const preset& p, std::string_view key) {
+  const auto s = p.source_of(key);
+  return std::any_of(std::begin(paper_fit_tags), std::end(paper_fit_tags),
+                     [&](std::string_view tag) { return s.starts_with(tag); });
+}
 
 std::string_view preset::source_of(std::string_view key) const {
   for (const auto& [k, s] : sources) {

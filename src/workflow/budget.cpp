@@ -200,6 +200,20 @@ std::optional<std::string> runs_disagree_warning(
       std::sqrt(runs_model->chi2_per_dof), runs_model->chi2_per_dof);
 }
 
+std::optional<std::string> runs_too_alike_warning(
+    const std::optional<method::delta_n_model>& runs_model) {
+  if (!runs_model || runs_model->dof == 0 || !std::isfinite(runs_model->chi2_per_dof))
+    return std::nullopt;
+  const auto dof = static_cast<double>(runs_model->dof);
+  const double p = analysis::chi2_cdf(runs_model->chi2_per_dof * dof, dof);
+  if (!(p < min_runs_chi2_lower_tail)) return std::nullopt;
+  return fmt::format(
+      "the runs' dN agree far better than their own errors allow (χ²/dof {:.3g} over {} degrees "
+      "of freedom: P(χ² ≤ this) = {:.2g}, below {:g}): the same data twice (a copy of a run, "
+      "rounded or trimmed), not independent power-ups; the pooled dN's error is not to be trusted",
+      runs_model->chi2_per_dof, runs_model->dof, p, min_runs_chi2_lower_tail);
+}
+
 bool same_line(const method::delta_n_model& applied, const method::delta_n_model& refit) {
   const auto equal = [](double a, double b) {
     return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)) + 1e-15;

@@ -16,6 +16,7 @@
 #include "gyroflip/core/parallel.hpp"
 #include "gyroflip/io/atomic_file.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/cycle_print.hpp"
 #include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/page.hpp"
@@ -299,6 +300,30 @@ void add_harmonic_terms(std::span<const method::harmonic_fit> fits, const positi
   rec.separability = std::move(sep);
 }
 
+namespace {
+
+// A run whose cycles are an earlier run's (a copy rounded, shifted in time, trimmed or split:
+// method::find_in_print; fifth review of issue 31, F5) is not another power-up: a warning naming
+// both runs, refused under strict. The same recording twice is refused by check_distinct_runs.
+status check_not_a_copy(const std::string& file, std::span<const double> dwell_rates,
+                        std::span<const io::calibration_entry> earlier, bool strict,
+                        std::vector<std::string>& warnings) {
+  for (const auto& e : earlier) {
+    const auto hit = e.print ? method::find_in_print(dwell_rates, *e.print) : std::nullopt;
+    if (!hit) continue;
+    const std::string what = fmt::format(
+        "dwells {}–{} of its {} are dwells {}–{} of the run {} ({} in a row alike to a quarter of "
+        "that run's scatter): the same data twice, not another power-up",
+        hit->first + 1, hit->first + hit->length, dwell_rates.size(), hit->first_print + 1,
+        hit->first_print + hit->length, e.file, hit->length);
+    if (strict) return input_error({file}, what + "; refused (strict)");
+    warnings.push_back(fmt::format("{}: {}", file, what));
+  }
+  return ok();
+}
+
+}  // namespace
+
 result<calibrate_result> calibrate_runs(const calibrate_request& r,
                                         const progress_fn& on_progress) {
   if (r.files.empty()) return usage_error("no recording to calibrate");
@@ -340,7 +365,10 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
     // What the calibration was made of, so a report that applies it can say (review R18).
     auto id = report::identify_file(file);
     if (!id) return id.err();
-    rec.files.push_back({file, *cal, source_of(file, rc->metadata, *id), st});
+    if (auto s = check_not_a_copy(file, rc->dwell_rates, rec.files, r.strict, out.warnings); !s)
+      return s.err();
+    rec.files.push_back(
+        {file, *cal, source_of(file, rc->metadata, *id), st, method::print_of(rc->dwell_rates)});
     if (auto s = sensors.add(file, rc->metadata, out.warnings); !s) return s.err();
     all.insert(all.end(), rc->cycles.begin(), rc->cycles.end());
   }
@@ -358,6 +386,7 @@ result<calibrate_result> calibrate_runs(const calibrate_request& r,
   if (!model) return model.err();
   rec.model = std::move(*model);
   if (auto w = runs_disagree_warning(rec.model)) out.warnings.push_back(std::move(*w));
+  if (auto w = runs_too_alike_warning(rec.model)) out.warnings.push_back(std::move(*w));
   out.budget = budget_of(rec.files, rec.model, preset != nullptr ? &preset->params : nullptr,
                          preset != nullptr ? preset->name : std::string());
   if (r.pairing == method::pairing::harmonic)

@@ -20,6 +20,7 @@
 #include "gyroflip/io/finite_output.hpp"
 #include "gyroflip/io/schema.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/cycle_print.hpp"
 #include "gyroflip/method/runs.hpp"
 #include "gyroflip/report/page.hpp"
 #include "gyroflip/rigdata/recording_source.hpp"
@@ -302,6 +303,15 @@ status refuse_unvouched(const delta_n_source& dn, const delta_n_budget& b, bool 
   return ok();
 }
 
+namespace {
+// A run the calibration was made of (its warning, "FILE: what"), refused under strict.
+error refuse_copy(const std::string& file, const std::string& warning) {
+  const std::string what =
+      warning.starts_with(file + ": ") ? warning.substr(file.size() + 2) : warning;
+  return input_error({file}, what + "; refused (strict)");
+}
+}  // namespace
+
 delta_n_budget compensation_budget(const delta_n_source& dn,
                                    std::span<const io::csv_metadata> metadata,
                                    const std::string& file, std::vector<std::string>& warnings) {
@@ -349,12 +359,25 @@ std::vector<std::string> same_run_warnings(const std::string& file, const std::s
 
 std::vector<std::string> same_cycles_warnings(const std::string& file,
                                               std::span<const method::cycle> cycles,
+                                              std::span<const double> dwell_rates,
                                               const delta_n_source& dn) {
   std::vector<std::string> out;
   if (!dn.record || cycles.empty()) return out;
   const auto own = method::calibrate(cycles);
   if (!own) return out;
-  for (const auto& e : dn.record->files)
+  for (const auto& e : dn.record->files) {
+    // By content where the file holds the run's print (fifth review of issue 31, F5: a copy
+    // rounded, shifted in time, trimmed, split or exported kept no signature).
+    if (const auto hit = e.print ? method::find_in_print(dwell_rates, *e.print) : std::nullopt) {
+      out.push_back(fmt::format(
+          "{}: dwells {}–{} of its {} are the same as the calibration's run {}'s dwells {}–{} ({} "
+          "in a row alike to a quarter of that run's scatter: a copy of it, rounded, shifted, "
+          "trimmed, split or exported): its dN is part of the ΔN applied, so its compensated mean "
+          "is not an independent test of the calibration",
+          file, hit->first + 1, hit->first + hit->length, dwell_rates.size(), e.file,
+          hit->first_print + 1, hit->first_print + hit->length, hit->length));
+      continue;
+    }
     if (e.cal.cycles == own->cycles && e.cal.delta_n_dps == own->delta_n_dps &&
         (e.cal.std_dps == 0.0 || e.cal.std_dps == own->std_dps))  // no std: a file before it
       out.push_back(fmt::format(
@@ -362,6 +385,7 @@ std::vector<std::string> same_cycles_warnings(const std::string& file,
           "digit) in other bytes (a copy, or an export of it): its dN is part of the ΔN applied, "
           "so its compensated mean is not an independent test of the calibration",
           file, own->cycles, e.file));
+  }
   return out;
 }
 
@@ -694,9 +718,12 @@ result<compensate_result> compensate_file(const compensate_request& r,
     }
     // Other bytes with the same cycles (a copy with one more newline, a .gfr's CSV export): the
     // cycle signature calibrate compares runs by (fourth review of issue 31, F6).
-    if (!same_bytes)
-      for (auto& w : same_cycles_warnings(r.file, rc->cycles, dn))
-        out.warnings.push_back(std::move(w));
+    std::vector<std::string> copies;
+    if (!same_bytes) copies = same_cycles_warnings(r.file, rc->cycles, rc->dwell_rates, dn);
+    // No independent test at all: strict refuses it (fifth review of issue 31, F5).
+    if (r.strict && (same_bytes || !copies.empty()))
+      return refuse_copy(r.file, same_bytes ? out.warnings.back() : copies.front());
+    for (auto& w : copies) out.warnings.push_back(std::move(w));
   }
   static_cast<delta_n_errors&>(out) =
       applied_errors_of(dn, rc->cycles, budget, out.applied ? &*out.applied : nullptr);

@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <span>
 #include <utility>
 
 #include <fmt/format.h>
@@ -137,6 +138,8 @@ json calibration_runs_json(const io::calibration_record& rec) {
   json out = json::array();
   for (const auto& e : rec.files) {
     json j = {{"file", e.file}, {"delta_n_dps", e.cal.delta_n_dps}, {"temp_c", num(e.cal.temp_c)}};
+    // As calibrate tested it (null: not checked, a file before the test; F7).
+    j["stationarity"] = e.stationarity ? io::stationarity_to_json(*e.stationarity) : json(nullptr);
     if (e.source)
       j.update(json{{"sha256", e.source->sha256},
                     {"bytes", e.source->size_bytes},
@@ -264,6 +267,92 @@ std::string term(const analysis::noise_term& t, double to) {
 
 // The noise of each run's raw sensor and compensated rate: the IEEE 952 terms of the fit the
 // Allan plot draws, in the plot's units (°/√h, °/h, °/h/√h), and the taus the data cover.
+// The per-run stationarity test on the page (fifth review of issue 31, F7: the page showed none of
+// its statistics, nor the steps and ramps a run cannot see, which calibrate prints): one row per
+// statistic, each against its limit, from the library's one result (method::check_stationarity,
+// as calibrate made it or recorded it).
+void stationarity_rows(report::table& t, const std::string& run, const method::stationarity& st) {
+  const auto row = [&](std::string what, std::string value, std::string limit, bool failed,
+                       bool judged = true) {
+    t.rows.push_back({run, std::move(what), std::move(value), std::move(limit),
+                      !judged  ? "not judged"
+                      : failed ? "FAILED"
+                               : "within"});
+  };
+  if (st.checked) {
+    row("scatter: std(r) over the dwells' white noise", g(st.scatter_ratio, 3),
+        fmt::format("{}–{}", g(st.scatter_low_limit, 3), g(st.scatter_limit, 3)),
+        st.scatter_failed);
+    if (st.noise_checked)
+      row("noise: std(r) over the specification's", g(st.noise_ratio, 3), g(st.noise_limit, 3),
+          st.noise_failed);
+    else
+      row("noise: std(r) over the specification's", "not checked", "–", false, false);
+    // The three drift statistics fail together (drift_failed) when one is beyond its limit and
+    // the level change beyond 3 correlated errors; each is shown against its own limit.
+    const bool level = std::abs(st.step_dps) > st.step_limit_dps;
+    const bool has_step = st.step_statistic_limit_value > 0.0;
+    row("step: sup-t", g(st.step_statistic, 3),
+        has_step ? g(st.step_statistic_limit_value, 3) : "–",
+        st.drift_failed && level && st.step_statistic > st.step_statistic_limit_value, has_step);
+    row("ramp: slope t", g(st.slope_statistic, 3), has_step ? "±" + g(st.slope_limit, 3) : "–",
+        st.drift_failed && std::abs(st.slope_statistic) > st.slope_limit, has_step);
+    row("drift: CUSUM", g(st.drift_statistic, 3), g(st.drift_limit_value, 3),
+        st.drift_failed && st.drift_statistic > st.drift_limit_value);
+    row("level change at the split (°/s)", u2(st.step_dps), u2(st.step_limit_dps), st.drift_failed);
+    row(fmt::format("outlier: |r − median| / MAD σ (cycle {})", st.outlier_cycle),
+        g(st.outlier_z, 3), g(st.outlier_limit, 3), st.outlier_failed);
+  } else {
+    row("scatter, noise, step, ramp, drift, outlier", "not tested: " + st.why_not, "–", false,
+        false);
+  }
+  if (st.g_checked)
+    row(fmt::format("g-term{} (°/s)", st.g_exact ? "" : ", at least"), u2(st.g_term_dps),
+        fmt::format("{} + {}", u2(st.g_limit_dps), u2(st.g_margin_dps)), st.g_failed);
+  else
+    row("g-term (°/s)", "not checked (no specification)", "–", false, false);
+  if (st.has_temp)
+    row("temperature span (°C)", g(st.temp_span_c, 2), g(method::isothermal_span_c, 2),
+        st.temp_failed);
+  // What the run cannot see (each caught half of the time at that size; smaller ones stay in dN).
+  if (st.checked && st.step_hidden_dps > 0.0)
+    t.rows.push_back({run, "cannot see: a step of r at mid-run / in its first or last 3 % (°/s)",
+                      fmt::format("{} / {}", u2(st.step_hidden_dps), u2(st.step_hidden_end_dps)),
+                      "–", "below this"});
+  if (st.checked && st.ramp_hidden_dps > 0.0)
+    t.rows.push_back({run, "cannot see: a drift of r over the run (°/s)", u2(st.ramp_hidden_dps),
+                      "–", "below this"});
+}
+
+report::table stationarity_table(std::span<const io::calibration_entry> runs, bool recorded) {
+  report::table t{recorded ? "Stationarity of the calibration's runs (as calibrate tested them)"
+                           : "Stationarity of each run",
+                  {"run", "statistic", "value", "limit", "result"},
+                  {},
+                  "Each statistic against its limit (docs/METHOD-NOTES.md, \"Stationarity\"): the "
+                  "step, ramp and drift statistics fail a run only with a level change beyond 3 "
+                  "correlated errors; the g-term's limit is the specification's plus that margin. "
+                  "\"cannot see\": the smallest step or drift the test catches half of the time "
+                  "in that run; smaller ones pass and stay in ΔN."};
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const std::string run = std::to_string(k + 1);
+    if (runs[k].stationarity)
+      stationarity_rows(t, run, *runs[k].stationarity);
+    else
+      t.rows.push_back(
+          {run, "all", "not checked (a calibration written before the test)", "–", "not judged"});
+  }
+  return t;
+}
+
+// A run's dwell rates in order, its content print's input (method/cycle_print.hpp).
+std::vector<double> dwell_rates_of(const recording_run& run) {
+  std::vector<double> out;
+  out.reserve(run.dwells.size());
+  for (const auto& d : run.dwells) out.push_back(d.rate_dps);
+  return out;
+}
+
 report::table noise_table(const std::vector<run_analysis>& runs) {
   report::table t{
       "IEEE 952 noise terms (68.3 % intervals; < : an upper limit, not resolved)",
@@ -473,6 +562,7 @@ void check_stationary(const report_request& r, const sensor::preset* spec,
 // Runs that scatter far beyond their own errors were not made under the same conditions.
 void check_runs_agree(findings& f) {
   if (auto w = runs_disagree_warning(f.runs_model)) f.warnings.push_back(std::move(*w));
+  if (auto w = runs_too_alike_warning(f.runs_model)) f.warnings.push_back(std::move(*w));
 }
 
 // The runs a given calibration was made of, as calibrate tested them (schema 3): a failed run
@@ -1171,7 +1261,8 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
       auto same = same_run_warnings(runs[k].run.file, in->sha256, *f.given);
       // Or its cycles in other bytes (a copy, an export; fourth review of issue 31, F6).
       if (same.empty())
-        same = same_cycles_warnings(runs[k].run.file, runs[k].run.cycles(r.pairing), *f.given);
+        same = same_cycles_warnings(runs[k].run.file, runs[k].run.cycles(r.pairing),
+                                    dwell_rates_of(runs[k].run), *f.given);
       for (auto& w : same) f.warnings.push_back(std::move(w));
     }
     if (k < runs.size()) entries[k].source = source_of(runs[k].run.file, runs[k].run.metadata, *in);
@@ -1442,6 +1533,15 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
   }
   page.sections.push_back(std::move(main));
 
+  // The calibration runs' stationarity test (a ΔN given as a number has no runs to show).
+  if (!f.compensating || f.given->record) {
+    report::section stationary;
+    stationary.heading = "Stationarity";
+    stationary.tables.push_back(f.compensating ? stationarity_table(f.given->record->files, true)
+                                               : stationarity_table(entries, false));
+    page.sections.push_back(std::move(stationary));
+  }
+
   report::section noise;
   noise.heading = "Noise";
   noise.tables.push_back(noise_table(runs));
@@ -1538,6 +1638,9 @@ result<report_result> make_report(const report_request& r, const progress_fn& on
               {"std_dps", a.cal.std_dps},
               {"stderr_dps", a.cal.stderr_dps},
               {"stderr_correlated_dps", a.cal.stderr_correlated_dps}};
+    // The run's stationarity test as the page's table shows it (a calibration's runs; F7).
+    if (!f.compensating && entries[k].stationarity)
+      j["stationarity"] = io::stationarity_to_json(*entries[k].stationarity);
     if (f.compensating) {
       const auto [lo, hi] = applied_range(a.comp);
       j["compensated"] = {

@@ -453,7 +453,10 @@ struct experiment {
   // Per group (0-2: the paper's tables; 3: the 4 degC campaign of the 20-degC-only model): each
   // campaign's mean and std of dN (simple pairing, as the paper), and every run's dN.
   std::array<std::vector<double>, 4> means, stds, all;
-  std::vector<std::string> given;    // sensors whose model the request gave (not fitted here)
+  std::vector<std::string> given;  // sensors whose model the request gave (not fitted here)
+  // (sensor, key): a given model's values its base preset fitted to the paper, not restated
+  // (sensor::fitted_to_paper; fifth review of issue 31, F10).
+  std::vector<std::pair<std::string, std::string>> inherited;
   sensor::sensor_params hz1, adxrs;  // the models simulated (with the assumptions applied)
   [[nodiscard]] const sensor::sensor_params& params_of(std::string_view sensor) const {
     return sensor == "adxrs150" ? adxrs : hz1;
@@ -466,7 +469,18 @@ result<experiment> run_experiment(const reproduce_request& o, const assumptions&
   experiment e;
   e.a = a;
   e.campaigns = campaigns;
-  for (const auto& s : o.sensors) e.given.push_back(s.name);
+  for (const auto& s : o.sensors) {
+    e.given.push_back(s.name);
+    // A value the preset fitted to the paper, still the preset's (a TOML that did not restate
+    // it, a copy of the preset with other values changed).
+    const auto* builtin = sensor::find_builtin(s.name);
+    for (const auto& key : s.sources) {
+      const auto* f = sensor::find_field(key.first);
+      if (builtin != nullptr && f != nullptr && sensor::fitted_to_paper(s, key.first) &&
+          s.params.*f->member == builtin->params.*f->member)
+        e.inherited.emplace_back(s.name, key.first);
+    }
+  }
   auto hz1 = params_of("hz1-90-100a", o, a);
   auto adxrs = params_of("adxrs150", o, a);
   if (!hz1) return hz1.err();
@@ -881,6 +895,52 @@ bool is_given(const experiment& e, std::string_view sensor) {
   return std::find(e.given.begin(), e.given.end(), sensor) != e.given.end();
 }
 
+std::string part_of(std::string_view sensor);
+
+// The fitted values a comparison rests on: a table's mean (the g-term, with its temperature
+// coefficient at 4 degC), its spread (the turn-on change, likewise), the HZ1's per-cycle noise.
+std::vector<std::string_view> mean_keys(std::size_t table) {
+  if (table == 1) return {"g_sens_z_dps_per_g", "g_sens_tc_z_dps_per_g_c"};
+  return {"g_sens_z_dps_per_g"};
+}
+std::vector<std::string_view> spread_keys(std::size_t table) {
+  if (table == 1) return {"g_sens_turn_on_sigma_dps_per_g", "g_sens_tc_turn_on_sigma_dps_per_g_c"};
+  return {"g_sens_turn_on_sigma_dps_per_g"};
+}
+constexpr std::string_view arw_key = "arw_dps_rthz";
+
+// The keys of `keys` that a given model of `sensor` inherits fitted to the paper (none for a
+// preset: then every fitted value is the preset's own).
+std::vector<std::string> inherited_of(const experiment& e, std::string_view sensor,
+                                      const std::vector<std::string_view>& keys) {
+  std::vector<std::string> out;
+  for (const auto& [s, k] : e.inherited)
+    if (s == sensor && std::find(keys.begin(), keys.end(), k) != keys.end()) out.push_back(k);
+  return out;
+}
+
+// A given model predicts a comparison only where none of the values it rests on is one its base
+// preset fitted to that data (F10: a TOML inheriting the HZ1's fitted g-term "predicted" the
+// tables it was fitted to); such comparisons stay calibration targets, as for the preset.
+bool predicts(const experiment& e, std::string_view sensor,
+              const std::vector<std::string_view>& keys) {
+  return is_given(e, sensor) && inherited_of(e, sensor, keys).empty();
+}
+
+// The fitted-parameter cell of a calibration target: the preset's, or the given model's
+// inherited values.
+std::string fitted_text(const experiment& e, std::string_view sensor,
+                        const std::vector<std::string_view>& keys, const char* preset_text) {
+  if (!is_given(e, sensor)) return preset_text;
+  std::string keys_text;
+  for (const auto& k : inherited_of(e, sensor, keys))
+    keys_text += fmt::format("{}{}", keys_text.empty() ? "" : ", ", k);
+  return fmt::format(
+      "{} {} of the base preset, fitted to the paper, not restated by the given "
+      "model",
+      part_of(sensor), keys_text);
+}
+
 // The calibration targets: the numbers the built-in presets were fitted to; shown, not judged.
 // A sensor model given instead of its preset was fitted to none of them: its rows are tests.
 report::table targets_table(const experiment& e, const std::vector<figure_run>& figs, json& out) {
@@ -900,17 +960,19 @@ report::table targets_table(const experiment& e, const std::vector<figure_run>& 
       {"HZ1 g_sens_tc_z (from the 20 and 4 °C means)", "HZ1 g_sens_tc_turn_on_sigma"},
       {"ADXRS150 g_sens_z", "ADXRS150 g_sens_turn_on_sigma"}};
   for (std::size_t k = 0; k < 3; ++k) {
-    if (is_given(e, paper_tables[k].sensor)) continue;
+    const std::string_view sensor = paper_tables[k].sensor;
     const auto ps = paper_stats(k, e.a);
-    row(fmt::format("{}: mean ΔN (°/s)", paper_tables[k].label), stats_of(e.means[k]).mean, ps.mean,
-        fitted[k][0]);
-    row(fmt::format("{}: std of ΔN (°/s)", paper_tables[k].label), stats_of(e.stds[k]).mean, ps.std,
-        fitted[k][1]);
+    if (!predicts(e, sensor, mean_keys(k)))
+      row(fmt::format("{}: mean ΔN (°/s)", paper_tables[k].label), stats_of(e.means[k]).mean,
+          ps.mean, fitted_text(e, sensor, mean_keys(k), fitted[k][0]));
+    if (!predicts(e, sensor, spread_keys(k)))
+      row(fmt::format("{}: std of ΔN (°/s)", paper_tables[k].label), stats_of(e.stds[k]).mean,
+          ps.std, fitted_text(e, sensor, spread_keys(k), fitted[k][1]));
   }
-  if (!is_given(e, "hz1-90-100a"))
+  if (!predicts(e, "hz1-90-100a", {arw_key}))
     for (std::size_t f = 2; f < 4; ++f)
       row(fmt::format("Fig. {}: per-cycle std (°/s)", paper_figures[f].id + 3), figs[f].simple.std,
-          paper_figures[f].std_dps, "HZ1 arw_dps_rthz");
+          paper_figures[f].std_dps, fitted_text(e, "hz1-90-100a", {arw_key}, "HZ1 arw_dps_rthz"));
   return t;
 }
 
@@ -970,7 +1032,7 @@ test_sets tests_of(const experiment& e) {
   // model is given (the preset's ARW was fitted to these figures).
   for (std::size_t f = 0; f < 4; ++f) {
     const auto& pf = paper_figures[f];
-    if (f >= 2 && !is_given(e, pf.sensor)) continue;
+    if (f >= 2 && !predicts(e, pf.sensor, {arw_key})) continue;
     const auto s = stats_of(e.figure_stds[f]);
     auto p = ratio_prediction(std::string(pf.id) + "_std",
                               fmt::format("Fig. {}: {} per-cycle std (°/s)", pf.id + 3, pf.part),
@@ -989,7 +1051,9 @@ test_sets tests_of(const experiment& e) {
   }
   const double k = static_cast<double>(e.campaigns);
   for (std::size_t t = 0; t < 3; ++t) {
-    if (!is_given(e, paper_tables[t].sensor)) continue;
+    const bool mean_test = predicts(e, paper_tables[t].sensor, mean_keys(t));
+    const bool spread_test = predicts(e, paper_tables[t].sensor, spread_keys(t));
+    if (!mean_test && !spread_test) continue;
     const auto ps = paper_stats(t, e.a);
     const double n = static_cast<double>(rows_of(t, e.a).size());
     const auto m = stats_of(e.means[t]), sd = stats_of(e.stds[t]);
@@ -1011,16 +1075,19 @@ test_sets tests_of(const experiment& e) {
       q->sim_shift = q->u_predicted / std::hypot(q->u_predicted, q->u_observed);
       q->covers = "the given model's Tab. 3/4 means and stds";
     }
-    counted.push_back(std::move(pm));
-    counted.push_back(std::move(pd));
+    if (mean_test) counted.push_back(std::move(pm));
+    if (spread_test) counted.push_back(std::move(pd));
   }
   // The HZ1's 4 degC table from a model fitted at 20 degC alone (its g-term and turn-on spread
   // fitted to the 20 degC rows, no temperature coefficient), simulated: the 4 degC rows are in
   // no fit of it. What it tests: that the g-term and its spread do not depend on temperature.
   // Its uncertainty: the 20 degC table's sampling error that the fit inherits, the
   // simulation's over the campaigns, and the 4 degC rows' own (std of a std: s / sqrt(2(n-1))).
-  // A given HZ1 model is tested on the 4 degC table directly (above).
-  if (!is_given(e, "hz1-90-100a")) {
+  // A given HZ1 model is tested on the 4 degC table directly (above), where its values were not
+  // inherited fitted to it.
+  const bool mean_4c = !predicts(e, "hz1-90-100a", mean_keys(1));
+  const bool spread_4c = !predicts(e, "hz1-90-100a", spread_keys(1));
+  if (mean_4c || spread_4c) {
     const auto p20 = paper_stats(0, e.a), p4 = paper_stats(1, e.a);
     const double n20 = static_cast<double>(rows_of(0, e.a).size());
     const double n4 = static_cast<double>(rows_of(1, e.a).size());
@@ -1035,7 +1102,7 @@ test_sets tests_of(const experiment& e) {
         m.mean, std::hypot(p20.std / std::sqrt(n20), u_sim_m), p4.mean, p4.std / std::sqrt(n4));
     pm.sim_shift = u_sim_m / std::hypot(pm.u_predicted, pm.u_observed);
     pm.covers = covers;
-    counted.push_back(std::move(pm));
+    if (mean_4c) counted.push_back(std::move(pm));
     const auto s = stats_of(e.stds[oos_group]);
     const double u_sim = s.mean / std::sqrt(2.0 * (n4 - 1.0) * k);
     auto ps = z_prediction(
@@ -1046,7 +1113,7 @@ test_sets tests_of(const experiment& e) {
         p4.std / std::sqrt(2.0 * (n4 - 1.0)));
     ps.sim_shift = u_sim / std::hypot(ps.u_predicted, ps.u_observed);
     ps.covers = covers;
-    counted.push_back(std::move(ps));
+    if (spread_4c) counted.push_back(std::move(ps));
   }
   // Leave-one-run-out of the run-to-run spread, on the paper's own runs; Tab. 4 on its distinct
   // rows alone (rows 10-14 repeat rows 6-9: a left-out run's copy would stay in the fit).
@@ -1074,7 +1141,8 @@ test_sets tests_of(const experiment& e) {
   for (std::size_t f = 0; f < 4; ++f) {
     const auto& pf = paper_figures[f];
     const std::size_t row = table_row_of(pf, e.a);
-    const bool given = is_given(e, pf.sensor);
+    // The spread from a given model's own turn-on change (not one inherited fitted to the table).
+    const bool given = predicts(e, pf.sensor, spread_keys(pf.table));
     const bool in_sample = row > 0 && !given;
     const auto s = stats_of(e.figure_means[f]);
     const double u = s.std * std::sqrt(1.0 + 1.0 / reps);
@@ -1869,6 +1937,17 @@ std::vector<std::string> verdict_parts(const findings& fd, const experiment& e, 
   for (std::size_t k = 0; k < covered.size(); ++k)
     covers += (k == 0 ? "" : k + 1 == covered.size() ? "; and " : "; ") + covered[k];
   parts.push_back(covers + ".");
+  if (!e.inherited.empty()) {
+    // Counted apart (F10): a given model's values fitted to the paper by its base preset.
+    std::string keys;
+    for (const auto& [sensor, key] : e.inherited)
+      keys += fmt::format("{}{} {}", keys.empty() ? "" : ", ", part_of(sensor), key);
+    parts.push_back(fmt::format(
+        "The given model inherits from its base preset values fitted to the paper that it does "
+        "not restate ({}): the comparisons they decide are calibration targets (shown, not "
+        "counted), as for the preset.",
+        keys));
+  }
   std::string outcomes;
   for (const auto& [what, label] :
        {std::pair{"FAIL", "Failed"},
@@ -1907,6 +1986,13 @@ std::vector<std::string> verdict_parts(const findings& fd, const experiment& e, 
         "Quick run (runs a quarter as long): a check that the pipeline works, not the "
         "reproduction; run without the quick option for the verdict.");
   return parts;
+}
+
+// A given model's values inherited fitted to the paper (F10), for summary.json.
+json inherited_json(const experiment& e) {
+  json out = json::array();
+  for (const auto& [sensor, key] : e.inherited) out.push_back({{"sensor", sensor}, {"key", key}});
+  return out;
 }
 
 // The headline as one text.
@@ -2210,6 +2296,7 @@ result<reproduction> reproduce(const reproduce_request& request, const progress_
                       {"campaigns", campaigns},
                       {"quick", o.quick},
                       {"given_sensor_models", models},
+                      {"inherited_fitted", inherited_json(*e)},
                       {"predictions", fd->predictions_json},
                       {"not_counted", fd->checks_json},
                       {"targets", fd->targets_json},

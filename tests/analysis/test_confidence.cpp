@@ -96,6 +96,21 @@ TEST(Confidence, Chi2Quantiles) {
 // Student's t quantiles against published tables (NIST/SEMATECH e-Handbook §1.3.6.7.2, upper
 // critical values; Abramowitz & Stegun Table 26.10) and closed forms: nu = 1 is Cauchy
 // (tan(pi (p - 1/2))), nu = 2 has t = (2p - 1) sqrt(2 / (4p(1 - p))).
+// The distribution function behind the runs' lower-tail test (fifth review of issue 31, F9): closed
+// forms for 2 dof (1 - exp(-x/2)) and 1 dof (erf(sqrt(x/2))), and the inverse of chi2_quantile.
+TEST(Confidence, Chi2DistributionFunction) {
+  for (const double x : {1e-8, 2e-4, 0.5, 3.0, 20.0}) {
+    EXPECT_NEAR(chi2_cdf(x, 2.0), -std::expm1(-x / 2.0), 1e-12 * (1.0 - std::exp(-x / 2.0)) + 1e-15)
+        << x;
+    EXPECT_NEAR(chi2_cdf(x, 1.0), std::erf(std::sqrt(x / 2.0)), 1e-10) << x;
+  }
+  for (const double dof : {1.0, 3.0, 12.0})
+    for (const double p : {1e-4, 0.3, 0.95})
+      EXPECT_NEAR(chi2_cdf(chi2_quantile(p, dof), dof), p, 1e-9 * p);
+  EXPECT_EQ(chi2_cdf(0.0, 2.0), 0.0);
+  EXPECT_TRUE(std::isnan(chi2_cdf(1.0, 0.0)));
+}
+
 TEST(Confidence, StudentTQuantiles) {
   const double t975[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
                          2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086};

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -148,9 +149,11 @@ TEST(CliStationarity, CompensateWarnsAboutAndStrictRefusesACalibrationOfATurning
   EXPECT_EQ(strict.exit_code, 2) << strict.err;
   EXPECT_NE(strict.err.find("g-term"), std::string::npos) << strict.err;
   EXPECT_FALSE(exists(d.file("out.csv")));
-  // A good calibration passes --strict without a warning.
+  // A good calibration passes --strict without a warning (on another run: its own run is no
+  // independent test, refused under --strict since the fifth review of issue 31, F5).
   ASSERT_EQ(run_cli({"calibrate", still, "-o", d.file("good.json")}).exit_code, 0);
-  const auto good = run_cli({"compensate", still, "--calibration", d.file("good.json"), "--strict",
+  const auto other = simulate(d, "still2.csv", "35", "0");
+  const auto good = run_cli({"compensate", other, "--calibration", d.file("good.json"), "--strict",
                              "-o", d.file("good.csv")});
   EXPECT_EQ(good.exit_code, 0) << good.err;
   EXPECT_EQ(good.err.find("stationary"), std::string::npos) << good.err;
@@ -392,16 +395,29 @@ TEST(CliStationarity, WithoutASpecificationCalibrateWarnsAndStrictRefuses) {
   EXPECT_EQ(refused.exit_code, 2) << refused.err;
   EXPECT_FALSE(exists(d.file("cs.csv")));
   EXPECT_NE(refused.err.find("refused (strict)"), std::string::npos) << refused.err;
-  const auto vouched = run_cli(
-      {"compensate", still, "--calibration", d.file("s.json"), "--strict", "-o", d.file("ok.csv")});
+  const auto still2 = strip_sensor(simulate(d, "still2.csv", "36", "0"), "still2_ns.csv");
+  const auto vouched = run_cli({"compensate", still2, "--calibration", d.file("s.json"), "--strict",
+                                "-o", d.file("ok.csv")});
   EXPECT_EQ(vouched.exit_code, 0) << vouched.err;
   EXPECT_EQ(vouched.err.find("not checked"), std::string::npos) << vouched.err;
-  // Third review of issue 31 (M5): compensating a calibration's own run said nothing (no
-  // independent check), and only the within-run error of the mean was printed.
-  EXPECT_NE(vouched.err.find(still + ": the same bytes as the calibration's run " + still),
-            std::string::npos)
-      << vouched.err;
   EXPECT_NE(vouched.out.find("the ΔN subtracted carries ±"), std::string::npos) << vouched.out;
+  // Third review of issue 31 (M5): compensating a calibration's own run said nothing (no
+  // independent check), and only the within-run error of the mean was printed. It warns, and
+  // --strict refuses it (fifth review, F5).
+  const auto self =
+      run_cli({"compensate", still, "--calibration", d.file("s.json"), "-o", d.file("self.csv")});
+  EXPECT_EQ(self.exit_code, 0) << self.err;
+  EXPECT_NE(self.err.find(still + ": the same bytes as the calibration's run " + still),
+            std::string::npos)
+      << self.err;
+  const auto self_strict = run_cli({"compensate", still, "--calibration", d.file("s.json"),
+                                    "--strict", "-o", d.file("self2.csv")});
+  EXPECT_EQ(self_strict.exit_code, 2) << self_strict.err;
+  EXPECT_NE(self_strict.err.find("the same bytes as the calibration's run " + still +
+                                 " (SHA-256): its dN is part of the ΔN applied"),
+            std::string::npos)
+      << self_strict.err;
+  EXPECT_FALSE(exists(d.file("self2.csv")));
   const auto conclusion_of = [&](const std::string& dir) {
     return json::parse(read_text(d.file(dir + "/summary.json")))["conclusion"].get<std::string>();
   };
@@ -864,6 +880,104 @@ TEST(CalibrationTrust, CalibrateSaysWhenItsRunsDisagreeFarBeyondTheirErrors) {
   EXPECT_NE(cal.err.find("the runs' dN disagree by"), std::string::npos) << cal.err;
   const auto one = run_cli({"calibrate", still, r.sim("still2.csv", "63", "hz1-90-100a")});
   EXPECT_EQ(one.err.find("disagree by"), std::string::npos) << one.err;
+}
+
+// Fifth review of issue 31, F5: copies that are not independent checks. A calibration run
+// rewritten in other ways than a newline (rounded to 1e-4 deg/s, shifted in time, trimmed at both
+// ends, split in two) kept no cycle signature and passed as an independent test of its own
+// calibration. Each is found by its cycle values (the calibration's cycle_print) and named with
+// the run; compensate --strict refuses it; an independent run is not warned about.
+std::string rewrite_rows(const std::string& csv, std::size_t from, std::size_t to, double shift_s,
+                         int digits) {
+  std::istringstream in(csv);
+  std::string out;
+  std::size_t row = 0;
+  bool header = true;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') {
+      out += line + "\n";
+      continue;
+    }
+    if (header) {  // time_s,angle_deg,rate_dps,temp_c,n_avg
+      header = false;
+      out += line + "\n";
+      continue;
+    }
+    const std::size_t k = row++;
+    if (k < from || k >= to) continue;
+    std::vector<std::string> cells;
+    std::istringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    if (shift_s != 0.0) cells[0] = fmt::format("{}", std::stod(cells[0]) + shift_s);
+    if (digits > 0) cells[2] = fmt::format("{:.{}f}", std::stod(cells[2]), digits);
+    std::string joined;
+    for (const auto& c : cells) joined += (joined.empty() ? "" : ",") + c;
+    out += joined + "\n";
+  }
+  return out;
+}
+
+TEST(CalibrationTrust, CompensateTellsARoundedShiftedTrimmedOrSplitCopyByItsContent) {
+  review_runs r;
+  const auto cal = r.two_run_calibration();
+  const auto run = r.d.file("k53.csv");
+  const auto text = read_text(run);
+  constexpr std::size_t all = 1000000;
+  struct copy_ {
+    std::string name;
+    std::size_t from, to;
+    double shift_s;
+    int digits;
+  };
+  for (const auto& c :
+       {copy_{"rounded.csv", 0, all, 0.0, 4}, copy_{"shifted.csv", 0, all, 3600.0, 0},
+        copy_{"trimmed.csv", 37, 300, 0.0, 0}, copy_{"first.csv", 0, 170, 0.0, 0},
+        copy_{"second.csv", 170, all, 0.0, 0}}) {
+    const auto f = r.d.file(c.name);
+    write_text(f, rewrite_rows(text, c.from, c.to, c.shift_s, c.digits));
+    const auto comp = run_cli({"compensate", f, "--calibration", cal, "-o", f + ".out"});
+    ASSERT_EQ(comp.exit_code, 0) << c.name << comp.err;
+    EXPECT_NE(comp.err.find(f + ": dwells "), std::string::npos) << c.name << comp.err;
+    EXPECT_NE(comp.err.find("the same as the calibration's run " + run + "'s dwells"),
+              std::string::npos)
+        << c.name << comp.err;
+    const auto strict =
+        run_cli({"compensate", f, "--calibration", cal, "--strict", "-o", f + ".strict"});
+    EXPECT_EQ(strict.exit_code, 2) << c.name << strict.err;
+    EXPECT_NE(strict.err.find("refused (strict)"), std::string::npos) << c.name << strict.err;
+  }
+  // An independent run of the same sensor: no copy.
+  const auto other = r.sim("k57.csv", "57", r.tiny);
+  const auto comp = run_cli({"compensate", other, "--calibration", cal, "-o", other + ".out"});
+  ASSERT_EQ(comp.exit_code, 0) << comp.err;
+  EXPECT_EQ(comp.err.find("calibration's run"), std::string::npos) << comp.err;
+}
+
+// F9: runs that agree far below their own noise are the same data twice (here a run and two
+// copies rounded to 1e-4 and 1e-5 deg/s: their dN a few thousandths of their errors apart, chi^2
+// of 2 dof about 3e-5). calibrate warns (and names the copies by their content); two independent
+// runs get neither warning.
+TEST(CalibrationTrust, CalibrateSaysWhenItsRunsAgreeFarBelowTheirErrors) {
+  review_runs r;
+  const auto run = r.sim("k53.csv", "53", r.tiny);
+  const auto copy = r.d.file("rounded.csv"), copy5 = r.d.file("rounded5.csv");
+  write_text(copy, rewrite_rows(read_text(run), 0, 1000000, 0.0, 4));
+  write_text(copy5, rewrite_rows(read_text(run), 0, 1000000, 0.0, 5));
+  const auto cal = run_cli({"calibrate", run, copy, copy5, "--sensor", r.tiny});
+  ASSERT_EQ(cal.exit_code, 0) << cal.err;
+  EXPECT_NE(cal.err.find("the runs' dN agree far better than their own errors allow"),
+            std::string::npos)
+      << cal.err;
+  // And by content: the copy's cycles are the run's (F5), named; strict refuses it.
+  EXPECT_NE(cal.err.find(copy + ": dwells "), std::string::npos) << cal.err;
+  EXPECT_NE(cal.err.find("of the run " + run), std::string::npos) << cal.err;
+  const auto strict = run_cli({"calibrate", run, copy, "--sensor", r.tiny, "--strict"});
+  EXPECT_EQ(strict.exit_code, 2) << strict.err;
+  EXPECT_NE(strict.err.find("the same data twice"), std::string::npos) << strict.err;
+  const auto two = run_cli({"calibrate", run, r.sim("k56.csv", "56", r.tiny), "--sensor", r.tiny});
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_EQ(two.err.find("agree far better"), std::string::npos) << two.err;
+  EXPECT_EQ(two.err.find("the same data twice"), std::string::npos) << two.err;
 }
 
 }  // namespace gyroflip::test

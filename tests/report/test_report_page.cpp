@@ -206,6 +206,39 @@ TEST(ReportPage, EveryNumberIsInOneNotationWithTheDigitsOfItsError) {
 // (calibrate's check: another sensor is refused, exit 2, no folder), a rig setting or power-on
 // time that differs between runs is warned about, and the time the sensor was on before each
 // run is shown beside the run.
+// Fifth review of issue 31, F7: the page showed none of the stationarity test's statistics nor
+// what a run cannot see, which calibrate prints. Its table holds each statistic with its limit
+// and summary.json the library's one result, the numbers calibrate --json writes.
+TEST(ReportChecks, ThePageShowsEachRunsStationarityStatisticsAndWhatItCannotSee) {
+  temp_dir d;
+  const auto a = simulate(d, "a20.csv", "20", "1");
+  const auto cal = run_cli({"calibrate", a, "--json"});
+  ASSERT_EQ(cal.exit_code, 0) << cal.err;
+  const auto want = nlohmann::json::parse(cal.out)["files"][0]["stationarity"];
+  const auto r = run_cli({"report", a, "-o", d.file("rep")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(read_text(d.file("rep/summary.json")));
+  ASSERT_TRUE(j["runs"][0].contains("stationarity")) << j["runs"][0];
+  EXPECT_EQ(j["runs"][0]["stationarity"], want);
+  const auto html = read_page(d.file("rep/index.html"));
+  EXPECT_NE(html.find("Stationarity of each run"), std::string::npos);
+  for (const char* row : {"step: sup-t", "ramp: slope t", "drift: CUSUM", "noise: std(r)",
+                          "outlier: |r − median|", "g-term", "cannot see: a step of r"})
+    EXPECT_NE(html.find(row), std::string::npos) << row;
+  // Each statistic with its limit, in the page's digits.
+  for (const char* key : {"step_statistic", "step_statistic_limit", "drift_statistic",
+                          "outlier_limit", "scatter_ratio"})
+    EXPECT_NE(html.find(">" + gyroflip::fixed_significant(want[key].get<double>(), 3) + "</td>"),
+              std::string::npos)
+        << key;
+  EXPECT_NE(
+      html.find(gyroflip::fixed_significant(want["step_hidden_dps"].get<double>(), 2) + " / " +
+                gyroflip::fixed_significant(want["step_hidden_end_dps"].get<double>(), 2)),
+      std::string::npos);
+  EXPECT_NE(html.find(gyroflip::fixed_significant(want["ramp_hidden_dps"].get<double>(), 2)),
+            std::string::npos);
+}
+
 TEST(ReportChecks, OneSensorRigAndPowerOnAsCalibrateChecksThem) {
   temp_dir d;
   const auto sim = [&](const std::string& name, std::vector<std::string> extra) {

@@ -17,6 +17,11 @@ namespace gyroflip::analysis {
 /// steps safeguarded by bisection (relative accuracy ~1e-12).
 [[nodiscard]] double chi2_quantile(double p, double dof);
 
+/// The chi-squared distribution function P(chi^2_dof <= x) = P(dof/2, x/2), the regularised lower
+/// incomplete gamma (Abramowitz & Stegun 26.4.19; series and continued fraction, Numerical
+/// Recipes 6.2). 0 for x <= 0; NaN for dof <= 0.
+[[nodiscard]] double chi2_cdf(double x, double dof);
+
 /// Quantile of Student's t distribution with `dof` > 0 degrees of freedom at probability `p` in
 /// (0, 1) (NaN outside, or for dof <= 0): the t CDF from the regularised incomplete beta,
 /// 1 - I_x(dof/2, 1/2)/2 with x = dof/(dof + t^2) (Abramowitz & Stegun 26.7.1 and 26.5.8, its

@@ -16,6 +16,7 @@
 #include "gyroflip/earth/earth.hpp"
 #include "gyroflip/io/csv.hpp"
 #include "gyroflip/method/calibration.hpp"
+#include "gyroflip/method/cycle_print.hpp"
 #include "gyroflip/method/delta_n_model.hpp"
 #include "gyroflip/method/harmonic.hpp"
 #include "gyroflip/method/stationarity.hpp"
@@ -50,6 +51,10 @@ struct calibration_entry {
   /// The run's stationarity test (method/stationarity.hpp) as calibrate made it (schema 3);
   /// nullopt: not checked (a file written before the test existed).
   std::optional<method::stationarity> stationarity = std::nullopt;
+  /// The run's cycle values as a print (method/cycle_print.hpp; `cycle_print`, written since
+  /// the fifth review of issue 31, F5): a copy of the run is found by content. nullopt: older
+  /// files (and runs too short to print).
+  std::optional<method::cycle_print> print = std::nullopt;
 };
 
 /// Which sensor and rig a recording (or a calibration) belongs to, from the recordings' `# key:

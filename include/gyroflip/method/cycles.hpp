@@ -26,6 +26,8 @@ struct recording_cycles {
   position_table positions;  ///< the source's table
   flip_pair pair;            ///< the two positions the pairing used (flip_pair.hpp)
   bool has_temp = false;
+  /// Each paired dwell's rate (deg/s) in order: the run's content print (cycle_print.hpp).
+  std::vector<double> dwell_rates;
   std::vector<metadata_entry> metadata;
   std::vector<std::string> warnings;  ///< `FILE:LINE: what`, for the caller to show
 };

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "gyroflip/core/positions.hpp"
 #include "gyroflip/method/demodulator.hpp"
@@ -69,12 +70,17 @@ class flip_stream {
   /// Stays at positions the demodulator does not use so far (runs of rows at one such position).
   [[nodiscard]] std::size_t dwells_off_pair() const noexcept { return off_pair_; }
   [[nodiscard]] const demodulator& demod() const noexcept { return *demod_; }
+  /// Also append each dwell's rate, in order, to `out` (the dwells the demodulator pairs: a
+  /// run's content print, method/cycle_print.hpp); nullptr: not kept.
+  void keep_dwell_rates(std::vector<double>* out) noexcept { dwell_rates_ = out; }
 
  private:
   template <class Sink>
   void take(const dwell& d, Sink& sink) {
     ++counts_[static_cast<std::size_t>(d.position)];
     ++dwells_total_;
+    if (dwell_rates_ != nullptr && ((uses_ >> static_cast<unsigned>(d.position)) & 1U) != 0U)
+      dwell_rates_->push_back(d.rate_dps);
     if (auto c = demod_->push(d)) sink(*c);
   }
   std::unique_ptr<demodulator> demod_;
@@ -85,6 +91,7 @@ class flip_stream {
   dwell_builder dwells_;
   std::array<std::size_t, position_table::max_positions> counts_{};
   std::size_t dwells_total_ = 0;
+  std::vector<double>* dwell_rates_ = nullptr;
 };
 
 }  // namespace gyroflip::method

@@ -29,6 +29,14 @@ struct preset {
   [[nodiscard]] std::string_view source_of(std::string_view key) const;
 };
 
+/// Whether `p`'s value of `key` is one a built-in preset fitted to the paper's measurements
+/// (presets.cpp's "paper" tag: a source "paper Tab. 3 ...", "paper Tab. 4 ...", "paper Figs.
+/// ..." or "fitted to paper ..."; a datasheet value or an assumption is not): in a TOML preset,
+/// a value its base gave that the file did not restate (a restated key's source is the file's
+/// line). Fifth review of issue 31, F10: such a value predicts nothing about the data it was
+/// fitted to.
+[[nodiscard]] bool fitted_to_paper(const preset& p, std::string_view key);
+
 /// The built-in presets, in a fixed order.
 [[nodiscard]] const std::vector<preset>& builtin_presets();
 

@@ -133,6 +133,16 @@ inline constexpr double max_runs_chi2_per_dof = 1e4;
 [[nodiscard]] std::optional<std::string> runs_disagree_warning(
     const std::optional<method::delta_n_model>& runs_model);
 
+/// Runs whose dN agree so much better than their own errors allow that chi^2 over their fit lies
+/// this far in its lower tail (P(chi^2_dof <= x) below it) are the same data twice, not
+/// independent power-ups (fifth review of issue 31, F9): for 2 dof, chi^2/dof below 1e-4.
+inline constexpr double min_runs_chi2_lower_tail = 1e-4;
+
+/// The warning `calibrate` and `report` give when the runs' fit has its chi^2 in that far lower
+/// tail (analysis::chi2_cdf); none otherwise (and none for a fit without degrees of freedom).
+[[nodiscard]] std::optional<std::string> runs_too_alike_warning(
+    const std::optional<method::delta_n_model>& runs_model);
+
 /// A new power-up's ΔN error at `temp_c` (deg/s, 68.3 %): where the budget's runs estimate a
 /// between-run variance that changes with temperature (b.band_model: tau^2(T), the band the
 /// ΔN(T) figure draws, delta_n_model::new_run_interval_at), that band at `temp_c`, with the

@@ -69,12 +69,17 @@ struct compensation {
                                                          const std::string& sha256,
                                                          const delta_n_source& dn);
 
-/// The same for a recording in other bytes whose cycles are one of the calibration's runs' (their
-/// count, dN and std equal to the last digit, workflow::repeat_of's signature; a file without the
-/// run's std: count and dN): a copy with one more newline, a `.gfr`'s CSV export (fourth review of
-/// issue 31, F6: the SHA-256 alone missed them). `cycles` as compensate read them.
+/// The same for a recording in other bytes whose cycles are one of the calibration's runs': by
+/// content where the calibration holds the run's print (method::find_in_print: 34 or more
+/// consecutive dwells alike at one alignment, naming where; a copy rounded, shifted in time,
+/// trimmed at either end, split or exported: fifth review of issue 31, F5), else by their count,
+/// dN and std equal to the last digit (workflow::repeat_of's signature; a file without the run's
+/// std: count and dN: a copy with one more newline, a `.gfr`'s CSV export, fourth review, F6).
+/// `cycles` and their dwells' rates (method::recording_cycles::dwell_rates) as compensate read
+/// them.
 [[nodiscard]] std::vector<std::string> same_cycles_warnings(const std::string& file,
                                                             std::span<const method::cycle> cycles,
+                                                            std::span<const double> dwell_rates,
                                                             const delta_n_source& dn);
 
 /// The runs a calibration was made of, as `calibrate` tested them (schema 3).
@@ -118,7 +123,8 @@ struct compensate_request {
   double angle_tolerance_deg = 0.0;
   double drift_window_s = method::drift_window_default_s;
   /// Refuse a calibration made of a run that is not stationary, whose runs were not checked or
-  /// are not listed, or whose ΔN or uncertainty is not what its runs give (edited).
+  /// are not listed, or whose ΔN or uncertainty is not what its runs give (edited); and a
+  /// recording that is one of its runs (same bytes, or a copy by content: no independent test).
   bool strict = false;
 };
 

@@ -26,7 +26,8 @@ struct reproduce_request {
   /// "hz1-90-100a"): a model to put to the paper's test. Nothing of a given model was fitted
   /// here, so every number the preset was fitted to (its tables' mean and std of dN, the HZ1's
   /// per-cycle std) is a test of it too, and a model whose predictions are wrong fails the
-  /// verdict.
+  /// verdict; except a comparison that rests on a value the preset fitted to the paper and the
+  /// model kept (sensor::fitted_to_paper, the preset's value): a calibration target, not counted.
   std::vector<sensor::preset> sensors;
   /// Sensor models read from TOML preset files (docs/SIMULATOR.md), as `sensors`: the paper's
   /// sensor `name` ("adxrs150" or "hz1-90-100a") and the file. Each file is listed in the
