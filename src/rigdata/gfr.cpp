@@ -185,9 +185,14 @@ bool followed_well(std::span<const std::uint8_t> b, std::size_t at, std::uint32_
 // The seed of the first intact record after a file header damaged beyond repair: 0 (formats
 // 1-5) or a format-6 file's record_crc_seed(id), the id found by trying each (a record's CRC-32
 // continued from a seed is the seed's CRC run over its bytes combined with its own: zlib's
-// crc32_combine). `id` 0 for a file of no id. None when no intact record follows.
+// crc32_combine). `id` 0 for a file of no id. None when no intact record follows. The ids are
+// tried on the first few places that look like a record (agreeing length words, a known kind):
+// every place would cost 2^16 tries each (a file of such places took seconds to refuse); beyond
+// them only records of no id (seed 0) are looked for.
 std::optional<std::pair<std::uint32_t, std::uint16_t>> seed_after_lost_header(
     std::span<const std::uint8_t> b) {
+  constexpr int places_tried = 4;
+  int tried = 0;
   for (std::size_t at = file_header_bytes; at + record_overhead <= b.size(); ++at) {
     const auto l0 = static_cast<std::uint32_t>(load_le(b.data() + at, 4));
     const auto l1 = static_cast<std::uint32_t>(load_le(b.data() + at + 4, 4) ^ 0xFFFFFFFFU);
@@ -198,9 +203,11 @@ std::optional<std::pair<std::uint32_t, std::uint16_t>> seed_after_lost_header(
     const auto stored = static_cast<std::uint32_t>(load_le(rec.data() + rec.size(), 4));
     const std::uint32_t plain = crc32(rec);
     if (plain == stored) return std::pair{std::uint32_t{0}, std::uint16_t{0}};
+    if (tried++ >= places_tried) continue;
+    const uLong op = ::crc32_combine_gen(static_cast<z_off_t>(rec.size()));
     for (std::uint32_t id = 1; id <= 0xFFFFU; ++id) {
       const std::uint32_t seed = record_crc_seed(static_cast<std::uint16_t>(id));
-      if (::crc32_combine(seed, plain, static_cast<z_off_t>(rec.size())) == stored)
+      if (::crc32_combine_op(seed, plain, op) == stored)
         return std::pair{seed, static_cast<std::uint16_t>(id)};
     }
   }
