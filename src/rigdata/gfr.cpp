@@ -214,6 +214,22 @@ std::optional<std::pair<std::uint32_t, std::uint16_t>> seed_after_lost_header(
   return std::nullopt;
 }
 
+// Where this file's records go on after the header of another recording at `at`: an intact
+// file header of format 6 with another id than this file's (format 6) starts a block of another
+// recording inside this one when this file's own records follow it (review of issue 32, fifth
+// pass, F3). 0: none (two files joined, `cat a.gfr b.gfr`, or this file's own header again).
+std::size_t other_files_block_end(std::span<const std::uint8_t> b, std::size_t at, const file& out,
+                                  std::uint32_t seed) {
+  if (out.version < 6 || b.size() - at < file_header_bytes) return 0;
+  const auto h = b.subspan(at, file_header_bytes);
+  if (crc32(h.first(12)) != static_cast<std::uint32_t>(load_le(h.data() + 12, 4)) ||
+      load_le(h.data() + 8, 2) < 6 || load_le(h.data() + 10, 2) == out.file_id)
+    return 0;
+  for (std::size_t next = at + file_header_bytes; next < b.size(); ++next)
+    if (record_at(b, next, false, seed).whole != 0) return next;
+  return 0;
+}
+
 // The file header: checked, or repaired (one flipped bit), or - when it is beyond repair but
 // intact records follow - read past. `version` 0 when it cannot be trusted.
 status read_file_header(std::span<const std::uint8_t> b, const std::string& name, file& out,
@@ -543,12 +559,25 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
       continue;
     }
     const std::size_t left = b.size() - at;
-    // Another recording's header here: two files were joined (`cat a.gfr b.gfr`).
-    if (left >= magic.size() && std::memcmp(b.data() + at, magic.data(), magic.size()) == 0)
-      return at_record(name, n,
-                       fmt::format("offset {}: the header of another recording: two .gfr files "
-                                   "were joined into one; split them there",
-                                   at));
+    // Another recording's header here: two files were joined (`cat a.gfr b.gfr`); or, when this
+    // file's own records follow, a block of another recording inside this one, which is damage.
+    if (left >= magic.size() && std::memcmp(b.data() + at, magic.data(), magic.size()) == 0) {
+      const std::size_t next = other_files_block_end(b, at, out, seed);
+      if (next == 0)
+        return at_record(name, n,
+                         fmt::format("offset {}: the header of another recording: two .gfr files "
+                                     "were joined into one; split them there",
+                                     at));
+      if (strict)
+        return at_record(name, n, fmt::format("offset {}: a block of another recording", at));
+      out.warnings.push_back(fmt::format(
+          "{}: record {}: the header of another recording (file id {}) and what follows it at "
+          "offsets {}..{} skipped: a block of another .gfr inside this one (none of its records "
+          "passes this file's CRC-32); reading goes on at this file's next record",
+          name, n, load_le(b.data() + at + 10, 2), at, next - 1));
+      at = next;
+      continue;
+    }
     // Zeros to the end: what a power loss leaves after the last write (the file's size was
     // extended, its data never written).
     if (all_zero(b.subspan(at))) {

@@ -333,6 +333,39 @@ TEST(RigRecovery, ABlockOfAnotherRecordingIsNeverReadAsThisOnes) {
   }
 }
 
+// A block of another recording that begins with its file header (the other file's first bytes
+// written into this one) is a block of it too when this file's records follow: skipped, with a
+// warning naming the other file's id. The header with nothing of this file after it is still two
+// files joined. (Fails before: "two .gfr files were joined", and nothing of the file was read.)
+TEST(RigRecovery, AnotherRecordingsHeaderInsideStartsABlockOfItWhenThisFilesRecordsFollow) {
+  gyroflip::test::temp_dir dir;
+  const auto a = gyroflip::test::make_synthetic_recording(longer(true), dir.file("a.gfr"));
+  synthetic_options ob = longer(true);
+  ob.seed = 2;
+  const auto b = gyroflip::test::make_synthetic_recording(ob, dir.file("b.gfr"));
+  const auto fa = gfr::parse(a.bytes, "a.gfr");
+  ASSERT_TRUE(fa);
+  std::uint64_t at = 0;
+  for (const auto& r : fa->records)
+    if (at == 0 && r.offset > a.bytes.size() / 2) at = r.offset;
+  ASSERT_NE(at, 0u);
+  bytes d(a.bytes.begin(), a.bytes.begin() + static_cast<std::ptrdiff_t>(at));
+  d.insert(d.end(), b.bytes.begin(), b.bytes.begin() + 5000);
+  d.insert(d.end(), a.bytes.begin() + static_cast<std::ptrdiff_t>(at), a.bytes.end());
+  auto f = gfr::parse(d, "r.gfr");
+  ASSERT_TRUE(f) << f.err().message;
+  EXPECT_TRUE(std::any_of(f->warnings.begin(), f->warnings.end(), [](const std::string& w) {
+    return w.find("the header of another recording") != std::string::npos;
+  }));
+  EXPECT_TRUE(same_dwells(read(d), read(a.bytes)));
+  EXPECT_FALSE(gfr::parse(d, "r.gfr", true));
+  bytes joined = a.bytes;
+  joined.insert(joined.end(), b.bytes.begin(), b.bytes.end());
+  auto j = gfr::parse(joined, "j.gfr");
+  ASSERT_FALSE(j);
+  EXPECT_NE(j.err().message.find("two .gfr files were joined"), std::string::npos);
+}
+
 // The review's case: a block written twice right after itself. Read once, with one warning
 // that counts the repeats and names the first one's offset.
 TEST(RigRecovery, ARepeatedBlockIsReadOnceWithAWarning) {
