@@ -1,18 +1,23 @@
 /// \file
 /// \brief The `.gfr` reader against damage (issue 32, docs/RELIABILITY.md "Damaged recordings"):
-/// random single-bit flips, zeroed regions, blocks written twice and blocks swapped, each applied
+/// random single-bit flips, zeroed regions, blocks written twice and blocks swapped, and blocks
+/// of another recording inserted or written over (--splices: fifth review of issue 32, F3), each
+/// applied
 /// to a fresh copy of one recording, which is read back and compared dwell by dwell with the
 /// undamaged reading. Prints the share of intact dwells recovered and the dwells mislabelled (the
 /// goal: >= 99.9 %, none), read more than once, timed outside the recording's span, or counted lost
 /// although intact (none).
 ///
 ///   gfr_recovery [--file RUN.gfr] [--format 4|5] [--flips N] [--zeros N] [--max-zero-bytes B]
-///                [--dups N] [--swaps N] [--max-block-bytes B] [--seed S] [--write FILE]
+///                [--dups N] [--swaps N] [--max-block-bytes B] [--splices N] [--other B.gfr]
+///                [--seed S] [--write FILE]
 ///
 /// Without --file: a synthetic recording as the recorder writes it (tests/support/synthetic_gfr:
 /// 1 500 dwells, 4 device resets, 3 lost ports, 4 dwells lost on the line, RESENDs), in this
-/// format (5, with COPY records) or, with --format 4, as recorders before issue 32 wrote it;
-/// --write keeps it in FILE.
+/// format (6: COPY records, each record's CRC from the file's id; --format 5 is the same) or, with
+/// --format 4, as recorders before issue 32 wrote it; --write keeps it in FILE. The other
+/// recording of --splices: --other, else the synthetic one again with other values (the same
+/// board, boots, numbers and times: the hardest to tell).
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -27,15 +32,16 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: gfr_recovery [--file RUN.gfr] [--format 4|5] [--flips N] [--zeros N] "
-               "[--max-zero-bytes B] [--dups N] [--swaps N] [--max-block-bytes B] [--seed S] "
-               "[--write SYNTHETIC.gfr]\n");
+               "[--max-zero-bytes B] [--dups N] [--swaps N] [--max-block-bytes B] [--splices N] "
+               "[--other B.gfr] [--seed S] [--write SYNTHETIC.gfr]\n");
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string file, write;
+  std::string file, write, other_file;
+  std::size_t splices = 0;
   int format = 5;
   std::size_t flips = 1000, zeros = 100, max_zero = 4096, dups = 100, swaps = 100, max_block = 4096;
   std::uint64_t seed = 20261128;
@@ -52,7 +58,7 @@ int main(int argc, char** argv) {
     const bool number = end != v.c_str() && *end == '\0';
     if (a == "--file") {
       file = v;
-    } else if (a == "--format" && number && (n == 4 || n == 5)) {
+    } else if (a == "--format" && number && (n >= 4 && n <= 6)) {
       format = static_cast<int>(n);
     } else if (a == "--flips" && number) {
       flips = n;
@@ -68,14 +74,22 @@ int main(int argc, char** argv) {
       swaps = n;
     } else if (a == "--max-block-bytes" && number && n > 0) {
       max_block = n;
+    } else if (a == "--splices" && number) {
+      splices = n;
+    } else if (a == "--other") {
+      other_file = v;
     } else if (a == "--seed" && number) {
       seed = n;
     } else {
       return usage();
     }
   }
-  std::vector<std::uint8_t> bytes;
+  std::vector<std::uint8_t> bytes, other;
   gyroflip::test::temp_dir dir;
+  if (!other_file.empty()) {
+    const std::string t = gyroflip::test::read_text(other_file);
+    other.assign(t.begin(), t.end());
+  }
   if (!file.empty()) {
     const std::string t = gyroflip::test::read_text(file);
     bytes.assign(t.begin(), t.end());
@@ -89,9 +103,13 @@ int main(int argc, char** argv) {
     o.resets_after = {200, 520, 521, 900, 1240};
     o.link_losses_after = {350, 700, 1100};
     o.lost = {60, 610, 611, 1400};
-    o.copies = format == 5;
+    o.copies = format != 4;
     bytes = gyroflip::test::make_synthetic_recording(o, dir.file("synthetic.gfr")).bytes;
-    file = format == 5 ? "synthetic (format 5)" : "synthetic (format 4)";
+    if (other_file.empty() && splices != 0) {
+      o.seed = 2;
+      other = gyroflip::test::make_synthetic_recording(o, dir.file("other.gfr")).bytes;
+    }
+    file = format != 4 ? "synthetic (format 6)" : "synthetic (format 4)";
     if (!write.empty()) gyroflip::test::write_text(write, std::string(bytes.begin(), bytes.end()));
   }
   std::printf("%s: %zu bytes; seed %llu\n", file.c_str(), bytes.size(),
@@ -110,7 +128,11 @@ int main(int argc, char** argv) {
       std::printf("  largest time shift in: %s\n", t.max_time_shift_at.c_str());
     for (const auto& n : t.notes) std::printf("  %s\n", n.c_str());
   };
-  gyroflip::test::damage_tally f, z, r, s;
+  if (splices != 0 && other.size() <= 16) {
+    std::fprintf(stderr, "gfr_recovery: --splices needs --other B.gfr with --file\n");
+    return 2;
+  }
+  gyroflip::test::damage_tally f, z, r, s, si, so;
   if (flips != 0) {
     gyroflip::test::flip_trials(bytes, flips, seed, f);
     show("single-bit flips", f);
@@ -130,8 +152,16 @@ int main(int argc, char** argv) {
     const std::string name = "blocks of 512.." + std::to_string(max_block) + " B swapped";
     show(name.c_str(), s);
   }
+  if (splices != 0) {
+    gyroflip::test::splice_trials(bytes, other, splices, max_block, seed + 4, false, si);
+    const std::string name = "another's 1.." + std::to_string(max_block) + " B inserted";
+    show(name.c_str(), si);
+    gyroflip::test::splice_trials(bytes, other, splices, max_block, seed + 5, true, so);
+    const std::string over = "another's 1.." + std::to_string(max_block) + " B over";
+    show(over.c_str(), so);
+  }
   std::size_t wrong = 0;
-  for (const auto* t : {&f, &z, &r, &s})
+  for (const auto* t : {&f, &z, &r, &s, &si, &so})
     wrong += t->mislabelled + t->repeated + t->beyond_span + t->false_lost;
   return wrong == 0 ? 0 : 1;
 }

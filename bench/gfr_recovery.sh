@@ -2,8 +2,8 @@
 # The .gfr reader against damage (issue 32; docs/RELIABILITY.md, "Damaged recordings"): 1 000
 # random single-bit flips and 100 zeroed regions (1 B to 4 KiB) on
 #   1. a recording made by `gyroflip record` from `gyroflip emulate` (600 s, two device resets,
-#      bit errors on the line, seed 7), as written by this gyroflip (format 5);
-#   2. the synthetic recording of bench/gfr_recovery.cpp in format 5 and in format 4 (as recorders
+#      bit errors on the line, seed 7), as written by this gyroflip (format 6);
+#   2. the synthetic recording of bench/gfr_recovery.cpp in format 6 and in format 4 (as recorders
 #      before issue 32 wrote it: no COPY records).
 # Each prints the share of intact dwells recovered and the dwells mislabelled.
 #   Usage: bench/gfr_recovery.sh [BUILD_DIR]   (default build/)
@@ -33,5 +33,5 @@ kill "$emu" 2>/dev/null || true
 wait "$emu" 2>/dev/null || true
 emu=
 "$build/bench/gfr_recovery" --file "$work/recorded.gfr" --flips 1000 --zeros 100
-"$build/bench/gfr_recovery" --format 5 --flips 1000 --zeros 100
+"$build/bench/gfr_recovery" --format 6 --flips 1000 --zeros 100
 "$build/bench/gfr_recovery" --format 4 --flips 1000 --zeros 100

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <optional>
+#include <random>
 #include <unordered_map>
 #include <utility>
 
@@ -45,10 +46,10 @@ std::uint64_t load_le(const std::uint8_t* p, int bytes) noexcept {
   return v;
 }
 
-std::vector<std::uint8_t> file_header() {
+std::vector<std::uint8_t> file_header(std::uint16_t file_id) {
   std::vector<std::uint8_t> h(magic.begin(), magic.end());
   put_u16(h, format_version);
-  put_u16(h, 0);
+  put_u16(h, file_id);
   put_u32(h, crc32(h));
   return h;
 }
@@ -72,8 +73,8 @@ error write_error(const std::string& path, const std::string& what, int err) {
 
 }  // namespace
 
-std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept {
-  uLong c = ::crc32(0L, Z_NULL, 0);
+std::uint32_t crc32(std::span<const std::uint8_t> bytes, std::uint32_t seed) noexcept {
+  uLong c = seed;
   // zlib takes uInt lengths: feed in pieces below 4 GiB.
   std::size_t done = 0;
   while (done < bytes.size()) {
@@ -82,6 +83,12 @@ std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept {
     done += n;
   }
   return static_cast<std::uint32_t>(c);
+}
+
+std::uint32_t record_crc_seed(std::uint16_t file_id) noexcept {
+  const std::array<std::uint8_t, 2> id = {static_cast<std::uint8_t>(file_id),
+                                          static_cast<std::uint8_t>(file_id >> 8)};
+  return crc32(id);
 }
 
 namespace {
@@ -131,7 +138,7 @@ struct found {
 
 // The record at `at`: intact, or with `repair` one whose single flipped bit its CRC locates (a
 // bit of a length word too: the other word gives the length). Else whole = 0.
-found record_at(std::span<const std::uint8_t> b, std::size_t at, bool repair) {
+found record_at(std::span<const std::uint8_t> b, std::size_t at, bool repair, std::uint32_t seed) {
   const std::size_t left = b.size() - at;
   if (left < record_overhead) return {};
   const auto l0 = static_cast<std::uint32_t>(load_le(b.data() + at, 4));
@@ -144,7 +151,7 @@ found record_at(std::span<const std::uint8_t> b, std::size_t at, bool repair) {
     if (whole > left) continue;
     const auto rec = b.subspan(at, whole);
     const auto stored = static_cast<std::uint32_t>(load_le(rec.data() + whole - 4, 4));
-    const std::uint32_t syndrome = crc32(rec.first(whole - 4)) ^ stored;
+    const std::uint32_t syndrome = crc32(rec.first(whole - 4), seed) ^ stored;
     if (syndrome == 0) {
       if (agree && known_kind(rec[8])) return {whole, std::nullopt};
       continue;
@@ -170,14 +177,63 @@ bool all_zero(std::span<const std::uint8_t> b) {
 
 // Whether what follows a repaired record is what follows a record: the end, zeros to the end,
 // or another record (intact or itself repairable).
-bool followed_well(std::span<const std::uint8_t> b, std::size_t at) {
+bool followed_well(std::span<const std::uint8_t> b, std::size_t at, std::uint32_t seed) {
   if (at >= b.size() || all_zero(b.subspan(at))) return true;
-  return record_at(b, at, true).whole != 0;
+  return record_at(b, at, true, seed).whole != 0;
+}
+
+// The seed of the first intact record after a file header damaged beyond repair: 0 (formats
+// 1-5) or a format-6 file's record_crc_seed(id), the id found by trying each (a record's CRC-32
+// continued from a seed is the seed's CRC run over its bytes combined with its own: zlib's
+// crc32_combine). `id` 0 for a file of no id. None when no intact record follows. The ids are
+// tried on the first few places that look like a record (agreeing length words, a known kind):
+// every place would cost 2^16 tries each (a file of such places took seconds to refuse); beyond
+// them only records of no id (seed 0) are looked for.
+std::optional<std::pair<std::uint32_t, std::uint16_t>> seed_after_lost_header(
+    std::span<const std::uint8_t> b) {
+  constexpr int places_tried = 4;
+  int tried = 0;
+  for (std::size_t at = file_header_bytes; at + record_overhead <= b.size(); ++at) {
+    const auto l0 = static_cast<std::uint32_t>(load_le(b.data() + at, 4));
+    const auto l1 = static_cast<std::uint32_t>(load_le(b.data() + at + 4, 4) ^ 0xFFFFFFFFU);
+    if (l0 != l1 || l0 < 9 || l0 - 9 > max_body || l0 + std::size_t{12} > b.size() - at ||
+        !known_kind(b[at + 8]))
+      continue;
+    const auto rec = b.subspan(at, std::size_t{l0} + 8);
+    const auto stored = static_cast<std::uint32_t>(load_le(rec.data() + rec.size(), 4));
+    const std::uint32_t plain = crc32(rec);
+    if (plain == stored) return std::pair{std::uint32_t{0}, std::uint16_t{0}};
+    if (tried++ >= places_tried) continue;
+    const uLong op = ::crc32_combine_gen(static_cast<z_off_t>(rec.size()));
+    for (std::uint32_t id = 1; id <= 0xFFFFU; ++id) {
+      const std::uint32_t seed = record_crc_seed(static_cast<std::uint16_t>(id));
+      if (::crc32_combine_op(seed, plain, op) == stored)
+        return std::pair{seed, static_cast<std::uint16_t>(id)};
+    }
+  }
+  return std::nullopt;
+}
+
+// Where this file's records go on after the header of another recording at `at`: an intact
+// file header of format 6 with another id than this file's (format 6) starts a block of another
+// recording inside this one when this file's own records follow it (review of issue 32, fifth
+// pass, F3). 0: none (two files joined, `cat a.gfr b.gfr`, or this file's own header again).
+std::size_t other_files_block_end(std::span<const std::uint8_t> b, std::size_t at, const file& out,
+                                  std::uint32_t seed) {
+  if (out.version < 6 || b.size() - at < file_header_bytes) return 0;
+  const auto h = b.subspan(at, file_header_bytes);
+  if (crc32(h.first(12)) != static_cast<std::uint32_t>(load_le(h.data() + 12, 4)) ||
+      load_le(h.data() + 8, 2) < 6 || load_le(h.data() + 10, 2) == out.file_id)
+    return 0;
+  for (std::size_t next = at + file_header_bytes; next < b.size(); ++next)
+    if (record_at(b, next, false, seed).whole != 0) return next;
+  return 0;
 }
 
 // The file header: checked, or repaired (one flipped bit), or - when it is beyond repair but
 // intact records follow - read past. `version` 0 when it cannot be trusted.
-status read_file_header(std::span<const std::uint8_t> b, const std::string& name, file& out) {
+status read_file_header(std::span<const std::uint8_t> b, const std::string& name, file& out,
+                        std::uint32_t& seed) {
   const bool magic_ok =
       b.size() >= magic.size() && std::memcmp(b.data(), magic.data(), magic.size()) == 0;
   if (magic_ok && b.size() < file_header_bytes)
@@ -198,10 +254,12 @@ status read_file_header(std::span<const std::uint8_t> b, const std::string& name
                           name, *bit / 8));
           ++out.repaired;
           out.version = static_cast<std::uint16_t>(load_le(h.data() + 8, 2));
+          out.file_id = static_cast<std::uint16_t>(load_le(h.data() + 10, 2));
         }
       }
     } else if (magic_ok) {
       out.version = static_cast<std::uint16_t>(load_le(h.data() + 8, 2));
+      out.file_id = static_cast<std::uint16_t>(load_le(h.data() + 10, 2));
     }
   }
   if (out.version != 0) {
@@ -210,14 +268,20 @@ status read_file_header(std::span<const std::uint8_t> b, const std::string& name
                        fmt::format("format version {} is newer than this gyroflip reads "
                                    "({}): update gyroflip",
                                    out.version, format_version));
+    // Before format 6 the id's bytes were reserved (0): records checked from 0.
+    if (out.version < 6) out.file_id = 0;
+    seed = out.version >= 6 ? record_crc_seed(out.file_id) : 0;
     return ok();
   }
   // Beyond repair: a recording whose first bytes are damaged still has its records (some
-  // intact one: the chance that other bytes pass a record's length check and CRC-32 is 2^-64).
-  bool records = false;
-  for (std::size_t at = file_header_bytes; at < b.size() && !records; ++at)
-    records = record_at(b, at, false).whole != 0;
-  if (!records) {
+  // intact one: the chance that other bytes pass a record's length check and CRC-32 is 2^-64;
+  // with 2^16 ids tried, 2^-48), and the first one tells the file's id.
+  const auto found_seed = seed_after_lost_header(b);
+  if (found_seed) {
+    seed = found_seed->first;
+    out.file_id = found_seed->second;
+  }
+  if (!found_seed) {
     if (!magic_ok)
       return at_record(name, 0,
                        "not a gyroflip rig recording (the file does not start with the "
@@ -463,14 +527,15 @@ bool is_copied(kind k, std::span<const std::uint8_t> body) noexcept {
 
 result<file> parse(std::span<const std::uint8_t> b, const std::string& name, bool strict) {
   file out;
-  if (auto s = read_file_header(b, name, out); !s) return s.err();
+  std::uint32_t seed = 0;  // the records' CRC-32 seed (format 6: the file's id)
+  if (auto s = read_file_header(b, name, out, seed); !s) return s.err();
   if (strict && out.version == 0) return at_record(name, 0, "the file header is damaged");
   if (strict && out.repaired != 0) return at_record(name, 0, "the file header has a flipped bit");
   std::size_t at = file_header_bytes;
   std::size_t end = b.size();  // where the records end (a torn or zero tail after)
   for (std::size_t n = 1; at < b.size(); ++n) {
-    if (const found f = record_at(b, at, true);
-        f.whole != 0 && (!f.bit || followed_well(b, at + f.whole))) {
+    if (const found f = record_at(b, at, true, seed);
+        f.whole != 0 && (!f.bit || followed_well(b, at + f.whole, seed))) {
       std::vector<std::uint8_t> rec(b.begin() + static_cast<std::ptrdiff_t>(at),
                                     b.begin() + static_cast<std::ptrdiff_t>(at + f.whole));
       if (f.bit) {
@@ -494,12 +559,25 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
       continue;
     }
     const std::size_t left = b.size() - at;
-    // Another recording's header here: two files were joined (`cat a.gfr b.gfr`).
-    if (left >= magic.size() && std::memcmp(b.data() + at, magic.data(), magic.size()) == 0)
-      return at_record(name, n,
-                       fmt::format("offset {}: the header of another recording: two .gfr files "
-                                   "were joined into one; split them there",
-                                   at));
+    // Another recording's header here: two files were joined (`cat a.gfr b.gfr`); or, when this
+    // file's own records follow, a block of another recording inside this one, which is damage.
+    if (left >= magic.size() && std::memcmp(b.data() + at, magic.data(), magic.size()) == 0) {
+      const std::size_t next = other_files_block_end(b, at, out, seed);
+      if (next == 0)
+        return at_record(name, n,
+                         fmt::format("offset {}: the header of another recording: two .gfr files "
+                                     "were joined into one; split them there",
+                                     at));
+      if (strict)
+        return at_record(name, n, fmt::format("offset {}: a block of another recording", at));
+      out.warnings.push_back(fmt::format(
+          "{}: record {}: the header of another recording (file id {}) and what follows it at "
+          "offsets {}..{} skipped: a block of another .gfr inside this one (none of its records "
+          "passes this file's CRC-32); reading goes on at this file's next record",
+          name, n, load_le(b.data() + at + 10, 2), at, next - 1));
+      at = next;
+      continue;
+    }
     // Zeros to the end: what a power loss leaves after the last write (the file's size was
     // extended, its data never written).
     if (all_zero(b.subspan(at))) {
@@ -510,7 +588,7 @@ result<file> parse(std::span<const std::uint8_t> b, const std::string& name, boo
       break;
     }
     std::size_t next = at + 1;
-    while (next < b.size() && record_at(b, next, true).whole == 0) ++next;
+    while (next < b.size() && record_at(b, next, true, seed).whole == 0) ++next;
     if (next >= b.size()) {
       // Nothing intact after it: a record cut off while it was written (a hard stop).
       out.warnings.push_back(fmt::format(
@@ -595,7 +673,14 @@ result<writer> writer::create(const std::string& path) {
     (void)::unlink(path.c_str());
     return write_error(path, what, err);
   };
-  const auto h = file_header();
+  // The file's id: its records' CRC-32 start from it, so that no record of another recording
+  // passes as one of this file's (format 6).
+  std::random_device rd;
+  do {
+    w.file_id_ = static_cast<std::uint16_t>(rd());
+  } while (w.file_id_ == 0 || record_crc_seed(w.file_id_) == 0);
+  w.crc_seed_ = record_crc_seed(w.file_id_);
+  const auto h = file_header(w.file_id_);
   if (::write(fd, h.data(), h.size()) != static_cast<ssize_t>(h.size())) return fail("write: ");
   w.bytes_ = h.size();
   if (::fdatasync(fd) != 0) return fail("fsync: ");
@@ -618,6 +703,8 @@ writer::writer(writer&& o) noexcept
       bytes_(o.bytes_),
       last_host_us_(o.last_host_us_),
       size_limit_(o.size_limit_),
+      file_id_(o.file_id_),
+      crc_seed_(o.crc_seed_),
       buf_(std::move(o.buf_)),
       pending_(std::move(o.pending_)),
       tail_(std::move(o.tail_)) {}
@@ -630,6 +717,8 @@ writer& writer::operator=(writer&& o) noexcept {
     bytes_ = o.bytes_;
     last_host_us_ = o.last_host_us_;
     size_limit_ = o.size_limit_;
+    file_id_ = o.file_id_;
+    crc_seed_ = o.crc_seed_;
     buf_ = std::move(o.buf_);
     pending_ = std::move(o.pending_);
     tail_ = std::move(o.tail_);
@@ -688,7 +777,7 @@ status writer::write_record(kind k, std::uint64_t host_time_us, std::span<const 
   buf_.push_back(static_cast<std::uint8_t>(k));
   put_u64(buf_, host_time_us);
   buf_.insert(buf_.end(), body.begin(), body.end());
-  put_u32(buf_, crc32(buf_));
+  put_u32(buf_, crc32(buf_, crc_seed_));
   // Under a file size limit the records that end a full file keep their room (end_reserve).
   const std::uint64_t room = last ? size_limit_ : size_limit_ - std::min(size_limit_, end_reserve);
   if (bytes_ + buf_.size() > room) return write_error(path_, "write: ", EFBIG);

@@ -303,6 +303,69 @@ TEST(RigRecovery, RepeatedOrSwappedBlocksAreReadInTheirOrder) {
   }
 }
 
+// A block of another recording inside this one (fifth review of issue 32, F3): another run of
+// the same board, its boots, numbers, times and angle table the same, only its values differ -
+// inserted, or written over this file's bytes, at record boundaries and at any byte. None of its
+// dwells is read as this file's, and every intact dwell of this file is. Each record's CRC-32
+// starts from its file's id (format 6): the other file's records fail here, and are skipped as
+// damage. (Fails before format 6: the other recording's dwells were read, by their numbers, as
+// this one's.)
+TEST(RigRecovery, ABlockOfAnotherRecordingIsNeverReadAsThisOnes) {
+  gyroflip::test::temp_dir dir;
+  const auto a = gyroflip::test::make_synthetic_recording(longer(true), dir.file("a.gfr"));
+  synthetic_options ob = longer(true);
+  ob.seed = 2;
+  const auto b = gyroflip::test::make_synthetic_recording(ob, dir.file("b.gfr"));
+  for (const bool overwrite : {false, true}) {
+    SCOPED_TRACE(overwrite ? "written over" : "inserted");
+    damage_tally t;
+    gyroflip::test::splice_trials(a.bytes, b.bytes, 20, 6000, overwrite ? 62 : 61, overwrite, t);
+    std::cout << (overwrite ? "written over: " : "inserted: ") << t.recovered << " of " << t.intact
+              << " intact dwells recovered, " << t.mislabelled
+              << " of the other recording's or mislabelled\n";
+    EXPECT_EQ(t.trials, 20u);
+    EXPECT_EQ(t.unreadable, 0u);
+    EXPECT_GT(t.intact, 20u * 300u);
+    EXPECT_EQ(t.recovered, t.intact);
+    EXPECT_EQ(t.mislabelled, 0u);
+    EXPECT_EQ(t.repeated, 0u);
+    for (const auto& n : t.notes) ADD_FAILURE() << n;
+  }
+}
+
+// A block of another recording that begins with its file header (the other file's first bytes
+// written into this one) is a block of it too when this file's records follow: skipped, with a
+// warning naming the other file's id. The header with nothing of this file after it is still two
+// files joined. (Fails before: "two .gfr files were joined", and nothing of the file was read.)
+TEST(RigRecovery, AnotherRecordingsHeaderInsideStartsABlockOfItWhenThisFilesRecordsFollow) {
+  gyroflip::test::temp_dir dir;
+  const auto a = gyroflip::test::make_synthetic_recording(longer(true), dir.file("a.gfr"));
+  synthetic_options ob = longer(true);
+  ob.seed = 2;
+  const auto b = gyroflip::test::make_synthetic_recording(ob, dir.file("b.gfr"));
+  const auto fa = gfr::parse(a.bytes, "a.gfr");
+  ASSERT_TRUE(fa);
+  std::uint64_t at = 0;
+  for (const auto& r : fa->records)
+    if (at == 0 && r.offset > a.bytes.size() / 2) at = r.offset;
+  ASSERT_NE(at, 0u);
+  bytes d(a.bytes.begin(), a.bytes.begin() + static_cast<std::ptrdiff_t>(at));
+  d.insert(d.end(), b.bytes.begin(), b.bytes.begin() + 5000);
+  d.insert(d.end(), a.bytes.begin() + static_cast<std::ptrdiff_t>(at), a.bytes.end());
+  auto f = gfr::parse(d, "r.gfr");
+  ASSERT_TRUE(f) << f.err().message;
+  EXPECT_TRUE(std::any_of(f->warnings.begin(), f->warnings.end(), [](const std::string& w) {
+    return w.find("the header of another recording") != std::string::npos;
+  }));
+  EXPECT_TRUE(same_dwells(read(d), read(a.bytes)));
+  EXPECT_FALSE(gfr::parse(d, "r.gfr", true));
+  bytes joined = a.bytes;
+  joined.insert(joined.end(), b.bytes.begin(), b.bytes.end());
+  auto j = gfr::parse(joined, "j.gfr");
+  ASSERT_FALSE(j);
+  EXPECT_NE(j.err().message.find("two .gfr files were joined"), std::string::npos);
+}
+
 // The review's case: a block written twice right after itself. Read once, with one warning
 // that counts the repeats and names the first one's offset.
 TEST(RigRecovery, ARepeatedBlockIsReadOnceWithAWarning) {

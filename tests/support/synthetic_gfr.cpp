@@ -483,4 +483,61 @@ void swap_trials(const bytes& file, std::size_t trials, std::size_t max_bytes, s
   }
 }
 
+namespace {
+
+// Where each record of an undamaged recording starts (and the file's end).
+std::vector<std::size_t> record_starts(const bytes& file) {
+  std::vector<std::size_t> at;
+  if (auto f = gfr::parse(file, "x.gfr"); f)
+    for (const auto& r : f->records)
+      if (!r.restored) at.push_back(r.offset);
+  std::sort(at.begin(), at.end());
+  at.push_back(file.size());
+  return at;
+}
+
+}  // namespace
+
+void splice_trials(const bytes& file, const bytes& other, std::size_t trials, std::size_t max_bytes,
+                   std::uint64_t seed, bool overwrite, damage_tally& t) {
+  const truth tr = truth_of(file);
+  const auto file_starts = record_starts(file);
+  const auto other_starts = record_starts(other);
+  std::mt19937_64 rng(seed);
+  const auto pick = [&](std::size_t lo, std::size_t hi) {
+    return std::uniform_int_distribution<std::size_t>(lo, std::max(lo, hi))(rng);
+  };
+  // A record boundary at or after `at` (the end when none).
+  const auto boundary = [](const std::vector<std::size_t>& starts, std::size_t at) {
+    return *std::lower_bound(starts.begin(), starts.end() - 1, at);
+  };
+  const std::size_t head = gfr::file_header_bytes;
+  for (std::size_t n = 0; n < trials; ++n) {
+    const bool aligned = n % 2 == 0;
+    std::size_t from = pick(head, other.size() - 2);
+    std::size_t len = pick(1, std::min(max_bytes, other.size() - from));
+    std::size_t at = pick(head, file.size() - 1);
+    if (aligned) {
+      from = boundary(other_starts, from);
+      len = boundary(other_starts, std::min(other.size(), from + len)) - from;
+      at = boundary(file_starts, at);
+    }
+    if (len == 0 || from >= other.size()) continue;
+    const std::size_t over = overwrite ? std::min(len, file.size() - at) : 0;
+    bytes d(file.begin(), file.begin() + static_cast<std::ptrdiff_t>(at));
+    d.insert(d.end(), other.begin() + static_cast<std::ptrdiff_t>(from),
+             other.begin() + static_cast<std::ptrdiff_t>(from + len));
+    d.insert(d.end(), file.begin() + static_cast<std::ptrdiff_t>(at + over), file.end());
+    trial(
+        tr, d,
+        [&](auto s) {
+          return overwrite ? s.second <= at || s.first >= at + over
+                           : !(s.first < at && at < s.second);
+        },
+        fmt::format("{} bytes of the other recording from its offset {} {} offset {}", len, from,
+                    overwrite ? "written over" : "inserted at", at),
+        t);
+  }
+}
+
 }  // namespace gyroflip::test

@@ -128,4 +128,15 @@ void repeat_trials(const std::vector<std::uint8_t>& file, std::size_t trials, st
 void swap_trials(const std::vector<std::uint8_t>& file, std::size_t trials, std::size_t max_bytes,
                  std::uint64_t seed, damage_tally& t);
 
+/// `trials` trials of a block of `other` - another recording: another run, boot or board, its
+/// numbers and times alike - of 1 to `max_bytes` bytes (never its file header) put into `file`:
+/// inserted, or with `overwrite` written over file's bytes there (fifth review of issue 32, F3).
+/// Even trials cut the block from `other` and put it into `file` at record boundaries, odd ones
+/// at any byte. A dwell of `file` is intact unless the block cuts its record (inserted inside it)
+/// or covers a byte of it; a dwell of `other` the reading uses is mislabelled (the undamaged
+/// reading has no such dwell).
+void splice_trials(const std::vector<std::uint8_t>& file, const std::vector<std::uint8_t>& other,
+                   std::size_t trials, std::size_t max_bytes, std::uint64_t seed, bool overwrite,
+                   damage_tally& t);
+
 }  // namespace gyroflip::test

@@ -24,17 +24,23 @@ namespace gyroflip::rigdata::gfr {
 
 /// PNG-style magic: a non-ASCII first byte, then CR LF, ^Z and LF catch text-mode transfers.
 inline constexpr std::array<std::uint8_t, 8> magic = {0x89, 'G', 'F', 'R', '\r', '\n', 0x1A, '\n'};
-/// 5: COPY records (a second copy of the records the others depend on). 4: INFO bodies carry
+/// 6: every record's CRC-32 starts from the file's own id (record_crc_seed; the header's u16 at
+/// offset 10, drawn at random when the file is made): a record of another recording (a block of
+/// another .gfr spliced or written into this one) fails its CRC here and is read as damage, never
+/// as this file's (fifth review of issue 32, F3). 5: COPY records (a second copy of the records
+/// the others depend on). 4: INFO bodies carry
 /// the device's `board` (a real board or an emulator; 3 and older: INFO of
 /// protocol 2's first layout, 80 bytes, without it). 3: START records carry the CRC of the
 /// configuration started (2: the device frame that acknowledged them only; 1: empty START
 /// bodies; all read too).
-inline constexpr std::uint16_t format_version = 5;
-/// magic, u16 version, u16 reserved (0), u32 CRC-32 of the 12 bytes before it.
+inline constexpr std::uint16_t format_version = 6;
+/// magic, u16 version, u16 file id (format 6; reserved, 0, before), u32 CRC-32 of the 12 bytes
+/// before it.
 inline constexpr std::size_t file_header_bytes = 16;
 /// u32 length L (of kind, time and body), u32 L XOR 0xFFFFFFFF (a damaged length is told from a
 /// record cut short: a cut removes bytes, it never changes them), u8 kind, u64 host time (us),
-/// body, u32 CRC-32 of all that precedes it in the record.
+/// body, u32 CRC-32 of all that precedes it in the record (format 6: continued from the file's
+/// record_crc_seed).
 inline constexpr std::size_t record_overhead = 4 + 4 + 1 + 8 + 4;
 /// The largest body a record may have (a META of a long command line fits many times).
 inline constexpr std::size_t max_body = std::size_t{1} << 20;
@@ -118,6 +124,9 @@ struct file {
   std::size_t repeats = 0;    ///< records dropped as exact repeats of one read before them
   std::size_t misplaced = 0;  ///< records out of place (their host time goes back), reordered
   std::uint16_t version = 0;  ///< the header's format version (0: header damaged)
+  /// The file's id (format 6; 0 before): its records' CRC-32 start from record_crc_seed(file_id).
+  /// With the header damaged beyond repair, the id its first intact record was found with.
+  std::uint16_t file_id = 0;
 };
 
 /// Reads and checks a whole `.gfr` file. Errors name the file and the record (`FILE: record N:
@@ -214,6 +223,8 @@ class writer {
   std::uint64_t bytes_ = 0;
   std::uint64_t last_host_us_ = 0;
   std::uint64_t size_limit_ = UINT64_MAX;  // RLIMIT_FSIZE when the writer was made
+  std::uint16_t file_id_ = 0;              // the header's id: its records' CRC seed
+  std::uint32_t crc_seed_ = 0;
   std::vector<std::uint8_t> buf_;
   std::vector<pending_copy> pending_;
   // The last records written (at most tail_records): where each began, and what it was.
@@ -224,7 +235,14 @@ class writer {
   std::vector<tail_entry> tail_;
 };
 
-/// CRC-32 (ISO-HDLC, zlib's) of `bytes`.
-[[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept;
+/// CRC-32 (ISO-HDLC, zlib's) of `bytes`; with `seed`, continued from that CRC (zlib's crc32(seed,
+/// ...): the CRC of what gave `seed` followed by `bytes`).
+[[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> bytes,
+                                  std::uint32_t seed = 0) noexcept;
+/// What the CRC-32 of each record of a format-6 file with id `file_id` is continued from: the
+/// CRC-32 of the id's two bytes (little-endian). Two ids give two seeds (CRC-32 is one-to-one
+/// on two-byte messages), and a record checked with another seed fails for any length (the CRC
+/// register's step is invertible), so it is read as damage. Never 0 for an id the writer draws.
+[[nodiscard]] std::uint32_t record_crc_seed(std::uint16_t file_id) noexcept;
 
 }  // namespace gyroflip::rigdata::gfr
