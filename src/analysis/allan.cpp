@@ -246,13 +246,22 @@ std::optional<result<std::vector<deviation_point>>> deviation_from_block_sums(
 
 }  // namespace detail
 
+namespace {
+
 // The table is indexed by kind: its rows must stay in dev_kind's order.
-static_assert([] {
-  for (std::size_t i = 0; i < std::size(dev_table); ++i)
-    if (static_cast<std::size_t>(dev_table[i].kind) != i || all_dev_kinds[i] != dev_table[i].kind)
-      return false;
-  return std::size(dev_table) == std::size(all_dev_kinds);
-}());
+constexpr bool table_in_kind_order() {
+  constexpr std::size_t rows = sizeof(dev_table) / sizeof(dev_table[0]);
+  if (rows != sizeof(all_dev_kinds) / sizeof(all_dev_kinds[0])) return false;
+  std::size_t i = 0;
+  for (const dev_facts& f : dev_table) {
+    if (static_cast<std::size_t>(f.kind) != i || all_dev_kinds[i] != f.kind) return false;
+    ++i;
+  }
+  return true;
+}
+static_assert(table_in_kind_order(), "dev_table's rows must be in dev_kind's order");
+
+}  // namespace
 
 std::string dev_kind_names(std::string_view sep) {
   std::string out;
