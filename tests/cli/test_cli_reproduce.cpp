@@ -281,6 +281,11 @@ TEST(ReproduceCli, ABadSensorModelIsRefusedBeforeAnySimulation) {
 // the verdict is "inconclusive" (without the simulation's error it would lie at about -1.99
 // sigma: the paper's 4 degC spread is at the edge of what its 20 degC spread predicts).
 TEST(ReproduceCli, TenCampaignsKeepTheFitAndTheirVerdictSaysWhatItCovers) {
+#if defined(__SANITIZE_ADDRESS__)
+  // 90 s in the Release suite, several times that under the sanitizers (the CI's budget): the
+  // Release suite checks these numbers; the other ReproduceCli tests run the same code here.
+  GTEST_SKIP() << "ten campaigns: checked by the Release suite";
+#endif
   temp_dir d;
   const auto r = run_cli({"reproduce", "--campaigns", "10", "--seed", "1", "-o", d.file("r")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
