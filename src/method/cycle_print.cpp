@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "gyroflip/analysis/drift.hpp"
+
 namespace gyroflip::method {
 
 namespace {
@@ -25,12 +27,8 @@ std::optional<cycle_print> print_of(std::span<const double> dwell_rates) {
   const auto d = print_values(dwell_rates);
   const std::size_t n = d.size();
   if (n < print_window) return std::nullopt;
-  double mean = 0.0;
-  for (const double x : d) mean += x;
-  mean /= static_cast<double>(n);
-  double ss = 0.0;
-  for (const double x : d) ss += (x - mean) * (x - mean);
-  const double sd = std::sqrt(ss / static_cast<double>(n - 1));
+  const auto ms = analysis::mean_and_std(d);
+  const double mean = ms.mean, sd = ms.std;
   // No scatter (to the rounding of the mean): nothing to tell a copy by.
   if (!(sd > 1e-12 * std::abs(mean)) || !(sd > 0.0) || !std::isfinite(sd)) return std::nullopt;
   cycle_print p{mean, sd / print_steps_per_std, {}};

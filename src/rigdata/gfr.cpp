@@ -676,11 +676,12 @@ result<writer> writer::create(const std::string& path) {
   // The file's id: its records' CRC-32 start from it, so that no record of another recording
   // passes as one of this file's (format 6).
   std::random_device rd;
+  std::uint16_t file_id = 0;
   do {
-    w.file_id_ = static_cast<std::uint16_t>(rd());
-  } while (w.file_id_ == 0 || record_crc_seed(w.file_id_) == 0);
-  w.crc_seed_ = record_crc_seed(w.file_id_);
-  const auto h = file_header(w.file_id_);
+    file_id = static_cast<std::uint16_t>(rd());
+  } while (file_id == 0 || record_crc_seed(file_id) == 0);
+  w.crc_seed_ = record_crc_seed(file_id);
+  const auto h = file_header(file_id);
   if (::write(fd, h.data(), h.size()) != static_cast<ssize_t>(h.size())) return fail("write: ");
   w.bytes_ = h.size();
   if (::fdatasync(fd) != 0) return fail("fsync: ");
@@ -703,7 +704,6 @@ writer::writer(writer&& o) noexcept
       bytes_(o.bytes_),
       last_host_us_(o.last_host_us_),
       size_limit_(o.size_limit_),
-      file_id_(o.file_id_),
       crc_seed_(o.crc_seed_),
       buf_(std::move(o.buf_)),
       pending_(std::move(o.pending_)),
@@ -717,7 +717,6 @@ writer& writer::operator=(writer&& o) noexcept {
     bytes_ = o.bytes_;
     last_host_us_ = o.last_host_us_;
     size_limit_ = o.size_limit_;
-    file_id_ = o.file_id_;
     crc_seed_ = o.crc_seed_;
     buf_ = std::move(o.buf_);
     pending_ = std::move(o.pending_);

@@ -265,8 +265,6 @@ std::string term(const analysis::noise_term& t, double to) {
   return fmt::format("{} [{}, {}]", g(t.value * to, 3), g(t.lo * to, 3), g(t.hi * to, 3));
 }
 
-// The noise of each run's raw sensor and compensated rate: the IEEE 952 terms of the fit the
-// Allan plot draws, in the plot's units (°/√h, °/h, °/h/√h), and the taus the data cover.
 // The per-run stationarity test on the page (fifth review of issue 31, F7: the page showed none of
 // its statistics, nor the steps and ramps a run cannot see, which calibrate prints): one row per
 // statistic, each against its limit, from the library's one result (method::check_stationarity,
@@ -353,6 +351,8 @@ std::vector<double> dwell_rates_of(const recording_run& run) {
   return out;
 }
 
+// The noise of each run's raw sensor and compensated rate: the IEEE 952 terms of the fit the
+// Allan plot draws, in the plot's units (°/√h, °/h, °/h/√h), and the taus the data cover.
 report::table noise_table(const std::vector<run_analysis>& runs) {
   report::table t{
       "IEEE 952 noise terms (68.3 % intervals; < : an upper limit, not resolved)",

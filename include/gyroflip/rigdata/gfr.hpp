@@ -223,8 +223,7 @@ class writer {
   std::uint64_t bytes_ = 0;
   std::uint64_t last_host_us_ = 0;
   std::uint64_t size_limit_ = UINT64_MAX;  // RLIMIT_FSIZE when the writer was made
-  std::uint16_t file_id_ = 0;              // the header's id: its records' CRC seed
-  std::uint32_t crc_seed_ = 0;
+  std::uint32_t crc_seed_ = 0;             // record_crc_seed of the header's file id (format 6)
   std::vector<std::uint8_t> buf_;
   std::vector<pending_copy> pending_;
   // The last records written (at most tail_records): where each began, and what it was.
